@@ -1,0 +1,77 @@
+"""The whole system of THEORY.md section 1: building, rigid mat and foundation.
+
+Totals m_t, I_b, L_0 and the critical base shear and moment [16a, 16b].
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Union
+
+import numpy as np
+
+from .foundation import TwoElement, Winkler
+from .structure import Building, Modes, modal_analysis
+
+STANDARD_GRAVITY = 9.80665  # m/s^2
+
+Foundation = Union[TwoElement, Winkler, "HalfSpace"]  # noqa: F821  (HalfSpace lives in foundation.py)
+
+
+@dataclass(frozen=True)
+class System:
+    """Building on a rigid mat of half-width b [m] resting on a flexible foundation.
+
+    mat_mass: m_0 [kg]; mat_rotary_inertia: I_0 [kg m^2] about the mat centre;
+    gravity: g [m/s^2].
+    """
+
+    building: Building
+    foundation: Foundation
+    half_width: float
+    mat_mass: float = 0.0
+    mat_rotary_inertia: float = 0.0
+    gravity: float = STANDARD_GRAVITY
+
+    @cached_property
+    def modes(self) -> Modes:
+        """All N fixed-base modes."""
+        return modal_analysis(self.building)
+
+    @property
+    def total_mass(self) -> float:
+        """m_t = sum m_j + m_0 [kg]."""
+        return float(self.building.masses.sum() + self.mat_mass)
+
+    @property
+    def rotary_inertia(self) -> float:
+        """I_b = sum m_j h_j^2 + I_0 [kg m^2]."""
+        b = self.building
+        return float(np.sum(b.masses * b.heights**2) + self.mat_rotary_inertia)
+
+    @property
+    def first_moment(self) -> float:
+        """L_0 = sum m_j h_j [kg m]."""
+        b = self.building
+        return float(np.sum(b.masses * b.heights))
+
+    @property
+    def effective_height(self) -> float:
+        """h_1* [m], first-mode effective height [9]."""
+        return float(self.modes.effective_height[0])
+
+    @property
+    def critical_base_moment(self) -> float:
+        """M_c = m_t g b [N m] [16b]."""
+        return self.total_mass * self.gravity * self.half_width
+
+    @property
+    def critical_base_shear(self) -> float:
+        """V_c = m_t g b / h_1* [N] [16a]."""
+        return self.critical_base_moment / self.effective_height
+
+    @property
+    def weight(self) -> float:
+        """m_t g [N]."""
+        return self.total_mass * self.gravity
