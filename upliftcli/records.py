@@ -1,0 +1,366 @@
+"""Ground-motion records: readers (PEER .AT2, plain text, CSV, the headered files of
+../shared/records), unit conversion to SI, scale, time window, and record measures
+(PGA, PGV, PGD, Arias intensity).
+
+Every bad input raises `errors.InputError(file, "line N" or field, expected)`.
+All accelerations inside are m/s^2; time in s.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from upliftcli.errors import InputError
+
+STANDARD_GRAVITY = 9.80665  # m/s^2
+
+#: unit name -> factor to m/s^2
+UNITS: dict[str, float] = {
+    "g": STANDARD_GRAVITY,
+    "m/s2": 1.0,
+    "cm/s2": 0.01,
+    "in/s2": 0.0254,
+}
+_UNIT_ALIASES = {
+    "g": "g", "m/s2": "m/s2", "m/s^2": "m/s2", "m/s/s": "m/s2", "m/s**2": "m/s2", "mps2": "m/s2",
+    "cm/s2": "cm/s2", "cm/s^2": "cm/s2", "cm/s/s": "cm/s2", "cm/s**2": "cm/s2", "gal": "cm/s2",
+    "in/s2": "in/s2", "in/s^2": "in/s2", "in/s/s": "in/s2", "in/s**2": "in/s2",
+}
+FORMATS = ("at2", "text", "csv", "shared")
+_UNIT_CHOICES = "one of g, m/s2, cm/s2, in/s2"
+
+
+@dataclass
+class Record:
+    """A uniformly sampled ground acceleration history (first sample at t = 0).
+
+    name: label; dt: time step [s]; acceleration: ground acceleration [m/s^2] (already scaled);
+    source: the file it came from; units: units of the file; scale: factor applied.
+    """
+
+    name: str
+    dt: float
+    acceleration: np.ndarray
+    source: str = ""
+    units: str = "m/s2"
+    scale: float = 1.0
+
+    @property
+    def npts(self) -> int:
+        """Number of samples."""
+        return int(self.acceleration.size)
+
+    @property
+    def time(self) -> np.ndarray:
+        """Sample times [s]."""
+        return np.arange(self.npts) * self.dt
+
+    @property
+    def duration(self) -> float:
+        """(npts - 1) dt [s]."""
+        return (self.npts - 1) * self.dt
+
+    @property
+    def pga(self) -> float:
+        """Peak ground acceleration max |a| [m/s^2]."""
+        return float(np.max(np.abs(self.acceleration)))
+
+
+def normalize_units(units: str, source: str, location: str = "units") -> str:
+    """Canonical unit name ('g', 'm/s2', 'cm/s2', 'in/s2') or InputError."""
+    key = str(units).strip().lower().replace(" ", "")
+    if key in _UNIT_ALIASES:
+        return _UNIT_ALIASES[key]
+    raise InputError(source, location, f"acceleration units {_UNIT_CHOICES}, got {units!r}")
+
+
+# ----------------------------------------------------------------------------- helpers
+
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"
+_DT_RE = re.compile(r"\bdt\b\s*(?:\(s\)|\[s\])?\s*[=:]?\s*(" + _NUMBER + r")", re.IGNORECASE)
+_NPTS_RE = re.compile(r"\bnpts\b\s*[=:]?\s*(\d+)", re.IGNORECASE)
+_UNIT_HINT_RE = re.compile(
+    r"(?:units?\s*(?:of|[:=]|are|in)?\s*|accel(?:eration)?\w*\s*(?:in\s+)?[(\[_]?\s*|\(|\[)"
+    r"(g|m/s\^?2|m/s/s|cm/s\^?2|cm/s/s|in/s\^?2|in/s/s|gal)\b",
+    re.IGNORECASE,
+)
+
+
+def _float(token: str, source: str, line_no: int) -> float:
+    """Parse one finite number (Fortran 'D' exponents accepted)."""
+    try:
+        value = float(token.replace("D", "E").replace("d", "e"))
+    except ValueError:
+        raise InputError(source, f"line {line_no}", f"a number, got {token!r}") from None
+    if not math.isfinite(value):
+        raise InputError(source, f"line {line_no}", f"a finite number, got {token!r}")
+    return value
+
+
+def _unit_hint(text: str) -> str | None:
+    match = _UNIT_HINT_RE.search(text)
+    return _UNIT_ALIASES.get(match.group(1).lower().replace(" ", "")) if match else None
+
+
+def _read_lines(path: Path, source: str) -> list[str]:
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace")
+    except FileNotFoundError:
+        raise InputError(source, None, "an existing record file (file not found)") from None
+    except OSError as error:
+        raise InputError(source, None, f"a readable record file ({error.strerror})") from None
+    lines = text.splitlines()
+    if not any(line.strip() for line in lines):
+        raise InputError(source, None, "acceleration values (the file is empty)")
+    return lines
+
+
+def _check_dt(dt: float, source: str, location: str) -> float:
+    if not (math.isfinite(dt) and dt > 0.0):
+        raise InputError(source, location, f"a time step dt > 0 s, got {dt:g}")
+    return float(dt)
+
+
+def _is_comment(line: str) -> bool:
+    return line.lstrip().startswith(("#", "%", "!", "//"))
+
+
+def detect_format(path: str | Path) -> str:
+    """Guess the format from the extension and first lines: 'at2', 'csv', 'shared' or 'text'."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".at2":
+        return "at2"
+    if suffix == ".csv":
+        return "csv"
+    try:
+        with path.open(encoding="utf-8", errors="replace") as handle:
+            head = [handle.readline() for _ in range(40)]
+    except OSError:
+        return "text"
+    first = next((line for line in head if line.strip()), "")
+    if first.strip().upper().startswith("PEER"):
+        return "at2"
+    comments = " ".join(line.lower() for line in head if _is_comment(line))
+    if "time_s" in comments and "accel_g" in comments:
+        return "shared"
+    return "text"
+
+
+# ----------------------------------------------------------------------------- readers
+
+def _parse_at2(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
+    """PEER NGA .AT2: 4 header lines (title, event, units, NPTS/DT), then values row by row."""
+    if len(lines) < 4:
+        raise InputError(source, f"line {len(lines)}", "a PEER .AT2 header of 4 lines")
+    header = lines[3]
+    npts_match = _NPTS_RE.search(header)
+    dt_match = _DT_RE.search(header)
+    if npts_match is None or dt_match is None:
+        numbers = re.findall(_NUMBER, header)  # old format: "5590   0.0050   NPTS, DT"
+        if len(numbers) >= 2 and "NPTS" in header.upper():
+            npts_text, dt_text = numbers[0], numbers[1]
+        else:
+            raise InputError(source, "line 4", "an AT2 header 'NPTS= n, DT= dt SEC'")
+    else:
+        npts_text, dt_text = npts_match.group(1), dt_match.group(1)
+    npts = int(float(npts_text))
+    dt = _check_dt(_float(dt_text, source, 4), source, "line 4")
+    units = _unit_hint(lines[2]) or _unit_hint(lines[2].replace("UNITS OF", "units"))
+    values = _values_row_by_row(lines, 4, source)
+    if values.size != npts:
+        raise InputError(source, "line 4", f"NPTS = {npts} values as the header says, found {values.size}")
+    return values, dt, units, lines[1].strip()
+
+
+def _values_row_by_row(lines: list[str], start: int, source: str) -> np.ndarray:
+    values: list[float] = []
+    for index in range(start, len(lines)):
+        line = lines[index]
+        if not line.strip() or _is_comment(line):
+            continue
+        for token in line.replace(",", " ").split():
+            values.append(_float(token, source, index + 1))
+    if not values:
+        raise InputError(source, None, "acceleration values after the header (none found)")
+    return np.asarray(values, dtype=float)
+
+
+def _parse_text(lines: list[str], source: str) -> tuple[np.ndarray, float | None, str | None, str]:
+    """Plain text: optional '#' header lines (may give 'dt = ...', 'units: g', 'npts = n'),
+    then values row by row (one or more columns)."""
+    start = 0
+    header_text = []
+    dt = None
+    npts = None
+    npts_line = 0
+    for index, line in enumerate(lines):
+        stripped = line.strip()
+        if not stripped:
+            continue
+        if _is_comment(line) or re.match(r"[A-Za-z]", stripped) and not re.match(r"[-+]?(nan|inf)", stripped, re.I):
+            header_text.append(stripped)
+            match = _DT_RE.search(stripped)
+            if match and dt is None:
+                dt = _check_dt(_float(match.group(1), source, index + 1), source, f"line {index + 1}")
+            match = _NPTS_RE.search(stripped)
+            if match and npts is None:
+                npts, npts_line = int(match.group(1)), index + 1
+            start = index + 1
+            continue
+        break
+    values = _values_row_by_row(lines, start, source)
+    if npts is not None and values.size != npts:
+        raise InputError(source, f"line {npts_line}", f"npts = {npts} values as the header says, found {values.size}")
+    units = None
+    for text in header_text:
+        units = units or _unit_hint(text)
+    name = header_text[0].lstrip("#%!/ ").strip() if header_text else ""
+    return values, dt, units, name
+
+
+def _parse_columns(lines: list[str], source: str, delimiter: str | None, time_column: int, accel_column: int
+                   ) -> tuple[np.ndarray, float, str | None, str]:
+    """Time column + acceleration column; the time step must be uniform."""
+    header_text = []
+    times: list[float] = []
+    values: list[float] = []
+    line_numbers: list[int] = []
+    for index, line in enumerate(lines):
+        stripped = line.strip()
+        if not stripped:
+            continue
+        if _is_comment(line):
+            header_text.append(stripped)
+            continue
+        tokens = [token.strip() for token in (stripped.split(delimiter) if delimiter else stripped.split())]
+        if not times and not values and tokens and re.match(r"[A-Za-z\"']", tokens[0]) \
+                and not re.match(r"[-+]?(nan|inf)", tokens[0], re.I):
+            header_text.append(stripped)  # column names
+            continue
+        if len(tokens) <= max(time_column, accel_column):
+            raise InputError(source, f"line {index + 1}",
+                             f"at least {max(time_column, accel_column) + 1} columns (time, acceleration)")
+        times.append(_float(tokens[time_column], source, index + 1))
+        values.append(_float(tokens[accel_column], source, index + 1))
+        line_numbers.append(index + 1)
+    if len(values) < 2:
+        raise InputError(source, None, "at least two (time, acceleration) rows")
+    time = np.asarray(times)
+    steps = np.diff(time)
+    dt = (time[-1] - time[0]) / (time.size - 1)
+    if not dt > 0.0:
+        raise InputError(source, f"line {line_numbers[1]}", f"increasing times (time step dt > 0 s), got dt = {steps[0]:g}")
+    tolerance = 1e-3 * dt
+    bad = np.flatnonzero(np.abs(steps - dt) > tolerance)
+    if bad.size:
+        i = int(bad[0])
+        raise InputError(source, f"line {line_numbers[i + 1]}",
+                         f"a uniform time step of {dt:g} s (step {steps[i]:g} s from the previous row)")
+    units = None
+    for text in header_text:
+        units = units or _unit_hint(text)
+    name = next((text.lstrip("#%!/ ") for text in header_text if not text.startswith(("time", "t,", "t "))), "")
+    return np.asarray(values, dtype=float), float(dt), units, name
+
+
+# ----------------------------------------------------------------------------- public reader
+
+def read_record(path: str | Path, format: str | None = None, units: str | None = None, dt: float | None = None,
+                scale: float = 1.0, window: tuple[float, float] | None = None) -> Record:
+    """Read an accelerogram and convert it to m/s^2.
+
+    format: 'at2', 'text', 'csv', 'shared' or None (detect from extension and header).
+    units: 'g', 'm/s2', 'cm/s2', 'in/s2'; None = from the file header (an error if it gives none).
+    dt: time step [s] for 'text' files without a 'dt' header line (overrides the header if given;
+        for 'at2', 'csv' and 'shared' the file's own step is used and a different dt is an error).
+    scale: factor applied to the acceleration [-].
+    window: (start, end) [s], keep the samples in that time window (time restarts at 0).
+    """
+    source = str(path)
+    path = Path(path)
+    fmt = (format or detect_format(path)).strip().lower()
+    if fmt not in FORMATS:
+        raise InputError(source, "format", f"one of {', '.join(FORMATS)}, got {format!r}")
+    if dt is not None:
+        _check_dt(float(dt), source, "dt")
+    if not (isinstance(scale, (int, float)) and math.isfinite(scale) and scale != 0.0):
+        raise InputError(source, "scale", f"a finite non-zero scale factor, got {scale!r}")
+    lines = _read_lines(path, source)
+    if fmt == "at2":
+        values, file_dt, file_units, name = _parse_at2(lines, source)
+    elif fmt == "text":
+        values, file_dt, file_units, name = _parse_text(lines, source)
+    elif fmt == "csv":
+        values, file_dt, file_units, name = _parse_columns(lines, source, ",", 0, 1)
+    else:
+        values, file_dt, file_units, name = _parse_columns(lines, source, None, 0, 1)
+        file_units = file_units or "g"
+    if fmt == "text":
+        if dt is None and file_dt is None:
+            raise InputError(source, "dt", "a time step dt [s] (give dt, or a 'dt = ...' header line)")
+        step = float(dt) if dt is not None else float(file_dt)
+    else:
+        step = float(file_dt)
+        if dt is not None and not math.isclose(float(dt), step, rel_tol=1e-3):
+            raise InputError(source, "dt", f"dt = {step:g} s as in the file, got {float(dt):g} s")
+    if units is not None:
+        unit = normalize_units(units, source)
+    elif file_units is not None:
+        unit = file_units
+    else:
+        raise InputError(source, "units", f"acceleration units {_UNIT_CHOICES} (none given and none in the file header)")
+    acceleration = values * (UNITS[unit] * float(scale))
+    if window is not None:
+        acceleration = _apply_window(acceleration, step, window, source)
+    return Record(name=name or path.stem, dt=step, acceleration=acceleration, source=source, units=unit,
+                  scale=float(scale))
+
+
+def _apply_window(acceleration: np.ndarray, dt: float, window: tuple[float, float], source: str) -> np.ndarray:
+    start, end = (float(value) for value in window)
+    duration = (acceleration.size - 1) * dt
+    if not (math.isfinite(start) and math.isfinite(end) and 0.0 <= start < end):
+        raise InputError(source, "window", f"0 <= start < end [s], got ({start:g}, {end:g})")
+    if start > duration:
+        raise InputError(source, "window", f"a start time within the record (0 to {duration:g} s), got {start:g}")
+    first = int(math.ceil(start / dt - 1e-9))
+    last = min(int(math.floor(end / dt + 1e-9)), acceleration.size - 1)
+    if last - first < 1:
+        raise InputError(source, "window", f"a window holding at least two samples (dt = {dt:g} s)")
+    return acceleration[first:last + 1].copy()
+
+
+# ----------------------------------------------------------------------------- measures
+
+def ground_velocity(acceleration: np.ndarray, dt: float) -> np.ndarray:
+    """Ground velocity [m/s] by exact integration of the piecewise-linear acceleration
+    (trapezoidal rule), v(0) = 0, no baseline correction."""
+    a = np.asarray(acceleration, dtype=float)
+    return np.concatenate(([0.0], np.cumsum(0.5 * dt * (a[1:] + a[:-1]))))
+
+
+def ground_displacement(acceleration: np.ndarray, dt: float) -> np.ndarray:
+    """Ground displacement [m], exact double integral of the piecewise-linear acceleration,
+    d(0) = v(0) = 0, no baseline correction: d_{i+1} = d_i + v_i dt + (2 a_i + a_{i+1}) dt^2 / 6."""
+    a = np.asarray(acceleration, dtype=float)
+    v = ground_velocity(a, dt)
+    increments = v[:-1] * dt + (2.0 * a[:-1] + a[1:]) * dt * dt / 6.0
+    return np.concatenate(([0.0], np.cumsum(increments)))
+
+
+def arias_intensity(acceleration: np.ndarray, dt: float) -> float:
+    """Arias intensity I_a = pi / (2 g) * integral a^2 dt [m/s], exact for piecewise-linear a."""
+    a = np.asarray(acceleration, dtype=float)
+    integral = float(np.sum(dt / 3.0 * (a[:-1] ** 2 + a[:-1] * a[1:] + a[1:] ** 2)))
+    return math.pi / (2.0 * STANDARD_GRAVITY) * integral
+
+
+def bundled_records_dir() -> Path:
+    """The records/ folder shipped beside the package (source checkout)."""
+    return Path(__file__).resolve().parent.parent / "records"

@@ -1,0 +1,404 @@
+"""Linear SDOF response and response spectra of a ground-acceleration record.
+
+One exact method serves the CLI and both engines: the ground acceleration is taken as
+piecewise linear between samples and each step is integrated in closed form (the
+Nigam-Jennings recurrence; Chopra, Dynamics of Structures, section 5.2). The equation is
+u'' + 2 xi w u' + w^2 u = -a_g(t), u relative displacement; w = 2 pi / T.
+
+Peaks are exact, not sampled:
+* inside every step the response is u(tau) = c0 + c1 tau + exp(-xi w tau) (A cos wd tau + B sin wd tau);
+  where the velocity changes sign in a step and a cubic Hermite estimate of the turning value
+  comes within 10 % of the running peak, the root of u' is found by safeguarded Newton on the
+  closed form and the true turning value is used (same for the absolute acceleration);
+* steps are cut into sub-steps of at most T / `min_steps_per_period` (8 by default) so that each
+  holds at most one turning point of the free oscillation (short periods, T < 8 dt);
+* after the record the ground acceleration goes linearly to zero over one dt and the oscillator
+  vibrates freely; the largest free-vibration peak is the first turning point, found in closed
+  form. This equals any free-vibration tail of half a damped period or more, in particular the
+  "2T tail" used for the reference values in ../shared/records/README.md.
+
+The kernels are compiled with numba and run in parallel over the oscillators (period, damping).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numba
+import numpy as np
+
+from upliftcli.errors import InputError
+
+TWO_PI = 2.0 * math.pi
+_FASTMATH = {"contract", "reassoc", "nsz"}  # FMA and reordering; no NaN/inf assumptions
+CHUNK = 16  # oscillators integrated side by side
+
+
+# ----------------------------------------------------------------------------- numba kernels
+
+@numba.njit(cache=True, inline="always")
+def _closed_form_step(u0, v0, a0, a1, w, sigma, wd, h, e, c, s):
+    """Exact state after one step h of piecewise-linear ground acceleration a0 -> a1."""
+    slope = (a1 - a0) / h
+    c1 = -slope / (w * w)
+    c0 = -a0 / (w * w) - 2.0 * sigma * c1 / (w * w)
+    amp_a = u0 - c0
+    amp_b = (v0 - c1 + sigma * amp_a) / wd
+    u1 = c0 + c1 * h + e * (amp_a * c + amp_b * s)
+    v1 = c1 + e * ((amp_b * wd - sigma * amp_a) * c - (amp_a * wd + sigma * amp_b) * s)
+    return u1, v1
+
+
+@numba.njit(cache=True)
+def _step_coefficients(w, xi, h):
+    """Matrices of the recurrence [u1, v1] = A [u0, v0] + B [a0, a1] (Nigam-Jennings)."""
+    sigma = xi * w
+    wd = w * math.sqrt(1.0 - xi * xi)
+    e = math.exp(-sigma * h)
+    c = math.cos(wd * h)
+    s = math.sin(wd * h)
+    coefficients = np.empty(8)
+    unit = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+    for k in range(4):
+        u1, v1 = _closed_form_step(unit[k][0], unit[k][1], unit[k][2], unit[k][3], w, sigma, wd, h, e, c, s)
+        coefficients[2 * k] = u1
+        coefficients[2 * k + 1] = v1
+    return coefficients
+
+
+@numba.njit(cache=True)
+def _hermite_turning_value(f0, f1, d0, d1, h):
+    """Value at the turning point of the cubic Hermite interpolant (d0, d1 of opposite sign)."""
+    p1 = h * d0
+    p2 = 3.0 * (f1 - f0) - h * (2.0 * d0 + d1)
+    p3 = 2.0 * (f0 - f1) + h * (d0 + d1)
+    # p'(t) = p1 + 2 p2 t + 3 p3 t^2 on [0, 1]
+    t = 0.5
+    if abs(p3) < 1e-14 * (abs(p1) + abs(p2) + 1e-300):
+        if p2 != 0.0:
+            t = -p1 / (2.0 * p2)
+    else:
+        disc = p2 * p2 - 3.0 * p3 * p1
+        if disc < 0.0:
+            disc = 0.0
+        root = math.sqrt(disc)
+        t1 = (-p2 + root) / (3.0 * p3)
+        t2 = (-p2 - root) / (3.0 * p3)
+        t = t1 if 0.0 <= t1 <= 1.0 else t2
+    if t < 0.0:
+        t = 0.0
+    elif t > 1.0:
+        t = 1.0
+    return f0 + t * (p1 + t * (p2 + t * p3)), t
+
+
+@numba.njit(cache=True)
+def _turning_value(l0, l1, pa, qa, sigma, wd, h, t_guess):
+    """|f| at the root of f' in (0, h) for f = l0 + l1 t + exp(-sigma t)(pa cos wd t + qa sin wd t),
+    f'(0) and f'(h) of opposite sign: safeguarded Newton on the closed form."""
+    pd = qa * wd - sigma * pa  # f' = l1 + exp(-sigma t)(pd cos + qd sin)
+    qd = -pa * wd - sigma * qa
+    pdd = qd * wd - sigma * pd  # f'' = exp(-sigma t)(pdd cos + qdd sin)
+    qdd = -pd * wd - sigma * qd
+    lo = 0.0
+    hi = h
+    d_lo = l1 + pd
+    t = t_guess
+    for _ in range(60):
+        ex = math.exp(-sigma * t)
+        co = math.cos(wd * t)
+        si = math.sin(wd * t)
+        d = l1 + ex * (pd * co + qd * si)
+        if d == 0.0:
+            break
+        if (d > 0.0) == (d_lo > 0.0):
+            lo = t
+        else:
+            hi = t
+        dd = ex * (pdd * co + qdd * si)
+        t_new = t - d / dd if dd != 0.0 else 0.5 * (lo + hi)
+        if not (lo < t_new < hi):
+            t_new = 0.5 * (lo + hi)
+        if abs(t_new - t) <= 1e-15 * h + 1e-300:
+            t = t_new
+            break
+        t = t_new
+        if hi - lo <= 1e-15 * h:
+            break
+    ex = math.exp(-sigma * t)
+    return abs(l0 + l1 * t + ex * (pa * math.cos(wd * t) + qa * math.sin(wd * t)))
+
+
+@numba.njit(cache=True)
+def _free_vibration_peak(pa, qa, sigma, wd):
+    """max |f| for t >= 0 of f = exp(-sigma t)(pa cos wd t + qa sin wd t): the first turning point."""
+    pd = qa * wd - sigma * pa
+    qd = -pa * wd - sigma * qa
+    theta = math.atan2(-pd, qd)  # pd cos + qd sin = 0
+    while theta < 0.0:
+        theta += math.pi
+    while theta >= math.pi:
+        theta -= math.pi
+    t = theta / wd
+    value = abs(math.exp(-sigma * t) * (pa * math.cos(wd * t) + qa * math.sin(wd * t)))
+    return max(abs(pa), value)
+
+
+@numba.njit(cache=True)
+def _refine_turning_points(u, v, u1, v1, at, at1, dat, dat1, a0, a1, w2, sigma, wd, h, peak_u, peak_at):
+    """Exact peaks inside one step where u' or the absolute acceleration's slope changes sign."""
+    slope = (a1 - a0) / h
+    c1 = -slope / w2
+    c0 = -a0 / w2 - 2.0 * sigma * c1 / w2
+    amp_a = u - c0
+    amp_b = (v - c1 + sigma * amp_a) / wd
+    if v * v1 < 0.0:
+        estimate, t = _hermite_turning_value(u, u1, v, v1, h)
+        if abs(estimate) > 0.9 * peak_u:
+            peak_u = max(peak_u, _turning_value(c0, c1, amp_a, amp_b, sigma, wd, h, t * h))
+    if dat * dat1 < 0.0:
+        estimate, t = _hermite_turning_value(at, at1, dat, dat1, h)
+        if abs(estimate) > 0.9 * peak_at:
+            pa = -w2 * amp_a - 2.0 * sigma * (amp_b * wd - sigma * amp_a)
+            qa = -w2 * amp_b + 2.0 * sigma * (amp_a * wd + sigma * amp_b)
+            peak_at = max(peak_at, _turning_value(a0, slope, pa, qa, sigma, wd, h, t * h))
+    return peak_u, peak_at
+
+
+@numba.njit(cache=True, fastmath=_FASTMATH)
+def _chunk_peaks(acc, dt, omegas, xis, nsub, free_vibration, out_u, out_at):
+    """Peak |u| [m] and |absolute acceleration| [m/s^2] of oscillators sharing one sub-step count.
+
+    Time loop outside, oscillators inside: the oscillators are independent, so the inner loop
+    overlaps their recurrences (no loop-carried dependency)."""
+    m = omegas.size
+    h = dt / nsub
+    w2 = np.empty(m)
+    sigma = np.empty(m)
+    wd = np.empty(m)
+    coef = np.empty((8, m))
+    for k in range(m):
+        w2[k] = omegas[k] * omegas[k]
+        sigma[k] = xis[k] * omegas[k]
+        wd[k] = omegas[k] * math.sqrt(1.0 - xis[k] * xis[k])
+        coef[:, k] = _step_coefficients(omegas[k], xis[k], h)
+    a_uu, a_vu, a_uv, a_vv = coef[0], coef[1], coef[2], coef[3]
+    b_u0, b_v0, b_u1, b_v1 = coef[4], coef[5], coef[6], coef[7]
+    u = np.zeros(m)
+    v = np.zeros(m)
+    at = np.zeros(m)  # absolute acceleration -w^2 u - 2 sigma v
+    dat = np.zeros(m)  # its slope -w^2 v - 2 sigma (at - a_g)
+    peak_u = np.zeros(m)
+    peak_at = np.zeros(m)
+    n = acc.size
+    for k in range(m):
+        dat[k] = 2.0 * sigma[k] * acc[0]
+    last = n - 1 + (1 if (free_vibration and acc[n - 1] != 0.0) else 0)
+    for i in range(last):
+        g0 = acc[i]
+        g1 = acc[i + 1] if i + 1 < n else 0.0
+        for j in range(nsub):
+            a0 = g0 + (g1 - g0) * (j / nsub)
+            a1 = g0 + (g1 - g0) * ((j + 1) / nsub)
+            for k in range(m):
+                u0 = u[k]
+                v0 = v[k]
+                u1 = a_uu[k] * u0 + a_uv[k] * v0 + b_u0[k] * a0 + b_u1[k] * a1
+                v1 = a_vu[k] * u0 + a_vv[k] * v0 + b_v0[k] * a0 + b_v1[k] * a1
+                at1 = -w2[k] * u1 - 2.0 * sigma[k] * v1
+                dat1 = -w2[k] * v1 - 2.0 * sigma[k] * (at1 - a1)
+                peak_u[k] = max(peak_u[k], abs(u1))
+                peak_at[k] = max(peak_at[k], abs(at1))
+                if v0 * v1 < 0.0 or dat[k] * dat1 < 0.0:
+                    peak_u[k], peak_at[k] = _refine_turning_points(
+                        u0, v0, u1, v1, at[k], at1, dat[k], dat1, a0, a1, w2[k], sigma[k], wd[k], h,
+                        peak_u[k], peak_at[k])
+                u[k] = u1
+                v[k] = v1
+                at[k] = at1
+                dat[k] = dat1
+    for k in range(m):
+        if free_vibration:
+            amp_a = u[k]
+            amp_b = (v[k] + sigma[k] * u[k]) / wd[k]
+            peak_u[k] = max(peak_u[k], _free_vibration_peak(amp_a, amp_b, sigma[k], wd[k]))
+            pa = -w2[k] * amp_a - 2.0 * sigma[k] * (amp_b * wd[k] - sigma[k] * amp_a)
+            qa = -w2[k] * amp_b + 2.0 * sigma[k] * (amp_a * wd[k] + sigma[k] * amp_b)
+            peak_at[k] = max(peak_at[k], _free_vibration_peak(pa, qa, sigma[k], wd[k]))
+        out_u[k] = peak_u[k]
+        out_at[k] = peak_at[k]
+
+
+@numba.njit(cache=True, parallel=True)
+def _spectrum_kernel(acc, dt, omegas, xis, nsubs, chunk_starts, n_workers, free_vibration, out_u, out_at):
+    """Run the chunks [chunk_starts[c], chunk_starts[c+1]) (equal sub-step count inside a chunk,
+    costliest first) dealt round-robin to the threads."""
+    n_chunks = chunk_starts.size - 1
+    n_workers = min(n_workers, n_chunks)
+    for worker in numba.prange(n_workers):
+        for c in range(worker, n_chunks, n_workers):
+            lo = chunk_starts[c]
+            hi = chunk_starts[c + 1]
+            _chunk_peaks(acc, dt, omegas[lo:hi], xis[lo:hi], nsubs[lo], free_vibration, out_u[lo:hi], out_at[lo:hi])
+
+
+@numba.njit(cache=True)
+def _history_kernel(acc, dt, w, xi, u_out, v_out):
+    k = _step_coefficients(w, xi, dt)
+    u = 0.0
+    v = 0.0
+    u_out[0] = 0.0
+    v_out[0] = 0.0
+    for i in range(acc.size - 1):
+        a0 = acc[i]
+        a1 = acc[i + 1]
+        u, v = (k[0] * u + k[2] * v + k[4] * a0 + k[6] * a1, k[1] * u + k[3] * v + k[5] * a0 + k[7] * a1)
+        u_out[i + 1] = u
+        v_out[i + 1] = v
+
+
+# ----------------------------------------------------------------------------- public API
+
+def _check_damping(damping: float) -> float:
+    damping = float(damping)
+    if not (0.0 <= damping < 1.0):
+        raise ValueError(f"damping ratio must be in [0, 1) (fraction of critical), got {damping}")
+    return damping
+
+
+def sdof_history(acceleration: np.ndarray, dt: float, period: float, damping: float
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Relative displacement u [m] and velocity v [m/s] of a linear SDOF at the record samples.
+
+    acceleration: ground acceleration [m/s^2] at uniform step dt [s], piecewise linear between samples;
+    period [s] > 0; damping: ratio of critical [-], 0 <= damping < 1. Zero initial conditions;
+    exact (Nigam-Jennings) for any dt.
+    """
+    acc = np.ascontiguousarray(acceleration, dtype=float)
+    if not period > 0.0:
+        raise ValueError(f"period must be > 0 s, got {period}")
+    u = np.empty(acc.size)
+    v = np.empty(acc.size)
+    _history_kernel(acc, float(dt), TWO_PI / float(period), _check_damping(damping), u, v)
+    return u, v
+
+
+@dataclass
+class Spectrum:
+    """Response spectra, arrays of shape (n_damping, n_period).
+
+    periods [s]; dampings [-]; displacement S_d [m]; pseudo_velocity w S_d [m/s];
+    pseudo_acceleration S_a = w^2 S_d [m/s^2]; absolute_acceleration max |u'' + a_g| [m/s^2].
+    """
+
+    periods: np.ndarray
+    dampings: np.ndarray
+    displacement: np.ndarray
+    pseudo_velocity: np.ndarray
+    pseudo_acceleration: np.ndarray
+    absolute_acceleration: np.ndarray
+
+
+def substeps(dt: float, periods: np.ndarray, min_steps_per_period: int = 8) -> np.ndarray:
+    """Sub-steps per record step so that the integration step is at most T / min_steps_per_period."""
+    periods = np.asarray(periods, dtype=float)
+    with np.errstate(divide="ignore"):
+        count = np.ceil(min_steps_per_period * dt / np.where(periods > 0, periods, np.inf) - 1e-9)
+    return np.maximum(count, 1).astype(np.int64)
+
+
+def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *, free_vibration: bool = True,
+                      min_steps_per_period: int = 8) -> Spectrum:
+    """Exact linear response spectra of a piecewise-linear ground acceleration.
+
+    acceleration [m/s^2] at uniform step dt [s]; periods [s] >= 0 (T = 0: rigid, S_a = PGA);
+    dampings: ratios of critical in [0, 1). free_vibration: include the free vibration after the
+    record end (default; see the module docstring). min_steps_per_period: sub-stepping of short
+    periods. Peaks are exact between samples (analytic turning points).
+    """
+    acc = np.ascontiguousarray(acceleration, dtype=float)
+    periods = np.atleast_1d(np.asarray(periods, dtype=float))
+    dampings = np.atleast_1d(np.asarray(dampings, dtype=float))
+    if acc.ndim != 1 or acc.size < 2:
+        raise ValueError("acceleration must be a 1-D array of at least two samples")
+    if not (math.isfinite(dt) and dt > 0.0):
+        raise ValueError(f"dt must be > 0 s, got {dt}")
+    if periods.ndim != 1 or not np.all(np.isfinite(periods)) or np.any(periods < 0.0):
+        raise ValueError("periods must be finite and >= 0 s")
+    for damping in dampings:
+        _check_damping(damping)
+    grid_t, grid_xi = np.meshgrid(periods, dampings)
+    flat_t = grid_t.ravel()
+    flat_xi = grid_xi.ravel()
+    positive = flat_t > 0.0
+    omegas = np.where(positive, TWO_PI / np.where(positive, flat_t, 1.0), 0.0)
+    peak_u = np.zeros(flat_t.size)
+    peak_at = np.full(flat_t.size, float(np.max(np.abs(acc))))  # T = 0: rigid, follows the ground
+    index = np.flatnonzero(positive)
+    if index.size:
+        counts = substeps(dt, flat_t[index], min_steps_per_period)
+        order = np.argsort(-counts, kind="stable")  # costliest first
+        chunk_starts = [0]
+        for position in range(1, order.size + 1):
+            if position == order.size or counts[order[position]] != counts[order[position - 1]] \
+                    or position - chunk_starts[-1] == CHUNK:
+                chunk_starts.append(position)
+        sorted_u = np.empty(index.size)
+        sorted_at = np.empty(index.size)
+        _spectrum_kernel(acc, float(dt), np.ascontiguousarray(omegas[index][order]),
+                         np.ascontiguousarray(flat_xi[index][order]), np.ascontiguousarray(counts[order]),
+                         np.asarray(chunk_starts, dtype=np.int64), numba.get_num_threads(), bool(free_vibration), sorted_u, sorted_at)
+        out_u = np.empty(index.size)
+        out_at = np.empty(index.size)
+        out_u[order] = sorted_u
+        out_at[order] = sorted_at
+        peak_u[index] = out_u
+        peak_at[index] = out_at
+    shape = grid_t.shape
+    displacement = peak_u.reshape(shape)
+    omega = omegas.reshape(shape)
+    pseudo_acceleration = np.where(grid_t > 0.0, omega ** 2 * displacement, peak_at.reshape(shape))
+    return Spectrum(periods=periods, dampings=dampings, displacement=displacement,
+                    pseudo_velocity=omega * displacement, pseudo_acceleration=pseudo_acceleration,
+                    absolute_acceleration=peak_at.reshape(shape))
+
+
+@dataclass
+class RecordSpectrum:
+    """Pseudo-acceleration spectrum of a record at any damping, computed exactly on demand and cached.
+
+    Used by the simplified engine in place of a design spectrum (same `.sa`, `.name`, `.period_range`).
+    """
+
+    record: object  # records.Record
+    free_vibration: bool = True
+    _cache: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def name(self) -> str:
+        return f"record {self.record.name}"
+
+    @property
+    def period_range(self) -> tuple[float, float]:
+        """Valid periods [s]: every T >= 0."""
+        return (0.0, math.inf)
+
+    def sa(self, periods, damping: float) -> np.ndarray:
+        """Pseudo-acceleration S_a(T, xi) [m/s^2] for periods [s] (scalar or array) and damping ratio [-]."""
+        source = getattr(self.record, "source", "") or self.name
+        periods_array = np.asarray(periods, dtype=float)
+        flat = np.atleast_1d(periods_array).ravel()
+        if not np.all(np.isfinite(flat)) or np.any(flat < 0.0):
+            raise InputError(source, "period", f"periods >= 0 s, got {flat[~(np.isfinite(flat) & (flat >= 0))][0]:g}")
+        damping = float(damping)
+        if not (0.0 <= damping < 1.0):
+            raise InputError(source, "damping", f"a damping ratio in [0, 1), got {damping:g}")
+        missing = sorted({float(t) for t in flat if (float(t), damping) not in self._cache})
+        if missing:
+            spectrum = response_spectrum(self.record.acceleration, self.record.dt, missing, [damping],
+                                         free_vibration=self.free_vibration)
+            for t, value in zip(missing, spectrum.pseudo_acceleration[0]):
+                self._cache[(t, damping)] = float(value)
+        result = np.array([self._cache[(float(t), damping)] for t in flat])
+        return result.reshape(periods_array.shape) if periods_array.ndim else result[0] * np.ones(())
