@@ -113,3 +113,121 @@ def two_element_from_ratios(
     """
     omega_v = frequency_ratio * omega_1
     return TwoElement(0.5 * total_mass * omega_v**2, damping_ratio * total_mass * omega_v)
+
+
+@dataclass(frozen=True)
+class HalfSpace:
+    """Rigid rectangular surface mat on a viscoelastic (elastic, radiating) half-space.
+
+    shear_modulus: G [Pa]; poisson_ratio: nu [-] (0 <= nu < 0.5); density: rho [kg/m^3];
+    half_length: half-dimension of the mat normal to the plane of motion [m] (the in-plane
+    half-width b is the system's). Rocking stiffness K_theta(omega) and dashpot C_theta(omega)
+    follow Pais & Kausel (1988) as tabulated in NIST GCR 12-917-21 (2012), "Soil-Structure
+    Interaction for Building Structures": Table 2-2a (static surface stiffness) and Table 2-3a
+    (dynamic modifiers alpha and radiation damping beta, a_0 = omega B / V_s); the dashpot is
+    C = 2 beta K(omega) / omega (NIST GCR 12-917-21 Eq. 2-9). With omega = None the static
+    stiffness and zero radiation damping are returned (rocking radiation damping vanishes as
+    a_0 -> 0). The exact engine represents the half-space by two equivalent edge elements
+    k = K_theta / (2 b^2), c = C_theta / (2 b^2) (THEORY.md section 1, item 3).
+    """
+
+    shear_modulus: float
+    poisson_ratio: float
+    density: float
+    half_length: float
+    kind: ClassVar[str] = "halfspace"
+    #: represented by two edge elements: contact is lost at M = W b, as for two elements
+    contact_loss_moment_ratio: ClassVar[float] = 1.0
+
+    @property
+    def shear_wave_velocity(self) -> float:
+        """V_s = sqrt(G / rho) [m/s]."""
+        return float(np.sqrt(self.shear_modulus / self.density))
+
+    @property
+    def _psi(self) -> float:
+        """psi = sqrt(2 (1 - nu) / (1 - 2 nu)) <= 2.5 (NIST GCR 12-917-21 Table 2-3a)."""
+        nu = self.poisson_ratio
+        return float(min(np.sqrt(2.0 * (1.0 - nu) / (1.0 - 2.0 * nu)), 2.5))
+
+    def _dimensions(self, b: float) -> tuple[float, float, bool]:
+        """(B, L, across): B <= L the half-dimensions; across=True when the mat rocks across
+        its short side (rotation about the long axis, NIST's xx), False for NIST's yy."""
+        if b <= self.half_length:
+            return float(b), float(self.half_length), True
+        return float(self.half_length), float(b), False
+
+    def _a0(self, b: float, omega: float | None) -> float:
+        small, _, _ = self._dimensions(b)
+        return 0.0 if not omega else float(omega) * small / self.shear_wave_velocity
+
+    def static_rocking_stiffness(self, b: float) -> float:
+        """K_theta,sur [N m/rad], NIST GCR 12-917-21 Table 2-2a (Pais & Kausel 1988):
+        across: G B^3/(1-nu) (3.2 L/B + 0.8); along: G B^3/(1-nu) (3.73 (L/B)^2.4 + 0.27)."""
+        small, large, across = self._dimensions(b)
+        ratio = large / small
+        shape = 3.2 * ratio + 0.8 if across else 3.73 * ratio**2.4 + 0.27
+        return self.shear_modulus * small**3 / (1.0 - self.poisson_ratio) * shape
+
+    def _rocking_modifiers(self, b: float, omega: float | None) -> tuple[float, float]:
+        """(alpha, beta) of rocking, NIST GCR 12-917-21 Table 2-3a."""
+        a0 = self._a0(b, omega)
+        if a0 == 0.0:
+            return 1.0, 0.0
+        small, large, across = self._dimensions(b)
+        ratio = large / small
+        static = self.static_rocking_stiffness(b) / (self.shear_modulus * small**3)
+        if across:
+            alpha = 1.0 - (0.55 + 0.01 * np.sqrt(ratio - 1.0)) * a0**2 / (2.4 - 0.4 / ratio**3 + a0**2)
+            beta = 4.0 * self._psi / 3.0 * ratio * a0**2 / (static * (2.2 - 0.4 / ratio**3 + a0**2))
+        else:
+            alpha = 1.0 - 0.55 * a0**2 / (0.6 + 1.4 / ratio**3 + a0**2)
+            beta = 4.0 * self._psi / 3.0 * ratio**3 * a0**2 / (static * (1.8 / (1.0 + 1.75 * (ratio - 1.0)) + a0**2))
+        return float(alpha), float(beta * a0 / (2.0 * alpha))
+
+    def rocking_stiffness(self, b: float, omega: float | None = None) -> float:
+        """K_theta(omega) = alpha K_theta,sur [N m/rad] (Table 2-3a)."""
+        alpha, _ = self._rocking_modifiers(b, omega)
+        return alpha * self.static_rocking_stiffness(b)
+
+    def rocking_damping(self, b: float, omega: float | None = None) -> float:
+        """C_theta(omega) = 2 beta K_theta(omega) / omega [N m s/rad] (Eq. 2-9); 0 when omega is None."""
+        if not omega:
+            return 0.0
+        alpha, beta = self._rocking_modifiers(b, omega)
+        return 2.0 * beta * alpha * self.static_rocking_stiffness(b) / float(omega)
+
+    def _vertical_modifiers(self, b: float, omega: float | None) -> tuple[float, float]:
+        a0 = self._a0(b, omega)
+        if a0 == 0.0:
+            return 1.0, 0.0
+        small, large, _ = self._dimensions(b)
+        ratio = large / small
+        alpha = 1.0 - (0.4 + 0.2 / ratio) * a0**2 / (10.0 / (1.0 + 3.0 * (ratio - 1.0)) + a0**2)
+        static = self.static_vertical_stiffness(b) / (self.shear_modulus * small)
+        beta = 4.0 * self._psi * ratio / static * a0 / (2.0 * alpha)
+        return float(alpha), float(beta)
+
+    def static_vertical_stiffness(self, b: float) -> float:
+        """K_z,sur = G B/(1-nu) (3.1 (L/B)^0.75 + 1.6) [N/m] (Table 2-2a)."""
+        small, large, _ = self._dimensions(b)
+        return self.shear_modulus * small / (1.0 - self.poisson_ratio) * (3.1 * (large / small) ** 0.75 + 1.6)
+
+    def vertical_stiffness(self, b: float, omega: float | None = None) -> float:
+        """K_z(omega) = alpha_z K_z,sur [N/m] (Table 2-3a)."""
+        alpha, _ = self._vertical_modifiers(b, omega)
+        return alpha * self.static_vertical_stiffness(b)
+
+    def vertical_damping(self, b: float, omega: float | None = None) -> float:
+        """C_z = 2 beta_z K_z(omega) / omega [N s/m]; 0 when omega is None."""
+        if not omega:
+            return 0.0
+        alpha, beta = self._vertical_modifiers(b, omega)
+        return 2.0 * beta * alpha * self.static_vertical_stiffness(b) / float(omega)
+
+    def contact_elements(self, b: float, omega: float | None = None) -> ContactElements:
+        """Two edge elements with the half-space's rocking stiffness and damping:
+        k = K_theta / (2 b^2) [N/m], c = C_theta / (2 b^2) [N s/m]."""
+        k = self.rocking_stiffness(b, omega) / (2.0 * b**2)
+        c = self.rocking_damping(b, omega) / (2.0 * b**2)
+        return ContactElements(np.array([-b, b]), np.full(2, k), np.full(2, c))

@@ -11,12 +11,12 @@ from typing import Union
 
 import numpy as np
 
-from .foundation import TwoElement, Winkler
+from .foundation import HalfSpace, TwoElement, Winkler
 from .structure import Building, Modes, modal_analysis
 
 STANDARD_GRAVITY = 9.80665  # m/s^2
 
-Foundation = Union[TwoElement, Winkler, "HalfSpace"]  # noqa: F821  (HalfSpace lives in foundation.py)
+Foundation = Union[TwoElement, Winkler, HalfSpace]
 
 
 @dataclass(frozen=True)

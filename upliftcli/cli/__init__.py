@@ -2,4 +2,97 @@
 
 The commands are split by group (analyze/modes, record, sweep/spectra) because one
 module holding all of them would pass 400 lines; nothing but CLI code lives here.
+Each command module exposes `register(app)`; COMMAND_MODULES lists them and a module
+that is not present (yet) is skipped.
+
+Exit codes: 0 ok, 2 bad input (errors.InputError: one line on stderr, no traceback),
+3 an acceptance criterion of the deck is violated, 4 analysis failure (errors.AnalysisError).
 """
+
+from __future__ import annotations
+
+import importlib
+
+import typer
+from typer.core import TyperGroup
+
+from ..errors import AnalysisError, InputError
+
+EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
+
+#: command modules, registered in this order if present
+COMMAND_MODULES = ("analyze", "record", "sweep")
+
+
+class UpliftGroup(TyperGroup):
+    """Top-level group: turns InputError / AnalysisError from any command into one line + exit code."""
+
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except InputError as error:
+            typer.echo(f"error: {error}", err=True)
+            raise typer.Exit(EXIT_INPUT) from None
+        except AnalysisError as error:
+            typer.echo(f"analysis failed: {error}", err=True)
+            raise typer.Exit(EXIT_ANALYSIS) from None
+
+
+app = typer.Typer(
+    cls=UpliftGroup,
+    name="uplift",
+    help="Earthquake response of multistory buildings whose foundation mat may lift off (Yim & Chopra).",
+    add_completion=False,
+    no_args_is_help=True,
+    pretty_exceptions_show_locals=False,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+
+
+def _version(value: bool) -> None:
+    if value:
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            typer.echo(version("uplift"))
+        except PackageNotFoundError:
+            typer.echo("uplift (not installed)")
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    show_version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                      help="Print the version and exit."),
+) -> None:
+    """Earthquake response of multistory buildings with foundation-mat uplift.
+
+    Exit codes: 0 ok, 2 bad input, 3 acceptance criterion violated, 4 analysis failure.
+    """
+
+
+def _register_all() -> None:
+    for name in COMMAND_MODULES:
+        module_name = f"{__name__}.{name}"
+        try:
+            module = importlib.import_module(module_name)
+        except ModuleNotFoundError as error:
+            if error.name == module_name:
+                continue  # not written yet
+            raise
+        module.register(app)
+
+
+_register_all()
+
+
+def main() -> None:
+    """Console-script entry point (`uplift`)."""
+    try:
+        app()
+    except InputError as error:  # raised outside a command (e.g. while parsing)
+        typer.echo(f"error: {error}", err=True)
+        raise SystemExit(EXIT_INPUT) from None
+    except AnalysisError as error:
+        typer.echo(f"analysis failed: {error}", err=True)
+        raise SystemExit(EXIT_ANALYSIS) from None

@@ -1,0 +1,74 @@
+"""Analysis runner: a Deck in, one AnalysisResult per (engine, support) out.
+
+Used by `uplift analyze` and by sweeps; knows nothing of the terminal or files.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Sequence
+
+from .deck import Deck
+from .errors import AnalysisError, InputError
+from .results import AnalysisResult
+
+ENGINES = ("simplified", "approximate", "exact")
+
+
+def run_one(deck: Deck, engine: str, support: str) -> AnalysisResult:
+    """One engine, one support condition ("rigid", "bonded" or "uplift")."""
+    if engine == "simplified":
+        from .engines import simplified
+
+        if deck.spectrum is None:
+            raise InputError(deck.source, "ground_motion", "a record or a design spectrum for the simplified engine")
+        return simplified.analyze(deck.system, deck.spectrum, support, deck.analysis.simplified)
+    if engine not in ENGINES:
+        raise InputError(deck.source, "analysis.engine", f"one of {', '.join(ENGINES)}, got {engine!r}")
+    from .records import Record
+
+    if not isinstance(deck.ground_motion, Record):
+        raise InputError(deck.source, "ground_motion.record",
+                         f"a record for the {engine} engine (a design spectrum serves only the simplified engine)")
+    module = importlib.import_module(f"upliftcli.engines.{engine}")
+    function = getattr(module, "analyze", None)
+    if function is None:
+        raise AnalysisError(f"the {engine} engine is not available in this version")
+    return function(deck.system, deck.ground_motion, support, deck.analysis.exact)
+
+
+def run(deck: Deck, engine: str | Sequence[str] | None = None,
+        supports: str | Sequence[str] | None = None) -> list[AnalysisResult]:
+    """Every requested engine x support (default: those of the deck), engines outermost."""
+    engines = [engine] if isinstance(engine, str) else list(engine or deck.analysis.engines)
+    support_list = [supports] if isinstance(supports, str) else list(supports or deck.analysis.supports)
+    return [run_one(deck, name, support) for name in engines for support in support_list]
+
+
+#: criterion name -> (how to get the value from a result, unit)
+_CRITERIA = {
+    "drift_ratio": (lambda r: float(max(abs(r.drift_ratio))), "-"),
+    "drift": (lambda r: float(max(abs(r.drift))), "m"),
+    "displacement": (lambda r: float(max(abs(r.displacement))), "m"),
+    "base_shear": (lambda r: abs(r.base_shear), "N"),
+    "base_shear_coefficient": (lambda r: abs(r.base_shear_coefficient), "-"),
+    "base_moment": (lambda r: abs(r.base_moment), "N m"),
+    "base_moment_coefficient": (lambda r: abs(r.base_moment_coefficient), "-"),
+}
+
+
+def check_criteria(results: Sequence[AnalysisResult], criteria: dict) -> list[str]:
+    """One message per violated acceptance criterion (deck [criteria]); empty when all pass."""
+    messages = []
+    for result in results:
+        label = f"{result.engine}/{result.support}"
+        for name, limit in criteria.items():
+            if name == "uplift":
+                if not limit and result.uplift:
+                    messages.append(f"{label}: the mat lifts off (criteria.uplift = false)")
+                continue
+            value_of, unit = _CRITERIA[name]
+            value = value_of(result)
+            if value > limit:
+                messages.append(f"{label}: {name} = {value:.4g} exceeds the limit {limit:.4g} [{unit}]")
+    return messages

@@ -1,0 +1,114 @@
+"""Terminal tables (rich) for modes and analysis results. Falls back to plain text when
+there is no terminal (CI=true, pipes): rich handles that itself."""
+
+from __future__ import annotations
+
+import numpy as np
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from ..engines.simplified import INTERMEDIATES
+from ..results import AnalysisResult
+from ..system import System
+
+
+def console(stderr: bool = False) -> Console:
+    """A console that never needs a terminal (width 120 when output is not a terminal)."""
+    probe = Console(stderr=stderr)
+    return Console(stderr=stderr, width=None if probe.is_terminal else 120, highlight=False)
+
+
+def modes_table(system: System, n_modes: int | None = None) -> Table:
+    """Periods, w_n/w_1, m_n*/m_t (and cumulative), h_n* and h_n*/b (THEORY.md sections 5, 6)."""
+    modes = system.modes
+    n = n_modes or modes.n_modes
+    m_t = system.total_mass
+    cumulative = np.cumsum(modes.effective_mass) / m_t
+    table = Table(title=escape(f"Fixed-base modes (m_t = {m_t:.6g} kg, b = {system.half_width:.4g} m)"))
+    for header in ("mode", "T_n [s]", "w_n/w_1", "m_n*/m_t", "cumulative", "h_n* [m]", "h_n*/b"):
+        table.add_column(escape(header), justify="right")
+    for i in range(n):
+        table.add_row(str(i + 1), f"{modes.periods[i]:.4f}", f"{modes.omega[i] / modes.omega[0]:.3f}",
+                      f"{modes.effective_mass[i] / m_t:.4f}", f"{cumulative[i]:.4f}",
+                      f"{modes.effective_height[i]:.3f}", f"{modes.effective_height[i] / system.half_width:.3f}")
+    return table
+
+
+def story_table(result: AnalysisResult) -> Table:
+    table = Table(title=f"{result.engine} engine, {result.support} support")
+    for header in ("story", "height [m]", "displacement [mm]", "drift [mm]", "drift ratio [%]",
+                   "story shear [kN]", "overturning moment [kN m]"):
+        table.add_column(escape(header), justify="right")
+    for j in range(result.heights.size - 1, -1, -1):
+        table.add_row(str(j + 1), f"{result.heights[j]:.2f}", f"{1e3 * result.displacement[j]:.2f}",
+                      f"{1e3 * result.drift[j]:.2f}", f"{100 * result.drift_ratio[j]:.3f}",
+                      f"{1e-3 * result.shear[j]:.1f}", f"{1e-3 * result.moment[j]:.1f}")
+    return table
+
+
+def summary_table(results: list[AnalysisResult]) -> Table:
+    """One row per result: base shear and moment, coefficients, critical values, uplift."""
+    table = Table(title="Summary")
+    for header in ("engine", "support", "V_b [kN]", "V_b/(m_t g)", "M_b [kN m]", "M_b/(m_t g h_1*)",
+                   "V_c [kN]", "M_c [kN m]", "b/h_1*", "uplift"):
+        table.add_column(escape(header), justify="right")
+    for r in results:
+        table.add_row(r.engine, r.support, f"{1e-3 * r.base_shear:.1f}", f"{r.base_shear_coefficient:.4f}",
+                      f"{1e-3 * r.base_moment:.1f}", f"{r.base_moment_coefficient:.4f}",
+                      f"{1e-3 * r.critical_base_shear:.1f}", f"{1e-3 * r.critical_base_moment:.1f}",
+                      f"{r.critical_coefficient:.4f}", "yes" if r.uplift else "no")
+    return table
+
+
+def _format(value) -> str:
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return ", ".join(_format(v) for v in value)
+    if isinstance(value, (int, float, np.floating)):
+        return f"{float(value):.5g}"
+    return str(value)
+
+
+MODAL_LISTS = ("T_n", "Sa_n", "m_n*/m_t", "h_n*", "V_n")
+
+
+def modal_table(result: AnalysisResult) -> Table:
+    """Per-mode intermediates: T_n, S_a(T_n, xi_n), m_n*/m_t, h_n*, V_n."""
+    inter = result.intermediates
+    table = Table(title=escape(f"Modal base shears ({result.engine}, {result.support}); "
+                               "mode 1 of bonded/uplift uses T1bar, xi1bar"))
+    for header in ("mode", "T_n [s]", "S_a(T_n) [m/s^2]", "m_n*/m_t", "h_n* [m]", "V_n [kN]"):
+        table.add_column(escape(header), justify="right")
+    for i, period in enumerate(inter["T_n"]):
+        table.add_row(str(i + 1), f"{period:.4f}", f"{inter['Sa_n'][i]:.4f}", f"{inter['m_n*/m_t'][i]:.4f}",
+                      f"{inter['h_n*'][i]:.3f}", f"{1e-3 * inter['V_n'][i]:.1f}")
+    return table
+
+
+def intermediates_table(result: AnalysisResult) -> Table:
+    """Scalar intermediates with unit and meaning (engines.simplified.INTERMEDIATES)."""
+    table = Table(title=f"Intermediate values ({result.engine}, {result.support})")
+    for header in ("quantity", "value", "unit", "meaning"):
+        table.add_column(escape(header), justify="left")
+    for name, value in result.intermediates.items():
+        if name in MODAL_LISTS:
+            continue
+        unit, meaning = INTERMEDIATES.get(name, ("", ""))
+        table.add_row(escape(name), _format(value), escape(unit), escape(meaning))
+    return table
+
+
+def print_results(out: Console, results: list[AnalysisResult], title: str | None = None) -> None:
+    if title:
+        out.print(f"[bold]{escape(title)}[/bold]")
+    for result in results:
+        out.print(story_table(result))
+        if all(name in result.intermediates for name in MODAL_LISTS):
+            out.print(modal_table(result))
+        if result.intermediates:
+            out.print(intermediates_table(result))
+        for warning in result.details.get("warnings", []):
+            out.print(f"[yellow]note:[/yellow] {escape(warning)}")
+    out.print(summary_table(results))

@@ -1,0 +1,347 @@
+"""Read an `uplift` deck (TOML), apply `--set` overrides and build the analysis inputs.
+
+    deck = load_deck("inputs/ten_story_elcentro.toml", ["building.period=0.5"])
+    deck.system, deck.spectrum, deck.analysis ...
+
+Field names, units and defaults: deck_schema.TABLES and docs/deck.md. Every bad input
+raises errors.InputError naming the file (or "--set"), the dotted field and what was
+expected; nothing here prints or exits.
+"""
+
+from __future__ import annotations
+
+import copy
+import tomllib
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import deck_schema as schema
+from .engines.exact import ExactOptions
+from .engines.simplified import SimplifiedOptions
+from .errors import InputError
+from .foundation import HalfSpace, TwoElement, Winkler, two_element_from_ratios
+from .structure import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
+from .system import System
+
+#: groups of mutually exclusive fields: a `--set` of one member removes the others
+ALTERNATIVES: list[tuple[str, list[set[str]]]] = [
+    ("building", [{"floor_mass"}, {"masses"}]),
+    ("building", [{"story_height"}, {"story_heights"}]),
+    ("building", [{"story_stiffness"}, {"story_stiffnesses"}, {"stiffness_matrix"}]),
+    ("foundation", [{"b"}, {"slenderness"}]),
+    ("foundation", [{"k_f"}, {"frequency_ratio"}]),
+    ("foundation", [{"c_f"}, {"damping_ratio"}]),
+    ("foundation", [{"shear_modulus"}, {"shear_wave_velocity"}]),
+    ("analysis", [{"modes"}, {"mass_participation"}]),
+    ("ground_motion", [{"record", "format", "units", "dt", "window", "scale"}, {"design_spectrum"}]),
+]
+
+FOUNDATION_FIELDS = {
+    "two-element": {"k_f", "c_f", "frequency_ratio", "damping_ratio"},
+    "winkler": {"k_w", "c_w", "elements"},
+    "halfspace": {"shear_modulus", "shear_wave_velocity", "poisson_ratio", "density", "half_length"},
+}
+
+
+@dataclass
+class AnalysisSettings:
+    """What to run: engines, supports, modes and the engines' options."""
+
+    engines: list[str]
+    supports: list[str]
+    n_modes: int
+    modes_given: bool
+    simplified: SimplifiedOptions
+    exact: ExactOptions
+
+
+@dataclass
+class Deck:
+    """A validated deck.
+
+    source: the deck file; title: its label; system: building + mat + foundation;
+    ground_motion: a records.Record, a design spectrum, or None (not loaded / not given);
+    spectrum: object with .sa(periods [s], damping [-]) -> S_a [m/s^2] for the simplified engine;
+    analysis: AnalysisSettings; criteria: acceptance limits {name: value} (deck_schema "criteria");
+    raw: the TOML mapping after the overrides; values: validated {table: {field: value}}.
+    """
+
+    source: str
+    title: str
+    system: System
+    ground_motion: Any
+    spectrum: Any
+    analysis: AnalysisSettings
+    criteria: dict[str, Any]
+    raw: dict
+    values: dict[str, dict[str, Any]] = field(repr=False, default_factory=dict)
+
+
+# ----------------------------------------------------------------------------- overrides
+
+def parse_override(text: str) -> tuple[str, Any]:
+    """'a.b=value' -> ('a.b', value); the value is read as a TOML value, else as a bare string."""
+    path, sep, value_text = text.partition("=")
+    path = path.strip()
+    if not sep or not path:
+        raise InputError("--set", text, "PATH=VALUE, e.g. building.period=0.5")
+    if not schema.known_path(path):
+        candidates = schema.all_paths()
+        raise InputError("--set", path, f"a known deck field{schema.suggestion(path, candidates)}")
+    value_text = value_text.strip()
+    try:
+        value = tomllib.loads(f"value = {value_text}")["value"]
+    except tomllib.TOMLDecodeError:
+        value = value_text
+    return path, value
+
+
+def apply_overrides(raw: dict, overrides: Iterable[tuple[str, Any]]) -> tuple[dict, frozenset[str]]:
+    """Copy of `raw` with each (dotted path, value) set; members of the same group of
+    alternatives (e.g. foundation.b vs foundation.slenderness) are removed."""
+    result = copy.deepcopy(raw)
+    paths = []
+    for path, value in overrides:
+        parts = path.split(".")
+        table = result
+        for part in parts[:-1]:
+            if not isinstance(table.get(part), dict):
+                table[part] = {}
+            table = table[part]
+        parent, name = ".".join(parts[:-1]), parts[-1]
+        for group_table, groups in ALTERNATIVES:
+            if group_table == parent and any(name in group for group in groups):
+                for group in groups:
+                    if name not in group:
+                        for other in group:
+                            table.pop(other, None)
+        table[name] = value
+        paths.append(path)
+    return result, frozenset(paths)
+
+
+# ----------------------------------------------------------------------------- loading
+
+def read_toml(path: str | Path) -> dict:
+    """Parse a TOML file; InputError with the line on malformed TOML."""
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(source, None, "an existing deck file (file not found)") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(source, None, f"a readable UTF-8 TOML file ({error})") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        message = str(error)
+        line = getattr(error, "lineno", None)
+        location = f"line {line}" if line else None
+        raise InputError(source, location, f"valid TOML ({message})") from None
+
+
+def load_deck(path: str | Path, overrides: Sequence[str] = (), *, load_ground_motion: bool = True) -> Deck:
+    """Read, override (`--set` strings 'path=value'), validate and build a deck."""
+    parsed = [parse_override(text) for text in overrides]
+    raw = read_toml(path)
+    return build_deck(raw, str(path), parsed, load_ground_motion=load_ground_motion)
+
+
+def build_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]] = (), *,
+               load_ground_motion: bool = True) -> Deck:
+    """Build a Deck from a parsed mapping (used by load_deck and by sweeps)."""
+    raw, overridden = apply_overrides(raw, overrides)
+    values = schema.validate(raw, source, overridden)
+
+    def error(path: str, expected: str):
+        return InputError("--set" if path in overridden else source, path, expected)
+
+    building = _building(values["building"], error)
+    system = _system(building, values["foundation"], values["analysis"], error)
+    analysis = _analysis(values["analysis"], values["analysis.exact"], system, error)
+    ground_motion = spectrum = None
+    if load_ground_motion:
+        ground_motion, spectrum = _ground_motion(values["ground_motion"], source, error)
+    return Deck(source, values[""].get("title", Path(source).stem), system, ground_motion, spectrum,
+                analysis, dict(values["criteria"]), raw, values)
+
+
+def _default(table: str, name: str) -> Any:
+    return schema.TABLES[table][name].default
+
+
+def _exactly_one(fields: dict, names: Sequence[str], table: str, error, unit: str) -> str | None:
+    given = [name for name in names if name in fields]
+    if len(given) > 1:
+        raise error(f"{table}.{given[1]}", f"only one of {', '.join(f'{table}.{n}' for n in names)} "
+                    f"(both {given[0]} and {given[1]} given)")
+    return given[0] if given else None
+
+
+def _building(fields: dict, error) -> Building:
+    """Building from the uniform shorthand, per-story arrays or a stiffness matrix."""
+    if not fields:
+        raise error("building", "a [building] table")
+    lengths = {name: len(fields[name]) for name in ("masses", "story_heights", "story_stiffnesses",
+                                                    "stiffness_matrix") if name in fields}
+    if isinstance(fields.get("damping"), list):
+        lengths["damping"] = len(fields["damping"])
+    n = fields.get("stories")
+    for name, length in lengths.items():
+        if n is None:
+            n = length
+        elif length != n:
+            raise error(f"building.{name}", f"{n} values, one per story, got {length}")
+    if n is None:
+        raise error("building.stories", "the number of stories (or per-story arrays: masses, story_heights)")
+
+    def per_story(scalar: str, array: str, unit: str) -> np.ndarray:
+        name = _exactly_one(fields, [scalar, array], "building", error, unit)
+        if name is None:
+            raise error(f"building.{scalar}", f"a positive number [{unit}] (missing; or give building.{array})")
+        return np.full(n, fields[scalar]) if name == scalar else np.asarray(fields[array], dtype=float)
+
+    masses = per_story("floor_mass", "masses", "kg")
+    story_heights = per_story("story_height", "story_heights", "m")
+    damping = fields.get("damping", _default("building", "damping"))
+    stiffness_name = _exactly_one(fields, ["story_stiffness", "story_stiffnesses", "stiffness_matrix"],
+                                  "building", error, "N/m")
+    period = fields.get("period")
+    if stiffness_name is None and period is None:
+        raise error("building.story_stiffness", "a story stiffness [N/m] (missing; or give building.period "
+                    "[s], building.story_stiffnesses or building.stiffness_matrix)")
+    if stiffness_name == "stiffness_matrix":
+        matrix = np.asarray(fields["stiffness_matrix"], dtype=float)
+        if not np.allclose(matrix, matrix.T, rtol=1e-9, atol=1e-12 * np.abs(matrix).max()):
+            raise error("building.stiffness_matrix", "a symmetric matrix [N/m]")
+        if np.linalg.eigvalsh(matrix)[0] <= 0.0:
+            raise error("building.stiffness_matrix", "a positive-definite matrix [N/m]")
+        heights = np.cumsum(story_heights)
+        xi = np.broadcast_to(np.asarray(damping, dtype=float), masses.shape).copy()
+        building = Building(masses, heights, matrix, xi, None)
+    else:
+        if stiffness_name == "story_stiffness":
+            story_stiffness = np.full(n, fields["story_stiffness"])
+        elif stiffness_name == "story_stiffnesses":
+            story_stiffness = np.asarray(fields["story_stiffnesses"], dtype=float)
+        else:
+            story_stiffness = np.ones(n)
+        building = shear_building(masses, story_heights, story_stiffness, np.asarray(damping, dtype=float))
+    if period is not None:
+        building = scale_to_period(building, period)
+    return building
+
+
+def _system(building: Building, fields: dict, analysis: dict, error) -> System:
+    """Mat half-width, mat mass and inertia, and the foundation."""
+    kind = fields.get("type", _default("foundation", "type"))
+    for name in fields:
+        owners = [k for k, names in FOUNDATION_FIELDS.items() if name in names]
+        if owners and kind not in owners:
+            raise error(f"foundation.{name}", f"no {name} for foundation type {kind!r} "
+                        f"(it belongs to type {owners[0]!r})")
+    modes = modal_analysis(building)
+    effective_height = float(modes.effective_height[0])
+    which = _exactly_one(fields, ["b", "slenderness"], "foundation", error, "m")
+    if which is None:
+        raise error("foundation.b", "the mat half-width b > 0 [m] (missing; or give foundation.slenderness "
+                    "= h_1*/b)")
+    b = fields["b"] if which == "b" else effective_height / fields["slenderness"]
+    mat_mass = fields.get("mat_mass", 0.0)
+    total_mass = float(building.masses.sum() + mat_mass)
+    omega_1 = float(modes.omega[0])
+    if kind == "two-element":
+        _exactly_one(fields, ["k_f", "frequency_ratio"], "foundation", error, "N/m")
+        _exactly_one(fields, ["c_f", "damping_ratio"], "foundation", error, "N s/m")
+        if "k_f" in fields:
+            k_f = fields["k_f"]
+        elif "frequency_ratio" in fields:
+            k_f = two_element_from_ratios(total_mass, omega_1, fields["frequency_ratio"], 0.0).stiffness
+        else:
+            raise error("foundation.k_f", "the element stiffness k_f > 0 [N/m] (missing; or give "
+                        "foundation.frequency_ratio = w_v/w_1)")
+        omega_v = float(np.sqrt(2.0 * k_f / total_mass))
+        c_f = fields["c_f"] if "c_f" in fields else fields.get("damping_ratio", 0.0) * total_mass * omega_v
+        foundation = TwoElement(float(k_f), float(c_f))
+    elif kind == "winkler":
+        if "k_w" not in fields:
+            raise error("foundation.k_w", "the Winkler stiffness k_w > 0 [N/m^2] (missing)")
+        foundation = Winkler(fields["k_w"], fields.get("c_w", 0.0), fields.get("elements", 20))
+    else:
+        if "density" not in fields:
+            raise error("foundation.density", "the soil density rho > 0 [kg/m^3] (missing)")
+        rho = fields["density"]
+        which_g = _exactly_one(fields, ["shear_modulus", "shear_wave_velocity"], "foundation", error, "Pa")
+        if which_g is None:
+            raise error("foundation.shear_modulus", "the soil shear modulus G > 0 [Pa] (missing; or give "
+                        "foundation.shear_wave_velocity [m/s])")
+        modulus = fields["shear_modulus"] if which_g == "shear_modulus" else rho * fields["shear_wave_velocity"] ** 2
+        foundation = HalfSpace(modulus, fields.get("poisson_ratio", _default("foundation", "poisson_ratio")),
+                               rho, fields.get("half_length", b))
+    return System(building, foundation, float(b), float(mat_mass), float(fields.get("mat_rotary_inertia", 0.0)),
+                  float(analysis.get("gravity", _default("analysis", "gravity"))))
+
+
+def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSettings:
+    n_total = system.building.n_stories
+    which = _exactly_one(fields, ["modes", "mass_participation"], "analysis", error, "-")
+    if which == "modes":
+        if fields["modes"] > n_total:
+            raise error("analysis.modes", f"at most {n_total} modes (the building has {n_total} stories), "
+                        f"got {fields['modes']}")
+        n_modes = fields["modes"]
+    elif which == "mass_participation":
+        n_modes = modes_for_mass_target(system.modes, float(system.building.masses.sum()),
+                                        fields["mass_participation"])
+    else:
+        n_modes = n_total
+    if exact.get("n_modes", 0) > n_total:
+        raise error("analysis.exact.n_modes", f"at most {n_total} modes, got {exact['n_modes']}")
+    simplified = SimplifiedOptions(
+        n_modes=n_modes,
+        combination=fields.get("combination", _default("analysis", "combination")),
+        effective_properties=fields.get("effective_properties", _default("analysis", "effective_properties")),
+        uplift_damping=fields.get("uplift_damping", _default("analysis", "uplift_damping")),
+        uplift_x=fields.get("uplift_x", _default("analysis", "uplift_x")),
+        uplift_x_factor=fields.get("uplift_x_factor", _default("analysis", "uplift_x_factor")),
+        uplift_formula=fields.get("uplift_formula", _default("analysis", "uplift_formula")),
+    )
+    exact_values = dict(exact)
+    exact_values.setdefault("n_modes", n_modes if which else None)
+    return AnalysisSettings(
+        engines=list(fields.get("engine", _default("analysis", "engine"))),
+        supports=list(fields.get("supports", _default("analysis", "supports"))),
+        n_modes=n_modes,
+        modes_given=which is not None,
+        simplified=simplified,
+        exact=ExactOptions(**exact_values),
+    )
+
+
+def _ground_motion(fields: dict, source: str, error) -> tuple[Any, Any]:
+    """(record or design spectrum, spectrum for the simplified engine)."""
+    if not fields:
+        raise error("ground_motion", "a [ground_motion] table with a record (path) or a design_spectrum")
+    if "design_spectrum" in fields:
+        extra = sorted(set(fields) - {"design_spectrum"})
+        if extra:
+            raise error(f"ground_motion.{extra[0]}", "no record fields together with a design_spectrum")
+        from . import design_spectra
+
+        spectrum = design_spectra.from_mapping(fields["design_spectrum"], f"{source}: ground_motion.design_spectrum")
+        return spectrum, spectrum
+    if "record" not in fields:
+        raise error("ground_motion.record", "the path of a record file (missing; or give "
+                    "ground_motion.design_spectrum)")
+    from . import records, spectra
+
+    path = Path(fields["record"])
+    if not path.is_absolute():
+        path = Path(source).parent / path
+    record = records.read_record(path, fields.get("format"), fields.get("units"), fields.get("dt"),
+                                 fields.get("scale", 1.0), fields.get("window"))
+    return record, spectra.RecordSpectrum(record)

@@ -1,0 +1,258 @@
+"""Simplified engine: response spectrum analysis with interaction and uplift in mode 1.
+
+THEORY.md section 7 (paper Eqs. 21-35). Pure functions of a System and a spectrum
+object with .sa(periods [s], damping [-]) -> S_a [m/s^2]:
+
+- rigid: standard modal response spectrum analysis on a fixed base [31-35];
+- bonded: mode 1 with the effective period and damping of the flexibly supported
+  system T1bar, xi1bar [21-25]; higher modes fixed-base;
+- uplift: as bonded, and if V_1 = m_1* S_a(T1bar, xi1bar) exceeds V_c [16a] the
+  uplift base shear [26-29]; higher modes fixed-base.
+
+Every intermediate an engineer checks by hand is returned in result.intermediates
+(see INTERMEDIATES for names and units).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+from scipy.linalg import eig
+
+from ..errors import AnalysisError
+from ..results import AnalysisResult, cqc, srss
+from ..system import System
+
+SUPPORTS = ("rigid", "bonded", "uplift")
+
+#: name -> (unit, meaning) of every intermediate value reported
+INTERMEDIATES: dict[str, tuple[str, str]] = {
+    "T_n": ("s", "fixed-base periods of the modes used"),
+    "Sa_n": ("m/s^2", "S_a(T_n, xi_n) of each mode, fixed base"),
+    "V_n": ("N", "modal base shear used in the combination [26, 28, 31]"),
+    "m_n*/m_t": ("-", "effective modal mass ratios"),
+    "h_n*": ("m", "effective modal heights"),
+    "K_theta": ("N m/rad", "rocking stiffness of the foundation [22]"),
+    "C_theta": ("N m s/rad", "rocking damping of the foundation [25]"),
+    "T1": ("s", "fixed-base fundamental period"),
+    "T1bar": ("s", "effective period of the bonded system [21]"),
+    "T1bar/T1": ("-", "period lengthening"),
+    "xi1": ("-", "fixed-base damping of mode 1"),
+    "xi_f": ("-", "foundation damping [24]"),
+    "xi1bar": ("-", "effective damping of the bonded system [23]"),
+    "Sa1bar": ("m/s^2", "S_a(T1bar, xi1bar)"),
+    "V_c": ("N", "critical base shear m_t g b / h_1* [16a]"),
+    "M_c": ("N m", "critical base moment m_t g b [16b]"),
+    "V1_bonded": ("N", "mode-1 base shear without uplift m_1* S_a(T1bar, xi1bar) [26]"),
+    "V1_bonded/V_c": ("-", "> 1 means the mat lifts off (uplift) or pulls (bonded)"),
+    "r": ("m", "sqrt(h_1*^2 + b^2)"),
+    "zeta": ("-", "damping while uplifted [27]"),
+    "X0": ("-", "X before the decay factor"),
+    "X_factor": ("-", "decay factor on X"),
+    "X": ("-", "X of Eq. 28"),
+    "phi": ("rad", "phase angle [28b]"),
+    "V1_uplift": ("N", "mode-1 base shear with uplift [28a] or [29]"),
+}
+
+
+@dataclass(frozen=True)
+class SimplifiedOptions:
+    """Options of the simplified engine (the open choices of THEORY.md section 7).
+
+    n_modes: modes combined (None = all N).
+    combination: "srss" [35] or "cqc" (mode 1 correlated with T1bar, xi1bar when flexible).
+    effective_properties: "formula" [21-25] or "eigenvalue" (complex eigenvalue of the bonded
+        one-mode system of paper Fig. 2, massless mat).
+    uplift_damping: zeta = xi1bar r/b [27] ("xi1bar") or xi_1 r/b ("xi1").
+    uplift_x: X0 = (m_t S_a1bar / V_c)^2 = (S_a/g)^2 (h_1*/b)^2 ("spectral") or (V_1/V_c)^2
+        ("mass-consistent").
+    uplift_x_factor: X = X0 e^(xi1bar pi) ("exponential"), X0 ("none"), or
+        X0 e^(2 xi1bar (pi/2 - asin(X0^-1/2))) ("phase": decay over the phase actually
+        travelled from the crossing V = V_c to the peak; continuous at V_1 = V_c).
+    uplift_formula: "full" [28a] or "slender" [29].
+    """
+
+    n_modes: int | None = None
+    combination: str = "srss"
+    effective_properties: str = "formula"
+    uplift_damping: str = "xi1bar"
+    uplift_x: str = "spectral"
+    uplift_x_factor: str = "exponential"
+    uplift_formula: str = "full"
+
+
+def spectral_acceleration(spectrum, period: float, damping: float) -> float:
+    """S_a(T, xi) [m/s^2] of one period."""
+    value = np.asarray(spectrum.sa(np.array([float(period)]), float(damping)), dtype=float).ravel()[0]
+    if not math.isfinite(value):
+        raise AnalysisError(f"the spectrum gives no finite S_a at T = {period:.4g} s, xi = {damping:.4g}")
+    return float(value)
+
+
+def _rocking(system: System, omega: float | None) -> tuple[float, float]:
+    b = system.half_width
+    return system.foundation.rocking_stiffness(b, omega), system.foundation.rocking_damping(b, omega)
+
+
+def effective_properties_formula(system: System, omega: float | None = None) -> dict[str, float]:
+    """T1bar [21] and xi1bar [23, 24] for rocking stiffness/damping evaluated at omega [rad/s]."""
+    modes = system.modes
+    m1, h1, w1, xi1 = (float(modes.effective_mass[0]), float(modes.effective_height[0]),
+                       float(modes.omega[0]), float(modes.damping[0]))
+    k_theta, c_theta = _rocking(system, omega)
+    ratio = math.sqrt(1.0 + w1**2 * m1 * h1**2 / k_theta)
+    xi_f = c_theta / (2.0 * m1 * w1 * h1**2) * (ratio**2 - 1.0) ** 2 / ratio**3
+    return {"K_theta": k_theta, "C_theta": c_theta, "T1": 2 * math.pi / w1, "T1bar": 2 * math.pi / w1 * ratio,
+            "T1bar/T1": ratio, "xi1": xi1, "xi_f": xi_f, "xi1bar": xi_f + xi1 / ratio**3}
+
+
+def effective_properties_eigenvalue(system: System, omega: float | None = None) -> dict[str, float]:
+    """T1bar, xi1bar from the complex eigenvalue of the bonded one-mode system (paper Fig. 2,
+    massless mat, L_0 ~ m_1* h_1*, I_b ~ m_1* h_1*^2 [20]): T1bar = 2 pi/|lambda|,
+    xi1bar = -Re(lambda)/|lambda|. xi_f is reported as xi1bar - xi_1 (T_1/T1bar)^3."""
+    modes = system.modes
+    m1, h1, w1, xi1 = (float(modes.effective_mass[0]), float(modes.effective_height[0]),
+                       float(modes.omega[0]), float(modes.damping[0]))
+    k_theta, c_theta = _rocking(system, omega)
+    mass = m1 * np.array([[1.0, h1], [h1, h1**2]])
+    damping = np.diag([2.0 * xi1 * w1 * m1, c_theta])
+    stiffness = np.diag([w1**2 * m1, k_theta])
+    zero, one = np.zeros((2, 2)), np.eye(2)
+    lhs = np.block([[one, zero], [zero, mass]])
+    rhs = np.block([[zero, one], [-stiffness, -damping]])
+    values = eig(rhs, lhs, right=False)
+    finite = values[np.isfinite(values) & (np.abs(values) < 1e12 * w1)]
+    oscillatory = finite[finite.imag > 1e-9 * w1]
+    if oscillatory.size == 0:
+        raise AnalysisError("the bonded one-mode system has no oscillatory mode (overdamped)")
+    value = oscillatory[np.argmin(np.abs(oscillatory))]
+    omega_bar = abs(value)
+    ratio = w1 / omega_bar
+    xi1bar = -value.real / omega_bar
+    return {"K_theta": k_theta, "C_theta": c_theta, "T1": 2 * math.pi / w1, "T1bar": 2 * math.pi / omega_bar,
+            "T1bar/T1": ratio, "xi1": xi1, "xi_f": xi1bar - xi1 / ratio**3, "xi1bar": xi1bar}
+
+
+def effective_properties(system: System, method: str = "formula") -> dict[str, float]:
+    """T1bar, xi1bar and the rocking K_theta, C_theta; for a frequency-dependent foundation
+    (half-space) they are evaluated at the effective frequency 2 pi/T1bar (fixed point)."""
+    function = effective_properties_formula if method == "formula" else effective_properties_eigenvalue
+    props = function(system, float(system.modes.omega[0]))
+    for _ in range(200):
+        omega = 2 * math.pi / props["T1bar"]
+        new = function(system, omega)
+        if abs(new["T1bar"] - props["T1bar"]) <= 1e-12 * props["T1bar"]:
+            return new
+        props = new
+    raise AnalysisError("the effective period of the bonded system did not converge (frequency iteration)")
+
+
+def uplift_base_shear(critical_shear: float, slenderness: float, x_value: float, zeta: float,
+                      formula: str = "full") -> tuple[float, float]:
+    """(V_1,max [N], phi [rad]) with uplift, Eq. 28a/28b ("full") or Eq. 29 ("slender").
+
+    slenderness: h_1*/b; x_value: X (> 1); zeta: damping while uplifted [27]."""
+    b_over_r2 = 1.0 / (1.0 + slenderness**2)  # b^2/r^2
+    excess = max(x_value - 1.0, 0.0)
+    if formula == "slender":
+        phi = math.pi / 2
+        return critical_shear * (1.0 + math.sqrt(b_over_r2) * math.exp(-zeta * phi) * math.sqrt(excess)), phi
+    phi = math.atan(math.sqrt(excess / b_over_r2))
+    amplitude = math.sqrt(b_over_r2**2 + b_over_r2 * excess)
+    return critical_shear * ((1.0 - b_over_r2) + math.exp(-zeta * phi) * amplitude), phi
+
+
+def _uplift(system: System, props: dict, v1_bonded: float, sa1bar: float, options: SimplifiedOptions) -> dict:
+    """Steps 4-5 of THEORY.md section 7: zeta, X, phi and V_1 with uplift."""
+    b, h1 = system.half_width, system.effective_height
+    v_c = system.critical_base_shear
+    r = math.hypot(h1, b)
+    base_damping = props["xi1bar"] if options.uplift_damping == "xi1bar" else props["xi1"]
+    zeta = base_damping * r / b
+    x0 = (system.total_mass * sa1bar / v_c) ** 2 if options.uplift_x == "spectral" else (v1_bonded / v_c) ** 2
+    xi1bar = props["xi1bar"]
+    if options.uplift_x_factor == "exponential":
+        factor = math.exp(xi1bar * math.pi)
+    elif options.uplift_x_factor == "phase":
+        factor = math.exp(2.0 * xi1bar * (math.pi / 2 - math.asin(min(1.0, 1.0 / math.sqrt(x0)))))
+    else:
+        factor = 1.0
+    x_value = x0 * factor
+    v1, phi = uplift_base_shear(v_c, h1 / b, x_value, zeta, options.uplift_formula)
+    return {"r": r, "zeta": zeta, "X0": x0, "X_factor": factor, "X": x_value, "phi": phi, "V1_uplift": v1}
+
+
+def modal_static_response(system: System, modal_base_shears: np.ndarray, n_modes: int) -> dict[str, np.ndarray]:
+    """Per-mode peaks (modes x floors) from modal base shears: forces [32], story shears and
+    overturning moments by statics, displacements [33], drifts [34], drift ratios."""
+    building, modes = system.building, system.modes
+    phi = modes.shapes[:, :n_modes]
+    shares = building.masses[:, None] * phi / modes.participation_h[:n_modes]  # m_j phi_jn / L_n
+    forces = (modal_base_shears[None, :] * shares).T  # (modes, floors) [N]
+    displacement = forces / (modes.omega[:n_modes, None] ** 2 * building.masses[None, :])  # [33]
+    drift = np.diff(np.concatenate((np.zeros((n_modes, 1)), displacement), axis=1), axis=1)  # [34]
+    shear = np.cumsum(forces[:, ::-1], axis=1)[:, ::-1]
+    heights = building.heights
+    below = np.concatenate(([0.0], heights[:-1]))  # level of the bottom of story j
+    moment = np.array([[np.sum(f[j:] * (heights[j:] - below[j])) for j in range(heights.size)] for f in forces])
+    return {"forces": forces, "displacement": displacement, "drift": drift, "drift_ratio": drift / building.story_heights,
+            "shear": shear, "moment": moment}
+
+
+def analyze(system: System, spectrum, support: str, options: SimplifiedOptions = SimplifiedOptions()) -> AnalysisResult:
+    """Peak response by the simplified procedure for support "rigid", "bonded" or "uplift"."""
+    if support not in SUPPORTS:
+        raise ValueError(f"support must be one of {SUPPORTS}, got {support!r}")
+    modes = system.modes
+    n = int(options.n_modes or modes.n_modes)
+    periods = modes.periods[:n]
+    xi = modes.damping[:n]
+    sa = np.array([spectral_acceleration(spectrum, t, d) for t, d in zip(periods, xi)])
+    base_shears = modes.effective_mass[:n] * sa  # [31]
+    m_t = system.total_mass
+    inter: dict = {"T_n": periods.tolist(), "Sa_n": sa.tolist(),
+                   "m_n*/m_t": (modes.effective_mass[:n] / m_t).tolist(),
+                   "h_n*": modes.effective_height[:n].tolist(),
+                   "V_c": system.critical_base_shear, "M_c": system.critical_base_moment}
+    warnings: list[str] = []
+    omega_corr, damping_corr = modes.omega[:n].copy(), xi.copy()
+    uplift = False
+    if support != "rigid":
+        props = effective_properties(system, options.effective_properties)
+        sa1bar = spectral_acceleration(spectrum, props["T1bar"], props["xi1bar"])
+        v1_bonded = float(modes.effective_mass[0]) * sa1bar  # [26]
+        inter.update(props)
+        inter.update({"Sa1bar": sa1bar, "V1_bonded": v1_bonded, "V1_bonded/V_c": v1_bonded / system.critical_base_shear})
+        base_shears[0] = v1_bonded
+        omega_corr[0], damping_corr[0] = 2 * math.pi / props["T1bar"], props["xi1bar"]
+        ratio = system.foundation.contact_loss_moment_ratio
+        if support == "uplift" and v1_bonded > system.critical_base_shear:
+            uplift = True
+            values = _uplift(system, props, v1_bonded, sa1bar, options)
+            inter.update(values)
+            base_shears[0] = values["V1_uplift"]
+        if support == "uplift" and ratio < 1.0 and v1_bonded > ratio * system.critical_base_shear:
+            warnings.append(
+                f"{system.foundation.kind} foundation: contact is lost at the kern (M = {ratio:.3g} W b, "
+                f"V = {ratio:.3g} V_c) before tipping at V_c; for V_1/V_c = {v1_bonded / system.critical_base_shear:.3g} "
+                "the mat is partly uplifted, which the simplified procedure does not model")
+    inter["V_n"] = base_shears.tolist()
+    per_mode = modal_static_response(system, base_shears, n)
+    if options.combination == "cqc":
+        combine = lambda peaks: cqc(peaks, omega_corr, damping_corr)  # noqa: E731
+    else:
+        combine = srss
+    combined = {name: combine(values) for name, values in per_mode.items() if name != "forces"}
+    return AnalysisResult(
+        engine="simplified", support=support, heights=system.building.heights.copy(),
+        displacement=combined["displacement"], drift=combined["drift"], drift_ratio=combined["drift_ratio"],
+        shear=combined["shear"], moment=combined["moment"],
+        base_shear=float(combined["shear"][0]), base_moment=float(combined["moment"][0]),
+        critical_base_shear=system.critical_base_shear, critical_base_moment=system.critical_base_moment,
+        weight=system.weight, effective_height=system.effective_height, uplift=uplift, periods=periods.copy(),
+        intermediates=inter,
+        details={"options": asdict(options), "warnings": warnings,
+                 "modal_forces": per_mode["forces"].tolist()},
+    )
