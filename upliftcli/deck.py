@@ -11,6 +11,7 @@ expected; nothing here prints or exits.
 from __future__ import annotations
 
 import copy
+import re
 import tomllib
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
@@ -139,9 +140,11 @@ def read_toml(path: str | Path) -> dict:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         message = str(error)
-        line = getattr(error, "lineno", None)
+        match = re.search(r"\(at line (\d+), column \d+\)", message)
+        line = getattr(error, "lineno", None) or (int(match.group(1)) if match else None)
         location = f"line {line}" if line else None
-        raise InputError(source, location, f"valid TOML ({message})") from None
+        reason = message[: match.start()].strip() if match else message
+        raise InputError(source, location, f"valid TOML ({reason})") from None
 
 
 def load_deck(path: str | Path, overrides: Sequence[str] = (), *, load_ground_motion: bool = True) -> Deck:

@@ -1,0 +1,272 @@
+"""Deck loading: formats, derived quantities, --set overrides, and one clear error per bad input."""
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from upliftcli import deck_schema
+from upliftcli.deck import build_deck, load_deck, parse_override
+from upliftcli.errors import InputError
+from upliftcli.foundation import HalfSpace, TwoElement, Winkler
+from upliftcli.structure import modal_analysis
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
+RECORD = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
+
+BASE = """
+[building]
+stories = 4
+floor_mass = 2.0e5
+story_height = 3.0
+story_stiffness = 4.0e8
+
+[foundation]
+b = 5.0
+k_f = 1.0e9
+c_f = 1.0e7
+"""
+
+
+def write(tmp_path, text, name="deck.toml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def load(tmp_path, text, overrides=(), ground_motion=False):
+    return load_deck(write(tmp_path, text), overrides, load_ground_motion=ground_motion)
+
+
+# ----------------------------------------------------------------------------- the example
+
+def test_example_deck_is_the_papers_system():
+    deck = load_deck(EXAMPLE)
+    system = deck.system
+    modes = system.modes
+    assert modes.periods[0] == pytest.approx(0.5)
+    assert system.effective_height / system.half_width == pytest.approx(10.0)
+    w_v = math.sqrt(2 * system.foundation.stiffness / system.total_mass)
+    assert w_v / modes.omega[0] == pytest.approx(8.0)
+    assert system.foundation.damping / (system.total_mass * w_v) == pytest.approx(0.4)
+    assert np.all(modes.damping == 0.05)
+    assert deck.analysis.supports == ["rigid", "bonded", "uplift"]
+    assert deck.analysis.engines == ["simplified"]
+    assert deck.ground_motion.dt == pytest.approx(0.02)
+    assert deck.ground_motion.pga == pytest.approx(0.31882 * 9.80665, rel=1e-6)
+    # the spectrum object is the record's: 5 % S_a(0.5 s) = 0.916 g (records/README)
+    assert deck.spectrum.sa(np.array([0.5]), 0.05)[0] / 9.80665 == pytest.approx(0.916, rel=0.005)
+    assert deck.criteria == {"drift_ratio": 0.02}
+
+
+# ----------------------------------------------------------------------------- building forms
+
+def test_uniform_with_stiffness(tmp_path):
+    deck = load(tmp_path, BASE)
+    b = deck.system.building
+    assert b.n_stories == 4
+    np.testing.assert_allclose(b.heights, [3, 6, 9, 12])
+    np.testing.assert_allclose(b.story_stiffness, 4e8)
+    assert isinstance(deck.system.foundation, TwoElement)
+
+
+def test_per_story_arrays_and_period_scaling(tmp_path):
+    text = BASE.replace("stories = 4\nfloor_mass = 2.0e5\nstory_height = 3.0\nstory_stiffness = 4.0e8",
+                        "masses = [3e5, 2e5, 2e5, 1e5]\nstory_heights = [4.0, 3.0, 3.0, 3.0]\n"
+                        "story_stiffnesses = [8e8, 6e8, 4e8, 2e8]\nperiod = 0.8\ndamping = [0.05, 0.03, 0.03, 0.02]")
+    deck = load(tmp_path, text)
+    b = deck.system.building
+    assert deck.system.modes.periods[0] == pytest.approx(0.8)
+    ratios = b.story_stiffness / b.story_stiffness[0]
+    np.testing.assert_allclose(ratios, [1, 0.75, 0.5, 0.25])
+    np.testing.assert_allclose(b.damping, [0.05, 0.03, 0.03, 0.02])
+
+
+def test_stiffness_matrix_frame(tmp_path):
+    k = np.array([[2, -1, 0], [-1, 2, -1], [0, -1, 1]]) * 5e8
+    rows = ", ".join("[" + ", ".join(repr(float(v)) for v in row) + "]" for row in k)
+    text = f"[building]\nmasses = [1e5, 1e5, 1e5]\nstory_heights = [3.0, 3.0, 3.0]\nstiffness_matrix = [{rows}]\n" \
+           "[foundation]\nb = 5.0\nk_f = 1e9\n"
+    deck = load(tmp_path, text)
+    np.testing.assert_allclose(deck.system.building.stiffness, k)
+    assert deck.system.building.story_stiffness is None
+
+
+def test_winkler_and_halfspace(tmp_path):
+    text = BASE.replace("k_f = 1.0e9\nc_f = 1.0e7", 'type = "winkler"\nk_w = 2e8\nc_w = 1e6\nelements = 10')
+    deck = load(tmp_path, text)
+    assert deck.system.foundation == Winkler(2e8, 1e6, 10)
+    text = BASE.replace("k_f = 1.0e9\nc_f = 1.0e7",
+                        'type = "halfspace"\nshear_wave_velocity = 200.0\ndensity = 1800.0\npoisson_ratio = 0.3')
+    deck = load(tmp_path, text)
+    f = deck.system.foundation
+    assert isinstance(f, HalfSpace)
+    assert f.shear_modulus == pytest.approx(1800.0 * 200.0**2)
+    assert f.half_length == 5.0  # default: square mat
+
+
+def test_modes_from_mass_participation(tmp_path):
+    deck = load_deck(EXAMPLE, ["analysis.mass_participation=0.95"], load_ground_motion=False)
+    assert deck.analysis.n_modes == 3  # 0.848, 0.939, 0.970
+    assert deck.analysis.simplified.n_modes == 3
+    assert deck.analysis.exact.n_modes == 3
+    deck = load_deck(EXAMPLE, load_ground_motion=False)
+    assert deck.analysis.n_modes == 10 and deck.analysis.exact.n_modes is None
+
+
+# ----------------------------------------------------------------------------- overrides
+
+def test_set_overrides_by_dotted_path():
+    deck = load_deck(EXAMPLE, ["building.period=1.2", "foundation.b=4", "analysis.combination=cqc",
+                               'analysis.supports=["uplift"]'], load_ground_motion=False)
+    assert deck.system.modes.periods[0] == pytest.approx(1.2)
+    assert deck.system.half_width == 4.0  # replaces slenderness = 10
+    assert "slenderness" not in deck.raw["foundation"]
+    assert deck.analysis.simplified.combination == "cqc"
+    assert deck.analysis.supports == ["uplift"]
+
+
+def test_set_k_f_replaces_ratio(tmp_path):
+    deck = load_deck(EXAMPLE, ["foundation.k_f=2e9"], load_ground_motion=False)
+    assert deck.system.foundation.stiffness == 2e9
+    w_v = math.sqrt(2 * 2e9 / deck.system.total_mass)
+    assert deck.system.foundation.damping == pytest.approx(0.4 * deck.system.total_mass * w_v)
+
+
+def test_parse_override_values():
+    assert parse_override("building.period=0.5") == ("building.period", 0.5)
+    assert parse_override("building.stories=3") == ("building.stories", 3)
+    assert parse_override("analysis.combination=cqc") == ("analysis.combination", "cqc")
+    assert parse_override('analysis.engine=["simplified", "exact"]')[1] == ["simplified", "exact"]
+    assert parse_override("ground_motion.design_spectrum.sds=1.0") == ("ground_motion.design_spectrum.sds", 1.0)
+
+
+@pytest.mark.parametrize("text, location, words", [
+    ("building.perod=0.5", "building.perod", "did you mean 'building.period'"),
+    ("building.period", "building.period", "PATH=VALUE"),
+    ("nothing.here=1", "nothing.here", "a known deck field"),
+])
+def test_bad_override_names_set_and_path(text, location, words):
+    with pytest.raises(InputError) as info:
+        parse_override(text)
+    assert info.value.source == "--set"
+    assert info.value.location == location
+    assert words in str(info.value)
+
+
+def test_bad_override_value_is_reported_against_set():
+    with pytest.raises(InputError) as info:
+        load_deck(EXAMPLE, ["foundation.b=-1"], load_ground_motion=False)
+    assert str(info.value).startswith("--set: foundation.b:")
+
+
+# ----------------------------------------------------------------------------- bad input
+
+BAD_CASES = [
+    # (replace this, with that, location, words in the message)
+    ("floor_mass = 2.0e5", "flor_mass = 2.0e5", "building.flor_mass", "did you mean 'floor_mass'"),
+    ("floor_mass = 2.0e5", "", "building.floor_mass", "missing"),
+    ("floor_mass = 2.0e5", "floor_mass = -2.0e5", "building.floor_mass", "> 0 [kg]"),
+    ("floor_mass = 2.0e5", "floor_mass = 0", "building.floor_mass", "> 0 [kg]"),
+    ("story_stiffness = 4.0e8", "story_stiffness = -1.0", "building.story_stiffness", "> 0 [N/m]"),
+    ("story_stiffness = 4.0e8", "", "building.story_stiffness", "missing"),
+    ("story_height = 3.0", "story_height = 0.0", "building.story_height", "> 0 [m]"),
+    ("story_height = 3.0", 'story_height = "tall"', "building.story_height", "a number"),
+    ("story_stiffness = 4.0e8", "story_stiffness = 4.0e8\ndamping = 1.0", "building.damping", "in [0, 1)"),
+    ("story_stiffness = 4.0e8", "story_stiffness = 4.0e8\ndamping = -0.1", "building.damping", "in [0, 1)"),
+    ("story_stiffness = 4.0e8", "story_stiffness = 4.0e8\ndamping = [0.05, 0.05]", "building.damping", "4 values"),
+    ("b = 5.0", "b = 0.0", "foundation.b", "> 0 [m]"),
+    ("b = 5.0", "b = -5.0", "foundation.b", "> 0 [m]"),
+    ("b = 5.0", "", "foundation.b", "missing"),
+    ("b = 5.0", "b = 5.0\nslenderness = 4", "foundation.slenderness", "only one of"),
+    ("k_f = 1.0e9", "k_w = 1.0e9", "foundation.k_w", "belongs to type 'winkler'"),
+    ("k_f = 1.0e9", "", "foundation.k_f", "missing"),
+    ("c_f = 1.0e7", "c_f = -1.0e7", "foundation.c_f", ">= 0"),
+    ("[foundation]", "[fundation]", "fundation", "did you mean 'foundation'"),
+    ("stories = 4", "stories = 4.5", "building.stories", "an integer"),
+]
+
+
+@pytest.mark.parametrize("old, new, location, words", BAD_CASES)
+def test_bad_input_one_clear_error(tmp_path, old, new, location, words):
+    assert old in BASE
+    with pytest.raises(InputError) as info:
+        load(tmp_path, BASE.replace(old, new, 1))
+    error = info.value
+    assert error.source == str(tmp_path / "deck.toml")
+    assert error.location == location
+    assert words in str(error)
+    assert "\n" not in str(error)
+
+
+def test_malformed_toml_names_the_line(tmp_path):
+    with pytest.raises(InputError) as info:
+        load(tmp_path, BASE.replace("b = 5.0", "b = = 5.0"))
+    assert re.search(r"line \d+", info.value.location)
+    assert "valid TOML" in str(info.value)
+
+
+def test_missing_deck_file(tmp_path):
+    with pytest.raises(InputError, match="file not found"):
+        load_deck(tmp_path / "nope.toml")
+
+
+def test_stiffness_matrix_must_be_positive_definite(tmp_path):
+    text = "[building]\nmasses = [1e5, 1e5]\nstory_heights = [3.0, 3.0]\n" \
+           "stiffness_matrix = [[1e8, 2e8], [2e8, 1e8]]\n[foundation]\nb = 5.0\nk_f = 1e9\n"
+    with pytest.raises(InputError, match="positive-definite"):
+        load(tmp_path, text)
+
+
+def test_unreadable_record_is_an_input_error(tmp_path):
+    bad = tmp_path / "broken.txt"
+    bad.write_text("# dt = 0.02\n0.1 0.2\nabc\n")
+    text = BASE + f'[ground_motion]\nrecord = "broken.txt"\nunits = "g"\n'
+    with pytest.raises(InputError) as info:
+        load(tmp_path, text, ground_motion=True)
+    assert "broken.txt" in info.value.source
+    text = BASE + '[ground_motion]\nrecord = "missing.txt"\nunits = "g"\n'
+    with pytest.raises(InputError, match="not found"):
+        load(tmp_path, text, ground_motion=True)
+
+
+def test_missing_ground_motion_only_matters_for_analysis(tmp_path):
+    load(tmp_path, BASE)  # modes: fine
+    with pytest.raises(InputError) as info:
+        load(tmp_path, BASE, ground_motion=True)
+    assert info.value.location == "ground_motion"
+
+
+def test_unknown_criterion_and_analysis_option(tmp_path):
+    with pytest.raises(InputError, match="did you mean 'drift_ratio'"):
+        load(tmp_path, BASE + "[criteria]\ndrift_ration = 0.01\n")
+    with pytest.raises(InputError, match="one of srss, cqc"):
+        load(tmp_path, BASE + '[analysis]\ncombination = "abs"\n')
+    with pytest.raises(InputError, match="at most 4 modes"):
+        load(tmp_path, BASE + "[analysis]\nmodes = 5\n")
+
+
+# ----------------------------------------------------------------------------- schema and docs
+
+def test_exact_options_cover_the_engine_contract():
+    from dataclasses import fields
+
+    from upliftcli.engines.exact import ExactOptions
+
+    assert set(deck_schema.TABLES["analysis.exact"]) <= {f.name for f in fields(ExactOptions)}
+
+
+def test_reference_page_documents_every_field_with_its_unit():
+    text = (ROOT / "docs" / "deck.md").read_text()
+    sections = re.split(r"^## ", text, flags=re.M)
+    for table, fields in deck_schema.TABLES.items():
+        if not table:
+            continue
+        section = next(s for s in sections if s.startswith(f"`[{table}]`"))
+        for name, field in fields.items():
+            row = next((line for line in section.splitlines() if line.startswith(f"| `{name}` |")), None)
+            assert row is not None, f"{table}.{name} is not documented"
+            assert f"| {field.unit} |" in row, f"{table}.{name}: unit {field.unit} not in {row}"
