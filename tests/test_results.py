@@ -1,0 +1,88 @@
+"""Result writers (JSON, CSV, TOML, atomic) and the modal combination rules."""
+
+import csv
+import io
+import json
+import tomllib
+
+import numpy as np
+import pytest
+
+from upliftcli import results as results_module
+from upliftcli.results import AnalysisResult, cqc, cqc_correlation, results_document, srss, to_csv, to_json, to_toml, write_results
+
+
+def make_result(support="uplift", scale=1.0):
+    heights = np.array([3.0, 6.0, 9.0])
+    displacement = scale * np.array([0.01, 0.018, 0.024])
+    drift = np.diff(np.concatenate(([0.0], displacement)))
+    return AnalysisResult(
+        engine="simplified", support=support, heights=heights, displacement=displacement, drift=drift,
+        drift_ratio=drift / 3.0, shear=scale * np.array([3e6, 2.2e6, 1.2e6]), moment=scale * np.array([2.0e7, 1.0e7, 3.6e6]),
+        base_shear=scale * 3e6, base_moment=scale * 2.0e7, critical_base_shear=1.5e6, critical_base_moment=1.2e7,
+        weight=9.80665 * 6e5, effective_height=7.0, uplift=support == "uplift", periods=np.array([0.5, 0.17, 0.1]),
+        intermediates={"T1bar": 0.7, "V_n": [1.0, 2.0], "nan": float("nan")}, details={"warnings": []},
+    )
+
+
+def test_single_result_json_document_has_required_fields():
+    document = json.loads(to_json([make_result()], "deck.toml", "A"))
+    for key in ("engine", "support", "base_shear", "base_shear_coefficient", "base_moment", "critical_base_shear",
+                "uplift", "periods", "stories"):
+        assert key in document
+    assert document["base_shear_coefficient"] == pytest.approx(3e6 / (9.80665 * 6e5))
+    assert document["uplift"] is True
+    assert document["stories"][1] == pytest.approx(
+        {"story": 2, "height": 6.0, "displacement": 0.018, "drift": 0.008, "drift_ratio": 0.008 / 3, "shear": 2.2e6,
+         "moment": 1.0e7})
+    assert document["intermediates"]["nan"] is None  # JSON has no NaN
+
+
+def test_several_results_are_one_document_with_a_list():
+    document = results_document([make_result("rigid"), make_result("uplift", 0.5)], "deck.toml")
+    assert [r["support"] for r in document["results"]] == ["rigid", "uplift"]
+    assert document["units"]["base_shear"] == "N"
+
+
+def test_csv_long_format_round_trip():
+    rows = list(csv.DictReader(io.StringIO(to_csv([make_result("rigid"), make_result("uplift", 0.5)]))))
+    assert len(rows) == 6
+    assert rows[4]["support"] == "uplift" and rows[4]["story"] == "2"
+    assert float(rows[4]["shear_N"]) == pytest.approx(1.1e6)
+    assert float(rows[0]["drift_ratio"]) == pytest.approx(0.01 / 3)
+
+
+def test_toml_parses_back():
+    document = tomllib.loads(to_toml([make_result()], "deck.toml", "A"))
+    assert document["results"][0]["base_moment"] == pytest.approx(2.0e7)
+    assert "nan" not in document["results"][0]["intermediates"]  # no null in TOML
+
+
+def test_write_results_atomic(tmp_path):
+    paths = write_results([make_result()], tmp_path / "out", "deck", "deck.toml", "A")
+    assert sorted(p.name for p in paths) == ["deck.csv", "deck.json", "deck.toml"]
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["deck.csv", "deck.json", "deck.toml"]
+
+
+def test_write_results_failure_leaves_no_file(tmp_path, monkeypatch):
+    def broken(*args, **kwargs):
+        raise RuntimeError("boom")
+
+    monkeypatch.setattr(results_module, "to_toml", broken)
+    with pytest.raises(RuntimeError):
+        write_results([make_result()], tmp_path, "deck")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_srss_and_cqc_limits():
+    peaks = np.array([[3.0, -1.0], [4.0, 2.0]])
+    np.testing.assert_allclose(srss(peaks), [5.0, np.sqrt(5.0)])
+    # identical frequencies and damping: fully correlated, the algebraic sum
+    np.testing.assert_allclose(cqc(peaks, np.array([10.0, 10.0]), 0.05), [7.0, 1.0])
+    # far apart: uncorrelated, SRSS
+    np.testing.assert_allclose(cqc(peaks, np.array([1.0, 1000.0]), 0.05), srss(peaks), rtol=1e-4)
+    rho = cqc_correlation(np.array([10.0, 11.0]), np.array([0.05, 0.05]))
+    # Der Kiureghian, equal damping: rho = 8 xi^2 (1 + r) r^1.5 / ((1 - r^2)^2 + 4 xi^2 r (1 + r)^2)
+    r, xi = 1.1, 0.05
+    expected = 8 * xi**2 * (1 + r) * r**1.5 / ((1 - r**2) ** 2 + 4 * xi**2 * r * (1 + r) ** 2)
+    assert rho[0, 1] == pytest.approx(expected, rel=1e-12)
