@@ -169,3 +169,13 @@ def test_main_entry_point_exit_code(deck_dir, monkeypatch, capsys):
         main()
     assert info.value.code == 2
     assert "file not found" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("deck", sorted((ROOT / "inputs").glob("*.toml")), ids=lambda p: p.name)
+def test_every_bundled_deck_runs(deck):
+    result = invoke("analyze", deck, "--format", "json")
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.stdout)
+    for item in doc.get("results", [doc]):
+        assert math.isfinite(item["base_shear"]) and item["base_shear"] > 0
+    assert invoke("modes", deck).exit_code == 0

@@ -28,6 +28,9 @@ def modes_table(system: System, n_modes: int | None = None) -> Table:
     table = Table(title=escape(f"Fixed-base modes (m_t = {m_t:.6g} kg, b = {system.half_width:.4g} m)"))
     for header in ("mode", "T_n [s]", "w_n/w_1", "m_n*/m_t", "cumulative", "h_n* [m]", "h_n*/b"):
         table.add_column(escape(header), justify="right")
+    if system.mat_mass > 0.0:
+        table.caption = escape(f"m_t includes the mat mass m_0 = {system.mat_mass:.6g} kg: the m_n* add up to "
+                               f"the building mass, {1 - system.mat_mass / m_t:.4f} m_t")
     for i in range(n):
         table.add_row(str(i + 1), f"{modes.periods[i]:.4f}", f"{modes.omega[i] / modes.omega[0]:.3f}",
                       f"{modes.effective_mass[i] / m_t:.4f}", f"{cumulative[i]:.4f}",
