@@ -1,0 +1,152 @@
+"""Tests of upliftcli.records: the readers, units, scale, window, bad input and record measures."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from upliftcli.errors import InputError
+from upliftcli.records import (STANDARD_GRAVITY, arias_intensity, bundled_records_dir, detect_format,
+                               ground_displacement, ground_velocity, read_record)
+
+G = STANDARD_GRAVITY
+VALUES = np.array([0.0, 0.01, -0.02, 0.03, -0.015, 0.005, 0.0, 0.002, -0.001, 0.0, 0.004])
+
+
+def write(tmp_path, name, text):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def at2_text(values, npts=None, dt="0.0100", per_line=5, units_line="ACCELERATION TIME SERIES IN UNITS OF G"):
+    rows = [" ".join(f"{value:15.7E}" for value in values[i:i + per_line]) for i in range(0, len(values), per_line)]
+    npts = len(values) if npts is None else npts
+    header = ["PEER NGA STRONG MOTION DATABASE RECORD", "Test event 2000-01-01, Station X, 090", units_line,
+              f"NPTS=  {npts}, DT=   {dt} SEC"]
+    return "\n".join(header + rows) + "\n"
+
+
+def test_bundled_elcentro_in_shared_format():
+    path = bundled_records_dir() / "elcentro_1940_ns_chopra.txt"
+    assert detect_format(path) == "shared"
+    record = read_record(path)
+    assert (record.npts, record.dt, record.units) == (1560, 0.02, "g")
+    assert record.duration == pytest.approx(31.18)
+    assert record.pga / G == pytest.approx(0.31882, abs=1e-12)
+    assert record.time[102] == pytest.approx(2.04)
+    assert abs(record.acceleration[102]) == pytest.approx(record.pga)
+    raw = np.loadtxt(path)
+    np.testing.assert_array_equal(record.acceleration, raw[:, 1] * G)
+
+
+def test_at2_reader(tmp_path):
+    path = write(tmp_path, "small.AT2", at2_text(VALUES))
+    assert detect_format(path) == "at2"
+    record = read_record(path)
+    assert record.dt == 0.01 and record.npts == VALUES.size and record.units == "g"
+    np.testing.assert_allclose(record.acceleration, VALUES * G, rtol=1e-7, atol=1e-12)
+    assert record.name.startswith("Test event")
+    # the old header layout "npts dt NPTS, DT" and a .txt extension with format given
+    old = at2_text(VALUES).replace(f"NPTS=  {VALUES.size}, DT=   0.0100 SEC", f"{VALUES.size}   0.0100   NPTS, DT")
+    record = read_record(write(tmp_path, "old.txt", old), format="at2")
+    assert record.dt == 0.01 and record.npts == VALUES.size
+
+
+def test_at2_npts_mismatch_and_bad_dt(tmp_path):
+    with pytest.raises(InputError, match=r"bad\.AT2: line 4: NPTS = 12 .* found 11"):
+        read_record(write(tmp_path, "bad.AT2", at2_text(VALUES, npts=12)))
+    with pytest.raises(InputError, match=r"line 4: a time step dt > 0"):
+        read_record(write(tmp_path, "zero.AT2", at2_text(VALUES, dt="0.0")))
+    with pytest.raises(InputError, match=r"line 4"):
+        read_record(write(tmp_path, "noheader.AT2", at2_text(VALUES).replace("NPTS=", "N=").replace("DT=", "T=")))
+
+
+def test_text_single_and_multi_column(tmp_path):
+    single = "# test record\n# dt = 0.005 s\n# units: cm/s2\n" + "\n".join(str(v) for v in VALUES) + "\n"
+    record = read_record(write(tmp_path, "single.txt", single))
+    assert record.dt == 0.005 and record.units == "cm/s2"
+    np.testing.assert_allclose(record.acceleration, VALUES * 0.01)
+    multi = "\n".join("  ".join(str(v) for v in VALUES[i:i + 4]) for i in range(0, VALUES.size, 4)) + "\n"
+    record = read_record(write(tmp_path, "multi.dat", multi), units="in/s2", dt=0.02)
+    np.testing.assert_allclose(record.acceleration, VALUES * 0.0254)
+    assert record.npts == VALUES.size and record.dt == 0.02
+    with pytest.raises(InputError, match=r"multi\.dat: dt: a time step"):
+        read_record(tmp_path / "multi.dat", units="g")
+    with pytest.raises(InputError, match=r"multi\.dat: units: acceleration units"):
+        read_record(tmp_path / "multi.dat", dt=0.01)
+
+
+def test_csv_reader_and_units_from_column_name(tmp_path):
+    rows = "\n".join(f"{i * 0.01:.2f},{v}" for i, v in enumerate(VALUES))
+    record = read_record(write(tmp_path, "rec.csv", "time,acc (g)\n" + rows + "\n"))
+    assert record.dt == pytest.approx(0.01) and record.units == "g"
+    np.testing.assert_allclose(record.acceleration, VALUES * G)
+    record = read_record(write(tmp_path, "rec2.csv", "time_s,accel_m/s2\n" + rows + "\n"))
+    assert record.units == "m/s2"
+    np.testing.assert_allclose(record.acceleration, VALUES)
+
+
+def test_scale_units_and_window(tmp_path):
+    path = write(tmp_path, "rec.csv", "t,a\n" + "\n".join(f"{i * 0.1:.1f},{v}" for i, v in enumerate(VALUES)))
+    record = read_record(path, units="m/s2", scale=2.0, window=(0.2, 0.5))
+    np.testing.assert_allclose(record.acceleration, 2.0 * VALUES[2:6])
+    assert record.scale == 2.0 and record.time[0] == 0.0
+    with pytest.raises(InputError, match="window"):
+        read_record(path, units="g", window=(0.5, 0.2))
+    with pytest.raises(InputError, match="units: acceleration units one of"):
+        read_record(path, units="furlong/s2")
+    with pytest.raises(InputError, match="dt = 0.1 s as in the file"):
+        read_record(path, units="g", dt=0.02)
+
+
+@pytest.mark.parametrize("content, line", [
+    ("# dt = 0.01\n# units: g\n0.1\n0.2\nnan\n", 5),
+    ("# dt = 0.01\n# units: g\n0.1 0.2\n0.3 inf\n", 4),
+    ("# dt = 0.01\n# units: g\n0.1\n0.2\n0.3 abc\n", 5),
+    ("# dt = 0.01\n# units: g\n# npts = 4\n0.1\n0.2\n0.3\n", 3),
+    ("# dt = -0.01\n# units: g\n0.1\n0.2\n", 1),
+])
+def test_bad_text_names_the_line(tmp_path, content, line):
+    path = write(tmp_path, "bad.txt", content)
+    with pytest.raises(InputError, match=rf"bad\.txt: line {line}: "):
+        read_record(path)
+
+
+def test_bad_csv_time_column(tmp_path):
+    path = write(tmp_path, "nonuniform.csv", "t,a\n0.0,0.1\n0.01,0.2\n0.025,0.3\n0.03,0.1\n")
+    with pytest.raises(InputError, match=r"nonuniform\.csv: line 4: a uniform time step"):
+        read_record(path, units="g")
+    path = write(tmp_path, "backwards.csv", "0.03,0.1\n0.02,0.2\n0.01,0.3\n")
+    with pytest.raises(InputError, match=r"backwards\.csv: line 2: increasing times"):
+        read_record(path, units="g")
+
+
+def test_empty_and_missing_files(tmp_path):
+    with pytest.raises(InputError, match=r"empty\.txt: acceleration values \(the file is empty\)"):
+        read_record(write(tmp_path, "empty.txt", "\n  \n"), dt=0.01, units="g")
+    with pytest.raises(InputError, match="file not found"):
+        read_record(tmp_path / "nope.AT2")
+    with pytest.raises(InputError, match="headeronly.txt: acceleration values after the header"):
+        read_record(write(tmp_path, "headeronly.txt", "# dt = 0.01\n# units: g\n"))
+    with pytest.raises(InputError, match="format: one of"):
+        read_record(tmp_path / "nope.AT2", format="mseed")
+
+
+def test_integrals_are_exact_for_piecewise_linear_acceleration():
+    dt, a0, slope = 0.01, 1.5, -2.0
+    t = np.arange(301) * dt
+    acceleration = a0 + slope * t
+    np.testing.assert_allclose(ground_velocity(acceleration, dt), a0 * t + slope * t**2 / 2, atol=1e-12)
+    np.testing.assert_allclose(ground_displacement(acceleration, dt), a0 * t**2 / 2 + slope * t**3 / 6, atol=1e-12)
+    duration = t[-1]
+    exact = (a0 + slope * duration) ** 3 - a0**3
+    assert arias_intensity(acceleration, dt) == pytest.approx(math.pi / (2 * G) * exact / (3 * slope), rel=1e-12)
+
+
+def test_elcentro_peak_ground_velocity():
+    record = read_record(bundled_records_dir() / "elcentro_1940_ns_chopra.txt")
+    pgv = np.max(np.abs(ground_velocity(record.acceleration, record.dt)))
+    assert pgv == pytest.approx(0.36, abs=0.005)  # "about 36 cm/s" (../shared/records/README.md)
