@@ -179,3 +179,11 @@ def test_every_bundled_deck_runs(deck):
     for item in doc.get("results", [doc]):
         assert math.isfinite(item["base_shear"]) and item["base_shear"] > 0
     assert invoke("modes", deck).exit_code == 0
+
+
+def test_out_must_be_a_directory(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    result = invoke("analyze", EXAMPLE, "--out", blocker)
+    assert result.exit_code == 2 and "--out" in result.stderr
+    assert blocker.read_text() == "x"

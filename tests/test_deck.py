@@ -270,3 +270,9 @@ def test_reference_page_documents_every_field_with_its_unit():
             row = next((line for line in section.splitlines() if line.startswith(f"| `{name}` |")), None)
             assert row is not None, f"{table}.{name} is not documented"
             assert f"| {field.unit} |" in row, f"{table}.{name}: unit {field.unit} not in {row}"
+
+
+def test_set_foundation_type_drops_the_other_types_fields():
+    deck = load_deck(EXAMPLE, ['foundation.type="winkler"', "foundation.k_w=5e8"], load_ground_motion=False)
+    assert isinstance(deck.system.foundation, Winkler)
+    assert "frequency_ratio" not in deck.raw["foundation"]

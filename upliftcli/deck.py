@@ -103,7 +103,8 @@ def parse_override(text: str) -> tuple[str, Any]:
 
 def apply_overrides(raw: dict, overrides: Iterable[tuple[str, Any]]) -> tuple[dict, frozenset[str]]:
     """Copy of `raw` with each (dotted path, value) set; members of the same group of
-    alternatives (e.g. foundation.b vs foundation.slenderness) are removed."""
+    alternatives (e.g. foundation.b vs foundation.slenderness) are removed, and setting
+    foundation.type removes the fields of the other foundation types."""
     result = copy.deepcopy(raw)
     paths = []
     for path, value in overrides:
@@ -120,6 +121,11 @@ def apply_overrides(raw: dict, overrides: Iterable[tuple[str, Any]]) -> tuple[di
                     if name not in group:
                         for other in group:
                             table.pop(other, None)
+        if path == "foundation.type" and value in FOUNDATION_FIELDS:
+            for kind, names in FOUNDATION_FIELDS.items():  # fields of the replaced type go
+                if kind != value:
+                    for other in names:
+                        table.pop(other, None)
         table[name] = value
         paths.append(path)
     return result, frozenset(paths)

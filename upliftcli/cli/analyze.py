@@ -12,6 +12,7 @@ from rich.markup import escape
 
 from .. import analysis
 from ..deck import load_deck
+from ..errors import InputError
 from ..results import to_json, to_jsonable, write_results
 from . import render
 
@@ -48,6 +49,8 @@ def analyze(
 
     Exit codes: 0 ok, 2 bad input, 3 a [criteria] limit of the deck is violated, 4 analysis failure.
     """
+    if out is not None and out.exists() and not out.is_dir():
+        raise InputError("--out", str(out), "a directory (a file of that name exists)")
     loaded = load_deck(deck, _overrides(settings, engine, support))
     results = analysis.run(loaded)
     if output_format is OutputFormat.json:
@@ -55,7 +58,11 @@ def analyze(
     else:
         render.print_results(render.console(), results, loaded.title)
     if out is not None:
-        for path in write_results(results, out, deck.stem, loaded.source, loaded.title):
+        try:
+            written = write_results(results, out, deck.stem, loaded.source, loaded.title)
+        except OSError as error:
+            raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+        for path in written:
             typer.echo(f"wrote {path}", err=True)
     violations = analysis.check_criteria(results, loaded.criteria)
     if violations:
