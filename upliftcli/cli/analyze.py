@@ -47,7 +47,8 @@ def analyze(
 ) -> None:
     """Peak story shears, drifts, displacements and the uplift verdict of a deck.
 
-    Exit codes: 0 ok, 2 bad input, 3 a [criteria] limit of the deck is violated, 4 analysis failure.
+    Exit codes: 0 ok, 2 bad input, 3 an acceptance limit (the deck's criteria table) is exceeded,
+    4 analysis failure.
     """
     if out is not None and out.exists() and not out.is_dir():
         raise InputError("--out", str(out), "a directory (a file of that name exists)")
