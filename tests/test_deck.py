@@ -276,3 +276,23 @@ def test_set_foundation_type_drops_the_other_types_fields():
     deck = load_deck(EXAMPLE, ['foundation.type="winkler"', "foundation.k_w=5e8"], load_ground_motion=False)
     assert isinstance(deck.system.foundation, Winkler)
     assert "frequency_ratio" not in deck.raw["foundation"]
+
+
+def test_design_spectrum_ground_motion():
+    deck = load_deck(ROOT / "inputs" / "ten_story_asce7.toml")
+    assert deck.ground_motion is deck.spectrum
+    # ASCE 7-22 11.4.5.2: S_a = S_D1 / T between T_S and T_L, at 5 % damping
+    assert deck.spectrum.sa(np.array([1.0]), 0.05)[0] == pytest.approx(0.6 * 9.80665, rel=1e-9)
+    with pytest.raises(InputError) as info:
+        load_deck(ROOT / "inputs" / "ten_story_asce7.toml", ["ground_motion.design_spectrum.sds=-1"])
+    assert info.value.source == "--set" and info.value.location == "ground_motion.design_spectrum.sds"
+    # --set of a record replaces the design spectrum (alternatives)
+    deck = load_deck(ROOT / "inputs" / "ten_story_asce7.toml",
+                     ['ground_motion.record="../records/elcentro_1940_ns_chopra.txt"', 'ground_motion.units="g"'])
+    assert deck.ground_motion.dt == pytest.approx(0.02)
+
+
+def test_record_and_design_spectrum_together_is_an_error(tmp_path):
+    text = BASE + '[ground_motion]\nscale = 2.0\ndesign_spectrum = { type = "asce7", sds = 1.0, sd1 = 0.6, tl = 8.0 }\n'
+    with pytest.raises(InputError, match="no record fields"):
+        load(tmp_path, text, ground_motion=True)

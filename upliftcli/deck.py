@@ -341,7 +341,12 @@ def _ground_motion(fields: dict, source: str, error) -> tuple[Any, Any]:
             raise error(f"ground_motion.{extra[0]}", "no record fields together with a design_spectrum")
         from . import design_spectra
 
-        spectrum = design_spectra.from_mapping(fields["design_spectrum"], f"{source}: ground_motion.design_spectrum")
+        try:
+            spectrum = design_spectra.from_mapping(fields["design_spectrum"], source, "ground_motion.design_spectrum")
+        except InputError as bad:
+            if bad.source == source and bad.location:  # name "--set" if the value came from an override
+                raise error(bad.location, bad.expected) from None
+            raise
         return spectrum, spectrum
     if "record" not in fields:
         raise error("ground_motion.record", "the path of a record file (missing; or give "
