@@ -11,7 +11,6 @@ from upliftcli import deck_schema
 from upliftcli.deck import build_deck, load_deck, parse_override
 from upliftcli.errors import InputError
 from upliftcli.foundation import HalfSpace, TwoElement, Winkler
-from upliftcli.structure import modal_analysis
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
@@ -296,3 +295,14 @@ def test_record_and_design_spectrum_together_is_an_error(tmp_path):
     text = BASE + '[ground_motion]\nscale = 2.0\ndesign_spectrum = { type = "asce7", sds = 1.0, sd1 = 0.6, tl = 8.0 }\n'
     with pytest.raises(InputError, match="no record fields"):
         load(tmp_path, text, ground_motion=True)
+
+
+def test_build_deck_from_a_mapping_for_sweeps():
+    """Sweeps build decks from the parsed mapping and (path, value) pairs, without re-reading the file."""
+    import tomllib
+
+    raw = tomllib.loads(EXAMPLE.read_text())
+    deck = build_deck(raw, str(EXAMPLE), [("building.period", 2.0)], load_ground_motion=False)
+    assert deck.system.modes.periods[0] == pytest.approx(2.0)
+    assert raw["building"]["period"] == 0.5  # the caller's mapping is not modified
+    assert deck.raw["building"]["period"] == 2.0

@@ -183,7 +183,7 @@ def _default(table: str, name: str) -> Any:
     return schema.TABLES[table][name].default
 
 
-def _exactly_one(fields: dict, names: Sequence[str], table: str, error, unit: str) -> str | None:
+def _exactly_one(fields: dict, names: Sequence[str], table: str, error) -> str | None:
     given = [name for name in names if name in fields]
     if len(given) > 1:
         raise error(f"{table}.{given[1]}", f"only one of {', '.join(f'{table}.{n}' for n in names)} "
@@ -209,7 +209,7 @@ def _building(fields: dict, error) -> Building:
         raise error("building.stories", "the number of stories (or per-story arrays: masses, story_heights)")
 
     def per_story(scalar: str, array: str, unit: str) -> np.ndarray:
-        name = _exactly_one(fields, [scalar, array], "building", error, unit)
+        name = _exactly_one(fields, [scalar, array], "building", error)
         if name is None:
             raise error(f"building.{scalar}", f"a positive number [{unit}] (missing; or give building.{array})")
         return np.full(n, fields[scalar]) if name == scalar else np.asarray(fields[array], dtype=float)
@@ -218,7 +218,7 @@ def _building(fields: dict, error) -> Building:
     story_heights = per_story("story_height", "story_heights", "m")
     damping = fields.get("damping", _default("building", "damping"))
     stiffness_name = _exactly_one(fields, ["story_stiffness", "story_stiffnesses", "stiffness_matrix"],
-                                  "building", error, "N/m")
+                                  "building", error)
     period = fields.get("period")
     if stiffness_name is None and period is None:
         raise error("building.story_stiffness", "a story stiffness [N/m] (missing; or give building.period "
@@ -255,7 +255,7 @@ def _system(building: Building, fields: dict, analysis: dict, error) -> System:
                         f"(it belongs to type {owners[0]!r})")
     modes = modal_analysis(building)
     effective_height = float(modes.effective_height[0])
-    which = _exactly_one(fields, ["b", "slenderness"], "foundation", error, "m")
+    which = _exactly_one(fields, ["b", "slenderness"], "foundation", error)
     if which is None:
         raise error("foundation.b", "the mat half-width b > 0 [m] (missing; or give foundation.slenderness "
                     "= h_1*/b)")
@@ -264,8 +264,8 @@ def _system(building: Building, fields: dict, analysis: dict, error) -> System:
     total_mass = float(building.masses.sum() + mat_mass)
     omega_1 = float(modes.omega[0])
     if kind == "two-element":
-        _exactly_one(fields, ["k_f", "frequency_ratio"], "foundation", error, "N/m")
-        _exactly_one(fields, ["c_f", "damping_ratio"], "foundation", error, "N s/m")
+        _exactly_one(fields, ["k_f", "frequency_ratio"], "foundation", error)
+        _exactly_one(fields, ["c_f", "damping_ratio"], "foundation", error)
         if "k_f" in fields:
             k_f = fields["k_f"]
         elif "frequency_ratio" in fields:
@@ -284,7 +284,7 @@ def _system(building: Building, fields: dict, analysis: dict, error) -> System:
         if "density" not in fields:
             raise error("foundation.density", "the soil density rho > 0 [kg/m^3] (missing)")
         rho = fields["density"]
-        which_g = _exactly_one(fields, ["shear_modulus", "shear_wave_velocity"], "foundation", error, "Pa")
+        which_g = _exactly_one(fields, ["shear_modulus", "shear_wave_velocity"], "foundation", error)
         if which_g is None:
             raise error("foundation.shear_modulus", "the soil shear modulus G > 0 [Pa] (missing; or give "
                         "foundation.shear_wave_velocity [m/s])")
@@ -297,7 +297,7 @@ def _system(building: Building, fields: dict, analysis: dict, error) -> System:
 
 def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSettings:
     n_total = system.building.n_stories
-    which = _exactly_one(fields, ["modes", "mass_participation"], "analysis", error, "-")
+    which = _exactly_one(fields, ["modes", "mass_participation"], "analysis", error)
     if which == "modes":
         if fields["modes"] > n_total:
             raise error("analysis.modes", f"at most {n_total} modes (the building has {n_total} stories), "
