@@ -150,3 +150,9 @@ def test_elcentro_peak_ground_velocity():
     record = read_record(bundled_records_dir() / "elcentro_1940_ns_chopra.txt")
     pgv = np.max(np.abs(ground_velocity(record.acceleration, record.dt)))
     assert pgv == pytest.approx(0.36, abs=0.005)  # "about 36 cm/s" (../shared/records/README.md)
+
+
+def test_csv_times_rounded_in_print_are_accepted(tmp_path):
+    rows = "\n".join(f"{i / 300:.4f},{v}" for i, v in enumerate(VALUES))  # steps 0.0033 / 0.0034
+    record = read_record(write(tmp_path, "rounded.csv", rows + "\n"), units="g")
+    assert record.dt == pytest.approx(1 / 300, rel=1e-3)

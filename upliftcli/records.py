@@ -102,6 +102,13 @@ def _float(token: str, source: str, line_no: int) -> float:
     return value
 
 
+def _resolution(token: str) -> float:
+    """Rounding step of a printed number: 0.005 for '1.235' (0 when it has an exponent)."""
+    if "e" in token.lower() or "." not in token:
+        return 0.0
+    return 10.0 ** -len(token.split(".", 1)[1])
+
+
 def _unit_hint(text: str) -> str | None:
     match = _UNIT_HINT_RE.search(text)
     return _UNIT_ALIASES.get(match.group(1).lower().replace(" ", "")) if match else None
@@ -231,6 +238,7 @@ def _parse_columns(lines: list[str], source: str, delimiter: str | None, time_co
     times: list[float] = []
     values: list[float] = []
     line_numbers: list[int] = []
+    time_resolution = 0.0
     for index, line in enumerate(lines):
         stripped = line.strip()
         if not stripped:
@@ -247,21 +255,23 @@ def _parse_columns(lines: list[str], source: str, delimiter: str | None, time_co
             raise InputError(source, f"line {index + 1}",
                              f"at least {max(time_column, accel_column) + 1} columns (time, acceleration)")
         times.append(_float(tokens[time_column], source, index + 1))
+        time_resolution = max(time_resolution, _resolution(tokens[time_column]))
         values.append(_float(tokens[accel_column], source, index + 1))
         line_numbers.append(index + 1)
     if len(values) < 2:
         raise InputError(source, None, "at least two (time, acceleration) rows")
     time = np.asarray(times)
     steps = np.diff(time)
-    dt = (time[-1] - time[0]) / (time.size - 1)
-    if not dt > 0.0:
-        raise InputError(source, f"line {line_numbers[1]}", f"increasing times (time step dt > 0 s), got dt = {steps[0]:g}")
-    tolerance = 1e-3 * dt
-    bad = np.flatnonzero(np.abs(steps - dt) > tolerance)
+    if not steps[0] > 0.0:
+        raise InputError(source, f"line {line_numbers[1]}", f"increasing times (time step dt > 0 s), got {steps[0]:g} s")
+    # each step must equal the first one, within 0.1 % or the rounding of the printed times (< dt / 2)
+    tolerance = min(max(1e-3 * steps[0], 1.01 * time_resolution), 0.5 * steps[0])
+    bad = np.flatnonzero(np.abs(steps - steps[0]) > tolerance)
     if bad.size:
         i = int(bad[0])
         raise InputError(source, f"line {line_numbers[i + 1]}",
-                         f"a uniform time step of {dt:g} s (step {steps[i]:g} s from the previous row)")
+                         f"a uniform time step of {steps[0]:g} s (as in the first rows), got {steps[i]:g} s")
+    dt = (time[-1] - time[0]) / (time.size - 1)
     units = None
     for text in header_text:
         units = units or _unit_hint(text)

@@ -1,0 +1,94 @@
+"""`uplift record info` / `uplift record spectrum` end to end through typer's test runner."""
+
+from __future__ import annotations
+
+import csv
+import io
+from pathlib import Path
+
+import numpy as np
+import pytest
+import typer
+from typer.testing import CliRunner
+
+from upliftcli.cli import app
+from upliftcli.cli import record as record_cli
+from upliftcli.records import STANDARD_GRAVITY, read_record
+from upliftcli.spectra import response_spectrum
+
+RECORD = Path(__file__).resolve().parent.parent / "records" / "elcentro_1940_ns_chopra.txt"
+runner = CliRunner()
+
+
+def invoke(*args):
+    return runner.invoke(app, [str(a) for a in args], env={"CI": "true"})
+
+
+def test_info_prints_the_measures():
+    result = invoke("record", "info", RECORD)
+    assert result.exit_code == 0, result.output
+    text = result.stdout
+    for expected in ("dt               0.02 s", "points           1560", "duration         31.18 s",
+                     "PGA              0.3188 g", "PGV              36.08 cm/s", "no baseline correction",
+                     "Arias intensity", "0.9187"):  # 5 % S_a at 0.5 s
+        assert expected in text, text
+
+
+def test_spectrum_csv_and_plot(tmp_path):
+    out, plot = tmp_path / "sa.csv", tmp_path / "sa.png"
+    result = invoke("record", "spectrum", RECORD, "--damping", "0.02,5%", "--periods", "0.05:5:100",
+                    "--out", out, "--plot", plot)
+    assert result.exit_code == 0, result.output
+    rows = list(csv.DictReader(io.StringIO(out.read_text())))
+    assert len(rows) == 200
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    record = read_record(RECORD)
+    expected = response_spectrum(record.acceleration, record.dt, np.geomspace(0.05, 5, 100), [0.02, 0.05])
+    psa = np.array([float(row["psa_g"]) for row in rows]).reshape(2, 100)
+    np.testing.assert_allclose(psa, expected.pseudo_acceleration / STANDARD_GRAVITY, rtol=1e-7)
+    assert {row["damping_ratio"] for row in rows} == {"0.02", "0.05"}
+
+
+def test_spectrum_to_stdout_with_period_list():
+    result = invoke("record", "spectrum", RECORD, "--periods", "0.5,1,2")
+    assert result.exit_code == 0, result.output
+    rows = list(csv.DictReader(io.StringIO(result.stdout)))
+    np.testing.assert_allclose([float(r["psa_g"]) for r in rows], [0.916, 0.454, 0.137], rtol=0.01)
+
+
+@pytest.mark.parametrize("content, name, message", [
+    ("# dt = 0.01\n# units: g\n0.1\nnan\n", "nan.txt", "nan.txt: line 4: a finite number"),
+    ("# dt = 0.01\n# units: g\n0.1\n0.2 x\n", "text.txt", "text.txt: line 4: a number"),
+    ("t,a\n0,0.1\n0.01,0.2\n0.03,0.1\n", "step.csv", "step.csv: line 4: a uniform time step"),
+    ("", "empty.txt", "empty.txt: acceleration values (the file is empty)"),
+    ("# dt = 0\n# units: g\n0.1\n0.2\n", "zero.txt", "zero.txt: line 1: a time step dt > 0 s"),
+    ("# dt = 0.01\n# units: furlongs\n0.1\n0.2\n", "unit.txt", "unit.txt: units: acceleration units"),
+    ("PEER NGA STRONG MOTION DATABASE RECORD\nx\nACCELERATION IN UNITS OF G\nNPTS=   3, DT=   .0100 SEC\n"
+     "0.1 0.2\n", "short.AT2", "short.AT2: line 4: NPTS = 3"),
+])
+def test_bad_input_one_line_exit_2(tmp_path, content, name, message):
+    path = tmp_path / name
+    path.write_text(content)
+    extra = ["--units", "furlongs"] if name == "unit.txt" else []
+    for command in ("info", "spectrum"):
+        result = invoke("record", command, path, *extra)
+        assert result.exit_code == 2, (command, result.output)
+        assert result.stdout == ""
+        lines = result.stderr.strip().splitlines()
+        assert len(lines) == 1 and message in lines[0], result.stderr
+
+
+def test_bad_options_exit_2_without_output_files(tmp_path):
+    out = tmp_path / "x.csv"
+    for args, message in ((["--periods", "5:0.05:100"], "--periods"), (["--damping", "1.5"], "--damping"),
+                          (["--plot", tmp_path / "x.bmp"], "--plot"), (["--window", "3"], "--window")):
+        result = invoke("record", "spectrum", RECORD, "--out", out, *args)
+        assert result.exit_code == 2 and message in result.stderr, result.output
+        assert not out.exists()
+
+
+def test_register_on_a_fresh_app():
+    fresh = typer.Typer()
+    record_cli.register(fresh)
+    result = runner.invoke(fresh, ["record", "spectrum", str(RECORD), "--periods", "1"])
+    assert result.exit_code == 0 and "damping_ratio,period_s" in result.stdout

@@ -1,0 +1,189 @@
+"""`uplift record info` and `uplift record spectrum`."""
+
+from __future__ import annotations
+
+import io
+import math
+from pathlib import Path
+
+import numpy as np
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from .. import plots, records, spectra
+from ..atomic import write_text
+from ..errors import InputError
+from . import render
+
+INFO_PERIODS = (0.1, 0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0)  # s
+
+FORMAT_HELP = "File format: at2, text, csv or shared (default: detected from the extension and header)."
+UNITS_HELP = "Acceleration units of the file: g, m/s2, cm/s2, in/s2 (default: from the header)."
+DT_HELP = "Time step [s] of a plain-text file without a 'dt = ...' header line."
+SCALE_HELP = "Scale factor applied to the acceleration [-]."
+WINDOW_HELP = "Keep only this time window, START:END in s (time restarts at 0)."
+
+
+def parse_window(text: str | None) -> tuple[float, float] | None:
+    """'START:END' [s] -> (start, end)."""
+    if text is None:
+        return None
+    parts = text.split(":")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        start, end = float(parts[0]), float(parts[1])
+    except ValueError:
+        raise InputError("--window", text, "START:END in seconds, e.g. 0:20") from None
+    return start, end
+
+
+def parse_periods(text: str) -> np.ndarray:
+    """'START:STOP:N' (N log-spaced periods, START > 0) or a comma list, in s."""
+    try:
+        if ":" in text:
+            parts = text.split(":")
+            if len(parts) != 3:
+                raise ValueError
+            start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+            if not (0.0 < start < stop and math.isfinite(stop) and count >= 2):
+                raise ValueError
+            return np.geomspace(start, stop, count)
+        values = np.array([float(part) for part in text.split(",") if part.strip()])
+        if values.size == 0 or not np.all(np.isfinite(values)) or np.any(values < 0.0):
+            raise ValueError
+        return values
+    except ValueError:
+        raise InputError("--periods", text, "START:STOP:N with 0 < START < STOP and N >= 2 "
+                         "(log-spaced, s) or a comma list of periods >= 0 s") from None
+
+
+def parse_dampings(text: str) -> np.ndarray:
+    """Comma list of damping ratios (0.05) or percentages (5%)."""
+    values = []
+    for part in text.split(","):
+        part = part.strip()
+        if not part:
+            continue
+        try:
+            value = float(part[:-1]) / 100.0 if part.endswith("%") else float(part)
+        except ValueError:
+            value = math.nan
+        if not (0.0 <= value < 1.0):
+            raise InputError("--damping", part, "damping ratios in [0, 1), e.g. 0.02,0.05 (or 2%,5%)")
+        values.append(value)
+    if not values:
+        raise InputError("--damping", text, "at least one damping ratio, e.g. 0.05")
+    return np.array(values)
+
+
+def _read(file: Path, file_format: str | None, units: str | None, dt: float | None, scale: float,
+          window: str | None) -> records.Record:
+    return records.read_record(file, format=file_format, units=units, dt=dt, scale=scale, window=parse_window(window))
+
+
+def info(
+    file: Path = typer.Argument(..., help="Record file."),
+    file_format: str | None = typer.Option(None, "--format", help=FORMAT_HELP),
+    units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
+    dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
+    scale: float = typer.Option(1.0, "--scale", help=SCALE_HELP),
+    window: str | None = typer.Option(None, "--window", help=WINDOW_HELP),
+    damping: str = typer.Option("0.05", "--damping", help="Damping ratio(s) of the spectrum table."),
+) -> None:
+    """dt, duration, points, PGA, PGV, PGD, Arias intensity and a small response-spectrum table."""
+    dampings = parse_dampings(damping)
+    record = _read(file, file_format, units, dt, scale, window)
+    a = record.acceleration
+    velocity = records.ground_velocity(a, record.dt)
+    displacement = records.ground_displacement(a, record.dt)
+    g = records.STANDARD_GRAVITY
+    i_a, i_v, i_d = (int(np.argmax(np.abs(x))) for x in (a, velocity, displacement))
+    periods = np.array([t for t in INFO_PERIODS if t <= max(20.0 * record.duration, 0.1)])
+    spectrum = spectra.response_spectrum(a, record.dt, periods, dampings)
+    out = render.console()
+    lines = [
+        ("record", record.name),
+        ("file", f"{record.source} (units {record.units}, scale {record.scale:g})"),
+        ("dt", f"{record.dt:g} s"),
+        ("points", f"{record.npts}"),
+        ("duration", f"{record.duration:.4g} s"),
+        ("PGA", f"{record.pga / g:.4f} g = {record.pga:.4f} m/s2 at t = {record.time[i_a]:.4g} s"),
+        ("PGV", f"{100 * abs(velocity[i_v]):.2f} cm/s at t = {record.time[i_v]:.4g} s"),
+        ("PGD", f"{100 * abs(displacement[i_d]):.2f} cm at t = {record.time[i_d]:.4g} s"),
+        ("", "(PGV, PGD: exact integration of the piecewise-linear record, no baseline correction)"),
+        ("Arias intensity", f"{records.arias_intensity(a, record.dt):.4g} m/s"),
+    ]
+    for key, value in lines:
+        out.print(f"{key:<16} {escape(value)}" if key else f"{'':<16} {escape(value)}")
+    table = Table(title="Response spectrum", caption="exact; peaks between samples and in the free vibration after the record")
+    table.add_column(escape("T [s]"), justify="right")
+    for xi in dampings:
+        pct = f"{100 * xi:g} %"
+        table.add_column(escape(f"S_a [g] {pct}"), justify="right")
+        table.add_column(escape(f"S_d [cm] {pct}"), justify="right")
+    for j, period in enumerate(periods):
+        row = [f"{period:g}"]
+        for k in range(dampings.size):
+            row += [f"{spectrum.pseudo_acceleration[k, j] / g:.4f}", f"{100 * spectrum.displacement[k, j]:.3f}"]
+        table.add_row(*row)
+    out.print(table)
+
+
+def spectrum_csv(spectrum: spectra.Spectrum) -> str:
+    """Long-format CSV of a spectrum, one row per (damping, period), SI units and S_a in g."""
+    buffer = io.StringIO()
+    buffer.write("damping_ratio,period_s,sd_m,psv_m_per_s,psa_m_per_s2,psa_g,abs_acc_m_per_s2\n")
+    g = records.STANDARD_GRAVITY
+    for k, xi in enumerate(spectrum.dampings):
+        for j, period in enumerate(spectrum.periods):
+            buffer.write(f"{xi:g},{period:.6g},{spectrum.displacement[k, j]:.8g},{spectrum.pseudo_velocity[k, j]:.8g},"
+                         f"{spectrum.pseudo_acceleration[k, j]:.8g},{spectrum.pseudo_acceleration[k, j] / g:.8g},"
+                         f"{spectrum.absolute_acceleration[k, j]:.8g}\n")
+    return buffer.getvalue()
+
+
+def spectrum(
+    file: Path = typer.Argument(..., help="Record file."),
+    damping: str = typer.Option("0.05", "--damping", help="Damping ratios, comma separated: 0.02,0.05 (or 2%,5%)."),
+    periods: str = typer.Option("0.05:5:100", "--periods",
+                                help="START:STOP:N log-spaced periods [s], or a comma list of periods [s]."),
+    out: Path | None = typer.Option(None, "--out", "-o", help="Write the spectrum as CSV here (default: stdout)."),
+    plot: Path | None = typer.Option(None, "--plot", help="Plot S_a against log T into this .png/.pdf/.svg file."),
+    file_format: str | None = typer.Option(None, "--format", help=FORMAT_HELP),
+    units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
+    dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
+    scale: float = typer.Option(1.0, "--scale", help=SCALE_HELP),
+    window: str | None = typer.Option(None, "--window", help=WINDOW_HELP),
+) -> None:
+    """Exact linear response spectra (S_d, pseudo S_v and S_a, absolute acceleration) of a record."""
+    dampings = parse_dampings(damping)
+    period_values = parse_periods(periods)
+    if plot is not None:
+        plots.check_figure_path(plot)
+    if out is not None and out.is_dir():
+        raise InputError("--out", str(out), "a file name (a directory of that name exists)")
+    record = _read(file, file_format, units, dt, scale, window)
+    result = spectra.response_spectrum(record.acceleration, record.dt, period_values, dampings)
+    text = spectrum_csv(result)
+    try:
+        if out is None:
+            typer.echo(text, nl=False)
+        else:
+            write_text(out, text)
+            typer.echo(f"wrote {out}", err=True)
+        if plot is not None:
+            plots.plot_spectrum(result, plot, title=f"{record.name}")
+            typer.echo(f"wrote {plot}", err=True)
+    except OSError as error:
+        raise InputError("--out/--plot", str(out or plot), f"a writable path ({error.strerror or error})") from None
+
+
+def register(app: typer.Typer) -> None:
+    """Add the `record` command group (info, spectrum)."""
+    record_app = typer.Typer(help="Ground-motion records: summary measures and response spectra.",
+                             no_args_is_help=True)
+    record_app.command("info")(info)
+    record_app.command("spectrum")(spectrum)
+    app.add_typer(record_app, name="record")
