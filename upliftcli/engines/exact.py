@@ -1,11 +1,35 @@
 """Exact engine: nonlinear response history of the N + 2 equations (THEORY.md sections 3-5).
 
-(Work in progress: the options below are the public contract used by the deck.)
+The modal equations [11a-11c] are linear in each contact state; each state is integrated
+with its exact step operator (matrix exponential of the augmented state matrix, exact for
+piecewise-linear ground acceleration), contact transitions are located inside the step
+(kernel.py) and the step restarts from there in the new state. A massless mat with all
+modes makes the rocking equation a first-order constraint, handled exactly in the
+coordinates W = Y* + h* theta (statespace.py); no artificial inertia is added.
+See docs/exact-engine.md for the choices and their measurements.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import AnalysisError, InputError
+from ..results import AnalysisResult
+from ..system import System
+from . import single_threaded_blas
+from .response import (
+    energy_balance, hermite_peaks, interval_lengths, response_maps, state_derivatives, time_at,
+    uplift_summary, lifted_flags,
+)
+from .simulate import History, simulate
+from .statespace import ModalModel, element_directions, modal_map, position_map
+
+SUPPORTS = ("rigid", "bonded", "uplift")
+#: a step count beyond this cannot be afforded: the analysis is refused with a message
+MAX_STEPS = 20_000_000
 
 
 @dataclass(frozen=True)
@@ -15,16 +39,189 @@ class ExactOptions:
     n_modes: fixed-base modes kept (None = all N).
     criterion: uplift criterion, "reaction" (tensile reaction, default) or "displacement"
         (edge above the unstressed position) [4a, 4b].
-    steps_per_period: internal steps per shortest governing period (first-mode, rocking and
-        vertical periods of the contact states) [-].
-    time_step: internal step [s]; None = min(record dt, governing period / steps_per_period).
+    steps_per_period: internal steps per shortest governing period (T_1, the bonded
+        vertical period and every mode with at least 1 % effective mass) [-].
+    time_step: internal step [s]; None = record dt / ceil(dt steps_per_period / period).
     free_vibration: duration of free vibration appended after the record [s].
     flight: "allow" (free flight under gravity when both edges lift) or "error".
+    residual_inertia: with n_modes < N, "neglect" (default: the limit the paper's
+        numerically damped integration tends to) or "include" the rotary inertia
+        I_b - sum m_n* h_n*^2 of the truncated modes and their share of the excitation.
+    histories: keep the time histories in the result (details["histories"]).
     """
 
     n_modes: int | None = None
     criterion: str = "reaction"
-    steps_per_period: int = 20
+    steps_per_period: int = 10
     time_step: float | None = None
     free_vibration: float = 0.0
     flight: str = "allow"
+    residual_inertia: str = "neglect"
+    histories: bool = False
+
+    def __post_init__(self) -> None:
+        if self.criterion not in ("reaction", "displacement"):
+            raise InputError("analysis.exact", "criterion", 'expected "reaction" or "displacement"')
+        if self.flight not in ("allow", "error"):
+            raise InputError("analysis.exact", "flight", 'expected "allow" or "error"')
+        if self.residual_inertia not in ("neglect", "include"):
+            raise InputError("analysis.exact", "residual_inertia", 'expected "neglect" or "include"')
+        if int(self.steps_per_period) < 2:
+            raise InputError("analysis.exact", "steps_per_period", "expected an integer >= 2")
+        if self.time_step is not None and not self.time_step > 0.0:
+            raise InputError("analysis.exact", "time_step", "expected a positive time step [s]")
+        if not self.free_vibration >= 0.0:
+            raise InputError("analysis.exact", "free_vibration", "expected a duration >= 0 [s]")
+
+
+def modal_model(system: System, support: str, n_modes: int, coupled_modes: int | None = None,
+                residual_inertia: str = "neglect", approximate: bool = False) -> ModalModel:
+    """ModalModel of the N + 2 equations [11] (or of the paper's approximation [17-20])."""
+    modes = system.modes.truncated(n_modes)
+    flexible = support != "rigid"
+    coupled = np.zeros(n_modes, dtype=bool)
+    if flexible:
+        coupled[: (n_modes if coupled_modes is None else coupled_modes)] = True
+    mh = modes.effective_mass * modes.effective_height
+    b = system.building
+    structure_inertia = float(np.sum(b.masses * b.heights**2))
+    theta_inertia = system.mat_rotary_inertia
+    first_moment_residual = 0.0
+    if flexible and not approximate and residual_inertia == "include":
+        theta_inertia += max(structure_inertia - float(np.sum(mh * modes.effective_height)), 0.0)
+        first_moment_residual = system.first_moment - float(np.sum(mh))
+    if theta_inertia < 1e-12 * structure_inertia:
+        theta_inertia = 0.0
+    if abs(first_moment_residual) < 1e-12 * system.first_moment:
+        first_moment_residual = 0.0
+    elements = system.foundation.contact_elements(system.half_width, float(modes.omega[0])) if flexible else None
+    return ModalModel(modes.omega, modes.damping, modes.effective_mass, modes.effective_height, coupled,
+                      theta_inertia, first_moment_residual, system.total_mass, system.gravity, elements)
+
+
+def governing_period(system: System, model: ModalModel) -> float:
+    """Shortest period the sampling must resolve [s]: T_1, the bonded vertical period, and
+    every mode with at least 1 % of the total mass."""
+    periods = [2.0 * math.pi / model.omega[0]]
+    heavy = model.effective_mass >= 0.01 * system.total_mass
+    periods.extend((2.0 * math.pi / model.omega[heavy]).tolist())
+    if model.flexible:
+        periods.append(2.0 * math.pi * math.sqrt(system.total_mass / model.elements.stiffness.sum()))
+        if model.theta_inertia > 0.0:
+            rocking = float(np.sum(model.elements.stiffness * model.elements.positions**2))
+            periods.append(2.0 * math.pi * math.sqrt(model.theta_inertia / rocking))
+    return min(periods)
+
+
+def substeps_for(system: System, model: ModalModel, dt: float, options: ExactOptions) -> int:
+    target = options.time_step or governing_period(system, model) / options.steps_per_period
+    return max(1, math.ceil(dt / target - 1e-9))
+
+
+def resolve_modes(system: System, n_modes: int | None) -> int:
+    n = system.building.n_stories
+    if n_modes is None:
+        return n
+    if not 1 <= int(n_modes) <= n:
+        raise InputError("analysis", "n_modes", f"expected an integer from 1 to {n}")
+    return int(n_modes)
+
+
+def run_history(system: System, model: ModalModel, acceleration: np.ndarray, dt: float,
+                support: str, options: ExactOptions) -> History:
+    """Simulate the model through the record (with the free-vibration tail)."""
+    if support not in SUPPORTS:
+        raise InputError("analysis", "supports", f"expected one of {', '.join(SUPPORTS)}, got {support!r}")
+    acceleration = np.asarray(acceleration, dtype=float)
+    if acceleration.size < 2:
+        raise AnalysisError("the record is too short: at least two samples are needed")
+    if options.free_vibration > 0.0:
+        acceleration = np.concatenate((acceleration, np.zeros(math.ceil(options.free_vibration / dt))))
+    substeps = substeps_for(system, model, dt, options)
+    if substeps * (acceleration.size - 1) > MAX_STEPS:
+        raise AnalysisError(
+            f"{substeps * (acceleration.size - 1):,} steps would be needed (more than {MAX_STEPS:,}); "
+            "raise analysis.exact.time_step or lower steps_per_period"
+        )
+    return simulate(model, acceleration, dt, substeps, options.criterion,
+                    uplift=support == "uplift", allow_flight=options.flight == "allow")
+
+
+def summarize(system: System, history: History, support: str, engine: str, options: ExactOptions,
+              shapes_star: np.ndarray) -> AnalysisResult:
+    """Peak responses, uplift summary, energy balance and (optionally) histories."""
+    model, lay = history.model, history.layout
+    maps = response_maps(system.building, shapes_star, model.omega)
+    to_modal = modal_map(model, lay) @ position_map(model, lay)
+    rows = np.vstack((maps.displacement, maps.drift, maps.shear, maps.moment, maps.modal_base_shear)) @ to_modal
+    n = system.building.n_stories
+    values = history.states @ rows.T
+    start, end = state_derivatives(history)
+    peaks, where = hermite_peaks(values, start @ rows.T, end @ rows.T, interval_lengths(history))
+    displacement, drift, shear, moment = (peaks[k * n:(k + 1) * n] for k in range(4))
+    modal_shear = peaks[4 * n:]
+    summary = uplift_summary(history)
+    uplifted = bool(lifted_flags(history).any()) if lay.n_elements else False
+    energy = energy_balance(history, start, end)
+    details = {
+        "base_shear_time": time_at(history, where[2 * n]),
+        "base_moment_time": time_at(history, where[3 * n]),
+        "modal_base_shear": modal_shear.tolist(),
+        "uplift_summary": summary,
+        "energy": energy,
+    }
+    if options.histories:
+        details["histories"] = histories(system, history, maps, to_modal)
+    intermediates = {
+        "T1": float(system.modes.periods[0]),
+        "n_modes": model.n_modes,
+        "time_step": history.time_step,
+        "criterion": options.criterion,
+        "rotation_inertia": model.theta_inertia,
+        "samples": int(history.times.size),
+        "transitions": int(np.count_nonzero(np.diff(history.state_ids))),
+    }
+    return AnalysisResult(
+        engine=engine, support=support, heights=system.building.heights.copy(),
+        displacement=displacement, drift=drift, drift_ratio=drift / system.building.story_heights,
+        shear=shear, moment=moment, base_shear=float(shear[0]), base_moment=float(moment[0]),
+        critical_base_shear=system.critical_base_shear, critical_base_moment=system.critical_base_moment,
+        weight=system.weight, effective_height=system.effective_height, uplift=uplifted,
+        periods=system.modes.periods[: model.n_modes].copy(), intermediates=intermediates, details=details,
+    )
+
+
+def histories(system: System, history: History, maps, to_modal: np.ndarray) -> dict[str, np.ndarray]:
+    """Time histories at every sample (SI units) for --histories."""
+    model, lay = history.model, history.layout
+    y = history.states @ to_modal.T
+    out = {
+        "time": history.times,
+        "ground_acceleration": history.states[:, lay.index_acceleration],
+        "base_shear": y @ maps.shear[0],
+        "base_moment": y @ maps.moment[0],
+        "roof_displacement": y @ maps.displacement[-1],
+    }
+    if model.flexible:
+        p = history.states @ position_map(model, lay).T
+        out["theta"] = p[:, model.n_modes]
+        out["v"] = p[:, model.n_modes + 1]
+        edge = p @ element_directions(model).T
+        out["left_edge_displacement"] = edge[:, 0]
+        out["right_edge_displacement"] = edge[:, -1]
+        patterns = np.array([sum(int(f) << i for i, f in enumerate(c.lifted)) for c in history.contact])
+        out["contact_state"] = patterns[history.state_ids]
+    drifts = y @ maps.drift.T
+    for j in range(system.building.n_stories):
+        out[f"drift_{j + 1}"] = drifts[:, j]
+    return out
+
+
+@single_threaded_blas
+def analyze(system: System, record, support: str, options: ExactOptions | None = None) -> AnalysisResult:
+    """Exact peak response of the system to the record (acceleration [m/s^2], dt [s])."""
+    options = options or ExactOptions()
+    n_modes = resolve_modes(system, options.n_modes)
+    model = modal_model(system, support, n_modes, residual_inertia=options.residual_inertia)
+    history = run_history(system, model, record.acceleration, record.dt, support, options)
+    return summarize(system, history, support, "exact", options, system.modes.shapes_star[:, :n_modes])

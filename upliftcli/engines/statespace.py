@@ -1,0 +1,263 @@
+"""Linear state-space form of the modal equations [11a-11c] for one contact state.
+
+The exact and approximate engines are the same piecewise-linear system: in each contact
+state (which elements touch the mat) the equations are linear (THEORY.md sections 3-5).
+
+Generalised coordinates p = [W_c, Y_u, theta, v]:
+- W_c = Y_n* + h_n* theta for the modes coupled with the mat (all modes in the exact
+  engine, mode 1 in the approximate one); in these coordinates the mass matrix is
+  diagonal: diag(m_n*, I_theta, m_t), with I_theta = I_0 (+ the residual rotary inertia
+  I_b - sum m_n* h_n*^2 of truncated modes if asked for) (THEORY.md section 9);
+- Y_u for fixed-base modes that do not interact with the mat (approximate engine);
+- theta, the mat rotation [rad], and v, the vertical displacement of the mat centre [m].
+
+When I_theta = 0 (massless mat, all modes), theta has no inertia and the rocking equation
+is first order in theta: its theta' coefficient is sum 2 xi_n w_n m_n* h_n*^2 + sum c_i x_i^2
+over the elements in contact (THEORY.md section 9). That coordinate is "massless"; the
+state then holds [p_a, p_a', theta, z] instead of [p, p', z]. z_i is the top of a lifted
+element relaxing as k z + c z' = 0 (THEORY.md section 4).
+
+The state is augmented with [a_g, da_g/dt, 1] so that a piecewise-linear ground
+acceleration and gravity make the system autonomous: X' = A X, X(t + tau) = expm(A tau) X.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..foundation import ContactElements
+
+
+@dataclass(frozen=True)
+class ModalModel:
+    """Data of the modal equations [11a-11c] (SI units).
+
+    omega [rad/s], damping [-], effective_mass m_n* [kg], effective_height h_n* [m]: per mode.
+    coupled: which modes interact with the mat rotation (bool per mode).
+    theta_inertia: I_theta [kg m^2], inertia of the rotation coordinate in the W coordinates.
+    first_moment_residual: L_0 - sum_coupled m_n* h_n* [kg m], the part of the rocking
+        excitation not carried by the coupled modes.
+    total_mass: m_t [kg] (vertical equation). gravity: g [m/s^2].
+    elements: the foundation's contact elements; None for a rigid (fixed) base.
+    """
+
+    omega: np.ndarray
+    damping: np.ndarray
+    effective_mass: np.ndarray
+    effective_height: np.ndarray
+    coupled: np.ndarray
+    theta_inertia: float
+    first_moment_residual: float
+    total_mass: float
+    gravity: float
+    elements: ContactElements | None
+
+    @property
+    def n_modes(self) -> int:
+        return int(self.omega.size)
+
+    @property
+    def flexible(self) -> bool:
+        return self.elements is not None
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Index bookkeeping of the augmented state X."""
+
+    n_p: int                 # generalised coordinates
+    massive: np.ndarray      # indices into p of coordinates with mass
+    massless: np.ndarray     # indices into p without mass (theta when I_theta = 0)
+    n_x: int                 # state size without the 3 forcing entries
+    n_elements: int
+
+    @property
+    def n_aug(self) -> int:
+        return self.n_x + 3
+
+    @property
+    def index_acceleration(self) -> int:
+        return self.n_x
+
+    @property
+    def index_slope(self) -> int:
+        return self.n_x + 1
+
+    @property
+    def index_one(self) -> int:
+        return self.n_x + 2
+
+    def z_index(self, i: int) -> int:
+        return self.n_x - self.n_elements + i
+
+
+def layout(model: ModalModel) -> Layout:
+    n_modes = model.n_modes
+    if not model.flexible:
+        return Layout(n_modes, np.arange(n_modes), np.array([], dtype=int), 2 * n_modes, 0)
+    n_p = n_modes + 2
+    theta = n_modes
+    masses = coordinate_masses(model)
+    massless = np.array([theta]) if masses[theta] == 0.0 else np.array([], dtype=int)
+    massive = np.array([i for i in range(n_p) if i not in set(massless.tolist())])
+    n_e = model.elements.count
+    n_x = 2 * massive.size + massless.size + n_e
+    return Layout(n_p, massive, massless, n_x, n_e)
+
+
+def coordinate_masses(model: ModalModel) -> np.ndarray:
+    """Diagonal of the mass matrix in the p coordinates [kg, kg m^2]."""
+    if not model.flexible:
+        return model.effective_mass.copy()
+    return np.concatenate((model.effective_mass, [model.theta_inertia, model.total_mass]))
+
+
+def element_directions(model: ModalModel) -> np.ndarray:
+    """Rows e_i with v_i = e_i . p, v_i = v - x_i theta [3b], shape (n_e, n_p)."""
+    n_m = model.n_modes
+    e = np.zeros((model.elements.count, n_m + 2))
+    e[:, n_m] = -model.elements.positions
+    e[:, n_m + 1] = 1.0
+    return e
+
+
+def structure_matrices(model: ModalModel) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Stiffness, damping and forcing (per unit a_g, per unit 1) of the structure alone in p."""
+    n_m = model.n_modes
+    n_p = n_m + 2 if model.flexible else n_m
+    k_modal = model.effective_mass * model.omega**2
+    c_modal = 2.0 * model.damping * model.omega * model.effective_mass
+    # structural deformation Y = T p with T = [I, -h* (coupled)]
+    transform = np.zeros((n_m, n_p))
+    transform[:, :n_m] = np.eye(n_m)
+    if model.flexible:
+        transform[:, n_m] = -np.where(model.coupled, model.effective_height, 0.0)
+    stiffness = transform.T @ np.diag(k_modal) @ transform
+    damping = transform.T @ np.diag(c_modal) @ transform
+    forcing_ground = np.zeros(n_p)
+    forcing_ground[:n_m] = -model.effective_mass
+    forcing_gravity = np.zeros(n_p)
+    if model.flexible:
+        forcing_ground[n_m] = -model.first_moment_residual
+        forcing_gravity[n_m + 1] = -model.total_mass * model.gravity
+    return stiffness, damping, forcing_ground, forcing_gravity
+
+
+@dataclass(frozen=True)
+class ContactState:
+    """Linear system of one contact state: lifted[i] is True where element i is off the mat.
+
+    matrix: A of X' = A X (n_aug, n_aug).
+    velocity: map X -> p' (n_p, n_aug).
+    events: rows g = events @ X; an element changes state when its g becomes positive
+        (scaled to be dimensionless: forces by m_t g, displacements by the static settlement).
+    """
+
+    lifted: np.ndarray
+    matrix: np.ndarray
+    velocity: np.ndarray
+    events: np.ndarray
+
+
+def contact_state(model: ModalModel, lay: Layout, lifted: np.ndarray, criterion: str) -> ContactState:
+    """Assemble A, the velocity map and the event rows for one contact pattern."""
+    n_aug, n_p = lay.n_aug, lay.n_p
+    stiffness, damping, forcing_ground, forcing_gravity = structure_matrices(model)
+    masses = coordinate_masses(model)
+    ia, i1 = lay.index_acceleration, lay.index_one
+    n_e = lay.n_elements
+    if n_e:
+        e = element_directions(model)
+        k_el, c_el = model.elements.stiffness, model.elements.damping
+        contact = ~lifted
+        stiffness = stiffness + (e[contact].T * k_el[contact]) @ e[contact]
+        damping = damping + (e[contact].T * c_el[contact]) @ e[contact]
+    a_idx, b_idx = lay.massive, lay.massless
+    n_a, n_b = a_idx.size, b_idx.size
+    # maps from X to p and to p' (p' of massless coordinates from the first-order equation)
+    position = np.zeros((n_p, n_aug))
+    velocity = np.zeros((n_p, n_aug))
+    position[a_idx, np.arange(n_a)] = 1.0
+    velocity[a_idx, n_a + np.arange(n_a)] = 1.0
+    position[b_idx, 2 * n_a + np.arange(n_b)] = 1.0
+    forcing = np.zeros((n_p, n_aug))
+    forcing[:, ia] = forcing_ground
+    forcing[:, i1] = forcing_gravity
+    if n_b:
+        c_bb = damping[np.ix_(b_idx, b_idx)]
+        if np.any(np.linalg.eigvalsh(c_bb) <= 0.0):
+            raise ZeroDivisionError("massless rotation with no damping")
+        rhs = forcing[b_idx] - damping[np.ix_(b_idx, a_idx)] @ velocity[a_idx] - stiffness[b_idx] @ position
+        velocity[b_idx] = np.linalg.solve(c_bb, rhs)
+    matrix = np.zeros((n_aug, n_aug))
+    matrix[:n_a] = velocity[a_idx]
+    accel = (forcing[a_idx] - damping[a_idx] @ velocity - stiffness[a_idx] @ position) / masses[a_idx, None]
+    matrix[n_a:2 * n_a] = accel
+    if n_b:
+        matrix[2 * n_a:2 * n_a + n_b] = velocity[b_idx]
+    events = np.zeros((n_e, n_aug))
+    if n_e:
+        weight = model.total_mass * model.gravity
+        settlement = weight / model.elements.stiffness.sum()
+        for i in range(n_e):
+            zi = lay.z_index(i)
+            disp_row = e[i] @ position
+            if lifted[i]:
+                if c_el[i] > 0.0:
+                    matrix[zi, zi] = -k_el[i] / c_el[i]
+                # recontact when the edge comes down to the element top: z_i - v_i > 0
+                events[i] = -disp_row / settlement
+                if c_el[i] > 0.0:
+                    events[i, zi] += 1.0 / settlement
+            elif criterion == "reaction":
+                # tensile element force F_i = k v_i + c v_i' > 0 [4a]
+                events[i] = (k_el[i] * disp_row + c_el[i] * (e[i] @ velocity)) / weight
+            else:
+                # edge above the unstressed position v_i > 0 [4b]
+                events[i] = disp_row / settlement
+    matrix[ia, lay.index_slope] = 1.0
+    return ContactState(lifted.copy(), matrix, velocity, events)
+
+
+def position_map(model: ModalModel, lay: Layout) -> np.ndarray:
+    """Map X -> p (n_p, n_aug)."""
+    position = np.zeros((lay.n_p, lay.n_aug))
+    n_a = lay.massive.size
+    position[lay.massive, np.arange(n_a)] = 1.0
+    position[lay.massless, 2 * n_a + np.arange(lay.massless.size)] = 1.0
+    return position
+
+
+def modal_map(model: ModalModel, lay: Layout) -> np.ndarray:
+    """Map p -> Y* (n_m, n_p): Y = W - h* theta for coupled modes."""
+    n_m = model.n_modes
+    out = np.zeros((n_m, lay.n_p))
+    out[:, :n_m] = np.eye(n_m)
+    if model.flexible:
+        out[:, n_m] = -np.where(model.coupled, model.effective_height, 0.0)
+    return out
+
+
+def static_state(model: ModalModel, lay: Layout) -> np.ndarray:
+    """Augmented state at rest under gravity, all elements in contact (v = -m_t g / sum k_i)."""
+    x = np.zeros(lay.n_aug)
+    x[lay.index_one] = 1.0
+    if model.flexible:
+        elements = model.elements
+        k_sum = elements.stiffness.sum()
+        k_moment = (elements.stiffness * elements.positions).sum()
+        k_rot = (elements.stiffness * elements.positions**2).sum()
+        weight = model.total_mass * model.gravity
+        # solve [k_sum, -k_moment; -k_moment, k_rot] [v, theta] = [-W, 0] (symmetric mats: theta = 0)
+        v, theta = np.linalg.solve(np.array([[k_sum, -k_moment], [-k_moment, k_rot]]), [-weight, 0.0])
+        n_m = model.n_modes
+        p = np.zeros(lay.n_p)
+        p[n_m] = theta
+        p[n_m + 1] = v
+        p[:n_m] = np.where(model.coupled, model.effective_height, 0.0) * theta
+        n_a = lay.massive.size
+        x[:n_a] = p[lay.massive]
+        x[2 * n_a:2 * n_a + lay.massless.size] = p[lay.massless]
+    return x
