@@ -6,16 +6,21 @@ Nigam-Jennings recurrence; Chopra, Dynamics of Structures, section 5.2). The equ
 u'' + 2 xi w u' + w^2 u = -a_g(t), u relative displacement; w = 2 pi / T.
 
 Peaks are exact, not sampled:
-* inside every step the response is u(tau) = c0 + c1 tau + exp(-xi w tau) (A cos wd tau + B sin wd tau);
-  where the velocity changes sign in a step and a cubic Hermite estimate of the turning value
-  comes within 10 % of the running peak, the root of u' is found by safeguarded Newton on the
-  closed form and the true turning value is used (same for the absolute acceleration);
-* steps are cut into sub-steps of at most T / `min_steps_per_period` (8 by default) so that each
-  holds at most one turning point of the free oscillation (short periods, T < 8 dt);
+* inside a step the response has the closed form f(t) = l0 + l1 t + exp(-xi w t)(A cos wd t + B sin wd t)
+  (f = u, or the absolute acceleration a_g + u''). The SIMD loop bounds max |f| over the step by
+  the Bezier control points of the cubic Hermite interpolant plus its error bound
+  (w h)^4 / 384 * sqrt(A^2 + B^2); only where that bound reaches the running peak and f' or f''
+  changes sign in the step (a turning point is possible) are the roots of f' solved on the
+  closed form (safeguarded Newton) and the turning values used;
+* steps are cut into sub-steps of at most T / `min_steps_per_period` (4 by default, w h <= pi / 2)
+  so that f'' has at most one root per step and f' at most two: short periods (T < 4 dt) are
+  integrated with sub-steps, every period has exact peaks;
 * after the record the ground acceleration goes linearly to zero over one dt and the oscillator
   vibrates freely; the largest free-vibration peak is the first turning point, found in closed
   form. This equals any free-vibration tail of half a damped period or more, in particular the
-  "2T tail" used for the reference values in ../shared/records/README.md.
+  "2T tail" used for the reference values in ../shared/records/README.md. (Those reference
+  values were read at the record samples, hence lower than exact at short periods: 5 % S_a at
+  0.1 s is 0.608 g sampled, 0.649 g exact; see tests/test_spectra.py.)
 
 The kernels are compiled with numba and run in parallel over the oscillators (period, damping).
 """
@@ -68,45 +73,13 @@ def _step_coefficients(w, xi, h):
 
 
 @numba.njit(cache=True)
-def _hermite_turning_value(f0, f1, d0, d1, h):
-    """Value at the turning point of the cubic Hermite interpolant (d0, d1 of opposite sign)."""
-    p1 = h * d0
-    p2 = 3.0 * (f1 - f0) - h * (2.0 * d0 + d1)
-    p3 = 2.0 * (f0 - f1) + h * (d0 + d1)
-    # p'(t) = p1 + 2 p2 t + 3 p3 t^2 on [0, 1]
-    t = 0.5
-    if abs(p3) < 1e-14 * (abs(p1) + abs(p2) + 1e-300):
-        if p2 != 0.0:
-            t = -p1 / (2.0 * p2)
-    else:
-        disc = p2 * p2 - 3.0 * p3 * p1
-        if disc < 0.0:
-            disc = 0.0
-        root = math.sqrt(disc)
-        t1 = (-p2 + root) / (3.0 * p3)
-        t2 = (-p2 - root) / (3.0 * p3)
-        t = t1 if 0.0 <= t1 <= 1.0 else t2
-    if t < 0.0:
-        t = 0.0
-    elif t > 1.0:
-        t = 1.0
-    return f0 + t * (p1 + t * (p2 + t * p3)), t
-
-
-@numba.njit(cache=True)
-def _turning_value(l0, l1, pa, qa, sigma, wd, h, t_guess):
-    """|f| at the root of f' in (0, h) for f = l0 + l1 t + exp(-sigma t)(pa cos wd t + qa sin wd t),
-    f'(0) and f'(h) of opposite sign: safeguarded Newton on the closed form."""
-    pd = qa * wd - sigma * pa  # f' = l1 + exp(-sigma t)(pd cos + qd sin)
-    qd = -pa * wd - sigma * qa
-    pdd = qd * wd - sigma * pd  # f'' = exp(-sigma t)(pdd cos + qdd sin)
-    qdd = -pd * wd - sigma * qd
-    lo = 0.0
-    hi = h
-    d_lo = l1 + pd
-    t = t_guess
-    # the value at a turning point is stationary: an error dt in t changes it by ~ f'' dt^2 / 2,
-    # so t to 1e-9 h is far below rounding
+def _root_value(l0, l1, pa, qa, pd, qd, pdd, qdd, sigma, wd, lo, hi, d_lo, d_hi):
+    """|f| at the root of f' in (lo, hi), f'(lo) = d_lo and f'(hi) = d_hi of opposite sign, for
+    f = l0 + l1 t + exp(-sigma t)(pa cos wd t + qa sin wd t), f' = l1 + exp(-sigma t)(pd cos + qd sin),
+    f'' = exp(-sigma t)(pdd cos + qdd sin): safeguarded Newton from the secant estimate. The value at
+    a turning point is stationary, so t to 1e-9 of the bracket is far below rounding."""
+    width = hi - lo
+    t = lo + width * d_lo / (d_lo - d_hi)
     for _ in range(40):
         ex = math.exp(-sigma * t)
         co = math.cos(wd * t)
@@ -122,12 +95,39 @@ def _turning_value(l0, l1, pa, qa, sigma, wd, h, t_guess):
         t_new = t - d / dd if dd != 0.0 else 0.5 * (lo + hi)
         if not (lo < t_new < hi):
             t_new = 0.5 * (lo + hi)
-        converged = abs(t_new - t) <= 1e-9 * h
+        converged = abs(t_new - t) <= 1e-9 * width
         t = t_new
-        if converged or hi - lo <= 1e-9 * h:
+        if converged or hi - lo <= 1e-9 * width:
             break
     ex = math.exp(-sigma * t)
     return abs(l0 + l1 * t + ex * (pa * math.cos(wd * t) + qa * math.sin(wd * t)))
+
+
+@numba.njit(cache=True)
+def _interior_peak(l0, l1, pa, qa, sigma, wd, h, d0, d1):
+    """Largest |f| at the turning points of f = l0 + l1 t + exp(-sigma t)(pa cos wd t + qa sin wd t)
+    inside (0, h), f'(0) = d0, f'(h) = d1 (0 if there is none).
+
+    With wd h < pi, f'' (a damped sinusoid) has at most one root t_e in (0, h), so f' has one root
+    when d0, d1 differ in sign, and otherwise none or two, two exactly when f'(t_e) has the other sign."""
+    pd = qa * wd - sigma * pa
+    qd = -pa * wd - sigma * qa
+    pdd = qd * wd - sigma * pd
+    qdd = -pd * wd - sigma * qd
+    if d0 * d1 < 0.0:
+        return _root_value(l0, l1, pa, qa, pd, qd, pdd, qdd, sigma, wd, 0.0, h, d0, d1)
+    theta = math.atan2(-pdd, qdd)  # pdd cos + qdd sin = 0
+    if theta < 0.0:
+        theta += math.pi
+    t_e = theta / wd
+    if not (0.0 < t_e < h):
+        return 0.0
+    d_e = l1 + math.exp(-sigma * t_e) * (pd * math.cos(wd * t_e) + qd * math.sin(wd * t_e))
+    if d_e * d0 >= 0.0:
+        return 0.0
+    first = _root_value(l0, l1, pa, qa, pd, qd, pdd, qdd, sigma, wd, 0.0, t_e, d0, d_e)
+    second = _root_value(l0, l1, pa, qa, pd, qd, pdd, qdd, sigma, wd, t_e, h, d_e, d1)
+    return max(first, second)
 
 
 @numba.njit(cache=True)
@@ -146,35 +146,29 @@ def _free_vibration_peak(pa, qa, sigma, wd):
 
 
 @numba.njit(cache=True)
-def _refine_turning_points(u0, v0, u1, v1, at0, at1, dat0, dat1, a0, a1, w, sigma, wd, h, peak_u, peak_at):
-    """Exact peaks inside one step where u' or the slope of the absolute acceleration changes sign.
-
-    The cubic Hermite interpolant through the end values and slopes differs from the closed form
-    by at most (w h)^4 / 384 times the amplitude of its oscillating part (the linear part is
-    reproduced exactly); only when that bound can reach the running peak is the turning point
-    solved exactly."""
+def _refine_step(u0, v0, dat0, dat1, v1, a0, a1, w, sigma, wd, h, peak_u, peak_at, which):
+    """Exact peaks of u (which & 1) and of the absolute acceleration (which & 2) inside one step,
+    from the closed form of the step."""
     w2 = w * w
     slope = (a1 - a0) / h
     c1 = -slope / w2
     c0 = -(a0 + 2.0 * sigma * c1) / w2
     amp_a = u0 - c0
     amp_b = (v0 - c1 + sigma * amp_a) / wd
-    error_factor = (w * h) ** 4 / 384.0
-    if v0 * v1 < 0.0:
-        estimate, t = _hermite_turning_value(u0, u1, v0, v1, h)
-        if abs(estimate) + error_factor * math.sqrt(amp_a * amp_a + amp_b * amp_b) > peak_u:
-            peak_u = max(peak_u, _turning_value(c0, c1, amp_a, amp_b, sigma, wd, h, t * h))
-    if dat0 * dat1 < 0.0:
-        pa = -w2 * amp_a - 2.0 * sigma * (amp_b * wd - sigma * amp_a)
-        qa = -w2 * amp_b + 2.0 * sigma * (amp_a * wd + sigma * amp_b)
-        estimate, t = _hermite_turning_value(at0, at1, dat0, dat1, h)
-        if abs(estimate) + error_factor * math.sqrt(pa * pa + qa * qa) > peak_at:
-            peak_at = max(peak_at, _turning_value(a0, slope, pa, qa, sigma, wd, h, t * h))
+    if which & 1:
+        peak_u = max(peak_u, _interior_peak(c0, c1, amp_a, amp_b, sigma, wd, h, v0, v1))
+    if not which & 2:
+        return peak_u, peak_at
+    # absolute acceleration a_g + u'' = a0 + slope t + exp(-sigma t)(pa cos + qa sin)
+    pa = -w2 * amp_a - 2.0 * sigma * (amp_b * wd - sigma * amp_a)
+    qa = -w2 * amp_b + 2.0 * sigma * (amp_a * wd + sigma * amp_b)
+    peak_at = max(peak_at, _interior_peak(a0, slope, pa, qa, sigma, wd, h, dat0, dat1))
     return peak_u, peak_at
 
 
 # rows of the per-oscillator constant table used by _chunk_peaks
-_A_UU, _A_VU, _A_UV, _A_VV, _B_U0, _B_V0, _B_U1, _B_V1, _W2, _INV_W2, _TWO_SIGMA, _INV_WD, _AT_GAIN2 = range(13)
+(_A_UU, _A_VU, _A_UV, _A_VV, _B_U0, _B_V0, _B_U1, _B_V1, _W2, _INV_W2, _TWO_SIGMA, _INV_WD, _AT_GAIN2,
+ _HERMITE_ERROR2) = range(14)
 
 
 @numba.njit(cache=True, fastmath=_FASTMATH)
@@ -183,12 +177,11 @@ def _chunk_peaks(acc, dt, omegas, xis, nsub, free_vibration, out_u, out_at):
 
     Time loop outside, oscillators inside. The inner loop has no branch, so it runs in SIMD
     lanes: it advances every oscillator, keeps the sampled peaks and flags the steps where a
-    turning point lies inside the step AND a rigorous bound (|linear part| + amplitude of the
-    oscillating part of the closed form) could exceed the running peak; only flagged steps are
-    refined (_refine_turning_points)."""
+    turning point is possible and a rigorous bound of max |f| reaches the running peak (see the
+    module docstring); only flagged steps are refined (_refine_step)."""
     m = omegas.size
     h = dt / nsub
-    cf = np.empty((13, m))
+    cf = np.empty((14, m))
     for k in range(m):
         w = omegas[k]
         sigma = xis[k] * w
@@ -198,6 +191,7 @@ def _chunk_peaks(acc, dt, omegas, xis, nsub, free_vibration, out_u, out_at):
         cf[_TWO_SIGMA, k] = 2.0 * sigma
         cf[_INV_WD, k] = 1.0 / (w * math.sqrt(1.0 - xis[k] * xis[k]))
         cf[_AT_GAIN2, k] = (w * (w + 2.0 * sigma)) ** 2  # amplitude of a_t's oscillation <= this^0.5 * u's
+        cf[_HERMITE_ERROR2, k] = ((w * h) ** 4 / 384.0) ** 2  # cubic Hermite error / amplitude, squared
     u = np.zeros(m)
     v = np.zeros(m)
     u_old = np.zeros(m)
@@ -208,6 +202,7 @@ def _chunk_peaks(acc, dt, omegas, xis, nsub, free_vibration, out_u, out_at):
     n = acc.size
     last = n - 1 + (1 if (free_vibration and acc[n - 1] != 0.0) else 0)
     inv_h = 1.0 / h
+    h_third = h / 3.0
     for i in range(last):
         g0 = acc[i]
         g1 = acc[i + 1] if i + 1 < n else 0.0
@@ -215,7 +210,7 @@ def _chunk_peaks(acc, dt, omegas, xis, nsub, free_vibration, out_u, out_at):
             a0 = g0 + (g1 - g0) * (j / nsub)
             a1 = g0 + (g1 - g0) * ((j + 1) / nsub)
             slope_h = a1 - a0  # ground-acceleration slope times h
-            ground_max = max(abs(a0), abs(a1))
+            slope = slope_h * inv_h
             n_flag = 0.0
             for k in range(m):
                 u0 = u[k]
@@ -236,11 +231,21 @@ def _chunk_peaks(acc, dt, omegas, xis, nsub, free_vibration, out_u, out_at):
                 amp_a = u0 - c0
                 amp_b = (v0 - c1h * inv_h + 0.5 * two_sigma * amp_a) * cf[_INV_WD, k]
                 r2 = amp_a * amp_a + amp_b * amp_b
-                room_u = p_u - max(abs(c0), abs(c0 + c1h))
-                room_at = p_at - ground_max
-                f_u = (v0 * v1 < 0.0) & ((room_u <= 0.0) | (r2 > room_u * room_u))
-                f_at = (dat0 * dat1 < 0.0) & ((room_at <= 0.0) | (r2 * cf[_AT_GAIN2, k] > room_at * room_at))
-                f = 1.0 if (f_u | f_at) else 0.0
+                # max |f| over the step <= max |Bezier control points of the cubic Hermite interpolant|
+                # + its error bound (w h)^4 / 384 * amplitude; the end points are in the peaks already
+                room_u = p_u - max(abs(u0 + h_third * v0), abs(u1 - h_third * v1))
+                room_at = p_at - max(abs(at0 + h_third * dat0), abs(at1 - h_third * dat1))
+                error2 = cf[_HERMITE_ERROR2, k] * r2
+                # an interior turning point needs a sign change of f' (one root) or of f'' (two roots)
+                rel0 = at0 - a0  # u''
+                rel1 = at1 - a1
+                jerk0 = -w2 * rel0 + two_sigma * (slope + two_sigma * rel0 + w2 * v0)  # a_t''
+                jerk1 = -w2 * rel1 + two_sigma * (slope + two_sigma * rel1 + w2 * v1)
+                turn_u = (v0 * v1 < 0.0) | (rel0 * rel1 < 0.0)
+                turn_at = (dat0 * dat1 < 0.0) | (jerk0 * jerk1 < 0.0)
+                f_u = turn_u & ((room_u <= 0.0) | (error2 > room_u * room_u))
+                f_at = turn_at & ((room_at <= 0.0) | (error2 * cf[_AT_GAIN2, k] > room_at * room_at))
+                f = (1.0 if f_u else 0.0) + (2.0 if f_at else 0.0)  # which quantities to refine
                 flag[k] = f
                 n_flag += f
                 u_old[k] = u0
@@ -252,15 +257,14 @@ def _chunk_peaks(acc, dt, omegas, xis, nsub, free_vibration, out_u, out_at):
             if n_flag > 0.0:
                 for k in range(m):
                     if flag[k] > 0.0:
-                        w = omegas[k]
                         sigma = 0.5 * cf[_TWO_SIGMA, k]
                         w2 = cf[_W2, k]
                         at0 = -w2 * u_old[k] - 2.0 * sigma * v_old[k]
                         at1 = -w2 * u[k] - 2.0 * sigma * v[k]
-                        peak_u[k], peak_at[k] = _refine_turning_points(
-                            u_old[k], v_old[k], u[k], v[k], at0, at1,
-                            -w2 * v_old[k] - 2.0 * sigma * (at0 - a0), -w2 * v[k] - 2.0 * sigma * (at1 - a1),
-                            a0, a1, w, sigma, 1.0 / cf[_INV_WD, k], h, peak_u[k], peak_at[k])
+                        peak_u[k], peak_at[k] = _refine_step(
+                            u_old[k], v_old[k], -w2 * v_old[k] - 2.0 * sigma * (at0 - a0),
+                            -w2 * v[k] - 2.0 * sigma * (at1 - a1), v[k], a0, a1, omegas[k], sigma,
+                            1.0 / cf[_INV_WD, k], h, peak_u[k], peak_at[k], int(flag[k]))
     for k in range(m):
         if free_vibration:
             sigma = 0.5 * cf[_TWO_SIGMA, k]
@@ -346,7 +350,7 @@ class Spectrum:
     absolute_acceleration: np.ndarray
 
 
-def substeps(dt: float, periods: np.ndarray, min_steps_per_period: int = 8) -> np.ndarray:
+def substeps(dt: float, periods: np.ndarray, min_steps_per_period: int = 4) -> np.ndarray:
     """Sub-steps per record step so that the integration step is at most T / min_steps_per_period."""
     periods = np.asarray(periods, dtype=float)
     with np.errstate(divide="ignore"):
@@ -355,7 +359,7 @@ def substeps(dt: float, periods: np.ndarray, min_steps_per_period: int = 8) -> n
 
 
 def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *, free_vibration: bool = True,
-                      min_steps_per_period: int = 8) -> Spectrum:
+                      min_steps_per_period: int = 4) -> Spectrum:
     """Exact linear response spectra of a piecewise-linear ground acceleration.
 
     acceleration [m/s^2] at uniform step dt [s]; periods [s] >= 0 (T = 0: rigid, S_a = PGA);
@@ -374,6 +378,8 @@ def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *,
         raise ValueError("periods must be finite and >= 0 s")
     for damping in dampings:
         _check_damping(damping)
+    if int(min_steps_per_period) < 3:
+        raise ValueError("min_steps_per_period must be >= 3 (w h < pi keeps at most two turning points per step)")
     grid_t, grid_xi = np.meshgrid(periods, dampings)
     flat_t = grid_t.ravel()
     flat_xi = grid_xi.ravel()
