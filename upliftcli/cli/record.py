@@ -100,7 +100,7 @@ def info(
     displacement = records.ground_displacement(a, record.dt)
     g = records.STANDARD_GRAVITY
     i_a, i_v, i_d = (int(np.argmax(np.abs(x))) for x in (a, velocity, displacement))
-    periods = np.array([t for t in INFO_PERIODS if t <= max(20.0 * record.duration, 0.1)])
+    periods = np.array(INFO_PERIODS)
     spectrum = spectra.response_spectrum(a, record.dt, periods, dampings)
     out = render.console()
     lines = [
