@@ -156,3 +156,10 @@ def test_csv_times_rounded_in_print_are_accepted(tmp_path):
     rows = "\n".join(f"{i / 300:.4f},{v}" for i, v in enumerate(VALUES))  # steps 0.0033 / 0.0034
     record = read_record(write(tmp_path, "rounded.csv", rows + "\n"), units="g")
     assert record.dt == pytest.approx(1 / 300, rel=1e-3)
+
+
+def test_at2_units_from_header_other_than_g(tmp_path):
+    path = write(tmp_path, "cm.AT2", at2_text(VALUES, units_line="ACCELERATION TIME SERIES IN UNITS OF CM/SEC/SEC"))
+    record = read_record(path)
+    assert record.units == "cm/s2"
+    np.testing.assert_allclose(record.acceleration, VALUES * 0.01, rtol=1e-7, atol=1e-14)

@@ -73,7 +73,7 @@ class Record:
 
 def normalize_units(units: str, source: str, location: str = "units") -> str:
     """Canonical unit name ('g', 'm/s2', 'cm/s2', 'in/s2') or InputError."""
-    key = str(units).strip().lower().replace(" ", "")
+    key = str(units).strip().lower().replace(" ", "").replace("sec", "s")
     if key in _UNIT_ALIASES:
         return _UNIT_ALIASES[key]
     raise InputError(source, location, f"acceleration units {_UNIT_CHOICES}, got {units!r}")
@@ -86,7 +86,7 @@ _DT_RE = re.compile(r"\bdt\b\s*(?:\(s\)|\[s\])?\s*[=:]?\s*(" + _NUMBER + r")", r
 _NPTS_RE = re.compile(r"\bnpts\b\s*[=:]?\s*(\d+)", re.IGNORECASE)
 _UNIT_HINT_RE = re.compile(
     r"(?:units?\s*(?:of|[:=]|are|in)?\s*|accel(?:eration)?\w*\s*(?:in\s+)?[(\[_]?\s*|\(|\[)"
-    r"(g|m/s\^?2|m/s/s|cm/s\^?2|cm/s/s|in/s\^?2|in/s/s|gal)\b",
+    r"(g|gal|(?:m|cm|in)/s(?:ec)?(?:\^?2|/s(?:ec)?|\*\*2))(?![\w/])",
     re.IGNORECASE,
 )
 
@@ -111,7 +111,7 @@ def _resolution(token: str) -> float:
 
 def _unit_hint(text: str) -> str | None:
     match = _UNIT_HINT_RE.search(text)
-    return _UNIT_ALIASES.get(match.group(1).lower().replace(" ", "")) if match else None
+    return _UNIT_ALIASES.get(match.group(1).lower().replace("sec", "s")) if match else None
 
 
 def _read_lines(path: Path, source: str) -> list[str]:
