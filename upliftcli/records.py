@@ -151,7 +151,7 @@ def detect_format(path: str | Path) -> str:
     except OSError:
         return "text"
     first = next((line for line in head if line.strip()), "")
-    if first.strip().upper().startswith("PEER"):
+    if first.strip().upper().startswith(("PEER", "PACIFIC ENGINEERING")):
         return "at2"
     comments = " ".join(line.lower() for line in head if _is_comment(line))
     if "time_s" in comments and "accel_g" in comments:
@@ -210,7 +210,7 @@ def _parse_text(lines: list[str], source: str) -> tuple[np.ndarray, float | None
         stripped = line.strip()
         if not stripped:
             continue
-        if _is_comment(line) or re.match(r"[A-Za-z]", stripped) and not re.match(r"[-+]?(nan|inf)", stripped, re.I):
+        if _is_comment(line) or (re.match(r"[A-Za-z]", stripped) and not re.match(r"[-+]?(nan|inf)", stripped, re.I)):
             header_text.append(stripped)
             match = _DT_RE.search(stripped)
             if match and dt is None:

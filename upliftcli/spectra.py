@@ -23,6 +23,8 @@ Peaks are exact, not sampled:
   0.1 s is 0.608 g sampled, 0.649 g exact; see tests/test_spectra.py.)
 
 The kernels are compiled with numba and run in parallel over the oscillators (period, damping).
+(The module is a little over 400 lines because the kernels and the exact turning-point solver
+belong together; the public API is sdof_history, response_spectrum, Spectrum, RecordSpectrum.)
 """
 
 from __future__ import annotations
