@@ -1,0 +1,217 @@
+"""Where the chunks of a sweep run: in this process, in local worker processes, or on Dask.
+
+Every executor has `workers` and `run(chunks, on_row)`: it calls `on_row(row)` once per case
+of the chunks (status ok, failed or crashed), as soon as the row is known, and lets
+KeyboardInterrupt through after stopping its workers. All give the same rows: a case's row
+depends only on the case (sweep.run_chunk), never on which worker ran it.
+
+Worker deaths: local processes report each case as it starts and finishes, so after a worker
+dies only the cases it was running are charged an attempt; they are run again (one case a
+chunk) and marked 'crashed' after `max_attempts`. On Dask the scheduler re-runs the tasks of
+a dead worker (distributed.scheduler.allowed-failures) and then raises KilledWorker: those
+cases are marked 'crashed'.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import multiprocessing
+import os
+import signal
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+
+from .errors import InputError
+from .sweep import Chunk, failed_row, run_chunk
+
+#: environment of worker processes, set before they import numpy: one thread per worker
+WORKER_ENVIRONMENT = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+                      "NUMBA_NUM_THREADS": "1"}
+
+OnRow = Callable[[dict], None]
+
+
+def available_cores() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+@contextlib.contextmanager
+def worker_environment() -> Iterator[None]:
+    """Set WORKER_ENVIRONMENT while worker processes are started; restore it afterwards."""
+    saved = {name: os.environ.get(name) for name in WORKER_ENVIRONMENT}
+    os.environ.update(WORKER_ENVIRONMENT)
+    try:
+        yield
+    finally:
+        for name, value in saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
+
+
+class SerialExecutor:
+    """Every chunk in this process, in order."""
+
+    workers = 1
+
+    def run(self, chunks: Sequence[Chunk], on_row: OnRow) -> None:
+        def emit(message: tuple) -> None:
+            if message[0] == "row":
+                on_row(message[1])
+
+        for chunk in chunks:
+            run_chunk(chunk, emit)
+
+
+# ----------------------------------------------------------------------------- local processes
+
+_QUEUE = None  # per worker process: the queue to the parent
+
+
+def _init_worker(queue) -> None:
+    global _QUEUE
+    _QUEUE = queue
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+
+
+def _worker_run_chunk(chunk: Chunk) -> list[dict]:
+    return run_chunk(chunk, _QUEUE.put)
+
+
+class ProcessExecutor:
+    """Chunks on `workers` local processes (spawned, so safe whatever threads the parent has)."""
+
+    def __init__(self, workers: int, max_attempts: int = 3, poll_seconds: float = 0.1):
+        self.workers = max(1, int(workers))
+        self.max_attempts = max_attempts
+        self.poll_seconds = poll_seconds
+
+    def run(self, chunks: Sequence[Chunk], on_row: OnRow) -> None:
+        attempts: dict[str, int] = {}
+        done: set[str] = set()
+
+        def deliver(row: dict) -> None:
+            if row["key"] not in done:
+                done.add(row["key"])
+                on_row(row)
+
+        pending = list(chunks)
+        context = multiprocessing.get_context("spawn")
+        with worker_environment():
+            while pending:
+                queue = context.SimpleQueue()  # a new one per pool: a killed writer may hold the old one's lock
+                started: set[str] = set()
+                leftovers = self._run_pool(pending, context, queue, started, deliver)
+                pending = []
+                for chunk in leftovers:
+                    for case in chunk.cases:
+                        if case.key in done:
+                            continue
+                        if case.key in started:
+                            attempts[case.key] = attempts.get(case.key, 0) + 1
+                        if attempts.get(case.key, 0) >= self.max_attempts:
+                            deliver(failed_row(case, "crashed", f"the worker process died while running this case "
+                                               f"({attempts[case.key]} attempts)"))
+                        else:  # one case a chunk from now on, to isolate the case that kills its worker
+                            pending.append(Chunk(chunk.raw, chunk.source, chunk.base_overrides, [case]))
+
+    def _run_pool(self, chunks, context, queue, started: set, deliver) -> list[Chunk]:
+        """Run the chunks on a fresh pool; return the chunks of a broken pool (a worker died)."""
+        pool = ProcessPoolExecutor(self.workers, mp_context=context, initializer=_init_worker, initargs=(queue,))
+        futures = {pool.submit(_worker_run_chunk, chunk): chunk for chunk in chunks}
+        leftovers = []
+
+        def drain() -> None:
+            while not queue.empty():
+                kind, value = queue.get()
+                if kind == "start":
+                    started.add(value)
+                else:
+                    deliver(value)
+
+        try:
+            while futures:
+                finished, _ = wait(futures, timeout=self.poll_seconds, return_when=FIRST_COMPLETED)
+                drain()
+                for future in finished:
+                    chunk = futures.pop(future)
+                    try:
+                        rows = future.result()
+                    except BrokenProcessPool:
+                        leftovers.append(chunk)
+                        continue
+                    for row in rows:
+                        deliver(row)
+            drain()
+        except BaseException:  # KeyboardInterrupt: keep what arrived, stop the workers now
+            drain()
+            for process in list(getattr(pool, "_processes", {}).values()):
+                process.terminate()
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+        pool.shutdown(wait=True)
+        return leftovers
+
+
+# ----------------------------------------------------------------------------- Dask
+
+def import_distributed():
+    """dask.distributed, or an InputError naming the extra to install."""
+    try:
+        import distributed
+    except ImportError:
+        raise InputError("--scheduler", "dask", "the Dask extra installed: pip install 'uplift[dask]'") from None
+    return distributed
+
+
+class DaskExecutor:
+    """Chunks as tasks on a Dask cluster: `address` (tcp://host:8786) or a LocalCluster of
+    `workers` processes on loopback (address None)."""
+
+    def __init__(self, address: str | None = None, workers: int = 2, connect_timeout: str = "20s"):
+        self.address = address
+        self.workers = max(1, int(workers))
+        self.connect_timeout = connect_timeout
+
+    @contextlib.contextmanager
+    def client(self):
+        distributed = import_distributed()
+        import logging
+
+        with contextlib.ExitStack() as stack:
+            if self.address is None:
+                cluster = stack.enter_context(distributed.LocalCluster(
+                    n_workers=self.workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                    dashboard_address=None, silence_logs=logging.ERROR, env=dict(WORKER_ENVIRONMENT)))
+                address = cluster.scheduler_address
+            else:
+                address = self.address
+            try:
+                client = stack.enter_context(distributed.Client(address, timeout=self.connect_timeout))
+            except (OSError, TimeoutError) as error:
+                raise InputError("--scheduler", address, f"a reachable Dask scheduler ({error})") from None
+            info = client.scheduler_info()
+            self.workers = max(1, len(info.get("workers", {})) or self.workers)
+            yield client
+
+    def run(self, chunks: Sequence[Chunk], on_row: OnRow) -> None:
+        distributed = import_distributed()
+        with self.client() as client:
+            futures = {client.submit(run_chunk, chunk, pure=False): chunk for chunk in chunks}
+            try:
+                for future in distributed.as_completed(list(futures)):
+                    chunk = futures[future]
+                    try:
+                        rows = future.result()
+                    except Exception as error:  # noqa: BLE001 - KilledWorker, lost connection ...
+                        rows = [failed_row(case, "crashed", f"{type(error).__name__}: {error}") for case in chunk.cases]
+                    for row in rows:
+                        on_row(row)
+            except BaseException:
+                client.cancel(list(futures))
+                raise

@@ -1,0 +1,464 @@
+"""Sweeps: one deck analysed over ranges of its fields (cartesian product), case by case.
+
+    plan = plan_sweep("deck.toml", ["analysis.modes=5"], ["foundation.k_f=1e7:1e10:25:log"])
+    outcome = run_sweep(plan, SerialExecutor(), RowStore(path))
+
+A case is one combination of the varied values with one engine and one support. Each case
+has a stable key (hash of the deck content, the --set overrides, its varied values, engine
+and support) so that `--resume` can skip what a previous run finished. Cases are handed to
+the executors (upliftcli.executors) in chunks; a worker builds each distinct deck of a chunk
+once and keeps the loaded record and its spectrum (RecordSpectrum, which caches S_a) for all
+later cases with the same ground motion. Rows are appended to a JSON-lines file as cases
+finish (flushed and fsynced per row). Nothing here prints or exits.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import math
+import os
+import tomllib
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import deck_schema as schema
+from .analysis import ENGINES, check_criteria, run_one
+from .deck import Deck, build_deck, parse_override, read_toml
+from .errors import AnalysisError, InputError
+
+SUPPORTS = ("rigid", "bonded", "uplift")
+#: deck fields that are case dimensions of their own, not --vary paths
+NOT_VARIED = {"analysis.engine": "--engine", "analysis.supports": "--support"}
+#: status of a row: ok; failed (the analysis raised: deterministic, not retried within a run);
+#: crashed (the worker process died on this case `max_attempts` times)
+STATUSES = ("ok", "failed", "crashed")
+
+
+# ----------------------------------------------------------------------------- parsing
+
+def _toml_value(text: str) -> Any:
+    try:
+        return tomllib.loads(f"value = {text}")["value"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def parse_values(text: str, option: str, default_spacing: str = "linear") -> tuple[list[Any], str]:
+    """'START:STOP:N[:log|lin]' -> N values (linear or geometric), '[a, b]' (TOML array) or
+    'a,b,c' -> explicit list. Returns (values, spacing: "linear" | "log" | "list")."""
+    text = text.strip()
+    if text.startswith("["):
+        value = _toml_value(text)
+        if not isinstance(value, list) or not value:
+            raise InputError(option, text, "a non-empty TOML array of values, e.g. [0.5, 1.0]")
+        return value, "list"
+    parts = text.split(":")
+    if len(parts) in (3, 4):
+        suffix = parts[3].strip().lower() if len(parts) == 4 else default_spacing
+        spacing = {"log": "log", "lin": "linear", "linear": "linear"}.get(suffix)
+        try:
+            start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+        except ValueError:
+            start, stop, count = math.nan, math.nan, 0
+        if spacing is None or not (math.isfinite(start) and math.isfinite(stop) and count >= 1):
+            raise InputError(option, text, "START:STOP:N[:log|lin] with finite numbers and N >= 1, "
+                             "e.g. 1e7:1e10:25:log")
+        if spacing == "log" and not (start > 0.0 and stop > 0.0):
+            raise InputError(option, text, "START > 0 and STOP > 0 for a log range")
+        grid = np.geomspace(start, stop, count) if spacing == "log" else np.linspace(start, stop, count)
+        values: list[Any] = [float(f"{v:.12g}") for v in grid]  # 0.4, not 0.39999999999999997
+        if spacing == "linear" and all(p.strip().lstrip("+-").isdigit() for p in parts[:2]) \
+                and all(v == int(v) for v in values):
+            values = [int(v) for v in values]  # integer fields (analysis.modes=1:5:5)
+        return values, spacing
+    if len(parts) != 1:
+        raise InputError(option, text, "START:STOP:N[:log|lin], a comma list or a TOML array")
+    values = [_toml_value(part.strip()) for part in text.split(",") if part.strip()]
+    if not values:
+        raise InputError(option, text, "at least one value")
+    return values, "list"
+
+
+@dataclass(frozen=True)
+class Vary:
+    """One varied deck field: dotted path, its values and how they were spaced."""
+
+    path: str
+    values: tuple
+    spacing: str  # "linear", "log" or "list"
+
+    @property
+    def unit(self) -> str:
+        table, _, name = self.path.rpartition(".")
+        found = schema.TABLES.get(table, {}).get(name)
+        return found.unit if found else ""
+
+
+def parse_vary(text: str, option: str = "--vary") -> Vary:
+    """'path=RANGE' (see parse_values); the path is any deck field, as for --set."""
+    path, sep, values_text = text.partition("=")
+    path = path.strip()
+    if not sep or not path or not values_text.strip():
+        raise InputError(option, text, "PATH=START:STOP:N[:log] or PATH=a,b,c, e.g. foundation.k_f=1e7:1e10:25:log")
+    if path in NOT_VARIED:
+        raise InputError(option, path, f"a deck field other than {path} (use {NOT_VARIED[path]})")
+    if not schema.known_path(path):
+        raise InputError(option, path, f"a known deck field{schema.suggestion(path, schema.all_paths())}")
+    values, spacing = parse_values(values_text, f"{option} {path}")
+    return Vary(path, tuple(values), spacing)
+
+
+def parse_choices(texts: Sequence[str], choices: Sequence[str], option: str) -> list[str]:
+    """Repeated and/or comma-separated names ('all' = every choice), in the order given."""
+    names: list[str] = []
+    for text in texts:
+        for name in (part.strip().lower() for part in text.split(",")):
+            if not name:
+                continue
+            if name == "all":
+                names.extend(choices)
+            elif name in choices:
+                names.append(name)
+            else:
+                raise InputError(option, name, f"one of {', '.join(choices)} or all")
+    return list(dict.fromkeys(names))
+
+
+# ----------------------------------------------------------------------------- cases
+
+@dataclass(frozen=True)
+class Case:
+    """One analysis of a sweep: index in the sweep, stable key, varied values, engine, support."""
+
+    index: int
+    key: str
+    overrides: tuple  # ((path, value), ...) of the varied fields
+    engine: str
+    support: str
+
+
+def fingerprint(raw: dict, base_overrides: Sequence[tuple[str, Any]]) -> str:
+    """Hash of the parsed deck and the --set overrides (comments and layout do not count)."""
+    text = json.dumps({"deck": raw, "set": [list(o) for o in base_overrides]}, sort_keys=True, default=str)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def case_key(deck_fingerprint: str, overrides: Sequence[tuple[str, Any]], engine: str, support: str) -> str:
+    text = json.dumps([deck_fingerprint, [list(o) for o in overrides], engine, support], default=str)
+    return hashlib.sha256(text.encode()).hexdigest()[:20]
+
+
+def expand_cases(varies: Sequence[Vary], engines: Sequence[str], supports: Sequence[str],
+                 deck_fingerprint: str) -> list[Case]:
+    """Cartesian product of the varied values (first --vary outermost), then engine, then support,
+    so that the cases sharing one deck are adjacent."""
+    combos = itertools.product(*[[(v.path, value) for value in v.values] for v in varies])
+    cases = []
+    for overrides, engine, support in itertools.product(combos, engines, supports):
+        cases.append(Case(len(cases), case_key(deck_fingerprint, overrides, engine, support),
+                          tuple(overrides), engine, support))
+    return cases
+
+
+@dataclass
+class SweepPlan:
+    """Everything the workers need: the parsed deck, the overrides and the cases."""
+
+    raw: dict
+    source: str
+    title: str
+    base_overrides: tuple
+    varies: list[Vary]
+    engines: list[str]
+    supports: list[str]
+    cases: list[Case]
+    criteria: dict = field(default_factory=dict)
+
+
+def _vary_error(error: InputError, varied: set[str]) -> InputError:
+    if error.source == "--set" and error.location in varied:
+        return InputError("--vary", error.location, error.expected)
+    return error
+
+
+def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: Sequence[str] = (),
+               engines: Sequence[str] = (), supports: Sequence[str] = (), *, varies: Sequence[Vary] = ()) -> SweepPlan:
+    """Parse and validate a sweep: every case's deck is built (without its record) and every
+    distinct ground motion is read once here, so bad input stops the run before any analysis."""
+    base = [parse_override(text) for text in settings]
+    varies = list(varies) + [parse_vary(text) for text in vary_texts]
+    paths = [v.path for v in varies]
+    if len(set(paths)) != len(paths):
+        raise InputError("--vary", next(p for p in paths if paths.count(p) > 1), "each field varied once")
+    source = str(deck_path)
+    raw = read_toml(deck_path)
+    deck = build_deck(raw, source, base)
+    engines = list(engines) or deck.analysis.engines
+    supports = list(supports) or deck.analysis.supports
+    cases = expand_cases(varies, engines, supports, fingerprint(raw, base))
+    grounds: dict[str, Any] = {}
+    for combo in itertools.product(*[[(v.path, value) for value in v.values] for v in varies]):
+        try:
+            case_deck = build_deck(raw, source, base + list(combo), load_ground_motion=False)
+            motion_key = json.dumps(case_deck.values["ground_motion"], sort_keys=True, default=str)
+            if motion_key not in grounds:
+                grounds[motion_key] = build_deck(raw, source, base + list(combo)).ground_motion
+        except InputError as error:
+            raise _vary_error(error, set(paths)) from None
+        _check_engines(grounds[motion_key], engines, source)
+    return SweepPlan(raw, source, deck.title, tuple(base), varies, engines, supports, cases, deck.criteria)
+
+
+def _check_engines(ground_motion: Any, engines: Sequence[str], source: str) -> None:
+    from .records import Record
+
+    for engine in engines:
+        if engine != "simplified" and not isinstance(ground_motion, Record):
+            raise InputError(source, "ground_motion.record", f"a record for the {engine} engine "
+                             "(a design spectrum serves only the simplified engine)")
+
+
+# ----------------------------------------------------------------------------- worker side
+
+@dataclass
+class Chunk:
+    """A batch of cases handed to one worker at a time (picklable)."""
+
+    raw: dict
+    source: str
+    base_overrides: tuple
+    cases: list[Case]
+
+
+def make_chunks(plan: SweepPlan, cases: Sequence[Case], size: int) -> list[Chunk]:
+    """Consecutive cases in chunks of `size` (cases sharing a deck are adjacent)."""
+    size = max(1, int(size))
+    return [Chunk(plan.raw, plan.source, plan.base_overrides, list(cases[i:i + size]))
+            for i in range(0, len(cases), size)]
+
+
+def chunk_size(n_cases: int, workers: int) -> int:
+    """About four chunks per worker, at most 16 cases a chunk (a chunk lost to a dead worker is small)."""
+    return max(1, min(16, math.ceil(n_cases / (4 * max(1, workers)))))
+
+
+#: per process: ground-motion fields -> (record or design spectrum, spectrum object with its S_a cache)
+_GROUND_MOTIONS: dict[tuple[str, str], tuple[Any, Any]] = {}
+
+
+def build_case_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]]) -> Deck:
+    """build_deck, reusing the ground motion (record and spectrum cache) of earlier cases."""
+    deck = build_deck(raw, source, overrides, load_ground_motion=False)
+    key = (source, json.dumps(deck.values["ground_motion"], sort_keys=True, default=str))
+    if key not in _GROUND_MOTIONS:
+        if len(_GROUND_MOTIONS) >= 16:
+            _GROUND_MOTIONS.clear()
+        full = build_deck(raw, source, overrides)
+        _GROUND_MOTIONS[key] = (full.ground_motion, full.spectrum)
+    deck.ground_motion, deck.spectrum = _GROUND_MOTIONS[key]
+    return deck
+
+
+def _row_head(case: Case) -> dict[str, Any]:
+    return {"case": case.index, "key": case.key, "engine": case.engine, "support": case.support,
+            **{path: value for path, value in case.overrides}}
+
+
+def failed_row(case: Case, status: str, message: str) -> dict[str, Any]:
+    return {**_row_head(case), "status": status, "message": message}
+
+
+def _effective_properties(deck: Deck, support: str) -> tuple[float | None, float | None]:
+    """(T1bar [s], xi1bar [-]) of the flexibly supported system; T_1, xi_1 for a rigid base."""
+    modes = deck.system.modes
+    if support == "rigid":
+        return float(modes.periods[0]), float(modes.damping[0])
+    from .engines.simplified import effective_properties
+
+    try:
+        props = effective_properties(deck.system, deck.analysis.simplified.effective_properties)
+    except AnalysisError:
+        return None, None
+    return props["T1bar"], props["xi1bar"]
+
+
+def _two_mode_shear(result, deck: Deck, t1bar: float | None, xi1bar: float | None) -> float | None:
+    """Simplified engine: modes 1 and 2 combined by the deck's rule (SRSS or CQC)."""
+    shears = result.intermediates.get("V_n")
+    if result.engine != "simplified" or not shears or len(shears) < 2:
+        return None
+    peaks = np.asarray(shears[:2], dtype=float)
+    if deck.analysis.simplified.combination == "cqc":
+        from .results import cqc
+
+        modes = deck.system.modes
+        omega = modes.omega[:2].copy()
+        damping = modes.damping[:2].copy()
+        if result.support != "rigid" and t1bar:
+            omega[0], damping[0] = 2.0 * math.pi / t1bar, xi1bar
+        return float(cqc(peaks, omega, damping))
+    return float(np.sqrt(np.sum(peaks**2)))
+
+
+def case_row(case: Case, deck: Deck, result) -> dict[str, Any]:
+    """The tidy row of one finished case (SI units; see sweep_table.OUTPUT_COLUMNS)."""
+    t1bar, xi1bar = _effective_properties(deck, case.support)
+    if "T1bar" in result.intermediates:
+        t1bar, xi1bar = result.intermediates["T1bar"], result.intermediates["xi1bar"]
+    if result.engine == "simplified":
+        mode1 = result.intermediates["V_n"][0]
+    else:
+        mode1 = (result.details.get("modal_base_shear") or [None])[0]
+    two = _two_mode_shear(result, deck, t1bar, xi1bar)
+    story = int(np.argmax(np.abs(result.drift_ratio)))
+    violations = check_criteria([result], deck.criteria)
+    return {
+        **_row_head(case),
+        "T1_s": float(deck.system.modes.periods[0]), "T1bar_s": t1bar, "xi1bar": xi1bar,
+        "base_shear_N": result.base_shear, "base_shear_coefficient": result.base_shear_coefficient,
+        "base_moment_Nm": result.base_moment, "base_moment_coefficient": result.base_moment_coefficient,
+        "mode1_base_shear_coefficient": None if mode1 is None else float(mode1) / result.weight,
+        "two_mode_base_shear_coefficient": None if two is None else two / result.weight,
+        "max_drift_ratio": float(abs(result.drift_ratio[story])), "max_drift_story": story + 1,
+        "max_displacement_m": float(np.max(np.abs(result.displacement))),
+        "uplift": bool(result.uplift), "V_c_N": result.critical_base_shear,
+        "critical_coefficient": result.critical_coefficient,
+        "violations": "; ".join(violations), "status": "ok", "message": "",
+    }
+
+
+def run_case(chunk: Chunk, case: Case, decks: dict) -> dict[str, Any]:
+    """One case; an exception becomes a 'failed' row with its message (never retried)."""
+    try:
+        deck_key = json.dumps([list(o) for o in case.overrides], default=str)
+        if deck_key not in decks:
+            decks.clear()  # cases sharing a deck are adjacent
+            decks[deck_key] = build_case_deck(chunk.raw, chunk.source, list(chunk.base_overrides) + list(case.overrides))
+        deck = decks[deck_key]
+        return case_row(case, deck, run_one(deck, case.engine, case.support))
+    except (InputError, AnalysisError) as error:
+        return failed_row(case, "failed", str(error))
+    except Exception as error:  # noqa: BLE001 - recorded per case, the sweep goes on
+        return failed_row(case, "failed", f"{type(error).__name__}: {error}")
+
+
+def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list[dict[str, Any]]:
+    """Run a chunk of cases; `emit(("start", key))` before and `emit(("row", row))` after each."""
+    rows, decks = [], {}
+    for case in chunk.cases:
+        if emit:
+            emit(("start", case.key))
+        row = run_case(chunk, case, decks)
+        rows.append(row)
+        if emit:
+            emit(("row", row))
+    return rows
+
+
+# ----------------------------------------------------------------------------- storage
+
+class RowStore:
+    """Append-only JSON-lines file of finished rows: one line per case, flushed and fsynced."""
+
+    def __init__(self, path: str | Path):
+        self.path = Path(path)
+        self._file = None
+
+    def read(self) -> dict[str, dict]:
+        """key -> last row; a torn last line (killed while writing) is ignored."""
+        rows: dict[str, dict] = {}
+        if not self.path.exists():
+            return rows
+        for line in self.path.read_text(encoding="utf-8").splitlines():
+            try:
+                row = json.loads(line)
+            except json.JSONDecodeError:
+                continue
+            if isinstance(row, dict) and "key" in row and row.get("status") in STATUSES:
+                rows[row["key"]] = row
+        return rows
+
+    def open(self, fresh: bool) -> None:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        if not fresh and self.path.exists():
+            data = self.path.read_bytes()
+            if data and not data.endswith(b"\n"):  # drop a torn last line before appending
+                with open(self.path, "r+b") as handle:
+                    handle.truncate(data.rfind(b"\n") + 1)
+        self._file = open(self.path, "w" if fresh else "a", encoding="utf-8")
+
+    def append(self, row: dict) -> None:
+        from .results import to_jsonable
+
+        self._file.write(json.dumps(to_jsonable(row), allow_nan=False) + "\n")
+        self._file.flush()
+        os.fsync(self._file.fileno())
+
+    def close(self) -> None:
+        if self._file is not None:
+            self._file.close()
+            self._file = None
+
+
+# ----------------------------------------------------------------------------- driver
+
+@dataclass
+class SweepOutcome:
+    """rows: one per finished case, in case order; reused: rows kept from a previous run."""
+
+    rows: list[dict]
+    total: int
+    reused: int
+    interrupted: bool
+
+
+class NoProgress:
+    def start(self, total: int, done: int) -> None: ...
+    def advance(self, row: dict) -> None: ...
+    def stop(self) -> None: ...
+
+
+def run_sweep(plan: SweepPlan, executor, store: RowStore, *, resume: bool = False, retry_failed: bool = False,
+              progress=None, size: int | None = None) -> SweepOutcome:
+    """Run the cases not finished yet, appending each row to `store` as it arrives.
+
+    resume: keep the rows of `store` whose case is in the plan: 'ok' rows always, 'failed'
+    rows unless retry_failed; 'crashed' rows are run again. Ctrl-C (KeyboardInterrupt) stops
+    the executor and returns what was kept (interrupted=True)."""
+    progress = progress or NoProgress()
+    keys = {case.key for case in plan.cases}
+    kept = {}
+    if resume:
+        for key, row in store.read().items():
+            if key in keys and (row["status"] == "ok" or (row["status"] == "failed" and not retry_failed)):
+                kept[key] = row
+    todo = [case for case in plan.cases if case.key not in kept]
+    rows = dict(kept)
+    delivered: set[str] = set()
+
+    def on_row(row: dict) -> None:
+        if row["key"] in delivered:
+            return
+        delivered.add(row["key"])
+        store.append(row)
+        rows[row["key"]] = row
+        progress.advance(row)
+
+    store.open(fresh=not resume)
+    progress.start(len(plan.cases), len(kept))
+    interrupted = False
+    try:
+        executor.run(make_chunks(plan, todo, size or chunk_size(len(todo), getattr(executor, "workers", 1))), on_row)
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        store.close()
+        progress.stop()
+    ordered = [rows[case.key] for case in plan.cases if case.key in rows]
+    return SweepOutcome(ordered, len(plan.cases), len(kept), interrupted)
