@@ -1,4 +1,5 @@
-"""Figures (matplotlib, no pyplot state): response spectra; sweep plots are added by the sweep command.
+"""Figures (matplotlib, no pyplot state): record response spectra, and line figures of panels
+(FigureSpec: sweeps and the paper-style spectra over T_1, whose data upliftcli.figures builds).
 
 Every figure is written atomically (upliftcli.atomic); the format follows the file extension.
 """
@@ -7,6 +8,7 @@ from __future__ import annotations
 
 import os
 import textwrap
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -71,4 +73,70 @@ def plot_spectrum(spectrum, path: str | os.PathLike, title: str = "", quantity: 
     axes.legend()
     if title:
         axes.set_title(textwrap.fill(title, 70), fontsize="medium")
+    return save_figure(figure, path, option)
+
+
+# ----------------------------------------------------------------------------- line figures (sweeps, spectra)
+
+@dataclass
+class Series:
+    """One line: label, x and y values (plotted units), line style ("-", "--", ":") and colour."""
+
+    label: str
+    x: np.ndarray
+    y: np.ndarray
+    style: str = "-"
+    color: str | None = None
+
+
+@dataclass
+class Panel:
+    """One axes: title, y-axis label and its lines."""
+
+    title: str
+    ylabel: str
+    series: list[Series] = field(default_factory=list)
+
+
+@dataclass
+class FigureSpec:
+    """A figure of panels sharing the x quantity: title, x label, log axes."""
+
+    title: str
+    xlabel: str
+    panels: list[Panel]
+    xlog: bool = False
+    ylog: bool = False
+
+
+def plot_figure(spec: FigureSpec, path: str | os.PathLike, option: str = "--plot") -> Path:
+    """Draw the panels side by side (at most three a row) and write the figure atomically."""
+    check_figure_path(path, option)
+    count = max(1, len(spec.panels))
+    columns = min(count, 3)
+    rows = -(-count // columns)
+    figure = new_figure(4.6 * columns + 0.6, 3.9 * rows + 0.5)
+    for index, panel in enumerate(spec.panels):
+        axes = figure.add_subplot(rows, columns, index + 1)
+        for series in panel.series:
+            x, y = np.asarray(series.x, dtype=float), np.asarray(series.y, dtype=float)
+            keep = np.isfinite(x) & np.isfinite(y)
+            if spec.xlog:
+                keep &= x > 0.0
+            if spec.ylog:
+                keep &= y > 0.0
+            axes.plot(x[keep], y[keep], linestyle=series.style, color=series.color, label=series.label,
+                      marker="." if keep.sum() < 3 else None)
+        if spec.xlog:
+            axes.set_xscale("log")
+        if spec.ylog:
+            axes.set_yscale("log")
+        axes.set_xlabel(spec.xlabel)
+        axes.set_ylabel(panel.ylabel)
+        axes.set_title(textwrap.fill(panel.title, 48), fontsize="medium")
+        axes.grid(True, which="both", alpha=0.3)
+        if panel.series:
+            axes.legend(fontsize="small")
+    if spec.title:
+        figure.suptitle(textwrap.fill(spec.title, 110), fontsize="medium")
     return save_figure(figure, path, option)

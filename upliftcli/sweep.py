@@ -1,15 +1,15 @@
 """Sweeps: one deck analysed over ranges of its fields (cartesian product), case by case.
 
     plan = plan_sweep("deck.toml", ["analysis.modes=5"], ["foundation.k_f=1e7:1e10:25:log"])
-    outcome = run_sweep(plan, SerialExecutor(), RowStore(path))
+    outcome = sweep_run.run_sweep(plan, executors.SerialExecutor(), sweep_run.RowStore(path))
 
 A case is one combination of the varied values with one engine and one support. Each case
 has a stable key (hash of the deck content, the --set overrides, its varied values, engine
 and support) so that `--resume` can skip what a previous run finished. Cases are handed to
 the executors (upliftcli.executors) in chunks; a worker builds each distinct deck of a chunk
 once and keeps the loaded record and its spectrum (RecordSpectrum, which caches S_a) for all
-later cases with the same ground motion. Rows are appended to a JSON-lines file as cases
-finish (flushed and fsynced per row). Nothing here prints or exits.
+later cases with the same ground motion. Storage of the rows and the driver: sweep_run.py.
+Nothing here prints or exits.
 """
 
 from __future__ import annotations
@@ -18,7 +18,6 @@ import hashlib
 import itertools
 import json
 import math
-import os
 import tomllib
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -28,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from . import deck_schema as schema
-from .analysis import ENGINES, check_criteria, run_one
+from .analysis import check_criteria, run_one
 from .deck import Deck, build_deck, parse_override, read_toml
 from .errors import AnalysisError, InputError
 
@@ -359,106 +358,3 @@ def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list
         if emit:
             emit(("row", row))
     return rows
-
-
-# ----------------------------------------------------------------------------- storage
-
-class RowStore:
-    """Append-only JSON-lines file of finished rows: one line per case, flushed and fsynced."""
-
-    def __init__(self, path: str | Path):
-        self.path = Path(path)
-        self._file = None
-
-    def read(self) -> dict[str, dict]:
-        """key -> last row; a torn last line (killed while writing) is ignored."""
-        rows: dict[str, dict] = {}
-        if not self.path.exists():
-            return rows
-        for line in self.path.read_text(encoding="utf-8").splitlines():
-            try:
-                row = json.loads(line)
-            except json.JSONDecodeError:
-                continue
-            if isinstance(row, dict) and "key" in row and row.get("status") in STATUSES:
-                rows[row["key"]] = row
-        return rows
-
-    def open(self, fresh: bool) -> None:
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        if not fresh and self.path.exists():
-            data = self.path.read_bytes()
-            if data and not data.endswith(b"\n"):  # drop a torn last line before appending
-                with open(self.path, "r+b") as handle:
-                    handle.truncate(data.rfind(b"\n") + 1)
-        self._file = open(self.path, "w" if fresh else "a", encoding="utf-8")
-
-    def append(self, row: dict) -> None:
-        from .results import to_jsonable
-
-        self._file.write(json.dumps(to_jsonable(row), allow_nan=False) + "\n")
-        self._file.flush()
-        os.fsync(self._file.fileno())
-
-    def close(self) -> None:
-        if self._file is not None:
-            self._file.close()
-            self._file = None
-
-
-# ----------------------------------------------------------------------------- driver
-
-@dataclass
-class SweepOutcome:
-    """rows: one per finished case, in case order; reused: rows kept from a previous run."""
-
-    rows: list[dict]
-    total: int
-    reused: int
-    interrupted: bool
-
-
-class NoProgress:
-    def start(self, total: int, done: int) -> None: ...
-    def advance(self, row: dict) -> None: ...
-    def stop(self) -> None: ...
-
-
-def run_sweep(plan: SweepPlan, executor, store: RowStore, *, resume: bool = False, retry_failed: bool = False,
-              progress=None, size: int | None = None) -> SweepOutcome:
-    """Run the cases not finished yet, appending each row to `store` as it arrives.
-
-    resume: keep the rows of `store` whose case is in the plan: 'ok' rows always, 'failed'
-    rows unless retry_failed; 'crashed' rows are run again. Ctrl-C (KeyboardInterrupt) stops
-    the executor and returns what was kept (interrupted=True)."""
-    progress = progress or NoProgress()
-    keys = {case.key for case in plan.cases}
-    kept = {}
-    if resume:
-        for key, row in store.read().items():
-            if key in keys and (row["status"] == "ok" or (row["status"] == "failed" and not retry_failed)):
-                kept[key] = row
-    todo = [case for case in plan.cases if case.key not in kept]
-    rows = dict(kept)
-    delivered: set[str] = set()
-
-    def on_row(row: dict) -> None:
-        if row["key"] in delivered:
-            return
-        delivered.add(row["key"])
-        store.append(row)
-        rows[row["key"]] = row
-        progress.advance(row)
-
-    store.open(fresh=not resume)
-    progress.start(len(plan.cases), len(kept))
-    interrupted = False
-    try:
-        executor.run(make_chunks(plan, todo, size or chunk_size(len(todo), getattr(executor, "workers", 1))), on_row)
-    except KeyboardInterrupt:
-        interrupted = True
-    finally:
-        store.close()
-        progress.stop()
-    ordered = [rows[case.key] for case in plan.cases if case.key in rows]
-    return SweepOutcome(ordered, len(plan.cases), len(kept), interrupted)

@@ -1,0 +1,118 @@
+"""Running a sweep: the append-only rows file (JSON lines) and the driver that feeds an
+executor the unfinished cases, appends every row as it arrives and handles Ctrl-C.
+
+Resume rule: `--resume` keeps the 'ok' rows of the cases still in the sweep and the 'failed'
+rows too (an analysis that raised fails again: it is reported, not retried) unless
+`retry_failed`; 'crashed' rows (the worker died) are run again. A torn last line (the process
+was killed while writing it) is ignored and cut off before appending.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from .sweep import STATUSES, SweepPlan, chunk_size, make_chunks
+
+
+class RowStore:
+    """Append-only JSON-lines file of finished rows: one line per case, flushed and fsynced."""
+
+    def __init__(self, path: str | Path):
+        self.path = Path(path)
+        self._file = None
+
+    def read(self) -> dict[str, dict]:
+        """key -> last row; a torn last line (killed while writing) is ignored."""
+        rows: dict[str, dict] = {}
+        if not self.path.exists():
+            return rows
+        for line in self.path.read_text(encoding="utf-8").splitlines():
+            try:
+                row = json.loads(line)
+            except json.JSONDecodeError:
+                continue
+            if isinstance(row, dict) and "key" in row and row.get("status") in STATUSES:
+                rows[row["key"]] = row
+        return rows
+
+    def open(self, fresh: bool) -> None:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        if not fresh and self.path.exists():
+            data = self.path.read_bytes()
+            if data and not data.endswith(b"\n"):  # drop a torn last line before appending
+                with open(self.path, "r+b") as handle:
+                    handle.truncate(data.rfind(b"\n") + 1)
+        self._file = open(self.path, "w" if fresh else "a", encoding="utf-8")
+
+    def append(self, row: dict) -> None:
+        from .results import to_jsonable
+
+        self._file.write(json.dumps(to_jsonable(row), allow_nan=False) + "\n")
+        self._file.flush()
+        os.fsync(self._file.fileno())
+
+    def close(self) -> None:
+        if self._file is not None:
+            self._file.close()
+            self._file = None
+
+
+# ----------------------------------------------------------------------------- driver
+
+@dataclass
+class SweepOutcome:
+    """rows: one per finished case, in case order; reused: rows kept from a previous run."""
+
+    rows: list[dict]
+    total: int
+    reused: int
+    interrupted: bool
+
+
+class NoProgress:
+    def start(self, total: int, done: int) -> None: ...
+    def advance(self, row: dict) -> None: ...
+    def stop(self) -> None: ...
+
+
+def run_sweep(plan: SweepPlan, executor, store: RowStore, *, resume: bool = False, retry_failed: bool = False,
+              progress=None, size: int | None = None) -> SweepOutcome:
+    """Run the cases not finished yet, appending each row to `store` as it arrives.
+
+    resume: keep the rows of `store` whose case is in the plan: 'ok' rows always, 'failed'
+    rows unless retry_failed; 'crashed' rows are run again. Ctrl-C (KeyboardInterrupt) stops
+    the executor and returns what was kept (interrupted=True)."""
+    progress = progress or NoProgress()
+    keys = {case.key for case in plan.cases}
+    kept = {}
+    if resume:
+        for key, row in store.read().items():
+            if key in keys and (row["status"] == "ok" or (row["status"] == "failed" and not retry_failed)):
+                kept[key] = row
+    todo = [case for case in plan.cases if case.key not in kept]
+    rows = dict(kept)
+    delivered: set[str] = set()
+
+    def on_row(row: dict) -> None:
+        if row["key"] in delivered:
+            return
+        delivered.add(row["key"])
+        store.append(row)
+        rows[row["key"]] = row
+        progress.advance(row)
+
+    store.open(fresh=not resume)
+    progress.start(len(plan.cases), len(kept))
+    interrupted = False
+    try:
+        executor.run(make_chunks(plan, todo, size or chunk_size(len(todo), getattr(executor, "workers", 1))), on_row)
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        store.close()
+        progress.stop()
+    ordered = [rows[case.key] for case in plan.cases if case.key in rows]
+    return SweepOutcome(ordered, len(plan.cases), len(kept), interrupted)

@@ -1,0 +1,230 @@
+"""The tidy table of a sweep (one row per case) and its summary: ranges, governing cases, envelope.
+
+Pure functions of the plan and the rows, plus writers of CSV / JSON / Parquet files (atomic).
+Columns: case, engine, support, the varied fields (their deck units), then OUTPUT_COLUMNS.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from .atomic import atomic_path, write_text
+from .errors import InputError
+from .results import to_jsonable
+from .sweep import SweepPlan
+
+#: output column -> (unit, meaning)
+OUTPUT_COLUMNS: dict[str, tuple[str, str]] = {
+    "T1_s": ("s", "fixed-base fundamental period T_1"),
+    "T1bar_s": ("s", "effective period T1bar of the flexibly supported system [21] (T_1 for a rigid base)"),
+    "xi1bar": ("-", "effective damping xi1bar [23] (xi_1 for a rigid base)"),
+    "base_shear_N": ("N", "peak base shear V_b"),
+    "base_shear_coefficient": ("-", "V_b/(m_t g)"),
+    "base_moment_Nm": ("N m", "peak base overturning moment M_b"),
+    "base_moment_coefficient": ("-", "M_b/(m_t g h_1*)"),
+    "mode1_base_shear_coefficient": ("-", "peak mode-1 contribution to the base shear / (m_t g)"),
+    "two_mode_base_shear_coefficient": ("-", "modes 1 and 2 combined / (m_t g) (simplified engine; empty otherwise)"),
+    "max_drift_ratio": ("-", "largest story drift ratio"),
+    "max_drift_story": ("-", "story of the largest drift ratio (1 = lowest)"),
+    "max_displacement_m": ("m", "largest floor displacement relative to the mat"),
+    "uplift": ("-", "whether the mat lifts off"),
+    "V_c_N": ("N", "critical base shear V_c = m_t g b/h_1* [16a]"),
+    "critical_coefficient": ("-", "b/h_1*, critical value of both coefficients"),
+    "violations": ("", "acceptance criteria of the deck exceeded by this case"),
+    "status": ("", "ok, failed (the analysis raised; see message) or crashed (its worker died)"),
+    "message": ("", "error message of a failed or crashed case"),
+}
+#: outputs summarised on the terminal: governing case and envelope
+SUMMARY_OUTPUTS = ("base_shear_coefficient", "base_moment_coefficient", "max_drift_ratio")
+
+
+def columns(plan: SweepPlan) -> list[str]:
+    return ["case", "engine", "support"] + [v.path for v in plan.varies] + list(OUTPUT_COLUMNS) + ["key"]
+
+
+def units(plan: SweepPlan) -> dict[str, str]:
+    return {**{v.path: v.unit for v in plan.varies}, **{name: unit for name, (unit, _) in OUTPUT_COLUMNS.items()}}
+
+
+# ----------------------------------------------------------------------------- writers
+
+def _cell(value: Any) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return repr(value) if math.isfinite(value) else ""
+    if isinstance(value, (list, dict)):
+        return json.dumps(to_jsonable(value))
+    return str(value)
+
+
+def to_csv(rows: Sequence[dict], names: Sequence[str]) -> str:
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(names)
+    for row in rows:
+        writer.writerow([_cell(row.get(name)) for name in names])
+    return buffer.getvalue()
+
+
+def document(plan: SweepPlan, rows: Sequence[dict], summary: dict | None = None) -> dict:
+    """The JSON document of a sweep: deck, varied fields, units, rows (and summary)."""
+    names = columns(plan)
+    doc = {
+        "source": plan.source, "title": plan.title,
+        "set": [f"{path}={json.dumps(to_jsonable(value))}" for path, value in plan.base_overrides],
+        "varied": [{"path": v.path, "unit": v.unit, "spacing": v.spacing, "values": list(v.values)}
+                   for v in plan.varies],
+        "engines": plan.engines, "supports": plan.supports,
+        "units": units(plan),
+        "rows": [{name: row.get(name) for name in names} for row in rows],
+    }
+    if summary is not None:
+        doc["summary"] = summary
+    return to_jsonable(doc)
+
+
+def _parquet_bytes(plan: SweepPlan, rows: Sequence[dict]) -> bytes:
+    try:
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+    except ImportError:
+        raise InputError("--table", "parquet", "pyarrow installed: pip install 'uplift[parquet]'") from None
+    arrays = {}
+    for name in columns(plan):
+        values = [to_jsonable(row.get(name)) for row in rows]
+        try:
+            arrays[name] = pa.array(values)
+        except (pa.ArrowInvalid, pa.ArrowTypeError):  # mixed types in one varied column
+            arrays[name] = pa.array([None if v is None else json.dumps(v) for v in values])
+    metadata = {"units": json.dumps(units(plan)), "source": plan.source}
+    sink = io.BytesIO()
+    pq.write_table(pa.table(arrays).replace_schema_metadata(metadata), sink)
+    return sink.getvalue()
+
+
+def check_table_format(table_format: str) -> None:
+    """Fail before any analysis if the Parquet writer is not installed."""
+    if table_format == "parquet":
+        try:
+            import pyarrow  # noqa: F401
+        except ImportError:
+            raise InputError("--table", "parquet", "pyarrow installed: pip install 'uplift[parquet]'") from None
+
+
+def write_tables(plan: SweepPlan, rows: Sequence[dict], directory: str | Path, stem: str,
+                 table_format: str = "json", summary: dict | None = None) -> list[Path]:
+    """<stem>.csv and <stem>.json or <stem>.parquet, each atomically; both built before writing."""
+    directory = Path(directory)
+    outputs: dict[Path, Any] = {directory / f"{stem}.csv": to_csv(rows, columns(plan))}
+    if table_format == "json":
+        outputs[directory / f"{stem}.json"] = json.dumps(document(plan, rows, summary), indent=1) + "\n"
+    elif table_format == "parquet":
+        outputs[directory / f"{stem}.parquet"] = _parquet_bytes(plan, rows)
+    for path, content in outputs.items():
+        if isinstance(content, bytes):
+            with atomic_path(path) as tmp:
+                tmp.write_bytes(content)
+        else:
+            write_text(path, content)
+    return list(outputs)
+
+
+# ----------------------------------------------------------------------------- summary
+
+def _number(value: Any) -> float | None:
+    return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) \
+        and math.isfinite(value) else None
+
+
+def ranges(plan: SweepPlan) -> list[dict]:
+    """Each varied field: unit, count, spacing, smallest and largest (numbers) or the values."""
+    out = []
+    for vary in plan.varies:
+        numbers = [_number(v) for v in vary.values]
+        entry = {"path": vary.path, "unit": vary.unit, "count": len(vary.values), "spacing": vary.spacing}
+        if all(n is not None for n in numbers):
+            entry.update(lowest=min(numbers), highest=max(numbers))
+        else:
+            entry["values"] = list(vary.values)
+        out.append(entry)
+    return out
+
+
+def inputs_of(plan: SweepPlan, row: dict) -> dict:
+    return {"engine": row["engine"], "support": row["support"], **{v.path: row.get(v.path) for v in plan.varies}}
+
+
+def governing(plan: SweepPlan, rows: Sequence[dict], outputs: Sequence[str] = SUMMARY_OUTPUTS) -> dict[str, dict]:
+    """Per output: the finished case with the largest value, {value, case, inputs}."""
+    result = {}
+    for name in outputs:
+        candidates = [row for row in rows if row.get("status") == "ok" and _number(row.get(name)) is not None]
+        if candidates:
+            top = max(candidates, key=lambda row: row[name])
+            result[name] = {"value": top[name], "case": top["case"], "inputs": inputs_of(plan, top)}
+    return result
+
+
+def envelope(plan: SweepPlan, rows: Sequence[dict], outputs: Sequence[str] = SUMMARY_OUTPUTS) -> list[dict]:
+    """Envelope over the varied foundation fields (all varied fields if no foundation field is
+    varied), per engine, support and value of the other varied fields.
+
+    Each group: {group: {...}, over: [paths], outputs: {name: {lowest, highest, governing}}}; with
+    one numeric field enveloped, also at_lower_bound / at_upper_bound: the values at its smallest
+    and largest value. ASCE 7-22 section 19.1.1 asks for both bound estimates of the foundation
+    stiffness and the case giving the greater response; `highest` includes interior points."""
+    foundation = [v for v in plan.varies if v.path.startswith("foundation.")]
+    over = foundation or list(plan.varies)
+    over_paths = [v.path for v in over]
+    group_paths = ["engine", "support"] + [v.path for v in plan.varies if v.path not in over_paths]
+    bound = over[0] if len(over) == 1 and all(_number(x) is not None for x in over[0].values) else None
+    groups: dict[str, list[dict]] = {}
+    for row in rows:
+        if row.get("status") == "ok":
+            groups.setdefault(json.dumps([row.get(p) for p in group_paths], default=str), []).append(row)
+    result = []
+    for members in groups.values():
+        entry = {"group": {p: members[0].get(p) for p in group_paths}, "over": over_paths, "cases": len(members),
+                 "uplift": any(row.get("uplift") for row in members), "outputs": {}}
+        for name in outputs:
+            valued = [row for row in members if _number(row.get(name)) is not None]
+            if not valued:
+                continue
+            top = max(valued, key=lambda row: row[name])
+            item = {"lowest": min(row[name] for row in valued), "highest": top[name],
+                    "governing": {p: top.get(p) for p in over_paths}}
+            if bound is not None:
+                by_value = sorted(valued, key=lambda row: row[bound.path])
+                item["at_lower_bound"] = by_value[0][name]
+                item["at_upper_bound"] = by_value[-1][name]
+            entry["outputs"][name] = item
+        result.append(entry)
+    return result
+
+
+def violating(rows: Sequence[dict]) -> list[dict]:
+    return [row for row in rows if row.get("violations")]
+
+
+def summarize(plan: SweepPlan, rows: Sequence[dict]) -> dict:
+    """Counts, ranges, governing cases, envelope and the cases violating the deck's criteria."""
+    counts = {status: sum(row.get("status") == status for row in rows) for status in ("ok", "failed", "crashed")}
+    return to_jsonable({
+        "cases": len(plan.cases), "finished": len(rows), **counts,
+        "ranges": ranges(plan),
+        "governing": governing(plan, rows),
+        "envelope": envelope(plan, rows),
+        "violations": [{"case": row["case"], "inputs": inputs_of(plan, row), "violations": row["violations"]}
+                       for row in violating(rows)],
+        "failures": [{"case": row["case"], "inputs": inputs_of(plan, row), "status": row["status"],
+                      "message": row.get("message", "")} for row in rows if row.get("status") != "ok"],
+    })
