@@ -129,8 +129,10 @@ def plot_figure(spec: FigureSpec, path: str | os.PathLike, option: str = "--plot
                       marker="." if keep.sum() < 3 else None)
         if spec.xlog:
             axes.set_xscale("log")
+            _plain_log_labels(axes.xaxis)
         if spec.ylog:
             axes.set_yscale("log")
+            _plain_log_labels(axes.yaxis)
         axes.set_xlabel(spec.xlabel)
         axes.set_ylabel(panel.ylabel)
         axes.set_title(textwrap.fill(panel.title, 48), fontsize="medium")
@@ -138,5 +140,19 @@ def plot_figure(spec: FigureSpec, path: str | os.PathLike, option: str = "--plot
         if panel.series:
             axes.legend(fontsize="small")
     if spec.title:
-        figure.suptitle(textwrap.fill(spec.title, 110), fontsize="medium")
+        figure.suptitle(textwrap.fill(spec.title, int(13 * (4.6 * columns + 0.6))), fontsize="medium")
     return save_figure(figure, path, option)
+
+
+def _plain_log_labels(axis) -> None:
+    """Log-axis labels as 0.1, 0.2, 0.5, 1, 2 ... instead of powers of ten."""
+    from matplotlib.ticker import FuncFormatter
+
+    def minor(value, _position) -> str:
+        if value <= 0:
+            return ""
+        mantissa = value / 10.0 ** np.floor(np.log10(value))
+        return f"{value:g}" if any(abs(mantissa - m) < 1e-6 for m in (2.0, 5.0)) else ""
+
+    axis.set_major_formatter(FuncFormatter(lambda value, _position: f"{value:g}"))
+    axis.set_minor_formatter(FuncFormatter(minor))

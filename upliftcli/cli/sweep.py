@@ -1,0 +1,244 @@
+"""`uplift sweep` and `uplift spectra`: a deck over ranges of its fields, and the paper's
+response spectra over T_1. The work is in upliftcli.sweep / sweep_run / executors /
+sweep_table / figures; this module parses options, shows progress and writes the files."""
+
+from __future__ import annotations
+
+import json
+from enum import Enum
+from pathlib import Path
+
+import typer
+
+from .. import figures, plots, sweep_table
+from ..analysis import ENGINES
+from ..errors import InputError
+from ..executors import DaskExecutor, ProcessExecutor, SerialExecutor, available_cores
+from ..sweep import SUPPORTS, SweepPlan, Vary, parse_choices, plan_sweep
+from ..sweep_run import NoProgress, RowStore, run_sweep
+from . import render
+from .analyze import SET_HELP
+from .sweep_render import PlainProgress, RichProgress, print_summary, use_rich_progress
+
+EXIT_CRITERIA, EXIT_ANALYSIS, EXIT_INTERRUPTED = 3, 4, 130
+VARY_HELP = ("Vary a deck field (same dotted paths as --set): PATH=START:STOP:N (linear), PATH=START:STOP:N:log, "
+             "PATH=a,b,c or PATH=[a, b]; repeatable, cases are the cartesian product.")
+ENGINE_HELP = "Engine(s): simplified, approximate, exact or all; repeatable or comma separated (default: the deck's)."
+SUPPORT_HELP = "Support condition(s): rigid, bonded, uplift; repeatable or comma separated (default: the deck's)."
+WORKERS_HELP = ("Local worker processes (default: all cores when the sweep is long enough to gain from them, "
+                "else 1 = in this process).")
+SCHEDULER_HELP = "Run the cases on a Dask cluster at this address (tcp://host:8786), or 'local' for a local one."
+DASK_HELP = "'local': run on a Dask LocalCluster of --workers processes on this machine (same as --scheduler local)."
+
+
+class OutputFormat(str, Enum):
+    table = "table"
+    json = "json"
+
+
+class TableFormat(str, Enum):
+    json = "json"
+    parquet = "parquet"
+    csv = "csv"
+
+
+#: rough cost of one case [s], to decide whether worker processes pay for their start-up (~2 s)
+CASE_SECONDS = {"simplified": 0.002, "approximate": 0.04, "exact": 0.04}
+
+
+def choose_executor(plan: SweepPlan, workers: int | None, scheduler: str | None, dask: str | None):
+    if dask is not None and dask != "local":
+        raise InputError("--dask", dask, "'local' (or give --scheduler tcp://host:port)")
+    if scheduler is not None or dask is not None:
+        address = None if (scheduler in (None, "local")) else scheduler
+        return DaskExecutor(address, workers or min(available_cores(), 4))
+    if workers is not None:
+        if workers < 1:
+            raise InputError("--workers", str(workers), "an integer >= 1")
+        return SerialExecutor() if workers == 1 else ProcessExecutor(workers)
+    cores = available_cores()
+    seconds = len(plan.cases) * max(CASE_SECONDS.get(engine, 0.04) for engine in plan.engines)
+    return ProcessExecutor(cores) if cores > 1 and seconds > 4.0 else SerialExecutor()
+
+
+def progress_for(quiet: bool, label: str):
+    if quiet:
+        return NoProgress()
+    console = render.console(stderr=True)
+    return RichProgress(console, label) if use_rich_progress(console) else PlainProgress(label)
+
+
+def _prepare_out(out: Path, rows_path: Path, resume: bool, overwrite: bool) -> None:
+    if out.exists() and not out.is_dir():
+        raise InputError("--out", str(out), "a directory (a file of that name exists)")
+    if rows_path.exists() and rows_path.stat().st_size > 0 and not (resume or overwrite):
+        raise InputError("--out", str(rows_path), "no rows of a previous sweep (pass --resume to continue it "
+                         "or --overwrite to start again)")
+
+
+def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, resume, retry_failed,
+            overwrite, quiet, label):
+    """Run the plan with progress; exit 130 (keeping the rows) on Ctrl-C."""
+    rows_path = out / f"{stem}.rows.jsonl"
+    _prepare_out(out, rows_path, resume, overwrite)
+    executor = choose_executor(plan, workers, scheduler, dask)
+    try:
+        outcome = run_sweep(plan, executor, RowStore(rows_path), resume=resume, retry_failed=retry_failed,
+                            progress=progress_for(quiet, label))
+    except OSError as error:
+        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+    if outcome.interrupted:
+        typer.echo(f"interrupted: {len(outcome.rows)} of {outcome.total} cases are kept in {rows_path}; "
+                   "run the same command with --resume to finish", err=True)
+        raise typer.Exit(EXIT_INTERRUPTED)
+    return outcome
+
+
+def _write(plan, rows, out, stem, table, summary) -> list[Path]:
+    try:
+        return sweep_table.write_tables(plan, rows, out, stem, table.value, summary)
+    except OSError as error:
+        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+
+
+def _finish(rows: list[dict], criteria: bool) -> None:
+    """Failures: exit 4; else criteria violations: exit 3 (each case named on stderr)."""
+    failed = [row for row in rows if row.get("status") != "ok"]
+    for row in failed:
+        typer.echo(f"case {row['case']} ({row['engine']}/{row['support']}) {row['status']}: {row['message']}", err=True)
+    violating = [row for row in rows if row.get("violations")] if criteria else []
+    for row in violating:
+        inputs = ", ".join(f"{k}={v}" for k, v in row.items() if "." in k)
+        typer.echo(f"criterion violated: case {row['case']} ({inputs}{', ' if inputs else ''}{row['engine']}/"
+                   f"{row['support']}): {row['violations']}", err=True)
+    if failed:
+        raise typer.Exit(EXIT_ANALYSIS)
+    if violating:
+        raise typer.Exit(EXIT_CRITERIA)
+
+
+def sweep(
+    deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
+    vary: list[str] = typer.Option([], "--vary", "-v", help=VARY_HELP),
+    settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
+    engine: list[str] = typer.Option([], "--engine", "-e", help=ENGINE_HELP),
+    support: list[str] = typer.Option([], "--support", help=SUPPORT_HELP),
+    out: Path = typer.Option(Path("."), "--out", "-o", help="Directory of the output files."),
+    name: str | None = typer.Option(None, "--name", help="Stem of the output files (default: <deck>.sweep)."),
+    table: TableFormat = typer.Option(TableFormat.json, "--table",
+                                      help="Besides <stem>.csv: <stem>.json (rows + summary), .parquet, or none (csv)."),
+    output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f",
+                                               help="table (summary on the terminal) or json (document on stdout)."),
+    plot: bool = typer.Option(False, "--plot", help="Plot the responses against the first varied field."),
+    plot_format: str = typer.Option("png", "--plot-format", help="png, svg or pdf."),
+    workers: int | None = typer.Option(None, "--workers", "-w", help=WORKERS_HELP),
+    scheduler: str | None = typer.Option(None, "--scheduler", help=SCHEDULER_HELP),
+    dask: str | None = typer.Option(None, "--dask", help=DASK_HELP),
+    resume: bool = typer.Option(False, "--resume", help="Skip the cases a previous run of this sweep finished."),
+    retry_failed: bool = typer.Option(False, "--retry-failed", help="With --resume: run failed cases again."),
+    overwrite: bool = typer.Option(False, "--overwrite", help="Discard the rows of a previous run."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress and no summary tables."),
+) -> None:
+    """Analyse a deck over ranges of its fields: one tidy row per case, summary and envelope.
+
+    Rows are appended to <out>/<stem>.rows.jsonl as cases finish; at the end <stem>.csv and
+    <stem>.json (or .parquet) are written. Exit codes: 0 ok, 2 bad input, 3 an acceptance
+    limit (the deck's criteria table) is exceeded by a case, 4 a case failed, 130 interrupted.
+    """
+    plot_path = plots.check_figure_path(out / f"{name or deck.stem + '.sweep'}.{plot_format}", "--plot-format") \
+        if plot else None
+    sweep_table.check_table_format(table.value)
+    plan = plan_sweep(deck, settings, vary, parse_choices(engine, ENGINES, "--engine"),
+                      parse_choices(support, SUPPORTS, "--support"))
+    if plot_path is not None:
+        figures.sweep_figure(plan, [])  # a numeric varied field to plot against, checked before running
+    stem = name or f"{deck.stem}.sweep"
+    outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
+                      retry_failed=retry_failed, overwrite=overwrite, quiet=quiet, label="sweep")
+    summary = sweep_table.summarize(plan, outcome.rows)
+    written = _write(plan, outcome.rows, out, stem, table, summary)
+    if plot_path is not None:
+        written.append(plots.plot_figure(figures.sweep_figure(plan, outcome.rows), plot_path, "--plot-format"))
+    if output_format is OutputFormat.json:
+        typer.echo(json.dumps(sweep_table.document(plan, outcome.rows, summary), indent=1))
+    elif not quiet:
+        print_summary(render.console(), plan, summary)
+    for path in written:
+        typer.echo(f"wrote {path}", err=True)
+    _finish(outcome.rows, criteria=True)
+
+
+def spectra(
+    deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
+    periods: str = typer.Option("0.05:5:100", "--periods", "-p",
+                                help="Fixed-base periods T_1 [s]: START:STOP:N (log-spaced; add :lin for linear) "
+                                     "or a comma list."),
+    settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
+    engine: list[str] = typer.Option([], "--engine", "-e", help=ENGINE_HELP),
+    support: list[str] = typer.Option([], "--support", help=SUPPORT_HELP),
+    out: Path = typer.Option(Path("."), "--out", "-o", help="Directory of the output files."),
+    name: str | None = typer.Option(None, "--name", help="Stem of the output files (default: <deck>.spectra)."),
+    table: TableFormat = typer.Option(TableFormat.json, "--table", help="Besides <stem>.csv: json, parquet or csv."),
+    plot_format: list[str] = typer.Option(["png"], "--plot-format", help="png, svg, pdf; repeatable or comma list."),
+    workers: int | None = typer.Option(None, "--workers", "-w", help=WORKERS_HELP),
+    scheduler: str | None = typer.Option(None, "--scheduler", help=SCHEDULER_HELP),
+    dask: str | None = typer.Option(None, "--dask", help=DASK_HELP),
+    resume: bool = typer.Option(False, "--resume", help="Skip the periods a previous run finished."),
+    overwrite: bool = typer.Option(False, "--overwrite", help="Discard the rows of a previous run."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress."),
+) -> None:
+    """The paper's response spectra over T_1: V_b/(m_t g) and M_b/(m_t g h_1*) for rigid, bonded and
+    uplift (Figs. 3-4), modal contributions (Fig. 7) and the engines compared (Figs. 6, 8-10),
+    with the critical value b/h_1*. Writes <stem>.csv, <stem>.json and one plot per figure.
+
+    Exit codes: 0 ok, 2 bad input, 4 a case failed, 130 interrupted.
+    """
+    formats = parse_choices(plot_format, ("png", "svg", "pdf"), "--plot-format")
+    sweep_table.check_table_format(table.value)
+    period_vary: Vary = figures.period_vary(periods)
+    engines = parse_choices(engine, ENGINES, "--engine")
+    plan = plan_sweep(deck, settings, (), engines, parse_choices(support, SUPPORTS, "--support"),
+                      varies=[period_vary])
+    stem = name or f"{deck.stem}.spectra"
+    outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
+                      retry_failed=False, overwrite=overwrite, quiet=quiet, label="spectra")
+    summary = sweep_table.summarize(plan, outcome.rows)
+    written = _write(plan, outcome.rows, out, stem, table, summary)
+    record = plan.raw.get("ground_motion", {}).get("record", "")
+    for figure_name, spec in figures.paper_figures(outcome.rows, plan.engines, plan.supports,
+                                                   Path(record).stem if record else "").items():
+        for extension in formats:
+            written.append(plots.plot_figure(spec, out / f"{stem}.{figure_name}.{extension}", "--plot-format"))
+    if not quiet:
+        _print_spectra_summary(plan, outcome.rows)
+    for path in written:
+        typer.echo(f"wrote {path}", err=True)
+    _finish(outcome.rows, criteria=False)
+
+
+def _print_spectra_summary(plan: SweepPlan, rows: list[dict]) -> None:
+    from rich.markup import escape
+    from rich.table import Table
+
+    table = Table(title=escape(f"{plan.title}: spectra over T_1 = {plan.varies[0].values[0]:g} .. "
+                               f"{plan.varies[0].values[-1]:g} s ({len(plan.varies[0].values)} periods)"))
+    for header in ("engine", "support", "max V_b/(m_t g)", "at T_1 [s]", "max M_b/(m_t g h_1*)", "b/h_1*",
+                   "uplift for T_1 [s]"):
+        table.add_column(escape(header), justify="right")
+    for engine in plan.engines:
+        for support in plan.supports:
+            mine = [r for r in rows if r["engine"] == engine and r["support"] == support and r["status"] == "ok"]
+            if not mine:
+                continue
+            top = max(mine, key=lambda r: r["base_shear_coefficient"])
+            lifted = [r[figures.PERIOD_PATH] for r in mine if r["uplift"]]
+            table.add_row(engine, support, f"{top['base_shear_coefficient']:.4g}", f"{top[figures.PERIOD_PATH]:.4g}",
+                          f"{max(r['base_moment_coefficient'] for r in mine):.4g}", f"{top['critical_coefficient']:.4g}",
+                          f"{min(lifted):.3g} .. {max(lifted):.3g}" if lifted else "none")
+    render.console().print(table)
+
+
+def register(app: typer.Typer) -> None:
+    app.command("sweep")(sweep)
+    app.command("spectra")(spectra)
+

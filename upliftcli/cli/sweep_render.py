@@ -1,0 +1,174 @@
+"""Terminal output of `uplift sweep` / `uplift spectra`: progress (rich bar with ETA on a
+terminal, plain periodic lines otherwise) and the summary tables."""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from ..sweep import SweepPlan
+from ..sweep_table import SUMMARY_OUTPUTS
+
+LABELS = {"base_shear_coefficient": "V_b/(m_t g)", "base_moment_coefficient": "M_b/(m_t g h_1*)",
+          "max_drift_ratio": "drift ratio"}
+SHORT = {"base_shear_coefficient": "V/W", "base_moment_coefficient": "M/Wh", "max_drift_ratio": "drift"}
+MAX_ROWS = 60  # envelope rows printed; the files have them all
+
+
+def use_rich_progress(console: Console) -> bool:
+    return console.is_terminal and not os.environ.get("CI")
+
+
+class PlainProgress:
+    """'sweep: 120/500 cases (3 failed), 12.3 cases/s, ETA 31 s' every `interval` seconds, and at the end."""
+
+    def __init__(self, label: str = "sweep", interval: float = 10.0, stream=None):
+        self.label, self.interval, self.stream = label, interval, stream or sys.stderr
+        self.total = self.done = self.failed = self.new = 0
+        self.started = self.last = 0.0
+
+    def start(self, total: int, done: int) -> None:
+        self.total, self.done = total, done
+        self.started = self.last = time.monotonic()
+        kept = f" ({done} kept from the previous run)" if done else ""
+        self._line(f"{self.total - done} cases to run{kept}")
+
+    def advance(self, row: dict) -> None:
+        self.done += 1
+        self.new += 1
+        self.failed += row.get("status") != "ok"
+        now = time.monotonic()
+        if now - self.last >= self.interval:
+            self.last = now
+            self._line(self._status(now))
+
+    def stop(self) -> None:
+        self._line(self._status(time.monotonic()))
+
+    def _status(self, now: float) -> str:
+        elapsed = max(now - self.started, 1e-9)
+        rate = self.new / elapsed
+        eta = (self.total - self.done) / rate if rate > 0 else float("nan")
+        failed = f" ({self.failed} failed)" if self.failed else ""
+        return (f"{self.done}/{self.total} cases{failed}, {rate:.3g} cases/s, elapsed {elapsed:.0f} s"
+                + (f", ETA {eta:.0f} s" if self.done < self.total and eta == eta else ""))
+
+    def _line(self, text: str) -> None:
+        print(f"{self.label}: {text}", file=self.stream, flush=True)
+
+
+class RichProgress:
+    """A rich progress bar on stderr: done/total, rate, elapsed and ETA."""
+
+    def __init__(self, console: Console, label: str = "sweep"):
+        from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn,
+                                   TimeRemainingColumn)
+
+        self.progress = Progress(TextColumn(f"{label}"), BarColumn(), MofNCompleteColumn(),
+                                 TextColumn("{task.fields[failed]}"), TimeElapsedColumn(), TextColumn("ETA"),
+                                 TimeRemainingColumn(), console=console)
+        self.task = None
+        self.failed = 0
+
+    def start(self, total: int, done: int) -> None:
+        self.progress.start()
+        self.task = self.progress.add_task("cases", total=total, completed=done, failed="")
+
+    def advance(self, row: dict) -> None:
+        self.failed += row.get("status") != "ok"
+        self.progress.update(self.task, advance=1, failed=f"{self.failed} failed" if self.failed else "")
+
+    def stop(self) -> None:
+        self.progress.stop()
+
+
+def _value(value) -> str:
+    if value is None:
+        return "-"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    return str(value)
+
+
+def ranges_table(summary: dict) -> Table:
+    table = Table(title="Varied fields")
+    for header in ("field", "unit", "values", "spacing", "from", "to"):
+        table.add_column(escape(header), justify="left" if header in ("field", "spacing") else "right")
+    for entry in summary["ranges"]:
+        if "values" in entry:
+            table.add_row(escape(entry["path"]), escape(entry["unit"]), str(entry["count"]), entry["spacing"],
+                          escape(", ".join(_value(v) for v in entry["values"])), "")
+        else:
+            table.add_row(escape(entry["path"]), escape(entry["unit"]), str(entry["count"]), entry["spacing"],
+                          _value(entry["lowest"]), _value(entry["highest"]))
+    return table
+
+
+def governing_table(plan: SweepPlan, summary: dict) -> Table:
+    table = Table(title="Governing cases (largest value over the sweep)")
+    for header in ("output", "value", "case", "engine", "support", *[v.path for v in plan.varies]):
+        table.add_column(escape(header), justify="right")
+    for name, entry in summary["governing"].items():
+        inputs = entry["inputs"]
+        table.add_row(escape(LABELS.get(name, name)), _value(entry["value"]), str(entry["case"]), inputs["engine"],
+                      inputs["support"], *[escape(_value(inputs.get(v.path))) for v in plan.varies])
+    return table
+
+
+def envelope_table(summary: dict) -> Table | None:
+    groups = summary["envelope"]
+    if not groups:
+        return None
+    over = groups[0]["over"]
+    bounds = any("at_lower_bound" in item for g in groups for item in g["outputs"].values())
+    if bounds:
+        title = (f"Envelope over {', '.join(over)} (ASCE 7-22 19.1.1: lower and upper bound, the greater "
+                 "response governs)")
+    elif over:
+        title = f"Envelope over {', '.join(over)}: smallest / largest"
+    else:
+        title = "Results"
+    table = Table(title=escape(title))
+    group_paths = list(groups[0]["group"])
+    columns = []  # (header, output, key)
+    for name in SUMMARY_OUTPUTS:
+        keys = (("at_lower_bound", "lo"), ("at_upper_bound", "up"), ("highest", "max")) if bounds \
+            and name != "max_drift_ratio" else (("highest", "max"),) if bounds else (("lowest", "min"), ("highest", "max"))
+        columns += [(f"{SHORT[name]} {word}", name, key) for key, word in keys]
+    for header in group_paths:
+        table.add_column(escape(header), justify="right", no_wrap=True)
+    for header in [c[0] for c in columns] + ["uplift"]:
+        table.add_column(escape(header), justify="right", no_wrap=True)
+    table.caption = escape("V/W = V_b/(m_t g), M/Wh = M_b/(m_t g h_1*), drift = largest story drift ratio; "
+                           + ("lo, up: at the lower and upper bound, max: largest over the range" if bounds
+                              else "min, max over the range"))
+    for entry in groups[:MAX_ROWS]:
+        cells = [escape(_value(entry["group"][p])) for p in group_paths]
+        for _, name, key in columns:
+            value = entry["outputs"].get(name, {}).get(key)
+            cells.append("-" if value is None else f"{value:.3g}")
+        cells.append("some" if entry["uplift"] else "no")
+        table.add_row(*cells)
+    if len(groups) > MAX_ROWS:
+        table.caption += escape(f"; first {MAX_ROWS} of {len(groups)} groups, all in the JSON file")
+    return table
+
+
+def print_summary(out: Console, plan: SweepPlan, summary: dict) -> None:
+    out.print(f"[bold]{escape(plan.title)}[/bold]: {summary['cases']} cases, {summary['ok']} ok"
+              + (f", {summary['failed']} failed" if summary["failed"] else "")
+              + (f", {summary['crashed']} crashed" if summary["crashed"] else ""))
+    if summary["ranges"]:
+        out.print(ranges_table(summary))
+    if summary["governing"]:
+        out.print(governing_table(plan, summary))
+    table = envelope_table(summary)
+    if table is not None:
+        out.print(table)
