@@ -9,11 +9,12 @@ from pathlib import Path
 import numpy as np
 import typer
 from rich.markup import escape
+from rich.table import Table
 
 from .. import analysis
 from ..deck import load_deck
 from ..errors import InputError
-from ..results import to_json, to_jsonable, write_results
+from ..results import results_document, to_json, to_jsonable, write_results
 from . import render
 
 SET_HELP = "Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values)."
@@ -34,7 +35,7 @@ def _overrides(settings: list[str], engines: list[str], supports: list[str]) -> 
 
 
 def analyze(
-    deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
+    decks: list[Path] = typer.Argument(..., help="Deck file(s) (TOML), see docs/deck.md; several give one summary table."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     engine: list[str] = typer.Option([], "--engine", "-e",
                                      help="Engine(s): simplified, approximate, exact (default: the deck's)."),
@@ -45,13 +46,17 @@ def analyze(
     out: Path | None = typer.Option(None, "--out", "-o",
                                     help="Also write <deck>.json, .csv and .toml results into this directory."),
 ) -> None:
-    """Peak story shears, drifts, displacements and the uplift verdict of a deck.
+    """Peak story shears, drifts, displacements and the uplift verdict of a deck (or of several decks).
 
     Exit codes: 0 ok, 2 bad input, 3 an acceptance limit (the deck's criteria table) is exceeded,
     4 analysis failure.
     """
     if out is not None and out.exists() and not out.is_dir():
         raise InputError("--out", str(out), "a directory (a file of that name exists)")
+    if len(decks) > 1:
+        _analyze_batch(decks, _overrides(settings, engine, support), output_format, out)
+        return
+    deck = decks[0]
     loaded = load_deck(deck, _overrides(settings, engine, support))
     results = analysis.run(loaded)
     if output_format is OutputFormat.json:
@@ -59,17 +64,66 @@ def analyze(
     else:
         render.print_results(render.console(), results, loaded.title)
     if out is not None:
-        try:
-            written = write_results(results, out, deck.stem, loaded.source, loaded.title)
-        except OSError as error:
-            raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
-        for path in written:
-            typer.echo(f"wrote {path}", err=True)
+        _write(results, out, deck.stem, loaded)
     violations = analysis.check_criteria(results, loaded.criteria)
     if violations:
         for message in violations:
             typer.echo(f"criterion violated: {message}", err=True)
         raise typer.Exit(3)
+
+
+def _write(results, out: Path, stem: str, loaded) -> None:
+    try:
+        written = write_results(results, out, stem, loaded.source, loaded.title)
+    except OSError as error:
+        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+    for path in written:
+        typer.echo(f"wrote {path}", err=True)
+
+
+def _analyze_batch(decks: list[Path], overrides: list[str], output_format: OutputFormat, out: Path | None) -> None:
+    """Several decks: every deck is read and checked before any is run (bad input: exit 2, no
+    output); one summary table (or {"decks": [...]} in JSON); exit 3 if any deck violates its criteria."""
+    stems = [deck.stem for deck in decks]
+    if out is not None and len(set(stems)) != len(stems):
+        twice = next(stem for stem in stems if stems.count(stem) > 1)
+        raise InputError("--out", str(out), f"decks with different file names ({twice}.toml is given twice)")
+    loaded = [load_deck(deck, overrides) for deck in decks]
+    runs = [(deck, item, analysis.run(item)) for deck, item in zip(decks, loaded)]
+    violations = [(deck, message) for deck, item, results in runs
+                  for message in analysis.check_criteria(results, item.criteria)]
+    if output_format is OutputFormat.json:
+        document = {"decks": [results_document(results, item.source, item.title) for _, item, results in runs]}
+        typer.echo(json.dumps(to_jsonable(document), indent=2))
+    else:
+        render.console().print(_batch_table(runs, {str(deck) for deck, _ in violations}))
+    if out is not None:
+        for deck, item, results in runs:
+            _write(results, out, deck.stem, item)
+    for deck, message in violations:
+        typer.echo(f"criterion violated: {deck}: {message}", err=True)
+    if violations:
+        raise typer.Exit(3)
+
+
+def _batch_table(runs, violating: set[str]) -> Table:
+    """One row per deck, engine and support: V_b, coefficients, V_c, uplift, criteria."""
+    table = Table(title=f"Summary of {len(runs)} decks")
+    names = [deck.name for deck, _, _ in runs]
+    label = (lambda deck: deck.name) if len(set(names)) == len(names) else str  # noqa: E731
+    table.caption = escape("V_b/W = V_b/(m_t g), M_b/Wh = M_b/(m_t g h_1*); criteria: the deck's [criteria] limits")
+    for header in ("deck", "engine", "support", "V_b [kN]", "V_b/W", "M_b [kN m]", "M_b/Wh", "b/h_1*", "uplift",
+                   "criteria"):
+        table.add_column(escape(header), justify="left" if header == "deck" else "right", no_wrap=header == "deck")
+    for deck, item, results in runs:
+        for r in results:
+            failed = analysis.check_criteria([r], item.criteria)
+            verdict = "-" if not item.criteria else ("violated" if failed else "ok")
+            table.add_row(escape(label(deck)), r.engine, r.support, f"{1e-3 * r.base_shear:.1f}",
+                          f"{r.base_shear_coefficient:.4f}", f"{1e-3 * r.base_moment:.1f}",
+                          f"{r.base_moment_coefficient:.4f}", f"{r.critical_coefficient:.4f}",
+                          "yes" if r.uplift else "no", verdict)
+    return table
 
 
 def modes(
