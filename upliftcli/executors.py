@@ -5,9 +5,10 @@ of the chunks (status ok, failed or crashed), as soon as the row is known, and l
 KeyboardInterrupt through after stopping its workers. All give the same rows: a case's row
 depends only on the case (sweep.run_chunk), never on which worker ran it.
 
-Worker deaths: local processes report each case as it starts and finishes, so after a worker
-dies only the cases it was running are charged an attempt; they are run again (one case a
-chunk) and marked 'crashed' after `max_attempts`. On Dask the scheduler re-runs the tasks of
+Worker deaths: local processes report each case as it starts and finishes. After a worker
+dies, the cases that were running (started, not finished) are run again one at a time on a
+single worker, so a case that kills its worker is known for sure; it is charged an attempt
+and marked 'crashed' after `max_attempts`. The other cases go on in parallel. On Dask the scheduler re-runs the tasks of
 a dead worker (distributed.scheduler.allowed-failures) and then raises KilledWorker: those
 cases are marked 'crashed'.
 """
@@ -71,22 +72,27 @@ class SerialExecutor:
 # ----------------------------------------------------------------------------- local processes
 
 _QUEUE = None  # per worker process: the queue to the parent
+_RUNNER = run_chunk  # per worker process: the chunk runner
 
 
-def _init_worker(queue) -> None:
-    global _QUEUE
-    _QUEUE = queue
+def _init_worker(queue, runner) -> None:
+    global _QUEUE, _RUNNER
+    _QUEUE, _RUNNER = queue, runner
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
 
 
 def _worker_run_chunk(chunk: Chunk) -> list[dict]:
-    return run_chunk(chunk, _QUEUE.put)
+    return _RUNNER(chunk, _QUEUE.put)
 
 
 class ProcessExecutor:
-    """Chunks on `workers` local processes (spawned, so safe whatever threads the parent has)."""
+    """Chunks on `workers` local processes (spawned, so safe whatever threads the parent has).
 
-    def __init__(self, workers: int, max_attempts: int = 3, poll_seconds: float = 0.1):
+    runner: the chunk runner, a module-level function like sweep.run_chunk(chunk, emit)."""
+
+    def __init__(self, workers: int, max_attempts: int = 3, poll_seconds: float = 0.1,
+                 runner: Callable = run_chunk):
+        self.runner = runner
         self.workers = max(1, int(workers))
         self.max_attempts = max_attempts
         self.poll_seconds = poll_seconds
@@ -100,29 +106,37 @@ class ProcessExecutor:
                 done.add(row["key"])
                 on_row(row)
 
-        pending = list(chunks)
+        pending, isolate = list(chunks), []  # isolate: one-case chunks of suspects, run on a single worker
         context = multiprocessing.get_context("spawn")
         with worker_environment():
-            while pending:
+            while pending or isolate:
+                isolated = bool(isolate)
+                batch, workers = (isolate, 1) if isolated else (pending, self.workers)
+                if isolated:
+                    isolate = []
+                else:
+                    pending = []
                 queue = context.SimpleQueue()  # a new one per pool: a killed writer may hold the old one's lock
                 started: set[str] = set()
-                leftovers = self._run_pool(pending, context, queue, started, deliver)
-                pending = []
-                for chunk in leftovers:
-                    for case in chunk.cases:
-                        if case.key in done:
-                            continue
-                        if case.key in started:
+                for chunk in self._run_pool(batch, workers, context, queue, started, deliver):
+                    rest = [case for case in chunk.cases if case.key not in done]
+                    suspects = [case for case in rest if case.key in started or not started]
+                    for case in suspects:
+                        if isolated and case.key in started:  # alone on its worker: this case killed it
                             attempts[case.key] = attempts.get(case.key, 0) + 1
-                        if attempts.get(case.key, 0) >= self.max_attempts:
-                            deliver(failed_row(case, "crashed", f"the worker process died while running this case "
-                                               f"({attempts[case.key]} attempts)"))
-                        else:  # one case a chunk from now on, to isolate the case that kills its worker
-                            pending.append(Chunk(chunk.raw, chunk.source, chunk.base_overrides, [case]))
+                            if attempts[case.key] >= self.max_attempts:
+                                deliver(failed_row(case, "crashed", "the worker process died while running this "
+                                                   f"case ({attempts[case.key]} attempts)"))
+                                continue
+                        isolate.append(Chunk(chunk.raw, chunk.source, chunk.base_overrides, [case]))
+                    others = [case for case in rest if case not in suspects]
+                    if others:
+                        pending.append(Chunk(chunk.raw, chunk.source, chunk.base_overrides, others))
 
-    def _run_pool(self, chunks, context, queue, started: set, deliver) -> list[Chunk]:
+    def _run_pool(self, chunks, workers: int, context, queue, started: set, deliver) -> list[Chunk]:
         """Run the chunks on a fresh pool; return the chunks of a broken pool (a worker died)."""
-        pool = ProcessPoolExecutor(self.workers, mp_context=context, initializer=_init_worker, initargs=(queue,))
+        pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker,
+                                   initargs=(queue, self.runner))
         futures = {pool.submit(_worker_run_chunk, chunk): chunk for chunk in chunks}
         leftovers = []
 

@@ -1,0 +1,347 @@
+"""Sweeps: parsing, case expansion, rows equal single analyses, storage and resume,
+executors (serial, local processes, Dask LocalCluster) giving identical rows, worker deaths,
+summary and envelope."""
+
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from upliftcli import sweep_table
+from upliftcli.analysis import run_one
+from upliftcli.deck import load_deck
+from upliftcli.errors import InputError
+from upliftcli.executors import DaskExecutor, ProcessExecutor, SerialExecutor
+from upliftcli.sweep import (Case, Chunk, expand_cases, make_chunks, parse_choices, parse_values, parse_vary,
+                             plan_sweep, run_chunk)
+from upliftcli.sweep_run import RowStore, run_sweep
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
+ASCE7 = ROOT / "inputs" / "ten_story_asce7.toml"
+SHORT = ["ground_motion.window=[0, 6]"]  # a short record keeps the response-history cases fast
+
+OUTPUTS = ("base_shear_N", "base_moment_N", "base_shear_coefficient", "base_moment_coefficient", "max_drift_ratio",
+           "max_drift_story", "uplift", "V_c_N", "T1_s", "T1bar_s", "xi1bar")
+
+
+# ----------------------------------------------------------------------------- parsing
+
+def test_parse_values_ranges_and_lists():
+    values, spacing = parse_values("1e7:1e10:4:log", "--vary")
+    assert spacing == "log" and values == [1e7, 1e8, 1e9, 1e10]
+    values, spacing = parse_values("0.2:3:15", "--vary")
+    assert spacing == "linear" and len(values) == 15 and values[0] == 0.2 and values[-1] == 3.0
+    assert values[1] == 0.4  # rounded to 12 digits, not 0.39999999999999997
+    np.testing.assert_allclose(np.diff(values), 0.2, rtol=1e-12)
+    assert parse_values("1:5:5", "--vary") == ([1, 2, 3, 4, 5], "linear")  # integers stay integers
+    assert parse_values("srss,cqc", "--vary") == (["srss", "cqc"], "list")
+    assert parse_values("[0.5, 1]", "--vary") == ([0.5, 1], "list")
+    assert parse_values("0.05:5:3", "--periods", "log")[0] == [0.05, 0.5, 5.0]
+    for bad in ("1:2", "0:10:5:log", "a:b:3", "1:2:0", "1:2:3:cubic", "[]"):
+        with pytest.raises(InputError):
+            parse_values(bad, "--vary")
+
+
+def test_parse_vary_checks_the_path():
+    vary = parse_vary("foundation.k_f=1e7:1e9:3:log")
+    assert vary.path == "foundation.k_f" and vary.unit == "N/m" and vary.values == (1e7, 1e8, 1e9)
+    with pytest.raises(InputError, match="did you mean 'foundation.k_f'"):
+        parse_vary("foundation.kf=1:2:2")
+    with pytest.raises(InputError, match="--engine"):
+        parse_vary("analysis.engine=exact,simplified")
+    with pytest.raises(InputError):
+        parse_vary("building.period")
+    assert parse_choices(["exact,simplified", "all"], ("simplified", "approximate", "exact"), "--engine") == \
+        ["exact", "simplified", "approximate"]
+    with pytest.raises(InputError, match="--support"):
+        parse_choices(["rigid,flying"], ("rigid", "bonded", "uplift"), "--support")
+
+
+def test_cartesian_product_order_and_stable_keys():
+    varies = [parse_vary("foundation.k_f=1e8,1e9"), parse_vary("building.period=0.5,1.0,2.0")]
+    cases = expand_cases(varies, ["simplified"], ["rigid", "uplift"], "deck-hash")
+    assert len(cases) == 2 * 3 * 2
+    assert [c.index for c in cases] == list(range(12))
+    assert cases[0].overrides == (("foundation.k_f", 1e8), ("building.period", 0.5))
+    assert (cases[0].support, cases[1].support) == ("rigid", "uplift")  # support innermost: one deck, adjacent
+    assert cases[-1].overrides == (("foundation.k_f", 1e9), ("building.period", 2.0))
+    again = expand_cases(varies, ["simplified"], ["rigid", "uplift"], "deck-hash")
+    assert [c.key for c in cases] == [c.key for c in again]
+    assert len({c.key for c in cases}) == 12
+    other = expand_cases(varies, ["simplified"], ["rigid", "uplift"], "another-deck")
+    assert not {c.key for c in cases} & {c.key for c in other}
+
+
+def test_plan_validates_every_case_before_running():
+    with pytest.raises(InputError) as info:
+        plan_sweep(EXAMPLE, [], ["foundation.b=-1,2"])
+    assert str(info.value).startswith("--vary: foundation.b:")
+    with pytest.raises(InputError, match="record for the exact engine"):
+        plan_sweep(ASCE7, [], ["building.period=0.5,1"], ["exact"])
+    with pytest.raises(InputError, match="each field varied once"):
+        plan_sweep(EXAMPLE, [], ["building.period=0.5,1", "building.period=2"])
+
+
+# ----------------------------------------------------------------------------- rows
+
+@pytest.fixture(scope="module")
+def small_plan():
+    """12 simplified cases and 2 exact ones (uplift, short record)."""
+    plan = plan_sweep(EXAMPLE, SHORT, ["foundation.frequency_ratio=4:16:2", "building.period=0.4,1.2"],
+                      ["simplified", "exact"], ["rigid", "bonded", "uplift"])
+    plan.cases = [c for c in plan.cases if c.engine == "simplified"
+                  or (c.support == "uplift" and c.overrides[0][1] == 4)]
+    return plan
+
+
+@pytest.fixture(scope="module")
+def serial_rows(small_plan, tmp_path_factory):
+    outcome = run_sweep(small_plan, SerialExecutor(), RowStore(tmp_path_factory.mktemp("serial") / "rows.jsonl"))
+    assert not outcome.interrupted and outcome.reused == 0
+    return outcome.rows
+
+
+def test_rows_equal_single_analyses(small_plan, serial_rows):
+    assert len(serial_rows) == len(small_plan.cases) == 14
+    for case, row in zip(small_plan.cases, serial_rows):
+        assert row["status"] == "ok", row
+        settings = SHORT + [f"{path}={value}" for path, value in case.overrides]
+        deck = load_deck(EXAMPLE, settings)
+        result = run_one(deck, case.engine, case.support)
+        assert row["base_shear_N"] == result.base_shear
+        assert row["base_moment_Nm"] == result.base_moment
+        assert row["base_shear_coefficient"] == result.base_shear_coefficient
+        assert row["max_drift_ratio"] == float(np.max(result.drift_ratio))
+        assert row["max_drift_story"] == int(np.argmax(result.drift_ratio)) + 1
+        assert row["uplift"] is bool(result.uplift)
+        assert row["T1_s"] == pytest.approx(dict(case.overrides)["building.period"], rel=1e-9)
+        assert row["violations"] == "; ".join(
+            f"{case.engine}/{case.support}: drift_ratio = {row['max_drift_ratio']:.4g} exceeds the limit 0.02 [-]"
+            for _ in [0] if row["max_drift_ratio"] > 0.02)
+
+
+def test_effective_period_of_the_rows_by_eq_21(small_plan, serial_rows):
+    """T1bar = T_1 sqrt(1 + k_1* h_1*^2 / K_theta), K_theta = 2 k_f b^2, rebuilt from the deck here."""
+    for case, row in zip(small_plan.cases, serial_rows):
+        system = load_deck(EXAMPLE, SHORT + [f"{p}={v}" for p, v in case.overrides], load_ground_motion=False).system
+        if case.support == "rigid":
+            assert row["T1bar_s"] == row["T1_s"] and row["xi1bar"] == 0.05
+            continue
+        m1, h1 = system.modes.effective_mass[0], system.modes.effective_height[0]
+        k1 = (2 * math.pi / row["T1_s"]) ** 2 * m1
+        ratio = dict(case.overrides)["foundation.frequency_ratio"]
+        k_f = (ratio * 2 * math.pi / row["T1_s"]) ** 2 * system.total_mass / 2  # w_v = sqrt(2 k_f / m_t)
+        expected = row["T1_s"] * math.sqrt(1 + k1 * h1**2 / (2 * k_f * system.half_width**2))
+        assert row["T1bar_s"] == pytest.approx(expected, rel=1e-9)
+
+
+def test_mode_contributions_of_simplified_rows(serial_rows):
+    for row in serial_rows:
+        if row["engine"] != "simplified":
+            assert row["two_mode_base_shear_coefficient"] is None
+            assert row["mode1_base_shear_coefficient"] > 0
+            continue
+        assert row["mode1_base_shear_coefficient"] <= row["two_mode_base_shear_coefficient"] \
+            <= row["base_shear_coefficient"] * (1 + 1e-12)
+        if row["uplift"]:  # Eq. 28a: the mode-1 base shear with uplift is above V_c
+            assert row["mode1_base_shear_coefficient"] > row["critical_coefficient"]
+        assert row["critical_coefficient"] == pytest.approx(0.1)  # h_1*/b = 10
+
+
+def test_failed_case_is_recorded_with_its_message():
+    plan = plan_sweep(EXAMPLE, SHORT + ["analysis.exact.time_step=1e-7"], [], ["exact"], ["rigid"])
+    rows = run_chunk(make_chunks(plan, plan.cases, 4)[0])
+    assert rows[0]["status"] == "failed" and "steps would be needed" in rows[0]["message"]
+    assert rows[0]["case"] == 0 and rows[0]["engine"] == "exact"
+
+
+# ----------------------------------------------------------------------------- storage and resume
+
+def test_row_store_appends_and_ignores_a_torn_line(tmp_path):
+    store = RowStore(tmp_path / "rows.jsonl")
+    store.open(fresh=True)
+    store.append({"key": "a", "status": "ok", "x": 1.0})
+    store.append({"key": "b", "status": "failed", "message": "boom"})
+    store.close()
+    with open(store.path, "a") as handle:
+        handle.write('{"key": "c", "sta')  # killed while writing
+    assert set(store.read()) == {"a", "b"}
+    store.open(fresh=False)
+    store.append({"key": "c", "status": "ok"})
+    store.close()
+    lines = store.path.read_text().splitlines()
+    assert [json.loads(line)["key"] for line in lines] == ["a", "b", "c"]
+
+
+def test_resume_skips_finished_cases_and_gives_the_same_rows(small_plan, serial_rows, tmp_path):
+    path = tmp_path / "rows.jsonl"
+    path.write_text("".join(json.dumps(row) + "\n" for row in serial_rows[:5]))
+    seen = []
+
+    class Recording(SerialExecutor):
+        def run(self, chunks, on_row):
+            seen.extend(case.key for chunk in chunks for case in chunk.cases)
+            super().run(chunks, on_row)
+
+    outcome = run_sweep(small_plan, Recording(), RowStore(path), resume=True)
+    assert outcome.reused == 5 and seen == [c.key for c in small_plan.cases[5:]]
+    assert outcome.rows == serial_rows
+    assert len(path.read_text().splitlines()) == len(serial_rows)
+
+
+def test_resume_reruns_crashed_and_optionally_failed_cases(small_plan, serial_rows, tmp_path):
+    path = tmp_path / "rows.jsonl"
+    rows = [dict(r) for r in serial_rows]
+    rows[0].update(status="crashed", message="worker died")
+    rows[1].update(status="failed", message="boom")
+    path.write_text("".join(json.dumps(row) + "\n" for row in rows))
+    outcome = run_sweep(small_plan, SerialExecutor(), RowStore(path), resume=True)
+    assert outcome.reused == len(rows) - 1 and outcome.rows[0] == serial_rows[0]
+    assert outcome.rows[1]["status"] == "failed"  # deterministic failure: reported, not retried
+    outcome = run_sweep(small_plan, SerialExecutor(), RowStore(path), resume=True, retry_failed=True)
+    assert outcome.rows == serial_rows
+
+
+def test_ctrl_c_keeps_the_finished_rows(small_plan, serial_rows, tmp_path):
+    class Interrupted(SerialExecutor):
+        def run(self, chunks, on_row):
+            for row in serial_rows[:3]:
+                on_row(row)
+            raise KeyboardInterrupt
+
+    path = tmp_path / "rows.jsonl"
+    outcome = run_sweep(small_plan, Interrupted(), RowStore(path))
+    assert outcome.interrupted and outcome.rows == serial_rows[:3]
+    assert len(RowStore(path).read()) == 3
+
+
+# ----------------------------------------------------------------------------- executors
+
+def test_local_processes_give_the_serial_rows(small_plan, serial_rows, tmp_path):
+    outcome = run_sweep(small_plan, ProcessExecutor(2), RowStore(tmp_path / "rows.jsonl"), size=3)
+    assert outcome.rows == serial_rows
+    assert len(RowStore(tmp_path / "rows.jsonl").read()) == len(serial_rows)
+
+
+def _dies_once_then_runs(chunk, emit):
+    """Chunk runner for the test below: the first worker to reach the case with building.period 1.2,
+    rigid support, exits abruptly (as if killed); later attempts run."""
+    marker = Path(os.environ["UPLIFT_TEST_MARKER"])
+    for case in chunk.cases:
+        if dict(case.overrides).get("building.period") == 1.2 and case.support == "rigid" and not marker.exists():
+            emit(("start", case.key))
+            marker.write_text("died")
+            os._exit(1)
+    return run_chunk(chunk, emit)
+
+
+def _always_dies(chunk, emit):
+    for case in chunk.cases:
+        if dict(case.overrides).get("building.period") == 1.2 and case.support == "rigid":
+            emit(("start", case.key))
+            os._exit(1)
+    return run_chunk(chunk, emit)
+
+
+def test_a_dead_worker_is_retried_and_a_killer_case_reported(small_plan, serial_rows, tmp_path, monkeypatch):
+    monkeypatch.setenv("UPLIFT_TEST_MARKER", str(tmp_path / "marker"))
+    simplified = [c for c in small_plan.cases if c.engine == "simplified"]
+    plan = type(small_plan)(**{**small_plan.__dict__, "cases": simplified})
+    expected = [row for row in serial_rows if row["engine"] == "simplified"]
+    outcome = run_sweep(plan, ProcessExecutor(2, runner=_dies_once_then_runs), RowStore(tmp_path / "a.jsonl"), size=4)
+    assert (tmp_path / "marker").exists()
+    assert outcome.rows == expected
+
+    outcome = run_sweep(plan, ProcessExecutor(2, max_attempts=2, runner=_always_dies), RowStore(tmp_path / "b.jsonl"),
+                        size=4)
+    crashed = [row for row in outcome.rows if row["status"] != "ok"]
+    assert len(outcome.rows) == len(expected)
+    assert [(r["support"], r["building.period"]) for r in crashed] == [("rigid", 1.2), ("rigid", 1.2)]
+    assert all(r["status"] == "crashed" and "2 attempts" in r["message"] for r in crashed)
+    assert [r for r in outcome.rows if r["status"] == "ok"] == \
+        [r for r in expected if not (r["support"] == "rigid" and r["building.period"] == 1.2)]
+
+
+@pytest.fixture(scope="module")
+def dask_cluster():
+    distributed = pytest.importorskip("distributed")
+    import logging
+
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                  dashboard_address=None, silence_logs=logging.ERROR) as cluster:
+        yield cluster
+
+
+def test_dask_cluster_gives_the_serial_rows(small_plan, serial_rows, dask_cluster, tmp_path):
+    executor = DaskExecutor(dask_cluster.scheduler_address)
+    outcome = run_sweep(small_plan, executor, RowStore(tmp_path / "rows.jsonl"), size=3)
+    assert outcome.rows == serial_rows
+    assert executor.workers == 2
+
+
+def test_dask_cli_scheduler_option(dask_cluster, tmp_path):
+    from typer.testing import CliRunner
+
+    from upliftcli.cli import app
+
+    args = ["sweep", str(EXAMPLE), "--vary", "building.period=0.5,1.0", "--support", "uplift", "--out",
+            str(tmp_path), "--quiet"]
+    remote = CliRunner().invoke(app, args + ["--scheduler", dask_cluster.scheduler_address, "--name", "dask"],
+                                env={"CI": "true"})
+    assert remote.exit_code == 0, remote.output
+    local = CliRunner().invoke(app, args + ["--workers", "1", "--name", "serial"], env={"CI": "true"})
+    assert local.exit_code == 0, local.output
+    assert (tmp_path / "dask.csv").read_text() == (tmp_path / "serial.csv").read_text()
+
+
+def test_unreachable_scheduler_is_bad_input(small_plan, tmp_path):
+    pytest.importorskip("distributed")
+    executor = DaskExecutor("tcp://127.0.0.1:9", connect_timeout="1s")
+    with pytest.raises(InputError, match="--scheduler"):
+        run_sweep(small_plan, executor, RowStore(tmp_path / "rows.jsonl"))
+
+
+# ----------------------------------------------------------------------------- summary
+
+def test_envelope_over_foundation_stiffness():
+    """Bonded tends to rigid as k_f grows (T1bar -> T_1): the upper-bound row equals the rigid one
+    to the period lengthening; lower and upper bound are the rows at the smallest and largest k_f."""
+    plan = plan_sweep(EXAMPLE, [], ["foundation.k_f=1e8:1e15:8:log"], ["simplified"], ["rigid", "bonded"])
+    rows = run_sweep(plan, SerialExecutor(), _memory_store()).rows
+    envelope = sweep_table.envelope(plan, rows)
+    assert [e["group"] for e in envelope] == [{"engine": "simplified", "support": "rigid"},
+                                              {"engine": "simplified", "support": "bonded"}]
+    bonded = [r for r in rows if r["support"] == "bonded"]
+    rigid = rows[0]
+    item = envelope[1]["outputs"]["base_shear_coefficient"]
+    assert item["at_lower_bound"] == bonded[0]["base_shear_coefficient"]
+    assert item["at_upper_bound"] == bonded[-1]["base_shear_coefficient"]
+    assert item["highest"] == max(r["base_shear_coefficient"] for r in bonded)
+    assert item["lowest"] == min(r["base_shear_coefficient"] for r in bonded)
+    assert bonded[-1]["T1bar_s"] == pytest.approx(rigid["T1_s"], rel=1e-4)
+    assert bonded[-1]["base_shear_coefficient"] == pytest.approx(rigid["base_shear_coefficient"], rel=1e-3)
+    rigid_item = envelope[0]["outputs"]["max_drift_ratio"]
+    assert rigid_item["lowest"] == rigid_item["highest"]  # a rigid base does not see k_f
+    governing = sweep_table.governing(plan, rows)
+    top = max(rows, key=lambda r: r["base_shear_coefficient"])
+    assert governing["base_shear_coefficient"]["case"] == top["case"]
+    summary = sweep_table.summarize(plan, rows)
+    assert summary["ok"] == len(rows) and summary["ranges"][0]["lowest"] == 1e8
+
+
+def _memory_store():
+    import tempfile
+
+    return RowStore(Path(tempfile.mkdtemp()) / "rows.jsonl")
+
+
+def test_case_dataclass_is_picklable():
+    import pickle
+
+    case = Case(0, "k", (("building.period", 0.5),), "simplified", "rigid")
+    chunk = Chunk({"a": 1}, "deck.toml", (), [case])
+    assert pickle.loads(pickle.dumps(chunk)) == chunk
