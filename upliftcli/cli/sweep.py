@@ -13,7 +13,7 @@ import typer
 from .. import figures, plots, sweep_table
 from ..analysis import ENGINES
 from ..errors import InputError
-from ..executors import DaskExecutor, ProcessExecutor, SerialExecutor, available_cores
+from ..executors import DaskExecutor, ProcessExecutor, SerialExecutor, available_cores, import_distributed
 from ..sweep import SUPPORTS, SweepPlan, Vary, parse_choices, plan_sweep
 from ..sweep_run import NoProgress, RowStore, run_sweep
 from . import render
@@ -50,6 +50,7 @@ def choose_executor(plan: SweepPlan, workers: int | None, scheduler: str | None,
     if dask is not None and dask != "local":
         raise InputError("--dask", dask, "'local' (or give --scheduler tcp://host:port)")
     if scheduler is not None or dask is not None:
+        import_distributed()  # the extra is installed, before anything runs
         address = None if (scheduler in (None, "local")) else scheduler
         return DaskExecutor(address, workers or min(available_cores(), 4))
     if workers is not None:
@@ -109,8 +110,8 @@ def _finish(rows: list[dict], criteria: bool) -> None:
     violating = [row for row in rows if row.get("violations")] if criteria else []
     for row in violating:
         inputs = ", ".join(f"{k}={v}" for k, v in row.items() if "." in k)
-        typer.echo(f"criterion violated: case {row['case']} ({inputs}{', ' if inputs else ''}{row['engine']}/"
-                   f"{row['support']}): {row['violations']}", err=True)
+        typer.echo(f"criterion violated: case {row['case']}{f' ({inputs})' if inputs else ''}: {row['violations']}",
+                   err=True)
     if failed:
         raise typer.Exit(EXIT_ANALYSIS)
     if violating:

@@ -1,0 +1,247 @@
+"""`uplift sweep`, `uplift spectra` and `uplift analyze` with several decks, end to end."""
+
+import csv
+import io
+import json
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from upliftcli.analysis import run_one
+from upliftcli.cli import app
+from upliftcli.deck import load_deck
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
+RECORD = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
+PNG = b"\x89PNG\r\n\x1a\n"
+
+runner = CliRunner()
+
+
+def invoke(*args, env=None):
+    return runner.invoke(app, [str(a) for a in args], env={"CI": "true", **(env or {})})
+
+
+def read_csv(path):
+    return list(csv.DictReader(io.StringIO(Path(path).read_text())))
+
+
+@pytest.fixture()
+def deck_dir(tmp_path):
+    (tmp_path / "inputs").mkdir()
+    (tmp_path / "records").mkdir()
+    shutil.copy(EXAMPLE, tmp_path / "inputs" / "deck.toml")
+    shutil.copy(RECORD, tmp_path / "records" / RECORD.name)
+    return tmp_path
+
+
+def test_sweep_writes_the_tidy_table_and_prints_the_envelope(tmp_path):
+    result = invoke("sweep", EXAMPLE, "--vary", "foundation.k_f=1e8:1e10:3:log", "--vary", "building.period=0.5,1.5",
+                    "--support", "bonded,uplift", "--out", tmp_path, "--workers", "1")
+    assert result.exit_code == 0, result.output
+    for words in ("Varied fields", "Governing cases", "Envelope over foundation.k_f", "ASCE 7-22", "V/W lo"):
+        assert words in result.stdout
+    assert "sweep: 12 cases to run" in result.stderr and "12/12 cases" in result.stderr  # plain progress (CI)
+    rows = read_csv(tmp_path / "ten_story_elcentro.sweep.csv")
+    assert len(rows) == 12
+    header = list(rows[0])
+    assert header[:5] == ["case", "engine", "support", "foundation.k_f", "building.period"]
+    assert header.index("base_shear_N") < header.index("status")
+    assert {r["status"] for r in rows} == {"ok"}
+    doc = json.loads((tmp_path / "ten_story_elcentro.sweep.json").read_text())
+    assert doc["units"]["foundation.k_f"] == "N/m" and doc["units"]["base_moment_Nm"] == "N m"
+    assert [r["base_shear_N"] for r in doc["rows"]] == [float(r["base_shear_N"]) for r in rows]
+    assert len((tmp_path / "ten_story_elcentro.sweep.rows.jsonl").read_text().splitlines()) == 12
+    # a row equals the single analysis with the same --set values
+    row = rows[7]
+    deck = load_deck(EXAMPLE, [f"foundation.k_f={row['foundation.k_f']}", f"building.period={row['building.period']}"])
+    single = run_one(deck, row["engine"], row["support"])
+    assert float(row["base_moment_Nm"]) == single.base_moment
+    assert (row["uplift"] == "true") is single.uplift
+
+
+def test_sweep_json_on_stdout_and_quiet(tmp_path):
+    result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--support", "rigid", "--out", tmp_path,
+                    "--format", "json", "--quiet", "--table", "csv")
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.stdout)
+    assert [r["building.period"] for r in doc["rows"]] == [0.5, 1.0]
+    assert doc["summary"]["governing"]["base_shear_coefficient"]["case"] in (0, 1)
+    assert "cases to run" not in result.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ten_story_elcentro.sweep.csv",
+                                                          "ten_story_elcentro.sweep.rows.jsonl"]
+
+
+def test_sweep_criteria_exit_3_lists_the_cases(tmp_path):
+    result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,3", "--support", "rigid", "--out", tmp_path,
+                    "--set", "criteria.drift_ratio=0.005", "--quiet")
+    assert result.exit_code == 3, result.output
+    lines = [line for line in result.stderr.splitlines() if line.startswith("criterion violated")]
+    assert len(lines) == 1 and "case 1 (building.period=3): simplified/rigid: drift_ratio" in lines[0]
+    rows = read_csv(tmp_path / "ten_story_elcentro.sweep.csv")
+    assert rows[0]["violations"] == "" and "drift_ratio" in rows[1]["violations"]
+
+
+def test_failed_case_is_reported_and_exits_4(tmp_path):
+    result = invoke("sweep", EXAMPLE, "--engine", "exact", "--support", "rigid", "--out", tmp_path, "--quiet",
+                    "--set", "ground_motion.window=[0, 4]", "--vary", "analysis.exact.time_step=[1e-7, 0.005]")
+    assert result.exit_code == 4, result.output
+    assert "case 0 (exact/rigid) failed:" in result.stderr and "steps would be needed" in result.stderr
+    rows = read_csv(tmp_path / "ten_story_elcentro.sweep.csv")
+    assert [r["status"] for r in rows] == ["failed", "ok"]
+    assert rows[0]["base_shear_N"] == "" and float(rows[1]["base_shear_N"]) > 0
+
+
+def test_previous_rows_need_resume_or_overwrite(tmp_path):
+    args = ["sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--support", "rigid", "--out", tmp_path, "--quiet"]
+    assert invoke(*args).exit_code == 0
+    first = (tmp_path / "ten_story_elcentro.sweep.csv").read_text()
+    result = invoke(*args)
+    assert result.exit_code == 2 and "--resume" in result.stderr and "--overwrite" in result.stderr
+    assert invoke(*args, "--resume").exit_code == 0
+    assert invoke(*args, "--overwrite").exit_code == 0
+    assert (tmp_path / "ten_story_elcentro.sweep.csv").read_text() == first
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--vary", "foundation.bb=1,2"], "--vary: foundation.bb"),
+    (["--vary", "foundation.b=-1,2"], "--vary: foundation.b"),
+    (["--vary", "building.period=1:2"], "START:STOP:N"),
+    (["--engine", "fast"], "--engine: fast"),
+    (["--workers", "0"], "--workers"),
+    (["--dask", "remote"], "--dask"),
+    (["--plot", "--plot-format", "jpg"], "--plot-format"),
+])
+def test_sweep_bad_input_exit_2_no_files(tmp_path, args, words):
+    out = tmp_path / "out"
+    result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--out", out, *args)
+    assert result.exit_code == 2, result.output
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and words in lines[0] and "Traceback" not in result.output
+    assert not out.exists()
+
+
+def test_missing_extras_are_named(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "pyarrow", None)
+    result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--out", tmp_path, "--table", "parquet")
+    assert result.exit_code == 2 and "uplift[parquet]" in result.stderr
+    monkeypatch.setitem(sys.modules, "distributed", None)
+    result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--out", tmp_path, "--dask", "local")
+    assert result.exit_code == 2 and "uplift[dask]" in result.stderr
+    assert not list(tmp_path.iterdir())
+
+
+def test_parquet_table_matches_the_csv(tmp_path):
+    pyarrow_parquet = pytest.importorskip("pyarrow.parquet")
+    result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1,2", "--support", "uplift", "--out", tmp_path,
+                    "--table", "parquet", "--quiet")
+    assert result.exit_code == 0, result.output
+    table = pyarrow_parquet.read_table(tmp_path / "ten_story_elcentro.sweep.parquet")
+    rows = read_csv(tmp_path / "ten_story_elcentro.sweep.csv")
+    assert table.column("base_shear_N").to_pylist() == [float(r["base_shear_N"]) for r in rows]
+    assert table.column("uplift").to_pylist() == [r["uplift"] == "true" for r in rows]
+    assert json.loads(table.schema.metadata[b"units"])["building.period"] == "s"
+
+
+def test_sweep_plot_is_written(tmp_path):
+    result = invoke("sweep", EXAMPLE, "--vary", "foundation.k_f=1e8:1e10:3:log", "--out", tmp_path, "--plot",
+                    "--quiet")
+    assert result.exit_code == 0, result.output
+    data = (tmp_path / "ten_story_elcentro.sweep.png").read_bytes()
+    assert data.startswith(PNG) and len(data) > 10_000
+
+
+def test_killed_sweep_resumes_to_the_same_table(deck_dir):
+    """Kill the process (SIGKILL) after a few rows, tear the last line, resume: the final table is
+    the one of an uninterrupted run (which here runs on 2 local worker processes)."""
+    deck = deck_dir / "inputs" / "deck.toml"
+    common = ["sweep", str(deck), "--engine", "exact", "--support", "uplift", "--set", "ground_motion.window=[0, 8]",
+              "--vary", "building.period=0.3:2:40", "--quiet"]
+    killed = deck_dir / "killed"
+    process = subprocess.Popen([sys.executable, "-c", "from upliftcli.cli import main; main()", *common,
+                                "--out", str(killed), "--workers", "1"], stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE)
+    rows_path = killed / "deck.sweep.rows.jsonl"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and process.poll() is None:
+        if rows_path.exists() and len(rows_path.read_bytes().splitlines()) >= 3:
+            process.send_signal(signal.SIGKILL)
+            break
+        time.sleep(0.005)
+    process.wait()
+    assert process.returncode == -signal.SIGKILL, process.stderr.read().decode()
+    kept = len(rows_path.read_text().splitlines())
+    assert 3 <= kept < 40
+    assert not (killed / "deck.sweep.csv").exists()
+    with open(rows_path, "a") as handle:
+        handle.write('{"case": 39, "key": "torn')
+    resumed = invoke(*common, "--out", killed, "--resume", "--workers", "1")
+    assert resumed.exit_code == 0, resumed.output
+    whole = invoke(*common, "--out", deck_dir / "whole", "--workers", "2")
+    assert whole.exit_code == 0, whole.output
+    assert (killed / "deck.sweep.csv").read_text() == (deck_dir / "whole" / "deck.sweep.csv").read_text()
+    assert len(read_csv(killed / "deck.sweep.csv")) == 40
+
+
+def test_spectra_writes_data_and_paper_figures(tmp_path):
+    result = invoke("spectra", EXAMPLE, "--periods", "0.2:2:4", "--out", tmp_path, "--plot-format", "png,svg",
+                    "--workers", "1")
+    assert result.exit_code == 0, result.output
+    assert "uplift for T_1 [s]" in result.stdout
+    rows = read_csv(tmp_path / "ten_story_elcentro.spectra.csv")
+    assert len(rows) == 4 * 3
+    periods = sorted({float(r["building.period"]) for r in rows})
+    assert periods == pytest.approx([0.2, 0.2 * 10 ** (1 / 3), 0.2 * 10 ** (2 / 3), 2.0])
+    row = next(r for r in rows if r["support"] == "uplift" and float(r["building.period"]) == 2.0)
+    single = run_one(load_deck(EXAMPLE, ["building.period=2.0"]), "simplified", "uplift")
+    assert float(row["base_shear_coefficient"]) == single.base_shear_coefficient
+    for name in ("base_shear_simplified", "base_moment_simplified", "modal_simplified"):
+        png = (tmp_path / f"ten_story_elcentro.spectra.{name}.png").read_bytes()
+        assert png.startswith(PNG) and len(png) > 10_000
+        svg = (tmp_path / f"ten_story_elcentro.spectra.{name}.svg").read_text()
+        assert "<svg" in svg and "critical b/h" in svg and "fixed-base fundamental period T" in svg
+    assert not list(tmp_path.glob("*engines*"))  # one engine: no comparison figure
+
+
+def test_spectra_bad_periods(tmp_path):
+    result = invoke("spectra", EXAMPLE, "--periods", "0:2:4", "--out", tmp_path)
+    assert result.exit_code == 2 and "--periods" in result.stderr
+
+
+# ----------------------------------------------------------------------------- analyze, several decks
+
+def test_analyze_several_decks_one_summary(deck_dir):
+    second = deck_dir / "inputs" / "second.toml"
+    second.write_text((deck_dir / "inputs" / "deck.toml").read_text().replace("period = 0.5", "period = 2.0"))
+    decks = [deck_dir / "inputs" / "deck.toml", second]
+    result = invoke("analyze", *decks)
+    assert result.exit_code == 0, result.output
+    assert "Summary of 2 decks" in result.stdout and "second.toml" in result.stdout
+    assert "rigid support" not in result.stdout  # no per-deck story tables
+    doc = json.loads(invoke("analyze", *decks, "--format", "json", "--support", "rigid").stdout)
+    assert [d["periods"][0] for d in doc["decks"]] == pytest.approx([0.5, 2.0])
+    out = deck_dir / "results"
+    result = invoke("analyze", *decks, "--out", out, "--set", "criteria.drift_ratio=0.004", "--support", "rigid")
+    assert result.exit_code == 3
+    violated = [line for line in result.stderr.splitlines() if line.startswith("criterion violated")]
+    assert len(violated) == 1 and "second.toml: simplified/rigid: drift_ratio" in violated[0]
+    assert sorted(p.name for p in out.iterdir()) == sorted(f"{s}.{e}" for s in ("deck", "second")
+                                                           for e in ("csv", "json", "toml"))
+
+
+def test_analyze_several_decks_bad_one_stops_before_output(deck_dir):
+    bad = deck_dir / "inputs" / "bad.toml"
+    bad.write_text((deck_dir / "inputs" / "deck.toml").read_text().replace("floor_mass", "flor_mass"))
+    out = deck_dir / "results"
+    result = invoke("analyze", deck_dir / "inputs" / "deck.toml", bad, "--out", out)
+    assert result.exit_code == 2 and result.stdout == "" and "building.flor_mass" in result.stderr
+    assert not out.exists()
+    twice = invoke("analyze", EXAMPLE, deck_dir / "inputs" / "deck.toml", EXAMPLE, "--out", out)
+    assert twice.exit_code == 2 and "given twice" in twice.stderr
