@@ -137,7 +137,8 @@ class ProcessExecutor:
         """Run the chunks on a fresh pool; return the chunks of a broken pool (a worker died)."""
         pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker,
                                    initargs=(queue, self.runner))
-        futures = {pool.submit(_worker_run_chunk, chunk): chunk for chunk in chunks}
+        with _sigint_ignored():  # processes are started by submit; they ignore Ctrl-C from birth
+            futures = {pool.submit(_worker_run_chunk, chunk): chunk for chunk in chunks}
         leftovers = []
 
         def drain() -> None:
@@ -183,6 +184,20 @@ def import_distributed():
     return distributed
 
 
+@contextlib.contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """Ignore SIGINT while child processes are started (an ignored signal stays ignored in them)."""
+    try:
+        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:  # not the main thread: leave the signals alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 class DaskExecutor:
     """Chunks as tasks on a Dask cluster: `address` (tcp://host:8786) or a LocalCluster of
     `workers` processes on loopback (address None)."""
@@ -199,9 +214,10 @@ class DaskExecutor:
 
         with contextlib.ExitStack() as stack:
             if self.address is None:
-                cluster = stack.enter_context(distributed.LocalCluster(
-                    n_workers=self.workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                    dashboard_address=None, silence_logs=logging.ERROR, env=dict(WORKER_ENVIRONMENT)))
+                with _sigint_ignored():  # the worker processes inherit it: Ctrl-C is ours to handle
+                    cluster = stack.enter_context(distributed.LocalCluster(
+                        n_workers=self.workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                        dashboard_address=None, silence_logs=logging.ERROR, env=dict(WORKER_ENVIRONMENT)))
                 address = cluster.scheduler_address
             else:
                 address = self.address

@@ -114,5 +114,7 @@ def run_sweep(plan: SweepPlan, executor, store: RowStore, *, resume: bool = Fals
     finally:
         store.close()
         progress.stop()
+    if interrupted:  # Ctrl-C may land between writing a row and recording it: the file is the truth
+        rows.update({key: row for key, row in store.read().items() if key in keys and key not in rows})
     ordered = [rows[case.key] for case in plan.cases if case.key in rows]
     return SweepOutcome(ordered, len(plan.cases), len(kept), interrupted)
