@@ -245,3 +245,27 @@ def test_analyze_several_decks_bad_one_stops_before_output(deck_dir):
     assert not out.exists()
     twice = invoke("analyze", EXAMPLE, deck_dir / "inputs" / "deck.toml", EXAMPLE, "--out", out)
     assert twice.exit_code == 2 and "given twice" in twice.stderr
+
+
+def test_progress_displays():
+    from rich.console import Console
+
+    from upliftcli.cli.sweep_render import PlainProgress, RichProgress
+
+    stream = io.StringIO()
+    plain = PlainProgress("sweep", interval=0.0, stream=stream)
+    plain.start(4, 1)
+    for status in ("ok", "failed", "ok"):
+        plain.advance({"status": status})
+    plain.stop()
+    lines = stream.getvalue().splitlines()
+    assert lines[0] == "sweep: 3 cases to run (1 kept from the previous run)"
+    assert lines[1].startswith("sweep: 2/4 cases, ") and "ETA" in lines[1]
+    assert lines[-1].startswith("sweep: 4/4 cases (1 failed), ") and "cases/s" in lines[-1] and "ETA" not in lines[-1]
+    screen = io.StringIO()
+    bar = RichProgress(Console(file=screen, force_terminal=True, width=100), "spectra")
+    bar.start(3, 0)
+    for status in ("ok", "failed", "ok"):
+        bar.advance({"status": status})
+    bar.stop()
+    assert "spectra" in screen.getvalue() and "3/3" in screen.getvalue() and "1 failed" in screen.getvalue()

@@ -338,7 +338,8 @@ def run_case(chunk: Chunk, case: Case, decks: dict) -> dict[str, Any]:
         deck_key = json.dumps([list(o) for o in case.overrides], default=str)
         if deck_key not in decks:
             decks.clear()  # cases sharing a deck are adjacent
-            decks[deck_key] = build_case_deck(chunk.raw, chunk.source, list(chunk.base_overrides) + list(case.overrides))
+            overrides = list(chunk.base_overrides) + list(case.overrides)
+            decks[deck_key] = build_case_deck(chunk.raw, chunk.source, overrides)
         deck = decks[deck_key]
         return case_row(case, deck, run_one(deck, case.engine, case.support))
     except (InputError, AnalysisError) as error:

@@ -35,7 +35,7 @@ def _overrides(settings: list[str], engines: list[str], supports: list[str]) -> 
 
 
 def analyze(
-    decks: list[Path] = typer.Argument(..., help="Deck file(s) (TOML), see docs/deck.md; several give one summary table."),
+    decks: list[Path] = typer.Argument(..., help="Deck file(s) (TOML), see docs/deck.md; several: one summary table."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     engine: list[str] = typer.Option([], "--engine", "-e",
                                      help="Engine(s): simplified, approximate, exact (default: the deck's)."),

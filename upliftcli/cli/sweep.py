@@ -22,7 +22,7 @@ from .sweep_render import PlainProgress, RichProgress, print_summary, use_rich_p
 
 EXIT_CRITERIA, EXIT_ANALYSIS, EXIT_INTERRUPTED = 3, 4, 130
 VARY_HELP = ("Vary a deck field (same dotted paths as --set): PATH=START:STOP:N (linear), PATH=START:STOP:N:log, "
-             "PATH=a,b,c or PATH=[a, b]; repeatable, cases are the cartesian product.")
+             "PATH=a,b,c or PATH=\\[a, b]; repeatable, cases are the cartesian product.")
 ENGINE_HELP = "Engine(s): simplified, approximate, exact or all; repeatable or comma separated (default: the deck's)."
 SUPPORT_HELP = "Support condition(s): rigid, bonded, uplift; repeatable or comma separated (default: the deck's)."
 WORKERS_HELP = ("Local worker processes (default: all cores when the sweep is long enough to gain from them, "
@@ -127,7 +127,7 @@ def sweep(
     out: Path = typer.Option(Path("."), "--out", "-o", help="Directory of the output files."),
     name: str | None = typer.Option(None, "--name", help="Stem of the output files (default: <deck>.sweep)."),
     table: TableFormat = typer.Option(TableFormat.json, "--table",
-                                      help="Besides <stem>.csv: <stem>.json (rows + summary), .parquet, or none (csv)."),
+                                      help="Besides <stem>.csv: <stem>.json (rows, summary), .parquet or none (csv)."),
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f",
                                                help="table (summary on the terminal) or json (document on stdout)."),
     plot: bool = typer.Option(False, "--plot", help="Plot the responses against the first varied field."),
@@ -142,9 +142,9 @@ def sweep(
 ) -> None:
     """Analyse a deck over ranges of its fields: one tidy row per case, summary and envelope.
 
-    Rows are appended to <out>/<stem>.rows.jsonl as cases finish; at the end <stem>.csv and
-    <stem>.json (or .parquet) are written. Exit codes: 0 ok, 2 bad input, 3 an acceptance
-    limit (the deck's criteria table) is exceeded by a case, 4 a case failed, 130 interrupted.
+    Rows are appended to <out>/<stem>.rows.jsonl as cases finish; <stem>.csv and .json (or .parquet) at the end.
+
+    Exit codes: 0 ok, 2 bad input, 3 a case exceeds a limit of the deck's criteria, 4 a case failed, 130 interrupted.
     """
     plot_path = plots.check_figure_path(out / f"{name or deck.stem + '.sweep'}.{plot_format}", "--plot-format") \
         if plot else None
@@ -188,9 +188,11 @@ def spectra(
     overwrite: bool = typer.Option(False, "--overwrite", help="Discard the rows of a previous run."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress."),
 ) -> None:
-    """The paper's response spectra over T_1: V_b/(m_t g) and M_b/(m_t g h_1*) for rigid, bonded and
-    uplift (Figs. 3-4), modal contributions (Fig. 7) and the engines compared (Figs. 6, 8-10),
-    with the critical value b/h_1*. Writes <stem>.csv, <stem>.json and one plot per figure.
+    """The paper's response spectra over T_1 (Yim & Chopra Figs. 3-4, 6-10), with the critical value b/h_1*.
+
+    V_b/(m_t g) and M_b/(m_t g h_1*) for rigid, bonded and uplift, modal contributions, engines compared.
+
+    Writes <stem>.csv, <stem>.json and one plot per figure.
 
     Exit codes: 0 ok, 2 bad input, 4 a case failed, 130 interrupted.
     """
@@ -234,7 +236,8 @@ def _print_spectra_summary(plan: SweepPlan, rows: list[dict]) -> None:
             top = max(mine, key=lambda r: r["base_shear_coefficient"])
             lifted = [r[figures.PERIOD_PATH] for r in mine if r["uplift"]]
             table.add_row(engine, support, f"{top['base_shear_coefficient']:.4g}", f"{top[figures.PERIOD_PATH]:.4g}",
-                          f"{max(r['base_moment_coefficient'] for r in mine):.4g}", f"{top['critical_coefficient']:.4g}",
+                          f"{max(r['base_moment_coefficient'] for r in mine):.4g}",
+                          f"{top['critical_coefficient']:.4g}",
                           f"{min(lifted):.3g} .. {max(lifted):.3g}" if lifted else "none")
     render.console().print(table)
 

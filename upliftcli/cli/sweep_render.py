@@ -139,8 +139,12 @@ def envelope_table(summary: dict) -> Table | None:
     group_paths = list(groups[0]["group"])
     columns = []  # (header, output, key)
     for name in SUMMARY_OUTPUTS:
-        keys = (("at_lower_bound", "lo"), ("at_upper_bound", "up"), ("highest", "max")) if bounds \
-            and name != "max_drift_ratio" else (("highest", "max"),) if bounds else (("lowest", "min"), ("highest", "max"))
+        if not bounds:
+            keys = (("lowest", "min"), ("highest", "max"))
+        elif name == "max_drift_ratio":
+            keys = (("highest", "max"),)
+        else:
+            keys = (("at_lower_bound", "lo"), ("at_upper_bound", "up"), ("highest", "max"))
         columns += [(f"{SHORT[name]} {word}", name, key) for key, word in keys]
     for header in group_paths:
         table.add_column(escape(header), justify="right", no_wrap=True)
