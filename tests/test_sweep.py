@@ -345,3 +345,15 @@ def test_case_dataclass_is_picklable():
     case = Case(0, "k", (("building.period", 0.5),), "simplified", "rigid")
     chunk = Chunk({"a": 1}, "deck.toml", (), [case])
     assert pickle.loads(pickle.dumps(chunk)) == chunk
+
+
+def test_ground_motion_cache_follows_the_varied_record_fields():
+    """Rigid base, simplified engine: linear, so the base shear is proportional to the record scale.
+    Each scale must get its own record (the worker caches records by their fields)."""
+    plan = plan_sweep(EXAMPLE, [], ["ground_motion.scale=0.5,1,2.5", "building.period=0.4,1.3"], ["simplified"],
+                      ["rigid"])
+    rows = run_chunk(make_chunks(plan, plan.cases, len(plan.cases))[0])
+    by_input = {(r["ground_motion.scale"], r["building.period"]): r["base_shear_N"] for r in rows}
+    for period in (0.4, 1.3):
+        assert by_input[(0.5, period)] == pytest.approx(0.5 * by_input[(1, period)], rel=1e-12)
+        assert by_input[(2.5, period)] == pytest.approx(2.5 * by_input[(1, period)], rel=1e-12)
