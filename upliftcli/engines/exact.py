@@ -21,11 +21,11 @@ from ..results import AnalysisResult
 from ..system import System
 from . import single_threaded_blas
 from .response import (
-    energy_balance, hermite_peaks, interval_lengths, response_maps, state_derivatives, time_at,
-    uplift_summary, lifted_flags,
+    energy_balance, hermite_peaks, interval_lengths, lifted_flags, response_maps, signals, time_at,
+    uplift_summary,
 )
 from .simulate import History, simulate
-from .statespace import ModalModel, element_directions, modal_map, position_map
+from .statespace import ModalModel
 
 SUPPORTS = ("rigid", "bonded", "uplift")
 #: a step count beyond this cannot be afforded: the analysis is refused with a message
@@ -150,19 +150,17 @@ def run_history(system: System, model: ModalModel, acceleration: np.ndarray, dt:
 def summarize(system: System, history: History, support: str, engine: str, options: ExactOptions,
               shapes_star: np.ndarray) -> AnalysisResult:
     """Peak responses, uplift summary, energy balance and (optionally) histories."""
-    model, lay = history.model, history.layout
+    model = history.model
     maps = response_maps(system.building, shapes_star, model.omega)
-    to_modal = modal_map(model, lay) @ position_map(model, lay)
-    rows = np.vstack((maps.displacement, maps.drift, maps.shear, maps.moment, maps.modal_base_shear)) @ to_modal
+    sig = signals(history)
+    rows = maps.stacked()
     n = system.building.n_stories
-    values = history.states @ rows.T
-    start, end = state_derivatives(history)
-    peaks, where = hermite_peaks(values, start @ rows.T, end @ rows.T, interval_lengths(history))
+    peaks, where = hermite_peaks(rows @ sig["Y"], sig, rows, interval_lengths(history))
     displacement, drift, shear, moment = (peaks[k * n:(k + 1) * n] for k in range(4))
     modal_shear = peaks[4 * n:]
-    summary = uplift_summary(history)
-    uplifted = bool(lifted_flags(history).any()) if lay.n_elements else False
-    energy = energy_balance(history, start, end)
+    summary = uplift_summary(history, sig)
+    uplifted = bool(lifted_flags(history).any()) if history.layout.n_elements else False
+    energy = energy_balance(history, sig)
     details = {
         "base_shear_time": time_at(history, where[2 * n]),
         "base_moment_time": time_at(history, where[3 * n]),
@@ -171,7 +169,7 @@ def summarize(system: System, history: History, support: str, engine: str, optio
         "energy": energy,
     }
     if options.histories:
-        details["histories"] = histories(system, history, maps, to_modal)
+        details["histories"] = histories(system, history, maps, sig)
     intermediates = {
         "T1": float(system.modes.periods[0]),
         "n_modes": model.n_modes,
@@ -191,29 +189,27 @@ def summarize(system: System, history: History, support: str, engine: str, optio
     )
 
 
-def histories(system: System, history: History, maps, to_modal: np.ndarray) -> dict[str, np.ndarray]:
+def histories(system: System, history: History, maps, sig) -> dict[str, np.ndarray]:
     """Time histories at every sample (SI units) for --histories."""
-    model, lay = history.model, history.layout
-    y = history.states @ to_modal.T
+    model = history.model
+    y = sig["Y"]
     out = {
         "time": history.times,
-        "ground_acceleration": history.states[:, lay.index_acceleration],
-        "base_shear": y @ maps.shear[0],
-        "base_moment": y @ maps.moment[0],
-        "roof_displacement": y @ maps.displacement[-1],
+        "ground_acceleration": sig["a"][0],
+        "base_shear": maps.shear[0] @ y,
+        "base_moment": maps.moment[0] @ y,
+        "roof_displacement": maps.displacement[-1] @ y,
     }
     if model.flexible:
-        p = history.states @ position_map(model, lay).T
-        out["theta"] = p[:, model.n_modes]
-        out["v"] = p[:, model.n_modes + 1]
-        edge = p @ element_directions(model).T
-        out["left_edge_displacement"] = edge[:, 0]
-        out["right_edge_displacement"] = edge[:, -1]
+        out["theta"] = sig["theta"][0]
+        out["v"] = sig["v"][0]
+        out["left_edge_displacement"] = sig["element_displacement"][0]
+        out["right_edge_displacement"] = sig["element_displacement"][-1]
         patterns = np.array([sum(int(f) << i for i, f in enumerate(c.lifted)) for c in history.contact])
         out["contact_state"] = patterns[history.state_ids]
-    drifts = y @ maps.drift.T
+    drifts = maps.drift @ y
     for j in range(system.building.n_stories):
-        out[f"drift_{j + 1}"] = drifts[:, j]
+        out[f"drift_{j + 1}"] = drifts[j]
     return out
 
 

@@ -1,10 +1,15 @@
 """Response quantities of a simulated history: peaks between samples, uplift summary, energy.
 
-Responses are linear in the state (paper Eqs. 12-14): floor displacements
-u = sum Y_n* phi_n*, drifts, equivalent lateral forces f = M Phi* w^2 Y*, story shears
-and overturning moments by statics. Peaks between samples come from the cubic Hermite
-interpolant through the sampled values and their exact time derivatives (X' = A X),
-which is accurate to O(h^4) between samples (THEORY.md section 9, last item).
+Everything is read off a few linear functionals of the state ("signals"): the modal
+coordinates Y* and their rates, theta, v, the ground acceleration, the input force
+rate, and each element's displacement, velocity and relaxed top z_i. With X' = A X each
+signal's exact time derivative at a sample is one more row, so:
+- responses (paper Eqs. 12-14: floor displacements u = sum Y_n* phi_n*, drifts,
+  equivalent lateral forces, story shears and overturning moments by statics) and
+  their peaks between samples come from the cubic Hermite interpolant through the
+  sampled values and exact slopes (O(h^4) between samples; THEORY.md section 9);
+- work integrals of the energy balance use 3-point Gauss quadrature on the same
+  Hermite interpolants.
 """
 
 from __future__ import annotations
@@ -14,13 +19,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..structure import Building
+from . import postkernel
 from .simulate import History
 from .statespace import coordinate_masses, element_directions, modal_map, position_map, structure_matrices
 
-#: samples whose value is within this fraction of the sampled peak are refined
-_CANDIDATE_FRACTION = 0.8
-_GAUSS_NODES = 0.5 * (1.0 + np.array([-np.sqrt(3.0 / 5.0), 0.0, np.sqrt(3.0 / 5.0)]))
-_GAUSS_WEIGHTS = np.array([5.0, 8.0, 5.0]) / 18.0
 
 
 @dataclass(frozen=True)
@@ -33,77 +35,102 @@ class ResponseMaps:
     moment: np.ndarray
     modal_base_shear: np.ndarray  # diag(w^2 m*): base shear of each mode [N per m]
 
+    def stacked(self) -> np.ndarray:
+        return np.vstack((self.displacement, self.drift, self.shear, self.moment, self.modal_base_shear))
+
 
 def response_maps(building: Building, shapes_star: np.ndarray, omega: np.ndarray) -> ResponseMaps:
-    """Linear maps of [12], [13b], statics of story shear and overturning moment."""
+    """Linear maps of [12], [13b], and statics of story shear and overturning moment."""
     n = building.n_stories
-    displacement = shapes_star
     below = np.vstack((np.zeros((1, shapes_star.shape[1])), shapes_star[:-1]))
-    drift = shapes_star - below
     forces = building.masses[:, None] * shapes_star * omega**2
-    above = np.triu(np.ones((n, n)))  # above[j, i] = 1 for i >= j
-    shear = above @ forces
+    above = np.triu(np.ones((n, n)))  # above[j, i] = 1 for floors i >= j
     base_of_story = np.concatenate(([0.0], building.heights[:-1]))
     lever = np.clip(building.heights[None, :] - base_of_story[:, None], 0.0, None) * above
-    moment = lever @ forces
-    modal_base_shear = np.diag(forces.sum(axis=0))
-    return ResponseMaps(displacement, drift, shear, moment, modal_base_shear)
+    return ResponseMaps(shapes_star, shapes_star - below, above @ forces, lever @ forces,
+                        np.diag(forces.sum(axis=0)))
 
 
-def state_derivatives(history: History) -> tuple[np.ndarray, np.ndarray]:
-    """X' at the start and at the end of every interval, each with the interval's state matrix."""
-    states, ids = history.states, history.state_ids
-    start = np.empty_like(states)
-    for s, contact in enumerate(history.contact):
-        mask = ids == s
-        if mask.any():
-            start[mask] = states[mask] @ contact.matrix.T
-    end = start[1:].copy()
-    switch = np.nonzero(ids[1:] != ids[:-1])[0]
-    for i in switch:
-        end[i] = history.contact[ids[i]].matrix @ states[i + 1]
-    return start[:-1], end
-
-
-def hermite_peaks(values: np.ndarray, slopes_start: np.ndarray, slopes_end: np.ndarray,
-                  lengths: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Peak |r| of each column of values (n, m) and the time index fraction where it occurs.
-
-    slopes_start/end: dr/dt at the start and end of each interval (n-1, m); lengths (n-1,).
-    Returns (peak (m,), location (m,) as interval index + fraction).
+@dataclass
+class Signals:
+    """Signals as rows over the samples: values (k, n) and slopes (k, n) at the samples, with
+    the slopes taken in the state valid from each sample on. At a contact transition the rates
+    (theta', v', element velocities) jump: `switch[i]` >= 0 marks an interval i that ends at a
+    transition, and `end_values[switch[i]]`, `end_slopes[switch[i]]` (k,) hold its left limits.
     """
-    magnitude = np.abs(values)
-    sampled = magnitude.max(axis=0)
-    best = sampled.copy()
-    where = magnitude.argmax(axis=0).astype(float)
-    interval_max = np.maximum(magnitude[:-1], magnitude[1:])
-    rows, cols = np.nonzero(interval_max >= _CANDIDATE_FRACTION * sampled)
-    if rows.size == 0:
-        return best, where
-    r0, r1 = values[rows, cols], values[rows + 1, cols]
-    length = lengths[rows]
-    d0, d1 = slopes_start[rows, cols] * length, slopes_end[rows, cols] * length
-    a = 2.0 * (r0 - r1) + d0 + d1
-    b = 3.0 * (r1 - r0) - 2.0 * d0 - d1
-    c = d0
-    # roots of 3 a s^2 + 2 b s + c = 0 in (0, 1)
-    disc = np.maximum(4.0 * b * b - 12.0 * a * c, 0.0)
-    sq = np.sqrt(disc)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        quadratic = np.abs(a) > 1e-14 * (np.abs(b) + np.abs(c) + 1e-300)
-        s1 = np.where(quadratic, (-2.0 * b + sq) / (6.0 * a), -c / (2.0 * b))
-        s2 = np.where(quadratic, (-2.0 * b - sq) / (6.0 * a), -c / (2.0 * b))
-    for s in (s1, s2):
-        s = np.where(np.isfinite(s) & (s > 0.0) & (s < 1.0), s, 0.0)
-        value = np.abs(((a * s + b) * s + c) * s + r0)
-        better = value > best[cols]
-        # several candidates per column: keep the largest
-        order = np.argsort(value)
-        for k in order[better[order]]:
-            if value[k] > best[cols[k]]:
-                best[cols[k]] = value[k]
-                where[cols[k]] = rows[k] + s[k]
-    return best, where
+
+    values: np.ndarray
+    slopes: np.ndarray
+    switch: np.ndarray
+    end_values: np.ndarray
+    end_slopes: np.ndarray
+    rows: dict[str, slice]
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.values[self.rows[name]]
+
+    def end(self, name: str) -> np.ndarray:
+        """Values of a signal at the end of every interval (left limits), (k_name, n - 1)."""
+        out = self.values[self.rows[name], 1:].copy()
+        at = np.nonzero(self.switch >= 0)[0]
+        out[:, at] = self.end_values[self.switch[at]][:, self.rows[name]].T
+        return out
+
+
+def signals(history: History) -> Signals:
+    """Evaluate the signal rows of every contact state at its samples (grouped matrix products)."""
+    model, lay = history.model, history.layout
+    n_m, n_e = model.n_modes, lay.n_elements
+    position = position_map(model, lay)
+    to_modal = modal_map(model, lay)
+    _, _, forcing_ground, _ = structure_matrices(model)
+    sizes = [("Y", n_m), ("Ydot", n_m), ("theta", 1), ("v", 1), ("a", 1), ("input", 1),
+             ("element_velocity", n_e), ("element_displacement", n_e), ("z", n_e)]
+    names, start = {}, 0
+    for name, size in sizes:
+        names[name] = slice(start, start + size)
+        start += size
+    e = element_directions(model) if n_e else np.zeros((0, lay.n_p))
+    rows_by_state = []
+    for contact in history.contact:
+        rows = np.zeros((start, lay.n_aug))
+        rows[names["Y"]] = to_modal @ position
+        rows[names["Ydot"]] = to_modal @ contact.velocity
+        if model.flexible:
+            rows[names["theta"]] = position[n_m]
+            rows[names["v"]] = position[n_m + 1]
+        rows[names["a"].start, lay.index_acceleration] = 1.0
+        rows[names["input"]] = forcing_ground @ contact.velocity
+        rows[names["element_velocity"]] = e @ contact.velocity
+        rows[names["element_displacement"]] = e @ position
+        for i in range(n_e):
+            rows[names["z"].start + i, lay.z_index(i)] = 1.0
+        rows_by_state.append(np.vstack((rows, rows @ contact.matrix)))
+    states, ids = history.states, history.state_ids
+    counts = np.bincount(ids, minlength=len(rows_by_state))
+    common = int(counts.argmax())
+    both = rows_by_state[common] @ states.T
+    for s, rows in enumerate(rows_by_state):
+        if s != common and counts[s]:
+            mask = np.nonzero(ids == s)[0]
+            both[:, mask] = rows @ states[mask].T
+    at = np.nonzero(ids[1:] != ids[:-1])[0]
+    switch = np.full(max(ids.size - 1, 0), -1, dtype=np.int64)
+    switch[at] = np.arange(at.size)
+    ends = np.array([rows_by_state[ids[i]] @ states[i + 1] for i in at]).reshape(at.size, 2 * start)
+    return Signals(both[:start], both[start:], switch, np.ascontiguousarray(ends[:, :start]),
+                   np.ascontiguousarray(ends[:, start:]), names)
+
+
+def hermite_peaks(responses: np.ndarray, sig: Signals, rows: np.ndarray, lengths: np.ndarray
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """Peak |r| of each response r = rows @ Y* (responses: (m, n) at the samples) between samples,
+    and where (interval index + fraction), from the cubic Hermite interpolant through the samples
+    and the exact slopes rows @ Y*' at both interval ends."""
+    ydot = sig.rows["Ydot"]
+    return postkernel.hermite_peaks(np.ascontiguousarray(responses), sig.values[ydot],
+                                    np.ascontiguousarray(sig.end_values[:, ydot]), sig.switch,
+                                    np.ascontiguousarray(rows), lengths)
 
 
 def interval_lengths(history: History) -> np.ndarray:
@@ -124,112 +151,76 @@ def lifted_flags(history: History) -> np.ndarray:
     return table[history.state_ids]
 
 
-def uplift_summary(history: History) -> dict:
+def uplift_summary(history: History, sig: Signals) -> dict:
     """Episodes, time uplifted, maximum edge uplift, rotation, minimum reaction (THEORY.md 4)."""
     model, lay = history.model, history.layout
     if not model.flexible:
         return {}
-    p = history.states @ position_map(model, lay).T
-    summary: dict = {"max_rotation": float(np.abs(p[:, model.n_modes]).max())}
+    summary: dict = {"max_rotation": float(np.abs(sig["theta"]).max())}
+    displacement = sig["element_displacement"].T
+    velocity = sig["element_velocity"].T
     lifted = lifted_flags(history)
     lengths = interval_lengths(history)
-    edges = {"left": 0, "right": lay.n_elements - 1}
-    e = element_directions(model)
-    v_elem = p @ e.T
-    z = history.states[:, [lay.z_index(i) for i in range(lay.n_elements)]]
-    gap = np.where(lifted, v_elem - np.where(model.elements.damping > 0.0, z, 0.0), 0.0)
+    damped = model.elements.damping > 0.0
+    gap = np.where(lifted, displacement - np.where(damped, sig["z"].T, 0.0), 0.0)
     any_lifted = lifted.any(axis=1)
     summary["uplift_time"] = float(lengths[any_lifted[:-1]].sum())
     summary["episodes"] = int(np.count_nonzero(any_lifted[1:] & ~any_lifted[:-1]))
     summary["flight_time"] = float(lengths[lifted.all(axis=1)[:-1]].sum()) if lay.n_elements > 1 else 0.0
-    for name, i in edges.items():
+    for name, i in (("left", 0), ("right", lay.n_elements - 1)):
         summary[f"episodes_{name}"] = int(np.count_nonzero(lifted[1:, i] & ~lifted[:-1, i]))
         summary[f"max_uplift_{name}"] = float(max(gap[:, i].max(), 0.0))
-        summary[f"max_edge_displacement_{name}"] = float(v_elem[:, i].max())
-    # reactions R_i = -(k v_i + c v_i') of elements in contact [3a]
-    reactions = np.full(lifted.shape, np.inf)
-    k, c = model.elements.stiffness, model.elements.damping
-    for s, contact in enumerate(history.contact):
-        mask = history.state_ids == s
-        if not mask.any():
-            continue
-        velocity = history.states[mask] @ contact.velocity.T @ e.T
-        force = v_elem[mask] * k + velocity * c
-        reactions[mask] = np.where(contact.lifted, np.inf, -force)
+        summary[f"max_edge_displacement_{name}"] = float(displacement[:, i].max())
+    # reactions R_i = -(k v_i + c v_i') of the elements in contact [3a]
+    force = displacement * model.elements.stiffness + velocity * model.elements.damping
+    reactions = np.where(lifted, np.inf, -force)
     summary["min_reaction_left"] = float(reactions[:, 0].min())
     summary["min_reaction_right"] = float(reactions[:, -1].min())
     summary["min_reaction"] = float(reactions.min())
     return summary
 
 
-def energy_balance(history: History, start: np.ndarray, end: np.ndarray) -> dict:
+def energy_balance(history: History, sig: Signals) -> dict:
     """Input = kinetic + strain + damping + foundation (+ gravity) energies [J].
 
-    Work integrals use 3-point Gauss quadrature on the cubic Hermite interpolant of the
-    state in every interval (O(h^4)); stored energies are exact at the last sample.
+    Work integrals: 3-point Gauss quadrature on the cubic Hermite interpolants of the
+    signals (O(h^4)); stored energies exact at the first and last samples.
     """
     model, lay = history.model, history.layout
-    x0, x1 = history.states[:-1], history.states[1:]
-    lengths = interval_lengths(history)[:, None]
-    ids = history.state_ids[:-1]
-    _, damping, forcing_ground, _ = structure_matrices(model)
-    ymap = modal_map(model, lay)
+    lengths = interval_lengths(history)
     c_modal = 2.0 * model.damping * model.omega * model.effective_mass
     k_modal = model.effective_mass * model.omega**2
-    has_elements = lay.n_elements > 0
-    if has_elements:
-        e = element_directions(model)
-        k_el, c_el = model.elements.stiffness, model.elements.damping
-        z_cols = [lay.z_index(i) for i in range(lay.n_elements)]
-    work_in = damp_struct = damp_found = 0.0
-    for node, weight in zip(_GAUSS_NODES, _GAUSS_WEIGHTS):
-        s = node
-        h00, h10, h01, h11 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s, -2 * s**3 + 3 * s**2, s**3 - s**2
-        xg = h00 * x0 + h10 * lengths * start + h01 * x1 + h11 * lengths * end
-        pdot = np.empty((xg.shape[0], lay.n_p))
-        for sid, contact in enumerate(history.contact):
-            mask = ids == sid
-            if mask.any():
-                pdot[mask] = xg[mask] @ contact.velocity.T
-        accel = xg[:, lay.index_acceleration]
-        work_in += weight * np.sum(lengths[:, 0] * accel * (pdot @ forcing_ground))
-        ydot = pdot @ ymap.T
-        damp_struct += weight * np.sum(lengths[:, 0] * (ydot**2 @ c_modal))
-        if has_elements:
-            lifted = np.array([c.lifted for c in history.contact])[ids]
-            vdot = pdot @ e.T
-            zg = xg[:, z_cols]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                relax = np.where(c_el > 0.0, (k_el * zg) ** 2 / c_el, 0.0)
-            power = np.where(lifted, relax, c_el * vdot**2)
-            damp_found += weight * np.sum(lengths[:, 0] * power.sum(axis=1))
+    lifted = np.ascontiguousarray(lifted_flags(history)[:-1])
+    k_el = model.elements.stiffness if lay.n_elements else np.zeros(0)
+    c_el = model.elements.damping if lay.n_elements else np.zeros(0)
+    rows = sig.rows
+    work_in, damp_struct, damp_found = postkernel.work_integrals(
+        sig.values, sig.slopes, sig.switch, sig.end_values, sig.end_slopes, lengths, lifted,
+        rows["a"].start, rows["input"].start, rows["Ydot"].start, model.n_modes,
+        rows["element_velocity"].start, rows["z"].start, lay.n_elements, c_modal, k_el, c_el,
+    )
 
-    def stored(x: np.ndarray, sid: int) -> tuple[float, float, float, float]:
-        contact = history.contact[sid]
-        p = position_map(model, lay) @ x
-        pdot = contact.velocity @ x
-        kinetic = 0.5 * np.sum(coordinate_masses(model) * pdot**2)
-        y = ymap @ p
-        strain = 0.5 * np.sum(k_modal * y**2)
+    masses = coordinate_masses(model)
+
+    def stored(index: int) -> tuple[float, float, float, float]:
+        x = history.states[index]
+        contact = history.contact[history.state_ids[index]]
+        kinetic = 0.5 * np.sum(masses * (contact.velocity @ x) ** 2)
+        strain = 0.5 * np.sum(k_modal * sig["Y"][:, index] ** 2)
         foundation = gravity = 0.0
-        if has_elements:
-            v = e @ p
-            zz = np.where(c_el > 0.0, x[z_cols], 0.0)
-            foundation = 0.5 * np.sum(k_el * np.where(contact.lifted, zz, v) ** 2)
-            gravity = model.total_mass * model.gravity * p[model.n_modes + 1]
+        if lay.n_elements:
+            z = np.where(c_el > 0.0, sig["z"][:, index], 0.0)
+            deformation = np.where(contact.lifted, z, sig["element_displacement"][:, index])
+            foundation = 0.5 * np.sum(k_el * deformation**2)
+            gravity = model.total_mass * model.gravity * sig["v"][0, index]
         return kinetic, strain, foundation, gravity
 
-    k0, s0, f0, g0 = stored(history.states[0], history.state_ids[0])
-    k1, s1, f1, g1 = stored(history.states[-1], history.state_ids[-1])
-    terms = {
-        "input": float(work_in),
-        "kinetic": float(k1 - k0),
-        "strain": float(s1 - s0),
-        "structural_damping": float(damp_struct),
-        "foundation_elastic": float(f1 - f0),
-        "foundation_damping": float(damp_found),
-        "gravity": float(g1 - g0),
-    }
+    first, last = stored(0), stored(-1)
+    terms = {"input": float(work_in)}
+    for k, name in enumerate(("kinetic", "strain", "foundation_elastic", "gravity")):
+        terms[name] = float(last[k] - first[k])
+    terms["structural_damping"] = float(damp_struct)
+    terms["foundation_damping"] = float(damp_found)
     balance = sum(v for k, v in terms.items() if k != "input")
     scale = max(abs(work_in), damp_struct + damp_found, 1e-300)
     terms["residual"] = float(work_in - balance)

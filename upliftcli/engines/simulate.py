@@ -156,5 +156,5 @@ def simulate(
                 f"contact chatter: more than {kernel.MAX_EVENTS_PER_STEP} transitions inside one step "
                 f"at t = {step * h:.4f} s; reduce the time step"
             )
-    return History(model, lay, out_t[:n_out].copy(), out_x[:n_out].copy(), out_s[:n_out].copy(),
+    return History(model, lay, out_t[:n_out], out_x[:n_out], out_s[:n_out],
                    operators.contact, h, criterion)
