@@ -99,9 +99,9 @@ def _at(values, slopes, switch, end_values, end_slopes, row, i, length, s):
         v1 = end_values[switch[i], row]
         d1 = end_slopes[switch[i], row]
     else:
-        v1 = values[row, i + 1]
-        d1 = slopes[row, i + 1]
-    return _hermite(values[row, i], v1, slopes[row, i] * length, d1 * length, s)
+        v1 = values[i + 1, row]
+        d1 = slopes[i + 1, row]
+    return _hermite(values[i, row], v1, slopes[i, row] * length, d1 * length, s)
 
 
 @njit(cache=True)
@@ -109,7 +109,9 @@ def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lift
                    row_a, row_input, row_ydot, n_modes, row_vel, row_z, n_elements,
                    modal_damping, element_stiffness, element_damping):
     """Input work, structural and foundation damping energy [J] by 3-point Gauss quadrature
-    on the cubic Hermite interpolants of the signals in every interval."""
+    on the cubic Hermite interpolants of the signals in every interval.
+
+    values, slopes: (n, k), one row per sample (interval-local access keeps it in cache)."""
     nodes = np.array([0.5 * (1.0 - np.sqrt(0.6)), 0.5, 0.5 * (1.0 + np.sqrt(0.6))])
     weights = np.array([5.0, 8.0, 5.0]) / 18.0
     work_in = 0.0

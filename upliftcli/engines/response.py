@@ -195,7 +195,7 @@ def energy_balance(history: History, sig: Signals) -> dict:
     c_el = model.elements.damping if lay.n_elements else np.zeros(0)
     rows = sig.rows
     work_in, damp_struct, damp_found = postkernel.work_integrals(
-        sig.values, sig.slopes, sig.switch, sig.end_values, sig.end_slopes, lengths, lifted,
+        np.ascontiguousarray(sig.values.T), np.ascontiguousarray(sig.slopes.T), sig.switch, sig.end_values, sig.end_slopes, lengths, lifted,
         rows["a"].start, rows["input"].start, rows["Ydot"].start, model.n_modes,
         rows["element_velocity"].start, rows["z"].start, lay.n_elements, c_modal, k_el, c_el,
     )
