@@ -227,3 +227,37 @@ def test_flight_refused_with_a_clear_error(elcentro):
 def test_too_short_record_is_an_error():
     with pytest.raises(AnalysisError, match="too short"):
         exact.analyze(paper_system(0.5), SimpleNamespace(acceleration=np.zeros(1), dt=0.01), "uplift")
+
+
+def test_cumulative_modal_base_shear_ends_at_the_total(elcentro):
+    result = exact.analyze(paper_system(1.0), short(elcentro, 10.0), "uplift")
+    cumulative = result.details["cumulative_modal_base_shear"]
+    assert cumulative[0] == pytest.approx(result.details["modal_base_shear"][0], rel=1e-12)
+    assert cumulative[-1] == pytest.approx(result.base_shear, rel=1e-12)
+
+
+def test_winkler_converges_as_elements_grow(elcentro):
+    """Winkler strip discretised into n unilateral elements (midpoint rule): the uplift response
+    settles as n grows, and K_theta of the discrete elements tends to (2/3) k_w b^3."""
+    from upliftcli.foundation import Winkler
+
+    base = paper_system(0.5)
+    b = base.half_width
+    two = base.foundation
+    # same rocking stiffness and damping as the paper's two elements: (2/3) k_w b^3 = 2 k_f b^2
+    k_w, c_w = 3.0 * two.stiffness / b, 3.0 * two.damping / b
+    record = short(elcentro, 8.0)
+    shears, moments = [], []
+    for n in (5, 10, 20, 40):
+        system = replace(base, foundation=Winkler(k_w, c_w, n))
+        elements = system.foundation.contact_elements(b)
+        k_theta = np.sum(elements.stiffness * elements.positions**2)
+        assert k_theta == pytest.approx(2.0 / 3.0 * k_w * b**3 * (1 - 1 / n**2), rel=1e-12)
+        result = exact.analyze(system, record, "uplift")
+        shears.append(result.base_shear)
+        moments.append(result.base_moment)
+    # base moment (measured 0.854, 0.883, 0.895, 0.899 M_c): differences shrink about 2-4x per doubling
+    steps = np.abs(np.diff(moments))
+    assert np.all(steps[1:] < 0.6 * steps[:-1])
+    assert steps[-1] < 0.01 * moments[-1]
+    np.testing.assert_allclose(shears[1:], shears[-1], rtol=0.01)

@@ -128,12 +128,16 @@ TABLES: dict[str, dict[str, Field]] = {
                          "analysis.modes, else all)", "count"),
         "criterion": Field("string", "-", "uplift criterion [4a, 4b]", "", "reaction",
                            ("reaction", "displacement")),
-        "steps_per_period": Field("integer", "-", "internal steps per shortest governing period", "count", 20),
+        "steps_per_period": Field("integer", "-", "internal steps per shortest governing period (T_1, the "
+                                  "bonded vertical period, modes with >= 1 % mass)", "count", 10),
         "time_step": Field("number", "s", "internal time step (default: from steps_per_period and the "
                            "record step)", "positive"),
         "free_vibration": Field("number", "s", "free vibration appended after the record", "nonnegative", 0.0),
         "flight": Field("string", "-", "both edges lifted: free flight (allow) or an error", "", "allow",
                         ("allow", "error")),
+        "residual_inertia": Field("string", "-", "with fewer modes than stories: neglect (default) or include "
+                                  "the rotary inertia of the truncated modes", "", "neglect",
+                                  ("neglect", "include")),
     },
     "criteria": {
         "drift_ratio": Field("number", "-", "largest allowed story drift ratio", "positive"),

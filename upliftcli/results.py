@@ -225,3 +225,31 @@ def write_results(results: list[AnalysisResult], directory, stem: str, source: s
     for path, text in texts.items():
         write_text(path, text)
     return list(texts)
+
+
+#: units of the history columns written by --histories
+HISTORY_UNITS = {
+    "time": "s", "ground_acceleration": "m/s2", "base_shear": "N", "base_moment": "N m",
+    "roof_displacement": "m", "theta": "rad", "v": "m", "left_edge_displacement": "m",
+    "right_edge_displacement": "m", "contact_state": "bitmask: bit i set = element i lifted",
+}
+
+
+def write_histories(path, histories: dict[str, np.ndarray]) -> None:
+    """Write response histories atomically: NPZ if the name ends in .npz, else CSV with units
+    in the header (drift_j columns in m)."""
+    from pathlib import Path
+
+    from .atomic import atomic_path, write_text
+
+    path = Path(path)
+    if path.suffix.lower() == ".npz":
+        with atomic_path(path) as tmp:
+            with open(tmp, "wb") as handle:
+                np.savez_compressed(handle, **histories)
+        return
+    names = list(histories)
+    header = ",".join(f"{name} [{HISTORY_UNITS.get(name, 'm')}]" for name in names)
+    table = np.column_stack([np.asarray(histories[name], dtype=float) for name in names])
+    lines = [header] + [",".join(f"{value:.10g}" for value in row) for row in table]
+    write_text(path, "\n".join(lines) + "\n")

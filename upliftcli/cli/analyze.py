@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import json
 from enum import Enum
 from pathlib import Path
@@ -14,7 +16,7 @@ from rich.table import Table
 from .. import analysis
 from ..deck import load_deck
 from ..errors import InputError
-from ..results import results_document, to_json, to_jsonable, write_results
+from ..results import results_document, to_json, to_jsonable, write_histories, write_results
 from . import render
 
 SET_HELP = "Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values)."
@@ -45,6 +47,10 @@ def analyze(
                                                help="table (terminal) or json (one document on stdout, SI units)."),
     out: Path | None = typer.Option(None, "--out", "-o",
                                     help="Also write <deck>.json, .csv and .toml results into this directory."),
+    histories: Path | None = typer.Option(
+        None, "--histories",
+        help="Exact/approximate engines: write the response histories to this file (.csv or .npz); with "
+             "several analyses, one file each, named <stem>_<engine>_<support><suffix>."),
 ) -> None:
     """Peak story shears, drifts, displacements and the uplift verdict of a deck (or of several decks).
 
@@ -58,7 +64,13 @@ def analyze(
         return
     deck = decks[0]
     loaded = load_deck(deck, _overrides(settings, engine, support))
+    if histories is not None:
+        _check_histories(histories, loaded)
+        loaded = replace(loaded, analysis=replace(loaded.analysis, exact=replace(loaded.analysis.exact,
+                                                                                  histories=True)))
     results = analysis.run(loaded)
+    if histories is not None:
+        _write_histories(histories, results)
     if output_format is OutputFormat.json:
         typer.echo(to_json(results, loaded.source, loaded.title), nl=False)
     else:
@@ -70,6 +82,29 @@ def analyze(
         for message in violations:
             typer.echo(f"criterion violated: {message}", err=True)
         raise typer.Exit(3)
+
+
+def _check_histories(path: Path, loaded) -> None:
+    if path.suffix.lower() not in (".csv", ".npz"):
+        raise InputError("--histories", str(path), "a file name ending in .csv or .npz")
+    if not set(loaded.analysis.engines) & {"exact", "approximate"}:
+        raise InputError("--histories", str(path), "an exact or approximate engine (--engine exact)")
+    if path.parent.exists() and not path.parent.is_dir():
+        raise InputError("--histories", str(path), "a file in an existing directory")
+
+
+def _write_histories(path: Path, results) -> None:
+    """Write each analysis's histories (and drop them from the result documents)."""
+    with_histories = [r for r in results if "histories" in r.details]
+    for result in with_histories:
+        target = path
+        if len(with_histories) > 1:
+            target = path.with_name(f"{path.stem}_{result.engine}_{result.support}{path.suffix}")
+        try:
+            write_histories(target, result.details.pop("histories"))
+        except OSError as error:
+            raise InputError("--histories", str(target), f"a writable file ({error.strerror or error})") from None
+        typer.echo(f"wrote {target}", err=True)
 
 
 def _write(results, out: Path, stem: str, loaded) -> None:

@@ -90,6 +90,14 @@ def modal_table(result: AnalysisResult) -> Table:
     return table
 
 
+def history_intermediates() -> dict:
+    """Units and meanings of the exact/approximate engines' intermediates (imported on use:
+    the exact engine loads numba)."""
+    from ..engines.exact import INTERMEDIATES as exact_intermediates
+
+    return exact_intermediates
+
+
 def intermediates_table(result: AnalysisResult) -> Table:
     """Scalar intermediates with unit and meaning (engines.simplified.INTERMEDIATES)."""
     table = Table(title=f"Intermediate values ({result.engine}, {result.support})")
@@ -98,7 +106,7 @@ def intermediates_table(result: AnalysisResult) -> Table:
     for name, value in result.intermediates.items():
         if name in MODAL_LISTS:
             continue
-        unit, meaning = INTERMEDIATES.get(name, ("", ""))
+        unit, meaning = INTERMEDIATES.get(name) or history_intermediates().get(name, ("", ""))
         table.add_row(escape(name), _format(value), escape(unit), escape(meaning))
     return table
 

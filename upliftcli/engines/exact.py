@@ -28,6 +28,25 @@ from .simulate import History, simulate
 from .statespace import ModalModel
 
 SUPPORTS = ("rigid", "bonded", "uplift")
+#: intermediates of the response-history engines: name -> (unit, meaning)
+INTERMEDIATES = {
+    "T1": ("s", "fixed-base fundamental period T_1"),
+    "n_modes": ("-", "fixed-base modes in the model"),
+    "time_step": ("s", "internal step h (exact step operator; crossings located inside it)"),
+    "criterion": ("-", "uplift criterion [4a] reaction or [4b] displacement"),
+    "rotation_inertia": ("kg m^2", "inertia of the mat rotation (0: first-order rocking constraint)"),
+    "samples": ("-", "history samples: every step plus every contact transition"),
+    "transitions": ("-", "contact transitions (lift-off and recontact of elements)"),
+    "base_shear_time": ("s", "time of the peak base shear"),
+    "base_moment_time": ("s", "time of the peak base moment"),
+    "uplift_time": ("s", "total time with at least one element lifted"),
+    "episodes": ("-", "uplift episodes (contact lost after full contact)"),
+    "max_rotation": ("rad", "largest mat rotation |theta|"),
+    "max_uplift_left": ("m", "largest gap under the left edge"),
+    "max_uplift_right": ("m", "largest gap under the right edge"),
+    "min_reaction": ("N", "smallest reaction of an element in contact (< 0: tension)"),
+    "energy_residual": ("-", "energy balance residual / input energy"),
+}
 #: a step count beyond this cannot be afforded: the analysis is refused with a message
 MAX_STEPS = 20_000_000
 
@@ -153,11 +172,14 @@ def summarize(system: System, history: History, support: str, engine: str, optio
     model = history.model
     maps = response_maps(system.building, shapes_star, model.omega)
     sig = signals(history)
-    rows = maps.stacked()
+    modal = maps.modal_base_shear
+    # peaks of the instant-by-instant sums of modes 1..k (paper Fig. 7)
+    rows = np.vstack((maps.stacked(), np.tril(np.ones_like(modal)) @ modal))
     n = system.building.n_stories
     peaks, where = hermite_peaks(rows @ sig["Y"], sig, rows, interval_lengths(history))
     displacement, drift, shear, moment = (peaks[k * n:(k + 1) * n] for k in range(4))
-    modal_shear = peaks[4 * n:]
+    modal_shear = peaks[4 * n:4 * n + model.n_modes]
+    cumulative_shear = peaks[4 * n + model.n_modes:]
     summary = uplift_summary(history, sig)
     uplifted = bool(lifted_flags(history).any()) if history.layout.n_elements else False
     energy = energy_balance(history, sig)
@@ -165,6 +187,7 @@ def summarize(system: System, history: History, support: str, engine: str, optio
         "base_shear_time": time_at(history, where[2 * n]),
         "base_moment_time": time_at(history, where[3 * n]),
         "modal_base_shear": modal_shear.tolist(),
+        "cumulative_modal_base_shear": cumulative_shear.tolist(),
         "uplift_summary": summary,
         "energy": energy,
     }
@@ -178,7 +201,13 @@ def summarize(system: System, history: History, support: str, engine: str, optio
         "rotation_inertia": model.theta_inertia,
         "samples": int(history.times.size),
         "transitions": int(np.count_nonzero(np.diff(history.state_ids))),
+        "base_shear_time": details["base_shear_time"],
+        "base_moment_time": details["base_moment_time"],
+        "energy_residual": energy["relative_residual"],
     }
+    for name in ("uplift_time", "episodes", "max_rotation", "max_uplift_left", "max_uplift_right", "min_reaction"):
+        if name in summary:
+            intermediates[name] = summary[name]
     return AnalysisResult(
         engine=engine, support=support, heights=system.building.heights.copy(),
         displacement=displacement, drift=drift, drift_ratio=drift / system.building.story_heights,

@@ -113,9 +113,9 @@ def simulate(
 
         lift_rows = element_directions(model) @ position_map(model, lay)
         element_damped = model.elements.damping > 0.0
-    all_lifted = np.int64((1 << n_e) - 1) if n_e else np.int64(-2)
     if n_e > 62:
-        raise AnalysisError("at most 62 contact elements are supported")
+        raise AnalysisError(f"at most 62 contact elements are supported (got {n_e}): lower foundation.elements")
+    all_lifted = np.int64((1 << n_e) - 1) if n_e else np.int64(-2)
 
     x = static_state(model, lay)
     capacity = ground.size + 1024
