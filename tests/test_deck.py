@@ -223,7 +223,7 @@ def test_stiffness_matrix_must_be_positive_definite(tmp_path):
 def test_unreadable_record_is_an_input_error(tmp_path):
     bad = tmp_path / "broken.txt"
     bad.write_text("# dt = 0.02\n0.1 0.2\nabc\n")
-    text = BASE + f'[ground_motion]\nrecord = "broken.txt"\nunits = "g"\n'
+    text = BASE + '[ground_motion]\nrecord = "broken.txt"\nunits = "g"\n'
     with pytest.raises(InputError) as info:
         load(tmp_path, text, ground_motion=True)
     assert "broken.txt" in info.value.source
