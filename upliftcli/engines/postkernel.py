@@ -85,23 +85,11 @@ def hermite_peaks(values, rates, end_rates, switch, rows, lengths):
     return best, where
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _hermite(v0, v1, d0, d1, s):
     s2 = s * s
     s3 = s2 * s
     return (2 * s3 - 3 * s2 + 1) * v0 + (s3 - 2 * s2 + s) * d0 + (-2 * s3 + 3 * s2) * v1 + (s3 - s2) * d1
-
-
-@njit(cache=True)
-def _at(values, slopes, switch, end_values, end_slopes, row, i, length, s):
-    """Hermite value of signal `row` at fraction s of interval i."""
-    if switch[i] >= 0:
-        v1 = end_values[switch[i], row]
-        d1 = end_slopes[switch[i], row]
-    else:
-        v1 = values[i + 1, row]
-        d1 = slopes[i + 1, row]
-    return _hermite(values[i, row], v1, slopes[i, row] * length, d1 * length, s)
 
 
 @njit(cache=True)
@@ -114,21 +102,38 @@ def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lift
     values, slopes: (n, k), one row per sample (interval-local access keeps it in cache)."""
     nodes = np.array([0.5 * (1.0 - np.sqrt(0.6)), 0.5, 0.5 * (1.0 + np.sqrt(0.6))])
     weights = np.array([5.0, 8.0, 5.0]) / 18.0
+    basis = np.empty((3, 4))  # Hermite basis h00, h10, h01, h11 at the Gauss nodes
+    for g in range(3):
+        basis[g, 0] = _hermite(1.0, 0.0, 0.0, 0.0, nodes[g])
+        basis[g, 1] = _hermite(0.0, 0.0, 1.0, 0.0, nodes[g])
+        basis[g, 2] = _hermite(0.0, 1.0, 0.0, 0.0, nodes[g])
+        basis[g, 3] = _hermite(0.0, 0.0, 0.0, 1.0, nodes[g])
+    k = values.shape[1]
+    gauss = np.empty((3, k))
     work_in = 0.0
     damp_struct = 0.0
     damp_found = 0.0
     for i in range(lengths.size):
         length = lengths[i]
+        fix = switch[i]
+        for q in range(k):
+            v0 = values[i, q]
+            d0 = slopes[i, q] * length
+            if fix >= 0:
+                v1 = end_values[fix, q]
+                d1 = end_slopes[fix, q] * length
+            else:
+                v1 = values[i + 1, q]
+                d1 = slopes[i + 1, q] * length
+            for g in range(3):
+                gauss[g, q] = basis[g, 0] * v0 + basis[g, 1] * d0 + basis[g, 2] * v1 + basis[g, 3] * d1
         for g in range(3):
-            s = nodes[g]
             w = weights[g] * length
-            a = _at(values, slopes, switch, end_values, end_slopes, row_a, i, length, s)
-            f = _at(values, slopes, switch, end_values, end_slopes, row_input, i, length, s)
-            work_in += w * a * f
+            work_in += w * gauss[g, row_a] * gauss[g, row_input]
             acc = 0.0
-            for k in range(n_modes):
-                yd = _at(values, slopes, switch, end_values, end_slopes, row_ydot + k, i, length, s)
-                acc += modal_damping[k] * yd * yd
+            for m in range(n_modes):
+                yd = gauss[g, row_ydot + m]
+                acc += modal_damping[m] * yd * yd
             damp_struct += w * acc
             acc = 0.0
             for e in range(n_elements):
@@ -136,11 +141,10 @@ def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lift
                 if c <= 0.0:
                     continue
                 if lifted[i, e]:
-                    force = element_stiffness[e] * _at(values, slopes, switch, end_values, end_slopes,
-                                                       row_z + e, i, length, s)
+                    force = element_stiffness[e] * gauss[g, row_z + e]
                     acc += force * force / c
                 else:
-                    vel = _at(values, slopes, switch, end_values, end_slopes, row_vel + e, i, length, s)
+                    vel = gauss[g, row_vel + e]
                     acc += c * vel * vel
             damp_found += w * acc
     return work_in, damp_struct, damp_found
