@@ -176,7 +176,7 @@ def summarize(system: System, history: History, support: str, engine: str, optio
     # peaks of the instant-by-instant sums of modes 1..k (paper Fig. 7)
     rows = np.vstack((maps.stacked(), np.tril(np.ones_like(modal)) @ modal))
     n = system.building.n_stories
-    peaks, where = hermite_peaks(rows @ sig["Y"], sig, rows, interval_lengths(history))
+    peaks, where = hermite_peaks(sig["Y"] @ rows.T, sig, rows, interval_lengths(history))
     displacement, drift, shear, moment = (peaks[k * n:(k + 1) * n] for k in range(4))
     modal_shear = peaks[4 * n:4 * n + model.n_modes]
     cumulative_shear = peaks[4 * n + model.n_modes:]
@@ -224,21 +224,21 @@ def histories(system: System, history: History, maps, sig) -> dict[str, np.ndarr
     y = sig["Y"]
     out = {
         "time": history.times,
-        "ground_acceleration": sig["a"][0],
-        "base_shear": maps.shear[0] @ y,
-        "base_moment": maps.moment[0] @ y,
-        "roof_displacement": maps.displacement[-1] @ y,
+        "ground_acceleration": sig["a"][:, 0],
+        "base_shear": y @ maps.shear[0],
+        "base_moment": y @ maps.moment[0],
+        "roof_displacement": y @ maps.displacement[-1],
     }
     if model.flexible:
-        out["theta"] = sig["theta"][0]
-        out["v"] = sig["v"][0]
-        out["left_edge_displacement"] = sig["element_displacement"][0]
-        out["right_edge_displacement"] = sig["element_displacement"][-1]
+        out["theta"] = sig["theta"][:, 0]
+        out["v"] = sig["v"][:, 0]
+        out["left_edge_displacement"] = sig["element_displacement"][:, 0]
+        out["right_edge_displacement"] = sig["element_displacement"][:, -1]
         patterns = np.array([sum(int(f) << i for i, f in enumerate(c.lifted)) for c in history.contact])
         out["contact_state"] = patterns[history.state_ids]
-    drifts = maps.drift @ y
+    drifts = y @ maps.drift.T
     for j in range(system.building.n_stories):
-        out[f"drift_{j + 1}"] = drifts[j]
+        out[f"drift_{j + 1}"] = drifts[:, j]
     return out
 
 

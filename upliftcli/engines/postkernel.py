@@ -49,35 +49,36 @@ def _hermite_extremum(r0, r1, d0, d1):
 def hermite_peaks(values, rates, end_rates, switch, rows, lengths):
     """Peak |r| of each response between samples and where it is (interval index + fraction).
 
-    values: responses at the samples (m, n), continuous in time; their slopes are rows @ rates
-    (rates (k, n) at the samples; end_rates[switch[i]] (k,) at the end of an interval i that
+    values: responses at the samples (n, m), continuous in time; their slopes are rows @ rates
+    (rates (n, k) at the samples; end_rates[switch[i]] (k,) at the end of an interval i that
     ends at a transition), evaluated only on the intervals that can hold the peak.
     """
-    m, n = values.shape
+    n, m = values.shape
     k = rows.shape[1]
     best = np.zeros(m)
     where = np.zeros(m)
-    for j in range(m):
-        for i in range(n):
-            v = abs(values[j, i])
+    for i in range(n):
+        for j in range(m):
+            v = abs(values[i, j])
             if v > best[j]:
                 best[j] = v
                 where[j] = i
-    for j in range(m):
-        threshold = CANDIDATE_FRACTION * best[j]
-        for i in range(n - 1):
-            r0 = values[j, i]
-            r1 = values[j, i + 1]
-            if abs(r0) < threshold and abs(r1) < threshold:
+    threshold = CANDIDATE_FRACTION * best
+    for i in range(n - 1):
+        fix = switch[i]
+        for j in range(m):
+            r0 = values[i, j]
+            r1 = values[i + 1, j]
+            if abs(r0) < threshold[j] and abs(r1) < threshold[j]:
                 continue
             d0 = 0.0
             d1 = 0.0
             for q in range(k):
-                d0 += rows[j, q] * rates[q, i]
-                if switch[i] >= 0:
-                    d1 += rows[j, q] * end_rates[switch[i], q]
+                d0 += rows[j, q] * rates[i, q]
+                if fix >= 0:
+                    d1 += rows[j, q] * end_rates[fix, q]
                 else:
-                    d1 += rows[j, q] * rates[q, i + 1]
+                    d1 += rows[j, q] * rates[i + 1, q]
             value, s = _hermite_extremum(r0, r1, d0 * lengths[i], d1 * lengths[i])
             if value > best[j]:
                 best[j] = value

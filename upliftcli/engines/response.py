@@ -53,7 +53,7 @@ def response_maps(building: Building, shapes_star: np.ndarray, omega: np.ndarray
 
 @dataclass
 class Signals:
-    """Signals as rows over the samples: values (k, n) and slopes (k, n) at the samples, with
+    """Signals at the samples, one row per sample: values (n, k) and slopes (n, k), with
     the slopes taken in the state valid from each sample on. At a contact transition the rates
     (theta', v', element velocities) jump: `switch[i]` >= 0 marks an interval i that ends at a
     transition, and `end_values[switch[i]]`, `end_slopes[switch[i]]` (k,) hold its left limits.
@@ -67,14 +67,8 @@ class Signals:
     rows: dict[str, slice]
 
     def __getitem__(self, name: str) -> np.ndarray:
-        return self.values[self.rows[name]]
-
-    def end(self, name: str) -> np.ndarray:
-        """Values of a signal at the end of every interval (left limits), (k_name, n - 1)."""
-        out = self.values[self.rows[name], 1:].copy()
-        at = np.nonzero(self.switch >= 0)[0]
-        out[:, at] = self.end_values[self.switch[at]][:, self.rows[name]].T
-        return out
+        """The signal's columns (n, k_name)."""
+        return self.values[:, self.rows[name]]
 
 
 def signals(history: History) -> Signals:
@@ -109,26 +103,28 @@ def signals(history: History) -> Signals:
     states, ids = history.states, history.state_ids
     counts = np.bincount(ids, minlength=len(rows_by_state))
     common = int(counts.argmax())
-    both = rows_by_state[common] @ states.T
+    values = states @ rows_by_state[common][:start].T
+    slopes = states @ rows_by_state[common][start:].T
     for s, rows in enumerate(rows_by_state):
         if s != common and counts[s]:
-            mask = np.nonzero(ids == s)[0]
-            both[:, mask] = rows @ states[mask].T
+            mask = ids == s
+            values[mask] = states[mask] @ rows[:start].T
+            slopes[mask] = states[mask] @ rows[start:].T
     at = np.nonzero(ids[1:] != ids[:-1])[0]
     switch = np.full(max(ids.size - 1, 0), -1, dtype=np.int64)
     switch[at] = np.arange(at.size)
     ends = np.array([rows_by_state[ids[i]] @ states[i + 1] for i in at]).reshape(at.size, 2 * start)
-    return Signals(both[:start], both[start:], switch, np.ascontiguousarray(ends[:, :start]),
+    return Signals(values, slopes, switch, np.ascontiguousarray(ends[:, :start]),
                    np.ascontiguousarray(ends[:, start:]), names)
 
 
 def hermite_peaks(responses: np.ndarray, sig: Signals, rows: np.ndarray, lengths: np.ndarray
                   ) -> tuple[np.ndarray, np.ndarray]:
-    """Peak |r| of each response r = rows @ Y* (responses: (m, n) at the samples) between samples,
+    """Peak |r| of each response r = rows @ Y* (responses: (n, m) at the samples) between samples,
     and where (interval index + fraction), from the cubic Hermite interpolant through the samples
     and the exact slopes rows @ Y*' at both interval ends."""
     ydot = sig.rows["Ydot"]
-    return postkernel.hermite_peaks(np.ascontiguousarray(responses), sig.values[ydot],
+    return postkernel.hermite_peaks(np.ascontiguousarray(responses), np.ascontiguousarray(sig.values[:, ydot]),
                                     np.ascontiguousarray(sig.end_values[:, ydot]), sig.switch,
                                     np.ascontiguousarray(rows), lengths)
 
@@ -157,12 +153,12 @@ def uplift_summary(history: History, sig: Signals) -> dict:
     if not model.flexible:
         return {}
     summary: dict = {"max_rotation": float(np.abs(sig["theta"]).max())}
-    displacement = sig["element_displacement"].T
-    velocity = sig["element_velocity"].T
+    displacement = sig["element_displacement"]
+    velocity = sig["element_velocity"]
     lifted = lifted_flags(history)
     lengths = interval_lengths(history)
     damped = model.elements.damping > 0.0
-    gap = np.where(lifted, displacement - np.where(damped, sig["z"].T, 0.0), 0.0)
+    gap = np.where(lifted, displacement - np.where(damped, sig["z"], 0.0), 0.0)
     any_lifted = lifted.any(axis=1)
     summary["uplift_time"] = float(lengths[any_lifted[:-1]].sum())
     summary["episodes"] = int(np.count_nonzero(any_lifted[1:] & ~any_lifted[:-1]))
@@ -195,7 +191,7 @@ def energy_balance(history: History, sig: Signals) -> dict:
     c_el = model.elements.damping if lay.n_elements else np.zeros(0)
     rows = sig.rows
     work_in, damp_struct, damp_found = postkernel.work_integrals(
-        np.ascontiguousarray(sig.values.T), np.ascontiguousarray(sig.slopes.T), sig.switch, sig.end_values, sig.end_slopes, lengths, lifted,
+        sig.values, sig.slopes, sig.switch, sig.end_values, sig.end_slopes, lengths, lifted,
         rows["a"].start, rows["input"].start, rows["Ydot"].start, model.n_modes,
         rows["element_velocity"].start, rows["z"].start, lay.n_elements, c_modal, k_el, c_el,
     )
@@ -206,13 +202,13 @@ def energy_balance(history: History, sig: Signals) -> dict:
         x = history.states[index]
         contact = history.contact[history.state_ids[index]]
         kinetic = 0.5 * np.sum(masses * (contact.velocity @ x) ** 2)
-        strain = 0.5 * np.sum(k_modal * sig["Y"][:, index] ** 2)
+        strain = 0.5 * np.sum(k_modal * sig["Y"][index] ** 2)
         foundation = gravity = 0.0
         if lay.n_elements:
-            z = np.where(c_el > 0.0, sig["z"][:, index], 0.0)
-            deformation = np.where(contact.lifted, z, sig["element_displacement"][:, index])
+            z = np.where(c_el > 0.0, sig["z"][index], 0.0)
+            deformation = np.where(contact.lifted, z, sig["element_displacement"][index])
             foundation = 0.5 * np.sum(k_el * deformation**2)
-            gravity = model.total_mass * model.gravity * sig["v"][0, index]
+            gravity = model.total_mass * model.gravity * sig["v"][index, 0]
         return kinetic, strain, foundation, gravity
 
     first, last = stored(0), stored(-1)
