@@ -15,7 +15,9 @@ from scipy.linalg import expm
 
 from ..errors import AnalysisError
 from . import kernel
-from .statespace import ContactState, Layout, ModalModel, contact_state, layout, static_state
+from .statespace import (
+    ContactState, Layout, ModalModel, contact_state, element_directions, layout, position_map, static_state,
+)
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
 LEVELS = 12
@@ -109,8 +111,6 @@ def simulate(
     lift_rows = np.zeros((n_e, lay.n_aug))
     element_damped = np.zeros(n_e, dtype=np.bool_)
     if n_e:
-        from .statespace import element_directions, position_map
-
         lift_rows = element_directions(model) @ position_map(model, lay)
         element_damped = model.elements.damping > 0.0
     if n_e > 62:
