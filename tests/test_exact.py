@@ -157,7 +157,7 @@ def test_energy_balance_closes(elcentro, support):
     assert energy["relative_residual"] < 1e-3
 
 
-@pytest.mark.parametrize("period", [0.05, 0.3, 1.0, 3.0])
+@pytest.mark.parametrize("period", [0.05, 0.3, 1.0, 3.0, 5.0])
 def test_halving_the_step_changes_no_peak_by_half_a_percent(elcentro, period):
     system = paper_system(period)
     coarse = exact.analyze(system, elcentro, "uplift")
