@@ -2,7 +2,6 @@
 
 import json
 import math
-import shutil
 from pathlib import Path
 
 import numpy as np
@@ -20,16 +19,6 @@ runner = CliRunner()
 
 def invoke(*args, env=None):
     return runner.invoke(app, [str(a) for a in args], env={"CI": "true", **(env or {})})
-
-
-@pytest.fixture()
-def deck_dir(tmp_path):
-    """A copy of the example deck and its record in a temporary directory."""
-    (tmp_path / "inputs").mkdir()
-    (tmp_path / "records").mkdir()
-    shutil.copy(EXAMPLE, tmp_path / "inputs" / "deck.toml")
-    shutil.copy(RECORD, tmp_path / "records" / RECORD.name)
-    return tmp_path
 
 
 def test_modes_table_reproduces_the_paper():

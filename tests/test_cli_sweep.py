@@ -3,7 +3,6 @@
 import csv
 import io
 import json
-import shutil
 import signal
 import subprocess
 import sys
@@ -31,15 +30,6 @@ def invoke(*args, env=None):
 
 def read_csv(path):
     return list(csv.DictReader(io.StringIO(Path(path).read_text())))
-
-
-@pytest.fixture()
-def deck_dir(tmp_path):
-    (tmp_path / "inputs").mkdir()
-    (tmp_path / "records").mkdir()
-    shutil.copy(EXAMPLE, tmp_path / "inputs" / "deck.toml")
-    shutil.copy(RECORD, tmp_path / "records" / RECORD.name)
-    return tmp_path
 
 
 def test_sweep_writes_the_tidy_table_and_prints_the_envelope(tmp_path):

@@ -8,28 +8,18 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from paper_example import paper_system
 
 from upliftcli.engines import approximate, exact
 from upliftcli.engines.exact import ExactOptions
 from upliftcli.errors import AnalysisError
-from upliftcli.foundation import TwoElement, two_element_from_ratios
+from upliftcli.foundation import TwoElement
 from upliftcli.records import read_record
 from upliftcli.spectra import sdof_history
-from upliftcli.structure import modal_analysis, uniform_building
 from upliftcli.system import System
 
 G = 9.80665
 RECORD = Path(__file__).resolve().parents[1] / "records" / "elcentro_1940_ns_chopra.txt"
-
-
-def paper_system(period: float, slenderness: float = 10.0, frequency_ratio: float = 8.0,
-                 damping_ratio: float = 0.4, stories: int = 10) -> System:
-    """The paper's example (THEORY.md section 6) built directly, not through a deck."""
-    building = uniform_building(stories, 350e3, 3.5, period=period)
-    modes = modal_analysis(building)
-    total = building.masses.sum()
-    foundation = two_element_from_ratios(total, modes.omega[0], frequency_ratio, damping_ratio)
-    return System(building, foundation, modes.effective_height[0] / slenderness)
 
 
 @pytest.fixture(scope="module")

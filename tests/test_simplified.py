@@ -5,6 +5,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from paper_example import paper_system
 from scipy.integrate import solve_ivp
 
 from upliftcli.engines.simplified import (
@@ -13,7 +14,7 @@ from upliftcli.engines.simplified import (
     effective_properties,
     uplift_base_shear,
 )
-from upliftcli.foundation import HalfSpace, TwoElement, Winkler, two_element_from_ratios
+from upliftcli.foundation import HalfSpace, TwoElement, Winkler
 from upliftcli.structure import shear_building, uniform_building
 from upliftcli.system import System
 
@@ -35,14 +36,6 @@ class ConstantSpectrum:
 
     def sa(self, periods, damping):
         return np.full(np.shape(np.atleast_1d(periods)), self.value)
-
-
-def paper_system(period=0.5, slenderness=10.0, frequency_ratio=8.0, damping_ratio=0.4, mat_mass=0.0):
-    building = uniform_building(10, 350e3, 3.5, period=period, damping=0.05)
-    system = System(building, TwoElement(1.0, 0.0), 1.0, mat_mass)
-    b = system.effective_height / slenderness
-    foundation = two_element_from_ratios(system.total_mass, float(system.modes.omega[0]), frequency_ratio, damping_ratio)
-    return System(building, foundation, b, mat_mass)
 
 
 # ----------------------------------------------------------------------------- rigid base

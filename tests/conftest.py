@@ -1,0 +1,22 @@
+"""Shared fixtures."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE_DECK = ROOT / "inputs" / "ten_story_elcentro.toml"
+ELCENTRO = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
+
+
+@pytest.fixture()
+def deck_dir(tmp_path):
+    """A copy of the example deck (inputs/deck.toml) and its record in a temporary directory."""
+    (tmp_path / "inputs").mkdir()
+    (tmp_path / "records").mkdir()
+    shutil.copy(EXAMPLE_DECK, tmp_path / "inputs" / "deck.toml")
+    shutil.copy(ELCENTRO, tmp_path / "records" / ELCENTRO.name)
+    return tmp_path
