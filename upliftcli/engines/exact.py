@@ -184,8 +184,6 @@ def summarize(system: System, history: History, support: str, engine: str, optio
     uplifted = bool(lifted_flags(history).any()) if history.layout.n_elements else False
     energy = energy_balance(history, sig)
     details = {
-        "base_shear_time": time_at(history, where[2 * n]),
-        "base_moment_time": time_at(history, where[3 * n]),
         "modal_base_shear": modal_shear.tolist(),
         "cumulative_modal_base_shear": cumulative_shear.tolist(),
         "uplift_summary": summary,
@@ -201,8 +199,8 @@ def summarize(system: System, history: History, support: str, engine: str, optio
         "rotation_inertia": model.theta_inertia,
         "samples": int(history.times.size),
         "transitions": int(np.count_nonzero(np.diff(history.state_ids))),
-        "base_shear_time": details["base_shear_time"],
-        "base_moment_time": details["base_moment_time"],
+        "base_shear_time": time_at(history, where[2 * n]),
+        "base_moment_time": time_at(history, where[3 * n]),
         "energy_residual": energy["relative_residual"],
     }
     for name in ("uplift_time", "episodes", "max_rotation", "max_uplift_left", "max_uplift_right", "min_reaction"):
