@@ -129,7 +129,7 @@ TABLES: dict[str, dict[str, Field]] = {
         "criterion": Field("string", "-", "uplift criterion [4a, 4b]", "", "reaction",
                            ("reaction", "displacement")),
         "steps_per_period": Field("integer", "-", "internal steps per shortest governing period (T_1, the "
-                                  "bonded vertical period, modes with >= 1 % mass)", "count", 10),
+                                  "bonded vertical period, modes with >= 1 % mass)", "count", 6),
         "time_step": Field("number", "s", "internal time step (default: from steps_per_period and the "
                            "record step)", "positive"),
         "free_vibration": Field("number", "s", "free vibration appended after the record", "nonnegative", 0.0),

@@ -71,7 +71,7 @@ class ExactOptions:
 
     n_modes: int | None = None
     criterion: str = "reaction"
-    steps_per_period: int = 10
+    steps_per_period: int = 6
     time_step: float | None = None
     free_vibration: float = 0.0
     flight: str = "allow"
@@ -176,7 +176,12 @@ def summarize(system: System, history: History, support: str, engine: str, optio
     # peaks of the instant-by-instant sums of modes 1..k (paper Fig. 7)
     rows = np.vstack((maps.stacked(), np.tril(np.ones_like(modal)) @ modal))
     n = system.building.n_stories
-    peaks, where = hermite_peaks(sig["Y"] @ rows.T, sig, rows, interval_lengths(history))
+    # shortest period that matters in each response: the governing one, or the mode's own
+    # period for a single mode's base shear (modes above the governing band are searched more)
+    mode_periods = 2.0 * math.pi / model.omega
+    governing = governing_period(system, model)
+    periods = np.concatenate((np.full(4 * n, governing), mode_periods, np.maximum(mode_periods, governing)))
+    peaks, where = hermite_peaks(sig, rows, interval_lengths(history), periods)
     displacement, drift, shear, moment = (peaks[k * n:(k + 1) * n] for k in range(4))
     modal_shear = peaks[4 * n:4 * n + model.n_modes]
     cumulative_shear = peaks[4 * n + model.n_modes:]

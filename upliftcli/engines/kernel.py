@@ -1,8 +1,9 @@
 """Compiled stepping loop of the exact engine (numba).
 
 For each contact state s the caller supplies the exact step operators
-ops[s, j] = expm(A_s h / 2^j), j = 0..L, of the augmented autonomous system (see
-statespace.py), the event rows G_s and A_s itself. A step of length h is one
+ops[s, j] = expm(A_s h / 2^j)^T, j = 0..L, of the augmented autonomous system (see
+statespace.py), the event rows G_s, their rates G_s A_s and A_s^T (operators and
+matrices are passed transposed: see _matvec). A step of length h is one
 matrix-vector product. When an event function turns positive at the end of a chunk,
 the crossing is bracketed by bisection with the finer operators (one product per
 halving, exact at every level) down to h / 2^L, then placed by linear interpolation
@@ -27,16 +28,22 @@ DONE, NEED_STATE, FULL, FLIGHT, NONFINITE, CHATTER = 0, 1, 2, 3, 4, 5
 #: samples kept free at the start of every step; more events than this inside one step is chatter
 MAX_EVENTS_PER_STEP = 256
 EVENT_TOLERANCE = 1e-12
+#: a chunk whose event functions may make a brief positive excursion is halved down to h / 2^this
+REFINE_LEVELS = 5
 
 
 @njit(cache=True, inline="always")
-def _matvec(matrix, x, out):
+def _matvec(matrix_t, x, out):
+    """out = M x from the transposed matrix M^T, column by column: the inner loop runs along
+    contiguous memory without a reduction, so it vectorises (3x faster than row dot products)."""
     n = x.size
     for i in range(n):
-        acc = 0.0
-        for j in range(n):
-            acc += matrix[i, j] * x[j]
-        out[i] = acc
+        out[i] = 0.0
+    for j in range(n):
+        xj = x[j]
+        if xj != 0.0:
+            for i in range(n):
+                out[i] += matrix_t[j, i] * xj
 
 
 @njit(cache=True)
@@ -52,6 +59,43 @@ def _max_event(events, x):
 
 
 @njit(cache=True)
+def _excursion(events, rates, x, y, length):
+    """True if some event function, not positive at either end of a chunk (states x, y,
+    length [s]), has a positive interior maximum on its cubic Hermite interpolant (values
+    G x, G y and exact rates G A x, G A y): a brief excursion the chunk ends would miss."""
+    for i in range(events.shape[0]):
+        g0 = 0.0
+        g1 = 0.0
+        d0 = 0.0
+        d1 = 0.0
+        for j in range(x.size):
+            g0 += events[i, j] * x[j]
+            g1 += events[i, j] * y[j]
+            d0 += rates[i, j] * x[j]
+            d1 += rates[i, j] * y[j]
+        if d0 <= 0.0 and d1 >= 0.0:
+            continue  # falling at the start and rising at the end: no interior maximum
+        d0 *= length
+        d1 *= length
+        a = 2.0 * (g0 - g1) + d0 + d1
+        b = 3.0 * (g1 - g0) - 2.0 * d0 - d1
+        # p'(s) = 3 a s^2 + 2 b s + d0 = 0
+        if abs(a) > 1e-14 * (abs(b) + abs(d0)):
+            disc = b * b - 3.0 * a * d0
+            if disc < 0.0:
+                continue
+            root = np.sqrt(disc)
+            for s in ((-b + root) / (3.0 * a), (-b - root) / (3.0 * a)):
+                if 0.0 < s < 1.0 and ((a * s + b) * s + d0) * s + g0 > EVENT_TOLERANCE:
+                    return True
+        elif b != 0.0:
+            s = -d0 / (2.0 * b)
+            if 0.0 < s < 1.0 and ((a * s + b) * s + d0) * s + g0 > EVENT_TOLERANCE:
+                return True
+    return False
+
+
+@njit(cache=True)
 def _find_state(patterns, n_states, pattern):
     for s in range(n_states):
         if patterns[s] == pattern:
@@ -61,7 +105,7 @@ def _find_state(patterns, n_states, pattern):
 
 @njit(cache=True)
 def integrate(
-    ops, events, matrices, patterns, n_states,
+    ops, events, event_rates, matrices, patterns, n_states,
     z_index, lift_rows, element_damped, all_lifted_pattern, allow_flight,
     ground, slopes, h, n_levels, index_acceleration, index_slope,
     x, state, step, offset, out_x, out_t, out_state, n_out,
@@ -104,7 +148,15 @@ def integrate(
             while level < n_levels and chunk[level] > remaining * (1.0 + 1e-12):
                 level += 1
             _matvec(ops[state, level], x, trial)
-            if _max_event(events[state], trial) <= EVENT_TOLERANCE:
+            crossed = _max_event(events[state], trial) > EVENT_TOLERANCE
+            # an event function may rise above zero and fall back inside the chunk: halve it
+            # while its cubic interpolant says so (down to h / 2^REFINE_LEVELS)
+            while (not crossed and level < REFINE_LEVELS
+                   and _excursion(events[state], event_rates[state], x, trial, chunk[level])):
+                level += 1
+                _matvec(ops[state, level], x, trial)
+                crossed = _max_event(events[state], trial) > EVENT_TOLERANCE
+            if not crossed:
                 x[:] = trial
                 offset += chunk[level]
                 continue
@@ -172,6 +224,9 @@ def integrate(
         step += 1
         offset = 0.0
         x[index_acceleration] = ground[step]
+        if step < n_steps:
+            # the sample opens the next interval: it carries that interval's ground slope
+            x[index_slope] = slopes[step]
         finite = True
         for i in range(n_aug):
             if not np.isfinite(x[i]):

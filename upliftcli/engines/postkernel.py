@@ -1,6 +1,7 @@
-"""Compiled loops of the post-processing (numba): peaks between samples and work integrals.
+"""Compiled loops of the post-processing (numba): signals at the samples, peaks between
+samples and work integrals.
 
-Both walk the intervals between samples once; numpy versions of the same loops cost
+Each walks the samples (or the intervals between them) once; numpy versions of the same loops cost
 5-10 times more on the ten-story example (temporaries and strided reductions).
 """
 
@@ -9,81 +10,157 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-#: intervals whose end samples are within this fraction of the sampled peak are searched
-CANDIDATE_FRACTION = 0.8
-
-
 @njit(cache=True)
-def _hermite_extremum(r0, r1, d0, d1):
-    """Largest |p(s)| for s in [0, 1] of the cubic Hermite p with p(0)=r0, p(1)=r1,
-    p'(0)=d0, p'(1)=d1 (slopes already multiplied by the interval length); returns (value, s)."""
-    a = 2.0 * (r0 - r1) + d0 + d1
-    b = 3.0 * (r1 - r0) - 2.0 * d0 - d1
-    c = d0
-    best = abs(r0)
+def _quintic_extremum(p0, p1, d0, d1, c0, c1):
+    """Largest |p(s)| for s in [0, 1] of the quintic Hermite p with p, p', p'' given at both
+    ends (slopes times the interval length, second derivatives times its square); returns
+    (value, s). The stationary points are bracketed on 8 sub-intervals and bisected."""
+    a2 = 0.5 * c0
+    a3 = -1.5 * c0 + 0.5 * c1 - 6.0 * d0 - 4.0 * d1 - 10.0 * p0 + 10.0 * p1
+    a4 = 1.5 * c0 - c1 + 8.0 * d0 + 7.0 * d1 + 15.0 * p0 - 15.0 * p1
+    a5 = -0.5 * c0 + 0.5 * c1 - 3.0 * d0 - 3.0 * d1 - 6.0 * p0 + 6.0 * p1
+    best = abs(p0)
     where = 0.0
-    if abs(r1) > best:
-        best = abs(r1)
+    if abs(p1) > best:
+        best = abs(p1)
         where = 1.0
-    if abs(a) > 1e-12 * (abs(b) + abs(c)):
-        disc = 4.0 * b * b - 12.0 * a * c
-        if disc >= 0.0:
-            root = np.sqrt(disc)
-            for s in ((-2.0 * b + root) / (6.0 * a), (-2.0 * b - root) / (6.0 * a)):
-                if 0.0 < s < 1.0:
-                    value = abs(((a * s + b) * s + c) * s + r0)
-                    if value > best:
-                        best = value
-                        where = s
-    elif b != 0.0:
-        s = -c / (2.0 * b)
-        if 0.0 < s < 1.0:
-            value = abs(((a * s + b) * s + c) * s + r0)
+    lo = 0.0
+    g_lo = d0
+    for k in range(1, 9):
+        hi = k / 8.0
+        g_hi = (((5.0 * a5 * hi + 4.0 * a4) * hi + 3.0 * a3) * hi + 2.0 * a2) * hi + d0
+        if (g_lo > 0.0) != (g_hi > 0.0) or g_hi == 0.0:
+            left, right, g_left = lo, hi, g_lo
+            for _ in range(40):
+                mid = 0.5 * (left + right)
+                g_mid = (((5.0 * a5 * mid + 4.0 * a4) * mid + 3.0 * a3) * mid + 2.0 * a2) * mid + d0
+                if (g_mid > 0.0) == (g_left > 0.0) and g_mid != 0.0:
+                    left, g_left = mid, g_mid
+                else:
+                    right = mid
+            root = 0.5 * (left + right)
+            value = abs((((((a5 * root + a4) * root + a3) * root + a2) * root + d0) * root) + p0)
             if value > best:
                 best = value
-                where = s
+                where = root
+        lo, g_lo = hi, g_hi
     return best, where
 
 
 @njit(cache=True)
-def hermite_peaks(values, rates, end_rates, switch, rows, lengths):
-    """Peak |r| of each response between samples and where it is (interval index + fraction).
+def evaluate_signals(states, ids, rows_t, values, slopes, ends):
+    """Signal values and slopes at every sample, each sample with its own contact state's rows.
 
-    values: responses at the samples (n, m), continuous in time; their slopes are rows @ rates
-    (rates (n, k) at the samples; end_rates[switch[i]] (k,) at the end of an interval i that
-    ends at a transition), evaluated only on the intervals that can hold the peak.
+    rows_t (S, n_aug, k + k_s): transposed rows of every state (k value rows, then the slope
+    rows of the first k_s signals); values (n, k), slopes (n, k_s) filled in place; ends
+    (n_switch, k + k_s): the left limits at the end of every interval that ends at a
+    transition, in order. Accumulated column by column (vectorised; see kernel._matvec).
     """
-    n, m = values.shape
-    k = rows.shape[1]
+    n = states.shape[0]
+    k = values.shape[1]
+    width = rows_t.shape[2]
+    acc = np.empty(width)
+    n_switch = 0
+    for i in range(n):
+        s = ids[i]
+        _accumulate(states, i, rows_t[s], acc)
+        values[i, :] = acc[:k]
+        slopes[i, :] = acc[k:]
+        if i + 1 < n and ids[i + 1] != s:
+            _accumulate(states, i + 1, rows_t[s], acc)
+            ends[n_switch, :] = acc
+            n_switch += 1
+
+
+@njit(cache=True, inline="always")
+def _accumulate(states, i, rows_t, out):
+    """out = R x_i from R^T (n_aug, width), skipping zero state entries."""
+    out[:] = 0.0
+    for q in range(states.shape[1]):
+        xq = states[i, q]
+        if xq != 0.0:
+            for r in range(out.size):
+                out[r] += rows_t[q, r] * xq
+
+
+@njit(cache=True)
+def hermite_peaks(values, slopes, y_column, ydot_column, end_values, end_slopes, switch, rows_t, lengths,
+                  fractions):
+    """Peak |r| of each response r = R Y* between samples and where it is (interval index +
+    fraction), from the quintic Hermite interpolant through the samples with the exact first
+    and second derivatives R Y*', R Y*'' at both ends (error O(h^6)).
+
+    values (n, k): the signals at the samples, Y* in columns y_column.., Y*' in ydot_column..;
+    slopes (n, k_s): their rates, Y*'' in ydot_column..; end_values[switch[i]],
+    end_slopes[switch[i]]: left limits at the end of an interval i that ends at a transition
+    (Y* is continuous, Y*' and Y*'' may jump); rows_t (n_m, m) = R^T. Responses are formed on
+    the fly (never stored); only intervals with an end sample at or above `fractions[j]` of the
+    sampled peak of response j can hold its peak (fractions[j] <= cos(omega h / 2) for the
+    highest frequency omega that matters in response j) and are searched between samples.
+    """
+    n = values.shape[0]
+    n_m, m = rows_t.shape
     best = np.zeros(m)
     where = np.zeros(m)
+    r0 = np.empty(m)
+    r1 = np.empty(m)
+    # pass 1: sampled peaks; flag the samples within the fraction of the running peak of some
+    # response (a superset of those within the fraction of the final peak)
+    flagged = np.zeros(n, dtype=np.bool_)
     for i in range(n):
+        _combine(values, i, y_column, rows_t, r0)
         for j in range(m):
-            v = abs(values[i, j])
+            v = abs(r0[j])
             if v > best[j]:
                 best[j] = v
                 where[j] = i
-    threshold = CANDIDATE_FRACTION * best
+            if v >= fractions[j] * best[j]:
+                flagged[i] = True
+    # pass 2: between samples, on the intervals with a flagged end
+    threshold = fractions * best
+    ready = -1  # the sample whose responses r0 holds
     for i in range(n - 1):
+        if not (flagged[i] or flagged[i + 1]):
+            continue
+        if ready != i:
+            _combine(values, i, y_column, rows_t, r0)
+        _combine(values, i + 1, y_column, rows_t, r1)
+        ready = i + 1
         fix = switch[i]
         for j in range(m):
-            r0 = values[i, j]
-            r1 = values[i + 1, j]
-            if abs(r0) < threshold[j] and abs(r1) < threshold[j]:
+            if abs(r0[j]) < threshold[j] and abs(r1[j]) < threshold[j]:
                 continue
             d0 = 0.0
             d1 = 0.0
-            for q in range(k):
-                d0 += rows[j, q] * rates[i, q]
+            c0 = 0.0
+            c1 = 0.0
+            for q in range(n_m):
+                d0 += rows_t[q, j] * values[i, ydot_column + q]
+                c0 += rows_t[q, j] * slopes[i, ydot_column + q]
                 if fix >= 0:
-                    d1 += rows[j, q] * end_rates[fix, q]
+                    d1 += rows_t[q, j] * end_values[fix, ydot_column + q]
+                    c1 += rows_t[q, j] * end_slopes[fix, ydot_column + q]
                 else:
-                    d1 += rows[j, q] * rates[i + 1, q]
-            value, s = _hermite_extremum(r0, r1, d0 * lengths[i], d1 * lengths[i])
+                    d1 += rows_t[q, j] * values[i + 1, ydot_column + q]
+                    c1 += rows_t[q, j] * slopes[i + 1, ydot_column + q]
+            length = lengths[i]
+            value, s = _quintic_extremum(r0[j], r1[j], d0 * length, d1 * length,
+                                         c0 * length * length, c1 * length * length)
             if value > best[j]:
                 best[j] = value
                 where[j] = i + s
+        r0, r1 = r1, r0
     return best, where
+
+
+@njit(cache=True, inline="always")
+def _combine(values, i, column, rows_t, out):
+    """out = R y with y = values[i, column:column + n_m], from R^T (n_m, m)."""
+    out[:] = 0.0
+    for q in range(rows_t.shape[0]):
+        yq = values[i, column + q]
+        for j in range(out.size):
+            out[j] += rows_t[q, j] * yq
 
 
 @njit(cache=True, inline="always")
@@ -100,7 +177,8 @@ def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lift
     """Input work, structural and foundation damping energy [J] by 3-point Gauss quadrature
     on the cubic Hermite interpolants of the signals in every interval.
 
-    values, slopes: (n, k), one row per sample (interval-local access keeps it in cache)."""
+    values (n, k), slopes (n, k_s): one row per sample (interval-local access keeps it in
+    cache); only the first k_s signals (those with slopes) are integrated."""
     nodes = np.array([0.5 * (1.0 - np.sqrt(0.6)), 0.5, 0.5 * (1.0 + np.sqrt(0.6))])
     weights = np.array([5.0, 8.0, 5.0]) / 18.0
     basis = np.empty((3, 4))  # Hermite basis h00, h10, h01, h11 at the Gauss nodes
@@ -109,7 +187,7 @@ def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lift
         basis[g, 1] = _hermite(0.0, 0.0, 1.0, 0.0, nodes[g])
         basis[g, 2] = _hermite(0.0, 1.0, 0.0, 0.0, nodes[g])
         basis[g, 3] = _hermite(0.0, 0.0, 0.0, 1.0, nodes[g])
-    k = values.shape[1]
+    k = slopes.shape[1]  # the signals with slopes come first in values
     gauss = np.empty((3, k))
     work_in = 0.0
     damp_struct = 0.0
@@ -123,6 +201,10 @@ def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lift
             if fix >= 0:
                 v1 = end_values[fix, q]
                 d1 = end_slopes[fix, q] * length
+            elif q == row_a:
+                # the ground acceleration is linear inside the interval (its slope jumps at samples)
+                v1 = values[i + 1, q]
+                d1 = d0
             else:
                 v1 = values[i + 1, q]
                 d1 = slopes[i + 1, q] * length

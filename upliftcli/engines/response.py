@@ -6,10 +6,10 @@ rate, and each element's displacement, velocity and relaxed top z_i. With X' = A
 signal's exact time derivative at a sample is one more row, so:
 - responses (paper Eqs. 12-14: floor displacements u = sum Y_n* phi_n*, drifts,
   equivalent lateral forces, story shears and overturning moments by statics) and
-  their peaks between samples come from the cubic Hermite interpolant through the
-  sampled values and exact slopes (O(h^4) between samples; THEORY.md section 9);
-- work integrals of the energy balance use 3-point Gauss quadrature on the same
-  Hermite interpolants.
+  their peaks between samples come from the quintic Hermite interpolant through the
+  sampled values and exact first and second derivatives (O(h^6) between samples);
+- work integrals of the energy balance use 3-point Gauss quadrature on the cubic
+  Hermite interpolants of the signals (O(h^4)).
 """
 
 from __future__ import annotations
@@ -53,10 +53,11 @@ def response_maps(building: Building, shapes_star: np.ndarray, omega: np.ndarray
 
 @dataclass
 class Signals:
-    """Signals at the samples, one row per sample: values (n, k) and slopes (n, k), with
-    the slopes taken in the state valid from each sample on. At a contact transition the rates
-    (theta', v', element velocities) jump: `switch[i]` >= 0 marks an interval i that ends at a
-    transition, and `end_values[switch[i]]`, `end_slopes[switch[i]]` (k,) hold its left limits.
+    """Signals at the samples, one row per sample: values (n, k) and, for the first k_s
+    signals (those the work integrals need), slopes (n, k_s), taken in the state valid from
+    each sample on. At a contact transition the rates (theta', v', element velocities) jump:
+    `switch[i]` >= 0 marks an interval i that ends at a transition, and
+    `end_values[switch[i]]` (k,), `end_slopes[switch[i]]` (k_s,) hold its left limits.
     """
 
     values: np.ndarray
@@ -72,18 +73,21 @@ class Signals:
 
 
 def signals(history: History) -> Signals:
-    """Evaluate the signal rows of every contact state at its samples (grouped matrix products)."""
+    """Evaluate the signal rows of every contact state at its samples (postkernel.evaluate_signals)."""
     model, lay = history.model, history.layout
     n_m, n_e = model.n_modes, lay.n_elements
     position = position_map(model, lay)
     to_modal = modal_map(model, lay)
     _, _, forcing_ground, _ = structure_matrices(model)
-    sizes = [("Y", n_m), ("Ydot", n_m), ("theta", 1), ("v", 1), ("a", 1), ("input", 1),
-             ("element_velocity", n_e), ("element_displacement", n_e), ("z", n_e)]
+    # signals with slopes first (work integrals), then values only
+    with_slopes = [("Ydot", n_m), ("a", 1), ("input", 1), ("element_velocity", n_e), ("z", n_e)]
+    values_only = [("Y", n_m), ("theta", 1), ("v", 1), ("element_displacement", n_e)]
     names, start = {}, 0
-    for name, size in sizes:
+    for name, size in with_slopes + values_only:
         names[name] = slice(start, start + size)
         start += size
+        if name == with_slopes[-1][0]:
+            n_slopes = start
     e = element_directions(model) if n_e else np.zeros((0, lay.n_p))
     rows_by_state = []
     for contact in history.contact:
@@ -99,34 +103,30 @@ def signals(history: History) -> Signals:
         rows[names["element_displacement"]] = e @ position
         for i in range(n_e):
             rows[names["z"].start + i, lay.z_index(i)] = 1.0
-        rows_by_state.append(np.vstack((rows, rows @ contact.matrix)))
+        rows_by_state.append(np.vstack((rows, rows[:n_slopes] @ contact.matrix)).T)
     states, ids = history.states, history.state_ids
-    counts = np.bincount(ids, minlength=len(rows_by_state))
-    common = int(counts.argmax())
-    values = states @ rows_by_state[common][:start].T
-    slopes = states @ rows_by_state[common][start:].T
-    for s, rows in enumerate(rows_by_state):
-        if s != common and counts[s]:
-            mask = ids == s
-            values[mask] = states[mask] @ rows[:start].T
-            slopes[mask] = states[mask] @ rows[start:].T
     at = np.nonzero(ids[1:] != ids[:-1])[0]
     switch = np.full(max(ids.size - 1, 0), -1, dtype=np.int64)
     switch[at] = np.arange(at.size)
-    ends = np.array([rows_by_state[ids[i]] @ states[i + 1] for i in at]).reshape(at.size, 2 * start)
+    values = np.empty((ids.size, start))
+    slopes = np.empty((ids.size, n_slopes))
+    ends = np.empty((at.size, start + n_slopes))
+    postkernel.evaluate_signals(states, ids, np.ascontiguousarray(rows_by_state), values, slopes, ends)
     return Signals(values, slopes, switch, np.ascontiguousarray(ends[:, :start]),
                    np.ascontiguousarray(ends[:, start:]), names)
 
 
-def hermite_peaks(responses: np.ndarray, sig: Signals, rows: np.ndarray, lengths: np.ndarray
+def hermite_peaks(sig: Signals, rows: np.ndarray, lengths: np.ndarray, periods: np.ndarray
                   ) -> tuple[np.ndarray, np.ndarray]:
-    """Peak |r| of each response r = rows @ Y* (responses: (n, m) at the samples) between samples,
-    and where (interval index + fraction), from the cubic Hermite interpolant through the samples
-    and the exact slopes rows @ Y*' at both interval ends."""
-    ydot = sig.rows["Ydot"]
-    return postkernel.hermite_peaks(np.ascontiguousarray(responses), np.ascontiguousarray(sig.values[:, ydot]),
-                                    np.ascontiguousarray(sig.end_values[:, ydot]), sig.switch,
-                                    np.ascontiguousarray(rows), lengths)
+    """Peak |r| of each response r = rows @ Y* between samples, and where (interval index +
+    fraction), from the quintic Hermite interpolant through the samples with the exact first and
+    second derivatives (postkernel.hermite_peaks). periods (m,) [s]: the shortest period that
+    matters in each response; with the step it sets which intervals can hold the peak."""
+    step = float(lengths.max()) if lengths.size else 0.0
+    fractions = 0.9 * np.cos(np.minimum(np.pi * step / np.asarray(periods, dtype=float), 0.5 * np.pi))
+    return postkernel.hermite_peaks(sig.values, sig.slopes, sig.rows["Y"].start, sig.rows["Ydot"].start,
+                                    sig.end_values, sig.end_slopes, sig.switch, np.ascontiguousarray(rows.T),
+                                    lengths, fractions)
 
 
 def interval_lengths(history: History) -> np.ndarray:

@@ -42,7 +42,8 @@ class History:
 
 
 class _Operators:
-    """Exact step operators of the contact states met so far, grown on demand."""
+    """Exact step operators of the contact states met so far, grown on demand (stored
+    transposed, as kernel.integrate takes them)."""
 
     def __init__(self, model: ModalModel, lay: Layout, h: float, criterion: str):
         self.model, self.layout, self.h, self.criterion = model, lay, h, criterion
@@ -50,6 +51,7 @@ class _Operators:
         self.capacity = 4
         self.ops = np.zeros((self.capacity, LEVELS + 1, n_aug, n_aug))
         self.events = np.zeros((self.capacity, n_e, n_aug))
+        self.event_rates = np.zeros((self.capacity, n_e, n_aug))
         self.matrices = np.zeros((self.capacity, n_aug, n_aug))
         self.patterns = np.full(self.capacity, -1, dtype=np.int64)
         self.contact: list[ContactState] = []
@@ -69,16 +71,18 @@ class _Operators:
             self.capacity *= 2
             grow = lambda a, fill=0.0: np.concatenate((a, np.full_like(a, fill)))  # noqa: E731
             self.ops, self.events, self.matrices = grow(self.ops), grow(self.events), grow(self.matrices)
+            self.event_rates = grow(self.event_rates)
             self.patterns = grow(self.patterns, -1)
+        # transposed (the kernel's _matvec runs down columns); (E^T)^2 = (E^2)^T
         a = state.matrix
-        finest = expm(a * (self.h / 2.0**LEVELS))
-        self.ops[index, LEVELS] = finest
+        self.ops[index, LEVELS] = expm(a.T * (self.h / 2.0**LEVELS))
         for j in range(LEVELS - 1, 0, -1):
             self.ops[index, j] = self.ops[index, j + 1] @ self.ops[index, j + 1]
-        self.ops[index, 0] = expm(a * self.h)
+        self.ops[index, 0] = expm(a.T * self.h)
         if events:
             self.events[index] = state.events
-        self.matrices[index] = a
+            self.event_rates[index] = state.events @ a
+        self.matrices[index] = a.T
         self.patterns[index] = pattern
         self.contact.append(state)
         return index
@@ -123,11 +127,12 @@ def simulate(
     out_t = np.empty(capacity)
     out_s = np.empty(capacity, dtype=np.int64)
     x[lay.index_acceleration] = ground[0]
+    x[lay.index_slope] = slopes[0]
     out_x[0], out_t[0], out_s[0] = x, 0.0, state
     n_out, step, offset = 1, 0, 0.0
     while True:
         status, step, offset, state, n_out, pattern = kernel.integrate(
-            operators.ops, operators.events, operators.matrices, operators.patterns, len(operators.contact),
+            operators.ops, operators.events, operators.event_rates, operators.matrices, operators.patterns, len(operators.contact),
             z_index, lift_rows, element_damped, all_lifted, allow_flight,
             ground, slopes, h, LEVELS, lay.index_acceleration, lay.index_slope,
             x, state, step, offset, out_x, out_t, out_s, n_out,
