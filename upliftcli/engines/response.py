@@ -82,12 +82,11 @@ def signals(history: History) -> Signals:
     # signals with slopes first (work integrals), then values only
     with_slopes = [("Ydot", n_m), ("a", 1), ("input", 1), ("element_velocity", n_e), ("z", n_e)]
     values_only = [("Y", n_m), ("theta", 1), ("v", 1), ("element_displacement", n_e)]
+    n_slopes = sum(size for _, size in with_slopes)
     names, start = {}, 0
     for name, size in with_slopes + values_only:
         names[name] = slice(start, start + size)
         start += size
-        if name == with_slopes[-1][0]:
-            n_slopes = start
     e = element_directions(model) if n_e else np.zeros((0, lay.n_p))
     rows_by_state = []
     for contact in history.contact:

@@ -132,7 +132,8 @@ def simulate(
     n_out, step, offset = 1, 0, 0.0
     while True:
         status, step, offset, state, n_out, pattern = kernel.integrate(
-            operators.ops, operators.events, operators.event_rates, operators.matrices, operators.patterns, len(operators.contact),
+            operators.ops, operators.events, operators.event_rates, operators.matrices, operators.patterns,
+            len(operators.contact),
             z_index, lift_rows, element_damped, all_lifted, allow_flight,
             ground, slopes, h, LEVELS, lay.index_acceleration, lay.index_slope,
             x, state, step, offset, out_x, out_t, out_s, n_out,
