@@ -133,8 +133,34 @@ class Modes:
         )
 
 
+#: modes of the buildings analysed last in this process (a sweep over foundation fields
+#: meets one building many times), keyed by the building's content
+_MODES_CACHE: dict[tuple, Modes] = {}
+_MODES_CACHE_SIZE = 64
+
+
+def _building_key(building: Building) -> tuple:
+    arrays = (building.masses, building.heights, building.stiffness, building.damping)
+    return tuple(np.asarray(a, dtype=float).tobytes() for a in arrays)
+
+
 def modal_analysis(building: Building) -> Modes:
-    """Solve K phi = w^2 M phi [6] and the effective modal quantities [9, 10]."""
+    """Solve K phi = w^2 M phi [6] and the effective modal quantities [9, 10].
+
+    The result is shared between calls for equal buildings (its arrays are read-only)."""
+    key = _building_key(building)
+    modes = _MODES_CACHE.get(key)
+    if modes is None:
+        modes = _solve_modes(building)
+        for array in vars(modes).values():
+            array.flags.writeable = False
+        if len(_MODES_CACHE) >= _MODES_CACHE_SIZE:
+            _MODES_CACHE.pop(next(iter(_MODES_CACHE)))
+        _MODES_CACHE[key] = modes
+    return modes
+
+
+def _solve_modes(building: Building) -> Modes:
     mass = np.diag(building.masses)
     eigenvalues, shapes = eigh(building.stiffness, mass)
     if eigenvalues[0] <= 0.0:

@@ -10,15 +10,15 @@ from __future__ import annotations
 
 from ..results import AnalysisResult
 from ..system import System
-from . import single_threaded_blas
-from .exact import ExactOptions, modal_model, resolve_modes, run_history, summarize
+from . import exact
+from .exact import ExactOptions
 
 
-@single_threaded_blas
 def analyze(system: System, record, support: str, options: ExactOptions | None = None) -> AnalysisResult:
     """Approximate peak response: first mode with interaction and uplift, higher modes fixed-base."""
-    options = options or ExactOptions()
-    n_modes = resolve_modes(system, options.n_modes)
-    model = modal_model(system, support, n_modes, coupled_modes=1, approximate=True)
-    history = run_history(system, model, record.acceleration, record.dt, support, options)
-    return summarize(system, history, support, "approximate", options, system.modes.shapes_star[:, :n_modes])
+    return exact.analyze(system, record, support, options, engine="approximate")
+
+
+def analyze_batch(systems: list[System], record, support: str, options: ExactOptions | None = None) -> list:
+    """analyze for several systems (exact.analyze_batch with the approximate model)."""
+    return exact.analyze_batch(systems, record, support, options, engine="approximate")

@@ -11,8 +11,9 @@ See docs/exact-engine.md for the choices and their measurements.
 
 from __future__ import annotations
 
+import copy
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -24,7 +25,7 @@ from .response import (
     energy_balance, hermite_peaks, interval_lengths, lifted_flags, response_maps, signals, time_at,
     uplift_summary,
 )
-from .simulate import History, simulate
+from .simulate import History, Run, ground_grid, simulate, simulate_many
 from .statespace import ModalModel
 
 SUPPORTS = ("rigid", "bonded", "uplift")
@@ -146,22 +147,36 @@ def resolve_modes(system: System, n_modes: int | None) -> int:
     return int(n_modes)
 
 
-def run_history(system: System, model: ModalModel, acceleration: np.ndarray, dt: float,
-                support: str, options: ExactOptions) -> History:
-    """Simulate the model through the record (with the free-vibration tail)."""
-    if support not in SUPPORTS:
-        raise InputError("analysis", "supports", f"expected one of {', '.join(SUPPORTS)}, got {support!r}")
+def _checked_acceleration(acceleration: np.ndarray, dt: float, options: ExactOptions) -> np.ndarray:
     acceleration = np.asarray(acceleration, dtype=float)
     if acceleration.size < 2:
         raise AnalysisError("the record is too short: at least two samples are needed")
     if options.free_vibration > 0.0:
         acceleration = np.concatenate((acceleration, np.zeros(math.ceil(options.free_vibration / dt))))
+    return acceleration
+
+
+def _check_support(support: str) -> None:
+    if support not in SUPPORTS:
+        raise InputError("analysis", "supports", f"expected one of {', '.join(SUPPORTS)}, got {support!r}")
+
+
+def _checked_substeps(system: System, model: ModalModel, samples: int, dt: float, options: ExactOptions) -> int:
     substeps = substeps_for(system, model, dt, options)
-    if substeps * (acceleration.size - 1) > MAX_STEPS:
+    if substeps * (samples - 1) > MAX_STEPS:
         raise AnalysisError(
-            f"{substeps * (acceleration.size - 1):,} steps would be needed (more than {MAX_STEPS:,}); "
+            f"{substeps * (samples - 1):,} steps would be needed (more than {MAX_STEPS:,}); "
             "raise analysis.exact.time_step or lower steps_per_period"
         )
+    return substeps
+
+
+def run_history(system: System, model: ModalModel, acceleration: np.ndarray, dt: float,
+                support: str, options: ExactOptions) -> History:
+    """Simulate the model through the record (with the free-vibration tail)."""
+    _check_support(support)
+    acceleration = _checked_acceleration(acceleration, dt, options)
+    substeps = _checked_substeps(system, model, acceleration.size, dt, options)
     return simulate(model, acceleration, dt, substeps, options.criterion,
                     uplift=support == "uplift", allow_flight=options.flight == "allow")
 
@@ -245,11 +260,93 @@ def histories(system: System, history: History, maps, sig) -> dict[str, np.ndarr
     return out
 
 
-@single_threaded_blas
-def analyze(system: System, record, support: str, options: ExactOptions | None = None) -> AnalysisResult:
-    """Exact peak response of the system to the record (acceleration [m/s^2], dt [s])."""
-    options = options or ExactOptions()
+def model_for(system: System, support: str, options: ExactOptions, engine: str = "exact") -> ModalModel:
+    """The exact engine's model (all modes coupled) or the approximate one's (mode 1 coupled)."""
     n_modes = resolve_modes(system, options.n_modes)
-    model = modal_model(system, support, n_modes, residual_inertia=options.residual_inertia)
-    history = run_history(system, model, record.acceleration, record.dt, support, options)
-    return summarize(system, history, support, "exact", options, system.modes.shapes_star[:, :n_modes])
+    if engine == "approximate":
+        return modal_model(system, support, n_modes, coupled_modes=1, approximate=True)
+    return modal_model(system, support, n_modes, residual_inertia=options.residual_inertia)
+
+
+def _rigid_key(system: System) -> tuple:
+    """What a fixed-base analysis depends on: the building, m_t, g (and I_0, kept for safety);
+    never the foundation or the mat width (only V_c and M_c, replaced per system)."""
+    b = system.building
+    arrays = (b.masses, b.heights, b.stiffness, np.asarray(b.damping, dtype=float))
+    return (*(a.tobytes() for a in arrays), system.total_mass, system.gravity, system.mat_rotary_inertia)
+
+
+#: memory allowed for the sample buffers of the runs of a batch stepped together [bytes]
+BATCH_MEMORY = 256 * 2**20
+
+
+@single_threaded_blas
+def analyze_batch(systems: list[System], record, support: str, options: ExactOptions | None = None,
+                  engine: str = "exact") -> list[AnalysisResult | AnalysisError | InputError]:
+    """Peak responses of several systems to one record, one support: the result of each, or
+    the error that stopped it (the others go on). Same results, bit for bit, as analyze
+    one at a time; the work the systems share is done once:
+    - rigid base: one analysis per distinct building (and m_t, g), whatever the foundation;
+    - the fine ground-motion grid per step size;
+    - the runs are stepped together in rounds and the contact states they reach in a round
+      are assembled and exponentiated vectorised over the batch (simulate.add_states).
+    engine: "exact" or "approximate" (mode 1 coupled, THEORY.md section 5)."""
+    options = options or ExactOptions()
+    _check_support(support)
+    acceleration = _checked_acceleration(record.acceleration, record.dt, options)
+    out: list = [None] * len(systems)
+    shared: dict[int, list[int]] = {}  # rigid: representative -> the others with its key
+    if support == "rigid":
+        groups: dict[tuple, list[int]] = {}
+        for k, system in enumerate(systems):
+            groups.setdefault(_rigid_key(system), []).append(k)
+        shared = {members[0]: members[1:] for members in groups.values()}
+    todo = list(shared) if support == "rigid" else list(range(len(systems)))
+    grids: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+    pending: list[tuple[int, Run]] = []
+    for k in todo:
+        try:
+            model = model_for(systems[k], support, options, engine)
+            substeps = _checked_substeps(systems[k], model, acceleration.size, record.dt, options)
+            if substeps not in grids:
+                grids[substeps] = ground_grid(acceleration, substeps, record.dt)
+            pending.append((k, Run(model, *grids[substeps], record.dt / substeps, options.criterion,
+                                   uplift=support == "uplift", allow_flight=options.flight == "allow")))
+        except (AnalysisError, InputError) as error:
+            out[k] = error
+    while pending:
+        size, used = 1, pending[0][1].buffer_bytes
+        while size < len(pending) and used + pending[size][1].buffer_bytes <= BATCH_MEMORY:
+            used += pending[size][1].buffer_bytes
+            size += 1
+        order = [k for k, _ in pending[:size]]
+        histories = simulate_many([run for _, run in pending[:size]])
+        del pending[:size]  # the runs live in simulate_many only: each one's buffers go when it ends
+        for j, history in histories:
+            k = order[j]
+            if isinstance(history, AnalysisError):
+                out[k] = history
+                continue
+            system = systems[k]
+            out[k] = summarize(system, history, support, engine, options,
+                               system.modes.shapes_star[:, :history.model.n_modes])
+    for lead, others in shared.items():
+        for k in others:
+            out[k] = out[lead] if not isinstance(out[lead], AnalysisResult) else _for_system(out[lead], systems[k])
+    return out
+
+
+def _for_system(result: AnalysisResult, system: System) -> AnalysisResult:
+    """A fixed-base result for another system with the same building: its own V_c and M_c."""
+    return replace(result, heights=result.heights.copy(), critical_base_shear=system.critical_base_shear,
+                   critical_base_moment=system.critical_base_moment, intermediates=dict(result.intermediates),
+                   details=copy.deepcopy(result.details))
+
+
+def analyze(system: System, record, support: str, options: ExactOptions | None = None,
+            engine: str = "exact") -> AnalysisResult:
+    """Exact peak response of the system to the record (acceleration [m/s^2], dt [s])."""
+    (result,) = analyze_batch([system], record, support, options, engine)
+    if not isinstance(result, AnalysisResult):
+        raise result
+    return result

@@ -163,62 +163,73 @@ class ContactState:
 
 def contact_state(model: ModalModel, lay: Layout, lifted: np.ndarray, criterion: str) -> ContactState:
     """Assemble A, the velocity map and the event rows for one contact pattern."""
-    n_aug, n_p = lay.n_aug, lay.n_p
-    stiffness, damping, forcing_ground, forcing_gravity = structure_matrices(model)
-    masses = coordinate_masses(model)
+    return contact_states([model], lay, np.asarray(lifted, dtype=bool)[None, :], criterion)[0]
+
+
+def contact_states(models: list[ModalModel], lay: Layout, lifted: np.ndarray, criterion: str) -> list[ContactState]:
+    """contact_state for a batch: item r is models[r] (all with layout `lay`) in the contact
+    pattern lifted[r] (R, n_e). The assembly is vectorised over the batch axis; every item
+    gets the same bits as alone (products are per item, sums along contiguous rows).
+    Raises ZeroDivisionError if a massless rotation has no damping in some item."""
+    count = len(models)
+    n_aug, n_p, n_e = lay.n_aug, lay.n_p, lay.n_elements
     ia, i1 = lay.index_acceleration, lay.index_one
-    n_e = lay.n_elements
+    unique: dict[int, tuple] = {}
+    for model in models:
+        if id(model) not in unique:
+            unique[id(model)] = (*structure_matrices(model), coordinate_masses(model))
+    stiffness, damping, forcing_ground, forcing_gravity, masses = (
+        np.stack([unique[id(model)][k] for model in models]) for k in range(5))
     if n_e:
-        e = element_directions(model)
-        k_el, c_el = model.elements.stiffness, model.elements.damping
+        e = np.stack([element_directions(model) for model in models])  # (R, n_e, n_p)
+        k_el = np.stack([model.elements.stiffness for model in models])
+        c_el = np.stack([model.elements.damping for model in models])
         contact = ~lifted
-        stiffness = stiffness + (e[contact].T * k_el[contact]) @ e[contact]
-        damping = damping + (e[contact].T * c_el[contact]) @ e[contact]
+        e_t = np.swapaxes(e, 1, 2)
+        stiffness = stiffness + (e_t * np.where(contact, k_el, 0.0)[:, None, :]) @ e
+        damping = damping + (e_t * np.where(contact, c_el, 0.0)[:, None, :]) @ e
     a_idx, b_idx = lay.massive, lay.massless
     n_a, n_b = a_idx.size, b_idx.size
     # maps from X to p and to p' (p' of massless coordinates from the first-order equation)
-    position = np.zeros((n_p, n_aug))
-    velocity = np.zeros((n_p, n_aug))
-    position[a_idx, np.arange(n_a)] = 1.0
-    velocity[a_idx, n_a + np.arange(n_a)] = 1.0
-    position[b_idx, 2 * n_a + np.arange(n_b)] = 1.0
-    forcing = np.zeros((n_p, n_aug))
-    forcing[:, ia] = forcing_ground
-    forcing[:, i1] = forcing_gravity
+    position = np.broadcast_to(position_map(None, lay), (count, n_p, n_aug))
+    velocity = np.zeros((count, n_p, n_aug))
+    velocity[:, a_idx, n_a + np.arange(n_a)] = 1.0
+    forcing = np.zeros((count, n_p, n_aug))
+    forcing[:, :, ia] = forcing_ground
+    forcing[:, :, i1] = forcing_gravity
     if n_b:
-        c_bb = damping[np.ix_(b_idx, b_idx)]
+        c_bb = damping[:, b_idx][:, :, b_idx]
         if np.any(np.linalg.eigvalsh(c_bb) <= 0.0):
             raise ZeroDivisionError("massless rotation with no damping")
-        rhs = forcing[b_idx] - damping[np.ix_(b_idx, a_idx)] @ velocity[a_idx] - stiffness[b_idx] @ position
-        velocity[b_idx] = np.linalg.solve(c_bb, rhs)
-    matrix = np.zeros((n_aug, n_aug))
-    matrix[:n_a] = velocity[a_idx]
-    accel = (forcing[a_idx] - damping[a_idx] @ velocity - stiffness[a_idx] @ position) / masses[a_idx, None]
-    matrix[n_a:2 * n_a] = accel
+        rhs = forcing[:, b_idx] - damping[:, b_idx][:, :, a_idx] @ velocity[:, a_idx] - stiffness[:, b_idx] @ position
+        velocity[:, b_idx] = np.linalg.solve(c_bb, rhs)
+    matrix = np.zeros((count, n_aug, n_aug))
+    matrix[:, :n_a] = velocity[:, a_idx]
+    accel = forcing[:, a_idx] - damping[:, a_idx] @ velocity - stiffness[:, a_idx] @ position
+    matrix[:, n_a:2 * n_a] = accel / masses[:, a_idx, None]
     if n_b:
-        matrix[2 * n_a:2 * n_a + n_b] = velocity[b_idx]
-    events = np.zeros((n_e, n_aug))
+        matrix[:, 2 * n_a:2 * n_a + n_b] = velocity[:, b_idx]
+    events = np.zeros((count, n_e, n_aug))
     if n_e:
-        weight = model.total_mass * model.gravity
-        settlement = weight / model.elements.stiffness.sum()
-        for i in range(n_e):
-            zi = lay.z_index(i)
-            disp_row = e[i] @ position
-            if lifted[i]:
-                if c_el[i] > 0.0:
-                    matrix[zi, zi] = -k_el[i] / c_el[i]
-                # recontact when the edge comes down to the element top: z_i - v_i > 0
-                events[i] = -disp_row / settlement
-                if c_el[i] > 0.0:
-                    events[i, zi] += 1.0 / settlement
-            elif criterion == "reaction":
-                # tensile element force F_i = k v_i + c v_i' > 0 [4a]
-                events[i] = (k_el[i] * disp_row + c_el[i] * (e[i] @ velocity)) / weight
-            else:
-                # edge above the unstressed position v_i > 0 [4b]
-                events[i] = disp_row / settlement
-    matrix[ia, lay.index_slope] = 1.0
-    return ContactState(lifted.copy(), matrix, velocity, events)
+        weight = np.array([model.total_mass * model.gravity for model in models])[:, None, None]
+        settlement = weight / k_el.sum(axis=1)[:, None, None]
+        z = np.array([lay.z_index(i) for i in range(n_e)])
+        disp_rows = e @ position[:, :, :]  # (R, n_e, n_aug): element displacement v_i
+        relaxing = lifted & (c_el > 0.0)
+        rows, cols = np.nonzero(relaxing)
+        matrix[rows, z[cols], z[cols]] = -k_el[rows, cols] / c_el[rows, cols]
+        # lifted: recontact when the edge comes down to the element top, z_i - v_i > 0
+        recontact = -disp_rows / settlement
+        recontact[rows, cols, z[cols]] += 1.0 / settlement[rows, 0, 0]
+        if criterion == "reaction":
+            # in contact: tensile element force F_i = k v_i + c v_i' > 0 [4a]
+            separation = (k_el[:, :, None] * disp_rows + c_el[:, :, None] * (e @ velocity)) / weight
+        else:
+            # in contact: edge above the unstressed position v_i > 0 [4b]
+            separation = disp_rows / settlement
+        events = np.where(lifted[:, :, None], recontact, separation)
+    matrix[:, ia, lay.index_slope] = 1.0
+    return [ContactState(lifted[r].copy(), matrix[r], velocity[r], events[r]) for r in range(count)]
 
 
 def position_map(model: ModalModel, lay: Layout) -> np.ndarray:
