@@ -13,7 +13,7 @@ from paper_example import paper_system
 from upliftcli.engines import approximate, exact
 from upliftcli.engines.exact import ExactOptions
 from upliftcli.errors import AnalysisError
-from upliftcli.foundation import TwoElement
+from upliftcli.foundation import TwoElement, Winkler
 from upliftcli.records import read_record
 from upliftcli.spectra import sdof_history
 from upliftcli.system import System
@@ -279,3 +279,39 @@ def test_winkler_converges_as_elements_grow(elcentro):
     assert np.all(steps[1:] < 0.6 * steps[:-1])
     assert steps[-1] < 0.01 * moments[-1]
     np.testing.assert_allclose(shears[1:], shears[-1], rtol=0.01)
+
+
+# ----------------------------------------------------------------------------- batches
+
+def _assert_same_result(a, b):
+    """Every field equal, bit for bit (arrays, intermediates, details)."""
+    for name in a.__dataclass_fields__:
+        np.testing.assert_equal(getattr(a, name), getattr(b, name), err_msg=name)
+
+
+@pytest.mark.parametrize("engine", [exact, approximate])
+@pytest.mark.parametrize("support", ["rigid", "bonded", "uplift"])
+def test_batch_equals_one_at_a_time(elcentro, engine, support):
+    """analyze_batch over foundations, mat widths, a mat mass and a Winkler foundation (another
+    state layout) gives each system's own analyze result bit for bit; a system that cannot be
+    run (too stiff a foundation for the step limit) gets its error and the others go on."""
+    record = short(elcentro, 3.0)
+    systems = [paper_system(0.5, frequency_ratio=ratio) for ratio in (3.0, 8.0, 20.0)]
+    systems += [paper_system(0.5, slenderness=5.0), paper_system(0.5, mat_mass=350e3)]
+    winkler = Winkler(2.0 * systems[1].foundation.stiffness / (2.0 * systems[1].half_width),
+                      2.0 * systems[1].foundation.damping / (2.0 * systems[1].half_width), 6)
+    systems.append(replace(systems[1], foundation=winkler))
+    systems.append(paper_system(0.5, frequency_ratio=1e6))
+    batch = engine.analyze_batch(systems, record, support)
+    for system, result in zip(systems[:-1], batch):
+        _assert_same_result(result, engine.analyze(system, record, support))
+    if support == "rigid":  # a fixed base does not see the foundation: one analysis serves all
+        assert batch[-1].base_shear == batch[0].base_shear
+        assert {r.critical_base_shear for r in batch} == {s.critical_base_shear for s in systems}
+    else:
+        assert isinstance(batch[-1], AnalysisError) and "steps would be needed" in str(batch[-1])
+        with pytest.raises(AnalysisError, match="steps would be needed"):
+            engine.analyze(systems[-1], record, support)
+    if support == "uplift":  # runs that lift off at different times and ones that never do
+        assert [r.uplift for r in batch[:3]] == [False, True, True]
+        assert batch[1].intermediates["transitions"] != batch[2].intermediates["transitions"]

@@ -52,3 +52,15 @@ def test_mass_target_count(ten_story):
     assert modes_for_mass_target(modes, m_t, 0.80) == 1
     assert modes_for_mass_target(modes, m_t, 0.90) == 2
     assert modes_for_mass_target(modes, m_t, 0.99) == 5
+
+
+def test_modes_are_shared_between_equal_buildings():
+    """A sweep over foundation fields meets one building many times: its modes are solved once,
+    and the shared arrays cannot be changed by one user under another."""
+    first = modal_analysis(uniform_building(4, 1e5, 3.0, period=0.4, damping=0.05))
+    again = modal_analysis(uniform_building(4, 1e5, 3.0, period=0.4, damping=0.05))
+    other = modal_analysis(uniform_building(4, 1e5, 3.0, period=0.5, damping=0.05))
+    assert again is first and other is not first
+    assert other.omega[0] == pytest.approx(2 * np.pi / 0.5, rel=1e-12)
+    with pytest.raises(ValueError, match="read-only"):
+        first.omega[0] = 1.0

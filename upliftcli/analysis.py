@@ -37,6 +37,32 @@ def run_one(deck: Deck, engine: str, support: str) -> AnalysisResult:
     return function(deck.system, deck.ground_motion, support, deck.analysis.exact)
 
 
+def run_batch(decks: Sequence[Deck], engine: str, support: str) -> list[AnalysisResult | Exception]:
+    """run_one for several decks: the result of each or the error that stopped it.
+
+    The response-history engines analyse decks that share a record and options together
+    (exact.analyze_batch: shared work done once); results equal run_one's, bit for bit."""
+    out: list[AnalysisResult | Exception] = [None] * len(decks)  # type: ignore[list-item]
+    groups: dict[tuple, list[int]] = {}
+    from .records import Record
+
+    for k, deck in enumerate(decks):
+        if engine in ("exact", "approximate") and isinstance(deck.ground_motion, Record):
+            groups.setdefault((id(deck.ground_motion), deck.analysis.exact), []).append(k)
+        else:
+            try:
+                out[k] = run_one(deck, engine, support)
+            except (InputError, AnalysisError) as error:
+                out[k] = error
+    for (_, options), members in groups.items():
+        module = importlib.import_module(f"upliftcli.engines.{engine}")
+        results = module.analyze_batch([decks[k].system for k in members], decks[members[0]].ground_motion,
+                                       support, options)
+        for k, result in zip(members, results):
+            out[k] = result
+    return out
+
+
 def run(deck: Deck, engine: str | Sequence[str] | None = None,
         supports: str | Sequence[str] | None = None) -> list[AnalysisResult]:
     """Every requested engine x support (default: those of the deck), engines outermost."""

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from . import deck_schema as schema
-from .analysis import check_criteria, run_one
+from .analysis import check_criteria, run_batch
 from .deck import Deck, build_deck, parse_override, read_toml
 from .errors import AnalysisError, InputError
 
@@ -235,11 +235,21 @@ class Chunk:
     cases: list[Case]
 
 
+def _structure_order(case: Case) -> tuple:
+    """Sort key putting together the cases that differ only in foundation fields (same
+    building, record and engine options), then by engine and support: a chunk of them is
+    one batch for the exact engine (analysis.run_batch)."""
+    others = [(path, value) for path, value in case.overrides if not path.startswith("foundation.")]
+    return json.dumps(others, default=str), case.engine, case.support
+
+
 def make_chunks(plan: SweepPlan, cases: Sequence[Case], size: int) -> list[Chunk]:
-    """Consecutive cases in chunks of `size` (cases sharing a deck are adjacent)."""
+    """The cases in chunks of `size`, those that share a structure together (_structure_order;
+    stable, so otherwise in case order)."""
     size = max(1, int(size))
-    return [Chunk(plan.raw, plan.source, plan.base_overrides, list(cases[i:i + size]))
-            for i in range(0, len(cases), size)]
+    ordered = sorted(cases, key=_structure_order)
+    return [Chunk(plan.raw, plan.source, plan.base_overrides, ordered[i:i + size])
+            for i in range(0, len(ordered), size)]
 
 
 def chunk_size(n_cases: int, workers: int) -> int:
@@ -332,30 +342,62 @@ def case_row(case: Case, deck: Deck, result) -> dict[str, Any]:
     }
 
 
-def run_case(chunk: Chunk, case: Case, decks: dict) -> dict[str, Any]:
-    """One case; an exception becomes a 'failed' row with its message (never retried)."""
+def _failure(error: Exception) -> str:
+    if isinstance(error, (InputError, AnalysisError)):
+        return str(error)
+    return f"{type(error).__name__}: {error}"
+
+
+def _safe_row(case: Case, deck: Deck, result) -> dict[str, Any]:
+    if isinstance(result, Exception):
+        return failed_row(case, "failed", _failure(result))
     try:
-        deck_key = json.dumps([list(o) for o in case.overrides], default=str)
-        if deck_key not in decks:
-            decks.clear()  # cases sharing a deck are adjacent
-            overrides = list(chunk.base_overrides) + list(case.overrides)
-            decks[deck_key] = build_case_deck(chunk.raw, chunk.source, overrides)
-        deck = decks[deck_key]
-        return case_row(case, deck, run_one(deck, case.engine, case.support))
-    except (InputError, AnalysisError) as error:
-        return failed_row(case, "failed", str(error))
+        return case_row(case, deck, result)
     except Exception as error:  # noqa: BLE001 - recorded per case, the sweep goes on
-        return failed_row(case, "failed", f"{type(error).__name__}: {error}")
+        return failed_row(case, "failed", _failure(error))
+
+
+def _batch_results(members: list[tuple[Case, Deck]]) -> list:
+    """run_batch; if the batch raises, each case alone, so the failure is charged to its case."""
+    engine, support = members[0][0].engine, members[0][0].support
+    try:
+        return run_batch([deck for _, deck in members], engine, support)
+    except Exception as error:  # noqa: BLE001 - recorded per case, the sweep goes on
+        if len(members) == 1:
+            return [error]
+        return [_batch_results([member])[0] for member in members]
 
 
 def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list[dict[str, Any]]:
-    """Run a chunk of cases; `emit(("start", key))` before and `emit(("row", row))` after each."""
-    rows, decks = [], {}
+    """Run a chunk of cases; `emit(("start", key))` before and `emit(("row", row))` after each.
+
+    Cases with the same engine and support whose decks share the record and the engine
+    options run as one batch (analysis.run_batch: the exact engine shares work across
+    them); an exception becomes a 'failed' row with its message (never retried). Rows come
+    back in case order."""
+    rows: dict[int, dict[str, Any]] = {}
+    decks: dict[str, Deck] = {}
+    batches: dict[tuple, list[tuple[Case, Deck]]] = {}
     for case in chunk.cases:
+        deck_key = json.dumps([list(o) for o in case.overrides], default=str)
+        try:
+            if deck_key not in decks:
+                overrides = list(chunk.base_overrides) + list(case.overrides)
+                decks[deck_key] = build_case_deck(chunk.raw, chunk.source, overrides)
+        except Exception as error:  # noqa: BLE001 - recorded per case, the sweep goes on
+            rows[case.index] = failed_row(case, "failed", _failure(error))
+            if emit:
+                emit(("start", case.key))
+                emit(("row", rows[case.index]))
+            continue
+        batch_key = (case.engine, case.support) if case.engine != "simplified" else (case.index,)
+        batches.setdefault(batch_key, []).append((case, decks[deck_key]))
+    for members in batches.values():
         if emit:
-            emit(("start", case.key))
-        row = run_case(chunk, case, decks)
-        rows.append(row)
-        if emit:
-            emit(("row", row))
-    return rows
+            for case, _ in members:
+                emit(("start", case.key))
+        for (case, deck), result in zip(members, _batch_results(members)):
+            rows[case.index] = _safe_row(case, deck, result)
+            if emit:
+                emit(("row", rows[case.index]))
+    return [rows[case.index] for case in chunk.cases]
