@@ -272,7 +272,7 @@ def dask_cluster():
     import logging
 
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                  dashboard_address=None, silence_logs=logging.ERROR) as cluster:
+                                  dashboard_address=":0", silence_logs=logging.ERROR) as cluster:
         yield cluster
 
 
@@ -384,3 +384,43 @@ def test_cases_sharing_a_structure_run_as_one_batch(monkeypatch):
         result = run_one(deck, "exact", "uplift")
         assert row["key"] == case.key and row["base_shear_N"] == result.base_shear
         assert row["max_drift_ratio"] == float(np.max(result.drift_ratio))
+
+
+def test_dask_dead_worker_keeps_streamed_rows_and_reports_only_the_killer(small_plan, serial_rows, tmp_path):
+    """A case that kills its Dask worker every time: the cases its chunk finished before it are
+    kept (streamed, not re-run), it is reported 'crashed' once the scheduler gives up, and the
+    cases after it in the chunk run again elsewhere."""
+    distributed = pytest.importorskip("distributed")
+    import logging
+
+    import dask
+
+    simplified = [c for c in small_plan.cases if c.engine == "simplified"]
+    plan = type(small_plan)(**{**small_plan.__dict__, "cases": simplified})
+    expected = [row for row in serial_rows if row["engine"] == "simplified"]
+    killer = next(c for c in make_chunks(plan, simplified, 12)[0].cases[4:]
+                  if c.support == "rigid")  # not the first of its chunk
+    runs = tmp_path / "runs.txt"
+
+    def runner(chunk, emit):
+        with open(runs, "a") as handle:
+            handle.write(" ".join(case.key for case in chunk.cases) + "\n")
+        for case in chunk.cases:
+            if case.key == killer.key:
+                emit(("start", case.key))
+                os._exit(1)
+            run_chunk(Chunk(chunk.raw, chunk.source, chunk.base_overrides, [case]), emit)
+        return []  # every row went through emit
+
+    with dask.config.set({"distributed.scheduler.allowed-failures": 1}), \
+            distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                     dashboard_address=":0", silence_logs=logging.CRITICAL) as cluster:
+        outcome = run_sweep(plan, DaskExecutor(cluster.scheduler_address, runner=runner),
+                            RowStore(tmp_path / "rows.jsonl"), size=12)
+    by_key = {row["key"]: row for row in outcome.rows}
+    assert by_key[killer.key]["status"] == "crashed" and "KilledWorker" in by_key[killer.key]["message"]
+    assert [r for r in outcome.rows if r["key"] != killer.key] == [r for r in expected if r["key"] != killer.key]
+    attempts = [line.split() for line in runs.read_text().splitlines()]
+    assert len(attempts) == 3  # the chunk, its retry after the first death, then the cases after the killer
+    after = attempts[0][attempts[0].index(killer.key) + 1:]
+    assert attempts[2] == after and killer.key not in attempts[2]

@@ -8,14 +8,19 @@ depends only on the case (sweep.run_chunk), never on which worker ran it.
 Worker deaths: local processes report each case as it starts and finishes. After a worker
 dies, the cases that were running (started, not finished) are run again one at a time on a
 single worker, so a case that kills its worker is known for sure; it is charged an attempt
-and marked 'crashed' after `max_attempts`. The other cases go on in parallel. On Dask the scheduler re-runs the tasks of
-a dead worker (distributed.scheduler.allowed-failures) and then raises KilledWorker: those
-cases are marked 'crashed'.
+and marked 'crashed' after `max_attempts`. The other cases go on in parallel.
+
+On Dask, workers stream each case's start and row to the client through a
+distributed.Queue, so finished cases are kept whatever happens to their chunk later. The
+scheduler re-runs the task of a dead worker (distributed.scheduler.allowed-failures) and then
+raises KilledWorker: the case that was running is marked 'crashed' and the cases of the
+chunk it had not reached are submitted again.
 """
 
 from __future__ import annotations
 
 import contextlib
+import json
 import multiprocessing
 import os
 import signal
@@ -202,8 +207,11 @@ class DaskExecutor:
     """Chunks as tasks on a Dask cluster: `address` (tcp://host:8786) or a LocalCluster of
     `workers` processes on loopback (address None)."""
 
-    def __init__(self, address: str | None = None, workers: int = 2, connect_timeout: str = "20s"):
+    def __init__(self, address: str | None = None, workers: int = 2, connect_timeout: str = "20s",
+                 poll_seconds: float = 0.1, runner: Callable = run_chunk):
         self.address = address
+        self.runner = runner
+        self.poll_seconds = poll_seconds
         self.workers = max(1, int(workers))
         self.connect_timeout = connect_timeout
 
@@ -217,7 +225,7 @@ class DaskExecutor:
                 with _sigint_ignored():  # the worker processes inherit it: Ctrl-C is ours to handle
                     cluster = stack.enter_context(distributed.LocalCluster(
                         n_workers=self.workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                        dashboard_address=None, silence_logs=logging.ERROR, env=dict(WORKER_ENVIRONMENT)))
+                        dashboard_address=":0", silence_logs=logging.ERROR, env=dict(WORKER_ENVIRONMENT)))
                 address = cluster.scheduler_address
             else:
                 address = self.address
@@ -232,16 +240,83 @@ class DaskExecutor:
     def run(self, chunks: Sequence[Chunk], on_row: OnRow) -> None:
         distributed = import_distributed()
         with self.client() as client:
-            futures = {client.submit(run_chunk, chunk, pure=False): chunk for chunk in chunks}
+            queue = distributed.Queue(client=client)  # rows stream through it case by case
+            finished: set[str] = set()
+            started: set[str] = set()
+
+            def deliver(row: dict) -> None:
+                if row["key"] not in finished:
+                    finished.add(row["key"])
+                    on_row(row)
+
+            def drain() -> None:
+                for kind, value in queue.get(batch=True):
+                    if kind == "start":
+                        started.add(value)
+                    else:
+                        deliver(json.loads(value))
+
+            futures = {client.submit(_dask_run_chunk, chunk, queue.name, self.runner, pure=False): chunk for chunk in chunks}
             try:
-                for future in distributed.as_completed(list(futures)):
-                    chunk = futures[future]
+                while futures:
                     try:
-                        rows = future.result()
-                    except Exception as error:  # noqa: BLE001 - KilledWorker, lost connection ...
-                        rows = [failed_row(case, "crashed", f"{type(error).__name__}: {error}") for case in chunk.cases]
-                    for row in rows:
-                        on_row(row)
+                        done, _ = distributed.wait(list(futures), timeout=self.poll_seconds,
+                                                   return_when="FIRST_COMPLETED")
+                    except TimeoutError:  # none finished within poll_seconds: collect the streamed rows
+                        done = []
+                    drain()
+                    for future in done:
+                        chunk = futures.pop(future)
+                        try:
+                            rows = future.result()
+                        except Exception as error:  # noqa: BLE001 - KilledWorker, lost connection ...
+                            drain()
+                            rest = self._after_failure(chunk, error, finished, started, deliver)
+                            if rest is not None:
+                                futures[client.submit(_dask_run_chunk, rest, queue.name, self.runner, pure=False)] = rest
+                            continue
+                        for row in rows:
+                            deliver(row)
+                drain()
             except BaseException:
-                client.cancel(list(futures))
+                try:
+                    drain()  # keep what the workers finished before Ctrl-C
+                except Exception:  # noqa: BLE001, S110 - the connection may be gone: keep what arrived
+                    pass
+                finally:
+                    client.cancel(list(futures))
                 raise
+            finally:
+                with contextlib.suppress(Exception):
+                    queue.close()
+
+    @staticmethod
+    def _after_failure(chunk: Chunk, error: Exception, finished: set, started: set, deliver) -> Chunk | None:
+        """A chunk's task failed after the scheduler's retries (distributed.scheduler.allowed-failures):
+        a case that had started and not finished is reported 'crashed'; the cases it did
+        not reach yet are returned to run again (or None)."""
+        rest = [case for case in chunk.cases if case.key not in finished]
+        message = f"{type(error).__name__}: {error}"
+        suspects = [case for case in rest if case.key in started]
+        if not suspects:  # nothing known about where it failed: all its unfinished cases are charged
+            suspects = rest
+        for case in suspects:
+            deliver(failed_row(case, "crashed", message))
+        untouched = [case for case in rest if case not in suspects]
+        return Chunk(chunk.raw, chunk.source, chunk.base_overrides, untouched) if untouched else None
+
+
+def _dask_run_chunk(chunk: Chunk, queue_name: str, runner: Callable = run_chunk) -> list[dict]:
+    """Dask task: the chunk runner (sweep.run_chunk), sending each case's start and row to the client's queue as it happens
+    (rows as JSON text: the queue carries msgpack-able data only)."""
+    from distributed import Queue
+
+    from .results import to_jsonable
+
+    queue = Queue(queue_name)  # by name: a Queue object in the task's arguments would be unpickled by the scheduler
+
+    def emit(message: tuple) -> None:
+        kind, value = message
+        queue.put([kind, value if kind == "start" else json.dumps(to_jsonable(value), allow_nan=False)])
+
+    return runner(chunk, emit)
