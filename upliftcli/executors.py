@@ -13,8 +13,9 @@ and marked 'crashed' after `max_attempts`. The other cases go on in parallel.
 On Dask, workers stream each case's start and row to the client through a
 distributed.Queue, so finished cases are kept whatever happens to their chunk later. The
 scheduler re-runs the task of a dead worker (distributed.scheduler.allowed-failures) and then
-raises KilledWorker: the case that was running is marked 'crashed' and the cases of the
-chunk it had not reached are submitted again.
+raises KilledWorker: the cases that were running are submitted again one per task (the one
+that kills its worker alone again is marked 'crashed') and the cases of the chunk not
+reached yet are submitted again together.
 """
 
 from __future__ import annotations
@@ -250,11 +251,12 @@ class DaskExecutor:
                     on_row(row)
 
             def drain() -> None:
-                for kind, value in queue.get(batch=True):
-                    if kind == "start":
-                        started.add(value)
-                    else:
-                        deliver(json.loads(value))
+                for messages in queue.get(batch=True):
+                    for kind, value in messages:
+                        if kind == "start":
+                            started.add(value)
+                        else:
+                            deliver(json.loads(value))
 
             futures = {client.submit(_dask_run_chunk, chunk, queue.name, self.runner, pure=False): chunk for chunk in chunks}
             try:
@@ -271,9 +273,9 @@ class DaskExecutor:
                             rows = future.result()
                         except Exception as error:  # noqa: BLE001 - KilledWorker, lost connection ...
                             drain()
-                            rest = self._after_failure(chunk, error, finished, started, deliver)
-                            if rest is not None:
-                                futures[client.submit(_dask_run_chunk, rest, queue.name, self.runner, pure=False)] = rest
+                            for again in self._after_failure(chunk, error, finished, started, deliver):
+                                futures[client.submit(_dask_run_chunk, again, queue.name, self.runner,
+                                                      pure=False)] = again
                             continue
                         for row in rows:
                             deliver(row)
@@ -291,19 +293,22 @@ class DaskExecutor:
                     queue.close()
 
     @staticmethod
-    def _after_failure(chunk: Chunk, error: Exception, finished: set, started: set, deliver) -> Chunk | None:
-        """A chunk's task failed after the scheduler's retries (distributed.scheduler.allowed-failures):
-        a case that had started and not finished is reported 'crashed'; the cases it did
-        not reach yet are returned to run again (or None)."""
+    def _after_failure(chunk: Chunk, error: Exception, finished: set, started: set, deliver) -> list[Chunk]:
+        """A chunk's task failed after the scheduler's retries (distributed.scheduler.allowed-failures).
+        A one-case chunk: its case is reported 'crashed'. Otherwise the cases that had started
+        and not finished (a batch runs together) are run again one per chunk, so the killer is
+        known for sure, and the cases not reached yet as one chunk. Returns the chunks to submit."""
         rest = [case for case in chunk.cases if case.key not in finished]
-        message = f"{type(error).__name__}: {error}"
-        suspects = [case for case in rest if case.key in started]
-        if not suspects:  # nothing known about where it failed: all its unfinished cases are charged
-            suspects = rest
-        for case in suspects:
-            deliver(failed_row(case, "crashed", message))
+        if len(chunk.cases) == 1:
+            for case in rest:
+                deliver(failed_row(case, "crashed", f"{type(error).__name__}: {error}"))
+            return []
+        suspects = [case for case in rest if case.key in started] or rest  # nothing known: each alone
         untouched = [case for case in rest if case not in suspects]
-        return Chunk(chunk.raw, chunk.source, chunk.base_overrides, untouched) if untouched else None
+        again = [Chunk(chunk.raw, chunk.source, chunk.base_overrides, [case]) for case in suspects]
+        if untouched:
+            again.append(Chunk(chunk.raw, chunk.source, chunk.base_overrides, untouched))
+        return again
 
 
 def _dask_run_chunk(chunk: Chunk, queue_name: str, runner: Callable = run_chunk) -> list[dict]:
@@ -315,8 +320,17 @@ def _dask_run_chunk(chunk: Chunk, queue_name: str, runner: Callable = run_chunk)
 
     queue = Queue(queue_name)  # by name: a Queue object in the task's arguments would be unpickled by the scheduler
 
+    waiting: list[list[str]] = []
+
     def emit(message: tuple) -> None:
         kind, value = message
-        queue.put([kind, value if kind == "start" else json.dumps(to_jsonable(value), allow_nan=False)])
+        waiting.append([kind, value if kind == "start" else json.dumps(to_jsonable(value), allow_nan=False)])
+        if kind == "start":  # before its case runs, with the rows finished since the last start: one put per case
+            queue.put(list(waiting))
+            waiting.clear()
 
-    return runner(chunk, emit)
+    try:
+        return runner(chunk, emit)
+    finally:
+        if waiting:
+            queue.put(waiting)
