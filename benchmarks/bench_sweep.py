@@ -1,8 +1,8 @@
 """Benchmark: throughput of a 500-case exact sweep (the paper's ten-story building under El Centro
 1940 N-S, uplift support, 25 foundation stiffnesses x 20 periods) on 1 and 2 local workers.
 
-Prints cases per second for the serial executor (1 worker, in this process), for 2 local
-worker processes (start-up included: spawning, imports, loading numba's cache) and the
+Prints cases per second for the serial executor (1 worker, in this process), the same without
+batching the cases that share a structure (one case per chunk), for 2 local worker processes (start-up included: spawning, imports, loading numba's cache) and the
 speed-up, and checks that both give the same rows. Optionally the same on a Dask LocalCluster.
 
     python benchmarks/bench_sweep.py [--cases 500] [--dask]
@@ -23,10 +23,10 @@ from upliftcli.sweep_run import RowStore, run_sweep
 DECK = Path(__file__).resolve().parent.parent / "inputs" / "ten_story_elcentro.toml"
 
 
-def plan_for(cases: int):
-    periods = max(1, round(cases / 25))
+def plan_for(cases: int, supports=("uplift",)):
+    periods = max(1, round(cases / 25 / len(supports)))
     plan = plan_sweep(DECK, [], ["foundation.frequency_ratio=2:20:25:log", f"building.period=0.2:3:{periods}"],
-                      ["exact"], ["uplift"])
+                      ["exact"], list(supports))
     plan.cases = plan.cases[:cases]
     return plan
 
@@ -51,10 +51,10 @@ class Stamps:
         return (len(self.times) - 1) / (self.times[-1] - self.times[0])
 
 
-def timed_run(plan, executor, directory: Path, name: str):
+def timed_run(plan, executor, directory: Path, name: str, size: int | None = None):
     stamps = Stamps()
     start = time.perf_counter()
-    outcome = run_sweep(plan, executor, RowStore(directory / f"{name}.jsonl"), progress=stamps)
+    outcome = run_sweep(plan, executor, RowStore(directory / f"{name}.jsonl"), progress=stamps, size=size)
     seconds = time.perf_counter() - start
     failed = sum(row["status"] != "ok" for row in outcome.rows)
     return outcome.rows, seconds, failed, stamps.steady_rate()
@@ -64,16 +64,20 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cases", type=int, default=500)
     parser.add_argument("--dask", action="store_true", help="also on a Dask LocalCluster of 2 workers")
+    parser.add_argument("--supports", default="uplift", help="support conditions, e.g. rigid,bonded,uplift")
     args = parser.parse_args()
-    plan = plan_for(args.cases)
+    plan = plan_for(args.cases, args.supports.split(","))
     n = len(plan.cases)
-    print(f"{n} exact cases (uplift support, {DECK.name}), {available_cores()} cores available")
+    print(f"{n} exact cases ({args.supports} support, {DECK.name}), {available_cores()} cores available")
     warm = plan_for(2)
     run_sweep(warm, SerialExecutor(), RowStore(Path(tempfile.mkdtemp()) / "warm.jsonl"))  # JIT cache, record
     with tempfile.TemporaryDirectory() as tmp:
         directory = Path(tmp)
         serial, serial_s, failed, serial_rate = timed_run(plan, SerialExecutor(), directory, "serial")
         print(f"1 worker  (serial)     : {serial_s:7.2f} s  {n / serial_s:7.1f} cases/s  ({failed} failed)")
+        alone, alone_s, failed, _ = timed_run(plan, SerialExecutor(), directory, "alone", size=1)
+        print(f"1 worker, no batches   : {alone_s:7.2f} s  {n / alone_s:7.1f} cases/s  ({failed} failed; one case "
+              f"per chunk: batching by structure gains {alone_s / serial_s:.2f} x, identical rows: {alone == serial})")
         parallel, parallel_s, failed, parallel_rate = timed_run(plan, ProcessExecutor(2), directory, "processes")
         print(f"2 workers (processes)  : {parallel_s:7.2f} s  {n / parallel_s:7.1f} cases/s  ({failed} failed)")
         print(f"speed-up over 1 worker : {serial_s / parallel_s:7.2f} x overall (start-up of the 2 processes "
