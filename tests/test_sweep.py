@@ -421,10 +421,32 @@ def test_dask_dead_worker_keeps_streamed_rows_and_reports_only_the_killer(small_
     assert by_key[killer.key]["status"] == "crashed" and "KilledWorker" in by_key[killer.key]["message"]
     assert [r for r in outcome.rows if r["key"] != killer.key] == [r for r in expected if r["key"] != killer.key]
     # the chunk and its retry by the scheduler; then the killer alone (and its retry), which
-    # marks it 'crashed', and the cases after it together (run again if the worker holding its
-    # result dies before the client fetched it: the rows were streamed already)
+    # marks it 'crashed', and the cases after it together (again if its worker dies under it
+    # before the client fetched the result: the rows were streamed already)
     attempts = [line.split() for line in runs.read_text().splitlines()]
     assert attempts[0] == attempts[1] and len(attempts[0]) == 12
     after = attempts[0][attempts[0].index(killer.key) + 1:]
     assert after and attempts[2:].count([killer.key]) == 2
-    assert [a for a in attempts[2:] if a != [killer.key]] in ([after], [after, after])
+    others = [a for a in attempts[2:] if a != [killer.key]]
+    assert others and all(a == after for a in others)
+
+
+def test_dask_failure_charges_only_started_cases():
+    """KilledWorker also hits tasks only queued on the dying worker: cases that had not started
+    are submitted again (a bounded number of times); a started case alone is 'crashed'; started
+    cases of a larger chunk run again alone."""
+    plan = plan_sweep(EXAMPLE, [], ["building.period=0.5,1,2"], ["simplified"], ["uplift"])
+    a, b, c = plan.cases
+    chunk = make_chunks(plan, plan.cases, 3)[0]
+    rows, resubmits, error = [], {}, RuntimeError("KilledWorker")
+    again = DaskExecutor._after_failure(chunk, error, {a.key}, {a.key, b.key}, rows.append, resubmits)
+    assert [[x.key for x in ch.cases] for ch in again] == [[b.key], [c.key]] and not rows
+    again = DaskExecutor._after_failure(again[0], error, set(), set(), rows.append, resubmits)  # b queued only
+    assert [[x.key for x in ch.cases] for ch in again] == [[b.key]] and not rows
+    assert DaskExecutor._after_failure(again[0], error, set(), {b.key}, rows.append, resubmits) == []
+    assert [(r["key"], r["status"]) for r in rows] == [(b.key, "crashed")]
+    single = Chunk(chunk.raw, chunk.source, chunk.base_overrides, [c])
+    for _ in range(2):  # c was submitted again once already, with the first failure
+        assert DaskExecutor._after_failure(single, error, set(), set(), rows.append, resubmits) == [single]
+    assert DaskExecutor._after_failure(single, error, set(), set(), rows.append, resubmits) == []
+    assert rows[-1]["key"] == c.key and "submitted 4 times" in rows[-1]["message"]

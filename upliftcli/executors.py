@@ -13,9 +13,9 @@ and marked 'crashed' after `max_attempts`. The other cases go on in parallel.
 On Dask, workers stream each case's start and row to the client through a
 distributed.Queue, so finished cases are kept whatever happens to their chunk later. The
 scheduler re-runs the task of a dead worker (distributed.scheduler.allowed-failures) and then
-raises KilledWorker: the cases that were running are submitted again one per task (the one
-that kills its worker alone again is marked 'crashed') and the cases of the chunk not
-reached yet are submitted again together.
+raises KilledWorker, also for tasks that were only queued on that worker: the cases that had
+started are submitted again one per task (the one that kills its worker alone is marked
+'crashed') and the cases not started yet are submitted again together.
 """
 
 from __future__ import annotations
@@ -244,6 +244,7 @@ class DaskExecutor:
             queue = distributed.Queue(client=client)  # rows stream through it case by case
             finished: set[str] = set()
             started: set[str] = set()
+            resubmits: dict[str, int] = {}
 
             def deliver(row: dict) -> None:
                 if row["key"] not in finished:
@@ -273,7 +274,7 @@ class DaskExecutor:
                             rows = future.result()
                         except Exception as error:  # noqa: BLE001 - KilledWorker, lost connection ...
                             drain()
-                            for again in self._after_failure(chunk, error, finished, started, deliver):
+                            for again in self._after_failure(chunk, error, finished, started, deliver, resubmits):
                                 futures[client.submit(_dask_run_chunk, again, queue.name, self.runner,
                                                       pure=False)] = again
                             continue
@@ -293,21 +294,33 @@ class DaskExecutor:
                     queue.close()
 
     @staticmethod
-    def _after_failure(chunk: Chunk, error: Exception, finished: set, started: set, deliver) -> list[Chunk]:
+    def _after_failure(chunk: Chunk, error: Exception, finished: set, started: set, deliver,
+                       resubmits: dict[str, int], max_resubmits: int = 3) -> list[Chunk]:
         """A chunk's task failed after the scheduler's retries (distributed.scheduler.allowed-failures).
-        A one-case chunk: its case is reported 'crashed'. Otherwise the cases that had started
-        and not finished (a batch runs together) are run again one per chunk, so the killer is
-        known for sure, and the cases not reached yet as one chunk. Returns the chunks to submit."""
+
+        Tasks queued on a dying worker fail with it although they never started, so only a
+        case that had started is charged: alone in its task, it is reported 'crashed'; in a
+        larger chunk (a batch runs together) each started case runs again alone, so the
+        killer is known for sure. Cases that had not started run again (together), at most
+        `max_resubmits` times each. Returns the chunks to submit."""
         rest = [case for case in chunk.cases if case.key not in finished]
-        if len(chunk.cases) == 1:
-            for case in rest:
-                deliver(failed_row(case, "crashed", f"{type(error).__name__}: {error}"))
-            return []
-        suspects = [case for case in rest if case.key in started] or rest  # nothing known: each alone
-        untouched = [case for case in rest if case not in suspects]
-        again = [Chunk(chunk.raw, chunk.source, chunk.base_overrides, [case]) for case in suspects]
-        if untouched:
-            again.append(Chunk(chunk.raw, chunk.source, chunk.base_overrides, untouched))
+        message = f"{type(error).__name__}: {error}"
+        again: list[Chunk] = []
+        waiting = []
+        for case in rest:
+            if case.key in started and len(chunk.cases) == 1:
+                deliver(failed_row(case, "crashed", message))
+                continue
+            resubmits[case.key] = resubmits.get(case.key, 0) + 1
+            if resubmits[case.key] > max_resubmits:
+                deliver(failed_row(case, "crashed", f"{message} (submitted {max_resubmits + 1} times)"))
+            elif case.key in started:
+                again.append(Chunk(chunk.raw, chunk.source, chunk.base_overrides, [case]))
+            else:
+                waiting.append(case)
+            started.discard(case.key)  # from now on: whether it started in its new task
+        if waiting:
+            again.append(Chunk(chunk.raw, chunk.source, chunk.base_overrides, waiting))
         return again
 
 
