@@ -42,10 +42,10 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str) -> list[Analysis
 
     The response-history engines analyse decks that share a record and options together
     (exact.analyze_batch: shared work done once); results equal run_one's, bit for bit."""
-    out: list[AnalysisResult | Exception] = [None] * len(decks)  # type: ignore[list-item]
-    groups: dict[tuple, list[int]] = {}
     from .records import Record
 
+    out: list[AnalysisResult | Exception] = [None] * len(decks)  # type: ignore[list-item]
+    groups: dict[tuple, list[int]] = {}
     for k, deck in enumerate(decks):
         if engine in ("exact", "approximate") and isinstance(deck.ground_motion, Record):
             groups.setdefault((id(deck.ground_motion), deck.analysis.exact), []).append(k)
@@ -54,8 +54,8 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str) -> list[Analysis
                 out[k] = run_one(deck, engine, support)
             except (InputError, AnalysisError) as error:
                 out[k] = error
+    module = importlib.import_module(f"upliftcli.engines.{engine}") if groups else None
     for (_, options), members in groups.items():
-        module = importlib.import_module(f"upliftcli.engines.{engine}")
         results = module.analyze_batch([decks[k].system for k in members], decks[members[0]].ground_motion,
                                        support, options)
         for k, result in zip(members, results):

@@ -25,6 +25,7 @@ import json
 import multiprocessing
 import os
 import signal
+from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -251,13 +252,16 @@ class DaskExecutor:
                     finished.add(row["key"])
                     on_row(row)
 
+            inbox: deque = deque()  # messages taken from the queue and not handled yet (kept over Ctrl-C)
+
             def drain() -> None:
-                for messages in queue.get(batch=True):
-                    for kind, value in messages:
-                        if kind == "start":
-                            started.add(value)
-                        else:
-                            deliver(json.loads(value))
+                inbox.extend(message for messages in queue.get(batch=True) for message in messages)
+                while inbox:
+                    kind, value = inbox.popleft()
+                    if kind == "start":
+                        started.add(value)
+                    else:
+                        deliver(json.loads(value))
 
             futures = {client.submit(_dask_run_chunk, chunk, queue.name, self.runner, pure=False): chunk for chunk in chunks}
             try:
