@@ -25,7 +25,7 @@ from .response import (
     energy_balance, hermite_peaks, interval_lengths, lifted_flags, response_maps, signals, time_at,
     uplift_summary,
 )
-from .simulate import History, Run, ground_grid, simulate, simulate_many
+from .simulate import History, Run, ground_grid, simulate_many
 from .statespace import ModalModel
 
 SUPPORTS = ("rigid", "bonded", "uplift")
@@ -169,16 +169,6 @@ def _checked_substeps(system: System, model: ModalModel, samples: int, dt: float
             "raise analysis.exact.time_step or lower steps_per_period"
         )
     return substeps
-
-
-def run_history(system: System, model: ModalModel, acceleration: np.ndarray, dt: float,
-                support: str, options: ExactOptions) -> History:
-    """Simulate the model through the record (with the free-vibration tail)."""
-    _check_support(support)
-    acceleration = _checked_acceleration(acceleration, dt, options)
-    substeps = _checked_substeps(system, model, acceleration.size, dt, options)
-    return simulate(model, acceleration, dt, substeps, options.criterion,
-                    uplift=support == "uplift", allow_flight=options.flight == "allow")
 
 
 def summarize(system: System, history: History, support: str, engine: str, options: ExactOptions,

@@ -131,9 +131,13 @@ def _states(requests: list[tuple[_Operators, int, bool]]) -> list[ContactState]:
 
 
 class Run:
-    """One simulation in progress: `advance` integrates until the end of the record (returns
-    None) or until a contact pattern without operators is reached (returns the pattern);
-    after add_states, `enter(index)` switches to it. simulate and simulate_many drive it."""
+    """One simulation from rest (static under gravity) through the ground acceleration
+    ground [m/s^2] at every internal step h [s] (ground_grid), slopes [m/s^3] in each step.
+    uplift: False keeps every element in contact (bonded support).
+
+    `advance` integrates until the end of the record (returns None) or until a contact
+    pattern without operators is reached (returns the pattern); after add_states,
+    `enter(index)` switches to it. simulate_many drives several."""
 
     def __init__(self, model: ModalModel, ground: np.ndarray, slopes: np.ndarray, h: float,
                  criterion: str = "reaction", uplift: bool = True, allow_flight: bool = True):
@@ -254,25 +258,3 @@ def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisErro
                 going.append((k, pattern))
         active = [k for k, _ in going]
         requests = [(runs[k].operators, pattern, True) for k, pattern in going]
-
-
-def simulate(
-    model: ModalModel,
-    acceleration: np.ndarray,
-    dt: float,
-    substeps: int,
-    criterion: str = "reaction",
-    uplift: bool = True,
-    allow_flight: bool = True,
-) -> History:
-    """Integrate from rest (static under gravity) through the ground acceleration [m/s^2].
-
-    dt: record step [s]; substeps: internal steps per record step (h = dt / substeps).
-    uplift: False keeps every element in contact (bonded support).
-    """
-    ground, slopes = ground_grid(acceleration, substeps, dt)
-    run = Run(model, ground, slopes, dt / substeps, criterion, uplift, allow_flight)
-    ((_, outcome),) = simulate_many([run])
-    if isinstance(outcome, AnalysisError):
-        raise outcome
-    return outcome

@@ -191,7 +191,7 @@ def contact_states(models: list[ModalModel], lay: Layout, lifted: np.ndarray, cr
     a_idx, b_idx = lay.massive, lay.massless
     n_a, n_b = a_idx.size, b_idx.size
     # maps from X to p and to p' (p' of massless coordinates from the first-order equation)
-    position = np.broadcast_to(position_map(None, lay), (count, n_p, n_aug))
+    position = np.broadcast_to(position_map(models[0], lay), (count, n_p, n_aug))
     velocity = np.zeros((count, n_p, n_aug))
     velocity[:, a_idx, n_a + np.arange(n_a)] = 1.0
     forcing = np.zeros((count, n_p, n_aug))
@@ -214,7 +214,7 @@ def contact_states(models: list[ModalModel], lay: Layout, lifted: np.ndarray, cr
         weight = np.array([model.total_mass * model.gravity for model in models])[:, None, None]
         settlement = weight / k_el.sum(axis=1)[:, None, None]
         z = np.array([lay.z_index(i) for i in range(n_e)])
-        disp_rows = e @ position[:, :, :]  # (R, n_e, n_aug): element displacement v_i
+        disp_rows = e @ position  # (R, n_e, n_aug): element displacement v_i
         relaxing = lifted & (c_el > 0.0)
         rows, cols = np.nonzero(relaxing)
         matrix[rows, z[cols], z[cols]] = -k_el[rows, cols] / c_el[rows, cols]
