@@ -263,7 +263,12 @@ class DaskExecutor:
                     else:
                         deliver(json.loads(value))
 
-            futures = {client.submit(_dask_run_chunk, chunk, queue.name, self.runner, pure=False): chunk for chunk in chunks}
+            def submit(chunk: Chunk) -> None:
+                futures[client.submit(_dask_run_chunk, chunk, queue.name, self.runner, pure=False)] = chunk
+
+            futures: dict = {}
+            for chunk in chunks:
+                submit(chunk)
             try:
                 while futures:
                     try:
@@ -279,8 +284,7 @@ class DaskExecutor:
                         except Exception as error:  # noqa: BLE001 - KilledWorker, lost connection ...
                             drain()
                             for again in self._after_failure(chunk, error, finished, started, deliver, resubmits):
-                                futures[client.submit(_dask_run_chunk, again, queue.name, self.runner,
-                                                      pure=False)] = again
+                                submit(again)
                             continue
                         for row in rows:
                             deliver(row)
@@ -329,14 +333,13 @@ class DaskExecutor:
 
 
 def _dask_run_chunk(chunk: Chunk, queue_name: str, runner: Callable = run_chunk) -> list[dict]:
-    """Dask task: the chunk runner (sweep.run_chunk), sending each case's start and row to the client's queue as it happens
-    (rows as JSON text: the queue carries msgpack-able data only)."""
+    """Dask task: the chunk runner (sweep.run_chunk), sending each case's start and row to the
+    client's queue as they happen (rows as JSON text: the queue carries msgpack-able data only)."""
     from distributed import Queue
 
     from .results import to_jsonable
 
-    queue = Queue(queue_name)  # by name: a Queue object in the task's arguments would be unpickled by the scheduler
-
+    queue = Queue(queue_name)  # by name: a Queue object among the task's arguments is unpickled by the scheduler
     waiting: list[list[str]] = []
 
     def emit(message: tuple) -> None:
