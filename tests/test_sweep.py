@@ -233,7 +233,7 @@ def _dies_once_then_runs(chunk, emit):
     marker = Path(os.environ["UPLIFT_TEST_MARKER"])
     for case in chunk.cases:
         if dict(case.overrides).get("building.period") == 1.2 and case.support == "rigid" and not marker.exists():
-            emit(("start", case.key))
+            emit(("start", [case.key]))
             marker.write_text("died")
             os._exit(1)
     return run_chunk(chunk, emit)
@@ -242,7 +242,7 @@ def _dies_once_then_runs(chunk, emit):
 def _always_dies(chunk, emit):
     for case in chunk.cases:
         if dict(case.overrides).get("building.period") == 1.2 and case.support == "rigid":
-            emit(("start", case.key))
+            emit(("start", [case.key]))
             os._exit(1)
     return run_chunk(chunk, emit)
 
@@ -407,7 +407,7 @@ def test_dask_dead_worker_keeps_streamed_rows_and_reports_only_the_killer(small_
             handle.write(" ".join(case.key for case in chunk.cases) + "\n")
         for case in chunk.cases:
             if case.key == killer.key:
-                emit(("start", case.key))
+                emit(("start", [case.key]))
                 os._exit(1)
             run_chunk(Chunk(chunk.raw, chunk.source, chunk.base_overrides, [case]), emit)
         return []  # every row went through emit

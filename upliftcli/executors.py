@@ -5,13 +5,13 @@ of the chunks (status ok, failed or crashed), as soon as the row is known, and l
 KeyboardInterrupt through after stopping its workers. All give the same rows: a case's row
 depends only on the case (sweep.run_chunk), never on which worker ran it.
 
-Worker deaths: local processes report each case as it starts and finishes. After a worker
+Worker deaths: local processes report the cases as they start and as each finishes. After a worker
 dies, the cases that were running (started, not finished) are run again one at a time on a
 single worker, so a case that kills its worker is known for sure; it is charged an attempt
 and marked 'crashed' after `max_attempts`. The other cases go on in parallel.
 
-On Dask, workers stream each case's start and row to the client through a
-distributed.Queue, so finished cases are kept whatever happens to their chunk later. The
+On Dask, workers stream the start of each batch of cases and each case's row to the client
+through a distributed.Queue, so finished cases are kept whatever happens to their chunk later. The
 scheduler re-runs the task of a dead worker (distributed.scheduler.allowed-failures) and then
 raises KilledWorker, also for tasks that were only queued on that worker: the cases that had
 started are submitted again one per task (the one that kills its worker alone is marked
@@ -152,7 +152,7 @@ class ProcessExecutor:
             while not queue.empty():
                 kind, value = queue.get()
                 if kind == "start":
-                    started.add(value)
+                    started.update(value)
                 else:
                     deliver(value)
 
@@ -259,7 +259,7 @@ class DaskExecutor:
                 while inbox:
                     kind, value = inbox.popleft()
                     if kind == "start":
-                        started.add(value)
+                        started.update(value)
                     else:
                         deliver(json.loads(value))
 
@@ -340,12 +340,12 @@ def _dask_run_chunk(chunk: Chunk, queue_name: str, runner: Callable = run_chunk)
     from .results import to_jsonable
 
     queue = Queue(queue_name)  # by name: a Queue object among the task's arguments is unpickled by the scheduler
-    waiting: list[list[str]] = []
+    waiting: list[list] = []
 
     def emit(message: tuple) -> None:
         kind, value = message
         waiting.append([kind, value if kind == "start" else json.dumps(to_jsonable(value), allow_nan=False)])
-        if kind == "start":  # before its case runs, with the rows finished since the last start: one put per case
+        if kind == "start":  # before its cases run, with the rows finished since: one put per batch
             queue.put(list(waiting))
             waiting.clear()
 

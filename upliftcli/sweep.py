@@ -369,7 +369,8 @@ def _batch_results(members: list[tuple[Case, Deck]]) -> list:
 
 
 def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list[dict[str, Any]]:
-    """Run a chunk of cases; `emit(("start", key))` before and `emit(("row", row))` after each.
+    """Run a chunk of cases; `emit(("start", [key, ...]))` before the cases that run together
+    and `emit(("row", row))` after each.
 
     Cases with the same engine and support whose decks share the record and the engine
     options run as one batch (analysis.run_batch: the exact engine shares work across
@@ -387,15 +388,14 @@ def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list
         except Exception as error:  # noqa: BLE001 - recorded per case, the sweep goes on
             rows[case.index] = failed_row(case, "failed", _failure(error))
             if emit:
-                emit(("start", case.key))
+                emit(("start", [case.key]))
                 emit(("row", rows[case.index]))
             continue
         batch_key = (case.engine, case.support) if case.engine != "simplified" else (case.index,)
         batches.setdefault(batch_key, []).append((case, decks[deck_key]))
     for members in batches.values():
         if emit:
-            for case, _ in members:
-                emit(("start", case.key))
+            emit(("start", [case.key for case, _ in members]))
         for (case, deck), result in zip(members, _batch_results(members)):
             rows[case.index] = _safe_row(case, deck, result)
             if emit:
