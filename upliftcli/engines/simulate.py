@@ -17,7 +17,8 @@ from scipy.linalg import expm
 from ..errors import AnalysisError
 from . import kernel
 from .statespace import (
-    ContactState, Layout, ModalModel, contact_states, element_directions, layout, position_map, static_state,
+    ContactState, Layout, ModalModel, contact_states, element_directions, layout, model_terms, position_map,
+    static_state,
 )
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
@@ -48,6 +49,7 @@ class _Operators:
 
     def __init__(self, model: ModalModel, lay: Layout, h: float, criterion: str):
         self.model, self.layout, self.h, self.criterion = model, lay, h, criterion
+        self.terms = model_terms(model, lay)
         n_aug, n_e = lay.n_aug, max(lay.n_elements, 0)
         self.capacity = 4
         self.ops = np.zeros((self.capacity, LEVELS + 1, n_aug, n_aug))
@@ -127,7 +129,7 @@ def _states(requests: list[tuple[_Operators, int, bool]]) -> list[ContactState]:
     first = requests[0][0]
     lifted = np.array([operators.lifted(pattern) for operators, pattern, _ in requests], dtype=bool)
     lifted = lifted.reshape(len(requests), first.layout.n_elements)
-    return contact_states([operators.model for operators, _, _ in requests], first.layout, lifted, first.criterion)
+    return contact_states([operators.terms for operators, _, _ in requests], first.layout, lifted, first.criterion)
 
 
 class Run:

@@ -161,42 +161,69 @@ class ContactState:
     events: np.ndarray
 
 
+@dataclass(frozen=True)
+class ModelTerms:
+    """The terms of a model's contact states that do not depend on the contact pattern
+    (model_terms): structure stiffness, damping and forcing in p, coordinate masses, and
+    per element its direction e_i, k_i, c_i and displacement row v_i = e_i . p(X)."""
+
+    stiffness: np.ndarray  # (n_p, n_p)
+    damping: np.ndarray  # (n_p, n_p)
+    forcing: np.ndarray  # (n_p, n_aug): the a_g and gravity columns
+    masses: np.ndarray  # (n_p,)
+    position: np.ndarray  # (n_p, n_aug): X -> p
+    directions: np.ndarray  # (n_e, n_p)
+    element_stiffness: np.ndarray  # (n_e,)
+    element_damping: np.ndarray  # (n_e,)
+    displacement_rows: np.ndarray  # (n_e, n_aug)
+    weight: float  # m_t g [N]
+    settlement: float  # static settlement m_t g / sum k_i [m]
+
+
+def model_terms(model: ModalModel, lay: Layout) -> ModelTerms:
+    stiffness, damping, forcing_ground, forcing_gravity = structure_matrices(model)
+    forcing = np.zeros((lay.n_p, lay.n_aug))
+    forcing[:, lay.index_acceleration] = forcing_ground
+    forcing[:, lay.index_one] = forcing_gravity
+    position = position_map(model, lay)
+    weight = model.total_mass * model.gravity
+    if lay.n_elements:
+        directions = element_directions(model)
+        k_el, c_el = model.elements.stiffness, model.elements.damping
+        settlement = weight / k_el.sum()
+    else:
+        directions, k_el, c_el, settlement = np.zeros((0, lay.n_p)), np.zeros(0), np.zeros(0), 0.0
+    return ModelTerms(stiffness, damping, forcing, coordinate_masses(model), position, directions, k_el, c_el,
+                      directions @ position, weight, settlement)
+
+
 def contact_state(model: ModalModel, lay: Layout, lifted: np.ndarray, criterion: str) -> ContactState:
     """Assemble A, the velocity map and the event rows for one contact pattern."""
-    return contact_states([model], lay, np.asarray(lifted, dtype=bool)[None, :], criterion)[0]
+    return contact_states([model_terms(model, lay)], lay, np.asarray(lifted, dtype=bool)[None, :], criterion)[0]
 
 
-def contact_states(models: list[ModalModel], lay: Layout, lifted: np.ndarray, criterion: str) -> list[ContactState]:
-    """contact_state for a batch: item r is models[r] (all with layout `lay`) in the contact
-    pattern lifted[r] (R, n_e). The assembly is vectorised over the batch axis; every item
-    gets the same bits as alone (products are per item, sums along contiguous rows).
-    Raises ZeroDivisionError if a massless rotation has no damping in some item."""
-    count = len(models)
+def contact_states(terms: list[ModelTerms], lay: Layout, lifted: np.ndarray, criterion: str) -> list[ContactState]:
+    """contact_state for a batch: item r is the model of terms[r] (all with layout `lay`) in
+    the contact pattern lifted[r] (R, n_e). The assembly is vectorised over the batch axis;
+    every item gets the same bits as alone (products are per item, sums along contiguous
+    rows). Raises ZeroDivisionError if a massless rotation has no damping in some item."""
+    count = len(terms)
     n_aug, n_p, n_e = lay.n_aug, lay.n_p, lay.n_elements
-    ia, i1 = lay.index_acceleration, lay.index_one
-    unique: dict[int, tuple] = {}
-    for model in models:
-        if id(model) not in unique:
-            unique[id(model)] = (*structure_matrices(model), coordinate_masses(model))
-    stiffness, damping, forcing_ground, forcing_gravity, masses = (
-        np.stack([unique[id(model)][k] for model in models]) for k in range(5))
+    def stack(name: str) -> np.ndarray:
+        return getattr(terms[0], name)[None] if count == 1 else np.stack([getattr(t, name) for t in terms])
+
+    stiffness, damping, forcing, masses = stack("stiffness"), stack("damping"), stack("forcing"), stack("masses")
+    position = terms[0].position  # the same for one layout
     if n_e:
-        e = np.stack([element_directions(model) for model in models])  # (R, n_e, n_p)
-        k_el = np.stack([model.elements.stiffness for model in models])
-        c_el = np.stack([model.elements.damping for model in models])
-        contact = ~lifted
+        e, k_el, c_el = stack("directions"), stack("element_stiffness"), stack("element_damping")
         e_t = np.swapaxes(e, 1, 2)
-        stiffness = stiffness + (e_t * np.where(contact, k_el, 0.0)[:, None, :]) @ e
-        damping = damping + (e_t * np.where(contact, c_el, 0.0)[:, None, :]) @ e
+        stiffness = stiffness + (e_t * np.where(lifted, 0.0, k_el)[:, None, :]) @ e
+        damping = damping + (e_t * np.where(lifted, 0.0, c_el)[:, None, :]) @ e
     a_idx, b_idx = lay.massive, lay.massless
     n_a, n_b = a_idx.size, b_idx.size
-    # maps from X to p and to p' (p' of massless coordinates from the first-order equation)
-    position = np.broadcast_to(position_map(models[0], lay), (count, n_p, n_aug))
+    # maps from X to p' (p' of massless coordinates from the first-order equation)
     velocity = np.zeros((count, n_p, n_aug))
     velocity[:, a_idx, n_a + np.arange(n_a)] = 1.0
-    forcing = np.zeros((count, n_p, n_aug))
-    forcing[:, :, ia] = forcing_ground
-    forcing[:, :, i1] = forcing_gravity
     if n_b:
         c_bb = damping[:, b_idx][:, :, b_idx]
         if np.any(np.linalg.eigvalsh(c_bb) <= 0.0):
@@ -211,12 +238,11 @@ def contact_states(models: list[ModalModel], lay: Layout, lifted: np.ndarray, cr
         matrix[:, 2 * n_a:2 * n_a + n_b] = velocity[:, b_idx]
     events = np.zeros((count, n_e, n_aug))
     if n_e:
-        weight = np.array([model.total_mass * model.gravity for model in models])[:, None, None]
-        settlement = weight / k_el.sum(axis=1)[:, None, None]
-        z = np.array([lay.z_index(i) for i in range(n_e)])
-        disp_rows = e @ position  # (R, n_e, n_aug): element displacement v_i
-        relaxing = lifted & (c_el > 0.0)
-        rows, cols = np.nonzero(relaxing)
+        weight = np.array([t.weight for t in terms])[:, None, None]
+        settlement = np.array([t.settlement for t in terms])[:, None, None]
+        z = lay.n_x - n_e + np.arange(n_e)  # Layout.z_index
+        disp_rows = stack("displacement_rows")  # (R, n_e, n_aug): element displacement v_i
+        rows, cols = np.nonzero(lifted & (c_el > 0.0))  # lifted elements relaxing: k z + c z' = 0
         matrix[rows, z[cols], z[cols]] = -k_el[rows, cols] / c_el[rows, cols]
         # lifted: recontact when the edge comes down to the element top, z_i - v_i > 0
         recontact = -disp_rows / settlement
@@ -228,7 +254,7 @@ def contact_states(models: list[ModalModel], lay: Layout, lifted: np.ndarray, cr
             # in contact: edge above the unstressed position v_i > 0 [4b]
             separation = disp_rows / settlement
         events = np.where(lifted[:, :, None], recontact, separation)
-    matrix[:, ia, lay.index_slope] = 1.0
+    matrix[:, lay.index_acceleration, lay.index_slope] = 1.0
     return [ContactState(lifted[r].copy(), matrix[r], velocity[r], events[r]) for r in range(count)]
 
 
