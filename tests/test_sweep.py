@@ -370,13 +370,13 @@ def test_cases_sharing_a_structure_run_as_one_batch(monkeypatch):
     chunks = make_chunks(plan, plan.cases, 3)
     assert [[dict(c.overrides)["building.period"] for c in chunk.cases] for chunk in chunks] == [[0.4] * 3, [1.2] * 3]
     sizes = []
-    original = exact.analyze_batch
+    original = exact.iter_batch
 
     def recording(systems, *args, **kwargs):
         sizes.append(len(systems))
         return original(systems, *args, **kwargs)
 
-    monkeypatch.setattr(exact, "analyze_batch", recording)
+    monkeypatch.setattr(exact, "iter_batch", recording)
     rows = [row for chunk in chunks for row in run_chunk(chunk)]
     assert sizes == [3, 3]
     for case, row in zip([c for chunk in chunks for c in chunk.cases], rows):
@@ -478,3 +478,19 @@ def test_dask_ctrl_c_keeps_the_streamed_rows_and_resumes(small_plan, serial_rows
     assert len(store.read()) == len(outcome.rows)
     resumed = run_sweep(small_plan, DaskExecutor(dask_cluster.scheduler_address), store, resume=True, size=4)
     assert resumed.reused == len(outcome.rows) and resumed.rows == serial_rows
+
+
+def test_rows_of_a_batch_are_emitted_as_each_case_ends():
+    """An exact batch reports each case as soon as it is known, not when the batch ends: a case
+    refused before stepping (too stiff a foundation for the step limit) comes out first, and a
+    Ctrl-C later in the batch would keep it."""
+    plan = plan_sweep(EXAMPLE, ["ground_motion.window=[0, 3]", "building.period=0.5"],
+                      ["foundation.frequency_ratio=8,1e6,16"], ["exact"], ["uplift"])
+    (chunk,) = make_chunks(plan, plan.cases, 3)
+    messages = []
+    rows = run_chunk(chunk, messages.append)
+    assert messages[0] == ("start", [case.key for case in chunk.cases])
+    emitted = [value for kind, value in messages[1:] if kind == "row"]
+    assert len(messages) == 4 and emitted[0]["case"] == 1 and emitted[0]["status"] == "failed"
+    assert sorted(r["case"] for r in emitted) == [0, 1, 2] and [r["case"] for r in rows] == [0, 1, 2]
+    assert all(r["status"] == "ok" for r in emitted[1:])

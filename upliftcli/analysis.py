@@ -6,7 +6,7 @@ Used by `uplift analyze` and by sweeps; knows nothing of the terminal or files.
 from __future__ import annotations
 
 import importlib
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from .deck import Deck
 from .errors import AnalysisError, InputError
@@ -37,29 +37,40 @@ def run_one(deck: Deck, engine: str, support: str) -> AnalysisResult:
     return function(deck.system, deck.ground_motion, support, deck.analysis.exact)
 
 
-def run_batch(decks: Sequence[Deck], engine: str, support: str) -> list[AnalysisResult | Exception]:
-    """run_one for several decks: the result of each or the error that stopped it.
+def run_batch(decks: Sequence[Deck], engine: str, support: str,
+              on_result: Callable[[int, AnalysisResult | Exception], None] | None = None,
+              ) -> list[AnalysisResult | Exception]:
+    """run_one for several decks: the result of each or the error that stopped it, also
+    passed to on_result(index, result) as soon as it is known.
 
     The response-history engines analyse decks that share a record and options together
-    (exact.analyze_batch: shared work done once); results equal run_one's, bit for bit."""
+    (exact.iter_batch: shared work done once); results equal run_one's, bit for bit."""
     from .records import Record
 
     out: list[AnalysisResult | Exception] = [None] * len(decks)  # type: ignore[list-item]
+
+    def keep(k: int, result: AnalysisResult | Exception) -> None:
+        out[k] = result
+        if on_result:
+            on_result(k, result)
+
     groups: dict[tuple, list[int]] = {}
     for k, deck in enumerate(decks):
         if engine in ("exact", "approximate") and isinstance(deck.ground_motion, Record):
             groups.setdefault((id(deck.ground_motion), deck.analysis.exact), []).append(k)
-        else:
-            try:
-                out[k] = run_one(deck, engine, support)
-            except (InputError, AnalysisError) as error:
-                out[k] = error
-    module = importlib.import_module(f"upliftcli.engines.{engine}") if groups else None
-    for (_, options), members in groups.items():
-        results = module.analyze_batch([decks[k].system for k in members], decks[members[0]].ground_motion,
-                                       support, options)
-        for k, result in zip(members, results):
-            out[k] = result
+            continue
+        try:
+            result = run_one(deck, engine, support)
+        except (InputError, AnalysisError) as error:
+            result = error
+        keep(k, result)
+    if groups:
+        from .engines import exact
+
+        for (_, options), members in groups.items():
+            systems = [decks[k].system for k in members]
+            for j, result in exact.iter_batch(systems, decks[members[0]].ground_motion, support, options, engine):
+                keep(members[j], result)
     return out
 
 

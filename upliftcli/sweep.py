@@ -357,15 +357,25 @@ def _safe_row(case: Case, deck: Deck, result) -> dict[str, Any]:
         return failed_row(case, "failed", _failure(error))
 
 
-def _batch_results(members: list[tuple[Case, Deck]]) -> list:
-    """run_batch; if the batch raises, each case alone, so the failure is charged to its case."""
+def _run_batch(members: list[tuple[Case, Deck]], deliver: Callable[[int, Any], None]) -> None:
+    """run_batch, each result to deliver(j, result) as soon as it is known; if the batch
+    raises, the cases still without a result run alone, so the failure is charged to its case."""
     engine, support = members[0][0].engine, members[0][0].support
+    delivered: set[int] = set()
+
+    def on_result(j: int, result) -> None:
+        delivered.add(j)
+        deliver(j, result)
+
     try:
-        return run_batch([deck for _, deck in members], engine, support)
+        run_batch([deck for _, deck in members], engine, support, on_result)
     except Exception as error:  # noqa: BLE001 - recorded per case, the sweep goes on
-        if len(members) == 1:
-            return [error]
-        return [_batch_results([member])[0] for member in members]
+        rest = [j for j in range(len(members)) if j not in delivered]
+        for j in rest:
+            if len(members) == 1:
+                deliver(j, error)
+            else:
+                _run_batch([members[j]], lambda _, result, j=j: deliver(j, result))
 
 
 def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list[dict[str, Any]]:
@@ -396,8 +406,12 @@ def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list
     for members in batches.values():
         if emit:
             emit(("start", [case.key for case, _ in members]))
-        for (case, deck), result in zip(members, _batch_results(members)):
+
+        def deliver(j: int, result, members=members) -> None:
+            case, deck = members[j]
             rows[case.index] = _safe_row(case, deck, result)
             if emit:
                 emit(("row", rows[case.index]))
+
+        _run_batch(members, deliver)
     return [rows[case.index] for case in chunk.cases]

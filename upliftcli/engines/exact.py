@@ -13,14 +13,16 @@ from __future__ import annotations
 
 import copy
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
 from ..errors import AnalysisError, InputError
 from ..results import AnalysisResult
 from ..system import System
-from . import single_threaded_blas
+from . import one_blas_thread
 from .response import (
     energy_balance, hermite_peaks, interval_lengths, lifted_flags, response_maps, signals, time_at,
     uplift_summary,
@@ -270,13 +272,12 @@ def _rigid_key(system: System) -> tuple:
 BATCH_MEMORY = 256 * 2**20
 
 
-@single_threaded_blas
-def analyze_batch(systems: list[System], record, support: str, options: ExactOptions | None = None,
-                  engine: str = "exact") -> list[AnalysisResult | AnalysisError | InputError]:
-    """Peak responses of several systems to one record, one support: the result of each, or
-    the error that stopped it (the others go on). Same results, bit for bit, as analyze
-    one at a time; the work the systems share is done once:
-    - rigid base: one analysis per distinct building (and m_t, g), whatever the foundation;
+def iter_batch(systems: list[System], record, support: str, options: ExactOptions | None = None,
+               engine: str = "exact") -> Iterator[tuple[int, AnalysisResult | AnalysisError | InputError]]:
+    """Peak responses of several systems to one record, one support: yields (index, result
+    or the error that stopped it) as each is known; the others go on. Same results, bit for
+    bit, as analyze one at a time; the work the systems share is done once:
+    - rigid base: one analysis per distinct building (and m_t, g, I_0), whatever the foundation;
     - the fine ground-motion grid per step size;
     - the runs are stepped together in rounds and the contact states they reach in a round
       are assembled and exponentiated vectorised over the batch (simulate.add_states).
@@ -284,45 +285,53 @@ def analyze_batch(systems: list[System], record, support: str, options: ExactOpt
     options = options or ExactOptions()
     _check_support(support)
     acceleration = _checked_acceleration(record.acceleration, record.dt, options)
-    out: list = [None] * len(systems)
-    shared: dict[int, list[int]] = {}  # rigid: representative -> the others with its key
+    shared: dict[int, list[int]] = {k: [] for k in range(len(systems))}  # representative -> the same analysis
     if support == "rigid":
         groups: dict[tuple, list[int]] = {}
         for k, system in enumerate(systems):
             groups.setdefault(_rigid_key(system), []).append(k)
         shared = {members[0]: members[1:] for members in groups.values()}
-    todo = list(shared) if support == "rigid" else list(range(len(systems)))
-    grids: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-    pending: list[tuple[int, Run]] = []
-    for k in todo:
-        try:
-            model = model_for(systems[k], support, options, engine)
-            substeps = _checked_substeps(systems[k], model, acceleration.size, record.dt, options)
-            if substeps not in grids:
-                grids[substeps] = ground_grid(acceleration, substeps, record.dt)
-            pending.append((k, Run(model, *grids[substeps], record.dt / substeps, options.criterion,
-                                   uplift=support == "uplift", allow_flight=options.flight == "allow")))
-        except (AnalysisError, InputError) as error:
-            out[k] = error
-    while pending:
-        size, used = 1, pending[0][1].buffer_bytes
-        while size < len(pending) and used + pending[size][1].buffer_bytes <= BATCH_MEMORY:
-            used += pending[size][1].buffer_bytes
-            size += 1
-        order = [k for k, _ in pending[:size]]
-        histories = simulate_many([run for _, run in pending[:size]])
-        del pending[:size]  # the runs live in simulate_many only: each one's buffers go when it ends
-        for j, history in histories:
-            k = order[j]
-            if isinstance(history, AnalysisError):
-                out[k] = history
-                continue
-            system = systems[k]
-            out[k] = summarize(system, history, support, engine, options,
-                               system.modes.shapes_star[:, :history.model.n_modes])
-    for lead, others in shared.items():
-        for k in others:
-            out[k] = out[lead] if not isinstance(out[lead], AnalysisResult) else _for_system(out[lead], systems[k])
+
+    def outcomes(k: int, outcome) -> Iterator[tuple[int, Any]]:
+        yield k, outcome
+        for other in shared[k]:
+            yield other, _for_system(outcome, systems[other]) if isinstance(outcome, AnalysisResult) else outcome
+
+    with one_blas_thread():
+        grids: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        pending: list[tuple[int, Run]] = []
+        for k in shared:
+            try:
+                model = model_for(systems[k], support, options, engine)
+                substeps = _checked_substeps(systems[k], model, acceleration.size, record.dt, options)
+                if substeps not in grids:
+                    grids[substeps] = ground_grid(acceleration, substeps, record.dt)
+                pending.append((k, Run(model, *grids[substeps], record.dt / substeps, options.criterion,
+                                       uplift=support == "uplift", allow_flight=options.flight == "allow")))
+            except (AnalysisError, InputError) as error:
+                yield from outcomes(k, error)
+        while pending:
+            size, used = 1, pending[0][1].buffer_bytes
+            while size < len(pending) and used + pending[size][1].buffer_bytes <= BATCH_MEMORY:
+                used += pending[size][1].buffer_bytes
+                size += 1
+            order = [k for k, _ in pending[:size]]
+            histories = simulate_many([run for _, run in pending[:size]])
+            del pending[:size]  # the runs live in simulate_many only: each one's buffers go when it ends
+            for j, history in histories:
+                k = order[j]
+                if not isinstance(history, AnalysisError):
+                    history = summarize(systems[k], history, support, engine, options,
+                                        systems[k].modes.shapes_star[:, :history.model.n_modes])
+                yield from outcomes(k, history)
+
+
+def analyze_batch(systems: list[System], record, support: str, options: ExactOptions | None = None,
+                  engine: str = "exact") -> list[AnalysisResult | AnalysisError | InputError]:
+    """iter_batch as a list in the order of `systems`."""
+    out: list = [None] * len(systems)
+    for k, result in iter_batch(systems, record, support, options, engine):
+        out[k] = result
     return out
 
 
