@@ -139,7 +139,8 @@ _MODES_CACHE: dict[tuple, Modes] = {}
 _MODES_CACHE_SIZE = 64
 
 
-def _building_key(building: Building) -> tuple:
+def building_key(building: Building) -> tuple:
+    """The building's content (masses, heights, stiffness, damping) as a hashable key."""
     arrays = (building.masses, building.heights, building.stiffness, building.damping)
     return tuple(np.asarray(a, dtype=float).tobytes() for a in arrays)
 
@@ -148,7 +149,7 @@ def modal_analysis(building: Building) -> Modes:
     """Solve K phi = w^2 M phi [6] and the effective modal quantities [9, 10].
 
     The result is shared between calls for equal buildings (its arrays are read-only)."""
-    key = _building_key(building)
+    key = building_key(building)
     modes = _MODES_CACHE.get(key)
     if modes is None:
         modes = _solve_modes(building)

@@ -21,6 +21,7 @@ import numpy as np
 
 from ..errors import AnalysisError, InputError
 from ..results import AnalysisResult
+from ..structure import building_key
 from ..system import System
 from . import one_blas_thread
 from .response import (
@@ -263,9 +264,7 @@ def model_for(system: System, support: str, options: ExactOptions, engine: str =
 def _rigid_key(system: System) -> tuple:
     """What a fixed-base analysis depends on: the building, m_t, g (and I_0, kept for safety);
     never the foundation or the mat width (only V_c and M_c, replaced per system)."""
-    b = system.building
-    arrays = (b.masses, b.heights, b.stiffness, np.asarray(b.damping, dtype=float))
-    return (*(a.tobytes() for a in arrays), system.total_mass, system.gravity, system.mat_rotary_inertia)
+    return (*building_key(system.building), system.total_mass, system.gravity, system.mat_rotary_inertia)
 
 
 #: memory allowed for the sample buffers of the runs of a batch stepped together [bytes]

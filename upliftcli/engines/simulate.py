@@ -17,8 +17,7 @@ from scipy.linalg import expm
 from ..errors import AnalysisError
 from . import kernel
 from .statespace import (
-    ContactState, Layout, ModalModel, contact_states, element_directions, layout, model_terms, position_map,
-    static_state,
+    ContactState, Layout, ModalModel, contact_states, layout, model_terms, static_state,
 )
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
@@ -152,11 +151,8 @@ class Run:
         self.uplift = uplift
         self.operators = _Operators(model, lay, h, criterion)
         self.z_index = np.array([lay.z_index(i) for i in range(n_e)], dtype=np.int64)
-        self.lift_rows = np.zeros((n_e, lay.n_aug))
-        self.element_damped = np.zeros(n_e, dtype=np.bool_)
-        if n_e:
-            self.lift_rows = element_directions(model) @ position_map(model, lay)
-            self.element_damped = model.elements.damping > 0.0
+        self.lift_rows = self.operators.terms.displacement_rows  # element displacements v_i = rows @ X
+        self.element_damped = self.operators.terms.element_damping > 0.0
         self.all_lifted = np.int64((1 << n_e) - 1) if n_e else np.int64(-2)
         self.capacity = ground.size + 1024
         self.out_x = self.out_t = self.out_s = None  # allocated by first_request

@@ -181,6 +181,7 @@ class ModelTerms:
 
 
 def model_terms(model: ModalModel, lay: Layout) -> ModelTerms:
+    """The pattern-independent terms of the model's contact states, once per model."""
     stiffness, damping, forcing_ground, forcing_gravity = structure_matrices(model)
     forcing = np.zeros((lay.n_p, lay.n_aug))
     forcing[:, lay.index_acceleration] = forcing_ground
@@ -197,14 +198,9 @@ def model_terms(model: ModalModel, lay: Layout) -> ModelTerms:
                       directions @ position, weight, settlement)
 
 
-def contact_state(model: ModalModel, lay: Layout, lifted: np.ndarray, criterion: str) -> ContactState:
-    """Assemble A, the velocity map and the event rows for one contact pattern."""
-    return contact_states([model_terms(model, lay)], lay, np.asarray(lifted, dtype=bool)[None, :], criterion)[0]
-
-
 def contact_states(terms: list[ModelTerms], lay: Layout, lifted: np.ndarray, criterion: str) -> list[ContactState]:
-    """contact_state for a batch: item r is the model of terms[r] (all with layout `lay`) in
-    the contact pattern lifted[r] (R, n_e). The assembly is vectorised over the batch axis;
+    """Assemble A, the velocity map and the event rows of contact patterns: item r is the
+    model of terms[r] (all with layout `lay`) in the contact pattern lifted[r] (R, n_e). The assembly is vectorised over the batch axis;
     every item gets the same bits as alone (products are per item, sums along contiguous
     rows). Raises ZeroDivisionError if a massless rotation has no damping in some item."""
     count = len(terms)
