@@ -20,11 +20,11 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from upliftcli.engines import exact  # noqa: E402
-from upliftcli.foundation import two_element_from_ratios  # noqa: E402
-from upliftcli.records import read_record  # noqa: E402
-from upliftcli.structure import modal_analysis, uniform_building  # noqa: E402
-from upliftcli.system import System  # noqa: E402
+from upliftcli.engines.exact import engine as exact  # noqa: E402
+from upliftcli.model.building import modal_analysis, uniform_building  # noqa: E402
+from upliftcli.model.foundations import two_element_from_ratios  # noqa: E402
+from upliftcli.model.system import System  # noqa: E402
+from upliftcli.motion.records import read_record  # noqa: E402
 
 RECORD = Path(__file__).resolve().parents[1] / "records" / "elcentro_1940_ns_chopra.txt"
 SUPPORTS = ("rigid", "bonded", "uplift")

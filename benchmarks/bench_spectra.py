@@ -21,8 +21,8 @@ import numba
 import numpy as np
 from scipy import signal
 
-from upliftcli.records import STANDARD_GRAVITY, read_record
-from upliftcli.spectra import response_spectrum
+from upliftcli.motion.records import STANDARD_GRAVITY, read_record
+from upliftcli.motion.spectra import response_spectrum
 
 RECORD = Path(__file__).resolve().parent.parent / "records" / "elcentro_1940_ns_chopra.txt"
 PERIODS = np.geomspace(0.05, 5.0, 200)

@@ -16,9 +16,9 @@ import tempfile
 import time
 from pathlib import Path
 
-from upliftcli.executors import DaskExecutor, ProcessExecutor, SerialExecutor, available_cores
-from upliftcli.sweep import plan_sweep
-from upliftcli.sweep_run import RowStore, run_sweep
+from upliftcli.sweep.executors import DaskExecutor, ProcessExecutor, SerialExecutor, available_cores
+from upliftcli.sweep.plan import plan_sweep
+from upliftcli.sweep.store import RowStore, run_sweep
 
 DECK = Path(__file__).resolve().parent.parent / "inputs" / "ten_story_elcentro.toml"
 

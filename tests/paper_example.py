@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from upliftcli.foundation import two_element_from_ratios
-from upliftcli.structure import modal_analysis, uniform_building
-from upliftcli.system import System
+from upliftcli.model.building import modal_analysis, uniform_building
+from upliftcli.model.foundations import two_element_from_ratios
+from upliftcli.model.system import System
 
 
 def paper_system(period: float = 0.5, slenderness: float = 10.0, frequency_ratio: float = 8.0,

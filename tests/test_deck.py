@@ -10,7 +10,7 @@ import pytest
 from upliftcli import deck_schema
 from upliftcli.deck import build_deck, load_deck, parse_override
 from upliftcli.errors import InputError
-from upliftcli.foundation import HalfSpace, TwoElement, Winkler
+from upliftcli.model.foundations import HalfSpace, TwoElement, Winkler
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
@@ -253,7 +253,7 @@ def test_unknown_criterion_and_analysis_option(tmp_path):
 def test_exact_options_cover_the_engine_contract():
     from dataclasses import fields
 
-    from upliftcli.engines.exact import ExactOptions
+    from upliftcli.engines.exact.engine import ExactOptions
 
     assert set(deck_schema.TABLES["analysis.exact"]) <= {f.name for f in fields(ExactOptions)}
 

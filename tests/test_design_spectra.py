@@ -7,9 +7,15 @@ import math
 import numpy as np
 import pytest
 
-from upliftcli.design_spectra import (ASCE7Spectrum, EC8Spectrum, TabulatedSpectrum, asce_damping_coefficient,
-                                      ec8_damping_correction, from_mapping)
 from upliftcli.errors import InputError
+from upliftcli.motion.design_spectra import (
+    ASCE7Spectrum,
+    EC8Spectrum,
+    TabulatedSpectrum,
+    asce_damping_coefficient,
+    ec8_damping_correction,
+    from_mapping,
+)
 
 G = 9.80665
 

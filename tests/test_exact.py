@@ -10,13 +10,14 @@ import numpy as np
 import pytest
 from paper_example import paper_system
 
-from upliftcli.engines import approximate, exact
-from upliftcli.engines.exact import ExactOptions
+from upliftcli.engines import approximate
+from upliftcli.engines.exact import engine as exact
+from upliftcli.engines.exact.engine import ExactOptions
 from upliftcli.errors import AnalysisError
-from upliftcli.foundation import TwoElement, Winkler
-from upliftcli.records import read_record
-from upliftcli.spectra import sdof_history
-from upliftcli.system import System
+from upliftcli.model.foundations import TwoElement, Winkler
+from upliftcli.model.system import System
+from upliftcli.motion.records import read_record
+from upliftcli.motion.spectra import sdof_history
 
 G = 9.80665
 RECORD = Path(__file__).resolve().parents[1] / "records" / "elcentro_1940_ns_chopra.txt"
@@ -257,7 +258,7 @@ def test_cumulative_modal_base_shear_ends_at_the_total(elcentro):
 def test_winkler_converges_as_elements_grow(elcentro):
     """Winkler strip discretised into n unilateral elements (midpoint rule): the uplift response
     settles as n grows, and K_theta of the discrete elements tends to (2/3) k_w b^3."""
-    from upliftcli.foundation import Winkler
+    from upliftcli.model.foundations import Winkler
 
     base = paper_system(0.5)
     b = base.half_width

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from upliftcli.foundation import HalfSpace, TwoElement, Winkler, two_element_from_ratios
+from upliftcli.model.foundations import HalfSpace, TwoElement, Winkler, two_element_from_ratios
 
 
 def test_two_element_rocking_and_elements():

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from upliftcli.engines import kernel
+from upliftcli.engines.exact import stepping_kernels as kernel
 
 
 def test_matvec_takes_the_transposed_matrix():

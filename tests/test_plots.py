@@ -3,9 +3,10 @@
 import numpy as np
 import pytest
 
-from upliftcli import figures, plots
+from upliftcli import plots
 from upliftcli.errors import InputError
-from upliftcli.sweep import SweepPlan, Vary
+from upliftcli.sweep import figures
+from upliftcli.sweep.plan import SweepPlan, Vary
 
 PERIODS = [2.0, 0.5, 1.0]  # deliberately unsorted
 

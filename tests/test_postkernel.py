@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from upliftcli.engines import postkernel
+from upliftcli.engines.exact import response_kernels as postkernel
 
 
 def _quintic(p0, p1, d0, d1, c0, c1, s):

@@ -8,8 +8,15 @@ import numpy as np
 import pytest
 
 from upliftcli.errors import InputError
-from upliftcli.records import (STANDARD_GRAVITY, arias_intensity, bundled_records_dir, detect_format,
-                               ground_displacement, ground_velocity, read_record)
+from upliftcli.motion.records import (
+    STANDARD_GRAVITY,
+    arias_intensity,
+    bundled_records_dir,
+    detect_format,
+    ground_displacement,
+    ground_velocity,
+    read_record,
+)
 
 G = STANDARD_GRAVITY
 VALUES = np.array([0.0, 0.01, -0.02, 0.03, -0.015, 0.005, 0.0, 0.002, -0.001, 0.0, 0.004])

@@ -8,15 +8,10 @@ import pytest
 from paper_example import paper_system
 from scipy.integrate import solve_ivp
 
-from upliftcli.engines.simplified import (
-    SimplifiedOptions,
-    analyze,
-    effective_properties,
-    uplift_base_shear,
-)
-from upliftcli.foundation import HalfSpace, TwoElement, Winkler
-from upliftcli.structure import shear_building, uniform_building
-from upliftcli.system import System
+from upliftcli.engines.simplified import SimplifiedOptions, analyze, effective_properties, uplift_base_shear
+from upliftcli.model.building import shear_building, uniform_building
+from upliftcli.model.foundations import HalfSpace, TwoElement, Winkler
+from upliftcli.model.system import System
 
 G = 9.80665
 

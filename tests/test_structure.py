@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from upliftcli.structure import modal_analysis, modes_for_mass_target, shear_building, uniform_building
+from upliftcli.model.building import modal_analysis, modes_for_mass_target, shear_building, uniform_building
 
 # The paper's table (THEORY.md section 6): w_n/w_1, m_n*/m_t, h_n*/b with h_1*/b = 10
 PAPER_FREQUENCY_RATIOS = [1.0, 2.98, 4.89, 6.69, 8.34]

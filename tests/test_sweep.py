@@ -10,14 +10,23 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from upliftcli import sweep_table
 from upliftcli.analysis import run_one
 from upliftcli.deck import load_deck
 from upliftcli.errors import InputError
-from upliftcli.executors import DaskExecutor, ProcessExecutor, SerialExecutor
-from upliftcli.sweep import (Case, Chunk, expand_cases, make_chunks, parse_choices, parse_values, parse_vary,
-                             plan_sweep, run_chunk)
-from upliftcli.sweep_run import RowStore, run_sweep
+from upliftcli.sweep import table as sweep_table
+from upliftcli.sweep.executors import DaskExecutor, ProcessExecutor, SerialExecutor
+from upliftcli.sweep.plan import (
+    Case,
+    Chunk,
+    expand_cases,
+    make_chunks,
+    parse_choices,
+    parse_values,
+    parse_vary,
+    plan_sweep,
+    run_chunk,
+)
+from upliftcli.sweep.store import RowStore, run_sweep
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
@@ -363,7 +372,7 @@ def test_cases_sharing_a_structure_run_as_one_batch(monkeypatch):
     """Chunks put together the cases that differ only in foundation fields (whatever the --vary
     order), and the exact engine gets each such group as one batch; the rows equal the
     single analyses."""
-    from upliftcli.engines import exact
+    from upliftcli.engines.exact import engine as exact
 
     plan = plan_sweep(EXAMPLE, ["ground_motion.window=[0, 3]"],
                       ["foundation.frequency_ratio=4,8,16", "building.period=0.4,1.2"], ["exact"], ["uplift"])

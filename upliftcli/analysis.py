@@ -9,8 +9,8 @@ import importlib
 from collections.abc import Callable, Sequence
 
 from .deck import Deck
+from .engines.result import AnalysisResult
 from .errors import AnalysisError, InputError
-from .results import AnalysisResult
 
 ENGINES = ("simplified", "approximate", "exact")
 
@@ -25,7 +25,7 @@ def run_one(deck: Deck, engine: str, support: str) -> AnalysisResult:
         return simplified.analyze(deck.system, deck.spectrum, support, deck.analysis.simplified)
     if engine not in ENGINES:
         raise InputError(deck.source, "analysis.engine", f"one of {', '.join(ENGINES)}, got {engine!r}")
-    from .records import Record
+    from .motion.records import Record
 
     if not isinstance(deck.ground_motion, Record):
         raise InputError(deck.source, "ground_motion.record",
@@ -45,7 +45,7 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
 
     The response-history engines analyse decks that share a record and options together
     (exact.iter_batch: shared work done once); results equal run_one's, bit for bit."""
-    from .records import Record
+    from .motion.records import Record
 
     out: list[AnalysisResult | Exception] = [None] * len(decks)  # type: ignore[list-item]
 
@@ -65,7 +65,7 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
             result = error
         keep(k, result)
     if groups:
-        from .engines import exact
+        from .engines.exact import engine as exact
 
         for (_, options), members in groups.items():
             systems = [decks[k].system for k in members]

@@ -21,12 +21,12 @@ from typing import Any
 import numpy as np
 
 from . import deck_schema as schema
-from .engines.exact import ExactOptions
+from .engines.exact.engine import ExactOptions
 from .engines.simplified import SimplifiedOptions
 from .errors import InputError
-from .foundation import HalfSpace, TwoElement, Winkler, two_element_from_ratios
-from .structure import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
-from .system import System
+from .model.building import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
+from .model.foundations import HalfSpace, TwoElement, Winkler, two_element_from_ratios
+from .model.system import System
 
 #: groups of mutually exclusive fields: a `--set` of one member removes the others
 ALTERNATIVES: list[tuple[str, list[set[str]]]] = [
@@ -339,7 +339,7 @@ def _ground_motion(fields: dict, source: str, error) -> tuple[Any, Any]:
         extra = sorted(set(fields) - {"design_spectrum"})
         if extra:
             raise error(f"ground_motion.{extra[0]}", "no record fields together with a design_spectrum")
-        from . import design_spectra
+        from .motion import design_spectra
 
         try:
             spectrum = design_spectra.from_mapping(fields["design_spectrum"], source, "ground_motion.design_spectrum")
@@ -351,7 +351,7 @@ def _ground_motion(fields: dict, source: str, error) -> tuple[Any, Any]:
     if "record" not in fields:
         raise error("ground_motion.record", "the path of a record file (missing; or give "
                     "ground_motion.design_spectrum)")
-    from . import records, spectra
+    from .motion import records, spectra
 
     path = Path(fields["record"])
     if not path.is_absolute():

@@ -13,9 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from upliftcli.atomic import atomic_path
-from upliftcli.errors import InputError
-from upliftcli.records import STANDARD_GRAVITY
+from .atomic import atomic_path
+from .errors import InputError
+from .motion.records import STANDARD_GRAVITY
 
 FIGURE_FORMATS = (".png", ".pdf", ".svg")
 

@@ -11,9 +11,10 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from .. import plots, records, spectra
+from .. import plots
 from ..atomic import write_text
 from ..errors import InputError
+from ..motion import records, spectra
 from . import render
 
 INFO_PERIODS = (0.1, 0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0)  # s

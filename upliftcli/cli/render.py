@@ -8,9 +8,9 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from ..engines.result import AnalysisResult
 from ..engines.simplified import INTERMEDIATES
-from ..results import AnalysisResult
-from ..system import System
+from ..model.system import System
 
 
 def console(stderr: bool = False) -> Console:
@@ -93,7 +93,7 @@ def modal_table(result: AnalysisResult) -> Table:
 def history_intermediates() -> dict:
     """Units and meanings of the exact/approximate engines' intermediates (imported on use:
     the exact engine loads numba)."""
-    from ..engines.exact import INTERMEDIATES as exact_intermediates
+    from ..engines.exact.engine import INTERMEDIATES as exact_intermediates
 
     return exact_intermediates
 

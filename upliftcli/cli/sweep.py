@@ -10,12 +10,14 @@ from pathlib import Path
 
 import typer
 
-from .. import figures, plots, sweep_table
+from .. import plots
 from ..analysis import ENGINES
 from ..errors import InputError
-from ..executors import DaskExecutor, ProcessExecutor, SerialExecutor, available_cores, import_distributed
-from ..sweep import SUPPORTS, SweepPlan, Vary, parse_choices, plan_sweep
-from ..sweep_run import NoProgress, RowStore, run_sweep
+from ..sweep import figures
+from ..sweep import table as sweep_table
+from ..sweep.executors import DaskExecutor, ProcessExecutor, SerialExecutor, available_cores, import_distributed
+from ..sweep.plan import SUPPORTS, SweepPlan, Vary, parse_choices, plan_sweep
+from ..sweep.store import NoProgress, RowStore, run_sweep
 from . import render
 from .analyze import SET_HELP
 from .sweep_render import PlainProgress, RichProgress, print_summary, use_rich_progress

@@ -11,8 +11,8 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from ..sweep import SweepPlan
-from ..sweep_table import SUMMARY_OUTPUTS
+from ..sweep.plan import SweepPlan
+from ..sweep.table import SUMMARY_OUTPUTS
 
 LABELS = {"base_shear_coefficient": "V_b/(m_t g)", "base_moment_coefficient": "M_b/(m_t g h_1*)",
           "max_drift_ratio": "drift ratio"}
@@ -66,8 +66,14 @@ class RichProgress:
     """A rich progress bar on stderr: done/total, rate, elapsed and ETA."""
 
     def __init__(self, console: Console, label: str = "sweep"):
-        from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn,
-                                   TimeRemainingColumn)
+        from rich.progress import (
+            BarColumn,
+            MofNCompleteColumn,
+            Progress,
+            TextColumn,
+            TimeElapsedColumn,
+            TimeRemainingColumn,
+        )
 
         self.progress = Progress(TextColumn(f"{label}"), BarColumn(), MofNCompleteColumn(),
                                  TextColumn("{task.fields[failed]}"), TimeElapsedColumn(), TextColumn("ETA"),

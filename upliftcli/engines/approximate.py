@@ -8,10 +8,10 @@ modes are independent fixed-base oscillators integrated on the same time grid.
 
 from __future__ import annotations
 
-from ..results import AnalysisResult
-from ..system import System
-from . import exact
-from .exact import ExactOptions
+from ..model.system import System
+from .exact import engine as exact
+from .exact.engine import ExactOptions
+from .result import AnalysisResult
 
 
 def analyze(system: System, record, support: str, options: ExactOptions | None = None) -> AnalysisResult:

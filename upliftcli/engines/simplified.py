@@ -22,8 +22,8 @@ import numpy as np
 from scipy.linalg import eig
 
 from ..errors import AnalysisError
-from ..results import AnalysisResult, cqc, srss
-from ..system import System
+from ..model.system import System
+from .result import AnalysisResult, cqc, srss
 
 SUPPORTS = ("rigid", "bonded", "uplift")
 

@@ -19,17 +19,23 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import AnalysisError, InputError
-from ..results import AnalysisResult
-from ..structure import building_key
-from ..system import System
-from . import one_blas_thread
+from ...errors import AnalysisError, InputError
+from ...model.building import building_key
+from ...model.system import System
+from .. import one_blas_thread
+from ..result import AnalysisResult
 from .response import (
-    energy_balance, hermite_peaks, interval_lengths, lifted_flags, response_maps, signals, time_at,
+    energy_balance,
+    hermite_peaks,
+    interval_lengths,
+    lifted_flags,
+    response_maps,
+    signals,
+    time_at,
     uplift_summary,
 )
-from .simulate import History, Run, ground_grid, simulate_many
 from .statespace import ModalModel
+from .stepping import History, Run, ground_grid, simulate_many
 
 SUPPORTS = ("rigid", "bonded", "uplift")
 #: intermediates of the response-history engines: name -> (unit, meaning)

@@ -14,7 +14,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from .sweep import STATUSES, SweepPlan, chunk_size, make_chunks
+from .plan import STATUSES, SweepPlan, chunk_size, make_chunks
 
 
 class RowStore:
@@ -48,7 +48,7 @@ class RowStore:
         self._file = open(self.path, "w" if fresh else "a", encoding="utf-8")
 
     def append(self, row: dict) -> None:
-        from .results import to_jsonable
+        from ..engines.result import to_jsonable
 
         self._file.write(json.dumps(to_jsonable(row), allow_nan=False) + "\n")
         self._file.flush()

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+
 @njit(cache=True)
 def _quintic_extremum(p0, p1, d0, d1, c0, c1):
     """Largest |p(s)| for s in [0, 1] of the quintic Hermite p with p, p', p'' given at both

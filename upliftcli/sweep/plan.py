@@ -26,10 +26,10 @@ from typing import Any
 
 import numpy as np
 
-from . import deck_schema as schema
-from .analysis import check_criteria, run_batch
-from .deck import Deck, build_deck, parse_override, read_toml
-from .errors import AnalysisError, InputError
+from .. import deck_schema as schema
+from ..analysis import check_criteria, run_batch
+from ..deck import Deck, build_deck, parse_override, read_toml
+from ..errors import AnalysisError, InputError
 
 SUPPORTS = ("rigid", "bonded", "uplift")
 #: deck fields that are case dimensions of their own, not --vary paths
@@ -215,7 +215,7 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
 
 
 def _check_engines(ground_motion: Any, engines: Sequence[str], source: str) -> None:
-    from .records import Record
+    from ..motion.records import Record
 
     for engine in engines:
         if engine != "simplified" and not isinstance(ground_motion, Record):
@@ -288,7 +288,7 @@ def _effective_properties(deck: Deck, support: str) -> tuple[float | None, float
     modes = deck.system.modes
     if support == "rigid":
         return float(modes.periods[0]), float(modes.damping[0])
-    from .engines.simplified import effective_properties
+    from ..engines.simplified import effective_properties
 
     try:
         props = effective_properties(deck.system, deck.analysis.simplified.effective_properties)
@@ -304,7 +304,7 @@ def _two_mode_shear(result, deck: Deck, t1bar: float | None, xi1bar: float | Non
         return None
     peaks = np.asarray(shears[:2], dtype=float)
     if deck.analysis.simplified.combination == "cqc":
-        from .results import cqc
+        from ..engines.result import cqc
 
         modes = deck.system.modes
         omega = modes.omega[:2].copy()

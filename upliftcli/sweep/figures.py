@@ -19,9 +19,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .errors import InputError
-from .plots import FigureSpec, Panel, Series
-from .sweep import SweepPlan, Vary, parse_values
+from ..errors import InputError
+from ..plots import FigureSpec, Panel, Series
+from .plan import SweepPlan, Vary, parse_values
 
 PERIOD_PATH = "building.period"
 PERIOD_LABEL = "fixed-base fundamental period T_1 [s]"

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from upliftcli.errors import InputError
+from ..errors import InputError
 
 STANDARD_GRAVITY = 9.80665  # m/s^2
 
@@ -373,4 +373,4 @@ def arias_intensity(acceleration: np.ndarray, dt: float) -> float:
 
 def bundled_records_dir() -> Path:
     """The records/ folder shipped beside the package (source checkout)."""
-    return Path(__file__).resolve().parent.parent / "records"
+    return Path(__file__).resolve().parents[2] / "records"

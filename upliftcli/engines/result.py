@@ -214,7 +214,7 @@ def write_results(results: list[AnalysisResult], directory, stem: str, source: s
     All three texts are built before the first file is written, so a failure leaves no file."""
     from pathlib import Path
 
-    from .atomic import write_text
+    from ..atomic import write_text
 
     directory = Path(directory)
     texts = {
@@ -240,7 +240,7 @@ def write_histories(path, histories: dict[str, np.ndarray]) -> None:
     in the header (drift_j columns in m)."""
     from pathlib import Path
 
-    from .atomic import atomic_path, write_text
+    from ..atomic import atomic_path, write_text
 
     path = Path(path)
     if path.suffix.lower() == ".npz":

@@ -30,8 +30,8 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 
-from .errors import InputError
-from .sweep import Chunk, failed_row, run_chunk
+from ..errors import InputError
+from .plan import Chunk, failed_row, run_chunk
 
 #: environment of worker processes, set before they import numpy: one thread per worker
 WORKER_ENVIRONMENT = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
@@ -337,7 +337,7 @@ def _dask_run_chunk(chunk: Chunk, queue_name: str, runner: Callable = run_chunk)
     client's queue as they happen (rows as JSON text: the queue carries msgpack-able data only)."""
     from distributed import Queue
 
-    from .results import to_jsonable
+    from ..engines.result import to_jsonable
 
     queue = Queue(queue_name)  # by name: a Queue object among the task's arguments is unpickled by the scheduler
     waiting: list[list] = []

@@ -14,10 +14,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from .atomic import atomic_path, write_text
-from .errors import InputError
-from .results import to_jsonable
-from .sweep import SweepPlan
+from ..atomic import atomic_path, write_text
+from ..engines.result import to_jsonable
+from ..errors import InputError
+from .plan import SweepPlan
 
 #: output column -> (unit, meaning)
 OUTPUT_COLUMNS: dict[str, tuple[str, str]] = {

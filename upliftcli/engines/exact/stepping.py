@@ -14,11 +14,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import expm
 
-from ..errors import AnalysisError
-from . import kernel
-from .statespace import (
-    ContactState, Layout, ModalModel, contact_states, layout, model_terms, static_state,
-)
+from ...errors import AnalysisError
+from . import stepping_kernels as kernel
+from .statespace import ContactState, Layout, ModalModel, contact_states, layout, model_terms, static_state
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
 LEVELS = 12

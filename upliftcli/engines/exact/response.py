@@ -18,11 +18,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..structure import Building
-from . import postkernel
-from .simulate import History
+from ...model.building import Building
+from . import response_kernels as postkernel
 from .statespace import coordinate_masses, element_directions, modal_map, position_map, structure_matrices
-
+from .stepping import History
 
 
 @dataclass(frozen=True)

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
-from upliftcli.errors import InputError
+from ..errors import InputError
 
 TWO_PI = 2.0 * math.pi
 _FASTMATH = {"contract", "reassoc", "nsz"}  # FMA and reordering; no NaN/inf assumptions

@@ -11,8 +11,8 @@ from typing import Union
 
 import numpy as np
 
-from .foundation import HalfSpace, TwoElement, Winkler
-from .structure import Building, Modes, modal_analysis
+from .building import Building, Modes, modal_analysis
+from .foundations import HalfSpace, TwoElement, Winkler
 
 STANDARD_GRAVITY = 9.80665  # m/s^2
 

@@ -21,8 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from upliftcli.errors import InputError
-from upliftcli.records import STANDARD_GRAVITY, UNITS, normalize_units
+from ..errors import InputError
+from .records import STANDARD_GRAVITY, UNITS, normalize_units
 
 #: EN 1998-1 Tables 3.2 (Type 1) and 3.3 (Type 2): ground type -> (S, T_B, T_C, T_D) [-, s, s, s]
 EC8_PARAMETERS = {

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..foundation import ContactElements
+from ...model.foundations import ContactElements
 
 
 @dataclass(frozen=True)

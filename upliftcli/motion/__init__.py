@@ -1,0 +1,1 @@
+"""Ground motions: records, response spectra, design spectra."""
