@@ -21,8 +21,9 @@ import numba
 import numpy as np
 from scipy import signal
 
-from upliftcli.motion.records import STANDARD_GRAVITY, read_record
+from upliftcli.motion.records import read_record
 from upliftcli.motion.spectra import response_spectrum
+from upliftcli.units import STANDARD_GRAVITY
 
 RECORD = Path(__file__).resolve().parent.parent / "records" / "elcentro_1940_ns_chopra.txt"
 PERIODS = np.geomspace(0.05, 5.0, 200)

@@ -18,7 +18,8 @@ from pathlib import Path
 
 from upliftcli.sweep.executors import DaskExecutor, ProcessExecutor, SerialExecutor, available_cores
 from upliftcli.sweep.plan import plan_sweep
-from upliftcli.sweep.store import RowStore, run_sweep
+from upliftcli.sweep.run import run_sweep
+from upliftcli.sweep.store import RowStore
 
 DECK = Path(__file__).resolve().parent.parent / "inputs" / "ten_story_elcentro.toml"
 

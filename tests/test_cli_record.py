@@ -13,8 +13,9 @@ from typer.testing import CliRunner
 
 from upliftcli.cli import app
 from upliftcli.cli import record as record_cli
-from upliftcli.motion.records import STANDARD_GRAVITY, read_record
+from upliftcli.motion.records import read_record
 from upliftcli.motion.spectra import response_spectrum
+from upliftcli.units import STANDARD_GRAVITY
 
 RECORD = Path(__file__).resolve().parent.parent / "records" / "elcentro_1940_ns_chopra.txt"
 runner = CliRunner()

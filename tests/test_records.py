@@ -9,7 +9,6 @@ import pytest
 
 from upliftcli.errors import InputError
 from upliftcli.motion.records import (
-    STANDARD_GRAVITY,
     arias_intensity,
     bundled_records_dir,
     detect_format,
@@ -17,6 +16,7 @@ from upliftcli.motion.records import (
     ground_velocity,
     read_record,
 )
+from upliftcli.units import STANDARD_GRAVITY
 
 G = STANDARD_GRAVITY
 VALUES = np.array([0.0, 0.01, -0.02, 0.03, -0.015, 0.005, 0.0, 0.002, -0.001, 0.0, 0.004])

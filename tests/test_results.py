@@ -8,18 +8,9 @@ import tomllib
 import numpy as np
 import pytest
 
-from upliftcli.engines import result as results_module
-from upliftcli.engines.result import (
-    AnalysisResult,
-    cqc,
-    cqc_correlation,
-    results_document,
-    srss,
-    to_csv,
-    to_json,
-    to_toml,
-    write_results,
-)
+from upliftcli import output as results_module
+from upliftcli.engines.result import AnalysisResult, cqc, cqc_correlation, srss
+from upliftcli.output import results_document, to_csv, to_json, to_toml, write_results
 
 
 def make_result(support="uplift", scale=1.0):

@@ -10,8 +10,9 @@ import pytest
 from scipy import signal
 
 from upliftcli.errors import InputError
-from upliftcli.motion.records import STANDARD_GRAVITY, Record, bundled_records_dir, read_record
+from upliftcli.motion.records import Record, bundled_records_dir, read_record
 from upliftcli.motion.spectra import RecordSpectrum, response_spectrum, sdof_history
+from upliftcli.units import STANDARD_GRAVITY
 
 G = STANDARD_GRAVITY
 INCH = 0.0254

@@ -24,9 +24,10 @@ from upliftcli.sweep.plan import (
     parse_values,
     parse_vary,
     plan_sweep,
-    run_chunk,
 )
-from upliftcli.sweep.store import RowStore, run_sweep
+from upliftcli.sweep.run import run_sweep
+from upliftcli.sweep.store import RowStore
+from upliftcli.sweep.worker import run_chunk
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"

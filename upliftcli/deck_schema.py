@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .errors import InputError
+from .units import STANDARD_GRAVITY
 
 REQUIRED = object()
 
@@ -121,7 +122,7 @@ TABLES: dict[str, dict[str, Field]] = {
                                  ("exponential", "none", "phase")),
         "uplift_formula": Field("string", "-", "uplift base shear: full Eq. 28a or slender-structure Eq. 29",
                                 "", "full", ("full", "slender")),
-        "gravity": Field("number", "m/s^2", "acceleration of gravity g", "positive", 9.80665),
+        "gravity": Field("number", "m/s^2", "acceleration of gravity g", "positive", STANDARD_GRAVITY),
     },
     "analysis.exact": {
         "n_modes": Field("integer", "-", "fixed-base modes kept by the exact/approximate engines (default: "

@@ -15,7 +15,7 @@ import numpy as np
 
 from .atomic import atomic_path
 from .errors import InputError
-from .motion.records import STANDARD_GRAVITY
+from .units import STANDARD_GRAVITY
 
 FIGURE_FORMATS = (".png", ".pdf", ".svg")
 

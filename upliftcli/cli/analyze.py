@@ -14,8 +14,8 @@ from rich.table import Table
 
 from .. import analysis
 from ..deck import load_deck
-from ..engines.result import results_document, to_json, to_jsonable, write_histories, write_results
 from ..errors import InputError
+from ..output import results_document, to_json, to_jsonable, write_histories, write_results
 from . import render
 
 SET_HELP = "Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values)."

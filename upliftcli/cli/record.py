@@ -15,6 +15,7 @@ from .. import plots
 from ..atomic import write_text
 from ..errors import InputError
 from ..motion import records, spectra
+from ..units import STANDARD_GRAVITY
 from . import render
 
 INFO_PERIODS = (0.1, 0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0)  # s
@@ -99,7 +100,7 @@ def info(
     a = record.acceleration
     velocity = records.ground_velocity(a, record.dt)
     displacement = records.ground_displacement(a, record.dt)
-    g = records.STANDARD_GRAVITY
+    g = STANDARD_GRAVITY
     i_a, i_v, i_d = (int(np.argmax(np.abs(x))) for x in (a, velocity, displacement))
     periods = np.array(INFO_PERIODS)
     spectrum = spectra.response_spectrum(a, record.dt, periods, dampings)
@@ -136,7 +137,7 @@ def spectrum_csv(spectrum: spectra.Spectrum) -> str:
     """Long-format CSV of a spectrum, one row per (damping, period), SI units and S_a in g."""
     buffer = io.StringIO()
     buffer.write("damping_ratio,period_s,sd_m,psv_m_per_s,psa_m_per_s2,psa_g,abs_acc_m_per_s2\n")
-    g = records.STANDARD_GRAVITY
+    g = STANDARD_GRAVITY
     for k, xi in enumerate(spectrum.dampings):
         for j, period in enumerate(spectrum.periods):
             buffer.write(f"{xi:g},{period:.6g},{spectrum.displacement[k, j]:.8g},{spectrum.pseudo_velocity[k, j]:.8g},"

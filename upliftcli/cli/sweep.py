@@ -1,6 +1,6 @@
 """`uplift sweep` and `uplift spectra`: a deck over ranges of its fields, and the paper's
-response spectra over T_1. The work is in upliftcli.sweep / sweep_run / executors /
-sweep_table / figures; this module parses options, shows progress and writes the files."""
+response spectra over T_1. The work is in upliftcli.sweep (plan, run, store, executors,
+table, figures); this module parses options, shows progress and writes the files."""
 
 from __future__ import annotations
 
@@ -17,7 +17,8 @@ from ..sweep import figures
 from ..sweep import table as sweep_table
 from ..sweep.executors import DaskExecutor, ProcessExecutor, SerialExecutor, available_cores, import_distributed
 from ..sweep.plan import SUPPORTS, SweepPlan, Vary, parse_choices, plan_sweep
-from ..sweep.store import NoProgress, RowStore, run_sweep
+from ..sweep.run import NoProgress, run_sweep
+from ..sweep.store import RowStore
 from . import render
 from .analyze import SET_HELP
 from .sweep_render import PlainProgress, RichProgress, print_summary, use_rich_progress

@@ -11,10 +11,9 @@ from typing import Union
 
 import numpy as np
 
+from ..units import STANDARD_GRAVITY
 from .building import Building, Modes, modal_analysis
 from .foundations import HalfSpace, TwoElement, Winkler
-
-STANDARD_GRAVITY = 9.80665  # m/s^2
 
 Foundation = Union[TwoElement, Winkler, HalfSpace]
 

@@ -22,7 +22,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .records import STANDARD_GRAVITY, UNITS, normalize_units
+from ..units import ACCELERATION_UNITS, STANDARD_GRAVITY
+from .records import normalize_units
 
 #: EN 1998-1 Tables 3.2 (Type 1) and 3.3 (Type 2): ground type -> (S, T_B, T_C, T_D) [-, s, s, s]
 EC8_PARAMETERS = {
@@ -181,7 +182,7 @@ class TabulatedSpectrum:
         self.source = str(source)
         self.units = normalize_units(units, self.source, "units")
         self.periods = np.asarray(periods, dtype=float).ravel()
-        self.sa_values = np.asarray(sa, dtype=float).ravel() * UNITS[self.units]
+        self.sa_values = np.asarray(sa, dtype=float).ravel() * ACCELERATION_UNITS[self.units]
         self.damping = _check_damping(damping, self.source)
         self.damping_correction = str(damping_correction).lower()
         self.label = label

@@ -16,16 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..units import ACCELERATION_UNITS, STANDARD_GRAVITY
 
-STANDARD_GRAVITY = 9.80665  # m/s^2
-
-#: unit name -> factor to m/s^2
-UNITS: dict[str, float] = {
-    "g": STANDARD_GRAVITY,
-    "m/s2": 1.0,
-    "cm/s2": 0.01,
-    "in/s2": 0.0254,
-}
 _UNIT_ALIASES = {
     "g": "g", "m/s2": "m/s2", "m/s^2": "m/s2", "m/s/s": "m/s2", "m/s**2": "m/s2", "mps2": "m/s2",
     "cm/s2": "cm/s2", "cm/s^2": "cm/s2", "cm/s/s": "cm/s2", "cm/s**2": "cm/s2", "gal": "cm/s2",
@@ -325,7 +317,7 @@ def read_record(path: str | Path, format: str | None = None, units: str | None =
         unit = file_units
     else:
         raise InputError(source, "units", f"acceleration units {_UNIT_CHOICES} (none given and none in the file header)")
-    acceleration = values * (UNITS[unit] * float(scale))
+    acceleration = values * (ACCELERATION_UNITS[unit] * float(scale))
     if window is not None:
         acceleration = _apply_window(acceleration, step, window, source)
     return Record(name=name or path.stem, dt=step, acceleration=acceleration, source=source, units=unit,

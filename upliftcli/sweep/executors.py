@@ -31,7 +31,8 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 
 from ..errors import InputError
-from .plan import Chunk, failed_row, run_chunk
+from .plan import Chunk
+from .worker import failed_row, run_chunk
 
 #: environment of worker processes, set before they import numpy: one thread per worker
 WORKER_ENVIRONMENT = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
@@ -337,7 +338,7 @@ def _dask_run_chunk(chunk: Chunk, queue_name: str, runner: Callable = run_chunk)
     client's queue as they happen (rows as JSON text: the queue carries msgpack-able data only)."""
     from distributed import Queue
 
-    from ..engines.result import to_jsonable
+    from ..output import to_jsonable
 
     queue = Queue(queue_name)  # by name: a Queue object among the task's arguments is unpickled by the scheduler
     waiting: list[list] = []

@@ -1,6 +1,6 @@
 """Data of the paper-style figures (Yim & Chopra Figs. 3, 4, 6-10) and of sweep plots.
 
-Pure functions of the tidy rows of a sweep (upliftcli.sweep / sweep_table): they return
+Pure functions of the tidy rows of a sweep (sweep/plan.py, sweep/table.py): they return
 plots.FigureSpec objects (lines as arrays) that plots.plot_figure draws. The paper's
 response spectra are maxima plotted against the fixed-base period T_1 with everything else
 scaled with it (THEORY.md section 6): a sweep of `building.period`.

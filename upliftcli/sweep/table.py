@@ -15,8 +15,8 @@ from pathlib import Path
 from typing import Any
 
 from ..atomic import atomic_path, write_text
-from ..engines.result import to_jsonable
 from ..errors import InputError
+from ..output import to_jsonable
 from .plan import SweepPlan
 
 #: output column -> (unit, meaning)

@@ -1,0 +1,176 @@
+"""The worker side of a sweep: build each case's deck (sharing the loaded ground motion),
+run the cases of a chunk (those that share a structure as one exact-engine batch) and make
+each case's tidy row (columns: sweep/table.py)."""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from ..analysis import check_criteria, run_batch
+from ..deck import Deck, build_deck
+from ..errors import AnalysisError, InputError
+from .plan import Case, Chunk
+
+#: per process: ground-motion fields -> (record or design spectrum, spectrum object with its S_a cache)
+_GROUND_MOTIONS: dict[tuple[str, str], tuple[Any, Any]] = {}
+
+
+def build_case_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]]) -> Deck:
+    """build_deck, reusing the ground motion (record and spectrum cache) of earlier cases."""
+    deck = build_deck(raw, source, overrides, load_ground_motion=False)
+    key = (source, json.dumps(deck.values["ground_motion"], sort_keys=True, default=str))
+    if key not in _GROUND_MOTIONS:
+        if len(_GROUND_MOTIONS) >= 16:
+            _GROUND_MOTIONS.clear()
+        full = build_deck(raw, source, overrides)
+        _GROUND_MOTIONS[key] = (full.ground_motion, full.spectrum)
+    deck.ground_motion, deck.spectrum = _GROUND_MOTIONS[key]
+    return deck
+
+
+def _row_head(case: Case) -> dict[str, Any]:
+    return {"case": case.index, "key": case.key, "engine": case.engine, "support": case.support,
+            **{path: value for path, value in case.overrides}}
+
+
+def failed_row(case: Case, status: str, message: str) -> dict[str, Any]:
+    return {**_row_head(case), "status": status, "message": message}
+
+
+def _effective_properties(deck: Deck, support: str) -> tuple[float | None, float | None]:
+    """(T1bar [s], xi1bar [-]) of the flexibly supported system; T_1, xi_1 for a rigid base."""
+    modes = deck.system.modes
+    if support == "rigid":
+        return float(modes.periods[0]), float(modes.damping[0])
+    from ..engines.simplified import effective_properties
+
+    try:
+        props = effective_properties(deck.system, deck.analysis.simplified.effective_properties)
+    except AnalysisError:
+        return None, None
+    return props["T1bar"], props["xi1bar"]
+
+
+def _two_mode_shear(result, deck: Deck, t1bar: float | None, xi1bar: float | None) -> float | None:
+    """Simplified engine: modes 1 and 2 combined by the deck's rule (SRSS or CQC)."""
+    shears = result.intermediates.get("V_n")
+    if result.engine != "simplified" or not shears or len(shears) < 2:
+        return None
+    peaks = np.asarray(shears[:2], dtype=float)
+    if deck.analysis.simplified.combination == "cqc":
+        from ..engines.result import cqc
+
+        modes = deck.system.modes
+        omega = modes.omega[:2].copy()
+        damping = modes.damping[:2].copy()
+        if result.support != "rigid" and t1bar:
+            omega[0], damping[0] = 2.0 * math.pi / t1bar, xi1bar
+        return float(cqc(peaks, omega, damping))
+    return float(np.sqrt(np.sum(peaks**2)))
+
+
+def case_row(case: Case, deck: Deck, result) -> dict[str, Any]:
+    """The tidy row of one finished case (SI units; see sweep_table.OUTPUT_COLUMNS)."""
+    t1bar, xi1bar = _effective_properties(deck, case.support)
+    if "T1bar" in result.intermediates:
+        t1bar, xi1bar = result.intermediates["T1bar"], result.intermediates["xi1bar"]
+    if result.engine == "simplified":
+        mode1 = result.intermediates["V_n"][0]
+    else:
+        mode1 = (result.details.get("modal_base_shear") or [None])[0]
+    two = _two_mode_shear(result, deck, t1bar, xi1bar)
+    story = int(np.argmax(np.abs(result.drift_ratio)))
+    violations = check_criteria([result], deck.criteria)
+    return {
+        **_row_head(case),
+        "T1_s": float(deck.system.modes.periods[0]), "T1bar_s": t1bar, "xi1bar": xi1bar,
+        "base_shear_N": result.base_shear, "base_shear_coefficient": result.base_shear_coefficient,
+        "base_moment_Nm": result.base_moment, "base_moment_coefficient": result.base_moment_coefficient,
+        "mode1_base_shear_coefficient": None if mode1 is None else float(mode1) / result.weight,
+        "two_mode_base_shear_coefficient": None if two is None else two / result.weight,
+        "max_drift_ratio": float(abs(result.drift_ratio[story])), "max_drift_story": story + 1,
+        "max_displacement_m": float(np.max(np.abs(result.displacement))),
+        "uplift": bool(result.uplift), "V_c_N": result.critical_base_shear,
+        "critical_coefficient": result.critical_coefficient,
+        "violations": "; ".join(violations), "status": "ok", "message": "",
+    }
+
+
+def _failure(error: Exception) -> str:
+    if isinstance(error, (InputError, AnalysisError)):
+        return str(error)
+    return f"{type(error).__name__}: {error}"
+
+
+def _safe_row(case: Case, deck: Deck, result) -> dict[str, Any]:
+    if isinstance(result, Exception):
+        return failed_row(case, "failed", _failure(result))
+    try:
+        return case_row(case, deck, result)
+    except Exception as error:  # noqa: BLE001 - recorded per case, the sweep goes on
+        return failed_row(case, "failed", _failure(error))
+
+
+def _run_batch(members: list[tuple[Case, Deck]], deliver: Callable[[int, Any], None]) -> None:
+    """run_batch, each result to deliver(j, result) as soon as it is known; if the batch
+    raises, the cases still without a result run alone, so the failure is charged to its case."""
+    engine, support = members[0][0].engine, members[0][0].support
+    delivered: set[int] = set()
+
+    def on_result(j: int, result) -> None:
+        delivered.add(j)
+        deliver(j, result)
+
+    try:
+        run_batch([deck for _, deck in members], engine, support, on_result)
+    except Exception as error:  # noqa: BLE001 - recorded per case, the sweep goes on
+        rest = [j for j in range(len(members)) if j not in delivered]
+        for j in rest:
+            if len(members) == 1:
+                deliver(j, error)
+            else:
+                _run_batch([members[j]], lambda _, result, j=j: deliver(j, result))
+
+
+def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list[dict[str, Any]]:
+    """Run a chunk of cases; `emit(("start", [key, ...]))` before the cases that run together
+    and `emit(("row", row))` after each.
+
+    Cases with the same engine and support whose decks share the record and the engine
+    options run as one batch (analysis.run_batch: the exact engine shares work across
+    them); an exception becomes a 'failed' row with its message (never retried). Rows come
+    back in case order."""
+    rows: dict[int, dict[str, Any]] = {}
+    decks: dict[str, Deck] = {}
+    batches: dict[tuple, list[tuple[Case, Deck]]] = {}
+    for case in chunk.cases:
+        deck_key = json.dumps([list(o) for o in case.overrides], default=str)
+        try:
+            if deck_key not in decks:
+                overrides = list(chunk.base_overrides) + list(case.overrides)
+                decks[deck_key] = build_case_deck(chunk.raw, chunk.source, overrides)
+        except Exception as error:  # noqa: BLE001 - recorded per case, the sweep goes on
+            rows[case.index] = failed_row(case, "failed", _failure(error))
+            if emit:
+                emit(("start", [case.key]))
+                emit(("row", rows[case.index]))
+            continue
+        batch_key = (case.engine, case.support) if case.engine != "simplified" else (case.index,)
+        batches.setdefault(batch_key, []).append((case, decks[deck_key]))
+    for members in batches.values():
+        if emit:
+            emit(("start", [case.key for case, _ in members]))
+
+        def deliver(j: int, result, members=members) -> None:
+            case, deck = members[j]
+            rows[case.index] = _safe_row(case, deck, result)
+            if emit:
+                emit(("row", rows[case.index]))
+
+        _run_batch(members, deliver)
+    return [rows[case.index] for case in chunk.cases]
