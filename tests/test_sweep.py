@@ -373,7 +373,7 @@ def test_cases_sharing_a_structure_run_as_one_batch(monkeypatch):
     """Chunks put together the cases that differ only in foundation fields (whatever the --vary
     order), and the exact engine gets each such group as one batch; the rows equal the
     single analyses."""
-    from upliftcli.engines.exact import engine as exact
+    from upliftcli.engines import exact
 
     plan = plan_sweep(EXAMPLE, ["ground_motion.window=[0, 3]"],
                       ["foundation.frequency_ratio=4,8,16", "building.period=0.4,1.2"], ["exact"], ["uplift"])

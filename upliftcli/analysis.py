@@ -1,52 +1,47 @@
-"""Analysis runner: a Deck in, one AnalysisResult per (engine, support) out.
+"""Analysis runner: a Deck in, one AnalysisResult per (engine, support) out, through the
+engine registry (engines/registry.py).
 
 Used by `uplift analyze` and by sweeps; knows nothing of the terminal or files.
 """
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Callable, Sequence
+from typing import Any
 
 from .deck import Deck
+from .engines.registry import ENGINES, Engine
 from .engines.result import AnalysisResult
-from .errors import AnalysisError, InputError
+from .errors import InputError
+from .motion.records import Record
 
-ENGINES = ("simplified", "approximate", "exact")
 
-
-def run_one(deck: Deck, engine: str, support: str) -> AnalysisResult:
-    """One engine, one support condition ("rigid", "bonded" or "uplift")."""
-    if engine == "simplified":
-        from .engines import simplified
-
+def ground_motion_for(deck: Deck, engine: Engine) -> Any:
+    """The deck's record for a response-history engine, its spectrum (.sa) for the simplified
+    engine; InputError naming the deck field when the deck has not what the engine needs."""
+    if not engine.needs_record:
         if deck.spectrum is None:
-            raise InputError(deck.source, "ground_motion", "a record or a design spectrum for the simplified engine")
-        return simplified.analyze(deck.system, deck.spectrum, support, deck.analysis.simplified)
-    if engine not in ENGINES:
-        raise InputError(deck.source, "analysis.engine", f"one of {', '.join(ENGINES)}, got {engine!r}")
-    from .motion.records import Record
-
+            raise InputError(deck.source, "ground_motion", f"a record or a design spectrum for the {engine.name} engine")
+        return deck.spectrum
     if not isinstance(deck.ground_motion, Record):
         raise InputError(deck.source, "ground_motion.record",
-                         f"a record for the {engine} engine (a design spectrum serves only the simplified engine)")
-    module = importlib.import_module(f"upliftcli.engines.{engine}")
-    function = getattr(module, "analyze", None)
-    if function is None:
-        raise AnalysisError(f"the {engine} engine is not available in this version")
-    return function(deck.system, deck.ground_motion, support, deck.analysis.exact)
+                         f"a record for the {engine.name} engine (a design spectrum serves only the simplified engine)")
+    return deck.ground_motion
 
 
 def run_batch(decks: Sequence[Deck], engine: str, support: str,
               on_result: Callable[[int, AnalysisResult | Exception], None] | None = None,
               ) -> list[AnalysisResult | Exception]:
-    """run_one for several decks: the result of each or the error that stopped it, also
-    passed to on_result(index, result) as soon as it is known.
+    """One engine, one support ("rigid", "bonded" or "uplift") for several decks: the result
+    of each or the error that stopped it, also passed to on_result(index, result) as soon as
+    it is known.
 
-    The response-history engines analyse decks that share a record and options together
-    (exact.iter_batch: shared work done once); results equal run_one's, bit for bit."""
-    from .motion.records import Record
-
+    Decks that share the ground motion and the engine options are analysed together (the
+    exact engine shares work across them); results equal one-at-a-time analysis, bit for bit."""
+    if engine not in ENGINES:
+        raise InputError(decks[0].source if decks else "engine", "analysis.engine",
+                         f"one of {', '.join(ENGINES)}, got {engine!r}")
+    chosen = ENGINES[engine]
     out: list[AnalysisResult | Exception] = [None] * len(decks)  # type: ignore[list-item]
 
     def keep(k: int, result: AnalysisResult | Exception) -> None:
@@ -55,23 +50,27 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
             on_result(k, result)
 
     groups: dict[tuple, list[int]] = {}
+    motions: dict[int, Any] = {}
     for k, deck in enumerate(decks):
-        if engine in ("exact", "approximate") and isinstance(deck.ground_motion, Record):
-            groups.setdefault((id(deck.ground_motion), deck.analysis.exact), []).append(k)
-            continue
         try:
-            result = run_one(deck, engine, support)
-        except (InputError, AnalysisError) as error:
-            result = error
-        keep(k, result)
-    if groups:
-        from .engines.exact import engine as exact
-
-        for (_, options), members in groups.items():
-            systems = [decks[k].system for k in members]
-            for j, result in exact.iter_batch(systems, decks[members[0]].ground_motion, support, options, engine):
-                keep(members[j], result)
+            motions[k] = ground_motion_for(deck, chosen)
+        except InputError as error:
+            keep(k, error)
+            continue
+        groups.setdefault((id(motions[k]), getattr(deck.analysis, chosen.options)), []).append(k)
+    for (_, options), members in groups.items():
+        systems = [decks[k].system for k in members]
+        for j, result in chosen.iter_batch(systems, motions[members[0]], support, options):
+            keep(members[j], result)
     return out
+
+
+def run_one(deck: Deck, engine: str, support: str) -> AnalysisResult:
+    """One engine, one support condition; raises the error that stopped it."""
+    (result,) = run_batch([deck], engine, support)
+    if not isinstance(result, AnalysisResult):
+        raise result
+    return result
 
 
 def run(deck: Deck, engine: str | Sequence[str] | None = None,

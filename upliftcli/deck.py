@@ -21,11 +21,10 @@ from typing import Any
 import numpy as np
 
 from . import deck_schema as schema
-from .engines.exact.engine import ExactOptions
-from .engines.simplified import SimplifiedOptions
+from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from .errors import InputError
 from .model.building import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
-from .model.foundations import HalfSpace, TwoElement, Winkler, two_element_from_ratios
+from .model.foundations import FOUNDATIONS, DeckContext
 from .model.system import System
 
 #: groups of mutually exclusive fields: a `--set` of one member removes the others
@@ -34,18 +33,13 @@ ALTERNATIVES: list[tuple[str, list[set[str]]]] = [
     ("building", [{"story_height"}, {"story_heights"}]),
     ("building", [{"story_stiffness"}, {"story_stiffnesses"}, {"stiffness_matrix"}]),
     ("foundation", [{"b"}, {"slenderness"}]),
-    ("foundation", [{"k_f"}, {"frequency_ratio"}]),
-    ("foundation", [{"c_f"}, {"damping_ratio"}]),
-    ("foundation", [{"shear_modulus"}, {"shear_wave_velocity"}]),
+    *[("foundation", groups) for kind in FOUNDATIONS.values() for groups in kind.deck_alternatives],
     ("analysis", [{"modes"}, {"mass_participation"}]),
     ("ground_motion", [{"record", "format", "units", "dt", "window", "scale"}, {"design_spectrum"}]),
 ]
 
-FOUNDATION_FIELDS = {
-    "two-element": {"k_f", "c_f", "frequency_ratio", "damping_ratio"},
-    "winkler": {"k_w", "c_w", "elements"},
-    "halfspace": {"shear_modulus", "shear_wave_velocity", "poisson_ratio", "density", "half_length"},
-}
+#: foundation type -> its own fields of the [foundation] table
+FOUNDATION_FIELDS = {kind: set(cls.deck_fields) for kind, cls in FOUNDATIONS.items()}
 
 
 @dataclass
@@ -55,7 +49,6 @@ class AnalysisSettings:
     engines: list[str]
     supports: list[str]
     n_modes: int
-    modes_given: bool
     simplified: SimplifiedOptions
     exact: ExactOptions
 
@@ -262,35 +255,15 @@ def _system(building: Building, fields: dict, analysis: dict, error) -> System:
     b = fields["b"] if which == "b" else effective_height / fields["slenderness"]
     mat_mass = fields.get("mat_mass", 0.0)
     total_mass = float(building.masses.sum() + mat_mass)
-    omega_1 = float(modes.omega[0])
-    if kind == "two-element":
-        _exactly_one(fields, ["k_f", "frequency_ratio"], "foundation", error)
-        _exactly_one(fields, ["c_f", "damping_ratio"], "foundation", error)
-        if "k_f" in fields:
-            k_f = fields["k_f"]
-        elif "frequency_ratio" in fields:
-            k_f = two_element_from_ratios(total_mass, omega_1, fields["frequency_ratio"], 0.0).stiffness
-        else:
-            raise error("foundation.k_f", "the element stiffness k_f > 0 [N/m] (missing; or give "
-                        "foundation.frequency_ratio = w_v/w_1)")
-        omega_v = float(np.sqrt(2.0 * k_f / total_mass))
-        c_f = fields["c_f"] if "c_f" in fields else fields.get("damping_ratio", 0.0) * total_mass * omega_v
-        foundation = TwoElement(float(k_f), float(c_f))
-    elif kind == "winkler":
-        if "k_w" not in fields:
-            raise error("foundation.k_w", "the Winkler stiffness k_w > 0 [N/m^2] (missing)")
-        foundation = Winkler(fields["k_w"], fields.get("c_w", 0.0), fields.get("elements", 20))
-    else:
-        if "density" not in fields:
-            raise error("foundation.density", "the soil density rho > 0 [kg/m^3] (missing)")
-        rho = fields["density"]
-        which_g = _exactly_one(fields, ["shear_modulus", "shear_wave_velocity"], "foundation", error)
-        if which_g is None:
-            raise error("foundation.shear_modulus", "the soil shear modulus G > 0 [Pa] (missing; or give "
-                        "foundation.shear_wave_velocity [m/s])")
-        modulus = fields["shear_modulus"] if which_g == "shear_modulus" else rho * fields["shear_wave_velocity"] ** 2
-        foundation = HalfSpace(modulus, fields.get("poisson_ratio", _default("foundation", "poisson_ratio")),
-                               rho, fields.get("half_length", b))
+    for group_table, groups in ALTERNATIVES:
+        if group_table == "foundation":
+            _exactly_one(fields, [name for group in groups for name in group], "foundation", error)
+
+    def missing(name: str, expected: str):
+        raise error(f"foundation.{name}", expected)
+
+    context = DeckContext(float(b), total_mass, float(modes.omega[0]), missing)
+    foundation = FOUNDATIONS[kind].from_deck(fields, context)
     return System(building, foundation, float(b), float(mat_mass), float(fields.get("mat_rotary_inertia", 0.0)),
                   float(analysis.get("gravity", _default("analysis", "gravity"))))
 
@@ -310,22 +283,14 @@ def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSetti
         n_modes = n_total
     if exact.get("n_modes", 0) > n_total:
         raise error("analysis.exact.n_modes", f"at most {n_total} modes, got {exact['n_modes']}")
-    simplified = SimplifiedOptions(
-        n_modes=n_modes,
-        combination=fields.get("combination", _default("analysis", "combination")),
-        effective_properties=fields.get("effective_properties", _default("analysis", "effective_properties")),
-        uplift_damping=fields.get("uplift_damping", _default("analysis", "uplift_damping")),
-        uplift_x=fields.get("uplift_x", _default("analysis", "uplift_x")),
-        uplift_x_factor=fields.get("uplift_x_factor", _default("analysis", "uplift_x_factor")),
-        uplift_formula=fields.get("uplift_formula", _default("analysis", "uplift_formula")),
-    )
+    simplified = SimplifiedOptions(n_modes=n_modes, **{name: fields[name] for name in deck_fields(SimplifiedOptions)
+                                                       if name in fields})
     exact_values = dict(exact)
     exact_values.setdefault("n_modes", n_modes if which else None)
     return AnalysisSettings(
         engines=list(fields.get("engine", _default("analysis", "engine"))),
         supports=list(fields.get("supports", _default("analysis", "supports"))),
         n_modes=n_modes,
-        modes_given=which is not None,
         simplified=simplified,
         exact=ExactOptions(**exact_values),
     )

@@ -11,12 +11,12 @@ from pathlib import Path
 import typer
 
 from .. import plots
-from ..analysis import ENGINES
+from ..engines.registry import ENGINES, SUPPORTS
 from ..errors import InputError
 from ..sweep import figures
 from ..sweep import table as sweep_table
 from ..sweep.executors import DaskExecutor, ProcessExecutor, SerialExecutor, available_cores, import_distributed
-from ..sweep.plan import SUPPORTS, SweepPlan, Vary, parse_choices, plan_sweep
+from ..sweep.plan import SweepPlan, Vary, parse_choices, plan_sweep
 from ..sweep.run import NoProgress, run_sweep
 from ..sweep.store import RowStore
 from . import render

@@ -16,16 +16,17 @@ Every intermediate an engineer checks by hand is returned in result.intermediate
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from collections.abc import Iterator
+from dataclasses import asdict
 
 import numpy as np
 from scipy.linalg import eig
 
-from ..errors import AnalysisError
+from ..errors import AnalysisError, InputError
 from ..model.system import System
+from .options import SimplifiedOptions
+from .registry import check_support
 from .result import AnalysisResult, cqc, srss
-
-SUPPORTS = ("rigid", "bonded", "uplift")
 
 #: name -> (unit, meaning) of every intermediate value reported
 INTERMEDIATES: dict[str, tuple[str, str]] = {
@@ -55,32 +56,6 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "phi": ("rad", "phase angle [28b]"),
     "V1_uplift": ("N", "mode-1 base shear with uplift [28a] or [29]"),
 }
-
-
-@dataclass(frozen=True)
-class SimplifiedOptions:
-    """Options of the simplified engine (the open choices of THEORY.md section 7).
-
-    n_modes: modes combined (None = all N).
-    combination: "srss" [35] or "cqc" (mode 1 correlated with T1bar, xi1bar when flexible).
-    effective_properties: "formula" [21-25] or "eigenvalue" (complex eigenvalue of the bonded
-        one-mode system of paper Fig. 2, massless mat).
-    uplift_damping: zeta = xi1bar r/b [27] ("xi1bar") or xi_1 r/b ("xi1").
-    uplift_x: X0 = (m_t S_a1bar / V_c)^2 = (S_a/g)^2 (h_1*/b)^2 ("spectral") or (V_1/V_c)^2
-        ("mass-consistent").
-    uplift_x_factor: X = X0 e^(xi1bar pi) ("exponential"), X0 ("none"), or
-        X0 e^(2 xi1bar (pi/2 - asin(X0^-1/2))) ("phase": decay over the phase actually
-        travelled from the crossing V = V_c to the peak; continuous at V_1 = V_c).
-    uplift_formula: "full" [28a] or "slender" [29].
-    """
-
-    n_modes: int | None = None
-    combination: str = "srss"
-    effective_properties: str = "formula"
-    uplift_damping: str = "xi1bar"
-    uplift_x: str = "spectral"
-    uplift_x_factor: str = "exponential"
-    uplift_formula: str = "full"
 
 
 def spectral_acceleration(spectrum, period: float, damping: float) -> float:
@@ -203,8 +178,7 @@ def modal_static_response(system: System, modal_base_shears: np.ndarray, n_modes
 
 def analyze(system: System, spectrum, support: str, options: SimplifiedOptions = SimplifiedOptions()) -> AnalysisResult:
     """Peak response by the simplified procedure for support "rigid", "bonded" or "uplift"."""
-    if support not in SUPPORTS:
-        raise ValueError(f"support must be one of {SUPPORTS}, got {support!r}")
+    check_support(support)
     modes = system.modes
     n = int(options.n_modes or modes.n_modes)
     periods = modes.periods[:n]
@@ -256,3 +230,13 @@ def analyze(system: System, spectrum, support: str, options: SimplifiedOptions =
         details={"options": asdict(options), "warnings": warnings,
                  "modal_forces": per_mode["forces"].tolist()},
     )
+
+
+def iter_batch(systems: list[System], spectrum, support: str, options: SimplifiedOptions = SimplifiedOptions()
+               ) -> Iterator[tuple[int, AnalysisResult | AnalysisError | InputError]]:
+    """analyze for each system (engines/registry.py: the engines' common interface)."""
+    for k, system in enumerate(systems):
+        try:
+            yield k, analyze(system, spectrum, support, options)
+        except (AnalysisError, InputError) as error:
+            yield k, error

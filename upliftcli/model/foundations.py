@@ -10,10 +10,13 @@ Each foundation gives
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar, NoReturn
 
 import numpy as np
+
+from ..fields import Field
 
 
 @dataclass(frozen=True)
@@ -30,6 +33,18 @@ class ContactElements:
 
 
 @dataclass(frozen=True)
+class DeckContext:
+    """What a foundation needs from the rest of the deck to build itself: the mat half-width
+    b [m], the total mass m_t [kg] and the fixed-base w_1 [rad/s]; missing(field, expected)
+    raises the deck error for a required field that is not given."""
+
+    half_width: float
+    total_mass: float
+    omega_1: float
+    missing: Callable[[str, str], NoReturn]
+
+
+@dataclass(frozen=True)
 class TwoElement:
     """Two spring-dampers at the mat edges x = -b and x = +b (the paper's model).
 
@@ -41,6 +56,30 @@ class TwoElement:
     kind: ClassVar[str] = "two-element"
     #: fraction of W b at which contact is first lost under a static overturning moment
     contact_loss_moment_ratio: ClassVar[float] = 1.0
+    #: its fields in the deck's [foundation] table, and the groups of them that replace each other
+    deck_fields: ClassVar[dict[str, Field]] = {
+        "k_f": Field("number", "N/m", "two-element: stiffness of each edge element", "positive"),
+        "c_f": Field("number", "N s/m", "two-element: damping of each edge element", "nonnegative", 0.0),
+        "frequency_ratio": Field("number", "-", "two-element: w_v/w_1 with w_v = sqrt(2 k_f / m_t) "
+                                 "(instead of k_f)", "positive"),
+        "damping_ratio": Field("number", "-", "two-element: xi_v = c_f / (m_t w_v) (instead of c_f)",
+                               "nonnegative"),
+    }
+    deck_alternatives: ClassVar[list[list[set[str]]]] = [[{"k_f"}, {"frequency_ratio"}], [{"c_f"}, {"damping_ratio"}]]
+
+    @classmethod
+    def from_deck(cls, fields: dict[str, Any], context: DeckContext) -> TwoElement:
+        """k_f [N/m] or w_v/w_1, c_f [N s/m] or xi_v (THEORY notes: w_v = sqrt(2 k_f / m_t))."""
+        if "k_f" in fields:
+            k_f = fields["k_f"]
+        elif "frequency_ratio" in fields:
+            k_f = two_element_from_ratios(context.total_mass, context.omega_1, fields["frequency_ratio"], 0.0).stiffness
+        else:
+            context.missing("k_f", "the element stiffness k_f > 0 [N/m] (missing; or give "
+                            "foundation.frequency_ratio = w_v/w_1)")
+        omega_v = float(np.sqrt(2.0 * k_f / context.total_mass))
+        c_f = fields["c_f"] if "c_f" in fields else fields.get("damping_ratio", 0.0) * context.total_mass * omega_v
+        return cls(float(k_f), float(c_f))
 
     def rocking_stiffness(self, b: float, omega: float | None = None) -> float:
         """K_theta = 2 k_f b^2 [N m/rad] [22]."""
@@ -79,6 +118,22 @@ class Winkler:
     kind: ClassVar[str] = "winkler"
     #: contact loss starts at the kern, M = W b / 3 (THEORY.md section 7, item 6)
     contact_loss_moment_ratio: ClassVar[float] = 1.0 / 3.0
+    deck_fields: ClassVar[dict[str, Field]] = {
+        "k_w": Field("number", "N/m^2", "winkler: stiffness per unit length along the width", "positive"),
+        "c_w": Field("number", "N s/m^2", "winkler: damping per unit length along the width",
+                     "nonnegative", 0.0),
+        "elements": Field("integer", "-", "winkler: number of discrete elements for the exact engine",
+                          "two-or-more", 20),
+    }
+    deck_alternatives: ClassVar[list[list[set[str]]]] = []
+
+    @classmethod
+    def from_deck(cls, fields: dict[str, Any], context: DeckContext) -> Winkler:
+        """k_w [N/m^2], c_w [N s/m^2], elements."""
+        if "k_w" not in fields:
+            context.missing("k_w", "the Winkler stiffness k_w > 0 [N/m^2] (missing)")
+        return cls(fields["k_w"], fields.get("c_w", cls.deck_fields["c_w"].default),
+                   fields.get("elements", cls.deck_fields["elements"].default))
 
     def rocking_stiffness(self, b: float, omega: float | None = None) -> float:
         """K_theta = (2/3) k_w b^3 [N m/rad]."""
@@ -138,6 +193,32 @@ class HalfSpace:
     kind: ClassVar[str] = "halfspace"
     #: represented by two edge elements: contact is lost at M = W b, as for two elements
     contact_loss_moment_ratio: ClassVar[float] = 1.0
+    deck_fields: ClassVar[dict[str, Field]] = {
+        "shear_modulus": Field("number", "Pa", "halfspace: shear modulus G", "positive"),
+        "shear_wave_velocity": Field("number", "m/s", "halfspace: V_s (instead of G; G = rho V_s^2)",
+                                     "positive"),
+        "poisson_ratio": Field("number", "-", "halfspace: Poisson's ratio nu", "poisson", 1.0 / 3.0),
+        "density": Field("number", "kg/m^3", "halfspace: mass density rho", "positive"),
+        "half_length": Field("number", "m", "halfspace: half-dimension of the mat normal to the plane of "
+                             "motion (default: b, a square mat)", "positive"),
+    }
+    deck_alternatives: ClassVar[list[list[set[str]]]] = [[{"shear_modulus"}, {"shear_wave_velocity"}]]
+
+    @classmethod
+    def from_deck(cls, fields: dict[str, Any], context: DeckContext) -> HalfSpace:
+        """G [Pa] or V_s [m/s], nu, rho [kg/m^3], the half-length [m] (default b)."""
+        if "density" not in fields:
+            context.missing("density", "the soil density rho > 0 [kg/m^3] (missing)")
+        rho = fields["density"]
+        if "shear_modulus" in fields:
+            modulus = fields["shear_modulus"]
+        elif "shear_wave_velocity" in fields:
+            modulus = rho * fields["shear_wave_velocity"] ** 2
+        else:
+            context.missing("shear_modulus", "the soil shear modulus G > 0 [Pa] (missing; or give "
+                            "foundation.shear_wave_velocity [m/s])")
+        return cls(modulus, fields.get("poisson_ratio", cls.deck_fields["poisson_ratio"].default), rho,
+                   fields.get("half_length", context.half_width))
 
     @property
     def shear_wave_velocity(self) -> float:
@@ -231,3 +312,10 @@ class HalfSpace:
         k = self.rocking_stiffness(b, omega) / (2.0 * b**2)
         c = self.rocking_damping(b, omega) / (2.0 * b**2)
         return ContactElements(np.array([-b, b]), np.full(2, k), np.full(2, c))
+
+
+#: the foundation types by their deck name (foundation.type)
+FOUNDATIONS: dict[str, type[TwoElement] | type[Winkler] | type[HalfSpace]] = {
+    cls.kind: cls for cls in (TwoElement, Winkler, HalfSpace)
+}
+Foundation = TwoElement | Winkler | HalfSpace

@@ -7,15 +7,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Union
 
 import numpy as np
 
 from ..units import STANDARD_GRAVITY
 from .building import Building, Modes, modal_analysis
-from .foundations import HalfSpace, TwoElement, Winkler
-
-Foundation = Union[TwoElement, Winkler, HalfSpace]
+from .foundations import Foundation
 
 
 @dataclass(frozen=True)

@@ -23,7 +23,6 @@ _UNIT_ALIASES = {
     "cm/s2": "cm/s2", "cm/s^2": "cm/s2", "cm/s/s": "cm/s2", "cm/s**2": "cm/s2", "gal": "cm/s2",
     "in/s2": "in/s2", "in/s^2": "in/s2", "in/s/s": "in/s2", "in/s**2": "in/s2",
 }
-FORMATS = ("at2", "text", "csv", "shared")
 _UNIT_CHOICES = "one of g, m/s2, cm/s2, in/s2"
 
 
@@ -271,6 +270,22 @@ def _parse_columns(lines: list[str], source: str, delimiter: str | None, time_co
     return np.asarray(values, dtype=float), float(dt), units, name
 
 
+def _parse_csv(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
+    """CSV: a time column and an acceleration column (an optional header row of names)."""
+    return _parse_columns(lines, source, ",", 0, 1)
+
+
+def _parse_shared(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
+    """The headered files of the project's records/ folder: '#' lines, then time_s accel_g."""
+    values, dt, units, name = _parse_columns(lines, source, None, 0, 1)
+    return values, dt, units or "g", name
+
+
+#: record format -> reader(lines, source) -> (values, dt [s] or None, units or None, name)
+READERS = {"at2": _parse_at2, "text": _parse_text, "csv": _parse_csv, "shared": _parse_shared}
+FORMATS = tuple(READERS)
+
+
 # ----------------------------------------------------------------------------- public reader
 
 def read_record(path: str | Path, format: str | None = None, units: str | None = None, dt: float | None = None,
@@ -294,19 +309,13 @@ def read_record(path: str | Path, format: str | None = None, units: str | None =
     if not (isinstance(scale, (int, float)) and math.isfinite(scale) and scale != 0.0):
         raise InputError(source, "scale", f"a finite non-zero scale factor, got {scale!r}")
     lines = _read_lines(path, source)
-    if fmt == "at2":
-        values, file_dt, file_units, name = _parse_at2(lines, source)
-    elif fmt == "text":
-        values, file_dt, file_units, name = _parse_text(lines, source)
-    elif fmt == "csv":
-        values, file_dt, file_units, name = _parse_columns(lines, source, ",", 0, 1)
-    else:
-        values, file_dt, file_units, name = _parse_columns(lines, source, None, 0, 1)
-        file_units = file_units or "g"
-    if fmt == "text":
-        if dt is None and file_dt is None:
+    values, file_dt, file_units, name = READERS[fmt](lines, source)
+    if file_dt is None:  # plain text without a 'dt' header line
+        if dt is None:
             raise InputError(source, "dt", "a time step dt [s] (give dt, or a 'dt = ...' header line)")
-        step = float(dt) if dt is not None else float(file_dt)
+        step = float(dt)
+    elif fmt == "text" and dt is not None:
+        step = float(dt)  # overrides the header of a plain-text file
     else:
         step = float(file_dt)
         if dt is not None and not math.isclose(float(dt), step, rel_tol=1e-3):

@@ -19,16 +19,13 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ..engines.registry import ENGINES, SUPPORT_LABELS
 from ..errors import InputError
 from ..plots import FigureSpec, Panel, Series
 from .plan import SweepPlan, Vary, parse_values
 
 PERIOD_PATH = "building.period"
 PERIOD_LABEL = "fixed-base fundamental period T_1 [s]"
-SUPPORT_LABELS = {"rigid": "rigid support", "bonded": "flexible support, bonded mat",
-                  "uplift": "flexible support, uplift permitted"}
-ENGINE_LABELS = {"exact": "exact (Eq. 11, all modes coupled)", "approximate": "approximate (mode 1 coupled, Eq. 17)",
-                 "simplified": "simplified (response spectrum, Eqs. 21-35)"}
 SUPPORT_STYLES = {"rigid": ("-", "tab:gray"), "bonded": ("--", "tab:blue"), "uplift": ("-", "tab:red")}
 ENGINE_STYLES = {"exact": ("-", "black"), "approximate": ("--", "tab:orange"), "simplified": (":", "tab:green")}
 #: quantity -> (row column, axis label)
@@ -88,7 +85,7 @@ def support_figure(rows: Sequence[dict], engine: str, supports: Sequence[str], q
         style, color = SUPPORT_STYLES[support]
         series.append(Series(SUPPORT_LABELS[support], x, y, style, color))
     what = "Base shear" if quantity == "base_shear" else "Base overturning moment"
-    title = f"{what} response spectra for three support conditions, {ENGINE_LABELS[engine]}"
+    title = f"{what} response spectra for three support conditions, {ENGINES[engine].label}"
     return FigureSpec(f"{title}{', ' + record if record else ''}", PERIOD_LABEL,
                       [Panel(what, label, _with_critical(series, rows))], xlog=True, ylog=True)
 
@@ -107,7 +104,7 @@ def modal_figure(rows: Sequence[dict], engine: str, supports: Sequence[str], rec
                 series.append(Series(name, x, y, style))
         panels.append(Panel(f"({letter}) {SUPPORT_LABELS[support]}", QUANTITIES["base_shear"][1],
                             _with_critical(series, rows)))
-    title = f"Modal contributions to the maximum base shear, {ENGINE_LABELS[engine]}"
+    title = f"Modal contributions to the maximum base shear, {ENGINES[engine].label}"
     return FigureSpec(f"{title}{', ' + record if record else ''}", PERIOD_LABEL, panels, xlog=True, ylog=True)
 
 
@@ -121,7 +118,7 @@ def engine_figure(rows: Sequence[dict], engines: Sequence[str], supports: Sequen
         for engine in engines:
             x, y = curve(rows, column, engine=engine, support=support)
             style, color = ENGINE_STYLES[engine]
-            series.append(Series(ENGINE_LABELS[engine], x, y, style, color))
+            series.append(Series(ENGINES[engine].label, x, y, style, color))
         panels.append(Panel(SUPPORT_LABELS[support], label, _with_critical(series, rows)))
     what = "fundamental-mode base shear" if quantity == "mode1_base_shear" else "base shear"
     title = f"Comparison of {what} response spectra by {', '.join(engines)} analysis"

@@ -28,10 +28,11 @@ from typing import Any
 import numpy as np
 
 from .. import deck_schema as schema
+from ..analysis import ground_motion_for
 from ..deck import build_deck, parse_override, read_toml
+from ..engines.registry import ENGINES
 from ..errors import InputError
 
-SUPPORTS = ("rigid", "bonded", "uplift")
 #: deck fields that are case dimensions of their own, not --vary paths
 NOT_VARIED = {"analysis.engine": "--engine", "analysis.supports": "--support"}
 #: status of a row: ok; failed (the analysis raised: deterministic, not retried within a run);
@@ -207,20 +208,12 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
             case_deck = build_deck(raw, source, base + list(combo), load_ground_motion=False)
             motion_key = json.dumps(case_deck.values["ground_motion"], sort_keys=True, default=str)
             if motion_key not in grounds:
-                grounds[motion_key] = build_deck(raw, source, base + list(combo)).ground_motion
+                grounds[motion_key] = build_deck(raw, source, base + list(combo))
         except InputError as error:
             raise _vary_error(error, set(paths)) from None
-        _check_engines(grounds[motion_key], engines, source)
+        for engine in engines:
+            ground_motion_for(grounds[motion_key], ENGINES[engine])
     return SweepPlan(raw, source, deck.title, tuple(base), varies, engines, supports, cases, deck.criteria)
-
-
-def _check_engines(ground_motion: Any, engines: Sequence[str], source: str) -> None:
-    from ..motion.records import Record
-
-    for engine in engines:
-        if engine != "simplified" and not isinstance(ground_motion, Record):
-            raise InputError(source, "ground_motion.record", f"a record for the {engine} engine "
-                             "(a design spectrum serves only the simplified engine)")
 
 
 # ----------------------------------------------------------------------------- chunks

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import copy
 import math
-from collections.abc import Iterator
-from dataclasses import dataclass, replace
+from collections.abc import Callable, Iterator
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -23,6 +23,8 @@ from ...errors import AnalysisError, InputError
 from ...model.building import building_key
 from ...model.system import System
 from .. import one_blas_thread
+from ..options import ExactOptions
+from ..registry import check_support
 from ..result import AnalysisResult
 from .response import (
     energy_balance,
@@ -37,7 +39,6 @@ from .response import (
 from .statespace import ModalModel
 from .stepping import History, Run, ground_grid, simulate_many
 
-SUPPORTS = ("rigid", "bonded", "uplift")
 #: intermediates of the response-history engines: name -> (unit, meaning)
 INTERMEDIATES = {
     "T1": ("s", "fixed-base fundamental period T_1"),
@@ -59,48 +60,6 @@ INTERMEDIATES = {
 }
 #: a step count beyond this cannot be afforded: the analysis is refused with a message
 MAX_STEPS = 20_000_000
-
-
-@dataclass(frozen=True)
-class ExactOptions:
-    """Options of the exact (and approximate) engine.
-
-    n_modes: fixed-base modes kept (None = all N).
-    criterion: uplift criterion, "reaction" (tensile reaction, default) or "displacement"
-        (edge above the unstressed position) [4a, 4b].
-    steps_per_period: internal steps per shortest governing period (T_1, the bonded
-        vertical period and every mode with at least 1 % effective mass) [-].
-    time_step: internal step [s]; None = record dt / ceil(dt steps_per_period / period).
-    free_vibration: duration of free vibration appended after the record [s].
-    flight: "allow" (free flight under gravity when both edges lift) or "error".
-    residual_inertia: with n_modes < N, "neglect" (default: the limit the paper's
-        numerically damped integration tends to) or "include" the rotary inertia
-        I_b - sum m_n* h_n*^2 of the truncated modes and their share of the excitation.
-    histories: keep the time histories in the result (details["histories"]).
-    """
-
-    n_modes: int | None = None
-    criterion: str = "reaction"
-    steps_per_period: int = 6
-    time_step: float | None = None
-    free_vibration: float = 0.0
-    flight: str = "allow"
-    residual_inertia: str = "neglect"
-    histories: bool = False
-
-    def __post_init__(self) -> None:
-        if self.criterion not in ("reaction", "displacement"):
-            raise InputError("analysis.exact", "criterion", 'expected "reaction" or "displacement"')
-        if self.flight not in ("allow", "error"):
-            raise InputError("analysis.exact", "flight", 'expected "allow" or "error"')
-        if self.residual_inertia not in ("neglect", "include"):
-            raise InputError("analysis.exact", "residual_inertia", 'expected "neglect" or "include"')
-        if int(self.steps_per_period) < 2:
-            raise InputError("analysis.exact", "steps_per_period", "expected an integer >= 2")
-        if self.time_step is not None and not self.time_step > 0.0:
-            raise InputError("analysis.exact", "time_step", "expected a positive time step [s]")
-        if not self.free_vibration >= 0.0:
-            raise InputError("analysis.exact", "free_vibration", "expected a duration >= 0 [s]")
 
 
 def modal_model(system: System, support: str, n_modes: int, coupled_modes: int | None = None,
@@ -152,7 +111,7 @@ def resolve_modes(system: System, n_modes: int | None) -> int:
     if n_modes is None:
         return n
     if not 1 <= int(n_modes) <= n:
-        raise InputError("analysis", "n_modes", f"expected an integer from 1 to {n}")
+        raise ValueError(f"n_modes must be an integer from 1 to {n}, got {n_modes!r}")
     return int(n_modes)
 
 
@@ -163,11 +122,6 @@ def _checked_acceleration(acceleration: np.ndarray, dt: float, options: ExactOpt
     if options.free_vibration > 0.0:
         acceleration = np.concatenate((acceleration, np.zeros(math.ceil(options.free_vibration / dt))))
     return acceleration
-
-
-def _check_support(support: str) -> None:
-    if support not in SUPPORTS:
-        raise InputError("analysis", "supports", f"expected one of {', '.join(SUPPORTS)}, got {support!r}")
 
 
 def _checked_substeps(system: System, model: ModalModel, samples: int, dt: float, options: ExactOptions) -> int:
@@ -259,12 +213,14 @@ def histories(system: System, history: History, maps, sig) -> dict[str, np.ndarr
     return out
 
 
-def model_for(system: System, support: str, options: ExactOptions, engine: str = "exact") -> ModalModel:
-    """The exact engine's model (all modes coupled) or the approximate one's (mode 1 coupled)."""
+def exact_model(system: System, support: str, options: ExactOptions) -> ModalModel:
+    """The exact engine's model: every mode kept is coupled with the mat [11a-11c]."""
     n_modes = resolve_modes(system, options.n_modes)
-    if engine == "approximate":
-        return modal_model(system, support, n_modes, coupled_modes=1, approximate=True)
     return modal_model(system, support, n_modes, residual_inertia=options.residual_inertia)
+
+
+#: builds the modal model of a system for a support (exact_model, or the approximate engine's)
+ModelBuilder = Callable[[System, str, ExactOptions], ModalModel]
 
 
 def _rigid_key(system: System) -> tuple:
@@ -277,8 +233,9 @@ def _rigid_key(system: System) -> tuple:
 BATCH_MEMORY = 256 * 2**20
 
 
-def iter_batch(systems: list[System], record, support: str, options: ExactOptions | None = None,
-               engine: str = "exact") -> Iterator[tuple[int, AnalysisResult | AnalysisError | InputError]]:
+def iter_batch(systems: list[System], record, support: str, options: ExactOptions | None = None, *,
+               model: ModelBuilder = exact_model, name: str = "exact",
+               ) -> Iterator[tuple[int, AnalysisResult | AnalysisError | InputError]]:
     """Peak responses of several systems to one record, one support: yields (index, result
     or the error that stopped it) as each is known; the others go on. Same results, bit for
     bit, as analyze one at a time; the work the systems share is done once:
@@ -286,9 +243,10 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
     - the fine ground-motion grid per step size;
     - the runs are stepped together in rounds and the contact states they reach in a round
       are assembled and exponentiated vectorised over the batch (simulate.add_states).
-    engine: "exact" or "approximate" (mode 1 coupled, THEORY.md section 5)."""
+    model: the modal model of a system (exact_model; the approximate engine couples mode 1
+    only); name: the engine named in the results."""
     options = options or ExactOptions()
-    _check_support(support)
+    check_support(support)
     acceleration = _checked_acceleration(record.acceleration, record.dt, options)
     shared: dict[int, list[int]] = {k: [] for k in range(len(systems))}  # representative -> the same analysis
     if support == "rigid":
@@ -307,11 +265,11 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
         pending: list[tuple[int, Run]] = []
         for k in shared:
             try:
-                model = model_for(systems[k], support, options, engine)
-                substeps = _checked_substeps(systems[k], model, acceleration.size, record.dt, options)
+                built = model(systems[k], support, options)
+                substeps = _checked_substeps(systems[k], built, acceleration.size, record.dt, options)
                 if substeps not in grids:
                     grids[substeps] = ground_grid(acceleration, substeps, record.dt)
-                pending.append((k, Run(model, *grids[substeps], record.dt / substeps, options.criterion,
+                pending.append((k, Run(built, *grids[substeps], record.dt / substeps, options.criterion,
                                        uplift=support == "uplift", allow_flight=options.flight == "allow")))
             except (AnalysisError, InputError) as error:
                 yield from outcomes(k, error)
@@ -326,16 +284,16 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
             for j, history in histories:
                 k = order[j]
                 if not isinstance(history, AnalysisError):
-                    history = summarize(systems[k], history, support, engine, options,
+                    history = summarize(systems[k], history, support, name, options,
                                         systems[k].modes.shapes_star[:, :history.model.n_modes])
                 yield from outcomes(k, history)
 
 
 def analyze_batch(systems: list[System], record, support: str, options: ExactOptions | None = None,
-                  engine: str = "exact") -> list[AnalysisResult | AnalysisError | InputError]:
+                  **model) -> list[AnalysisResult | AnalysisError | InputError]:
     """iter_batch as a list in the order of `systems`."""
     out: list = [None] * len(systems)
-    for k, result in iter_batch(systems, record, support, options, engine):
+    for k, result in iter_batch(systems, record, support, options, **model):
         out[k] = result
     return out
 
@@ -347,10 +305,9 @@ def _for_system(result: AnalysisResult, system: System) -> AnalysisResult:
                    details=copy.deepcopy(result.details))
 
 
-def analyze(system: System, record, support: str, options: ExactOptions | None = None,
-            engine: str = "exact") -> AnalysisResult:
+def analyze(system: System, record, support: str, options: ExactOptions | None = None, **model) -> AnalysisResult:
     """Exact peak response of the system to the record (acceleration [m/s^2], dt [s])."""
-    (result,) = analyze_batch([system], record, support, options, engine)
+    (result,) = analyze_batch([system], record, support, options, **model)
     if not isinstance(result, AnalysisResult):
         raise result
     return result
