@@ -77,11 +77,11 @@ def test_set_override_changes_the_period():
     assert doc["periods"][0] == pytest.approx(1.0)
 
 
-def test_out_writes_three_files(deck_dir):
+def test_out_writes_the_result_files(deck_dir):
     out = deck_dir / "results"
     result = invoke("analyze", deck_dir / "inputs" / "deck.toml", "--out", out)
     assert result.exit_code == 0, result.output
-    assert sorted(p.name for p in out.iterdir()) == ["deck.csv", "deck.json", "deck.toml"]
+    assert sorted(p.name for p in out.iterdir()) == ["deck.csv", "deck.elements.csv", "deck.json", "deck.toml"]
     doc = json.loads((out / "deck.json").read_text())
     assert len(doc["results"]) == 3
 

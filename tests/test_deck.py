@@ -253,7 +253,7 @@ def test_unknown_criterion_and_analysis_option(tmp_path):
 def test_exact_options_cover_the_engine_contract():
     from dataclasses import fields
 
-    from upliftcli.engines.exact.engine import ExactOptions
+    from upliftcli.engines.options import ExactOptions
 
     assert set(deck_schema.TABLES["analysis.exact"]) <= {f.name for f in fields(ExactOptions)}
 

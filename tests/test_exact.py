@@ -12,7 +12,7 @@ from paper_example import paper_system
 
 from upliftcli.engines import approximate
 from upliftcli.engines.exact import engine as exact
-from upliftcli.engines.exact.engine import ExactOptions
+from upliftcli.engines.options import ExactOptions
 from upliftcli.errors import AnalysisError
 from upliftcli.model.foundations import TwoElement, Winkler
 from upliftcli.model.system import System

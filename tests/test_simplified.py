@@ -8,7 +8,8 @@ import pytest
 from paper_example import paper_system
 from scipy.integrate import solve_ivp
 
-from upliftcli.engines.simplified import SimplifiedOptions, analyze, effective_properties, uplift_base_shear
+from upliftcli.engines.options import SimplifiedOptions
+from upliftcli.engines.simplified import analyze, cqc, cqc_correlation, effective_properties, srss, uplift_base_shear
 from upliftcli.model.building import shear_building, uniform_building
 from upliftcli.model.foundations import HalfSpace, TwoElement, Winkler
 from upliftcli.model.system import System
@@ -274,3 +275,17 @@ def test_srss_and_cqc_agree_for_well_separated_modes():
     srss = analyze(paper, SmoothSpectrum(), "rigid")
     cqc = analyze(paper, SmoothSpectrum(), "rigid", SimplifiedOptions(combination="cqc"))
     np.testing.assert_allclose(cqc.shear, srss.shear, rtol=0.02)
+
+
+def test_srss_and_cqc_limits():
+    peaks = np.array([[3.0, -1.0], [4.0, 2.0]])
+    np.testing.assert_allclose(srss(peaks), [5.0, np.sqrt(5.0)])
+    # identical frequencies and damping: fully correlated, the algebraic sum
+    np.testing.assert_allclose(cqc(peaks, np.array([10.0, 10.0]), 0.05), [7.0, 1.0])
+    # far apart: uncorrelated, SRSS
+    np.testing.assert_allclose(cqc(peaks, np.array([1.0, 1000.0]), 0.05), srss(peaks), rtol=1e-4)
+    rho = cqc_correlation(np.array([10.0, 11.0]), np.array([0.05, 0.05]))
+    # Der Kiureghian, equal damping: rho = 8 xi^2 (1 + r) r^1.5 / ((1 - r^2)^2 + 4 xi^2 r (1 + r)^2)
+    r, xi = 1.1, 0.05
+    expected = 8 * xi**2 * (1 + r) * r**1.5 / ((1 - r**2) ** 2 + 4 * xi**2 * r * (1 + r) ** 2)
+    assert rho[0, 1] == pytest.approx(expected, rel=1e-12)

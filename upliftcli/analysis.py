@@ -10,6 +10,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from .deck import Deck
+from .engines.quantities import QUANTITIES, SCALARS
 from .engines.registry import ENGINES, Engine
 from .engines.result import AnalysisResult
 from .errors import InputError
@@ -81,20 +82,9 @@ def run(deck: Deck, engine: str | Sequence[str] | None = None,
     return [run_one(deck, name, support) for name in engines for support in support_list]
 
 
-#: criterion name -> (how to get the value from a result, unit)
-_CRITERIA = {
-    "drift_ratio": (lambda r: float(max(abs(r.drift_ratio))), "-"),
-    "drift": (lambda r: float(max(abs(r.drift))), "m"),
-    "displacement": (lambda r: float(max(abs(r.displacement))), "m"),
-    "base_shear": (lambda r: abs(r.base_shear), "N"),
-    "base_shear_coefficient": (lambda r: abs(r.base_shear_coefficient), "-"),
-    "base_moment": (lambda r: abs(r.base_moment), "N m"),
-    "base_moment_coefficient": (lambda r: abs(r.base_moment_coefficient), "-"),
-}
-
-
 def check_criteria(results: Sequence[AnalysisResult], criteria: dict) -> list[str]:
-    """One message per violated acceptance criterion (deck [criteria]); empty when all pass."""
+    """One message per violated acceptance criterion (deck [criteria]: a limit on the largest
+    |value| of a response quantity, on a scalar, or uplift = false); empty when all pass."""
     messages = []
     for result in results:
         label = f"{result.engine}/{result.support}"
@@ -103,8 +93,8 @@ def check_criteria(results: Sequence[AnalysisResult], criteria: dict) -> list[st
                 if not limit and result.uplift:
                     messages.append(f"{label}: the mat lifts off (criteria.uplift = false)")
                 continue
-            value_of, unit = _CRITERIA[name]
-            value = value_of(result)
+            unit = (QUANTITIES.get(name) or SCALARS[name]).unit
+            value = abs(result.value(name))
             if value > limit:
                 messages.append(f"{label}: {name} = {value:.4g} exceeds the limit {limit:.4g} [{unit}]")
     return messages

@@ -12,6 +12,7 @@ from __future__ import annotations
 from typing import Any
 
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
+from .engines.quantities import QUANTITIES, SCALARS
 from .engines.registry import ENGINES, SUPPORTS
 from .errors import InputError
 from .fields import Field, check_value, suggestion
@@ -72,14 +73,9 @@ TABLES: dict[str, dict[str, Field]] = {
     },
     "analysis.exact": deck_fields(ExactOptions),
     "criteria": {
-        "drift_ratio": Field("number", "-", "largest allowed story drift ratio", "positive"),
-        "drift": Field("number", "m", "largest allowed story drift", "positive"),
-        "displacement": Field("number", "m", "largest allowed floor displacement (relative to the mat)",
-                              "positive"),
-        "base_shear": Field("number", "N", "largest allowed base shear", "positive"),
-        "base_shear_coefficient": Field("number", "-", "largest allowed V_b/(m_t g)", "positive"),
-        "base_moment": Field("number", "N m", "largest allowed base overturning moment", "positive"),
-        "base_moment_coefficient": Field("number", "-", "largest allowed M_b/(m_t g h_1*)", "positive"),
+        **{q.name: Field("number", q.unit, f"largest allowed {q.meaning}", "positive")
+           for q in QUANTITIES.values() if q.criterion},
+        **{q.name: Field("number", q.unit, f"largest allowed {q.meaning}", "positive") for q in SCALARS.values()},
         "uplift": Field("bool", "-", "whether uplift of the mat is acceptable (false: uplift fails)"),
     },
 }

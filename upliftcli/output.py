@@ -1,6 +1,7 @@
-"""Every file an analysis writes: the results document (JSON), the story table (CSV), the
-TOML copy, and the response histories (CSV or NPZ). Each file is written atomically
-(upliftcli.atomic): never half-written. SI units in every file; the units are listed in it.
+"""Every file an analysis writes: the results document (JSON), the story and foundation tables
+(CSV), the TOML copy, and the response histories (CSV or NPZ). Each file is written
+atomically (upliftcli.atomic): never half-written. SI units in every file; the units are
+listed in it. The quantities and their units: engines/quantities.py.
 """
 
 from __future__ import annotations
@@ -14,15 +15,17 @@ from typing import Any
 import numpy as np
 
 from .atomic import atomic_path, write_text
+from .engines.quantities import ELEMENT, FLOOR, QUANTITIES, SCALARS, STORY, column_name, history_unit, quantities
 from .engines.result import AnalysisResult
 
 #: units of the result fields in the written files (SI)
 UNITS = {
-    "height": "m", "displacement": "m", "drift": "m", "drift_ratio": "-", "shear": "N", "moment": "N m",
-    "base_shear": "N", "base_moment": "N m", "critical_base_shear": "N", "critical_base_moment": "N m",
-    "weight": "N", "effective_height": "m", "periods": "s", "base_shear_coefficient": "-",
-    "base_moment_coefficient": "-", "critical_coefficient": "-",
+    "elevation": "m", "position": "m", **{q.name: q.unit for q in QUANTITIES.values()},
+    **{s.name: s.unit for s in SCALARS.values()}, "critical_base_shear": "N", "critical_base_moment": "N m",
+    "weight": "N", "effective_height": "m", "periods": "s", "critical_coefficient": "-", "times": "s",
 }
+_STORY_QUANTITIES = quantities(FLOOR) + quantities(STORY)
+_STORY_QUANTITIES.sort(key=lambda q: list(QUANTITIES).index(q.name))
 
 
 def to_jsonable(value: Any) -> Any:
@@ -43,21 +46,30 @@ def to_jsonable(value: Any) -> Any:
     return value
 
 
+def _rows(result: AnalysisResult, where: list, count: int) -> list[dict[str, Any]]:
+    """One dict per floor/story or element: each quantity's peak (and instant, '<name>_time')."""
+    rows = []
+    for j in range(count):
+        row: dict[str, Any] = {}
+        for q in where:
+            if q.name in result.peaks:
+                row[q.name] = result.peaks[q.name][j]
+                if q.name in result.times:
+                    row[f"{q.name}_time"] = result.times[q.name][j]
+        rows.append(row)
+    return rows
+
+
 def result_to_dict(result: AnalysisResult) -> dict[str, Any]:
-    """JSON-ready summary and story table of one result (SI units, see UNITS)."""
-    stories = [
-        {"story": j + 1, "height": result.heights[j], "displacement": result.displacement[j],
-         "drift": result.drift[j], "drift_ratio": result.drift_ratio[j], "shear": result.shear[j],
-         "moment": result.moment[j]}
-        for j in range(result.heights.size)
-    ]
+    """JSON-ready summary, story table and foundation table of one result (SI units, see UNITS)."""
+    stories = [{"story": j + 1, "elevation": result.elevations[j], **row}
+               for j, row in enumerate(_rows(result, _STORY_QUANTITIES, result.elevations.size))]
+    elements = [{"element": i + 1, "position": result.element_positions[i], **row}
+                for i, row in enumerate(_rows(result, quantities(ELEMENT), result.element_positions.size))]
     return to_jsonable({
         "engine": result.engine,
         "support": result.support,
-        "base_shear": result.base_shear,
-        "base_shear_coefficient": result.base_shear_coefficient,
-        "base_moment": result.base_moment,
-        "base_moment_coefficient": result.base_moment_coefficient,
+        **{name: getattr(result, name) for name in SCALARS},
         "critical_base_shear": result.critical_base_shear,
         "critical_base_moment": result.critical_base_moment,
         "critical_coefficient": result.critical_coefficient,
@@ -66,6 +78,7 @@ def result_to_dict(result: AnalysisResult) -> dict[str, Any]:
         "uplift": result.uplift,
         "periods": result.periods,
         "stories": stories,
+        "elements": elements,
         "intermediates": result.intermediates,
         "details": result.details,
     })
@@ -86,21 +99,38 @@ def to_json(results: list[AnalysisResult], source: str | None = None, title: str
     return json.dumps(results_document(results, source, title), indent=2) + "\n"
 
 
-CSV_COLUMNS = ("engine", "support", "story", "height_m", "displacement_m", "drift_m", "drift_ratio",
-               "shear_N", "moment_Nm")
+def _csv(header: list[str], rows: list[list[Any]]) -> str:
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(header)
+    writer.writerows(rows)
+    return buffer.getvalue()
+
+
+def _number(value: float) -> str:
+    """Shortest text that reads back to the same float ('' for NaN: no value)."""
+    return repr(float(value)) if np.isfinite(value) else ""
 
 
 def to_csv(results: list[AnalysisResult]) -> str:
-    """Story tables of all results, one row per (engine, support, story); units in the headers."""
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(CSV_COLUMNS)
-    for result in results:
-        for j in range(result.heights.size):
-            writer.writerow([result.engine, result.support, j + 1] + [
-                repr(float(x)) for x in (result.heights[j], result.displacement[j], result.drift[j],
-                                         result.drift_ratio[j], result.shear[j], result.moment[j])])
-    return buffer.getvalue()
+    """Story tables of all results, one row per (engine, support, story); units in the headers
+    (floor quantities of floor j on story j's row)."""
+    present = [q for q in _STORY_QUANTITIES if any(q.name in r.peaks for r in results)]
+    header = ["engine", "support", "story", "elevation_m"] + [column_name(q.name, q.unit) for q in present]
+    rows = [[r.engine, r.support, j + 1, _number(r.elevations[j])]
+            + [_number(r.peaks[q.name][j]) if q.name in r.peaks else "" for q in present]
+            for r in results for j in range(r.elevations.size)]
+    return _csv(header, rows)
+
+
+def elements_csv(results: list[AnalysisResult]) -> str:
+    """Foundation tables: one row per (engine, support, contact element), left to right."""
+    present = [q for q in quantities(ELEMENT) if any(q.name in r.peaks for r in results)]
+    header = ["engine", "support", "element", "position_m"] + [column_name(q.name, q.unit) for q in present]
+    rows = [[r.engine, r.support, i + 1, _number(r.element_positions[i])]
+            + [_number(r.peaks[q.name][i]) if q.name in r.peaks else "" for q in present]
+            for r in results for i in range(r.element_positions.size)]
+    return _csv(header, rows)
 
 
 def _drop_none(value: Any) -> Any:
@@ -123,39 +153,32 @@ def to_toml(results: list[AnalysisResult], source: str | None = None, title: str
 
 def write_results(results: list[AnalysisResult], directory, stem: str, source: str | None = None,
                   title: str | None = None) -> list:
-    """Write <stem>.json, <stem>.csv and <stem>.toml into directory, each atomically; return the paths.
-
-    All three texts are built before the first file is written, so a failure leaves no file."""
+    """Write <stem>.json, <stem>.csv (stories), <stem>.elements.csv (foundation elements, when
+    a flexible support was analysed) and <stem>.toml into directory, each atomically; return
+    the paths. All texts are built before the first file is written, so a failure leaves no file."""
     directory = Path(directory)
     texts = {
         directory / f"{stem}.json": to_json(results, source, title),
         directory / f"{stem}.csv": to_csv(results),
-        directory / f"{stem}.toml": to_toml(results, source, title),
     }
+    if any(r.element_positions.size for r in results):
+        texts[directory / f"{stem}.elements.csv"] = elements_csv(results)
+    texts[directory / f"{stem}.toml"] = to_toml(results, source, title)
     for path, text in texts.items():
         write_text(path, text)
     return list(texts)
 
 
-#: units of the history columns written by --histories
-HISTORY_UNITS = {
-    "time": "s", "ground_acceleration": "m/s2", "base_shear": "N", "base_moment": "N m",
-    "roof_displacement": "m", "theta": "rad", "v": "m", "left_edge_displacement": "m",
-    "right_edge_displacement": "m", "contact_state": "bitmask: bit i set = element i lifted",
-}
-
-
 def write_histories(path, histories: dict[str, np.ndarray]) -> None:
     """Write response histories atomically: NPZ if the name ends in .npz, else CSV with units
-    in the header (drift_j columns in m)."""
+    in the header (engines/quantities.history_unit)."""
     path = Path(path)
     if path.suffix.lower() == ".npz":
-        with atomic_path(path) as tmp:
-            with open(tmp, "wb") as handle:
-                np.savez_compressed(handle, **histories)
+        with atomic_path(path) as tmp, open(tmp, "wb") as handle:
+            np.savez_compressed(handle, **histories)
         return
     names = list(histories)
-    header = ",".join(f"{name} [{HISTORY_UNITS.get(name, 'm')}]" for name in names)
+    header = ",".join(f"{name} [{history_unit(name)}]" for name in names)
     table = np.column_stack([np.asarray(histories[name], dtype=float) for name in names])
     lines = [header] + [",".join(f"{value:.10g}" for value in row) for row in table]
     write_text(path, "\n".join(lines) + "\n")

@@ -8,9 +8,12 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, QUANTITIES, STORY, quantities
 from ..engines.result import AnalysisResult
-from ..engines.simplified import INTERMEDIATES
 from ..model.system import System
+
+#: floor and story quantities in table order
+STORY_QUANTITIES = [q for q in QUANTITIES.values() if q.where in (FLOOR, STORY)]
 
 
 def console(stderr: bool = False) -> Console:
@@ -39,15 +42,35 @@ def modes_table(system: System, n_modes: int | None = None) -> Table:
 
 
 def story_table(result: AnalysisResult) -> Table:
+    """Per story (top first): elevation and the peak of every floor and story quantity the
+    engine gives (engines/quantities.py), in the display units."""
     table = Table(title=f"{result.engine} engine, {result.support} support")
-    for header in ("story", "height [m]", "displacement [mm]", "drift [mm]", "drift ratio [%]",
-                   "story shear [kN]", "overturning moment [kN m]"):
+    shown = [q for q in STORY_QUANTITIES if q.name in result.peaks]
+    for header in ["story", "elevation [m]"] + [q.heading for q in shown]:
         table.add_column(escape(header), justify="right")
-    for j in range(result.heights.size - 1, -1, -1):
-        table.add_row(str(j + 1), f"{result.heights[j]:.2f}", f"{1e3 * result.displacement[j]:.2f}",
-                      f"{1e3 * result.drift[j]:.2f}", f"{100 * result.drift_ratio[j]:.3f}",
-                      f"{1e-3 * result.shear[j]:.1f}", f"{1e-3 * result.moment[j]:.1f}")
+    for j in range(result.elevations.size - 1, -1, -1):
+        table.add_row(str(j + 1), f"{result.elevations[j]:.2f}",
+                      *[_display(q, result.peaks[q.name][j]) for q in shown])
     return table
+
+
+def elements_table(result: AnalysisResult) -> Table | None:
+    """Per foundation contact element (left to right): position and its peak reactions."""
+    shown = [q for q in quantities(ELEMENT) if q.name in result.peaks and result.peaks[q.name].size]
+    if not shown:
+        return None
+    table = Table(title=escape(f"Foundation elements ({result.engine}, {result.support}): largest compression"))
+    for header in ["element", "position x [m]"] + [q.heading for q in shown]:
+        table.add_column(escape(header), justify="right")
+    for i, x in enumerate(result.element_positions):
+        table.add_row(str(i + 1), f"{x:.3f}", *[_display(q, result.peaks[q.name][i]) for q in shown])
+    return table
+
+
+def _display(quantity, value: float) -> str:
+    """A peak in the display unit and format of its quantity ('-' when there is none)."""
+    unit, factor, spec = quantity.display
+    return format(value * factor, spec) if np.isfinite(value) else "-"
 
 
 def summary_table(results: list[AnalysisResult]) -> Table:
@@ -90,23 +113,15 @@ def modal_table(result: AnalysisResult) -> Table:
     return table
 
 
-def history_intermediates() -> dict:
-    """Units and meanings of the exact/approximate engines' intermediates (imported on use:
-    the exact engine loads numba)."""
-    from ..engines.exact.engine import INTERMEDIATES as exact_intermediates
-
-    return exact_intermediates
-
-
 def intermediates_table(result: AnalysisResult) -> Table:
-    """Scalar intermediates with unit and meaning (engines.simplified.INTERMEDIATES)."""
+    """Scalar intermediates with unit and meaning (engines/quantities.INTERMEDIATES)."""
     table = Table(title=f"Intermediate values ({result.engine}, {result.support})")
     for header in ("quantity", "value", "unit", "meaning"):
         table.add_column(escape(header), justify="left")
     for name, value in result.intermediates.items():
         if name in MODAL_LISTS:
             continue
-        unit, meaning = INTERMEDIATES.get(name) or history_intermediates().get(name, ("", ""))
+        unit, meaning = INTERMEDIATES.get(name, ("", ""))
         table.add_row(escape(name), _format(value), escape(unit), escape(meaning))
     return table
 
@@ -116,6 +131,9 @@ def print_results(out: Console, results: list[AnalysisResult], title: str | None
         out.print(f"[bold]{escape(title)}[/bold]")
     for result in results:
         out.print(story_table(result))
+        elements = elements_table(result)
+        if elements is not None:
+            out.print(elements)
         if all(name in result.intermediates for name in MODAL_LISTS):
             out.print(modal_table(result))
         if result.intermediates:

@@ -14,15 +14,15 @@ from collections.abc import Iterator
 from ..errors import AnalysisError, InputError
 from ..model.system import System
 from .exact import engine as exact
-from .exact.statespace import ModalModel
+from .exact.statespace import StateSpace, modal_model, resolve_modes, state_space
 from .options import ExactOptions
 from .result import AnalysisResult
 
 
-def approximate_model(system: System, support: str, options: ExactOptions) -> ModalModel:
-    """The modal model with mode 1 alone coupled with the mat [17-20] (no residual inertia)."""
-    n_modes = exact.resolve_modes(system, options.n_modes)
-    return exact.modal_model(system, support, n_modes, coupled_modes=1, approximate=True)
+def approximate_model(system: System, support: str, options: ExactOptions) -> StateSpace:
+    """The model with mode 1 alone coupled with the mat [17-20] (no residual inertia)."""
+    n_modes = resolve_modes(system, options.n_modes)
+    return state_space(modal_model(system, support, n_modes, coupled_modes=1, approximate=True))
 
 
 def iter_batch(systems: list[System], record, support: str, options: ExactOptions | None = None

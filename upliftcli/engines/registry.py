@@ -41,7 +41,7 @@ class Engine:
                    ) -> Iterator[tuple[int, AnalysisResult | InputError | AnalysisError]]:
         """Analyse several systems under one ground motion and support (see the module docstring)."""
         module = importlib.import_module(self.module, __package__)
-        return module.iter_batch(list(systems), ground_motion, support, options)
+        yield from module.iter_batch(list(systems), ground_motion, support, options)
 
     def analyze(self, system: Any, ground_motion: Any, support: str, options: Any) -> AnalysisResult:
         """One analysis; raises the error that stopped it."""

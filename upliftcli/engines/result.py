@@ -1,54 +1,81 @@
-"""Result type shared by every engine, and the modal combination rules [35].
+"""Result type shared by every engine.
 
 All quantities SI: m, N, N m, s. Story j joins floor j-1 and floor j (floor 0 is the mat).
+Which quantities a result holds, with their units: engines/quantities.py.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import copy
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
+
+from ..model.foundations import ContactElements
+from ..model.system import System
+from .quantities import SCALARS
 
 
 @dataclass
 class AnalysisResult:
     """Peak response of one analysis (one engine, one support condition).
 
-    heights: floor heights above the mat [m], (N,).
-    displacement: peak floor displacement relative to the mat [m], (N,).
-    drift: peak story drift u_j - u_{j-1} [m], (N,).
-    drift_ratio: peak drift / story height [-], (N,).
-    shear: peak story shear [N], (N,) (shear[0] is the base shear).
-    moment: peak overturning moment at the bottom of story j [N m], (N,).
-    base_shear, base_moment: peaks at the base [N], [N m].
+    elevations: floor elevations h_j above the mat [m], (N,).
+    peaks: quantity name -> peak values, one per floor, story or foundation element
+        (engines/quantities.py); also readable as attributes: result.drift_ratio.
+    times: quantity name -> instants of the peaks [s] (the response-history engines).
     critical_base_shear, critical_base_moment: V_c, M_c [N], [N m] [16a, 16b].
     weight: m_t g [N]; effective_height: h_1* [m].
     uplift: whether the mat lifts off (always False for rigid and bonded).
     periods: fixed-base periods T_n [s] of the modes used.
+    element_positions: x_i [m] of the foundation's contact elements (empty for a rigid base).
     intermediates: named scalar or list values an engineer checks by hand
         (T1bar, xi1bar, V_c, zeta, ... for the simplified engine).
-    details: engine-specific extras (times of peaks, uplift summary, energy balance ...).
+    details: engine-specific extras (uplift summary, energy balance, warnings ...).
     """
 
     engine: str
     support: str
-    heights: np.ndarray
-    displacement: np.ndarray
-    drift: np.ndarray
-    drift_ratio: np.ndarray
-    shear: np.ndarray
-    moment: np.ndarray
-    base_shear: float
-    base_moment: float
+    elevations: np.ndarray
+    peaks: dict[str, np.ndarray]
     critical_base_shear: float
     critical_base_moment: float
     weight: float
     effective_height: float
     uplift: bool
     periods: np.ndarray
+    element_positions: np.ndarray
+    times: dict[str, np.ndarray] = field(default_factory=dict)
     intermediates: dict[str, Any] = field(default_factory=dict)
     details: dict[str, Any] = field(default_factory=dict)
+
+    @classmethod
+    def of(cls, system: System, engine: str, support: str, peaks: dict[str, np.ndarray], *, uplift: bool,
+           periods: np.ndarray, elements: ContactElements | None, times: dict[str, np.ndarray] | None = None,
+           intermediates: dict[str, Any] | None = None, details: dict[str, Any] | None = None) -> AnalysisResult:
+        """The result of an analysis of `system`; elements: the contact elements analysed (None: rigid base)."""
+        return cls(engine, support, system.building.heights.copy(), peaks, system.critical_base_shear,
+                   system.critical_base_moment, system.weight, system.effective_height, uplift,
+                   np.array(periods, dtype=float),
+                   np.zeros(0) if elements is None else elements.positions.copy(), dict(times or {}),
+                   dict(intermediates or {}), dict(details or {}))
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        peaks = self.__dict__.get("peaks")
+        if peaks is not None and name in peaks:
+            return peaks[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    @property
+    def base_shear(self) -> float:
+        """V_b [N] [14a]: the peak shear of story 1."""
+        return float(self.peaks["shear"][0])
+
+    @property
+    def base_moment(self) -> float:
+        """M_b [N m] [14b]: the peak overturning moment at the base."""
+        return float(self.peaks["moment"][0])
 
     @property
     def base_shear_coefficient(self) -> float:
@@ -65,31 +92,18 @@ class AnalysisResult:
         """b / h_1* [-], the critical value of both coefficients."""
         return self.critical_base_shear / self.weight
 
+    def value(self, name: str) -> float:
+        """A scalar (engines/quantities.SCALARS) or the largest |value| of a quantity."""
+        if name in SCALARS:
+            return float(getattr(self, name))
+        values = self.peaks.get(name)
+        return float(np.max(np.abs(values))) if values is not None and values.size else 0.0
 
-def srss(modal_peaks: np.ndarray) -> np.ndarray:
-    """Square root of the sum of squares over the first axis (modes) [35]."""
-    peaks = np.asarray(modal_peaks, dtype=float)
-    return np.sqrt(np.sum(peaks**2, axis=0))
-
-
-def cqc_correlation(omega: np.ndarray, damping: np.ndarray) -> np.ndarray:
-    """Der Kiureghian's CQC correlation coefficients rho_ij for frequencies [rad/s] and damping [-]."""
-    w = np.asarray(omega, dtype=float)
-    xi = np.broadcast_to(np.asarray(damping, dtype=float), w.shape)
-    r = w[None, :] / w[:, None]
-    xi_i, xi_j = xi[:, None], xi[None, :]
-    numerator = 8.0 * np.sqrt(xi_i * xi_j) * (xi_i + r * xi_j) * r**1.5
-    denominator = (1.0 - r**2) ** 2 + 4.0 * xi_i * xi_j * r * (1.0 + r**2) + 4.0 * (xi_i**2 + xi_j**2) * r**2
-    with np.errstate(invalid="ignore", divide="ignore"):
-        rho = np.where(denominator > 0.0, numerator / denominator, 1.0)
-    np.fill_diagonal(rho, 1.0)
-    return rho
-
-
-def cqc(modal_peaks: np.ndarray, omega: np.ndarray, damping: np.ndarray) -> np.ndarray:
-    """Complete quadratic combination over the first axis (modes), signed modal peaks."""
-    peaks = np.asarray(modal_peaks, dtype=float)
-    rho = cqc_correlation(omega, damping)
-    flat = peaks.reshape(peaks.shape[0], -1)
-    total = np.einsum("ik,ij,jk->k", flat, rho, flat)
-    return np.sqrt(np.maximum(total, 0.0)).reshape(peaks.shape[1:])
+    def for_system(self, system: System) -> AnalysisResult:
+        """This result for another system with the same building and a fixed base: its own
+        V_c and M_c (a fixed-base analysis does not depend on the foundation)."""
+        return replace(self, elevations=self.elevations.copy(), peaks={k: v.copy() for k, v in self.peaks.items()},
+                       critical_base_shear=system.critical_base_shear,
+                       critical_base_moment=system.critical_base_moment,
+                       times={k: v.copy() for k, v in self.times.items()},
+                       intermediates=dict(self.intermediates), details=copy.deepcopy(self.details))

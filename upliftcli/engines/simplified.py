@@ -10,7 +10,7 @@ object with .sa(periods [s], damping [-]) -> S_a [m/s^2]:
   uplift base shear [26-29]; higher modes fixed-base.
 
 Every intermediate an engineer checks by hand is returned in result.intermediates
-(see INTERMEDIATES for names and units).
+(names and units: engines/quantities.INTERMEDIATES).
 """
 
 from __future__ import annotations
@@ -26,36 +26,37 @@ from ..errors import AnalysisError, InputError
 from ..model.system import System
 from .options import SimplifiedOptions
 from .registry import check_support
-from .result import AnalysisResult, cqc, srss
+from .result import AnalysisResult
+from .statics import story_maps
 
-#: name -> (unit, meaning) of every intermediate value reported
-INTERMEDIATES: dict[str, tuple[str, str]] = {
-    "T_n": ("s", "fixed-base periods of the modes used"),
-    "Sa_n": ("m/s^2", "S_a(T_n, xi_n) of each mode, fixed base"),
-    "V_n": ("N", "modal base shear used in the combination [26, 28, 31]"),
-    "m_n*/m_t": ("-", "effective modal mass ratios"),
-    "h_n*": ("m", "effective modal heights"),
-    "K_theta": ("N m/rad", "rocking stiffness of the foundation [22]"),
-    "C_theta": ("N m s/rad", "rocking damping of the foundation [25]"),
-    "T1": ("s", "fixed-base fundamental period"),
-    "T1bar": ("s", "effective period of the bonded system [21]"),
-    "T1bar/T1": ("-", "period lengthening"),
-    "xi1": ("-", "fixed-base damping of mode 1"),
-    "xi_f": ("-", "foundation damping [24]"),
-    "xi1bar": ("-", "effective damping of the bonded system [23]"),
-    "Sa1bar": ("m/s^2", "S_a(T1bar, xi1bar)"),
-    "V_c": ("N", "critical base shear m_t g b / h_1* [16a]"),
-    "M_c": ("N m", "critical base moment m_t g b [16b]"),
-    "V1_bonded": ("N", "mode-1 base shear without uplift m_1* S_a(T1bar, xi1bar) [26]"),
-    "V1_bonded/V_c": ("-", "> 1 means the mat lifts off (uplift) or pulls (bonded)"),
-    "r": ("m", "sqrt(h_1*^2 + b^2)"),
-    "zeta": ("-", "damping while uplifted [27]"),
-    "X0": ("-", "X before the decay factor"),
-    "X_factor": ("-", "decay factor on X"),
-    "X": ("-", "X of Eq. 28"),
-    "phi": ("rad", "phase angle [28b]"),
-    "V1_uplift": ("N", "mode-1 base shear with uplift [28a] or [29]"),
-}
+
+def srss(modal_peaks: np.ndarray) -> np.ndarray:
+    """Square root of the sum of squares over the first axis (modes) [35]."""
+    peaks = np.asarray(modal_peaks, dtype=float)
+    return np.sqrt(np.sum(peaks**2, axis=0))
+
+
+def cqc_correlation(omega: np.ndarray, damping: np.ndarray) -> np.ndarray:
+    """Der Kiureghian's CQC correlation coefficients rho_ij for frequencies [rad/s] and damping [-]."""
+    w = np.asarray(omega, dtype=float)
+    xi = np.broadcast_to(np.asarray(damping, dtype=float), w.shape)
+    r = w[None, :] / w[:, None]
+    xi_i, xi_j = xi[:, None], xi[None, :]
+    numerator = 8.0 * np.sqrt(xi_i * xi_j) * (xi_i + r * xi_j) * r**1.5
+    denominator = (1.0 - r**2) ** 2 + 4.0 * xi_i * xi_j * r * (1.0 + r**2) + 4.0 * (xi_i**2 + xi_j**2) * r**2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rho = np.where(denominator > 0.0, numerator / denominator, 1.0)
+    np.fill_diagonal(rho, 1.0)
+    return rho
+
+
+def cqc(modal_peaks: np.ndarray, omega: np.ndarray, damping: np.ndarray) -> np.ndarray:
+    """Complete quadratic combination over the first axis (modes), signed modal peaks."""
+    peaks = np.asarray(modal_peaks, dtype=float)
+    rho = cqc_correlation(omega, damping)
+    flat = peaks.reshape(peaks.shape[0], -1)
+    total = np.einsum("ik,ij,jk->k", flat, rho, flat)
+    return np.sqrt(np.maximum(total, 0.0)).reshape(peaks.shape[1:])
 
 
 def spectral_acceleration(spectrum, period: float, damping: float) -> float:
@@ -160,20 +161,19 @@ def _uplift(system: System, props: dict, v1_bonded: float, sa1bar: float, option
 
 
 def modal_static_response(system: System, modal_base_shears: np.ndarray, n_modes: int) -> dict[str, np.ndarray]:
-    """Per-mode peaks (modes x floors) from modal base shears: forces [32], story shears and
-    overturning moments by statics, displacements [33], drifts [34], drift ratios."""
+    """Per-mode peaks (modes x floors) from modal base shears: equivalent lateral forces [32],
+    story shears and overturning moments by statics (engines/statics.py), floor displacements
+    [33], drifts [34] and drift ratios."""
     building, modes = system.building, system.modes
     phi = modes.shapes[:, :n_modes]
     shares = building.masses[:, None] * phi / modes.participation_h[:n_modes]  # m_j phi_jn / L_n
     forces = (modal_base_shears[None, :] * shares).T  # (modes, floors) [N]
     displacement = forces / (modes.omega[:n_modes, None] ** 2 * building.masses[None, :])  # [33]
-    drift = np.diff(np.concatenate((np.zeros((n_modes, 1)), displacement), axis=1), axis=1)  # [34]
-    shear = np.cumsum(forces[:, ::-1], axis=1)[:, ::-1]
-    heights = building.heights
-    below = np.concatenate(([0.0], heights[:-1]))  # level of the bottom of story j
-    moment = np.array([[np.sum(f[j:] * (heights[j:] - below[j])) for j in range(heights.size)] for f in forces])
-    return {"forces": forces, "displacement": displacement, "drift": drift, "drift_ratio": drift / building.story_heights,
-            "shear": shear, "moment": moment}
+    maps = story_maps(building)
+    drift = displacement @ maps.drift.T  # [34]
+    return {"forces": forces, "displacement": displacement, "drift": drift,
+            "drift_ratio": drift / building.story_heights, "shear": forces @ maps.shear.T,
+            "moment": forces @ maps.moment.T}
 
 
 def analyze(system: System, spectrum, support: str, options: SimplifiedOptions = SimplifiedOptions()) -> AnalysisResult:
@@ -218,18 +218,15 @@ def analyze(system: System, spectrum, support: str, options: SimplifiedOptions =
         combine = lambda peaks: cqc(peaks, omega_corr, damping_corr)  # noqa: E731
     else:
         combine = srss
-    combined = {name: combine(values) for name, values in per_mode.items() if name != "forces"}
-    return AnalysisResult(
-        engine="simplified", support=support, heights=system.building.heights.copy(),
-        displacement=combined["displacement"], drift=combined["drift"], drift_ratio=combined["drift_ratio"],
-        shear=combined["shear"], moment=combined["moment"],
-        base_shear=float(combined["shear"][0]), base_moment=float(combined["moment"][0]),
-        critical_base_shear=system.critical_base_shear, critical_base_moment=system.critical_base_moment,
-        weight=system.weight, effective_height=system.effective_height, uplift=uplift, periods=periods.copy(),
-        intermediates=inter,
-        details={"options": asdict(options), "warnings": warnings,
-                 "modal_forces": per_mode["forces"].tolist()},
-    )
+    peaks = {name: combine(values) for name, values in per_mode.items() if name != "forces"}
+    if n >= 2:
+        two = base_shears[:2]
+        inter["V_1+2"] = float(srss(two) if options.combination == "srss" else cqc(two, omega_corr[:2], damping_corr[:2]))
+    elements = None if support == "rigid" else system.foundation.contact_elements(system.half_width)
+    return AnalysisResult.of(system, "simplified", support, peaks, uplift=uplift, periods=periods,
+                             elements=elements, intermediates=inter,
+                             details={"options": asdict(options), "warnings": warnings,
+                                      "modal_forces": per_mode["forces"].tolist()})
 
 
 def iter_batch(systems: list[System], spectrum, support: str, options: SimplifiedOptions = SimplifiedOptions()

@@ -23,19 +23,23 @@ from ..engines.registry import ENGINES, SUPPORT_LABELS
 from ..errors import InputError
 from ..plots import FigureSpec, Panel, Series
 from .plan import SweepPlan, Vary, parse_values
+from .table import OUTPUT_COLUMNS
 
 PERIOD_PATH = "building.period"
 PERIOD_LABEL = "fixed-base fundamental period T_1 [s]"
 SUPPORT_STYLES = {"rigid": ("-", "tab:gray"), "bonded": ("--", "tab:blue"), "uplift": ("-", "tab:red")}
 ENGINE_STYLES = {"exact": ("-", "black"), "approximate": ("--", "tab:orange"), "simplified": (":", "tab:green")}
-#: quantity -> (row column, axis label)
-QUANTITIES = {
-    "base_shear": ("base_shear_coefficient", "base shear coefficient V_b/(m_t g)"),
-    "base_moment": ("base_moment_coefficient", "base moment coefficient M_b/(m_t g h_1*)"),
-    "mode1_base_shear": ("mode1_base_shear_coefficient", "mode-1 base shear coefficient V_1/(m_t g)"),
-    "two_mode_base_shear": ("two_mode_base_shear_coefficient", "modes 1-2 base shear / (m_t g)"),
-    "max_drift_ratio": ("max_drift_ratio", "largest story drift ratio"),
-}
+#: figure quantity -> row column (sweep/table.py); the axis label is the column's meaning
+QUANTITIES = {"base_shear": "base_shear_coefficient", "base_moment": "base_moment_coefficient",
+              "mode1_base_shear": "mode1_base_shear_coefficient",
+              "two_mode_base_shear": "two_mode_base_shear_coefficient", "max_drift_ratio": "max_drift_ratio"}
+
+
+def axis_label(quantity: str) -> tuple[str, str]:
+    """(row column, axis label with its unit) of a figure quantity."""
+    column = QUANTITIES[quantity]
+    unit, meaning = OUTPUT_COLUMNS[column]
+    return column, meaning + ("" if unit in ("-", "") else f" [{unit}]")
 
 
 def period_vary(text: str) -> Vary:
@@ -78,7 +82,7 @@ def _with_critical(series: list[Series], rows: Sequence[dict], x_path: str = PER
 def support_figure(rows: Sequence[dict], engine: str, supports: Sequence[str], quantity: str,
                    record: str = "") -> FigureSpec:
     """Figs. 3 (base_shear) and 4 (base_moment): one line per support condition, and b/h_1*."""
-    column, label = QUANTITIES[quantity]
+    column, label = axis_label(quantity)
     series = []
     for support in supports:
         x, y = curve(rows, column, engine=engine, support=support)
@@ -102,7 +106,7 @@ def modal_figure(rows: Sequence[dict], engine: str, supports: Sequence[str], rec
             x, y = curve(rows, column, engine=engine, support=support)
             if x.size:
                 series.append(Series(name, x, y, style))
-        panels.append(Panel(f"({letter}) {SUPPORT_LABELS[support]}", QUANTITIES["base_shear"][1],
+        panels.append(Panel(f"({letter}) {SUPPORT_LABELS[support]}", axis_label("base_shear")[1],
                             _with_critical(series, rows)))
     title = f"Modal contributions to the maximum base shear, {ENGINES[engine].label}"
     return FigureSpec(f"{title}{', ' + record if record else ''}", PERIOD_LABEL, panels, xlog=True, ylog=True)
@@ -111,7 +115,7 @@ def modal_figure(rows: Sequence[dict], engine: str, supports: Sequence[str], rec
 def engine_figure(rows: Sequence[dict], engines: Sequence[str], supports: Sequence[str], quantity: str,
                   record: str = "") -> FigureSpec:
     """Figs. 6, 10 (base_shear) and 8, 9 (mode1_base_shear): one line per engine, a panel per support."""
-    column, label = QUANTITIES[quantity]
+    column, label = axis_label(quantity)
     panels = []
     for support in supports:
         series = []
@@ -159,7 +163,7 @@ def sweep_figure(plan: SweepPlan, rows: Sequence[dict]) -> FigureSpec:
                  if row.get("status") == "ok" and row.get("critical_coefficient") is not None}
     panels = []
     for quantity in ("base_shear", "base_moment", "max_drift_ratio"):
-        column, label = QUANTITIES[quantity]
+        column, label = axis_label(quantity)
         series = []
         for (engine, support, *_), members in groups.items():
             x, y = curve(members, column, axis.path)

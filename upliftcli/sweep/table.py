@@ -15,24 +15,24 @@ from pathlib import Path
 from typing import Any
 
 from ..atomic import atomic_path, write_text
+from ..engines.quantities import ALL_ENGINES, QUANTITIES, SCALARS
 from ..errors import InputError
 from ..output import to_jsonable
 from .plan import SweepPlan
 
-#: output column -> (unit, meaning)
+#: output column -> (unit, meaning): the row's own columns, the scalars and the largest value
+#: of each response quantity (engines/quantities.py)
 OUTPUT_COLUMNS: dict[str, tuple[str, str]] = {
     "T1_s": ("s", "fixed-base fundamental period T_1"),
     "T1bar_s": ("s", "effective period T1bar of the flexibly supported system [21] (T_1 for a rigid base)"),
     "xi1bar": ("-", "effective damping xi1bar [23] (xi_1 for a rigid base)"),
-    "base_shear_N": ("N", "peak base shear V_b"),
-    "base_shear_coefficient": ("-", "V_b/(m_t g)"),
-    "base_moment_Nm": ("N m", "peak base overturning moment M_b"),
-    "base_moment_coefficient": ("-", "M_b/(m_t g h_1*)"),
+    **{scalar.column: (scalar.unit, scalar.meaning) for scalar in SCALARS.values()},
     "mode1_base_shear_coefficient": ("-", "peak mode-1 contribution to the base shear / (m_t g)"),
     "two_mode_base_shear_coefficient": ("-", "modes 1 and 2 combined / (m_t g) (simplified engine; empty otherwise)"),
-    "max_drift_ratio": ("-", "largest story drift ratio"),
+    **{q.column: (q.unit, f"largest {q.meaning}" + ("" if q.engines == ALL_ENGINES else
+                                                  f" ({', '.join(q.engines)} engines; empty otherwise)"))
+       for q in QUANTITIES.values() if q.column},
     "max_drift_story": ("-", "story of the largest drift ratio (1 = lowest)"),
-    "max_displacement_m": ("m", "largest floor displacement relative to the mat"),
     "uplift": ("-", "whether the mat lifts off"),
     "V_c_N": ("N", "critical base shear V_c = m_t g b/h_1* [16a]"),
     "critical_coefficient": ("-", "b/h_1*, critical value of both coefficients"),

@@ -5,7 +5,6 @@ each case's tidy row (columns: sweep/table.py)."""
 from __future__ import annotations
 
 import json
-import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -13,6 +12,8 @@ import numpy as np
 
 from ..analysis import check_criteria, run_batch
 from ..deck import Deck, build_deck
+from ..engines.quantities import QUANTITIES, SCALARS
+from ..engines.simplified import effective_properties
 from ..errors import AnalysisError, InputError
 from .plan import Case, Chunk
 
@@ -42,13 +43,15 @@ def failed_row(case: Case, status: str, message: str) -> dict[str, Any]:
     return {**_row_head(case), "status": status, "message": message}
 
 
-def _effective_properties(deck: Deck, support: str) -> tuple[float | None, float | None]:
-    """(T1bar [s], xi1bar [-]) of the flexibly supported system; T_1, xi_1 for a rigid base."""
+def _effective_properties(deck: Deck, result) -> tuple[float | None, float | None]:
+    """(T1bar [s], xi1bar [-]) of the flexibly supported system as the engine reports it;
+    T_1, xi_1 for a rigid base; for an engine that does not report them, those of the
+    simplified procedure's effective_properties [21-25]."""
+    if "T1bar" in result.intermediates:
+        return result.intermediates["T1bar"], result.intermediates["xi1bar"]
     modes = deck.system.modes
-    if support == "rigid":
+    if result.support == "rigid":
         return float(modes.periods[0]), float(modes.damping[0])
-    from ..engines.simplified import effective_properties
-
     try:
         props = effective_properties(deck.system, deck.analysis.simplified.effective_properties)
     except AnalysisError:
@@ -56,45 +59,24 @@ def _effective_properties(deck: Deck, support: str) -> tuple[float | None, float
     return props["T1bar"], props["xi1bar"]
 
 
-def _two_mode_shear(result, deck: Deck, t1bar: float | None, xi1bar: float | None) -> float | None:
-    """Simplified engine: modes 1 and 2 combined by the deck's rule (SRSS or CQC)."""
-    shears = result.intermediates.get("V_n")
-    if result.engine != "simplified" or not shears or len(shears) < 2:
-        return None
-    peaks = np.asarray(shears[:2], dtype=float)
-    if deck.analysis.simplified.combination == "cqc":
-        from ..engines.result import cqc
-
-        modes = deck.system.modes
-        omega = modes.omega[:2].copy()
-        damping = modes.damping[:2].copy()
-        if result.support != "rigid" and t1bar:
-            omega[0], damping[0] = 2.0 * math.pi / t1bar, xi1bar
-        return float(cqc(peaks, omega, damping))
-    return float(np.sqrt(np.sum(peaks**2)))
-
-
 def case_row(case: Case, deck: Deck, result) -> dict[str, Any]:
-    """The tidy row of one finished case (SI units; see sweep_table.OUTPUT_COLUMNS)."""
-    t1bar, xi1bar = _effective_properties(deck, case.support)
-    if "T1bar" in result.intermediates:
-        t1bar, xi1bar = result.intermediates["T1bar"], result.intermediates["xi1bar"]
+    """The tidy row of one finished case (SI units; columns: sweep/table.output_columns)."""
+    t1bar, xi1bar = _effective_properties(deck, result)
     if result.engine == "simplified":
         mode1 = result.intermediates["V_n"][0]
     else:
         mode1 = (result.details.get("modal_base_shear") or [None])[0]
-    two = _two_mode_shear(result, deck, t1bar, xi1bar)
+    two = result.intermediates.get("V_1+2")
     story = int(np.argmax(np.abs(result.drift_ratio)))
     violations = check_criteria([result], deck.criteria)
     return {
         **_row_head(case),
         "T1_s": float(deck.system.modes.periods[0]), "T1bar_s": t1bar, "xi1bar": xi1bar,
-        "base_shear_N": result.base_shear, "base_shear_coefficient": result.base_shear_coefficient,
-        "base_moment_Nm": result.base_moment, "base_moment_coefficient": result.base_moment_coefficient,
+        **{scalar.column: result.value(name) for name, scalar in SCALARS.items()},
         "mode1_base_shear_coefficient": None if mode1 is None else float(mode1) / result.weight,
         "two_mode_base_shear_coefficient": None if two is None else two / result.weight,
-        "max_drift_ratio": float(abs(result.drift_ratio[story])), "max_drift_story": story + 1,
-        "max_displacement_m": float(np.max(np.abs(result.displacement))),
+        **{q.column: result.value(name) for name, q in QUANTITIES.items() if q.column and name in result.peaks},
+        "max_drift_story": story + 1,
         "uplift": bool(result.uplift), "V_c_N": result.critical_base_shear,
         "critical_coefficient": result.critical_coefficient,
         "violations": "; ".join(violations), "status": "ok", "message": "",

@@ -1,62 +1,67 @@
-"""Response quantities of a simulated history: peaks between samples, uplift summary, energy.
+"""Response quantities of a simulated history: peaks between samples, uplift summary and the
+histories themselves; the energy balance is energy.py.
 
-Everything is read off a few linear functionals of the state ("signals"): the modal
-coordinates Y* and their rates, theta, v, the ground acceleration, the input force
-rate, and each element's displacement, velocity and relaxed top z_i. With X' = A X each
-signal's exact time derivative at a sample is one more row, so:
-- responses (paper Eqs. 12-14: floor displacements u = sum Y_n* phi_n*, drifts,
-  equivalent lateral forces, story shears and overturning moments by statics) and
-  their peaks between samples come from the quintic Hermite interpolant through the
-  sampled values and exact first and second derivatives (O(h^6) between samples);
-- work integrals of the energy balance use 3-point Gauss quadrature on the cubic
-  Hermite interpolants of the signals (O(h^4)).
+Everything is read off a few linear functionals of the state ("signals"), built from the
+maps the state-space model already holds (History.space): the modal coordinates Y*, their
+rates and second rates, theta, v, the ground acceleration, the input force rate, and each
+element's displacement, velocity and relaxed top z_i. With X' = A X each signal's exact
+time derivative at a sample is one more row, so:
+- responses (paper Eqs. 12-14: floor displacements u = sum Y_n* phi_n*, drifts, story
+  shears and overturning moments by statics (engines/statics.py)) and their peaks between
+  samples come from the quintic Hermite interpolant through the sampled values and exact
+  first and second derivatives (O(h^6) between samples).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from ...model.building import Building
-from . import response_kernels as postkernel
-from .statespace import coordinate_masses, element_directions, modal_map, position_map, structure_matrices
+from ...model.system import System
+from ..options import ExactOptions
+from ..result import AnalysisResult
+from ..statics import story_maps
+from . import response_kernels
+from .energy import energy_balance
 from .stepping import History
+
+#: the quantities whose peaks are linear in Y* (and Y*'), in the order of the response rows
+_STORY_AND_FLOOR = ("displacement", "drift", "shear", "moment")
 
 
 @dataclass(frozen=True)
-class ResponseMaps:
-    """Maps from modal coordinates Y* (n_m) to floor responses, each (N, n_m)."""
+class ResponseRows:
+    """Maps from the modal coordinates to floor and story responses, each (N, n_m):
+    displacement, drift, shear, moment per unit Y*; modal_base_shear diag(w^2 m*) (n_m, n_m)."""
 
     displacement: np.ndarray
     drift: np.ndarray
     shear: np.ndarray
     moment: np.ndarray
-    modal_base_shear: np.ndarray  # diag(w^2 m*): base shear of each mode [N per m]
-
-    def stacked(self) -> np.ndarray:
-        return np.vstack((self.displacement, self.drift, self.shear, self.moment, self.modal_base_shear))
+    modal_base_shear: np.ndarray
 
 
-def response_maps(building: Building, shapes_star: np.ndarray, omega: np.ndarray) -> ResponseMaps:
-    """Linear maps of [12], [13b], and statics of story shear and overturning moment."""
-    n = building.n_stories
-    below = np.vstack((np.zeros((1, shapes_star.shape[1])), shapes_star[:-1]))
-    forces = building.masses[:, None] * shapes_star * omega**2
-    above = np.triu(np.ones((n, n)))  # above[j, i] = 1 for floors i >= j
-    base_of_story = np.concatenate(([0.0], building.heights[:-1]))
-    lever = np.clip(building.heights[None, :] - base_of_story[:, None], 0.0, None) * above
-    return ResponseMaps(shapes_star, shapes_star - below, above @ forces, lever @ forces,
+def response_rows(system: System, history: History) -> ResponseRows:
+    """The statics of [12-14] applied to the modal forces m_j phi_jn* w_n^2 per unit Y_n*."""
+    model = history.space.model
+    building = system.building
+    shapes = system.modes.shapes_star[:, :model.n_modes]
+    forces = building.masses[:, None] * shapes * model.omega**2
+    maps = story_maps(building)
+    return ResponseRows(shapes, maps.drift @ shapes, maps.shear @ forces, maps.moment @ forces,
                         np.diag(forces.sum(axis=0)))
 
 
 @dataclass
 class Signals:
     """Signals at the samples, one row per sample: values (n, k) and, for the first k_s
-    signals (those the work integrals need), slopes (n, k_s), taken in the state valid from
-    each sample on. At a contact transition the rates (theta', v', element velocities) jump:
-    `switch[i]` >= 0 marks an interval i that ends at a transition, and
-    `end_values[switch[i]]` (k,), `end_slopes[switch[i]]` (k_s,) hold its left limits.
+    signals (those with rates: the work integrals and the peak search need them), slopes
+    (n, k_s), taken in the state valid from each sample on. At a contact transition the
+    rates (theta', v', element velocities) jump: `switch[i]` >= 0 marks an interval i that
+    ends at a transition, and `end_values[switch[i]]` (k,), `end_slopes[switch[i]]` (k_s,)
+    hold its left limits.
     """
 
     values: np.ndarray
@@ -70,37 +75,44 @@ class Signals:
         """The signal's columns (n, k_name)."""
         return self.values[:, self.rows[name]]
 
+    def columns(self, name: str) -> np.ndarray:
+        """The column indices of a signal."""
+        return np.arange(self.rows[name].start, self.rows[name].stop, dtype=np.int64)
+
+
+#: signals with rates: those the work integrals use first (energy.py), then Y*''
+WITH_RATES = ("Ydot", "a", "input", "element_velocity", "z", "Yddot")
+VALUES_ONLY = ("Y", "theta", "v", "element_displacement")
+
 
 def signals(history: History) -> Signals:
-    """Evaluate the signal rows of every contact state at its samples (postkernel.evaluate_signals)."""
-    model, lay = history.model, history.layout
+    """Evaluate the signal rows of every contact state at its samples
+    (response_kernels.evaluate_signals)."""
+    space = history.space
+    model, lay = space.model, space.layout
     n_m, n_e = model.n_modes, lay.n_elements
-    position = position_map(model, lay)
-    to_modal = modal_map(model, lay)
-    _, _, forcing_ground, _ = structure_matrices(model)
-    # signals with slopes first (work integrals), then values only
-    with_slopes = [("Ydot", n_m), ("a", 1), ("input", 1), ("element_velocity", n_e), ("z", n_e)]
-    values_only = [("Y", n_m), ("theta", 1), ("v", 1), ("element_displacement", n_e)]
-    n_slopes = sum(size for _, size in with_slopes)
+    sizes = {"Ydot": n_m, "a": 1, "input": 1, "element_velocity": n_e, "z": n_e, "Yddot": n_m, "Y": n_m,
+             "theta": 1, "v": 1, "element_displacement": n_e}
     names, start = {}, 0
-    for name, size in with_slopes + values_only:
-        names[name] = slice(start, start + size)
-        start += size
-    e = element_directions(model) if n_e else np.zeros((0, lay.n_p))
+    for name in WITH_RATES + VALUES_ONLY:
+        names[name] = slice(start, start + sizes[name])
+        start += sizes[name]
+    n_slopes = names["Yddot"].stop
+    forcing_ground = space.forcing[:, lay.index_acceleration]
     rows_by_state = []
     for contact in history.contact:
         rows = np.zeros((start, lay.n_aug))
-        rows[names["Y"]] = to_modal @ position
-        rows[names["Ydot"]] = to_modal @ contact.velocity
+        rows[names["Y"]] = space.modal
+        rows[names["Ydot"]] = space.to_modal @ contact.velocity
+        rows[names["Yddot"]] = rows[names["Ydot"]] @ contact.matrix
         if model.flexible:
-            rows[names["theta"]] = position[n_m]
-            rows[names["v"]] = position[n_m + 1]
+            rows[names["theta"]] = space.position[n_m]
+            rows[names["v"]] = space.position[n_m + 1]
         rows[names["a"].start, lay.index_acceleration] = 1.0
         rows[names["input"]] = forcing_ground @ contact.velocity
-        rows[names["element_velocity"]] = e @ contact.velocity
-        rows[names["element_displacement"]] = e @ position
-        for i in range(n_e):
-            rows[names["z"].start + i, lay.z_index(i)] = 1.0
+        rows[names["element_velocity"]] = space.directions @ contact.velocity
+        rows[names["element_displacement"]] = space.displacement_rows
+        rows[np.arange(names["z"].start, names["z"].stop), lay.z_indices] = 1.0
         rows_by_state.append(np.vstack((rows, rows[:n_slopes] @ contact.matrix)).T)
     states, ids = history.states, history.state_ids
     at = np.nonzero(ids[1:] != ids[:-1])[0]
@@ -109,26 +121,30 @@ def signals(history: History) -> Signals:
     values = np.empty((ids.size, start))
     slopes = np.empty((ids.size, n_slopes))
     ends = np.empty((at.size, start + n_slopes))
-    postkernel.evaluate_signals(states, ids, np.ascontiguousarray(rows_by_state), values, slopes, ends)
+    response_kernels.evaluate_signals(states, ids, np.ascontiguousarray(rows_by_state), values, slopes, ends)
     return Signals(values, slopes, switch, np.ascontiguousarray(ends[:, :start]),
                    np.ascontiguousarray(ends[:, start:]), names)
 
 
-def hermite_peaks(sig: Signals, rows: np.ndarray, lengths: np.ndarray, periods: np.ndarray
+def hermite_peaks(sig: Signals, rows: np.ndarray, lengths: np.ndarray, periods: np.ndarray, rates: np.ndarray | None = None
                   ) -> tuple[np.ndarray, np.ndarray]:
-    """Peak |r| of each response r = rows @ Y* between samples, and where (interval index +
-    fraction), from the quintic Hermite interpolant through the samples with the exact first and
-    second derivatives (postkernel.hermite_peaks). periods (m,) [s]: the shortest period that
-    matters in each response; with the step it sets which intervals can hold the peak."""
+    """Peak |r| of each response r = rows @ Y* (+ rates @ Y*') between samples, and where
+    (interval index + fraction), from the quintic Hermite interpolant through the samples with
+    the exact first and second derivatives (response_kernels.hermite_peaks). periods (m,) [s]:
+    the shortest period that matters in each response; with the step it sets which intervals
+    can hold the peak."""
     step = float(lengths.max()) if lengths.size else 0.0
     fractions = 0.9 * np.cos(np.minimum(np.pi * step / np.asarray(periods, dtype=float), 0.5 * np.pi))
-    return postkernel.hermite_peaks(sig.values, sig.slopes, sig.rows["Y"].start, sig.rows["Ydot"].start,
-                                    sig.end_values, sig.end_slopes, sig.switch, np.ascontiguousarray(rows.T),
-                                    lengths, fractions)
-
-
-def interval_lengths(history: History) -> np.ndarray:
-    return np.diff(history.times)
+    y, ydot, yddot = sig.columns("Y"), sig.columns("Ydot"), sig.columns("Yddot")
+    if rates is None:
+        basis, value_cols, rate_cols, curvature_cols = rows, y, ydot, ydot
+    else:
+        basis = np.hstack((rows, rates))
+        value_cols, rate_cols, curvature_cols = np.concatenate((y, ydot)), np.concatenate((ydot, yddot)), \
+            np.concatenate((ydot, yddot))
+    return response_kernels.hermite_peaks(sig.values, sig.slopes, sig.end_values, sig.end_slopes, sig.switch,
+                                          value_cols, rate_cols, curvature_cols, np.ascontiguousarray(basis.T),
+                                          lengths, fractions)
 
 
 def time_at(history: History, location: float) -> float:
@@ -139,23 +155,18 @@ def time_at(history: History, location: float) -> float:
     return float(history.times[i] + (location - i) * (history.times[i + 1] - history.times[i]))
 
 
-def lifted_flags(history: History) -> np.ndarray:
-    """(n_samples, n_elements) True where the element is lifted (valid from the sample on)."""
-    table = np.array([c.lifted for c in history.contact], dtype=bool).reshape(len(history.contact), -1)
-    return table[history.state_ids]
-
-
 def uplift_summary(history: History, sig: Signals) -> dict:
-    """Episodes, time uplifted, maximum edge uplift, rotation, minimum reaction (THEORY.md 4)."""
-    model, lay = history.model, history.layout
-    if not model.flexible:
+    """Episodes, time uplifted, maximum edge uplift, rotation, minimum reaction (docs/theory.md section 4)."""
+    space = history.space
+    lay = space.layout
+    if not space.model.flexible:
         return {}
     summary: dict = {"max_rotation": float(np.abs(sig["theta"]).max())}
     displacement = sig["element_displacement"]
     velocity = sig["element_velocity"]
-    lifted = lifted_flags(history)
-    lengths = interval_lengths(history)
-    damped = model.elements.damping > 0.0
+    lifted = history.lifted
+    lengths = history.lengths
+    damped = space.element_damping > 0.0
     gap = np.where(lifted, displacement - np.where(damped, sig["z"], 0.0), 0.0)
     any_lifted = lifted.any(axis=1)
     summary["uplift_time"] = float(lengths[any_lifted[:-1]].sum())
@@ -166,7 +177,7 @@ def uplift_summary(history: History, sig: Signals) -> dict:
         summary[f"max_uplift_{name}"] = float(max(gap[:, i].max(), 0.0))
         summary[f"max_edge_displacement_{name}"] = float(displacement[:, i].max())
     # reactions R_i = -(k v_i + c v_i') of the elements in contact [3a]
-    force = displacement * model.elements.stiffness + velocity * model.elements.damping
+    force = displacement * space.element_stiffness + velocity * space.element_damping
     reactions = np.where(lifted, np.inf, -force)
     summary["min_reaction_left"] = float(reactions[:, 0].min())
     summary["min_reaction_right"] = float(reactions[:, -1].min())
@@ -174,49 +185,80 @@ def uplift_summary(history: History, sig: Signals) -> dict:
     return summary
 
 
-def energy_balance(history: History, sig: Signals) -> dict:
-    """Input = kinetic + strain + damping + foundation (+ gravity) energies [J].
+def histories(system: System, history: History, rows: ResponseRows, sig: Signals) -> dict[str, np.ndarray]:
+    """Time histories at every sample (SI units) for --histories (engines/quantities.HISTORIES)."""
+    y = sig["Y"]
+    out = {
+        "time": history.times,
+        "ground_acceleration": sig["a"][:, 0],
+        "base_shear": y @ rows.shear[0],
+        "base_moment": y @ rows.moment[0],
+        "roof_displacement": y @ rows.displacement[-1],
+    }
+    if history.space.model.flexible:
+        out["theta"] = sig["theta"][:, 0]
+        out["v"] = sig["v"][:, 0]
+        out["left_edge_displacement"] = sig["element_displacement"][:, 0]
+        out["right_edge_displacement"] = sig["element_displacement"][:, -1]
+        patterns = np.array([sum(int(f) << i for i, f in enumerate(c.lifted)) for c in history.contact])
+        out["contact_state"] = patterns[history.state_ids]
+    drifts = y @ rows.drift.T
+    for j in range(system.building.n_stories):
+        out[f"drift_{j + 1}"] = drifts[:, j]
+    return out
 
-    Work integrals: 3-point Gauss quadrature on the cubic Hermite interpolants of the
-    signals (O(h^4)); stored energies exact at the first and last samples.
-    """
-    model, lay = history.model, history.layout
-    lengths = interval_lengths(history)
-    c_modal = 2.0 * model.damping * model.omega * model.effective_mass
-    k_modal = model.effective_mass * model.omega**2
-    lifted = np.ascontiguousarray(lifted_flags(history)[:-1])
-    k_el = model.elements.stiffness if lay.n_elements else np.zeros(0)
-    c_el = model.elements.damping if lay.n_elements else np.zeros(0)
-    rows = sig.rows
-    work_in, damp_struct, damp_found = postkernel.work_integrals(
-        sig.values, sig.slopes, sig.switch, sig.end_values, sig.end_slopes, lengths, lifted,
-        rows["a"].start, rows["input"].start, rows["Ydot"].start, model.n_modes,
-        rows["element_velocity"].start, rows["z"].start, lay.n_elements, c_modal, k_el, c_el,
-    )
 
-    masses = coordinate_masses(model)
-
-    def stored(index: int) -> tuple[float, float, float, float]:
-        x = history.states[index]
-        contact = history.contact[history.state_ids[index]]
-        kinetic = 0.5 * np.sum(masses * (contact.velocity @ x) ** 2)
-        strain = 0.5 * np.sum(k_modal * sig["Y"][index] ** 2)
-        foundation = gravity = 0.0
-        if lay.n_elements:
-            z = np.where(c_el > 0.0, sig["z"][index], 0.0)
-            deformation = np.where(contact.lifted, z, sig["element_displacement"][index])
-            foundation = 0.5 * np.sum(k_el * deformation**2)
-            gravity = model.total_mass * model.gravity * sig["v"][index, 0]
-        return kinetic, strain, foundation, gravity
-
-    first, last = stored(0), stored(-1)
-    terms = {"input": float(work_in)}
-    for k, name in enumerate(("kinetic", "strain", "foundation_elastic", "gravity")):
-        terms[name] = float(last[k] - first[k])
-    terms["structural_damping"] = float(damp_struct)
-    terms["foundation_damping"] = float(damp_found)
-    balance = sum(v for k, v in terms.items() if k != "input")
-    scale = max(abs(work_in), damp_struct + damp_found, 1e-300)
-    terms["residual"] = float(work_in - balance)
-    terms["relative_residual"] = float(abs(work_in - balance) / scale)
-    return terms
+def summarize(system: System, history: History, support: str, engine: str, options: ExactOptions
+              ) -> AnalysisResult:
+    """Peak responses with their instants, uplift summary, energy balance and (optionally)
+    histories of one run."""
+    space = history.space
+    model = space.model
+    rows = response_rows(system, history)
+    sig = signals(history)
+    modal = rows.modal_base_shear
+    # peaks of the instant-by-instant sums of modes 1..k (paper Fig. 7)
+    stacked = np.vstack([getattr(rows, name) for name in _STORY_AND_FLOOR]
+                        + [modal, np.tril(np.ones_like(modal)) @ modal])
+    n = system.building.n_stories
+    # shortest period that matters in each response: the governing one, or the mode's own
+    # period for a single mode's base shear (modes above the governing band are searched more)
+    mode_periods = 2.0 * math.pi / model.omega
+    governing = space.governing_period
+    periods = np.concatenate((np.full(4 * n, governing), mode_periods, np.maximum(mode_periods, governing)))
+    lengths = history.lengths
+    peaks, where = hermite_peaks(sig, stacked, lengths, periods)
+    values = {name: peaks[k * n:(k + 1) * n] for k, name in enumerate(_STORY_AND_FLOOR)}
+    instants = {name: np.array([time_at(history, w) for w in where[k * n:(k + 1) * n]])
+                for k, name in enumerate(_STORY_AND_FLOOR)}
+    values["drift_ratio"] = values["drift"] / system.building.story_heights
+    instants["drift_ratio"] = instants["drift"]
+    summary = uplift_summary(history, sig)
+    uplifted = bool(history.lifted.any()) if space.layout.n_elements else False
+    energy = energy_balance(history, sig)
+    details = {
+        "modal_base_shear": peaks[4 * n:4 * n + model.n_modes].tolist(),
+        "cumulative_modal_base_shear": peaks[4 * n + model.n_modes:].tolist(),
+        "uplift_summary": summary,
+        "energy": energy,
+    }
+    if options.histories:
+        details["histories"] = histories(system, history, rows, sig)
+    intermediates = {
+        "T1": float(system.modes.periods[0]),
+        "n_modes": model.n_modes,
+        "time_step": history.time_step,
+        "criterion": options.criterion,
+        "rotation_inertia": model.theta_inertia,
+        "samples": int(history.times.size),
+        "transitions": int(np.count_nonzero(np.diff(history.state_ids))),
+        "base_shear_time": float(instants["shear"][0]),
+        "base_moment_time": float(instants["moment"][0]),
+        "energy_residual": energy["relative_residual"],
+    }
+    for name in ("uplift_time", "episodes", "max_rotation", "max_uplift_left", "max_uplift_right", "min_reaction"):
+        if name in summary:
+            intermediates[name] = summary[name]
+    return AnalysisResult.of(system, engine, support, values, uplift=uplifted,
+                             periods=system.modes.periods[:model.n_modes], elements=model.elements,
+                             times=instants, intermediates=intermediates, details=details)

@@ -85,22 +85,23 @@ def _accumulate(states, i, rows_t, out):
 
 
 @njit(cache=True)
-def hermite_peaks(values, slopes, y_column, ydot_column, end_values, end_slopes, switch, rows_t, lengths,
-                  fractions):
-    """Peak |r| of each response r = R Y* between samples and where it is (interval index +
+def hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns, rate_columns, curvature_columns,
+                  rows_t, lengths, fractions):
+    """Peak |r| of each response r = R s between samples and where it is (interval index +
     fraction), from the quintic Hermite interpolant through the samples with the exact first
-    and second derivatives R Y*', R Y*'' at both ends (error O(h^6)).
+    and second derivatives R s', R s'' at both ends (error O(h^6)).
 
-    values (n, k): the signals at the samples, Y* in columns y_column.., Y*' in ydot_column..;
-    slopes (n, k_s): their rates, Y*'' in ydot_column..; end_values[switch[i]],
+    The basis signals s: s_q = values[:, value_columns[q]], its rate s_q' = values[:,
+    rate_columns[q]] and curvature s_q'' = slopes[:, curvature_columns[q]] (Y* with its rate
+    and curvature; for accelerations also Y*' with its own). end_values[switch[i]],
     end_slopes[switch[i]]: left limits at the end of an interval i that ends at a transition
-    (Y* is continuous, Y*' and Y*'' may jump); rows_t (n_m, m) = R^T. Responses are formed on
-    the fly (never stored); only intervals with an end sample at or above `fractions[j]` of the
-    sampled peak of response j can hold its peak (fractions[j] <= cos(omega h / 2) for the
-    highest frequency omega that matters in response j) and are searched between samples.
+    (rates may jump there); rows_t (n_basis, m) = R^T. Responses are formed on the fly (never
+    stored); only intervals with an end sample at or above `fractions[j]` of the sampled peak
+    of response j can hold its peak (fractions[j] <= cos(omega h / 2) for the highest
+    frequency omega that matters in response j) and are searched between samples.
     """
     n = values.shape[0]
-    n_m, m = rows_t.shape
+    n_b, m = rows_t.shape
     best = np.zeros(m)
     where = np.zeros(m)
     r0 = np.empty(m)
@@ -109,7 +110,7 @@ def hermite_peaks(values, slopes, y_column, ydot_column, end_values, end_slopes,
     # response (a superset of those within the fraction of the final peak)
     flagged = np.zeros(n, dtype=np.bool_)
     for i in range(n):
-        _combine(values, i, y_column, rows_t, r0)
+        _combine(values[i], value_columns, rows_t, r0)
         for j in range(m):
             v = abs(r0[j])
             if v > best[j]:
@@ -124,10 +125,12 @@ def hermite_peaks(values, slopes, y_column, ydot_column, end_values, end_slopes,
         if not (flagged[i] or flagged[i + 1]):
             continue
         if ready != i:
-            _combine(values, i, y_column, rows_t, r0)
-        _combine(values, i + 1, y_column, rows_t, r1)
-        ready = i + 1
+            _combine(values[i], value_columns, rows_t, r0)
         fix = switch[i]
+        if fix >= 0:  # the interval ends at a transition: its left limit
+            _combine(end_values[fix], value_columns, rows_t, r1)
+        else:
+            _combine(values[i + 1], value_columns, rows_t, r1)
         for j in range(m):
             if abs(r0[j]) < threshold[j] and abs(r1[j]) < threshold[j]:
                 continue
@@ -135,31 +138,35 @@ def hermite_peaks(values, slopes, y_column, ydot_column, end_values, end_slopes,
             d1 = 0.0
             c0 = 0.0
             c1 = 0.0
-            for q in range(n_m):
-                d0 += rows_t[q, j] * values[i, ydot_column + q]
-                c0 += rows_t[q, j] * slopes[i, ydot_column + q]
+            for q in range(n_b):
+                d0 += rows_t[q, j] * values[i, rate_columns[q]]
+                c0 += rows_t[q, j] * slopes[i, curvature_columns[q]]
                 if fix >= 0:
-                    d1 += rows_t[q, j] * end_values[fix, ydot_column + q]
-                    c1 += rows_t[q, j] * end_slopes[fix, ydot_column + q]
+                    d1 += rows_t[q, j] * end_values[fix, rate_columns[q]]
+                    c1 += rows_t[q, j] * end_slopes[fix, curvature_columns[q]]
                 else:
-                    d1 += rows_t[q, j] * values[i + 1, ydot_column + q]
-                    c1 += rows_t[q, j] * slopes[i + 1, ydot_column + q]
+                    d1 += rows_t[q, j] * values[i + 1, rate_columns[q]]
+                    c1 += rows_t[q, j] * slopes[i + 1, curvature_columns[q]]
             length = lengths[i]
             value, s = _quintic_extremum(r0[j], r1[j], d0 * length, d1 * length,
                                          c0 * length * length, c1 * length * length)
             if value > best[j]:
                 best[j] = value
                 where[j] = i + s
-        r0, r1 = r1, r0
+        if fix >= 0:
+            ready = -1
+        else:
+            r0, r1 = r1, r0
+            ready = i + 1
     return best, where
 
 
 @njit(cache=True, inline="always")
-def _combine(values, i, column, rows_t, out):
-    """out = R y with y = values[i, column:column + n_m], from R^T (n_m, m)."""
+def _combine(row, columns, rows_t, out):
+    """out = R y with y = row[columns], from R^T (n_basis, m)."""
     out[:] = 0.0
     for q in range(rows_t.shape[0]):
-        yq = values[i, column + q]
+        yq = row[columns[q]]
         for j in range(out.size):
             out[j] += rows_t[q, j] * yq
 
@@ -172,14 +179,14 @@ def _hermite(v0, v1, d0, d1, s):
 
 
 @njit(cache=True)
-def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lifted,
+def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lifted, n_interpolated,
                    row_a, row_input, row_ydot, n_modes, row_vel, row_z, n_elements,
                    modal_damping, element_stiffness, element_damping):
     """Input work, structural and foundation damping energy [J] by 3-point Gauss quadrature
     on the cubic Hermite interpolants of the signals in every interval.
 
     values (n, k), slopes (n, k_s): one row per sample (interval-local access keeps it in
-    cache); only the first k_s signals (those with slopes) are integrated."""
+    cache); only the first n_interpolated signals (they have slopes) are interpolated."""
     nodes = np.array([0.5 * (1.0 - np.sqrt(0.6)), 0.5, 0.5 * (1.0 + np.sqrt(0.6))])
     weights = np.array([5.0, 8.0, 5.0]) / 18.0
     basis = np.empty((3, 4))  # Hermite basis h00, h10, h01, h11 at the Gauss nodes
@@ -188,7 +195,7 @@ def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lift
         basis[g, 1] = _hermite(0.0, 0.0, 1.0, 0.0, nodes[g])
         basis[g, 2] = _hermite(0.0, 1.0, 0.0, 0.0, nodes[g])
         basis[g, 3] = _hermite(0.0, 0.0, 0.0, 1.0, nodes[g])
-    k = slopes.shape[1]  # the signals with slopes come first in values
+    k = n_interpolated  # the signals the integrals need come first in values and slopes
     gauss = np.empty((3, k))
     work_in = 0.0
     damp_struct = 0.0

@@ -23,11 +23,14 @@ acceleration and gravity make the system autonomous: X' = A X, X(t + tau) = expm
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ...model.foundations import ContactElements
+from ...model.system import System
+from ..options import ExactOptions
 
 
 @dataclass(frozen=True)
@@ -63,6 +66,45 @@ class ModalModel:
         return self.elements is not None
 
 
+def modal_model(system: System, support: str, n_modes: int, coupled_modes: int | None = None,
+                residual_inertia: str = "neglect", approximate: bool = False) -> ModalModel:
+    """ModalModel of the N + 2 equations [11] (or of the paper's approximation [17-20])."""
+    modes = system.modes.truncated(n_modes)
+    flexible = support != "rigid"
+    coupled = np.zeros(n_modes, dtype=bool)
+    if flexible:
+        coupled[: (n_modes if coupled_modes is None else coupled_modes)] = True
+    mh = modes.effective_mass * modes.effective_height
+    b = system.building
+    structure_inertia = float(np.sum(b.masses * b.heights**2))
+    theta_inertia = system.mat_rotary_inertia
+    first_moment_residual = 0.0
+    if flexible and not approximate and residual_inertia == "include":
+        theta_inertia += max(structure_inertia - float(np.sum(mh * modes.effective_height)), 0.0)
+        first_moment_residual = system.first_moment - float(np.sum(mh))
+    if theta_inertia < 1e-12 * structure_inertia:
+        theta_inertia = 0.0
+    if abs(first_moment_residual) < 1e-12 * system.first_moment:
+        first_moment_residual = 0.0
+    elements = system.foundation.contact_elements(system.half_width, float(modes.omega[0])) if flexible else None
+    return ModalModel(modes.omega, modes.damping, modes.effective_mass, modes.effective_height, coupled,
+                      theta_inertia, first_moment_residual, system.total_mass, system.gravity, elements)
+
+
+def governing_period(model: ModalModel) -> float:
+    """Shortest period the sampling must resolve [s]: T_1, the bonded vertical period, and
+    every mode with at least 1 % of the total mass."""
+    periods = [2.0 * math.pi / model.omega[0]]
+    heavy = model.effective_mass >= 0.01 * model.total_mass
+    periods.extend((2.0 * math.pi / model.omega[heavy]).tolist())
+    if model.flexible:
+        periods.append(2.0 * math.pi * math.sqrt(model.total_mass / model.elements.stiffness.sum()))
+        if model.theta_inertia > 0.0:
+            rocking = float(np.sum(model.elements.stiffness * model.elements.positions**2))
+            periods.append(2.0 * math.pi * math.sqrt(model.theta_inertia / rocking))
+    return min(periods)
+
+
 @dataclass(frozen=True)
 class Layout:
     """Index bookkeeping of the augmented state X."""
@@ -89,8 +131,10 @@ class Layout:
     def index_one(self) -> int:
         return self.n_x + 2
 
-    def z_index(self, i: int) -> int:
-        return self.n_x - self.n_elements + i
+    @property
+    def z_indices(self) -> np.ndarray:
+        """State indices of the element tops z_i (int64, one per element)."""
+        return np.arange(self.n_x - self.n_elements, self.n_x, dtype=np.int64)
 
 
 def layout(model: ModalModel) -> Layout:
@@ -162,26 +206,44 @@ class ContactState:
 
 
 @dataclass(frozen=True)
-class ModelTerms:
-    """The terms of a model's contact states that do not depend on the contact pattern
-    (model_terms): structure stiffness, damping and forcing in p, coordinate masses, and
-    per element its direction e_i, k_i, c_i and displacement row v_i = e_i . p(X)."""
+class StateSpace:
+    """What the state-space form of a model is built from, once per model: every later stage
+    (contact states, stepping, responses, energy) reads it from here.
 
-    stiffness: np.ndarray  # (n_p, n_p)
-    damping: np.ndarray  # (n_p, n_p)
-    forcing: np.ndarray  # (n_p, n_aug): the a_g and gravity columns
-    masses: np.ndarray  # (n_p,)
-    position: np.ndarray  # (n_p, n_aug): X -> p
-    directions: np.ndarray  # (n_e, n_p)
-    element_stiffness: np.ndarray  # (n_e,)
-    element_damping: np.ndarray  # (n_e,)
-    displacement_rows: np.ndarray  # (n_e, n_aug)
-    weight: float  # m_t g [N]
-    settlement: float  # static settlement m_t g / sum k_i [m]
+    stiffness, damping (n_p, n_p): of the structure alone in p; forcing (n_p, n_aug): the a_g
+    and gravity columns; masses (n_p,): diagonal of the mass matrix in p; position (n_p, n_aug):
+    X -> p; to_modal (n_m, n_p): p -> Y*; modal (n_m, n_aug): X -> Y*; k_modal, c_modal (n_m,): w_n^2 m_n* [N/m],
+    2 xi_n w_n m_n* [N s/m]; per element: directions e_i (n_e, n_p) with v_i = e_i . p,
+    element_stiffness k_i [N/m], element_damping c_i [N s/m], displacement_rows (n_e, n_aug):
+    X -> v_i; weight m_t g [N]; settlement: static settlement m_t g / sum k_i [m];
+    governing_period: the shortest period the sampling must resolve [s]; rest: the augmented
+    state at rest under gravity, all elements in contact.
+    """
+
+    model: ModalModel
+    layout: Layout
+    stiffness: np.ndarray
+    damping: np.ndarray
+    forcing: np.ndarray
+    masses: np.ndarray
+    position: np.ndarray
+    to_modal: np.ndarray
+    modal: np.ndarray
+    k_modal: np.ndarray
+    c_modal: np.ndarray
+    directions: np.ndarray
+    element_stiffness: np.ndarray
+    element_damping: np.ndarray
+    displacement_rows: np.ndarray
+    weight: float
+    settlement: float
+    governing_period: float
+    rest: np.ndarray
 
 
-def model_terms(model: ModalModel, lay: Layout) -> ModelTerms:
-    """The pattern-independent terms of the model's contact states, once per model."""
+def state_space(model: ModalModel) -> StateSpace:
+    """The layout and the pattern-independent terms of the model's contact states."""
+    lay = layout(model)
     stiffness, damping, forcing_ground, forcing_gravity = structure_matrices(model)
     forcing = np.zeros((lay.n_p, lay.n_aug))
     forcing[:, lay.index_acceleration] = forcing_ground
@@ -194,16 +256,22 @@ def model_terms(model: ModalModel, lay: Layout) -> ModelTerms:
         settlement = weight / k_el.sum()
     else:
         directions, k_el, c_el, settlement = np.zeros((0, lay.n_p)), np.zeros(0), np.zeros(0), 0.0
-    return ModelTerms(stiffness, damping, forcing, coordinate_masses(model), position, directions, k_el, c_el,
-                      directions @ position, weight, settlement)
+    k_modal = model.effective_mass * model.omega**2
+    c_modal = 2.0 * model.damping * model.omega * model.effective_mass
+    to_modal = modal_map(model, lay)
+    return StateSpace(model, lay, stiffness, damping, forcing, coordinate_masses(model), position, to_modal,
+                      to_modal @ position, k_modal, c_modal, directions, k_el, c_el, directions @ position,
+                      weight, settlement, governing_period(model), static_state(model, lay))
 
 
-def contact_states(terms: list[ModelTerms], lay: Layout, lifted: np.ndarray, criterion: str) -> list[ContactState]:
+def contact_states(terms: list[StateSpace], lifted: np.ndarray, criterion: str) -> list[ContactState]:
     """Assemble A, the velocity map and the event rows of contact patterns: item r is the
-    model of terms[r] (all with layout `lay`) in the contact pattern lifted[r] (R, n_e). The assembly is vectorised over the batch axis;
-    every item gets the same bits as alone (products are per item, sums along contiguous
-    rows). Raises ZeroDivisionError if a massless rotation has no damping in some item."""
+    model of terms[r] (all with one layout) in the contact pattern lifted[r] (R, n_e). The
+    assembly is vectorised over the batch axis; every item gets the same bits as alone
+    (products are per item, sums along contiguous rows). Raises ZeroDivisionError if a
+    massless rotation has no damping in some item."""
     count = len(terms)
+    lay = terms[0].layout
     n_aug, n_p, n_e = lay.n_aug, lay.n_p, lay.n_elements
     def stack(name: str) -> np.ndarray:
         return getattr(terms[0], name)[None] if count == 1 else np.stack([getattr(t, name) for t in terms])
@@ -236,7 +304,7 @@ def contact_states(terms: list[ModelTerms], lay: Layout, lifted: np.ndarray, cri
     if n_e:
         weight = np.array([t.weight for t in terms])[:, None, None]
         settlement = np.array([t.settlement for t in terms])[:, None, None]
-        z = lay.n_x - n_e + np.arange(n_e)  # Layout.z_index
+        z = lay.z_indices
         disp_rows = stack("displacement_rows")  # (R, n_e, n_aug): element displacement v_i
         rows, cols = np.nonzero(lifted & (c_el > 0.0))  # lifted elements relaxing: k z + c z' = 0
         matrix[rows, z[cols], z[cols]] = -k_el[rows, cols] / c_el[rows, cols]
@@ -294,3 +362,18 @@ def static_state(model: ModalModel, lay: Layout) -> np.ndarray:
         x[:n_a] = p[lay.massive]
         x[2 * n_a:2 * n_a + lay.massless.size] = p[lay.massless]
     return x
+
+
+def resolve_modes(system: System, n_modes: int | None) -> int:
+    n = system.building.n_stories
+    if n_modes is None:
+        return n
+    if not 1 <= int(n_modes) <= n:
+        raise ValueError(f"n_modes must be an integer from 1 to {n}, got {n_modes!r}")
+    return int(n_modes)
+
+
+def exact_model(system: System, support: str, options: ExactOptions) -> StateSpace:
+    """The exact engine's model: every mode kept is coupled with the mat [11a-11c]."""
+    n_modes = resolve_modes(system, options.n_modes)
+    return state_space(modal_model(system, support, n_modes, residual_inertia=options.residual_inertia))

@@ -16,7 +16,7 @@ from scipy.linalg import expm
 
 from ...errors import AnalysisError
 from . import stepping_kernels as kernel
-from .statespace import ContactState, Layout, ModalModel, contact_states, layout, model_terms, static_state
+from .statespace import ContactState, StateSpace, contact_states
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
 LEVELS = 12
@@ -26,28 +26,35 @@ LEVELS = 12
 class History:
     """Samples of the augmented state at every step and at every contact transition.
 
+    space: the state-space model integrated (its maps serve the responses and the energy);
     times [s] (n,), states X (n, n_aug), state_ids (n,): the contact state valid from
-    each sample to the next; contact: the ContactState list indexed by state id.
+    each sample to the next; contact: the ContactState list indexed by state id; lifted
+    (n, n_e): True where the element is lifted (valid from the sample on).
     """
 
-    model: ModalModel
-    layout: Layout
+    space: StateSpace
     times: np.ndarray
     states: np.ndarray
     state_ids: np.ndarray
     contact: list[ContactState]
     time_step: float
     criterion: str
+    lifted: np.ndarray
+
+
+    @property
+    def lengths(self) -> np.ndarray:
+        """Lengths of the intervals between samples [s]."""
+        return np.diff(self.times)
 
 
 class _Operators:
     """Exact step operators of the contact states met so far, grown on demand (stored
     transposed, as kernel.integrate takes them). States are built by add_states."""
 
-    def __init__(self, model: ModalModel, lay: Layout, h: float, criterion: str):
-        self.model, self.layout, self.h, self.criterion = model, lay, h, criterion
-        self.terms = model_terms(model, lay)
-        n_aug, n_e = lay.n_aug, max(lay.n_elements, 0)
+    def __init__(self, space: StateSpace, h: float, criterion: str):
+        self.space, self.layout, self.h, self.criterion = space, space.layout, h, criterion
+        n_aug, n_e = self.layout.n_aug, max(self.layout.n_elements, 0)
         self.capacity = 4
         self.ops = np.zeros((self.capacity, LEVELS + 1, n_aug, n_aug))
         self.events = np.zeros((self.capacity, n_e, n_aug))
@@ -126,7 +133,7 @@ def _states(requests: list[tuple[_Operators, int, bool]]) -> list[ContactState]:
     first = requests[0][0]
     lifted = np.array([operators.lifted(pattern) for operators, pattern, _ in requests], dtype=bool)
     lifted = lifted.reshape(len(requests), first.layout.n_elements)
-    return contact_states([operators.terms for operators, _, _ in requests], first.layout, lifted, first.criterion)
+    return contact_states([operators.space for operators, _, _ in requests], lifted, first.criterion)
 
 
 class Run:
@@ -138,23 +145,23 @@ class Run:
     pattern without operators is reached (returns the pattern); after add_states,
     `enter(index)` switches to it. simulate_many drives several."""
 
-    def __init__(self, model: ModalModel, ground: np.ndarray, slopes: np.ndarray, h: float,
+    def __init__(self, space: StateSpace, ground: np.ndarray, slopes: np.ndarray, h: float,
                  criterion: str = "reaction", uplift: bool = True, allow_flight: bool = True):
-        lay = layout(model)
+        lay = space.layout
         n_e = lay.n_elements
         if n_e > 62:
             raise AnalysisError(f"at most 62 contact elements are supported (got {n_e}): lower foundation.elements")
-        self.model, self.layout, self.h, self.criterion = model, lay, h, criterion
+        self.space, self.layout, self.h, self.criterion = space, lay, h, criterion
         self.ground, self.slopes, self.allow_flight = ground, slopes, allow_flight
         self.uplift = uplift
-        self.operators = _Operators(model, lay, h, criterion)
-        self.z_index = np.array([lay.z_index(i) for i in range(n_e)], dtype=np.int64)
-        self.lift_rows = self.operators.terms.displacement_rows  # element displacements v_i = rows @ X
-        self.element_damped = self.operators.terms.element_damping > 0.0
+        self.operators = _Operators(space, h, criterion)
+        self.z_index = lay.z_indices
+        self.lift_rows = space.displacement_rows  # element displacements v_i = rows @ X
+        self.element_damped = space.element_damping > 0.0
         self.all_lifted = np.int64((1 << n_e) - 1) if n_e else np.int64(-2)
         self.capacity = ground.size + 1024
         self.out_x = self.out_t = self.out_s = None  # allocated by first_request
-        self.x = static_state(model, lay)
+        self.x = space.rest.copy()
         self.x[lay.index_acceleration] = ground[0]
         self.x[lay.index_slope] = slopes[0]
         self.state, self.n_out, self.step, self.offset = -1, 0, 0, 0.0
@@ -212,8 +219,10 @@ class Run:
 
     def history(self) -> History:
         n = self.n_out
-        return History(self.model, self.layout, self.out_t[:n], self.out_x[:n], self.out_s[:n],
-                       self.operators.contact, self.h, self.criterion)
+        contact = self.operators.contact
+        table = np.array([c.lifted for c in contact], dtype=bool).reshape(len(contact), -1)
+        return History(self.space, self.out_t[:n], self.out_x[:n], self.out_s[:n], contact, self.h, self.criterion,
+                       table[self.out_s[:n]])
 
 
 def ground_grid(acceleration: np.ndarray, substeps: int, dt: float) -> tuple[np.ndarray, np.ndarray]:
@@ -223,6 +232,35 @@ def ground_grid(acceleration: np.ndarray, substeps: int, dt: float) -> tuple[np.
     ground = np.interp(fine, np.arange(acceleration.size), acceleration)
     slopes = np.repeat(np.diff(acceleration) / dt, substeps)
     return ground, slopes
+
+
+#: memory allowed for the sample buffers of the runs stepped together [bytes]
+BATCH_MEMORY = 256 * 2**20
+
+
+def simulate(spaces: list[StateSpace], substeps: list[int], acceleration: np.ndarray, dt: float, criterion: str,
+             uplift: bool, allow_flight: bool) -> Iterator[tuple[int, History | AnalysisError]]:
+    """Histories of several models under one ground acceleration [m/s^2] sampled at dt [s],
+    model k integrated with substeps[k] internal steps per record step: (index, History or
+    the AnalysisError that stopped it) as each run ends. The fine ground grid is built once
+    per step size; runs are stepped together (simulate_many) in groups whose sample buffers
+    fit in BATCH_MEMORY."""
+    grids: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+    pending: list[tuple[int, Run]] = []
+    for k, (space, count) in enumerate(zip(spaces, substeps, strict=True)):
+        if count not in grids:
+            grids[count] = ground_grid(acceleration, count, dt)
+        pending.append((k, Run(space, *grids[count], dt / count, criterion, uplift=uplift, allow_flight=allow_flight)))
+    while pending:
+        size, used = 1, pending[0][1].buffer_bytes
+        while size < len(pending) and used + pending[size][1].buffer_bytes <= BATCH_MEMORY:
+            used += pending[size][1].buffer_bytes
+            size += 1
+        order = [k for k, _ in pending[:size]]
+        group = [run for _, run in pending[:size]]
+        del pending[:size]  # the runs live in simulate_many only: each one's buffers go when it ends
+        for j, history in simulate_many(group):
+            yield order[j], history
 
 
 def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisError]]:

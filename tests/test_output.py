@@ -1,4 +1,4 @@
-"""Result writers (JSON, CSV, TOML, atomic) and the modal combination rules."""
+"""Result writers (output.py): JSON, the story and foundation CSV tables, TOML, atomic writes."""
 
 import csv
 import io
@@ -9,19 +9,22 @@ import numpy as np
 import pytest
 
 from upliftcli import output as results_module
-from upliftcli.engines.result import AnalysisResult, cqc, cqc_correlation, srss
-from upliftcli.output import results_document, to_csv, to_json, to_toml, write_results
+from upliftcli.engines.result import AnalysisResult
+from upliftcli.output import elements_csv, results_document, to_csv, to_json, to_toml, write_results
 
 
 def make_result(support="uplift", scale=1.0):
-    heights = np.array([3.0, 6.0, 9.0])
+    elevations = np.array([3.0, 6.0, 9.0])
     displacement = scale * np.array([0.01, 0.018, 0.024])
     drift = np.diff(np.concatenate(([0.0], displacement)))
+    peaks = {"displacement": displacement, "drift": drift, "drift_ratio": drift / 3.0,
+             "shear": scale * np.array([3e6, 2.2e6, 1.2e6]), "moment": scale * np.array([2.0e7, 1.0e7, 3.6e6]),
+             }
+    positions = np.array([-2.0, 2.0]) if support != "rigid" else np.zeros(0)
     return AnalysisResult(
-        engine="simplified", support=support, heights=heights, displacement=displacement, drift=drift,
-        drift_ratio=drift / 3.0, shear=scale * np.array([3e6, 2.2e6, 1.2e6]), moment=scale * np.array([2.0e7, 1.0e7, 3.6e6]),
-        base_shear=scale * 3e6, base_moment=scale * 2.0e7, critical_base_shear=1.5e6, critical_base_moment=1.2e7,
-        weight=9.80665 * 6e5, effective_height=7.0, uplift=support == "uplift", periods=np.array([0.5, 0.17, 0.1]),
+        engine="simplified", support=support, elevations=elevations, peaks=peaks, critical_base_shear=1.5e6,
+        critical_base_moment=1.2e7, weight=9.80665 * 6e5, effective_height=7.0, uplift=support == "uplift",
+        periods=np.array([0.5, 0.17, 0.1]), element_positions=positions,
         intermediates={"T1bar": 0.7, "V_n": [1.0, 2.0], "nan": float("nan")}, details={"warnings": []},
     )
 
@@ -34,8 +37,9 @@ def test_single_result_json_document_has_required_fields():
     assert document["base_shear_coefficient"] == pytest.approx(3e6 / (9.80665 * 6e5))
     assert document["uplift"] is True
     assert document["stories"][1] == pytest.approx(
-        {"story": 2, "height": 6.0, "displacement": 0.018, "drift": 0.008, "drift_ratio": 0.008 / 3, "shear": 2.2e6,
-         "moment": 1.0e7})
+        {"story": 2, "elevation": 6.0, "displacement": 0.018, "drift": 0.008, "drift_ratio": 0.008 / 3,
+         "shear": 2.2e6, "moment": 1.0e7})
+    assert document["elements"] == [{"element": 1, "position": -2.0}, {"element": 2, "position": 2.0}]
     assert document["intermediates"]["nan"] is None  # JSON has no NaN
 
 
@@ -51,6 +55,13 @@ def test_csv_long_format_round_trip():
     assert rows[4]["support"] == "uplift" and rows[4]["story"] == "2"
     assert float(rows[4]["shear_N"]) == pytest.approx(1.1e6)
     assert float(rows[0]["drift_ratio"]) == pytest.approx(0.01 / 3)
+    assert float(rows[5]["elevation_m"]) == 9.0
+
+
+def test_foundation_csv_has_one_row_per_element():
+    rows = list(csv.DictReader(io.StringIO(elements_csv([make_result("rigid"), make_result("uplift", 0.5)]))))
+    assert [(r["support"], r["element"], float(r["position_m"])) for r in rows] == [
+        ("uplift", "1", -2.0), ("uplift", "2", 2.0)]
 
 
 def test_toml_parses_back():
@@ -61,8 +72,9 @@ def test_toml_parses_back():
 
 def test_write_results_atomic(tmp_path):
     paths = write_results([make_result()], tmp_path / "out", "deck", "deck.toml", "A")
-    assert sorted(p.name for p in paths) == ["deck.csv", "deck.json", "deck.toml"]
-    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["deck.csv", "deck.json", "deck.toml"]
+    names = ["deck.csv", "deck.elements.csv", "deck.json", "deck.toml"]
+    assert sorted(p.name for p in paths) == names
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == names
 
 
 def test_write_results_failure_leaves_no_file(tmp_path, monkeypatch):
@@ -73,17 +85,3 @@ def test_write_results_failure_leaves_no_file(tmp_path, monkeypatch):
     with pytest.raises(RuntimeError):
         write_results([make_result()], tmp_path, "deck")
     assert list(tmp_path.iterdir()) == []
-
-
-def test_srss_and_cqc_limits():
-    peaks = np.array([[3.0, -1.0], [4.0, 2.0]])
-    np.testing.assert_allclose(srss(peaks), [5.0, np.sqrt(5.0)])
-    # identical frequencies and damping: fully correlated, the algebraic sum
-    np.testing.assert_allclose(cqc(peaks, np.array([10.0, 10.0]), 0.05), [7.0, 1.0])
-    # far apart: uncorrelated, SRSS
-    np.testing.assert_allclose(cqc(peaks, np.array([1.0, 1000.0]), 0.05), srss(peaks), rtol=1e-4)
-    rho = cqc_correlation(np.array([10.0, 11.0]), np.array([0.05, 0.05]))
-    # Der Kiureghian, equal damping: rho = 8 xi^2 (1 + r) r^1.5 / ((1 - r^2)^2 + 4 xi^2 r (1 + r)^2)
-    r, xi = 1.1, 0.05
-    expected = 8 * xi**2 * (1 + r) * r**1.5 / ((1 - r**2) ** 2 + 4 * xi**2 * r * (1 + r) ** 2)
-    assert rho[0, 1] == pytest.approx(expected, rel=1e-12)

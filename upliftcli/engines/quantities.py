@@ -1,0 +1,154 @@
+"""The one table of response quantities: name, where it lives, SI unit, meaning, how it is
+shown, which engines give it and its column in sweep rows.
+
+Everything that reports a result reads this table: the JSON, CSV and history writers
+(output.py), the terminal tables (cli/render.py), sweep rows and figures (sweep/), and the
+deck's `[criteria]` (deck_schema.py, analysis.check_criteria). An engine produces a
+quantity by putting its peaks under the quantity's name in AnalysisResult.peaks (and, for
+the history engines, the instants under AnalysisResult.times).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+#: where a quantity's values live: one per floor (1..N), per story (story j joins floor j-1
+#: and floor j) or per foundation contact element (left to right)
+FLOOR, STORY, ELEMENT = "floor", "story", "element"
+ALL_ENGINES = ("simplified", "approximate", "exact")
+HISTORY_ENGINES = ("approximate", "exact")
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A response quantity.
+
+    name: key in results, files and [criteria]; where: FLOOR, STORY or ELEMENT; unit: SI unit;
+    meaning: what it is, in words (its peak is reported); display: (unit, factor from SI, format) of the terminal tables;
+    engines: the engines that give it; column: sweep-row column of its largest value
+    (with its unit), or "" if the sweep rows do not carry it; criterion: whether [criteria]
+    may limit its largest value.
+    """
+
+    name: str
+    where: str
+    unit: str
+    meaning: str
+    display: tuple[str, float, str]
+    engines: tuple[str, ...] = ALL_ENGINES
+    column: str = ""
+    criterion: bool = True
+
+    @property
+    def heading(self) -> str:
+        """Terminal column heading with the display unit."""
+        return f"{self.name.replace('_', ' ')} [{self.display[0]}]"
+
+
+QUANTITIES: dict[str, Quantity] = {q.name: q for q in (
+    Quantity("displacement", FLOOR, "m", "floor displacement relative to the mat", ("mm", 1e3, ".2f"),
+             column="max_displacement_m"),
+    Quantity("drift", STORY, "m", "story drift u_j - u_(j-1)", ("mm", 1e3, ".2f")),
+    Quantity("drift_ratio", STORY, "-", "story drift ratio (drift / story height)", ("%", 100.0, ".3f"), column="max_drift_ratio"),
+    Quantity("shear", STORY, "N", "story shear (story 1: the base shear V_b [14a])", ("kN", 1e-3, ".1f"),
+             criterion=False),
+    Quantity("moment", STORY, "N m", "overturning moment at the bottom of the story (story 1: M_b [14b])",
+             ("kN m", 1e-3, ".1f"), criterion=False),
+)}
+
+
+@dataclass(frozen=True)
+class Scalar:
+    """A single-valued result: name, SI unit, meaning (the value is a property of AnalysisResult)."""
+
+    name: str
+    unit: str
+    meaning: str
+    column: str
+
+
+SCALARS: dict[str, Scalar] = {s.name: s for s in (
+    Scalar("base_shear", "N", "peak base shear V_b [14a]", "base_shear_N"),
+    Scalar("base_shear_coefficient", "-", "base shear coefficient V_b/(m_t g)", "base_shear_coefficient"),
+    Scalar("base_moment", "N m", "peak base overturning moment M_b [14b]", "base_moment_Nm"),
+    Scalar("base_moment_coefficient", "-", "base moment coefficient M_b/(m_t g h_1*)",
+           "base_moment_coefficient"),
+)}
+
+
+def quantities(where: str) -> list[Quantity]:
+    """The quantities that live per floor, per story or per element."""
+    return [q for q in QUANTITIES.values() if q.where == where]
+
+
+#: intermediate values an engineer checks by hand, name -> (unit, meaning): those of the
+#: simplified engine, then those of the response-history engines
+INTERMEDIATES: dict[str, tuple[str, str]] = {
+    "T_n": ("s", "fixed-base periods of the modes used"),
+    "Sa_n": ("m/s^2", "S_a(T_n, xi_n) of each mode, fixed base"),
+    "V_n": ("N", "modal base shear used in the combination [26, 28, 31]"),
+    "V_1+2": ("N", "modes 1 and 2 combined by the combination rule [35]"),
+    "m_n*/m_t": ("-", "effective modal mass ratios"),
+    "h_n*": ("m", "effective modal heights"),
+    "K_theta": ("N m/rad", "rocking stiffness of the foundation [22]"),
+    "C_theta": ("N m s/rad", "rocking damping of the foundation [25]"),
+    "T1": ("s", "fixed-base fundamental period"),
+    "T1bar": ("s", "effective period of the bonded system [21]"),
+    "T1bar/T1": ("-", "period lengthening"),
+    "xi1": ("-", "fixed-base damping of mode 1"),
+    "xi_f": ("-", "foundation damping [24]"),
+    "xi1bar": ("-", "effective damping of the bonded system [23]"),
+    "Sa1bar": ("m/s^2", "S_a(T1bar, xi1bar)"),
+    "V_c": ("N", "critical base shear m_t g b / h_1* [16a]"),
+    "M_c": ("N m", "critical base moment m_t g b [16b]"),
+    "V1_bonded": ("N", "mode-1 base shear without uplift m_1* S_a(T1bar, xi1bar) [26]"),
+    "V1_bonded/V_c": ("-", "> 1 means the mat lifts off (uplift) or pulls (bonded)"),
+    "r": ("m", "sqrt(h_1*^2 + b^2)"),
+    "zeta": ("-", "damping while uplifted [27]"),
+    "X0": ("-", "X before the decay factor"),
+    "X_factor": ("-", "decay factor on X"),
+    "X": ("-", "X of Eq. 28"),
+    "phi": ("rad", "phase angle [28b]"),
+    "V1_uplift": ("N", "mode-1 base shear with uplift [28a] or [29]"),
+    "n_modes": ("-", "fixed-base modes in the model"),
+    "time_step": ("s", "internal step h (exact step operator; crossings located inside it)"),
+    "criterion": ("-", "uplift criterion [4a] reaction or [4b] displacement"),
+    "rotation_inertia": ("kg m^2", "inertia of the mat rotation (0: first-order rocking constraint)"),
+    "samples": ("-", "history samples: every step plus every contact transition"),
+    "transitions": ("-", "contact transitions (lift-off and recontact of elements)"),
+    "base_shear_time": ("s", "time of the peak base shear"),
+    "base_moment_time": ("s", "time of the peak base moment"),
+    "uplift_time": ("s", "total time with at least one element lifted"),
+    "episodes": ("-", "uplift episodes (contact lost after full contact)"),
+    "max_rotation": ("rad", "largest mat rotation |theta|"),
+    "max_uplift_left": ("m", "largest gap under the left edge"),
+    "max_uplift_right": ("m", "largest gap under the right edge"),
+    "min_reaction": ("N", "smallest reaction of an element in contact (< 0: tension)"),
+    "energy_residual": ("-", "energy balance residual / input energy"),
+}
+
+#: unit -> suffix of a column name ("max_drift_ratio", "shear_N", "floor_acceleration_m_s2")
+_SUFFIXES = {"-": "", "m": "_m", "N": "_N", "N m": "_Nm", "m/s^2": "_m_s2", "s": "_s", "rad": "_rad"}
+
+
+def column_name(name: str, unit: str) -> str:
+    """A file column name that carries its unit: ('shear', 'N') -> 'shear_N'."""
+    return name + _SUFFIXES[unit]
+
+
+#: response histories written by --histories (besides one column per floor, story or element
+#: of the quantities in HISTORY_QUANTITIES): name -> unit
+HISTORY_SIGNALS: dict[str, str] = {
+    "time": "s", "ground_acceleration": "m/s^2", "base_shear": "N", "base_moment": "N m",
+    "roof_displacement": "m", "theta": "rad", "v": "m", "left_edge_displacement": "m",
+    "right_edge_displacement": "m", "contact_state": "bitmask: bit i set = element i lifted",
+}
+#: quantities written as histories, one column "<name>_<floor, story or element number>"
+HISTORY_QUANTITIES = ("drift",)
+
+
+def history_unit(column: str) -> str:
+    """Unit of a --histories column ('drift_3' -> 'm')."""
+    if column in HISTORY_SIGNALS:
+        return HISTORY_SIGNALS[column]
+    return QUANTITIES[column.rsplit("_", 1)[0]].unit

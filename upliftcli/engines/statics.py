@@ -1,0 +1,69 @@
+"""Statics shared by every engine (docs/theory.md section 5, paper Eqs. 13-14, 32-34).
+
+- Story maps: linear maps from floor forces to story shears and overturning moments, and
+  from floor displacements to story drifts. The simplified engine applies them to each
+  mode's equivalent lateral forces [32]; the history engines to the modal forces of Y*.
+- Reactions of a rigid mat on its contact elements under its weight and an overturning
+  moment, with the elements bilateral (bonded) or unable to pull (uplift).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model.building import Building
+
+
+@dataclass(frozen=True)
+class StoryMaps:
+    """shear (N, N): V = shear @ f, V_j = sum_(i >= j) f_i [N];
+    moment (N, N): M = moment @ f, M_j = sum_(i >= j) f_i (h_i - h_(j-1)) [N m] about the
+    bottom of story j; drift (N, N): Delta = drift @ u, Delta_j = u_j - u_(j-1) [m]."""
+
+    shear: np.ndarray
+    moment: np.ndarray
+    drift: np.ndarray
+
+
+def story_maps(building: Building) -> StoryMaps:
+    """The story maps of a building (floor 0, the mat, at elevation 0)."""
+    n = building.n_stories
+    above = np.triu(np.ones((n, n)))  # above[j, i] = 1 for floors i >= j
+    base_of_story = np.concatenate(([0.0], building.heights[:-1]))
+    lever = np.clip(building.heights[None, :] - base_of_story[:, None], 0.0, None) * above
+    drift = np.eye(n) - np.eye(n, k=-1)
+    return StoryMaps(above, lever, drift)
+
+
+def static_reactions(positions: np.ndarray, stiffness: np.ndarray, weight: float, moment: float,
+                     tension: bool) -> np.ndarray:
+    """Upward reactions R_i [N] of contact elements (positions x_i [m], stiffnesses k_i [N/m])
+    under a rigid mat carrying its weight W [N] and an overturning moment M [N m] (positive:
+    pressing the side x > 0): R_i = k_i (d + x_i phi) with sum R_i = W and sum x_i R_i = M.
+
+    tension=False (a mat that may lift off): elements that would pull are dropped and the
+    rest solved again until none pulls; when M exceeds what the outermost element can take
+    (W |x|: the mat tips, no static solution) that element carries the whole weight."""
+    x = np.asarray(positions, dtype=float)
+    k = np.asarray(stiffness, dtype=float)
+    active = np.ones(x.size, dtype=bool)
+    while True:
+        ka, xa = k[active], x[active]
+        if np.ptp(xa) == 0.0:  # one element (or several at one point) left: it takes the weight
+            return np.where(active, weight * k / ka.sum(), 0.0)
+        matrix = np.array([[ka.sum(), (ka * xa).sum()], [(ka * xa).sum(), (ka * xa**2).sum()]])
+        d, phi = np.linalg.solve(matrix, [weight, moment])
+        reactions = np.where(active, k * (d + x * phi), 0.0)
+        if tension or reactions.min() >= -1e-12 * weight:
+            return np.maximum(reactions, 0.0) if not tension else reactions
+        # drop the pulling elements on the far side of the moment and solve again
+        active &= reactions > 0.0
+
+
+def largest_compression(positions: np.ndarray, stiffness: np.ndarray, weight: float, moment: float,
+                        tension: bool) -> np.ndarray:
+    """Largest reaction of each element [N] when the moment |M| [N m] acts either way."""
+    return np.maximum(static_reactions(positions, stiffness, weight, abs(moment), tension),
+                      static_reactions(positions, stiffness, weight, -abs(moment), tension))
