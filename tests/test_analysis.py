@@ -49,3 +49,16 @@ def test_criteria(deck):
     assert any("lifts off" in m for m in messages)
     assert sum("base_shear_coefficient" in m for m in messages) == 2  # rigid 0.78, bonded 0.42 > 0.3 > uplift 0.15
     assert check_criteria(results, {"uplift": True}) == []
+
+
+def test_criteria_on_floor_accelerations_and_reactions(deck):
+    """Every quantity of engines/quantities.py with criterion=True is a [criteria] field."""
+    results = run(deck)
+    accel = max(float(r.floor_acceleration.max()) for r in results)
+    reaction = max(float(r.reaction.max(initial=0.0)) for r in results)
+    assert check_criteria(results, {"floor_acceleration": accel * 1.001, "reaction": reaction * 1.001}) == []
+    messages = check_criteria(results, {"floor_acceleration": accel * 0.999, "reaction": reaction * 0.999})
+    assert any("floor_acceleration" in m and "[m/s^2]" in m for m in messages)
+    assert any("reaction" in m and "[N]" in m for m in messages)
+    deck_with_limit = load_deck(EXAMPLE, ["criteria.floor_acceleration=1.0"])
+    assert deck_with_limit.criteria == {"drift_ratio": 0.02, "floor_acceleration": 1.0}

@@ -19,7 +19,8 @@ def make_result(support="uplift", scale=1.0):
     drift = np.diff(np.concatenate(([0.0], displacement)))
     peaks = {"displacement": displacement, "drift": drift, "drift_ratio": drift / 3.0,
              "shear": scale * np.array([3e6, 2.2e6, 1.2e6]), "moment": scale * np.array([2.0e7, 1.0e7, 3.6e6]),
-             }
+             "floor_acceleration": scale * np.array([2.0, 3.0, 4.5]),
+             "reaction": scale * np.array([4.0e6, 5.0e6]) if support != "rigid" else np.zeros(0)}
     positions = np.array([-2.0, 2.0]) if support != "rigid" else np.zeros(0)
     return AnalysisResult(
         engine="simplified", support=support, elevations=elevations, peaks=peaks, critical_base_shear=1.5e6,
@@ -38,8 +39,10 @@ def test_single_result_json_document_has_required_fields():
     assert document["uplift"] is True
     assert document["stories"][1] == pytest.approx(
         {"story": 2, "elevation": 6.0, "displacement": 0.018, "drift": 0.008, "drift_ratio": 0.008 / 3,
-         "shear": 2.2e6, "moment": 1.0e7})
-    assert document["elements"] == [{"element": 1, "position": -2.0}, {"element": 2, "position": 2.0}]
+         "shear": 2.2e6, "moment": 1.0e7, "floor_acceleration": 3.0})
+    assert document["elements"] == [{"element": 1, "position": -2.0, "reaction": 4.0e6},
+                                    {"element": 2, "position": 2.0, "reaction": 5.0e6}]
+    assert document["units"]["floor_acceleration"] == "m/s^2" and document["units"]["reaction"] == "N"
     assert document["intermediates"]["nan"] is None  # JSON has no NaN
 
 
@@ -55,13 +58,14 @@ def test_csv_long_format_round_trip():
     assert rows[4]["support"] == "uplift" and rows[4]["story"] == "2"
     assert float(rows[4]["shear_N"]) == pytest.approx(1.1e6)
     assert float(rows[0]["drift_ratio"]) == pytest.approx(0.01 / 3)
+    assert float(rows[5]["floor_acceleration_m_s2"]) == pytest.approx(0.5 * 4.5)
     assert float(rows[5]["elevation_m"]) == 9.0
 
 
 def test_foundation_csv_has_one_row_per_element():
     rows = list(csv.DictReader(io.StringIO(elements_csv([make_result("rigid"), make_result("uplift", 0.5)]))))
-    assert [(r["support"], r["element"], float(r["position_m"])) for r in rows] == [
-        ("uplift", "1", -2.0), ("uplift", "2", 2.0)]
+    assert [(r["support"], r["element"], float(r["position_m"]), float(r["reaction_N"])) for r in rows] == [
+        ("uplift", "1", -2.0, 2.0e6), ("uplift", "2", 2.0, 2.5e6)]
 
 
 def test_toml_parses_back():

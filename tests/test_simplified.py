@@ -289,3 +289,23 @@ def test_srss_and_cqc_limits():
     r, xi = 1.1, 0.05
     expected = 8 * xi**2 * (1 + r) * r**1.5 / ((1 - r**2) ** 2 + 4 * xi**2 * r * (1 + r) ** 2)
     assert rho[0, 1] == pytest.approx(expected, rel=1e-12)
+
+
+def test_floor_accelerations_are_modal_pseudo_accelerations_combined():
+    """a_jn = Gamma_n phi_jn S_a(T_n, xi_n), combined by SRSS over the modes (rigid base)."""
+    system = paper_system(1.0)
+    result = analyze(system, ConstantSpectrum(3.0), "rigid")
+    modes = system.modes
+    modal = modes.participation_h[None, :] * modes.shapes * 3.0  # (floors, modes), Gamma phi S_a
+    np.testing.assert_allclose(result.peaks["floor_acceleration"], np.sqrt((modal**2).sum(axis=1)), rtol=1e-12)
+
+
+def test_reactions_are_the_statics_of_the_weight_and_the_base_moment():
+    system = paper_system(1.0)
+    weight, b = system.weight, system.half_width
+    bonded = analyze(system, ConstantSpectrum(3.0), "bonded")
+    np.testing.assert_allclose(bonded.peaks["reaction"], weight / 2 + bonded.base_moment / (2 * b), rtol=1e-12)
+    uplift = analyze(system, ConstantSpectrum(30.0), "uplift")
+    assert uplift.uplift and uplift.base_moment > system.critical_base_moment
+    np.testing.assert_allclose(uplift.peaks["reaction"], [weight, weight], rtol=1e-12)  # the mat tips
+    assert analyze(system, ConstantSpectrum(3.0), "rigid").peaks["reaction"].size == 0

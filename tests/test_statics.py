@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
-from upliftcli.engines.statics import story_maps
+from upliftcli.engines.statics import largest_compression, static_reactions, story_maps
 from upliftcli.model.building import shear_building
 
 
@@ -16,3 +17,33 @@ def test_story_maps_by_hand():
     # about the bottom of story 1 (z = 0), 2 (z = 4) and 3 (z = 7); floors at 4, 7, 10 m
     np.testing.assert_allclose(maps.moment @ forces, [1 * 4 + 2 * 7 + 3 * 10, 2 * 3 + 3 * 6, 3 * 3])
     np.testing.assert_allclose(maps.drift @ np.array([0.1, 0.25, 0.3]), [0.1, 0.15, 0.05])
+
+
+def test_two_elements_bonded_uplift_and_tipping():
+    x, k, weight, b = np.array([-2.0, 2.0]), np.array([5.0, 5.0]), 100.0, 2.0
+    np.testing.assert_allclose(static_reactions(x, k, weight, 0.0, tension=True), [50.0, 50.0])
+    np.testing.assert_allclose(static_reactions(x, k, weight, 80.0, tension=True), [30.0, 70.0])
+    # M = W b: the left edge just unloads; beyond, a bonded mat pulls, an uplifting one tips
+    np.testing.assert_allclose(static_reactions(x, k, weight, weight * b, tension=False), [0.0, 100.0], atol=1e-12)
+    np.testing.assert_allclose(static_reactions(x, k, weight, 300.0, tension=True), [-25.0, 125.0])
+    np.testing.assert_allclose(static_reactions(x, k, weight, 300.0, tension=False), [0.0, 100.0])
+    np.testing.assert_allclose(largest_compression(x, k, weight, 80.0, tension=True), [70.0, 70.0])
+
+
+def test_winkler_strip_partly_lifted_gives_the_triangular_pressure():
+    """Uniform springs under W at eccentricity e = M/W > b/3: contact over 3 (b - e) from the
+    pressed edge, triangular pressure peaking at 2 W / (3 (b - e)) [N/m]."""
+    n, b, weight = 4000, 1.0, 1.0
+    dx = 2 * b / n
+    x = -b + dx * (np.arange(n) + 0.5)
+    e = 0.5
+    reactions = static_reactions(x, np.ones(n), weight, weight * e, tension=False)
+    assert reactions.sum() == pytest.approx(weight, rel=1e-12)
+    assert (reactions * x).sum() == pytest.approx(weight * e, rel=1e-12)
+    contact = x[reactions > 0]
+    assert contact.min() == pytest.approx(b - 3 * (b - e), abs=2 * dx)
+    assert reactions.max() / dx == pytest.approx(2 * weight / (3 * (b - e)), rel=2e-3)
+    # e < b/3 (inside the kern): all in contact, trapezoid W/(2b) (1 +- 3 e / b)
+    reactions = static_reactions(x, np.ones(n), weight, weight * 0.2, tension=False)
+    assert np.all(reactions > 0)
+    assert reactions.max() / dx == pytest.approx(weight / (2 * b) * (1 + 3 * 0.2), rel=2e-3)

@@ -127,6 +127,10 @@ def test_rows_equal_single_analyses(small_plan, serial_rows):
         assert row["base_shear_coefficient"] == result.base_shear_coefficient
         assert row["max_drift_ratio"] == float(np.max(result.drift_ratio))
         assert row["max_drift_story"] == int(np.argmax(result.drift_ratio)) + 1
+        assert row["max_floor_acceleration_m_s2"] == float(np.max(result.floor_acceleration))
+        assert row["max_reaction_N"] == (float(np.max(result.reaction)) if case.support != "rigid" else 0.0)
+        assert row.get("max_impact_N") == (float(np.max(result.impact, initial=0.0))
+                                          if case.engine != "simplified" else None)
         assert row["uplift"] is bool(result.uplift)
         assert row["T1_s"] == pytest.approx(dict(case.overrides)["building.period"], rel=1e-9)
         assert row["violations"] == "; ".join(

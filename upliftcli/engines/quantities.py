@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..units import STANDARD_GRAVITY
+
 #: where a quantity's values live: one per floor (1..N), per story (story j joins floor j-1
 #: and floor j) or per foundation contact element (left to right)
 FLOOR, STORY, ELEMENT = "floor", "story", "element"
@@ -54,6 +56,12 @@ QUANTITIES: dict[str, Quantity] = {q.name: q for q in (
              criterion=False),
     Quantity("moment", STORY, "N m", "overturning moment at the bottom of the story (story 1: M_b [14b])",
              ("kN m", 1e-3, ".1f"), criterion=False),
+    Quantity("floor_acceleration", FLOOR, "m/s^2", "absolute floor acceleration (relative acceleration plus "
+             "ground acceleration)", ("g", 1.0 / STANDARD_GRAVITY, ".3f"), column="max_floor_acceleration_m_s2"),
+    Quantity("reaction", ELEMENT, "N", "largest compression of the foundation element (upward reaction on the "
+             "mat)", ("kN", 1e-3, ".1f"), column="max_reaction_N"),
+    Quantity("impact", ELEMENT, "N", "largest element compression at a recontact (the impact of the mat)",
+             ("kN", 1e-3, ".1f"), engines=HISTORY_ENGINES, column="max_impact_N", criterion=False),
 )}
 
 
@@ -144,7 +152,7 @@ HISTORY_SIGNALS: dict[str, str] = {
     "right_edge_displacement": "m", "contact_state": "bitmask: bit i set = element i lifted",
 }
 #: quantities written as histories, one column "<name>_<floor, story or element number>"
-HISTORY_QUANTITIES = ("drift",)
+HISTORY_QUANTITIES = ("drift", "floor_acceleration", "reaction")
 
 
 def history_unit(column: str) -> str:

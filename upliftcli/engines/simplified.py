@@ -27,7 +27,7 @@ from ..model.system import System
 from .options import SimplifiedOptions
 from .registry import check_support
 from .result import AnalysisResult
-from .statics import story_maps
+from .statics import largest_compression, story_maps
 
 
 def srss(modal_peaks: np.ndarray) -> np.ndarray:
@@ -163,7 +163,7 @@ def _uplift(system: System, props: dict, v1_bonded: float, sa1bar: float, option
 def modal_static_response(system: System, modal_base_shears: np.ndarray, n_modes: int) -> dict[str, np.ndarray]:
     """Per-mode peaks (modes x floors) from modal base shears: equivalent lateral forces [32],
     story shears and overturning moments by statics (engines/statics.py), floor displacements
-    [33], drifts [34] and drift ratios."""
+    [33], drifts [34], drift ratios and absolute floor accelerations f_jn / m_j."""
     building, modes = system.building, system.modes
     phi = modes.shapes[:, :n_modes]
     shares = building.masses[:, None] * phi / modes.participation_h[:n_modes]  # m_j phi_jn / L_n
@@ -173,7 +173,7 @@ def modal_static_response(system: System, modal_base_shears: np.ndarray, n_modes
     drift = displacement @ maps.drift.T  # [34]
     return {"forces": forces, "displacement": displacement, "drift": drift,
             "drift_ratio": drift / building.story_heights, "shear": forces @ maps.shear.T,
-            "moment": forces @ maps.moment.T}
+            "moment": forces @ maps.moment.T, "floor_acceleration": forces / building.masses[None, :]}
 
 
 def analyze(system: System, spectrum, support: str, options: SimplifiedOptions = SimplifiedOptions()) -> AnalysisResult:
@@ -223,6 +223,10 @@ def analyze(system: System, spectrum, support: str, options: SimplifiedOptions =
         two = base_shears[:2]
         inter["V_1+2"] = float(srss(two) if options.combination == "srss" else cqc(two, omega_corr[:2], damping_corr[:2]))
     elements = None if support == "rigid" else system.foundation.contact_elements(system.half_width)
+    # quasi-static reactions under W and the peak M_b either way (no vertical inertia: impacts
+    # are the history engines'); the uplifting mat's elements cannot pull
+    peaks["reaction"] = np.zeros(0) if elements is None else largest_compression(
+        elements.positions, elements.stiffness, system.weight, float(peaks["moment"][0]), support == "bonded")
     return AnalysisResult.of(system, "simplified", support, peaks, uplift=uplift, periods=periods,
                              elements=elements, intermediates=inter,
                              details={"options": asdict(options), "warnings": warnings,

@@ -1,5 +1,5 @@
-"""Response quantities of a simulated history: peaks between samples, uplift summary and the
-histories themselves; the energy balance is energy.py.
+"""Response quantities of a simulated history: peaks between samples, reactions and impacts,
+uplift summary and the histories themselves; the energy balance is energy.py.
 
 Everything is read off a few linear functionals of the state ("signals"), built from the
 maps the state-space model already holds (History.space): the modal coordinates Y*, their
@@ -7,9 +7,12 @@ rates and second rates, theta, v, the ground acceleration, the input force rate,
 element's displacement, velocity and relaxed top z_i. With X' = A X each signal's exact
 time derivative at a sample is one more row, so:
 - responses (paper Eqs. 12-14: floor displacements u = sum Y_n* phi_n*, drifts, story
-  shears and overturning moments by statics (engines/statics.py)) and their peaks between
+  shears and overturning moments by statics (engines/statics.py), absolute floor
+  accelerations -sum phi_n* (w_n^2 Y_n* + 2 xi_n w_n Y_n*') [11a]) and their peaks between
   samples come from the quintic Hermite interpolant through the sampled values and exact
-  first and second derivatives (O(h^6) between samples).
+  first and second derivatives (O(h^6) between samples);
+- element reactions R_i = -(k_i v_i + c_i v_i') [3a] are searched between samples on the
+  cubic Hermite interpolant of each contact interval (O(h^4)).
 """
 
 from __future__ import annotations
@@ -34,13 +37,16 @@ _STORY_AND_FLOOR = ("displacement", "drift", "shear", "moment")
 @dataclass(frozen=True)
 class ResponseRows:
     """Maps from the modal coordinates to floor and story responses, each (N, n_m):
-    displacement, drift, shear, moment per unit Y*; modal_base_shear diag(w^2 m*) (n_m, n_m)."""
+    displacement, drift, shear, moment per unit Y*; modal_base_shear diag(w^2 m*) (n_m, n_m);
+    the absolute floor acceleration is acceleration @ Y* + acceleration_rate @ Y*'."""
 
     displacement: np.ndarray
     drift: np.ndarray
     shear: np.ndarray
     moment: np.ndarray
     modal_base_shear: np.ndarray
+    acceleration: np.ndarray
+    acceleration_rate: np.ndarray
 
 
 def response_rows(system: System, history: History) -> ResponseRows:
@@ -51,7 +57,8 @@ def response_rows(system: System, history: History) -> ResponseRows:
     forces = building.masses[:, None] * shapes * model.omega**2
     maps = story_maps(building)
     return ResponseRows(shapes, maps.drift @ shapes, maps.shear @ forces, maps.moment @ forces,
-                        np.diag(forces.sum(axis=0)))
+                        np.diag(forces.sum(axis=0)), -shapes * model.omega**2,
+                        -shapes * (2.0 * model.damping * model.omega))
 
 
 @dataclass
@@ -155,6 +162,78 @@ def time_at(history: History, location: float) -> float:
     return float(history.times[i] + (location - i) * (history.times[i + 1] - history.times[i]))
 
 
+def element_reactions(history: History, sig: Signals) -> tuple[np.ndarray, np.ndarray]:
+    """Reactions R_i = -(k_i v_i + c_i v_i') [3a] at the samples (0 where lifted) and their
+    rates, (n, n_e) each."""
+    space = history.space
+    k, c = space.element_stiffness, space.element_damping
+    lifted = history.lifted
+    velocity = sig["element_velocity"]
+    acceleration = sig.slopes[:, sig.rows["element_velocity"]]
+    force = sig["element_displacement"] * k + velocity * c
+    return np.where(lifted, 0.0, -force), np.where(lifted, 0.0, -(velocity * k + acceleration * c))
+
+
+def reaction_peaks(history: History, sig: Signals) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Largest compression of each element between samples (cubic Hermite interpolant of R in
+    each interval the element is in contact) and the largest at a recontact (the impact: the
+    reaction right after the edge comes down onto the element); (peaks [N], times [s]) each."""
+    n_e = history.space.layout.n_elements
+    if not n_e:
+        return {"reaction": (np.zeros(0), np.zeros(0)), "impact": (np.zeros(0), np.zeros(0))}
+    reactions, rates = element_reactions(history, sig)
+    lifted = history.lifted
+    times, lengths = history.times, history.lengths
+    space = history.space
+    # right ends of the intervals: left limits where the interval ends at a transition
+    r1, d1 = reactions[1:].copy(), rates[1:].copy()
+    ends = sig.switch >= 0
+    if ends.any():
+        fix = sig.switch[ends]
+        v = sig.end_values[fix][:, sig.rows["element_displacement"]]
+        vel = sig.end_values[fix][:, sig.rows["element_velocity"]]
+        acc = sig.end_slopes[fix][:, sig.rows["element_velocity"]]
+        r1[ends] = -(v * space.element_stiffness + vel * space.element_damping)
+        d1[ends] = -(vel * space.element_stiffness + acc * space.element_damping)
+    contact = ~lifted[:-1]
+    r1 = np.where(contact, r1, 0.0)
+    d1 = np.where(contact, d1, 0.0)
+    value, fraction = _cubic_maximum(reactions[:-1], r1, rates[:-1] * lengths[:, None], d1 * lengths[:, None])
+    value = np.where(contact, value, 0.0)
+    interval = np.argmax(value, axis=0)
+    columns = np.arange(n_e)
+    peak = np.maximum(value[interval, columns], 0.0)
+    when = times[interval] + fraction[interval, columns] * lengths[interval]
+    recontact = lifted[:-1] & ~lifted[1:]  # sample i + 1 starts a contact
+    at_impact = np.where(recontact, reactions[1:], -np.inf)
+    sample = np.argmax(at_impact, axis=0)
+    hit = recontact.any(axis=0)
+    impact = np.where(hit, np.maximum(at_impact[sample, columns], 0.0), 0.0)
+    return {"reaction": (peak, when), "impact": (impact, np.where(hit, times[sample + 1], np.nan))}
+
+
+def _cubic_maximum(p0, p1, d0, d1):
+    """Largest value of the cubic Hermite p(s), s in [0, 1], with p(0) = p0, p(1) = p1,
+    p'(0) = d0, p'(1) = d1 (slopes times the interval length), elementwise; (value, s)."""
+    a = 2.0 * (p0 - p1) + d0 + d1
+    b = 3.0 * (p1 - p0) - 2.0 * d0 - d1
+    best = np.maximum(p0, p1)
+    where = np.where(p1 > p0, 1.0, 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        disc = b * b - 3.0 * a * d0
+        root = np.sqrt(np.maximum(disc, 0.0))
+        quadratic = np.abs(a) > 1e-14 * (np.abs(b) + np.abs(d0))
+        candidates = [np.where(quadratic, (-b + root) / (3.0 * a), np.where(b != 0.0, -d0 / (2.0 * b), -1.0)),
+                      np.where(quadratic, (-b - root) / (3.0 * a), -1.0)]
+    for s in candidates:
+        inside = (s > 0.0) & (s < 1.0) & (disc >= 0.0)
+        value = ((a * s + b) * s + d0) * s + p0
+        better = inside & (value > best)
+        best = np.where(better, value, best)
+        where = np.where(better, s, where)
+    return best, where
+
+
 def uplift_summary(history: History, sig: Signals) -> dict:
     """Episodes, time uplifted, maximum edge uplift, rotation, minimum reaction (docs/theory.md section 4)."""
     space = history.space
@@ -187,7 +266,7 @@ def uplift_summary(history: History, sig: Signals) -> dict:
 
 def histories(system: System, history: History, rows: ResponseRows, sig: Signals) -> dict[str, np.ndarray]:
     """Time histories at every sample (SI units) for --histories (engines/quantities.HISTORIES)."""
-    y = sig["Y"]
+    y, ydot = sig["Y"], sig["Ydot"]
     out = {
         "time": history.times,
         "ground_acceleration": sig["a"][:, 0],
@@ -203,15 +282,22 @@ def histories(system: System, history: History, rows: ResponseRows, sig: Signals
         patterns = np.array([sum(int(f) << i for i, f in enumerate(c.lifted)) for c in history.contact])
         out["contact_state"] = patterns[history.state_ids]
     drifts = y @ rows.drift.T
+    accelerations = y @ rows.acceleration.T + ydot @ rows.acceleration_rate.T
     for j in range(system.building.n_stories):
         out[f"drift_{j + 1}"] = drifts[:, j]
+    for j in range(system.building.n_stories):
+        out[f"floor_acceleration_{j + 1}"] = accelerations[:, j]
+    if history.space.layout.n_elements:
+        reactions, _ = element_reactions(history, sig)
+        for i in range(reactions.shape[1]):
+            out[f"reaction_{i + 1}"] = reactions[:, i]
     return out
 
 
 def summarize(system: System, history: History, support: str, engine: str, options: ExactOptions
               ) -> AnalysisResult:
-    """Peak responses with their instants, uplift summary, energy balance and (optionally)
-    histories of one run."""
+    """Peak responses with their instants, reactions and impacts, uplift summary, energy
+    balance and (optionally) histories of one run."""
     space = history.space
     model = space.model
     rows = response_rows(system, history)
@@ -228,11 +314,19 @@ def summarize(system: System, history: History, support: str, engine: str, optio
     periods = np.concatenate((np.full(4 * n, governing), mode_periods, np.maximum(mode_periods, governing)))
     lengths = history.lengths
     peaks, where = hermite_peaks(sig, stacked, lengths, periods)
+    # accelerations weigh the higher modes by w_n^2: search with the shortest mode period too
+    acceleration, acceleration_where = hermite_peaks(sig, rows.acceleration, lengths,
+                                                     np.full(n, min(governing, mode_periods.min())),
+                                                     rows.acceleration_rate)
     values = {name: peaks[k * n:(k + 1) * n] for k, name in enumerate(_STORY_AND_FLOOR)}
     instants = {name: np.array([time_at(history, w) for w in where[k * n:(k + 1) * n]])
                 for k, name in enumerate(_STORY_AND_FLOOR)}
     values["drift_ratio"] = values["drift"] / system.building.story_heights
     instants["drift_ratio"] = instants["drift"]
+    values["floor_acceleration"] = acceleration
+    instants["floor_acceleration"] = np.array([time_at(history, w) for w in acceleration_where])
+    for name, (peak, when) in reaction_peaks(history, sig).items():
+        values[name], instants[name] = peak, when
     summary = uplift_summary(history, sig)
     uplifted = bool(history.lifted.any()) if space.layout.n_elements else False
     energy = energy_balance(history, sig)
