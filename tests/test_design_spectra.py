@@ -149,7 +149,8 @@ def test_multiperiod_from_mapping_and_errors(tmp_path):
     deck = str(tmp_path / "deck.toml")
     spectrum = from_mapping({"type": "asce7-multiperiod", "sa": MULTI}, deck)
     assert isinstance(spectrum, ASCE7MultiPeriodSpectrum)
-    (tmp_path / "usgs.csv").write_text("T,Sa\n" + "".join(f"{t},{v}\n" for t, v in zip(USGS_PERIODS, MULTI)))
+    rows = "".join(f"{t},{v}\n" for t, v in zip(USGS_PERIODS, MULTI, strict=True))
+    (tmp_path / "usgs.csv").write_text("T,Sa\n" + rows)
     from_file = from_mapping({"type": "asce7-multiperiod", "file": "usgs.csv", "sds": 1.0, "sd1": 0.7}, deck)
     np.testing.assert_allclose(from_file.ordinates, MULTI)
     with pytest.raises(InputError, match=r"deck\.toml: spectrum\.sa: the 22 ordinates"):
@@ -182,4 +183,5 @@ def test_table_damping_correction_default_is_given_by_the_caller():
     table = {"type": "table", "periods": [0.0, 1.0], "sa": [0.4, 1.0], "damping": 0.05}
     assert from_mapping(table, "deck.toml").damping_correction == "ec8"
     assert from_mapping(table, "deck.toml", default_correction="asce").damping_correction == "asce"
-    assert from_mapping({**table, "damping_correction": "ec8"}, "d", default_correction="asce").damping_correction == "ec8"
+    explicit = from_mapping({**table, "damping_correction": "ec8"}, "d", default_correction="asce")
+    assert explicit.damping_correction == "ec8"
