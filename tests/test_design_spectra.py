@@ -9,12 +9,16 @@ import pytest
 
 from upliftcli.errors import InputError
 from upliftcli.motion.design_spectra import (
+    USGS_PERIODS,
+    ASCE7MultiPeriodSpectrum,
     ASCE7Spectrum,
     EC8Spectrum,
     TabulatedSpectrum,
     asce_damping_coefficient,
     ec8_damping_correction,
     from_mapping,
+    procedure_warning,
+    spectrum_warnings,
 )
 
 G = 9.80665
@@ -55,8 +59,9 @@ def test_ec8_type2_ground_d_and_damping_correction():
     np.testing.assert_allclose(spectrum.sa([0.0, 0.2, 0.6, 3.0], 0.10) / G, hand, rtol=1e-12)
     assert float(ec8_damping_correction(0.5)) == 0.55  # lower bound
     assert float(ec8_damping_correction(0.05)) == 1.0
-    with pytest.raises(InputError, match="period: periods within 0 to 4 s"):
-        spectrum.sa([5.0], 0.05)
+    # beyond the 4 s of EN 1998-1 3.2.2.2 Eq. 3.5 is continued: constant spectral displacement
+    sd = spectrum.sa([4.0, 6.0, 10.0], 0.10) * (np.array([4.0, 6.0, 10.0]) / (2 * math.pi)) ** 2
+    np.testing.assert_allclose(sd, ag_s * G * 2.5 * eta * 0.3 * 1.2 / (4 * math.pi**2), rtol=1e-12)
 
 
 def test_tabulated_spectrum_interpolation_damping_and_range():
@@ -103,3 +108,80 @@ def test_table_file_errors_name_the_line(tmp_path):
     (tmp_path / "bad.csv").write_text("T,Sa\n0.1,0.5\n0.2,abc\n")
     with pytest.raises(InputError, match=r"bad\.csv: line 3"):
         from_mapping({"type": "table", "file": "bad.csv", "damping": 0.05}, str(tmp_path / "deck.toml"))
+
+
+# ----------------------------------------------------------------------------- ASCE 7-22 multi-period
+
+#: an illustrative multi-period design spectrum [g] at the 22 USGS periods
+MULTI = [0.40, 0.40, 0.40, 0.42, 0.52, 0.66, 0.78, 0.92, 1.00, 1.04, 1.06, 1.05, 1.00, 0.85, 0.70, 0.52,
+         0.41, 0.27, 0.19, 0.14, 0.075, 0.045]
+
+
+def test_usgs_periods_are_the_22_of_the_design_service():
+    assert len(USGS_PERIODS) == 22 and USGS_PERIODS[0] == 0.0 and USGS_PERIODS[-1] == 10.0
+    assert USGS_PERIODS[:6] == (0.0, 0.01, 0.02, 0.03, 0.05, 0.075) and 0.75 in USGS_PERIODS and 7.5 in USGS_PERIODS
+
+
+def test_multiperiod_ordinates_interpolation_and_range():
+    spectrum = ASCE7MultiPeriodSpectrum(MULTI)
+    np.testing.assert_allclose(spectrum.sa(list(USGS_PERIODS), 0.05) / G, MULTI, rtol=1e-12)
+    # linear in T between ordinates: halfway between 1 s (0.70) and 1.5 s (0.52)
+    assert float(spectrum.sa(1.25, 0.05)) / G == pytest.approx(0.61, rel=1e-12)
+    assert spectrum.period_range == (0.0, 10.0)
+    with pytest.raises(InputError, match=r"period: periods within 0 to 10 s .* got 12 s"):
+        spectrum.sa([12.0], 0.05)
+
+
+def test_multiperiod_sds_sd1_from_asce7_22_21_4_and_damping_ramp():
+    spectrum = ASCE7MultiPeriodSpectrum(MULTI)
+    # S_DS = 0.9 max S_a(0.2-5 s) = 0.9 x 1.06; S_D1 = max(0.9 max T S_a(1-5 s), S_a(1 s)) = 0.9 x 2 x 0.41
+    assert spectrum.sds == pytest.approx(0.954) and spectrum.sd1 == pytest.approx(0.738)
+    t0 = 0.2 * 0.738 / 0.954
+    assert spectrum.t0 == pytest.approx(t0)
+    b = float(asce_damping_coefficient(0.15) / asce_damping_coefficient(0.05))
+    ratio = spectrum.sa([0.0, 0.5 * t0, t0, 0.5, 3.0], 0.15) / spectrum.sa([0.0, 0.5 * t0, t0, 0.5, 3.0], 0.05)
+    np.testing.assert_allclose(ratio, [1.0, 0.5 * (1 + 1 / b), 1 / b, 1 / b, 1 / b], rtol=1e-12)
+    given = ASCE7MultiPeriodSpectrum(MULTI, sds=1.0, sd1=0.6)
+    assert given.t0 == pytest.approx(0.12)
+
+
+def test_multiperiod_from_mapping_and_errors(tmp_path):
+    deck = str(tmp_path / "deck.toml")
+    spectrum = from_mapping({"type": "asce7-multiperiod", "sa": MULTI}, deck)
+    assert isinstance(spectrum, ASCE7MultiPeriodSpectrum)
+    rows = "".join(f"{t},{v}\n" for t, v in zip(USGS_PERIODS, MULTI, strict=True))
+    (tmp_path / "usgs.csv").write_text("T,Sa\n" + rows)
+    from_file = from_mapping({"type": "asce7-multiperiod", "file": "usgs.csv", "sds": 1.0, "sd1": 0.7}, deck)
+    np.testing.assert_allclose(from_file.ordinates, MULTI)
+    with pytest.raises(InputError, match=r"deck\.toml: spectrum\.sa: the 22 ordinates"):
+        from_mapping({"type": "asce7-multiperiod", "sa": MULTI[:-1]}, deck)
+    with pytest.raises(InputError, match=r"spectrum\.periods: the 22 periods"):
+        from_mapping({"type": "asce7-multiperiod", "periods": list(range(22)), "sa": MULTI}, deck)
+    with pytest.raises(InputError, match=r"spectrum\.sa: the 22 ordinates"):
+        from_mapping({"type": "asce7-multiperiod"}, deck)
+
+
+def test_two_period_spectrum_warns_for_modal_and_response_history_procedures():
+    two = ASCE7Spectrum(1.0, 0.6, 8.0)
+    assert procedure_warning(two, "elf") is None
+    for procedure in ("modal", "response-history"):
+        message = procedure_warning(two, procedure)
+        assert message.startswith("ASCE 7-22 11.4.5 permits the two-period design spectrum")
+        assert "asce7-multiperiod" in message
+    assert procedure_warning(ASCE7MultiPeriodSpectrum(MULTI), "modal") is None
+    assert procedure_warning(EC8Spectrum(0.3, "B"), "response-history") is None
+
+
+def test_ec8_beyond_four_seconds_is_reported():
+    spectrum = EC8Spectrum(0.3, "B")
+    assert spectrum_warnings(spectrum, [1.0, 4.0]) == []
+    (message,) = spectrum_warnings(spectrum, [2.0, 5.5])
+    assert "up to 4 s" in message and "T = 5.5 s" in message
+
+
+def test_table_damping_correction_default_is_given_by_the_caller():
+    table = {"type": "table", "periods": [0.0, 1.0], "sa": [0.4, 1.0], "damping": 0.05}
+    assert from_mapping(table, "deck.toml").damping_correction == "ec8"
+    assert from_mapping(table, "deck.toml", default_correction="asce").damping_correction == "asce"
+    explicit = from_mapping({**table, "damping_correction": "ec8"}, "d", default_correction="asce")
+    assert explicit.damping_correction == "ec8"

@@ -15,6 +15,7 @@ from .engines.registry import ENGINES, Engine
 from .engines.result import AnalysisResult
 from .errors import InputError
 from .motion.records import Record
+from .motion.suites import Suite
 
 
 def ground_motion_for(deck: Deck, engine: Engine) -> Any:
@@ -24,6 +25,11 @@ def ground_motion_for(deck: Deck, engine: Engine) -> Any:
         if deck.spectrum is None:
             raise InputError(deck.source, "ground_motion", f"a record or a design spectrum for the {engine.name} engine")
         return deck.spectrum
+    if isinstance(deck.ground_motion, Suite):
+        raise InputError(deck.source, "ground_motion.suite",
+                         f"a single record for the {engine.name} engine: record suites are not yet analysed by the "
+                         "response-history engines (the simplified engine runs on the suite's target spectrum; "
+                         "`uplift record scale/match` prepares the records)")
     if not isinstance(deck.ground_motion, Record):
         raise InputError(deck.source, "ground_motion.record",
                          f"a record for the {engine.name} engine (a design spectrum serves only the simplified engine)")

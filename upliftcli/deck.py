@@ -35,7 +35,8 @@ ALTERNATIVES: list[tuple[str, list[set[str]]]] = [
     ("foundation", [{"b"}, {"slenderness"}]),
     *[("foundation", groups) for kind in FOUNDATIONS.values() for groups in kind.deck_alternatives],
     ("analysis", [{"modes"}, {"mass_participation"}]),
-    ("ground_motion", [{"record", "format", "units", "dt", "window", "scale"}, {"design_spectrum"}]),
+    ("ground_motion", [{"record", "format", "units", "dt", "window", "scale"},
+                       {"design_spectrum", "suite", "scaling", "suite_factor", "period_range", "statistics"}]),
 ]
 
 #: foundation type -> its own fields of the [foundation] table
@@ -58,10 +59,12 @@ class Deck:
     """A validated deck.
 
     source: the deck file; title: its label; system: building + mat + foundation;
-    ground_motion: a records.Record, a design spectrum, or None (not loaded / not given);
+    ground_motion: a records.Record, a design spectrum, a motion.suites.Suite (whose target is
+        the design spectrum), or None (not loaded / not given);
     spectrum: object with .sa(periods [s], damping [-]) -> S_a [m/s^2] for the simplified engine;
     analysis: AnalysisSettings; criteria: acceptance limits {name: value} (deck_schema "criteria");
-    raw: the TOML mapping after the overrides; values: validated {table: {field: value}}.
+    raw: the TOML mapping after the overrides; values: validated {table: {field: value}};
+    overridden: the dotted paths set by `--set` (errors about them name "--set").
     """
 
     source: str
@@ -73,6 +76,7 @@ class Deck:
     criteria: dict[str, Any]
     raw: dict
     values: dict[str, dict[str, Any]] = field(repr=False, default_factory=dict)
+    overridden: frozenset[str] = frozenset()
 
 
 # ----------------------------------------------------------------------------- overrides
@@ -167,9 +171,10 @@ def build_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]] = ()
     analysis = _analysis(values["analysis"], values["analysis.exact"], system, error)
     ground_motion = spectrum = None
     if load_ground_motion:
-        ground_motion, spectrum = _ground_motion(values["ground_motion"], source, error)
+        ground_motion, spectrum = _ground_motion(values["ground_motion"], source, error, system,
+                                                 analysis.simplified.effective_properties)
     return Deck(source, values[""].get("title", Path(source).stem), system, ground_motion, spectrum,
-                analysis, dict(values["criteria"]), raw, values)
+                analysis, dict(values["criteria"]), raw, values, overridden)
 
 
 def _default(table: str, name: str) -> Any:
@@ -296,23 +301,41 @@ def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSetti
     )
 
 
-def _ground_motion(fields: dict, source: str, error) -> tuple[Any, Any]:
-    """(record or design spectrum, spectrum for the simplified engine)."""
+def _ground_motion(fields: dict, source: str, error, system: System | None = None,
+                   effective_properties: str = "formula") -> tuple[Any, Any]:
+    """(record, design spectrum or suite, spectrum for the simplified engine)."""
     if not fields:
         raise error("ground_motion", "a [ground_motion] table with a record (path) or a design_spectrum")
+    from .deck_suite import SUITE_ONLY, TABLE_CORRECTION
+
+    suite_fields = {"suite", *SUITE_ONLY, "period_range", "statistics"}
     if "design_spectrum" in fields:
-        extra = sorted(set(fields) - {"design_spectrum"})
+        extra = sorted(set(fields) - {"design_spectrum"} - suite_fields)
         if extra:
             raise error(f"ground_motion.{extra[0]}", "no record fields together with a design_spectrum")
         from .motion import design_spectra
 
+        correction = TABLE_CORRECTION[fields.get("statistics", "mean")]
         try:
-            spectrum = design_spectra.from_mapping(fields["design_spectrum"], source, "ground_motion.design_spectrum")
+            spectrum = design_spectra.from_mapping(fields["design_spectrum"], source, "ground_motion.design_spectrum",
+                                                   default_correction=correction)
         except InputError as bad:
             if bad.source == source and bad.location:  # name "--set" if the value came from an override
                 raise error(bad.location, bad.expected) from None
             raise
-        return spectrum, spectrum
+        if "suite" not in fields:
+            for name in SUITE_ONLY:
+                if name in fields:
+                    raise error(f"ground_motion.{name}", "a ground_motion.suite to scale (none given)")
+            return spectrum, spectrum
+        from .deck_suite import load_suite, suite_plan
+
+        plan = suite_plan(fields, spectrum, system, effective_properties, source, error)
+        return load_suite(fields, plan, source, error), spectrum
+    given = sorted(suite_fields & set(fields))
+    if given:
+        raise error("ground_motion.design_spectrum", f"a design spectrum, the target of ground_motion.{given[0]} "
+                    "(or no suite fields with a record)")
     if "record" not in fields:
         raise error("ground_motion.record", "the path of a record file (missing; or give "
                     "ground_motion.design_spectrum)")

@@ -17,6 +17,7 @@ from .engines.registry import ENGINES, SUPPORTS
 from .errors import InputError
 from .fields import Field, check_value, suggestion
 from .model.foundations import FOUNDATIONS
+from .motion.code_rules import RULES, SCALINGS
 from .motion.records import FORMATS
 from .units import STANDARD_GRAVITY
 
@@ -59,7 +60,16 @@ TABLES: dict[str, dict[str, Field]] = {
         "scale": Field("number", "-", "factor applied to the record", "positive", 1.0),
         "window": Field("pair", "s", "[start, end] time window of the record to keep"),
         "design_spectrum": Field("table", "-", "a design spectrum instead of a record (see the records "
-                                 "documentation for its fields)"),
+                                 "documentation for its fields); the target of a suite"),
+        "suite": Field("files", "-", "a suite of records: a folder, or an array of files or tables {file, format, "
+                       "units, dt, scale} (relative to the deck)"),
+        "scaling": Field("string", "-", "how the suite meets the target", "", "none", SCALINGS),
+        "suite_factor": Field("bool", "-", "amplitude scaling: one factor for the whole suite (true) or one per "
+                              "record (false)", "", False),
+        "period_range": Field("pair", "s", "[lower, upper] periods of scaling and matching (default: the code's "
+                              "rule on the structure's periods)"),
+        "statistics": Field("string", "-", "the code whose suite rules apply (default: that of the design "
+                            "spectrum)", "", None, tuple(RULES)),
     },
     "analysis": {
         "engine": Field("string-or-strings", "-", "engine(s): " + ", ".join(e.label for e in ENGINES.values()),

@@ -21,7 +21,8 @@ class Field:
     """One input field.
 
     kind: number, integer, string, bool, numbers (array), number-or-numbers, matrix,
-        string-or-strings, pair (two numbers), table (passed through).
+        string-or-strings, pair (two numbers), table (passed through), files (a path, or an
+        array of paths and tables).
     unit: the unit in words/symbols ("-" for dimensionless).
     doc: what it is, in a few words.
     check: a key of CHECKS ("" for none).
@@ -133,6 +134,14 @@ def _matrix(field: Field, value: Any, error: Error) -> list[list[float]]:
     return [[float(v) for v in row] for row in value]
 
 
+def _files(field: Field, value: Any, error: Error) -> str | list:
+    if isinstance(value, str) and value:
+        return value
+    if not (isinstance(value, list) and value and all(isinstance(v, (str, dict)) for v in value)):
+        error(f"a folder (string) or a non-empty array of file paths or tables {{file = ...}}, got {value!r}")
+    return list(value)
+
+
 def _table(field: Field, value: Any, error: Error) -> dict:
     if not isinstance(value, dict):
         error(f"a table, got {value!r}")
@@ -151,6 +160,7 @@ CHECKERS: dict[str, Callable[[Field, Any, Error], Any]] = {
     "pair": _pair,
     "matrix": _matrix,
     "table": _table,
+    "files": _files,
 }
 
 

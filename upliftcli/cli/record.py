@@ -1,4 +1,4 @@
-"""`uplift record info` and `uplift record spectrum`."""
+"""`uplift record info` and `uplift record spectrum` (generate, match, scale: record_suite.py)."""
 
 from __future__ import annotations
 
@@ -183,9 +183,12 @@ def spectrum(
 
 
 def register(app: typer.Typer) -> None:
-    """Add the `record` command group (info, spectrum)."""
-    record_app = typer.Typer(help="Ground-motion records: summary measures and response spectra.",
+    """Add the `record` command group (info, spectrum; generate, match, scale from record_suite.py)."""
+    from . import record_suite
+
+    record_app = typer.Typer(help="Ground-motion records: summary measures, response spectra and suites.",
                              no_args_is_help=True)
     record_app.command("info")(info)
     record_app.command("spectrum")(spectrum)
+    record_suite.register(record_app)
     app.add_typer(record_app, name="record")

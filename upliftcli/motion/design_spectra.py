@@ -1,13 +1,17 @@
-"""Design spectra as ground-motion input of the simplified engine.
+"""Design spectra as ground-motion input of the simplified engine and as targets of record suites.
 
-* `ASCE7Spectrum`: ASCE 7-22 section 11.4.5.2 two-period design spectrum (S_DS, S_D1, T_L),
-  with the damping coefficient B = 4 / (5.6 - ln(100 beta)) of ASCE 41-17 Eq. (2-3), the
-  factor used for soil-structure-interaction damping in NIST GCR 12-917-21 and ASCE 7-22
-  chapter 19 (B_SSI); the branch below T0 follows ASCE 41-17 Eq. (2-9).
-* `EC8Spectrum`: EN 1998-1:2004 section 3.2.2.2 horizontal elastic spectrum, Type 1 or 2,
-  ground types A to E (Tables 3.2, 3.3), damping correction eta = sqrt(10 / (5 + xi%)) >= 0.55
-  (Eq. 3.6).
-* `TabulatedSpectrum`: a user table (T, S_a) at a stated damping.
+* `ASCE7Spectrum`: ASCE 7-22 11.4.5.2 two-period design spectrum (S_DS, S_D1, T_L), with the
+  damping coefficient B = 4 / (5.6 - ln(100 beta)) of ASCE 41-17 Eq. (2-3), the factor used for
+  soil-structure-interaction damping in NIST GCR 12-917-21 and ASCE 7-22 chapter 19 (B_SSI);
+  the branch below T0 follows ASCE 41-17 Eq. (2-9). ASCE 7-22 11.4.5 permits it only with the
+  equivalent lateral force procedure: `procedure_warning` gives the message for the others.
+* `ASCE7MultiPeriodSpectrum`: ASCE 7-22 11.4.5.1 multi-period design spectrum, the 22 ordinates
+  at T = 0..10 s as the USGS design service gives them, with the same damping coefficient.
+* `EC8Spectrum`: EN 1998-1:2004 3.2.2.2 horizontal elastic spectrum, Type 1 or 2, ground types
+  A to E (Tables 3.2, 3.3), damping correction eta (Eq. 3.6). The code defines it up to 4 s;
+  beyond, Eq. 3.5 (the T_D branch, constant spectral displacement) is continued and
+  `spectrum_warnings` says so (docs/deck.md).
+* `TabulatedSpectrum` (spectrum_tables.py): a user table (T, S_a) at a stated damping.
 
 Every spectrum has `.sa(periods, damping) -> S_a [m/s^2]`, `.name` and `.period_range` [s];
 code parameters are in g as the codes give them. `from_mapping` builds one from a deck table.
@@ -22,8 +26,21 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..units import ACCELERATION_UNITS, STANDARD_GRAVITY
-from .records import normalize_units
+from ..units import STANDARD_GRAVITY
+from .spectrum_tables import (
+    DAMPING_CORRECTIONS,
+    TabulatedSpectrum,
+    asce_damping_coefficient,
+    check_damping,
+    check_periods,
+    ec8_damping_correction,
+    positive,
+    read_spectrum_table,
+)
+
+__all__ = ["EC8_CODE_MAX_PERIOD", "EC8_PARAMETERS", "USGS_PERIODS", "ASCE7MultiPeriodSpectrum", "ASCE7Spectrum",
+           "EC8Spectrum", "TabulatedSpectrum", "asce_damping_coefficient", "ec8_damping_correction", "from_mapping",
+           "procedure_warning", "spectrum_warnings"]
 
 #: EN 1998-1 Tables 3.2 (Type 1) and 3.3 (Type 2): ground type -> (S, T_B, T_C, T_D) [-, s, s, s]
 EC8_PARAMETERS = {
@@ -32,61 +49,42 @@ EC8_PARAMETERS = {
     2: {"A": (1.0, 0.05, 0.25, 1.2), "B": (1.35, 0.05, 0.25, 1.2), "C": (1.5, 0.10, 0.25, 1.2),
         "D": (1.8, 0.10, 0.30, 1.2), "E": (1.6, 0.05, 0.25, 1.2)},
 }
-EC8_MAX_PERIOD = 4.0  # s, EN 1998-1 3.2.2.2 defines the elastic spectrum up to 4 s
+EC8_CODE_MAX_PERIOD = 4.0  # s, EN 1998-1 3.2.2.2 defines the elastic spectrum up to 4 s
+
+#: the 22 periods [s] of the ASCE 7-22 multi-period spectra of the USGS design service
+USGS_PERIODS = (0.0, 0.01, 0.02, 0.03, 0.05, 0.075, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.75, 1.0,
+                1.5, 2.0, 3.0, 4.0, 5.0, 7.5, 10.0)
+
+#: procedures ASCE 7-22 names: key -> words
+PROCEDURES = {"elf": "the equivalent lateral force procedure", "modal": "modal response spectrum analysis",
+              "response-history": "response-history analysis"}
 
 
-def asce_damping_coefficient(damping) -> np.ndarray:
-    """B = 4 / (5.6 - ln(100 beta)), beta the damping ratio [-] (ASCE 41-17 Eq. 2-3; NIST GCR 12-917-21)."""
-    return 4.0 / (5.6 - np.log(100.0 * np.asarray(damping, dtype=float)))
-
-
-def ec8_damping_correction(damping) -> np.ndarray:
-    """eta = sqrt(10 / (5 + xi)) >= 0.55, xi the damping in per cent (EN 1998-1 Eq. 3.6); damping ratio [-] in."""
-    return np.maximum(np.sqrt(10.0 / (5.0 + 100.0 * np.asarray(damping, dtype=float))), 0.55)
-
-
-def _check_periods(periods, period_range, source: str, name: str) -> np.ndarray:
-    array = np.asarray(periods, dtype=float)
-    low, high = period_range
-    bad = ~np.isfinite(array) | (array < low) | (array > high)
-    if np.any(bad):
-        value = float(np.atleast_1d(array)[np.atleast_1d(bad)][0])
-        raise InputError(source, "period", f"periods within {low:g} to {high:g} s for {name}, got {value:g} s")
-    return array
-
-
-def _check_damping(damping, source: str, allow_zero: bool = False) -> float:
-    damping = float(damping)
-    if not (0.0 < damping < 1.0 or (allow_zero and damping == 0.0)):
-        raise InputError(source, "damping", f"a damping ratio between 0 and 1 (0.05 = 5 %), got {damping:g}")
-    return damping
-
-
-def _positive(value, source: str, field: str, unit: str) -> float:
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise InputError(source, field, f"a number > 0 [{unit}], got {value!r}") from None
-    if not (math.isfinite(number) and number > 0.0):
-        raise InputError(source, field, f"a number > 0 [{unit}], got {value!r}")
-    return number
+def _asce_ramp(periods: np.ndarray, damping: float, t0: float) -> np.ndarray:
+    """Factor on the 5 % ordinates: 1/(B(beta)/B(5 %)) from T_0 on, linear in T from 1 at T = 0
+    (ASCE 41-17 Eq. 2-9: S_a(0) does not depend on damping)."""
+    b = float(asce_damping_coefficient(damping) / asce_damping_coefficient(0.05))
+    return 1.0 + (1.0 / b - 1.0) * np.minimum(periods / t0, 1.0)
 
 
 @dataclass
 class ASCE7Spectrum:
     """ASCE 7-22 11.4.5.2 design spectrum. sds, sd1: design spectral accelerations at short
     periods and at 1 s [g]; tl: long-period transition period T_L [s]. Reference damping 5 %;
-    other dampings divide by B(beta) / B(5 %) (so 5 % reproduces the code spectrum exactly)."""
+    other dampings divide by B(beta) / B(5 %) (so 5 % reproduces the code spectrum exactly).
+    ASCE 7-22 permits it only with the equivalent lateral force procedure (procedure_warning)."""
 
     sds: float
     sd1: float
     tl: float
     source: str = "asce7 spectrum"
 
+    permitted_procedures = ("elf",)
+
     def __post_init__(self):
-        self.sds = _positive(self.sds, self.source, "sds", "g")
-        self.sd1 = _positive(self.sd1, self.source, "sd1", "g")
-        self.tl = _positive(self.tl, self.source, "tl", "s")
+        self.sds = positive(self.sds, self.source, "sds", "g")
+        self.sd1 = positive(self.sd1, self.source, "sd1", "g")
+        self.tl = positive(self.tl, self.source, "tl", "s")
         if self.tl <= self.ts:
             raise InputError(self.source, "tl", f"T_L above T_S = S_D1/S_DS = {self.ts:g} s, got {self.tl:g} s")
 
@@ -102,7 +100,7 @@ class ASCE7Spectrum:
 
     @property
     def name(self) -> str:
-        return f"ASCE 7-22 (S_DS = {self.sds:g} g, S_D1 = {self.sd1:g} g, T_L = {self.tl:g} s)"
+        return f"ASCE 7-22 two-period (S_DS = {self.sds:g} g, S_D1 = {self.sd1:g} g, T_L = {self.tl:g} s)"
 
     @property
     def period_range(self) -> tuple[float, float]:
@@ -110,8 +108,8 @@ class ASCE7Spectrum:
 
     def sa(self, periods, damping: float) -> np.ndarray:
         """S_a [m/s^2] at periods [s] and damping ratio [-]."""
-        t = _check_periods(periods, self.period_range, self.source, self.name)
-        b = float(asce_damping_coefficient(_check_damping(damping, self.source))
+        t = check_periods(periods, self.period_range, self.source, self.name)
+        b = float(asce_damping_coefficient(check_damping(damping, self.source))
                   / asce_damping_coefficient(0.05))
         with np.errstate(divide="ignore", invalid="ignore"):
             sa = np.where(t < self.t0, self.sds * ((5.0 / b - 2.0) * t / self.ts + 0.4),
@@ -120,11 +118,63 @@ class ASCE7Spectrum:
         return sa * STANDARD_GRAVITY
 
 
+class ASCE7MultiPeriodSpectrum:
+    """ASCE 7-22 11.4.5.1 multi-period design spectrum: sa, the 22 ordinates [g] at USGS_PERIODS
+    (T = 0 to 10 s, 5 % damping) as the USGS design service gives them (multiPeriodDesignSpectrum).
+    Linear interpolation in T between the ordinates; no values beyond 10 s (an error naming the
+    period). Other dampings: the ordinates divided by B(beta)/B(5 %) (as the two-period spectrum)
+    from T_0 = 0.2 S_D1/S_DS on, the factor going linearly in T from 1 at T = 0 (ASCE 41-17
+    Eq. 2-9). sds, sd1 [g]: as the service gives them; if not given they are derived from the
+    ordinates as ASCE 7-22 21.4 does (S_DS = 0.9 max S_a over 0.2-5 s; S_D1 = max(0.9 max T S_a over
+    1-5 s, S_a(1 s)), the 1-5 s window of sites with v_s30 <= 442 m/s, giving the longer T_0)."""
+
+    permitted_procedures = ("elf", "modal", "response-history")
+
+    def __init__(self, sa, sds: float | None = None, sd1: float | None = None, source: str = "asce7 spectrum",
+                 label: str = ""):
+        self.source = str(source)
+        values = np.asarray(sa, dtype=float).ravel()
+        if values.size != len(USGS_PERIODS):
+            raise InputError(self.source, "sa", f"the {len(USGS_PERIODS)} ordinates [g] at T = "
+                             f"{', '.join(f'{t:g}' for t in USGS_PERIODS)} s, got {values.size} values")
+        if not (np.all(np.isfinite(values)) and np.all(values > 0.0)):
+            raise InputError(self.source, "sa", "finite spectral accelerations > 0 [g]")
+        self.periods = np.array(USGS_PERIODS)
+        self.ordinates = values  # [g]
+        self.label = label
+        window = (self.periods >= 0.2) & (self.periods <= 5.0)
+        long = (self.periods >= 1.0) & (self.periods <= 5.0)
+        self.sds = (positive(sds, self.source, "sds", "g") if sds is not None
+                    else 0.9 * float(values[window].max()))
+        self.sd1 = (positive(sd1, self.source, "sd1", "g") if sd1 is not None
+                    else max(0.9 * float(np.max(self.periods[long] * values[long])), float(values[14])))
+
+    @property
+    def t0(self) -> float:
+        """T_0 = 0.2 S_D1 / S_DS [s] (end of the damping ramp)."""
+        return 0.2 * self.sd1 / self.sds
+
+    @property
+    def name(self) -> str:
+        return self.label or f"ASCE 7-22 multi-period (S_DS = {self.sds:.3g} g, S_D1 = {self.sd1:.3g} g)"
+
+    @property
+    def period_range(self) -> tuple[float, float]:
+        return (0.0, USGS_PERIODS[-1])
+
+    def sa(self, periods, damping: float) -> np.ndarray:
+        """S_a [m/s^2] at periods [s] (0 to 10 s) and damping ratio [-]."""
+        t = check_periods(periods, self.period_range, self.source, self.name)
+        factor = _asce_ramp(t, check_damping(damping, self.source), self.t0)
+        return factor * np.interp(t, self.periods, self.ordinates) * STANDARD_GRAVITY
+
+
 @dataclass
 class EC8Spectrum:
     """EN 1998-1 3.2.2.2 horizontal elastic spectrum. ag: reference peak ground acceleration on
     type A ground a_gR [g]; ground_type 'A'..'E'; spectrum_type 1 or 2; importance: gamma_I [-]
-    (a_g = gamma_I a_gR). Reference damping 5 %; other dampings through eta (Eq. 3.6)."""
+    (a_g = gamma_I a_gR). Reference damping 5 %; other dampings through eta (Eq. 3.6).
+    Beyond T = 4 s, where the code stops, Eq. 3.5 is continued (module docstring)."""
 
     ag: float
     ground_type: str
@@ -132,9 +182,11 @@ class EC8Spectrum:
     importance: float = 1.0
     source: str = "ec8 spectrum"
 
+    permitted_procedures = ("elf", "modal", "response-history")
+
     def __post_init__(self):
-        self.ag = _positive(self.ag, self.source, "ag", "g")
-        self.importance = _positive(self.importance, self.source, "importance", "-")
+        self.ag = positive(self.ag, self.source, "ag", "g")
+        self.importance = positive(self.importance, self.source, "importance", "-")
         ground = str(self.ground_type).strip().upper()
         if ground not in ("A", "B", "C", "D", "E"):
             raise InputError(self.source, "ground_type",
@@ -150,17 +202,22 @@ class EC8Spectrum:
         return EC8_PARAMETERS[self.spectrum_type][self.ground_type]
 
     @property
+    def design_ground_acceleration(self) -> float:
+        """a_g S [m/s^2], the zero-period ordinate (EN 1998-1 3.2.3.1.2(4)b for artificial records)."""
+        return self.ag * self.importance * self.parameters[0] * STANDARD_GRAVITY
+
+    @property
     def name(self) -> str:
         return f"EC8 Type {self.spectrum_type} ground {self.ground_type} (a_g = {self.ag * self.importance:g} g)"
 
     @property
     def period_range(self) -> tuple[float, float]:
-        return (0.0, EC8_MAX_PERIOD)
+        return (0.0, math.inf)
 
     def sa(self, periods, damping: float) -> np.ndarray:
-        """S_e [m/s^2] at periods [s] and damping ratio [-] (EN 1998-1 Eqs. 3.2-3.5)."""
-        t = _check_periods(periods, self.period_range, self.source, self.name)
-        eta = float(ec8_damping_correction(_check_damping(damping, self.source, allow_zero=True)))
+        """S_e [m/s^2] at periods [s] and damping ratio [-] (EN 1998-1 Eqs. 3.2-3.5; Eq. 3.5 beyond 4 s)."""
+        t = check_periods(periods, self.period_range, self.source, self.name)
+        eta = float(ec8_damping_correction(check_damping(damping, self.source, allow_zero=True)))
         soil, tb, tc, td = self.parameters
         ag = self.ag * self.importance * STANDARD_GRAVITY
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -170,96 +227,93 @@ class EC8Spectrum:
         return ag * soil * sa
 
 
-class TabulatedSpectrum:
-    """A user table: periods [s] (increasing, >= 0), sa in `units` ('g' by default, or m/s2,
-    cm/s2, in/s2), at the stated damping ratio [-]. Linear interpolation in T; no extrapolation.
-    Other dampings: ratio of the EC8 factors eta(xi) / eta(damping) (damping_correction='ec8',
-    default) or of the ASCE factors B(damping) / B(xi) ('asce'), applied at every period.
-    Attributes: periods [s], sa_values [m/s^2], damping [-], units, damping_correction, source."""
-
-    def __init__(self, periods, sa, damping, units: str = "g", damping_correction: str = "ec8",
-                 source: str = "spectrum table", label: str = ""):
-        self.source = str(source)
-        self.units = normalize_units(units, self.source, "units")
-        self.periods = np.asarray(periods, dtype=float).ravel()
-        self.sa_values = np.asarray(sa, dtype=float).ravel() * ACCELERATION_UNITS[self.units]
-        self.damping = _check_damping(damping, self.source)
-        self.damping_correction = str(damping_correction).lower()
-        self.label = label
-        if self.damping_correction not in ("ec8", "asce"):
-            raise InputError(self.source, "damping_correction", f"'ec8' or 'asce', got {damping_correction!r}")
-        if self.periods.size < 2 or self.periods.size != self.sa_values.size:
-            raise InputError(self.source, "periods", "at least two (T, S_a) pairs, as many periods as values")
-        if not (np.all(np.isfinite(self.periods)) and self.periods[0] >= 0.0 and np.all(np.diff(self.periods) > 0)):
-            raise InputError(self.source, "periods", "finite periods >= 0 s in increasing order")
-        if not (np.all(np.isfinite(self.sa_values)) and np.all(self.sa_values >= 0.0)):
-            raise InputError(self.source, "sa", "finite spectral accelerations >= 0")
-
-    @property
-    def name(self) -> str:
-        return self.label or f"table {Path(self.source).name} ({100 * self.damping:g} %)"
-
-    @property
-    def period_range(self) -> tuple[float, float]:
-        return (float(self.periods[0]), float(self.periods[-1]))
-
-    def sa(self, periods, damping: float) -> np.ndarray:
-        """S_a [m/s^2] at periods [s] inside the table and damping ratio [-]."""
-        t = _check_periods(periods, self.period_range, self.source, self.name)
-        damping = _check_damping(damping, self.source)
-        if self.damping_correction == "ec8":
-            factor = float(ec8_damping_correction(damping) / ec8_damping_correction(self.damping))
-        else:
-            factor = float(asce_damping_coefficient(self.damping) / asce_damping_coefficient(damping))
-        return factor * np.interp(t, self.periods, self.sa_values)
+def procedure_warning(spectrum, procedure: str) -> str | None:
+    """The message for a procedure ('elf', 'modal', 'response-history') the code does not permit
+    with this spectrum (ASCE 7-22 11.4.5: the two-period spectrum only with the ELF procedure),
+    or None. Engines and commands pass it on as a warning."""
+    permitted = getattr(spectrum, "permitted_procedures", tuple(PROCEDURES))
+    if procedure in permitted:
+        return None
+    return (f"ASCE 7-22 11.4.5 permits the two-period design spectrum (type = \"asce7\") only with "
+            f"{PROCEDURES['elf']}; {PROCEDURES.get(procedure, procedure)} uses the multi-period spectrum "
+            f"(ground_motion.design_spectrum = {{ type = \"asce7-multiperiod\", sa = [the 22 ordinates, g] }})")
 
 
-def read_spectrum_table(path: str | Path, source: str) -> tuple[np.ndarray, np.ndarray]:
-    """Two columns period [s], S_a (comma or blank separated; '#' comments, an optional header row)."""
-    path = Path(path)
-    try:
-        lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
-    except OSError:
-        raise InputError(source, "file", f"a readable spectrum table, cannot read {str(path)!r}") from None
-    rows: list[tuple[float, float]] = []
-    for number, line in enumerate(lines, start=1):
-        text = line.split("#", 1)[0].strip()
-        if not text:
-            continue
-        tokens = text.replace(",", " ").split()
-        try:
-            values = [float(token) for token in tokens[:2]]
-        except ValueError:
-            if not rows:
-                continue  # header row
-            raise InputError(str(path), f"line {number}", f"two numbers (period [s], S_a), got {text!r}") from None
-        if len(values) < 2 or not all(math.isfinite(value) for value in values):
-            raise InputError(str(path), f"line {number}", f"two finite numbers (period [s], S_a), got {text!r}")
-        rows.append((values[0], values[1]))
-    if len(rows) < 2:
-        raise InputError(str(path), None, "at least two rows of (period [s], S_a)")
-    array = np.array(rows)
-    return array[:, 0], array[:, 1]
+def spectrum_warnings(spectrum, periods, procedure: str | None = None) -> list[str]:
+    """Warnings for using `spectrum` at `periods` [s] (and for `procedure`, see procedure_warning):
+    EC8 ordinates beyond the 4 s where EN 1998-1 3.2.2.2 stops."""
+    messages = []
+    if procedure is not None and (message := procedure_warning(spectrum, procedure)):
+        messages.append(message)
+    longest = float(np.max(np.atleast_1d(np.asarray(periods, dtype=float)))) if np.size(periods) else 0.0
+    if isinstance(spectrum, EC8Spectrum) and longest > EC8_CODE_MAX_PERIOD:
+        messages.append(f"EN 1998-1 3.2.2.2 defines the elastic spectrum up to 4 s; at T = {longest:.3g} s "
+                        "Eq. 3.5 is continued (S_e ~ 1/T^2, constant spectral displacement: informative Annex A "
+                        "keeps it up to T_E and is lower beyond, so this is conservative)")
+    return messages
 
 
 _KEYS = {
     "asce7": ({"type", "sds", "sd1", "tl"}, set()),
+    "asce7-multiperiod": ({"type"}, {"sa", "file", "periods", "sds", "sd1", "units", "name"}),
     "ec8": ({"type", "ag", "ground_type"}, {"spectrum_type", "importance"}),
     "table": ({"type", "damping"}, {"file", "periods", "sa", "units", "damping_correction", "name"}),
 }
 
 
-def from_mapping(mapping: dict, source: str, field: str = "spectrum"):
+def _table_values(mapping: dict, source: str, field: str) -> tuple[np.ndarray, np.ndarray, str]:
+    """(periods [s], sa, source) of a table given by 'file' or by 'periods' and 'sa'."""
+    has_file = "file" in mapping
+    has_values = "periods" in mapping or "sa" in mapping
+    if has_file == has_values:
+        raise InputError(source, f"{field}.file", "either 'file' or both 'periods' and 'sa'")
+    if has_file:
+        path = Path(mapping["file"])
+        if not path.is_absolute():
+            path = Path(source).parent / path
+        periods, sa = read_spectrum_table(path, source)
+        return periods, sa, str(path)
+    for key in ("periods", "sa"):
+        if key not in mapping:
+            raise InputError(source, f"{field}.{key}", "a list of numbers")
+    try:
+        return np.asarray(mapping["periods"], dtype=float), np.asarray(mapping["sa"], dtype=float), source
+    except (TypeError, ValueError):
+        raise InputError(source, f"{field}.periods", "lists of numbers for periods [s] and sa") from None
+
+
+def _multiperiod(mapping: dict, source: str, field: str) -> ASCE7MultiPeriodSpectrum:
+    if "file" in mapping or "periods" in mapping:
+        periods, sa, table_source = _table_values(mapping, source, field)
+        if periods.shape != (len(USGS_PERIODS),) or not np.allclose(periods, USGS_PERIODS, rtol=0, atol=1e-9):
+            raise InputError(source, f"{field}.periods", "the 22 periods of the USGS multi-period spectrum "
+                             f"({', '.join(f'{t:g}' for t in USGS_PERIODS)} s)")
+    elif "sa" in mapping:
+        try:
+            sa, table_source = np.asarray(mapping["sa"], dtype=float), source
+        except (TypeError, ValueError):
+            raise InputError(source, f"{field}.sa", "a list of 22 numbers [g]") from None
+    else:
+        raise InputError(source, f"{field}.sa", "the 22 ordinates [g] at T = 0-10 s (or 'file')")
+    units = str(mapping.get("units", "g"))
+    if units != "g":
+        raise InputError(source, f"{field}.units", f"'g' (the USGS service gives g), got {units!r}")
+    return ASCE7MultiPeriodSpectrum(sa, mapping.get("sds"), mapping.get("sd1"), source=table_source,
+                                    label=str(mapping.get("name", "")))
+
+
+def from_mapping(mapping: dict, source: str, field: str = "spectrum", default_correction: str = "ec8"):
     """Build a spectrum from a deck table, e.g. {type = "asce7", sds = 1.0, sd1 = 0.6, tl = 8.0},
-    {type = "ec8", ag = 0.3, ground_type = "B", spectrum_type = 1},
+    {type = "asce7-multiperiod", sa = [22 values in g]}, {type = "ec8", ag = 0.3, ground_type = "B"},
     {type = "table", file = "sa.csv", damping = 0.05} (file relative to the deck's folder) or
     {type = "table", periods = [...], sa = [...], damping = 0.05, units = "g"}.
-    `field` is the deck path of the table, used in error messages."""
+    `field` is the deck path of the table, used in error messages; `default_correction` the
+    damping correction of a table that names none ('asce' or 'ec8')."""
     if not isinstance(mapping, dict):
-        raise InputError(source, field, "a table with a 'type' key (asce7, ec8 or table)")
+        raise InputError(source, field, f"a table with a 'type' key ({', '.join(_KEYS)})")
     kind = str(mapping.get("type", "")).strip().lower()
     if kind not in _KEYS:
-        raise InputError(source, f"{field}.type", f"one of asce7, ec8, table, got {mapping.get('type')!r}")
+        raise InputError(source, f"{field}.type", f"one of {', '.join(_KEYS)}, got {mapping.get('type')!r}")
     required, optional = _KEYS[kind]
     for key in mapping:
         if key not in required | optional:
@@ -271,32 +325,18 @@ def from_mapping(mapping: dict, source: str, field: str = "spectrum"):
     try:
         if kind == "asce7":
             return ASCE7Spectrum(mapping["sds"], mapping["sd1"], mapping["tl"], source=source)
+        if kind == "asce7-multiperiod":
+            return _multiperiod(mapping, source, field)
         if kind == "ec8":
             return EC8Spectrum(mapping["ag"], mapping["ground_type"], mapping.get("spectrum_type", 1),
                                mapping.get("importance", 1.0), source=source)
-        has_file = "file" in mapping
-        has_values = "periods" in mapping or "sa" in mapping
-        if has_file == has_values:
-            raise InputError(source, f"{field}.file", "either 'file' or both 'periods' and 'sa'")
-        if has_file:
-            path = Path(mapping["file"])
-            if not path.is_absolute():
-                path = Path(source).parent / path
-            periods, sa = read_spectrum_table(path, source)
-            table_source = str(path)
-        else:
-            for key in ("periods", "sa"):
-                if key not in mapping:
-                    raise InputError(source, f"{field}.{key}", "a list of numbers")
-            try:
-                periods = np.asarray(mapping["periods"], dtype=float)
-                sa = np.asarray(mapping["sa"], dtype=float)
-            except (TypeError, ValueError):
-                raise InputError(source, f"{field}.periods", "lists of numbers for periods [s] and sa") from None
-            table_source = source
+        periods, sa, table_source = _table_values(mapping, source, field)
+        correction = mapping.get("damping_correction", default_correction)
+        if correction not in DAMPING_CORRECTIONS:
+            raise InputError(source, f"{field}.damping_correction", f"'asce' or 'ec8', got {correction!r}")
         return TabulatedSpectrum(periods, sa, mapping["damping"], units=mapping.get("units", "g"),
-                                 damping_correction=mapping.get("damping_correction", "ec8"),
-                                 source=table_source, label=str(mapping.get("name", "")))
+                                 damping_correction=correction, source=table_source,
+                                 label=str(mapping.get("name", "")))
     except InputError as error:
         if error.source == source and error.location and not error.location.startswith(field + "."):
             raise InputError(source, f"{field}.{error.location}", error.expected) from None

@@ -1,0 +1,121 @@
+"""Benchmark: generating 11 artificial records and matching 11 records to the ASCE 7-22 multi-period
+spectrum of inputs/ten_story_asce7_suite.toml (period range 0.2-2.43 s, 347 control periods).
+
+Target (issue 12): each of the two at most 2 s. Printed as wall time and as a ratio to a baseline
+measured in the same run: one exact response spectrum (spectra.response_spectrum) of one
+generated record at the 347 control periods, the unit of work of one iteration. The 11 seeds
+to match are El Centro and ten records made from it (time-reversed, and cut at 2 s steps and
+wrapped around), so that the suite needs no downloads. With --reqpy, the same El Centro match
+by reqpy-m (if installed) is timed and checked against the same tolerance.
+
+    python benchmarks/bench_suites.py [--repeats 3] [--reqpy]
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import statistics
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from upliftcli.deck import load_deck
+from upliftcli.deck_suite import plan_from_deck
+from upliftcli.motion.generate import generate_suite
+from upliftcli.motion.matching import control_periods, settings_for
+from upliftcli.motion.records import ground_velocity, read_record
+from upliftcli.motion.spectra import response_spectrum
+from upliftcli.motion.suites import build_suite
+from upliftcli.units import STANDARD_GRAVITY
+
+ROOT = Path(__file__).resolve().parent.parent
+DECK = ROOT / "inputs" / "ten_story_asce7_suite.toml"
+RECORD = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
+
+
+def timed(function, repeats: int) -> tuple[float, float, object]:
+    """(best, median) wall time [s] of function() over `repeats` calls, and its last result."""
+    times, result = [], None
+    for _ in range(repeats):
+        start = time.perf_counter()
+        result = function()
+        times.append(time.perf_counter() - start)
+    return min(times), statistics.median(times), result
+
+
+def seeds() -> list:
+    """El Centro and ten variants of it (reversed; rotated by 2-10 s; both)."""
+    record = read_record(RECORD)
+    a = record.acceleration
+    shifts = [round(s / record.dt) for s in (2, 4, 6, 8, 10)]
+    variants = [a, a[::-1]] + [np.roll(a, k) for k in shifts] + [np.roll(a[::-1], k) for k in shifts[:4]]
+    return [replace(record, acceleration=np.ascontiguousarray(v), name=f"elcentro variant {k}",
+                    source=f"{RECORD} variant {k}") for k, v in enumerate(variants)]
+
+
+def reqpy_check(plan, settings) -> None:
+    try:
+        import reqpy_M
+    except ImportError:
+        print("reqpy-m is not installed: pip install reqpy-m (in a separate environment)")
+        return
+    record = read_record(RECORD)
+    periods = np.geomspace(0.01, 10.0, 200)
+    target = settings.reference * plan.target.sa(periods, 0.05) / STANDARD_GRAVITY
+    low, high = plan.period_range
+    start = time.perf_counter()
+    out = reqpy_M.generate_single_component_compatible_record(record.acceleration / STANDARD_GRAVITY, 1 / record.dt,
+                                                              periods, target, T1PSA=low, T2PSA=high, zi=0.05)
+    elapsed = time.perf_counter() - start
+    matched = out["sc"] * STANDARD_GRAVITY
+    check = control_periods(plan.period_range)
+    ratios = response_spectrum(matched, record.dt, check, [0.05]).pseudo_acceleration[0] / (
+        settings.reference * plan.target.sa(check, 0.05))
+    velocity = ground_velocity(matched, record.dt)
+    print(f"reqpy-m on El Centro: {elapsed:.2f} s, S_a/matching target {ratios.min():.3f}-{ratios.max():.3f} "
+          f"(spread {ratios.max() / ratios.min():.3f}), final velocity {velocity[-1]:.3f} m/s, "
+          f"peak RSS {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--reqpy", action="store_true", help="also time reqpy-m on El Centro")
+    args = parser.parse_args()
+    plan = plan_from_deck(load_deck(DECK, load_ground_motion=False))
+    settings = settings_for(plan.rule)
+    periods = control_periods(plan.period_range)
+    print(f"target {plan.target.name}; period range {plan.period_range[0]:.3g}-{plan.period_range[1]:.3g} s, "
+          f"{periods.size} control periods")
+
+    generate_suite(plan.target, plan.period_range, plan.rule, 1, 99)  # JIT warm-up
+    suite, items = generate_suite(plan.target, plan.period_range, plan.rule, 1, 2024)
+    one = suite.records[0]
+    base_best, base_median, _ = timed(lambda: response_spectrum(one.acceleration, one.dt, periods, [0.05]),
+                                      10 * args.repeats)
+    print(f"baseline: one response spectrum ({one.npts} samples, {periods.size} periods) "
+          f"{1e3 * base_best:.2f} ms best, {1e3 * base_median:.2f} ms median")
+
+    best, median, (suite, items) = timed(
+        lambda: generate_suite(plan.target, plan.period_range, plan.rule, 11, 2024), args.repeats)
+    draws = sum(item.attempt for item in items)
+    print(f"generate 11: {best:.2f} s best, {median:.2f} s median = {best / base_best:.0f} baselines "
+          f"({draws} redrawn); mean S_a/target min {suite.mean_ratio().min():.3f}; "
+          f"target <= 2 s: {'met' if best <= 2.0 else 'NOT met'}")
+
+    records = seeds()
+    best, median, suite = timed(lambda: build_suite(records, plan.target, plan.period_range, plan.rule, "match"),
+                                args.repeats)
+    print(f"match 11: {best:.2f} s best, {median:.2f} s median = {best / base_best:.0f} baselines; "
+          f"mean S_a/target min {suite.mean_ratio().min():.3f}; target <= 2 s: {'met' if best <= 2.0 else 'NOT met'}")
+    for warning in suite.warnings:
+        print(f"  warning: {warning}")
+    if args.reqpy:
+        reqpy_check(plan, settings)
+
+
+if __name__ == "__main__":
+    main()

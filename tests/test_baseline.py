@@ -1,0 +1,42 @@
+"""Baseline correction: the record ends at rest, polynomials are removed exactly, integrals are the records' ones."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from upliftcli.motion.baseline import _integrals, baseline_correct
+from upliftcli.motion.records import ground_displacement, ground_velocity, read_record
+
+ELCENTRO = Path(__file__).resolve().parents[1] / "records" / "elcentro_1940_ns_chopra.txt"
+
+
+
+def test_integrals_equal_the_record_integrals():
+    rng = np.random.default_rng(3)
+    values = rng.normal(size=(500, 3))
+    velocity, displacement = _integrals(values, 0.01)
+    for k in range(3):
+        np.testing.assert_allclose(velocity[:, k], ground_velocity(values[:, k], 0.01), rtol=0, atol=1e-14)
+        np.testing.assert_allclose(displacement[:, k], ground_displacement(values[:, k], 0.01), rtol=0, atol=1e-14)
+
+
+def test_corrected_record_ends_at_rest():
+    record = read_record(ELCENTRO)
+    drifting = record.acceleration + 0.01  # a constant offset: v grows by 0.31 m/s, d by 4.9 m
+    corrected = baseline_correct(drifting, record.dt)
+    scale_v = np.abs(ground_velocity(record.acceleration, record.dt)).max()
+    scale_d = np.abs(ground_displacement(record.acceleration, record.dt)).max()
+    assert abs(ground_velocity(corrected, record.dt)[-1]) < 1e-12 * scale_v
+    assert abs(ground_displacement(corrected, record.dt)[-1]) < 1e-12 * scale_d
+    assert abs(ground_displacement(drifting, record.dt)[-1]) > 4.0
+
+
+def test_polynomial_trends_are_removed_exactly():
+    # the correction is a projection: adding any polynomial of degree <= 4 does not change the result
+    record = read_record(ELCENTRO)
+    t = record.time / record.time[-1]
+    trend = 0.3 - 0.2 * t + 0.5 * t**2 - 0.1 * t**3 + 0.05 * t**4
+    np.testing.assert_allclose(baseline_correct(record.acceleration + trend, record.dt),
+                               baseline_correct(record.acceleration, record.dt), rtol=0, atol=1e-10)

@@ -1,0 +1,159 @@
+"""`uplift record generate | match | scale`: files, manifest, reproducibility, one-line errors, nothing half-written."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from upliftcli.cli import app
+from upliftcli.motion.design_spectra import EC8Spectrum
+from upliftcli.motion.records import read_record
+from upliftcli.motion.spectra import response_spectrum
+
+ROOT = Path(__file__).resolve().parents[1]
+RECORD = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
+runner = CliRunner()
+
+
+def invoke(*args):
+    return runner.invoke(app, [str(a) for a in args], env={"CI": "true"})
+
+
+def deck_with(tmp_path: Path, ground_motion: str, name: str = "deck.toml") -> Path:
+    text = (ROOT / "inputs" / "ten_story_asce7_suite.toml").read_text()
+    path = tmp_path / name
+    path.write_text(text[: text.index("[ground_motion]")] + "[ground_motion]\n" + ground_motion)
+    return path
+
+
+EC8 = 'design_spectrum = { type = "ec8", ag = 0.3, ground_type = "B" }\n'
+TWO_PERIOD = 'design_spectrum = { type = "asce7", sds = 1.0, sd1 = 0.6, tl = 8.0 }\n'
+
+
+@pytest.fixture(scope="module")
+def generated(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("generate")
+    deck = deck_with(tmp, EC8)
+    result = invoke("record", "generate", deck, "--count", 3, "--seed", 5, "--out", tmp / "out")
+    return deck, tmp / "out", result
+
+
+def test_generate_writes_records_and_manifest(generated):
+    _, out, result = generated
+    assert result.exit_code == 0, result.output
+    names = sorted(p.name for p in out.iterdir())
+    assert names == ["artificial_5_01.txt", "artificial_5_02.txt", "artificial_5_03.txt", "manifest.json"]
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert (manifest["seed"], manifest["count"], manifest["statistics"], manifest["statistic"]) == (5, 3, "ec8", "max")
+    assert manifest["mean_rule_met"] and manifest["tolerance"]["low"] == 0.9 and manifest["tolerance"]["high"] == 1.3
+    # the manifest's figures by an independent spectrum of the written file
+    row = manifest["records"][0]
+    record = read_record(out / row["file"])
+    low, high = manifest["period_range_s"]
+    periods = np.geomspace(low, high, manifest["tolerance"]["check_periods"])
+    ratios = response_spectrum(record.acceleration, record.dt, periods, [0.05]).pseudo_acceleration[0] / \
+        EC8Spectrum(0.3, "B").sa(periods, 0.05)
+    assert ratios.min() == pytest.approx(row["ratio_min"], abs=2e-4)
+    assert ratios.max() == pytest.approx(row["ratio_max"], abs=2e-4)
+    assert row["tolerance_met"] and ratios.min() >= 0.9 and ratios.max() <= 1.3
+    assert record.pga / 9.80665 == pytest.approx(row["pga_g"], abs=1e-4)
+    assert row["duration_s"] == 20.0 and "synthetic" in (out / row["file"]).read_text().splitlines()[3]
+    assert "fewer than 7 records the design value is the maximum" in result.stderr
+
+
+def test_generate_is_reproducible_and_keeps_existing_files(generated, tmp_path):
+    deck, out, _ = generated
+    again = invoke("record", "generate", deck, "--count", 3, "--seed", 5, "--out", tmp_path / "again")
+    assert again.exit_code == 0, again.output
+    for name in ("artificial_5_01.txt", "artificial_5_03.txt"):
+        assert (tmp_path / "again" / name).read_bytes() == (out / name).read_bytes()
+    before = (out / "manifest.json").read_bytes()
+    refused = invoke("record", "generate", deck, "--count", 3, "--seed", 5, "--out", out)
+    assert refused.exit_code == 2 and refused.stderr.count("\n") == 1
+    assert "--out: " in refused.stderr and "give --overwrite" in refused.stderr
+    assert (out / "manifest.json").read_bytes() == before
+
+
+def test_generate_bad_input_one_line_and_nothing_written(tmp_path):
+    deck = deck_with(tmp_path, EC8)
+    out = tmp_path / "out"
+    cases = [
+        (["--dt", "0.1"], "--dt: 0.1: a time step > 0 and <= 0.05 s"),
+        (["--count", "0"], "--count: 0: at least 1 record"),
+    ]
+    for extra, message in cases:
+        result = invoke("record", "generate", deck, "--seed", 1, "--out", out, *extra)
+        assert result.exit_code == 2, result.output
+        assert len(result.stderr.strip().splitlines()) == 1 and "Traceback" not in result.output
+        assert message in result.stderr
+        assert not out.exists()
+    result = invoke("record", "generate", ROOT / "inputs" / "ten_story_asce7_suite.toml", "--seed", 1, "--out", out,
+                    "--set", "ground_motion.period_range=[0.2, 12.0]")
+    assert result.exit_code == 2 and len(result.stderr.strip().splitlines()) == 1
+    assert "--set: ground_motion.period_range: a period range within the target's 0-10 s" in result.stderr
+    assert not out.exists()
+    result = invoke("record", "generate", ROOT / "inputs" / "ten_story_elcentro.toml", "--seed", 1, "--out", out)
+    assert result.exit_code == 2 and "ground_motion.design_spectrum: a design spectrum" in result.stderr
+
+
+def test_match_writes_matched_record_with_provenance(tmp_path):
+    deck = deck_with(tmp_path, TWO_PERIOD)
+    out = tmp_path / "matched"
+    result = invoke("record", "match", deck, RECORD, "--out", out)
+    assert result.exit_code == 0, result.output
+    text = (out / "elcentro_1940_ns_chopra_matched.txt").read_text()
+    assert hashlib.sha256(RECORD.read_bytes()).hexdigest() in text and "matched by `uplift record match`" in text
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["records"][0]["from"] == str(RECORD) and manifest["records"][0]["tolerance_met"]
+    assert manifest["tolerance"]["relative_to"] == "1.1 x target"  # ASCE 7-22: matched to 110 %
+    assert "ASCE 7-22 11.4.5 permits the two-period design spectrum" in result.stderr
+    matched = read_record(out / "elcentro_1940_ns_chopra_matched.txt")
+    assert matched.npts == read_record(RECORD).npts
+
+
+def test_match_errors(tmp_path):
+    deck = deck_with(tmp_path, TWO_PERIOD)
+    zeros = tmp_path / "zeros.txt"
+    zeros.write_text("# dt = 0.01\n# units: g\n" + "0.0\n" * 3000)
+    out = tmp_path / "out"
+    result = invoke("record", "match", deck, zeros, "--out", out)
+    assert result.exit_code == 4 and "spectral matching did not converge" in result.stderr, result.output
+    assert len(result.stderr.strip().splitlines()) == 1 and not out.exists()
+    short = tmp_path / "short.txt"
+    short.write_text("# dt = 0.01\n# units: g\n" + "0.1\n-0.1\n" * 200)
+    result = invoke("record", "match", deck, short, "--out", out)
+    assert result.exit_code == 2 and "short.txt: duration: a record of at least 4 x" in result.stderr
+    assert not out.exists()
+    folder = tmp_path / "inputs"
+    folder.mkdir()
+    shutil.copy(RECORD, folder / "e.txt")
+    shutil.copy(RECORD, folder / "e_matched.txt")  # the output name of e.txt
+    before = (folder / "e_matched.txt").read_bytes()
+    result = invoke("record", "match", deck, folder / "e.txt", folder / "e_matched.txt", "--out", folder,
+                    "--overwrite")
+    assert result.exit_code == 2 and "a path that is not an input of this run" in result.stderr
+    assert (folder / "e_matched.txt").read_bytes() == before
+
+
+def test_scale_prints_the_factors_of_the_deck_suite():
+    result = invoke("record", "scale", ROOT / "inputs" / "ten_story_ec8_suite.toml")
+    assert result.exit_code == 0, result.output
+    assert "Amplitude factors" in result.stdout and "elcentro_1940_ns_chopra.txt" in result.stdout
+    assert "mean S_a/target over the range: min 0.900" in result.stdout
+    one = invoke("record", "scale", ROOT / "inputs" / "ten_story_ec8_suite.toml", RECORD, "--units", "g",
+                 "--suite-factor")
+    assert one.exit_code == 0 and "EN 1998-1 3.2.3.1.2" not in one.stderr
+    assert "fewer than 7 records the design value is the maximum" in one.stderr
+
+
+def test_analyze_on_a_suite_deck_is_one_line():
+    result = invoke("analyze", ROOT / "inputs" / "ten_story_asce7_suite.toml")
+    assert result.exit_code == 2 and result.stdout == ""
+    (line,) = result.stderr.strip().splitlines()
+    assert "ground_motion.suite: a single record for the exact engine" in line and "not yet analysed" in line

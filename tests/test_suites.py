@@ -1,0 +1,101 @@
+"""Suites as data: reading, factors applied, and every bad-input message."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from upliftcli.errors import InputError
+from upliftcli.motion.code_rules import RULES
+from upliftcli.motion.design_spectra import ASCE7Spectrum, TabulatedSpectrum
+from upliftcli.motion.records import read_record
+from upliftcli.motion.suites import build_suite, read_records, suite_entries
+
+ROOT = Path(__file__).resolve().parents[1]
+ELCENTRO = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
+TARGET = ASCE7Spectrum(1.0, 0.6, 8.0)
+
+
+@pytest.fixture(scope="module")
+def record():
+    return read_record(ELCENTRO)
+
+
+def test_suite_is_frozen_and_applies_its_factors(record):
+    suite = build_suite([record, replace(record, acceleration=2 * record.acceleration)], TARGET, (0.2, 2.0),
+                        RULES["mean"], "amplitude", suite_factor=True)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        suite.scaling = "none"  # type: ignore[misc]
+    assert suite.factors[0] == suite.factors[1]
+    motions = suite.motions()
+    np.testing.assert_allclose(motions[1].acceleration, 2 * suite.factors[0] * record.acceleration)
+    assert motions[0].scale == pytest.approx(suite.factors[0])
+    assert suite.mean_ratio().min() == pytest.approx(1.0, rel=1e-9)  # "mean": 100 %
+    assert suite.count == 2 and suite.statistic == "mean" and suite.sources == (str(ELCENTRO),) * 2
+
+
+def test_record_too_short_for_the_period_range(record):
+    with pytest.raises(InputError, match=r"elcentro_1940_ns_chopra\.txt: duration: a record of at least 4 x the "
+                                         r"upper period 8 s = 32 s for the period range, got 31\.18 s"):
+        build_suite([record], TARGET, (0.2, 8.0), RULES["asce7-22"])
+
+
+def test_record_too_coarse_to_be_matched(record):
+    with pytest.raises(InputError, match=r"dt: a time step of at most 0\.0125 s .* to be matched, got 0\.02 s"):
+        build_suite([record], TARGET, (0.05, 2.0), RULES["asce7-22"], "match")
+    build_suite([record], TARGET, (0.05, 2.0), RULES["asce7-22"], "amplitude")  # scaling needs no fine step
+
+
+def test_target_that_does_not_cover_the_range(record):
+    table = TabulatedSpectrum([0.0, 0.5, 2.0], [0.4, 1.0, 0.3], damping=0.05)
+    with pytest.raises(InputError, match=r"suite: period_range: a period range within the target's 0-2 s .* "
+                                         r"got 0\.2-2\.4 s"):
+        build_suite([record], table, (0.2, 2.4), RULES["mean"])
+
+
+def test_too_few_records_warns_naming_the_rule(record):
+    ec8 = build_suite([record] * 3, TARGET, (0.2, 2.0), RULES["ec8"], "amplitude")
+    assert ("EN 1998-1 3.2.3.1 / 4.3.3.4.3: with fewer than 7 records the design value is the maximum of the "
+            "responses, not the mean (3 records)") in ec8.warnings
+    assert ec8.statistic == "max"
+    asce = build_suite([record], TARGET, (0.2, 2.0), RULES["asce7-22"], "none")
+    assert "ASCE 7-22 16.2 asks for at least 11 records; the suite has 1" in asce.warnings
+    assert any("the mean S_a/target is" in w and "below 0.9" in w for w in asce.warnings)
+
+
+def test_bad_arguments(record):
+    with pytest.raises(InputError, match="suite: suite: at least one record"):
+        build_suite([], TARGET, (0.2, 2.0), RULES["mean"])
+    with pytest.raises(InputError, match="scaling: one of none, amplitude, match"):
+        build_suite([record], TARGET, (0.2, 2.0), RULES["mean"], "spectral")
+    with pytest.raises(InputError, match="period_range: 0 < lower < upper"):
+        build_suite([record], TARGET, (2.0, 0.2), RULES["mean"])
+
+
+def test_entries_from_a_folder_and_a_list(tmp_path):
+    folder = tmp_path / "suite"
+    folder.mkdir()
+    for name in ("b.txt", "a.txt"):
+        (folder / name).write_bytes(ELCENTRO.read_bytes())
+    (folder / "README.md").write_text("not a record")
+    (folder / "manifest.json").write_text("{}")
+    deck = str(tmp_path / "deck.toml")
+    entries = suite_entries("suite", deck)
+    assert [path.name for path, _ in entries] == ["a.txt", "b.txt"]
+    assert len(read_records(entries)) == 2
+    entries = suite_entries(["suite/a.txt", {"file": "suite/b.txt", "units": "g", "scale": 2.0}], deck)
+    records = read_records(entries)
+    np.testing.assert_allclose(records[1].acceleration, 2 * records[0].acceleration)
+    with pytest.raises(InputError, match=r"deck\.toml: ground_motion\.suite: a folder of records .* not found"):
+        suite_entries("missing", deck)
+    with pytest.raises(InputError, match=r"ground_motion\.suite\[1\]\.unit: a key of a suite record"):
+        suite_entries(["suite/a.txt", {"file": "suite/b.txt", "unit": "g"}], deck)
+    with pytest.raises(InputError, match=r"ground_motion\.suite\[0\]\.file: the path of a record file"):
+        suite_entries([{"units": "g"}], deck)
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(InputError, match=r"ground_motion\.suite: record files"):
+        suite_entries("empty", deck)

@@ -1,0 +1,201 @@
+"""`uplift record generate`, `uplift record match` and `uplift record scale`: record suites for a
+deck's design spectrum (target, code rule and period range from the deck, docs/deck.md)."""
+
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+import typer
+from rich.markup import escape
+from rich.table import Table
+
+from ..atomic import write_text
+from ..deck import load_deck
+from ..deck_suite import plan_from_deck
+from ..errors import InputError
+from ..motion import records
+from ..motion.generate import Envelope, generate_suite
+from ..motion.matching import MatchSettings, settings_for
+from ..motion.record_files import manifest_text, record_checks, record_text, sha256
+from ..motion.suites import SAMPLES_PER_PERIOD, Suite, build_suite, read_records, suite_entries
+from ..units import STANDARD_GRAVITY
+from . import render
+from .record import DT_HELP, FORMAT_HELP, UNITS_HELP
+
+SET_HELP = "Override a deck field by dotted path, e.g. --set ground_motion.period_range=[0.1,3] (repeatable)."
+OUT_HELP = "Directory for the records and manifest.json (created; existing files are kept unless --overwrite)."
+
+
+def _warn(messages) -> None:
+    for message in messages:
+        typer.echo(f"warning: {message}", err=True)
+
+
+def _records(deck_path: Path, loaded, files: list[Path] | None, file_format: str | None, units: str | None,
+             dt: float | None) -> list[records.Record]:
+    """The records named on the command line, else those of the deck's ground_motion.suite."""
+    if files:
+        return [records.read_record(f, format=file_format, units=units, dt=dt) for f in files]
+    suite = loaded.values.get("ground_motion", {}).get("suite")
+    if suite is None:
+        raise InputError(str(deck_path), "ground_motion.suite", "records: give RECORD files or a suite in the deck")
+    return read_records(suite_entries(suite, str(deck_path)))
+
+
+def _check_out(out: Path, names: list[str], overwrite: bool, inputs: list[Path]) -> None:
+    """Nothing is written when --out is a file, a target file exists (without --overwrite) or is an input."""
+    if out.exists() and not out.is_dir():
+        raise InputError("--out", str(out), "a directory (a file of that name exists)")
+    protected = {p.resolve() for p in inputs}
+    for name in names:
+        path = out / name
+        if path.resolve() in protected:
+            raise InputError("--out", str(path), "a path that is not an input of this run")
+        if path.exists() and not overwrite:
+            raise InputError("--out", str(path), "a new file (it exists; give --overwrite to replace it)")
+
+
+def _write(out: Path, files: dict[str, str]) -> None:
+    try:
+        for name, text in files.items():
+            write_text(out / name, text)
+    except OSError as error:
+        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+
+
+def _print_suite(suite: Suite, labels: list[str], title: str, tolerance: MatchSettings | None = None) -> None:
+    out = render.console()
+    out.print(escape(f"target: {suite.target.name}; {suite.rule.label}, design value: {suite.statistic} "
+                     f"of {suite.count}"))
+    out.print(escape(f"period range {suite.period_range[0]:.4g}-{suite.period_range[1]:.4g} s: {suite.period_note}"))
+    target = suite.target.sa(suite.periods, suite.damping)
+    table = Table(title=escape(title))
+    for header in ("record", "factor [-]", "PGA [g]", "S_a/target min", "S_a/target max"):
+        table.add_column(escape(header), justify="right" if header != "record" else "left")
+    for label, motion, factor, spectrum in zip(labels, suite.motions(), suite.factors, suite.spectra(), strict=True):
+        ratios = spectrum / target
+        table.add_row(escape(label), f"{factor:.4f}", f"{motion.pga / STANDARD_GRAVITY:.4f}",
+                      f"{ratios.min():.3f}", f"{ratios.max():.3f}")
+    out.print(table)
+    mean = suite.mean_ratio()
+    out.print(escape(f"mean S_a/target over the range: min {mean.min():.3f}, max {mean.max():.3f} "
+                     f"(the code asks >= {suite.rule.mean_minimum(suite.scaling):g})"))
+    if tolerance is not None:
+        low, high = tolerance.low * tolerance.reference, tolerance.high * tolerance.reference
+        out.print(escape(f"tolerance of each record: {tolerance.low:g}-{tolerance.high:g} x {tolerance.reference:g} "
+                         f"x target = {low:.3g}-{high:.3g} x target, at {suite.periods.size} periods"))
+
+
+def generate(
+    deck: Path = typer.Argument(..., help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
+    count: int = typer.Option(11, "--count", "-n", help="Number of records (ASCE 7-22 asks >= 11, EN 1998-1 >= 3)."),
+    seed: int = typer.Option(..., "--seed", help="Seed: record k is reproducible from (seed, k)."),
+    out: Path = typer.Option(..., "--out", "-o", help=OUT_HELP),
+    dt: float = typer.Option(0.01, "--dt", help="Time step of the records [s]."),
+    stationary: float = typer.Option(10.0, "--stationary", help="Stationary part of the envelope [s] (EC8: >= 10)."),
+    settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
+    overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing files in --out."),
+) -> None:
+    """Artificial records matching the deck's design spectrum (Gasparini & Vanmarcke), with a manifest."""
+    if count < 1:
+        raise InputError("--count", str(count), "at least 1 record")
+    if not (0.0 < stationary < 1e4):
+        raise InputError("--stationary", f"{stationary:g}", "a stationary duration > 0 s")
+    loaded = load_deck(deck, settings, load_ground_motion=False)
+    plan = plan_from_deck(loaded)
+    if not 0.0 < dt <= plan.period_range[0] / SAMPLES_PER_PERIOD:
+        raise InputError("--dt", f"{dt:g}", f"a time step > 0 and <= {plan.period_range[0] / SAMPLES_PER_PERIOD:.4g} s "
+                         f"(the lower period {plan.period_range[0]:.4g} s / {SAMPLES_PER_PERIOD})")
+    names = [f"artificial_{seed}_{k + 1:02d}.txt" for k in range(count)]
+    _check_out(out, [*names, "manifest.json"], overwrite, [deck])
+    match_settings = settings_for(plan.rule)
+    suite, items = generate_suite(plan.target, plan.period_range, plan.rule, count, seed, dt,
+                                  Envelope(strong=stationary), match_settings, plan.period_note)
+    files, rows = {}, []
+    for name, motion, factor, item, check in zip(names, suite.motions(), suite.factors, items,
+                                                 record_checks(suite, match_settings), strict=True):
+        envelope = item.envelope
+        provenance = [
+            f"synthetic: generated by `uplift record generate` (seed {seed}, index {item.index}, draw {item.attempt})",
+            f"target: {plan.target.name}, {plan.rule.label}",
+            f"period range {plan.period_range[0]:.4g}-{plan.period_range[1]:.4g} s; amplitude factor {factor:.6g}",
+            f"envelope: rise {envelope.rise:g} s, stationary {envelope.strong:g} s, decay {envelope.decay:g} s",
+        ]
+        text = record_text(name.removesuffix(".txt"), motion.dt, motion.acceleration, provenance)
+        files[name] = text
+        rows.append({"file": name, "index": item.index, "draw": item.attempt, "factor": round(factor, 6),
+                     "iterations": item.result.iterations, **check, "sha256": sha256(text)})
+    files["manifest.json"] = manifest_text(suite, match_settings, "record generate", str(deck), rows,
+                                           {"seed": seed, "count": count})
+    _write(out, files)
+    _print_suite(suite, names, f"Artificial records, seed {seed}", match_settings)
+    _warn(suite.warnings)
+    typer.echo(f"wrote {count} records and manifest.json to {out}", err=True)
+
+
+def match(
+    deck: Path = typer.Argument(..., help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
+    files: list[Path] = typer.Argument(None, help="Records to match (default: the deck's ground_motion.suite)."),
+    out: Path = typer.Option(..., "--out", "-o", help=OUT_HELP),
+    file_format: str | None = typer.Option(None, "--format", help=FORMAT_HELP),
+    units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
+    dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
+    settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
+    overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing files in --out."),
+) -> None:
+    """Spectrally match records to the deck's design spectrum; writes them with their provenance."""
+    loaded = load_deck(deck, settings, load_ground_motion=False)
+    plan = plan_from_deck(loaded)
+    seeds = _records(deck, loaded, files, file_format, units, dt)
+    names = [f"{Path(r.source).stem}_matched.txt" for r in seeds]
+    if len(set(names)) != len(names):
+        raise InputError("RECORD", ", ".join(names), "records with different file names")
+    _check_out(out, [*names, "manifest.json"], overwrite, [deck, *(Path(r.source) for r in seeds)])
+    match_settings = settings_for(plan.rule)
+    suite = build_suite(seeds, plan.target, plan.period_range, plan.rule, "match", period_note=plan.period_note,
+                        settings=match_settings, source=str(deck))
+    files_out, rows = {}, []
+    for name, seed, motion, factor, check in zip(names, seeds, suite.motions(), suite.factors,
+                                                 record_checks(suite, match_settings), strict=True):
+        digest = hashlib.sha256(Path(seed.source).read_bytes()).hexdigest()
+        provenance = [
+            f"matched by `uplift record match` (frequency-domain iteration) from {seed.source}",
+            f"seed record SHA-256 {digest}, read as {seed.units}, scale {seed.scale:g}",
+            f"target: {plan.target.name}, {plan.rule.label}",
+            f"period range {plan.period_range[0]:.4g}-{plan.period_range[1]:.4g} s; amplitude factor {factor:.6g}",
+        ]
+        text = record_text(f"{seed.name} (matched)", motion.dt, motion.acceleration, provenance)
+        files_out[name] = text
+        rows.append({"file": name, "from": seed.source, "factor": round(factor, 6), **check, "sha256": sha256(text)})
+    files_out["manifest.json"] = manifest_text(suite, match_settings, "record match", str(deck), rows)
+    _write(out, files_out)
+    _print_suite(suite, names, "Matched records", match_settings)
+    _warn(suite.warnings)
+    typer.echo(f"wrote {len(names)} records and manifest.json to {out}", err=True)
+
+
+def scale(
+    deck: Path = typer.Argument(..., help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
+    files: list[Path] = typer.Argument(None, help="Records to scale (default: the deck's ground_motion.suite)."),
+    suite_factor: bool = typer.Option(False, "--suite-factor", help="One factor for the whole suite."),
+    file_format: str | None = typer.Option(None, "--format", help=FORMAT_HELP),
+    units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
+    dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
+    settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
+) -> None:
+    """Amplitude factors that bring the suite's mean spectrum to the code's criterion (printed)."""
+    loaded = load_deck(deck, settings, load_ground_motion=False)
+    plan = plan_from_deck(loaded)
+    seeds = _records(deck, loaded, files, file_format, units, dt)
+    suite = build_suite(seeds, plan.target, plan.period_range, plan.rule, "amplitude", suite_factor,
+                        plan.period_note, source=str(deck))
+    _print_suite(suite, [Path(r.source).name for r in seeds], "Amplitude factors")
+    _warn(suite.warnings)
+
+
+def register(record_app: typer.Typer) -> None:
+    """Add generate, match and scale to the `record` command group."""
+    record_app.command("generate")(generate)
+    record_app.command("match")(match)
+    record_app.command("scale")(scale)

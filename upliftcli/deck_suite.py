@@ -1,0 +1,113 @@
+"""The deck's record suite: `[ground_motion] suite = ...` with its design_spectrum as target.
+
+    plan = suite_plan(fields, target, system, settings, source, error)   # rule, period range
+    suite = load_suite(fields, plan, source, error)                      # records read and scaled
+
+The code rule is `ground_motion.statistics`, or that of the design spectrum (ASCE 7-22 spectra:
+"asce7-22", EC8: "ec8", a table: "mean"). The period range is `ground_motion.period_range`, or
+the code's rule (motion/code_rules.py) applied to the structure: the upper bound from the
+flexible-base first-mode period T1bar of the bonded system (Eq. 21; T_1 fixed-base if longer),
+the lower bound from the fixed-base T_1 and the mode that completes 90 % of the building mass.
+Every InputError names the deck (or "--set") and the ground_motion field.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from .errors import InputError
+from .motion.code_rules import RULES, CodeRule, period_of_mass_fraction
+from .motion.design_spectra import ASCE7MultiPeriodSpectrum, ASCE7Spectrum, EC8Spectrum
+from .motion.suites import Suite, build_suite, check_target, read_records, suite_entries
+
+#: ground_motion.statistics -> damping correction of a table spectrum that names none
+TABLE_CORRECTION = {"asce7-22": "asce", "ec8": "ec8", "mean": "ec8"}
+#: fields that only a suite takes
+SUITE_ONLY = ("scaling", "suite_factor")
+
+
+@dataclass(frozen=True)
+class SuitePlan:
+    """What a deck asks of a suite before any record is read: target spectrum, code rule,
+    period range [s] and how it was found."""
+
+    target: Any
+    rule: CodeRule
+    period_range: tuple[float, float]
+    period_note: str
+
+
+def default_statistics(spectrum) -> str:
+    """The code rule of a design spectrum: 'asce7-22', 'ec8' or 'mean' (a table)."""
+    if isinstance(spectrum, (ASCE7Spectrum, ASCE7MultiPeriodSpectrum)):
+        return "asce7-22"
+    return "ec8" if isinstance(spectrum, EC8Spectrum) else "mean"
+
+
+def structure_period_range(rule: CodeRule, system, effective_properties: str = "formula"
+                           ) -> tuple[tuple[float, float], str]:
+    """The code's period range [s] for the structure (module docstring) and how it was found."""
+    from .engines.simplified import effective_properties as properties
+
+    modes = system.modes
+    first = float(modes.periods[0])
+    flexible = float(properties(system, effective_properties)["T1bar"])
+    period_90 = period_of_mass_fraction(modes.periods, modes.effective_mass / float(system.building.masses.sum()))
+    period_range, note = rule.period_range(max(first, flexible), first, period_90)
+    return period_range, f"{note}; T_1 fixed-base {first:.4g} s, flexible-base T1bar {flexible:.4g} s"
+
+
+def suite_plan(fields: dict, target, system, effective_properties: str, source: str,
+               error: Callable[[str, str], InputError]) -> SuitePlan:
+    """The SuitePlan of validated [ground_motion] fields with `target`, the deck's design spectrum."""
+    rule = RULES[fields.get("statistics") or default_statistics(target)]
+    if "period_range" in fields:
+        period_range = tuple(float(v) for v in fields["period_range"])
+        if period_range[0] <= 0.0:
+            raise error("ground_motion.period_range", f"[lower, upper] with 0 < lower < upper [s], got "
+                        f"{list(period_range)}")
+        note = f"ground_motion.period_range = {period_range[0]:.4g}-{period_range[1]:.4g} s"
+    else:
+        period_range, note = structure_period_range(rule, system, effective_properties)
+    try:
+        check_target(target, period_range, source, "ground_motion.period_range")
+    except InputError as bad:
+        raise error("ground_motion.period_range", bad.expected) from None
+    return SuitePlan(target, rule, period_range, note)
+
+
+def load_suite(fields: dict, plan: SuitePlan, source: str, error: Callable[[str, str], InputError]) -> Suite:
+    """Read the deck's suite and scale or match it as `ground_motion.scaling` says."""
+    try:
+        entries = suite_entries(fields["suite"], source)
+    except InputError as bad:
+        if bad.source == source and bad.location:
+            raise error(bad.location, bad.expected) from None
+        raise
+    records = read_records(entries)
+    try:
+        return build_suite(records, plan.target, plan.period_range, plan.rule, fields.get("scaling", "none"),
+                           bool(fields.get("suite_factor", False)), plan.period_note, source=source)
+    except InputError as bad:
+        if bad.source == source and bad.location and not bad.location.startswith("ground_motion."):
+            raise error(f"ground_motion.{bad.location}", bad.expected) from None
+        raise
+
+
+def plan_from_deck(deck) -> SuitePlan:
+    """The SuitePlan of a deck loaded without its ground motion (load_deck(load_ground_motion=False)):
+    its design spectrum, code rule and period range, whether or not its suite exists yet."""
+    from .motion.design_spectra import from_mapping
+
+    fields = deck.values.get("ground_motion", {})
+
+    def error(path: str, expected: str) -> InputError:
+        return InputError("--set" if path in deck.overridden else deck.source, path, expected)
+
+    if "design_spectrum" not in fields:
+        raise error("ground_motion.design_spectrum", "a design spectrum (the target of the records)")
+    target = from_mapping(fields["design_spectrum"], deck.source, "ground_motion.design_spectrum",
+                          default_correction=TABLE_CORRECTION[fields.get("statistics", "mean")])
+    return suite_plan(fields, target, deck.system, deck.analysis.simplified.effective_properties, deck.source, error)

@@ -1,0 +1,218 @@
+"""Record suites as data: the records, their amplitude factors, the target spectrum, the period
+range and the code rule (code_rules.py), built from records or read from a folder or a list of
+files; scaled (scaling.py) or spectrally matched (matching.py) as asked.
+
+    suite = build_suite(records, target, (0.2, 2.0), RULES["asce7-22"], scaling="amplitude")
+    suite.factors, suite.motions(), suite.mean_ratio(periods), suite.warnings
+
+Checks (each an InputError naming the record or the field): a record shorter than MIN_CYCLES
+times the upper period of the range, a record too coarsely sampled to be matched at the lower
+period (fewer than SAMPLES_PER_PERIOD steps), a target that does not cover the range. Too few
+records for the code is a warning (Suite.warnings), as are factors outside 0.25-4 and, for
+scaling = "none", a mean below the code's criterion.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+from .code_rules import SCALINGS, CodeRule
+from .design_spectra import spectrum_warnings
+from .matching import MatchSettings, control_periods, match_record, settings_for
+from .records import FORMATS, Record, read_record
+from .scaling import amplitude_factors, factor_warnings, matched_factors, mean_ratio
+from .spectra import response_spectrum
+
+MIN_CYCLES = 4  # a record lasts at least 4 x the upper period of the range
+SAMPLES_PER_PERIOD = 4  # a record to be matched has a step dt <= lower period / 4
+#: files of a suite folder that are read as records
+RECORD_SUFFIXES = (".at2", ".txt", ".csv", ".dat", ".acc")
+PERIODS_PER_OCTAVE = 96  # periods at which amplitude factors and the mean are checked
+
+
+@dataclass(frozen=True)
+class Suite:
+    """A suite of records for one target.
+
+    records: the ground motions (as read, or as matched), before the factors; factors: amplitude
+    factor of each [-]; target: the design spectrum (.sa); period_range: (lower, upper) [s];
+    rule: the code rule; scaling: 'none', 'amplitude' or 'match'; period_note: how the period
+    range was found; warnings: messages to pass on; provenance: per record, where it came from;
+    damping: of the spectra compared [-].
+    """
+
+    records: tuple[Record, ...]
+    factors: tuple[float, ...]
+    target: Any
+    period_range: tuple[float, float]
+    rule: CodeRule
+    scaling: str = "none"
+    period_note: str = ""
+    warnings: tuple[str, ...] = ()
+    provenance: tuple[str, ...] = ()
+    damping: float = 0.05
+    periods: np.ndarray = field(default=None, repr=False)  # type: ignore[assignment]
+
+    def __post_init__(self):
+        if self.periods is None:
+            object.__setattr__(self, "periods", control_periods(self.period_range, PERIODS_PER_OCTAVE))
+
+    @property
+    def count(self) -> int:
+        return len(self.records)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(record.name for record in self.records)
+
+    @property
+    def sources(self) -> tuple[str, ...]:
+        return tuple(record.source for record in self.records)
+
+    @property
+    def statistic(self) -> str:
+        """'mean' or 'max': the design value the code takes from this many records."""
+        return self.rule.statistic(self.count)
+
+    def motions(self) -> tuple[Record, ...]:
+        """The records with their factors applied."""
+        return tuple(replace(record, acceleration=factor * record.acceleration, scale=record.scale * factor)
+                     for record, factor in zip(self.records, self.factors, strict=True))
+
+    def spectra(self, periods=None) -> np.ndarray:
+        """S_a [m/s^2] of each scaled record (rows) at periods [s] (default: the check periods)."""
+        periods = self.periods if periods is None else np.asarray(periods, dtype=float)
+        return np.array([response_spectrum(r.acceleration, r.dt, periods, [self.damping]).pseudo_acceleration[0]
+                         for r in self.motions()])
+
+    def mean_ratio(self, periods=None) -> np.ndarray:
+        """Mean S_a / target at periods [s] (default: the check periods) [-]."""
+        periods = self.periods if periods is None else np.asarray(periods, dtype=float)
+        return mean_ratio(self.spectra(periods), self.target.sa(periods, self.damping), np.ones(self.count))
+
+
+def check_target(target, period_range: tuple[float, float], source: str, field: str) -> None:
+    """InputError when the target spectrum does not cover the period range [s]."""
+    low, high = target.period_range
+    if period_range[0] < low or period_range[1] > high:
+        raise InputError(source, field, f"a period range within the target's {low:g}-{high:g} s "
+                         f"({target.name}), got {period_range[0]:.4g}-{period_range[1]:.4g} s")
+
+
+def check_record(record: Record, period_range: tuple[float, float], matching: bool) -> None:
+    """InputError naming the record when it is too short (or too coarse to be matched) for the range."""
+    need = MIN_CYCLES * period_range[1]
+    if record.duration < need:
+        raise InputError(record.source or record.name, "duration",
+                         f"a record of at least {MIN_CYCLES} x the upper period {period_range[1]:.4g} s = "
+                         f"{need:.4g} s for the period range, got {record.duration:.4g} s")
+    if matching and record.dt > period_range[0] / SAMPLES_PER_PERIOD:
+        raise InputError(record.source or record.name, "dt",
+                         f"a time step of at most {period_range[0] / SAMPLES_PER_PERIOD:.4g} s (the lower period "
+                         f"{period_range[0]:.4g} s / {SAMPLES_PER_PERIOD}) to be matched, got {record.dt:g} s")
+
+
+def build_suite(records, target, period_range: tuple[float, float], rule: CodeRule, scaling: str = "none",
+                suite_factor: bool = False, period_note: str = "", provenance=(), damping: float = 0.05,
+                settings: MatchSettings | None = None, source: str = "suite") -> Suite:
+    """A Suite of records.Record for the target over period_range [s] under `rule`, scaled by
+    `scaling` ('none', 'amplitude': one factor per record, or one for the suite if suite_factor;
+    'match': every record matched, then amplitude factors within the tolerance)."""
+    records = tuple(records)
+    if not records:
+        raise InputError(source, "suite", "at least one record")
+    if scaling not in SCALINGS:
+        raise InputError(source, "scaling", f"one of {', '.join(SCALINGS)}, got {scaling!r}")
+    lower, upper = (float(value) for value in period_range)
+    if not 0.0 < lower < upper:
+        raise InputError(source, "period_range", f"0 < lower < upper [s], got {lower:g}-{upper:g}")
+    check_target(target, (lower, upper), source, "period_range")
+    for record in records:
+        check_record(record, (lower, upper), scaling == "match")
+    if scaling == "match":
+        settings = settings or settings_for(rule, damping=damping)
+        results = [match_record(record, target, (lower, upper), settings) for record in records]
+        matched = tuple(replace(record, acceleration=result.acceleration, name=f"{record.name} (matched)")
+                        for record, result in zip(records, results, strict=True))
+        suite = Suite(matched, (1.0,) * len(records), target, (lower, upper), rule, scaling, period_note, (),
+                      tuple(provenance) or tuple(f"matched from {r.source}" for r in records), damping,
+                      results[0].periods)
+        return with_matched_factors(suite, [result.ratios for result in results], settings)
+    suite = Suite(records, (1.0,) * len(records), target, (lower, upper), rule, scaling, period_note, (),
+                  tuple(provenance) or tuple(r.source for r in records), damping)
+    if scaling == "amplitude":
+        factors = amplitude_factors(suite.spectra(), target.sa(suite.periods, damping), rule.scaled_mean,
+                                    per_record=not suite_factor)
+        suite = replace(suite, factors=tuple(float(f) for f in factors))
+    return with_warnings(suite)
+
+
+def with_matched_factors(suite: Suite, ratios, settings: MatchSettings) -> Suite:
+    """The suite of matched records with the factors of scaling.matched_factors (ratios: S_a/matching
+    target of each record at the suite's check periods) and its warnings."""
+    factors = matched_factors(ratios, settings.level, settings.low, settings.high,
+                              suite.rule.matched_mean / settings.reference, settings.margin,
+                              [r.source or r.name for r in suite.records])
+    return with_warnings(replace(suite, factors=tuple(float(f) for f in factors)))
+
+
+def with_warnings(suite: Suite) -> Suite:
+    """The suite with the messages it calls for: too few records for the code, the target's own
+    warnings for response-history analysis, factors outside 0.25-4, EN 1998-1's zero-period
+    condition, a mean below the code's criterion."""
+    rule, (lower, upper) = suite.rule, suite.period_range
+    warnings = [*rule.count_warnings(suite.count), *spectrum_warnings(suite.target, [upper], "response-history")]
+    warnings += factor_warnings([r.source or r.name for r in suite.records], suite.factors)
+    zero_period = getattr(suite.target, "design_ground_acceleration", None)
+    if rule.name == "ec8" and zero_period is not None:
+        pga = float(np.mean([motion.pga for motion in suite.motions()]))
+        if pga < zero_period:
+            warnings.append(f"EN 1998-1 3.2.3.1.2(4)b: the mean PGA {pga / zero_period:.3f} a_g S is below a_g S")
+    minimum = float(np.min(suite.mean_ratio()))
+    if minimum < rule.mean_minimum(suite.scaling) * (1.0 - 1e-9):
+        warnings.append(f"{rule.label}: the mean S_a/target is {minimum:.3f} somewhere in {lower:.4g}-{upper:.4g} s, "
+                        f"below {rule.mean_minimum(suite.scaling):g} (scaling = \"{suite.scaling}\")")
+    return replace(suite, warnings=tuple(warnings))
+
+
+def suite_entries(value, source: str, field: str = "ground_motion.suite") -> list[tuple[Path, dict]]:
+    """(path, reader options) of each record of a deck's suite: a folder (its record files, sorted
+    by name) or a list of paths and tables {file, format, units, dt, scale}; paths relative to the
+    deck's folder."""
+    base = Path(source).parent
+    if isinstance(value, str):
+        folder = Path(value) if Path(value).is_absolute() else base / value
+        if not folder.is_dir():
+            raise InputError(source, field, f"a folder of records (or a list of files), not found: {str(folder)!r}")
+        files = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in RECORD_SUFFIXES
+                       and not p.name.lower().startswith(("readme", "manifest")))
+        if not files:
+            raise InputError(source, field, f"record files ({', '.join(RECORD_SUFFIXES)}) in {str(folder)!r}")
+        return [(path, {}) for path in files]
+    entries = []
+    keys = {"file", "format", "units", "dt", "scale"}
+    for k, item in enumerate(value):
+        where = f"{field}[{k}]"
+        if isinstance(item, str):
+            item = {"file": item}
+        unknown = sorted(set(item) - keys)
+        if unknown:
+            raise InputError(source, f"{where}.{unknown[0]}", f"a key of a suite record: {', '.join(sorted(keys))}")
+        if not isinstance(item.get("file"), str):
+            raise InputError(source, f"{where}.file", "the path of a record file")
+        if "format" in item and item["format"] not in FORMATS:
+            raise InputError(source, f"{where}.format", f"one of {', '.join(FORMATS)}, got {item['format']!r}")
+        path = Path(item["file"])
+        entries.append((path if path.is_absolute() else base / path, {key: item[key] for key in item if key != "file"}))
+    return entries
+
+
+def read_records(entries: list[tuple[Path, dict]]) -> list[Record]:
+    """Read every record of suite_entries (format and units detected unless given)."""
+    return [read_record(path, options.get("format"), options.get("units"), options.get("dt"),
+                        options.get("scale", 1.0)) for path, options in entries]
