@@ -194,10 +194,3 @@ def modes_for_mass_target(modes: Modes, total_mass: float, target: float) -> int
     """Smallest number of modes whose effective masses reach target * total_mass."""
     cumulative = np.cumsum(modes.effective_mass) / total_mass
     return int(min(np.searchsorted(cumulative, target - 1e-12) + 1, modes.n_modes))
-
-
-def damping_matrix(building: Building, modes: Modes | None = None) -> np.ndarray:
-    """Classical damping matrix C = M Phi diag(2 xi w) Phi^T M [N s/m] (all N modes)."""
-    modes = modes or modal_analysis(building)
-    mass_phi = building.masses[:, None] * modes.shapes
-    return mass_phi @ np.diag(2.0 * modes.damping * modes.omega) @ mass_phi.T

@@ -1,6 +1,6 @@
 """The whole system of THEORY.md section 1: building, rigid mat and foundation.
 
-Totals m_t, I_b, L_0 and the critical base shear and moment [16a, 16b].
+Totals m_t, L_0 and the critical base shear and moment [16a, 16b].
 """
 
 from __future__ import annotations
@@ -39,12 +39,6 @@ class System:
     def total_mass(self) -> float:
         """m_t = sum m_j + m_0 [kg]."""
         return float(self.building.masses.sum() + self.mat_mass)
-
-    @property
-    def rotary_inertia(self) -> float:
-        """I_b = sum m_j h_j^2 + I_0 [kg m^2]."""
-        b = self.building
-        return float(np.sum(b.masses * b.heights**2) + self.mat_rotary_inertia)
 
     @property
     def first_moment(self) -> float:

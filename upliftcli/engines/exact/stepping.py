@@ -152,13 +152,11 @@ class Run:
         if n_e > 62:
             raise AnalysisError(f"at most 62 contact elements are supported (got {n_e}): lower foundation.elements")
         self.space, self.layout, self.h, self.criterion = space, lay, h, criterion
-        self.ground, self.slopes, self.allow_flight = ground, slopes, allow_flight
         self.uplift = uplift
         self.operators = _Operators(space, h, criterion)
-        self.z_index = lay.z_indices
-        self.lift_rows = space.displacement_rows  # element displacements v_i = rows @ X
-        self.element_damped = space.element_damping > 0.0
-        self.all_lifted = np.int64((1 << n_e) - 1) if n_e else np.int64(-2)
+        self.elements = kernel.Elements(lay.z_indices, space.displacement_rows, space.element_damping > 0.0,
+                                        np.int64((1 << n_e) - 1) if n_e else np.int64(-2), bool(allow_flight))
+        self.grid = kernel.Grid(ground, slopes, float(h), LEVELS, lay.index_acceleration, lay.index_slope)
         self.capacity = ground.size + 1024
         self.out_x = self.out_t = self.out_s = None  # allocated by first_request
         self.x = space.rest.copy()
@@ -189,10 +187,9 @@ class Run:
         ops, lay, h = self.operators, self.layout, self.h
         while True:
             status, self.step, self.offset, self.state, self.n_out, pattern = kernel.integrate(
-                ops.ops, ops.events, ops.event_rates, ops.matrices, ops.patterns, len(ops.contact),
-                self.z_index, self.lift_rows, self.element_damped, self.all_lifted, self.allow_flight,
-                self.ground, self.slopes, h, LEVELS, lay.index_acceleration, lay.index_slope,
-                self.x, self.state, self.step, self.offset, self.out_x, self.out_t, self.out_s, self.n_out,
+                kernel.States(ops.ops, ops.events, ops.event_rates, ops.matrices, ops.patterns, len(ops.contact)),
+                self.elements, self.grid, kernel.Samples(self.x, self.out_x, self.out_t, self.out_s),
+                self.state, self.step, self.offset, self.n_out,
             )
             if status == kernel.DONE:
                 return None

@@ -21,6 +21,8 @@ again with the new state.
 
 from __future__ import annotations
 
+from collections import namedtuple
+
 import numpy as np
 from numba import njit
 
@@ -103,21 +105,87 @@ def _find_state(patterns, n_states, pattern):
     return -1
 
 
+#: the contact states built so far: step operators ops[s, j] = expm(A_s h / 2^j)^T, event rows
+#: G_s, their rates G_s A_s, A_s^T, the contact pattern of each and how many there are
+States = namedtuple("States", "ops events event_rates matrices patterns count")
+#: the elements: state index of each element top z_i, rows of its displacement v_i, whether it
+#: has a dashpot, the pattern with every element lifted, and whether flight is allowed
+Elements = namedtuple("Elements", "z_index lift_rows damped all_lifted allow_flight")
+#: the ground acceleration at every internal step [m/s^2], its slope in each step [m/s^3], the
+#: step h [s], the bisection levels L and where a_g and its slope sit in the augmented state
+Grid = namedtuple("Grid", "ground slopes h levels index_acceleration index_slope")
+#: the state x (updated in place) and the sample buffers (times, states, state ids)
+Samples = namedtuple("Samples", "x out_x out_t out_state")
+
+
+@njit(cache=True, inline="always")
+def _crossing(ops_s, events_s, x, level, chunk, n_levels, left, trial, right):
+    """Bracket the first crossing inside the chunk x -> trial by bisection with the finer exact
+    operators down to h / 2^L (left, right: its ends), then place it by linear interpolation
+    of each event function inside that last sliver. Returns (start, fraction): the crossing
+    is at start + fraction * chunk[L] from x."""
+    left[:] = x
+    start = 0.0
+    for j in range(level + 1, n_levels + 1):
+        _matvec(ops_s[j], left, trial)
+        if _max_event(events_s, trial) <= EVENT_TOLERANCE:
+            left[:] = trial
+            start += chunk[j]
+    _matvec(ops_s[n_levels], left, right)
+    # earliest crossing inside the last sliver, linear interpolation of each g_i
+    fraction = 1.0
+    for i in range(events_s.shape[0]):
+        gl = 0.0
+        gr = 0.0
+        for j in range(x.size):
+            gl += events_s[i, j] * left[j]
+            gr += events_s[i, j] * right[j]
+        if gr > EVENT_TOLERANCE:
+            f = 0.0
+            if gr > gl:
+                f = (EVENT_TOLERANCE - gl) / (gr - gl)
+            if f < 0.0:
+                f = 0.0
+            if f < fraction:
+                fraction = f
+    return start, fraction
+
+
+@njit(cache=True, inline="always")
+def _switch(pattern, events_s, x, right, elements):
+    """The new contact pattern at the crossing x: every element whose event function has
+    reached zero there (and is positive at the sliver's end) switches; a lifting element's
+    top starts where the edge is (k z + c z' = 0 from there). Updates x."""
+    for i in range(events_s.shape[0]):
+        g = 0.0
+        for j in range(x.size):
+            g += events_s[i, j] * x[j]
+        if g >= -1e-9:
+            gr = 0.0
+            for j in range(x.size):
+                gr += events_s[i, j] * right[j]
+            if gr > EVENT_TOLERANCE:
+                pattern ^= np.int64(1) << np.int64(i)
+                if (pattern >> np.int64(i)) & np.int64(1):
+                    value = 0.0
+                    if elements.damped[i]:
+                        for j in range(x.size):
+                            value += elements.lift_rows[i, j] * x[j]
+                    x[elements.z_index[i]] = value
+    return pattern
+
+
 @njit(cache=True)
-def integrate(
-    ops, events, event_rates, matrices, patterns, n_states,
-    z_index, lift_rows, element_damped, all_lifted_pattern, allow_flight,
-    ground, slopes, h, n_levels, index_acceleration, index_slope,
-    x, state, step, offset, out_x, out_t, out_state, n_out,
-):
+def integrate(states, elements, grid, samples, state, step, offset, n_out):
     """Advance from (step, offset) to the end of the ground-motion grid.
 
-    Returns (status, step, offset, state, n_out, pattern) and updates x and the
-    output buffers in place; pattern is the pending contact pattern for NEED_STATE.
+    Returns (status, step, offset, state, n_out, pattern) and updates samples.x and the
+    sample buffers in place; pattern is the pending contact pattern for NEED_STATE.
     """
+    ground, slopes, h, n_levels = grid.ground, grid.slopes, grid.h, grid.levels
+    x, out_x, out_t, out_state = samples.x, samples.out_x, samples.out_t, samples.out_state
     n_steps = ground.size - 1
     n_aug = x.size
-    n_e = events.shape[1]
     trial = np.empty(n_aug)
     left = np.empty(n_aug)
     right = np.empty(n_aug)
@@ -129,88 +197,46 @@ def integrate(
     capacity = out_t.size
     while step < n_steps:
         if n_out + MAX_EVENTS_PER_STEP + 1 > capacity:
-            return FULL, step, offset, state, n_out, patterns[state]
+            return FULL, step, offset, state, n_out, states.patterns[state]
         events_in_step = 0
         if offset == 0.0:
-            x[index_acceleration] = ground[step]
-            x[index_slope] = slopes[step]
+            x[grid.index_acceleration] = ground[step]
+            x[grid.index_slope] = slopes[step]
         while True:
             remaining = h - offset
             if remaining < smallest * (1.0 - 1e-9):
                 if remaining > 0.0:
                     # sub-sliver close: second-order Taylor step (error ~ (|A| h 2^-L)^3)
-                    _matvec(matrices[state], x, tmp)
-                    _matvec(matrices[state], tmp, trial)
+                    _matvec(states.matrices[state], x, tmp)
+                    _matvec(states.matrices[state], tmp, trial)
                     for i in range(n_aug):
                         x[i] += remaining * tmp[i] + 0.5 * remaining * remaining * trial[i]
                 break
             level = 0
             while level < n_levels and chunk[level] > remaining * (1.0 + 1e-12):
                 level += 1
-            _matvec(ops[state, level], x, trial)
-            crossed = _max_event(events[state], trial) > EVENT_TOLERANCE
+            ops_s, events_s = states.ops[state], states.events[state]
+            _matvec(ops_s[level], x, trial)
+            crossed = _max_event(events_s, trial) > EVENT_TOLERANCE
             # an event function may rise above zero and fall back inside the chunk: halve it
             # while its cubic interpolant says so (down to h / 2^REFINE_LEVELS)
             while (not crossed and level < REFINE_LEVELS
-                   and _excursion(events[state], event_rates[state], x, trial, chunk[level])):
+                   and _excursion(events_s, states.event_rates[state], x, trial, chunk[level])):
                 level += 1
-                _matvec(ops[state, level], x, trial)
-                crossed = _max_event(events[state], trial) > EVENT_TOLERANCE
+                _matvec(ops_s[level], x, trial)
+                crossed = _max_event(events_s, trial) > EVENT_TOLERANCE
             if not crossed:
                 x[:] = trial
                 offset += chunk[level]
                 continue
-            # bracket the first crossing by bisection with the finer exact operators
-            left[:] = x
-            start = 0.0
-            for j in range(level + 1, n_levels + 1):
-                _matvec(ops[state, j], left, trial)
-                if _max_event(events[state], trial) <= EVENT_TOLERANCE:
-                    left[:] = trial
-                    start += chunk[j]
-            _matvec(ops[state, n_levels], left, right)
-            # earliest crossing inside the last sliver, linear interpolation of each g_i
-            fraction = 1.0
-            ev = events[state]
-            for i in range(n_e):
-                gl = 0.0
-                gr = 0.0
-                for j in range(n_aug):
-                    gl += ev[i, j] * left[j]
-                    gr += ev[i, j] * right[j]
-                if gr > EVENT_TOLERANCE:
-                    f = 0.0
-                    if gr > gl:
-                        f = (EVENT_TOLERANCE - gl) / (gr - gl)
-                    if f < 0.0:
-                        f = 0.0
-                    if f < fraction:
-                        fraction = f
+            start, fraction = _crossing(ops_s, events_s, x, level, chunk, n_levels, left, trial, right)
             for j in range(n_aug):
                 x[j] = left[j] + fraction * (right[j] - left[j])
             offset += start + fraction * smallest
-            # every element whose function has reached zero at that point switches
-            pattern = patterns[state]
-            for i in range(n_e):
-                g = 0.0
-                for j in range(n_aug):
-                    g += ev[i, j] * x[j]
-                if g >= -1e-9:
-                    gr = 0.0
-                    for j in range(n_aug):
-                        gr += ev[i, j] * right[j]
-                    if gr > EVENT_TOLERANCE:
-                        pattern ^= np.int64(1) << np.int64(i)
-                        if (pattern >> np.int64(i)) & np.int64(1):
-                            # lift-off: the element top starts where the edge is (k z + c z' = 0)
-                            value = 0.0
-                            if element_damped[i]:
-                                for j in range(n_aug):
-                                    value += lift_rows[i, j] * x[j]
-                            x[z_index[i]] = value
-            if pattern == all_lifted_pattern and not allow_flight:
+            pattern = _switch(states.patterns[state], events_s, x, right, elements)
+            if pattern == elements.all_lifted and not elements.allow_flight:
                 return FLIGHT, step, offset, state, n_out, pattern
-            new_state = _find_state(patterns, n_states, pattern)
+            new_state = _find_state(states.patterns, states.count, pattern)
             if new_state < 0:
                 return NEED_STATE, step, offset, state, n_out, pattern
             state = new_state
@@ -223,18 +249,18 @@ def integrate(
             n_out += 1
         step += 1
         offset = 0.0
-        x[index_acceleration] = ground[step]
+        x[grid.index_acceleration] = ground[step]
         if step < n_steps:
             # the sample opens the next interval: it carries that interval's ground slope
-            x[index_slope] = slopes[step]
+            x[grid.index_slope] = slopes[step]
         finite = True
         for i in range(n_aug):
             if not np.isfinite(x[i]):
                 finite = False
         if not finite:
-            return NONFINITE, step, offset, state, n_out, patterns[state]
+            return NONFINITE, step, offset, state, n_out, states.patterns[state]
         out_t[n_out] = step * h
         out_x[n_out, :] = x
         out_state[n_out] = state
         n_out += 1
-    return DONE, step, offset, state, n_out, patterns[state]
+    return DONE, step, offset, state, n_out, states.patterns[state]
