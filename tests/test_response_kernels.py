@@ -1,0 +1,135 @@
+"""Compiled post-processing loops against direct evaluation."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from upliftcli.engines.exact import response_kernels as postkernel
+
+
+def _quintic(p0, p1, d0, d1, c0, c1, s):
+    """Quintic Hermite basis (independent of the kernel's monomial coefficients)."""
+    h = [1 - 10 * s**3 + 15 * s**4 - 6 * s**5, s - 6 * s**3 + 8 * s**4 - 3 * s**5,
+         0.5 * s**2 - 1.5 * s**3 + 1.5 * s**4 - 0.5 * s**5, 0.5 * s**3 - s**4 + 0.5 * s**5,
+         -4 * s**3 + 7 * s**4 - 3 * s**5, 10 * s**3 - 15 * s**4 + 6 * s**5]
+    return h[0] * p0 + h[1] * d0 + h[2] * c0 + h[3] * c1 + h[4] * d1 + h[5] * p1
+
+
+def test_quintic_extremum_matches_dense_evaluation():
+    rng = np.random.default_rng(7)
+    s = np.linspace(0.0, 1.0, 200_001)
+    for _ in range(200):
+        p0, p1, d0, d1, c0, c1 = rng.normal(size=6) * [1, 1, 3, 3, 10, 10]
+        value, where = postkernel._quintic_extremum(p0, p1, d0, d1, c0, c1)
+        dense = np.abs(_quintic(p0, p1, d0, d1, c0, c1, s))
+        assert abs(value - dense.max()) < 1e-9 * max(1.0, dense.max())
+        assert abs(value - abs(_quintic(p0, p1, d0, d1, c0, c1, where))) < 1e-12 * max(1.0, value)
+
+
+def test_quintic_interpolant_reproduces_a_sinusoid_peak_at_coarse_sampling():
+    """exact values, slopes and curvatures at 5 samples per period: peak within (w h)^6 / 46080."""
+    omega, h = 2 * np.pi, 0.2
+    phase = 0.37
+    best = 0.0
+    for i in range(5):
+        t0, t1 = i * h + phase, (i + 1) * h + phase
+        f = lambda t, k=0: np.real((1j * omega) ** k * np.exp(1j * omega * t))
+        value, _ = postkernel._quintic_extremum(f(t0), f(t1), f(t0, 1) * h, f(t1, 1) * h,
+                                                 f(t0, 2) * h * h, f(t1, 2) * h * h)
+        best = max(best, value)
+    assert abs(best - 1.0) < (omega * h) ** 6 / 46080 * 2
+
+
+def test_evaluate_signals_uses_each_samples_state_and_left_limits():
+    rng = np.random.default_rng(3)
+    states = rng.normal(size=(6, 4))
+    ids = np.array([0, 0, 1, 1, 0, 1])
+    rows = rng.normal(size=(2, 5, 4))  # 3 value rows, 2 slope rows per state
+    values, slopes = np.empty((6, 3)), np.empty((6, 2))
+    ends = np.empty((3, 5))
+    postkernel.evaluate_signals(states, ids, np.ascontiguousarray(rows.transpose(0, 2, 1)), values, slopes, ends)
+    for i in range(6):
+        np.testing.assert_allclose(values[i], rows[ids[i], :3] @ states[i])
+        np.testing.assert_allclose(slopes[i], rows[ids[i], 3:] @ states[i])
+    for n, i in enumerate([1, 3, 4]):  # intervals ending at a state change: old rows, next sample
+        np.testing.assert_allclose(ends[n], rows[ids[i]] @ states[i + 1])
+
+
+# ----------------------------------------------------------------------------- numpy twins
+
+def _hermite_peaks_twin(values, slopes, end_values, end_slopes, switch, value_cols, rate_cols, curvature_cols,
+                        rows, lengths, points=20001):
+    """hermite_peaks without any pruning: every interval's quintic evaluated on a dense grid."""
+    r = values[:, value_cols] @ rows.T
+    d = values[:, rate_cols] @ rows.T
+    c = slopes[:, curvature_cols] @ rows.T
+    r1, d1, c1 = r[1:].copy(), d[1:].copy(), c[1:].copy()
+    ends = switch >= 0
+    r1[ends] = end_values[switch[ends]][:, value_cols] @ rows.T
+    d1[ends] = end_values[switch[ends]][:, rate_cols] @ rows.T
+    c1[ends] = end_slopes[switch[ends]][:, curvature_cols] @ rows.T
+    s = np.linspace(0.0, 1.0, points)[:, None, None]
+    length = lengths[None, :, None]
+    dense = _quintic(r[None, :-1], r1[None], d[None, :-1] * length, d1[None] * length,
+                     c[None, :-1] * length**2, c1[None] * length**2, s)
+    return np.maximum(np.abs(dense).max(axis=(0, 1)), np.abs(r).max(axis=0))
+
+
+def test_hermite_peaks_equals_its_numpy_twin_with_rates_and_transitions():
+    """Random signals (the interpolant does not need them consistent), responses combining Y*
+    and Y*' columns, two intervals ending at transitions (their left limits differ)."""
+    rng = np.random.default_rng(11)
+    n, k = 40, 6
+    values = rng.normal(size=(n, k))
+    slopes = rng.normal(size=(n, k))
+    switch = np.full(n - 1, -1, dtype=np.int64)
+    switch[[7, 21]] = [0, 1]
+    end_values, end_slopes = rng.normal(size=(2, k)), rng.normal(size=(2, k))
+    lengths = rng.uniform(0.5, 1.0, n - 1)
+    value_cols, rate_cols = np.array([0, 1, 2, 3]), np.array([2, 3, 4, 5])  # (Y, Y') then (Y', Y'')
+    rows = rng.normal(size=(3, 4))
+    best, where = postkernel.hermite_peaks(values, slopes, end_values, end_slopes, switch, value_cols, rate_cols,
+                                           rate_cols, np.ascontiguousarray(rows.T), lengths, np.zeros(3))
+    twin = _hermite_peaks_twin(values, slopes, end_values, end_slopes, switch, value_cols, rate_cols, rate_cols,
+                               rows, lengths)
+    np.testing.assert_allclose(best, twin, rtol=1e-6)
+    assert np.all(best >= twin * (1 - 1e-12))  # the dense grid can only undershoot
+
+
+def _work_integrals_twin(values, slopes, switch, end_values, end_slopes, lengths, lifted, row_a, row_input, row_ydot,
+                         n_modes, row_vel, row_z, n_el, modal_damping, k_el, c_el):
+    """The same 3-point Gauss quadrature of the cubic Hermite interpolants, written with numpy."""
+    nodes = 0.5 + 0.5 * np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)])
+    weights = np.array([5.0, 8.0, 5.0]) / 18.0
+    v0, d0 = values[:-1], slopes[:-1] * lengths[:, None]
+    v1, d1 = values[1:].copy(), slopes[1:].copy()
+    ends = switch >= 0
+    v1[ends], d1[ends] = end_values[switch[ends]], end_slopes[switch[ends]]
+    d1 = d1 * lengths[:, None]
+    d1[~ends, row_a] = d0[~ends, row_a]  # a_g is linear inside each interval
+    k = slopes.shape[1]
+    total_in = total_struct = total_found = 0.0
+    for s, w in zip(nodes, weights, strict=True):
+        h00, h10, h01, h11 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s, -2 * s**3 + 3 * s**2, s**3 - s**2
+        g = h00 * v0[:, :k] + h10 * d0 + h01 * v1[:, :k] + h11 * d1
+        total_in += np.sum(w * lengths * g[:, row_a] * g[:, row_input])
+        total_struct += np.sum(w * lengths * (g[:, row_ydot:row_ydot + n_modes] ** 2 @ modal_damping))
+        vel, z = g[:, row_vel:row_vel + n_el], g[:, row_z:row_z + n_el]
+        found = np.where(lifted, (k_el * z) ** 2 / np.where(c_el > 0, c_el, 1.0), c_el * vel**2)
+        total_found += np.sum(w * lengths * np.where(c_el > 0, found, 0.0).sum(axis=1))
+    return total_in, total_struct, total_found
+
+
+def test_work_integrals_equal_their_numpy_twin():
+    rng = np.random.default_rng(4)
+    n, k, n_modes, n_el = 30, 9, 3, 2
+    values, slopes = rng.normal(size=(n, k + 2)), rng.normal(size=(n, k))
+    switch = np.full(n - 1, -1, dtype=np.int64)
+    switch[[4, 17]] = [0, 1]
+    end_values, end_slopes = rng.normal(size=(2, k + 2)), rng.normal(size=(2, k))
+    lengths = rng.uniform(0.5, 1.0, n - 1)
+    lifted = rng.random((n - 1, n_el)) < 0.3
+    args = (values, slopes, switch, end_values, end_slopes, lengths, lifted)
+    layout = (3, 4, 0, n_modes, 5, 7, n_el, np.array([1.0, 2.0, 3.0]), np.array([5.0, 6.0]), np.array([0.5, 0.0]))
+    got = postkernel.work_integrals(*args, k, *layout)
+    np.testing.assert_allclose(got, _work_integrals_twin(*args, *layout), rtol=1e-12)
