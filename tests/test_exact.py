@@ -316,3 +316,28 @@ def test_batch_equals_one_at_a_time(elcentro, engine, support):
     if support == "uplift":  # runs that lift off at different times and ones that never do
         assert [r.uplift for r in batch[:3]] == [False, True, True]
         assert batch[1].intermediates["transitions"] != batch[2].intermediates["transitions"]
+
+
+def test_a_large_energy_residual_refines_the_step_or_fails_naming_the_option(elcentro, monkeypatch):
+    """Never a silent large residual: with a tolerance below the default step's residual the
+    engine halves the step until it closes (and says so); with a fixed time_step it stops."""
+    record = short(elcentro, 6.0)
+    system = paper_system(0.5)
+    first = exact.analyze(system, record, "uplift")
+    monkeypatch.setattr(exact, "ENERGY_TOLERANCE", first.intermediates["energy_residual"] / 3)
+    refined = exact.analyze(system, record, "uplift")
+    assert refined.intermediates["steps_per_period"] in (12, 24, 48)
+    assert refined.intermediates["energy_residual"] <= first.intermediates["energy_residual"] / 3
+    assert any("refining the step" in w for w in refined.details["warnings"])
+    with pytest.raises(AnalysisError, match="analysis.exact.time_step = 0.01 s"):
+        exact.analyze(system, record, "uplift", ExactOptions(time_step=0.01))
+
+
+@pytest.mark.parametrize("damping_ratio", [0.01, 4.3e-4])
+def test_energy_balance_closes_when_lifted_elements_relax_within_a_step(elcentro, damping_ratio):
+    """xi_v small: a lifted element's top relaxes (time c/k) far faster than the step; its
+    dashpot's dissipation is the spring energy it releases, exactly (was 1e-2 and 0.37)."""
+    result = exact.analyze(paper_system(1.0, damping_ratio=damping_ratio), short(elcentro, 12.0), "uplift")
+    assert result.uplift
+    assert result.intermediates["energy_residual"] < 5e-4
+    assert "steps_per_period" not in result.intermediates  # no refinement was needed

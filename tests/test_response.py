@@ -139,3 +139,12 @@ def test_cubic_maximum_matches_dense_evaluation():
     at = ((2 * where**3 - 3 * where**2 + 1) * p0 + (where**3 - 2 * where**2 + where) * d0
           + (-2 * where**3 + 3 * where**2) * p1 + (where**3 - where**2) * d1)
     np.testing.assert_allclose(at, value, atol=1e-12)
+
+
+def test_flight_is_reported_as_a_property_of_the_model(elcentro):
+    """T_1 = 0.05 s under El Centro: both edges leave the foundation (docs/theory.md section 9)."""
+    result = exact.analyze(paper_system(0.05), short(elcentro, 6.0), "uplift")
+    assert result.details["uplift_summary"]["flight_time"] > 0.0
+    assert any("flight" in w and "property of the model" in w for w in result.details["warnings"])
+    bonded = exact.analyze(paper_system(0.5), short(elcentro, 6.0), "uplift")
+    assert not any("flight" in w for w in bonded.details["warnings"])

@@ -114,9 +114,10 @@ def _work_integrals_twin(values, slopes, switch, end_values, end_slopes, lengths
         g = h00 * v0[:, :k] + h10 * d0 + h01 * v1[:, :k] + h11 * d1
         total_in += np.sum(w * lengths * g[:, row_a] * g[:, row_input])
         total_struct += np.sum(w * lengths * (g[:, row_ydot:row_ydot + n_modes] ** 2 @ modal_damping))
-        vel, z = g[:, row_vel:row_vel + n_el], g[:, row_z:row_z + n_el]
-        found = np.where(lifted, (k_el * z) ** 2 / np.where(c_el > 0, c_el, 1.0), c_el * vel**2)
-        total_found += np.sum(w * lengths * np.where(c_el > 0, found, 0.0).sum(axis=1))
+        vel = g[:, row_vel:row_vel + n_el]
+        total_found += np.sum(w * lengths * np.where(~lifted & (c_el > 0), c_el * vel**2, 0.0).sum(axis=1))
+    z0, z1 = v0[:, row_z:row_z + n_el], v1[:, row_z:row_z + n_el]  # lifted: k z + c z' = 0, exactly
+    total_found += np.sum(np.where(lifted & (c_el > 0), 0.5 * k_el * (z0**2 - z1**2), 0.0))
     return total_in, total_struct, total_found
 
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -128,7 +129,43 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
             k = runs[j][0]
             if not isinstance(history, AnalysisError):
                 history = summarize(systems[k], history, support, name, options)
+                if history.intermediates["energy_residual"] > ENERGY_TOLERANCE:
+                    history = _refined(systems[k], record, support, options, model, name, history)
             yield from outcomes(k, history)
+
+
+#: the energy balance must close to this fraction of the input work; beyond, the step is refined
+ENERGY_TOLERANCE = 1e-3
+#: at most this many halvings of the step are tried
+MAX_REFINEMENTS = 3
+
+
+def _refined(system: System, record, support: str, options: ExactOptions, model: ModelBuilder, name: str,
+             result: AnalysisResult) -> AnalysisResult | AnalysisError:
+    """The analysis again with the step halved until the energy balance closes to
+    ENERGY_TOLERANCE (never a silent large residual); an AnalysisError naming the option to
+    set when it does not, or when the user fixed the step (analysis.exact.time_step)."""
+    residual = result.intermediates["energy_residual"]
+    steps = options.steps_per_period
+    if options.time_step is None:
+        for refinement in range(1, MAX_REFINEMENTS + 1):
+            steps = options.steps_per_period * 2**refinement
+            ((_, result),) = tuple(iter_batch([system], record, support, replace(options, steps_per_period=steps),
+                                              model=model, name=name))
+            if isinstance(result, AnalysisError):
+                return result
+            residual = result.intermediates["energy_residual"]
+            if residual <= ENERGY_TOLERANCE:
+                result.intermediates["steps_per_period"] = steps
+                result.details.setdefault("warnings", []).append(
+                    f"the energy balance closed to {residual:.2g} only after refining the step to {steps} steps "
+                    f"per governing period (analysis.exact.steps_per_period = {options.steps_per_period})")
+                return result
+    where = (f"analysis.exact.time_step = {options.time_step:g} s" if options.time_step is not None
+             else f"{steps} steps per governing period")
+    return AnalysisError(f"the energy balance closes only to {residual:.2g} of the input work (tolerance "
+                         f"{ENERGY_TOLERANCE:g}) with {where}: set a finer analysis.exact.time_step or a larger "
+                         "analysis.exact.steps_per_period")
 
 
 def analyze_batch(systems: list[System], record, support: str, options: ExactOptions | None = None,
