@@ -96,30 +96,38 @@ class SuiteResult(AnalysisResult):
         return f"{self.engine} ({self.statistic} of {self.count})"
 
 
-def statistic_of(results: Sequence[AnalysisResult], name: str) -> AnalysisResult:
+def statistic_of(results: Sequence[AnalysisResult], name: str, common: dict[str, Any] | None = None
+                 ) -> AnalysisResult:
     """The AnalysisResult whose peaks are the statistic `name` (STATISTICS) of the results'
     peaks, value by value; the results are of one system and support under several records.
     uplift: whether the mat lifts off under at least one record; times (instants of the peaks of
-    each record) are dropped; intermediates: those equal for every record, and the statistic of
-    STATISTIC_INTERMEDIATES; details: the statistic of STATISTIC_DETAILS."""
+    each record) are dropped; intermediates: those equal for every record (common_intermediates,
+    if not given), and the statistic of STATISTIC_INTERMEDIATES; details: the statistic of
+    STATISTIC_DETAILS."""
     if not results:
         raise ValueError("a suite statistic needs at least one result")
     function = STATISTICS[name][1]
     first = results[0]
     peaks = {key: np.asarray(function(np.stack([np.asarray(r.peaks[key], dtype=float) for r in results])), dtype=float)
              for key in first.peaks if all(key in r.peaks for r in results)}
-    intermediates: dict[str, Any] = {}
-    for key, value in first.intermediates.items():
+    intermediates = dict(common_intermediates(results) if common is None else common)
+    for key in STATISTIC_INTERMEDIATES:
         values = [r.intermediates.get(key) for r in results]
-        if key in STATISTIC_INTERMEDIATES and all(isinstance(v, (int, float)) for v in values):
+        if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values):
             intermediates[key] = float(function(np.array(values, dtype=float)))
-        elif all(_same(value, other) for other in values[1:]):
-            intermediates[key] = value
     details = {key: function(np.array([r.details[key] for r in results], dtype=float)).tolist()
                for key in STATISTIC_DETAILS
                if all(key in r.details for r in results) and len({len(r.details[key]) for r in results}) == 1}
     return replace(first, elevations=first.elevations.copy(), peaks=peaks, uplift=any(r.uplift for r in results),
                    times={}, intermediates=intermediates, details=details)
+
+
+def common_intermediates(results: Sequence[AnalysisResult]) -> dict[str, Any]:
+    """The intermediates of the first result that every result has with the same value (the
+    model's: n_modes, time_step, criterion ...), in their order."""
+    first = results[0].intermediates
+    return {key: value for key, value in first.items() if key not in STATISTIC_INTERMEDIATES
+            and all(_same(value, r.intermediates.get(key)) for r in results[1:])}
 
 
 def _same(a: Any, b: Any) -> bool:
@@ -136,7 +144,8 @@ def suite_result(results: Sequence[AnalysisResult], records: Sequence[SuiteRecor
     ('mean' or 'max', from the code rule) as the design value."""
     if len(results) != len(records):
         raise ValueError(f"{len(records)} records but {len(results)} results")
-    statistics = {name: statistic_of(results, name) for name in STATISTICS}
+    common = common_intermediates(results)
+    statistics = {name: statistic_of(results, name, common) for name in STATISTICS}
     design = statistics[statistic]
     values = {item.name: getattr(design, item.name) for item in fields(AnalysisResult)}
     values = {name: dict(value) if isinstance(value, dict) else value for name, value in values.items()}
