@@ -182,6 +182,14 @@ def test_the_two_period_spectrum_warns_a_modal_procedure():
     assert not any("11.4.5" in w for w in result.details["warnings"])
 
 
+def test_the_approximate_engine_runs_a_suite_too():
+    deck = load_deck(ASCE, [suite_list(2)])
+    (result,) = run(deck, "approximate", "uplift")
+    assert isinstance(result, SuiteResult) and result.engine == "approximate" and result.count == 2
+    single = load_deck(ASCE, [f"ground_motion.record={json.dumps(deck.ground_motion.records[1].source)}"])
+    np.testing.assert_array_equal(result.record_results[1].shear, run(single, "approximate", "uplift")[0].shear)
+
+
 def test_a_suite_is_not_a_record_for_other_callers():
     deck = load_deck(ASCE, [suite_list(2)])
     assert analysis.ground_motion_for(deck, analysis.ENGINES["exact"]) is deck.ground_motion

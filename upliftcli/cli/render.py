@@ -63,7 +63,7 @@ def elements_table(result: AnalysisResult) -> Table | None:
     shown = [q for q in quantities(ELEMENT) if q.name in result.peaks and result.peaks[q.name].size]
     if not shown:
         return None
-    table = Table(title=escape(f"Foundation elements ({result.engine}, {result.support}): largest compression"))
+    table = Table(title=escape(f"Foundation elements ({engine_label(result)}, {result.support}): largest compression"))
     for header in ["element", "position x [m]"] + [q.heading for q in shown]:
         table.add_column(escape(header), justify="right")
     for i, x in enumerate(result.element_positions):
@@ -84,8 +84,8 @@ def summary_table(results: list[AnalysisResult]) -> Table:
                    "V_c [kN]", "M_c [kN m]", "b/h_1*", "uplift"):
         table.add_column(escape(header), justify="right")
     for r in results:
-        table.add_row(escape(engine_label(r)), r.support, f"{1e-3 * r.base_shear:.1f}", f"{r.base_shear_coefficient:.4f}",
-                      f"{1e-3 * r.base_moment:.1f}", f"{r.base_moment_coefficient:.4f}",
+        table.add_row(escape(engine_label(r)), r.support, f"{1e-3 * r.base_shear:.1f}",
+                      f"{r.base_shear_coefficient:.4f}", f"{1e-3 * r.base_moment:.1f}", f"{r.base_moment_coefficient:.4f}",
                       f"{1e-3 * r.critical_base_shear:.1f}", f"{1e-3 * r.critical_base_moment:.1f}",
                       f"{r.critical_coefficient:.4f}", "yes" if r.uplift else "no")
     return table
@@ -124,7 +124,7 @@ def modal_table(result: AnalysisResult) -> Table:
 
 def intermediates_table(result: AnalysisResult) -> Table:
     """Scalar intermediates with unit and meaning (engines/quantities.INTERMEDIATES)."""
-    table = Table(title=f"Intermediate values ({result.engine}, {result.support})")
+    table = Table(title=escape(f"Intermediate values ({engine_label(result)}, {result.support})"))
     for header in ("quantity", "value", "unit", "meaning"):
         table.add_column(escape(header), justify="left")
     for name, value in result.intermediates.items():
