@@ -85,7 +85,8 @@ def summary_table(results: list[AnalysisResult]) -> Table:
         table.add_column(escape(header), justify="right")
     for r in results:
         table.add_row(escape(engine_label(r)), r.support, f"{1e-3 * r.base_shear:.1f}",
-                      f"{r.base_shear_coefficient:.4f}", f"{1e-3 * r.base_moment:.1f}", f"{r.base_moment_coefficient:.4f}",
+                      f"{r.base_shear_coefficient:.4f}", f"{1e-3 * r.base_moment:.1f}",
+                      f"{r.base_moment_coefficient:.4f}",
                       f"{1e-3 * r.critical_base_shear:.1f}", f"{1e-3 * r.critical_base_moment:.1f}",
                       f"{r.critical_coefficient:.4f}", "yes" if r.uplift else "no")
     return table
