@@ -152,8 +152,14 @@ def test_scale_prints_the_factors_of_the_deck_suite():
     assert "fewer than 7 records the design value is the maximum" in one.stderr
 
 
-def test_analyze_on_a_suite_deck_is_one_line():
-    result = invoke("analyze", ROOT / "inputs" / "ten_story_asce7_suite.toml")
-    assert result.exit_code == 2 and result.stdout == ""
-    (line,) = result.stderr.strip().splitlines()
-    assert "ground_motion.suite: a single record for the exact engine" in line and "not yet analysed" in line
+def test_analyze_runs_the_suite_with_the_factors_record_scale_prints():
+    """`uplift record scale` prints the factors with 4 decimals; `uplift analyze` applies them."""
+    deck = ROOT / "inputs" / "ten_story_ec8_suite.toml"
+    printed = invoke("record", "scale", deck)
+    result = invoke("analyze", deck, "--support", "uplift", "--format", "json")
+    assert result.exit_code == 0, result.output
+    records = json.loads(result.stdout)["suite"]["records"]
+    assert len(records) == 12
+    for record in records:
+        line = next(line for line in printed.stdout.splitlines() if Path(record["source"]).name in line)
+        assert f"{record['factor']:.4f}" in line

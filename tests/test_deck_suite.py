@@ -115,10 +115,8 @@ def test_statistics_default_and_table_damping_correction(tmp_path):
     assert plan_from_deck(load_deck(write(tmp_path, table), load_ground_motion=False)).rule.name == "mean"
 
 
-def test_history_engines_say_suites_are_not_yet_analysed(asce_deck):
-    with pytest.raises(InputError) as info:
-        analysis.ground_motion_for(asce_deck, ENGINES["exact"])
-    assert info.value.location == "ground_motion.suite" and "not yet analysed" in info.value.expected
+def test_history_engines_take_the_suite_the_simplified_engine_its_target(asce_deck):
+    assert analysis.ground_motion_for(asce_deck, ENGINES["exact"]) is asce_deck.ground_motion
     assert analysis.ground_motion_for(asce_deck, ENGINES["simplified"]) is asce_deck.spectrum
     result = analysis.run_one(asce_deck, "simplified", "uplift")
     assert result.base_shear > 0.0

@@ -1,5 +1,7 @@
 """Analysis runner: a Deck in, one AnalysisResult per (engine, support) out, through the
-engine registry (engines/registry.py).
+engine registry (engines/registry.py). On a record suite a response-history engine runs every
+record and gives a SuiteResult (analysis_suite.py, engines/suite_result.py): the AnalysisResult
+of the statistic the code asks for, with each record's result and the other statistics.
 
 Used by `uplift analyze` and by sweeps; knows nothing of the terminal or files.
 """
@@ -9,27 +11,27 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
+from . import analysis_suite
 from .deck import Deck
 from .engines.quantities import QUANTITIES, SCALARS
 from .engines.registry import ENGINES, Engine
 from .engines.result import AnalysisResult
+from .engines.suite_result import SuiteResult
 from .errors import InputError
 from .motion.records import Record
 from .motion.suites import Suite
 
 
 def ground_motion_for(deck: Deck, engine: Engine) -> Any:
-    """The deck's record for a response-history engine, its spectrum (.sa) for the simplified
-    engine; InputError naming the deck field when the deck has not what the engine needs."""
+    """The deck's record or record suite for a response-history engine, its spectrum (.sa) for
+    the simplified engine; InputError naming the deck field when the deck has not what the
+    engine needs."""
     if not engine.needs_record:
         if deck.spectrum is None:
             raise InputError(deck.source, "ground_motion", f"a record or a design spectrum for the {engine.name} engine")
         return deck.spectrum
     if isinstance(deck.ground_motion, Suite):
-        raise InputError(deck.source, "ground_motion.suite",
-                         f"a single record for the {engine.name} engine: record suites are not yet analysed by the "
-                         "response-history engines (the simplified engine runs on the suite's target spectrum; "
-                         "`uplift record scale/match` prepares the records)")
+        return deck.ground_motion
     if not isinstance(deck.ground_motion, Record):
         raise InputError(deck.source, "ground_motion.record",
                          f"a record for the {engine.name} engine (a design spectrum serves only the simplified engine)")
@@ -44,7 +46,10 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
     it is known.
 
     Decks that share the ground motion and the engine options are analysed together (the
-    exact engine shares work across them); results equal one-at-a-time analysis, bit for bit."""
+    exact engine shares work across them); results equal one-at-a-time analysis, bit for bit.
+    A suite is run one batch per record (analysis_suite.iter_suite_batch): decks whose suites
+    have the same scaled records share those batches. The simplified engine's results carry the
+    design spectrum's warning for a modal procedure (design_spectra.procedure_warning)."""
     if engine not in ENGINES:
         raise InputError(decks[0].source if decks else "engine", "analysis.engine",
                          f"one of {', '.join(ENGINES)}, got {engine!r}")
@@ -64,10 +69,18 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
         except InputError as error:
             keep(k, error)
             continue
-        groups.setdefault((id(motions[k]), getattr(deck.analysis, chosen.options)), []).append(k)
+        motion = motions[k]
+        key = analysis_suite.motion_key(motion) if isinstance(motion, Suite) else id(motion)
+        groups.setdefault((key, getattr(deck.analysis, chosen.options)), []).append(k)
     for (_, options), members in groups.items():
-        systems = [decks[k].system for k in members]
-        for j, result in chosen.iter_batch(systems, motions[members[0]], support, options):
+        motion = motions[members[0]]
+        if isinstance(motion, Suite):
+            batch = analysis_suite.iter_suite_batch(chosen, [decks[k] for k in members], motion, support, options)
+        else:
+            batch = chosen.iter_batch([decks[k].system for k in members], motion, support, options)
+        for j, result in batch:
+            if not chosen.needs_record and isinstance(result, AnalysisResult):
+                result = analysis_suite.with_procedure_warning(result, motion, "modal")
             keep(members[j], result)
     return out
 
@@ -90,14 +103,19 @@ def run(deck: Deck, engine: str | Sequence[str] | None = None,
 
 def check_criteria(results: Sequence[AnalysisResult], criteria: dict) -> list[str]:
     """One message per violated acceptance criterion (deck [criteria]: a limit on the largest
-    |value| of a response quantity, on a scalar, or uplift = false); empty when all pass."""
+    |value| of a response quantity, on a scalar, or uplift = false); empty when all pass.
+    On a suite (SuiteResult) the limits apply to the design statistic (the mean, or EC8's
+    maximum below 7 records) and uplift = false to every record."""
     messages = []
     for result in results:
         label = f"{result.engine}/{result.support}"
+        if isinstance(result, SuiteResult):
+            label += f" ({result.statistic} of {result.count} records)"
         for name, limit in criteria.items():
             if name == "uplift":
                 if not limit and result.uplift:
-                    messages.append(f"{label}: the mat lifts off (criteria.uplift = false)")
+                    under = f" under {result.uplift_count} records" if isinstance(result, SuiteResult) else ""
+                    messages.append(f"{label}: the mat lifts off{under} (criteria.uplift = false)")
                 continue
             unit = (QUANTITIES.get(name) or SCALARS[name]).unit
             value = abs(result.value(name))

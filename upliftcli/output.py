@@ -1,7 +1,10 @@
 """Every file an analysis writes: the results document (JSON), the story and foundation tables
 (CSV), the TOML copy, and the response histories (CSV or NPZ). Each file is written
 atomically (upliftcli.atomic): never half-written. SI units in every file; the units are
-listed in it. The quantities and their units: engines/quantities.py.
+listed in it. The quantities and their units: engines/quantities.py. A record suite's result
+(engines/suite_result.SuiteResult) is written as its design statistic, with a `suite` object in
+the JSON and TOML (records, factors, each record's result, the statistics, the simplified engine
+beside it) and, in the CSV tables, a row per record after the statistic's rows.
 """
 
 from __future__ import annotations
@@ -17,12 +20,14 @@ import numpy as np
 from .atomic import atomic_path, write_text
 from .engines.quantities import ELEMENT, FLOOR, QUANTITIES, SCALARS, STORY, column_name, history_unit, quantities
 from .engines.result import AnalysisResult
+from .engines.suite_result import COMPARED, STATISTICS, SuiteResult, simplified_ratios
 
 #: units of the result fields in the written files (SI)
 UNITS = {
     "elevation": "m", "position": "m", **{q.name: q.unit for q in QUANTITIES.values()},
     **{s.name: s.unit for s in SCALARS.values()}, "critical_base_shear": "N", "critical_base_moment": "N m",
     "weight": "N", "effective_height": "m", "periods": "s", "critical_coefficient": "-", "times": "s",
+    "factor": "-", "period_range": "s", **{name: unit for name, (unit, _) in COMPARED.items()},
 }
 _STORY_QUANTITIES = quantities(FLOOR) + quantities(STORY)
 _STORY_QUANTITIES.sort(key=lambda q: list(QUANTITIES).index(q.name))
@@ -61,7 +66,8 @@ def _rows(result: AnalysisResult, where: list, count: int) -> list[dict[str, Any
 
 
 def result_to_dict(result: AnalysisResult) -> dict[str, Any]:
-    """JSON-ready summary, story table and foundation table of one result (SI units, see UNITS)."""
+    """JSON-ready summary, story table and foundation table of one result (SI units, see UNITS);
+    a suite's result also has `suite` (suite_to_dict)."""
     stories = [{"story": j + 1, "elevation": result.elevations[j], **row}
                for j, row in enumerate(_rows(result, _STORY_QUANTITIES, result.elevations.size))]
     elements = [{"element": i + 1, "position": result.element_positions[i], **row}
@@ -81,6 +87,31 @@ def result_to_dict(result: AnalysisResult) -> dict[str, Any]:
         "elements": elements,
         "intermediates": result.intermediates,
         "details": result.details,
+        **({"suite": suite_to_dict(result)} if isinstance(result, SuiteResult) else {}),
+    })
+
+
+def suite_to_dict(result: SuiteResult) -> dict[str, Any]:
+    """The `suite` object of a suite's result: the rule and its design statistic, the count, what
+    the suite was, every statistic (scalars, stories, elements), the simplified engine on the
+    target spectrum with the ratios simplified / design statistic, and each record (name, source,
+    provenance, SHA-256 of its file, amplitude factor, its result)."""
+    picked = ("uplift", *SCALARS, "stories", "elements")
+    statistics = {name: {key: value for key, value in result_to_dict(stat).items() if key in picked}
+                  for name, stat in result.statistics.items()}
+    simplified = None
+    if result.simplified is not None:
+        simplified = {"engine": result.simplified.engine, "support": result.simplified.support,
+                      "compared": simplified_ratios(result),
+                      "warnings": list(result.simplified.details.get("warnings", []))}
+    return to_jsonable({
+        "rule": result.rule, "rule_label": result.rule_label, "statistic": result.statistic, "count": result.count,
+        "uplift_records": result.uplift_count, **result.suite, "warnings": list(result.warnings),
+        "statistic_meanings": {name: meaning for name, (meaning, _) in STATISTICS.items()},
+        "statistics": statistics, "simplified": simplified,
+        "records": [{"record": k + 1, "name": info.name, "source": info.source, "provenance": info.provenance,
+                     "sha256": info.sha256, "factor": info.factor, "result": result_to_dict(record)}
+                    for k, (info, record) in enumerate(zip(result.records, result.record_results, strict=True))],
     })
 
 
@@ -112,24 +143,43 @@ def _number(value: float) -> str:
     return repr(float(value)) if np.isfinite(value) else ""
 
 
+def _labelled(results: list[AnalysisResult]) -> tuple[list[str], list[tuple[list[str], AnalysisResult]]]:
+    """(leading columns, [(their values, result)]): engine and support; with a suite's result
+    also `statistic` (the design statistic on its rows, empty on a record's) and `record` (the
+    record's name on the rows of each record that follow the statistic's)."""
+    if not any(isinstance(r, SuiteResult) for r in results):
+        return ["engine", "support"], [([r.engine, r.support], r) for r in results]
+    labelled = []
+    for r in results:
+        statistic = r.statistic if isinstance(r, SuiteResult) else ""
+        labelled.append(([r.engine, r.support, statistic, ""], r))
+        if isinstance(r, SuiteResult):
+            labelled += [([r.engine, r.support, "", info.name], record)
+                         for info, record in zip(r.records, r.record_results, strict=True)]
+    return ["engine", "support", "statistic", "record"], labelled
+
+
 def to_csv(results: list[AnalysisResult]) -> str:
     """Story tables of all results, one row per (engine, support, story); units in the headers
-    (floor quantities of floor j on story j's row)."""
+    (floor quantities of floor j on story j's row); a suite's records after its statistic (_labelled)."""
     present = [q for q in _STORY_QUANTITIES if any(q.name in r.peaks for r in results)]
-    header = ["engine", "support", "story", "elevation_m"] + [column_name(q.name, q.unit) for q in present]
-    rows = [[r.engine, r.support, j + 1, _number(r.elevations[j])]
+    lead, labelled = _labelled(results)
+    header = lead + ["story", "elevation_m"] + [column_name(q.name, q.unit) for q in present]
+    rows = [labels + [j + 1, _number(r.elevations[j])]
             + [_number(r.peaks[q.name][j]) if q.name in r.peaks else "" for q in present]
-            for r in results for j in range(r.elevations.size)]
+            for labels, r in labelled for j in range(r.elevations.size)]
     return _csv(header, rows)
 
 
 def elements_csv(results: list[AnalysisResult]) -> str:
-    """Foundation tables: one row per (engine, support, contact element), left to right."""
+    """Foundation tables: one row per (engine, support, contact element), left to right (a
+    suite's records after its statistic, as to_csv)."""
     present = [q for q in quantities(ELEMENT) if any(q.name in r.peaks for r in results)]
-    header = ["engine", "support", "element", "position_m"] + [column_name(q.name, q.unit) for q in present]
-    rows = [[r.engine, r.support, i + 1, _number(r.element_positions[i])]
+    lead, labelled = _labelled(results)
+    header = lead + ["element", "position_m"] + [column_name(q.name, q.unit) for q in present]
+    rows = [labels + [i + 1, _number(r.element_positions[i])]
             + [_number(r.peaks[q.name][i]) if q.name in r.peaks else "" for q in present]
-            for r in results for i in range(r.element_positions.size)]
+            for labels, r in labelled for i in range(r.element_positions.size)]
     return _csv(header, rows)
 
 

@@ -68,6 +68,7 @@ def analyze(
         loaded = replace(loaded, analysis=replace(loaded.analysis, exact=replace(loaded.analysis.exact,
                                                                                   histories=True)))
     results = analysis.run(loaded)
+    _warn_suite(results)
     if histories is not None:
         _write_histories(histories, results)
     if output_format is OutputFormat.json:
@@ -92,13 +93,33 @@ def _check_histories(path: Path, loaded) -> None:
         raise InputError("--histories", str(path), "a file in an existing directory")
 
 
+def _warn_suite(results, prefix: str = "") -> None:
+    """The warnings of a record suite (too few records for the code's rule, factors ...), once each."""
+    messages = dict.fromkeys(message for r in results for message in getattr(r, "warnings", ()))
+    for message in messages:
+        typer.echo(f"warning: {prefix}{message}", err=True)
+
+
+def _with_histories(results) -> list[tuple[str, object]]:
+    """(file-name suffix, result) of each analysis that holds histories: a suite's records each
+    ('_r01', '_r02' ...)."""
+    pairs = []
+    for result in results:
+        records = getattr(result, "record_results", ())
+        width = len(str(len(records)))
+        pairs += [(f"_r{k + 1:0{max(2, width)}d}", record) for k, record in enumerate(records)]
+        pairs.append(("", result))
+    return [(suffix, result) for suffix, result in pairs if "histories" in result.details]
+
+
 def _write_histories(path: Path, results) -> None:
-    """Write each analysis's histories (and drop them from the result documents)."""
-    with_histories = [r for r in results if "histories" in r.details]
-    for result in with_histories:
+    """Write each analysis's histories (and drop them from the result documents); a suite's
+    records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
+    with_histories = _with_histories(results)
+    for suffix, result in with_histories:
         target = path
         if len(with_histories) > 1:
-            target = path.with_name(f"{path.stem}_{result.engine}_{result.support}{path.suffix}")
+            target = path.with_name(f"{path.stem}_{result.engine}_{result.support}{suffix}{path.suffix}")
         try:
             write_histories(target, result.details.pop("histories"))
         except OSError as error:
@@ -124,6 +145,8 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
         raise InputError("--out", str(out), f"decks with different file names ({twice}.toml is given twice)")
     loaded = [load_deck(deck, overrides) for deck in decks]
     runs = [(deck, item, analysis.run(item)) for deck, item in zip(decks, loaded)]
+    for deck, _, results in runs:
+        _warn_suite(results, f"{deck}: ")
     violations = [(deck, message) for deck, item, results in runs
                   for message in analysis.check_criteria(results, item.criteria)]
     if output_format is OutputFormat.json:
@@ -153,7 +176,7 @@ def _batch_table(runs, violating: set[str]) -> Table:
         for r in results:
             failed = analysis.check_criteria([r], item.criteria)
             verdict = "-" if not item.criteria else ("violated" if failed else "ok")
-            table.add_row(escape(label(deck)), r.engine, r.support, f"{1e-3 * r.base_shear:.1f}",
+            table.add_row(escape(label(deck)), escape(render.engine_label(r)), r.support, f"{1e-3 * r.base_shear:.1f}",
                           f"{r.base_shear_coefficient:.4f}", f"{1e-3 * r.base_moment:.1f}",
                           f"{r.base_moment_coefficient:.4f}", f"{r.critical_coefficient:.4f}",
                           "yes" if r.uplift else "no", verdict)

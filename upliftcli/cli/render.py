@@ -10,6 +10,7 @@ from rich.table import Table
 
 from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, QUANTITIES, STORY, quantities
 from ..engines.result import AnalysisResult
+from ..engines.suite_result import SuiteResult
 from ..model.system import System
 
 #: floor and story quantities in table order
@@ -44,7 +45,10 @@ def modes_table(system: System, n_modes: int | None = None) -> Table:
 def story_table(result: AnalysisResult) -> Table:
     """Per story (top first): elevation and the peak of every floor and story quantity the
     engine gives (engines/quantities.py), in the display units."""
-    table = Table(title=f"{result.engine} engine, {result.support} support")
+    title = f"{result.engine} engine, {result.support} support"
+    if isinstance(result, SuiteResult):
+        title += f": {result.statistic} of {result.count} records ({result.rule_label})"
+    table = Table(title=escape(title))
     shown = [q for q in STORY_QUANTITIES if q.name in result.peaks]
     for header in ["story", "elevation [m]"] + [q.heading for q in shown]:
         table.add_column(escape(header), justify="right")
@@ -59,7 +63,7 @@ def elements_table(result: AnalysisResult) -> Table | None:
     shown = [q for q in quantities(ELEMENT) if q.name in result.peaks and result.peaks[q.name].size]
     if not shown:
         return None
-    table = Table(title=escape(f"Foundation elements ({result.engine}, {result.support}): largest compression"))
+    table = Table(title=escape(f"Foundation elements ({engine_label(result)}, {result.support}): largest compression"))
     for header in ["element", "position x [m]"] + [q.heading for q in shown]:
         table.add_column(escape(header), justify="right")
     for i, x in enumerate(result.element_positions):
@@ -80,11 +84,17 @@ def summary_table(results: list[AnalysisResult]) -> Table:
                    "V_c [kN]", "M_c [kN m]", "b/h_1*", "uplift"):
         table.add_column(escape(header), justify="right")
     for r in results:
-        table.add_row(r.engine, r.support, f"{1e-3 * r.base_shear:.1f}", f"{r.base_shear_coefficient:.4f}",
-                      f"{1e-3 * r.base_moment:.1f}", f"{r.base_moment_coefficient:.4f}",
+        table.add_row(escape(engine_label(r)), r.support, f"{1e-3 * r.base_shear:.1f}",
+                      f"{r.base_shear_coefficient:.4f}", f"{1e-3 * r.base_moment:.1f}",
+                      f"{r.base_moment_coefficient:.4f}",
                       f"{1e-3 * r.critical_base_shear:.1f}", f"{1e-3 * r.critical_base_moment:.1f}",
                       f"{r.critical_coefficient:.4f}", "yes" if r.uplift else "no")
     return table
+
+
+def engine_label(result: AnalysisResult) -> str:
+    """The engine, and for a suite's result its design statistic ('exact, mean of 11 records')."""
+    return result.label if isinstance(result, SuiteResult) else result.engine
 
 
 def _format(value) -> str:
@@ -115,7 +125,7 @@ def modal_table(result: AnalysisResult) -> Table:
 
 def intermediates_table(result: AnalysisResult) -> Table:
     """Scalar intermediates with unit and meaning (engines/quantities.INTERMEDIATES)."""
-    table = Table(title=f"Intermediate values ({result.engine}, {result.support})")
+    table = Table(title=escape(f"Intermediate values ({engine_label(result)}, {result.support})"))
     for header in ("quantity", "value", "unit", "meaning"):
         table.add_column(escape(header), justify="left")
     for name, value in result.intermediates.items():
@@ -127,6 +137,10 @@ def intermediates_table(result: AnalysisResult) -> Table:
 
 
 def print_results(out: Console, results: list[AnalysisResult], title: str | None = None) -> None:
+    """Every table of every result, then the summary (a suite's result: its statistics and its
+    records too, and the simplified engine beside it: cli/render_suite.py)."""
+    from . import render_suite
+
     if title:
         out.print(f"[bold]{escape(title)}[/bold]")
     for result in results:
@@ -138,6 +152,12 @@ def print_results(out: Console, results: list[AnalysisResult], title: str | None
             out.print(modal_table(result))
         if result.intermediates:
             out.print(intermediates_table(result))
+        if isinstance(result, SuiteResult):
+            out.print(render_suite.statistics_table(result))
+            out.print(render_suite.records_table(result))
         for warning in result.details.get("warnings", []):
             out.print(f"[yellow]note:[/yellow] {escape(warning)}")
     out.print(summary_table(results))
+    comparison = render_suite.comparison_table(results)
+    if comparison is not None:
+        out.print(comparison)

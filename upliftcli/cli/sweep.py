@@ -32,6 +32,10 @@ WORKERS_HELP = ("Local worker processes (default: all cores when the sweep is lo
                 "else 1 = in this process).")
 SCHEDULER_HELP = "Run the cases on a Dask cluster at this address (tcp://host:8786), or 'local' for a local one."
 DASK_HELP = "'local': run on a Dask LocalCluster of --workers processes on this machine (same as --scheduler local)."
+PER_RECORD_HELP = ("Record suite decks: after each case's row (the design statistic over the records) one row per "
+                   "record in the tables (columns record and factor).")
+#: suite warnings printed before a sweep; the JSON document of a case has them all
+MAX_WARNINGS = 5
 
 
 class OutputFormat(str, Enum):
@@ -62,6 +66,7 @@ def choose_executor(plan: SweepPlan, workers: int | None, scheduler: str | None,
         return SerialExecutor() if workers == 1 else ProcessExecutor(workers)
     cores = available_cores()
     seconds = len(plan.cases) * max(CASE_SECONDS.get(engine, 0.04) for engine in plan.engines)
+    seconds *= max(1, plan.suite_records)  # a suite case runs every record
     return ProcessExecutor(cores) if cores > 1 and seconds > 4.0 else SerialExecutor()
 
 
@@ -96,6 +101,15 @@ def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, 
                    "run the same command with --resume to finish", err=True)
         raise typer.Exit(EXIT_INTERRUPTED)
     return outcome
+
+
+def warn_suites(plan: SweepPlan) -> None:
+    """The suites' warnings (too few records for the rule ...), each once, at most MAX_WARNINGS."""
+    for message in plan.warnings[:MAX_WARNINGS]:
+        typer.echo(f"warning: {message}", err=True)
+    if len(plan.warnings) > MAX_WARNINGS:
+        typer.echo(f"warning: and {len(plan.warnings) - MAX_WARNINGS} more about the suites of the cases "
+                   "(uplift analyze on a case's deck shows them)", err=True)
 
 
 def _write(plan, rows, out, stem, table, summary) -> list[Path]:
@@ -142,6 +156,7 @@ def sweep(
     retry_failed: bool = typer.Option(False, "--retry-failed", help="With --resume: run failed cases again."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Discard the rows of a previous run."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress and no summary tables."),
+    per_record: bool = typer.Option(False, "--per-record", help=PER_RECORD_HELP),
 ) -> None:
     """Analyse a deck over ranges of its fields: one tidy row per case, summary and envelope.
 
@@ -153,7 +168,8 @@ def sweep(
         if plot else None
     sweep_table.check_table_format(table.value)
     plan = plan_sweep(deck, settings, vary, parse_choices(engine, ENGINES, "--engine"),
-                      parse_choices(support, SUPPORTS, "--support"))
+                      parse_choices(support, SUPPORTS, "--support"), per_record=per_record)
+    warn_suites(plan)
     if plot_path is not None:
         figures.sweep_figure(plan, [])  # a numeric varied field to plot against, checked before running
     stem = name or f"{deck.stem}.sweep"
@@ -190,6 +206,7 @@ def spectra(
     resume: bool = typer.Option(False, "--resume", help="Skip the periods a previous run finished."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Discard the rows of a previous run."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress."),
+    per_record: bool = typer.Option(False, "--per-record", help=PER_RECORD_HELP),
 ) -> None:
     """The paper's response spectra over T_1 (Yim & Chopra Figs. 3-4, 6-10), with the critical value b/h_1*.
 
@@ -204,15 +221,16 @@ def spectra(
     period_vary: Vary = figures.period_vary(periods)
     engines = parse_choices(engine, ENGINES, "--engine")
     plan = plan_sweep(deck, settings, (), engines, parse_choices(support, SUPPORTS, "--support"),
-                      varies=[period_vary])
+                      varies=[period_vary], per_record=per_record)
+    warn_suites(plan)
     stem = name or f"{deck.stem}.spectra"
     outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
                       retry_failed=False, overwrite=overwrite, quiet=quiet, label="spectra")
     summary = sweep_table.summarize(plan, outcome.rows)
     written = _write(plan, outcome.rows, out, stem, table, summary)
     record = plan.raw.get("ground_motion", {}).get("record", "")
-    for figure_name, spec in figures.paper_figures(outcome.rows, plan.engines, plan.supports,
-                                                   Path(record).stem if record else "").items():
+    label = Path(record).stem if record else (f"suite of {plan.suite_records} records" if plan.suite_records else "")
+    for figure_name, spec in figures.paper_figures(outcome.rows, plan.engines, plan.supports, label).items():
         for extension in formats:
             written.append(plots.plot_figure(spec, out / f"{stem}.{figure_name}.{extension}", "--plot-format"))
     if not quiet:

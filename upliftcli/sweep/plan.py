@@ -8,13 +8,17 @@ has a stable key (hash of the deck content, the --set overrides, its varied valu
 and support) so that `--resume` can skip what a previous run finished. Cases are handed to
 the executors (sweep/executors.py) in chunks; a worker builds each distinct deck of a chunk
 once and keeps the loaded record and its spectrum (RecordSpectrum, which caches S_a) for all
-later cases with the same ground motion. Storage of the rows: sweep/store.py; the driver: sweep/run.py.
+later cases with the same ground motion (ground_motion_key). A deck with a record suite run
+by a history engine gives one row per case holding the suite's design statistic, and keeps
+each record's row inside it (tables: one row per record on request, SweepPlan.per_record).
+Storage of the rows: sweep/store.py; the driver: sweep/run.py.
 The worker side (building a case's deck, running it, its row) is sweep/worker.py. Nothing
 here prints or exits.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import itertools
 import json
@@ -29,9 +33,10 @@ import numpy as np
 
 from .. import deck_schema as schema
 from ..analysis import ground_motion_for
-from ..deck import build_deck, parse_override, read_toml
+from ..deck import Deck, build_deck, parse_override, read_toml
 from ..engines.registry import ENGINES
 from ..errors import InputError
+from ..motion.suites import Suite
 
 #: deck fields that are case dimensions of their own, not --vary paths
 NOT_VARIED = {"analysis.engine": "--engine", "analysis.supports": "--support"}
@@ -166,9 +171,26 @@ def expand_cases(varies: Sequence[Vary], engines: Sequence[str], supports: Seque
     return cases
 
 
+def ground_motion_key(deck: Deck) -> str:
+    """What a case's ground motion depends on (deck loaded without it): its [ground_motion] fields
+    and, for a suite whose period range comes from the structure (deck_suite.py), that range,
+    since the suite is scaled for it."""
+    fields = deck.values["ground_motion"]
+    key: dict[str, Any] = {"fields": fields}
+    if "suite" in fields and "period_range" not in fields:
+        from ..deck_suite import plan_from_deck
+
+        with contextlib.suppress(InputError):  # building the deck with its ground motion names the error
+            key["period_range"] = plan_from_deck(deck).period_range
+    return json.dumps(key, sort_keys=True, default=str)
+
+
 @dataclass
 class SweepPlan:
-    """Everything the workers need: the parsed deck, the overrides and the cases."""
+    """Everything the workers need: the parsed deck, the overrides and the cases; suite_records:
+    the most records of a suite that a history engine runs in a case (0: no suite); per_record:
+    the tables get each record's row after its case's row; warnings: the suites' messages (too
+    few records for the rule ...), each once."""
 
     raw: dict
     source: str
@@ -179,6 +201,9 @@ class SweepPlan:
     supports: list[str]
     cases: list[Case]
     criteria: dict = field(default_factory=dict)
+    suite_records: int = 0
+    per_record: bool = False
+    warnings: tuple = ()
 
 
 def _vary_error(error: InputError, varied: set[str]) -> InputError:
@@ -187,10 +212,24 @@ def _vary_error(error: InputError, varied: set[str]) -> InputError:
     return error
 
 
+def _with_suite(raw: dict, source: str, base: list, combo: Sequence[tuple[str, Any]], case_deck: Deck) -> Deck:
+    """The case's deck with its ground motion; a record suite that does not suit the case (its
+    period range follows the structure) names the case's varied values."""
+    try:
+        return build_deck(raw, source, base + list(combo))
+    except InputError as error:
+        if not combo or "suite" not in case_deck.values["ground_motion"] or error.source == "--set":
+            raise
+        case = ", ".join(f"{path}={value}" for path, value in combo)
+        raise InputError(error.source, error.location, f"{error.expected} (the suite of the case {case})") from None
+
+
 def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: Sequence[str] = (),
-               engines: Sequence[str] = (), supports: Sequence[str] = (), *, varies: Sequence[Vary] = ()) -> SweepPlan:
+               engines: Sequence[str] = (), supports: Sequence[str] = (), *, varies: Sequence[Vary] = (),
+               per_record: bool = False) -> SweepPlan:
     """Parse and validate a sweep: every case's deck is built (without its record) and every
-    distinct ground motion is read once here, so bad input stops the run before any analysis."""
+    distinct ground motion is read once here, so bad input stops the run before any analysis.
+    per_record: each record's row in the tables (a deck with a suite run by a history engine)."""
     base = [parse_override(text) for text in settings]
     varies = list(varies) + [parse_vary(text) for text in vary_texts]
     paths = [v.path for v in varies]
@@ -206,14 +245,22 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     for combo in itertools.product(*[[(v.path, value) for value in v.values] for v in varies]):
         try:
             case_deck = build_deck(raw, source, base + list(combo), load_ground_motion=False)
-            motion_key = json.dumps(case_deck.values["ground_motion"], sort_keys=True, default=str)
+            motion_key = ground_motion_key(case_deck)
             if motion_key not in grounds:
-                grounds[motion_key] = build_deck(raw, source, base + list(combo))
+                grounds[motion_key] = _with_suite(raw, source, base, combo, case_deck)
         except InputError as error:
             raise _vary_error(error, set(paths)) from None
         for engine in engines:
             ground_motion_for(grounds[motion_key], ENGINES[engine])
-    return SweepPlan(raw, source, deck.title, tuple(base), varies, engines, supports, cases, deck.criteria)
+    suites = [g.ground_motion for g in grounds.values() if isinstance(g.ground_motion, Suite)]
+    if not any(ENGINES[engine].needs_record for engine in engines):
+        suites = []
+    if per_record and not suites:
+        raise InputError("--per-record", source, "a deck whose ground_motion.suite a response-history engine runs "
+                         "(--engine exact or approximate)")
+    warnings = tuple(dict.fromkeys(message for suite in suites for message in suite.warnings))
+    return SweepPlan(raw, source, deck.title, tuple(base), varies, engines, supports, cases, deck.criteria,
+                     max((suite.count for suite in suites), default=0), per_record, warnings)
 
 
 # ----------------------------------------------------------------------------- chunks

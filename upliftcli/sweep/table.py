@@ -1,7 +1,9 @@
 """The tidy table of a sweep (one row per case) and its summary: ranges, governing cases, envelope.
 
 Pure functions of the plan and the rows, plus writers of CSV / JSON / Parquet files (atomic).
-Columns: case, engine, support, the varied fields (their deck units), then OUTPUT_COLUMNS.
+Columns: case, engine, support, the varied fields (their deck units), then OUTPUT_COLUMNS; a
+sweep of a record suite adds SUITE_COLUMNS, and with --per-record each case's row (the design
+statistic over the records) is followed by one row per record (table_rows).
 """
 
 from __future__ import annotations
@@ -40,16 +42,45 @@ OUTPUT_COLUMNS: dict[str, tuple[str, str]] = {
     "status": ("", "ok, failed (the analysis raised; see message) or crashed (its worker died)"),
     "message": ("", "error message of a failed or crashed case"),
 }
+#: columns of a sweep of a record suite: statistic and record after the support, the others at the end
+SUITE_COLUMNS: dict[str, tuple[str, str]] = {
+    "statistic": ("", "the design value of the case's row over the records: mean or max (the code's rule, "
+                      "docs/suites.md); empty on a record's row and for the simplified engine"),
+    "record": ("", "the record of a per-record row (--per-record); empty on the case's row"),
+    "records": ("-", "records in the suite"),
+    "factor": ("-", "amplitude factor of the record (per-record rows)"),
+}
+#: the columns a per-record row takes from its case's row
+_CASE_HEAD = ("case", "key", "engine", "support", "status", "message", "violations")
 #: outputs summarised on the terminal: governing case and envelope
 SUMMARY_OUTPUTS = ("base_shear_coefficient", "base_moment_coefficient", "max_drift_ratio")
 
 
 def columns(plan: SweepPlan) -> list[str]:
-    return ["case", "engine", "support"] + [v.path for v in plan.varies] + list(OUTPUT_COLUMNS) + ["key"]
+    lead, tail = (["statistic", "record"], ["records", "factor"]) if plan.suite_records else ([], [])
+    return (["case", "engine", "support"] + lead + [v.path for v in plan.varies] + list(OUTPUT_COLUMNS) + tail
+            + ["key"])
 
 
 def units(plan: SweepPlan) -> dict[str, str]:
-    return {**{v.path: v.unit for v in plan.varies}, **{name: unit for name, (unit, _) in OUTPUT_COLUMNS.items()}}
+    suite = SUITE_COLUMNS if plan.suite_records else {}
+    return {**{v.path: v.unit for v in plan.varies},
+            **{name: unit for name, (unit, _) in {**OUTPUT_COLUMNS, **suite}.items()}}
+
+
+def table_rows(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
+    """The rows of the tables: each case's row and, with plan.per_record, the rows of its records
+    after it (the case's inputs, engine, support and key, each record's outputs; criteria apply
+    to the case's row, so a record's 'violations' is empty)."""
+    if not plan.per_record:
+        return list(rows)
+    out = []
+    for row in rows:
+        out.append(row)
+        for record in row.get("record_rows") or ():
+            head = {name: row.get(name) for name in _CASE_HEAD}
+            out.append({**head, **{v.path: row.get(v.path) for v in plan.varies}, "violations": "", **record})
+    return out
 
 
 # ----------------------------------------------------------------------------- writers
@@ -85,7 +116,7 @@ def document(plan: SweepPlan, rows: Sequence[dict], summary: dict | None = None)
                    for v in plan.varies],
         "engines": plan.engines, "supports": plan.supports,
         "units": units(plan),
-        "rows": [{name: row.get(name) for name in names} for row in rows],
+        "rows": [{name: row.get(name) for name in names} for row in table_rows(plan, rows)],
     }
     if summary is not None:
         doc["summary"] = summary
@@ -99,6 +130,7 @@ def _parquet_bytes(plan: SweepPlan, rows: Sequence[dict]) -> bytes:
     except ImportError:
         raise InputError("--table", "parquet", "pyarrow installed: pip install 'uplift[parquet]'") from None
     arrays = {}
+    rows = table_rows(plan, rows)
     for name in columns(plan):
         values = [to_jsonable(row.get(name)) for row in rows]
         try:
@@ -124,7 +156,7 @@ def write_tables(plan: SweepPlan, rows: Sequence[dict], directory: str | Path, s
                  table_format: str = "json", summary: dict | None = None) -> list[Path]:
     """<stem>.csv and <stem>.json or <stem>.parquet, each atomically; both built before writing."""
     directory = Path(directory)
-    outputs: dict[Path, Any] = {directory / f"{stem}.csv": to_csv(rows, columns(plan))}
+    outputs: dict[Path, Any] = {directory / f"{stem}.csv": to_csv(table_rows(plan, rows), columns(plan))}
     if table_format == "json":
         outputs[directory / f"{stem}.json"] = json.dumps(document(plan, rows, summary), indent=1) + "\n"
     elif table_format == "parquet":

@@ -1,6 +1,7 @@
 """The worker side of a sweep: build each case's deck (sharing the loaded ground motion),
 run the cases of a chunk (those that share a structure as one exact-engine batch) and make
-each case's tidy row (columns: sweep/table.py)."""
+each case's tidy row (columns: sweep/table.py). A suite's case row holds the design statistic
+and, under "record_rows", each record's row (written to the tables with --per-record)."""
 
 from __future__ import annotations
 
@@ -14,8 +15,9 @@ from ..analysis import check_criteria, run_batch
 from ..deck import Deck, build_deck
 from ..engines.quantities import QUANTITIES, SCALARS
 from ..engines.simplified import effective_properties
+from ..engines.suite_result import SuiteResult
 from ..errors import AnalysisError, InputError
-from .plan import Case, Chunk
+from .plan import Case, Chunk, ground_motion_key
 
 #: per process: ground-motion fields -> (record or design spectrum, spectrum object with its S_a cache)
 _GROUND_MOTIONS: dict[tuple[str, str], tuple[Any, Any]] = {}
@@ -24,7 +26,7 @@ _GROUND_MOTIONS: dict[tuple[str, str], tuple[Any, Any]] = {}
 def build_case_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]]) -> Deck:
     """build_deck, reusing the ground motion (record and spectrum cache) of earlier cases."""
     deck = build_deck(raw, source, overrides, load_ground_motion=False)
-    key = (source, json.dumps(deck.values["ground_motion"], sort_keys=True, default=str))
+    key = (source, ground_motion_key(deck))
     if key not in _GROUND_MOTIONS:
         if len(_GROUND_MOTIONS) >= 16:
             _GROUND_MOTIONS.clear()
@@ -60,17 +62,27 @@ def _effective_properties(deck: Deck, result) -> tuple[float | None, float | Non
 
 
 def case_row(case: Case, deck: Deck, result) -> dict[str, Any]:
-    """The tidy row of one finished case (SI units; columns: sweep/table.output_columns)."""
+    """The tidy row of one finished case (SI units; columns: sweep/table.output_columns); a
+    suite's: its design statistic, the count, and each record's row under "record_rows"."""
     t1bar, xi1bar = _effective_properties(deck, result)
+    row = {**_row_head(case), **_outputs(deck, result, t1bar, xi1bar),
+           "violations": "; ".join(check_criteria([result], deck.criteria)), "status": "ok", "message": ""}
+    if isinstance(result, SuiteResult):
+        row.update(statistic=result.statistic, records=result.count, record_rows=[
+            {"record": info.name, "factor": info.factor, **_outputs(deck, record, t1bar, xi1bar)}
+            for info, record in zip(result.records, result.record_results, strict=True)])
+    return row
+
+
+def _outputs(deck: Deck, result, t1bar: float | None, xi1bar: float | None) -> dict[str, Any]:
+    """The output columns of a result (SI units)."""
     if result.engine == "simplified":
         mode1 = result.intermediates["V_n"][0]
     else:
         mode1 = (result.details.get("modal_base_shear") or [None])[0]
     two = result.intermediates.get("V_1+2")
     story = int(np.argmax(np.abs(result.drift_ratio)))
-    violations = check_criteria([result], deck.criteria)
     return {
-        **_row_head(case),
         "T1_s": float(deck.system.modes.periods[0]), "T1bar_s": t1bar, "xi1bar": xi1bar,
         **{scalar.column: result.value(name) for name, scalar in SCALARS.items()},
         "mode1_base_shear_coefficient": None if mode1 is None else float(mode1) / result.weight,
@@ -79,7 +91,6 @@ def case_row(case: Case, deck: Deck, result) -> dict[str, Any]:
         "max_drift_story": story + 1,
         "uplift": bool(result.uplift), "V_c_N": result.critical_base_shear,
         "critical_coefficient": result.critical_coefficient,
-        "violations": "; ".join(violations), "status": "ok", "message": "",
     }
 
 

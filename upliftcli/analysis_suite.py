@@ -1,0 +1,117 @@
+"""A record suite through a response-history engine: every record of the suite (its factor
+applied) is one engine batch over the decks' systems, each record's result is kept, and each
+deck gets its SuiteResult (engines/suite_result.py): the statistics over the records, the design
+statistic of its code rule, and the simplified engine on the target spectrum beside it.
+
+Used by analysis.run_batch; knows nothing of the terminal. Nothing here writes files (the
+SHA-256 of each record's source file is read, when the file is there).
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Iterator, Sequence
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+from .deck import Deck
+from .engines.registry import ENGINES, Engine
+from .engines.result import AnalysisResult
+from .engines.suite_result import SuiteRecord, SuiteResult, suite_result
+from .errors import AnalysisError, InputError
+from .motion.design_spectra import procedure_warning
+from .motion.suites import Suite
+
+
+def motion_key(suite: Suite) -> tuple:
+    """What the analyses of a suite depend on: the scaled records (step and content). Decks whose
+    suites differ only in what does not change the motions (warnings, statistics rule, period
+    range of an unscaled suite) share one batch per record."""
+    return ("suite", *((m.dt, hashlib.sha1(m.acceleration.tobytes()).hexdigest()) for m in suite.motions()))
+
+
+@lru_cache(maxsize=256)
+def _file_sha256(path: str, mtime_ns: int) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def file_sha256(path: str) -> str | None:
+    """SHA-256 of a file's bytes, None when it cannot be read."""
+    try:
+        return _file_sha256(path, Path(path).stat().st_mtime_ns)
+    except OSError:
+        return None
+
+
+def suite_records(suite: Suite) -> tuple[SuiteRecord, ...]:
+    """Name, source, factor, provenance and the source file's SHA-256 of every record (a matched
+    record's source is the record it was matched from: its SHA-256 is that file's)."""
+    provenance = tuple(suite.provenance) + ("",) * (suite.count - len(suite.provenance))
+    return tuple(SuiteRecord(record.name, record.source, float(factor), note,
+                             file_sha256(record.source) if record.source else None)
+                 for record, factor, note in zip(suite.records, suite.factors, provenance, strict=True))
+
+
+def suite_summary(suite: Suite) -> dict[str, Any]:
+    """What the suite was, for the reports: target, scaling, period range [s] and its note, damping."""
+    return {"target": getattr(suite.target, "name", ""), "scaling": suite.scaling,
+            "period_range": list(suite.period_range), "period_note": suite.period_note, "damping": suite.damping}
+
+
+def _simplified(deck: Deck, support: str) -> AnalysisResult | None:
+    """The simplified engine on the deck's target spectrum (None if it cannot run)."""
+    if deck.spectrum is None:
+        return None
+    try:
+        return with_procedure_warning(
+            ENGINES["simplified"].analyze(deck.system, deck.spectrum, support, deck.analysis.simplified),
+            deck.spectrum, "modal")
+    except (AnalysisError, InputError):
+        return None
+
+
+def with_procedure_warning(result: AnalysisResult, spectrum, procedure: str) -> AnalysisResult:
+    """The result with design_spectra.procedure_warning (the two-period ASCE 7-22 spectrum used
+    by a modal or response-history procedure) added to its warnings, if it applies."""
+    message = procedure_warning(spectrum, procedure)
+    if message and message not in result.details.get("warnings", []):
+        result.details["warnings"] = [*result.details.get("warnings", []), message]
+    return result
+
+
+def iter_suite_batch(engine: Engine, decks: Sequence[Deck], suite: Suite, support: str, options: Any
+                     ) -> Iterator[tuple[int, SuiteResult | AnalysisError | InputError]]:
+    """The suite's records (motions with their factors) through `engine` for every deck's system
+    (decks sharing the suite's motions and the engine options), one batch per record; yields
+    (index, SuiteResult or the error that stopped it) as each deck's last record ends. A deck
+    whose analysis fails on a record is not run on the later ones; the error names the record."""
+    motions = suite.motions()
+    alive = list(range(len(decks)))
+    per_deck: dict[int, list[AnalysisResult]] = {k: [] for k in alive}
+    for r, motion in enumerate(motions):
+        systems = [decks[k].system for k in alive]
+        failed = []
+        for j, outcome in engine.iter_batch(systems, motion, support, options):
+            k = alive[j]
+            if isinstance(outcome, AnalysisResult):
+                per_deck[k].append(outcome)
+                continue
+            failed.append(k)
+            if isinstance(outcome, AnalysisError):
+                outcome = AnalysisError(f"record {r + 1} of {len(motions)} ({motion.name}): {outcome}")
+            yield k, outcome
+        alive = [k for k in alive if k not in failed]
+        if not alive:
+            return
+    for k in alive:
+        yield k, deck_suite_result(decks[k], per_deck[k], support)
+
+
+def deck_suite_result(deck: Deck, results: Sequence[AnalysisResult], support: str) -> SuiteResult:
+    """The SuiteResult of a deck (its suite, rule and target) from the results of its records."""
+    suite: Suite = deck.ground_motion
+    warnings = list(suite.warnings)
+    return suite_result(results, suite_records(suite), suite.statistic, rule=suite.rule.name,
+                        rule_label=suite.rule.label, simplified=_simplified(deck, support),
+                        suite=suite_summary(suite), warnings=warnings)

@@ -1,0 +1,173 @@
+"""The result of a response-history engine on a record suite: every record's AnalysisResult and
+the statistics of the peak responses over the records (docs/suites.md, engines on a suite).
+
+    result = suite_result(per_record, records, "mean", rule="asce7-22", rule_label="ASCE 7-22 16.2")
+    result.base_shear, result.drift_ratio      # the design value: the statistic the code asks for
+    result.statistics["p84"].base_shear        # the other statistics
+    result.record_results[3]                   # one record's result
+
+A SuiteResult *is* the AnalysisResult of the design statistic (ASCE 7-22 16.2: the mean; EN 1998-1
+4.3.3.4.3: the mean from 7 records, else the maximum; "mean": the mean), so that the writers,
+the terminal tables, sweep rows and the deck's [criteria] read it as any result; criteria thus
+apply to the design statistic. The statistics are taken value by value over the records, for
+every floor, story and element of every quantity of engines/quantities.py; the scalars (V_b,
+M_b and their coefficients) are the story-1 values, so they are the statistics of the records'
+scalars. Pure numpy; knows nothing of decks or files.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field, fields, replace
+from typing import Any
+
+import numpy as np
+
+from .result import AnalysisResult
+
+#: statistic name -> (meaning, function of an array (records, values) along axis 0)
+STATISTICS: dict[str, tuple[str, Any]] = {
+    "mean": ("mean over the records", lambda a: np.mean(a, axis=0)),
+    "median": ("median over the records", lambda a: np.median(a, axis=0)),
+    "p84": ("84th percentile over the records (linear between order statistics, numpy's default)",
+            lambda a: np.percentile(a, 84.0, axis=0)),
+    "max": ("maximum over the records", lambda a: np.max(a, axis=0)),
+}
+#: numeric details taken value by value like the peaks (the peak base shear of each mode)
+STATISTIC_DETAILS = ("modal_base_shear", "cumulative_modal_base_shear")
+#: scalar intermediates that are peaks or durations of one record: their statistic is kept
+STATISTIC_INTERMEDIATES = ("max_rotation", "max_uplift_left", "max_uplift_right", "uplift_time")
+#: values compared between the simplified engine on the target spectrum and the suite statistic:
+#: name -> (unit, meaning)
+COMPARED: dict[str, tuple[str, str]] = {
+    "base_shear": ("N", "base shear V_b [14a]"),
+    "base_moment": ("N m", "base overturning moment M_b [14b]"),
+    "drift_ratio": ("-", "largest story drift ratio"),
+    "roof_displacement": ("m", "roof displacement relative to the mat"),
+}
+
+
+@dataclass(frozen=True)
+class SuiteRecord:
+    """One record of a suite as analysed: name, source file, amplitude factor [-], provenance,
+    SHA-256 of the source file (None when it cannot be read, e.g. a matched record)."""
+
+    name: str
+    source: str
+    factor: float
+    provenance: str = ""
+    sha256: str | None = None
+
+
+@dataclass
+class SuiteResult(AnalysisResult):
+    """The design statistic of a suite (the peaks are the statistic `statistic` of the records'
+    peaks), with: statistic: 'mean' or 'max' (what the code takes from this many records);
+    rule, rule_label: the code rule (motion/code_rules.py); records: SuiteRecord of each record;
+    record_results: each record's AnalysisResult; statistics: name -> AnalysisResult of every
+    statistic of STATISTICS; simplified: the simplified engine on the target spectrum, same
+    support (None if not run or failed; see simplified_ratios); suite: what the suite was
+    (scaling, period range [s] and how it was found, target) for the reports; warnings: the
+    suite's messages (too few records for the rule, factors ...)."""
+
+    statistic: str = "mean"
+    rule: str = ""
+    rule_label: str = ""
+    records: tuple[SuiteRecord, ...] = ()
+    record_results: tuple[AnalysisResult, ...] = ()
+    statistics: dict[str, AnalysisResult] = field(default_factory=dict)
+    simplified: AnalysisResult | None = None
+    suite: dict[str, Any] = field(default_factory=dict)
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def count(self) -> int:
+        """Number of records analysed."""
+        return len(self.record_results)
+
+    @property
+    def uplift_count(self) -> int:
+        """Number of records under which the mat lifts off."""
+        return sum(bool(r.uplift) for r in self.record_results)
+
+    @property
+    def label(self) -> str:
+        """'exact (mean of 11)': the engine and the design statistic over the records."""
+        return f"{self.engine} ({self.statistic} of {self.count})"
+
+
+def statistic_of(results: Sequence[AnalysisResult], name: str, common: dict[str, Any] | None = None
+                 ) -> AnalysisResult:
+    """The AnalysisResult whose peaks are the statistic `name` (STATISTICS) of the results'
+    peaks, value by value; the results are of one system and support under several records.
+    uplift: whether the mat lifts off under at least one record; times (instants of the peaks of
+    each record) are dropped; intermediates: those equal for every record (common_intermediates,
+    if not given), and the statistic of STATISTIC_INTERMEDIATES; details: the statistic of
+    STATISTIC_DETAILS."""
+    if not results:
+        raise ValueError("a suite statistic needs at least one result")
+    function = STATISTICS[name][1]
+    first = results[0]
+    peaks = {key: np.asarray(function(np.stack([np.asarray(r.peaks[key], dtype=float) for r in results])), dtype=float)
+             for key in first.peaks if all(key in r.peaks for r in results)}
+    intermediates = dict(common_intermediates(results) if common is None else common)
+    for key in STATISTIC_INTERMEDIATES:
+        values = [r.intermediates.get(key) for r in results]
+        if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values):
+            intermediates[key] = float(function(np.array(values, dtype=float)))
+    details = {key: function(np.array([r.details[key] for r in results], dtype=float)).tolist()
+               for key in STATISTIC_DETAILS
+               if all(key in r.details for r in results) and len({len(r.details[key]) for r in results}) == 1}
+    return replace(first, elevations=first.elevations.copy(), peaks=peaks, uplift=any(r.uplift for r in results),
+                   times={}, intermediates=intermediates, details=details)
+
+
+def common_intermediates(results: Sequence[AnalysisResult]) -> dict[str, Any]:
+    """The intermediates of the first result that every result has with the same value (the
+    model's: n_modes, time_step, criterion ...), in their order."""
+    first = results[0].intermediates
+    return {key: value for key, value in first.items() if key not in STATISTIC_INTERMEDIATES
+            and all(_same(value, r.intermediates.get(key)) for r in results[1:])}
+
+
+def _same(a: Any, b: Any) -> bool:
+    try:
+        return bool(np.array_equal(np.asarray(a), np.asarray(b)))
+    except (TypeError, ValueError):
+        return a == b
+
+
+def suite_result(results: Sequence[AnalysisResult], records: Sequence[SuiteRecord], statistic: str, *,
+                 rule: str = "", rule_label: str = "", simplified: AnalysisResult | None = None,
+                 suite: dict[str, Any] | None = None, warnings: Sequence[str] = ()) -> SuiteResult:
+    """The SuiteResult of the records' results (in the order of `records`) with `statistic`
+    ('mean' or 'max', from the code rule) as the design value."""
+    if len(results) != len(records):
+        raise ValueError(f"{len(records)} records but {len(results)} results")
+    common = common_intermediates(results)
+    statistics = {name: statistic_of(results, name, common) for name in STATISTICS}
+    design = statistics[statistic]
+    values = {item.name: getattr(design, item.name) for item in fields(AnalysisResult)}
+    values = {name: dict(value) if isinstance(value, dict) else value for name, value in values.items()}
+    return SuiteResult(**values, statistic=statistic, rule=rule, rule_label=rule_label,
+                       records=tuple(records), record_results=tuple(results), statistics=statistics,
+                       simplified=simplified, suite=dict(suite or {}), warnings=tuple(warnings))
+
+
+def compared_values(result: AnalysisResult) -> dict[str, float]:
+    """The COMPARED values of a result: V_b [N], M_b [N m], largest drift ratio [-], roof
+    displacement [m]."""
+    return {"base_shear": result.base_shear, "base_moment": result.base_moment,
+            "drift_ratio": result.value("drift_ratio"),
+            "roof_displacement": float(abs(result.peaks["displacement"][-1]))}
+
+
+def simplified_ratios(result: SuiteResult) -> dict[str, dict[str, float]]:
+    """For each COMPARED value: {simplified, statistic, ratio = simplified / statistic} (the
+    simplified engine on the target spectrum against the suite's design statistic); empty
+    when the simplified engine was not run."""
+    if result.simplified is None:
+        return {}
+    mine, theirs = compared_values(result), compared_values(result.simplified)
+    return {name: {"simplified": theirs[name], "statistic": mine[name],
+                   "ratio": theirs[name] / mine[name] if mine[name] else float("nan")} for name in COMPARED}
