@@ -54,7 +54,9 @@ def energy_balance(history: History, sig: Signals) -> dict:
     terms["structural_damping"] = float(damp_struct)
     terms["foundation_damping"] = float(damp_found)
     balance = sum(v for k, v in terms.items() if k != "input")
-    scale = max(abs(work_in), damp_struct + damp_found, 1e-300)
+    # relative to the work done, or (no ground motion) to a billionth of the static foundation
+    # energy, so that round-off at rest is not a residual
+    scale = max(abs(work_in), damp_struct + damp_found, 1e-9 * space.weight * space.settlement, 1e-300)
     terms["residual"] = float(work_in - balance)
     terms["relative_residual"] = float(abs(work_in - balance) / scale)
     return terms

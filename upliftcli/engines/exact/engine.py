@@ -88,7 +88,7 @@ def _rigid_key(system: System) -> tuple:
 
 
 def iter_batch(systems: list[System], record, support: str, options: ExactOptions | None = None, *,
-               model: ModelBuilder = exact_model, name: str = "exact",
+               model: ModelBuilder = exact_model, name: str = "exact", refine: bool = True,
                ) -> Iterator[tuple[int, AnalysisResult | AnalysisError | InputError]]:
     """Peak responses of several systems to one record, one support: yields (index, result
     or the error that stopped it) as each is known; the others go on. Same results, bit for
@@ -98,7 +98,8 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
     - the runs are stepped together in rounds and the contact states they reach in a round
       are assembled and exponentiated vectorised over the batch (stepping.add_states).
     model: the state-space model of a system (exact_model; the approximate engine couples
-    mode 1 only); name: the engine named in the results."""
+    mode 1 only); name: the engine named in the results; refine: halve the step where the
+    energy balance does not close (_refined)."""
     options = options or ExactOptions()
     check_support(support)
     acceleration = _checked_acceleration(record.acceleration, record.dt, options)
@@ -129,7 +130,7 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
             k = runs[j][0]
             if not isinstance(history, AnalysisError):
                 history = summarize(systems[k], history, support, name, options)
-                if history.intermediates["energy_residual"] > ENERGY_TOLERANCE:
+                if refine and history.intermediates["energy_residual"] > ENERGY_TOLERANCE:
                     history = _refined(systems[k], record, support, options, model, name, history)
             yield from outcomes(k, history)
 
@@ -151,7 +152,7 @@ def _refined(system: System, record, support: str, options: ExactOptions, model:
         for refinement in range(1, MAX_REFINEMENTS + 1):
             steps = options.steps_per_period * 2**refinement
             ((_, result),) = tuple(iter_batch([system], record, support, replace(options, steps_per_period=steps),
-                                              model=model, name=name))
+                                              model=model, name=name, refine=False))
             if isinstance(result, AnalysisError):
                 return result
             residual = result.intermediates["energy_residual"]
