@@ -124,7 +124,23 @@ def modal_static_response(system: System, modal_base_shears: np.ndarray, n_modes
 
 
 def analyze(system: System, spectrum, support: str, options: SimplifiedOptions = SimplifiedOptions()) -> AnalysisResult:
-    """Peak response by the simplified procedure for support "rigid", "bonded" or "uplift"."""
+    """Peak response by the simplified procedure (options.procedure: "improved", engines/improved.py,
+    or "paper") for support "rigid", "bonded" or "uplift", with the warnings of
+    engines/plausibility.py in result.details["warnings"]."""
+    from . import improved, plausibility
+
+    check_support(support)
+    if support == "uplift" and options.procedure == "improved":
+        result = improved.analyze_uplift(system, spectrum, options)
+    else:
+        result = paper_analyze(system, spectrum, support, options)
+    result.details["warnings"].extend(plausibility.warnings(system, spectrum, support, options, result))
+    return result
+
+
+def paper_analyze(system: System, spectrum, support: str, options: SimplifiedOptions = SimplifiedOptions()
+                  ) -> AnalysisResult:
+    """Peak response by the paper's procedure [21-35] (docs/theory.md), no plausibility checks."""
     check_support(support)
     modes = system.modes
     n = int(options.n_modes or modes.n_modes)

@@ -1,0 +1,229 @@
+"""Improved simplified procedure for the uplift support (analysis.procedure = "improved").
+
+The paper's procedure (engines/simplified.py, docs/theory.md) with four physically motivated
+changes, each calibrated against the exact engine on the FEMA P695 far-field records only
+(benchmarks/calibrate.py; data, fit and residuals in docs/accuracy.md):
+
+1. mass-consistent X [28a]: X = x^2 e^(2 xi1bar (pi/2 - asin(1/x))), x = V_1/V_c with
+   V_1 = m_1* S_a(T1bar, xi1bar) [26], not (S_a/g)^2 (h_1*/b)^2, which assumes m_1* = m_t:
+   the bonded amplitude that the uplift crossing interrupts is that of m_1*, and the decay
+   factor is taken over the phase actually travelled from the crossing to the bonded peak
+   (so that V_1,max is continuous at V_1 = V_c);
+2. period lengthening while uplifted: the amplitude ratio x is read from the spectrum at
+   T_u = T1bar (1 + lengthening (1 - 1/x)) (the rocking system softens as it lifts: its secant
+   period grows with the uplift), then a short-period factor 1 + short_gain e^(-T1bar/short_period)
+   for the impacts that dominate below about 0.2 s;
+3. higher modes raised by uplift: V_n = m_n* S_a(T_n, xi_n) (1 + gain_n (1 - 1/x)), mode 2
+   (gain2) and modes 3 and up (gain3); the rocking impacts excite them through the h_n* theta''
+   term of [11a], more the more the mat lifts;
+4. combination: the modal peaks (signed, per story) with correlation rho_1n = correlation
+   (1 - 1/x) between mode 1 and each higher mode (the impacts that set the higher-mode peaks
+   come with the mode-1 peak), the rest as the deck's rule (SRSS [35] or CQC);
+and, as an engineer would, no response above the bonded or the rigid-base value of the
+same procedure (uplift cannot raise them in this model).
+Below V_c (x <= 1) the result is the bonded one, as in the paper.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..model.system import System
+from .options import SimplifiedOptions
+from .result import AnalysisResult, cqc_correlation
+
+#: version of the per-case terms (benchmarks/calibrate.py caches them)
+TERMS_VERSION = 1
+
+
+@dataclass(frozen=True)
+class Coefficients:
+    """Coefficients of the improved procedure (module docstring; docs/accuracy.md)."""
+
+    lengthening: float = 0.0
+    short_gain: float = 0.0
+    short_period: float = 0.1
+    gain2: float = 0.0
+    gain3: float = 0.0
+    correlation: float = 0.0
+
+
+#: the calibrated values (benchmarks/calibrate.py on the FEMA P695 far-field set)
+COEFFICIENTS = Coefficients()
+#: the coefficients benchmarks/calibrate.py fits
+FITTED = ("lengthening", "short_gain", "short_period", "gain2", "gain3", "correlation")
+#: period multipliers at which S_a(c T1bar, xi1bar) is tabulated for the lengthened period
+STRETCH = np.round(np.arange(1.0, 3.0001, 0.05), 10)
+
+
+@dataclass(frozen=True)
+class UpliftTerms:
+    """The quantities of one system and spectrum that the improved procedure combines.
+
+    x: V_1/V_c at T1bar; x_long: V_1/V_c at STRETCH x T1bar (array); slenderness h_1*/b;
+    zeta: damping while uplifted xi1bar r/b [27]; xi1bar, t1bar [s]; v_c [N];
+    modal_shears: fixed-base m_n* S_a(T_n, xi_n) [N] (mode 1: its bonded value);
+    unit_drift (modes, stories), unit_roof (modes,) [1/N and m/N], unit_moment (modes,) [m]:
+    signed drift ratios, roof displacement and base moment per unit modal base shear;
+    omega, damping: of the modes for the correlation (mode 1: 2 pi/T1bar, xi1bar);
+    bonded, rigid: the paper procedure's results for the caps."""
+
+    x: float
+    x_long: np.ndarray
+    slenderness: float
+    zeta: float
+    xi1bar: float
+    t1bar: float
+    v_c: float
+    modal_shears: np.ndarray
+    unit_drift: np.ndarray
+    unit_roof: np.ndarray
+    unit_moment: np.ndarray
+    omega: np.ndarray
+    damping: np.ndarray
+    bonded: AnalysisResult
+    rigid: AnalysisResult
+
+
+def uplift_terms(system: System, spectrum, options: SimplifiedOptions) -> UpliftTerms:
+    """The terms of one case from the paper procedure's bonded and rigid results."""
+    from .simplified import modal_static_response, paper_analyze
+
+    paper = replace(options, procedure="paper")
+    bonded = paper_analyze(system, spectrum, "bonded", paper)
+    rigid = paper_analyze(system, spectrum, "rigid", paper)
+    inter = bonded.intermediates
+    n = len(inter["V_n"])
+    modes = system.modes
+    v_c = system.critical_base_shear
+    m1 = float(modes.effective_mass[0])
+    t1bar, xi1bar = float(inter["T1bar"]), float(inter["xi1bar"])
+    sa = np.asarray(spectrum.sa(STRETCH * t1bar, xi1bar), dtype=float)
+    unit = modal_static_response(system, np.ones(n), n)
+    b, h1 = system.half_width, system.effective_height
+    omega, damping = modes.omega[:n].copy(), modes.damping[:n].copy()
+    omega[0], damping[0] = 2.0 * math.pi / t1bar, xi1bar
+    return UpliftTerms(
+        x=float(inter["V1_bonded"]) / v_c, x_long=m1 * sa / v_c, slenderness=h1 / b,
+        zeta=xi1bar * math.hypot(h1, b) / b, xi1bar=xi1bar, t1bar=t1bar, v_c=v_c,
+        modal_shears=np.asarray(inter["V_n"], dtype=float), unit_drift=unit["drift_ratio"],
+        unit_roof=unit["displacement"][:, -1], unit_moment=unit["moment"][:, 0],
+        omega=omega, damping=damping, bonded=bonded, rigid=rigid)
+
+
+def mode1_terms(x, x_long, slenderness, zeta, xi1bar, t1bar, c: Coefficients) -> dict[str, np.ndarray]:
+    """V_1,max / V_c with uplift ("ratio") and its X, phi [28a, 28b] and amplitude ratio (arrays over
+    cases): the mass-consistent X, the lengthened period and the short-period factor (module
+    docstring, items 1-2)."""
+    stretch = np.clip(1.0 + c.lengthening * severity(x), STRETCH[0], STRETCH[-1])
+    x_long = np.asarray(x_long, dtype=float)
+    position = np.interp(stretch, STRETCH, np.arange(STRETCH.size))
+    low = np.clip(np.floor(position).astype(int), 0, STRETCH.size - 2)
+    weight = position - low
+    rows = np.arange(x_long.shape[0])
+    amplitude = np.maximum((1 - weight) * x_long[rows, low] + weight * x_long[rows, low + 1], 1.0)
+    big_x = amplitude**2 * np.exp(2.0 * xi1bar * (math.pi / 2 - np.arcsin(1.0 / amplitude)))
+    b_over_r2 = 1.0 / (1.0 + slenderness**2)
+    excess = np.maximum(big_x - 1.0, 0.0)
+    phi = np.arctan(np.sqrt(excess / b_over_r2))
+    ratio = (1.0 - b_over_r2) + np.exp(-zeta * phi) * np.sqrt(b_over_r2**2 + b_over_r2 * excess)
+    ratio = ratio * (1.0 + c.short_gain * np.exp(-t1bar / c.short_period))
+    return {"ratio": ratio, "X": big_x, "phi": phi, "amplitude": amplitude, "T_u": stretch * t1bar}
+
+
+def severity(x):
+    """1 - 1/x: 0 at the onset of uplift (V_1 = V_c), tending to 1 as V_1/V_c grows."""
+    return np.maximum(1.0 - 1.0 / np.maximum(np.asarray(x, dtype=float), 1.0), 0.0)
+
+
+def modal_factors(x, n_modes: int, c: Coefficients) -> np.ndarray:
+    """Factors on the modal base shears of modes 2.. (cases, modes); mode 1's factor is 1."""
+    s = severity(x)[:, None]
+    gains = np.full(n_modes, c.gain3)
+    gains[0] = 0.0
+    if n_modes > 1:
+        gains[1] = c.gain2
+    return 1.0 + gains[None, :] * s
+
+
+def combine_peaks(peaks: np.ndarray, rho: np.ndarray) -> np.ndarray:
+    """sqrt(sum_ij rho_ij r_i r_j) over modes (axis -2), rho (cases, modes, modes); peaks
+    (cases, modes, k). Negative sums (possible with rho_1n > 0 and opposite signs) give 0."""
+    total = np.einsum("cik,cij,cjk->ck", peaks, rho, peaks)
+    return np.sqrt(np.maximum(total, 0.0))
+
+
+def correlations(x, base: np.ndarray, c: Coefficients) -> np.ndarray:
+    """rho (cases, modes, modes): the deck's rule (base, identity for SRSS) with
+    rho_1n = max(base_1n, correlation (1 - 1/x)) for n >= 2."""
+    rho = np.array(base, dtype=float, copy=True)
+    coupled = np.maximum(rho[:, 0, 1:], (c.correlation * severity(x))[:, None])
+    rho[:, 0, 1:] = coupled
+    rho[:, 1:, 0] = coupled
+    return rho
+
+
+def combine_arrays(data: dict, c: Coefficients) -> dict[str, np.ndarray]:
+    """V_b, M_b, largest drift ratio and roof displacement of many cases at once (the
+    calibration's form of analyze_uplift; same functions, padded arrays)."""
+    x = data["x"]
+    shears = data["modal_shears"].copy()
+    n_modes = shears.shape[1]
+    lifting = x > 1.0
+    v1 = data["V_c"] * mode1_terms(x, data["x_long"], data["slenderness"], data["zeta"], data["xi1bar"],
+                                   data["T1bar"], c)["ratio"]
+    shears[:, 0] = np.where(lifting, v1, shears[:, 0])
+    shears *= np.where(lifting[:, None], modal_factors(x, n_modes, c), 1.0)
+    base = np.broadcast_to(np.eye(n_modes), (x.size, n_modes, n_modes))
+    rho = np.where(lifting[:, None, None], correlations(x, base, c), base)
+    drift = combine_peaks(shears[:, :, None] * data["unit_drift"], rho)
+    roof = combine_peaks((shears * data["unit_roof"])[:, :, None], rho)[:, 0]
+    moment = combine_peaks((shears * data["unit_moment"])[:, :, None], rho)[:, 0]
+    shear = combine_peaks(shears[:, :, None], rho)[:, 0]
+    drift = np.minimum(drift, np.minimum(data["bonded_drift"], data["rigid_drift"]))
+    return {"V": np.minimum(shear, np.minimum(data["bonded_V"], data["rigid_V"])),
+            "M": np.minimum(moment, np.minimum(data["bonded_M"], data["rigid_M"])),
+            "drift": drift.max(axis=1),
+            "roof": np.minimum(roof, np.minimum(data["bonded_roof"], data["rigid_roof"]))}
+
+
+def analyze_uplift(system: System, spectrum, options: SimplifiedOptions,
+                   coefficients: Coefficients = COEFFICIENTS) -> AnalysisResult:
+    """The improved procedure's uplift result (module docstring); intermediates as the paper's
+    plus V1_uplift, the modal factors and the correlation used."""
+    from .simplified import modal_static_response, paper_analyze
+
+    terms = uplift_terms(system, spectrum, options)
+    bonded = terms.bonded
+    paper = paper_analyze(system, spectrum, "uplift", replace(options, procedure="paper"))
+    details = {**paper.details, "warnings": list(paper.details["warnings"]),
+               "options": {**paper.details["options"], "procedure": "improved"}}
+    if terms.x <= 1.0:
+        return replace(paper, details=details)
+    inter = {k: v for k, v in paper.intermediates.items() if k not in ("X0", "X_factor")}
+    n = terms.modal_shears.size
+    x = np.array([terms.x])
+    mode1 = {k: float(v[0]) for k, v in mode1_terms(x, terms.x_long[None, :], terms.slenderness, terms.zeta,
+                                                    terms.xi1bar, terms.t1bar, coefficients).items()}
+    factors = modal_factors(x, n, coefficients)[0]
+    shears = terms.modal_shears * factors
+    shears[0] = mode1["ratio"] * terms.v_c
+    base = cqc_correlation(terms.omega, terms.damping) if options.combination == "cqc" else np.eye(n)
+    rho = correlations(x, base[None], coefficients)[0]
+    per_mode = modal_static_response(system, shears, n)
+    combined = {name: combine_peaks(values[None], rho[None])[0] for name, values in per_mode.items()
+                if name != "forces"}
+    for name in combined:
+        combined[name] = np.minimum(combined[name], np.minimum(np.abs(getattr(bonded, name)),
+                                                               np.abs(getattr(terms.rigid, name))))
+    inter.update({"X": mode1["X"], "phi": mode1["phi"], "T_u": mode1["T_u"], "x_u": mode1["amplitude"],
+                  "V1_uplift": float(shears[0]), "V_n": shears.tolist(), "modal_factors": factors.tolist(),
+                  "rho_1n": float(rho[0, 1]) if n > 1 else 0.0})
+    details["modal_forces"] = per_mode["forces"].tolist()
+    return replace(bonded, support="uplift", uplift=True, displacement=combined["displacement"],
+                   drift=combined["drift"], drift_ratio=combined["drift_ratio"], shear=combined["shear"],
+                   moment=combined["moment"], base_shear=float(combined["shear"][0]),
+                   base_moment=float(combined["moment"][0]), intermediates=inter, details=details)
