@@ -133,6 +133,11 @@ def _key(record: Record, specs: list[Spec], periods: np.ndarray) -> str:
     return digest.hexdigest()[:16]
 
 
+def cached(record: Record, specs: list[Spec], periods: np.ndarray, cache: Path) -> bool:
+    """Whether the exact peaks of this record are in the cache."""
+    return (cache / f"exact-{_key(record, specs, periods)}.pkl").exists()
+
+
 def exact_peaks(record: Record, specs: list[Spec], periods: np.ndarray, cache: Path) -> dict:
     """Exact peaks {support: {quantity: array (systems, periods)}}, plus the exact modal base
     shears of modes 1-3 ('modal', (systems, periods, 3)) and whether the mat lifted; from the

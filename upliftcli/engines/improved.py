@@ -48,13 +48,23 @@ class Coefficients:
     short_period: float = 0.1
     gain2: float = 0.0
     gain3: float = 0.0
+    short_modes: float = 0.0
     correlation: float = 0.0
+
+    def short(self, t1bar):
+        """e^(-T1bar/short_period): 1 for the shortest periods, 0 for long ones."""
+        return np.exp(-np.asarray(t1bar, dtype=float) / self.short_period)
+
+
+#: the range each coefficient is fitted in (benchmarks/calibrate.py)
+BOUNDS = {"lengthening": (0.0, 2.0), "short_gain": (0.0, 3.0), "short_period": (0.02, 1.0), "gain2": (0.0, 3.0),
+          "gain3": (0.0, 3.0), "short_modes": (0.0, 6.0), "correlation": (0.0, 1.0)}
 
 
 #: the calibrated values (benchmarks/calibrate.py on the FEMA P695 far-field set)
 COEFFICIENTS = Coefficients()
 #: the coefficients benchmarks/calibrate.py fits
-FITTED = ("lengthening", "short_gain", "short_period", "gain2", "gain3", "correlation")
+FITTED = ("lengthening", "short_gain", "short_period", "gain2", "gain3", "short_modes", "correlation")
 #: period multipliers at which S_a(c T1bar, xi1bar) is tabulated for the lengthened period
 STRETCH = np.round(np.arange(1.0, 3.0001, 0.05), 10)
 
@@ -114,6 +124,25 @@ def uplift_terms(system: System, spectrum, options: SimplifiedOptions) -> Uplift
         omega=omega, damping=damping, bonded=bonded, rigid=rigid)
 
 
+def as_arrays(terms: UpliftTerms, size: int) -> dict[str, np.ndarray | float]:
+    """One case's terms as combine_arrays takes them, modes and stories padded with zeros to size."""
+
+    def padded(value: np.ndarray) -> np.ndarray:
+        out = np.zeros((size,) * np.ndim(value))
+        out[tuple(slice(0, n) for n in np.shape(value))] = value
+        return out
+
+    out: dict = {"x": terms.x, "x_long": terms.x_long, "slenderness": terms.slenderness, "zeta": terms.zeta,
+                 "xi1bar": terms.xi1bar, "T1bar": terms.t1bar, "V_c": terms.v_c,
+                 "modal_shears": padded(terms.modal_shears), "unit_drift": padded(terms.unit_drift),
+                 "unit_roof": padded(terms.unit_roof), "unit_moment": padded(terms.unit_moment)}
+    for support, result in (("bonded", terms.bonded), ("rigid", terms.rigid)):
+        out[f"{support}_drift"] = padded(np.abs(result.drift_ratio))
+        out[f"{support}_V"], out[f"{support}_M"] = result.base_shear, result.base_moment
+        out[f"{support}_roof"] = abs(float(result.displacement[-1]))
+    return out
+
+
 def mode1_terms(x, x_long, slenderness, zeta, xi1bar, t1bar, c: Coefficients) -> dict[str, np.ndarray]:
     """V_1,max / V_c with uplift ("ratio") and its X, phi [28a, 28b] and amplitude ratio (arrays over
     cases): the mass-consistent X, the lengthened period and the short-period factor (module
@@ -130,7 +159,7 @@ def mode1_terms(x, x_long, slenderness, zeta, xi1bar, t1bar, c: Coefficients) ->
     excess = np.maximum(big_x - 1.0, 0.0)
     phi = np.arctan(np.sqrt(excess / b_over_r2))
     ratio = (1.0 - b_over_r2) + np.exp(-zeta * phi) * np.sqrt(b_over_r2**2 + b_over_r2 * excess)
-    ratio = ratio * (1.0 + c.short_gain * np.exp(-t1bar / c.short_period))
+    ratio = ratio * (1.0 + c.short_gain * severity(x) * c.short(t1bar))
     return {"ratio": ratio, "X": big_x, "phi": phi, "amplitude": amplitude, "T_u": stretch * t1bar}
 
 
@@ -139,14 +168,16 @@ def severity(x):
     return np.maximum(1.0 - 1.0 / np.maximum(np.asarray(x, dtype=float), 1.0), 0.0)
 
 
-def modal_factors(x, n_modes: int, c: Coefficients) -> np.ndarray:
-    """Factors on the modal base shears of modes 2.. (cases, modes); mode 1's factor is 1."""
-    s = severity(x)[:, None]
+def modal_factors(x, t1bar, n_modes: int, c: Coefficients) -> np.ndarray:
+    """Factors on the modal base shears (cases, modes): 1 + (1 - 1/x) (gain_n + short_modes
+    e^(-T1bar/short_period)) for modes 2.. (gain2 for mode 2, gain3 above); 1 for mode 1."""
     gains = np.full(n_modes, c.gain3)
     gains[0] = 0.0
     if n_modes > 1:
         gains[1] = c.gain2
-    return 1.0 + gains[None, :] * s
+    raised = gains[None, :] + c.short_modes * c.short(t1bar)[:, None]
+    raised[:, 0] = 0.0
+    return 1.0 + raised * severity(x)[:, None]
 
 
 def combine_peaks(peaks: np.ndarray, rho: np.ndarray) -> np.ndarray:
@@ -176,7 +207,7 @@ def combine_arrays(data: dict, c: Coefficients) -> dict[str, np.ndarray]:
     v1 = data["V_c"] * mode1_terms(x, data["x_long"], data["slenderness"], data["zeta"], data["xi1bar"],
                                    data["T1bar"], c)["ratio"]
     shears[:, 0] = np.where(lifting, v1, shears[:, 0])
-    shears *= np.where(lifting[:, None], modal_factors(x, n_modes, c), 1.0)
+    shears *= np.where(lifting[:, None], modal_factors(x, data["T1bar"], n_modes, c), 1.0)
     base = np.broadcast_to(np.eye(n_modes), (x.size, n_modes, n_modes))
     rho = np.where(lifting[:, None, None], correlations(x, base, c), base)
     drift = combine_peaks(shears[:, :, None] * data["unit_drift"], rho)
@@ -208,7 +239,7 @@ def analyze_uplift(system: System, spectrum, options: SimplifiedOptions,
     x = np.array([terms.x])
     mode1 = {k: float(v[0]) for k, v in mode1_terms(x, terms.x_long[None, :], terms.slenderness, terms.zeta,
                                                     terms.xi1bar, terms.t1bar, coefficients).items()}
-    factors = modal_factors(x, n, coefficients)[0]
+    factors = modal_factors(x, np.array([terms.t1bar]), n, coefficients)[0]
     shears = terms.modal_shears * factors
     shears[0] = mode1["ratio"] * terms.v_c
     base = cqc_correlation(terms.omega, terms.damping) if options.combination == "cqc" else np.eye(n)
