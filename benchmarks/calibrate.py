@@ -5,9 +5,11 @@ benchmarks/accuracy.py, uplift support:
 1. the per-case terms the procedure combines are computed once (the engine's own functions:
    the bonded and rigid results of the paper procedure, the fixed-base modal terms, S_a at the
    lengthened uplift periods) and cached in --cache;
-2. the coefficients of improved.COEFFICIENTS are fitted by least squares on log(simplified /
-   exact) of V_b, M_b and the largest drift ratio, with a one-sided penalty on cases more than
-   10 % low (the goals of issue 11 are about the low tail);
+2. the coefficients of improved.COEFFICIENTS are fitted (Nelder-Mead within improved.BOUNDS) to
+   the goals of issue 11 in each period band and for V_b, M_b and the largest drift ratio: the
+   squared shortfalls of the 20 % quantile of log(simplified/exact) below log 0.92, of the 5 %
+   quantile below log 0.82 and of the median outside [log 0.97, log 1.08] (a small margin
+   inside the goals), plus 0.1 x the mean squared log-ratio;
 3. the fitted values, the residuals by quantity and period band, and the check that the
    engine (simplified.analyze, procedure "improved") reproduces the vectorised prediction
    are printed.
@@ -42,6 +44,9 @@ from upliftcli.motion.spectra import RecordSpectrum
 N_MAX = 20  # stories and modes padded to this
 #: period bands weighted equally in the fit [s]
 BANDS = ((0.05, 0.2), (0.2, 0.5), (0.5, 1.0), (1.0, 2.0), (2.0, 5.0001))
+#: weight of the band below 0.2 s: impacts make its exact peaks scatter (log sd ~0.5) beyond what a
+#: spectrum-based estimate can follow, and the caps at the bonded and rigid values bind there
+SHORT_WEIGHT = 0.3
 
 
 def gather(cache: Path) -> dict[str, np.ndarray]:
@@ -109,11 +114,15 @@ def objective(vector: np.ndarray, names, data, base, mask) -> float:
         band = mask & (data["T1"] >= low_t) & (data["T1"] < high_t)
         if not band.any():
             continue
+        weight = SHORT_WEIGHT if high_t <= 0.2 else 1.0
         for q in ("V", "M", "drift"):
             r = np.log(prediction[q][band] / data[f"exact_{q}"][band])
             r = r[np.isfinite(r)]
-            low = np.minimum(r - np.log(0.9), 0.0)
-            loss += np.mean(r**2) + 4.0 * np.mean(low**2) + 2.0 * (np.median(r) - np.log(1.03)) ** 2
+            q05, q20, median = np.quantile(r, [0.05, 0.20, 0.5])
+            # the goals of issue 11 as smooth shortfalls: q20 >= 0.9, q05 >= 0.8, median in [0.95, 1.10]
+            shortfall = (max(np.log(0.92) - q20, 0.0) ** 2 + max(np.log(0.82) - q05, 0.0) ** 2
+                         + max(median - np.log(1.08), 0.0) ** 2 + max(np.log(0.97) - median, 0.0) ** 2)
+            loss += weight * (100.0 * shortfall + 0.1 * np.mean(r**2))
     return float(loss)
 
 

@@ -98,8 +98,9 @@ def test_short_period_factor_and_modal_factors_vanish_where_they_should():
     t1bar = np.array([0.1, 0.1, 0.1, 50.0])
     factors = improved.modal_factors(x, t1bar, 3, c)
     np.testing.assert_allclose(factors[:2], 1.0, atol=1e-11)  # no uplift: fixed-base higher modes
-    assert factors[2, 1] == pytest.approx(1 + 0.75 * (0.5 + math.exp(-1.0)))
-    assert factors[3, 1] == pytest.approx(1 + 0.75 * 0.5, rel=1e-12)  # long period: no short-period part
+    assert factors[2, 1] == pytest.approx(1 + 0.75 * (0.5 + 1.0 / (1.0 + 1.0**2)), rel=1e-12)
+    assert factors[2, 2] == pytest.approx(1 + 0.75 * (0.3 + 0.5), rel=1e-12)
+    assert factors[3, 1] == pytest.approx(1 + 0.75 * 0.5, rel=1e-5)  # long period: no short-period part
     assert np.all(factors[:, 0] == 1.0)
 
 
@@ -167,3 +168,37 @@ def test_one_story_building_mass_consistent_equals_spectral():
     paper = paper_analyze(system, spectrum, "uplift", SimplifiedOptions(procedure="paper", uplift_x_factor="phase"))
     mine = analyze_uplift(system, spectrum, OPTIONS, NEUTRAL)
     assert mine.intermediates["V1_uplift"] == pytest.approx(paper.intermediates["V1_uplift"], rel=1e-12)
+
+
+@pytest.mark.parametrize("x", [1 / 3, 0.5, 1.0, 3.0, 20.0])
+def test_winkler_capacity_equals_the_static_contact_of_a_tilted_strip(x):
+    """uplift_capacity against a direct computation: a Winkler strip (2000 springs, no tension) tilted
+    by the bonded rotation theta = x W b / K_theta, sunk until the springs carry W; its moment / (W b)."""
+    from scipy.optimize import brentq
+
+    k_w, b, weight = 1e8, 5.0, 3e7
+    positions = np.linspace(-b, b, 2001)[:-1] + b / 2000
+    k = k_w * 2 * b / 2000
+    theta = x * weight * b / (2 / 3 * k_w * b**3)
+
+    def compression(v):  # downward displacement of the centre v > 0; the edge at x = +b sinks most
+        return np.maximum(v + positions * theta, 0.0) * k
+
+    v = brentq(lambda v: compression(v).sum() - weight, -b * theta, 10 * weight / (k_w * b) + b * theta)
+    moment = float(np.sum(compression(v) * positions))
+    assert improved.uplift_capacity(x, 1 / 3) == pytest.approx(moment / (weight * b), rel=2e-3)
+
+
+def test_winkler_lifts_from_the_kern_in_the_improved_procedure():
+    from upliftcli.model.foundations import Winkler
+
+    system = paper_system(period=0.8)
+    b = system.half_width
+    winkler = replace(system, foundation=Winkler(system.foundation.rocking_stiffness(b) * 1.5 / b**3, 0.0))
+    m1 = float(winkler.modes.effective_mass[0])
+    spectrum = Constant(0.6 * winkler.critical_base_shear / m1)  # above the kern, below tipping
+    result = analyze(winkler, spectrum, "uplift")
+    capacity = improved.uplift_capacity(0.6, 1 / 3)
+    assert result.uplift and result.intermediates["capacity"] == pytest.approx(capacity)
+    assert result.base_shear < paper_analyze(winkler, spectrum, "bonded").base_shear
+    assert not any("kern" in w for w in result.details["warnings"])

@@ -256,7 +256,7 @@ def test_winkler_uplift_carries_kern_caveat():
     b = system.half_width
     winkler = Winkler(system.foundation.rocking_stiffness(b) * 1.5 / b**3, 0.0)
     other = replace(system, foundation=winkler)
-    result = analyze(other, spectrum_for_ratio(other, 0.5), "uplift")
+    result = analyze(other, spectrum_for_ratio(other, 0.5), "uplift", PAPER)
     assert not result.uplift
     assert any("kern" in warning for warning in result.details["warnings"])
 
