@@ -133,12 +133,14 @@ def goal_table(data: dict, procedure: str, title: str) -> list[str]:
     """The goals of issue 11 for the uplift support, per quantity and period band."""
     lines = [f"### Goals, uplift support, {title}: procedure `{procedure}`", "",
              "| quantity, T_1 band | median in [0.95, 1.10] | > 10 % low <= 20 % | > 20 % low <= 5 % | "
-             "above bonded > 10 % | above rigid | met |", "|---|---|---|---|---|---|---|"]
+             "lifting, above bonded > 10 % | lifting, above rigid | met |", "|---|---|---|---|---|---|---|"]
     for name in ("V", "M", "drift"):
         up = stack(data[procedure], "uplift", name)
         ratio = up / stack(data["exact"], "uplift", name)
-        over_bonded = up / stack(data[procedure], "bonded", name) > 1.10 * (1 + 1e-9)
-        over_rigid = up / stack(data[procedure], "rigid", name) > 1 + 1e-9
+        # compared where the procedure lifts the mat (otherwise its uplift result is the bonded one)
+        lifted = stack(data[procedure], "uplift", "lifted")
+        over_bonded = lifted & (up / stack(data[procedure], "bonded", name) > 1.10 * (1 + 1e-9))
+        over_rigid = lifted & (up / stack(data[procedure], "rigid", name) > 1 + 1e-9)
         for band, mask in band_masks(data["periods"], ratio.shape):
             s = statistics(ratio[mask])
             if not s["n"]:
