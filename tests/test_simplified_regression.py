@@ -1,5 +1,5 @@
 """The paper procedure (analysis.procedure = "paper") gives, bit for bit, the numbers of main
-before the improved procedure existed (commit 2a39d0d), on the example decks and option variants.
+before the improved procedure existed (commit c0f2a40), on the example decks and option variants.
 
 tests/data/simplified_paper_regression.json holds what the generator below (`python
 tests/test_simplified_regression.py OUT.json`, which needs no `procedure` option) computed on the

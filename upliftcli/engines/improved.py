@@ -33,7 +33,8 @@ import numpy as np
 
 from ..model.system import System
 from .options import SimplifiedOptions
-from .result import AnalysisResult, cqc_correlation
+from .result import AnalysisResult
+from .statics import largest_compression
 
 #: version of the per-case terms (benchmarks/calibrate.py caches them)
 TERMS_VERSION = 2
@@ -249,10 +250,9 @@ def analyze_uplift(system: System, spectrum, options: SimplifiedOptions,
                    coefficients: Coefficients = COEFFICIENTS) -> AnalysisResult:
     """The improved procedure's uplift result (module docstring); intermediates as the paper's
     plus V1_uplift, the modal factors and the correlation used."""
-    from .simplified import modal_static_response, paper_analyze
+    from .simplified import cqc_correlation, modal_static_response, paper_analyze
 
     terms = uplift_terms(system, spectrum, options)
-    bonded = terms.bonded
     paper = paper_analyze(system, spectrum, "uplift", replace(options, procedure="paper"))
     details = {**paper.details, "warnings": list(paper.details["warnings"]),
                "options": {**paper.details["options"], "procedure": "improved"}}
@@ -274,14 +274,18 @@ def analyze_uplift(system: System, spectrum, options: SimplifiedOptions,
     per_mode = modal_static_response(system, shears, n)
     combined = {name: combine_peaks(values[None], rho[None])[0] for name, values in per_mode.items()
                 if name != "forces"}
-    for name in combined:
-        combined[name] = np.minimum(combined[name], np.minimum(np.abs(getattr(bonded, name)),
-                                                               np.abs(getattr(terms.rigid, name))))
+    peaks = {name: np.minimum(value, np.minimum(terms.bonded.peaks[name], terms.rigid.peaks[name]))
+             for name, value in combined.items()}
+    # the modal base shears as they enter V_b: scaled by the cap on V_b when it binds
+    scale = float(peaks["shear"][0] / combined["shear"][0]) if combined["shear"][0] > 0 else 1.0
+    elements = system.foundation.contact_elements(system.half_width)
+    peaks["reaction"] = largest_compression(elements.positions, elements.stiffness, system.weight,
+                                            float(peaks["moment"][0]), False)
     inter.update({"X": mode1["X"], "phi": mode1["phi"], "T_u": mode1["T_u"], "x_u": mode1["amplitude"],
-                  "V1_uplift": float(shears[0]), "V_n": shears.tolist(), "modal_factors": factors.tolist(),
-                  "rho_1n": float(rho[0, 1]) if n > 1 else 0.0})
+                  "V1_uplift": float(shears[0]), "V_n": (scale * shears).tolist(), "modal_factors": factors.tolist(),
+                  "rho_1n": float(rho[0, 1]) if n > 1 else 0.0, "cap": scale})
+    if n >= 2:
+        inter["V_1+2"] = scale * float(combine_peaks(shears[None, :2, None], rho[None, :2, :2])[0, 0])
     details["modal_forces"] = per_mode["forces"].tolist()
-    return replace(bonded, support="uplift", uplift=True, displacement=combined["displacement"],
-                   drift=combined["drift"], drift_ratio=combined["drift_ratio"], shear=combined["shear"],
-                   moment=combined["moment"], base_shear=float(combined["shear"][0]),
-                   base_moment=float(combined["moment"][0]), intermediates=inter, details=details)
+    return AnalysisResult.of(system, "simplified", "uplift", peaks, uplift=True, periods=paper.periods,
+                             elements=elements, intermediates=inter, details=details)

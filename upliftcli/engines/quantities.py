@@ -126,6 +126,7 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "x_u": ("-", "improved procedure: V_1/V_c at T_u (the amplitude ratio in X)"),
     "modal_factors": ("-", "improved procedure: factors on the modal base shears raised by uplift (mode 1: 1)"),
     "rho_1n": ("-", "improved procedure: correlation of mode 1 with the higher modes in the combination"),
+    "cap": ("-", "improved procedure: V_b / its value before the caps at the bonded and rigid V_b (V_n scaled by it)"),
     "n_modes": ("-", "fixed-base modes in the model"),
     "time_step": ("s", "internal step h (exact step operator; crossings located inside it)"),
     "criterion": ("-", "uplift criterion [4a] reaction or [4b] displacement"),
