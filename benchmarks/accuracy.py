@@ -44,23 +44,34 @@ FULL = {"calibration": (None, 12, 10, 11), "validation": (None, 6, 10, 12)}
 SUBSET = {"calibration": (3, 6, 5, 11), "validation": (3, 6, 5, 12)}
 
 
-def simplified_peaks(record, specs, periods, procedure: str) -> dict:
-    """Simplified peaks {support: {quantity: (systems, periods)}} and the uplift flag."""
+#: warning flags recorded per case: name -> words of the warning line (engines/plausibility.py)
+WARNINGS = {"above bonded": "above the bonded V_b", "above rigid": "above the rigid V_b", "M_b": " M_c is above",
+            "xi1bar < xi_1": "below the fixed-base xi_1", "xi1bar > 0.20": "largest flexible-base damping"}
+
+
+def simplified_peaks(record, specs, periods, procedures) -> dict:
+    """Simplified peaks {procedure: {support: {quantity: (systems, periods)}}}, the uplift flag and
+    the warning flags; rigid and bonded (the same in every procedure) are computed once."""
     spectrum = RecordSpectrum(record)
-    options = SimplifiedOptions(procedure=procedure)
     shape = (len(specs), periods.size)
-    out = {s: {**{q: np.full(shape, np.nan) for q in QUANTITIES}, "lifted": np.zeros(shape, bool),
-               "warnings": np.zeros(shape, bool)} for s in cases.SUPPORTS}
+    out = {p: {s: {**{q: np.full(shape, np.nan) for q in QUANTITIES}, "lifted": np.zeros(shape, bool),
+                   **{w: np.zeros(shape, bool) for w in WARNINGS}} for s in cases.SUPPORTS} for p in procedures}
     for i, spec in enumerate(specs):
         for j, period in enumerate(periods):
             system = cases.build(spec, period)
             spectrum.sa(system.modes.periods, 0.05)  # one call fills the cache of every mode
-            for support in cases.SUPPORTS:
-                result = simplified.analyze(system, spectrum, support, options)
-                for name, value in cases.peaks(result).items():
-                    out[support][name][i, j] = value
-                out[support]["lifted"][i, j] = result.uplift
-                out[support]["warnings"][i, j] = bool(result.details.get("warnings"))
+            shared = {s: simplified.analyze(system, spectrum, s, SimplifiedOptions(procedure=procedures[0]))
+                      for s in ("rigid", "bonded")}
+            for procedure in procedures:
+                for support in cases.SUPPORTS:
+                    result = shared.get(support) or simplified.analyze(system, spectrum, support,
+                                                                       SimplifiedOptions(procedure=procedure))
+                    table = out[procedure][support]
+                    for name, value in cases.peaks(result).items():
+                        table[name][i, j] = value
+                    table["lifted"][i, j] = result.uplift
+                    for flag, words in WARNINGS.items():
+                        table[flag][i, j] = any(words in line for line in result.details.get("warnings", []))
     return out
 
 
@@ -72,13 +83,13 @@ def collect(which: str, limits, cache: Path, procedures, exact_only: bool = Fals
     chosen = cases.records(which)
     if n_records:
         chosen = chosen[:: max(1, len(chosen) // n_records)][:n_records]
-    data: dict = {"periods": periods, "exact": [], **{p: [] for p in procedures}}
+    data: dict = {"periods": periods, "specs": specs, "exact": [], **{p: [] for p in procedures}}
     start = time.perf_counter()
     for k, record in enumerate(chosen):
         data["exact"].append(cases.exact_peaks(record, specs, periods, cache))
         if not exact_only:
-            for procedure in procedures:
-                data[procedure].append(simplified_peaks(record, specs, periods, procedure))
+            for procedure, peaks in simplified_peaks(record, specs, periods, procedures).items():
+                data[procedure].append(peaks)
         print(f"  {which} {k + 1}/{len(chosen)} {record.name} ({time.perf_counter() - start:.0f} s)",
               file=sys.stderr, flush=True)
     return data
@@ -153,6 +164,32 @@ def goal_table(data: dict, procedure: str, title: str) -> list[str]:
     return [*lines, ""]
 
 
+def warning_table(data: dict, procedures) -> list[str]:
+    """How often each warning of the simplified engine is given, per procedure and support."""
+    lines = ["| procedure, support | " + " | ".join(WARNINGS) + " |", "|---|" + "---|" * len(WARNINGS)]
+    for procedure in procedures:
+        for support in ("bonded", "uplift"):
+            shares = [100 * float(np.mean(stack(data[procedure], support, w))) for w in WARNINGS]
+            lines.append(f"| {procedure}, {support} | " + " | ".join(f"{v:.1f} %" for v in shares) + " |")
+    return [*lines, ""]
+
+
+def moment_table(data: dict, specs, periods) -> list[str]:
+    """Quantiles of the exact M_b/M_c where the exact engine lifts the mat (sets plausibility.MOMENT_LIMIT)."""
+    m_c = np.array([[cases.build(spec, t).critical_base_moment for t in periods] for spec in specs])
+    ratio = stack(data["exact"], "uplift", "M") / m_c[None]
+    lifted = stack(data["exact"], "uplift", "lifted")
+    lines = ["| T_1 band | n | median | 90 % | 95 % | 99 % | max | share above 2 |",
+             "|---|---|---|---|---|---|---|---|"]
+    for band, mask in band_masks(periods, ratio.shape):
+        r = ratio[mask & lifted & np.isfinite(ratio)]
+        if r.size:
+            q = np.quantile(r, [0.5, 0.9, 0.95, 0.99])
+            lines.append(f"| {band} | {r.size} | " + " | ".join(f"{v:.2f}" for v in q)
+                         + f" | {r.max():.2f} | {100 * np.mean(r > 2.0):.1f} % |")
+    return [*lines, ""]
+
+
 GOALS = ("median", "10 % low", "20 % low", "bonded", "rigid")
 
 
@@ -192,6 +229,10 @@ def main(argv=None) -> None:
             print("\n".join(ratio_table(data, procedure, "uplift", f"uplift support, procedure `{procedure}`")))
         for procedure in procedures:
             print("\n".join(goal_table(data, procedure, title)))
+        print(f"**Warnings given (share of the cases), {title}**\n")
+        print("\n".join(warning_table(data, procedures)))
+        print(f"**Exact M_b/M_c where the exact engine lifts the mat, {title}**\n")
+        print("\n".join(moment_table(data, data["specs"], data["periods"])))
     print(f"(run time {time.perf_counter() - started:.0f} s)")
 
 
