@@ -15,6 +15,7 @@ from upliftcli.model.foundations import HalfSpace, TwoElement, Winkler
 from upliftcli.model.system import System
 
 G = 9.80665
+PAPER = SimplifiedOptions(procedure="paper")
 
 
 class SmoothSpectrum:
@@ -172,7 +173,7 @@ def test_uplift_is_continuous_at_critical_shear(factor):
     """With X consistent with V_1 (mass-consistent) and no quarter-cycle decay assumption, V_1 just
     above V_c gives V_1,max -> V_c, continuous with the no-uplift branch."""
     system = paper_system()
-    options = SimplifiedOptions(uplift_x="mass-consistent", uplift_x_factor=factor)
+    options = SimplifiedOptions(procedure="paper", uplift_x="mass-consistent", uplift_x_factor=factor)
     below = analyze(system, spectrum_for_ratio(system, 1.0 - 1e-9), "uplift", options)
     above = analyze(system, spectrum_for_ratio(system, 1.0 + 1e-9), "uplift", options)
     assert above.uplift and not below.uplift
@@ -185,7 +186,7 @@ def test_default_uplift_jump_at_critical_shear_is_small():
     """The default X (spectral, e^(xi pi)) assumes a quarter cycle from the crossing to the peak, which
     is not true at the threshold: the result jumps there. Measured bound: a few per cent of V_c."""
     system = paper_system()
-    above = analyze(system, spectrum_for_ratio(system, 1.0 + 1e-9), "uplift")
+    above = analyze(system, spectrum_for_ratio(system, 1.0 + 1e-9), "uplift", PAPER)
     jump = above.intermediates["V_n"][0] / system.critical_base_shear - 1.0
     assert 0.0 < jump < 0.05
 
@@ -238,7 +239,7 @@ def test_slender_formula_close_to_full_for_slender_buildings():
 
 def test_uplift_reduces_first_mode_and_reports_intermediates():
     system = paper_system()
-    result = analyze(system, SmoothSpectrum(), "uplift")
+    result = analyze(system, SmoothSpectrum(), "uplift", PAPER)
     inter = result.intermediates
     assert result.uplift
     for name in ("T1bar", "xi1bar", "xi_f", "V_c", "V1_bonded", "zeta", "phi", "X", "V1_uplift", "V_n"):
@@ -246,7 +247,7 @@ def test_uplift_reduces_first_mode_and_reports_intermediates():
     assert inter["V_c"] < inter["V1_uplift"] < inter["V1_bonded"]
     r = math.hypot(system.effective_height, system.half_width)
     assert inter["zeta"] == pytest.approx(inter["xi1bar"] * r / system.half_width)
-    xi1 = analyze(system, SmoothSpectrum(), "uplift", SimplifiedOptions(uplift_damping="xi1"))
+    xi1 = analyze(system, SmoothSpectrum(), "uplift", SimplifiedOptions(procedure="paper", uplift_damping="xi1"))
     assert xi1.intermediates["zeta"] == pytest.approx(0.05 * r / system.half_width)
 
 
@@ -255,7 +256,7 @@ def test_winkler_uplift_carries_kern_caveat():
     b = system.half_width
     winkler = Winkler(system.foundation.rocking_stiffness(b) * 1.5 / b**3, 0.0)
     other = replace(system, foundation=winkler)
-    result = analyze(other, spectrum_for_ratio(other, 0.5), "uplift")
+    result = analyze(other, spectrum_for_ratio(other, 0.5), "uplift", PAPER)
     assert not result.uplift
     assert any("kern" in warning for warning in result.details["warnings"])
 

@@ -43,6 +43,9 @@ def _validate(options: Any, table: str) -> None:
 class SimplifiedOptions:
     """Options of the simplified engine (the open choices of docs/theory.md, simplified procedure).
 
+    procedure: "improved" (default: engines/improved.py, calibrated against the exact engine,
+        docs/accuracy.md) or "paper" (Yim & Chopra [21-35] with the corrections of docs/theory.md,
+        and the five options below). The two differ only for the uplift support.
     n_modes: modes combined (None = all N).
     combination: "srss" [35] or "cqc" (mode 1 correlated with T1bar, xi1bar when flexible).
     effective_properties: "formula" [21-25] or "eigenvalue" (complex eigenvalue of the bonded
@@ -56,6 +59,9 @@ class SimplifiedOptions:
     uplift_formula: "full" [28a] or "slender" [29].
     """
 
+    procedure: str = option(Field(
+        "string", "-", "simplified procedure: improved (calibrated against the exact engine, docs/accuracy.md) "
+        "or paper (Yim & Chopra Eqs. 21-35 as corrected in docs/theory.md)", "", "improved", ("improved", "paper")))
     n_modes: int | None = None
     combination: str = option(Field("string", "-", "modal combination rule (simplified engine)", "", "srss",
                                     ("srss", "cqc")))

@@ -20,9 +20,14 @@ from collections.abc import Iterator
 from dataclasses import asdict
 
 import numpy as np
-from scipy.linalg import eig
 
 from ..errors import AnalysisError, InputError
+from ..model.interaction import (  # noqa: F401 (re-exported)
+    effective_properties,
+    effective_properties_eigenvalue,
+    effective_properties_formula,
+    frequency_warning,
+)
 from ..model.system import System
 from .options import SimplifiedOptions
 from .registry import check_support
@@ -65,64 +70,6 @@ def spectral_acceleration(spectrum, period: float, damping: float) -> float:
     if not math.isfinite(value):
         raise AnalysisError(f"the spectrum gives no finite S_a at T = {period:.4g} s, xi = {damping:.4g}")
     return float(value)
-
-
-def _rocking(system: System, omega: float | None) -> tuple[float, float]:
-    b = system.half_width
-    return system.foundation.rocking_stiffness(b, omega), system.foundation.rocking_damping(b, omega)
-
-
-def effective_properties_formula(system: System, omega: float | None = None) -> dict[str, float]:
-    """T1bar [21] and xi1bar [23, 24] for rocking stiffness/damping evaluated at omega [rad/s]."""
-    modes = system.modes
-    m1, h1, w1, xi1 = (float(modes.effective_mass[0]), float(modes.effective_height[0]),
-                       float(modes.omega[0]), float(modes.damping[0]))
-    k_theta, c_theta = _rocking(system, omega)
-    ratio = math.sqrt(1.0 + w1**2 * m1 * h1**2 / k_theta)
-    xi_f = c_theta / (2.0 * m1 * w1 * h1**2) * (ratio**2 - 1.0) ** 2 / ratio**3
-    return {"K_theta": k_theta, "C_theta": c_theta, "T1": 2 * math.pi / w1, "T1bar": 2 * math.pi / w1 * ratio,
-            "T1bar/T1": ratio, "xi1": xi1, "xi_f": xi_f, "xi1bar": xi_f + xi1 / ratio**3}
-
-
-def effective_properties_eigenvalue(system: System, omega: float | None = None) -> dict[str, float]:
-    """T1bar, xi1bar from the complex eigenvalue of the bonded one-mode system (paper Fig. 2,
-    massless mat, L_0 ~ m_1* h_1*, I_b ~ m_1* h_1*^2 [20]): T1bar = 2 pi/|lambda|,
-    xi1bar = -Re(lambda)/|lambda|. xi_f is reported as xi1bar - xi_1 (T_1/T1bar)^3."""
-    modes = system.modes
-    m1, h1, w1, xi1 = (float(modes.effective_mass[0]), float(modes.effective_height[0]),
-                       float(modes.omega[0]), float(modes.damping[0]))
-    k_theta, c_theta = _rocking(system, omega)
-    mass = m1 * np.array([[1.0, h1], [h1, h1**2]])
-    damping = np.diag([2.0 * xi1 * w1 * m1, c_theta])
-    stiffness = np.diag([w1**2 * m1, k_theta])
-    zero, one = np.zeros((2, 2)), np.eye(2)
-    lhs = np.block([[one, zero], [zero, mass]])
-    rhs = np.block([[zero, one], [-stiffness, -damping]])
-    values = eig(rhs, lhs, right=False)
-    finite = values[np.isfinite(values) & (np.abs(values) < 1e12 * w1)]
-    oscillatory = finite[finite.imag > 1e-9 * w1]
-    if oscillatory.size == 0:
-        raise AnalysisError("the bonded one-mode system has no oscillatory mode (overdamped)")
-    value = oscillatory[np.argmin(np.abs(oscillatory))]
-    omega_bar = abs(value)
-    ratio = w1 / omega_bar
-    xi1bar = -value.real / omega_bar
-    return {"K_theta": k_theta, "C_theta": c_theta, "T1": 2 * math.pi / w1, "T1bar": 2 * math.pi / omega_bar,
-            "T1bar/T1": ratio, "xi1": xi1, "xi_f": xi1bar - xi1 / ratio**3, "xi1bar": xi1bar}
-
-
-def effective_properties(system: System, method: str = "formula") -> dict[str, float]:
-    """T1bar, xi1bar and the rocking K_theta, C_theta; for a frequency-dependent foundation
-    (half-space) they are evaluated at the effective frequency 2 pi/T1bar (fixed point)."""
-    function = effective_properties_formula if method == "formula" else effective_properties_eigenvalue
-    props = function(system, float(system.modes.omega[0]))
-    for _ in range(200):
-        omega = 2 * math.pi / props["T1bar"]
-        new = function(system, omega)
-        if abs(new["T1bar"] - props["T1bar"]) <= 1e-12 * props["T1bar"]:
-            return new
-        props = new
-    raise AnalysisError("the effective period of the bonded system did not converge (frequency iteration)")
 
 
 def uplift_base_shear(critical_shear: float, slenderness: float, x_value: float, zeta: float,
@@ -177,7 +124,23 @@ def modal_static_response(system: System, modal_base_shears: np.ndarray, n_modes
 
 
 def analyze(system: System, spectrum, support: str, options: SimplifiedOptions = SimplifiedOptions()) -> AnalysisResult:
-    """Peak response by the simplified procedure for support "rigid", "bonded" or "uplift"."""
+    """Peak response by the simplified procedure (options.procedure: "improved", engines/improved.py,
+    or "paper") for support "rigid", "bonded" or "uplift", with the warnings of
+    engines/plausibility.py in result.details["warnings"]."""
+    from . import improved, plausibility
+
+    check_support(support)
+    if support == "uplift" and options.procedure == "improved":
+        result = improved.analyze_uplift(system, spectrum, options)
+    else:
+        result = paper_analyze(system, spectrum, support, options)
+    result.details["warnings"].extend(plausibility.warnings(system, spectrum, support, options, result))
+    return result
+
+
+def paper_analyze(system: System, spectrum, support: str, options: SimplifiedOptions = SimplifiedOptions()
+                  ) -> AnalysisResult:
+    """Peak response by the paper's procedure [21-35] (docs/theory.md), no plausibility checks."""
     check_support(support)
     modes = system.modes
     n = int(options.n_modes or modes.n_modes)
@@ -195,6 +158,8 @@ def analyze(system: System, spectrum, support: str, options: SimplifiedOptions =
     uplift = False
     if support != "rigid":
         props = effective_properties(system, options.effective_properties)
+        if not props.pop("frequency_converged"):
+            warnings.append(frequency_warning(props))
         sa1bar = spectral_acceleration(spectrum, props["T1bar"], props["xi1bar"])
         v1_bonded = float(modes.effective_mass[0]) * sa1bar  # [26]
         inter.update(props)

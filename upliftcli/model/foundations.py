@@ -176,7 +176,9 @@ class HalfSpace:
 
     shear_modulus: G [Pa]; poisson_ratio: nu [-] (0 <= nu < 0.5); density: rho [kg/m^3];
     half_length: half-dimension of the mat normal to the plane of motion [m] (the in-plane
-    half-width b is the system's). Rocking stiffness K_theta(omega) and dashpot C_theta(omega)
+    half-width b is the system's); impedance_frequency: "flexible-base" (default: every engine
+    evaluates K_theta, C_theta at the flexible-base fundamental frequency, model/interaction.py)
+    or "fixed-base" (at the fixed-base w_1). Rocking stiffness K_theta(omega) and dashpot C_theta(omega)
     follow Pais & Kausel (1988) as tabulated in NIST GCR 12-917-21 (2012), "Soil-Structure
     Interaction for Building Structures": Table 2-2a (static surface stiffness) and Table 2-3a
     (dynamic modifiers alpha and radiation damping beta, a_0 = omega B / V_s); the dashpot is
@@ -190,6 +192,7 @@ class HalfSpace:
     poisson_ratio: float
     density: float
     half_length: float
+    impedance_frequency: str = "flexible-base"
     kind: ClassVar[str] = "halfspace"
     #: represented by two edge elements: contact is lost at M = W b, as for two elements
     contact_loss_moment_ratio: ClassVar[float] = 1.0
@@ -201,6 +204,9 @@ class HalfSpace:
         "density": Field("number", "kg/m^3", "halfspace: mass density rho", "positive"),
         "half_length": Field("number", "m", "halfspace: half-dimension of the mat normal to the plane of "
                              "motion (default: b, a square mat)", "positive"),
+        "impedance_frequency": Field("string", "-", "halfspace: frequency at which every engine evaluates "
+                                     "K_theta, C_theta: the flexible-base w1bar (fixed point) or the fixed-base "
+                                     "w_1", "", "flexible-base", ("flexible-base", "fixed-base")),
     }
     deck_alternatives: ClassVar[list[list[set[str]]]] = [[{"shear_modulus"}, {"shear_wave_velocity"}]]
 
@@ -218,7 +224,8 @@ class HalfSpace:
             context.missing("shear_modulus", "the soil shear modulus G > 0 [Pa] (missing; or give "
                             "foundation.shear_wave_velocity [m/s])")
         return cls(modulus, fields.get("poisson_ratio", cls.deck_fields["poisson_ratio"].default), rho,
-                   fields.get("half_length", context.half_width))
+                   fields.get("half_length", context.half_width),
+                   fields.get("impedance_frequency", cls.deck_fields["impedance_frequency"].default))
 
     @property
     def shear_wave_velocity(self) -> float:

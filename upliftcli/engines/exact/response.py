@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...model.interaction import impedance
 from ...model.system import System
 from ..options import ExactOptions
 from ..result import AnalysisResult
@@ -358,6 +359,8 @@ def summarize(system: System, history: History, support: str, engine: str, optio
         "base_moment_time": float(instants["moment"][0]),
         "energy_residual": energy["relative_residual"],
     }
+    if model.flexible:
+        intermediates.update(impedance(system))  # the foundation model of every engine
     for name in ("uplift_time", "episodes", "max_rotation", "max_uplift_left", "max_uplift_right", "min_reaction"):
         if name in summary:
             intermediates[name] = summary[name]

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...model.foundations import ContactElements
+from ...model.interaction import impedance
 from ...model.system import System
 from ..options import ExactOptions
 
@@ -86,7 +87,9 @@ def modal_model(system: System, support: str, n_modes: int, coupled_modes: int |
         theta_inertia = 0.0
     if abs(first_moment_residual) < 1e-12 * system.first_moment:
         first_moment_residual = 0.0
-    elements = system.foundation.contact_elements(system.half_width, float(modes.omega[0])) if flexible else None
+    # the impedance at the flexible-base frequency, as in every engine (model/interaction.py)
+    omega = impedance(system)["omega_impedance"] if flexible else None
+    elements = system.foundation.contact_elements(system.half_width, omega) if flexible else None
     return ModalModel(modes.omega, modes.damping, modes.effective_mass, modes.effective_height, coupled,
                       theta_inertia, first_moment_residual, system.total_mass, system.gravity, elements)
 

@@ -1,0 +1,204 @@
+"""Improved simplified procedure (engines/improved.py): each correction against an independent
+case or limit, the caps, and the calibration's vectorised form against the engine."""
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from paper_example import paper_system
+
+from upliftcli.engines import improved
+from upliftcli.engines.improved import COEFFICIENTS, Coefficients, analyze_uplift, combine_peaks
+from upliftcli.engines.options import SimplifiedOptions
+from upliftcli.engines.simplified import analyze, paper_analyze, uplift_base_shear
+from upliftcli.model.building import uniform_building
+
+G = 9.80665
+NEUTRAL = Coefficients()
+OPTIONS = SimplifiedOptions()
+
+
+class Constant:
+    def __init__(self, value):
+        self.value = value
+
+    def sa(self, periods, damping):
+        return np.full(np.shape(np.atleast_1d(periods)), self.value)
+
+
+class Smooth:
+    """A made-up spectrum [m/s^2] with a plateau and a 1/T branch, damping-dependent."""
+
+    def __init__(self, scale=1.0):
+        self.scale = scale
+
+    def sa(self, periods, damping):
+        t = np.asarray(periods, dtype=float)
+        eta = np.sqrt(0.10 / (0.05 + damping))
+        return self.scale * eta * G * np.where(t < 0.5, 0.4 + 1.2 * t, 0.5 / np.maximum(t, 1e-9))
+
+
+def heavy_mat_system(period=0.6):
+    """m_1*/m_t about 0.5: a 5-story building on a mat of its own mass."""
+    return paper_system(period=period, stories=5, slenderness=6.0, mat_mass=5 * 350e3)
+
+
+def test_below_critical_shear_equals_the_paper_and_bonded():
+    system = heavy_mat_system()
+    spectrum = Constant(0.9 * system.critical_base_shear / float(system.modes.effective_mass[0]))
+    result = analyze(system, spectrum, "uplift")
+    bonded = paper_analyze(system, spectrum, "bonded")
+    assert not result.uplift
+    np.testing.assert_array_equal(result.shear, bonded.shear)
+    np.testing.assert_array_equal(result.drift_ratio, bonded.drift_ratio)
+
+
+@pytest.mark.parametrize("coefficients", [NEUTRAL, COEFFICIENTS])
+def test_continuous_at_the_onset_of_uplift_with_a_heavy_mat(coefficients):
+    """The mass-consistent X makes V_1,max -> V_c as V_1 -> V_c (the mat lifts when m_1* S_a reaches
+    V_c); the paper's X = (m_t S_a / V_c)^2 jumps there by a factor 1 + (b/r) sqrt((m_t/m_1*)^2 - 1)."""
+    system = heavy_mat_system()
+    m1 = float(system.modes.effective_mass[0])
+    assert m1 / system.total_mass < 0.55
+    just_above = Constant((1 + 1e-9) * system.critical_base_shear / m1)
+    result = analyze_uplift(system, just_above, OPTIONS, coefficients)
+    bonded = paper_analyze(system, just_above, "bonded")
+    # the phase decay factor makes X - 1 ~ sqrt(V_1/V_c - 1): the limit is approached slowly
+    assert result.intermediates["V1_uplift"] == pytest.approx(system.critical_base_shear, rel=1e-3)
+    assert result.base_shear == pytest.approx(bonded.base_shear, rel=1e-3)
+    paper = paper_analyze(system, just_above, "uplift")
+    ratio = system.total_mass / m1
+    inter = paper.intermediates
+    jump, _ = uplift_base_shear(1.0, system.effective_height / system.half_width,
+                                ratio**2 * math.exp(inter["xi1bar"] * math.pi), inter["zeta"], "full")
+    assert inter["V1_uplift"] / system.critical_base_shear == pytest.approx(jump, rel=1e-6)
+    assert jump > 1.15
+
+
+def test_neutral_mode_1_is_eq_28a_with_the_mass_consistent_phase_x():
+    system = heavy_mat_system()
+    spectrum = Smooth(2.0)
+    result = analyze_uplift(system, spectrum, OPTIONS, NEUTRAL)
+    inter = result.intermediates
+    x = inter["V1_bonded"] / system.critical_base_shear
+    xi = inter["xi1bar"]
+    big_x = x * x * math.exp(2 * xi * (math.pi / 2 - math.asin(1 / x)))
+    expected, _ = uplift_base_shear(system.critical_base_shear, system.effective_height / system.half_width,
+                                    big_x, inter["zeta"], "full")
+    assert inter["X"] == pytest.approx(big_x, rel=1e-12)
+    assert inter["V1_uplift"] == pytest.approx(expected, rel=1e-12)
+    # without any other change, the higher modes are the fixed-base ones and SRSS combines them
+    assert inter["V_n"][1:] == pytest.approx(paper_analyze(system, spectrum, "rigid").intermediates["V_n"][1:])
+
+
+def test_short_period_factor_and_modal_factors_vanish_where_they_should():
+    c = replace(NEUTRAL, short_gain=1.0, short_period=0.1, gain2=0.5, gain3=0.3, short_modes=1.0)
+    x = np.array([1.0, 1.0 + 1e-12, 4.0, 4.0])
+    t1bar = np.array([0.1, 0.1, 0.1, 50.0])
+    factors = improved.modal_factors(x, t1bar, 3, c)
+    np.testing.assert_allclose(factors[:2], 1.0, atol=1e-11)  # no uplift: fixed-base higher modes
+    assert factors[2, 1] == pytest.approx(1 + 0.75 * (0.5 + 1.0 / (1.0 + 1.0**2)), rel=1e-12)
+    assert factors[2, 2] == pytest.approx(1 + 0.75 * (0.3 + 0.5), rel=1e-12)
+    assert factors[3, 1] == pytest.approx(1 + 0.75 * 0.5, rel=1e-5)  # long period: no short-period part
+    assert np.all(factors[:, 0] == 1.0)
+
+
+def test_combination_limits():
+    peaks = np.array([[[3.0, 1.0], [4.0, -2.0]]])  # one case, two modes, two quantities
+    np.testing.assert_allclose(combine_peaks(peaks, np.eye(2)[None]), [[5.0, math.sqrt(5.0)]])
+    np.testing.assert_allclose(combine_peaks(peaks, np.ones((1, 2, 2))), [[7.0, 1.0]])  # |r_1 + r_2|
+
+
+@pytest.mark.parametrize("period", [0.08, 0.3, 1.0, 3.0])
+@pytest.mark.parametrize("scale", [0.5, 2.0, 6.0])
+def test_never_above_bonded_or_rigid(period, scale):
+    system = heavy_mat_system(period)
+    spectrum = Smooth(scale)
+    result = analyze(system, spectrum, "uplift")
+    if not result.uplift:  # then it is the bonded result, which may exceed the rigid one
+        return
+    for support in ("bonded", "rigid"):
+        other = paper_analyze(system, spectrum, support)
+        for name in ("displacement", "drift_ratio", "shear", "moment"):
+            assert np.all(getattr(result, name) <= getattr(other, name) * (1 + 1e-12)), (support, name)
+    assert not any("above the" in w for w in result.details["warnings"])
+
+
+@pytest.mark.parametrize("system", [heavy_mat_system(0.15), paper_system(0.5), paper_system(1.5, stories=15)])
+def test_calibration_form_equals_the_engine(system):
+    """benchmarks/calibrate.py fits improved.combine_arrays; the engine must give the same numbers."""
+    spectrum = Smooth(3.0)
+    c = replace(COEFFICIENTS, lengthening=0.7, short_gain=0.5, gain2=0.4, gain3=0.2, short_modes=0.8,
+                correlation=0.6)
+    result = analyze_uplift(system, spectrum, OPTIONS, c)
+    assert result.uplift
+    data = improved.as_arrays(improved.uplift_terms(system, spectrum, OPTIONS), 20)
+    stacked = {k: np.asarray(v)[None] for k, v in data.items()}
+    out = improved.combine_arrays(stacked, c)
+    assert out["V"][0] == pytest.approx(result.base_shear, rel=1e-12)
+    assert out["M"][0] == pytest.approx(result.base_moment, rel=1e-12)
+    assert out["drift"][0] == pytest.approx(float(np.max(result.drift_ratio)), rel=1e-12)
+    assert out["roof"][0] == pytest.approx(float(result.displacement[-1]), rel=1e-12)
+
+
+def test_lengthened_period_reads_the_spectrum_further_out():
+    """With lengthening, x is read at T_u = T1bar (1 + lengthening (1 - 1/x)) > T1bar: on a 1/T branch
+    the amplitude ratio falls by T1bar/T_u."""
+    system = paper_system(period=1.2, stories=10, slenderness=8.0)
+    spectrum = Smooth(8.0)
+    c = replace(NEUTRAL, lengthening=0.5)
+    inter = analyze_uplift(system, spectrum, OPTIONS, c).intermediates
+    x = inter["V1_bonded"] / system.critical_base_shear
+    assert x > 1.5 and inter["T1bar"] > 0.5
+    assert inter["T_u"] == pytest.approx(inter["T1bar"] * (1 + 0.5 * (1 - 1 / x)), rel=1e-12)
+    assert inter["x_u"] == pytest.approx(x * inter["T1bar"] / inter["T_u"], rel=2e-3)  # grid interpolation
+
+
+def test_one_story_building_mass_consistent_equals_spectral():
+    """m_1* = m_t (one story, massless mat): the mass-consistent and the paper's X coincide."""
+    building = uniform_building(1, 350e3, 4.0, period=0.4)
+    base = paper_system(period=0.4)
+    from upliftcli.model.foundations import two_element_from_ratios
+    from upliftcli.model.system import System
+
+    system = System(building, two_element_from_ratios(350e3, 2 * math.pi / 0.4, 8.0, 0.4), 4.0 / 5.0)
+    assert base.total_mass > 0
+    spectrum = Smooth(2.0)
+    paper = paper_analyze(system, spectrum, "uplift", SimplifiedOptions(procedure="paper", uplift_x_factor="phase"))
+    mine = analyze_uplift(system, spectrum, OPTIONS, NEUTRAL)
+    assert mine.intermediates["V1_uplift"] == pytest.approx(paper.intermediates["V1_uplift"], rel=1e-12)
+
+
+@pytest.mark.parametrize("x", [1 / 3, 0.5, 1.0, 3.0, 20.0])
+def test_winkler_capacity_equals_the_static_contact_of_a_tilted_strip(x):
+    """uplift_capacity against a direct computation: a Winkler strip (2000 springs, no tension) tilted
+    by the bonded rotation theta = x W b / K_theta, sunk until the springs carry W; its moment / (W b)."""
+    from scipy.optimize import brentq
+
+    k_w, b, weight = 1e8, 5.0, 3e7
+    positions = np.linspace(-b, b, 2001)[:-1] + b / 2000
+    k = k_w * 2 * b / 2000
+    theta = x * weight * b / (2 / 3 * k_w * b**3)
+
+    def compression(v):  # downward displacement of the centre v > 0; the edge at x = +b sinks most
+        return np.maximum(v + positions * theta, 0.0) * k
+
+    v = brentq(lambda v: compression(v).sum() - weight, -b * theta, 10 * weight / (k_w * b) + b * theta)
+    moment = float(np.sum(compression(v) * positions))
+    assert improved.uplift_capacity(x, 1 / 3) == pytest.approx(moment / (weight * b), rel=2e-3)
+
+
+def test_winkler_lifts_from_the_kern_in_the_improved_procedure():
+    from upliftcli.model.foundations import Winkler
+
+    system = paper_system(period=0.8)
+    b = system.half_width
+    winkler = replace(system, foundation=Winkler(system.foundation.rocking_stiffness(b) * 1.5 / b**3, 0.0))
+    m1 = float(winkler.modes.effective_mass[0])
+    spectrum = Constant(0.6 * winkler.critical_base_shear / m1)  # above the kern, below tipping
+    result = analyze(winkler, spectrum, "uplift")
+    capacity = improved.uplift_capacity(0.6, 1 / 3)
+    assert result.uplift and result.intermediates["capacity"] == pytest.approx(capacity)
+    assert result.base_shear < paper_analyze(winkler, spectrum, "bonded").base_shear
+    assert not any("kern" in w for w in result.details["warnings"])

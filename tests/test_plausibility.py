@@ -1,0 +1,100 @@
+"""Warnings of the simplified engine (engines/plausibility.py): each condition, with the values
+it reports checked against separate analyses, and its absence where it does not apply."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from paper_example import paper_system
+from typer.testing import CliRunner
+
+from upliftcli.cli import app
+from upliftcli.deck import load_deck
+from upliftcli.engines.options import SimplifiedOptions
+from upliftcli.engines.plausibility import CODE_DAMPING_MAX, MOMENT_LIMIT
+from upliftcli.engines.simplified import analyze
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = SimplifiedOptions(procedure="paper")
+
+
+class Constant:
+    def __init__(self, value):
+        self.value = value
+
+    def sa(self, periods, damping):
+        return np.full(np.shape(np.atleast_1d(periods)), self.value)
+
+
+def matching(result, words):
+    return [line for line in result.details["warnings"] if words in line]
+
+
+def test_uplift_above_bonded_and_rigid_is_reported_with_both_values():
+    """frame_halfspace.toml (heavy mat, m_1*/m_t ~ 0.6): the paper's X built with m_t gives an uplift
+    V_b above the bonded and the rigid V_b (issue 11); the improved procedure does not."""
+    deck = load_deck(ROOT / "inputs" / "frame_halfspace.toml")
+    options = SimplifiedOptions(procedure="paper", combination="cqc", n_modes=deck.analysis.n_modes)
+    result = analyze(deck.system, deck.spectrum, "uplift", options)
+    for support in ("bonded", "rigid"):
+        other = analyze(deck.system, deck.spectrum, support, options)
+        (line,) = matching(result, f"above the {support} V_b")
+        assert f"{result.base_shear:.4g} N" in line and f"{other.base_shear:.4g} N" in line
+        assert result.base_shear > other.base_shear
+    improved = analyze(deck.system, deck.spectrum, "uplift", deck.analysis.simplified)
+    assert not matching(improved, "above the")
+
+
+def test_no_uplift_no_comparison_with_rigid():
+    """Without uplift the uplift result is the bonded one, which may legitimately exceed the rigid one."""
+    system = paper_system(period=1.0)
+    spectrum = Constant(0.5 * system.critical_base_shear / float(system.modes.effective_mass[0]))
+    result = analyze(system, spectrum, "uplift", PAPER)
+    assert not result.uplift and not matching(result, "above the")
+
+
+def test_base_moment_above_the_limit_is_reported():
+    system = paper_system(period=0.6, slenderness=4.0)
+    m1 = float(system.modes.effective_mass[0])
+    strong = analyze(system, Constant(40 * system.critical_base_shear / m1), "uplift", PAPER)
+    ratio = strong.base_moment / system.critical_base_moment
+    assert ratio > MOMENT_LIMIT
+    (line,) = matching(strong, "M_c")
+    assert f"{ratio:.3g} M_c" in line
+    mild = analyze(system, Constant(1.5 * system.critical_base_shear / m1), "uplift", PAPER)
+    assert mild.uplift and mild.base_moment < MOMENT_LIMIT * system.critical_base_moment
+    assert not matching(mild, "M_c")
+    short = paper_system(period=0.1, slenderness=4.0)  # impacts: large moments are real, no warning
+    m1 = float(short.modes.effective_mass[0])
+    result = analyze(short, Constant(40 * short.critical_base_shear / m1), "uplift", PAPER)
+    assert result.base_moment > MOMENT_LIMIT * short.critical_base_moment and not matching(result, "M_c")
+
+
+def test_effective_damping_below_fixed_base_damping_is_reported():
+    """The paper's example: xi1bar = 0.0328 < xi_1 = 0.05 (docs/theory.md); the value is kept."""
+    system = paper_system()
+    result = analyze(system, Constant(3.0), "bonded")
+    assert result.intermediates["xi1bar"] == pytest.approx(0.0328, abs=5e-5)
+    (line,) = matching(result, "below the fixed-base")
+    assert "0.03279" in line
+    assert not matching(analyze(system, Constant(3.0), "rigid"), "xi1bar")
+
+
+def test_effective_damping_above_the_code_limit_is_reported():
+    heavy = paper_system(frequency_ratio=2.5, damping_ratio=3.0)  # very soft, very damped foundation
+    result = analyze(heavy, Constant(3.0), "bonded")
+    assert result.intermediates["xi1bar"] > CODE_DAMPING_MAX
+    assert matching(result, f"above {CODE_DAMPING_MAX:g}")
+    assert not matching(result, "below the fixed-base")
+    moderate = paper_system(frequency_ratio=3.0, damping_ratio=0.6)
+    xi = analyze(moderate, Constant(3.0), "bonded").intermediates
+    assert xi["xi1"] <= xi["xi1bar"] <= CODE_DAMPING_MAX
+    assert not analyze(moderate, Constant(3.0), "bonded").details["warnings"]
+
+
+def test_warnings_leave_the_exit_code_unchanged():
+    deck = ROOT / "inputs" / "frame_halfspace.toml"
+    result = CliRunner().invoke(app, ["analyze", str(deck), "--set", "analysis.procedure=paper",
+                                      "--set", "criteria.base_shear_coefficient=5"], env={"CI": "true"})
+    assert result.exit_code == 0, result.output
+    assert "above the bonded V_b" in result.output

@@ -1,0 +1,70 @@
+"""Warnings of the simplified engine: conditions under which its result cannot be right, or
+leaves the range design codes accept (docs/accuracy.md, warnings). Each is one line of text
+for result.details["warnings"]; nothing here changes a result or the exit code.
+
+- uplift: the mat lifts and V_b exceeds the bonded or the rigid-base V_b of the same
+  procedure (uplift limits the fundamental-mode base shear; a larger value comes from X
+  built with m_t where m_1* < m_t, Eq. 28a, and is not physical);
+- uplift: M_b above MOMENT_LIMIT x M_c (M_c = m_t g b [16b]) for T_1 >= MOMENT_PERIOD = 0.5 s
+  (docs/accuracy.md gives the exact engine's distribution of M_b/M_c that sets the limit;
+  at shorter periods impacts make larger moments real);
+- bonded or uplift: xi1bar below the fixed-base xi_1 (Eq. 23 discounts xi_1 by
+  (T_1/T1bar)^3; design codes do not let soil-structure interaction lower the damping,
+  NIST GCR 12-917-21 section 4.1), or above CODE_DAMPING_MAX, the largest flexible-base
+  damping ASCE 7-22 section 19.3 admits. The paper's value is kept and reported.
+The effective-period iteration that does not converge is reported where it happens
+(model/interaction.py, frequency_warning).
+"""
+
+from __future__ import annotations
+
+from ..model.system import System
+from .options import SimplifiedOptions
+from .result import AnalysisResult
+
+#: largest M_b / M_c of an uplifting simplified result taken as plausible [-], for T_1 of at least
+#: MOMENT_PERIOD [s] (where the exact engine never exceeded 1.8 M_c in the study of docs/accuracy.md);
+#: at shorter periods impacts at recontact make the exact M_b reach many times M_c
+MOMENT_LIMIT = 2.0
+MOMENT_PERIOD = 0.5
+#: largest flexible-base damping ratio admitted by ASCE 7-22 section 19.3 [-]
+CODE_DAMPING_MAX = 0.20
+#: relative margin below which two values are taken as equal (rounding)
+MARGIN = 1e-9
+
+
+def warnings(system: System, spectrum, support: str, options: SimplifiedOptions,
+             result: AnalysisResult) -> list[str]:
+    """The warning lines for one simplified result (empty when none applies)."""
+    from .simplified import paper_analyze
+
+    lines: list[str] = []
+    inter = result.intermediates
+    if support == "uplift" and result.uplift:
+        for other in ("bonded", "rigid"):
+            reference = paper_analyze(system, spectrum, other, options).base_shear
+            if result.base_shear > reference * (1 + MARGIN):
+                lines.append(
+                    f"uplift V_b = {result.base_shear:.4g} N is above the {other} V_b = {reference:.4g} N "
+                    f"({result.base_shear / reference:.3g}x): uplift cannot raise the base shear, the estimate is "
+                    "not physical (the paper's X assumes m_1* = m_t; try analysis.procedure = \"improved\" or "
+                    "analysis.uplift_x = \"mass-consistent\")")
+        ratio = result.base_moment / system.critical_base_moment
+        if ratio > MOMENT_LIMIT and float(system.modes.periods[0]) >= MOMENT_PERIOD:
+            lines.append(
+                f"uplift M_b = {ratio:.3g} M_c is above {MOMENT_LIMIT:g} M_c (M_c = m_t g b = "
+                f"{system.critical_base_moment:.4g} N m): for T_1 >= {MOMENT_PERIOD:g} s the exact engine did not "
+                "exceed 1.8 M_c in the study of docs/accuracy.md; check it with the exact engine")
+    if support != "rigid" and "xi1bar" in inter:
+        xi1bar, xi1 = float(inter["xi1bar"]), float(inter["xi1"])
+        if xi1bar < xi1 * (1 - MARGIN):
+            lines.append(
+                f"xi1bar = {xi1bar:.4g} is below the fixed-base xi_1 = {xi1:.4g} (Eq. 23: the foundation adds "
+                f"xi_f = {float(inter['xi_f']):.4g} but xi_1 is discounted by (T_1/T1bar)^3 = "
+                f"{(1 / float(inter['T1bar/T1'])) ** 3:.3g}); design codes do not let soil-structure interaction "
+                "lower the damping below the fixed-base value; the paper's value is used")
+        if xi1bar > CODE_DAMPING_MAX:
+            lines.append(
+                f"xi1bar = {xi1bar:.4g} is above {CODE_DAMPING_MAX:g}, the largest flexible-base damping "
+                "ASCE 7-22 section 19.3 admits; the paper's value is used")
+    return lines
