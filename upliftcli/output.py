@@ -66,8 +66,9 @@ def _rows(result: AnalysisResult, where: list, count: int) -> list[dict[str, Any
 
 
 def result_to_dict(result: AnalysisResult) -> dict[str, Any]:
-    """JSON-ready summary, story table and foundation table of one result (SI units, see UNITS);
-    a suite's result also has `suite` (suite_to_dict)."""
+    """JSON-ready summary, story table and foundation table of one result (SI units, see UNITS),
+    its warnings and (the simplified engine checked against the exact one) its `accuracy`; a
+    suite's result also has `suite` (suite_to_dict)."""
     stories = [{"story": j + 1, "elevation": result.elevations[j], **row}
                for j, row in enumerate(_rows(result, _STORY_QUANTITIES, result.elevations.size))]
     elements = [{"element": i + 1, "position": result.element_positions[i], **row}
@@ -86,7 +87,9 @@ def result_to_dict(result: AnalysisResult) -> dict[str, Any]:
         "stories": stories,
         "elements": elements,
         "intermediates": result.intermediates,
-        "details": result.details,
+        "warnings": result.details.get("warnings", []),
+        **({"accuracy": result.details["accuracy"]} if "accuracy" in result.details else {}),
+        "details": {k: v for k, v in result.details.items() if k not in ("warnings", "accuracy")},
         **({"suite": suite_to_dict(result)} if isinstance(result, SuiteResult) else {}),
     })
 

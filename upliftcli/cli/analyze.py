@@ -13,6 +13,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from .. import analysis
+from ..accuracy import check_accuracy
 from ..deck import load_deck
 from ..errors import InputError
 from ..output import results_document, to_json, to_jsonable, write_histories, write_results
@@ -50,6 +51,11 @@ def analyze(
         None, "--histories",
         help="Exact/approximate engines: write the response histories to this file (.csv or .npz); with "
              "several analyses, one file each, named <stem>_<engine>_<support><suffix>."),
+    check: bool = typer.Option(
+        True, "--check/--no-check",
+        help="With a record: also run the exact engine for the supports the simplified engine ran (about "
+             "10 ms each) and report simplified/exact for V_b, M_b, the largest drift ratio and the roof "
+             "displacement."),
 ) -> None:
     """Peak story shears, drifts, displacements and the uplift verdict of a deck (or of several decks).
 
@@ -68,7 +74,10 @@ def analyze(
         loaded = replace(loaded, analysis=replace(loaded.analysis, exact=replace(loaded.analysis.exact,
                                                                                   histories=True)))
     results = analysis.run(loaded)
+    if check:
+        check_accuracy(loaded, results)
     _warn_suite(results)
+    _warn(results)
     if histories is not None:
         _write_histories(histories, results)
     if output_format is OutputFormat.json:
@@ -98,6 +107,14 @@ def _warn_suite(results, prefix: str = "") -> None:
     messages = dict.fromkeys(message for r in results for message in getattr(r, "warnings", ()))
     for message in messages:
         typer.echo(f"warning: {prefix}{message}", err=True)
+
+
+def _warn(results) -> None:
+    """Each result's warnings (a result that cannot be right, a step refined ...): one line each
+    on stderr (the JSON keeps them in details.warnings); the exit code is unchanged."""
+    for result in results:
+        for message in dict.fromkeys(result.details.get("warnings", [])):
+            typer.echo(f"warning: {result.engine}/{result.support}: {message}", err=True)
 
 
 def _with_histories(results) -> list[tuple[str, object]]:

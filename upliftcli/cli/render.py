@@ -155,9 +155,33 @@ def print_results(out: Console, results: list[AnalysisResult], title: str | None
         if isinstance(result, SuiteResult):
             out.print(render_suite.statistics_table(result))
             out.print(render_suite.records_table(result))
-        for warning in result.details.get("warnings", []):
-            out.print(f"[yellow]note:[/yellow] {escape(warning)}")
     out.print(summary_table(results))
     comparison = render_suite.comparison_table(results)
     if comparison is not None:
         out.print(comparison)
+    checked = accuracy_table(results)
+    if checked is not None:
+        out.print(checked)
+
+
+def accuracy_table(results: list[AnalysisResult]) -> Table | None:
+    """The simplified engine against the exact engine, per support (accuracy.py), or None."""
+    from ..accuracy import CHECKED
+
+    checks = [r.details["accuracy"] for r in results if "accuracy" in r.details]
+    if not checks:
+        return None
+    table = Table(title="Accuracy check: the simplified engine against the exact engine, same deck and record")
+    table.caption = escape("ratio = simplified / exact; the measured spread of these ratios: docs/accuracy.md; "
+                           "--no-check skips this check")
+    for header in ("support", "quantity", "simplified", "exact", "ratio"):
+        table.add_column(escape(header), justify="left" if header in ("support", "quantity") else "right")
+    for check in checks:
+        if "error" in check:
+            table.add_row(check["support"], "-", "-", "-", escape(f"exact engine failed: {check['error']}"))
+            continue
+        for name, (unit, meaning, _) in CHECKED.items():
+            ratio = check["ratio"][name]
+            table.add_row(check["support"], escape(f"{meaning} [{unit}]"), f"{check['simplified'][name]:.4g}",
+                          f"{check['exact'][name]:.4g}", "-" if ratio is None else f"{ratio:.3f}")
+    return table

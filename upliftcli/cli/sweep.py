@@ -32,6 +32,9 @@ WORKERS_HELP = ("Local worker processes (default: all cores when the sweep is lo
                 "else 1 = in this process).")
 SCHEDULER_HELP = "Run the cases on a Dask cluster at this address (tcp://host:8786), or 'local' for a local one."
 DASK_HELP = "'local': run on a Dask LocalCluster of --workers processes on this machine (same as --scheduler local)."
+CHECK_HELP = ("Also run the exact engine (record decks) and add to the tables the ratios simplified / exact of V_b, "
+              "M_b, the largest drift ratio and the largest floor displacement of each simplified case "
+              "(columns check_*).")
 PER_RECORD_HELP = ("Record suite decks: after each case's row (the design statistic over the records) one row per "
                    "record in the tables (columns record and factor).")
 #: suite warnings printed before a sweep; the JSON document of a case has them all
@@ -157,6 +160,7 @@ def sweep(
     overwrite: bool = typer.Option(False, "--overwrite", help="Discard the rows of a previous run."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress and no summary tables."),
     per_record: bool = typer.Option(False, "--per-record", help=PER_RECORD_HELP),
+    check: bool = typer.Option(False, "--check", help=CHECK_HELP),
 ) -> None:
     """Analyse a deck over ranges of its fields: one tidy row per case, summary and envelope.
 
@@ -167,25 +171,31 @@ def sweep(
     plot_path = plots.check_figure_path(out / f"{name or deck.stem + '.sweep'}.{plot_format}", "--plot-format") \
         if plot else None
     sweep_table.check_table_format(table.value)
-    plan = plan_sweep(deck, settings, vary, parse_choices(engine, ENGINES, "--engine"),
-                      parse_choices(support, SUPPORTS, "--support"), per_record=per_record)
+    engines = parse_choices(engine, ENGINES, "--engine")
+    plan = plan_sweep(deck, settings, vary, engines, parse_choices(support, SUPPORTS, "--support"),
+                      per_record=per_record)
+    if check:  # the exact engine runs beside the simplified one: its cases are batched as usual
+        plan = plan_sweep(deck, settings, vary, list(dict.fromkeys([*plan.engines, "exact"])), plan.supports,
+                          per_record=per_record)
+        plan.check = True
     warn_suites(plan)
     if plot_path is not None:
         figures.sweep_figure(plan, [])  # a numeric varied field to plot against, checked before running
     stem = name or f"{deck.stem}.sweep"
     outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
                       retry_failed=retry_failed, overwrite=overwrite, quiet=quiet, label="sweep")
-    summary = sweep_table.summarize(plan, outcome.rows)
-    written = _write(plan, outcome.rows, out, stem, table, summary)
+    rows = sweep_table.add_checks(plan, outcome.rows) if plan.check else outcome.rows
+    summary = sweep_table.summarize(plan, rows)
+    written = _write(plan, rows, out, stem, table, summary)
     if plot_path is not None:
-        written.append(plots.plot_figure(figures.sweep_figure(plan, outcome.rows), plot_path, "--plot-format"))
+        written.append(plots.plot_figure(figures.sweep_figure(plan, rows), plot_path, "--plot-format"))
     if output_format is OutputFormat.json:
-        typer.echo(json.dumps(sweep_table.document(plan, outcome.rows, summary), indent=1))
+        typer.echo(json.dumps(sweep_table.document(plan, rows, summary), indent=1))
     elif not quiet:
         print_summary(render.console(), plan, summary)
     for path in written:
         typer.echo(f"wrote {path}", err=True)
-    _finish(outcome.rows, criteria=True)
+    _finish(rows, criteria=True)
 
 
 def spectra(

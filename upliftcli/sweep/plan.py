@@ -190,7 +190,8 @@ class SweepPlan:
     """Everything the workers need: the parsed deck, the overrides and the cases; suite_records:
     the most records of a suite that a history engine runs in a case (0: no suite); per_record:
     the tables get each record's row after its case's row; warnings: the suites' messages (too
-    few records for the rule ...), each once."""
+    few records for the rule ...), each once; check: the tables get the ratios simplified / exact
+    of each simplified case (sweep/table.add_checks)."""
 
     raw: dict
     source: str
@@ -204,6 +205,7 @@ class SweepPlan:
     suite_records: int = 0
     per_record: bool = False
     warnings: tuple = ()
+    check: bool = False
 
 
 def _vary_error(error: InputError, varied: set[str]) -> InputError:

@@ -56,16 +56,48 @@ _CASE_HEAD = ("case", "key", "engine", "support", "status", "message", "violatio
 SUMMARY_OUTPUTS = ("base_shear_coefficient", "base_moment_coefficient", "max_drift_ratio")
 
 
+#: sweep --check: the simplified case's value / the exact case's (same fields, same support)
+CHECK_COLUMNS: dict[str, tuple[str, str]] = {
+    f"check_{column.removesuffix('_N').removesuffix('_Nm').removesuffix('_m')}": (
+        "-", f"simplified / exact: {OUTPUT_COLUMNS[column][1]} (sweep --check)")
+    for column in ("base_shear_N", "base_moment_Nm", "max_drift_ratio", "max_displacement_m")
+}
+
+
 def columns(plan: SweepPlan) -> list[str]:
     lead, tail = (["statistic", "record"], ["records", "factor"]) if plan.suite_records else ([], [])
-    return (["case", "engine", "support"] + lead + [v.path for v in plan.varies] + list(OUTPUT_COLUMNS) + tail
-            + ["key"])
+    checks = list(CHECK_COLUMNS) if plan.check else []
+    return (["case", "engine", "support"] + lead + [v.path for v in plan.varies] + list(OUTPUT_COLUMNS) + checks
+            + tail + ["key"])
 
 
 def units(plan: SweepPlan) -> dict[str, str]:
     suite = SUITE_COLUMNS if plan.suite_records else {}
+    checks = CHECK_COLUMNS if plan.check else {}
     return {**{v.path: v.unit for v in plan.varies},
-            **{name: unit for name, (unit, _) in {**OUTPUT_COLUMNS, **suite}.items()}}
+            **{name: unit for name, (unit, _) in {**OUTPUT_COLUMNS, **suite, **checks}.items()}}
+
+
+def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
+    """The rows, each finished simplified case with the ratios simplified / exact of the exact
+    case of the same varied values and support (CHECK_COLUMNS; empty where there is none)."""
+    paths = [v.path for v in plan.varies]
+
+    def key(row: dict) -> str:
+        return json.dumps([row.get("support"), row.get("record"), *(row.get(p) for p in paths)], default=str)
+
+    exact = {key(row): row for row in rows if row.get("engine") == "exact" and row.get("status") == "ok"}
+    out = []
+    for row in rows:
+        reference = exact.get(key(row)) if row.get("engine") == "simplified" and row.get("status") == "ok" else None
+        if reference is not None:
+            row = dict(row)
+            for name, source in zip(CHECK_COLUMNS, ("base_shear_N", "base_moment_Nm", "max_drift_ratio",
+                                                    "max_displacement_m"), strict=True):
+                value, base = _number(row.get(source)), _number(reference.get(source))
+                row[name] = value / base if value is not None and base else None
+        out.append(row)
+    return out
 
 
 def table_rows(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
