@@ -17,46 +17,60 @@ from . import response_kernels
 
 if TYPE_CHECKING:
     from .response import Signals
+    from .statespace import StateSpace
     from .stepping import History
 
 
-def energy_balance(history: History, sig: Signals) -> dict:
-    """Input = kinetic + strain + damping + foundation (+ gravity) energies [J]."""
+def work(history: History, sig: Signals) -> tuple[float, float, float]:
+    """Input work, structural damping and foundation damping energy [J] over the history's
+    intervals (additive: a run stepped in chunks sums them)."""
     space = history.space
-    model, lay = space.model, space.layout
-    lengths = history.lengths
-    lifted = np.ascontiguousarray(history.lifted[:-1])
-    k_el, c_el = space.element_stiffness, space.element_damping
     rows = sig.rows
     work_in, damp_struct, damp_found = response_kernels.work_integrals(
-        sig.values, sig.slopes, sig.switch, sig.end_values, sig.end_slopes, lengths, lifted,
-        rows["Yddot"].start, rows["a"].start, rows["input"].start, rows["Ydot"].start, model.n_modes,
-        rows["element_velocity"].start, rows["z"].start, lay.n_elements, space.c_modal, k_el, c_el,
+        sig.values, sig.slopes, sig.switch, sig.end_values, sig.end_slopes, history.lengths,
+        np.ascontiguousarray(history.lifted[:-1]), rows["Yddot"].start, rows["a"].start, rows["input"].start,
+        rows["Ydot"].start, space.model.n_modes, rows["element_velocity"].start, rows["z"].start,
+        space.layout.n_elements, space.c_modal, space.element_stiffness, space.element_damping,
     )
+    return float(work_in), float(damp_struct), float(damp_found)
 
-    def stored(index: int) -> tuple[float, float, float, float]:
-        x = history.states[index]
-        contact = history.contact[history.state_ids[index]]
-        kinetic = 0.5 * np.sum(space.masses * (contact.velocity @ x) ** 2)
-        strain = 0.5 * np.sum(space.k_modal * sig["Y"][index] ** 2)
-        foundation = gravity = 0.0
-        if lay.n_elements:
-            z = np.where(c_el > 0.0, sig["z"][index], 0.0)
-            deformation = np.where(contact.lifted, z, sig["element_displacement"][index])
-            foundation = 0.5 * np.sum(k_el * deformation**2)
-            gravity = model.total_mass * model.gravity * sig["v"][index, 0]
-        return kinetic, strain, foundation, gravity
 
-    first, last = stored(0), stored(-1)
-    terms = {"input": float(work_in)}
+def stored(history: History, sig: Signals, index: int) -> tuple[float, float, float, float]:
+    """Kinetic, strain, foundation elastic and gravity energy [J] at one sample."""
+    space = history.space
+    model = space.model
+    x = history.states[index]
+    contact = history.contact[history.state_ids[index]]
+    kinetic = 0.5 * np.sum(space.masses * (contact.velocity @ x) ** 2)
+    strain = 0.5 * np.sum(space.k_modal * sig["Y"][index] ** 2)
+    foundation = gravity = 0.0
+    if space.layout.n_elements:
+        k_el, c_el = space.element_stiffness, space.element_damping
+        z = np.where(c_el > 0.0, sig["z"][index], 0.0)
+        deformation = np.where(contact.lifted, z, sig["element_displacement"][index])
+        foundation = 0.5 * np.sum(k_el * deformation**2)
+        gravity = model.total_mass * model.gravity * sig["v"][index, 0]
+    return float(kinetic), float(strain), float(foundation), float(gravity)
+
+
+def balance(space: StateSpace, works: tuple[float, float, float], first: tuple, last: tuple) -> dict:
+    """The energy terms [J] of a run from its work integrals and its stored energies at the
+    first and the last sample; residual and relative residual."""
+    work_in, damp_struct, damp_found = works
+    terms = {"input": work_in}
     for k, name in enumerate(("kinetic", "strain", "foundation_elastic", "gravity")):
         terms[name] = float(last[k] - first[k])
-    terms["structural_damping"] = float(damp_struct)
-    terms["foundation_damping"] = float(damp_found)
-    balance = sum(v for k, v in terms.items() if k != "input")
+    terms["structural_damping"] = damp_struct
+    terms["foundation_damping"] = damp_found
+    total = sum(v for k, v in terms.items() if k != "input")
     # relative to the work done, or (no ground motion) to a billionth of the static foundation
     # energy, so that round-off at rest is not a residual
     scale = max(abs(work_in), damp_struct + damp_found, 1e-9 * space.weight * space.settlement, 1e-300)
-    terms["residual"] = float(work_in - balance)
-    terms["relative_residual"] = float(abs(work_in - balance) / scale)
+    terms["residual"] = float(work_in - total)
+    terms["relative_residual"] = float(abs(work_in - total) / scale)
     return terms
+
+
+def energy_balance(history: History, sig: Signals) -> dict:
+    """Input = kinetic + strain + damping + foundation (+ gravity) energies [J] of one history."""
+    return balance(history.space, work(history, sig), stored(history, sig, 0), stored(history, sig, -1))

@@ -28,7 +28,7 @@ from ...model.system import System
 from ..options import ExactOptions
 from ..registry import check_support
 from ..result import AnalysisResult
-from .response import summarize
+from .digest import Digest
 from .statespace import StateSpace, exact_model
 from .stepping import simulate
 
@@ -123,15 +123,18 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
                 runs.append((k, space, _checked_substeps(space, acceleration.size, record.dt, options)))
             except (AnalysisError, InputError) as error:
                 yield from outcomes(k, error)
+        digests = [Digest(systems[k], space, options) for k, space, _ in runs]
         histories = simulate([space for _, space, _ in runs], [substeps for _, _, substeps in runs], acceleration,
                              record.dt, options.criterion, uplift=support == "uplift",
-                             allow_flight=options.flight == "allow")
+                             allow_flight=options.flight == "allow", on_chunk=[d.add for d in digests])
         for j, history in histories:
             k = runs[j][0]
             if not isinstance(history, AnalysisError):
-                history = summarize(systems[k], history, support, name, options)
+                digests[j].add(history)  # the last chunk
+                history = digests[j].result(support, name)
                 if refine and history.intermediates["energy_residual"] > ENERGY_TOLERANCE:
                     history = _refined(systems[k], record, support, options, model, name, history)
+            digests[j] = None  # its histories go with its result
             yield from outcomes(k, history)
 
 

@@ -1,5 +1,6 @@
-"""Response quantities of a simulated history: peaks between samples, reactions and impacts,
-uplift summary and the histories themselves; the energy balance is energy.py.
+"""Response quantities of a simulated history (or of a chunk of one: digest.py folds them):
+peaks between samples, reactions and impacts, uplift statistics and the histories
+themselves; the energy balance is energy.py.
 
 Everything is read off a few linear functionals of the state ("signals"), built from the
 maps the state-space model already holds (History.space): the modal coordinates Y*, their
@@ -17,18 +18,14 @@ time derivative at a sample is one more row, so:
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from ...model.interaction import impedance
 from ...model.system import System
-from ..options import ExactOptions
-from ..result import AnalysisResult
 from ..statics import story_maps
 from . import response_kernels
-from .energy import energy_balance
+from .statespace import StateSpace
 from .stepping import History
 
 #: the quantities whose peaks are linear in Y* (and Y*'), in the order of the response rows
@@ -50,9 +47,9 @@ class ResponseRows:
     acceleration_rate: np.ndarray
 
 
-def response_rows(system: System, history: History) -> ResponseRows:
+def response_rows(system: System, space: StateSpace) -> ResponseRows:
     """The statics of [12-14] applied to the modal forces m_j phi_jn* w_n^2 per unit Y_n*."""
-    model = history.space.model
+    model = space.model
     building = system.building
     shapes = system.modes.shapes_star[:, :model.n_modes]
     forces = building.masses[:, None] * shapes * model.omega**2
@@ -293,77 +290,3 @@ def histories(system: System, history: History, rows: ResponseRows, sig: Signals
         for i in range(reactions.shape[1]):
             out[f"reaction_{i + 1}"] = reactions[:, i]
     return out
-
-
-def summarize(system: System, history: History, support: str, engine: str, options: ExactOptions
-              ) -> AnalysisResult:
-    """Peak responses with their instants, reactions and impacts, uplift summary, energy
-    balance and (optionally) histories of one run."""
-    space = history.space
-    model = space.model
-    rows = response_rows(system, history)
-    sig = signals(history)
-    modal = rows.modal_base_shear
-    # peaks of the instant-by-instant sums of modes 1..k (paper Fig. 7)
-    stacked = np.vstack([getattr(rows, name) for name in _STORY_AND_FLOOR]
-                        + [modal, np.tril(np.ones_like(modal)) @ modal])
-    n = system.building.n_stories
-    # shortest period that matters in each response: the governing one, or the mode's own
-    # period for a single mode's base shear (modes above the governing band are searched more)
-    mode_periods = 2.0 * math.pi / model.omega
-    governing = space.governing_period
-    periods = np.concatenate((np.full(4 * n, governing), mode_periods, np.maximum(mode_periods, governing)))
-    lengths = history.lengths
-    peaks, where = hermite_peaks(sig, stacked, lengths, periods)
-    # accelerations weigh the higher modes by w_n^2: search with the shortest mode period too
-    acceleration, acceleration_where = hermite_peaks(sig, rows.acceleration, lengths,
-                                                     np.full(n, min(governing, mode_periods.min())),
-                                                     rows.acceleration_rate)
-    values = {name: peaks[k * n:(k + 1) * n] for k, name in enumerate(_STORY_AND_FLOOR)}
-    instants = {name: np.array([time_at(history, w) for w in where[k * n:(k + 1) * n]])
-                for k, name in enumerate(_STORY_AND_FLOOR)}
-    values["drift_ratio"] = values["drift"] / system.building.story_heights
-    instants["drift_ratio"] = instants["drift"]
-    values["floor_acceleration"] = acceleration
-    instants["floor_acceleration"] = np.array([time_at(history, w) for w in acceleration_where])
-    for name, (peak, when) in reaction_peaks(history, sig).items():
-        values[name], instants[name] = peak, when
-    summary = uplift_summary(history, sig)
-    uplifted = bool(history.lifted.any()) if space.layout.n_elements else False
-    energy = energy_balance(history, sig)
-    warnings = []
-    if summary.get("flight_time", 0.0) > 0.0:
-        warnings.append(
-            f"both edges of the mat were off the foundation for {summary['flight_time']:.3g} s (flight): the "
-            "impacts of the massless mat on the elements then drive the peaks, which can exceed the bonded ones "
-            "several times over; this is a property of the model (the step is converged), see "
-            "docs/exact-engine.md")
-    details = {
-        "warnings": warnings,
-        "modal_base_shear": peaks[4 * n:4 * n + model.n_modes].tolist(),
-        "cumulative_modal_base_shear": peaks[4 * n + model.n_modes:].tolist(),
-        "uplift_summary": summary,
-        "energy": energy,
-    }
-    if options.histories:
-        details["histories"] = histories(system, history, rows, sig)
-    intermediates = {
-        "T1": float(system.modes.periods[0]),
-        "n_modes": model.n_modes,
-        "time_step": history.time_step,
-        "criterion": options.criterion,
-        "rotation_inertia": model.theta_inertia,
-        "samples": int(history.times.size),
-        "transitions": int(np.count_nonzero(np.diff(history.state_ids))),
-        "base_shear_time": float(instants["shear"][0]),
-        "base_moment_time": float(instants["moment"][0]),
-        "energy_residual": energy["relative_residual"],
-    }
-    if model.flexible:
-        intermediates.update(impedance(system))  # the foundation model of every engine
-    for name in ("uplift_time", "episodes", "max_rotation", "max_uplift_left", "max_uplift_right", "min_reaction"):
-        if name in summary:
-            intermediates[name] = summary[name]
-    return AnalysisResult.of(system, engine, support, values, uplift=uplifted,
-                             periods=system.modes.periods[:model.n_modes], elements=model.elements,
-                             times=instants, intermediates=intermediates, details=details)

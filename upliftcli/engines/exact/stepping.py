@@ -8,7 +8,7 @@ sets how finely the history is sampled and how finely crossings are searched for
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -146,7 +146,8 @@ class Run:
     `enter(index)` switches to it. simulate_many drives several."""
 
     def __init__(self, space: StateSpace, ground: np.ndarray, slopes: np.ndarray, h: float,
-                 criterion: str = "reaction", uplift: bool = True, allow_flight: bool = True):
+                 criterion: str = "reaction", uplift: bool = True, allow_flight: bool = True,
+                 on_chunk: Callable[[History], None] | None = None):
         lay = space.layout
         n_e = lay.n_elements
         if n_e > 62:
@@ -157,7 +158,10 @@ class Run:
         self.elements = kernel.Elements(lay.z_indices, space.displacement_rows, space.element_damping > 0.0,
                                         np.int64((1 << n_e) - 1) if n_e else np.int64(-2), bool(allow_flight))
         self.grid = kernel.Grid(ground, slopes, float(h), LEVELS, lay.index_acceleration, lay.index_slope)
-        self.capacity = ground.size + 1024
+        # a long run is stepped in chunks: a full buffer goes to on_chunk (post-processed and
+        # dropped) and stepping goes on from its last sample; without on_chunk the buffer grows
+        self.on_chunk = on_chunk
+        self.capacity = ground.size + 1024 if on_chunk is None else min(ground.size + 1024, CHUNK_SAMPLES)
         self.out_x = self.out_t = self.out_s = None  # allocated by first_request
         self.x = space.rest.copy()
         self.x[lay.index_acceleration] = ground[0]
@@ -195,7 +199,12 @@ class Run:
                 return None
             if status == kernel.NEED_STATE:
                 return int(pattern)
-            if status == kernel.FULL:
+            if status == kernel.FULL and self.on_chunk is not None:
+                self.on_chunk(self.history())
+                self.out_x[0], self.out_t[0], self.out_s[0] = self.out_x[self.n_out - 1], self.out_t[self.n_out - 1], \
+                    self.out_s[self.n_out - 1]
+                self.n_out = 1
+            elif status == kernel.FULL:
                 extra = max(self.capacity // 2, 4096)
                 self.out_x = np.concatenate((self.out_x, np.empty((extra, lay.n_aug))))
                 self.out_t = np.concatenate((self.out_t, np.empty(extra)))
@@ -215,6 +224,7 @@ class Run:
                 )
 
     def history(self) -> History:
+        """The samples in the buffer (views of it: use them before stepping on)."""
         n = self.n_out
         contact = self.operators.contact
         table = np.array([c.lifted for c in contact], dtype=bool).reshape(len(contact), -1)
@@ -233,21 +243,27 @@ def ground_grid(acceleration: np.ndarray, substeps: int, dt: float) -> tuple[np.
 
 #: memory allowed for the sample buffers of the runs stepped together [bytes]
 BATCH_MEMORY = 256 * 2**20
+#: samples of a run held at once when it is stepped in chunks (about 30 MB of states and
+#: signals for ten stories; a run of the paper's example under El Centro is one chunk)
+CHUNK_SAMPLES = 16384
 
 
 def simulate(spaces: list[StateSpace], substeps: list[int], acceleration: np.ndarray, dt: float, criterion: str,
-             uplift: bool, allow_flight: bool) -> Iterator[tuple[int, History | AnalysisError]]:
+             uplift: bool, allow_flight: bool, on_chunk: list[Callable[[History], None]] | None = None,
+             ) -> Iterator[tuple[int, History | AnalysisError]]:
     """Histories of several models under one ground acceleration [m/s^2] sampled at dt [s],
     model k integrated with substeps[k] internal steps per record step: (index, History or
-    the AnalysisError that stopped it) as each run ends. The fine ground grid is built once
-    per step size; runs are stepped together (simulate_many) in groups whose sample buffers
-    fit in BATCH_MEMORY."""
+    the AnalysisError that stopped it) as each run ends. With on_chunk[k], run k is stepped in
+    chunks of at most CHUNK_SAMPLES samples, each full one passed to on_chunk[k] (the History
+    yielded is then the last chunk). The fine ground grid is built once per step size; runs
+    are stepped together (simulate_many) in groups whose sample buffers fit in BATCH_MEMORY."""
     grids: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     pending: list[tuple[int, Run]] = []
     for k, (space, count) in enumerate(zip(spaces, substeps, strict=True)):
         if count not in grids:
             grids[count] = ground_grid(acceleration, count, dt)
-        pending.append((k, Run(space, *grids[count], dt / count, criterion, uplift=uplift, allow_flight=allow_flight)))
+        pending.append((k, Run(space, *grids[count], dt / count, criterion, uplift=uplift, allow_flight=allow_flight,
+                               on_chunk=on_chunk[k] if on_chunk else None)))
     while pending:
         size, used = 1, pending[0][1].buffer_bytes
         while size < len(pending) and used + pending[size][1].buffer_bytes <= BATCH_MEMORY:

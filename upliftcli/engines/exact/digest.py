@@ -1,0 +1,161 @@
+"""The result of one run, folded chunk by chunk.
+
+A run is stepped in chunks of samples (stepping.CHUNK_SAMPLES): each chunk is post-processed
+as soon as it is full (its signals, peaks between samples, reactions, uplift statistics,
+work integrals and the requested histories, response.py and energy.py) and then dropped, so
+the memory of a run is bounded whatever its length. Consecutive chunks share their boundary
+sample, so every interval is in exactly one chunk: maxima and minima fold by max/min,
+times and work integrals by sums, the stored energies are those of the run's first and last
+samples. A run that fits in one chunk gives the same numbers as a single pass.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...model.interaction import impedance
+from ...model.system import System
+from ..options import ExactOptions
+from ..result import AnalysisResult
+from .energy import balance, stored, work
+from .response import (
+    _STORY_AND_FLOOR,
+    hermite_peaks,
+    histories,
+    reaction_peaks,
+    response_rows,
+    signals,
+    time_at,
+    uplift_summary,
+)
+from .statespace import StateSpace
+from .stepping import History
+
+#: how each uplift statistic of a chunk folds into the run's
+_FOLDS = {"uplift_time": "sum", "episodes": "sum", "flight_time": "sum", "episodes_left": "sum",
+          "episodes_right": "sum", "max_rotation": "max", "max_uplift_left": "max", "max_uplift_right": "max",
+          "max_edge_displacement_left": "max", "max_edge_displacement_right": "max", "min_reaction_left": "min",
+          "min_reaction_right": "min", "min_reaction": "min"}
+
+
+class Digest:
+    """Accumulates the peaks (with their instants), reactions and impacts, uplift summary,
+    energy and (optionally) histories of one run of `system`'s model `space`."""
+
+    def __init__(self, system: System, space: StateSpace, options: ExactOptions):
+        self.system, self.space, self.options = system, space, options
+        model = space.model
+        n = system.building.n_stories
+        self.rows = response_rows(system, space)
+        modal = self.rows.modal_base_shear
+        # peaks of the instant-by-instant sums of modes 1..k (paper Fig. 7)
+        self.stacked = np.vstack([getattr(self.rows, name) for name in _STORY_AND_FLOOR]
+                                 + [modal, np.tril(np.ones_like(modal)) @ modal])
+        # shortest period that matters in each response: the governing one, or the mode's own
+        # period for a single mode's base shear (modes above the governing band are searched more);
+        # accelerations weigh the higher modes by w_n^2: searched with the shortest mode period too
+        mode_periods = 2.0 * math.pi / model.omega
+        governing = space.governing_period
+        self.periods = np.concatenate((np.full(4 * n, governing), mode_periods,
+                                       np.maximum(mode_periods, governing)))
+        self.acceleration_periods = np.full(n, min(governing, mode_periods.min()))
+        self.peaks = {}  # name -> (values, instants [s])
+        self.summary: dict = {}
+        self.works = (0.0, 0.0, 0.0)
+        self.first = self.last = None
+        self.samples = self.transitions = self.chunks = 0
+        self.uplifted = False
+        self.time_step = 0.0
+        self.pieces: list[dict[str, np.ndarray]] = []
+
+    def _keep(self, name: str, values: np.ndarray, instants: np.ndarray) -> None:
+        if name not in self.peaks:
+            self.peaks[name] = (values.copy(), instants.copy())
+            return
+        best, when = self.peaks[name]
+        better = values > best
+        best[better], when[better] = values[better], instants[better]
+
+    def add(self, chunk: History) -> None:
+        """Fold in one chunk (its first sample is the previous chunk's last)."""
+        sig = signals(chunk)
+        lengths = chunk.lengths
+        peaks, where = hermite_peaks(sig, self.stacked, lengths, self.periods)
+        self._keep("stacked", peaks, np.array([time_at(chunk, w) for w in where]))
+        acceleration, where = hermite_peaks(sig, self.rows.acceleration, lengths, self.acceleration_periods,
+                                            self.rows.acceleration_rate)
+        self._keep("floor_acceleration", acceleration, np.array([time_at(chunk, w) for w in where]))
+        for name, (peak, when) in reaction_peaks(chunk, sig).items():
+            self._keep(name, peak, when)
+        for name, value in uplift_summary(chunk, sig).items():
+            fold = _FOLDS[name]
+            old = self.summary.get(name)
+            self.summary[name] = value if old is None else {"sum": old + value, "max": max(old, value),
+                                                            "min": min(old, value)}[fold]
+        self.works = tuple(a + b for a, b in zip(self.works, work(chunk, sig), strict=True))
+        if self.first is None:
+            self.first = stored(chunk, sig, 0)
+        self.last = stored(chunk, sig, -1)
+        if self.space.layout.n_elements:
+            self.uplifted |= bool(chunk.lifted.any())
+        self.samples += chunk.times.size - (1 if self.chunks else 0)
+        self.transitions += int(np.count_nonzero(np.diff(chunk.state_ids)))
+        self.time_step = chunk.time_step
+        if self.options.histories:
+            piece = histories(self.system, chunk, self.rows, sig)
+            self.pieces.append({k: np.array(v[1:] if self.chunks else v) for k, v in piece.items()})
+        self.chunks += 1
+
+    def result(self, support: str, engine: str) -> AnalysisResult:
+        """The run's AnalysisResult (after its last chunk)."""
+        system, space, options = self.system, self.space, self.options
+        model = space.model
+        n = system.building.n_stories
+        stacked, stacked_times = self.peaks.pop("stacked")
+        values = {name: stacked[k * n:(k + 1) * n] for k, name in enumerate(_STORY_AND_FLOOR)}
+        instants = {name: stacked_times[k * n:(k + 1) * n] for k, name in enumerate(_STORY_AND_FLOOR)}
+        values["drift_ratio"] = values["drift"] / system.building.story_heights
+        instants["drift_ratio"] = instants["drift"]
+        for name, (peak, when) in self.peaks.items():
+            values[name], instants[name] = peak, when
+        energy = balance(space, self.works, self.first, self.last)
+        summary = self.summary
+        warnings = []
+        if summary.get("flight_time", 0.0) > 0.0:
+            warnings.append(
+                f"both edges of the mat were off the foundation for {summary['flight_time']:.3g} s (flight): the "
+                "impacts of the massless mat on the elements then drive the peaks, which can exceed the bonded "
+                "ones several times over; this is a property of the model (the step is converged), see "
+                "docs/exact-engine.md")
+        details = {
+            "warnings": warnings,
+            "modal_base_shear": stacked[4 * n:4 * n + model.n_modes].tolist(),
+            "cumulative_modal_base_shear": stacked[4 * n + model.n_modes:].tolist(),
+            "uplift_summary": summary,
+            "energy": energy,
+        }
+        if options.histories:
+            details["histories"] = {k: np.concatenate([piece[k] for piece in self.pieces]) for k in self.pieces[0]}
+        intermediates = {
+            "T1": float(system.modes.periods[0]),
+            "n_modes": model.n_modes,
+            "time_step": self.time_step,
+            "criterion": options.criterion,
+            "rotation_inertia": model.theta_inertia,
+            "samples": self.samples,
+            "transitions": self.transitions,
+            "base_shear_time": float(instants["shear"][0]),
+            "base_moment_time": float(instants["moment"][0]),
+            "energy_residual": energy["relative_residual"],
+        }
+        if model.flexible:
+            intermediates.update(impedance(system))  # the foundation model of every engine
+        for name in ("uplift_time", "episodes", "max_rotation", "max_uplift_left", "max_uplift_right",
+                     "min_reaction"):
+            if name in summary:
+                intermediates[name] = summary[name]
+        return AnalysisResult.of(system, engine, support, values, uplift=self.uplifted,
+                                 periods=system.modes.periods[:model.n_modes], elements=model.elements,
+                                 times=instants, intermediates=intermediates, details=details)
