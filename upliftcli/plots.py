@@ -178,8 +178,8 @@ def _draw_panel(axes, spec: FigureSpec, panel: Panel, title: str) -> None:
         axes.set_ylim(bottom=panel.ymin)
     axes.set_xlabel(spec.xlabel if panel.xlabel is None else panel.xlabel)
     axes.set_ylabel(panel.ylabel)
-    if title:
-        axes.set_title(title, fontsize="medium")
+    if title:  # placed, not measured: matplotlib's automatic title position sizes every tick label
+        axes.set_title(title, fontsize="medium", y=1.0)
     axes.grid(True, which="both", alpha=0.3)
 
 
