@@ -11,9 +11,9 @@ from ..engines.result import AnalysisResult
 from .analysis import profile_figure
 from .histories import energy_figure, history_figure, moment_rotation_figure, with_histories
 from .modes import mode_shape_figure
-from .spec import FigureSpec, Line, Panel, Series
-from .spectra import PERIOD_LABEL, SPECTRUM_PANELS, record_spectrum_figure, suite_figure
-from .style import VERMILLION
+from .spec import FigureSpec, Panel, Series
+from .spectra import PERIOD_LABEL, SPECTRUM_PANELS, period_marks, record_spectrum_figure, suite_figure
+from .style import BLUE
 
 SPECTRUM_PERIODS = np.geomspace(0.05, 5.0, 90)  # s
 
@@ -72,8 +72,8 @@ def spectrum_figure(deck, results: Sequence[AnalysisResult] = ()) -> FigureSpec 
     periods = grid[(grid >= low) & (grid <= high)]
     _, heading, label, factor = SPECTRUM_PANELS["pseudo_acceleration"]
     line = Series(f"{motion.name}, damping {100 * xi:g} %", periods, factor * np.asarray(motion.sa(periods, xi)),
-                  "-", VERMILLION)
-    lines = [Line(t, f"{name} = {t:.3g} s", "x", ":", "black") for name, t in marks]
+                  "-", BLUE)
+    lines = period_marks(marks)
     return FigureSpec(f"Design spectrum: {motion.name}", PERIOD_LABEL, [Panel(heading, label, [line], lines, ymin=0.0)],
                       xlog=True, columns=1, panel_size=(6.0, 3.8))
 

@@ -23,20 +23,26 @@ SPECTRUM_PANELS = {
 }
 
 
+def period_marks(marks: Sequence[tuple[str, float]]) -> list[Line]:
+    """Vertical lines at periods (label, T [s]), each in its own colour and style."""
+    looks = ((":", BLACK), ("--", GREEN), ("-.", VERMILLION))
+    return [Line(float(t), f"{label} = {t:.3g} s", "x", style, color)
+            for (label, t), (style, color) in zip(marks, looks, strict=False)]
+
+
 def record_spectrum_figure(spectrum, title: str = "", quantities: Sequence[str] = tuple(SPECTRUM_PANELS),
                            periods_marked: Sequence[tuple[str, float]] = ()) -> FigureSpec:
     """Panels S_d [cm], S_v [cm/s], S_a [g] of a spectra.Spectrum against log T, one line per
     damping (T = 0 left out of the log axis); periods_marked: (label, T [s]) drawn as
     vertical lines (e.g. T_1 and T1bar of the deck's building)."""
     periods = np.asarray(spectrum.periods, dtype=float)
-    marks = [Line(float(t), f"{label} = {t:.3g} s", "x", ":", color)
-             for (label, t), color in zip(periods_marked, (BLACK, GREEN, VERMILLION), strict=False)]
+    marks = period_marks(periods_marked)
     panels = []
     for name in quantities:
         attribute, heading, label, factor = SPECTRUM_PANELS[name]
         values = np.asarray(getattr(spectrum, attribute)) * factor
         series = [Series(f"damping {100 * xi:g} %", periods, values[k]) for k, xi in enumerate(spectrum.dampings)]
-        panels.append(Panel(heading, label, cycle(series), list(marks), xmin=None, ymin=0.0))
+        panels.append(Panel(heading, label, cycle(series), list(marks), ymin=0.0))
     return FigureSpec(f"Response spectra: {title}" if title else "Response spectra", PERIOD_LABEL, panels,
                       xlog=True, columns=3, panel_size=(4.0, 3.2))
 
