@@ -237,3 +237,14 @@ def test_report_command(tmp_path):
     result = runner.invoke(app, ["report", str(EXAMPLE), "--out", str(tmp_path / "r.txt")], env={"CI": "true"})
     assert result.exit_code == 2 and "--out" in result.stderr and ".html" in result.stderr
     np.testing.assert_equal(sorted(p.name for p in tmp_path.iterdir()), ["report.html"])
+
+
+def test_model_totals():
+    _, _, text, deck, _ = make_report()
+    system = {row[0]: float(row[1]) for row in Parsed(text).tables["table-system"][1:] if row[1] != "-"
+              and row[0] in ("I_b", "L_0", "m_t")}
+    building = deck.system.building
+    h = 3.5 * np.arange(1, building.n_stories + 1)  # equal 3.5 m stories
+    assert system["I_b"] == pytest.approx(350e3 * np.sum(h**2), rel=1e-5)
+    assert system["L_0"] == pytest.approx(350e3 * np.sum(h), rel=1e-5)
+    assert system["m_t"] == pytest.approx(350e3 * building.n_stories, rel=1e-5)
