@@ -25,7 +25,7 @@ import urllib.request
 
 FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
          "--disable-component-update", "--disable-sync", "--no-first-run", "--no-default-browser-check",
-         "--hide-scrollbars", "--window-size=1280,2000")
+         "--disable-dev-shm-usage", "--hide-scrollbars", "--window-size=1280,2000")
 
 
 def chromium() -> str | None:
