@@ -51,3 +51,44 @@ def test_suite_deck_draws_the_suite():
     suite = deck.ground_motion
     assert len(spec.panels[0].series) == suite.count + 2
     assert sets.motion_label(deck) == f"suite of {suite.count} records, target {suite.target.name}"
+
+
+def fake_suite(scales=(0.6, 1.0, 1.7)):
+    """A SuiteResult of the small run's exact uplift result under three scaled 'records', with
+    the simplified engine on the 'target' beside it."""
+    from dataclasses import replace
+
+    from upliftcli.engines.suite_result import SuiteRecord, suite_result
+
+    _, results = small_run()
+    exact = next(r for r in results if r.engine == "exact" and r.support == "uplift")
+    simplified = next(r for r in results if r.engine == "simplified" and r.support == "uplift")
+    records = [replace(exact, peaks={k: v * s for k, v in exact.peaks.items()},
+                       details={**exact.details, "histories": dict(exact.details["histories"])}) for s in scales]
+    names = [SuiteRecord(f"record {k}", f"r{k}.txt", s) for k, s in enumerate(scales)]
+    return suite_result(records, names, "mean", rule="asce7-22", simplified=simplified), simplified
+
+
+def test_profiles_of_a_suite_result():
+    deck, _ = small_run()
+    suite, simplified = fake_suite()
+    spec = sets.profiles(deck, [suite])
+    (shear,) = [p for p in spec.panels if p.title == "peak story shear"]
+    factor = 1e-6 if shear.xlabel.endswith("[MN]") else 1e-3
+    thin, thick, dashed = shear.series[:3], shear.series[3], shear.series[4]
+    for record, line in zip(suite.record_results, thin, strict=True):
+        np.testing.assert_allclose(line.x[::2], factor * record.peaks["shear"])
+    # the thick line is the suite's design statistic as the suite result computes it
+    np.testing.assert_allclose(thick.x[::2], factor * suite.peaks["shear"], rtol=1e-12)
+    assert thick.label.endswith("mean of 3 records")
+    np.testing.assert_allclose(dashed.x[::2], factor * simplified.peaks["shear"])
+    assert dashed.style == "--" and "target spectrum" in dashed.label
+
+
+def test_drop_histories_of_every_record():
+    from upliftcli.cli.plotting import drop_histories
+
+    suite, _ = fake_suite()
+    assert all("histories" in r.details for r in suite.record_results)
+    drop_histories([suite])
+    assert not any("histories" in r.details for r in suite.record_results)

@@ -248,3 +248,18 @@ def test_model_totals():
     assert system["I_b"] == pytest.approx(350e3 * np.sum(h**2), rel=1e-5)
     assert system["L_0"] == pytest.approx(350e3 * np.sum(h), rel=1e-5)
     assert system["m_t"] == pytest.approx(350e3 * building.n_stories, rel=1e-5)
+
+
+def test_suite_records_and_accuracy_from_the_suite_result():
+    from test_figures_sets import fake_suite
+
+    suite, simplified = fake_suite()
+    _, _, text, _, _ = make_report(results=[suite])
+    parsed = Parsed(text)
+    rows = parsed.tables["table-exact-uplift-records"]
+    for row, record, result in zip(rows[1:], suite.records, suite.record_results, strict=False):
+        assert row[1] == record.name and float(row[3]) == pytest.approx(1e-3 * result.base_shear, rel=1e-4)
+    assert rows[-1][1] == "mean (design value)" and rows[-1][-1] == f"{suite.uplift_count} of 3"
+    assert float(rows[-1][3]) == pytest.approx(1e-3 * np.mean([r.base_shear for r in suite.record_results]), rel=1e-4)
+    ratios = {row[1]: float(row[4]) for row in parsed.tables["table-accuracy"][1:]}
+    assert ratios["V_b"] == pytest.approx(simplified.base_shear / suite.base_shear, rel=1e-3)

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..engines.result import AnalysisResult
-from .analysis import profile_figure
+from .analysis import profile_figure, suite_profile_figure
 from .histories import energy_figure, history_figure, moment_rotation_figure, with_histories
 from .modes import mode_shape_figure
 from .spec import FigureSpec, Panel, Series
@@ -78,10 +78,33 @@ def spectrum_figure(deck, results: Sequence[AnalysisResult] = ()) -> FigureSpec 
                       xlog=True, columns=1, panel_size=(6.0, 3.8))
 
 
+def suite_results(results: Sequence[AnalysisResult]) -> list:
+    """The results of a record suite (engines/suite_result.SuiteResult: each record's result
+    kept)."""
+    return [r for r in results if getattr(r, "record_results", ())]
+
+
+def profiles(deck, results: Sequence[AnalysisResult]) -> FigureSpec:
+    """The story profiles of a run; on a record suite each record thin, the design statistic
+    thick and the simplified engine on the target spectrum dashed (the run's, else the one
+    each suite result carries)."""
+    title = _title(deck, "Peak response over the height")
+    suites = suite_results(results)
+    if not suites:
+        return profile_figure(results, deck.criteria, title)
+    records = [record for result in suites for record in result.record_results]
+    target = [r for r in results if not getattr(r, "record_results", ())]
+    supports = {r.support for r in target}
+    target += [r.simplified for r in suites if getattr(r, "simplified", None) is not None
+               and r.simplified.support not in supports]
+    return suite_profile_figure(records, suites[0].statistic, target, deck.criteria, title)
+
+
 def analysis_figures(deck, results: Sequence[AnalysisResult]) -> dict[str, FigureSpec]:
-    """Story profiles, mode shapes, the ground motion's spectra and, per history engine,
-    histories (paper Fig. 5 style), base moment against mat rotation and energy balance."""
-    figures = {"profiles": profile_figure(results, deck.criteria, _title(deck, "Peak response over the height"))}
+    """Story profiles, mode shapes, the ground motion's spectra and, per history engine (of a
+    single record), histories (paper Fig. 5 style), base moment against mat rotation and
+    energy balance."""
+    figures = {"profiles": profiles(deck, results)}
     figures.update(modes_figures(deck))
     spectrum = spectrum_figure(deck, results)
     if spectrum is not None:

@@ -54,9 +54,24 @@ def detail_unit(table: str, name: str) -> str:
     return INTERMEDIATES.get(name, ("", ""))[0]
 
 
+def records_table(result) -> Table:
+    """A suite's records (engines/suite_result.SuiteResult): factor and peak response of each."""
+    rows = [[str(k + 1), record.name, number(record.factor, 4), number(1e-3 * r.base_shear),
+             number(1e-3 * r.base_moment), number(100 * r.value("drift_ratio"), 4), number(r.uplift)]
+            for k, (record, r) in enumerate(zip(result.records, result.record_results, strict=True))]
+    rows.append(["", f"{result.statistic} (design value)", "", number(1e-3 * result.base_shear),
+                 number(1e-3 * result.base_moment), number(100 * result.value("drift_ratio"), 4),
+                 f"{result.uplift_count} of {result.count}"])
+    return Table(f"table-{_slug(result)}-records", f"Each record of the suite, {result.engine} engine, "
+                 f"{result.support} support ({result.rule_label or result.rule}: the {result.statistic})",
+                 ["record", "name", "factor [-]", "V_b [kN]", "M_b [kN m]", "largest drift ratio [%]", "uplift"],
+                 rows)
+
+
 def result_tables(result: AnalysisResult) -> list[Table]:
-    """Story table, foundation elements, intermediates and the history engines' extras."""
-    label = f"{result.engine} engine, {result.support} support"
+    """Story table, foundation elements, intermediates and the history engines' extras (for a
+    suite: of its design statistic, and each record's peaks)."""
+    label = f"{getattr(result, 'label', result.engine)} engine, {result.support} support"
     shown = [q for q in STORY_QUANTITIES if q.name in result.peaks]
     rows = [[str(j + 1), number(result.elevations[j], 4)] + [_display(q, result.peaks[q.name][j]) for q in shown]
             for j in range(result.elevations.size - 1, -1, -1)]
@@ -80,6 +95,8 @@ def result_tables(result: AnalysisResult) -> list[Table]:
             rows = [[name, number(value), detail_unit(key, name)] for name, value in values.items()]
             tables.append(Table(f"table-{_slug(result)}-{key.replace('_', '-')}", f"{caption}, {label}",
                                 ["quantity", "value", "unit"], rows))
+    if getattr(result, "record_results", ()):
+        tables.append(records_table(result))
     return tables
 
 
@@ -91,9 +108,15 @@ def results_section(results: Sequence[AnalysisResult]) -> Section:
 
 
 def accuracy_pairs(results: Sequence[AnalysisResult]) -> list[tuple[AnalysisResult, AnalysisResult]]:
-    """(simplified, exact) result pairs of the same support."""
+    """(simplified, exact) result pairs of the same support; on a suite the simplified engine on
+    the target spectrum against the exact design statistic (the one the suite result carries
+    when the simplified engine was not run beside it)."""
     exact = {r.support: r for r in results if r.engine == "exact"}
-    return [(r, exact[r.support]) for r in results if r.engine == "simplified" and r.support in exact]
+    pairs = [(r, exact[r.support]) for r in results if r.engine == "simplified" and r.support in exact]
+    done = {e.support for _, e in pairs}
+    pairs += [(e.simplified, e) for e in exact.values()
+              if e.support not in done and getattr(e, "simplified", None) is not None]
+    return pairs
 
 
 def accuracy_section(results: Sequence[AnalysisResult]) -> Section | None:
@@ -133,8 +156,9 @@ def _items(value, prefix: str = ""):
 
 def warnings_section(results: Sequence[AnalysisResult], deck=None) -> Section:
     rows = [[r.engine, r.support, str(w)] for r in results for w in r.details.get("warnings", [])]
-    for w in getattr(getattr(deck, "ground_motion", None), "warnings", ()) or ():
-        rows.append(["suite", "-", str(w)])
+    suite = [str(w) for r in results for w in getattr(r, "warnings", ())]
+    suite += [str(w) for w in getattr(getattr(deck, "ground_motion", None), "warnings", ()) or ()]
+    rows += [["suite", "-", w] for w in dict.fromkeys(suite)]
     if not rows:
         return Section("warnings", "Warnings", [Text(["No warnings."])])
     return Section("warnings", "Warnings", [Table("table-warnings", "Warnings of the analyses",
