@@ -188,10 +188,14 @@ def test_criteria_verdict_and_exit_code_as_analyze():
 
 def test_warnings_listed():
     _, _, text, _, results = make_report()
-    assert "No warnings." in text
+    given = [[r.engine, r.support, w] for r in results for w in r.details.get("warnings", [])]
+    if given:
+        assert Parsed(text).tables["table-warnings"][1:] == given
+    else:
+        assert "No warnings." in text
     warned = [replace(results[0], details={**results[0].details, "warnings": ["V_b above rigid"]}), *results[1:]]
     rows = Parsed(make_report(results=warned)[2]).tables["table-warnings"]
-    assert rows[1] == ["exact", "rigid", "V_b above rigid"]
+    assert rows[1] == ["exact", "rigid", "V_b above rigid"] and rows[2:] == given
 
 
 def test_provenance_hashes_and_version():
@@ -213,6 +217,8 @@ def test_method_cites_the_equations_of_the_engines_run():
     for equation in ("[11a-11c]", "[14a]", "[16b]", "[21]", "[28a, 28b]", "[35]"):
         assert equation in text
     assert "Approximate" not in text  # the approximate engine was not run
+    deck, _ = small_run()
+    assert ("improved procedure" in text) == (deck.analysis.simplified.procedure == "improved")
 
 
 runner = CliRunner()

@@ -65,7 +65,8 @@ def build_report(deck, results: Sequence[AnalysisResult], deck_text: str, overri
     if accuracy is not None:
         sections.append(accuracy)
     sections += [warnings_section(results, deck), criteria, figures_section(list(specs)),
-                 method_section([r.engine for r in results]), provenance_section(info)]
+                 method_section([r.engine for r in results], getattr(deck.analysis.simplified, "procedure", "paper")),
+                 provenance_section(info)]
     engines = ", ".join(dict.fromkeys(r.engine for r in results))
     supports = ", ".join(dict.fromkeys(r.support for r in results))
     subtitle = [f"Deck {deck.source}" + (f"; ground motion: {motion}" if motion else ""),

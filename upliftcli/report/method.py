@@ -40,9 +40,21 @@ ENGINES = {
 }
 
 
-def method_section(engines: Sequence[str]) -> Section:
-    """The model and the engines that were run, citing the paper's equations."""
+IMPROVED = (
+    "Uplift support, improved procedure (analysis.procedure = \"improved\", the default; docs/accuracy.md): "
+    "the paper's procedure with the mass-consistent X in [28a] (V_1/V_c instead of (S_a/g)(h_1*/b)), mode 1 "
+    "read at a lengthened period with a short-period gain, the higher modes raised by the uplift severity "
+    "through the h_n* theta'' term of [11a], a combination that correlates them with mode 1, and no response "
+    "above the bonded or rigid-base value; coefficients calibrated against the exact engine on the FEMA P695 "
+    "far-field records. With analysis.procedure = \"paper\" the procedure is Yim and Chopra's [21-35] as above.")
+
+
+def method_section(engines: Sequence[str], procedure: str = "paper") -> Section:
+    """The model and the engines that were run, citing the paper's equations; procedure: the
+    simplified engine's (analysis.procedure)."""
     paragraphs = [MODEL] + [ENGINES[name] for name in dict.fromkeys(engines) if name in ENGINES]
+    if "simplified" in engines and procedure == "improved":
+        paragraphs.insert(paragraphs.index(ENGINES["simplified"]) + 1, IMPROVED)
     paragraphs.append("Reference: Yim and Chopra, \"Simplified earthquake analysis of multistory structures with "
                       "foundation uplift\", Journal of Structural Engineering (ASCE). Equation numbers in brackets are "
                       "the paper's.")
