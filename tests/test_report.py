@@ -154,17 +154,20 @@ def test_accuracy_ratios_simplified_over_exact():
         s = next(r for r in results if r.engine == "simplified" and r.support == support)
         e = next(r for r in results if r.engine == "exact" and r.support == support)
         value = {"V_b": lambda r: r.base_shear, "M_b": lambda r: r.base_moment,
-                 "largest story drift": lambda r: r.peaks["drift"].max(),
+                 "largest story drift ratio": lambda r: r.peaks["drift_ratio"].max(),
                  "roof displacement": lambda r: r.peaks["displacement"][-1]}[label]
         assert (float(simplified), float(exact)) == pytest.approx((value(s), value(e)), rel=1e-4)
         assert float(ratio) == pytest.approx(value(s) / value(e), rel=1e-3)
-    # an accuracy check the engines report themselves is shown instead
-    accuracy = {"uplift": {"exact": 1.0, "ratio": {"base_shear": 0.8}}}
-    marked = [replace(r, details={**r.details, "accuracy": accuracy}) if r.engine == "simplified" else r
-              for r in results]
-    parsed = Parsed(make_report(results=marked)[2])
-    assert "table-accuracy" not in parsed.tables
-    assert ["uplift.ratio.base_shear", "0.8"] in parsed.tables["table-simplified-uplift-accuracy"]
+    # the accuracy object uplift analyze attaches (upliftcli/accuracy.py) is shown instead, as given
+    from upliftcli.accuracy import accuracy
+
+    exact = {r.support: r for r in results if r.engine == "exact"}
+    marked = [replace(r, details={**r.details, "accuracy": accuracy(r, exact[r.support])})
+              if r.engine == "simplified" else r for r in results]
+    given = Parsed(make_report(results=marked)[2]).tables["table-accuracy"][1:]
+    assert given == rows  # the same numbers as the report's own ratios
+    failed = [replace(marked[3], details={**marked[3].details, "accuracy": accuracy(marked[3], ValueError("x"))})]
+    assert Parsed(make_report(results=failed)[2]).tables["table-accuracy"][1][-1] == "not run: x"
     # one engine alone: no accuracy section
     alone = [r for r in results if r.engine == "exact"]
     assert 'id="accuracy"' not in make_report(results=alone)[2]
@@ -227,8 +230,7 @@ runner = CliRunner()
 def test_report_command(tmp_path):
     out = tmp_path / "report.html"
     args = ["report", str(EXAMPLE), "--out", str(out), "-e", "exact", "--support", "uplift"]
-    for setting in SMALL[1:]:
-        args += ["--set", setting]
+    args += [item for setting in SMALL[1:] for item in ("--set", setting)]
     result = runner.invoke(app, args, env={"CI": "true"})
     assert result.exit_code == 0, result.output
     text = out.read_text()
@@ -240,6 +242,12 @@ def test_report_command(tmp_path):
     assert "wrote" in result.stderr
     strict = runner.invoke(app, [*args, "--set", "criteria.drift_ratio=1e-5"], env={"CI": "true"})
     assert strict.exit_code == 3 and "criterion violated" in strict.stderr and "exits with code 3" in out.read_text()
+    small = [item for setting in SMALL[1:] for item in ("--set", setting)]
+    for flag, rows in (("--check", 3 * 4), ("--no-check", 0)):  # the simplified engine alone, as the deck says
+        result = runner.invoke(app, ["report", str(EXAMPLE), "--out", str(out), *small, flag], env={"CI": "true"})
+        assert result.exit_code == 0, result.output
+        tables = Parsed(out.read_text()).tables
+        assert len(tables.get("table-accuracy", [None])[1:]) == rows
     result = runner.invoke(app, ["report", str(EXAMPLE), "--out", str(tmp_path / "r.txt")], env={"CI": "true"})
     assert result.exit_code == 2 and "--out" in result.stderr and ".html" in result.stderr
     np.testing.assert_equal(sorted(p.name for p in tmp_path.iterdir()), ["report.html"])

@@ -20,6 +20,9 @@ def report(
                                      help="Engine(s): simplified, approximate, exact (default: the deck's)."),
     support: list[str] = typer.Option([], "--support",
                                       help="Support condition(s): rigid, bonded, uplift (default: the deck's)."),
+    check: bool = typer.Option(True, "--check/--no-check",
+                               help="With a record: check the simplified engine against the exact engine (as "
+                                    "uplift analyze does) and report simplified/exact."),
 ) -> None:
     """A calculation report a checker can sign: inputs (as given and resolved), derived model, modes,
     results of every engine and support, accuracy check, warnings, criteria verdict, figures, method
@@ -48,6 +51,10 @@ def report(
         raise InputError("--out", str(out), "a file other than the inputs of the run")
     deck_text = deck.read_text(encoding="utf-8")
     results = analysis.run(loaded)
+    if check:
+        from ..accuracy import check_accuracy
+
+        check_accuracy(loaded, results)
     document, specs = build_report(loaded, results, deck_text, overrides, provenance(loaded, ["uplift", *sys.argv[1:]]))
     images = {name: plots.figure_bytes(spec) for name, spec in specs.items()}
     try:
