@@ -1,5 +1,7 @@
 """Figure data (upliftcli.figures) and figure files (upliftcli.plots)."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -119,3 +121,114 @@ def test_plot_figure_writes_png_and_svg(tmp_path):
     with pytest.raises(InputError, match="--plot"):
         plots.plot_figure(spec, tmp_path / "fig.jpg")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fig.png", "fig.svg"]  # no temporary file left
+
+
+# ----------------------------------------------------------------------------- deck values, palette, layout
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "inputs" / "ten_story_elcentro.toml"
+
+
+def test_sweep_marks_the_decks_value_of_the_varied_field():
+    from upliftcli.deck import load_deck
+    from upliftcli.sweep.plan import plan_sweep
+
+    plan = plan_sweep(EXAMPLE, ["building.period=0.8"], ["building.period=0.2:2:4:log"], ["simplified"], ["uplift"])
+    (line,) = [line for line in figures.sweep_figure(plan, []).panels[0].lines if line.axis == "x"]
+    assert line.value == 0.8 and "deck: building.period = 0.8" in line.label  # as --set gives it
+    # a field the deck does not give: derived from the model (k_f from w_v/w_1 = 8)
+    plan = plan_sweep(EXAMPLE, [], ["foundation.k_f=1e8:1e10:3:log"], ["simplified"], ["uplift"])
+    deck = load_deck(EXAMPLE)
+    assert figures.nominal_value(plan, "foundation.k_f") == pytest.approx(deck.system.foundation.stiffness)
+    assert figures.nominal_value(plan, "foundation.mat_mass") == 0.0
+    assert figures.nominal_value(plan, "analysis.combination") is None  # not a number
+    spec = figures.sweep_figure(plan, [])
+    assert all(p.lines[0].value == pytest.approx(deck.system.foundation.stiffness) for p in spec.panels)
+    # the deck's [criteria] drift limit on the drift panel
+    (limit,) = [line for line in spec.panels[2].lines if line.axis == "y"]
+    assert limit.value == deck.criteria["drift_ratio"] == 0.02
+    assert "record elcentro_1940_ns_chopra" in figures.plan_motion_label(plan)
+
+
+def test_paper_figures_mark_the_decks_period_and_name_the_motion():
+    set_ = figures.paper_figures(make_rows(), ["exact", "simplified"], ["rigid", "uplift"], "record X", 0.5)
+    for spec in set_.values():
+        assert spec.title.endswith("record X")
+        assert all(p.lines and p.lines[0].value == 0.5 and p.lines[0].axis == "x" for p in spec.panels)
+    design = {"ground_motion": {"design_spectrum": {"type": "asce7", "sds": 1.0, "sd1": 0.6, "tl": 8.0}}}
+    assert figures.motion_label(design, "deck.toml").startswith("design spectrum ASCE 7-22")
+
+
+def test_many_sweep_lines_take_distinct_colours_and_styles():
+    plan = SweepPlan({}, "deck.toml", "A deck", (), [Vary("foundation.k_f", (1e8, 1e9), "log"),
+                                                     Vary("building.period", tuple(0.1 * k for k in range(1, 9)),
+                                                          "list")], ["simplified"], ["uplift"], [])
+    rows = [{"engine": "simplified", "support": "uplift", "foundation.k_f": k_f, "building.period": 0.1 * p,
+             "base_shear_coefficient": 0.1 * p, "base_moment_coefficient": 0.1, "max_drift_ratio": 0.01,
+             "critical_coefficient": 0.1, "status": "ok"} for p in range(1, 9) for k_f in (1e8, 1e9)]
+    series = figures.sweep_figure(plan, rows).panels[0].series
+    assert len({(s.color, str(s.style)) for s in series}) == len(series) == 9  # 8 lines and b/h_1*
+
+
+def _geometry(figure):
+    """Every axes with its texts inside the figure and clear of the other axes; the legend inside
+    the figure and clear of every axes; the title clear of every axes."""
+    figure.canvas.draw()
+    renderer = figure.canvas.get_renderer()
+    width, height = figure.canvas.get_width_height()
+    boxes = [ax.get_tightbbox(renderer) for ax in figure.axes]
+    for box in boxes:
+        assert box.x0 >= -1 and box.y0 >= -1 and box.x1 <= width + 1 and box.y1 <= height + 1
+    for i, box in enumerate(boxes):
+        for j, ax in enumerate(figure.axes):
+            if i != j:
+                assert not box.overlaps(ax.get_window_extent())
+    for legend in figure.legends:
+        extent = legend.get_window_extent(renderer)
+        assert extent.x0 >= 0 and extent.y0 >= 0 and extent.x1 <= width and extent.y1 <= height
+        assert all(not extent.overlaps(ax.get_window_extent()) for ax in figure.axes)
+    if figure.get_suptitle():
+        title = figure._suptitle.get_window_extent(renderer)
+        assert title.y1 <= height and all(not title.overlaps(ax.get_window_extent()) for ax in figure.axes)
+
+
+@pytest.mark.parametrize("make", [
+    lambda: figures.modal_figure(make_rows(), "simplified", ["rigid", "bonded", "uplift"], "elcentro", 0.5),
+    lambda: figures.support_figure(make_rows(), "exact", ["rigid", "bonded", "uplift"], "base_shear",
+                                   "a record with a long name that takes two lines of the figure title" * 2),
+    lambda: figures.engine_figure(make_rows(), ["exact", "simplified"], ["bonded", "uplift"], "base_shear"),
+], ids=["three-panels", "two-line-title", "two-panels"])
+def test_layout_keeps_texts_inside_and_the_legend_outside_the_data(make):
+    _geometry(plots.line_figure(make()))
+
+
+def test_run_figures_layout_and_plain_log_ticks():
+    from figure_cases import small_run
+
+    from upliftcli.figures.sets import analysis_figures
+
+    deck, results = small_run()
+    specs = analysis_figures(deck, results)
+    assert set(specs) == {"profiles", "modes", "spectrum", "histories_exact", "moment_rotation_exact",
+                          "energy_exact"}
+    for name, spec in specs.items():
+        figure = plots.line_figure(spec)
+        _geometry(figure)
+        for axes in figure.axes:
+            for axis in (axes.xaxis, axes.yaxis):
+                if axis.get_scale() == "log":
+                    texts = [t.get_text() for t in axis.get_ticklabels(which="both") if t.get_text()]
+                    assert texts and all(float(t) > 0 for t in texts), (name, texts)  # 0.1, 0.2, 0.5, 1 ...
+    assert "record" in specs["profiles"].title and deck.title in specs["profiles"].title
+
+
+def test_plot_spectrum_and_figure_bytes(tmp_path):
+    from upliftcli.motion import spectra
+    from upliftcli.motion.records import read_record
+
+    record = read_record(EXAMPLE.parents[1] / "records" / "elcentro_1940_ns_chopra.txt", units="g")
+    spectrum = spectra.response_spectrum(record.acceleration, record.dt, np.geomspace(0.05, 5, 20), [0.05])
+    svg = plots.plot_spectrum(spectrum, tmp_path / "s.svg", record.name).read_text()
+    for words in ("deformation S_d [cm]", "pseudo-velocity S_v [cm/s]", "pseudo-acceleration S_a [g]", "0.2"):
+        assert words in svg
+    spec = figures.support_figure(make_rows(), "exact", ["rigid"], "base_shear")
+    assert plots.figure_bytes(spec).startswith(b"\x89PNG") and b"<svg" in plots.figure_bytes(spec, "svg")

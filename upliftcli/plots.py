@@ -1,31 +1,36 @@
-"""Figures (matplotlib, no pyplot state): record response spectra, and line figures of panels
-(FigureSpec: sweeps and the paper-style spectra over T_1, whose data upliftcli.figures builds).
+"""Drawing of figure data (figures/spec.FigureSpec: sweeps, the paper's spectra over T_1, story
+profiles, mode shapes, histories, energy, record spectra) with matplotlib: the Agg canvas, no
+pyplot state, matplotlib imported only when a figure is drawn.
 
-Every figure is written atomically (upliftcli.atomic); the format follows the file extension.
+One look everywhere: the colour-blind-safe palette of figures/style.py, the legend below the
+panels (outside the data), plain tick labels on log axes (0.1, 0.2, 0.5, 1, 2 ...). The
+layout is computed from fixed margins [in] (a measured layout sizes every text several times:
+a third of the drawing time). Every file is written atomically (upliftcli.atomic); the format
+follows the file extension.
 """
 
 from __future__ import annotations
 
+import io
+import math
 import os
 import textwrap
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from .atomic import atomic_path
 from .errors import InputError
-from .units import STANDARD_GRAVITY
+from .figures.spec import Bars, FigureSpec, Line, Panel, Series, Span  # noqa: F401  (the figure data types)
 
 FIGURE_FORMATS = (".png", ".pdf", ".svg")
+DPI = 150
 
-#: spectrum quantity -> (attribute of spectra.Spectrum, axis label, factor from SI to the plotted unit)
-SPECTRUM_QUANTITIES = {
-    "pseudo_acceleration": ("pseudo_acceleration", "pseudo-acceleration S_a [g]", 1.0 / STANDARD_GRAVITY),
-    "displacement": ("displacement", "deformation S_d [cm]", 100.0),
-    "pseudo_velocity": ("pseudo_velocity", "pseudo-velocity S_v [cm/s]", 100.0),
-    "absolute_acceleration": ("absolute_acceleration", "absolute acceleration [g]", 1.0 / STANDARD_GRAVITY),
-}
+#: layout [in]: one line of a 10-pt title, tick and axis labels below a panel, right margin,
+#: gap between panels sharing an axis, padding, one row of the legend
+_LINE, _BOTTOM, _RIGHT, _SHARED_GAP, _PAD, _LEGEND_ROW = 0.19, 0.6, 0.25, 0.22, 0.12, 0.21
+_CHAR = 0.072  # width of a character of a 10-pt title [in]
+_LEGEND_CHAR, _LEGEND_HANDLE = 0.06, 0.75  # a character of a legend entry, handle and padding [in]
 
 
 def check_figure_path(path: str | os.PathLike, option: str = "--plot") -> Path:
@@ -41,7 +46,7 @@ def new_figure(width: float = 7.0, height: float = 4.5):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    figure = Figure(figsize=(width, height), layout="constrained")
+    figure = Figure(figsize=(width, height))
     FigureCanvasAgg(figure)
     return figure
 
@@ -50,106 +55,175 @@ def save_figure(figure, path: str | os.PathLike, option: str = "--plot") -> Path
     """Write the figure atomically; the format follows the extension."""
     path = check_figure_path(path, option)
     with atomic_path(path) as tmp:
-        figure.savefig(tmp, format=path.suffix.lower().lstrip("."), dpi=150)
+        figure.savefig(tmp, format=path.suffix.lower().lstrip("."), dpi=DPI)
     return path
 
 
-def plot_spectrum(spectrum, path: str | os.PathLike, title: str = "", quantity: str = "pseudo_acceleration",
-                  option: str = "--plot") -> Path:
-    """Plot a spectra.Spectrum: one line per damping, log period axis, labelled units."""
-    attribute, label, factor = SPECTRUM_QUANTITIES[quantity]
-    check_figure_path(path, option)
-    figure = new_figure()
-    axes = figure.add_subplot()
-    values = getattr(spectrum, attribute) * factor
-    periods = np.asarray(spectrum.periods)
-    positive = periods > 0.0
-    for index, damping in enumerate(spectrum.dampings):
-        axes.plot(periods[positive], values[index, positive], label=f"damping {100 * damping:g} %")
-    axes.set_xscale("log")
-    axes.set_xlabel("period T [s]")
-    axes.set_ylabel(label)
-    axes.grid(True, which="both", alpha=0.3)
-    axes.legend()
-    if title:
-        axes.set_title(textwrap.fill(title, 70), fontsize="medium")
-    return save_figure(figure, path, option)
-
-
-# ----------------------------------------------------------------------------- line figures (sweeps, spectra)
-
-@dataclass
-class Series:
-    """One line: label, x and y values (plotted units), line style ("-", "--", ":") and colour."""
-
-    label: str
-    x: np.ndarray
-    y: np.ndarray
-    style: str = "-"
-    color: str | None = None
-
-
-@dataclass
-class Panel:
-    """One axes: title, y-axis label and its lines."""
-
-    title: str
-    ylabel: str
-    series: list[Series] = field(default_factory=list)
-
-
-@dataclass
-class FigureSpec:
-    """A figure of panels sharing the x quantity: title, x label, log axes."""
-
-    title: str
-    xlabel: str
-    panels: list[Panel]
-    xlog: bool = False
-    ylog: bool = False
-
-
 def plot_figure(spec: FigureSpec, path: str | os.PathLike, option: str = "--plot") -> Path:
-    """Draw the panels side by side (at most three a row) and write the figure atomically."""
+    """Draw a FigureSpec and write it atomically."""
     check_figure_path(path, option)
+    return save_figure(line_figure(spec), path, option)
+
+
+def figure_bytes(spec: FigureSpec, file_format: str = "png", dpi: int = 110) -> bytes:
+    """A FigureSpec drawn into memory (png or svg), e.g. to embed in a report."""
+    buffer = io.BytesIO()
+    line_figure(spec).savefig(buffer, format=file_format, dpi=dpi)
+    return buffer.getvalue()
+
+
+def plot_spectrum(spectrum, path: str | os.PathLike, title: str = "", option: str = "--plot") -> Path:
+    """Plot a spectra.Spectrum: S_d, S_v and S_a panels, one line per damping, log period axis."""
+    from .figures.spectra import record_spectrum_figure
+
+    return plot_figure(record_spectrum_figure(spectrum, title), path, option)
+
+
+# ----------------------------------------------------------------------------- layout
+
+def _wrap(text: str, width_in: float) -> str:
+    return textwrap.fill(text, max(12, int(width_in / _CHAR))) if text else ""
+
+
+def _legend_shape(labels: list[str], width_in: float) -> tuple[int, int]:
+    """(columns, rows) of a legend of these entries across width_in [in]."""
+    if not labels:
+        return 0, 0
+    entry = _LEGEND_HANDLE + _LEGEND_CHAR * max(len(label) for label in labels)
+    columns = max(1, min(len(labels), int(width_in // entry)))
+    return columns, math.ceil(len(labels) / columns)
+
+
+def line_figure(spec: FigureSpec):
+    """The matplotlib Figure of a FigureSpec: panels in rows of at most spec.columns, the
+    figure title on top, one legend of every labelled item below the panels."""
     count = max(1, len(spec.panels))
-    columns = min(count, 3)
+    columns = max(1, min(count, spec.columns))
     rows = -(-count // columns)
-    figure = new_figure(4.6 * columns + 0.6, 3.9 * rows + 0.5)
+    panel_w, panel_h = spec.panel_size
+    gap_x = _SHARED_GAP if spec.sharey else spec.left
+    width = spec.left + columns * panel_w + (columns - 1) * gap_x + _RIGHT
+    titles = [_wrap(panel.title, panel_w) for panel in spec.panels]
+    title_lines = max((t.count("\n") + 1 for t in titles if t), default=0)
+    head = _PAD + _LINE * title_lines  # above each panel
+    below = [(_PAD if spec.sharex and row < rows - 1 else _BOTTOM) for row in range(rows)]
+    suptitle = _wrap(spec.title, width - 0.3)
+    top = (_PAD + _LINE * (suptitle.count("\n") + 1)) if suptitle else 0.0
+    labels = spec.labels()
+    legend_columns, legend_rows = _legend_shape(labels, width - 0.2)
+    legend = (_PAD + _LEGEND_ROW * legend_rows) if legend_rows else 0.0
+    height = top + sum(head + panel_h + b for b in below) + legend + _PAD
+    figure = new_figure(width, height)
+    axes_list = []
     for index, panel in enumerate(spec.panels):
-        axes = figure.add_subplot(rows, columns, index + 1)
+        row, column = divmod(index, columns)
+        x0 = spec.left + column * (panel_w + gap_x)
+        y_top = top + sum(head + panel_h + b for b in below[:row]) + head
+        share = {"sharex": axes_list[0] if spec.sharex and axes_list else None,
+                 "sharey": axes_list[0] if spec.sharey and axes_list else None}
+        axes = figure.add_axes((x0 / width, 1.0 - (y_top + panel_h) / height, panel_w / width, panel_h / height),
+                               **share)
+        _draw_panel(axes, spec, panel, titles[index])
+        if spec.sharey and column > 0:
+            axes.tick_params(labelleft=False)
+            axes.set_ylabel("")
+        if spec.sharex and row < rows - 1 and index + columns < count:
+            axes.tick_params(labelbottom=False)
+            axes.set_xlabel("")
+        axes_list.append(axes)
+    if suptitle:
+        figure.suptitle(suptitle, fontsize="medium", y=1.0 - _PAD / height, va="top")
+    if labels:
+        figure.legend(_handles(spec, labels), labels, loc="lower center", ncol=legend_columns, fontsize="small",
+                      bbox_to_anchor=(0.5, _PAD / 2 / height), frameon=False)
+    return figure
+
+
+# ----------------------------------------------------------------------------- panels
+
+def _draw_panel(axes, spec: FigureSpec, panel: Panel, title: str) -> None:
+    xlog, ylog = spec.panel_xlog(panel), spec.panel_ylog(panel)
+    for span in panel.spans:
+        intervals = np.asarray(span.intervals, dtype=float).reshape(-1, 2)
+        if intervals.size:
+            axes.broken_barh(list(zip(intervals[:, 0], intervals[:, 1] - intervals[:, 0], strict=True)), (0.0, 1.0),
+                             transform=axes.get_xaxis_transform(), facecolor=span.color, alpha=span.alpha,
+                             linewidth=0)
+    for series in panel.series:
+        x, y = np.asarray(series.x, dtype=float), np.asarray(series.y, dtype=float)
+        keep = np.isfinite(x) & np.isfinite(y)
+        if xlog:
+            keep &= x > 0.0
+        if ylog:
+            keep &= y > 0.0
+        marker = series.marker or ("." if keep.sum() < 3 else None)
+        axes.plot(x[keep], y[keep], linestyle=series.style, color=series.color, linewidth=series.width,
+                  marker=marker, markersize=4, alpha=series.alpha)
+    if panel.bars:
+        _draw_bars(axes, panel.bars)
+    for line in panel.lines:
+        if line.value <= 0.0 and (xlog if line.axis == "x" else ylog):
+            continue
+        draw = axes.axvline if line.axis == "x" else axes.axhline
+        draw(line.value, linestyle=line.style, color=line.color, linewidth=1.2)
+    if xlog:
+        axes.set_xscale("log")
+        _plain_log_labels(axes.xaxis)
+    if ylog:
+        axes.set_yscale("log")
+        _plain_log_labels(axes.yaxis)
+    if panel.xmin is not None:
+        axes.set_xlim(left=panel.xmin)
+    if panel.ymin is not None:
+        axes.set_ylim(bottom=panel.ymin)
+    axes.set_xlabel(spec.xlabel if panel.xlabel is None else panel.xlabel)
+    axes.set_ylabel(panel.ylabel)
+    if title:  # placed, not measured: matplotlib's automatic title position sizes every tick label
+        axes.set_title(title, fontsize="medium", y=1.0)
+    axes.grid(True, which="both", alpha=0.3)
+
+
+def _draw_bars(axes, bars: list[Bars]) -> None:
+    """Grouped horizontal bars: one group per category (top to bottom), one bar per member."""
+    categories = list(dict.fromkeys(c for member in bars for c in member.categories))
+    height = 0.8 / len(bars)
+    for k, member in enumerate(bars):
+        where = {c: i for i, c in enumerate(categories)}
+        y = np.array([where[c] for c in member.categories], dtype=float) - 0.4 + height * (k + 0.5)
+        axes.barh(y, member.values, height, color=member.color)
+    axes.set_yticks(np.arange(len(categories)), categories)
+    axes.set_ylim(len(categories) - 0.5, -0.5)
+
+
+def _handles(spec: FigureSpec, labels: list[str]) -> list:
+    """One legend proxy per label: the first item with that label."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    found: dict[str, object] = {}
+    for panel in spec.panels:
+        if not panel.legend:
+            continue
         for series in panel.series:
-            x, y = np.asarray(series.x, dtype=float), np.asarray(series.y, dtype=float)
-            keep = np.isfinite(x) & np.isfinite(y)
-            if spec.xlog:
-                keep &= x > 0.0
-            if spec.ylog:
-                keep &= y > 0.0
-            axes.plot(x[keep], y[keep], linestyle=series.style, color=series.color, label=series.label,
-                      marker="." if keep.sum() < 3 else None)
-        if spec.xlog:
-            axes.set_xscale("log")
-            _plain_log_labels(axes.xaxis)
-        if spec.ylog:
-            axes.set_yscale("log")
-            _plain_log_labels(axes.yaxis)
-        axes.set_xlabel(spec.xlabel)
-        axes.set_ylabel(panel.ylabel)
-        axes.set_title(textwrap.fill(panel.title, 48), fontsize="medium")
-        axes.grid(True, which="both", alpha=0.3)
-        if panel.series:
-            axes.legend(fontsize="small")
-    if spec.title:
-        figure.suptitle(textwrap.fill(spec.title, int(13 * (4.6 * columns + 0.6))), fontsize="medium")
-    return save_figure(figure, path, option)
+            found.setdefault(series.label, Line2D([], [], linestyle=series.style, color=series.color,
+                                                  linewidth=series.width, marker=series.marker, alpha=series.alpha))
+        for line in panel.lines:
+            found.setdefault(line.label, Line2D([], [], linestyle=line.style, color=line.color, linewidth=1.2))
+        for span in panel.spans:
+            found.setdefault(span.label, Patch(facecolor=span.color, alpha=span.alpha, linewidth=0))
+        for member in panel.bars:
+            found.setdefault(member.label, Patch(facecolor=member.color))
+    return [found[label] for label in labels]
 
 
 def _plain_log_labels(axis) -> None:
-    """Log-axis labels as 0.1, 0.2, 0.5, 1, 2 ... instead of powers of ten."""
+    """Log-axis labels as 0.1, 0.2, 0.5, 1, 2 ... instead of powers of ten (the 2 and 5 of
+    each decade only when the axis spans at most 2.5 decades)."""
     from matplotlib.ticker import FuncFormatter
 
     def minor(value, _position) -> str:
-        if value <= 0:
+        low, high = sorted(axis.get_view_interval())
+        if value <= 0 or low <= 0 or math.log10(high / low) > 2.5:
             return ""
         mantissa = value / 10.0 ** np.floor(np.log10(value))
         return f"{value:g}" if any(abs(mantissa - m) < 1e-6 for m in (2.0, 5.0)) else ""

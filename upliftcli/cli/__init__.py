@@ -21,7 +21,7 @@ from ..errors import AnalysisError, InputError
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
 
 #: command modules, registered in this order if present
-COMMAND_MODULES = ("analyze", "record", "sweep")
+COMMAND_MODULES = ("analyze", "record", "sweep", "report")
 
 
 class UpliftGroup(TyperGroup):

@@ -17,7 +17,7 @@ from ..accuracy import check_accuracy
 from ..deck import load_deck
 from ..errors import InputError
 from ..output import results_document, to_json, to_jsonable, write_histories, write_results
-from . import render
+from . import plotting, render
 
 SET_HELP = "Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values)."
 
@@ -56,6 +56,8 @@ def analyze(
         help="With a record: also run the exact engine for the supports the simplified engine ran (about "
              "10 ms each) and report simplified/exact for V_b, M_b, the largest drift ratio and the roof "
              "displacement."),
+    plot: Path | None = typer.Option(None, "--plot", help=plotting.PLOT_HELP),
+    plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
 ) -> None:
     """Peak story shears, drifts, displacements and the uplift verdict of a deck (or of several decks).
 
@@ -64,6 +66,9 @@ def analyze(
     """
     if out is not None and out.exists() and not out.is_dir():
         raise InputError("--out", str(out), "a directory (a file of that name exists)")
+    formats = plotting.check_plot(plot, plot_format)
+    if plot is not None and len(decks) > 1:
+        raise InputError("--plot", str(plot), f"a single deck ({len(decks)} decks given)")
     if len(decks) > 1:
         _analyze_batch(decks, _overrides(settings, engine, support), output_format, out)
         return
@@ -73,13 +78,18 @@ def analyze(
         _check_histories(histories, loaded)
         loaded = replace(loaded, analysis=replace(loaded.analysis, exact=replace(loaded.analysis.exact,
                                                                                   histories=True)))
+    if plot is not None:
+        loaded = plotting.keep_histories(loaded)
     results = analysis.run(loaded)
     if check:
         check_accuracy(loaded, results)
     _warn_suite(results)
     _warn(results)
+    if plot is not None:
+        plotting.analysis_plots(results, loaded, plot, deck.stem, formats)
     if histories is not None:
         _write_histories(histories, results)
+    plotting.drop_histories(results)
     if output_format is OutputFormat.json:
         typer.echo(to_json(results, loaded.source, loaded.title), nl=False)
     else:
@@ -204,10 +214,16 @@ def modes(
     deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f", help="table or json."),
+    plot: Path | None = typer.Option(None, "--plot", help="Also draw the mode shapes (T_n, m_n*/m_t) into this "
+                                     "directory as <deck>.modes.png."),
+    plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
 ) -> None:
     """Fixed-base modes: periods, w_n/w_1, effective masses m_n*/m_t (and cumulative), heights h_n*, h_n*/b."""
+    formats = plotting.check_plot(plot, plot_format)
     loaded = load_deck(deck, settings, load_ground_motion=False)
     system = loaded.system
+    if plot is not None:
+        plotting.modes_plots(loaded, plot, deck.stem, formats)
     if output_format is OutputFormat.json:
         m = system.modes
         m_t = system.total_mass

@@ -188,7 +188,8 @@ def sweep(
     summary = sweep_table.summarize(plan, rows)
     written = _write(plan, rows, out, stem, table, summary)
     if plot_path is not None:
-        written.append(plots.plot_figure(figures.sweep_figure(plan, rows), plot_path, "--plot-format"))
+        written.append(plots.plot_figure(figures.sweep_figure(plan, rows, figures.plan_motion_label(plan)),
+                                         plot_path, "--plot-format"))
     if output_format is OutputFormat.json:
         typer.echo(json.dumps(sweep_table.document(plan, rows, summary), indent=1))
     elif not quiet:
@@ -238,9 +239,9 @@ def spectra(
                       retry_failed=False, overwrite=overwrite, quiet=quiet, label="spectra")
     summary = sweep_table.summarize(plan, outcome.rows)
     written = _write(plan, outcome.rows, out, stem, table, summary)
-    record = plan.raw.get("ground_motion", {}).get("record", "")
-    label = Path(record).stem if record else (f"suite of {plan.suite_records} records" if plan.suite_records else "")
-    for figure_name, spec in figures.paper_figures(outcome.rows, plan.engines, plan.supports, label).items():
+    for figure_name, spec in figures.paper_figures(outcome.rows, plan.engines, plan.supports,
+                                                   figures.plan_motion_label(plan),
+                                                   figures.nominal_value(plan, figures.PERIOD_PATH)).items():
         for extension in formats:
             written.append(plots.plot_figure(spec, out / f"{stem}.{figure_name}.{extension}", "--plot-format"))
     if not quiet:

@@ -16,23 +16,108 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 
+from .. import deck_schema as schema
 from ..engines.registry import ENGINES, SUPPORT_LABELS
 from ..errors import InputError
-from ..plots import FigureSpec, Panel, Series
+from ..figures.spec import FigureSpec, Line, Panel, Series
+from ..figures.style import BLUE, ENGINE_STYLES, GREEN, SUPPORT_STYLES, VERMILLION, cycle
 from .plan import SweepPlan, Vary, parse_values
 from .table import OUTPUT_COLUMNS
 
 PERIOD_PATH = "building.period"
 PERIOD_LABEL = "fixed-base fundamental period T_1 [s]"
-SUPPORT_STYLES = {"rigid": ("-", "tab:gray"), "bonded": ("--", "tab:blue"), "uplift": ("-", "tab:red")}
-ENGINE_STYLES = {"exact": ("-", "black"), "approximate": ("--", "tab:orange"), "simplified": (":", "tab:green")}
 #: figure quantity -> row column (sweep/table.py); the axis label is the column's meaning
 QUANTITIES = {"base_shear": "base_shear_coefficient", "base_moment": "base_moment_coefficient",
               "mode1_base_shear": "mode1_base_shear_coefficient",
               "two_mode_base_shear": "two_mode_base_shear_coefficient", "max_drift_ratio": "max_drift_ratio"}
+
+
+NOMINAL_COLOR = "#666666"
+
+
+def nominal_value(plan: SweepPlan, path: str) -> float | None:
+    """The deck's own value of a field (after --set): as the deck gives it, else derived from
+    its model (building.period: T_1; foundation.b, slenderness; the two-element k_f, c_f,
+    frequency_ratio, damping_ratio), else the field's default; None if unknown or not a number."""
+    from ..deck import apply_overrides, build_deck
+
+    raw, _ = apply_overrides(plan.raw, plan.base_overrides)
+    value = raw
+    for part in path.split("."):
+        value = value.get(part) if isinstance(value, dict) else None
+    if value is None:
+        try:
+            system = build_deck(plan.raw, plan.source, plan.base_overrides, load_ground_motion=False).system
+        except InputError:
+            return None
+        value = _derived(system, path)
+    if value is None:
+        table, _, name = path.rpartition(".")
+        found = schema.TABLES.get(table, {}).get(name)
+        value = found.default if found else None
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    return float(value)
+
+
+def _derived(system, path: str) -> float | None:
+    foundation = system.foundation
+    omega_1 = float(system.modes.omega[0])
+    m_t = system.total_mass
+    k_f, c_f = getattr(foundation, "stiffness", None), getattr(foundation, "damping", None)
+    two_element = getattr(foundation, "kind", "") == "two-element"
+    omega_v = np.sqrt(2.0 * k_f / m_t) if two_element else None
+    values = {
+        "building.period": float(system.modes.periods[0]),
+        "foundation.b": system.half_width,
+        "foundation.slenderness": system.effective_height / system.half_width,
+        "foundation.k_f": k_f if two_element else None,
+        "foundation.c_f": c_f if two_element else None,
+        "foundation.frequency_ratio": omega_v / omega_1 if two_element else None,
+        "foundation.damping_ratio": c_f / (m_t * omega_v) if two_element else None,
+    }
+    return values.get(path)
+
+
+def nominal_line(value: float | None, name: str, unit: str = "") -> list[Line]:
+    """A vertical dotted line at the deck's value of the varied field (none if unknown)."""
+    if value is None:
+        return []
+    unit = f" {unit}" if unit and unit != "-" else ""
+    return [Line(value, f"deck: {name} = {value:.4g}{unit}", "x", ":", NOMINAL_COLOR)]
+
+
+def motion_label(raw: dict, source: str) -> str:
+    """The ground motion of a deck, for figure titles: 'record <file stem>', 'design spectrum
+    <name>' or 'suite <folder>, target <name>' (raw: the parsed deck after --set)."""
+    motion = raw.get("ground_motion", {})
+    if not isinstance(motion, dict):
+        return ""
+    if "record" in motion:
+        return f"record {Path(str(motion['record'])).stem}"
+    if "design_spectrum" not in motion:
+        return ""
+    from ..motion.design_spectra import from_mapping
+
+    try:
+        name = from_mapping(motion["design_spectrum"], source, "ground_motion.design_spectrum").name
+    except InputError:
+        name = str(motion["design_spectrum"].get("type", "")) if isinstance(motion["design_spectrum"], dict) else ""
+    if "suite" in motion:
+        suite = motion["suite"]
+        return f"suite {Path(suite).name if isinstance(suite, str) else f'of {len(suite)} records'}, target {name}"
+    return f"design spectrum {name}"
+
+
+def plan_motion_label(plan: SweepPlan) -> str:
+    """motion_label of the plan's deck after its --set overrides."""
+    from ..deck import apply_overrides
+
+    return motion_label(apply_overrides(plan.raw, plan.base_overrides)[0], plan.source)
 
 
 def axis_label(quantity: str) -> tuple[str, str]:
@@ -58,7 +143,7 @@ def curve(rows: Sequence[dict], column: str, x_path: str = PERIOD_PATH, **match)
                     and all(row.get(k) == v for k, v in match.items()))
     if not points:
         return np.empty(0), np.empty(0)
-    x, y = zip(*points)
+    x, y = zip(*points, strict=True)
     return np.array(x), np.array(y)
 
 
@@ -80,8 +165,9 @@ def _with_critical(series: list[Series], rows: Sequence[dict], x_path: str = PER
 
 
 def support_figure(rows: Sequence[dict], engine: str, supports: Sequence[str], quantity: str,
-                   record: str = "") -> FigureSpec:
-    """Figs. 3 (base_shear) and 4 (base_moment): one line per support condition, and b/h_1*."""
+                   record: str = "", nominal: float | None = None) -> FigureSpec:
+    """Figs. 3 (base_shear) and 4 (base_moment): one line per support condition, and b/h_1*;
+    record: the ground motion named in the title; nominal: the deck's T_1 [s], marked."""
     column, label = axis_label(quantity)
     series = []
     for support in supports:
@@ -91,29 +177,35 @@ def support_figure(rows: Sequence[dict], engine: str, supports: Sequence[str], q
     what = "Base shear" if quantity == "base_shear" else "Base overturning moment"
     title = f"{what} response spectra for three support conditions, {ENGINES[engine].label}"
     return FigureSpec(f"{title}{', ' + record if record else ''}", PERIOD_LABEL,
-                      [Panel(what, label, _with_critical(series, rows))], xlog=True, ylog=True)
+                      [Panel(what, label, _with_critical(series, rows), _period_line(nominal))], xlog=True,
+                      ylog=True, columns=1, panel_size=(6.0, 4.0))
 
 
-def modal_figure(rows: Sequence[dict], engine: str, supports: Sequence[str], record: str = "") -> FigureSpec:
+def _period_line(nominal: float | None) -> list[Line]:
+    return nominal_line(nominal, "T_1", "s")
+
+
+def modal_figure(rows: Sequence[dict], engine: str, supports: Sequence[str], record: str = "",
+                 nominal: float | None = None) -> FigureSpec:
     """Fig. 7: per support, the base shear of mode 1, of modes 1-2 (when the engine gives it)
     and of all modes."""
     panels = []
-    for letter, support in zip("abc", supports):
+    for letter, support in zip("abc", supports, strict=False):
         series = []
-        for column, name, style in (("mode1_base_shear_coefficient", "mode 1", "--"),
-                                    ("two_mode_base_shear_coefficient", "modes 1-2", ":"),
-                                    ("base_shear_coefficient", "all modes", "-")):
+        for column, name, style, color in (("mode1_base_shear_coefficient", "mode 1", "--", BLUE),
+                                           ("two_mode_base_shear_coefficient", "modes 1-2", "-.", GREEN),
+                                           ("base_shear_coefficient", "all modes", "-", VERMILLION)):
             x, y = curve(rows, column, engine=engine, support=support)
             if x.size:
-                series.append(Series(name, x, y, style))
+                series.append(Series(name, x, y, style, color))
         panels.append(Panel(f"({letter}) {SUPPORT_LABELS[support]}", axis_label("base_shear")[1],
-                            _with_critical(series, rows)))
+                            _with_critical(series, rows), _period_line(nominal)))
     title = f"Modal contributions to the maximum base shear, {ENGINES[engine].label}"
     return FigureSpec(f"{title}{', ' + record if record else ''}", PERIOD_LABEL, panels, xlog=True, ylog=True)
 
 
 def engine_figure(rows: Sequence[dict], engines: Sequence[str], supports: Sequence[str], quantity: str,
-                  record: str = "") -> FigureSpec:
+                  record: str = "", nominal: float | None = None) -> FigureSpec:
     """Figs. 6, 10 (base_shear) and 8, 9 (mode1_base_shear): one line per engine, a panel per support."""
     column, label = axis_label(quantity)
     panels = []
@@ -123,32 +215,36 @@ def engine_figure(rows: Sequence[dict], engines: Sequence[str], supports: Sequen
             x, y = curve(rows, column, engine=engine, support=support)
             style, color = ENGINE_STYLES[engine]
             series.append(Series(ENGINES[engine].label, x, y, style, color))
-        panels.append(Panel(SUPPORT_LABELS[support], label, _with_critical(series, rows)))
+        panels.append(Panel(SUPPORT_LABELS[support], label, _with_critical(series, rows), _period_line(nominal)))
     what = "fundamental-mode base shear" if quantity == "mode1_base_shear" else "base shear"
     title = f"Comparison of {what} response spectra by {', '.join(engines)} analysis"
     return FigureSpec(f"{title}{', ' + record if record else ''}", PERIOD_LABEL, panels, xlog=True, ylog=True)
 
 
 def paper_figures(rows: Sequence[dict], engines: Sequence[str], supports: Sequence[str],
-                  record: str = "") -> dict[str, FigureSpec]:
+                  record: str = "", nominal: float | None = None) -> dict[str, FigureSpec]:
     """Every figure the rows allow, by file-name suffix: base_shear_<engine> (Fig. 3),
     base_moment_<engine> (Fig. 4), modal_<engine> (Fig. 7), and with two engines or more
-    engines_base_shear (Figs. 6, 10) and engines_mode1_base_shear (Figs. 8, 9)."""
+    engines_base_shear (Figs. 6, 10) and engines_mode1_base_shear (Figs. 8, 9); record: the
+    ground motion named in the titles; nominal: the deck's T_1 [s], marked in every panel."""
     figures = {}
     for engine in engines:
-        figures[f"base_shear_{engine}"] = support_figure(rows, engine, supports, "base_shear", record)
-        figures[f"base_moment_{engine}"] = support_figure(rows, engine, supports, "base_moment", record)
-        figures[f"modal_{engine}"] = modal_figure(rows, engine, supports, record)
+        figures[f"base_shear_{engine}"] = support_figure(rows, engine, supports, "base_shear", record, nominal)
+        figures[f"base_moment_{engine}"] = support_figure(rows, engine, supports, "base_moment", record, nominal)
+        figures[f"modal_{engine}"] = modal_figure(rows, engine, supports, record, nominal)
     if len(engines) > 1:
-        figures["engines_base_shear"] = engine_figure(rows, engines, supports, "base_shear", record)
-        figures["engines_mode1_base_shear"] = engine_figure(rows, engines, supports, "mode1_base_shear", record)
+        figures["engines_base_shear"] = engine_figure(rows, engines, supports, "base_shear", record, nominal)
+        figures["engines_mode1_base_shear"] = engine_figure(rows, engines, supports, "mode1_base_shear", record,
+                                                            nominal)
     return figures
 
 
-def sweep_figure(plan: SweepPlan, rows: Sequence[dict]) -> FigureSpec:
+def sweep_figure(plan: SweepPlan, rows: Sequence[dict], motion: str = "") -> FigureSpec:
     """Response against the first numeric varied field (log axis for a log range): one line per
-    engine, support and value of the other varied fields; panels V_b/(m_t g), M_b/(m_t g h_1*),
-    largest drift ratio; b/h_1* on the first two when it does not depend on the other fields."""
+    engine, support and value of the other varied fields (palette colours, and line styles
+    when they are many); panels V_b/(m_t g), M_b/(m_t g h_1*), largest drift ratio (with the
+    deck's [criteria] drift_ratio limit); b/h_1* on the first two when it does not depend on the
+    other fields; the deck's value of the varied field marked; motion: named in the title."""
     numeric = [v for v in plan.varies if all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v.values)]
     if not numeric:
         raise InputError("--plot", "--vary", "a numeric varied field to plot against")
@@ -159,6 +255,7 @@ def sweep_figure(plan: SweepPlan, rows: Sequence[dict]) -> FigureSpec:
         if row.get("status") == "ok":
             key = (row["engine"], row["support"], *(json.dumps(row.get(p), default=str) for p in others))
             groups.setdefault(key, []).append(row)
+    marks = nominal_line(nominal_value(plan, axis.path), axis.path, axis.unit)
     criticals = {round(float(row["critical_coefficient"]), 12) for row in rows
                  if row.get("status") == "ok" and row.get("critical_coefficient") is not None}
     panels = []
@@ -170,9 +267,14 @@ def sweep_figure(plan: SweepPlan, rows: Sequence[dict]) -> FigureSpec:
             extra = ", ".join(f"{p}={members[0].get(p)}" for p in others)
             series.append(Series(f"{engine}, {support}" + (f", {extra}" if extra else ""), x, y,
                                  SUPPORT_STYLES[support][0]))
+        series = cycle(series)
         if quantity != "max_drift_ratio" and (len(criticals) == 1 or not others):
             series = _with_critical(series, rows, axis.path)
-        panels.append(Panel(label, label, series))
+        lines = list(marks)
+        if quantity == "max_drift_ratio" and "drift_ratio" in plan.criteria:
+            limit = float(plan.criteria["drift_ratio"])
+            lines.append(Line(limit, f"[criteria] limit drift ratio = {limit:g}", "y", ":", VERMILLION))
+        panels.append(Panel(label, label, series, lines))
     unit = f" [{axis.unit}]" if axis.unit and axis.unit != "-" else ""
-    return FigureSpec(f"{plan.title}: sweep of {axis.path}", f"{axis.path}{unit}", panels,
-                      xlog=axis.spacing == "log")
+    return FigureSpec(f"{plan.title}: sweep of {axis.path}{', ' + motion if motion else ''}", f"{axis.path}{unit}",
+                      panels, xlog=axis.spacing == "log")

@@ -1,0 +1,78 @@
+"""`uplift analyze --plot DIR`, `uplift modes --plot DIR` and `uplift record spectrum --plot`
+end to end through typer's test runner."""
+
+import json
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from upliftcli.cli import app
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
+RECORD = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
+SMALL = ["--set", "building.stories=4", "--set", "ground_motion.window=[0, 6]"]
+PNG = b"\x89PNG\r\n\x1a\n"
+
+runner = CliRunner()
+
+
+def invoke(*args):
+    return runner.invoke(app, [str(a) for a in args], env={"CI": "true"})
+
+
+def test_analyze_plot_writes_every_figure_and_keeps_json_free_of_histories(tmp_path):
+    result = invoke("analyze", EXAMPLE, *SMALL, "-e", "exact", "-e", "simplified", "--support", "uplift",
+                    "--plot", tmp_path / "figs", "--format", "json")
+    assert result.exit_code == 0, result.output
+    names = sorted(p.name for p in (tmp_path / "figs").iterdir())
+    assert names == [f"ten_story_elcentro.{n}.png" for n in ("energy_exact", "histories_exact", "modes",
+                                                              "moment_rotation_exact", "profiles", "spectrum")]
+    assert all((tmp_path / "figs" / n).read_bytes().startswith(PNG) for n in names)
+    document = json.loads(result.stdout)
+    assert all("histories" not in r["details"] for r in document["results"])  # kept for the figures only
+    assert "wrote" in result.stderr and "profiles.png" in result.stderr
+
+
+def test_analyze_plot_formats_and_the_simplified_engine_alone(tmp_path):
+    result = invoke("analyze", EXAMPLE, *SMALL, "--plot", tmp_path, "--plot-format", "svg,png")
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        f"ten_story_elcentro.{n}.{e}" for n in ("modes", "profiles", "spectrum") for e in ("png", "svg"))
+    assert "peak story drift ratio" in (tmp_path / "ten_story_elcentro.profiles.svg").read_text()
+
+
+def test_analyze_plot_with_histories_writes_both(tmp_path):
+    result = invoke("analyze", EXAMPLE, *SMALL, "-e", "exact", "--support", "uplift", "--plot", tmp_path,
+                    "--histories", tmp_path / "h.csv")
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "h.csv").read_text().startswith("time [s],")
+    assert (tmp_path / "ten_story_elcentro.histories_exact.png").exists()
+
+
+def test_plot_input_errors(tmp_path):
+    (tmp_path / "file").write_text("x")
+    for args, words in (
+        (("analyze", EXAMPLE, "--plot", tmp_path / "file"), "--plot"),
+        (("analyze", EXAMPLE, "--plot", tmp_path, "--plot-format", "jpg"), "--plot-format"),
+        (("analyze", EXAMPLE, EXAMPLE, "--plot", tmp_path), "a single deck"),
+        (("modes", EXAMPLE, "--plot", tmp_path, "--plot-format", "gif"), "--plot-format"),
+    ):
+        result = invoke(*args)
+        assert result.exit_code == 2, result.output
+        assert words in result.stderr and "Traceback" not in result.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]  # nothing written
+
+
+def test_modes_plot(tmp_path):
+    result = invoke("modes", EXAMPLE, "--plot", tmp_path)
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "ten_story_elcentro.modes.png").read_bytes().startswith(PNG)
+
+
+def test_record_spectrum_plot_has_three_panels(tmp_path):
+    result = invoke("record", "spectrum", RECORD, "--units", "g", "--periods", "0.1:3:12", "--plot",
+                    tmp_path / "s.svg", "--out", tmp_path / "s.csv")
+    assert result.exit_code == 0, result.output
+    svg = (tmp_path / "s.svg").read_text()
+    assert all(words in svg for words in ("S_d [cm]", "S_v [cm/s]", "S_a [g]", "Response spectra"))

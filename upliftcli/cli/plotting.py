@@ -1,0 +1,78 @@
+"""`--plot DIR` of `uplift analyze` and `uplift modes`: check the options before anything runs,
+draw the run's figures (upliftcli.figures.sets) and write them atomically as
+DIR/<deck stem>.<figure>.<format>."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import typer
+
+from ..errors import InputError
+
+PLOT_HELP = ("Also draw the figures into this directory, as <deck>.<figure>.png: story profiles, mode shapes, "
+             "the ground motion's spectra and, for the exact/approximate engines, response histories (paper "
+             "Fig. 5 style), base moment against mat rotation and the energy balance.")
+FORMAT_HELP = "Figure formats with --plot: png, svg, pdf; repeatable or comma list."
+HISTORY_ENGINES = ("exact", "approximate")
+
+
+def check_plot(directory: Path | None, formats: list[str]) -> list[str]:
+    """The figure formats, or InputError: --plot must name a directory (it is created)."""
+    chosen = []
+    for name in (part.strip().lower() for text in formats for part in text.split(",")):
+        if name and name not in ("png", "svg", "pdf"):
+            raise InputError("--plot-format", name, "one of png, svg, pdf")
+        if name and name not in chosen:
+            chosen.append(name)
+    if directory is not None and directory.exists() and not directory.is_dir():
+        raise InputError("--plot", str(directory), "a directory (a file of that name exists)")
+    return chosen or ["png"]
+
+
+def keep_histories(loaded):
+    """The deck with the history engines keeping their histories (ExactOptions.histories)."""
+    if not set(loaded.analysis.engines) & set(HISTORY_ENGINES):
+        return loaded
+    exact = replace(loaded.analysis.exact, histories=True)
+    return replace(loaded, analysis=replace(loaded.analysis, exact=exact))
+
+
+def drop_histories(results) -> None:
+    """Remove the histories kept for the figures from the results, and from each record's result
+    of a suite (they are not output)."""
+    for result in results:
+        result.details.pop("histories", None)
+        for record in getattr(result, "record_results", ()):
+            record.details.pop("histories", None)
+
+
+def write_figures(specs: dict, directory: Path, stem: str, formats: list[str]) -> list[Path]:
+    """Draw every figure and write it as directory/<stem>.<name>.<format>; report each file."""
+    from .. import plots
+
+    written = []
+    for name, spec in specs.items():
+        for extension in formats:
+            path = directory / f"{stem}.{name}.{extension}"
+            try:
+                written.append(plots.plot_figure(spec, path, "--plot"))
+            except OSError as error:
+                raise InputError("--plot", str(path), f"a writable directory ({error.strerror or error})") from None
+            typer.echo(f"wrote {path}", err=True)
+    return written
+
+
+def analysis_plots(results, loaded, directory: Path, stem: str, formats: list[str]) -> list[Path]:
+    """The figures of `uplift analyze` (figures.sets.analysis_figures)."""
+    from ..figures.sets import analysis_figures
+
+    return write_figures(analysis_figures(loaded, results), directory, stem, formats)
+
+
+def modes_plots(loaded, directory: Path, stem: str, formats: list[str]) -> list[Path]:
+    """The mode-shape figure of `uplift modes`."""
+    from ..figures.sets import modes_figures
+
+    return write_figures(modes_figures(loaded), directory, stem, formats)

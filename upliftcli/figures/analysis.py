@@ -1,0 +1,128 @@
+"""Story profiles of peak response (`uplift analyze --plot`): floor displacement, story drift
+ratio (with the deck's [criteria] limit), story shear, overturning moment and floor
+acceleration against the elevation, every engine and support overlaid (support: colour,
+engine: line style); a record suite as its records thin, their statistic thick and the
+result on the target spectrum dashed.
+
+Pure functions of engines/result.AnalysisResult; the values are those of result.peaks in
+the display units of engines/quantities.py.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ..engines.quantities import QUANTITIES, STORY
+from ..engines.result import AnalysisResult
+from .ensemble import ensemble, target_series
+from .spec import FigureSpec, Line, Panel, Series
+from .style import ENGINE_LINES, SUPPORT_COLORS, cycle, scaled_unit
+
+#: the quantities of the profile figure and their panel titles
+PROFILES = {
+    "displacement": "peak floor displacement",
+    "drift_ratio": "peak story drift ratio",
+    "shear": "peak story shear",
+    "moment": "peak overturning moment",
+    "floor_acceleration": "peak floor acceleration",
+}
+ELEVATION_LABEL = "elevation above the mat [m]"
+
+
+def profile_xy(name: str, values: np.ndarray, elevations: np.ndarray, factor: float | None = None
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """(x, y) of a profile of a quantity's peaks (SI, one per floor or story) times factor
+    (default: to its display unit) against the elevation [m]: a story quantity constant over
+    each story (a step, every value twice); the moment at the bottom of each story, zero at
+    the roof; the displacement relative to the mat, zero at the mat; the floor acceleration
+    at the floors."""
+    quantity = QUANTITIES[name]
+    values = np.asarray(values, dtype=float) * (quantity.display[1] if factor is None else factor)
+    levels = np.concatenate(([0.0], np.asarray(elevations, dtype=float)))
+    if name == "moment":
+        return np.append(values, 0.0), levels
+    if quantity.where == STORY:
+        return np.repeat(values, 2), np.repeat(levels, 2)[1:-1]
+    if name == "displacement":
+        return np.concatenate(([0.0], values)), levels
+    return values, levels[1:]  # FLOOR
+
+
+def plotted_unit(name: str, results: Sequence[AnalysisResult]) -> tuple[float, str]:
+    """(factor from SI, unit) of a profile: the display unit (engines/quantities.py), except
+    for forces and moments, in kN or MN (kN m or MN m) by the size of the largest peak."""
+    quantity = QUANTITIES[name]
+    if quantity.unit in ("N", "N m"):
+        largest = max((float(np.max(np.abs(r.peaks[name]))) for r in results if r.peaks.get(name) is not None
+                       and r.peaks[name].size), default=0.0)
+        return scaled_unit(largest, quantity.unit)
+    return quantity.display[1], quantity.display[0]
+
+
+def limit_lines(name: str, criteria: Mapping[str, float] | None, factor: float, unit: str) -> list[Line]:
+    """The deck's [criteria] limit of the quantity (SI) as a vertical line (times factor, in unit)."""
+    if not criteria or name not in criteria:
+        return []
+    value = float(criteria[name]) * factor
+    return [Line(value, f"[criteria] limit {name.replace('_', ' ')} = {value:g} {unit}", "x", ":", "black")]
+
+
+def _label(result: AnalysisResult, engines: set[str]) -> str:
+    return f"{result.engine}, {result.support}" if len(engines) > 1 else result.support
+
+
+def profile_figure(results: Sequence[AnalysisResult], criteria: Mapping[str, float] | None = None,
+                   title: str = "") -> FigureSpec:
+    """One line per result (engine and support) in each panel of PROFILES the results give."""
+    engines = {r.engine for r in results}
+    groups = [(_label(r, engines), r.support, r.engine, [r]) for r in results]
+    return _figure(groups, [], criteria, title, "mean")
+
+
+def suite_profile_figure(records: Sequence[AnalysisResult], statistic: str = "mean",
+                         target: Sequence[AnalysisResult] = (), criteria: Mapping[str, float] | None = None,
+                         title: str = "") -> FigureSpec:
+    """A suite: the results of each record (grouped by engine and support) thin, their
+    statistic ("mean", "max", "median" per floor or story) thick, the results on the target
+    spectrum (e.g. the simplified engine's) dashed."""
+    engines = {r.engine for r in [*records, *target]}
+    grouped: dict[tuple[str, str], list[AnalysisResult]] = {}
+    for result in records:
+        grouped.setdefault((result.engine, result.support), []).append(result)
+    groups = [(_label(members[0], engines), support, engine, members)
+              for (engine, support), members in grouped.items()]
+    return _figure(groups, list(target), criteria, title, statistic)
+
+
+def _figure(groups, target: list[AnalysisResult], criteria, title: str, statistic: str) -> FigureSpec:
+    everything = [r for *_, members in groups for r in members] + target
+    engines = {r.engine for r in everything}
+    panels = []
+    for name in PROFILES:
+        if not any(name in r.peaks for r in everything):
+            continue
+        factor, unit = plotted_unit(name, everything)
+        series: list[Series] = []
+        for label, support, engine, members in groups:
+            members = [r for r in members if name in r.peaks]
+            if not members:
+                continue
+            color, style = SUPPORT_COLORS.get(support), ENGINE_LINES.get(engine, "-")
+            if len(members) == 1:
+                x, y = profile_xy(name, members[0].peaks[name], members[0].elevations, factor)
+                series.append(Series(label, x, y, style, color))
+                continue
+            profiles = [profile_xy(name, r.peaks[name], r.elevations, factor) for r in members]
+            series += ensemble(label, profiles[0][1], np.array([x for x, _ in profiles]), statistic, color,
+                               style, profile=True)
+        for result in target:
+            if name in result.peaks:
+                x, y = profile_xy(name, result.peaks[name], result.elevations, factor)
+                series.append(target_series(f"{_label(result, engines)}: target spectrum", x, y,
+                                            SUPPORT_COLORS.get(result.support, "black")))
+        panels.append(Panel(PROFILES[name], ELEVATION_LABEL, cycle(series), limit_lines(name, criteria, factor, unit),
+                            xlabel=f"{PROFILES[name]} [{unit}]", xmin=0.0, ymin=0.0))
+    return FigureSpec(title or "Peak response over the height", "", panels, columns=len(panels) or 1,
+                      panel_size=(3.0, 4.2), sharey=True)

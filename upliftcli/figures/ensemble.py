@@ -1,0 +1,48 @@
+"""A record suite drawn as one: each record thin, the statistic thick, the target dashed."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from .spec import Series
+
+#: statistics over the records of a suite, by name (the codes take the mean, or the maximum
+#: of fewer records: motion/code_rules.py)
+STATISTICS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
+    "mean": lambda values: np.mean(values, axis=0),
+    "max": lambda values: np.max(values, axis=0),
+    "median": lambda values: np.median(values, axis=0),
+}
+RECORD_WIDTH, STATISTIC_WIDTH, TARGET_WIDTH = 0.7, 2.6, 2.0
+
+
+def statistic_of(values: np.ndarray, statistic: str) -> np.ndarray:
+    """The statistic ("mean", "max" or "median") over the first axis (records)."""
+    if statistic not in STATISTICS:
+        raise ValueError(f"statistic must be one of {', '.join(STATISTICS)}, got {statistic!r}")
+    return STATISTICS[statistic](np.asarray(values, dtype=float))
+
+
+def ensemble(label: str, position: np.ndarray, values: np.ndarray, statistic: str, color: str,
+             style: str = "-", profile: bool = False) -> list[Series]:
+    """One thin line per record (values (k, n): record k at the n positions), then the
+    statistic over the records, thick; profile: the values on the x axis (story profiles)."""
+    values = np.asarray(values, dtype=float)
+    position = np.asarray(position, dtype=float)
+    count = values.shape[0]
+
+    def line(text: str, y: np.ndarray, width: float, alpha: float = 1.0) -> Series:
+        x, y = (y, position) if profile else (position, y)
+        return Series(text, x, y, style, color, width, alpha=alpha)
+
+    lines = [line(f"{label}: each of {count} records" if k == 0 else "", values[k], RECORD_WIDTH, 0.55)
+             for k in range(count)]
+    lines.append(line(f"{label}: {statistic} of {count} records", statistic_of(values, statistic), STATISTIC_WIDTH))
+    return lines
+
+
+def target_series(label: str, x: np.ndarray, y: np.ndarray, color: str) -> Series:
+    """The target (design spectrum, or a result on it), dashed."""
+    return Series(label, np.asarray(x), np.asarray(y), "--", color, TARGET_WIDTH)

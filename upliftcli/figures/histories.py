@@ -1,0 +1,177 @@
+"""Figures of the response-history engines (exact, approximate), from the histories they keep
+when asked (ExactOptions(histories=True): result.details["histories"], signals and units in
+engines/quantities.HISTORY_SIGNALS) and from their energy balance (details["energy"]):
+
+- history_figure: in the style of the paper's Fig. 5, stacked on one time axis, the base
+  shear V_b [14a], the base moment M_b [14b] with +-M_c = m_t g b [16b], the mat rotation
+  theta and the vertical displacement of the mat edges (uplift +), with the intervals in
+  which an edge is lifted shaded (contact_state);
+- moment_rotation_figure: M_b against theta, with +-M_c;
+- energy_figure: the terms of the energy balance (docs/theory.md section 11.6) as bars.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..engines.result import AnalysisResult
+from .spec import Bars, FigureSpec, Line, Panel, Series, Span, spans_of
+from .style import ENGINE_LINES, LIFT_COLORS, SUPPORT_COLORS, cycle, scaled_unit
+
+TIME_LABEL = "time t [s]"
+#: plotted signal -> (history name, SI unit, axis label with {unit}); forces and moments in
+#: kN or MN (kN m or MN m) by their size (style.scaled_unit)
+SIGNALS = {
+    "base_shear": ("base_shear", "N", "base shear V_b [{unit}]"),
+    "base_moment": ("base_moment", "N m", "base moment M_b [{unit}]"),
+    "theta": ("theta", "rad", "mat rotation theta [{unit}]"),
+    "left_edge": ("left_edge_displacement", "m", "edge displacement, up + [{unit}]"),
+    "right_edge": ("right_edge_displacement", "m", "edge displacement, up + [{unit}]"),
+}
+_FIXED_UNITS = {"rad": (1e3, "mrad"), "m": (1e3, "mm")}
+#: energy terms (energy.energy_balance) in the order of the bars, with their labels
+ENERGY_TERMS = {
+    "input": "input work",
+    "structural_damping": "structural damping",
+    "foundation_damping": "foundation damping",
+    "kinetic": "kinetic (change)",
+    "strain": "strain (change)",
+    "foundation_elastic": "foundation elastic (change)",
+    "gravity": "gravity (change)",
+    "residual": "residual",
+}
+
+
+def with_histories(results: Sequence[AnalysisResult]) -> list[AnalysisResult]:
+    """The results that carry response histories."""
+    return [r for r in results if "histories" in r.details]
+
+
+def unit_of(results: Sequence[AnalysisResult], name: str) -> tuple[float, str]:
+    """(factor from SI, unit) of a plotted signal over these results."""
+    key, si, _ = SIGNALS[name]
+    if si in _FIXED_UNITS:
+        return _FIXED_UNITS[si]
+    largest = max((float(np.max(np.abs(r.details["histories"][key]))) for r in results
+                   if key in r.details.get("histories", {}) and len(r.details["histories"][key])), default=0.0)
+    return scaled_unit(largest, si)
+
+
+def axis_label(results: Sequence[AnalysisResult], name: str) -> str:
+    return SIGNALS[name][2].format(unit=unit_of(results, name)[1])
+
+
+def signal(result: AnalysisResult, name: str, factor: float = 1.0) -> tuple[np.ndarray, np.ndarray] | None:
+    """(time [s], signal times factor) of SIGNALS[name] from SI, or None if not recorded."""
+    histories = result.details["histories"]
+    key = SIGNALS[name][0]
+    if key not in histories:
+        return None
+    return np.asarray(histories["time"], dtype=float), np.asarray(histories[key], dtype=float) * factor
+
+
+def lifted(result: AnalysisResult) -> dict[str, np.ndarray]:
+    """Per edge ("left", "right"), whether it is lifted at each sample: bit i of
+    contact_state is element i lifted (element 0 at the left edge, the last at the right)."""
+    histories = result.details["histories"]
+    count = result.element_positions.size
+    if "contact_state" not in histories or count == 0:
+        return {}
+    state = np.asarray(histories["contact_state"])
+    if state.dtype == object:  # more elements than an int64 holds
+        bits = [np.array([(int(s) >> i) & 1 for s in state], dtype=bool) for i in (0, count - 1)]
+    else:
+        bits = [((state.astype(np.int64) >> i) & 1).astype(bool) for i in (0, count - 1)]
+    return dict(zip(("left", "right"), bits, strict=True))
+
+
+def lift_spans(results: Sequence[AnalysisResult]) -> list[Span]:
+    """Shaded intervals in which the left or the right edge of the mat is lifted."""
+    lifting = [r for r in results if any(mask.any() for mask in lifted(r).values())]
+    spans = []
+    for result in lifting:
+        times = np.asarray(result.details["histories"]["time"], dtype=float)
+        for edge, mask in lifted(result).items():
+            prefix = f"{_label(result, results)}: " if len(lifting) > 1 else ""
+            spans.append(Span(f"{prefix}{edge} edge lifted", spans_of(times, mask), LIFT_COLORS[edge]))
+    return spans
+
+
+def _label(result: AnalysisResult, results: Sequence[AnalysisResult]) -> str:
+    return f"{result.engine}, {result.support}" if len({r.engine for r in results}) > 1 else result.support
+
+
+def _line(result: AnalysisResult, results, name: str, suffix: str = "", style: str | None = None) -> Series | None:
+    found = signal(result, name, unit_of(results, name)[0])
+    if found is None:
+        return None
+    return Series(_label(result, results) + suffix, found[0], found[1], style or ENGINE_LINES.get(result.engine, "-"),
+                  SUPPORT_COLORS.get(result.support), 1.0)
+
+
+def critical_lines(results: Sequence[AnalysisResult]) -> list[Line]:
+    """+-M_c = m_t g b [16b] in the unit of the base moment axis."""
+    if not results:
+        return []
+    factor, unit = unit_of(results, "base_moment")
+    m_c = factor * results[0].critical_base_moment
+    return [Line(m_c, f"\u00b1M_c = m_t g b = {m_c:.4g} {unit} [16b]"), Line(-m_c)]
+
+
+def history_figure(results: Sequence[AnalysisResult], title: str = "") -> FigureSpec:
+    """Base shear, base moment (+-M_c), mat rotation and edge displacements against time (the
+    last two for the flexible supports), every result with histories overlaid, the intervals
+    with an edge lifted shaded in every panel."""
+    results = with_histories(results)
+    spans = lift_spans(results)
+    panels = []
+    for name, heading in (("base_shear", "base shear"), ("base_moment", "base overturning moment"),
+                          ("theta", "rotation of the mat")):
+        series = [s for r in results if (s := _line(r, results, name)) is not None]
+        if series:
+            lines = critical_lines(results) if name == "base_moment" else []
+            panels.append(Panel(heading, axis_label(results, name), cycle(series), lines, spans))
+    edges = [s for r in results for name, suffix, style in (("left_edge", ", left edge", "-"),
+                                                              ("right_edge", ", right edge", "--"))
+             if (s := _line(r, results, name, suffix, style)) is not None]
+    if edges:
+        panels.append(Panel("vertical displacement of the mat edges (uplift)", axis_label(results, "left_edge"),
+                            cycle(edges), [Line(0.0, "", "y", "-", "#999999")], spans))
+    return FigureSpec(title or "Response histories", TIME_LABEL, panels, columns=1, panel_size=(9.0, 1.8),
+                      sharex=True)
+
+
+def moment_rotation_figure(results: Sequence[AnalysisResult], title: str = "") -> FigureSpec:
+    """Base moment M_b against the mat rotation theta of the flexible supports, with +-M_c."""
+    results = [r for r in with_histories(results) if "theta" in r.details["histories"]]
+    moment_factor, _ = unit_of(results, "base_moment")
+    series = []
+    for result in results:
+        _, theta = signal(result, "theta", _FIXED_UNITS["rad"][0])
+        _, moment = signal(result, "base_moment", moment_factor)
+        series.append(Series(_label(result, results), theta, moment, ENGINE_LINES.get(result.engine, "-"),
+                             SUPPORT_COLORS.get(result.support), 0.8))
+    panel = Panel("", axis_label(results, "base_moment"), cycle(series), critical_lines(results),
+                  xlabel=axis_label(results, "theta"))
+    return FigureSpec(title or "Base moment against mat rotation", "", [panel], columns=1, panel_size=(6.0, 4.2))
+
+
+def energy_figure(results: Sequence[AnalysisResult], title: str = "") -> FigureSpec:
+    """The energy balance of each history result (input work = dissipated + change of stored
+    energy + residual) as grouped bars [kJ]."""
+    results = [r for r in results if "energy" in r.details]
+    largest = max((abs(float(r.details["energy"].get("input", 0.0))) for r in results), default=0.0)
+    factor, unit = scaled_unit(largest, "J")
+    bars = []
+    for result in results:
+        energy = result.details["energy"]
+        terms = [k for k in ENERGY_TERMS if k in energy]
+        bars.append(Bars(_label(result, results), [ENERGY_TERMS[k] for k in terms],
+                         np.array([factor * energy[k] for k in terms]), SUPPORT_COLORS.get(result.support)))
+    residuals = ", ".join(f"{_label(r, results)} {r.details['energy'].get('relative_residual', np.nan):.1e}"
+                          for r in results)
+    panel = Panel(f"residual / input: {residuals}", "", bars=bars, xlabel=f"energy [{unit}]",
+                  lines=[Line(0.0, "", "x", "-", "#999999")])
+    return FigureSpec(title or "Energy balance", "", [panel], columns=1, panel_size=(7.0, 3.6), left=2.3)

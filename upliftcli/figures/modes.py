@@ -1,0 +1,39 @@
+"""Fixed-base mode shapes (`uplift modes --plot`): one panel per mode, titled with T_n and
+m_n*/m_t (docs/theory.md section 5.1, paper Eq. 9)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.system import System
+from .spec import FigureSpec, Line, Panel, Series
+from .style import BLUE
+
+MAX_MODES = 6  # panels drawn at most (the rest of the table is in `uplift modes`)
+ELEVATION_LABEL = "elevation above the mat [m]"
+
+
+def normalized_shape(shapes: np.ndarray, mode: int) -> np.ndarray:
+    """phi_n scaled to a largest |phi_jn| of 1 with a positive roof value [-]."""
+    phi = np.asarray(shapes[:, mode], dtype=float)
+    phi = phi / np.max(np.abs(phi))
+    return -phi if phi[-1] < 0.0 else phi
+
+
+def mode_shape_figure(system: System, n_modes: int | None = None, title: str = "") -> FigureSpec:
+    """Shapes of the first n_modes (at most MAX_MODES) fixed-base modes against the elevation,
+    zero at the mat; each panel names T_n [s] and m_n*/m_t [-]."""
+    modes = system.modes
+    count = min(n_modes or modes.n_modes, modes.n_modes, MAX_MODES)
+    levels = np.concatenate(([0.0], system.building.heights))
+    m_t = system.total_mass
+    panels = []
+    for n in range(count):
+        phi = np.concatenate(([0.0], normalized_shape(modes.shapes, n)))
+        ratio = modes.effective_mass[n] / m_t
+        panels.append(Panel(f"mode {n + 1}: T_{n + 1} = {modes.periods[n]:.4g} s, m_{n + 1}*/m_t = {ratio:.3f}",
+                            ELEVATION_LABEL, [Series(f"mode {n + 1}", phi, levels, "-", BLUE, 1.8, "o")],
+                            [Line(0.0, "", "x", "-", "#999999")], xlabel="phi_jn / max |phi_jn| [-]",
+                            legend=False, ymin=0.0))
+    return FigureSpec(title or "Fixed-base mode shapes", "", panels, columns=count or 1,
+                      panel_size=(2.4, 4.0), sharey=True)

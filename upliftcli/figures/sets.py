@@ -1,0 +1,120 @@
+"""The figures of a run (`uplift analyze --plot`, `uplift modes --plot`, `uplift report`): figure
+name -> FigureSpec, from a deck and its results (nothing drawn, nothing written here)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..engines.result import AnalysisResult
+from .analysis import profile_figure, suite_profile_figure
+from .histories import energy_figure, history_figure, moment_rotation_figure, with_histories
+from .modes import mode_shape_figure
+from .spec import FigureSpec, Panel, Series
+from .spectra import PERIOD_LABEL, SPECTRUM_PANELS, period_marks, record_spectrum_figure, suite_figure
+from .style import BLUE
+
+SPECTRUM_PERIODS = np.geomspace(0.05, 5.0, 90)  # s
+
+
+def motion_label(deck) -> str:
+    """The deck's ground motion in words: 'record <name>', 'suite of <n> records, target
+    <name>' or 'design spectrum <name>' ('' when none is loaded)."""
+    from ..motion.records import Record
+    from ..motion.suites import Suite
+
+    motion = deck.ground_motion
+    if isinstance(motion, Record):
+        return f"record {motion.name}"
+    if isinstance(motion, Suite):
+        return f"suite of {motion.count} records, target {motion.target.name}"
+    if motion is not None and hasattr(motion, "name"):
+        return f"design spectrum {motion.name}"
+    return ""
+
+
+def _title(deck, what: str) -> str:
+    motion = motion_label(deck)
+    return f"{what}: {deck.title}" + (f", {motion}" if motion else "")
+
+
+def modes_figures(deck) -> dict[str, FigureSpec]:
+    """{"modes": the mode shapes of the deck's building}."""
+    return {"modes": mode_shape_figure(deck.system, title=f"Fixed-base mode shapes: {deck.title}")}
+
+
+def spectrum_figure(deck, results: Sequence[AnalysisResult] = ()) -> FigureSpec | None:
+    """The ground motion's spectra at the building's damping, with T_1 (and T1bar when an
+    engine reports it) marked: a record's S_d, S_v, S_a; a suite's scaled records, their
+    statistic and the target; a design spectrum's S_a. None without a ground motion."""
+    from ..motion.records import Record
+    from ..motion.suites import Suite
+
+    motion = deck.ground_motion
+    xi = float(deck.system.building.damping[0])
+    marks = [("T_1", float(deck.system.modes.periods[0]))]
+    t1bar = next((r.intermediates["T1bar"] for r in results if "T1bar" in r.intermediates), None)
+    if t1bar is not None:
+        marks.append(("T1bar", float(t1bar)))
+    if isinstance(motion, Record):
+        from ..motion.spectra import response_spectrum
+
+        dampings = sorted({xi, 0.05})
+        spectrum = response_spectrum(motion.acceleration, motion.dt, SPECTRUM_PERIODS, dampings)
+        return record_spectrum_figure(spectrum, f"{motion.name} ({deck.title})", periods_marked=marks)
+    if isinstance(motion, Suite):
+        return suite_figure(motion, title=_title(deck, "Response spectra of the suite"))
+    if motion is None or not hasattr(motion, "sa"):
+        return None
+    grid = SPECTRUM_PERIODS
+    low, high = getattr(motion, "period_range", (grid[0], grid[-1]))
+    periods = grid[(grid >= low) & (grid <= high)]
+    _, heading, label, factor = SPECTRUM_PANELS["pseudo_acceleration"]
+    line = Series(f"{motion.name}, damping {100 * xi:g} %", periods, factor * np.asarray(motion.sa(periods, xi)),
+                  "-", BLUE)
+    lines = period_marks(marks)
+    return FigureSpec(f"Design spectrum: {motion.name}", PERIOD_LABEL, [Panel(heading, label, [line], lines, ymin=0.0)],
+                      xlog=True, columns=1, panel_size=(6.0, 3.8))
+
+
+def suite_results(results: Sequence[AnalysisResult]) -> list:
+    """The results of a record suite (engines/suite_result.SuiteResult: each record's result
+    kept)."""
+    return [r for r in results if getattr(r, "record_results", ())]
+
+
+def profiles(deck, results: Sequence[AnalysisResult]) -> FigureSpec:
+    """The story profiles of a run; on a record suite each record thin, the design statistic
+    thick and the simplified engine on the target spectrum dashed (the run's, else the one
+    each suite result carries)."""
+    title = _title(deck, "Peak response over the height")
+    suites = suite_results(results)
+    if not suites:
+        return profile_figure(results, deck.criteria, title)
+    records = [record for result in suites for record in result.record_results]
+    target = [r for r in results if not getattr(r, "record_results", ())]
+    supports = {r.support for r in target}
+    target += [r.simplified for r in suites if getattr(r, "simplified", None) is not None
+               and r.simplified.support not in supports]
+    return suite_profile_figure(records, suites[0].statistic, target, deck.criteria, title)
+
+
+def analysis_figures(deck, results: Sequence[AnalysisResult]) -> dict[str, FigureSpec]:
+    """Story profiles, mode shapes, the ground motion's spectra and, per history engine (of a
+    single record), histories (paper Fig. 5 style), base moment against mat rotation and
+    energy balance."""
+    figures = {"profiles": profiles(deck, results)}
+    figures.update(modes_figures(deck))
+    spectrum = spectrum_figure(deck, results)
+    if spectrum is not None:
+        figures["spectrum"] = spectrum
+    for engine in dict.fromkeys(r.engine for r in with_histories(results)):
+        mine = [r for r in with_histories(results) if r.engine == engine]
+        figures[f"histories_{engine}"] = history_figure(mine, _title(deck, f"Response histories, {engine} engine"))
+        if any("theta" in r.details["histories"] for r in mine):
+            figures[f"moment_rotation_{engine}"] = moment_rotation_figure(
+                mine, _title(deck, f"Base moment against mat rotation, {engine} engine"))
+        if any("energy" in r.details for r in mine):
+            figures[f"energy_{engine}"] = energy_figure(mine, _title(deck, f"Energy balance, {engine} engine"))
+    return figures

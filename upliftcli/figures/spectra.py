@@ -1,0 +1,79 @@
+"""Response spectra of a record (S_d, S_v, S_a panels: `uplift record spectrum --plot`) and of a
+record suite (each scaled record thin, the code's statistic thick, the target dashed, the
+period range shaded); docs/theory.md section 10."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from ..units import STANDARD_GRAVITY
+from .ensemble import ensemble, target_series
+from .spec import FigureSpec, Line, Panel, Series, Span
+from .style import BLACK, GREEN, VERMILLION, cycle
+
+PERIOD_LABEL = "period T [s]"
+#: spectrum quantity -> (attribute of spectra.Spectrum, panel title, axis label, factor from SI)
+SPECTRUM_PANELS = {
+    "displacement": ("displacement", "deformation", "deformation S_d [cm]", 100.0),
+    "pseudo_velocity": ("pseudo_velocity", "pseudo-velocity", "pseudo-velocity S_v [cm/s]", 100.0),
+    "pseudo_acceleration": ("pseudo_acceleration", "pseudo-acceleration", "pseudo-acceleration S_a [g]",
+                            1.0 / STANDARD_GRAVITY),
+}
+
+
+def period_marks(marks: Sequence[tuple[str, float]]) -> list[Line]:
+    """Vertical lines at periods (label, T [s]), each in its own colour and style."""
+    looks = ((":", BLACK), ("--", GREEN), ("-.", VERMILLION))
+    return [Line(float(t), f"{label} = {t:.3g} s", "x", style, color)
+            for (label, t), (style, color) in zip(marks, looks, strict=False)]
+
+
+def record_spectrum_figure(spectrum, title: str = "", quantities: Sequence[str] = tuple(SPECTRUM_PANELS),
+                           periods_marked: Sequence[tuple[str, float]] = ()) -> FigureSpec:
+    """Panels S_d [cm], S_v [cm/s], S_a [g] of a spectra.Spectrum against log T, one line per
+    damping (T = 0 left out of the log axis); periods_marked: (label, T [s]) drawn as
+    vertical lines (e.g. T_1 and T1bar of the deck's building)."""
+    periods = np.asarray(spectrum.periods, dtype=float)
+    marks = period_marks(periods_marked)
+    panels = []
+    for name in quantities:
+        attribute, heading, label, factor = SPECTRUM_PANELS[name]
+        values = np.asarray(getattr(spectrum, attribute)) * factor
+        series = [Series(f"damping {100 * xi:g} %", periods, values[k]) for k, xi in enumerate(spectrum.dampings)]
+        panels.append(Panel(heading, label, cycle(series), list(marks), ymin=0.0))
+    return FigureSpec(f"Response spectra: {title}" if title else "Response spectra", PERIOD_LABEL, panels,
+                      xlog=True, columns=3, panel_size=(4.0, 3.2))
+
+
+def suite_spectrum_figure(periods: np.ndarray, spectra: np.ndarray, statistic: str, target: np.ndarray | None = None,
+                          target_name: str = "target", period_range: tuple[float, float] | None = None,
+                          damping: float = 0.05, title: str = "") -> FigureSpec:
+    """S_a [g] of each scaled record of a suite (spectra (k, n) [m/s^2] at periods [s]) thin,
+    their statistic ("mean", "max") thick, the target S_a [m/s^2] dashed, the period range of
+    the code check shaded."""
+    g = STANDARD_GRAVITY
+    series = ensemble("scaled records", periods, np.asarray(spectra) / g, statistic, BLACK)
+    if target is not None:
+        series.append(target_series(f"target: {target_name}", periods, np.asarray(target) / g, VERMILLION))
+    spans = []
+    if period_range is not None:
+        spans.append(Span(f"period range {period_range[0]:.3g}-{period_range[1]:.3g} s",
+                          np.array([period_range], dtype=float), GREEN, 0.12))
+    panel = Panel(f"pseudo-acceleration, damping {100 * damping:g} %", SPECTRUM_PANELS["pseudo_acceleration"][2],
+                  series, spans=spans, ymin=0.0)
+    return FigureSpec(title or "Response spectra of the suite", PERIOD_LABEL, [panel], xlog=True, columns=1,
+                      panel_size=(7.0, 4.2))
+
+
+def suite_figure(suite, periods: np.ndarray | None = None, title: str = "") -> FigureSpec:
+    """suite_spectrum_figure of a motion.suites.Suite (spectra of its scaled records)."""
+    low, high = suite.period_range
+    if periods is None:
+        periods = np.geomspace(min(0.05, 0.5 * low), max(5.0, 1.5 * high), 90)
+    lo, hi = suite.target.period_range
+    periods = periods[(periods >= lo) & (periods <= hi)] if hi > lo else periods
+    return suite_spectrum_figure(periods, suite.spectra(periods), suite.statistic,
+                                 suite.target.sa(periods, suite.damping), suite.target.name, suite.period_range,
+                                 suite.damping, title or f"{suite.count} records, target {suite.target.name}")

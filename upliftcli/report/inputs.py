@@ -1,0 +1,171 @@
+"""Report sections on what went in: the deck as given and as resolved after --set, the derived
+model (story stiffnesses after period scaling, mat, foundation: k_f, c_f, K_theta, C_theta, b),
+the ground motion and the fixed-base modes."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+
+import numpy as np
+
+from .. import deck_schema as schema
+from ..units import STANDARD_GRAVITY
+from .document import Pre, Section, Table, Text, number
+from .provenance import sha256
+
+
+def _flatten(value, prefix: str):
+    if isinstance(value, dict):
+        for key, item in value.items():
+            yield from _flatten(item, f"{prefix}.{key}" if prefix else key)
+    else:
+        yield prefix, value
+
+
+def inputs_section(deck, deck_text: str, overrides: Sequence[str]) -> Section:
+    """The deck file as given, the --set overrides and every validated field with its unit."""
+    blocks: list = [Pre("deck-as-given", f"The deck as given ({deck.source})", deck_text)]
+    if overrides:
+        blocks.append(Text(["Overrides given on the command line (--set, --engine, --support), applied before "
+                            "validation:"], [str(o) for o in overrides]))
+    else:
+        blocks.append(Text(["No overrides (--set, --engine, --support) were given."]))
+    rows = []
+    for table, fields in deck.values.items():
+        for name, value in fields.items():
+            declared = schema.TABLES.get(table, {}).get(name)
+            path = f"{table}.{name}" if table else name
+            for key, item in _flatten(value, path) if isinstance(value, dict) else [(path, value)]:
+                given = "--set" if path in deck.overridden else "deck"
+                rows.append([key, number(item), declared.unit if declared else "", given,
+                             declared.doc if declared else ""])
+    blocks.append(Table("table-resolved", "The deck as resolved: every field given (after the overrides)",
+                        ["field", "value", "unit", "from", "meaning"], rows,
+                        "Fields not listed take their defaults (docs/deck.md)."))
+    return Section("inputs", "Inputs", blocks)
+
+
+def _foundation_rows(system, omega_1: float) -> list[list[str]]:
+    foundation = system.foundation
+    b = system.half_width
+    rows = [["foundation type", getattr(foundation, "kind", type(foundation).__name__), "-", ""]]
+    units = {"stiffness": "N/m (per element; N/m^2 for Winkler)", "damping": "N s/m (per element; N s/m^2 for Winkler)"}
+    for item in dataclasses.fields(foundation):
+        value = getattr(foundation, item.name)
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            rows.append([item.name, number(value), units.get(item.name, ""), "foundation parameter"])
+    rows += [
+        ["K_theta at w_1", number(foundation.rocking_stiffness(b, omega_1)), "N m/rad",
+         "rocking stiffness [22] at the fixed-base w_1"],
+        ["C_theta at w_1", number(foundation.rocking_damping(b, omega_1)), "N m s/rad",
+         "rocking damping [25] at the fixed-base w_1"],
+        ["k_v", number(foundation.vertical_stiffness(b, omega_1)), "N/m", "vertical stiffness of the foundation"],
+        ["c_v", number(foundation.vertical_damping(b, omega_1)), "N s/m", "vertical damping of the foundation"],
+    ]
+    elements = foundation.contact_elements(b, omega_1)
+    rows.append(["contact elements", str(elements.count), "-",
+                 f"at x = {number(elements.positions.min(), 4)} .. {number(elements.positions.max(), 4)} m, "
+                 f"k_i = {number(elements.stiffness[0])} N/m, c_i = {number(elements.damping[0])} N s/m each"
+                 + ("" if np.ptp(elements.stiffness) == 0 else " (first element)")])
+    return rows
+
+
+def model_section(deck, results: Sequence = ()) -> Section:
+    """The derived model: per story (elevation, mass, stiffness after the period scaling),
+    the whole system (m_t, b, h_1*, V_c, M_c ...) and the foundation (k_f, c_f, K_theta, C_theta)."""
+    system = deck.system
+    building = system.building
+    stiffness = building.story_stiffness
+    story_rows = []
+    for j in range(building.n_stories):
+        story_rows.append([str(j + 1), number(building.heights[j]), number(building.story_heights[j]),
+                           number(building.masses[j]), number(stiffness[j]) if stiffness is not None else "-",
+                           number(building.damping[j], 3)])
+    note = ("Story stiffnesses after scaling to building.period." if "period" in deck.values.get("building", {})
+            else "Story stiffnesses as given.")
+    if stiffness is None:
+        note = "A stiffness matrix was given (no story stiffnesses)."
+    omega_1 = float(system.modes.omega[0])
+    h1 = system.effective_height
+    scalars = [
+        ["m_t", number(system.total_mass), "kg", "total mass (floors and mat)"],
+        ["m_0", number(system.mat_mass), "kg", "mat mass"],
+        ["I_0", number(system.mat_rotary_inertia), "kg m^2", "mat rotary inertia about its centre"],
+        ["I_b", number(float(np.sum(building.masses * building.heights**2)) + system.mat_rotary_inertia), "kg m^2",
+         "rotary inertia about the mat, sum m_j h_j^2 + I_0"],
+        ["L_0", number(system.first_moment), "kg m", "sum m_j h_j"],
+        ["b", number(system.half_width), "m", "mat half-width"],
+        ["h_1*", number(h1), "m", "first-mode effective height [9]"],
+        ["h_1*/b", number(h1 / system.half_width), "-", "slenderness"],
+        ["T_1", number(system.modes.periods[0]), "s", "fixed-base fundamental period"],
+        ["V_c", number(system.critical_base_shear), "N", "critical base shear m_t g b / h_1* [16a]"],
+        ["M_c", number(system.critical_base_moment), "N m", "critical base moment m_t g b [16b]"],
+        ["g", number(system.gravity), "m/s^2", "gravity"],
+    ]
+    used = []
+    for result in results:
+        for name in ("K_theta", "C_theta", "T1bar", "xi1bar", "xi_f"):
+            if name in result.intermediates and not any(row[0] == name for row in used):
+                used.append([name, number(result.intermediates[name]), "", f"as used by the {result.engine} engine"])
+    return Section("model", "Derived model", [
+        Table("table-building", "Building: floors and stories (story j joins floor j-1 and floor j)",
+              ["story", "elevation h_j [m]", "story height [m]", "floor mass m_j [kg]", "story stiffness k_j [N/m]",
+               "damping xi_n [-]"], story_rows, note),
+        Table("table-system", "The system: mat, totals and critical values", ["quantity", "value", "unit", "meaning"],
+              scalars + used),
+        Table("table-foundation", "Foundation", ["quantity", "value", "unit", "meaning"],
+              _foundation_rows(system, omega_1)),
+    ])
+
+
+def motion_section(deck) -> Section:
+    """The ground motion: a record (file, SHA-256, dt, duration, PGA), a suite (each record, its
+    factor, the target) or a design spectrum."""
+    from ..motion.records import Record
+    from ..motion.suites import Suite
+
+    motion = deck.ground_motion
+    g = STANDARD_GRAVITY
+    headers = ["quantity", "value", "unit"]
+    if isinstance(motion, Record):
+        rows = [["record", motion.name, ""], ["file", str(motion.source), ""],
+                ["SHA-256", sha256(motion.source) if motion.source else "-", ""],
+                ["units of the file", motion.units, ""], ["scale factor", number(motion.scale), "-"],
+                ["time step dt", number(motion.dt), "s"], ["points", str(motion.npts), "-"],
+                ["duration", number(motion.duration), "s"], ["PGA", number(motion.pga / g, 4), "g"]]
+        return Section("motion", "Ground motion", [Table("table-motion", "Ground motion record", headers, rows)])
+    if isinstance(motion, Suite):
+        rows = [[str(k + 1), record.name, str(record.source), number(factor, 4), number(record.pga * factor / g, 4),
+                 sha256(record.source) if record.source else "-"]
+                for k, (record, factor) in enumerate(zip(motion.records, motion.factors, strict=True))]
+        text = Text([f"Suite of {motion.count} records, target {motion.target.name}, period range "
+                     f"{number(motion.period_range[0], 4)}-{number(motion.period_range[1], 4)} s, scaling "
+                     f"\"{motion.scaling}\", design value: the {motion.statistic} ({motion.rule.label})."],
+                    list(motion.warnings))
+        return Section("motion", "Ground motion", [text, Table(
+            "table-motion", "Records of the suite", ["record", "name", "file", "factor [-]", "scaled PGA [g]",
+                                                     "SHA-256"], rows)])
+    if motion is None:
+        return Section("motion", "Ground motion", [Text(["No ground motion was loaded."])])
+    xi = float(deck.system.building.damping[0])
+    t1 = float(deck.system.modes.periods[0])
+    rows = [["design spectrum", motion.name, ""], ["S_a(T_1, xi_1)", number(float(motion.sa([t1], xi)[0]) / g, 4), "g"],
+            ["T_1", number(t1), "s"], ["xi_1", number(xi, 3), "-"]]
+    return Section("motion", "Ground motion", [Table("table-motion", "Design spectrum", headers, rows)])
+
+
+def modes_section(deck) -> Section:
+    """Fixed-base modes: T_n, w_n/w_1, m_n*/m_t (and cumulative), h_n*, h_n*/b [6, 9]."""
+    system = deck.system
+    modes = system.modes
+    m_t = system.total_mass
+    cumulative = np.cumsum(modes.effective_mass) / m_t
+    rows = [[str(n + 1), number(modes.periods[n]), number(modes.omega[n] / modes.omega[0], 4),
+             number(modes.effective_mass[n] / m_t, 4), number(cumulative[n], 4), number(modes.effective_height[n]),
+             number(modes.effective_height[n] / system.half_width, 4)] for n in range(modes.n_modes)]
+    note = "" if system.mat_mass == 0 else (f"m_t includes the mat mass m_0: the m_n* add up to the building mass, "
+                                            f"{1 - system.mat_mass / m_t:.4f} m_t.")
+    return Section("modes", "Fixed-base modes", [Table(
+        "table-modes", "Fixed-base modes [6, 9]", ["mode", "T_n [s]", "w_n/w_1 [-]", "m_n*/m_t [-]", "cumulative [-]",
+                                                   "h_n* [m]", "h_n*/b [-]"], rows, note)])

@@ -1,0 +1,210 @@
+"""Report sections on what came out: the results of every engine and support (the tables of
+engines/quantities.py), the accuracy check (simplified against exact), the warnings and the
+[criteria] verdict with the exit code of `uplift analyze`."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, QUANTITIES, SCALARS, STORY, quantities
+from ..engines.result import AnalysisResult
+from .document import Section, Table, Text, number
+
+EXIT_OK, EXIT_CRITERIA = 0, 3
+STORY_QUANTITIES = [q for q in QUANTITIES.values() if q.where in (FLOOR, STORY)]
+#: the quantities of the accuracy check in the report's words (upliftcli/accuracy.py CHECKED)
+ACCURACY_LABELS = {"base_shear": "V_b", "base_moment": "M_b", "max_drift_ratio": "largest story drift ratio",
+                   "roof_displacement": "roof displacement"}
+
+
+def _slug(result: AnalysisResult) -> str:
+    return f"{result.engine}-{result.support}"
+
+
+def _display(quantity, value: float) -> str:
+    _, factor, spec = quantity.display
+    return format(value * factor, spec) if np.isfinite(value) else "-"
+
+
+def summary_table(results: Sequence[AnalysisResult]) -> Table:
+    rows = [[r.engine, r.support, number(1e-3 * r.base_shear), number(r.base_shear_coefficient, 4),
+             number(1e-3 * r.base_moment), number(r.base_moment_coefficient, 4), number(1e-3 * r.critical_base_shear),
+             number(1e-3 * r.critical_base_moment), number(r.critical_coefficient, 4), number(r.uplift)]
+            for r in results]
+    return Table("table-summary", "Summary: base shear V_b [14a] and base moment M_b [14b] of every analysis",
+                 ["engine", "support", "V_b [kN]", "V_b/(m_t g) [-]", "M_b [kN m]", "M_b/(m_t g h_1*) [-]", "V_c [kN]",
+                  "M_c [kN m]", "b/h_1* [-]", "uplift"], rows,
+                 "The critical value of both coefficients is b/h_1* [16a, 16b].")
+
+
+def detail_unit(table: str, name: str) -> str:
+    """Unit of an entry of the uplift summary or the energy balance of the history engines."""
+    if table == "energy":
+        return "-" if name.startswith("relative") else "J"
+    for part, unit in (("rotation", "rad"), ("time", "s"), ("episodes", "-"), ("uplift", "m"),
+                       ("displacement", "m"), ("reaction", "N")):
+        if part in name:
+            return unit
+    return INTERMEDIATES.get(name, ("", ""))[0]
+
+
+def records_table(result) -> Table:
+    """A suite's records (engines/suite_result.SuiteResult): factor and peak response of each."""
+    rows = [[str(k + 1), record.name, number(record.factor, 4), number(1e-3 * r.base_shear),
+             number(1e-3 * r.base_moment), number(100 * r.value("drift_ratio"), 4), number(r.uplift)]
+            for k, (record, r) in enumerate(zip(result.records, result.record_results, strict=True))]
+    rows.append(["", f"{result.statistic} (design value)", "", number(1e-3 * result.base_shear),
+                 number(1e-3 * result.base_moment), number(100 * result.value("drift_ratio"), 4),
+                 f"{result.uplift_count} of {result.count}"])
+    return Table(f"table-{_slug(result)}-records", f"Each record of the suite, {result.engine} engine, "
+                 f"{result.support} support ({result.rule_label or result.rule}: the {result.statistic})",
+                 ["record", "name", "factor [-]", "V_b [kN]", "M_b [kN m]", "largest drift ratio [%]", "uplift"],
+                 rows)
+
+
+def result_tables(result: AnalysisResult) -> list[Table]:
+    """Story table, foundation elements, intermediates and the history engines' extras (for a
+    suite: of its design statistic, and each record's peaks)."""
+    label = f"{getattr(result, 'label', result.engine)} engine, {result.support} support"
+    shown = [q for q in STORY_QUANTITIES if q.name in result.peaks]
+    rows = [[str(j + 1), number(result.elevations[j], 4)] + [_display(q, result.peaks[q.name][j]) for q in shown]
+            for j in range(result.elevations.size - 1, -1, -1)]
+    tables = [Table(f"table-{_slug(result)}-stories", f"Peak response per story, {label} (top story first)",
+                    ["story", "elevation [m]"] + [q.heading for q in shown], rows,
+                    "Floor quantities are those of the floor at the top of the story.")]
+    elements = [q for q in quantities(ELEMENT) if q.name in result.peaks and result.peaks[q.name].size]
+    if elements:
+        rows = [[str(i + 1), number(x, 4)] + [_display(q, result.peaks[q.name][i]) for q in elements]
+                for i, x in enumerate(result.element_positions)]
+        tables.append(Table(f"table-{_slug(result)}-elements", f"Foundation elements, {label}: largest compression",
+                            ["element", "position x [m]"] + [q.heading for q in elements], rows))
+    if result.intermediates:
+        rows = [[name, number(value), *INTERMEDIATES.get(name, ("", ""))]
+                for name, value in result.intermediates.items()]
+        tables.append(Table(f"table-{_slug(result)}-intermediates", f"Intermediate values, {label}",
+                            ["quantity", "value", "unit", "meaning"], rows))
+    for key, caption in (("uplift_summary", "Uplift summary"), ("energy", "Energy balance")):
+        values = result.details.get(key)
+        if values:
+            rows = [[name, number(value), detail_unit(key, name)] for name, value in values.items()]
+            tables.append(Table(f"table-{_slug(result)}-{key.replace('_', '-')}", f"{caption}, {label}",
+                                ["quantity", "value", "unit"], rows))
+    if getattr(result, "record_results", ()):
+        tables.append(records_table(result))
+    return tables
+
+
+def results_section(results: Sequence[AnalysisResult]) -> Section:
+    blocks: list = [summary_table(results)]
+    for result in results:
+        blocks += result_tables(result)
+    return Section("results", "Results", blocks)
+
+
+def accuracy_pairs(results: Sequence[AnalysisResult]) -> list[tuple[AnalysisResult, AnalysisResult]]:
+    """(simplified, exact) result pairs of the same support; on a suite the simplified engine on
+    the target spectrum against the exact design statistic (the one the suite result carries
+    when the simplified engine was not run beside it)."""
+    exact = {r.support: r for r in results if r.engine == "exact"}
+    pairs = [(r, exact[r.support]) for r in results if r.engine == "simplified" and r.support in exact]
+    done = {e.support for _, e in pairs}
+    pairs += [(e.simplified, e) for e in exact.values()
+              if e.support not in done and getattr(e, "simplified", None) is not None]
+    return pairs
+
+
+def accuracy_section(results: Sequence[AnalysisResult]) -> Section | None:
+    """The accuracy check: the engines' own (details["accuracy"], upliftcli/accuracy.py: the
+    simplified engine against the exact engine, per support) when they give it, else
+    simplified/exact of V_b, M_b, the largest drift and the roof displacement for each support
+    both engines ran (on a suite: the simplified engine on the target against the suite's
+    design statistic); None when neither is available."""
+    given = [r.details["accuracy"] for r in results if r.details.get("accuracy")]
+    note = ("SI units: N, N m, m. The exact engine solves the same model without the simplified procedure's "
+            "approximations (docs/theory.md sections 7 and 11); docs/accuracy.md gives the measured spread of "
+            "these ratios.")
+    rows = []
+    if given:
+        for check in given:
+            if "error" in check:
+                rows.append([str(check.get("support", "")), "exact engine", "-", "-", f"not run: {check['error']}"])
+                continue
+            if not all(isinstance(check.get(k), Mapping) for k in ("simplified", "exact", "ratio")):
+                rows += [[str(check.get("support", "")), key, "-", "-", number(value)] for key, value in _items(check)]
+                continue
+            for name, ratio in check["ratio"].items():
+                rows.append([str(check.get("support", "")), ACCURACY_LABELS.get(name, name),
+                             number(check["simplified"].get(name)), number(check["exact"].get(name)),
+                             number(np.nan if ratio is None else ratio, 4)])
+    else:
+        from ..accuracy import CHECKED
+
+        for simplified, exact in accuracy_pairs(results):
+            for name, (_, _, value) in CHECKED.items():
+                a, b = value(simplified), value(exact)
+                rows.append([simplified.support, ACCURACY_LABELS.get(name, name), number(a), number(b),
+                             number(a / b if b else np.nan, 4)])
+    if not rows:
+        return None
+    table = Table("table-accuracy", "Accuracy of the simplified procedure: simplified / exact",
+                  ["support", "quantity", "simplified [SI]", "exact [SI]", "simplified/exact [-]"], rows, note)
+    return Section("accuracy", "Accuracy check", [table])
+
+
+def _items(value, prefix: str = ""):
+    if isinstance(value, Mapping):
+        for key, item in value.items():
+            yield from _items(item, f"{prefix}.{key}" if prefix else str(key))
+    elif isinstance(value, (list, tuple)) and value and isinstance(value[0], Mapping):
+        for k, item in enumerate(value):
+            yield from _items(item, f"{prefix}[{k}]")
+    else:
+        yield prefix, value
+
+
+def warnings_section(results: Sequence[AnalysisResult], deck=None) -> Section:
+    rows = [[r.engine, r.support, str(w)] for r in results for w in r.details.get("warnings", [])]
+    suite = [str(w) for r in results for w in getattr(r, "warnings", ())]
+    suite += [str(w) for w in getattr(getattr(deck, "ground_motion", None), "warnings", ()) or ()]
+    rows += [["suite", "-", w] for w in dict.fromkeys(suite)]
+    if not rows:
+        return Section("warnings", "Warnings", [Text(["No warnings."])])
+    return Section("warnings", "Warnings", [Table("table-warnings", "Warnings of the analyses",
+                                                  ["engine", "support", "warning"], rows)])
+
+
+def criteria_rows(results: Sequence[AnalysisResult], criteria: Mapping) -> tuple[list[list[str]], int]:
+    """One row per result and criterion (value, limit, verdict) and the number violated; the
+    same tests as analysis.check_criteria."""
+    rows, violated = [], 0
+    for result in results:
+        for name, limit in criteria.items():
+            if name == "uplift":
+                ok = limit or not result.uplift
+                rows.append([result.engine, result.support, "uplift", number(result.uplift),
+                             "allowed" if limit else "not allowed", "-", "ok" if ok else "VIOLATED"])
+            else:
+                unit = (QUANTITIES.get(name) or SCALARS[name]).unit
+                value = abs(result.value(name))
+                ok = value <= limit
+                rows.append([result.engine, result.support, name, number(value), number(limit), unit,
+                             "ok" if ok else "VIOLATED"])
+            violated += not ok
+    return rows, violated
+
+
+def criteria_section(results: Sequence[AnalysisResult], criteria: Mapping) -> tuple[Section, str, int]:
+    """(section, verdict, exit code): 0 when every limit holds (or none is set), 3 otherwise."""
+    if not criteria:
+        verdict = "The deck sets no acceptance criteria ([criteria]): `uplift analyze` exits with code 0."
+        return Section("criteria", "Acceptance criteria", [Text([verdict])]), verdict, EXIT_OK
+    rows, violated = criteria_rows(results, criteria)
+    code = EXIT_CRITERIA if violated else EXIT_OK
+    verdict = (f"{violated} acceptance limit{'s' if violated > 1 else ''} of the deck's [criteria] exceeded: "
+               f"`uplift analyze` exits with code {code}." if violated else
+               f"Every acceptance limit of the deck's [criteria] holds: `uplift analyze` exits with code {code}.")
+    table = Table("table-criteria", "Acceptance criteria: the largest |value| of each quantity against its limit",
+                  ["engine", "support", "criterion", "value", "limit", "unit", "verdict"], rows)
+    return Section("criteria", "Acceptance criteria", [Text([verdict]), table]), verdict, code
