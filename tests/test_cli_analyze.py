@@ -147,7 +147,11 @@ def test_missing_deck_file(tmp_path):
 def test_unknown_engine(deck_dir):
     deck = deck_dir / "inputs" / "deck.toml"
     result = invoke("analyze", deck, "--engine", "nonsense")
-    assert result.exit_code == 2 and "analysis.engine" in result.stderr
+    assert result.exit_code == 2 and result.stderr.startswith("error: --engine: nonsense: one of")
+    result = invoke("analyze", deck, "--engine", "EXACT")  # the option is named, not a --set of analysis.engine
+    assert result.exit_code == 2
+    assert result.stderr.strip() == ("error: --engine: EXACT: one of simplified, approximate, exact or all "
+                                     "(names are lower case: 'exact')")
 
 
 def test_main_entry_point_exit_code(deck_dir, monkeypatch, capsys):

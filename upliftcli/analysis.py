@@ -8,16 +8,19 @@ Used by `uplift analyze` and by sweeps; knows nothing of the terminal or files.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from . import analysis_suite
+import numpy as np
+
+from . import analysis_suite, limits
 from .deck import Deck
 from .engines.quantities import QUANTITIES, SCALARS
 from .engines.registry import ENGINES, Engine
 from .engines.result import AnalysisResult
 from .engines.suite_result import SuiteResult
-from .errors import InputError
+from .errors import AnalysisError, InputError
 from .motion.records import Record
 from .motion.suites import Suite
 
@@ -28,7 +31,8 @@ def ground_motion_for(deck: Deck, engine: Engine) -> Any:
     engine needs."""
     if not engine.needs_record:
         if deck.spectrum is None:
-            raise InputError(deck.source, "ground_motion", f"a record or a design spectrum for the {engine.name} engine")
+            raise InputError(deck.source, "ground_motion",
+                             f"a record or a design spectrum for the {engine.name} engine")
         return deck.spectrum
     if isinstance(deck.ground_motion, Suite):
         return deck.ground_motion
@@ -36,6 +40,77 @@ def ground_motion_for(deck: Deck, engine: Engine) -> Any:
         raise InputError(deck.source, "ground_motion.record",
                          f"a record for the {engine.name} engine (a design spectrum serves only the simplified engine)")
     return deck.ground_motion
+
+
+#: deck fields that set the building's frequencies (named for a period out of range)
+BUILDING_PATHS = ("building.period", "building.story_stiffness", "building.story_stiffnesses",
+                  "building.stiffness_matrix", "building.floor_mass", "building.masses", "building.stories")
+
+
+def _foundation_paths(deck: Deck) -> list[str]:
+    return [f"foundation.{name}" for name in type(deck.system.foundation).deck_fields] + \
+        ["foundation.b", "foundation.slenderness", "foundation.mat_mass", "foundation.mat_rotary_inertia"]
+
+
+def check_before_running(deck: Deck, engine: Engine, support: str, motion: Any) -> None:
+    """Limits and derived quantities checked before an engine allocates anything, each
+    refused with an InputError naming the deck field (or --set) that produced it:
+    - response-history engines: internal steps x states within limits.MAX_STEP_STATES;
+    - simplified engine on a record: the modal periods within the record's spectrum range
+      (limits.shortest_period) and, with a flexible support, an effective damping xi1bar < 1 [23]."""
+    if engine.needs_record:
+        _check_step_states(deck, engine, support, motion)
+        return
+    from .motion.spectra import RecordSpectrum
+
+    if isinstance(motion, RecordSpectrum):
+        n_modes = int(deck.analysis.simplified.n_modes or deck.system.modes.n_modes)
+        problem = limits.period_problem(deck.system.modes.periods[:n_modes], motion.record.dt, motion.record.npts)
+        if problem:
+            raise InputError(*deck.blame(*BUILDING_PATHS, "ground_motion.dt"), f"{problem} (modal periods)")
+    if support != "rigid":
+        from .engines.simplified import effective_properties
+
+        try:
+            xi1bar = effective_properties(deck.system, deck.analysis.simplified.effective_properties)["xi1bar"]
+        except (AnalysisError, ArithmeticError, ValueError):
+            return  # the engine reports it
+        if not (math.isfinite(xi1bar) and 0.0 <= xi1bar < 1.0):
+            raise InputError(*deck.blame(*_foundation_paths(deck), "building.damping"),
+                             f"a foundation giving an effective damping ratio xi1bar in [0, 1) [23] (simplified "
+                             f"engine, {support} support), got xi1bar = {xi1bar:.6g}")
+
+
+def _check_step_states(deck: Deck, engine: Engine, support: str, record: Record) -> None:
+    """Internal steps x state size of the exact engine (or the approximate one), estimated
+    from the deck with the engine's own step rule, against limits.MAX_STEP_STATES."""
+    from .engines.approximate import approximate_model
+    from .engines.exact import engine as exact
+    from .engines.exact.statespace import layout
+
+    options = deck.analysis.exact
+    build = approximate_model if engine.name == "approximate" else exact.exact_model
+    try:
+        model = build(deck.system, support, options)
+    except ValueError as error:
+        raise InputError(deck.source, "analysis.exact.n_modes", str(error)) from None
+    samples = record.npts + (math.ceil(options.free_vibration / record.dt) if options.free_vibration > 0 else 0)
+    steps = exact.substeps_for(deck.system, model, record.dt, options) * (samples - 1)
+    problem = limits.step_states_problem(steps, layout(model).n_aug)
+    if problem is None:
+        return
+    governing = exact.governing_period(deck.system, model)
+    by_foundation = governing < 0.999 * float(np.min(2.0 * math.pi / model.omega))  # vertical or rocking period
+    cause = (_foundation_paths(deck) if by_foundation else []) + list(BUILDING_PATHS)
+    knobs = ["analysis.exact.steps_per_period", "analysis.exact.free_vibration", "ground_motion.window",
+             "ground_motion.dt"]
+    if options.time_step:
+        source, path = deck.blame("analysis.exact.time_step", *knobs)
+    else:
+        source, path = deck.blame(*cause, *knobs)
+    raise InputError(source, path, f"{problem}: the shortest governing period is {governing:.3g} s and the record "
+                     f"has {samples:,} samples at dt = {record.dt:g} s; raise analysis.exact.time_step, lower "
+                     "analysis.exact.steps_per_period or shorten the record (ground_motion.window)")
 
 
 def run_batch(decks: Sequence[Deck], engine: str, support: str,
@@ -66,6 +141,7 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
     for k, deck in enumerate(decks):
         try:
             motions[k] = ground_motion_for(deck, chosen)
+            check_before_running(deck, chosen, support, motions[k])
         except InputError as error:
             keep(k, error)
             continue
@@ -74,14 +150,19 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
         groups.setdefault((key, getattr(deck.analysis, chosen.options)), []).append(k)
     for (_, options), members in groups.items():
         motion = motions[members[0]]
-        if isinstance(motion, Suite):
-            batch = analysis_suite.iter_suite_batch(chosen, [decks[k] for k in members], motion, support, options)
-        else:
-            batch = chosen.iter_batch([decks[k].system for k in members], motion, support, options)
-        for j, result in batch:
-            if not chosen.needs_record and isinstance(result, AnalysisResult):
-                result = analysis_suite.with_procedure_warning(result, motion, "modal")
-            keep(members[j], result)
+        try:
+            if isinstance(motion, Suite):
+                batch = analysis_suite.iter_suite_batch(chosen, [decks[k] for k in members], motion, support, options)
+            else:
+                batch = chosen.iter_batch([decks[k].system for k in members], motion, support, options)
+            for j, result in batch:
+                if not chosen.needs_record and isinstance(result, AnalysisResult):
+                    result = analysis_suite.with_procedure_warning(result, motion, "modal")
+                keep(members[j], result)
+        except (ArithmeticError, MemoryError) as error:  # the last guard: magnitudes the checks let through
+            raise AnalysisError(f"{decks[members[0]].source}: the {engine} analysis ({support}) failed with "
+                                f"{type(error).__name__} ({error}); check the magnitudes of the deck's fields"
+                                ) from None
     return out
 
 

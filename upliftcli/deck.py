@@ -23,6 +23,7 @@ import numpy as np
 from . import deck_schema as schema
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from .errors import InputError
+from .limits import MAX_DECK_BYTES, MAX_STORIES, read_limited
 from .model.building import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
 from .model.foundations import FOUNDATIONS, DeckContext
 from .model.system import System
@@ -78,6 +79,18 @@ class Deck:
     values: dict[str, dict[str, Any]] = field(repr=False, default_factory=dict)
     overridden: frozenset[str] = frozenset()
 
+    def blame(self, *paths: str) -> tuple[str, str]:
+        """(source, field) to name for a problem produced by the first of `paths` that was
+        set: by `--set` first, then in the deck file; the first path if none was given."""
+        for path in paths:
+            if path in self.overridden:
+                return "--set", path
+        for path in paths:
+            table, _, name = path.rpartition(".")
+            if name in self.values.get(table, {}):
+                return self.source, path
+        return self.source, paths[0]
+
 
 # ----------------------------------------------------------------------------- overrides
 
@@ -91,11 +104,18 @@ def parse_override(text: str) -> tuple[str, Any]:
         candidates = schema.all_paths()
         raise InputError("--set", path, f"a known deck field{schema.suggestion(path, candidates)}")
     value_text = value_text.strip()
+    if any(not (ch.isprintable() or ch == "\t") for ch in value_text):
+        raise InputError("--set", path, "a value on one line (without line breaks or control characters)")
+    return path, toml_value(value_text)
+
+
+def toml_value(text: str) -> Any:
+    """A command-line value read as a TOML value, else the bare string; nesting too deep
+    for the parser (RecursionError) is kept as the string, which the field check refuses."""
     try:
-        value = tomllib.loads(f"value = {value_text}")["value"]
-    except tomllib.TOMLDecodeError:
-        value = value_text
-    return path, value
+        return tomllib.loads(f"value = {text}")["value"]
+    except (tomllib.TOMLDecodeError, RecursionError):
+        return text
 
 
 def apply_overrides(raw: dict, overrides: Iterable[tuple[str, Any]]) -> tuple[dict, frozenset[str]]:
@@ -134,13 +154,21 @@ def read_toml(path: str | Path) -> dict:
     """Parse a TOML file; InputError with the line on malformed TOML."""
     source = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        text = read_limited(path, MAX_DECK_BYTES).decode("utf-8-sig")  # a byte-order mark is accepted
     except FileNotFoundError:
         raise InputError(source, None, "an existing deck file (file not found)") from None
-    except (OSError, UnicodeDecodeError) as error:
+    except IsADirectoryError:
+        raise InputError(source, None, "a deck file (this is a directory)") from None
+    except OSError as error:
+        raise InputError(source, None, f"a readable UTF-8 TOML file ({error.strerror or error})") from None
+    except UnicodeDecodeError as error:
         raise InputError(source, None, f"a readable UTF-8 TOML file ({error})") from None
+    except ValueError as error:
+        raise InputError(source, None, f"a deck file of {error}") from None
     try:
         return tomllib.loads(text)
+    except RecursionError:
+        raise InputError(source, None, "valid TOML (arrays or tables nested too deeply)") from None
     except tomllib.TOMLDecodeError as error:
         message = str(error)
         match = re.search(r"\(at line (\d+), column \d+\)", message)
@@ -205,6 +233,9 @@ def _building(fields: dict, error) -> Building:
             raise error(f"building.{name}", f"{n} values, one per story, got {length}")
     if n is None:
         raise error("building.stories", "the number of stories (or per-story arrays: masses, story_heights)")
+    if n > MAX_STORIES:
+        name = next(iter(lengths), "stories")
+        raise error(f"building.{name}", f"at most {MAX_STORIES} stories (limit of the tool), got {n}")
 
     def per_story(scalar: str, array: str, unit: str) -> np.ndarray:
         name = _exactly_one(fields, [scalar, array], "building", error)
@@ -240,6 +271,20 @@ def _building(fields: dict, error) -> Building:
         building = shear_building(masses, story_heights, story_stiffness, np.asarray(damping, dtype=float))
     if period is not None:
         building = scale_to_period(building, period)
+    stiffness_field = "building.period" if period is not None else f"building.{stiffness_name}"
+    if not (np.all(np.isfinite(building.stiffness)) and np.all(np.isfinite(building.heights))):
+        raise error(stiffness_field, "a value giving finite story stiffnesses and heights (check the magnitudes "
+                    "of the [building] fields)")
+    try:
+        modes = modal_analysis(building)
+    except (ValueError, np.linalg.LinAlgError, ArithmeticError):
+        modes = None
+    if modes is None or not (np.all(np.isfinite(modes.omega)) and np.all(modes.omega > 0.0)
+                             and np.all(np.isfinite(modes.effective_height))
+                             and modes.effective_height[0] > 0.0):
+        raise error(stiffness_field, "a value giving finite positive frequencies and effective heights "
+                    "(the stiffness matrix is not positive definite in double precision: check the "
+                    "magnitudes of the [building] fields)")
     return building
 
 
@@ -258,6 +303,8 @@ def _system(building: Building, fields: dict, analysis: dict, error) -> System:
         raise error("foundation.b", "the mat half-width b > 0 [m] (missing; or give foundation.slenderness "
                     "= h_1*/b)")
     b = fields["b"] if which == "b" else effective_height / fields["slenderness"]
+    if not (np.isfinite(b) and b > 0.0):
+        raise error(f"foundation.{which}", f"a value giving a finite mat half-width b > 0 [m], got b = {b:g} m")
     mat_mass = fields.get("mat_mass", 0.0)
     total_mass = float(building.masses.sum() + mat_mass)
     for group_table, groups in ALTERNATIVES:
@@ -341,9 +388,30 @@ def _ground_motion(fields: dict, source: str, error, system: System | None = Non
                     "ground_motion.design_spectrum)")
     from .motion import records, spectra
 
-    path = Path(fields["record"])
-    if not path.is_absolute():
-        path = Path(source).parent / path
-    record = records.read_record(path, fields.get("format"), fields.get("units"), fields.get("dt"),
-                                 fields.get("scale", 1.0), fields.get("window"))
+    path = record_path(fields["record"], source)
+    try:
+        record = records.read_record(path, fields.get("format"), fields.get("units"), fields.get("dt"),
+                                     fields.get("scale", 1.0), fields.get("window"))
+    except InputError as bad:
+        # a deck field that does not suit the file is the deck's (or --set's) mistake, not the file's
+        if bad.source == str(path) and bad.location in RECORD_OPTIONS and bad.location in fields:
+            raise error(f"ground_motion.{bad.location}", bad.expected) from None
+        raise
     return record, spectra.RecordSpectrum(record)
+
+
+#: record options of read_record that are deck fields of [ground_motion]
+RECORD_OPTIONS = ("format", "units", "dt", "scale", "window")
+
+
+def record_path(record: str, source: str) -> Path:
+    """The record file named in a deck: relative paths are relative to the deck file; a deck
+    that is a symbolic link is read where it points, so its record is found next to the
+    link's target (as for a copy of the deck), not next to the link."""
+    path = Path(record)
+    if path.is_absolute():
+        return path
+    deck = Path(source)
+    if deck.is_symlink():
+        deck = deck.resolve()
+    return deck.parent / path

@@ -26,7 +26,7 @@ TABLES: dict[str, dict[str, Field]] = {
         "title": Field("string", "-", "a label for the deck, printed with the results"),
     },
     "building": {
-        "stories": Field("integer", "-", "number of stories N (uniform shorthand)", "count"),
+        "stories": Field("integer", "-", "number of stories N (uniform shorthand)", "stories"),
         "floor_mass": Field("number", "kg", "mass of every floor m_j (uniform shorthand)", "positive"),
         "masses": Field("numbers", "kg", "floor masses m_1..m_N, lowest floor first", "positive"),
         "story_height": Field("number", "m", "height of every story (uniform shorthand)", "positive"),

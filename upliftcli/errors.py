@@ -3,6 +3,13 @@
 from __future__ import annotations
 
 
+def one_line(text: str) -> str:
+    """`text` with line breaks (and other control characters) shown as escapes: a message
+    naming a path or value that holds a newline stays on one line."""
+    return "".join(ch if ch.isprintable() or ch == " " else ch.encode("unicode_escape").decode("ascii")
+                   for ch in str(text))
+
+
 class InputError(Exception):
     """Bad user input. The CLI prints str(error) on one line and exits with code 2.
 
@@ -16,9 +23,12 @@ class InputError(Exception):
         self.location = location
         self.expected = expected
         where = f"{self.source}: {location}" if location else self.source
-        super().__init__(f"{where}: {expected}")
+        super().__init__(one_line(f"{where}: {expected}"))
 
 
 class AnalysisError(Exception):
     """An analysis that cannot give a trustworthy number (flight unsupported, non-finite state,
     tolerance not met). The CLI prints it on one line and exits with code 4."""
+
+    def __str__(self) -> str:
+        return one_line(super().__str__())

@@ -15,6 +15,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, NoReturn
 
+from .errors import InputError
+from .limits import MAX_INTEGER, MAX_MAGNITUDE, MAX_STORIES, MIN_MAGNITUDE
+
 
 @dataclass(frozen=True)
 class Field:
@@ -47,6 +50,7 @@ CHECKS: dict[str, tuple[Callable[[Any], bool], str]] = {
     "poisson": (lambda v: 0 <= v < 0.5, "in [0, 0.5)"),
     "count": (lambda v: v >= 1, ">= 1"),
     "two-or-more": (lambda v: v >= 2, ">= 2"),
+    "stories": (lambda v: 1 <= v <= MAX_STORIES, f"from 1 to {MAX_STORIES}"),
     "": (lambda v: True, ""),
 }
 
@@ -64,9 +68,24 @@ def unit_suffix(field: Field) -> str:
     return "" if field.unit == "-" else f" [{field.unit}]"
 
 
+def shown(value: Any, width: int = 80) -> str:
+    """repr(value), cut to about `width` characters (a huge or deeply nested value stays readable)."""
+    text = repr(value)
+    return text if len(text) <= width else f"{text[:width - 5]}...{text[-2:]}"
+
+
 def is_number(value: Any) -> bool:
     """A finite int or float (not a bool)."""
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def in_magnitude(value: float) -> bool:
+    """0, or MIN_MAGNITUDE <= |value| <= MAX_MAGNITUDE (limits.py)."""
+    size = abs(value)
+    return size == 0 or MIN_MAGNITUDE <= size <= MAX_MAGNITUDE
+
+
+MAGNITUDE_WORDS = f"of magnitude {MIN_MAGNITUDE:g} to {MAX_MAGNITUDE:g}"
 
 
 def _qualifier(field: Field) -> str:
@@ -76,34 +95,38 @@ def _qualifier(field: Field) -> str:
 
 def _number(field: Field, value: Any, error: Error, what: str = "a number") -> float:
     if not (is_number(value) and CHECKS[field.check][0](value)):
-        error(f"{what}{_qualifier(field)}{unit_suffix(field)}, got {value!r}")
+        error(f"{what}{_qualifier(field)}{unit_suffix(field)}, got {shown(value)}")
+    if not in_magnitude(value):
+        error(f"{what}{_qualifier(field)} {MAGNITUDE_WORDS}{unit_suffix(field)}, got {shown(value)}")
     return float(value)
 
 
 def _integer(field: Field, value: Any, error: Error) -> int:
     if not isinstance(value, int) or isinstance(value, bool) or not CHECKS[field.check][0](value):
-        error(f"an integer{_qualifier(field)}, got {value!r}")
+        error(f"an integer{_qualifier(field)}, got {shown(value)}")
+    if value > MAX_INTEGER:
+        error(f"an integer{_qualifier(field)} and at most {MAX_INTEGER:,}, got {shown(value)}")
     return int(value)
 
 
 def _bool(field: Field, value: Any, error: Error) -> bool:
     if not isinstance(value, bool):
-        error(f"true or false, got {value!r}")
+        error(f"true or false, got {shown(value)}")
     return value
 
 
 def _string(field: Field, value: Any, error: Error) -> str:
     if not isinstance(value, str):
-        error(f"a string, got {value!r}")
+        error(f"a string, got {shown(value)}")
     if field.choices and value not in field.choices:
-        error(f"one of {', '.join(field.choices)}, got {value!r}{suggestion(value, field.choices)}")
+        error(f"one of {', '.join(field.choices)}, got {shown(value)}{suggestion(value, field.choices)}")
     return value
 
 
 def _strings(field: Field, value: Any, error: Error) -> list[str]:
     items = [value] if isinstance(value, str) else value
     if not isinstance(items, list) or not items or not all(isinstance(i, str) for i in items):
-        error(f"a string or a non-empty array of strings, got {value!r}")
+        error(f"a string or a non-empty array of strings, got {shown(value)}")
     for item in items:
         if field.choices and item not in field.choices:
             error(f"one or more of {', '.join(field.choices)}, got {item!r}{suggestion(item, field.choices)}")
@@ -112,7 +135,7 @@ def _strings(field: Field, value: Any, error: Error) -> list[str]:
 
 def _numbers(field: Field, value: Any, error: Error) -> list[float]:
     if not isinstance(value, list) or not value:
-        error(f"a non-empty array of numbers{_qualifier(field)}{unit_suffix(field)}, got {value!r}")
+        error(f"a non-empty array of numbers{_qualifier(field)}{unit_suffix(field)}, got {shown(value)}")
     return [_number(field, v, error, "every entry a number") for v in value]
 
 
@@ -123,14 +146,18 @@ def _number_or_numbers(field: Field, value: Any, error: Error) -> float | list[f
 def _pair(field: Field, value: Any, error: Error) -> tuple[float, float]:
     if not (isinstance(value, list) and len(value) == 2 and all(is_number(v) for v in value)
             and 0 <= value[0] < value[1]):
-        error(f"[start, end] with 0 <= start < end{unit_suffix(field)}, got {value!r}")
+        error(f"[start, end] with 0 <= start < end{unit_suffix(field)}, got {shown(value)}")
+    if not all(in_magnitude(v) for v in value):
+        error(f"[start, end] {MAGNITUDE_WORDS}{unit_suffix(field)}, got {shown(value)}")
     return (float(value[0]), float(value[1]))
 
 
 def _matrix(field: Field, value: Any, error: Error) -> list[list[float]]:
     if not (isinstance(value, list) and value and all(isinstance(row, list) for row in value)
             and all(len(row) == len(value) for row in value) and all(is_number(v) for row in value for v in row)):
-        error(f"a square array of arrays of numbers{unit_suffix(field)}, got {value!r}")
+        error(f"a square array of arrays of numbers{unit_suffix(field)}, got {shown(value)}")
+    if not all(in_magnitude(v) for row in value for v in row):
+        error(f"a square array of arrays of numbers {MAGNITUDE_WORDS}{unit_suffix(field)}, got {shown(value)}")
     return [[float(v) for v in row] for row in value]
 
 
@@ -144,7 +171,7 @@ def _files(field: Field, value: Any, error: Error) -> str | list:
 
 def _table(field: Field, value: Any, error: Error) -> dict:
     if not isinstance(value, dict):
-        error(f"a table, got {value!r}")
+        error(f"a table, got {shown(value)}")
     return value
 
 
@@ -162,6 +189,26 @@ CHECKERS: dict[str, Callable[[Field, Any, Error], Any]] = {
     "table": _table,
     "files": _files,
 }
+
+
+def parse_choices(texts, choices, option: str) -> list[str]:
+    """Repeated and/or comma-separated names of a command-line option ('all' = every
+    choice), in the order given; names are matched exactly, as in a deck (InputError naming
+    `option` otherwise)."""
+    names: list[str] = []
+    for text in texts:
+        for name in (part.strip() for part in text.split(",")):
+            if not name:
+                continue
+            if name == "all":
+                names.extend(choices)
+            elif name in choices:
+                names.append(name)
+            else:
+                hint = f" (names are lower case: {name.lower()!r})" if name.lower() in choices \
+                    else suggestion(name, choices)
+                raise InputError(option, name, f"one of {', '.join(choices)} or all{hint}")
+    return list(dict.fromkeys(names))
 
 
 def check_value(field: Field, value: Any, error: Error) -> Any:

@@ -16,7 +16,7 @@ import importlib
 import typer
 from typer.core import TyperGroup
 
-from ..errors import AnalysisError, InputError
+from ..errors import AnalysisError, InputError, one_line
 
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
 
@@ -30,12 +30,33 @@ class UpliftGroup(TyperGroup):
     def invoke(self, ctx):
         try:
             return super().invoke(ctx)
+        except USAGE_ERROR as error:  # a bad option value: one line naming the option, not a usage box
+            if type(error).__name__ == "NoArgsIsHelpError":
+                raise
+            typer.echo(f"error: {usage_line(error)}", err=True)
+            raise typer.Exit(EXIT_INPUT) from None
         except InputError as error:
             typer.echo(f"error: {error}", err=True)
             raise typer.Exit(EXIT_INPUT) from None
         except AnalysisError as error:
             typer.echo(f"analysis failed: {error}", err=True)
             raise typer.Exit(EXIT_ANALYSIS) from None
+
+
+#: click's UsageError as typer ships it (the base of typer.BadParameter)
+USAGE_ERROR = next(cls for cls in typer.BadParameter.__mro__ if cls.__name__ == "UsageError")
+
+
+def usage_line(error: Exception) -> str:
+    """'--format: 'xml' is not one of 'table', 'json'.' for click's error of a command-line value."""
+    message = error.message.removeprefix("Value error, ").strip()
+    param = getattr(error, "param", None)
+    if type(error).__name__ == "MissingParameter":
+        message = error.format_message()
+    elif param is not None:
+        names = [name for name in param.opts if name.startswith("--")] or param.opts or [param.name or ""]
+        return one_line(f"{names[0] if param.param_type_name == 'option' else param.human_readable_name}: {message}")
+    return one_line(message)
 
 
 app = typer.Typer(

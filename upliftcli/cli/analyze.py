@@ -14,8 +14,11 @@ from rich.table import Table
 
 from .. import analysis
 from ..accuracy import check_accuracy
-from ..deck import load_deck
+from ..atomic import refuse_inputs
+from ..deck import Deck, load_deck
+from ..engines.registry import ENGINES, SUPPORTS
 from ..errors import InputError
+from ..fields import parse_choices
 from ..output import results_document, to_json, to_jsonable, write_histories, write_results
 from . import plotting, render
 
@@ -28,7 +31,11 @@ class OutputFormat(str, Enum):
 
 
 def _overrides(settings: list[str], engines: list[str], supports: list[str]) -> list[str]:
+    """The --set texts, then --engine and --support (checked here, so that a bad name is
+    reported as the option's, not as a --set of analysis.engine)."""
     overrides = list(settings)
+    engines = parse_choices(engines, tuple(ENGINES), "--engine")
+    supports = parse_choices(supports, SUPPORTS, "--support")
     if engines:
         overrides.append("analysis.engine=" + json.dumps(engines))
     if supports:
@@ -36,13 +43,29 @@ def _overrides(settings: list[str], engines: list[str], supports: list[str]) -> 
     return overrides
 
 
+def input_files(deck: Deck) -> list[str]:
+    """The files a run reads: the deck and its record (outputs must not replace them)."""
+    files = [deck.source]
+    source = getattr(deck.ground_motion, "source", "")
+    if source:
+        files.append(source)
+    return files
+
+
+def result_paths(out: Path, stem: str) -> list[Path]:
+    """The files --out receives for one deck (output.write_results)."""
+    return [out / f"{stem}{suffix}" for suffix in (".json", ".csv", ".toml")]
+
+
 def analyze(
     decks: list[Path] = typer.Argument(..., help="Deck file(s) (TOML), see docs/deck.md; several: one summary table."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     engine: list[str] = typer.Option([], "--engine", "-e",
-                                     help="Engine(s): simplified, approximate, exact (default: the deck's)."),
+                                     help="Engine(s): simplified, approximate, exact or all; repeatable or comma "
+                                          "separated (default: the deck's)."),
     support: list[str] = typer.Option([], "--support",
-                                      help="Support condition(s): rigid, bonded, uplift (default: the deck's)."),
+                                      help="Support condition(s): rigid, bonded, uplift or all; repeatable or comma "
+                                           "separated (default: the deck's)."),
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f",
                                                help="table (terminal) or json (one document on stdout, SI units)."),
     out: Path | None = typer.Option(None, "--out", "-o",
@@ -50,7 +73,9 @@ def analyze(
     histories: Path | None = typer.Option(
         None, "--histories",
         help="Exact/approximate engines: write the response histories to this file (.csv or .npz); with "
-             "several analyses, one file each, named <stem>_<engine>_<support><suffix>."),
+             "several analyses, one file each, named <stem>_<engine>_<support><suffix>. An existing file "
+             "is refused unless --overwrite."),
+    overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing --histories files."),
     check: bool = typer.Option(
         True, "--check/--no-check",
         help="With a record: also run the exact engine for the supports the simplified engine ran (about "
@@ -74,8 +99,10 @@ def analyze(
         return
     deck = decks[0]
     loaded = load_deck(deck, _overrides(settings, engine, support))
+    if out is not None:
+        refuse_inputs(result_paths(out, deck.stem), input_files(loaded), "--out")
     if histories is not None:
-        _check_histories(histories, loaded)
+        _check_histories(histories, loaded, overwrite)
         loaded = replace(loaded, analysis=replace(loaded.analysis, exact=replace(loaded.analysis.exact,
                                                                                   histories=True)))
     if plot is not None:
@@ -103,13 +130,27 @@ def analyze(
         raise typer.Exit(3)
 
 
-def _check_histories(path: Path, loaded) -> None:
+def _history_paths(path: Path, pairs: list[tuple[str, str]]) -> list[Path]:
+    """One file per (engine, support) with histories: `path` alone, else <stem>_<engine>_<support><suffix>."""
+    if len(pairs) == 1:
+        return [path]
+    return [path.with_name(f"{path.stem}_{engine}_{support}{path.suffix}") for engine, support in pairs]
+
+
+def _check_histories(path: Path, loaded: Deck, overwrite: bool) -> None:
     if path.suffix.lower() not in (".csv", ".npz"):
         raise InputError("--histories", str(path), "a file name ending in .csv or .npz")
     if not set(loaded.analysis.engines) & {"exact", "approximate"}:
         raise InputError("--histories", str(path), "an exact or approximate engine (--engine exact)")
     if path.parent.exists() and not path.parent.is_dir():
         raise InputError("--histories", str(path), "a file in an existing directory")
+    pairs = [(e, s) for e in loaded.analysis.engines if e in ("exact", "approximate") for s in loaded.analysis.supports]
+    targets = _history_paths(path, pairs)
+    refuse_inputs(targets, input_files(loaded), "--histories")
+    existing = [target for target in targets if target.exists()]
+    if existing and not overwrite:
+        raise InputError("--histories", str(existing[0]), "a file that does not exist yet (pass --overwrite to "
+                         "replace it)")
 
 
 def _warn_suite(results, prefix: str = "") -> None:
@@ -171,6 +212,9 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
         twice = next(stem for stem in stems if stems.count(stem) > 1)
         raise InputError("--out", str(out), f"decks with different file names ({twice}.toml is given twice)")
     loaded = [load_deck(deck, overrides) for deck in decks]
+    if out is not None:
+        inputs = [path for item in loaded for path in input_files(item)]
+        refuse_inputs([path for deck in decks for path in result_paths(out, deck.stem)], inputs, "--out")
     runs = [(deck, item, analysis.run(item)) for deck, item in zip(decks, loaded)]
     for deck, _, results in runs:
         _warn_suite(results, f"{deck}: ")

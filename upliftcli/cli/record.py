@@ -11,8 +11,8 @@ import typer
 from rich.markup import escape
 from rich.table import Table
 
-from .. import plots
-from ..atomic import write_text
+from .. import limits, plots
+from ..atomic import refuse_inputs, write_text
 from ..errors import InputError
 from ..motion import records, spectra
 from ..units import STANDARD_GRAVITY
@@ -102,7 +102,8 @@ def info(
     displacement = records.ground_displacement(a, record.dt)
     g = STANDARD_GRAVITY
     i_a, i_v, i_d = (int(np.argmax(np.abs(x))) for x in (a, velocity, displacement))
-    periods = np.array(INFO_PERIODS)
+    shortest = limits.shortest_period(record.dt, record.npts)
+    periods = np.array([t for t in INFO_PERIODS if t >= shortest])  # a record with a long dt: fewer rows
     spectrum = spectra.response_spectrum(a, record.dt, periods, dampings)
     out = render.console()
     lines = [
@@ -168,6 +169,10 @@ def spectrum(
     if out is not None and out.is_dir():
         raise InputError("--out", str(out), "a file name (a directory of that name exists)")
     record = _read(file, file_format, units, dt, scale, window)
+    problem = limits.period_problem(period_values, record.dt, record.npts)
+    if problem:
+        raise InputError("--periods", periods, problem)
+    refuse_inputs([path for path in (out, plot) if path is not None], [record.source], "--out/--plot")
     result = spectra.response_spectrum(record.acceleration, record.dt, period_values, dampings)
     text = spectrum_csv(result)
     try:

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..limits import MAX_MAGNITUDE, MAX_RECORD_BYTES, MAX_RECORD_DT, MAX_RECORD_SAMPLES, read_limited
 from ..units import ACCELERATION_UNITS, STANDARD_GRAVITY
 
 _UNIT_ALIASES = {
@@ -106,21 +107,29 @@ def _unit_hint(text: str) -> str | None:
 
 
 def _read_lines(path: Path, source: str) -> list[str]:
+    """The lines of a text record (a UTF-8 byte-order mark is dropped); at most
+    MAX_RECORD_BYTES are read, and a file holding NUL bytes is refused as binary."""
     try:
-        text = path.read_text(encoding="utf-8", errors="replace")
+        data = read_limited(path, MAX_RECORD_BYTES)
     except FileNotFoundError:
         raise InputError(source, None, "an existing record file (file not found)") from None
+    except IsADirectoryError:
+        raise InputError(source, None, "a record file (this is a directory)") from None
     except OSError as error:
-        raise InputError(source, None, f"a readable record file ({error.strerror})") from None
-    lines = text.splitlines()
+        raise InputError(source, None, f"a readable record file ({error.strerror or error})") from None
+    except ValueError as error:
+        raise InputError(source, None, f"a record file of {error}") from None
+    if b"\0" in data:
+        raise InputError(source, None, "a text record file (NUL bytes found: binary data)")
+    lines = data.decode("utf-8-sig", errors="replace").splitlines()
     if not any(line.strip() for line in lines):
         raise InputError(source, None, "acceleration values (the file is empty)")
     return lines
 
 
 def _check_dt(dt: float, source: str, location: str) -> float:
-    if not (math.isfinite(dt) and dt > 0.0):
-        raise InputError(source, location, f"a time step dt > 0 s, got {dt:g}")
+    if not (math.isfinite(dt) and 0.0 < dt <= MAX_RECORD_DT):
+        raise InputError(source, location, f"a time step 0 < dt <= {MAX_RECORD_DT:g} s, got {dt:g}")
     return float(dt)
 
 
@@ -137,8 +146,8 @@ def detect_format(path: str | Path) -> str:
     if suffix == ".csv":
         return "csv"
     try:
-        with path.open(encoding="utf-8", errors="replace") as handle:
-            head = [handle.readline() for _ in range(40)]
+        with path.open("rb") as handle:  # a bounded read: a file without line breaks (/dev/zero) ends too
+            head = handle.read(65536).decode("utf-8-sig", errors="replace").splitlines()[:40]
     except OSError:
         return "text"
     first = next((line for line in head if line.strip()), "")
@@ -176,14 +185,32 @@ def _parse_at2(lines: list[str], source: str) -> tuple[np.ndarray, float, str | 
     return values, dt, units, lines[1].strip()
 
 
+_INTEGER_RE = re.compile(r"[-+]?\d+")
+
+
+def _tokens(line: str, source: str, line_no: int) -> list[str]:
+    """The numbers of a row, separated by blanks and/or commas; a comma between digits
+    alone ('0,05') is refused: it may be a decimal comma, which would split one value in two."""
+    tokens = []
+    for word in line.split():
+        pieces = [piece for piece in word.split(",") if piece]
+        if len(pieces) > 1 and all(_INTEGER_RE.fullmatch(piece) for piece in pieces):
+            raise InputError(source, f"line {line_no}", f"numbers with a decimal point, got {word!r} (a decimal "
+                             "comma? write 0.05, and separate values by blanks)")
+        tokens.extend(pieces)
+    return tokens
+
+
 def _values_row_by_row(lines: list[str], start: int, source: str) -> np.ndarray:
     values: list[float] = []
     for index in range(start, len(lines)):
         line = lines[index]
         if not line.strip() or _is_comment(line):
             continue
-        for token in line.replace(",", " ").split():
+        for token in _tokens(line, source, index + 1):
             values.append(_float(token, source, index + 1))
+        if len(values) > MAX_RECORD_SAMPLES:
+            raise InputError(source, f"line {index + 1}", f"at most {MAX_RECORD_SAMPLES:,} samples (limit of the tool)")
     if not values:
         raise InputError(source, None, "acceleration values after the header (none found)")
     return np.asarray(values, dtype=float)
@@ -249,12 +276,15 @@ def _parse_columns(lines: list[str], source: str, delimiter: str | None, time_co
         time_resolution = max(time_resolution, _resolution(tokens[time_column]))
         values.append(_float(tokens[accel_column], source, index + 1))
         line_numbers.append(index + 1)
+        if len(values) > MAX_RECORD_SAMPLES:
+            raise InputError(source, f"line {index + 1}", f"at most {MAX_RECORD_SAMPLES:,} samples (limit of the tool)")
     if len(values) < 2:
         raise InputError(source, None, "at least two (time, acceleration) rows")
     time = np.asarray(times)
     steps = np.diff(time)
     if not steps[0] > 0.0:
-        raise InputError(source, f"line {line_numbers[1]}", f"increasing times (time step dt > 0 s), got {steps[0]:g} s")
+        raise InputError(source, f"line {line_numbers[1]}",
+                         f"increasing times (time step dt > 0 s), got {steps[0]:g} s")
     # each step must equal the first one, within 0.1 % or the rounding of the printed times (< dt / 2)
     tolerance = min(max(1e-3 * steps[0], 1.01 * time_resolution), 0.5 * steps[0])
     bad = np.flatnonzero(np.abs(steps - steps[0]) > tolerance)
@@ -325,8 +355,17 @@ def read_record(path: str | Path, format: str | None = None, units: str | None =
     elif file_units is not None:
         unit = file_units
     else:
-        raise InputError(source, "units", f"acceleration units {_UNIT_CHOICES} (none given and none in the file header)")
-    acceleration = values * (ACCELERATION_UNITS[unit] * float(scale))
+        raise InputError(source, "units",
+                         f"acceleration units {_UNIT_CHOICES} (none given and none in the file header)")
+    if values.size < 2:
+        raise InputError(source, None, f"at least two acceleration samples, found {values.size}")
+    with np.errstate(over="ignore", invalid="ignore"):
+        acceleration = values * (ACCELERATION_UNITS[unit] * float(scale))
+    peak = float(np.max(np.abs(acceleration)))
+    if not peak <= MAX_MAGNITUDE:
+        raise InputError(source, "scale" if float(scale) != 1.0 else None,
+                         f"accelerations of magnitude at most {MAX_MAGNITUDE:g} m/s^2 after the units ({unit}) "
+                         f"and the scale ({float(scale):g}), got {peak:.3g} m/s^2")
     if window is not None:
         acceleration = _apply_window(acceleration, step, window, source)
     return Record(name=name or path.stem, dt=step, acceleration=acceleration, source=source, units=unit,
@@ -340,8 +379,9 @@ def _apply_window(acceleration: np.ndarray, dt: float, window: tuple[float, floa
         raise InputError(source, "window", f"0 <= start < end [s], got ({start:g}, {end:g})")
     if start > duration:
         raise InputError(source, "window", f"a start time within the record (0 to {duration:g} s), got {start:g}")
-    first = int(math.ceil(start / dt - 1e-9))
-    last = min(int(math.floor(end / dt + 1e-9)), acceleration.size - 1)
+    end = min(end, duration)  # an end past the record keeps the rest of it
+    first = math.ceil(start / dt - 1e-9)
+    last = min(math.floor(end / dt + 1e-9), acceleration.size - 1)
     if last - first < 1:
         raise InputError(source, "window", f"a window holding at least two samples (dt = {dt:g} s)")
     return acceleration[first:last + 1].copy()

@@ -36,6 +36,7 @@ from ..analysis import ground_motion_for
 from ..deck import Deck, build_deck, parse_override, read_toml
 from ..engines.registry import ENGINES
 from ..errors import InputError
+from ..fields import parse_choices  # noqa: F401 - part of this module's interface
 from ..motion.suites import Suite
 
 #: deck fields that are case dimensions of their own, not --vary paths
@@ -117,22 +118,6 @@ def parse_vary(text: str, option: str = "--vary") -> Vary:
         raise InputError(option, path, f"a known deck field{schema.suggestion(path, schema.all_paths())}")
     values, spacing = parse_values(values_text, f"{option} {path}")
     return Vary(path, tuple(values), spacing)
-
-
-def parse_choices(texts: Sequence[str], choices: Sequence[str], option: str) -> list[str]:
-    """Repeated and/or comma-separated names ('all' = every choice), in the order given."""
-    names: list[str] = []
-    for text in texts:
-        for name in (part.strip().lower() for part in text.split(",")):
-            if not name:
-                continue
-            if name == "all":
-                names.extend(choices)
-            elif name in choices:
-                names.append(name)
-            else:
-                raise InputError(option, name, f"one of {', '.join(choices)} or all")
-    return list(dict.fromkeys(names))
 
 
 # ----------------------------------------------------------------------------- cases
