@@ -48,7 +48,8 @@ def test_sweep_writes_the_tidy_table_and_prints_the_envelope(tmp_path):
     doc = json.loads((tmp_path / "ten_story_elcentro.sweep.json").read_text())
     assert doc["units"]["foundation.k_f"] == "N/m" and doc["units"]["base_moment_Nm"] == "N m"
     assert [r["base_shear_N"] for r in doc["rows"]] == [float(r["base_shear_N"]) for r in rows]
-    assert len((tmp_path / "ten_story_elcentro.sweep.rows.jsonl").read_text().splitlines()) == 12
+    lines = (tmp_path / "ten_story_elcentro.sweep.rows.jsonl").read_text().splitlines()
+    assert len(lines) == 13 and "run" in json.loads(lines[0])  # a header line, then one line per case
     # a row equals the single analysis with the same --set values
     row = rows[7]
     deck = load_deck(EXAMPLE, [f"foundation.k_f={row['foundation.k_f']}", f"building.period={row['building.period']}"])
@@ -83,7 +84,7 @@ def test_failed_case_is_reported_and_exits_4(tmp_path):
     result = invoke("sweep", EXAMPLE, "--engine", "exact", "--support", "rigid", "--out", tmp_path, "--quiet",
                     "--set", "ground_motion.window=[0, 4]", "--vary", "analysis.exact.time_step=[1e-7, 0.005]")
     assert result.exit_code == 4, result.output
-    assert "case 0 (exact/rigid) failed:" in result.stderr and "steps would be needed" in result.stderr
+    assert "case 0 (exact/rigid) failed:" in result.stderr and "internal steps x states" in result.stderr
     rows = read_csv(tmp_path / "ten_story_elcentro.sweep.csv")
     assert [r["status"] for r in rows] == ["failed", "ok"]
     assert rows[0]["base_shear_N"] == "" and float(rows[1]["base_shear_N"]) > 0

@@ -53,22 +53,10 @@ def _foundation_paths(deck: Deck) -> list[str]:
 
 
 def check_before_running(deck: Deck, engine: Engine, support: str, motion: Any) -> None:
-    """Limits and derived quantities checked before an engine allocates anything, each
-    refused with an InputError naming the deck field (or --set) that produced it:
-    - response-history engines: internal steps x states within limits.MAX_STEP_STATES;
-    - simplified engine on a record: the modal periods within the record's spectrum range
-      (limits.shortest_period) and, with a flexible support, an effective damping xi1bar < 1 [23]."""
-    if engine.needs_record:
-        _check_step_states(deck, engine, support, motion)
-        return
-    from .motion.spectra import RecordSpectrum
-
-    if isinstance(motion, RecordSpectrum):
-        n_modes = int(deck.analysis.simplified.n_modes or deck.system.modes.n_modes)
-        problem = limits.period_problem(deck.system.modes.periods[:n_modes], motion.record.dt, motion.record.npts)
-        if problem:
-            raise InputError(*deck.blame(*BUILDING_PATHS, "ground_motion.dt"), f"{problem} (modal periods)")
-    if support != "rigid":
+    """check_resources, then the derived quantities: with the simplified engine and a flexible
+    support, an effective damping xi1bar < 1 [23] (InputError naming the deck field)."""
+    check_resources(deck, engine, support, motion)
+    if not engine.needs_record and support != "rigid":
         from .engines.simplified import effective_properties
 
         try:
@@ -79,6 +67,24 @@ def check_before_running(deck: Deck, engine: Engine, support: str, motion: Any) 
             raise InputError(*deck.blame(*_foundation_paths(deck), "building.damping"),
                              f"a foundation giving an effective damping ratio xi1bar in [0, 1) [23] (simplified "
                              f"engine, {support} support), got xi1bar = {xi1bar:.6g}")
+
+
+def check_resources(deck: Deck, engine: Engine, support: str, motion: Any) -> None:
+    """The documented limits of one analysis, checked before an engine allocates anything
+    (InputError naming the deck field or --set that exceeds them):
+    - response-history engines: internal steps x states within limits.MAX_STEP_STATES;
+    - simplified engine on a record: the modal periods within the record's spectrum range
+      (limits.shortest_period)."""
+    if engine.needs_record:
+        _check_step_states(deck, engine, support, motion)
+        return
+    from .motion.spectra import RecordSpectrum
+
+    if isinstance(motion, RecordSpectrum):
+        n_modes = int(deck.analysis.simplified.n_modes or deck.system.modes.n_modes)
+        problem = limits.period_problem(deck.system.modes.periods[:n_modes], motion.record.dt, motion.record.npts)
+        if problem:
+            raise InputError(*deck.blame(*BUILDING_PATHS, "ground_motion.dt"), f"{problem} (modal periods)")
 
 
 def _check_step_states(deck: Deck, engine: Engine, support: str, record: Record) -> None:

@@ -5,25 +5,34 @@ table, figures); this module parses options, shows progress and writes the files
 from __future__ import annotations
 
 import json
+import signal
 from enum import Enum
 from pathlib import Path
 
 import typer
 
-from .. import plots
+from .. import limits, plots
+from ..atomic import refuse_inputs
 from ..engines.registry import ENGINES, SUPPORTS
 from ..errors import InputError
 from ..sweep import figures
 from ..sweep import table as sweep_table
-from ..sweep.executors import DaskExecutor, ProcessExecutor, SerialExecutor, available_cores, import_distributed
+from ..sweep.executors import (
+    DaskExecutor,
+    ProcessExecutor,
+    SerialExecutor,
+    available_cores,
+    check_reachable,
+    import_distributed,
+)
 from ..sweep.plan import SweepPlan, Vary, parse_choices, plan_sweep
-from ..sweep.run import NoProgress, run_sweep
-from ..sweep.store import RowStore
+from ..sweep.run import NoProgress, ignore_stop_signals, run_sweep
+from ..sweep.store import RowStore, stem_lock
 from . import render
 from .analyze import SET_HELP
 from .sweep_render import PlainProgress, RichProgress, print_summary, use_rich_progress
 
-EXIT_CRITERIA, EXIT_ANALYSIS, EXIT_INTERRUPTED = 3, 4, 130
+EXIT_CRITERIA, EXIT_ANALYSIS, EXIT_INTERRUPTED = 3, 4, 130  # interrupted: 128 + the signal (SIGINT 130)
 VARY_HELP = ("Vary a deck field (same dotted paths as --set): PATH=START:STOP:N (linear), PATH=START:STOP:N:log, "
              "PATH=a,b,c or PATH=\\[a, b]; repeatable, cases are the cartesian product.")
 ENGINE_HELP = "Engine(s): simplified, approximate, exact or all; repeatable or comma separated (default: the deck's)."
@@ -62,6 +71,8 @@ def choose_executor(plan: SweepPlan, workers: int | None, scheduler: str | None,
     if scheduler is not None or dask is not None:
         import_distributed()  # the extra is installed, before anything runs
         address = None if (scheduler in (None, "local")) else scheduler
+        if address is not None:
+            check_reachable(address)  # at once, before any file is written
         return DaskExecutor(address, workers or min(available_cores(), 4))
     if workers is not None:
         if workers < 1:
@@ -80,29 +91,45 @@ def progress_for(quiet: bool, label: str):
     return RichProgress(console, label) if use_rich_progress(console) else PlainProgress(label)
 
 
-def _prepare_out(out: Path, rows_path: Path, resume: bool, overwrite: bool) -> None:
+def _check_out(out: Path) -> None:
     if out.exists() and not out.is_dir():
         raise InputError("--out", str(out), "a directory (a file of that name exists)")
+
+
+def _prepare_out(out: Path, rows_path: Path, resume: bool, overwrite: bool) -> None:
+    _check_out(out)
     if rows_path.exists() and rows_path.stat().st_size > 0 and not (resume or overwrite):
         raise InputError("--out", str(rows_path), "no rows of a previous sweep (pass --resume to continue it "
                          "or --overwrite to start again)")
 
 
+def output_paths(out: Path, stem: str, extra=()) -> list[Path]:
+    """The files a sweep writes under --out (rows, tables and any figures)."""
+    return [out / f"{stem}{suffix}" for suffix in (".rows.jsonl", ".csv", ".json", ".parquet")] + list(extra)
+
+
 def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, resume, retry_failed,
-            overwrite, quiet, label):
-    """Run the plan with progress; exit 130 (keeping the rows) on Ctrl-C."""
+            overwrite, quiet, label, rerun_stale=False, figures_written=()):
+    """Run the plan with progress (the caller holds stem_lock); exit 128 + the signal (130 for
+    Ctrl-C, 143 for SIGTERM, 129 for SIGHUP) keeping the rows when interrupted."""
     rows_path = out / f"{stem}.rows.jsonl"
+    refuse_inputs(output_paths(out, stem, figures_written), plan.input_files, "--out")
     _prepare_out(out, rows_path, resume, overwrite)
     executor = choose_executor(plan, workers, scheduler, dask)
     try:
         outcome = run_sweep(plan, executor, RowStore(rows_path), resume=resume, retry_failed=retry_failed,
-                            progress=progress_for(quiet, label))
-    except OSError as error:
-        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+                            rerun_stale=rerun_stale, progress=progress_for(quiet, label))
+    except OSError as error:  # a full disk: the rows written so far are kept
+        kept = len(RowStore(rows_path).read())
+        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error}); {kept} finished "
+                         f"rows are kept in {rows_path}: run the same command with --resume once there is room"
+                         ) from None
     if outcome.interrupted:
-        typer.echo(f"interrupted: {len(outcome.rows)} of {outcome.total} cases are kept in {rows_path}; "
+        ignore_stop_signals()  # a second Ctrl-C while exiting changes nothing
+        name = signal.Signals(outcome.signal).name if outcome.signal else "SIGINT"
+        typer.echo(f"interrupted ({name}): {len(outcome.rows)} of {outcome.total} cases are kept in {rows_path}; "
                    "run the same command with --resume to finish", err=True)
-        raise typer.Exit(EXIT_INTERRUPTED)
+        raise typer.Exit(128 + (outcome.signal or signal.SIGINT))
     return outcome
 
 
@@ -155,8 +182,11 @@ def sweep(
     workers: int | None = typer.Option(None, "--workers", "-w", help=WORKERS_HELP),
     scheduler: str | None = typer.Option(None, "--scheduler", help=SCHEDULER_HELP),
     dask: str | None = typer.Option(None, "--dask", help=DASK_HELP),
-    resume: bool = typer.Option(False, "--resume", help="Skip the cases a previous run of this sweep finished."),
+    resume: bool = typer.Option(False, "--resume", help="Skip the cases a previous run of this sweep finished "
+                                "(refused if their record files or the tool version changed since)."),
     retry_failed: bool = typer.Option(False, "--retry-failed", help="With --resume: run failed cases again."),
+    rerun_stale: bool = typer.Option(False, "--rerun-stale", help="With --resume: run again the cases computed "
+                                     "from another record file or tool version (instead of refusing)."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Discard the rows of a previous run."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress and no summary tables."),
     per_record: bool = typer.Option(False, "--per-record", help=PER_RECORD_HELP),
@@ -166,7 +196,8 @@ def sweep(
 
     Rows are appended to <out>/<stem>.rows.jsonl as cases finish; <stem>.csv and .json (or .parquet) at the end.
 
-    Exit codes: 0 ok, 2 bad input, 3 a case exceeds a limit of the deck's criteria, 4 a case failed, 130 interrupted.
+    Exit codes: 0 ok, 2 bad input, 3 a case exceeds a limit of the deck's criteria, 4 a case failed, 130 interrupted
+    (Ctrl-C; 143 SIGTERM, 129 SIGHUP).
     """
     plot_path = plots.check_figure_path(out / f"{name or deck.stem + '.sweep'}.{plot_format}", "--plot-format") \
         if plot else None
@@ -182,14 +213,17 @@ def sweep(
     if plot_path is not None:
         figures.sweep_figure(plan, [])  # a numeric varied field to plot against, checked before running
     stem = name or f"{deck.stem}.sweep"
-    outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
-                      retry_failed=retry_failed, overwrite=overwrite, quiet=quiet, label="sweep")
-    rows = sweep_table.add_checks(plan, outcome.rows) if plan.check else outcome.rows
-    summary = sweep_table.summarize(plan, rows)
-    written = _write(plan, rows, out, stem, table, summary)
-    if plot_path is not None:
-        written.append(plots.plot_figure(figures.sweep_figure(plan, rows, figures.plan_motion_label(plan)),
-                                         plot_path, "--plot-format"))
+    _check_out(out)
+    with stem_lock(out, stem):
+        outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
+                          retry_failed=retry_failed, overwrite=overwrite, quiet=quiet, label="sweep",
+                          rerun_stale=rerun_stale, figures_written=[plot_path] if plot_path else [])
+        rows = sweep_table.add_checks(plan, outcome.rows) if plan.check else outcome.rows
+        summary = sweep_table.summarize(plan, rows)
+        written = _write(plan, rows, out, stem, table, summary)
+        if plot_path is not None:
+            written.append(plots.plot_figure(figures.sweep_figure(plan, rows, figures.plan_motion_label(plan)),
+                                             plot_path, "--plot-format"))
     if output_format is OutputFormat.json:
         typer.echo(json.dumps(sweep_table.document(plan, rows, summary), indent=1))
     elif not quiet:
@@ -225,25 +259,39 @@ def spectra(
 
     Writes <stem>.csv, <stem>.json and one plot per figure.
 
-    Exit codes: 0 ok, 2 bad input, 4 a case failed, 130 interrupted.
+    Exit codes: 0 ok, 2 bad input, 4 a case failed, 130 interrupted (Ctrl-C; 143 SIGTERM, 129 SIGHUP).
     """
     formats = parse_choices(plot_format, ("png", "svg", "pdf"), "--plot-format")
     sweep_table.check_table_format(table.value)
     period_vary: Vary = figures.period_vary(periods)
     engines = parse_choices(engine, ENGINES, "--engine")
-    plan = plan_sweep(deck, settings, (), engines, parse_choices(support, SUPPORTS, "--support"),
-                      varies=[period_vary], per_record=per_record)
+    try:
+        plan = plan_sweep(deck, settings, (), engines, parse_choices(support, SUPPORTS, "--support"),
+                          varies=[period_vary], per_record=per_record)
+    except InputError as error:  # the periods come from --periods, not from a --vary
+        if error.source == "--vary" and error.location == figures.PERIOD_PATH:
+            raise InputError("--periods", periods, error.expected) from None
+        raise
+    for dt, samples in plan.record_steps.values():  # T_1 within the records' spectrum range, before running
+        problem = limits.period_problem(period_vary.values, dt, samples)
+        if problem:
+            raise InputError("--periods", periods, problem)
     warn_suites(plan)
     stem = name or f"{deck.stem}.spectra"
-    outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
-                      retry_failed=False, overwrite=overwrite, quiet=quiet, label="spectra")
-    summary = sweep_table.summarize(plan, outcome.rows)
-    written = _write(plan, outcome.rows, out, stem, table, summary)
-    for figure_name, spec in figures.paper_figures(outcome.rows, plan.engines, plan.supports,
-                                                   figures.plan_motion_label(plan),
-                                                   figures.nominal_value(plan, figures.PERIOD_PATH)).items():
-        for extension in formats:
-            written.append(plots.plot_figure(spec, out / f"{stem}.{figure_name}.{extension}", "--plot-format"))
+    figure_specs = figures.paper_figures([], plan.engines, plan.supports, "")
+    figure_paths = [out / f"{stem}.{figure}.{extension}" for figure in figure_specs for extension in formats]
+    _check_out(out)
+    with stem_lock(out, stem):
+        outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
+                          retry_failed=False, overwrite=overwrite, quiet=quiet, label="spectra",
+                          figures_written=figure_paths)
+        summary = sweep_table.summarize(plan, outcome.rows)
+        written = _write(plan, outcome.rows, out, stem, table, summary)
+        for figure_name, spec in figures.paper_figures(outcome.rows, plan.engines, plan.supports,
+                                                       figures.plan_motion_label(plan),
+                                                       figures.nominal_value(plan, figures.PERIOD_PATH)).items():
+            for extension in formats:
+                written.append(plots.plot_figure(spec, out / f"{stem}.{figure_name}.{extension}", "--plot-format"))
     if not quiet:
         _print_spectra_summary(plan, outcome.rows)
     for path in written:

@@ -5,6 +5,10 @@ of the chunks (status ok, failed or crashed), as soon as the row is known, and l
 KeyboardInterrupt through after stopping its workers. All give the same rows: a case's row
 depends only on the case (sweep.run_chunk), never on which worker ran it.
 
+Parent death: a local worker process exits when the sweep's process dies (SIGKILL included):
+on Linux the kernel sends it SIGKILL (prctl PR_SET_PDEATHSIG), elsewhere a watchdog thread
+sees its parent change. Workers ignore SIGINT and SIGHUP (the parent stops them).
+
 Worker deaths: local processes report the cases as they start and as each finishes. After a worker
 dies, the cases that were running (started, not finished) are run again one at a time on a
 single worker, so a case that kills its worker is known for sure; it is charged an attempt
@@ -21,10 +25,15 @@ started are submitted again one per task (the one that kills its worker alone is
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import json
 import multiprocessing
 import os
 import signal
+import socket
+import sys
+import threading
+import time
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -83,10 +92,35 @@ _QUEUE = None  # per worker process: the queue to the parent
 _RUNNER = run_chunk  # per worker process: the chunk runner
 
 
-def _init_worker(queue, runner) -> None:
+PR_SET_PDEATHSIG = 1  # linux/prctl.h
+
+
+def exit_with_parent(parent_pid: int, poll_seconds: float = 1.0) -> None:
+    """Make this process end when `parent_pid` (its parent) dies: SIGKILL from the kernel
+    on Linux (prctl PR_SET_PDEATHSIG), else a daemon thread polling os.getppid()."""
+    if sys.platform.startswith("linux"):
+        with contextlib.suppress(OSError, AttributeError):
+            libc = ctypes.CDLL(None, use_errno=True)
+            if libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0:
+                if os.getppid() != parent_pid:  # it died before the request took effect
+                    os._exit(1)
+                return
+
+    def watch() -> None:
+        while os.getppid() == parent_pid:
+            time.sleep(poll_seconds)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="exit-with-parent", daemon=True).start()
+
+
+def _init_worker(queue, runner, parent_pid: int | None = None) -> None:
     global _QUEUE, _RUNNER
     _QUEUE, _RUNNER = queue, runner
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    signal.signal(signal.SIGHUP, signal.SIG_IGN)  # so is a hang-up of the terminal
+    if parent_pid is not None:
+        exit_with_parent(parent_pid)
 
 
 def _worker_run_chunk(chunk: Chunk) -> list[dict]:
@@ -144,7 +178,7 @@ class ProcessExecutor:
     def _run_pool(self, chunks, workers: int, context, queue, started: set, deliver) -> list[Chunk]:
         """Run the chunks on a fresh pool; return the chunks of a broken pool (a worker died)."""
         pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker,
-                                   initargs=(queue, self.runner))
+                                   initargs=(queue, self.runner, os.getpid()))
         with _sigint_ignored():  # processes are started by submit; they ignore Ctrl-C from birth
             futures = {pool.submit(_worker_run_chunk, chunk): chunk for chunk in chunks}
         leftovers = []
@@ -171,17 +205,41 @@ class ProcessExecutor:
                     for row in rows:
                         deliver(row)
             drain()
-        except BaseException:  # KeyboardInterrupt: keep what arrived, stop the workers now
-            drain()
-            for process in list(getattr(pool, "_processes", {}).values()):
-                process.terminate()
-            pool.shutdown(wait=False, cancel_futures=True)
+        except BaseException:  # Ctrl-C, a full disk ...: keep what arrived, stop the workers now
+            try:
+                drain()  # may fail again (the disk is still full): the workers are stopped all the same
+            finally:
+                for process in list(getattr(pool, "_processes", {}).values()):
+                    process.kill()  # SIGKILL: they ignore SIGINT/SIGHUP, and a worker blocked writing dies too
+                pool.shutdown(wait=False, cancel_futures=True)
             raise
         pool.shutdown(wait=True)
         return leftovers
 
 
 # ----------------------------------------------------------------------------- Dask
+
+def check_reachable(address: str, timeout: float = 3.0) -> None:
+    """InputError naming --scheduler at once if a tcp:// scheduler address does not accept
+    connections (before any file is written; the Dask client would wait 20 s)."""
+    scheme, sep, rest = address.partition("://")
+    if not sep:
+        scheme, rest = "tcp", address
+    if scheme != "tcp":
+        return  # tls://, ucx://, inproc://: left to the Dask client
+    host, _, port = rest.rpartition(":")
+    host = host.strip("[]") or "127.0.0.1"
+    try:
+        port_number = int(port.split("/")[0])
+    except ValueError:
+        raise InputError("--scheduler", address, "an address tcp://host:port, e.g. tcp://10.0.0.5:8786") from None
+    try:
+        with socket.create_connection((host, port_number), timeout=timeout):
+            pass
+    except OSError as error:
+        reason = error.strerror or str(error) or type(error).__name__
+        raise InputError("--scheduler", address, f"a reachable Dask scheduler ({reason})") from None
+
 
 def import_distributed():
     """dask.distributed, or an InputError naming the extra to install."""

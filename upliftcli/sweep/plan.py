@@ -23,7 +23,6 @@ import hashlib
 import itertools
 import json
 import math
-import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -33,10 +32,12 @@ import numpy as np
 
 from .. import deck_schema as schema
 from ..analysis import ground_motion_for
-from ..deck import Deck, build_deck, parse_override, read_toml
+from ..deck import Deck, build_deck, parse_override, read_toml, toml_value
 from ..engines.registry import ENGINES
 from ..errors import InputError
 from ..fields import parse_choices  # noqa: F401 - part of this module's interface
+from ..limits import MAX_VARY_VALUES, cases_problem
+from ..motion.records import Record
 from ..motion.suites import Suite
 
 #: deck fields that are case dimensions of their own, not --vary paths
@@ -49,16 +50,22 @@ STATUSES = ("ok", "failed", "crashed")
 # ----------------------------------------------------------------------------- parsing
 
 def _toml_value(text: str) -> Any:
-    try:
-        return tomllib.loads(f"value = {text}")["value"]
-    except tomllib.TOMLDecodeError:
-        return text
+    return toml_value(text)
+
+
+def _too_many(option: str, text: str, count: int) -> InputError:
+    return InputError(option, text if len(text) <= 80 else text[:75] + "...",
+                      f"at most {MAX_VARY_VALUES:,} values in one range (limit of the tool), got {count:,}")
 
 
 def parse_values(text: str, option: str, default_spacing: str = "linear") -> tuple[list[Any], str]:
     """'START:STOP:N[:log|lin]' -> N values (linear or geometric), '[a, b]' (TOML array) or
     'a,b,c' -> explicit list. Returns (values, spacing: "linear" | "log" | "list")."""
     text = text.strip()
+    if any(not (ch.isprintable() or ch == "\t") for ch in text):
+        raise InputError(option, None, "values on one line (without line breaks or control characters)")
+    if text.count(",") >= MAX_VARY_VALUES:  # counted before anything is parsed
+        raise _too_many(option, text, text.count(",") + 1)
     if text.startswith("["):
         value = _toml_value(text)
         if not isinstance(value, list) or not value:
@@ -77,6 +84,8 @@ def parse_values(text: str, option: str, default_spacing: str = "linear") -> tup
                              "e.g. 1e7:1e10:25:log")
         if spacing == "log" and not (start > 0.0 and stop > 0.0):
             raise InputError(option, text, "START > 0 and STOP > 0 for a log range")
+        if count > MAX_VARY_VALUES:
+            raise _too_many(option, text, count)
         grid = np.geomspace(start, stop, count) if spacing == "log" else np.linspace(start, stop, count)
         values: list[Any] = [float(f"{v:.12g}") for v in grid]  # 0.4, not 0.39999999999999997
         if spacing == "linear" and all(p.strip().lstrip("+-").isdigit() for p in parts[:2]) \
@@ -110,6 +119,8 @@ def parse_vary(text: str, option: str = "--vary") -> Vary:
     """'path=RANGE' (see parse_values); the path is any deck field, as for --set."""
     path, sep, values_text = text.partition("=")
     path = path.strip()
+    if any(not ch.isprintable() for ch in path):
+        raise InputError(option, None, "PATH=VALUES on one line (without line breaks or control characters)")
     if not sep or not path or not values_text.strip():
         raise InputError(option, text, "PATH=START:STOP:N[:log] or PATH=a,b,c, e.g. foundation.k_f=1e7:1e10:25:log")
     if path in NOT_VARIED:
@@ -170,13 +181,44 @@ def ground_motion_key(deck: Deck) -> str:
     return json.dumps(key, sort_keys=True, default=str)
 
 
+def file_sha256(path: str | Path) -> str:
+    """SHA-256 of a file's bytes (hex)."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def tool_version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("uplift")
+    except PackageNotFoundError:
+        return "unknown"
+
+
+def run_fingerprint(deck_fingerprint: str, records: dict[str, str], version: str) -> str:
+    """What the rows of a sweep depend on beyond their case key: the record files' contents
+    and the tool version (the deck and --set are in the key already), as one short hash."""
+    text = json.dumps({"deck": deck_fingerprint, "records": records, "version": version}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:20]
+
+
 @dataclass
 class SweepPlan:
     """Everything the workers need: the parsed deck, the overrides and the cases; suite_records:
     the most records of a suite that a history engine runs in a case (0: no suite); per_record:
     the tables get each record's row after its case's row; warnings: the suites' messages (too
     few records for the rule ...), each once; check: the tables get the ratios simplified / exact
-    of each simplified case (sweep/table.add_checks)."""
+    of each simplified case (sweep/table.add_checks).
+
+    records: every record file the cases read (a suite's each) -> its SHA-256; version: of the
+    tool; fingerprint: run_fingerprint of both and the resolved deck (checked by --resume);
+    record_steps: every record file -> (dt [s], samples). The limits of each case (engine
+    memory, spectrum periods: analysis.check_resources) are checked by the worker: a case
+    beyond them is a 'failed' row naming the field."""
 
     raw: dict
     source: str
@@ -191,6 +233,15 @@ class SweepPlan:
     per_record: bool = False
     warnings: tuple = ()
     check: bool = False
+    records: dict = field(default_factory=dict)
+    version: str = ""
+    fingerprint: str = ""
+    record_steps: dict = field(default_factory=dict)
+
+    @property
+    def input_files(self) -> list[str]:
+        """The files the sweep reads: the deck and the records (never overwritten by its outputs)."""
+        return [self.source, *self.records]
 
 
 def _vary_error(error: InputError, varied: set[str]) -> InputError:
@@ -227,14 +278,26 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     deck = build_deck(raw, source, base)
     engines = list(engines) or deck.analysis.engines
     supports = list(supports) or deck.analysis.supports
-    cases = expand_cases(varies, engines, supports, fingerprint(raw, base))
+    problem = cases_problem([len(v.values) for v in varies], len(engines) * len(supports))
+    if problem:  # before any case is expanded
+        raise InputError("--vary" if varies else "--engine/--support", None, problem)
+    deck_fingerprint = fingerprint(raw, base)
+    cases = expand_cases(varies, engines, supports, deck_fingerprint)
     grounds: dict[str, Any] = {}
+    records: dict[str, str] = {}
+    samples: dict[str, tuple[float, int]] = {}
     for combo in itertools.product(*[[(v.path, value) for value in v.values] for v in varies]):
         try:
             case_deck = build_deck(raw, source, base + list(combo), load_ground_motion=False)
             motion_key = ground_motion_key(case_deck)
             if motion_key not in grounds:
                 grounds[motion_key] = _with_suite(raw, source, base, combo, case_deck)
+                motion = grounds[motion_key].ground_motion
+                for record in (motion.records if isinstance(motion, Suite) else [motion]):
+                    if isinstance(record, Record) and record.source and record.source not in records:
+                        with contextlib.suppress(OSError):
+                            records[record.source] = file_sha256(record.source)
+                            samples[record.source] = (record.dt, record.npts)
         except InputError as error:
             raise _vary_error(error, set(paths)) from None
         for engine in engines:
@@ -246,8 +309,11 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
         raise InputError("--per-record", source, "a deck whose ground_motion.suite a response-history engine runs "
                          "(--engine exact or approximate)")
     warnings = tuple(dict.fromkeys(message for suite in suites for message in suite.warnings))
+    version = tool_version()
     return SweepPlan(raw, source, deck.title, tuple(base), varies, engines, supports, cases, deck.criteria,
-                     max((suite.count for suite in suites), default=0), per_record, warnings)
+                     max((suite.count for suite in suites), default=0), per_record, warnings, records=records,
+                     version=version, fingerprint=run_fingerprint(deck_fingerprint, records, version),
+                     record_steps=samples)
 
 
 # ----------------------------------------------------------------------------- chunks

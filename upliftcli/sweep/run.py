@@ -3,25 +3,78 @@ row to the store as it arrives and handles Ctrl-C.
 
 Resume rule: `--resume` keeps the 'ok' rows of the cases still in the sweep and the 'failed'
 rows too (an analysis that raised fails again: it is reported, not retried) unless
-`retry_failed`; 'crashed' rows (the worker died) are run again.
+`retry_failed`; 'crashed' rows (the worker died) are run again. A row computed from other
+inputs than the plan's (a record file whose SHA-256 changed, another tool version: its
+fingerprint differs, plan.run_fingerprint) is refused with a message, or run again with
+`rerun_stale`.
+
+Signals: SIGTERM and SIGHUP stop a sweep like Ctrl-C (the rows written are kept; the
+outcome names the signal); once one has arrived, further ones are ignored until the
+executor has stopped its workers, so a second Ctrl-C cannot cut the cleanup short.
 """
 
 from __future__ import annotations
 
+import contextlib
+import signal
+import threading
+from collections.abc import Iterator
 from dataclasses import dataclass
 
+from ..errors import InputError
 from .plan import SweepPlan, chunk_size, make_chunks
 from .store import RowStore
+
+#: signals that stop a sweep as Ctrl-C does
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+class Interrupted(KeyboardInterrupt):
+    """A stop signal (SIGINT, SIGTERM or SIGHUP) arrived; signum says which."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = int(signum)
+
+
+def ignore_stop_signals() -> None:
+    """Ignore further stop signals (main thread only): the process is about to exit."""
+    if threading.current_thread() is threading.main_thread():
+        for signum in STOP_SIGNALS:
+            signal.signal(signum, signal.SIG_IGN)
+
+
+@contextlib.contextmanager
+def stop_signals_interrupt() -> Iterator[None]:
+    """While the sweep runs, SIGINT, SIGTERM and SIGHUP raise Interrupted in the main thread;
+    after the first, all three are ignored until the block ends. The previous handlers are
+    restored afterwards. Outside the main thread, signals are left alone."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        ignore_stop_signals()
+        raise Interrupted(signum)
+
+    previous = {signum: signal.signal(signum, handler) for signum in STOP_SIGNALS}
+    try:
+        yield
+    finally:
+        for signum, action in previous.items():
+            signal.signal(signum, action)
 
 
 @dataclass
 class SweepOutcome:
-    """rows: one per finished case, in case order; reused: rows kept from a previous run."""
+    """rows: one per finished case, in case order; reused: rows kept from a previous run;
+    signal: the stop signal of an interrupted run (signal.SIGINT for Ctrl-C)."""
 
     rows: list[dict]
     total: int
     reused: int
     interrupted: bool
+    signal: int = 0
 
 
 class NoProgress:
@@ -30,20 +83,55 @@ class NoProgress:
     def stop(self) -> None: ...
 
 
+def _without_fingerprint(row: dict) -> dict:
+    return {name: value for name, value in row.items() if name != "fingerprint"}
+
+
+def _stale_reason(plan: SweepPlan, header: dict | None) -> str:
+    """Why rows with another fingerprint differ from the plan's, in words."""
+    if header is None:
+        return "by a run that recorded no fingerprint of its inputs (an older version of uplift)"
+    changed = [path for path, digest in plan.records.items() if header.get("records", {}).get(path) not in
+               (None, digest)]
+    if changed:
+        return f"from another content of the record {changed[0]} (its SHA-256 changed)"
+    if header.get("version") != plan.version:
+        return f"by uplift {header.get('version')} (this is {plan.version})"
+    return "from other inputs (another record file or deck)"
+
+
+def resumable_rows(plan: SweepPlan, store: RowStore, retry_failed: bool, rerun_stale: bool) -> dict[str, dict]:
+    """The rows of `store` that --resume keeps (see the module docstring); InputError naming
+    --resume if some of the plan's cases were computed from other inputs, unless rerun_stale."""
+    keys = {case.key for case in plan.cases}
+    kept, stale = {}, []
+    for key, row in store.read().items():
+        if key not in keys:
+            continue
+        if row.get("fingerprint") != plan.fingerprint:
+            stale.append(row)
+        elif row["status"] == "ok" or (row["status"] == "failed" and not retry_failed):
+            kept[key] = _without_fingerprint(row)
+    if stale and not rerun_stale:
+        reason = _stale_reason(plan, store.runs().get(str(stale[0].get("fingerprint"))))
+        raise InputError("--resume", str(store.path), f"rows computed from the inputs of this run; {len(stale)} "
+                         f"rows were computed {reason}: pass --rerun-stale to run them again or --overwrite to "
+                         "start over")
+    return kept
+
+
 def run_sweep(plan: SweepPlan, executor, store: RowStore, *, resume: bool = False, retry_failed: bool = False,
-              progress=None, size: int | None = None) -> SweepOutcome:
+              rerun_stale: bool = False, progress=None, size: int | None = None) -> SweepOutcome:
     """Run the cases not finished yet, appending each row to `store` as it arrives.
 
     resume: keep the rows of `store` whose case is in the plan: 'ok' rows always, 'failed'
-    rows unless retry_failed; 'crashed' rows are run again. Ctrl-C (KeyboardInterrupt) stops
-    the executor and returns what was kept (interrupted=True)."""
+    rows unless retry_failed; 'crashed' rows are run again; rows of other inputs are refused
+    unless rerun_stale (resumable_rows). Ctrl-C, SIGTERM or SIGHUP stops the executor and
+    returns what was kept (interrupted=True). An OSError of the store (a full disk) stops the
+    executor and is raised; the rows written before it are kept."""
     progress = progress or NoProgress()
     keys = {case.key for case in plan.cases}
-    kept = {}
-    if resume:
-        for key, row in store.read().items():
-            if key in keys and (row["status"] == "ok" or (row["status"] == "failed" and not retry_failed)):
-                kept[key] = row
+    kept = resumable_rows(plan, store, retry_failed, rerun_stale) if resume else {}
     todo = [case for case in plan.cases if case.key not in kept]
     rows = dict(kept)
     delivered: set[str] = set()
@@ -52,21 +140,27 @@ def run_sweep(plan: SweepPlan, executor, store: RowStore, *, resume: bool = Fals
         if row["key"] in delivered:
             return
         delivered.add(row["key"])
-        store.append(row)
+        store.append(row, plan.fingerprint)
         rows[row["key"]] = row
         progress.advance(row)
 
-    store.open(fresh=not resume)
+    header = {"fingerprint": plan.fingerprint, "deck": plan.source, "records": plan.records, "version": plan.version}
+    store.open(fresh=not resume, header=header)
     progress.start(len(plan.cases), len(kept))
-    interrupted = False
+    interrupted, stop_signal, finished = False, 0, False
     try:
-        executor.run(make_chunks(plan, todo, size or chunk_size(len(todo), getattr(executor, "workers", 1))), on_row)
-    except KeyboardInterrupt:
-        interrupted = True
+        with stop_signals_interrupt():
+            chunks = make_chunks(plan, todo, size or chunk_size(len(todo), getattr(executor, "workers", 1)))
+            try:
+                executor.run(chunks, on_row)
+            except KeyboardInterrupt as error:
+                interrupted, stop_signal = True, getattr(error, "signum", int(signal.SIGINT))
+        finished = not interrupted
     finally:
-        store.close()
+        store.close(discard_if_empty=not finished)
         progress.stop()
     if interrupted:  # Ctrl-C may land between writing a row and recording it: the file is the truth
-        rows.update({key: row for key, row in store.read().items() if key in keys and key not in rows})
+        rows.update({key: _without_fingerprint(row) for key, row in store.read().items()
+                     if key in keys and key not in rows and row.get("fingerprint") == plan.fingerprint})
     ordered = [rows[case.key] for case in plan.cases if case.key in rows]
-    return SweepOutcome(ordered, len(plan.cases), len(kept), interrupted)
+    return SweepOutcome(ordered, len(plan.cases), len(kept), interrupted, stop_signal)

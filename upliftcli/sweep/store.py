@@ -1,14 +1,24 @@
 """The append-only rows file of a sweep (JSON lines): one line per finished case, flushed
 and fsynced as it arrives. A torn last line (the process was killed while writing it) is
 ignored and cut off before appending.
+
+Each run first appends a header line {"run": {"fingerprint", "deck", "records", "version"}}
+and every row carries the fingerprint of the run that computed it, so that `--resume`
+can tell rows computed from another record file or tool version (sweep/run.py). The
+output stem is locked while a sweep writes it (stem_lock): a second sweep with the same
+--out and --name is refused instead of mixing its rows with the first one's.
 """
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import json
 import os
+from collections.abc import Iterator
 from pathlib import Path
 
+from ..errors import InputError
 from .plan import STATUSES
 
 
@@ -18,9 +28,11 @@ class RowStore:
     def __init__(self, path: str | Path):
         self.path = Path(path)
         self._file = None
+        self.appended = 0
+        self._created = False
 
     def read(self) -> dict[str, dict]:
-        """key -> last row; a torn last line (killed while writing) is ignored."""
+        """key -> last row (with its "fingerprint", if any); a torn last line (killed while writing) is ignored."""
         rows: dict[str, dict] = {}
         if not self.path.exists():
             return rows
@@ -33,23 +45,92 @@ class RowStore:
                 rows[row["key"]] = row
         return rows
 
-    def open(self, fresh: bool) -> None:
+    def runs(self) -> dict[str, dict]:
+        """fingerprint -> the header of the run that wrote rows with it (what it read)."""
+        headers: dict[str, dict] = {}
+        if not self.path.exists():
+            return headers
+        for line in self.path.read_text(encoding="utf-8").splitlines():
+            with contextlib.suppress(json.JSONDecodeError):
+                item = json.loads(line)
+                if isinstance(item, dict) and isinstance(item.get("run"), dict):
+                    headers[str(item["run"].get("fingerprint"))] = item["run"]
+        return headers
+
+    def open(self, fresh: bool, header: dict | None = None) -> None:
+        """Open for appending (fresh: discard the previous rows), then write the run's header."""
         self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._created = fresh or not self.path.exists() or self.path.stat().st_size == 0
         if not fresh and self.path.exists():
             data = self.path.read_bytes()
             if data and not data.endswith(b"\n"):  # drop a torn last line before appending
                 with open(self.path, "r+b") as handle:
                     handle.truncate(data.rfind(b"\n") + 1)
-        self._file = open(self.path, "w" if fresh else "a", encoding="utf-8")
+        self._file = open(self.path, "w" if fresh else "a", encoding="utf-8")  # noqa: SIM115 - held until close
+        if header is not None:
+            self._write({"run": header})
 
-    def append(self, row: dict) -> None:
+    def _write(self, item: dict) -> None:
         from ..output import to_jsonable
 
-        self._file.write(json.dumps(to_jsonable(row), allow_nan=False) + "\n")
+        self._file.write(json.dumps(to_jsonable(item), allow_nan=False) + "\n")
         self._file.flush()
         os.fsync(self._file.fileno())
 
-    def close(self) -> None:
+    def append(self, row: dict, fingerprint: str | None = None) -> None:
+        self._write(row if fingerprint is None else {**row, "fingerprint": fingerprint})
+        self.appended += 1
+
+    def close(self, discard_if_empty: bool = False) -> None:
+        """Close the file (an error while flushing, e.g. a full disk, is not raised again:
+        the rows already written are fsynced). discard_if_empty: remove a file this run
+        created and wrote no row to (a sweep that stopped before its first case)."""
         if self._file is not None:
-            self._file.close()
+            with contextlib.suppress(OSError):
+                self._file.close()
             self._file = None
+        if discard_if_empty and self._created and self.appended == 0:
+            with contextlib.suppress(OSError):
+                self.path.unlink()
+
+
+@contextlib.contextmanager
+def stem_lock(out: Path, stem: str) -> Iterator[None]:
+    """Hold an exclusive lock on <out>/.<stem>.lock while a sweep writes <out>/<stem>.*;
+    InputError naming --out if another sweep holds it. The lock file is removed afterwards
+    (a lock left by a killed sweep is free again: the kernel releases it with the process).
+    A directory created here and left empty is removed too."""
+    created = not out.exists()
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+    path = out / f".{stem}.lock"
+    while True:
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+        except OSError as error:
+            raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            os.close(fd)
+            raise InputError("--out", str(out / stem), "an output stem no other sweep is writing (another "
+                             "`uplift sweep` with the same --out and --name is running: wait for it to end or "
+                             "choose another --name)") from None
+        try:  # the file may have been removed by the sweep that held it: lock the one at the path
+            if os.fstat(fd).st_ino == os.stat(path).st_ino:
+                break
+        except FileNotFoundError:
+            pass
+        os.close(fd)
+    try:
+        os.write(fd, f"{os.getpid()}\n".encode())
+        yield
+    finally:
+        with contextlib.suppress(OSError):
+            os.unlink(path)
+        os.close(fd)
+        if created:
+            with contextlib.suppress(OSError):
+                out.rmdir()  # only if empty
