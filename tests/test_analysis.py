@@ -62,3 +62,83 @@ def test_criteria_on_floor_accelerations_and_reactions(deck):
     assert any("reaction" in m and "[N]" in m for m in messages)
     deck_with_limit = load_deck(EXAMPLE, ["criteria.floor_acceleration=1.0"])
     assert deck_with_limit.criteria == {"drift_ratio": 0.02, "floor_acceleration": 1.0}
+
+# ----------------------------------------------------------------------------- checks before running (issue 13)
+
+WINKLER = ROOT / "inputs" / "ten_story_winkler.toml"
+
+
+def test_a_derived_damping_ratio_names_the_deck_field_not_the_record():
+    """Foundation fields giving an effective damping xi1bar >= 1 [23] are the deck's mistake:
+    the field is named (--set first), never the record file."""
+    for path, override, field in ((WINKLER, "foundation.k_w=1e6", "foundation.k_w"),
+                                  (EXAMPLE, "foundation.c_f=1e10", "foundation.c_f")):
+        deck = load_deck(path, [override])
+        with pytest.raises(InputError) as info:
+            run(deck)
+        assert (info.value.source, info.value.location) == ("--set", field)
+        assert "effective damping ratio xi1bar in [0, 1) [23]" in info.value.expected
+        assert "elcentro" not in str(info.value)
+    # with the damping from the deck file itself, the deck file is named
+    deck = load_deck(EXAMPLE, ["foundation.damping_ratio=0.4"])
+    assert deck.blame("foundation.damping_ratio") == ("--set", "foundation.damping_ratio")
+
+
+def test_a_period_the_record_cannot_resolve_is_refused_with_the_field():
+    deck = load_deck(EXAMPLE, ["building.period=1e-20"])
+    with pytest.raises(InputError, match=r"^--set: building.period: periods of at least 8e-06 s or 0 .* \(modal "
+                                         r"periods\)$"):
+        run(deck)
+
+
+def test_steps_x_states_are_estimated_before_the_exact_engine_allocates(monkeypatch):
+    from upliftcli.engines.exact import engine as exact
+
+    def fail(*args, **kwargs):
+        raise AssertionError("the engine must not start")
+
+    monkeypatch.setattr(exact, "iter_batch", fail)
+    deck = load_deck(EXAMPLE, ["foundation.frequency_ratio=1e4", 'analysis.engine="exact"',
+                               'analysis.supports="uplift"'])
+    with pytest.raises(InputError) as info:
+        run(deck)
+    assert (info.value.source, info.value.location) == ("--set", "foundation.frequency_ratio")
+    assert info.value.expected.startswith("at most 67,108,864 internal steps x states (about 2 GiB), got 3,741,600 "
+                                          "steps x 30")
+    # the estimate uses the engine's own step rule: 5e-5 s, the bonded vertical period / 6
+    assert "shortest governing period is 5e-05 s" in info.value.expected
+    deck = load_deck(EXAMPLE, ["analysis.exact.time_step=1e-7", 'analysis.engine="approximate"'])
+    with pytest.raises(InputError, match=r"^--set: analysis.exact.time_step: at most 67,108,864"):
+        run(deck)
+
+
+def test_steps_x_states_estimate_bounds_the_measured_memory():
+    """The estimate (BYTES_PER_STEP_STATE per step and state) is above the memory the
+    engine's sample buffers and ground grid hold (stepping.Run.buffer_bytes; the response
+    signals take about as much again, measured 28-47 bytes in all)."""
+    from upliftcli import limits
+    from upliftcli.engines.exact import engine as exact
+    from upliftcli.engines.exact.statespace import layout
+    from upliftcli.engines.exact.stepping import Run, ground_grid
+
+    deck = load_deck(EXAMPLE, ['analysis.engine="exact"'])
+    model = exact.exact_model(deck.system, "uplift", deck.analysis.exact)
+    substeps = exact.substeps_for(deck.system, model, deck.ground_motion.dt, deck.analysis.exact)
+    steps = substeps * (deck.ground_motion.npts - 1)
+    grid = ground_grid(deck.ground_motion.acceleration, substeps, deck.ground_motion.dt)
+    run_ = Run(model, *grid, deck.ground_motion.dt / substeps)
+    estimate = steps * (layout(model).n_aug + 2) * limits.BYTES_PER_STEP_STATE
+    assert run_.buffer_bytes + sum(array.nbytes for array in grid) <= 0.5 * estimate
+
+
+def test_an_overflow_inside_an_engine_is_an_analysis_error(monkeypatch, deck):
+    from upliftcli.engines import simplified
+    from upliftcli.errors import AnalysisError
+
+    def overflow(*args, **kwargs):
+        raise OverflowError("(34, 'Numerical result out of range')")
+
+    monkeypatch.setattr(simplified, "analyze", overflow)
+    with pytest.raises(AnalysisError, match=r"ten_story_elcentro.toml: the simplified analysis \(rigid\) failed with "
+                                            r"OverflowError .*check the magnitudes of the deck's fields"):
+        run_one(deck, "simplified", "rigid")

@@ -183,3 +183,94 @@ def test_out_must_be_a_directory(tmp_path):
     result = invoke("analyze", EXAMPLE, "--out", blocker)
     assert result.exit_code == 2 and "--out" in result.stderr
     assert blocker.read_text() == "x"
+
+
+# ----------------------------------------------------------------------------- never an input overwritten (issue 13)
+
+def _deck_beside_its_record(tmp_path, record_name="rec.csv"):
+    """A deck and its record in one folder (a record named like a --histories target)."""
+    folder = tmp_path / "d"
+    folder.mkdir()
+    (folder / record_name).write_bytes(RECORD.read_bytes())
+    deck = folder / "deck.toml"
+    deck.write_text(EXAMPLE.read_text().replace("../records/elcentro_1940_ns_chopra.txt", record_name)
+                    .replace('units = "g"', 'units = "g"\nformat = "shared"'))
+    return deck
+
+
+def test_out_into_the_decks_folder_never_replaces_the_deck(tmp_path):
+    deck = _deck_beside_its_record(tmp_path)
+    before = deck.read_bytes()
+    result = invoke("analyze", deck, "--out", deck.parent)
+    assert result.exit_code == 2 and result.stdout == ""
+    assert result.stderr.strip().startswith(f"error: --out: {deck}: a path that does not replace an input of the run")
+    assert deck.read_bytes() == before and sorted(p.name for p in deck.parent.iterdir()) == ["deck.toml", "rec.csv"]
+    assert invoke("analyze", deck, "--out", tmp_path / "results").exit_code == 0  # elsewhere: fine
+
+
+def test_histories_refuse_the_record_and_existing_files(tmp_path):
+    deck = _deck_beside_its_record(tmp_path)
+    record = deck.parent / "rec.csv"
+    before = record.read_bytes()
+    args = ["analyze", deck, "--engine", "exact", "--support", "uplift", "--set", "ground_motion.window=[0, 3]"]
+    result = invoke(*args, "--histories", record, "--overwrite")  # never an input, even with --overwrite
+    assert result.exit_code == 2 and "--histories" in result.stderr and "does not replace an input" in result.stderr
+    assert record.read_bytes() == before
+    target = tmp_path / "h.csv"
+    assert invoke(*args, "--histories", target).exit_code == 0
+    first = target.read_text()
+    target.write_text("mine")
+    result = invoke(*args, "--histories", target)
+    assert result.exit_code == 2 and target.read_text() == "mine"
+    assert result.stderr.strip() == f"error: --histories: {target}: a file that does not exist yet (pass --overwrite " \
+                                    "to replace it)"
+    assert invoke(*args, "--histories", target, "--overwrite").exit_code == 0 and target.read_text() == first
+
+
+def test_results_follow_the_umask(tmp_path):
+    import os
+    import stat
+
+    saved = os.umask(0o002)
+    try:
+        assert invoke("analyze", EXAMPLE, "--out", tmp_path).exit_code == 0
+    finally:
+        os.umask(saved)
+    modes = {p.suffix: stat.S_IMODE(p.stat().st_mode) for p in tmp_path.iterdir()}
+    assert modes == {".json": 0o664, ".csv": 0o664, ".toml": 0o664}
+
+
+# ----------------------------------------------------------------------------- one line naming the source (issue 13)
+
+@pytest.mark.parametrize(("args", "line"), [
+    (["--format", "xml"], "error: --format: 'xml' is not one of 'table', 'json'."),
+    (["--engine", "EXACT"], "error: --engine: EXACT: one of simplified, approximate, exact or all (names are lower "
+                            "case: 'exact')"),
+    (["--support", "lifted"], "error: --support: lifted: one of rigid, bonded, uplift or all"),
+    (["--set", "analysis.exact.steps_per_period=1"], "error: --set: analysis.exact.steps_per_period: an integer "
+                                                     ">= 2, got 1"),
+    (["--set", "building.period=0.5\nx=1"], "error: --set: building.period: a value on one line (without line "
+                                             "breaks or control characters)"),
+])
+def test_bad_options_give_one_line(args, line):
+    result = invoke("analyze", EXAMPLE, *args)
+    assert result.exit_code == 2 and result.stdout == ""
+    assert result.stderr.strip().splitlines() == [line] or result.stderr.strip().startswith(line), result.stderr
+
+
+def test_a_newline_in_a_path_gives_one_line(tmp_path):
+    result = invoke("analyze", tmp_path / "no\nsuch.toml")
+    assert result.exit_code == 2
+    assert result.stderr.strip().splitlines() == [f"error: {tmp_path}/no\\nsuch.toml: an existing deck file (file "
+                                                  "not found)"]
+
+
+def test_a_one_sample_record_is_bad_input_for_every_engine(tmp_path):
+    record = tmp_path / "one.txt"
+    record.write_text("# dt = 0.01\n# units: g\n0.05\n")
+    deck = tmp_path / "deck.toml"
+    deck.write_text(EXAMPLE.read_text().replace("../records/elcentro_1940_ns_chopra.txt", "one.txt"))
+    for engine in ("simplified", "exact"):
+        result = invoke("analyze", deck, "--engine", engine)
+        assert result.exit_code == 2
+        assert result.stderr.strip() == f"error: {record}: at least two acceleration samples, found 1"

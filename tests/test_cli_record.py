@@ -93,3 +93,29 @@ def test_register_on_a_fresh_app():
     record_cli.register(fresh)
     result = runner.invoke(fresh, ["record", "spectrum", str(RECORD), "--periods", "1"])
     assert result.exit_code == 0 and "damping_ratio,period_s" in result.stdout
+
+
+def test_periods_shorter_than_the_record_resolves_are_refused_at_once():
+    import time
+
+    start = time.perf_counter()
+    result = invoke("record", "spectrum", RECORD, "--periods", "1e-8")
+    assert time.perf_counter() - start < 10.0  # it ran for minutes (time grows as 1/T)
+    assert result.exit_code == 2
+    assert result.stderr.strip() == ("error: --periods: 1e-8: periods of at least 8e-06 s or 0 (limit for the "
+                                     "record's dt = 0.02 s and 1,560 samples: T >= dt/2,500), got 1e-08 s")
+
+
+def test_spectrum_out_never_replaces_the_record(tmp_path):
+    record = tmp_path / "rec.txt"
+    record.write_bytes(RECORD.read_bytes())
+    result = invoke("record", "spectrum", record, "--out", tmp_path / "." / "rec.txt")
+    assert result.exit_code == 2 and "--out/--plot" in result.stderr and "does not replace an input" in result.stderr
+    assert record.read_bytes() == RECORD.read_bytes()
+
+
+def test_info_of_a_one_sample_record_is_one_line(tmp_path):
+    path = tmp_path / "one.txt"
+    path.write_text("# dt = 0.01\n# units: g\n0.05\n")
+    result = invoke("record", "info", path)
+    assert result.exit_code == 2 and result.stderr.strip() == f"error: {path}: at least two acceleration samples, found 1"

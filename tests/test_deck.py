@@ -306,3 +306,93 @@ def test_build_deck_from_a_mapping_for_sweeps():
     assert deck.system.modes.periods[0] == pytest.approx(2.0)
     assert raw["building"]["period"] == 0.5  # the caller's mapping is not modified
     assert deck.raw["building"]["period"] == 2.0
+
+
+# ----------------------------------------------------------------------------- nonsense refused (issue 13)
+
+def _deck_with_record(tmp_path, name="deck.toml"):
+    text = EXAMPLE.read_text().replace("../records/elcentro_1940_ns_chopra.txt", str(RECORD))
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_a_byte_order_mark_is_accepted(tmp_path):
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + _deck_with_record(tmp_path).read_bytes())
+    assert load_deck(path).system.building.n_stories == 10
+
+
+def test_deeply_nested_toml_is_one_error(tmp_path):
+    path = tmp_path / "deep.toml"
+    path.write_text("a = " + "[" * 5000 + "]" * 5000 + "\n")
+    with pytest.raises(InputError, match=r"deep.toml: valid TOML \(arrays or tables nested too deeply\)$"):
+        load_deck(path)
+    with pytest.raises(InputError, match=r"^--set: building.period: a number > 0 \[s\], got '\[\[\["):
+        load_deck(EXAMPLE, ["building.period=" + "[" * 5000 + "]" * 5000])
+
+
+def test_a_newline_inside_a_set_value_is_refused():
+    with pytest.raises(InputError, match=r"^--set: building.period: a value on one line"):
+        parse_override("building.period=0.5\nx=1")
+
+
+@pytest.mark.parametrize(("override", "message"), [
+    ("building.period=1e308", "--set: building.period: a number > 0 of magnitude 1e-30 to 1e+30 [s], got 1e+308"),
+    ("foundation.b=1e308", "--set: foundation.b: a number > 0 of magnitude"),
+    ("building.story_height=1e-300", "--set: building.story_height: a number > 0 of magnitude"),
+    ("ground_motion.window=[0, 1e308]", "--set: ground_motion.window: [start, end] of magnitude"),
+    ("building.stories=1000000", "--set: building.stories: an integer from 1 to 500, got 1000000"),
+    ("building.stories=9223372036854775807", "--set: building.stories: an integer from 1 to 500"),
+    ("ground_motion.scale=1e308", "--set: ground_motion.scale: a number > 0 of magnitude"),
+    ("ground_motion.scale=1e30", "--set: ground_motion.scale: accelerations of magnitude at most 1e+30 m/s^2"),
+    ("analysis.gravity=1e308", "--set: analysis.gravity: a number > 0 of magnitude"),
+])
+def test_values_the_schema_accepted_before_are_refused_on_one_line(override, message):
+    with pytest.raises(InputError) as info:
+        load_deck(EXAMPLE, [override])
+    assert str(info.value).startswith(message) and "\n" not in str(info.value)
+
+
+def test_per_story_arrays_are_bounded_too(tmp_path):
+    path = tmp_path / "tall.toml"
+    path.write_text(BASE.replace("stories = 4\nfloor_mass = 2.0e5", "masses = [" + ", ".join(["2e5"] * 501) + "]"))
+    with pytest.raises(InputError, match=r"tall.toml: building.masses: at most 500 stories \(limit of the tool\), got 501"):
+        load_deck(path, load_ground_motion=False)
+
+
+def test_a_building_without_finite_modes_names_the_field():
+    # masses 60 orders of magnitude apart: the eigenproblem loses positive definiteness in double precision
+    with pytest.raises(InputError, match=r"ten_story_elcentro.toml: building.period: a value giving finite positive "
+                                         r"frequencies and effective heights"):
+        load_deck(EXAMPLE, ["building.stories=3", "building.masses=[1e30, 1e-30, 1e30]",
+                            "building.story_stiffness=1e-30"], load_ground_motion=False)
+
+
+def test_record_fields_of_the_deck_are_blamed_on_the_deck_not_the_record(tmp_path):
+    path = _deck_with_record(tmp_path)
+    for override, location in (("ground_motion.dt=0.01", "ground_motion.dt"),
+                               ('ground_motion.units="furlong"', "ground_motion.units"),
+                               ("ground_motion.window=[40, 50]", "ground_motion.window")):
+        with pytest.raises(InputError) as info:
+            load_deck(path, [override])
+        assert (info.value.source, info.value.location) == ("--set", location), str(info.value)
+    bad = tmp_path / "bad.toml"
+    bad.write_text(path.read_text().replace('units = "g"', 'units = "furlong"'))
+    with pytest.raises(InputError, match=r"bad.toml: ground_motion.units: acceleration units one of"):
+        load_deck(bad)
+
+
+def test_a_symlinked_deck_reads_its_record_next_to_its_target(tmp_path):
+    link = tmp_path / "elsewhere" / "link.toml"
+    link.parent.mkdir()
+    link.symlink_to(EXAMPLE)  # the record path ../records/... is relative to inputs/, not to elsewhere/
+    deck = load_deck(link)
+    assert Path(deck.ground_motion.source).resolve() == RECORD.resolve()
+
+
+def test_blame_prefers_set_then_the_deck():
+    deck = load_deck(EXAMPLE, ["foundation.damping_ratio=0.3"])
+    assert deck.blame("foundation.frequency_ratio", "foundation.damping_ratio") == ("--set", "foundation.damping_ratio")
+    assert deck.blame("foundation.k_f", "foundation.frequency_ratio") == (str(EXAMPLE), "foundation.frequency_ratio")
+    assert deck.blame("foundation.k_f") == (str(EXAMPLE), "foundation.k_f")

@@ -170,3 +170,70 @@ def test_at2_units_from_header_other_than_g(tmp_path):
     record = read_record(path)
     assert record.units == "cm/s2"
     np.testing.assert_allclose(record.acceleration, VALUES * 0.01, rtol=1e-7, atol=1e-14)
+
+
+# ----------------------------------------------------------------------------- nonsense refused (issue 13)
+
+def test_a_byte_order_mark_is_accepted_in_text_and_csv_records(tmp_path):
+    text = write(tmp_path, "bom.txt", "\ufeff# dt = 0.01\n# units: g\n0.1\n-0.2\n0.3\n")
+    record = read_record(text)
+    np.testing.assert_allclose(record.acceleration, np.array([0.1, -0.2, 0.3]) * G)
+    csv = write(tmp_path, "bom.csv", "\ufefftime,acc\n0,0.1\n0.01,0.2\n")
+    assert read_record(csv, units="g").npts == 2
+
+
+def test_a_decimal_comma_is_refused_not_split_in_two(tmp_path):
+    path = write(tmp_path, "comma.txt", "# dt = 0.01\n# units: g\n0,05\n0,07\n")
+    with pytest.raises(InputError, match=r"comma.txt: line 3: numbers with a decimal point, got '0,05'"):
+        read_record(path)
+    # commas between numbers with decimal points still separate values
+    assert read_record(write(tmp_path, "list.txt", "# dt = 0.01\n# units: g\n0.05,0.07, 0.1\n")).npts == 3
+
+
+def test_one_sample_is_refused(tmp_path):
+    with pytest.raises(InputError, match="at least two acceleration samples, found 1"):
+        read_record(write(tmp_path, "one.txt", "# dt = 0.01\n# units: g\n0.05\n"))
+
+
+def test_values_that_overflow_after_units_and_scale_are_refused(tmp_path):
+    with pytest.raises(InputError, match=r"big.txt: accelerations of magnitude at most 1e\+30 m/s\^2 .* got inf"):
+        read_record(write(tmp_path, "big.txt", "# dt = 0.01\n# units: g\n1e308\n0.1\n"))
+    with pytest.raises(InputError, match=r": scale: accelerations of magnitude at most") as info:
+        read_record(write(tmp_path, "ok.txt", "# dt = 0.01\n# units: g\n1\n0.1\n"), scale=1e30)
+    assert info.value.location == "scale"
+
+
+def test_record_time_step_is_bounded(tmp_path):
+    with pytest.raises(InputError, match=r"line 1: a time step 0 < dt <= 10 s, got 1e\+300"):
+        read_record(write(tmp_path, "dt.txt", "# dt = 1e300\n# units: g\n0.1\n0.1\n"))
+
+
+def test_devices_directories_and_binary_files_are_refused_quickly(tmp_path):
+    import time
+
+    start = time.perf_counter()
+    with pytest.raises(InputError, match=r"^/dev/zero: a record file of at most 64 MiB"):
+        read_record("/dev/zero", units="g", dt=0.01)
+    assert time.perf_counter() - start < 10.0
+    with pytest.raises(InputError, match="this is a directory"):
+        read_record(tmp_path, units="g", dt=0.01)
+    binary = tmp_path / "b.txt"
+    binary.write_bytes(b"0.1\n\x00\x00\n")
+    with pytest.raises(InputError, match="NUL bytes found"):
+        read_record(binary, units="g", dt=0.01)
+
+
+def test_sample_limit(tmp_path, monkeypatch):
+    from upliftcli.motion import records
+
+    monkeypatch.setattr(records, "MAX_RECORD_SAMPLES", 5)
+    assert read_record(write(tmp_path, "five.txt", "# dt = 0.01\n# units: g\n1 2 3 4 5\n")).npts == 5
+    with pytest.raises(InputError, match=r"six.txt: line 3: at most 5 samples"):
+        read_record(write(tmp_path, "six.txt", "# dt = 0.01\n# units: g\n1 2 3 4 5 6\n"))
+    with pytest.raises(InputError, match=r"six.csv: line 7: at most 5 samples"):
+        read_record(write(tmp_path, "six.csv", "t,a\n" + "".join(f"{0.01 * i},{i}\n" for i in range(6))), units="g")
+
+
+def test_a_window_ending_far_past_the_record_keeps_the_rest(tmp_path):
+    path = write(tmp_path, "w.txt", "# dt = 0.01\n# units: g\n1 2 3 4 5\n")
+    assert read_record(path, window=(0.02, 1e30)).acceleration.size == 3

@@ -1,0 +1,63 @@
+"""Documented limits: each is refused with the limit, the value and the field, before anything is allocated."""
+
+import io
+import time
+
+import numpy as np
+import pytest
+
+from upliftcli import limits
+from upliftcli.motion.spectra import response_spectrum, substeps
+
+
+def test_shortest_period_follows_the_record_step_and_length():
+    assert limits.shortest_period(0.02, 1560) == pytest.approx(0.02 / limits.MAX_DT_OVER_PERIOD)
+    # a long record: the sub-steps of one oscillator over the record bound it instead
+    long = limits.shortest_period(0.01, 1_000_000)
+    assert long == pytest.approx(4 * 0.01 * 999_999 / limits.MAX_SPECTRUM_STEPS)
+    # at the limit an oscillator costs at most MAX_SPECTRUM_STEPS sub-steps (spectra.substeps)
+    for dt, samples in ((0.02, 1560), (0.01, 1_000_000), (0.005, 20)):
+        t = limits.shortest_period(dt, samples)
+        assert int(substeps(dt, [t])[0]) * (samples - 1) <= 1.0001 * max(limits.MAX_SPECTRUM_STEPS,
+                                                                          4 * limits.MAX_DT_OVER_PERIOD * samples)
+
+
+def test_period_problem_names_the_limit_and_the_period():
+    assert limits.period_problem([0.0, 0.05, 5.0], 0.02, 1560) is None
+    words = limits.period_problem([0.5, 1e-8], 0.02, 1560)
+    assert "periods of at least 8e-06 s or 0" in words and "got 1e-08 s" in words
+
+
+def test_spectrum_at_the_shortest_period_is_quick_and_follows_the_ground():
+    """At the limit the ordinate is still computed exactly (and quickly): S_a -> PGA as T -> 0."""
+    rng = np.random.default_rng(1)
+    a = rng.normal(size=200)
+    t = limits.shortest_period(0.02, a.size)
+    start = time.perf_counter()
+    spectrum = response_spectrum(a, 0.02, [t], [0.05])
+    assert time.perf_counter() - start < 10.0
+    assert spectrum.pseudo_acceleration[0, 0] == pytest.approx(np.max(np.abs(a)), rel=1e-3)
+
+
+def test_step_states_problem():
+    assert limits.step_states_problem(1000, 28) is None
+    words = limits.step_states_problem(3_741_600, 28)
+    assert words.startswith("at most 67,108,864 internal steps x states (about 2 GiB), got 3,741,600 steps x 30")
+
+
+def test_cases_problem_is_computed_without_expanding():
+    assert limits.cases_problem([10, 10], 3) is None
+    assert limits.cases_problem([30, 30, 30, 30], 3) == "at most 100,000 cases, got 2,430,000 (30 x 30 x 30 x 30 x 3)"
+
+
+def test_read_limited_stops_at_the_limit(tmp_path):
+    path = tmp_path / "f"
+    path.write_bytes(b"x" * 100)
+    assert limits.read_limited(path, 100) == b"x" * 100
+    with pytest.raises(ValueError, match="at most"):
+        limits.read_limited(path, 99)
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match="at most 1 MiB"):
+        limits.read_limited("/dev/zero", 2**20)  # endless: refused after reading the limit
+    assert time.perf_counter() - start < 5.0
+    assert isinstance(io.BytesIO(limits.read_limited(path, 1000)).read(), bytes)
