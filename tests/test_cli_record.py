@@ -118,4 +118,5 @@ def test_info_of_a_one_sample_record_is_one_line(tmp_path):
     path = tmp_path / "one.txt"
     path.write_text("# dt = 0.01\n# units: g\n0.05\n")
     result = invoke("record", "info", path)
-    assert result.exit_code == 2 and result.stderr.strip() == f"error: {path}: at least two acceleration samples, found 1"
+    assert result.exit_code == 2
+    assert result.stderr.strip() == f"error: {path}: at least two acceleration samples, found 1"

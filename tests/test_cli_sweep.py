@@ -15,6 +15,7 @@ from typer.testing import CliRunner
 from upliftcli.analysis import run_one
 from upliftcli.cli import app
 from upliftcli.deck import load_deck
+from upliftcli.sweep.store import RowStore
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
@@ -260,3 +261,146 @@ def test_progress_displays():
         bar.advance({"status": status})
     bar.stop()
     assert "spectra" in screen.getvalue() and "3/3" in screen.getvalue() and "1 failed" in screen.getvalue()
+
+
+# ----------------------------------------------------------------------------- nothing lost, no hang (issue 13)
+
+LONG_SWEEP = ["sweep", str(EXAMPLE), "--vary", "foundation.frequency_ratio=4:16:6000", "--workers", "2", "--quiet"]
+
+
+def _start_long_sweep(out: Path) -> tuple[subprocess.Popen, list[int]]:
+    """A sweep of 18,000 simplified cases on 2 local workers, once it has written 5 rows;
+    returns the process and its children (the workers and multiprocessing's helpers)."""
+    process = subprocess.Popen([sys.executable, "-c", "from upliftcli.cli import main; main()", *LONG_SWEEP,
+                                "--out", str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    rows_path = out / "ten_story_elcentro.sweep.rows.jsonl"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and process.poll() is None:
+        if rows_path.exists() and len(rows_path.read_bytes().splitlines()) >= 6:
+            break
+        time.sleep(0.01)
+    assert process.poll() is None, process.stderr.read().decode()
+    children = subprocess.run(["ps", "-o", "pid=", "--ppid", str(process.pid)], capture_output=True,
+                              text=True).stdout.split()
+    return process, [int(pid) for pid in children]
+
+
+def _gone(pids: list[int], seconds: float = 15.0) -> bool:
+    def alive(pid: int) -> bool:
+        try:
+            return "\nState:\tZ" not in Path(f"/proc/{pid}/status").read_text()
+        except FileNotFoundError:
+            return False
+
+    deadline = time.monotonic() + seconds
+    while any(alive(pid) for pid in pids) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    return not any(alive(pid) for pid in pids)
+
+
+@pytest.mark.parametrize(("signals", "code", "name"), [
+    ((signal.SIGTERM,), 143, "SIGTERM"),
+    ((signal.SIGHUP,), 129, "SIGHUP"),
+    ((signal.SIGINT, signal.SIGINT, signal.SIGINT), 130, "SIGINT"),  # a double (triple) Ctrl-C
+])
+def test_stop_signals_keep_the_rows_and_stop_the_workers(tmp_path, signals, code, name):
+    process, children = _start_long_sweep(tmp_path)
+    assert len(children) >= 2
+    for signum in signals:
+        process.send_signal(signum)
+        time.sleep(0.02)
+    _, stderr = process.communicate(timeout=60)
+    stderr = stderr.decode()
+    assert process.returncode == code, stderr
+    assert stderr.strip().splitlines() == [line for line in stderr.strip().splitlines() if line.startswith(
+        f"interrupted ({name}): ")] and "Traceback" not in stderr and "Exception ignored" not in stderr
+    kept = len(RowStore(tmp_path / "ten_story_elcentro.sweep.rows.jsonl").read())
+    assert kept >= 5 and f"{kept} of 18000 cases are kept" in stderr
+    assert _gone(children)
+
+
+def test_killed_sweep_takes_its_workers_along(tmp_path):
+    process, children = _start_long_sweep(tmp_path)
+    process.send_signal(signal.SIGKILL)
+    process.wait(timeout=60)
+    assert _gone(children), "workers left behind with parent 1"
+
+
+def test_a_second_sweep_on_the_same_stem_is_refused(tmp_path):
+    from upliftcli.sweep.store import stem_lock
+
+    with stem_lock(tmp_path, "ten_story_elcentro.sweep"):  # as a sweep in another process holds it
+        result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--out", tmp_path, "--quiet")
+    assert result.exit_code == 2
+    assert result.stderr.strip() == (f"error: --out: {tmp_path / 'ten_story_elcentro.sweep'}: an output stem no other "
+                                     "sweep is writing (another `uplift sweep` with the same --out and --name is "
+                                     "running: wait for it to end or choose another --name)")
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+def test_an_unreachable_scheduler_fails_fast_and_writes_nothing(tmp_path):
+    import socket
+
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]  # closed again: nothing listens there
+    start = time.monotonic()
+    result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--out", tmp_path / "out", "--quiet",
+                    "--scheduler", f"tcp://127.0.0.1:{port}")
+    assert time.monotonic() - start < 10.0
+    assert result.exit_code == 2 and result.stderr.startswith(f"error: --scheduler: tcp://127.0.0.1:{port}: a "
+                                                              "reachable Dask scheduler")
+    assert not (tmp_path / "out").exists()
+
+
+def test_sweep_refuses_engine_names_as_analyze_does(tmp_path):
+    result = invoke("sweep", EXAMPLE, "--engine", "EXACT", "--out", tmp_path, "--quiet")
+    assert result.exit_code == 2
+    assert result.stderr.strip() == ("error: --engine: EXACT: one of simplified, approximate, exact or all (names are "
+                                     "lower case: 'exact')")
+
+
+@pytest.mark.parametrize(("args", "line"), [
+    (["--workers", "abc"], "error: --workers: Input should be a valid integer, unable to parse string as an integer"),
+    (["--table", "xls"], "error: --table: 'xls' is not one of 'json', 'parquet', 'csv'."),
+    (["--format", "xml"], "error: --format: 'xml' is not one of 'table', 'json'."),
+])
+def test_bad_option_values_give_one_line(tmp_path, args, line):
+    result = invoke("sweep", EXAMPLE, "--out", tmp_path, *args)
+    assert result.exit_code == 2 and result.stderr.strip().splitlines() == [line]
+
+
+def test_spectra_refuses_periods_the_record_cannot_resolve(tmp_path):
+    start = time.monotonic()
+    result = invoke("spectra", EXAMPLE, "--periods", "1e-9:1e-8:3", "--out", tmp_path, "--quiet")
+    assert time.monotonic() - start < 20.0
+    assert result.exit_code == 2
+    assert result.stderr.strip().startswith("error: --periods: 1e-9:1e-8:3: periods of at least 8e-06 s or 0")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_sweep_outputs_never_replace_an_input(tmp_path):
+    record = tmp_path / "rec.csv"
+    record.write_bytes(RECORD.read_bytes())
+    deck = tmp_path / "deck.toml"
+    deck.write_text(EXAMPLE.read_text().replace("../records/elcentro_1940_ns_chopra.txt", "rec.csv")
+                    .replace('units = "g"', 'units = "g"\nformat = "shared"'))
+    result = invoke("sweep", deck, "--vary", "building.period=0.5,1", "--out", tmp_path, "--name", "rec", "--quiet")
+    assert result.exit_code == 2 and "does not replace an input of the run" in result.stderr
+    assert record.read_bytes() == RECORD.read_bytes()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["deck.toml", "rec.csv"]
+
+
+def test_sweep_files_follow_the_umask(tmp_path):
+    import os
+    import stat
+
+    saved = os.umask(0o002)
+    try:
+        result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--out", tmp_path, "--quiet")
+    finally:
+        os.umask(saved)
+    assert result.exit_code == 0
+    assert {p.name: stat.S_IMODE(p.stat().st_mode) for p in tmp_path.iterdir()} == {
+        "ten_story_elcentro.sweep.rows.jsonl": 0o664, "ten_story_elcentro.sweep.csv": 0o664,
+        "ten_story_elcentro.sweep.json": 0o664}

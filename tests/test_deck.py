@@ -357,7 +357,8 @@ def test_values_the_schema_accepted_before_are_refused_on_one_line(override, mes
 def test_per_story_arrays_are_bounded_too(tmp_path):
     path = tmp_path / "tall.toml"
     path.write_text(BASE.replace("stories = 4\nfloor_mass = 2.0e5", "masses = [" + ", ".join(["2e5"] * 501) + "]"))
-    with pytest.raises(InputError, match=r"tall.toml: building.masses: at most 500 stories \(limit of the tool\), got 501"):
+    with pytest.raises(InputError, match=r"tall.toml: building.masses: at most 500 stories \(limit of the tool\), "
+                                         r"got 501"):
         load_deck(path, load_ground_motion=False)
 
 

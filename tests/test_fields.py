@@ -38,7 +38,10 @@ def test_integers_are_bounded():
 
 
 def test_long_values_are_shown_cut():
-    text = shown([[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]])
+    nested: list = []
+    for _ in range(60):
+        nested = [nested]
+    text = shown(nested)
     assert len(text) <= 80 and "..." in text
 
 

@@ -516,3 +516,208 @@ def test_rows_of_a_batch_are_emitted_as_each_case_ends():
     assert len(messages) == 4 and emitted[0]["case"] == 1 and emitted[0]["status"] == "failed"
     assert sorted(r["case"] for r in emitted) == [0, 1, 2] and [r["case"] for r in rows] == [0, 1, 2]
     assert all(r["status"] == "ok" for r in emitted[1:])
+
+
+# ----------------------------------------------------------------------------- nothing lost, no hang (issue 13)
+
+def test_range_sizes_are_refused_before_expanding():
+    import time
+
+    start = time.perf_counter()
+    with pytest.raises(InputError, match=r"^--vary foundation.b: 1:2:100000000: at most 10,000 values in one range"):
+        parse_vary("foundation.b=1:2:100000000")
+    many = ",".join(str(1 + 1e-6 * i) for i in range(1_000_000))
+    with pytest.raises(InputError, match=r"at most 10,000 values in one range \(limit of the tool\), got 1,000,000"):
+        parse_vary(f"foundation.b={many}")
+    with pytest.raises(InputError, match=r"^--vary foundation.b: values on one line"):
+        parse_vary("foundation.b=1,2\n3")
+    with pytest.raises(InputError, match=r"^--vary: at most 100,000 cases, got 2,430,000 \(30 x 30 x 30 x 30 x 3\)"):
+        plan_sweep(EXAMPLE, [], ["foundation.b=1:2:30", "building.period=0.5:1:30",
+                                 "foundation.damping_ratio=0.1:0.3:30", "foundation.frequency_ratio=4:8:30"])
+    assert time.perf_counter() - start < 10.0  # each was minutes and hundreds of MB
+
+
+def test_plan_fingerprints_the_records_and_the_version():
+    from upliftcli.sweep.plan import file_sha256
+
+    plan = plan_sweep(EXAMPLE, SHORT, ["building.period=0.5,1"], ["simplified"], ["rigid"])
+    (record,) = plan.records
+    assert Path(record).resolve() == (ROOT / "records" / "elcentro_1940_ns_chopra.txt").resolve()
+    assert plan.records[record] == file_sha256(record) and len(plan.records[record]) == 64
+    assert plan.version and len(plan.fingerprint) == 20
+    assert plan.input_files == [str(EXAMPLE), record]
+    assert plan.record_steps[record] == (0.02, 301)
+    other = plan_sweep(EXAMPLE, SHORT, ["building.period=0.5,2"], ["simplified"], ["rigid"])
+    assert other.fingerprint == plan.fingerprint  # the varied values are in the case keys, not in the fingerprint
+
+
+def _deck_with_own_record(tmp_path):
+    record = tmp_path / "rec.txt"
+    record.write_bytes((ROOT / "records" / "elcentro_1940_ns_chopra.txt").read_bytes())
+    deck = tmp_path / "deck.toml"
+    deck.write_text(EXAMPLE.read_text().replace("../records/elcentro_1940_ns_chopra.txt", "rec.txt"))
+    return deck, record
+
+
+def test_resume_refuses_rows_of_a_changed_record_or_reruns_them(tmp_path):
+    deck, record = _deck_with_own_record(tmp_path)
+    store = RowStore(tmp_path / "rows.jsonl")
+    plan = plan_sweep(deck, SHORT, ["building.period=0.5,1"], ["simplified"], ["rigid"])
+    first = run_sweep(plan, SerialExecutor(), store)
+    header = json.loads(store.path.read_text().splitlines()[0])["run"]
+    assert header["fingerprint"] == plan.fingerprint and header["records"] == plan.records
+    lines = record.read_text().splitlines()  # double the record
+    record.write_text("\n".join(line if line.startswith("#") else f"{line.split()[0]} {2 * float(line.split()[1])}"
+                                for line in lines) + "\n")
+    doubled = plan_sweep(deck, SHORT, ["building.period=0.5,1"], ["simplified"], ["rigid"])
+    assert [c.key for c in doubled.cases] == [c.key for c in plan.cases] and doubled.fingerprint != plan.fingerprint
+    with pytest.raises(InputError, match=r"^--resume: .*rows.jsonl: rows computed from the inputs of this run; 2 rows "
+                                         r"were computed from another content of the record .*rec.txt \(its SHA-256 "
+                                         r"changed\): pass --rerun-stale"):
+        run_sweep(doubled, SerialExecutor(), store, resume=True)
+    again = run_sweep(doubled, SerialExecutor(), store, resume=True, rerun_stale=True)
+    assert again.reused == 0
+    for old, new in zip(first.rows, again.rows, strict=True):
+        assert new["base_shear_N"] == pytest.approx(2 * old["base_shear_N"], rel=1e-12)  # linear: twice the record
+    assert run_sweep(doubled, SerialExecutor(), store, resume=True).reused == 2  # now they match
+
+
+def test_resume_refuses_rows_without_a_fingerprint(small_plan, serial_rows, tmp_path):
+    path = tmp_path / "rows.jsonl"
+    path.write_text("".join(json.dumps(row) + "\n" for row in serial_rows[:3]))  # as older versions wrote them
+    with pytest.raises(InputError, match="3 rows were computed by a run that recorded no fingerprint"):
+        run_sweep(small_plan, SerialExecutor(), RowStore(path), resume=True)
+
+
+def test_a_run_that_stops_before_its_first_row_leaves_no_rows_file(small_plan, tmp_path):
+    class Failing(SerialExecutor):
+        def run(self, chunks, on_row):
+            raise OSError(111, "Connection refused")
+
+    path = tmp_path / "rows.jsonl"
+    with pytest.raises(OSError):
+        run_sweep(small_plan, Failing(), RowStore(path))
+    assert not path.exists()
+
+
+def test_stem_lock_refuses_a_second_sweep(tmp_path):
+    from upliftcli.sweep.store import stem_lock
+
+    out = tmp_path / "out"
+    with stem_lock(out, "deck.sweep"):
+        assert (out / ".deck.sweep.lock").exists()
+        with pytest.raises(InputError, match=r"^--out: .*deck.sweep: an output stem no other sweep is writing"), \
+                stem_lock(out, "deck.sweep"):
+            pass
+        with stem_lock(out, "other.sweep"):  # another stem: fine
+            pass
+    assert not out.exists()  # created for the lock, left empty: removed
+    out.mkdir()
+    with stem_lock(out, "deck.sweep"):
+        pass
+    assert out.exists() and list(out.iterdir()) == []
+
+
+class FullDisk(RowStore):
+    """A rows file on a disk that fills up after `room` rows."""
+
+    def __init__(self, path, room):
+        super().__init__(path)
+        self.room = room
+
+    def append(self, row, fingerprint=None):
+        if self.appended >= self.room:
+            raise OSError(28, "No space left on device")
+        super().append(row, fingerprint)
+
+
+def test_a_full_disk_stops_local_workers_at_once_and_keeps_the_rows(tmp_path):
+    """The error came back but the sweep never exited (the executor's exit handler waited for
+    workers blocked on a queue nobody read). Now the workers are killed and the rows kept."""
+    import multiprocessing
+    import time
+
+    plan = plan_sweep(EXAMPLE, SHORT, ["foundation.frequency_ratio=4:16:60"], ["simplified"],
+                      ["rigid", "bonded", "uplift"])
+    store = FullDisk(tmp_path / "rows.jsonl", room=5)
+    earlier = set(multiprocessing.active_children())  # processes of other tests
+    start = time.perf_counter()
+    with pytest.raises(OSError, match="No space left"):
+        run_sweep(plan, ProcessExecutor(2), store, size=2)
+    assert time.perf_counter() - start < 60.0
+    deadline = time.monotonic() + 10.0
+    while set(multiprocessing.active_children()) - earlier and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not set(multiprocessing.active_children()) - earlier
+    assert len(RowStore(store.path).read()) == 5
+
+
+def test_sigterm_stops_a_sweep_like_ctrl_c(small_plan, serial_rows, tmp_path):
+    import signal
+
+    class Terminated(SerialExecutor):
+        def run(self, chunks, on_row):
+            for row in serial_rows[:4]:
+                on_row(row)
+            os.kill(os.getpid(), signal.SIGTERM)
+            for row in serial_rows[4:]:  # never reached: the signal interrupts here
+                on_row(row)
+
+    before = signal.getsignal(signal.SIGTERM)
+    outcome = run_sweep(small_plan, Terminated(), RowStore(tmp_path / "rows.jsonl"))
+    assert outcome.interrupted and outcome.signal == signal.SIGTERM and outcome.rows == serial_rows[:4]
+    assert signal.getsignal(signal.SIGTERM) is before  # handlers restored
+
+
+def test_workers_exit_with_their_parent(tmp_path):
+    """exit_with_parent: a process whose parent dies (here: exits at once) ends too."""
+    import subprocess
+    import sys
+    import time
+
+    script = (
+        "import os, sys, time\n"
+        "from upliftcli.sweep.executors import exit_with_parent\n"
+        "parent = os.getpid()\n"
+        "child = os.fork()\n"
+        "if child == 0:\n"
+        "    exit_with_parent(parent)\n"
+        "    time.sleep(60)\n"
+        "    os._exit(0)\n"
+        "print(child, flush=True)\n"
+        "time.sleep(0.5)\n"
+        "os._exit(0)\n"
+    )
+    output = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60).stdout
+    child = int(output.split()[0])
+    deadline = time.monotonic() + 10.0
+
+    def alive() -> bool:
+        try:
+            state = Path(f"/proc/{child}/status").read_text()
+        except FileNotFoundError:
+            return False
+        return "\nState:\tZ" not in state
+
+    while alive() and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not alive()
+
+
+def test_an_unreachable_scheduler_is_refused_at_once():
+    import socket
+    import time
+
+    from upliftcli.sweep.executors import check_reachable
+
+    with socket.socket() as server:
+        server.bind(("127.0.0.1", 0))
+        port = server.getsockname()[1]
+        server.listen()
+        check_reachable(f"tcp://127.0.0.1:{port}")  # listening: fine
+    start = time.perf_counter()
+    with pytest.raises(InputError, match=rf"^--scheduler: tcp://127.0.0.1:{port}: a reachable Dask scheduler"):
+        check_reachable(f"tcp://127.0.0.1:{port}")
+    assert time.perf_counter() - start < 5.0
+    with pytest.raises(InputError, match="an address tcp://host:port"):
+        check_reachable("tcp://127.0.0.1:port")

@@ -6,27 +6,41 @@ and, under "record_rows", each record's row (written to the tables with --per-re
 from __future__ import annotations
 
 import json
+import os
 from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
 from ..analysis import check_criteria, run_batch
-from ..deck import Deck, build_deck
+from ..deck import Deck, build_deck, record_path
 from ..engines.quantities import QUANTITIES, SCALARS
 from ..engines.simplified import effective_properties
 from ..engines.suite_result import SuiteResult
 from ..errors import AnalysisError, InputError
 from .plan import Case, Chunk, ground_motion_key
 
-#: per process: ground-motion fields -> (record or design spectrum, spectrum object with its S_a cache)
-_GROUND_MOTIONS: dict[tuple[str, str], tuple[Any, Any]] = {}
+#: per process: (deck, ground-motion fields, record file signature) ->
+#: (record or design spectrum, spectrum object with its S_a cache)
+_GROUND_MOTIONS: dict[tuple, tuple[Any, Any]] = {}
+
+
+def _file_signature(record: str | None, source: str) -> tuple:
+    """(inode, size, mtime) of a record file: a record changed on disk is read again, not
+    taken from the cache of an earlier sweep in this process (a long-lived Dask worker)."""
+    if not record:
+        return ()
+    try:
+        info = os.stat(record_path(record, source))
+    except OSError:
+        return ()
+    return (info.st_ino, info.st_size, info.st_mtime_ns)
 
 
 def build_case_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]]) -> Deck:
     """build_deck, reusing the ground motion (record and spectrum cache) of earlier cases."""
     deck = build_deck(raw, source, overrides, load_ground_motion=False)
-    key = (source, ground_motion_key(deck))
+    key = (source, ground_motion_key(deck), _file_signature(deck.values["ground_motion"].get("record"), source))
     if key not in _GROUND_MOTIONS:
         if len(_GROUND_MOTIONS) >= 16:
             _GROUND_MOTIONS.clear()
