@@ -138,7 +138,7 @@ def apply_overrides(raw: dict, overrides: Iterable[tuple[str, Any]]) -> tuple[di
                     if name not in group:
                         for other in group:
                             table.pop(other, None)
-        if path == "foundation.type" and value in FOUNDATION_FIELDS:
+        if path == "foundation.type" and isinstance(value, str) and value in FOUNDATION_FIELDS:
             for kind, names in FOUNDATION_FIELDS.items():  # fields of the replaced type go
                 if kind != value:
                     for other in names:
