@@ -158,7 +158,8 @@ def test_any_record_file(workdir, lines, header, suffix, command):
 
 
 RANGES = st.one_of(
-    st.tuples(NUMBERS, NUMBERS, st.integers(min_value=-5, max_value=10**9),
+    # counts within the bounded run time, or beyond the limit of one range (refused before expanding)
+    st.tuples(NUMBERS, NUMBERS, st.integers(min_value=-5, max_value=12) | st.sampled_from([10_001, 10**6, 10**9]),
               st.sampled_from(["", ":log", ":lin", ":cubic"])).map(
         lambda t: f"{toml_number(t[0])}:{toml_number(t[1])}:{t[2]}{t[3]}"),
     st.lists(NUMBERS.map(toml_number), min_size=1, max_size=4).map(",".join),
