@@ -176,7 +176,7 @@ def test_failed_case_is_recorded_with_its_message():
     plan = plan_sweep(EXAMPLE, SHORT + ["analysis.exact.time_step=1e-7"], [], ["exact"], ["rigid"])
     rows = run_chunk(make_chunks(plan, plan.cases, 4)[0])
     assert rows[0]["status"] == "failed"
-    assert rows[0]["message"].startswith("--set: analysis.exact.time_step: at most 67,108,864 internal steps")
+    assert rows[0]["message"].startswith("--set: analysis.exact.time_step: at most 50,000,000 internal steps")
     assert rows[0]["case"] == 0 and rows[0]["engine"] == "exact"
 
 
@@ -652,21 +652,24 @@ def test_a_full_disk_stops_local_workers_at_once_and_keeps_the_rows(tmp_path):
     assert len(RowStore(store.path).read()) == 5
 
 
-def test_sigterm_stops_a_sweep_like_ctrl_c(small_plan, serial_rows, tmp_path):
+@pytest.mark.parametrize("signum", ["SIGTERM", "SIGHUP"])
+def test_sigterm_and_sighup_stop_a_sweep_like_ctrl_c(small_plan, serial_rows, tmp_path, signum):
     import signal
+
+    signum = getattr(signal, signum)
 
     class Terminated(SerialExecutor):
         def run(self, chunks, on_row):
             for row in serial_rows[:4]:
                 on_row(row)
-            os.kill(os.getpid(), signal.SIGTERM)
+            os.kill(os.getpid(), signum)
             for row in serial_rows[4:]:  # never reached: the signal interrupts here
                 on_row(row)
 
-    before = signal.getsignal(signal.SIGTERM)
+    before = signal.getsignal(signum)
     outcome = run_sweep(small_plan, Terminated(), RowStore(tmp_path / "rows.jsonl"))
-    assert outcome.interrupted and outcome.signal == signal.SIGTERM and outcome.rows == serial_rows[:4]
-    assert signal.getsignal(signal.SIGTERM) is before  # handlers restored
+    assert outcome.interrupted and outcome.signal == signum and outcome.rows == serial_rows[:4]
+    assert signal.getsignal(signum) is before  # handlers restored
 
 
 def test_workers_exit_with_their_parent(tmp_path):

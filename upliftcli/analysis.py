@@ -92,21 +92,21 @@ def _check_step_states(deck: Deck, engine: Engine, support: str, record: Record)
     from the deck with the engine's own step rule, against limits.MAX_STEP_STATES."""
     from .engines.approximate import approximate_model
     from .engines.exact import engine as exact
-    from .engines.exact.statespace import layout
+    from .engines.exact.statespace import exact_model
 
     options = deck.analysis.exact
-    build = approximate_model if engine.name == "approximate" else exact.exact_model
+    build = approximate_model if engine.name == "approximate" else exact_model
     try:
-        model = build(deck.system, support, options)
+        space = build(deck.system, support, options)
     except ValueError as error:
         raise InputError(deck.source, "analysis.exact.n_modes", str(error)) from None
     samples = record.npts + (math.ceil(options.free_vibration / record.dt) if options.free_vibration > 0 else 0)
-    steps = exact.substeps_for(deck.system, model, record.dt, options) * (samples - 1)
-    problem = limits.step_states_problem(steps, layout(model).n_aug)
+    steps = exact.substeps_for(space, record.dt, options) * (samples - 1)
+    problem = limits.step_states_problem(steps, space.layout.n_aug)
     if problem is None:
         return
-    governing = exact.governing_period(deck.system, model)
-    by_foundation = governing < 0.999 * float(np.min(2.0 * math.pi / model.omega))  # vertical or rocking period
+    governing = space.governing_period
+    by_foundation = governing < 0.999 * float(np.min(2.0 * math.pi / space.model.omega))  # vertical or rocking
     cause = (_foundation_paths(deck) if by_foundation else []) + list(BUILDING_PATHS)
     knobs = ["analysis.exact.steps_per_period", "analysis.exact.free_vibration", "ground_motion.window",
              "ground_motion.dt"]

@@ -44,11 +44,10 @@ def _overrides(settings: list[str], engines: list[str], supports: list[str]) -> 
 
 
 def input_files(deck: Deck) -> list[str]:
-    """The files a run reads: the deck and its record (outputs must not replace them)."""
+    """The files a run reads: the deck and its record(s) (outputs must not replace them)."""
     files = [deck.source]
-    source = getattr(deck.ground_motion, "source", "")
-    if source:
-        files.append(source)
+    motions = getattr(deck.ground_motion, "records", None) or [deck.ground_motion]  # a suite: each record
+    files += [motion.source for motion in motions if getattr(motion, "source", "")]
     return files
 
 
