@@ -3,6 +3,7 @@
 import csv
 import io
 import json
+import os
 import signal
 import subprocess
 import sys
@@ -272,7 +273,8 @@ def _start_long_sweep(out: Path) -> tuple[subprocess.Popen, list[int]]:
     """A sweep of 18,000 simplified cases on 2 local workers, once it has written 5 rows;
     returns the process and its children (the workers and multiprocessing's helpers)."""
     process = subprocess.Popen([sys.executable, "-c", "from upliftcli.cli import main; main()", *LONG_SWEEP,
-                                "--out", str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+                                "--out", str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                               env={**os.environ, "PYTHONFAULTHANDLER": "1"})  # SIGABRT: its stacks
     rows_path = out / "ten_story_elcentro.sweep.rows.jsonl"
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and process.poll() is None:
@@ -308,7 +310,11 @@ def test_stop_signals_keep_the_rows_and_stop_the_workers(tmp_path, signals, code
     for signum in signals:
         process.send_signal(signum)
         time.sleep(0.02)
-    _, stderr = process.communicate(timeout=60)
+    try:
+        _, stderr = process.communicate(timeout=60)
+    except subprocess.TimeoutExpired:  # a hang: fail with the stacks of its threads
+        process.send_signal(signal.SIGABRT)
+        pytest.fail("the sweep did not exit after the signal:\n" + process.communicate(timeout=30)[1].decode()[-8000:])
     stderr = stderr.decode()
     assert process.returncode == code, stderr
     assert stderr.strip().splitlines() == [line for line in stderr.strip().splitlines() if line.startswith(

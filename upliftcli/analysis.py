@@ -76,7 +76,8 @@ def check_resources(deck: Deck, engine: Engine, support: str, motion: Any) -> No
     - simplified engine on a record: the modal periods within the record's spectrum range
       (limits.shortest_period)."""
     if engine.needs_record:
-        _check_step_states(deck, engine, support, motion)
+        for record in (motion.records if isinstance(motion, Suite) else [motion]):  # a suite: every record
+            _check_step_states(deck, engine, support, record)
         return
     from .motion.spectra import RecordSpectrum
 

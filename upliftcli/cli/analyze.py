@@ -114,7 +114,7 @@ def analyze(
     if plot is not None:
         plotting.analysis_plots(results, loaded, plot, deck.stem, formats)
     if histories is not None:
-        _write_histories(histories, results)
+        _write_histories(histories, results, input_files(loaded))
     plotting.drop_histories(results)
     if output_format is OutputFormat.json:
         typer.echo(to_json(results, loaded.source, loaded.title), nl=False)
@@ -129,11 +129,21 @@ def analyze(
         raise typer.Exit(3)
 
 
-def _history_paths(path: Path, pairs: list[tuple[str, str]]) -> list[Path]:
-    """One file per (engine, support) with histories: `path` alone, else <stem>_<engine>_<support><suffix>."""
-    if len(pairs) == 1:
+def _history_paths(path: Path, names: list[tuple[str, str, str]]) -> list[Path]:
+    """One file per (engine, support, record suffix) with histories: `path` alone, else
+    <stem>_<engine>_<support><suffix><ext> (a suite's records '_r01', '_r02' ...)."""
+    if len(names) == 1:
         return [path]
-    return [path.with_name(f"{path.stem}_{engine}_{support}{path.suffix}") for engine, support in pairs]
+    return [path.with_name(f"{path.stem}_{engine}_{support}{suffix}{path.suffix}") for engine, support, suffix in names]
+
+
+def _record_suffixes(loaded: Deck) -> list[str]:
+    """'' for one record; '_r01', '_r02' ... for the records of a suite (as _with_histories names them)."""
+    records = getattr(loaded.ground_motion, "records", None)
+    if not records:
+        return [""]
+    width = max(2, len(str(len(records))))
+    return [f"_r{k + 1:0{width}d}" for k in range(len(records))]
 
 
 def _check_histories(path: Path, loaded: Deck, overwrite: bool) -> None:
@@ -143,8 +153,9 @@ def _check_histories(path: Path, loaded: Deck, overwrite: bool) -> None:
         raise InputError("--histories", str(path), "an exact or approximate engine (--engine exact)")
     if path.parent.exists() and not path.parent.is_dir():
         raise InputError("--histories", str(path), "a file in an existing directory")
-    pairs = [(e, s) for e in loaded.analysis.engines if e in ("exact", "approximate") for s in loaded.analysis.supports]
-    targets = _history_paths(path, pairs)
+    names = [(e, s, suffix) for e in loaded.analysis.engines if e in ("exact", "approximate")
+             for s in loaded.analysis.supports for suffix in _record_suffixes(loaded)]
+    targets = _history_paths(path, names)
     refuse_inputs(targets, input_files(loaded), "--histories")
     existing = [target for target in targets if target.exists()]
     if existing and not overwrite:
@@ -179,14 +190,13 @@ def _with_histories(results) -> list[tuple[str, object]]:
     return [(suffix, result) for suffix, result in pairs if "histories" in result.details]
 
 
-def _write_histories(path: Path, results) -> None:
+def _write_histories(path: Path, results, inputs: list[str]) -> None:
     """Write each analysis's histories (and drop them from the result documents); a suite's
     records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
     with_histories = _with_histories(results)
-    for suffix, result in with_histories:
-        target = path
-        if len(with_histories) > 1:
-            target = path.with_name(f"{path.stem}_{result.engine}_{result.support}{suffix}{path.suffix}")
+    targets = _history_paths(path, [(result.engine, result.support, suffix) for suffix, result in with_histories])
+    refuse_inputs(targets, inputs, "--histories")  # as checked before the run (the names are the same)
+    for (_, result), target in zip(with_histories, targets, strict=True):
         try:
             write_histories(target, result.details.pop("histories"))
         except OSError as error:

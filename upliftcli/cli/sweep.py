@@ -26,7 +26,8 @@ from ..sweep.executors import (
     import_distributed,
 )
 from ..sweep.plan import SweepPlan, Vary, parse_choices, plan_sweep
-from ..sweep.run import NoProgress, ignore_stop_signals, run_sweep
+from ..sweep.run import NoProgress, run_sweep
+from ..sweep.signals import ignore_stop_signals
 from ..sweep.store import RowStore, stem_lock
 from . import render
 from .analyze import SET_HELP

@@ -41,6 +41,7 @@ from concurrent.futures.process import BrokenProcessPool
 
 from ..errors import InputError
 from .plan import Chunk
+from .signals import deferred
 from .worker import failed_row, run_chunk
 
 #: environment of worker processes, set before they import numpy: one thread per worker
@@ -179,21 +180,25 @@ class ProcessExecutor:
         """Run the chunks on a fresh pool; return the chunks of a broken pool (a worker died)."""
         pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker,
                                    initargs=(queue, self.runner, os.getpid()))
-        with _sigint_ignored():  # processes are started by submit; they ignore Ctrl-C from birth
+        with _sigint_ignored(), deferred():  # processes are started by submit; they ignore Ctrl-C from birth
             futures = {pool.submit(_worker_run_chunk, chunk): chunk for chunk in chunks}
         leftovers = []
 
         def drain() -> None:
-            while not queue.empty():
-                kind, value = queue.get()
-                if kind == "start":
-                    started.update(value)
-                else:
-                    deliver(value)
+            while True:
+                with deferred():  # a stop signal never cuts a message read from the pipe in half
+                    if queue.empty():
+                        return
+                    kind, value = queue.get()
+                    if kind == "start":
+                        started.update(value)
+                    else:
+                        deliver(value)
 
         try:
             while futures:
-                finished, _ = wait(futures, timeout=self.poll_seconds, return_when=FIRST_COMPLETED)
+                with deferred():  # a signal inside wait() could leave futures' locks held: the pool would hang
+                    finished, _ = wait(futures, timeout=self.poll_seconds, return_when=FIRST_COMPLETED)
                 drain()
                 for future in finished:
                     chunk = futures.pop(future)
@@ -202,8 +207,9 @@ class ProcessExecutor:
                     except BrokenProcessPool:
                         leftovers.append(chunk)
                         continue
-                    for row in rows:
-                        deliver(row)
+                    with deferred():
+                        for row in rows:
+                            deliver(row)
             drain()
         except BaseException:  # Ctrl-C, a full disk ...: keep what arrived, stop the workers now
             try:

@@ -8,61 +8,20 @@ inputs than the plan's (a record file whose SHA-256 changed, another tool versio
 fingerprint differs, plan.run_fingerprint) is refused with a message, or run again with
 `rerun_stale`.
 
-Signals: SIGTERM and SIGHUP stop a sweep like Ctrl-C (the rows written are kept; the
-outcome names the signal); once one has arrived, further ones are ignored until the
-executor has stopped its workers, so a second Ctrl-C cannot cut the cleanup short.
+Signals (sweep/signals.py): SIGTERM and SIGHUP stop a sweep like Ctrl-C (the rows written
+are kept; the outcome names the signal); once one has arrived, further ones are ignored
+until the executor has stopped its workers, so a second Ctrl-C cannot cut the clean-up short.
 """
 
 from __future__ import annotations
 
-import contextlib
 import signal
-import threading
-from collections.abc import Iterator
 from dataclasses import dataclass
 
 from ..errors import InputError
 from .plan import SweepPlan, chunk_size, make_chunks
+from .signals import Interrupted, ignore_stop_signals, stop_signals_interrupt  # noqa: F401 - interface
 from .store import RowStore
-
-#: signals that stop a sweep as Ctrl-C does
-STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
-
-
-class Interrupted(KeyboardInterrupt):
-    """A stop signal (SIGINT, SIGTERM or SIGHUP) arrived; signum says which."""
-
-    def __init__(self, signum: int):
-        super().__init__(signal.Signals(signum).name)
-        self.signum = int(signum)
-
-
-def ignore_stop_signals() -> None:
-    """Ignore further stop signals (main thread only): the process is about to exit."""
-    if threading.current_thread() is threading.main_thread():
-        for signum in STOP_SIGNALS:
-            signal.signal(signum, signal.SIG_IGN)
-
-
-@contextlib.contextmanager
-def stop_signals_interrupt() -> Iterator[None]:
-    """While the sweep runs, SIGINT, SIGTERM and SIGHUP raise Interrupted in the main thread;
-    after the first, all three are ignored until the block ends. The previous handlers are
-    restored afterwards. Outside the main thread, signals are left alone."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-
-    def handler(signum, frame):
-        ignore_stop_signals()
-        raise Interrupted(signum)
-
-    previous = {signum: signal.signal(signum, handler) for signum in STOP_SIGNALS}
-    try:
-        yield
-    finally:
-        for signum, action in previous.items():
-            signal.signal(signum, action)
 
 
 @dataclass
