@@ -119,7 +119,7 @@ def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, 
     executor = choose_executor(plan, workers, scheduler, dask)
     try:
         outcome = run_sweep(plan, executor, RowStore(rows_path), resume=resume, retry_failed=retry_failed,
-                            rerun_stale=rerun_stale, progress=progress_for(quiet, label))
+                            rerun_stale=rerun_stale, progress=progress_for(quiet, label), exit_on_stop=True)
     except OSError as error:  # a full disk: the rows written so far are kept
         kept = len(RowStore(rows_path).read())
         raise InputError("--out", str(out), f"a writable directory ({error.strerror or error}); {kept} finished "

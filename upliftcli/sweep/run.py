@@ -80,13 +80,15 @@ def resumable_rows(plan: SweepPlan, store: RowStore, retry_failed: bool, rerun_s
 
 
 def run_sweep(plan: SweepPlan, executor, store: RowStore, *, resume: bool = False, retry_failed: bool = False,
-              rerun_stale: bool = False, progress=None, size: int | None = None) -> SweepOutcome:
+              rerun_stale: bool = False, progress=None, size: int | None = None,
+              exit_on_stop: bool = False) -> SweepOutcome:
     """Run the cases not finished yet, appending each row to `store` as it arrives.
 
     resume: keep the rows of `store` whose case is in the plan: 'ok' rows always, 'failed'
     rows unless retry_failed; 'crashed' rows are run again; rows of other inputs are refused
     unless rerun_stale (resumable_rows). Ctrl-C, SIGTERM or SIGHUP stops the executor and
-    returns what was kept (interrupted=True). An OSError of the store (a full disk) stops the
+    returns what was kept (interrupted=True); exit_on_stop: the caller exits then, so the stop
+    signals stay ignored (signals.stop_signals_interrupt). An OSError of the store (a full disk) stops the
     executor and is raised; the rows written before it are kept."""
     progress = progress or NoProgress()
     keys = {case.key for case in plan.cases}
@@ -108,12 +110,12 @@ def run_sweep(plan: SweepPlan, executor, store: RowStore, *, resume: bool = Fals
     progress.start(len(plan.cases), len(kept))
     interrupted, stop_signal, finished = False, 0, False
     try:
-        with stop_signals_interrupt():
-            chunks = make_chunks(plan, todo, size or chunk_size(len(todo), getattr(executor, "workers", 1)))
-            try:
+        try:
+            with stop_signals_interrupt(stay_ignored=exit_on_stop):
+                chunks = make_chunks(plan, todo, size or chunk_size(len(todo), getattr(executor, "workers", 1)))
                 executor.run(chunks, on_row)
-            except KeyboardInterrupt as error:
-                interrupted, stop_signal = True, getattr(error, "signum", int(signal.SIGINT))
+        except KeyboardInterrupt as error:
+            interrupted, stop_signal = True, getattr(error, "signum", int(signal.SIGINT))
         finished = not interrupted
     finally:
         store.close(discard_if_empty=not finished)

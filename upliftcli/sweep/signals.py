@@ -48,18 +48,25 @@ def _handler(signum, frame) -> None:
 
 
 @contextlib.contextmanager
-def stop_signals_interrupt() -> Iterator[None]:
+def stop_signals_interrupt(stay_ignored: bool = False) -> Iterator[None]:
     """While the block runs, the stop signals raise Interrupted (once); the previous handlers
-    are restored afterwards. Outside the main thread, signals are left alone."""
+    are restored afterwards, unless one arrived and stay_ignored (a process that is about to
+    exit: a second Ctrl-C must not cut its last message). Outside the main thread, signals
+    are left alone."""
     if not _main_thread():
         yield
         return
     previous = {signum: signal.signal(signum, _handler) for signum in STOP_SIGNALS}
+    stopped = False
     try:
         yield
+    except KeyboardInterrupt:
+        stopped = True
+        raise
     finally:
-        for signum, action in previous.items():
-            signal.signal(signum, action)
+        if not (stopped and stay_ignored):
+            for signum, action in previous.items():
+                signal.signal(signum, action)
 
 
 @contextlib.contextmanager
