@@ -29,7 +29,7 @@ def test_excursion_flags_a_positive_bump_between_negative_ends():
 
 # ----------------------------------------------------------------------------- numpy twin of integrate
 
-def _integrate_twin(space, ground, slopes, h, criterion="reaction", probes=32):
+def _integrate_twin(space, ground, slopes, h, criterion="reaction", probes=8):
     """The stepping loop written plainly: each step by expm(A h); a crossing of an event function
     (probed at `probes` points inside the step) located by brentq on the exact flow; the
     elements at zero switch (a lifting one's top starts at the edge); the step goes on from
