@@ -301,7 +301,7 @@ def _gone(pids: list[int], seconds: float = 15.0) -> bool:
 
 
 @pytest.mark.parametrize(("signals", "code", "name"), [
-    ((signal.SIGTERM,), 143, "SIGTERM"),  # SIGHUP takes the same path (tests/test_sweep.py)
+    ((signal.SIGTERM,), 143, "SIGTERM"),  # SIGHUP takes the same path (tests/test_sweep_run.py)
     ((signal.SIGINT, signal.SIGINT, signal.SIGINT), 130, "SIGINT"),  # a double (triple) Ctrl-C
 ])
 def test_stop_signals_keep_the_rows_and_stop_the_workers(tmp_path, signals, code, name):

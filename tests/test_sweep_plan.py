@@ -1,0 +1,115 @@
+"""sweep/plan.py: parsing of --vary values, case expansion and keys, the plan's checks before anything runs."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from sweep_cases import ASCE7, EXAMPLE, ROOT, SHORT
+
+from upliftcli.errors import InputError
+from upliftcli.sweep.plan import (
+    Case,
+    Chunk,
+    expand_cases,
+    parse_choices,
+    parse_values,
+    parse_vary,
+    plan_sweep,
+)
+
+# ----------------------------------------------------------------------------- parsing
+
+
+def test_parse_values_ranges_and_lists():
+    values, spacing = parse_values("1e7:1e10:4:log", "--vary")
+    assert spacing == "log" and values == [1e7, 1e8, 1e9, 1e10]
+    values, spacing = parse_values("0.2:3:15", "--vary")
+    assert spacing == "linear" and len(values) == 15 and values[0] == 0.2 and values[-1] == 3.0
+    assert values[1] == 0.4  # rounded to 12 digits, not 0.39999999999999997
+    np.testing.assert_allclose(np.diff(values), 0.2, rtol=1e-12)
+    assert parse_values("1:5:5", "--vary") == ([1, 2, 3, 4, 5], "linear")  # integers stay integers
+    assert parse_values("srss,cqc", "--vary") == (["srss", "cqc"], "list")
+    assert parse_values("[0.5, 1]", "--vary") == ([0.5, 1], "list")
+    assert parse_values("0.05:5:3", "--periods", "log")[0] == [0.05, 0.5, 5.0]
+    for bad in ("1:2", "0:10:5:log", "a:b:3", "1:2:0", "1:2:3:cubic", "[]"):
+        with pytest.raises(InputError):
+            parse_values(bad, "--vary")
+
+
+def test_parse_vary_checks_the_path():
+    vary = parse_vary("foundation.k_f=1e7:1e9:3:log")
+    assert vary.path == "foundation.k_f" and vary.unit == "N/m" and vary.values == (1e7, 1e8, 1e9)
+    with pytest.raises(InputError, match="did you mean 'foundation.k_f'"):
+        parse_vary("foundation.kf=1:2:2")
+    with pytest.raises(InputError, match="--engine"):
+        parse_vary("analysis.engine=exact,simplified")
+    with pytest.raises(InputError):
+        parse_vary("building.period")
+    assert parse_choices(["exact,simplified", "all"], ("simplified", "approximate", "exact"), "--engine") == \
+        ["exact", "simplified", "approximate"]
+    with pytest.raises(InputError, match="--support"):
+        parse_choices(["rigid,flying"], ("rigid", "bonded", "uplift"), "--support")
+
+
+def test_cartesian_product_order_and_stable_keys():
+    varies = [parse_vary("foundation.k_f=1e8,1e9"), parse_vary("building.period=0.5,1.0,2.0")]
+    cases = expand_cases(varies, ["simplified"], ["rigid", "uplift"], "deck-hash")
+    assert len(cases) == 2 * 3 * 2
+    assert [c.index for c in cases] == list(range(12))
+    assert cases[0].overrides == (("foundation.k_f", 1e8), ("building.period", 0.5))
+    assert (cases[0].support, cases[1].support) == ("rigid", "uplift")  # support innermost: one deck, adjacent
+    assert cases[-1].overrides == (("foundation.k_f", 1e9), ("building.period", 2.0))
+    again = expand_cases(varies, ["simplified"], ["rigid", "uplift"], "deck-hash")
+    assert [c.key for c in cases] == [c.key for c in again]
+    assert len({c.key for c in cases}) == 12
+    other = expand_cases(varies, ["simplified"], ["rigid", "uplift"], "another-deck")
+    assert not {c.key for c in cases} & {c.key for c in other}
+
+
+def test_plan_validates_every_case_before_running():
+    with pytest.raises(InputError) as info:
+        plan_sweep(EXAMPLE, [], ["foundation.b=-1,2"])
+    assert str(info.value).startswith("--vary: foundation.b:")
+    with pytest.raises(InputError, match="record for the exact engine"):
+        plan_sweep(ASCE7, [], ["building.period=0.5,1"], ["exact"])
+    with pytest.raises(InputError, match="each field varied once"):
+        plan_sweep(EXAMPLE, [], ["building.period=0.5,1", "building.period=2"])
+
+
+def test_case_dataclass_is_picklable():
+    import pickle
+
+    case = Case(0, "k", (("building.period", 0.5),), "simplified", "rigid")
+    chunk = Chunk({"a": 1}, "deck.toml", (), [case])
+    assert pickle.loads(pickle.dumps(chunk)) == chunk
+
+
+def test_range_sizes_are_refused_before_expanding():
+    import time
+
+    start = time.perf_counter()
+    with pytest.raises(InputError, match=r"^--vary foundation.b: 1:2:100000000: at most 10,000 values in one range"):
+        parse_vary("foundation.b=1:2:100000000")
+    many = ",".join(str(1 + 1e-6 * i) for i in range(1_000_000))
+    with pytest.raises(InputError, match=r"at most 10,000 values in one range \(limit of the tool\), got 1,000,000"):
+        parse_vary(f"foundation.b={many}")
+    with pytest.raises(InputError, match=r"^--vary foundation.b: values on one line"):
+        parse_vary("foundation.b=1,2\n3")
+    with pytest.raises(InputError, match=r"^--vary: at most 100,000 cases, got 2,430,000 \(30 x 30 x 30 x 30 x 3\)"):
+        plan_sweep(EXAMPLE, [], ["foundation.b=1:2:30", "building.period=0.5:1:30",
+                                 "foundation.damping_ratio=0.1:0.3:30", "foundation.frequency_ratio=4:8:30"])
+    assert time.perf_counter() - start < 10.0  # each was minutes and hundreds of MB
+
+
+def test_plan_fingerprints_the_records_and_the_version():
+    from upliftcli.sweep.plan import file_sha256
+
+    plan = plan_sweep(EXAMPLE, SHORT, ["building.period=0.5,1"], ["simplified"], ["rigid"])
+    (record,) = plan.records
+    assert Path(record).resolve() == (ROOT / "records" / "elcentro_1940_ns_chopra.txt").resolve()
+    assert plan.records[record] == file_sha256(record) and len(plan.records[record]) == 64
+    assert plan.version and len(plan.fingerprint) == 20
+    assert plan.input_files == [str(EXAMPLE), record]
+    assert plan.record_steps[record] == (0.02, 301)
+    other = plan_sweep(EXAMPLE, SHORT, ["building.period=0.5,2"], ["simplified"], ["rigid"])
+    assert other.fingerprint == plan.fingerprint  # the varied values are in the case keys, not in the fingerprint

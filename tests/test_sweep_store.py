@@ -1,0 +1,89 @@
+"""sweep/store.py: the rows file (torn lines, fingerprints checked on --resume) and the lock on the
+output stem."""
+
+import json
+
+import pytest
+from sweep_cases import EXAMPLE, ROOT, SHORT
+
+from upliftcli.errors import InputError
+from upliftcli.sweep.executors import SerialExecutor
+from upliftcli.sweep.plan import (
+    plan_sweep,
+)
+from upliftcli.sweep.run import run_sweep
+from upliftcli.sweep.store import RowStore
+
+# ----------------------------------------------------------------------------- parsing
+
+
+def test_row_store_appends_and_ignores_a_torn_line(tmp_path):
+    store = RowStore(tmp_path / "rows.jsonl")
+    store.open(fresh=True)
+    store.append({"key": "a", "status": "ok", "x": 1.0})
+    store.append({"key": "b", "status": "failed", "message": "boom"})
+    store.close()
+    with open(store.path, "a") as handle:
+        handle.write('{"key": "c", "sta')  # killed while writing
+    assert set(store.read()) == {"a", "b"}
+    store.open(fresh=False)
+    store.append({"key": "c", "status": "ok"})
+    store.close()
+    lines = store.path.read_text().splitlines()
+    assert [json.loads(line)["key"] for line in lines] == ["a", "b", "c"]
+
+
+def _deck_with_own_record(tmp_path):
+    record = tmp_path / "rec.txt"
+    record.write_bytes((ROOT / "records" / "elcentro_1940_ns_chopra.txt").read_bytes())
+    deck = tmp_path / "deck.toml"
+    deck.write_text(EXAMPLE.read_text().replace("../records/elcentro_1940_ns_chopra.txt", "rec.txt"))
+    return deck, record
+
+
+def test_resume_refuses_rows_of_a_changed_record_or_reruns_them(tmp_path):
+    deck, record = _deck_with_own_record(tmp_path)
+    store = RowStore(tmp_path / "rows.jsonl")
+    plan = plan_sweep(deck, SHORT, ["building.period=0.5,1"], ["simplified"], ["rigid"])
+    first = run_sweep(plan, SerialExecutor(), store)
+    header = json.loads(store.path.read_text().splitlines()[0])["run"]
+    assert header["fingerprint"] == plan.fingerprint and header["records"] == plan.records
+    lines = record.read_text().splitlines()  # double the record
+    record.write_text("\n".join(line if line.startswith("#") else f"{line.split()[0]} {2 * float(line.split()[1])}"
+                                for line in lines) + "\n")
+    doubled = plan_sweep(deck, SHORT, ["building.period=0.5,1"], ["simplified"], ["rigid"])
+    assert [c.key for c in doubled.cases] == [c.key for c in plan.cases] and doubled.fingerprint != plan.fingerprint
+    with pytest.raises(InputError, match=r"^--resume: .*rows.jsonl: rows computed from the inputs of this run; 2 rows "
+                                         r"were computed from another content of the record .*rec.txt \(its SHA-256 "
+                                         r"changed\): pass --rerun-stale"):
+        run_sweep(doubled, SerialExecutor(), store, resume=True)
+    again = run_sweep(doubled, SerialExecutor(), store, resume=True, rerun_stale=True)
+    assert again.reused == 0
+    for old, new in zip(first.rows, again.rows, strict=True):
+        assert new["base_shear_N"] == pytest.approx(2 * old["base_shear_N"], rel=1e-12)  # linear: twice the record
+    assert run_sweep(doubled, SerialExecutor(), store, resume=True).reused == 2  # now they match
+
+
+def test_resume_refuses_rows_without_a_fingerprint(small_plan, serial_rows, tmp_path):
+    path = tmp_path / "rows.jsonl"
+    path.write_text("".join(json.dumps(row) + "\n" for row in serial_rows[:3]))  # as older versions wrote them
+    with pytest.raises(InputError, match="3 rows were computed by a run that recorded no fingerprint"):
+        run_sweep(small_plan, SerialExecutor(), RowStore(path), resume=True)
+
+
+def test_stem_lock_refuses_a_second_sweep(tmp_path):
+    from upliftcli.sweep.store import stem_lock
+
+    out = tmp_path / "out"
+    with stem_lock(out, "deck.sweep"):
+        assert (out / ".deck.sweep.lock").exists()
+        with pytest.raises(InputError, match=r"^--out: .*deck.sweep: an output stem no other sweep is writing"), \
+                stem_lock(out, "deck.sweep"):
+            pass
+        with stem_lock(out, "other.sweep"):  # another stem: fine
+            pass
+    assert not out.exists()  # created for the lock, left empty: removed
+    out.mkdir()
+    with stem_lock(out, "deck.sweep"):
+        pass
+    assert out.exists() and list(out.iterdir()) == []
