@@ -40,7 +40,8 @@ def loaded_after(*args: str) -> tuple[int, list[str]]:
     ("--help",),
     ("modes", str(INPUTS / "ten_story_elcentro.toml")),
     ("analyze", str(INPUTS / "ten_story_asce7.toml")),  # design spectrum: the simplified engine only
-], ids=["help", "modes", "analyze-design-spectrum"])
+    ("analyze", str(INPUTS / "ten_story_elcentro.toml")),  # the README's: simplified on a record (numpy S_a)
+], ids=["help", "modes", "analyze-design-spectrum", "analyze-record-simplified"])
 def test_commands_without_history_engine_load_no_numba_nor_scipy_linalg(args):
     code, loaded = loaded_after(*args)
     assert code == 0
