@@ -110,10 +110,24 @@ def output_paths(out: Path, stem: str, extra=()) -> list[Path]:
     return [out / f"{stem}{suffix}" for suffix in (".rows.jsonl", ".csv", ".json", ".parquet")] + list(extra)
 
 
+def head_start(executor, figures: bool) -> None:
+    """Local worker processes: start their warm server (it imports and loads the engines, about
+    1 s of one core) and meanwhile import matplotlib here when figures follow the run."""
+    prestart = getattr(executor, "prestart", None)
+    if prestart is None:
+        return
+    prestart()
+    if figures:
+        from .. import plots
+
+        plots.preload()
+
+
 def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, resume, retry_failed,
             overwrite, quiet, label, rerun_stale=False, figures_written=()):
     """Run the plan with progress (the caller holds stem_lock); exit 128 + the signal (130 for
-    Ctrl-C, 143 for SIGTERM, 129 for SIGHUP) keeping the rows when interrupted."""
+    Ctrl-C, 143 for SIGTERM, 129 for SIGHUP) keeping the rows when interrupted. figures_written:
+    the figures that follow the run (their paths)."""
     from ..sweep.run import run_sweep
     from ..sweep.store import RowStore
 
@@ -121,6 +135,7 @@ def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, 
     refuse_inputs(output_paths(out, stem, figures_written), plan.input_files, "--out")
     _prepare_out(out, rows_path, resume, overwrite)
     executor = choose_executor(plan, workers, scheduler, dask)
+    head_start(executor, bool(figures_written))
     try:
         outcome = run_sweep(plan, executor, RowStore(rows_path), resume=resume, retry_failed=retry_failed,
                             rerun_stale=rerun_stale, progress=progress_for(quiet, label), exit_on_stop=True)
