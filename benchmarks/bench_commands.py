@@ -127,7 +127,8 @@ def main() -> None:
         speedup = statistics.median(parts[1]) / statistics.median(parts[2])
         print(f"{'fig3 analysis speed-up':26s} {speedup:8.2f}x (1 -> 2 workers)  >= 1.7x: "
               f"{'met' if speedup >= 1.7 else 'NOT met'}")
-    print(f"{'baseline (import numpy)':26s} {summary(baseline):>22s}  (all {len(baseline)} runs)")
+    if baseline:
+        print(f"{'baseline (import numpy)':26s} {summary(baseline):>22s}  (all {len(baseline)} runs)")
 
 
 if __name__ == "__main__":
