@@ -50,7 +50,8 @@ class TableFormat(str, Enum):
     csv = "csv"
 
 
-#: rough cost of one case [s], to decide whether worker processes pay for their start-up (~2 s)
+#: rough cost of one case [s], to decide whether worker processes pay for their start-up (about 1 s of one
+#: core for the warm server, sweep/warm.py, and their chunks' transfer)
 CASE_SECONDS = {"simplified": 0.002, "approximate": 0.04, "exact": 0.04}
 
 
