@@ -80,13 +80,16 @@ def test_spawned_workers_give_the_same_rows(plan, serial_rows, tmp_path):
     assert [{k: v for k, v in row.items() if k != "warm"} for row in rows] == serial_rows
 
 
-def test_workers_see_the_parents_environment_of_now(plan, tmp_path, monkeypatch):
-    """The warm server started earlier; a worker still gets the environment of the sweep's start."""
+def test_workers_see_the_parents_environment_and_directory_of_now(plan, tmp_path, monkeypatch):
+    """The warm server started earlier; a worker still gets the environment and the working
+    directory of the sweep's start (relative deck and record paths)."""
     ProcessExecutor(2).prestart()
     monkeypatch.setenv("UPLIFT_TEST_LATE", "set after the server started")
+    monkeypatch.chdir(tmp_path)
     rows = run_sweep(plan, ProcessExecutor(2, runner=_reports_environment), RowStore(tmp_path / "rows.jsonl")).rows
     assert {row["late"] for row in rows} == {"set after the server started"}
+    assert {row["directory"] for row in rows} == {str(tmp_path)}
 
 
 def _reports_environment(chunk, emit):
-    return _with({"late": os.environ.get("UPLIFT_TEST_LATE")}, chunk, emit)
+    return _with({"late": os.environ.get("UPLIFT_TEST_LATE"), "directory": os.getcwd()}, chunk, emit)

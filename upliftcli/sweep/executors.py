@@ -126,12 +126,14 @@ def exit_with_parent(parent_pid: int, poll_seconds: float = 1.0) -> None:
     threading.Thread(target=watch, name="exit-with-parent", daemon=True).start()
 
 
-def _init_worker(queue, runner, parent_pid: int | None = None, environment=None) -> None:
+def _init_worker(queue, runner, parent_pid: int | None = None, environment=None, directory=None) -> None:
     global _QUEUE, _RUNNER
     _QUEUE, _RUNNER = queue, runner
     if environment is not None:  # the parent's now, not the warm server's when it started
         os.environ.clear()
         os.environ.update(environment)
+    if directory is not None:  # relative deck and record paths as in the parent
+        os.chdir(directory)
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     signal.signal(signal.SIGHUP, signal.SIG_IGN)  # so is a hang-up of the terminal
     if parent_pid is not None:
@@ -228,7 +230,7 @@ class ProcessExecutor:
     def _run_pool(self, chunks, workers: int, context, queue, started: set, deliver) -> list[Chunk]:
         """Run the chunks on a fresh pool; return the chunks of a broken pool (a worker died)."""
         pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker,
-                                   initargs=(queue, self.runner, self._parent_pid(), dict(os.environ)))
+                                   initargs=(queue, self.runner, self._parent_pid(), dict(os.environ), os.getcwd()))
         with _sigint_ignored(), deferred():  # processes are started by submit; they ignore Ctrl-C from birth
             futures = {pool.submit(_worker_run_chunk, chunk): chunk for chunk in chunks}
         leftovers = []
