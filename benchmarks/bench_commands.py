@@ -7,8 +7,9 @@ First run (cold): an empty numba cache (NUMBA_CACHE_DIR set to a new directory),
 fresh install; with --venv DIR, the commands of that virtual environment instead (make one with
 `python3 -m venv DIR && DIR/bin/pip install .`; its first runs are then the real first runs,
 --repeats 1). The Fig. 3 spectrum: end to end with its three PNGs, and its analysis part
-(run_sweep in a fresh process: 1 worker in it, or 2 local workers whose warm server starts
-then) on 1 and 2 workers, overall and between the first and the last row.
+(run_sweep in a fresh process after what `uplift spectra` does before it: with 2 local workers
+their warm server is started and matplotlib imported meanwhile) on 1 and 2 workers, overall and
+between the first and the last row.
 
     python benchmarks/bench_commands.py [--repeats 5] [--only help,modes,...] [--venv DIR]
 """
@@ -58,6 +59,8 @@ class Stamps(NoProgress):
 workers = int(sys.argv[1])
 plan = plan_sweep(sys.argv[2], (), (), ["exact"], (), varies=[period_vary("0.05:5:100")])
 executor = SerialExecutor() if workers == 1 else ProcessExecutor(workers)
+from upliftcli.cli.sweep import head_start
+head_start(executor, figures=True)  # as uplift spectra: the warm server starts, matplotlib is imported meanwhile
 start = time.perf_counter()
 outcome = run_sweep(plan, executor, RowStore(Path(tempfile.mkdtemp()) / "rows.jsonl"), progress=Stamps())
 seconds = time.perf_counter() - start
