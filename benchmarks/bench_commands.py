@@ -34,10 +34,12 @@ FIG3 = ["spectra", README_DECK, "--periods", "0.05:5:100", "--engine", "exact", 
 TARGETS = {
     "help": (["--help"], False, ("ratio", 2.5)),
     "modes": (["modes", README_DECK], False, ("seconds", 0.5)),
-    "readme": (["analyze", README_DECK], False, ("seconds", 0.5)),
+    "readme": (["analyze", README_DECK], False, ("seconds", 0.5)),  # with the exact engine's check (a record)
+    "readme-no-check": (["analyze", README_DECK, "--no-check"], False, ("seconds", 0.5)),  # the simplified engine
     "exact": (["analyze", README_DECK, "--engine", "exact"], False, None),
     "first-design-spectrum": (["analyze", DESIGN_DECK], True, ("seconds", 3.0)),
     "first-readme": (["analyze", README_DECK], True, ("seconds", 5.0)),
+    "first-readme-no-check": (["analyze", README_DECK, "--no-check"], True, ("seconds", 3.0)),
     "first-exact": (["analyze", README_DECK, "--engine", "exact"], True, ("seconds", 5.0)),
     "fig3": (FIG3, False, ("seconds", 1.5)),
 }
