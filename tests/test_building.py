@@ -3,7 +3,13 @@
 import numpy as np
 import pytest
 
-from upliftcli.model.building import modal_analysis, modes_for_mass_target, shear_building, uniform_building
+from upliftcli.model.building import (
+    eigh_diagonal_mass,
+    modal_analysis,
+    modes_for_mass_target,
+    shear_building,
+    uniform_building,
+)
 
 # The paper's table (THEORY.md section 6): w_n/w_1, m_n*/m_t, h_n*/b with h_1*/b = 10
 PAPER_FREQUENCY_RATIOS = [1.0, 2.98, 4.89, 6.69, 8.34]
@@ -64,3 +70,21 @@ def test_modes_are_shared_between_equal_buildings():
     assert other.omega[0] == pytest.approx(2 * np.pi / 0.5, rel=1e-12)
     with pytest.raises(ValueError, match="read-only"):
         first.omega[0] = 1.0
+
+
+@pytest.mark.parametrize("stories", [1, 3, 10, 40])
+def test_diagonal_mass_eigensolver_matches_generalized_solver(stories):
+    """numpy's standard symmetric solver on M^-1/2 K M^-1/2 against scipy's generalized K phi = w^2 M phi,
+    on shear buildings with random masses and stiffnesses: eigenvalues and mass-normalised shapes."""
+    from scipy.linalg import eigh
+
+    rng = np.random.default_rng(stories)
+    building = shear_building(rng.uniform(1e5, 1e6, stories), np.full(stories, 3.5), rng.uniform(1e8, 1e9, stories))
+    eigenvalues, shapes = eigh_diagonal_mass(building.stiffness, building.masses)
+    reference, reference_shapes = eigh(building.stiffness, np.diag(building.masses))
+    np.testing.assert_allclose(eigenvalues, reference, rtol=1e-12)
+    signs = np.sign(np.sum(shapes * reference_shapes, axis=0))
+    np.testing.assert_allclose(shapes * signs, reference_shapes, rtol=0, atol=1e-12 * np.max(np.abs(reference_shapes)))
+    np.testing.assert_allclose(shapes.T @ np.diag(building.masses) @ shapes, np.eye(stories), atol=1e-12)
+    np.testing.assert_allclose(eigh_diagonal_mass(building.stiffness, building.masses, eigvals_only=True), reference,
+                               rtol=1e-12)

@@ -271,7 +271,8 @@ LONG_SWEEP = ["sweep", str(EXAMPLE), "--vary", "foundation.frequency_ratio=4:16:
 
 def _start_long_sweep(out: Path) -> tuple[subprocess.Popen, list[int]]:
     """A sweep of 18,000 simplified cases on 2 local workers, once it has written 5 rows;
-    returns the process and its children (the workers and multiprocessing's helpers)."""
+    returns the process and its descendants (multiprocessing's helpers: the resource tracker and
+    the warm server, and the workers it forked)."""
     process = subprocess.Popen([sys.executable, "-c", "from upliftcli.cli import main; main()", *LONG_SWEEP,
                                 "--out", str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                                env={**os.environ, "PYTHONFAULTHANDLER": "1"})  # SIGABRT: its stacks
@@ -284,7 +285,9 @@ def _start_long_sweep(out: Path) -> tuple[subprocess.Popen, list[int]]:
     assert process.poll() is None, process.stderr.read().decode()
     children = subprocess.run(["ps", "-o", "pid=", "--ppid", str(process.pid)], capture_output=True,
                               text=True).stdout.split()
-    return process, [int(pid) for pid in children]
+    below = [subprocess.run(["ps", "-o", "pid=", "--ppid", pid], capture_output=True, text=True).stdout.split()
+             for pid in children]  # the workers, forked from the warm server
+    return process, [int(pid) for pid in children + [p for pids in below for p in pids]]
 
 
 def _gone(pids: list[int], seconds: float = 15.0) -> bool:

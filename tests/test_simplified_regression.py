@@ -3,7 +3,8 @@ before the improved procedure existed (commit c0f2a40), on the example decks and
 
 tests/data/simplified_paper_regression.json holds what the generator below (`python
 tests/test_simplified_regression.py OUT.json`, which needs no `procedure` option) computed on the
-code of that commit; every float is compared exactly.
+code of that commit; every float is compared exactly, but to 1e-12 relative where S_a comes from
+a record (RECORD_DECKS).
 """
 
 from __future__ import annotations
@@ -32,14 +33,30 @@ def compute(deck: str, overrides: list[str], support: str) -> dict:
 CASES = json.loads(DATA.read_text()) if DATA.exists() else []
 
 
+#: decks whose S_a comes from a record: since the stored numbers were made, the simplified engine
+#: reads it from the numpy twin of the compiled spectrum loop (motion/spectra_numpy.py), which
+#: agrees with it to rounding (tests/test_spectra_numpy.py): 1e-12 relative there (measured: at
+#: most 9.7e-14), bit for bit on the design-spectrum deck
+RECORD_DECKS = {"ten_story_elcentro", "ten_story_winkler", "frame_halfspace"}
+
+
+def same(now, then, rounding: bool) -> bool:
+    if isinstance(then, list):
+        return len(now) == len(then) and all(same(a, b, rounding) for a, b in zip(now, then, strict=True))
+    if rounding and isinstance(then, float) and not isinstance(then, bool):
+        return now == pytest.approx(then, rel=1e-12, abs=0.0)
+    return now == then
+
+
 @pytest.mark.parametrize("case", CASES, ids=[f"{c['deck']}-{'+'.join(c['set']) or 'deck'}-{c['support']}"
                                               for c in CASES])
 def test_paper_procedure_is_unchanged(case):
     now = compute(case["deck"], [*case["set"], "analysis.procedure=paper"], case["support"])
+    rounding = case["deck"] in RECORD_DECKS
     for name in ("base_shear", "base_moment", "uplift", *ARRAYS):
-        assert now[name] == case[name], name
+        assert same(now[name], case[name], rounding), name
     for name, value in case["intermediates"].items():
-        assert now["intermediates"][name] == value, name
+        assert same(now["intermediates"][name], value, rounding), name
 
 
 if __name__ == "__main__":

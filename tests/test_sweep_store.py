@@ -7,6 +7,7 @@ import pytest
 from sweep_cases import EXAMPLE, ROOT, SHORT
 
 from upliftcli.errors import InputError
+from upliftcli.sweep import store as store_module
 from upliftcli.sweep.executors import SerialExecutor
 from upliftcli.sweep.plan import (
     plan_sweep,
@@ -87,3 +88,24 @@ def test_stem_lock_refuses_a_second_sweep(tmp_path):
     with stem_lock(out, "deck.sweep"):
         pass
     assert out.exists() and list(out.iterdir()) == []
+
+
+def test_rows_are_flushed_at_once_and_fsynced_at_most_every_interval(tmp_path, monkeypatch):
+    synced = []
+    real_fsync = store_module.os.fsync
+    monkeypatch.setattr(store_module.os, "fsync", lambda fd: synced.append(fd) or real_fsync(fd))
+    clock = [100.0]
+    monkeypatch.setattr(store_module.time, "monotonic", lambda: clock[0])
+    store = RowStore(tmp_path / "rows.jsonl")
+    store.open(fresh=True)
+    for k in range(50):  # 50 rows within 0.49 s: one fsync (the first)
+        store.append({"key": str(k), "status": "ok"})
+        assert len(store.path.read_text().splitlines()) == k + 1  # another reader sees it at once
+        clock[0] += 0.01
+    assert len(synced) == 1
+    clock[0] += store_module.FSYNC_SECONDS
+    store.append({"key": "late", "status": "ok"})
+    assert len(synced) == 2
+    store.close()
+    assert len(synced) == 3  # and at close
+    assert [json.loads(line)["key"] for line in store.path.read_text().splitlines()][-1] == "late"

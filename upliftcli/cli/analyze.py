@@ -1,4 +1,9 @@
-"""`uplift analyze` and `uplift modes`."""
+"""`uplift analyze` and `uplift modes`.
+
+Only typer and the light modules are imported at module level: the analysis modules, numpy and
+rich are imported by the commands that use them, so that `uplift --help` starts in about the time
+of the interpreter and a command that runs no history engine never loads numba or scipy.
+"""
 
 from __future__ import annotations
 
@@ -6,21 +11,19 @@ import json
 from dataclasses import replace
 from enum import Enum
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
 import typer
-from rich.markup import escape
-from rich.table import Table
 
-from .. import analysis
-from ..accuracy import check_accuracy
 from ..atomic import refuse_inputs
-from ..deck import Deck, load_deck
-from ..engines.registry import ENGINES, SUPPORTS
 from ..errors import InputError
 from ..fields import parse_choices
-from ..output import results_document, to_json, to_jsonable, write_histories, write_results
-from . import plotting, render
+from . import plotting
+
+if TYPE_CHECKING:
+    from rich.table import Table
+
+    from ..deck import Deck
 
 SET_HELP = "Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values)."
 
@@ -33,6 +36,8 @@ class OutputFormat(str, Enum):
 def _overrides(settings: list[str], engines: list[str], supports: list[str]) -> list[str]:
     """The --set texts, then --engine and --support (checked here, so that a bad name is
     reported as the option's, not as a --set of analysis.engine)."""
+    from ..engines.registry import ENGINES, SUPPORTS
+
     overrides = list(settings)
     engines = parse_choices(engines, tuple(ENGINES), "--engine")
     supports = parse_choices(supports, SUPPORTS, "--support")
@@ -88,6 +93,12 @@ def analyze(
     Exit codes: 0 ok, 2 bad input, 3 an acceptance limit (the deck's criteria table) is exceeded,
     4 analysis failure.
     """
+    from .. import analysis
+    from ..accuracy import check_accuracy
+    from ..deck import load_deck
+    from ..output import to_json
+    from . import render
+
     if out is not None and out.exists() and not out.is_dir():
         raise InputError("--out", str(out), "a directory (a file of that name exists)")
     formats = plotting.check_plot(plot, plot_format)
@@ -193,6 +204,8 @@ def _with_histories(results) -> list[tuple[str, object]]:
 def _write_histories(path: Path, results, inputs: list[str]) -> None:
     """Write each analysis's histories (and drop them from the result documents); a suite's
     records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
+    from ..output import write_histories
+
     with_histories = _with_histories(results)
     targets = _history_paths(path, [(result.engine, result.support, suffix) for suffix, result in with_histories])
     refuse_inputs(targets, inputs, "--histories")  # as checked before the run (the names are the same)
@@ -205,6 +218,8 @@ def _write_histories(path: Path, results, inputs: list[str]) -> None:
 
 
 def _write(results, out: Path, stem: str, loaded) -> None:
+    from ..output import write_results
+
     try:
         written = write_results(results, out, stem, loaded.source, loaded.title)
     except OSError as error:
@@ -216,6 +231,11 @@ def _write(results, out: Path, stem: str, loaded) -> None:
 def _analyze_batch(decks: list[Path], overrides: list[str], output_format: OutputFormat, out: Path | None) -> None:
     """Several decks: every deck is read and checked before any is run (bad input: exit 2, no
     output); one summary table (or {"decks": [...]} in JSON); exit 3 if any deck violates its criteria."""
+    from .. import analysis
+    from ..deck import load_deck
+    from ..output import results_document, to_jsonable
+    from . import render
+
     stems = [deck.stem for deck in decks]
     if out is not None and len(set(stems)) != len(stems):
         twice = next(stem for stem in stems if stems.count(stem) > 1)
@@ -245,6 +265,12 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
 
 def _batch_table(runs, violating: set[str]) -> Table:
     """One row per deck, engine and support: V_b, coefficients, V_c, uplift, criteria."""
+    from rich.markup import escape
+    from rich.table import Table
+
+    from .. import analysis
+    from . import render
+
     table = Table(title=f"Summary of {len(runs)} decks")
     names = [deck.name for deck, _, _ in runs]
     label = (lambda deck: deck.name) if len(set(names)) == len(names) else str  # noqa: E731
@@ -272,6 +298,13 @@ def modes(
     plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
 ) -> None:
     """Fixed-base modes: periods, w_n/w_1, effective masses m_n*/m_t (and cumulative), heights h_n*, h_n*/b."""
+    import numpy as np
+    from rich.markup import escape
+
+    from ..deck import load_deck
+    from ..output import to_jsonable
+    from . import render
+
     formats = plotting.check_plot(plot, plot_format)
     loaded = load_deck(deck, settings, load_ground_motion=False)
     system = loaded.system

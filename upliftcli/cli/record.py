@@ -5,18 +5,19 @@ from __future__ import annotations
 import io
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
 import typer
-from rich.markup import escape
-from rich.table import Table
 
-from .. import limits, plots
+from .. import limits
 from ..atomic import refuse_inputs, write_text
 from ..errors import InputError
-from ..motion import records, spectra
 from ..units import STANDARD_GRAVITY
-from . import render
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from ..motion import records, spectra
 
 INFO_PERIODS = (0.1, 0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0)  # s
 
@@ -43,6 +44,8 @@ def parse_window(text: str | None) -> tuple[float, float] | None:
 
 def parse_periods(text: str) -> np.ndarray:
     """'START:STOP:N' (N log-spaced periods, START > 0) or a comma list, in s."""
+    import numpy as np
+
     try:
         if ":" in text:
             parts = text.split(":")
@@ -63,6 +66,8 @@ def parse_periods(text: str) -> np.ndarray:
 
 def parse_dampings(text: str) -> np.ndarray:
     """Comma list of damping ratios (0.05) or percentages (5%)."""
+    import numpy as np
+
     values = []
     for part in text.split(","):
         part = part.strip()
@@ -82,6 +87,8 @@ def parse_dampings(text: str) -> np.ndarray:
 
 def _read(file: Path, file_format: str | None, units: str | None, dt: float | None, scale: float,
           window: str | None) -> records.Record:
+    from ..motion import records
+
     return records.read_record(file, format=file_format, units=units, dt=dt, scale=scale, window=parse_window(window))
 
 
@@ -95,6 +102,13 @@ def info(
     damping: str = typer.Option("0.05", "--damping", help="Damping ratio(s) of the spectrum table."),
 ) -> None:
     """dt, duration, points, PGA, PGV, PGD, Arias intensity and a small response-spectrum table."""
+    import numpy as np
+    from rich.markup import escape
+    from rich.table import Table
+
+    from ..motion import records, spectra
+    from . import render
+
     dampings = parse_dampings(damping)
     record = _read(file, file_format, units, dt, scale, window)
     a = record.acceleration
@@ -162,6 +176,9 @@ def spectrum(
     window: str | None = typer.Option(None, "--window", help=WINDOW_HELP),
 ) -> None:
     """Exact linear response spectra (S_d, pseudo S_v and S_a, absolute acceleration) of a record."""
+    from .. import plots
+    from ..motion import spectra
+
     dampings = parse_dampings(damping)
     period_values = parse_periods(periods)
     if plot is not None:

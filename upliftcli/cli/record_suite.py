@@ -5,23 +5,18 @@ from __future__ import annotations
 
 import hashlib
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
-from rich.markup import escape
-from rich.table import Table
 
-from ..atomic import write_text
-from ..deck import load_deck
-from ..deck_suite import plan_from_deck
 from ..errors import InputError
-from ..motion import records
-from ..motion.generate import Envelope, generate_suite
-from ..motion.matching import MatchSettings, settings_for
-from ..motion.record_files import manifest_text, record_checks, record_text, sha256
-from ..motion.suites import SAMPLES_PER_PERIOD, Suite, build_suite, read_records, suite_entries
 from ..units import STANDARD_GRAVITY
-from . import render
 from .record import DT_HELP, FORMAT_HELP, UNITS_HELP
+
+if TYPE_CHECKING:  # imported by the commands that use them (numpy, scipy, rich, the suites: see analyze.py)
+    from ..motion import records
+    from ..motion.matching import MatchSettings
+    from ..motion.suites import Suite
 
 SET_HELP = "Override a deck field by dotted path, e.g. --set ground_motion.period_range=[0.1,3] (repeatable)."
 OUT_HELP = "Directory for the records and manifest.json (created; existing files are kept unless --overwrite)."
@@ -35,6 +30,9 @@ def _warn(messages) -> None:
 def _records(deck_path: Path, loaded, files: list[Path] | None, file_format: str | None, units: str | None,
              dt: float | None) -> list[records.Record]:
     """The records named on the command line, else those of the deck's ground_motion.suite."""
+    from ..motion import records
+    from ..motion.suites import read_records, suite_entries
+
     if files:
         return [records.read_record(f, format=file_format, units=units, dt=dt) for f in files]
     suite = loaded.values.get("ground_motion", {}).get("suite")
@@ -57,6 +55,8 @@ def _check_out(out: Path, names: list[str], overwrite: bool, inputs: list[Path])
 
 
 def _write(out: Path, files: dict[str, str]) -> None:
+    from ..atomic import write_text
+
     try:
         for name, text in files.items():
             write_text(out / name, text)
@@ -65,6 +65,11 @@ def _write(out: Path, files: dict[str, str]) -> None:
 
 
 def _print_suite(suite: Suite, labels: list[str], title: str, tolerance: MatchSettings | None = None) -> None:
+    from rich.markup import escape
+    from rich.table import Table
+
+    from . import render
+
     out = render.console()
     out.print(escape(f"target: {suite.target.name}; {suite.rule.label}, design value: {suite.statistic} "
                      f"of {suite.count}"))
@@ -98,6 +103,13 @@ def generate(
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing files in --out."),
 ) -> None:
     """Artificial records matching the deck's design spectrum (Gasparini & Vanmarcke), with a manifest."""
+    from ..deck import load_deck
+    from ..deck_suite import plan_from_deck
+    from ..motion.generate import Envelope, generate_suite
+    from ..motion.matching import settings_for
+    from ..motion.record_files import manifest_text, record_checks, record_text, sha256
+    from ..motion.suites import SAMPLES_PER_PERIOD
+
     if count < 1:
         raise InputError("--count", str(count), "at least 1 record")
     if not (0.0 < stationary < 1e4):
@@ -145,6 +157,12 @@ def match(
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing files in --out."),
 ) -> None:
     """Spectrally match records to the deck's design spectrum; writes them with their provenance."""
+    from ..deck import load_deck
+    from ..deck_suite import plan_from_deck
+    from ..motion.matching import settings_for
+    from ..motion.record_files import manifest_text, record_checks, record_text, sha256
+    from ..motion.suites import build_suite
+
     loaded = load_deck(deck, settings, load_ground_motion=False)
     plan = plan_from_deck(loaded)
     seeds = _records(deck, loaded, files, file_format, units, dt)
@@ -185,6 +203,10 @@ def scale(
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
 ) -> None:
     """Amplitude factors that bring the suite's mean spectrum to the code's criterion (printed)."""
+    from ..deck import load_deck
+    from ..deck_suite import plan_from_deck
+    from ..motion.suites import build_suite
+
     loaded = load_deck(deck, settings, load_ground_motion=False)
     plan = plan_from_deck(loaded)
     seeds = _records(deck, loaded, files, file_format, units, dt)

@@ -8,30 +8,18 @@ import json
 import signal
 from enum import Enum
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
 
-from .. import limits, plots
+from .. import limits
 from ..atomic import refuse_inputs
-from ..engines.registry import ENGINES, SUPPORTS
 from ..errors import InputError
-from ..sweep import figures
-from ..sweep import table as sweep_table
-from ..sweep.executors import (
-    DaskExecutor,
-    ProcessExecutor,
-    SerialExecutor,
-    available_cores,
-    check_reachable,
-    import_distributed,
-)
-from ..sweep.plan import SweepPlan, Vary, parse_choices, plan_sweep
-from ..sweep.run import NoProgress, run_sweep
 from ..sweep.signals import ignore_stop_signals
-from ..sweep.store import RowStore, stem_lock
-from . import render
 from .analyze import SET_HELP
-from .sweep_render import PlainProgress, RichProgress, print_summary, use_rich_progress
+
+if TYPE_CHECKING:
+    from ..sweep.plan import SweepPlan, Vary
 
 EXIT_CRITERIA, EXIT_ANALYSIS, EXIT_INTERRUPTED = 3, 4, 130  # interrupted: 128 + the signal (SIGINT 130)
 VARY_HELP = ("Vary a deck field (same dotted paths as --set): PATH=START:STOP:N (linear), PATH=START:STOP:N:log, "
@@ -62,11 +50,21 @@ class TableFormat(str, Enum):
     csv = "csv"
 
 
-#: rough cost of one case [s], to decide whether worker processes pay for their start-up (~2 s)
+#: rough cost of one case [s], to decide whether worker processes pay for their start-up (about 1 s of one
+#: core for the warm server, sweep/warm.py, and their chunks' transfer)
 CASE_SECONDS = {"simplified": 0.002, "approximate": 0.04, "exact": 0.04}
 
 
 def choose_executor(plan: SweepPlan, workers: int | None, scheduler: str | None, dask: str | None):
+    from ..sweep.executors import (
+        DaskExecutor,
+        ProcessExecutor,
+        SerialExecutor,
+        available_cores,
+        check_reachable,
+        import_distributed,
+    )
+
     if dask is not None and dask != "local":
         raise InputError("--dask", dask, "'local' (or give --scheduler tcp://host:port)")
     if scheduler is not None or dask is not None:
@@ -86,6 +84,10 @@ def choose_executor(plan: SweepPlan, workers: int | None, scheduler: str | None,
 
 
 def progress_for(quiet: bool, label: str):
+    from ..sweep.run import NoProgress
+    from . import render
+    from .sweep_render import PlainProgress, RichProgress, use_rich_progress
+
     if quiet:
         return NoProgress()
     console = render.console(stderr=True)
@@ -109,14 +111,32 @@ def output_paths(out: Path, stem: str, extra=()) -> list[Path]:
     return [out / f"{stem}{suffix}" for suffix in (".rows.jsonl", ".csv", ".json", ".parquet")] + list(extra)
 
 
+def head_start(executor, figures: bool) -> None:
+    """Local worker processes: start their warm server (it imports and loads the engines, about
+    1 s of one core) and meanwhile import matplotlib here when figures follow the run."""
+    prestart = getattr(executor, "prestart", None)
+    if prestart is None:
+        return
+    prestart()
+    if figures:
+        from .. import plots
+
+        plots.preload()
+
+
 def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, resume, retry_failed,
             overwrite, quiet, label, rerun_stale=False, figures_written=()):
     """Run the plan with progress (the caller holds stem_lock); exit 128 + the signal (130 for
-    Ctrl-C, 143 for SIGTERM, 129 for SIGHUP) keeping the rows when interrupted."""
+    Ctrl-C, 143 for SIGTERM, 129 for SIGHUP) keeping the rows when interrupted. figures_written:
+    the figures that follow the run (their paths)."""
+    from ..sweep.run import run_sweep
+    from ..sweep.store import RowStore
+
     rows_path = out / f"{stem}.rows.jsonl"
     refuse_inputs(output_paths(out, stem, figures_written), plan.input_files, "--out")
     _prepare_out(out, rows_path, resume, overwrite)
     executor = choose_executor(plan, workers, scheduler, dask)
+    head_start(executor, bool(figures_written))
     try:
         outcome = run_sweep(plan, executor, RowStore(rows_path), resume=resume, retry_failed=retry_failed,
                             rerun_stale=rerun_stale, progress=progress_for(quiet, label), exit_on_stop=True)
@@ -144,6 +164,8 @@ def warn_suites(plan: SweepPlan) -> None:
 
 
 def _write(plan, rows, out, stem, table, summary) -> list[Path]:
+    from ..sweep import table as sweep_table
+
     try:
         return sweep_table.write_tables(plan, rows, out, stem, table.value, summary)
     except OSError as error:
@@ -200,6 +222,15 @@ def sweep(
     Exit codes: 0 ok, 2 bad input, 3 a case exceeds a limit of the deck's criteria, 4 a case failed, 130 interrupted
     (Ctrl-C; 143 SIGTERM, 129 SIGHUP).
     """
+    from .. import plots
+    from ..engines.registry import ENGINES, SUPPORTS
+    from ..sweep import figures
+    from ..sweep import table as sweep_table
+    from ..sweep.plan import parse_choices, plan_sweep
+    from ..sweep.store import stem_lock
+    from . import render
+    from .sweep_render import print_summary
+
     plot_path = plots.check_figure_path(out / f"{name or deck.stem + '.sweep'}.{plot_format}", "--plot-format") \
         if plot else None
     sweep_table.check_table_format(table.value)
@@ -262,6 +293,13 @@ def spectra(
 
     Exit codes: 0 ok, 2 bad input, 4 a case failed, 130 interrupted (Ctrl-C; 143 SIGTERM, 129 SIGHUP).
     """
+    from .. import plots
+    from ..engines.registry import ENGINES, SUPPORTS
+    from ..sweep import figures
+    from ..sweep import table as sweep_table
+    from ..sweep.plan import parse_choices, plan_sweep
+    from ..sweep.store import stem_lock
+
     formats = parse_choices(plot_format, ("png", "svg", "pdf"), "--plot-format")
     sweep_table.check_table_format(table.value)
     period_vary: Vary = figures.period_vary(periods)
@@ -303,6 +341,9 @@ def spectra(
 def _print_spectra_summary(plan: SweepPlan, rows: list[dict]) -> None:
     from rich.markup import escape
     from rich.table import Table
+
+    from ..sweep import figures
+    from . import render
 
     table = Table(title=escape(f"{plan.title}: spectra over T_1 = {plan.varies[0].values[0]:g} .. "
                                f"{plan.varies[0].values[-1]:g} s ({len(plan.varies[0].values)} periods)"))

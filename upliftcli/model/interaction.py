@@ -15,8 +15,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.linalg import eig
-from scipy.optimize import brentq
 
 from ..errors import AnalysisError
 from .system import System
@@ -50,7 +48,12 @@ def effective_properties_formula(system: System, omega: float | None = None) -> 
 def effective_properties_eigenvalue(system: System, omega: float | None = None) -> dict[str, float]:
     """T1bar, xi1bar from the complex eigenvalue of the bonded one-mode system (paper Fig. 2,
     massless mat, L_0 ~ m_1* h_1*, I_b ~ m_1* h_1*^2 [20]): T1bar = 2 pi/|lambda|,
-    xi1bar = -Re(lambda)/|lambda|. xi_f is reported as xi1bar - xi_1 (T_1/T1bar)^3."""
+    xi1bar = -Re(lambda)/|lambda|. xi_f is reported as xi1bar - xi_1 (T_1/T1bar)^3.
+
+    The massless mat makes the mass matrix singular: a generalized eigenproblem (scipy.linalg.eig,
+    imported here so that the default "formula" method never loads scipy.linalg)."""
+    from scipy.linalg import eig
+
     m1, h1, w1, xi1 = _mode1(system)
     k_theta, c_theta = _rocking(system, omega)
     mass = m1 * np.array([[1.0, h1], [h1, h1**2]])
@@ -105,6 +108,8 @@ def effective_properties(system: System, method: str = "formula") -> dict:
 def _bracketed(system: System, function, props: dict, omega: float) -> dict:
     """The fixed point by a bracketed search on g(w) = w - 2 pi/T1bar(w) over (0, w_1] when
     the plain iteration oscillates; the last iterate, not converged, if there is none."""
+    from scipy.optimize import brentq  # here: the plain iteration converges for every example deck
+
     w1 = float(system.modes.omega[0])
 
     def gap(w: float) -> float:

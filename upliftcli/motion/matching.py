@@ -34,7 +34,6 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy import fft
 
 from ..errors import AnalysisError
 from .baseline import baseline_correct
@@ -149,6 +148,8 @@ def match_acceleration(acceleration, dt: float, periods: np.ndarray, target: np.
                        settings: MatchSettings = MatchSettings()) -> MatchResult:
     """Match a ground acceleration [m/s^2] (step dt [s]) to target S_a [m/s^2] at the control
     periods [s] (module docstring). The result is baseline-corrected."""
+    from scipy import fft  # here: loading a suite deck (motion/suites.py) imports this module, not scipy
+
     seed = np.asarray(acceleration, dtype=float)
     n = seed.size
     size = fft.next_fast_len(2 * n, real=True)

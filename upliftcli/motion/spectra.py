@@ -22,8 +22,11 @@ Peaks are exact, not sampled:
   values were read at the record samples, hence lower than exact at short periods: 5 % S_a at
   0.1 s is 0.608 g sampled, 0.649 g exact; see tests/test_spectra.py.)
 
-The loops are compiled with numba (spectra_kernels.py) and run in parallel over the
-oscillators (period, damping).
+Two implementations of these loops agree to rounding (about 1e-12 relative, the rounding of the
+step coefficients at long periods; tests/test_spectra.py): compiled with numba
+(spectra_kernels.py), run in parallel over the oscillators (period, damping), for many
+oscillators; vectorised in numpy (spectra_numpy.py) for a few, where loading the compiled
+kernels would cost a process more than the integration (the simplified engine's S_a of a record).
 """
 
 from __future__ import annotations
@@ -31,14 +34,18 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-import numba
 import numpy as np
 
 from ..errors import InputError
-from .spectra_kernels import history_kernel, spectrum_kernel
+from . import spectra_numpy
 
 TWO_PI = 2.0 * math.pi
 CHUNK = 32  # oscillators integrated side by side
+#: numpy: oscillators x steps integrated at once (bounds the memory to some 50 MB)
+NUMPY_BLOCK = 2**18
+#: "numba": many oscillators; "numpy": a few (El Centro, 1560 samples: numpy 1 ms for one
+#: oscillator, 16 ms for 16; numba 9-12 ms warm, plus some 0.3 s to load it into a process)
+METHODS = ("numba", "numpy")
 
 
 def _check_damping(damping: float) -> float:
@@ -56,6 +63,8 @@ def sdof_history(acceleration: np.ndarray, dt: float, period: float, damping: fl
     period [s] > 0; damping: ratio of critical [-], 0 <= damping < 1. Zero initial conditions;
     exact (Nigam-Jennings) for any dt.
     """
+    from .spectra_kernels import history_kernel
+
     acc = np.ascontiguousarray(acceleration, dtype=float)
     if not period > 0.0:
         raise ValueError(f"period must be > 0 s, got {period}")
@@ -90,14 +99,18 @@ def substeps(dt: float, periods: np.ndarray, min_steps_per_period: int = 4) -> n
 
 
 def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *, free_vibration: bool = True,
-                      min_steps_per_period: int = 4) -> Spectrum:
+                      min_steps_per_period: int = 4, method: str = "numba") -> Spectrum:
     """Exact linear response spectra of a piecewise-linear ground acceleration.
 
     acceleration [m/s^2] at uniform step dt [s]; periods [s] >= 0 (T = 0: rigid, S_a = PGA);
     dampings: ratios of critical in [0, 1). free_vibration: include the free vibration after the
     record end (default; see the module docstring). min_steps_per_period: sub-stepping of short
-    periods. Peaks are exact between samples (analytic turning points).
+    periods. Peaks are exact between samples (analytic turning points). method: "numba" (compiled
+    loops, parallel over the oscillators) or "numpy" (vectorised; faster for a few oscillators in a
+    process that has not loaded numba).
     """
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     acc = np.ascontiguousarray(acceleration, dtype=float)
     periods = np.atleast_1d(np.asarray(periods, dtype=float))
     dampings = np.atleast_1d(np.asarray(dampings, dtype=float))
@@ -121,23 +134,9 @@ def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *,
     index = np.flatnonzero(positive)
     if index.size:
         counts = substeps(dt, flat_t[index], min_steps_per_period)
-        order = np.argsort(-counts, kind="stable")  # costliest first
-        chunk_starts = [0]
-        for position in range(1, order.size + 1):
-            if position == order.size or counts[order[position]] != counts[order[position - 1]] \
-                    or position - chunk_starts[-1] == CHUNK:
-                chunk_starts.append(position)
-        sorted_u = np.empty(index.size)
-        sorted_at = np.empty(index.size)
-        spectrum_kernel(acc, float(dt), np.ascontiguousarray(omegas[index][order]),
-                         np.ascontiguousarray(flat_xi[index][order]), np.ascontiguousarray(counts[order]),
-                         np.asarray(chunk_starts, dtype=np.int64), numba.get_num_threads(), bool(free_vibration), sorted_u, sorted_at)
-        out_u = np.empty(index.size)
-        out_at = np.empty(index.size)
-        out_u[order] = sorted_u
-        out_at[order] = sorted_at
-        peak_u[index] = out_u
-        peak_at[index] = out_at
+        peaks = _numpy_peaks if method == "numpy" else _numba_peaks
+        peak_u[index], peak_at[index] = peaks(acc, float(dt), omegas[index], flat_xi[index], counts,
+                                              bool(free_vibration))
     shape = grid_t.shape
     displacement = peak_u.reshape(shape)
     omega = omegas.reshape(shape)
@@ -147,11 +146,50 @@ def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *,
                     absolute_acceleration=peak_at.reshape(shape))
 
 
+def _numba_peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.ndarray, np.ndarray]:
+    """Peaks |u|, |a_t| by the compiled kernel: chunks of equal sub-step count, costliest first."""
+    import numba
+
+    from .spectra_kernels import spectrum_kernel
+
+    order = np.argsort(-counts, kind="stable")
+    chunk_starts = [0]
+    for position in range(1, order.size + 1):
+        if position == order.size or counts[order[position]] != counts[order[position - 1]] \
+                or position - chunk_starts[-1] == CHUNK:
+            chunk_starts.append(position)
+    sorted_u = np.empty(order.size)
+    sorted_at = np.empty(order.size)
+    spectrum_kernel(acc, dt, np.ascontiguousarray(omegas[order]), np.ascontiguousarray(xis[order]),
+                    np.ascontiguousarray(counts[order]), np.asarray(chunk_starts, dtype=np.int64),
+                    numba.get_num_threads(), free_vibration, sorted_u, sorted_at)
+    out_u = np.empty(order.size)
+    out_at = np.empty(order.size)
+    out_u[order] = sorted_u
+    out_at[order] = sorted_at
+    return out_u, out_at
+
+
+def _numpy_peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.ndarray, np.ndarray]:
+    """Peaks |u|, |a_t| by spectra_numpy: oscillators of equal sub-step count together, in blocks."""
+    out_u = np.empty(omegas.size)
+    out_at = np.empty(omegas.size)
+    for count in sorted({int(c) for c in counts}):  # (np.unique's first call imports more than it saves)
+        members = np.flatnonzero(counts == count)
+        block = max(1, NUMPY_BLOCK // (count * acc.size))
+        for start in range(0, members.size, block):
+            k = members[start:start + block]
+            out_u[k], out_at[k] = spectra_numpy.chunk_peaks(acc, dt, omegas[k], xis[k], count, free_vibration)
+    return out_u, out_at
+
+
 @dataclass
 class RecordSpectrum:
     """Pseudo-acceleration spectrum of a record at any damping, computed exactly on demand and cached.
 
     Used by the simplified engine in place of a design spectrum (same `.sa`, `.name`, `.period_range`).
+    It asks a few periods at a time: always the numpy loops (no numba), so that a value does not
+    depend on which periods were asked together.
     """
 
     record: object  # records.Record
@@ -180,7 +218,7 @@ class RecordSpectrum:
         missing = sorted({float(t) for t in flat if (float(t), damping) not in self._cache})
         if missing:
             spectrum = response_spectrum(self.record.acceleration, self.record.dt, missing, [damping],
-                                         free_vibration=self.free_vibration)
+                                         free_vibration=self.free_vibration, method="numpy")
             for t, value in zip(missing, spectrum.pseudo_acceleration[0]):
                 self._cache[(t, damping)] = float(value)
         result = np.array([self._cache[(float(t), damping)] for t in flat])

@@ -5,9 +5,15 @@ of the chunks (status ok, failed or crashed), as soon as the row is known, and l
 KeyboardInterrupt through after stopping its workers. All give the same rows: a case's row
 depends only on the case (sweep.run_chunk), never on which worker ran it.
 
+Local workers are forked from a server process that imported the engines and loaded their
+compiled code once (multiprocessing's forkserver preloading sweep/warm.py), so each starts in
+milliseconds with everything in memory; where there is no forkserver (Windows), they are spawned.
+
 Parent death: a local worker process exits when the sweep's process dies (SIGKILL included):
-on Linux the kernel sends it SIGKILL (prctl PR_SET_PDEATHSIG), elsewhere a watchdog thread
-sees its parent change. Workers ignore SIGINT and SIGHUP (the parent stops them).
+on Linux the kernel sends it SIGKILL (prctl PR_SET_PDEATHSIG) when its parent dies, elsewhere a
+watchdog thread sees its parent change. A forked worker's parent is the warm server, which exits
+when the sweep's process does (multiprocessing's forkserver watches it). Workers ignore SIGINT and
+SIGHUP (the parent stops them).
 
 Worker deaths: local processes report the cases as they start and as each finishes. After a worker
 dies, the cases that were running (started, not finished) are run again one at a time on a
@@ -28,6 +34,8 @@ import contextlib
 import ctypes
 import json
 import multiprocessing
+import multiprocessing.connection
+import multiprocessing.forkserver
 import os
 import signal
 import socket
@@ -49,6 +57,9 @@ WORKER_ENVIRONMENT = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_
                       "NUMBA_NUM_THREADS": "1"}
 
 OnRow = Callable[[dict], None]
+
+#: imported by the forkserver before it forks the local workers (the engines, warm)
+WARM_MODULE = f"{__package__}.warm"
 
 
 def available_cores() -> int:
@@ -115,30 +126,70 @@ def exit_with_parent(parent_pid: int, poll_seconds: float = 1.0) -> None:
     threading.Thread(target=watch, name="exit-with-parent", daemon=True).start()
 
 
-def _init_worker(queue, runner, parent_pid: int | None = None) -> None:
+def _init_worker(queue, runner, parent_pid: int | None = None, environment=None, directory=None) -> None:
     global _QUEUE, _RUNNER
     _QUEUE, _RUNNER = queue, runner
+    if environment is not None:  # the parent's now, not the warm server's when it started
+        os.environ.clear()
+        os.environ.update(environment)
+    if directory is not None:  # relative deck and record paths as in the parent
+        os.chdir(directory)
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     signal.signal(signal.SIGHUP, signal.SIG_IGN)  # so is a hang-up of the terminal
     if parent_pid is not None:
         exit_with_parent(parent_pid)
+    sweep = multiprocessing.parent_process()  # the sweep's process, also when the warm server forked us
+    if sweep is not None and sweep.sentinel is not None:
+        threading.Thread(target=_exit_when_ready, args=(sweep.sentinel,), name="exit-with-sweep", daemon=True).start()
+
+
+def _exit_when_ready(sentinel) -> None:
+    """Exit as soon as the sweep's process is gone (its end of our start-up pipe closes). A forked
+    worker's parent is the warm server, which lives on while any worker holds its liveness pipe."""
+    multiprocessing.connection.wait([sentinel])
+    os._exit(1)
 
 
 def _worker_run_chunk(chunk: Chunk) -> list[dict]:
     return _RUNNER(chunk, _QUEUE.put)
 
 
-class ProcessExecutor:
-    """Chunks on `workers` local processes (spawned, so safe whatever threads the parent has).
+def _context(start_method: str):
+    context = multiprocessing.get_context(start_method)
+    if start_method == "forkserver":
+        context.set_forkserver_preload([WARM_MODULE])
+    return context
 
-    runner: the chunk runner, a module-level function like sweep.run_chunk(chunk, emit)."""
+
+class ProcessExecutor:
+    """Chunks on `workers` local processes, forked from a fresh warm server (forkserver) or
+    spawned: either is safe whatever threads the parent has.
+
+    runner: the chunk runner, a module-level function like sweep.run_chunk(chunk, emit);
+    start_method: "forkserver" (default where available) or "spawn"."""
 
     def __init__(self, workers: int, max_attempts: int = 3, poll_seconds: float = 0.1,
-                 runner: Callable = run_chunk):
+                 runner: Callable = run_chunk, start_method: str | None = None):
         self.runner = runner
         self.workers = max(1, int(workers))
         self.max_attempts = max_attempts
         self.poll_seconds = poll_seconds
+        methods = multiprocessing.get_all_start_methods()
+        self.start_method = start_method or ("forkserver" if "forkserver" in methods else "spawn")
+
+    def _parent_pid(self) -> int | None:
+        """The pid a worker's parent has: this process, or the warm server that forks it."""
+        if self.start_method != "forkserver":
+            return os.getpid()
+        self.prestart()
+        return getattr(getattr(multiprocessing.forkserver, "_forkserver", None), "_forkserver_pid", None)
+
+    def prestart(self) -> None:
+        """Start the warm server now: it imports and loads the engines while the caller goes on."""
+        if self.start_method == "forkserver":
+            _context(self.start_method)
+            with worker_environment(), _sigint_ignored():
+                multiprocessing.forkserver.ensure_running()
 
     def run(self, chunks: Sequence[Chunk], on_row: OnRow) -> None:
         attempts: dict[str, int] = {}
@@ -150,7 +201,7 @@ class ProcessExecutor:
                 on_row(row)
 
         pending, isolate = list(chunks), []  # isolate: one-case chunks of suspects, run on a single worker
-        context = multiprocessing.get_context("spawn")
+        context = _context(self.start_method)
         with worker_environment():
             while pending or isolate:
                 isolated = bool(isolate)
@@ -179,7 +230,7 @@ class ProcessExecutor:
     def _run_pool(self, chunks, workers: int, context, queue, started: set, deliver) -> list[Chunk]:
         """Run the chunks on a fresh pool; return the chunks of a broken pool (a worker died)."""
         pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker,
-                                   initargs=(queue, self.runner, os.getpid()))
+                                   initargs=(queue, self.runner, self._parent_pid(), dict(os.environ), os.getcwd()))
         with _sigint_ignored(), deferred():  # processes are started by submit; they ignore Ctrl-C from birth
             futures = {pool.submit(_worker_run_chunk, chunk): chunk for chunk in chunks}
         leftovers = []

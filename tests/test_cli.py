@@ -1,0 +1,58 @@
+"""The `uplift` entry point: commands that run no history engine load neither numba nor scipy
+(scipy.linalg included; each run in a fresh interpreter, its sys.modules inspected after the command)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+INPUTS = Path(__file__).resolve().parent.parent / "inputs"
+#: numba and scipy.linalg (issue 10), and any of scipy (scipy.special or scipy.fft alone: 0.1-0.2 s) and matplotlib
+HEAVY = ("numba", "scipy.linalg", "scipy", "matplotlib")
+
+PROBE = """
+import json, sys
+args, heavy = json.loads(sys.argv[1]), json.loads(sys.argv[2])
+sys.argv = ["uplift", *args]
+from upliftcli.cli import main
+try:
+    main()
+except SystemExit as end:
+    code = end.code
+else:
+    code = 0
+print(json.dumps({"code": code, "loaded": [name for name in heavy if name in sys.modules]}), file=sys.stderr)
+"""
+
+
+def loaded_after(*args: str) -> tuple[int, list[str]]:
+    """(exit code, heavy modules loaded) after `uplift args...` in a fresh interpreter."""
+    done = subprocess.run([sys.executable, "-c", PROBE, json.dumps(list(args)), json.dumps(HEAVY)],
+                          capture_output=True, text=True, timeout=120)
+    report = json.loads(done.stderr.strip().splitlines()[-1])
+    return report["code"], report["loaded"]
+
+
+@pytest.mark.parametrize("args", [
+    ("--help",),
+    ("modes", str(INPUTS / "ten_story_elcentro.toml")),
+    ("analyze", str(INPUTS / "ten_story_asce7.toml")),  # design spectrum: the simplified engine only
+    # the README's deck, simplified on a record (numpy S_a), its check by the exact engine switched off
+    ("analyze", str(INPUTS / "ten_story_elcentro.toml"), "--no-check"),
+], ids=["help", "modes", "analyze-design-spectrum", "analyze-record-simplified"])
+def test_commands_without_history_engine_load_no_numba_nor_scipy_linalg(args):
+    code, loaded = loaded_after(*args)
+    assert code == 0
+    assert loaded == []
+
+
+def test_exact_engine_loads_numba():
+    """The probe sees the modules a history engine loads (it is not blind)."""
+    code, loaded = loaded_after("analyze", str(INPUTS / "ten_story_elcentro.toml"), "--engine", "exact",
+                                "--support", "rigid")
+    assert code == 0
+    assert {"numba", "scipy.linalg", "scipy"} <= set(loaded)

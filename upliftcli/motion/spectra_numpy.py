@@ -1,0 +1,208 @@
+"""The response-spectrum peaks in numpy: the twin of spectra_kernels._chunk_peaks (same method,
+see spectra.py), vectorised over the oscillators and over time instead of compiled.
+
+It serves the simplified engine, which needs S_a at a handful of (period, damping) pairs: for
+so few oscillators, loading (or compiling) the numba kernels costs far more than the
+integration. The results agree with the compiled loop to rounding (tests/test_spectra.py).
+
+Per oscillator of a group sharing one sub-step h = dt / nsub:
+
+* the exact piecewise-linear step [u1, v1] = A [u0, v0] + B [a0, a1] (Nigam-Jennings) is a
+  linear recurrence x_{k+1} = A x_k + b_k; all states are its prefix sums x_{k+1} = sum_j A^(k-j) b_j,
+  formed in log2(steps) doubling passes y_k += A^s y_{k-s}, s = 1, 2, 4, ... with A^s = A(s h)
+  in closed form (no repeated products);
+* peaks between samples: the steps where a turning point is possible (a sign change of f' or
+  f'') and where the bound of max |f| (Bezier control points of the cubic Hermite interpolant
+  plus its error (w h)^4 / 384 * amplitude) reaches the largest sampled |f| are solved on the
+  closed form (the roots of f', safeguarded Newton); no other step can hold the peak;
+* the free vibration after the record: its first turning point, in closed form.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+def _transition(omegas: np.ndarray, xis: np.ndarray, t: float) -> np.ndarray:
+    """Coefficients (8, m) of [u1, v1] = A [u0, v0] + B [a0, a1] over a step t: rows A_uu, A_vu,
+    A_uv, A_vv, B_u0, B_v0, B_u1, B_v1 (the order of spectra_kernels._step_coefficients)."""
+    w = omegas
+    sigma = xis * w
+    wd = w * np.sqrt(1.0 - xis * xis)
+    e = np.exp(-sigma * t)
+    c = np.cos(wd * t)
+    s = np.sin(wd * t)
+    out = np.empty((8, w.size))
+    for k, (u0, v0, a0, a1) in enumerate(((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0),
+                                          (0.0, 0.0, 0.0, 1.0))):
+        slope = (a1 - a0) / t
+        c1 = -slope / (w * w)
+        c0 = -a0 / (w * w) - 2.0 * sigma * c1 / (w * w)
+        amp_a = u0 - c0
+        amp_b = (v0 - c1 + sigma * amp_a) / wd
+        out[2 * k] = c0 + c1 * t + e * (amp_a * c + amp_b * s)
+        out[2 * k + 1] = c1 + e * ((amp_b * wd - sigma * amp_a) * c - (amp_a * wd + sigma * amp_b) * s)
+    return out
+
+
+def _states(omegas: np.ndarray, xis: np.ndarray, h: float, a0: np.ndarray, a1: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """u, v (m, K + 1) at the ends of the K steps of ground acceleration a0 -> a1 (K,), from rest."""
+    cf = _transition(omegas, xis, h)[:, :, None]
+    y_u = cf[4] * a0 + cf[6] * a1  # b_k: the step's forced response from rest
+    y_v = cf[5] * a0 + cf[7] * a1
+    shift = 1
+    while shift < a0.size:
+        p = _transition(omegas, xis, shift * h)[:4, :, None]  # A^shift in closed form
+        back_u, back_v = y_u[:, :-shift], y_v[:, :-shift]
+        add_u = p[0] * back_u + p[2] * back_v
+        add_v = p[1] * back_u + p[3] * back_v
+        y_u[:, shift:] += add_u
+        y_v[:, shift:] += add_v
+        shift *= 2
+    zero = np.zeros((omegas.size, 1))
+    return np.concatenate((zero, y_u), axis=1), np.concatenate((zero, y_v), axis=1)
+
+
+def _turning_values(l0, l1, pa, qa, sigma, wd, lo, hi, d_lo, d_hi) -> np.ndarray:
+    """|f| at the root of f' in (lo, hi) (f' changes sign there), elementwise, for
+    f = l0 + l1 t + exp(-sigma t)(pa cos wd t + qa sin wd t): safeguarded Newton from the secant
+    estimate, as spectra_kernels._root_value."""
+    pd = qa * wd - sigma * pa
+    qd = -pa * wd - sigma * qa
+    pdd = qd * wd - sigma * pd
+    qdd = -pd * wd - sigma * qd
+    lo, hi = lo.copy(), hi.copy()
+    width = hi - lo
+    t = lo + width * d_lo / (d_lo - d_hi)
+    active = np.ones(t.size, dtype=bool)
+    for _ in range(40):
+        index = np.flatnonzero(active)
+        if index.size == 0:
+            break
+        ti = t[index]
+        ex = np.exp(-sigma[index] * ti)
+        co = np.cos(wd[index] * ti)
+        si = np.sin(wd[index] * ti)
+        d = l1[index] + ex * (pd[index] * co + qd[index] * si)
+        root = d == 0.0
+        same = (d > 0.0) == (d_lo[index] > 0.0)
+        lo[index] = np.where(same, ti, lo[index])
+        hi[index] = np.where(same, hi[index], ti)
+        dd = ex * (pdd[index] * co + qdd[index] * si)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            newton = np.where(dd != 0.0, ti - d / dd, 0.5 * (lo[index] + hi[index]))
+        newton = np.where((lo[index] < newton) & (newton < hi[index]), newton, 0.5 * (lo[index] + hi[index]))
+        converged = np.abs(newton - ti) <= 1e-9 * width[index]
+        t[index] = np.where(root, ti, newton)
+        active[index] = ~(root | converged | (hi[index] - lo[index] <= 1e-9 * width[index]))
+    return np.abs(l0 + l1 * t + np.exp(-sigma * t) * (pa * np.cos(wd * t) + qa * np.sin(wd * t)))
+
+
+def _interior_peaks(l0, l1, pa, qa, sigma, wd, h, d0, d1) -> np.ndarray:
+    """Largest |f| at the turning points inside (0, h) of each step (0 where none), as
+    spectra_kernels._interior_peak: one root of f' when f'(0), f'(h) differ in sign, else none or
+    two around the root t_e of f'' (wd h < pi: at most one)."""
+    pd = qa * wd - sigma * pa
+    qd = -pa * wd - sigma * qa
+    pdd = qd * wd - sigma * pd
+    qdd = -pd * wd - sigma * qd
+    one = d0 * d1 < 0.0
+    theta = np.arctan2(-pdd, qdd)
+    theta = np.where(theta < 0.0, theta + math.pi, theta)
+    t_e = theta / wd
+    d_e = l1 + np.exp(-sigma * t_e) * (pd * np.cos(wd * t_e) + qd * np.sin(wd * t_e))
+    two = ~one & (t_e > 0.0) & (t_e < h) & (d_e * d0 < 0.0)
+    out = np.zeros(d0.size)
+    zero = np.zeros(d0.size)
+    for chosen, lo, hi, d_lo, d_hi in ((one, zero, np.full(d0.size, h), d0, d1), (two, zero, t_e, d0, d_e),
+                                       (two, t_e, np.full(d0.size, h), d_e, d1)):
+        k = np.flatnonzero(chosen)
+        if k.size:
+            values = _turning_values(l0[k], l1[k], pa[k], qa[k], sigma[k], wd[k], lo[k], hi[k], d_lo[k], d_hi[k])
+            out[k] = np.maximum(out[k], values)
+    return out
+
+
+def _free_vibration_peaks(pa, qa, sigma, wd) -> np.ndarray:
+    """max |f| over t >= 0 of f = exp(-sigma t)(pa cos wd t + qa sin wd t): f(0) or the first turning point."""
+    pd = qa * wd - sigma * pa
+    qd = -pa * wd - sigma * qa
+    theta = np.mod(np.arctan2(-pd, qd), math.pi)
+    t = theta / wd
+    return np.maximum(np.abs(pa), np.abs(np.exp(-sigma * t) * (pa * np.cos(wd * t) + qa * np.sin(wd * t))))
+
+
+def _acceleration_terms(amp_a, amp_b, w2, sigma, wd):
+    """(pa, qa) of the oscillating part of the absolute acceleration a_g + u'' for u's (amp_a, amp_b)."""
+    return (-w2 * amp_a - 2.0 * sigma * (amp_b * wd - sigma * amp_a),
+            -w2 * amp_b + 2.0 * sigma * (amp_a * wd + sigma * amp_b))
+
+
+def chunk_peaks(acc: np.ndarray, dt: float, omegas: np.ndarray, xis: np.ndarray, nsub: int,
+                free_vibration: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Peak |u| [m] and |absolute acceleration| [m/s^2] of oscillators w [rad/s] > 0, xi in [0, 1)
+    sharing the sub-step count nsub, under the ground acceleration acc [m/s^2] at step dt [s]
+    (piecewise linear; with free_vibration, then linearly to zero over dt and free vibration)."""
+    acc = np.asarray(acc, dtype=float)
+    omegas = np.asarray(omegas, dtype=float)
+    xis = np.asarray(xis, dtype=float)
+    g0 = acc[:-1]
+    g1 = acc[1:]
+    if free_vibration and acc[-1] != 0.0:  # the ramp to zero after the record
+        g0 = np.append(g0, acc[-1])
+        g1 = np.append(g1, 0.0)
+    fractions = np.arange(nsub + 1) / nsub  # the kernel's sub-step ends g0 + (g1 - g0) (j / nsub)
+    a0 = (g0[:, None] + (g1 - g0)[:, None] * fractions[None, :-1]).ravel()
+    a1 = (g0[:, None] + (g1 - g0)[:, None] * fractions[None, 1:]).ravel()
+    h = dt / nsub
+    u, v = _states(omegas, xis, h, a0, a1)
+    col = (slice(None), None)
+    w = omegas[col]
+    sigma = (xis * omegas)[col]
+    wd = (omegas * np.sqrt(1.0 - xis * xis))[col]
+    w2 = w * w
+    at = -w2 * u - 2.0 * sigma * v  # absolute acceleration at the step ends
+    sampled_u = np.max(np.abs(u), axis=1)
+    sampled_at = np.max(np.abs(at[:, 1:]), axis=1)
+    u0, u1, v0, v1, at0, at1 = u[:, :-1], u[:, 1:], v[:, :-1], v[:, 1:], at[:, :-1], at[:, 1:]
+    slope = (a1 - a0) / h
+    dat0 = -w2 * v0 - 2.0 * sigma * (at0 - a0)  # slope of the absolute acceleration
+    dat1 = -w2 * v1 - 2.0 * sigma * (at1 - a1)
+    c1 = -slope / w2  # u = c0 + c1 t + exp(-sigma t)(amp_a cos wd t + amp_b sin wd t) over the step
+    c0 = -(a0 + 2.0 * sigma * c1) / w2
+    amp_a = u0 - c0
+    amp_b = (v0 - c1 + sigma * amp_a) / wd
+    error = (w * h) ** 4 / 384.0 * np.hypot(amp_a, amp_b)  # cubic Hermite error bound on u
+    bound_u = np.maximum(np.abs(u0 + h / 3.0 * v0), np.abs(u1 - h / 3.0 * v1)) + error
+    bound_at = np.maximum(np.abs(at0 + h / 3.0 * dat0), np.abs(at1 - h / 3.0 * dat1)) + error * w * (w + 2.0 * sigma)
+    rel0, rel1 = at0 - a0, at1 - a1  # u''
+    jerk0 = -w2 * rel0 + 2.0 * sigma * (slope + 2.0 * sigma * rel0 + w2 * v0)  # a_t''
+    jerk1 = -w2 * rel1 + 2.0 * sigma * (slope + 2.0 * sigma * rel1 + w2 * v1)
+    margin = 1.0 - 1e-9  # no step whose bound is below the largest sample can hold the peak
+    flag_u = ((v0 * v1 < 0.0) | (rel0 * rel1 < 0.0)) & (bound_u >= margin * sampled_u[col])
+    flag_at = ((dat0 * dat1 < 0.0) | (jerk0 * jerk1 < 0.0)) & (bound_at >= margin * sampled_at[col])
+    peak_u, peak_at = sampled_u.copy(), sampled_at.copy()
+    for flags, peaks in ((flag_u, peak_u), (flag_at, peak_at)):
+        rows, steps = np.nonzero(flags)
+        if rows.size == 0:
+            continue
+        s, d = sigma[rows, 0], wd[rows, 0]
+        pa, qa = amp_a[rows, steps], amp_b[rows, steps]
+        if peaks is peak_u:
+            values = _interior_peaks(c0[rows, steps], c1[rows, steps], pa, qa, s, d, h, v0[rows, steps],
+                                     v1[rows, steps])
+        else:
+            pa, qa = _acceleration_terms(pa, qa, w2[rows, 0], s, d)
+            values = _interior_peaks(a0[steps], slope[steps], pa, qa, s, d, h, dat0[rows, steps], dat1[rows, steps])
+        np.maximum.at(peaks, rows, values)
+    if free_vibration:
+        s, d, q2 = sigma[:, 0], wd[:, 0], w2[:, 0]
+        amp_a = u[:, -1]
+        amp_b = (v[:, -1] + s * amp_a) / d
+        peak_u = np.maximum(peak_u, _free_vibration_peaks(amp_a, amp_b, s, d))
+        pa, qa = _acceleration_terms(amp_a, amp_b, q2, s, d)
+        peak_at = np.maximum(peak_at, _free_vibration_peaks(pa, qa, s, d))
+    return peak_u, peak_at
