@@ -81,9 +81,25 @@ def test_out_writes_the_result_files(deck_dir):
     out = deck_dir / "results"
     result = invoke("analyze", deck_dir / "inputs" / "deck.toml", "--out", out)
     assert result.exit_code == 0, result.output
-    assert sorted(p.name for p in out.iterdir()) == ["deck.csv", "deck.elements.csv", "deck.json", "deck.toml"]
+    assert sorted(p.name for p in out.iterdir()) == ["deck.csv", "deck.deck.toml", "deck.elements.csv", "deck.json"]
     doc = json.loads((out / "deck.json").read_text())
     assert len(doc["results"]) == 3
+    deck_entry = doc["provenance"]["files"][0]
+    assert deck_entry["role"] == "deck" and deck_entry["path"] == str((deck_dir / "inputs" / "deck.toml").resolve())
+    again = invoke("analyze", out / "deck.deck.toml", "--format", "json")  # the resolved deck repeats the run
+    assert again.exit_code == 0, again.output
+    repeated = json.loads(again.stdout)
+    assert [r["base_shear"] for r in repeated["results"]] == [r["base_shear"] for r in doc["results"]]
+    assert repeated["title"] == doc["title"]
+
+
+def test_out_beside_the_deck_leaves_it_as_it_was(deck_dir):
+    deck = deck_dir / "inputs" / "deck.toml"
+    before = deck.read_bytes()
+    result = invoke("analyze", deck, "--out", deck.parent, "--set", "building.period=0.8")
+    assert result.exit_code == 0, result.output
+    assert deck.read_bytes() == before
+    assert (deck.parent / "deck.deck.toml").exists() and "period = 0.8" in (deck.parent / "deck.deck.toml").read_text()
 
 
 def test_criteria_violation_exits_3(deck_dir):

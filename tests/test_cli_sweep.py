@@ -226,7 +226,7 @@ def test_analyze_several_decks_one_summary(deck_dir):
     violated = [line for line in result.stderr.splitlines() if line.startswith("criterion violated")]
     assert len(violated) == 1 and "second.toml: simplified/rigid: drift_ratio" in violated[0]
     assert sorted(p.name for p in out.iterdir()) == sorted(f"{s}.{e}" for s in ("deck", "second")
-                                                           for e in ("csv", "json", "toml"))
+                                                           for e in ("csv", "json", "deck.toml"))
 
 
 def test_analyze_several_decks_bad_one_stops_before_output(deck_dir):

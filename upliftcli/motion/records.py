@@ -32,7 +32,8 @@ class Record:
     """A uniformly sampled ground acceleration history (first sample at t = 0).
 
     name: label; dt: time step [s]; acceleration: ground acceleration [m/s^2] (already scaled);
-    source: the file it came from; units: units of the file; scale: factor applied.
+    source: the file it came from; units: units of the file; scale: factor applied;
+    format: the reader that read it (READERS; "" for a record made in code).
     """
 
     name: str
@@ -41,6 +42,7 @@ class Record:
     source: str = ""
     units: str = "m/s2"
     scale: float = 1.0
+    format: str = ""
 
     @property
     def npts(self) -> int:
@@ -369,7 +371,7 @@ def read_record(path: str | Path, format: str | None = None, units: str | None =
     if window is not None:
         acceleration = _apply_window(acceleration, step, window, source)
     return Record(name=name or path.stem, dt=step, acceleration=acceleration, source=source, units=unit,
-                  scale=float(scale))
+                  scale=float(scale), format=fmt)
 
 
 def _apply_window(acceleration: np.ndarray, dt: float, window: tuple[float, float], source: str) -> np.ndarray:
