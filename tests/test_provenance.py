@@ -183,7 +183,7 @@ def test_command_line_is_quoted():
 def test_number_text(value, text):
     assert provenance.number_text(value) == text
     if text:
-        assert float(text) == pytest.approx(value, rel=1e-15)
+        assert float(text) == pytest.approx(value, rel=5e-15)
 
 
 def test_json_result_holds_the_provenance(deck_file):

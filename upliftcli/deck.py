@@ -11,6 +11,7 @@ expected; nothing here prints or exits.
 from __future__ import annotations
 
 import copy
+import os
 import re
 import tomllib
 from collections.abc import Iterable, Sequence
@@ -185,10 +186,28 @@ def load_deck(path: str | Path, overrides: Sequence[str] = (), *, load_ground_mo
     return build_deck(raw, str(path), parsed, load_ground_motion=load_ground_motion)
 
 
-def build_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]] = (), *,
+def plain(value: Any) -> Any:
+    """A deck mapping built in code as TOML would give it: numpy arrays and tuples as lists,
+    numpy scalars as Python numbers, paths as strings."""
+    if isinstance(value, dict):
+        return {key: plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [plain(item) for item in value]
+    if isinstance(value, np.ndarray):
+        return plain(value.tolist())
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    return value
+
+
+def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[str, Any]] = (), *,
                load_ground_motion: bool = True) -> Deck:
-    """Build a Deck from a parsed mapping (used by load_deck and by sweeps)."""
-    raw, overridden = apply_overrides(raw, overrides)
+    """Build a Deck from a parsed mapping (used by load_deck and by sweeps; from Python, any
+    mapping of the deck's tables, numpy arrays and scalars accepted). source: the deck's file,
+    which relative paths are relative to (default "<mapping>": the working directory)."""
+    raw, overridden = apply_overrides(plain(raw), [(path, plain(value)) for path, value in overrides])
     values = schema.validate(raw, source, overridden)
 
     def error(path: str, expected: str):
