@@ -149,10 +149,11 @@ def test_suite_records_and_table_spectrum_files(deck_dir):
                                      'design_spectrum = { type = "table", file = "sa.csv", damping = 0.05 }'))
     deck = build_deck(raw, str(deck_dir / "inputs" / "pair.toml"))
     record = provenance.of_deck(deck)
-    suite = [entry for entry in record["files"] if entry["role"] == "suite record"]
+    suite = [entry for entry in record["files"] if entry["role"].startswith("suite record")]
     assert [entry["path"] for entry in suite] == [str(folder / "a.txt"), str(folder / "b.txt")]
     assert {entry["sha256"] for entry in suite} == {digest(folder / "a.txt")}
     assert [entry["factor"] for entry in suite] == [1.0, 1.0] and suite[0]["format"] == "shared"
+    assert [entry["role"] for entry in suite] == ["suite record 1", "suite record 2"]
     (table,) = [entry for entry in record["files"] if entry["role"] == "design spectrum table"]
     assert table["sha256"] == digest(deck_dir / "inputs" / "sa.csv")
     resolved = record["deck"]["resolved"]["ground_motion"]

@@ -158,8 +158,8 @@ def motion_files(motion) -> list[dict[str, Any]]:
     records = getattr(motion, "records", None)
     if records is not None:  # a motion.suites.Suite
         notes = tuple(motion.provenance) + ("",) * (len(records) - len(motion.provenance))
-        entries = [record_entry(record, "suite record", factor=float(factor), note=note)
-                   for record, factor, note in zip(records, motion.factors, notes, strict=True)]
+        entries = [record_entry(record, f"suite record {k + 1}", factor=float(factor), note=note)
+                   for k, (record, factor, note) in enumerate(zip(records, motion.factors, notes, strict=True))]
         return entries + motion_files(motion.target)
     source = getattr(motion, "source", "")
     if source and Path(str(source)).is_file():
