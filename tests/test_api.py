@@ -154,3 +154,17 @@ def test_the_worked_example_of_docs_api_runs(monkeypatch, capsys):
     printed = capsys.readouterr().out
     assert "--set: building.period: a number > 0 [s], got -1" in printed
     assert namespace["exact"].engine == "exact" and namespace["frame"].shape[0] == 8
+
+
+def test_figures_are_matplotlib_figures_of_their_descriptions():
+    from matplotlib.figure import Figure
+
+    from upliftcli.figures.histories import moment_rotation_figure
+    from upliftcli.figures.modes import mode_shape_figure
+
+    deck = upliftcli.load_deck(EXAMPLE, ["ground_motion.window=[0, 3]"])
+    modes = upliftcli.mode_shape_figure(deck.system, 3)
+    assert isinstance(modes, Figure) and len(modes.axes) == len(mode_shape_figure(deck.system, 3).panels)
+    run = upliftcli.analyze(deck.system, deck.ground_motion, "uplift", "exact", upliftcli.ExactOptions(histories=True))
+    rotation = upliftcli.moment_rotation_figure(run)
+    assert isinstance(rotation, Figure) and len(rotation.axes) == len(moment_rotation_figure([run]).panels)

@@ -15,6 +15,8 @@ Ground motions: read_record, Record, design_spectrum, response_spectrum.
 Engines: run (a deck), analyze (a System), ENGINES, SUPPORTS, SimplifiedOptions, ExactOptions,
 AnalysisResult, SuiteResult; run_sweep, SweepTable.
 Results: to_dict, to_dataframe, elements_dataframe, write_results, provenance_of.
+Figures (matplotlib Figure objects): profile_figure, mode_shape_figure, history_figure,
+moment_rotation_figure, spectrum_figure, sweep_figure, and draw (any figures.spec.FigureSpec).
 Errors: InputError (bad input, one line naming the field), AnalysisError.
 
 Every name is imported on first use (PEP 562), so that `import upliftcli` and `uplift --help`
@@ -44,6 +46,10 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "elements_dataframe": ("api", "elements_dataframe"), "write_results": ("output", "write_results"),
     "provenance_of": ("provenance", "of_deck"), "InputError": ("errors", "InputError"),
     "AnalysisError": ("errors", "AnalysisError"),
+    "draw": ("api", "draw"), "profile_figure": ("api", "profile_figure"),
+    "mode_shape_figure": ("api", "mode_shape_figure"), "history_figure": ("api", "history_figure"),
+    "moment_rotation_figure": ("api", "moment_rotation_figure"), "spectrum_figure": ("api", "spectrum_figure"),
+    "sweep_figure": ("api", "sweep_figure"),
 }
 
 __all__ = ["__version__", *_EXPORTS]

@@ -164,3 +164,68 @@ def run_sweep(deck: str | Path, vary: Sequence[str] = (), overrides: Sequence[st
     summary = table.summarize(plan, rows)
     return SweepTable(plan, table.table_rows(plan, rows), table.columns(plan), table.units(plan), summary,
                       table.sweep_provenance(plan))
+
+
+# ----------------------------------------------------------------------------- figures
+
+def draw(spec):
+    """The matplotlib Figure (Agg canvas, no pyplot state) of a figure description
+    (figures/spec.FigureSpec); show it in a notebook as it is, save it with figure.savefig."""
+    from .plots import line_figure
+
+    return line_figure(spec)
+
+
+def profile_figure(results: AnalysisResult | Sequence[AnalysisResult], criteria: dict | None = None):
+    """Story profiles of the peak response (displacement, drift ratio, shear, moment, floor
+    acceleration against the elevation), every engine and support overlaid; criteria: the
+    deck's [criteria] limits drawn as lines."""
+    from .figures.analysis import profile_figure as spec
+
+    return draw(spec([results] if isinstance(results, AnalysisResult) else list(results), criteria))
+
+
+def mode_shape_figure(system, n_modes: int | None = None):
+    """The fixed-base mode shapes of a System with T_n and m_n*/m_t."""
+    from .figures.modes import mode_shape_figure as spec
+
+    return draw(spec(system, n_modes))
+
+
+def history_figure(results: AnalysisResult | Sequence[AnalysisResult]):
+    """Response histories (paper Fig. 5 style, the lifted intervals shaded) of results of a
+    response-history engine run with ExactOptions(histories=True)."""
+    from .figures.histories import history_figure as spec
+
+    return draw(spec([results] if isinstance(results, AnalysisResult) else list(results)))
+
+
+def moment_rotation_figure(results: AnalysisResult | Sequence[AnalysisResult]):
+    """Base moment M_b against the mat rotation, with +-M_c, of results with histories."""
+    from .figures.histories import moment_rotation_figure as spec
+
+    return draw(spec([results] if isinstance(results, AnalysisResult) else list(results)))
+
+
+def spectrum_figure(record, periods=None, dampings: Sequence[float] = (0.05,)):
+    """S_d, S_v and S_a of a Record (its exact spectra at periods [s], default 100 log-spaced
+    from 0.05 to 5 s, and the damping ratios) or of a spectra.Spectrum already computed."""
+    import numpy as np
+
+    from .figures.spectra import record_spectrum_figure
+    from .motion.spectra import response_spectrum
+
+    if hasattr(record, "acceleration"):
+        grid = np.geomspace(0.05, 5.0, 100) if periods is None else np.asarray(periods, dtype=float)
+        spectrum, title = response_spectrum(record.acceleration, record.dt, grid, list(dampings)), record.name
+    else:
+        spectrum, title = record, ""
+    return draw(record_spectrum_figure(spectrum, title))
+
+
+def sweep_figure(sweep: SweepTable):
+    """The responses of a sweep (run_sweep) against its first numeric varied field."""
+    from .sweep.figures import plan_motion_label
+    from .sweep.figures import sweep_figure as spec
+
+    return draw(spec(sweep.plan, sweep.rows, plan_motion_label(sweep.plan)))
