@@ -202,7 +202,7 @@ def register(app: typer.Typer) -> None:
     from . import record_suite
 
     record_app = typer.Typer(help="Ground-motion records: summary measures, response spectra and suites.",
-                             no_args_is_help=True)
+                             no_args_is_help=True, rich_markup_mode=None)
     record_app.command("info")(info)
     record_app.command("spectrum")(spectrum)
     record_suite.register(record_app)
