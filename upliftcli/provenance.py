@@ -284,6 +284,20 @@ def derived_model(system, effective_properties: str = "formula") -> dict[str, An
     return model
 
 
+def spectrum_entry(spectrum) -> dict[str, Any] | None:
+    """A design spectrum's name and, for a table, its damping [-], the damping correction used
+    for other dampings and its period range [s] (None for a record's own spectrum)."""
+    if spectrum is None or hasattr(spectrum, "record"):
+        return None
+    entry: dict[str, Any] = {"name": getattr(spectrum, "name", type(spectrum).__name__)}
+    for name in ("damping", "damping_correction", "units"):
+        if hasattr(spectrum, name):
+            entry[name] = plain(getattr(spectrum, name))
+    if hasattr(spectrum, "period_range"):
+        entry["period_range"] = plain(spectrum.period_range)
+    return entry
+
+
 def engine_options(analysis) -> dict[str, Any]:
     """The engines and supports of a deck and every option of the simplified and the
     response-history engines (engines/options.py)."""
@@ -310,7 +324,7 @@ def of_deck(deck, command: str | None = None, now: datetime | None = None) -> di
     described = {"source": deck.source, "title": deck.title, "set": overrides(deck), "resolved": resolved_deck(deck)}
     return {**base(command, now), "files": files, "deck": described,
             "model": derived_model(deck.system, deck.analysis.simplified.effective_properties),
-            "options": engine_options(deck.analysis)}
+            "spectrum": spectrum_entry(deck.spectrum), "options": engine_options(deck.analysis)}
 
 
 def of_record(record, command: str | None = None, now: datetime | None = None, **settings: Any) -> dict[str, Any]:
