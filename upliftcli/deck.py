@@ -210,8 +210,8 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     raw, overridden = apply_overrides(plain(raw), [(path, plain(value)) for path, value in overrides])
     values = schema.validate(raw, source, overridden)
 
-    def error(path: str, expected: str):
-        return InputError("--set" if path in overridden else source, path, expected)
+    def error(path: str, expected: str):  # ground_motion.suite[1].file came from --set ground_motion.suite
+        return InputError("--set" if path in overridden or path.split("[")[0] in overridden else source, path, expected)
 
     building = _building(values["building"], error)
     system = _system(building, values["foundation"], values["analysis"], error)

@@ -13,8 +13,10 @@ Every InputError names the deck (or "--set") and the ground_motion field.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from .errors import InputError
@@ -78,14 +80,31 @@ def suite_plan(fields: dict, target, system, effective_properties: str, source: 
     return SuitePlan(target, rule, period_range, note)
 
 
+def not_found(path: Path, given: str, source: str, what: str = "record file") -> str:
+    """What a deck field naming a missing file expected: the file, and where a relative path
+    was resolved from (the deck's folder)."""
+    if Path(given).is_absolute():
+        return f"an existing {what}, not found: {str(path)!r}"
+    folder = os.path.abspath(Path(source).parent)
+    return (f"an existing {what}, not found: {given!r} (relative to the deck's folder {folder!r}: "
+            f"{os.path.abspath(path)!r})")
+
+
 def load_suite(fields: dict, plan: SuitePlan, source: str, error: Callable[[str, str], InputError]) -> Suite:
-    """Read the deck's suite and scale or match it as `ground_motion.scaling` says."""
+    """Read the deck's suite and scale or match it as `ground_motion.scaling` says; a listed
+    record that does not exist names its entry, ground_motion.suite[k], and the folder."""
     try:
         entries = suite_entries(fields["suite"], source)
     except InputError as bad:
         if bad.source == source and bad.location:
             raise error(bad.location, bad.expected) from None
         raise
+    if isinstance(fields["suite"], list):
+        for k, ((path, _), item) in enumerate(zip(entries, fields["suite"], strict=True)):
+            if not path.exists():
+                given = item if isinstance(item, str) else item["file"]
+                where = f"ground_motion.suite[{k}]" + ("" if isinstance(item, str) else ".file")
+                raise error(where, not_found(path, given, source))
     records = read_records(entries)
     try:
         return build_suite(records, plan.target, plan.period_range, plan.rule, fields.get("scaling", "none"),
