@@ -219,3 +219,12 @@ def test_table_alone_takes_the_correction_of_the_statistics_it_names(tmp_path):
     assert float(plain.spectrum.sa(np.array([1.0]), 0.02)[0]) == pytest.approx(G * math.sqrt(10 / 7) / 1.0, rel=1e-12)
     entry = of_deck(asce)["spectrum"]
     assert entry["damping_correction"] == "asce" and entry["damping"] == 0.05 and entry["period_range"] == [0.0, 4.0]
+
+
+def test_a_missing_table_file_names_the_field_and_the_folder(tmp_path):
+    deck = tmp_path / "deck.toml"
+    with pytest.raises(InputError) as info:
+        from_mapping({"type": "table", "file": "sa.csv", "damping": 0.05}, str(deck), "ground_motion.design_spectrum")
+    assert info.value.location == "ground_motion.design_spectrum.file"
+    assert info.value.expected == (f"an existing spectrum table, not found: 'sa.csv' (relative to the deck's folder "
+                                   f"'{tmp_path}': '{tmp_path / 'sa.csv'}')")

@@ -23,7 +23,7 @@ import numpy as np
 
 from . import deck_schema as schema
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
-from .errors import InputError
+from .errors import InputError, not_found
 from .limits import MAX_DECK_BYTES, MAX_STORIES, read_limited
 from .model.building import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
 from .model.foundations import FOUNDATIONS, DeckContext
@@ -408,6 +408,9 @@ def _ground_motion(fields: dict, source: str, error, system: System | None = Non
     from .motion import records, spectra
 
     path = record_path(fields["record"], source)
+    if not path.exists():  # the folder a relative path was resolved from: the deck's (its target's, a link)
+        raise error("ground_motion.record", not_found(path, fields["record"], source,
+                                                      folder=record_path(".", source)))
     try:
         record = records.read_record(path, fields.get("format"), fields.get("units"), fields.get("dt"),
                                      fields.get("scale", 1.0), fields.get("window"))

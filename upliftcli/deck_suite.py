@@ -13,13 +13,11 @@ Every InputError names the deck (or "--set") and the ground_motion field.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
-from .errors import InputError
+from .errors import InputError, not_found
 from .motion.code_rules import RULES, CodeRule, period_of_mass_fraction
 from .motion.design_spectra import ASCE7MultiPeriodSpectrum, ASCE7Spectrum, EC8Spectrum
 from .motion.suites import Suite, build_suite, check_target, read_records, suite_entries
@@ -78,16 +76,6 @@ def suite_plan(fields: dict, target, system, effective_properties: str, source: 
     except InputError as bad:
         raise error("ground_motion.period_range", bad.expected) from None
     return SuitePlan(target, rule, period_range, note)
-
-
-def not_found(path: Path, given: str, source: str, what: str = "record file") -> str:
-    """What a deck field naming a missing file expected: the file, and where a relative path
-    was resolved from (the deck's folder)."""
-    if Path(given).is_absolute():
-        return f"an existing {what}, not found: {str(path)!r}"
-    folder = os.path.abspath(Path(source).parent)
-    return (f"an existing {what}, not found: {given!r} (relative to the deck's folder {folder!r}: "
-            f"{os.path.abspath(path)!r})")
 
 
 def load_suite(fields: dict, plan: SuitePlan, source: str, error: Callable[[str, str], InputError]) -> Suite:
