@@ -105,7 +105,10 @@ def test_previous_rows_need_resume_or_overwrite(tmp_path):
     assert invoke(*args).exit_code == 0
     first = table_text(tmp_path / "ten_story_elcentro.sweep.csv")
     result = invoke(*args)
-    assert result.exit_code == 2 and "--resume" in result.stderr and "--overwrite" in result.stderr
+    rows = tmp_path / "ten_story_elcentro.sweep.rows.jsonl"
+    assert result.exit_code == 2 and result.stderr == (
+        f"error: --out: {rows}: holds the rows of an earlier run of this sweep (2 cases): pass --resume to continue "
+        "that run, or --overwrite to discard them and start again\n")
     assert invoke(*args, "--resume").exit_code == 0
     assert invoke(*args, "--overwrite").exit_code == 0
     assert table_text(tmp_path / "ten_story_elcentro.sweep.csv") == first
