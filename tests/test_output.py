@@ -123,3 +123,21 @@ def test_csv_opens_with_the_provenance(deck_dir):
     plain = pandas.read_csv(io.StringIO(to_csv([make_result("rigid"), make_result("uplift", 0.5)])))
     pandas.testing.assert_frame_equal(with_comments, plain)
     assert with_comments["shear_N"].tolist() == pytest.approx([3e6, 2.2e6, 1.2e6, 1.5e6, 1.1e6, 6e5])
+
+
+def test_histories_files_carry_the_provenance(deck_dir):
+    from upliftcli.output import write_histories
+
+    deck = load_deck(deck_dir / "inputs" / "deck.toml")
+    record = of_deck(deck)
+    histories = {"time": np.arange(4) * 0.01, "base_shear": np.array([0.0, 1.5e6, -2.0e6, 0.5e6])}
+    write_histories(deck_dir / "h.csv", histories, record)
+    text = (deck_dir / "h.csv").read_text()
+    assert read_csv_provenance(text)["files"][1]["role"] == "record"
+    table = np.loadtxt(deck_dir / "h.csv", delimiter=",", skiprows=3)  # two '#' lines and the header
+    np.testing.assert_array_equal(table[:, 1], histories["base_shear"])
+    assert text.splitlines()[2] == "time [s],base_shear [N]"
+    write_histories(deck_dir / "h.npz", histories, record)
+    with np.load(deck_dir / "h.npz") as data:
+        assert json.loads(str(data["provenance"]))["deck"]["title"] == deck.title
+        np.testing.assert_array_equal(data["base_shear"], histories["base_shear"])

@@ -248,16 +248,21 @@ def write_results(results: list[AnalysisResult], directory, stem: str, source: s
     return paths
 
 
-def write_histories(path, histories: dict[str, np.ndarray]) -> None:
-    """Write response histories atomically: NPZ if the name ends in .npz, else CSV with units
-    in the header (engines/quantities.history_unit)."""
+def write_histories(path, histories: dict[str, np.ndarray], provenance: dict | None = None) -> None:
+    """Write response histories atomically: NPZ if the name ends in .npz (the provenance as JSON
+    text in its array 'provenance'), else CSV with units in the header
+    (engines/quantities.history_unit), after the provenance's '#' lines; values with 10
+    significant digits (the histories are sampled at the record's step: more digits would
+    only lengthen the file)."""
     path = Path(path)
     if path.suffix.lower() == ".npz":
+        extra = {} if provenance is None else {"provenance": np.array(json.dumps(to_text_numbers(provenance)))}
         with atomic_path(path) as tmp, open(tmp, "wb") as handle:
-            np.savez_compressed(handle, **histories)
+            np.savez_compressed(handle, **histories, **extra)
         return
     names = list(histories)
     header = ",".join(f"{name} [{history_unit(name)}]" for name in names)
     table = np.column_stack([np.asarray(histories[name], dtype=float) for name in names])
     lines = [header] + [",".join(f"{value:.10g}" for value in row) for row in table]
-    write_text(path, "\n".join(lines) + "\n")
+    head = csv_comments(provenance) if provenance is not None else ""
+    write_text(path, head + "\n".join(lines) + "\n")
