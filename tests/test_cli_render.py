@@ -107,3 +107,14 @@ def test_modal_table_shows_the_mode_1_the_engine_used():
         assert rows[0][:3] == ["1*", f"{t1bar:.4f}", f"{sa:.4f}"]
         assert rows[1][:2] == ["2", f"{modes.periods[1]:.4f}"]
         assert re.search(r"fixed-base T_1 = " + f"{t1:.4f}", " ".join(captured.get().split()))
+
+
+@pytest.mark.parametrize("columns", [80, 100])
+def test_sweep_summary_fits_and_repeats_the_group_columns(tmp_path, columns):
+    result = invoke("sweep", EXAMPLE, "--vary", "foundation.k_f=1e8:1e10:3:log", "--vary", "building.period=0.5,1.5",
+                    "--support", "bonded,uplift", "--out", tmp_path, "--workers", "1", columns=columns)
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert max(len(line) for line in lines) <= columns and "…" not in result.stdout
+    rows = [line for line in lines if line.startswith("│ simplified")]
+    assert all("0.5" in row or "1.5" in row for row in rows)  # each part names the group's period
