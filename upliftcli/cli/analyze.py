@@ -69,8 +69,9 @@ def analyze(
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f",
                                                help="table (terminal) or json (one document on stdout, SI units)."),
     out: Path | None = typer.Option(None, "--out", "-o",
-                                    help="Also write <deck>.json, .csv (and .elements.csv) results and <deck>.deck.toml "
-                                         "(the resolved deck, which repeats the run) into this directory."),
+                                    help="Also write <deck>.json, .csv (and .elements.csv) results and "
+                                         "<deck>.deck.toml (the resolved deck, which repeats the run) into this "
+                                         "directory."),
     histories: Path | None = typer.Option(
         None, "--histories",
         help="Exact/approximate engines: write the response histories to this file (.csv or .npz); with "
