@@ -4,8 +4,9 @@ Pure functions of the plan and the rows, plus writers of CSV / JSON / Parquet fi
 each with the sweep's provenance (sweep_provenance, docs/provenance.md): the CSV's two leading
 '#' lines, the JSON's "provenance", the Parquet file's metadata; numbers with 15 significant
 digits (provenance.DIGITS) in the CSV and JSON. Columns: case, engine, support, the varied
-fields (their deck units), then OUTPUT_COLUMNS; a sweep of a record suite adds SUITE_COLUMNS, and with --per-record each case's row (the design
-statistic over the records) is followed by one row per record (table_rows).
+fields (their deck units), then OUTPUT_COLUMNS; a sweep of a record suite adds SUITE_COLUMNS,
+and with --per-record each case's row (the design statistic over the records) is followed by
+one row per record (table_rows).
 """
 
 from __future__ import annotations
