@@ -132,10 +132,14 @@ def test_run_sweep_rows_equal_single_analyses(tmp_path):
         deck = upliftcli.load_deck(EXAMPLE, ["analysis.modes=3", f"building.period={row['building.period']}"])
         (single,) = upliftcli.run(deck, supports="uplift")
         assert row["base_shear_N"] == single.base_shear and row["status"] == "ok"
-    assert len(rows_file.read_text().splitlines()) == 2
+    from upliftcli.sweep.store import RowStore
+
+    assert len(RowStore(rows_file).read()) == 2
+    before = rows_file.read_text()
     again = upliftcli.run_sweep(EXAMPLE, ["building.period=0.5,1.5"], ["analysis.modes=3"], supports=["uplift"],
                                 rows_file=rows_file, resume=True)
-    assert again.rows == sweep.rows and len(rows_file.read_text().splitlines()) == 2  # nothing run again
+    assert again.rows == sweep.rows and rows_file.read_text().startswith(before)
+    assert len(RowStore(rows_file).read()) == 2  # nothing run again
     assert sweep.provenance["sweep"]["cases"] == 2 and sweep.document()["rows"][0]["case"] == 0
 
 

@@ -169,14 +169,16 @@ def motion_files(motion) -> list[dict[str, Any]]:
 
 def absolute_paths(raw: dict, source: str) -> dict:
     """A copy of a deck mapping with its file paths (ground_motion.record, the suite's folder or
-    files, design_spectrum.file) absolute, as they are resolved: relative to the deck's folder."""
+    files, design_spectrum.file) absolute: relative paths joined to the deck's folder."""
+    from .deck import record_path
+
     raw = copy.deepcopy(raw)
     motion = raw.get("ground_motion")
     if not isinstance(motion, dict):
         return raw
 
-    def absolute(path: Any) -> Any:
-        return os.path.abspath(Path(source).parent / path) if isinstance(path, str) else path
+    def absolute(path: Any) -> Any:  # as deck.record_path resolves it (a deck that is a link: next to its target)
+        return os.path.abspath(record_path(path, source)) if isinstance(path, str) else path
 
     if "record" in motion:
         motion["record"] = absolute(motion["record"])

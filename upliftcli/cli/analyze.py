@@ -116,10 +116,10 @@ def analyze(
     _warn(results)
     if plot is not None:
         plotting.analysis_plots(results, loaded, plot, deck.stem, formats)
-    if histories is not None:
-        _write_histories(histories, results, input_files(loaded))
-    plotting.drop_histories(results)
     record = provenance.of_deck(loaded)
+    if histories is not None:
+        _write_histories(histories, results, input_files(loaded), record)
+    plotting.drop_histories(results)
     if output_format is OutputFormat.json:
         typer.echo(to_json(results, loaded.source, loaded.title, record), nl=False)
     else:
@@ -194,15 +194,15 @@ def _with_histories(results) -> list[tuple[str, object]]:
     return [(suffix, result) for suffix, result in pairs if "histories" in result.details]
 
 
-def _write_histories(path: Path, results, inputs: list[str]) -> None:
-    """Write each analysis's histories (and drop them from the result documents); a suite's
-    records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
+def _write_histories(path: Path, results, inputs: list[str], record: dict | None = None) -> None:
+    """Write each analysis's histories with the provenance `record` (and drop them from the
+    result documents); a suite's records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
     with_histories = _with_histories(results)
     targets = _history_paths(path, [(result.engine, result.support, suffix) for suffix, result in with_histories])
     refuse_inputs(targets, inputs, "--histories")  # as checked before the run (the names are the same)
     for (_, result), target in zip(with_histories, targets, strict=True):
         try:
-            write_histories(target, result.details.pop("histories"))
+            write_histories(target, result.details.pop("histories"), record)
         except OSError as error:
             raise InputError("--histories", str(target), f"a writable file ({error.strerror or error})") from None
         typer.echo(f"wrote {target}", err=True)

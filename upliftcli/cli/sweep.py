@@ -100,7 +100,7 @@ def _check_out(out: Path) -> None:
 def _prepare_out(out: Path, rows_path: Path, resume: bool, overwrite: bool) -> None:
     _check_out(out)
     if rows_path.exists() and rows_path.stat().st_size > 0 and not (resume or overwrite):
-        rows = rows_path.read_bytes().count(b"\n")
+        rows = len(RowStore(rows_path).read())
         raise InputError("--out", str(rows_path), f"holds the rows of an earlier run of this sweep ({rows} cases): "
                          "pass --resume to continue that run, or --overwrite to discard them and start again")
 
