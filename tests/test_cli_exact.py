@@ -36,9 +36,11 @@ def test_histories_csv_matches_the_reported_peak(tmp_path):
     assert result.exit_code in (0, 3), result.output
     document = json.loads(result.stdout)
     assert "histories" not in document["details"]
-    header = target.read_text().splitlines()[0].split(",")
+    lines = target.read_text().splitlines()
+    assert lines[0].startswith("# uplift ") and lines[1].startswith("# provenance: ")  # docs/provenance.md
+    header = lines[2].split(",")
     assert header[0] == "time [s]" and "contact_state [bitmask: bit i set = element i lifted]" in header
-    table = np.loadtxt(target, delimiter=",", skiprows=1)
+    table = np.loadtxt(target, delimiter=",", skiprows=3)
     base_shear = table[:, header.index("base_shear [N]")]
     # the sampled peak is at most the reported (between-samples) peak, and close to it
     assert np.abs(base_shear).max() <= document["base_shear"] * (1 + 1e-9)

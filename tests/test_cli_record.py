@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import csv
-import io
+import hashlib
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +15,7 @@ from upliftcli.cli import app
 from upliftcli.cli import record as record_cli
 from upliftcli.motion.records import read_record
 from upliftcli.motion.spectra import response_spectrum
+from upliftcli.provenance import read_csv_provenance
 from upliftcli.units import STANDARD_GRAVITY
 
 RECORD = Path(__file__).resolve().parent.parent / "records" / "elcentro_1940_ns_chopra.txt"
@@ -40,8 +41,12 @@ def test_spectrum_csv_and_plot(tmp_path):
     result = invoke("record", "spectrum", RECORD, "--damping", "0.02,5%", "--periods", "0.05:5:100",
                     "--out", out, "--plot", plot)
     assert result.exit_code == 0, result.output
-    rows = list(csv.DictReader(io.StringIO(out.read_text())))
+    text = out.read_text()
+    rows = list(csv.DictReader(line for line in text.splitlines() if not line.startswith("#")))
     assert len(rows) == 200
+    provenance = read_csv_provenance(text)
+    assert provenance["files"][0]["sha256"] == hashlib.sha256(RECORD.read_bytes()).hexdigest()
+    assert provenance["files"][0]["format"] == "shared" and provenance["settings"]["dampings"] == [0.02, 0.05]
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     record = read_record(RECORD)
     expected = response_spectrum(record.acceleration, record.dt, np.geomspace(0.05, 5, 100), [0.02, 0.05])
@@ -53,7 +58,7 @@ def test_spectrum_csv_and_plot(tmp_path):
 def test_spectrum_to_stdout_with_period_list():
     result = invoke("record", "spectrum", RECORD, "--periods", "0.5,1,2")
     assert result.exit_code == 0, result.output
-    rows = list(csv.DictReader(io.StringIO(result.stdout)))
+    rows = list(csv.DictReader(line for line in result.stdout.splitlines() if not line.startswith("#")))
     np.testing.assert_allclose([float(r["psa_g"]) for r in rows], [0.916, 0.454, 0.137], rtol=0.01)
 
 

@@ -397,3 +397,21 @@ def test_blame_prefers_set_then_the_deck():
     assert deck.blame("foundation.frequency_ratio", "foundation.damping_ratio") == ("--set", "foundation.damping_ratio")
     assert deck.blame("foundation.k_f", "foundation.frequency_ratio") == (str(EXAMPLE), "foundation.frequency_ratio")
     assert deck.blame("foundation.k_f") == (str(EXAMPLE), "foundation.k_f")
+
+
+def test_a_missing_record_names_the_deck_field_and_the_folder(deck_dir):
+    deck = deck_dir / "inputs" / "deck.toml"
+    folder = deck.parent.resolve()
+    expected = (f"an existing record file, not found: 'nothere.txt' (relative to the deck's folder '{folder}': "
+                f"'{folder / 'nothere.txt'}')")
+    with pytest.raises(InputError) as info:
+        load_deck(deck, ['ground_motion.record="nothere.txt"'])
+    assert (info.value.source, info.value.location, info.value.expected) == ("--set", "ground_motion.record", expected)
+    deck.write_text(deck.read_text().replace("../records/elcentro_1940_ns_chopra.txt", "nothere.txt"))
+    with pytest.raises(InputError) as info:
+        load_deck(deck)
+    assert (info.value.source, info.value.location, info.value.expected) == (str(deck), "ground_motion.record",
+                                                                             expected)
+    absolute = deck_dir / "gone.txt"
+    with pytest.raises(InputError, match=f"ground_motion.record: an existing record file, not found: '{absolute}'$"):
+        load_deck(deck, [f'ground_motion.record="{absolute}"'])

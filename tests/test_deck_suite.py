@@ -120,3 +120,15 @@ def test_history_engines_take_the_suite_the_simplified_engine_its_target(asce_de
     assert analysis.ground_motion_for(asce_deck, ENGINES["simplified"]) is asce_deck.spectrum
     result = analysis.run_one(asce_deck, "simplified", "uplift")
     assert result.base_shear > 0.0
+
+
+@pytest.mark.parametrize(("entry", "where"), [('"nothere.txt"', "ground_motion.suite[1]"),
+                                             ('{ file = "nothere.txt", units = "g" }', "ground_motion.suite[1].file")])
+def test_a_missing_suite_record_names_its_entry_and_the_folder(entry, where):
+    first = '"../records/ten_story_asce7_suite/artificial_2024_01.txt"'
+    with pytest.raises(InputError) as info:
+        load_deck(ASCE_SUITE, [f"ground_motion.suite=[{first}, {entry}]"])
+    folder = ASCE_SUITE.parent.resolve()
+    assert info.value.source == "--set" and info.value.location == where
+    assert info.value.expected == (f"an existing record file, not found: 'nothere.txt' (relative to the deck's "
+                                   f"folder '{folder}': '{folder / 'nothere.txt'}')")

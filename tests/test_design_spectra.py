@@ -185,3 +185,46 @@ def test_table_damping_correction_default_is_given_by_the_caller():
     assert from_mapping(table, "deck.toml", default_correction="asce").damping_correction == "asce"
     explicit = from_mapping({**table, "damping_correction": "ec8"}, "d", default_correction="asce")
     assert explicit.damping_correction == "ec8"
+
+
+def test_deck_reference_documents_every_key_of_every_spectrum_type():
+    """docs/deck.md names each design_spectrum type and each of its keys (design_spectra._KEYS)."""
+    from pathlib import Path
+
+    from upliftcli.motion.design_spectra import _KEYS
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "deck.md").read_text()
+    section = text[text.index("`design_spectrum` (read by"):text.index("### Record suites")]
+    rows = {line.split("|")[1].strip(): line for line in section.splitlines() if line.startswith('| `"')}
+    for kind, (required, optional) in _KEYS.items():
+        row = rows[f'`"{kind}"`']
+        for key in (required | optional) - {"type"}:
+            assert f"`{key}`" in row, (kind, key)
+        for key in required - {"type"}:
+            assert f"**`{key}`**" in row, (kind, key)
+
+
+def test_table_alone_takes_the_correction_of_the_statistics_it_names(tmp_path):
+    from upliftcli.deck import build_deck
+    from upliftcli.provenance import of_deck
+
+    table = {"type": "table", "periods": [0.0, 1.0, 4.0], "sa": [0.4, 1.0, 0.2], "damping": 0.05}
+    raw = {"building": {"stories": 2, "floor_mass": 1e5, "story_height": 3.0, "period": 0.3},
+           "foundation": {"b": 3.0, "k_f": 1e9}, "ground_motion": {"design_spectrum": table}}
+    plain = build_deck(raw, str(tmp_path / "d.toml"))
+    asce = build_deck(raw, str(tmp_path / "d.toml"), [("ground_motion.statistics", "asce7-22")])
+    assert plain.spectrum.damping_correction == "ec8" and asce.spectrum.damping_correction == "asce"
+    expected = asce_damping_coefficient(0.05) / asce_damping_coefficient(0.02)  # B(5 %)/B(2 %)
+    assert float(asce.spectrum.sa(np.array([1.0]), 0.02)[0]) == pytest.approx(G * expected, rel=1e-12)
+    assert float(plain.spectrum.sa(np.array([1.0]), 0.02)[0]) == pytest.approx(G * math.sqrt(10 / 7) / 1.0, rel=1e-12)
+    entry = of_deck(asce)["spectrum"]
+    assert entry["damping_correction"] == "asce" and entry["damping"] == 0.05 and entry["period_range"] == [0.0, 4.0]
+
+
+def test_a_missing_table_file_names_the_field_and_the_folder(tmp_path):
+    deck = tmp_path / "deck.toml"
+    with pytest.raises(InputError) as info:
+        from_mapping({"type": "table", "file": "sa.csv", "damping": 0.05}, str(deck), "ground_motion.design_spectrum")
+    assert info.value.location == "ground_motion.design_spectrum.file"
+    assert info.value.expected == (f"an existing spectrum table, not found: 'sa.csv' (relative to the deck's folder "
+                                   f"'{tmp_path}': '{tmp_path / 'sa.csv'}')")

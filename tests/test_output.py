@@ -9,8 +9,10 @@ import numpy as np
 import pytest
 
 from upliftcli import output as results_module
+from upliftcli.deck import load_deck
 from upliftcli.engines.result import AnalysisResult
-from upliftcli.output import elements_csv, results_document, to_csv, to_json, to_toml, write_results
+from upliftcli.output import elements_csv, results_document, to_csv, to_json, write_results
+from upliftcli.provenance import of_deck, read_csv_provenance, to_text_numbers
 
 
 def make_result(support="uplift", scale=1.0):
@@ -68,24 +70,74 @@ def test_foundation_csv_has_one_row_per_element():
         ("uplift", "1", -2.0, 2.0e6), ("uplift", "2", 2.0, 2.5e6)]
 
 
-def test_toml_parses_back():
-    document = tomllib.loads(to_toml([make_result()], "deck.toml", "A"))
-    assert document["results"][0]["base_moment"] == pytest.approx(2.0e7)
-    assert "nan" not in document["results"][0]["intermediates"]  # no null in TOML
-
-
 def test_write_results_atomic(tmp_path):
     paths = write_results([make_result()], tmp_path / "out", "deck", "deck.toml", "A")
-    names = ["deck.csv", "deck.elements.csv", "deck.json", "deck.toml"]
+    names = ["deck.csv", "deck.elements.csv", "deck.json"]  # no deck given: no <stem>.deck.toml
     assert sorted(p.name for p in paths) == names
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == names
+
+
+def test_write_results_with_the_deck_writes_the_resolved_deck(deck_dir):
+    deck = load_deck(deck_dir / "inputs" / "deck.toml", ["building.period=0.7"])
+    out = deck_dir / "out"
+    paths = write_results([make_result()], out, "deck", deck=deck)
+    assert [p.name for p in paths] == ["deck.json", "deck.csv", "deck.elements.csv", "deck.deck.toml"]
+    resolved = tomllib.loads((out / "deck.deck.toml").read_text())
+    assert resolved["building"]["period"] == 0.7 and resolved["title"] == deck.title
+    document = json.loads((out / "deck.json").read_text())
+    assert document["provenance"]["deck"]["set"] == {"building.period": 0.7}
+    assert document["source"] == deck.source and document["title"] == deck.title
 
 
 def test_write_results_failure_leaves_no_file(tmp_path, monkeypatch):
     def broken(*args, **kwargs):
         raise RuntimeError("boom")
 
-    monkeypatch.setattr(results_module, "to_toml", broken)
+    monkeypatch.setattr(results_module, "elements_csv", broken)
     with pytest.raises(RuntimeError):
         write_results([make_result()], tmp_path, "deck")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_numbers_are_written_with_15_significant_digits():
+    result = make_result()
+    result.elevations = np.cumsum([5.1, 5.1, 5.1])  # 15.299999999999999 in binary
+    assert result.elevations[-1] != 15.3
+    rows = list(csv.reader(io.StringIO(to_csv([result]))))
+    assert rows[3][3] == "15.3"
+    document = json.loads(to_json([result]))
+    assert document["stories"][2]["elevation"] == 15.3
+    assert '"elevation": 15.3,' in to_json([result])
+
+
+def test_csv_opens_with_the_provenance(deck_dir):
+    deck = load_deck(deck_dir / "inputs" / "deck.toml")
+    record = of_deck(deck)
+    text = to_csv([make_result("rigid"), make_result("uplift", 0.5)], record)
+    lines = text.splitlines()
+    assert lines[0].startswith("# uplift ") and lines[1].startswith("# provenance: {")
+    assert lines[2].startswith("engine,support,story,elevation_m")
+    assert read_csv_provenance(text) == json.loads(json.dumps(to_text_numbers(record)))
+    pandas = pytest.importorskip("pandas")
+    with_comments = pandas.read_csv(io.StringIO(text), comment="#")
+    plain = pandas.read_csv(io.StringIO(to_csv([make_result("rigid"), make_result("uplift", 0.5)])))
+    pandas.testing.assert_frame_equal(with_comments, plain)
+    assert with_comments["shear_N"].tolist() == pytest.approx([3e6, 2.2e6, 1.2e6, 1.5e6, 1.1e6, 6e5])
+
+
+def test_histories_files_carry_the_provenance(deck_dir):
+    from upliftcli.output import write_histories
+
+    deck = load_deck(deck_dir / "inputs" / "deck.toml")
+    record = of_deck(deck)
+    histories = {"time": np.arange(4) * 0.01, "base_shear": np.array([0.0, 1.5e6, -2.0e6, 0.5e6])}
+    write_histories(deck_dir / "h.csv", histories, record)
+    text = (deck_dir / "h.csv").read_text()
+    assert read_csv_provenance(text)["files"][1]["role"] == "record"
+    table = np.loadtxt(deck_dir / "h.csv", delimiter=",", skiprows=3)  # two '#' lines and the header
+    np.testing.assert_array_equal(table[:, 1], histories["base_shear"])
+    assert text.splitlines()[2] == "time [s],base_shear [N]"
+    write_histories(deck_dir / "h.npz", histories, record)
+    with np.load(deck_dir / "h.npz") as data:
+        assert json.loads(str(data["provenance"]))["deck"]["title"] == deck.title
+        np.testing.assert_array_equal(data["base_shear"], histories["base_shear"])

@@ -15,6 +15,7 @@ from upliftcli.motion.records import (
     ground_displacement,
     ground_velocity,
     read_record,
+    separated,
 )
 from upliftcli.units import STANDARD_GRAVITY
 
@@ -237,3 +238,31 @@ def test_sample_limit(tmp_path, monkeypatch):
 def test_a_window_ending_far_past_the_record_keeps_the_rest(tmp_path):
     path = write(tmp_path, "w.txt", "# dt = 0.01\n# units: g\n1 2 3 4 5\n")
     assert read_record(path, window=(0.02, 1e30)).acceleration.size == 3
+
+
+@pytest.mark.parametrize(("name", "line", "what"), [
+    ("RSN1_VEL.VT2", "VELOCITY TIME SERIES IN UNITS OF CM/S", "velocity"),
+    ("RSN1_DIS.DT2", "DISPLACEMENT TIME SERIES IN UNITS OF CM", "displacement"),
+    ("renamed.AT2", "VELOCITY TIME SERIES IN UNITS OF CM/S", "velocity"),
+    ("RSN1_VEL.VT2", "ACCELERATION TIME SERIES IN UNITS OF G", "velocity"),  # the extension says so
+])
+def test_peer_velocity_and_displacement_files_are_named_for_what_they_are(tmp_path, name, line, what):
+    path = write(tmp_path, name, at2_text(VALUES, units_line=line))
+    assert detect_format(path) == "at2"
+    with pytest.raises(InputError) as info:
+        read_record(path)
+    message = str(info.value)
+    assert message.startswith(f"{path}: line 3: an acceleration history (PEER .AT2); this is a {what} history")
+    assert "\n" not in message
+
+
+def test_fixed_width_values_that_touch_are_two_values(tmp_path):
+    rows = ["1.71300E-02-3.43000E-03 2.00000E-02", "-1.00000E-02-2.50000D-03+4.00000E-04", "0.5-0.25"]
+    expected = [1.713e-2, -3.43e-3, 2e-2, -1e-2, -2.5e-3, 4e-4, 0.5, -0.25]
+    header = ["PEER NGA STRONG MOTION DATABASE RECORD", "event", "ACCELERATION TIME SERIES IN UNITS OF G",
+              f"NPTS=  {len(expected)}, DT=   0.0100 SEC"]
+    record = read_record(write(tmp_path, "touch.AT2", "\n".join(header + rows) + "\n"))
+    np.testing.assert_array_equal(record.acceleration, np.array(expected) * G)
+    text = read_record(write(tmp_path, "touch.txt", "# dt = 0.01\n# units: g\n" + "\n".join(rows) + "\n"))
+    np.testing.assert_array_equal(text.acceleration, record.acceleration)
+    assert separated("1.0E-05 2.0D+03") == "1.0E-05 2.0D+03"  # exponents are not split

@@ -38,3 +38,31 @@ def test_envelope_over_foundation_stiffness():
     assert governing["base_shear_coefficient"]["case"] == top["case"]
     summary = sweep_table.summarize(plan, rows)
     assert summary["ok"] == len(rows) and summary["ranges"][0]["lowest"] == 1e8
+
+
+def test_tables_carry_the_sweep_provenance(small_plan, serial_rows, tmp_path):
+    """CSV ('#' lines), JSON and Parquet hold the same provenance: the record's SHA-256 computed
+    here, the varied values, and the deck's model with the --set overrides."""
+    import hashlib
+    import json
+
+    from sweep_cases import ROOT
+
+    from upliftcli.provenance import read_csv_provenance
+
+    record = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
+    paths = sweep_table.write_tables(small_plan, serial_rows, tmp_path, "p", "json")
+    csv_record = read_csv_provenance(paths[0].read_text())
+    json_record = json.loads(paths[1].read_text())["provenance"]
+    assert csv_record == json_record
+    (entry,) = [f for f in json_record["files"] if f["role"] == "record"]
+    assert entry["sha256"] == hashlib.sha256(record.read_bytes()).hexdigest() and entry["format"] == "shared"
+    assert json_record["files"][0]["sha256"] == hashlib.sha256(EXAMPLE.read_bytes()).hexdigest()
+    assert json_record["sweep"]["varied"] == [{"path": v.path, "unit": v.unit, "spacing": v.spacing,
+                                               "values": list(v.values)} for v in small_plan.varies]
+    assert json_record["sweep"]["cases"] == len(small_plan.cases) == 14
+    assert json_record["deck"]["set"] == {"ground_motion.window": [0, 6]}
+    pq = pytest.importorskip("pyarrow.parquet")
+    parquet = sweep_table.write_tables(small_plan, serial_rows, tmp_path, "q", "parquet")[1]
+    metadata = pq.read_schema(parquet).metadata
+    assert json.loads(metadata[b"provenance"])["files"] == json_record["files"]

@@ -37,8 +37,9 @@ def ground_motion_for(deck: Deck, engine: Engine) -> Any:
     if isinstance(deck.ground_motion, Suite):
         return deck.ground_motion
     if not isinstance(deck.ground_motion, Record):
-        raise InputError(deck.source, "ground_motion.record",
-                         f"a record for the {engine.name} engine (a design spectrum serves only the simplified engine)")
+        asked = "asked by --engine or --set analysis.engine; " if "analysis.engine" in deck.overridden else ""
+        raise InputError(deck.source, "ground_motion.record", f"a record for the {engine.name} engine ({asked}a design "
+                         "spectrum serves only the simplified engine)")
     return deck.ground_motion
 
 

@@ -11,6 +11,7 @@ expected; nothing here prints or exits.
 from __future__ import annotations
 
 import copy
+import os
 import re
 import tomllib
 from collections.abc import Iterable, Sequence
@@ -22,7 +23,7 @@ import numpy as np
 
 from . import deck_schema as schema
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
-from .errors import InputError
+from .errors import InputError, not_found
 from .limits import MAX_DECK_BYTES, MAX_STORIES, read_limited
 from .model.building import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
 from .model.foundations import FOUNDATIONS, DeckContext
@@ -185,14 +186,32 @@ def load_deck(path: str | Path, overrides: Sequence[str] = (), *, load_ground_mo
     return build_deck(raw, str(path), parsed, load_ground_motion=load_ground_motion)
 
 
-def build_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]] = (), *,
+def plain(value: Any) -> Any:
+    """A deck mapping built in code as TOML would give it: numpy arrays and tuples as lists,
+    numpy scalars as Python numbers, paths as strings."""
+    if isinstance(value, dict):
+        return {key: plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [plain(item) for item in value]
+    if isinstance(value, np.ndarray):
+        return plain(value.tolist())
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    return value
+
+
+def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[str, Any]] = (), *,
                load_ground_motion: bool = True) -> Deck:
-    """Build a Deck from a parsed mapping (used by load_deck and by sweeps)."""
-    raw, overridden = apply_overrides(raw, overrides)
+    """Build a Deck from a parsed mapping (used by load_deck and by sweeps; from Python, any
+    mapping of the deck's tables, numpy arrays and scalars accepted). source: the deck's file,
+    which relative paths are relative to (default "<mapping>": the working directory)."""
+    raw, overridden = apply_overrides(plain(raw), [(path, plain(value)) for path, value in overrides])
     values = schema.validate(raw, source, overridden)
 
-    def error(path: str, expected: str):
-        return InputError("--set" if path in overridden else source, path, expected)
+    def error(path: str, expected: str):  # ground_motion.suite[1].file came from --set ground_motion.suite
+        return InputError("--set" if path in overridden or path.split("[")[0] in overridden else source, path, expected)
 
     building = _building(values["building"], error)
     system = _system(building, values["foundation"], values["analysis"], error)
@@ -389,6 +408,9 @@ def _ground_motion(fields: dict, source: str, error, system: System | None = Non
     from .motion import records, spectra
 
     path = record_path(fields["record"], source)
+    if not path.exists():  # the folder a relative path was resolved from: the deck's (its target's, a link)
+        raise error("ground_motion.record", not_found(path, fields["record"], source,
+                                                      folder=record_path(".", source)))
     try:
         record = records.read_record(path, fields.get("format"), fields.get("units"), fields.get("dt"),
                                      fields.get("scale", 1.0), fields.get("window"))

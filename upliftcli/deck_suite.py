@@ -17,7 +17,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from .errors import InputError
+from .errors import InputError, not_found
 from .motion.code_rules import RULES, CodeRule, period_of_mass_fraction
 from .motion.design_spectra import ASCE7MultiPeriodSpectrum, ASCE7Spectrum, EC8Spectrum
 from .motion.suites import Suite, build_suite, check_target, read_records, suite_entries
@@ -79,13 +79,20 @@ def suite_plan(fields: dict, target, system, effective_properties: str, source: 
 
 
 def load_suite(fields: dict, plan: SuitePlan, source: str, error: Callable[[str, str], InputError]) -> Suite:
-    """Read the deck's suite and scale or match it as `ground_motion.scaling` says."""
+    """Read the deck's suite and scale or match it as `ground_motion.scaling` says; a listed
+    record that does not exist names its entry, ground_motion.suite[k], and the folder."""
     try:
         entries = suite_entries(fields["suite"], source)
     except InputError as bad:
         if bad.source == source and bad.location:
             raise error(bad.location, bad.expected) from None
         raise
+    if isinstance(fields["suite"], list):
+        for k, ((path, _), item) in enumerate(zip(entries, fields["suite"], strict=True)):
+            if not path.exists():
+                given = item if isinstance(item, str) else item["file"]
+                where = f"ground_motion.suite[{k}]" + ("" if isinstance(item, str) else ".file")
+                raise error(where, not_found(path, given, source))
     records = read_records(entries)
     try:
         return build_suite(records, plan.target, plan.period_range, plan.rule, fields.get("scaling", "none"),

@@ -32,3 +32,16 @@ class AnalysisError(Exception):
 
     def __str__(self) -> str:
         return one_line(super().__str__())
+
+
+def not_found(path, given: str, source: str, what: str = "record file", folder=None) -> str:
+    """What a deck field naming a missing file expected, in words: the file as the deck gives
+    it and, for a relative path, the deck's folder it was resolved from (default: the folder
+    of `source`) and the absolute path."""
+    import os
+
+    if os.path.isabs(given):
+        return f"an existing {what}, not found: {str(path)!r}"
+    folder = os.path.abspath(folder if folder is not None else os.path.dirname(source) or ".")
+    return (f"an existing {what}, not found: {given!r} (relative to the deck's folder {folder!r}: "
+            f"{os.path.abspath(path)!r})")

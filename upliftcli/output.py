@@ -1,10 +1,14 @@
 """Every file an analysis writes: the results document (JSON), the story and foundation tables
-(CSV), the TOML copy, and the response histories (CSV or NPZ). Each file is written
-atomically (upliftcli.atomic): never half-written. SI units in every file; the units are
-listed in it. The quantities and their units: engines/quantities.py. A record suite's result
-(engines/suite_result.SuiteResult) is written as its design statistic, with a `suite` object in
-the JSON and TOML (records, factors, each record's result, the statistics, the simplified engine
-beside it) and, in the CSV tables, a row per record after the statistic's rows.
+(CSV), the resolved deck (<stem>.deck.toml, a deck that repeats the run) and the response
+histories (CSV or NPZ). Each file is written atomically (upliftcli.atomic): never half-written.
+SI units in every file; the units are listed in it. Every result file carries the provenance of
+the run (provenance.py): the JSON under "provenance", each CSV table in two leading '#' lines
+(pandas.read_csv(path, comment="#") reads the table). Numbers are written with at most 15
+significant digits (provenance.DIGITS), as the shortest text of that value: 15.3, not
+15.299999999999999. The quantities and their units: engines/quantities.py. A record suite's
+result (engines/suite_result.SuiteResult) is written as its design statistic, with a `suite`
+object in the JSON (records, factors, each record's result, the statistics, the simplified
+engine beside it) and, in the CSV tables, a row per record after the statistic's rows.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ from .atomic import atomic_path, write_text
 from .engines.quantities import ELEMENT, FLOOR, QUANTITIES, SCALARS, STORY, column_name, history_unit, quantities
 from .engines.result import AnalysisResult
 from .engines.suite_result import COMPARED, STATISTICS, SuiteResult, simplified_ratios
+from .provenance import csv_comments, deck_toml, number_text, of_deck, to_text_numbers
 
 #: units of the result fields in the written files (SI)
 UNITS = {
@@ -119,22 +124,31 @@ def suite_to_dict(result: SuiteResult) -> dict[str, Any]:
 
 
 def results_document(results: list[AnalysisResult], source: str | None = None,
-                     title: str | None = None) -> dict[str, Any]:
+                     title: str | None = None, provenance: dict | None = None) -> dict[str, Any]:
     """The document `--format json` prints: one result -> that result's dict (plus source,
-    title, units); several -> {"source", "title", "units", "results": [...]}."""
-    head = {"source": source, "title": title, "units": UNITS}
+    title, units and the provenance of the run); several -> {"source", "title", "units",
+    "provenance", "results": [...]}."""
+    head = {"source": source, "title": title, "units": UNITS, "provenance": provenance}
     head = {k: v for k, v in head.items() if v is not None}
     if len(results) == 1:
         return {**head, **result_to_dict(results[0])}
     return {**head, "results": [result_to_dict(result) for result in results]}
 
 
-def to_json(results: list[AnalysisResult], source: str | None = None, title: str | None = None) -> str:
-    return json.dumps(results_document(results, source, title), indent=2) + "\n"
+def dumps(document: Any) -> str:
+    """JSON text of a document, numbers with at most 15 significant digits (module docstring)."""
+    return json.dumps(to_text_numbers(to_jsonable(document)), indent=2, allow_nan=False) + "\n"
 
 
-def _csv(header: list[str], rows: list[list[Any]]) -> str:
+def to_json(results: list[AnalysisResult], source: str | None = None, title: str | None = None,
+            provenance: dict | None = None) -> str:
+    return dumps(results_document(results, source, title, provenance))
+
+
+def _csv(header: list[str], rows: list[list[Any]], provenance: dict | None = None) -> str:
     buffer = io.StringIO()
+    if provenance is not None:
+        buffer.write(csv_comments(provenance))
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(header)
     writer.writerows(rows)
@@ -142,8 +156,8 @@ def _csv(header: list[str], rows: list[list[Any]]) -> str:
 
 
 def _number(value: float) -> str:
-    """Shortest text that reads back to the same float ('' for NaN: no value)."""
-    return repr(float(value)) if np.isfinite(value) else ""
+    """The text of a number ('' for NaN: no value), provenance.number_text."""
+    return number_text(value)
 
 
 def _labelled(results: list[AnalysisResult]) -> tuple[list[str], list[tuple[list[str], AnalysisResult]]]:
@@ -162,76 +176,93 @@ def _labelled(results: list[AnalysisResult]) -> tuple[list[str], list[tuple[list
     return ["engine", "support", "statistic", "record"], labelled
 
 
-def to_csv(results: list[AnalysisResult]) -> str:
-    """Story tables of all results, one row per (engine, support, story); units in the headers
-    (floor quantities of floor j on story j's row); a suite's records after its statistic (_labelled)."""
+def story_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[Any]]]:
+    """(header, rows) of the story tables of all results, one row per (engine, support, story);
+    units in the headers (floor quantities of floor j on story j's row); a suite's records after
+    its statistic (_labelled); numbers as floats (NaN: no value)."""
     present = [q for q in _STORY_QUANTITIES if any(q.name in r.peaks for r in results)]
     lead, labelled = _labelled(results)
     header = lead + ["story", "elevation_m"] + [column_name(q.name, q.unit) for q in present]
-    rows = [labels + [j + 1, _number(r.elevations[j])]
-            + [_number(r.peaks[q.name][j]) if q.name in r.peaks else "" for q in present]
+    rows = [labels + [j + 1, float(r.elevations[j])]
+            + [float(r.peaks[q.name][j]) if q.name in r.peaks else np.nan for q in present]
             for labels, r in labelled for j in range(r.elevations.size)]
-    return _csv(header, rows)
+    return header, rows
 
 
-def elements_csv(results: list[AnalysisResult]) -> str:
-    """Foundation tables: one row per (engine, support, contact element), left to right (a
-    suite's records after its statistic, as to_csv)."""
+def elements_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[Any]]]:
+    """(header, rows) of the foundation tables: one row per (engine, support, contact element),
+    left to right (a suite's records after its statistic, as story_table)."""
     present = [q for q in quantities(ELEMENT) if any(q.name in r.peaks for r in results)]
     lead, labelled = _labelled(results)
     header = lead + ["element", "position_m"] + [column_name(q.name, q.unit) for q in present]
-    rows = [labels + [i + 1, _number(r.element_positions[i])]
-            + [_number(r.peaks[q.name][i]) if q.name in r.peaks else "" for q in present]
+    rows = [labels + [i + 1, float(r.element_positions[i])]
+            + [float(r.peaks[q.name][i]) if q.name in r.peaks else np.nan for q in present]
             for labels, r in labelled for i in range(r.element_positions.size)]
-    return _csv(header, rows)
+    return header, rows
 
 
-def _drop_none(value: Any) -> Any:
-    """TOML has no null: drop None entries of tables, keep list positions as NaN."""
-    if isinstance(value, dict):
-        return {k: _drop_none(v) for k, v in value.items() if v is not None}
-    if isinstance(value, list):
-        return [float("nan") if v is None else _drop_none(v) for v in value]
-    return value
+def _texts(rows: list[list[Any]]) -> list[list[Any]]:
+    return [[_number(v) if isinstance(v, float) else v for v in row] for row in rows]
 
 
-def to_toml(results: list[AnalysisResult], source: str | None = None, title: str | None = None) -> str:
-    """TOML document {source, title, units, results = [[...]]} (tomli-w)."""
-    import tomli_w
+def to_csv(results: list[AnalysisResult], provenance: dict | None = None) -> str:
+    """The story tables (story_table) as CSV, after the provenance's '#' lines if given."""
+    header, rows = story_table(results)
+    return _csv(header, _texts(rows), provenance)
 
-    head = {"source": source, "title": title, "units": UNITS}
-    document = {**head, "results": [result_to_dict(result) for result in results]}
-    return tomli_w.dumps(_drop_none(to_jsonable(document)))
+
+def elements_csv(results: list[AnalysisResult], provenance: dict | None = None) -> str:
+    """The foundation tables (elements_table) as CSV, after the provenance's '#' lines if given."""
+    header, rows = elements_table(results)
+    return _csv(header, _texts(rows), provenance)
+
+
+def result_paths(directory, stem: str, elements: bool = True, deck: bool = True) -> list[Path]:
+    """The files write_results writes into directory for `stem`."""
+    directory = Path(directory)
+    names = [".json", ".csv"] + [".elements.csv"] * elements + [".deck.toml"] * deck
+    return [directory / f"{stem}{suffix}" for suffix in names]
 
 
 def write_results(results: list[AnalysisResult], directory, stem: str, source: str | None = None,
-                  title: str | None = None) -> list:
+                  title: str | None = None, *, deck=None, provenance: dict | None = None) -> list:
     """Write <stem>.json, <stem>.csv (stories), <stem>.elements.csv (foundation elements, when
-    a flexible support was analysed) and <stem>.toml into directory, each atomically; return
-    the paths. All texts are built before the first file is written, so a failure leaves no file."""
-    directory = Path(directory)
-    texts = {
-        directory / f"{stem}.json": to_json(results, source, title),
-        directory / f"{stem}.csv": to_csv(results),
-    }
-    if any(r.element_positions.size for r in results):
-        texts[directory / f"{stem}.elements.csv"] = elements_csv(results)
-    texts[directory / f"{stem}.toml"] = to_toml(results, source, title)
-    for path, text in texts.items():
+    a flexible support was analysed) and, given the deck.Deck, <stem>.deck.toml (the resolved
+    deck: `uplift analyze` on it repeats the run) into directory, each atomically; return the
+    paths. The provenance (default: provenance.of_deck of the deck) goes into every file. All
+    texts are built before the first file is written, so a failure leaves no file."""
+    if provenance is None and deck is not None:
+        provenance = of_deck(deck)
+    if deck is not None:
+        source = deck.source if source is None else source
+        title = deck.title if title is None else title
+    elements = any(r.element_positions.size for r in results)
+    paths = result_paths(directory, stem, elements, deck is not None)
+    texts = [to_json(results, source, title, provenance), to_csv(results, provenance)]
+    if elements:
+        texts.append(elements_csv(results, provenance))
+    if deck is not None:
+        texts.append(deck_toml(deck, provenance))
+    for path, text in zip(paths, texts, strict=True):
         write_text(path, text)
-    return list(texts)
+    return paths
 
 
-def write_histories(path, histories: dict[str, np.ndarray]) -> None:
-    """Write response histories atomically: NPZ if the name ends in .npz, else CSV with units
-    in the header (engines/quantities.history_unit)."""
+def write_histories(path, histories: dict[str, np.ndarray], provenance: dict | None = None) -> None:
+    """Write response histories atomically: NPZ if the name ends in .npz (the provenance as JSON
+    text in its array 'provenance'), else CSV with units in the header
+    (engines/quantities.history_unit), after the provenance's '#' lines; values with 10
+    significant digits (the histories are sampled at the record's step: more digits would
+    only lengthen the file)."""
     path = Path(path)
     if path.suffix.lower() == ".npz":
+        extra = {} if provenance is None else {"provenance": np.array(json.dumps(to_text_numbers(provenance)))}
         with atomic_path(path) as tmp, open(tmp, "wb") as handle:
-            np.savez_compressed(handle, **histories)
+            np.savez_compressed(handle, **histories, **extra)
         return
     names = list(histories)
     header = ",".join(f"{name} [{history_unit(name)}]" for name in names)
     table = np.column_stack([np.asarray(histories[name], dtype=float) for name in names])
     lines = [header] + [",".join(f"{value:.10g}" for value in row) for row in table]
-    write_text(path, "\n".join(lines) + "\n")
+    head = csv_comments(provenance) if provenance is not None else ""
+    write_text(path, head + "\n".join(lines) + "\n")

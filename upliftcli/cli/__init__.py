@@ -67,6 +67,7 @@ app = typer.Typer(
     no_args_is_help=True,
     pretty_exceptions_show_locals=False,
     context_settings={"help_option_names": ["-h", "--help"]},
+    rich_markup_mode=None,  # help texts are plain: units such as [s] and [m/s^2] are kept, not read as markup
 )
 
 

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 
 import typer
 
+from .. import provenance
 from ..atomic import refuse_inputs
 from ..errors import InputError
 from ..fields import parse_choices
@@ -49,16 +50,17 @@ def _overrides(settings: list[str], engines: list[str], supports: list[str]) -> 
 
 
 def input_files(deck: Deck) -> list[str]:
-    """The files a run reads: the deck and its record(s) (outputs must not replace them)."""
-    files = [deck.source]
-    motions = getattr(deck.ground_motion, "records", None) or [deck.ground_motion]  # a suite: each record
-    files += [motion.source for motion in motions if getattr(motion, "source", "")]
-    return files
+    """The files a run reads: the deck, its record(s) (a suite: each record) and a design-spectrum
+    table file (outputs must not replace them)."""
+    motion = [] if deck.ground_motion is None else provenance.motion_files(deck.ground_motion)
+    return [deck.source, *(entry["path"] for entry in motion if entry["path"])]
 
 
 def result_paths(out: Path, stem: str) -> list[Path]:
-    """The files --out receives for one deck (output.write_results)."""
-    return [out / f"{stem}{suffix}" for suffix in (".json", ".csv", ".toml")]
+    """The files --out may receive for one deck (output.write_results)."""
+    from ..output import result_paths as paths
+
+    return paths(out, stem)
 
 
 def analyze(
@@ -73,7 +75,9 @@ def analyze(
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f",
                                                help="table (terminal) or json (one document on stdout, SI units)."),
     out: Path | None = typer.Option(None, "--out", "-o",
-                                    help="Also write <deck>.json, .csv and .toml results into this directory."),
+                                    help="Also write <deck>.json, .csv (and .elements.csv) results and "
+                                         "<deck>.deck.toml (the resolved deck, which repeats the run) into this "
+                                         "directory."),
     histories: Path | None = typer.Option(
         None, "--histories",
         help="Exact/approximate engines: write the response histories to this file (.csv or .npz); with "
@@ -124,15 +128,16 @@ def analyze(
     _warn(results)
     if plot is not None:
         plotting.analysis_plots(results, loaded, plot, deck.stem, formats)
+    record = provenance.of_deck(loaded)
     if histories is not None:
-        _write_histories(histories, results, input_files(loaded))
+        _write_histories(histories, results, input_files(loaded), record)
     plotting.drop_histories(results)
     if output_format is OutputFormat.json:
-        typer.echo(to_json(results, loaded.source, loaded.title), nl=False)
+        typer.echo(to_json(results, loaded.source, loaded.title, record), nl=False)
     else:
         render.print_results(render.console(), results, loaded.title)
     if out is not None:
-        _write(results, out, deck.stem, loaded)
+        _write(results, out, deck.stem, loaded, record)
     violations = analysis.check_criteria(results, loaded.criteria)
     if violations:
         for message in violations:
@@ -201,9 +206,9 @@ def _with_histories(results) -> list[tuple[str, object]]:
     return [(suffix, result) for suffix, result in pairs if "histories" in result.details]
 
 
-def _write_histories(path: Path, results, inputs: list[str]) -> None:
-    """Write each analysis's histories (and drop them from the result documents); a suite's
-    records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
+def _write_histories(path: Path, results, inputs: list[str], record: dict | None = None) -> None:
+    """Write each analysis's histories with the provenance `record` (and drop them from the
+    result documents); a suite's records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
     from ..output import write_histories
 
     with_histories = _with_histories(results)
@@ -211,17 +216,17 @@ def _write_histories(path: Path, results, inputs: list[str]) -> None:
     refuse_inputs(targets, inputs, "--histories")  # as checked before the run (the names are the same)
     for (_, result), target in zip(with_histories, targets, strict=True):
         try:
-            write_histories(target, result.details.pop("histories"))
+            write_histories(target, result.details.pop("histories"), record)
         except OSError as error:
             raise InputError("--histories", str(target), f"a writable file ({error.strerror or error})") from None
         typer.echo(f"wrote {target}", err=True)
 
 
-def _write(results, out: Path, stem: str, loaded) -> None:
+def _write(results, out: Path, stem: str, loaded, record: dict | None = None) -> None:
     from ..output import write_results
 
     try:
-        written = write_results(results, out, stem, loaded.source, loaded.title)
+        written = write_results(results, out, stem, deck=loaded, provenance=record)
     except OSError as error:
         raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
     for path in written:
@@ -233,7 +238,7 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
     output); one summary table (or {"decks": [...]} in JSON); exit 3 if any deck violates its criteria."""
     from .. import analysis
     from ..deck import load_deck
-    from ..output import results_document, to_jsonable
+    from ..output import dumps, results_document
     from . import render
 
     stems = [deck.stem for deck in decks]
@@ -245,18 +250,20 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
         inputs = [path for item in loaded for path in input_files(item)]
         refuse_inputs([path for deck in decks for path in result_paths(out, deck.stem)], inputs, "--out")
     runs = [(deck, item, analysis.run(item)) for deck, item in zip(decks, loaded)]
+    records = [provenance.of_deck(item) for item in loaded]
     for deck, _, results in runs:
         _warn_suite(results, f"{deck}: ")
     violations = [(deck, message) for deck, item, results in runs
                   for message in analysis.check_criteria(results, item.criteria)]
     if output_format is OutputFormat.json:
-        document = {"decks": [results_document(results, item.source, item.title) for _, item, results in runs]}
-        typer.echo(json.dumps(to_jsonable(document), indent=2))
+        document = {"decks": [results_document(results, item.source, item.title, record)
+                              for (_, item, results), record in zip(runs, records, strict=True)]}
+        typer.echo(dumps(document), nl=False)
     else:
         render.console().print(_batch_table(runs, {str(deck) for deck, _ in violations}))
     if out is not None:
-        for deck, item, results in runs:
-            _write(results, out, deck.stem, item)
+        for (deck, item, results), record in zip(runs, records, strict=True):
+            _write(results, out, deck.stem, item, record)
     for deck, message in violations:
         typer.echo(f"criterion violated: {deck}: {message}", err=True)
     if violations:

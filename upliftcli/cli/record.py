@@ -148,16 +148,22 @@ def info(
     out.print(table)
 
 
-def spectrum_csv(spectrum: spectra.Spectrum) -> str:
-    """Long-format CSV of a spectrum, one row per (damping, period), SI units and S_a in g."""
+def spectrum_csv(spectrum: spectra.Spectrum, record: dict | None = None) -> str:
+    """Long-format CSV of a spectrum, one row per (damping, period), SI units and S_a in g,
+    after the provenance's two '#' lines if given (docs/provenance.md)."""
+    from ..provenance import csv_comments, number_text
+
     buffer = io.StringIO()
+    if record is not None:
+        buffer.write(csv_comments(record))
     buffer.write("damping_ratio,period_s,sd_m,psv_m_per_s,psa_m_per_s2,psa_g,abs_acc_m_per_s2\n")
     g = STANDARD_GRAVITY
     for k, xi in enumerate(spectrum.dampings):
         for j, period in enumerate(spectrum.periods):
-            buffer.write(f"{xi:g},{period:.6g},{spectrum.displacement[k, j]:.8g},{spectrum.pseudo_velocity[k, j]:.8g},"
-                         f"{spectrum.pseudo_acceleration[k, j]:.8g},{spectrum.pseudo_acceleration[k, j] / g:.8g},"
-                         f"{spectrum.absolute_acceleration[k, j]:.8g}\n")
+            values = (xi, period, spectrum.displacement[k, j], spectrum.pseudo_velocity[k, j],
+                      spectrum.pseudo_acceleration[k, j], spectrum.pseudo_acceleration[k, j] / g,
+                      spectrum.absolute_acceleration[k, j])
+            buffer.write(",".join(number_text(value) for value in values) + "\n")
     return buffer.getvalue()
 
 
@@ -191,7 +197,10 @@ def spectrum(
         raise InputError("--periods", periods, problem)
     refuse_inputs([path for path in (out, plot) if path is not None], [record.source], "--out/--plot")
     result = spectra.response_spectrum(record.acceleration, record.dt, period_values, dampings)
-    text = spectrum_csv(result)
+    from ..provenance import of_record
+
+    text = spectrum_csv(result, of_record(record, window=parse_window(window), periods=period_values,
+                                          dampings=dampings))
     try:
         if out is None:
             typer.echo(text, nl=False)
@@ -210,7 +219,7 @@ def register(app: typer.Typer) -> None:
     from . import record_suite
 
     record_app = typer.Typer(help="Ground-motion records: summary measures, response spectra and suites.",
-                             no_args_is_help=True)
+                             no_args_is_help=True, rich_markup_mode=None)
     record_app.command("info")(info)
     record_app.command("spectrum")(spectrum)
     record_suite.register(record_app)

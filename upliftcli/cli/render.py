@@ -1,12 +1,24 @@
 """Terminal tables (rich) for modes and analysis results. Falls back to plain text when
-there is no terminal (CI=true, pipes): rich handles that itself."""
+there is no terminal (CI=true, pipes): rich handles that itself.
+
+Every table fits the console's width (80 columns and up): the story tables abbreviate their
+headings with a legend, the summary states once what every row shares, and a table that is
+still too wide is split in parts that repeat its leading label columns (fit_table; the
+console of console() does it for every table it prints). A number is never cut. Without a
+terminal the width is $COLUMNS, else 120.
+"""
 
 from __future__ import annotations
+
+import os
+import re
 
 import numpy as np
 from rich.console import Console
 from rich.markup import escape
+from rich.measure import Measurement
 from rich.table import Table
+from rich.text import Text
 
 from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, QUANTITIES, STORY, quantities
 from ..engines.result import AnalysisResult
@@ -15,12 +27,128 @@ from ..model.system import System
 
 #: floor and story quantities in table order
 STORY_QUANTITIES = [q for q in QUANTITIES.values() if q.where in (FLOOR, STORY)]
+#: short headings of the story tables (name -> (heading, legend entry)); the others: Quantity.heading
+SHORT_HEADINGS = {"displacement": ("disp.", "disp. = floor displacement relative to the mat"),
+                  "drift_ratio": ("drift ratio", "drift ratio = story drift / story height"),
+                  "moment": ("moment", "moment = overturning moment at the bottom of the story"),
+                  "floor_acceleration": ("floor acc.", "floor acc. = absolute floor acceleration")}
+#: width of the output when it is not a terminal and $COLUMNS does not say
+PIPE_WIDTH = 120
+
+
+def console_width(environ=os.environ) -> int | None:
+    """$COLUMNS when it is a positive integer, else None."""
+    text = environ.get("COLUMNS", "").strip()
+    return int(text) if text.isdigit() and int(text) > 0 else None
+
+
+class FittedConsole(Console):
+    """A Console that draws every table within its width (fit_table)."""
+
+    def print(self, *objects, **kwargs) -> None:
+        parts = [part for item in objects for part in (fit_table(item, self.width) if isinstance(item, Table)
+                                                        else [item])]
+        super().print(*parts, **kwargs)
 
 
 def console(stderr: bool = False) -> Console:
-    """A console that never needs a terminal (width 120 when output is not a terminal)."""
+    """A console that never needs a terminal: on a terminal its width, else $COLUMNS or
+    PIPE_WIDTH; tables too wide for it are split (FittedConsole)."""
     probe = Console(stderr=stderr)
-    return Console(stderr=stderr, width=None if probe.is_terminal else 120, highlight=False)
+    width = None if probe.is_terminal else console_width() or PIPE_WIDTH
+    return FittedConsole(stderr=stderr, width=width, highlight=False)
+
+
+def _measure(table: Table) -> Measurement:
+    probe = Console(width=100_000)
+    return Measurement.get(probe, probe.options, table)
+
+
+def minimum_width(table: Table) -> int:
+    """The fewest columns the table can be drawn in without cutting a cell (headings and
+    texts wrapped at their blanks, numbers whole)."""
+    return _measure(table).minimum
+
+
+_NUMBER = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?%?|-")
+
+
+def _labels(table: Table) -> int:
+    """Leading label columns that every part of a split table repeats: the first, and after it
+    those that are left-justified or hold a text that is not a number (engine, support ...)."""
+    count = 1
+    for column in table.columns[1:-1]:
+        texts = [_text(cell).strip() for cell in column.cells]
+        if column.justify != "left" and all(_NUMBER.fullmatch(text) for text in texts if text):
+            break
+        count += 1
+    return count
+
+
+def _text(cell) -> str:
+    return cell.plain if isinstance(cell, Text) else str(cell)
+
+
+def _stacked_header(column) -> str | Text:
+    """A number column's heading in lines no wider than its widest cell (or its longest word; a
+    unit in brackets, "[kN m]", is one word)."""
+    header = column.header
+    if not isinstance(header, str):
+        return header
+    header = Text.from_markup(header).plain
+    words = re.findall(r"\[[^\]]*\]|[^\s\[]+", header)
+    widest = max((len(line) for cell in column.cells for line in _text(cell).splitlines()), default=0)
+    limit = max(widest, *(len(word) for word in words)) if words else widest
+    lines: list[str] = []
+    for word in words:
+        if lines and len(lines[-1]) + 1 + len(word) <= limit:
+            lines[-1] += " " + word
+        else:
+            lines.append(word)
+    return Text("\n".join(lines))
+
+
+def _part(table: Table, indices: list[int], number: int = 0, parts: int = 1, compact: bool = False) -> Table:
+    """The table with the columns `indices`; compact: the number (right-justified) columns with
+    their headings stacked to the width of their cells and never wrapped (_stacked_header)."""
+    title = table.title
+    if parts > 1 and title is not None:
+        suffix = f" ({number + 1}/{parts})"
+        title = title + suffix if isinstance(title, str) else Text.assemble(title, suffix)
+    part = Table(title=title, caption=table.caption if number == parts - 1 else None, box=table.box,
+                 show_header=table.show_header, show_lines=table.show_lines, title_justify=table.title_justify,
+                 caption_justify=table.caption_justify, padding=table.padding)
+    cells = []
+    for index in indices:
+        column = table.columns[index]
+        number_column = compact and column.justify == "right"
+        part.add_column(_stacked_header(column) if number_column else column.header, justify=column.justify,
+                        no_wrap=column.no_wrap or number_column, overflow=column.overflow,
+                        min_width=column.min_width, style=column.style, header_style=column.header_style)
+        cells.append(list(column.cells))
+    for row in zip(*cells, strict=True):
+        part.add_row(*row)
+    return part
+
+
+def fit_table(table: Table, width: int) -> list[Table]:
+    """The table, if it fits `width` as it is; else with the headings of its number columns
+    stacked (_part compact), and if that is still too wide, in parts, each with the leading
+    label columns (_labels) and as many of the others, in order, as fit (one at least),
+    titled "(1/2)" ... A number is never cut."""
+    if _measure(table).maximum <= width:
+        return [table]
+    every = list(range(len(table.columns)))
+    compact = _part(table, every, compact=True)
+    if minimum_width(compact) <= width or len(every) < 2:
+        return [compact]
+    keys = every[:_labels(table)]
+    groups: list[list[int]] = [[]]
+    for index in every[len(keys):]:
+        if groups[-1] and minimum_width(_part(table, keys + groups[-1] + [index], compact=True)) > width:
+            groups.append([])
+        groups[-1].append(index)
+    return [_part(table, keys + group, k, len(groups), compact=True) for k, group in enumerate(groups)]
 
 
 def modes_table(system: System, n_modes: int | None = None) -> Table:
@@ -50,8 +178,12 @@ def story_table(result: AnalysisResult) -> Table:
         title += f": {result.statistic} of {result.count} records ({result.rule_label})"
     table = Table(title=escape(title))
     shown = [q for q in STORY_QUANTITIES if q.name in result.peaks]
-    for header in ["story", "elevation [m]"] + [q.heading for q in shown]:
+    headings = [f"{SHORT_HEADINGS[q.name][0]} [{q.display[0]}]" if q.name in SHORT_HEADINGS else q.heading
+                for q in shown]
+    for header in ["story", "elevation [m]", *headings]:
         table.add_column(escape(header), justify="right")
+    legend = [SHORT_HEADINGS[q.name][1] for q in shown if q.name in SHORT_HEADINGS]
+    table.caption = escape("; ".join(legend)) if legend else None
     for j in range(result.elevations.size - 1, -1, -1):
         table.add_row(str(j + 1), f"{result.elevations[j]:.2f}",
                       *[_display(q, result.peaks[q.name][j]) for q in shown])
@@ -73,22 +205,32 @@ def elements_table(result: AnalysisResult) -> Table | None:
 
 def _display(quantity, value: float) -> str:
     """A peak in the display unit and format of its quantity ('-' when there is none)."""
-    unit, factor, spec = quantity.display
+    _, factor, spec = quantity.display
     return format(value * factor, spec) if np.isfinite(value) else "-"
 
 
 def summary_table(results: list[AnalysisResult]) -> Table:
-    """One row per result: base shear and moment, coefficients, critical values, uplift."""
+    """One row per result: base shear and moment, their coefficients (W = m_t g), uplift; the
+    critical values V_c [16a], M_c [16b] and b/h_1* in the caption when every row has the same
+    (one building), else in columns."""
+    critical = [(f"{1e-3 * r.critical_base_shear:.1f}", f"{1e-3 * r.critical_base_moment:.1f}",
+                 f"{r.critical_coefficient:.4f}") for r in results]
+    shared = len(set(critical)) == 1
     table = Table(title="Summary")
-    for header in ("engine", "support", "V_b [kN]", "V_b/(m_t g)", "M_b [kN m]", "M_b/(m_t g h_1*)",
-                   "V_c [kN]", "M_c [kN m]", "b/h_1*", "uplift"):
-        table.add_column(escape(header), justify="right")
-    for r in results:
+    headers = ["engine", "support", "V_b [kN]", "V_b/W", "M_b [kN m]", "M_b/(W h_1*)"]
+    headers += ["uplift"] if shared else ["V_c [kN]", "M_c [kN m]", "b/h_1*", "uplift"]
+    for header in headers:
+        table.add_column(escape(header), justify="left" if header in ("engine", "support") else "right")
+    for r, values in zip(results, critical, strict=True):
         table.add_row(escape(engine_label(r)), r.support, f"{1e-3 * r.base_shear:.1f}",
                       f"{r.base_shear_coefficient:.4f}", f"{1e-3 * r.base_moment:.1f}",
-                      f"{r.base_moment_coefficient:.4f}",
-                      f"{1e-3 * r.critical_base_shear:.1f}", f"{1e-3 * r.critical_base_moment:.1f}",
-                      f"{r.critical_coefficient:.4f}", "yes" if r.uplift else "no")
+                      f"{r.base_moment_coefficient:.4f}", *(() if shared else values), "yes" if r.uplift else "no")
+    legend = "W = m_t g"
+    if shared and results:
+        v_c, m_c, ratio = critical[0]
+        legend += (f"; every row: V_c = {v_c} kN [16a], M_c = {m_c} kN m [16b], b/h_1* = {ratio} (the critical value "
+                   "of both coefficients)")
+    table.caption = escape(legend)
     return table
 
 
@@ -111,15 +253,31 @@ MODAL_LISTS = ("T_n", "Sa_n", "m_n*/m_t", "h_n*", "V_n")
 
 
 def modal_table(result: AnalysisResult) -> Table:
-    """Per-mode intermediates: T_n, S_a(T_n, xi_n), m_n*/m_t, h_n*, V_n."""
+    """Per mode what the engine combined: period, S_a, m_n*/m_t, h_n* and V_n; for the
+    flexible supports mode 1 is the bonded system's: T1bar [21] and S_a(T1bar, xi1bar) [23]
+    (marked 1*), the higher modes fixed-base."""
     inter = result.intermediates
-    table = Table(title=escape(f"Modal base shears ({result.engine}, {result.support}); "
-                               "mode 1 of bonded/uplift uses T1bar, xi1bar"))
-    for header in ("mode", "T_n [s]", "S_a(T_n) [m/s^2]", "m_n*/m_t", "h_n* [m]", "V_n [kN]"):
+    flexible = "T1bar" in inter and "Sa1bar" in inter
+    table = Table(title=escape(f"Modal base shears ({engine_label(result)}, {result.support})"))
+    for header in ("mode", "T [s]", "S_a [m/s^2]", "m_n*/m_t", "h_n* [m]", "V_n [kN]"):
         table.add_column(escape(header), justify="right")
     for i, period in enumerate(inter["T_n"]):
-        table.add_row(str(i + 1), f"{period:.4f}", f"{inter['Sa_n'][i]:.4f}", f"{inter['m_n*/m_t'][i]:.4f}",
-                      f"{inter['h_n*'][i]:.3f}", f"{1e-3 * inter['V_n'][i]:.1f}")
+        sa = inter["Sa_n"][i]
+        if i == 0 and flexible:
+            period, sa = inter["T1bar"], inter["Sa1bar"]
+        table.add_row("1*" if i == 0 and flexible else str(i + 1), f"{period:.4f}", f"{sa:.4f}",
+                      f"{inter['m_n*/m_t'][i]:.4f}", f"{inter['h_n*'][i]:.3f}", f"{1e-3 * inter['V_n'][i]:.1f}")
+    if flexible:
+        note = (f"1*: the bonded system's T1bar [21] and S_a(T1bar, xi1bar = {inter['xi1bar']:.4g}) [23] "
+                f"(fixed-base T_1 = {inter['T_n'][0]:.4f} s)")
+        if "V1_uplift" in inter:
+            slender = result.details.get("options", {}).get("uplift_formula") == "slender"
+            note += "; the mat lifts off: V_1 by " + (
+                f"the improved procedure (docs/accuracy.md; lengthened period T_u = {inter['T_u']:.4f} s)"
+                if "T_u" in inter else "[29]" if slender else "[28a]")
+        table.caption = escape(note + "; modes 2 and up: fixed-base T_n, S_a(T_n, xi_n)")
+    else:
+        table.caption = escape("S_a = S_a(T_n, xi_n), fixed base")
     return table
 
 

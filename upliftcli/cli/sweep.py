@@ -102,8 +102,11 @@ def _check_out(out: Path) -> None:
 def _prepare_out(out: Path, rows_path: Path, resume: bool, overwrite: bool) -> None:
     _check_out(out)
     if rows_path.exists() and rows_path.stat().st_size > 0 and not (resume or overwrite):
-        raise InputError("--out", str(rows_path), "no rows of a previous sweep (pass --resume to continue it "
-                         "or --overwrite to start again)")
+        from ..sweep.store import RowStore
+
+        rows = len(RowStore(rows_path).read())
+        raise InputError("--out", str(rows_path), f"holds the rows of an earlier run of this sweep ({rows} cases): "
+                         "pass --resume to continue that run, or --overwrite to discard them and start again")
 
 
 def output_paths(out: Path, stem: str, extra=()) -> list[Path]:
@@ -163,11 +166,11 @@ def warn_suites(plan: SweepPlan) -> None:
                    "(uplift analyze on a case's deck shows them)", err=True)
 
 
-def _write(plan, rows, out, stem, table, summary) -> list[Path]:
+def _write(plan, rows, out, stem, table, summary, record) -> list[Path]:
     from ..sweep import table as sweep_table
 
     try:
-        return sweep_table.write_tables(plan, rows, out, stem, table.value, summary)
+        return sweep_table.write_tables(plan, rows, out, stem, table.value, summary, record)
     except OSError as error:
         raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
 
@@ -252,12 +255,13 @@ def sweep(
                           rerun_stale=rerun_stale, figures_written=[plot_path] if plot_path else [])
         rows = sweep_table.add_checks(plan, outcome.rows) if plan.check else outcome.rows
         summary = sweep_table.summarize(plan, rows)
-        written = _write(plan, rows, out, stem, table, summary)
+        record = sweep_table.sweep_provenance(plan)
+        written = _write(plan, rows, out, stem, table, summary, record)
         if plot_path is not None:
             written.append(plots.plot_figure(figures.sweep_figure(plan, rows, figures.plan_motion_label(plan)),
                                              plot_path, "--plot-format"))
     if output_format is OutputFormat.json:
-        typer.echo(json.dumps(sweep_table.document(plan, rows, summary), indent=1))
+        typer.echo(json.dumps(sweep_table.document(plan, rows, summary, record), indent=1))
     elif not quiet:
         print_summary(render.console(), plan, summary)
     for path in written:
@@ -325,7 +329,7 @@ def spectra(
                           retry_failed=False, overwrite=overwrite, quiet=quiet, label="spectra",
                           figures_written=figure_paths)
         summary = sweep_table.summarize(plan, outcome.rows)
-        written = _write(plan, outcome.rows, out, stem, table, summary)
+        written = _write(plan, outcome.rows, out, stem, table, summary, sweep_table.sweep_provenance(plan))
         for figure_name, spec in figures.paper_figures(outcome.rows, plan.engines, plan.supports,
                                                        figures.plan_motion_label(plan),
                                                        figures.nominal_value(plan, figures.PERIOD_PATH)).items():

@@ -120,7 +120,7 @@ def ranges_table(summary: dict) -> Table:
 def governing_table(plan: SweepPlan, summary: dict) -> Table:
     table = Table(title="Governing cases (largest value over the sweep)")
     for header in ("output", "value", "case", "engine", "support", *[v.path for v in plan.varies]):
-        table.add_column(escape(header), justify="right")
+        table.add_column(escape(header), justify="left" if header == "output" else "right")
     for name, entry in summary["governing"].items():
         inputs = entry["inputs"]
         table.add_row(escape(LABELS.get(name, name)), _value(entry["value"]), str(entry["case"]), inputs["engine"],
@@ -152,8 +152,8 @@ def envelope_table(summary: dict) -> Table | None:
         else:
             keys = (("at_lower_bound", "lo"), ("at_upper_bound", "up"), ("highest", "max"))
         columns += [(f"{SHORT[name]} {word}", name, key) for key, word in keys]
-    for header in group_paths:
-        table.add_column(escape(header), justify="right", no_wrap=True)
+    for header in group_paths:  # labels: a table split to fit the terminal repeats them (render.fit_table)
+        table.add_column(escape(header), justify="left", no_wrap=True)
     for header in [c[0] for c in columns] + ["uplift"]:
         table.add_column(escape(header), justify="right", no_wrap=True)
     table.caption = escape("V/W = V_b/(m_t g), M/Wh = M_b/(m_t g h_1*), drift = largest story drift ratio; "

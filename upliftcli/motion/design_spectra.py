@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, not_found
 from ..units import STANDARD_GRAVITY
 from .spectrum_tables import (
     DAMPING_CORRECTIONS,
@@ -271,6 +271,8 @@ def _table_values(mapping: dict, source: str, field: str) -> tuple[np.ndarray, n
         path = Path(mapping["file"])
         if not path.is_absolute():
             path = Path(source).parent / path
+        if not path.exists():
+            raise InputError(source, f"{field}.file", not_found(path, str(mapping["file"]), source, "spectrum table"))
         periods, sa = read_spectrum_table(path, source)
         return periods, sa, str(path)
     for key in ("periods", "sa"):

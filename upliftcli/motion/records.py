@@ -32,7 +32,8 @@ class Record:
     """A uniformly sampled ground acceleration history (first sample at t = 0).
 
     name: label; dt: time step [s]; acceleration: ground acceleration [m/s^2] (already scaled);
-    source: the file it came from; units: units of the file; scale: factor applied.
+    source: the file it came from; units: units of the file; scale: factor applied;
+    format: the reader that read it (READERS; "" for a record made in code).
     """
 
     name: str
@@ -41,6 +42,7 @@ class Record:
     source: str = ""
     units: str = "m/s2"
     scale: float = 1.0
+    format: str = ""
 
     @property
     def npts(self) -> int:
@@ -141,7 +143,7 @@ def detect_format(path: str | Path) -> str:
     """Guess the format from the extension and first lines: 'at2', 'csv', 'shared' or 'text'."""
     path = Path(path)
     suffix = path.suffix.lower()
-    if suffix == ".at2":
+    if suffix in (".at2", ".vt2", ".dt2"):  # the PEER layout (a velocity or displacement file is refused on reading)
         return "at2"
     if suffix == ".csv":
         return "csv"
@@ -161,10 +163,37 @@ def detect_format(path: str | Path) -> str:
 
 # ----------------------------------------------------------------------------- readers
 
+#: PEER NGA histories other than acceleration: word of the third header line -> (what, file extension)
+_PEER_OTHER = {"VELOCITY": ("velocity", ".VT2"), "DISPLACEMENT": ("displacement", ".DT2")}
+#: a sign that starts a new number right after the digit of the previous one (fixed-width
+#: columns that touch: 1.71300E-02-3.43000E-03); a sign after E or D is an exponent's
+_TOUCHING = re.compile(r"(?<=\d)(?=[-+](?:\d*\.\d))")
+
+
+def separated(line: str) -> str:
+    """A row of fixed-width numbers with a blank where two touch (a negative value filling its
+    column): '1.71300E-02-3.43000E-03' -> '1.71300E-02 -3.43000E-03'."""
+    return _TOUCHING.sub(" ", line)
+
+
+def _peer_quantity(line: str, source: str) -> None:
+    """InputError when the PEER header's third line, or the file's extension, says the file is
+    not an acceleration history (a .VT2 velocity or .DT2 displacement history)."""
+    words = line.upper().split()
+    suffix = Path(source).suffix.upper()
+    for word, (what, extension) in _PEER_OTHER.items():
+        if (word in words and "ACCELERATION" not in words) or suffix == extension:
+            raise InputError(source, "line 3", f"an acceleration history (PEER .AT2); this is a {what} history "
+                             f"({extension}, {line.strip()!r}): give the record's .AT2 file")
+
+
 def _parse_at2(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
-    """PEER NGA .AT2: 4 header lines (title, event, units, NPTS/DT), then values row by row."""
+    """PEER NGA .AT2: 4 header lines (title, event, units, NPTS/DT), then values row by row
+    (columns that touch are separated: separated); a velocity (.VT2) or displacement (.DT2)
+    history is refused, naming what it is."""
     if len(lines) < 4:
         raise InputError(source, f"line {len(lines)}", "a PEER .AT2 header of 4 lines")
+    _peer_quantity(lines[2], source)
     header = lines[3]
     npts_match = _NPTS_RE.search(header)
     dt_match = _DT_RE.search(header)
@@ -179,7 +208,7 @@ def _parse_at2(lines: list[str], source: str) -> tuple[np.ndarray, float, str | 
     npts = int(float(npts_text))
     dt = _check_dt(_float(dt_text, source, 4), source, "line 4")
     units = _unit_hint(lines[2]) or _unit_hint(lines[2].replace("UNITS OF", "units"))
-    values = _values_row_by_row(lines, 4, source)
+    values = _values_row_by_row([separated(line) for line in lines], 4, source)
     if values.size != npts:
         raise InputError(source, "line 4", f"NPTS = {npts} values as the header says, found {values.size}")
     return values, dt, units, lines[1].strip()
@@ -218,7 +247,7 @@ def _values_row_by_row(lines: list[str], start: int, source: str) -> np.ndarray:
 
 def _parse_text(lines: list[str], source: str) -> tuple[np.ndarray, float | None, str | None, str]:
     """Plain text: optional '#' header lines (may give 'dt = ...', 'units: g', 'npts = n'),
-    then values row by row (one or more columns)."""
+    then values row by row (one or more columns; columns that touch are separated: separated)."""
     start = 0
     header_text = []
     dt = None
@@ -239,7 +268,7 @@ def _parse_text(lines: list[str], source: str) -> tuple[np.ndarray, float | None
             start = index + 1
             continue
         break
-    values = _values_row_by_row(lines, start, source)
+    values = _values_row_by_row([separated(line) for line in lines], start, source)
     if npts is not None and values.size != npts:
         raise InputError(source, f"line {npts_line}", f"npts = {npts} values as the header says, found {values.size}")
     units = None
@@ -369,7 +398,7 @@ def read_record(path: str | Path, format: str | None = None, units: str | None =
     if window is not None:
         acceleration = _apply_window(acceleration, step, window, source)
     return Record(name=name or path.stem, dt=step, acceleration=acceleration, source=source, units=unit,
-                  scale=float(scale))
+                  scale=float(scale), format=fmt)
 
 
 def _apply_window(acceleration: np.ndarray, dt: float, window: tuple[float, float], source: str) -> np.ndarray:

@@ -39,6 +39,7 @@ from ..fields import parse_choices  # noqa: F401 - part of this module's interfa
 from ..limits import MAX_VARY_VALUES, cases_problem
 from ..motion.records import Record
 from ..motion.suites import Suite
+from ..provenance import motion_files, tool_version
 
 #: deck fields that are case dimensions of their own, not --vary paths
 NOT_VARIED = {"analysis.engine": "--engine", "analysis.supports": "--support"}
@@ -190,15 +191,6 @@ def file_sha256(path: str | Path) -> str:
     return digest.hexdigest()
 
 
-def tool_version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version("uplift")
-    except PackageNotFoundError:
-        return "unknown"
-
-
 def run_fingerprint(deck_fingerprint: str, records: dict[str, str], version: str) -> str:
     """What the rows of a sweep depend on beyond their case key: the record files' contents
     and the tool version (the deck and --set are in the key already), as one short hash."""
@@ -216,9 +208,10 @@ class SweepPlan:
 
     records: every record file the cases read (a suite's each) -> its SHA-256; version: of the
     tool; fingerprint: run_fingerprint of both and the resolved deck (checked by --resume);
-    record_steps: every record file -> (dt [s], samples). The limits of each case (engine
-    memory, spectrum periods: analysis.check_resources) are checked by the worker: a case
-    beyond them is a 'failed' row naming the field."""
+    record_steps: every record file -> (dt [s], samples); inputs: the provenance entries of every
+    record (and spectrum table) file any case reads (provenance.motion_files). The limits of each
+    case (engine memory, spectrum periods: analysis.check_resources) are checked by the worker: a
+    case beyond them is a 'failed' row naming the field."""
 
     raw: dict
     source: str
@@ -237,6 +230,7 @@ class SweepPlan:
     version: str = ""
     fingerprint: str = ""
     record_steps: dict = field(default_factory=dict)
+    inputs: tuple = ()
 
     @property
     def input_files(self) -> list[str]:
@@ -310,10 +304,12 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
                          "(--engine exact or approximate)")
     warnings = tuple(dict.fromkeys(message for suite in suites for message in suite.warnings))
     version = tool_version()
+    inputs = {json.dumps(entry, sort_keys=True): entry
+              for ground in grounds.values() for entry in motion_files(ground.ground_motion)}
     return SweepPlan(raw, source, deck.title, tuple(base), varies, engines, supports, cases, deck.criteria,
                      max((suite.count for suite in suites), default=0), per_record, warnings, records=records,
                      version=version, fingerprint=run_fingerprint(deck_fingerprint, records, version),
-                     record_steps=samples)
+                     record_steps=samples, inputs=tuple(inputs.values()))
 
 
 # ----------------------------------------------------------------------------- chunks

@@ -1,9 +1,12 @@
 """The tidy table of a sweep (one row per case) and its summary: ranges, governing cases, envelope.
 
-Pure functions of the plan and the rows, plus writers of CSV / JSON / Parquet files (atomic).
-Columns: case, engine, support, the varied fields (their deck units), then OUTPUT_COLUMNS; a
-sweep of a record suite adds SUITE_COLUMNS, and with --per-record each case's row (the design
-statistic over the records) is followed by one row per record (table_rows).
+Pure functions of the plan and the rows, plus writers of CSV / JSON / Parquet files (atomic),
+each with the sweep's provenance (sweep_provenance, docs/provenance.md): the CSV's two leading
+'#' lines, the JSON's "provenance", the Parquet file's metadata; numbers with 15 significant
+digits (provenance.DIGITS) in the CSV and JSON. Columns: case, engine, support, the varied
+fields (their deck units), then OUTPUT_COLUMNS; a sweep of a record suite adds SUITE_COLUMNS,
+and with --per-record each case's row (the design statistic over the records) is followed by
+one row per record (table_rows).
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from ..atomic import atomic_path, write_text
 from ..engines.quantities import ALL_ENGINES, QUANTITIES, SCALARS
 from ..errors import InputError
 from ..output import to_jsonable
+from ..provenance import csv_comments, number_text, to_text_numbers
 from .plan import SweepPlan
 
 #: output column -> (unit, meaning): the row's own columns, the scalars and the largest value
@@ -117,20 +121,38 @@ def table_rows(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
 
 # ----------------------------------------------------------------------------- writers
 
+def sweep_provenance(plan: SweepPlan) -> dict:
+    """The provenance of a sweep (docs/provenance.md): that of its deck with the --set overrides,
+    before --vary, every record file a case reads, and `sweep`: the varied fields and their
+    values, the engines, supports and the number of cases."""
+    from ..deck import build_deck
+    from ..provenance import of_deck, plain
+
+    record = of_deck(build_deck(plan.raw, plan.source, list(plan.base_overrides), load_ground_motion=False))
+    record["files"] = [*record["files"], *plan.inputs]
+    record["sweep"] = {"varied": [{"path": v.path, "unit": v.unit, "spacing": v.spacing, "values": plain(v.values)}
+                                  for v in plan.varies],
+                       "engines": list(plan.engines), "supports": list(plan.supports), "cases": len(plan.cases),
+                       "per_record": plan.per_record, "check": plan.check}
+    return record
+
+
 def _cell(value: Any) -> str:
     if value is None:
         return ""
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, float):
-        return repr(value) if math.isfinite(value) else ""
+        return number_text(value) if math.isfinite(value) else ""
     if isinstance(value, (list, dict)):
-        return json.dumps(to_jsonable(value))
+        return json.dumps(to_text_numbers(to_jsonable(value)))
     return str(value)
 
 
-def to_csv(rows: Sequence[dict], names: Sequence[str]) -> str:
+def to_csv(rows: Sequence[dict], names: Sequence[str], provenance: dict | None = None) -> str:
     buffer = io.StringIO()
+    if provenance is not None:
+        buffer.write(csv_comments(provenance))
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(names)
     for row in rows:
@@ -138,8 +160,10 @@ def to_csv(rows: Sequence[dict], names: Sequence[str]) -> str:
     return buffer.getvalue()
 
 
-def document(plan: SweepPlan, rows: Sequence[dict], summary: dict | None = None) -> dict:
-    """The JSON document of a sweep: deck, varied fields, units, rows (and summary)."""
+def document(plan: SweepPlan, rows: Sequence[dict], summary: dict | None = None,
+             provenance: dict | None = None) -> dict:
+    """The JSON document of a sweep: deck, varied fields, units, provenance, rows (and summary);
+    numbers rounded to 15 significant digits (json.dumps then writes their shortest text)."""
     names = columns(plan)
     doc = {
         "source": plan.source, "title": plan.title,
@@ -148,14 +172,15 @@ def document(plan: SweepPlan, rows: Sequence[dict], summary: dict | None = None)
                    for v in plan.varies],
         "engines": plan.engines, "supports": plan.supports,
         "units": units(plan),
+        "provenance": provenance if provenance is not None else sweep_provenance(plan),
         "rows": [{name: row.get(name) for name in names} for row in table_rows(plan, rows)],
     }
     if summary is not None:
         doc["summary"] = summary
-    return to_jsonable(doc)
+    return to_text_numbers(to_jsonable(doc))
 
 
-def _parquet_bytes(plan: SweepPlan, rows: Sequence[dict]) -> bytes:
+def _parquet_bytes(plan: SweepPlan, rows: Sequence[dict], provenance: dict) -> bytes:
     try:
         import pyarrow as pa
         import pyarrow.parquet as pq
@@ -169,7 +194,8 @@ def _parquet_bytes(plan: SweepPlan, rows: Sequence[dict]) -> bytes:
             arrays[name] = pa.array(values)
         except (pa.ArrowInvalid, pa.ArrowTypeError):  # mixed types in one varied column
             arrays[name] = pa.array([None if v is None else json.dumps(v) for v in values])
-    metadata = {"units": json.dumps(units(plan)), "source": plan.source}
+    metadata = {"units": json.dumps(units(plan)), "source": plan.source,
+                "provenance": json.dumps(to_text_numbers(provenance))}
     sink = io.BytesIO()
     pq.write_table(pa.table(arrays).replace_schema_metadata(metadata), sink)
     return sink.getvalue()
@@ -185,14 +211,17 @@ def check_table_format(table_format: str) -> None:
 
 
 def write_tables(plan: SweepPlan, rows: Sequence[dict], directory: str | Path, stem: str,
-                 table_format: str = "json", summary: dict | None = None) -> list[Path]:
-    """<stem>.csv and <stem>.json or <stem>.parquet, each atomically; both built before writing."""
+                 table_format: str = "json", summary: dict | None = None, provenance: dict | None = None
+                 ) -> list[Path]:
+    """<stem>.csv and <stem>.json or <stem>.parquet, each atomically with the provenance
+    (default: sweep_provenance of the plan); both built before writing."""
     directory = Path(directory)
-    outputs: dict[Path, Any] = {directory / f"{stem}.csv": to_csv(table_rows(plan, rows), columns(plan))}
+    provenance = sweep_provenance(plan) if provenance is None else provenance
+    outputs: dict[Path, Any] = {directory / f"{stem}.csv": to_csv(table_rows(plan, rows), columns(plan), provenance)}
     if table_format == "json":
-        outputs[directory / f"{stem}.json"] = json.dumps(document(plan, rows, summary), indent=1) + "\n"
+        outputs[directory / f"{stem}.json"] = json.dumps(document(plan, rows, summary, provenance), indent=1) + "\n"
     elif table_format == "parquet":
-        outputs[directory / f"{stem}.parquet"] = _parquet_bytes(plan, rows)
+        outputs[directory / f"{stem}.parquet"] = _parquet_bytes(plan, rows, provenance)
     for path, content in outputs.items():
         if isinstance(content, bytes):
             with atomic_path(path) as tmp:

@@ -1,0 +1,120 @@
+"""Terminal tables (cli/render.py): readable at 80 and 100 columns (no cell cut, no line too
+long, every number whole), $COLUMNS honoured without a terminal, tables too wide split in
+parts that keep the label columns, and the modal table showing what the engine used."""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from rich.table import Table
+from typer.testing import CliRunner
+
+from upliftcli import analysis
+from upliftcli.cli import app, render
+from upliftcli.deck import load_deck
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
+runner = CliRunner()
+
+
+def invoke(*args, columns: int):
+    return runner.invoke(app, [str(a) for a in args], env={"CI": "true", "COLUMNS": str(columns)})
+
+
+@pytest.mark.parametrize("columns", [80, 100])
+@pytest.mark.parametrize("args", [
+    ("analyze", EXAMPLE),
+    ("analyze", EXAMPLE, "--engine", "exact", "--set", "ground_motion.window=[0, 8]"),
+    ("analyze", ROOT / "inputs" / "ten_story_asce7.toml"),
+    ("modes", EXAMPLE),
+    ("record", "info", ROOT / "records" / "elcentro_1940_ns_chopra.txt", "--damping", "0.02,0.05,0.1"),
+], ids=["simplified", "exact", "design-spectrum", "modes", "record-info"])
+def test_tables_fit_the_width_and_cut_nothing(args, columns):
+    result = invoke(*args, columns=columns)
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert max(len(line) for line in lines) <= columns
+    assert "…" not in result.stdout
+
+
+def test_every_number_of_the_summary_is_whole_at_80_columns():
+    deck = load_deck(EXAMPLE)
+    results = analysis.run(deck)
+    text = invoke("analyze", EXAMPLE, "--no-check", columns=80).stdout
+    for r in results:
+        for value in (f"{1e-3 * r.base_shear:.1f}", f"{1e-3 * r.base_moment:.1f}", f"{r.base_shear_coefficient:.4f}"):
+            assert value in text
+    assert f"V_c = {1e-3 * results[0].critical_base_shear:.1f} kN" in " ".join(text.split())
+
+
+def test_columns_sets_the_width_without_a_terminal(monkeypatch):
+    monkeypatch.setenv("COLUMNS", "137")
+    assert render.console().width == 137
+    monkeypatch.setenv("COLUMNS", "wide")
+    assert render.console().width == render.PIPE_WIDTH
+    monkeypatch.delenv("COLUMNS")
+    assert render.console().width == render.PIPE_WIDTH
+
+
+def test_a_table_too_wide_is_split_keeping_its_label_columns():
+    table = Table(title="wide")
+    table.add_column("case", justify="left")
+    for k in range(12):
+        table.add_column(f"quantity {k} [kN m]", justify="right")
+    for row in range(3):
+        table.add_row(f"case {row}", *[f"{1e6 * (row + 1) + k:.1f}" for k in range(12)])
+    parts = render.fit_table(table, 60)
+    assert len(parts) > 1
+    assert all(render.minimum_width(part) <= 60 for part in parts)
+    assert all(part.columns[0].header == "case" and list(part.columns[0].cells) == ["case 0", "case 1", "case 2"]
+               for part in parts)
+    cells = [cell for part in parts for column in part.columns[1:] for cell in column.cells]
+    assert sorted(cells) == sorted(f"{1e6 * (row + 1) + k:.1f}" for row in range(3) for k in range(12))
+    assert [part.title for part in parts] == [f"wide ({k + 1}/{len(parts)})" for k in range(len(parts))]
+    assert render.fit_table(table, 1000) == [table]
+
+
+def table_rows(text: str) -> list[list[str]]:
+    return [[cell.strip() for cell in line.strip("│").split("│")] for line in text.splitlines() if line.startswith("│")]
+
+
+def test_modal_table_shows_the_mode_1_the_engine_used():
+    """Mode 1 of a flexible support: T1bar = T_1 sqrt(1 + w_1^2 m_1* h_1*^2 / K_theta) [21], with
+    K_theta = 2 k_f b^2 [22] from the deck's values here, and the deck spectrum's S_a there."""
+    deck = load_deck(ROOT / "inputs" / "ten_story_asce7.toml")
+    system = deck.system
+    modes = system.modes
+    k_theta = system.foundation.rocking_stiffness(system.half_width)
+    assert k_theta == pytest.approx(2 * system.foundation.stiffness * system.half_width**2)
+    t1 = float(modes.periods[0])
+    t1bar = t1 * math.sqrt(1 + modes.omega[0] ** 2 * modes.effective_mass[0] * modes.effective_height[0] ** 2 / k_theta)
+    out = render.FittedConsole(width=100, highlight=False, force_terminal=False)
+    for support in ("rigid", "bonded"):
+        (result,) = analysis.run(deck, "simplified", support)
+        with out.capture() as captured:
+            out.print(render.modal_table(result))
+        rows = table_rows(captured.get())
+        if support == "rigid":
+            assert rows[0][:2] == ["1", f"{t1:.4f}"]
+            continue
+        xi1bar = result.intermediates["xi1bar"]
+        sa = float(deck.spectrum.sa(np.array([t1bar]), xi1bar)[0])
+        assert rows[0][:3] == ["1*", f"{t1bar:.4f}", f"{sa:.4f}"]
+        assert rows[1][:2] == ["2", f"{modes.periods[1]:.4f}"]
+        assert re.search(r"fixed-base T_1 = " + f"{t1:.4f}", " ".join(captured.get().split()))
+
+
+@pytest.mark.parametrize("columns", [80, 100])
+def test_sweep_summary_fits_and_repeats_the_group_columns(tmp_path, columns):
+    result = invoke("sweep", EXAMPLE, "--vary", "foundation.k_f=1e8:1e10:3:log", "--vary", "building.period=0.5,1.5",
+                    "--support", "bonded,uplift", "--out", tmp_path, "--workers", "1", columns=columns)
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert max(len(line) for line in lines) <= columns and "…" not in result.stdout
+    rows = [line for line in lines if line.startswith("│ simplified")]
+    assert all("0.5" in row or "1.5" in row for row in rows)  # each part names the group's period
