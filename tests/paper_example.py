@@ -1,4 +1,4 @@
-"""The paper's worked example (THEORY.md section 6) built directly, not through a deck."""
+"""The paper's worked example (docs/theory.md section 6) built directly, not through a deck."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Modal analysis of the paper's ten-story example (THEORY.md section 6) and modal identities."""
+"""Modal analysis of the paper's ten-story example (docs/theory.md section 6) and modal identities."""
 
 import numpy as np
 import pytest
@@ -11,7 +11,7 @@ from upliftcli.model.building import (
     uniform_building,
 )
 
-# The paper's table (THEORY.md section 6): w_n/w_1, m_n*/m_t, h_n*/b with h_1*/b = 10
+# The paper's table (docs/theory.md section 6): w_n/w_1, m_n*/m_t, h_n*/b with h_1*/b = 10
 PAPER_FREQUENCY_RATIOS = [1.0, 2.98, 4.89, 6.69, 8.34]
 PAPER_MASS_RATIOS = [0.844, 0.091, 0.031, 0.014, 0.007]
 PAPER_SLENDERNESS = [10.0, -3.4, 2.0, -1.5, 1.2]

@@ -52,7 +52,7 @@ def test_rigid_equals_modal_superposition_of_sdof_histories(elcentro):
 def _frequency_domain_bonded(system: System, acceleration: np.ndarray, dt: float):
     """Independent linear solution of [1a-1c] in physical coordinates (u, theta, v), bonded.
 
-    The mass matrix is singular for a massless mat (THEORY.md section 5): no matter in the
+    The mass matrix is singular for a massless mat (docs/theory.md section 5): no matter in the
     frequency domain, where (-w^2 M + i w C + K) is regular for w > 0.
     """
     b = system.building

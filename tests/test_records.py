@@ -157,7 +157,7 @@ def test_integrals_are_exact_for_piecewise_linear_acceleration():
 def test_elcentro_peak_ground_velocity():
     record = read_record(bundled_records_dir() / "elcentro_1940_ns_chopra.txt")
     pgv = np.max(np.abs(ground_velocity(record.acceleration, record.dt)))
-    assert pgv == pytest.approx(0.36, abs=0.005)  # "about 36 cm/s" (../shared/records/README.md)
+    assert pgv == pytest.approx(0.36, abs=0.005)  # "about 36 cm/s" (records/README.md)
 
 
 def test_csv_times_rounded_in_print_are_accepted(tmp_path):

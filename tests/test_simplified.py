@@ -1,4 +1,4 @@
-"""Simplified engine (THEORY.md section 7): checked against independent computations and limits."""
+"""Simplified engine (docs/theory.md section 7): checked against independent computations and limits."""
 
 import math
 from dataclasses import replace
@@ -85,7 +85,7 @@ def test_modal_base_moment_is_shear_times_effective_height():
 # ----------------------------------------------------------------------------- bonded
 
 def test_effective_properties_paper_values():
-    """THEORY.md section 7: T1bar/T_1 = 1.525, xi_f = 0.0187, xi1bar = 0.0328 for the paper's example."""
+    """docs/theory.md section 7: T1bar/T_1 = 1.525, xi_f = 0.0187, xi1bar = 0.0328 for the paper's example."""
     props = effective_properties(paper_system(), "formula")
     assert props["T1bar/T1"] == pytest.approx(1.525, abs=5e-4)
     assert props["xi_f"] == pytest.approx(0.0187, abs=5e-5)
@@ -200,7 +200,7 @@ def test_large_mat_does_not_uplift():
 
 
 def pivot_peak(slenderness, x_value, xi):
-    """Brute force: rigid-pivot SDOF (THEORY.md section 7, derivation of [28a]) in free vibration after
+    """Brute force: rigid-pivot SDOF (docs/theory.md section 7, derivation of [28a]) in free vibration after
     the uplift crossing: m u'' + (r/b)^2 (c u' + k u) = m g h/b, starting at V = k u = V_c with the
     velocity of a bonded oscillation of amplitude sqrt(X) V_c. Returns max k u / V_c."""
     m, w, b = 1.0, 2 * np.pi, 1.0

@@ -143,8 +143,8 @@ def test_white_noise_spectrum_matches_brute_force(damping):
 
 def test_short_period_peaks_between_samples(elcentro):
     """At T = 0.1 s = 5 dt the peak read at the record samples is 6 % low; the exact peak agrees
-    with the fine integration. (The 5 % values in ../shared/records/README.md, e.g. 0.608 g at
-    0.1 s, were read at the record samples: that is what the last assertion reproduces.)"""
+    with the fine integration. (Reference values read at the record samples, records/README.md, e.g. 0.608 g at
+    0.1 s: that is what the last assertion reproduces.)"""
     period, damping = 0.1, 0.05
     exact = response_spectrum(elcentro.acceleration, elcentro.dt, [period], [damping]).displacement[0, 0]
     fine = brute_force(elcentro.acceleration, elcentro.dt, period, damping, refine=400)[0]
@@ -157,7 +157,7 @@ def test_short_period_peaks_between_samples(elcentro):
 
 def test_elcentro_reference_values(elcentro):
     spectrum = response_spectrum(elcentro.acceleration, elcentro.dt, [0.5, 1.0, 2.0], [0.02, 0.05])
-    # 5 %: independent exact integration (../shared/records/README.md), 1 %
+    # 5 %: independent exact integration (records/README.md), 1 %
     np.testing.assert_allclose(spectrum.pseudo_acceleration[1] / G, [0.916, 0.454, 0.137], rtol=0.01)
     # 2 %: deformations printed in Chopra, Dynamics of Structures (Fig. 6.4.1), 1 %
     np.testing.assert_allclose(spectrum.displacement[0] / INCH, [2.67, 5.97, 7.47], rtol=0.01)

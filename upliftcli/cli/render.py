@@ -152,7 +152,7 @@ def fit_table(table: Table, width: int) -> list[Table]:
 
 
 def modes_table(system: System, n_modes: int | None = None) -> Table:
-    """Periods, w_n/w_1, m_n*/m_t (and cumulative), h_n* and h_n*/b (THEORY.md sections 5, 6)."""
+    """Periods, w_n/w_1, m_n*/m_t (and cumulative), h_n* and h_n*/b (docs/theory.md sections 5, 6)."""
     modes = system.modes
     n = n_modes or modes.n_modes
     m_t = system.total_mass

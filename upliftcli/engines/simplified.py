@@ -1,6 +1,6 @@
 """Simplified engine: response spectrum analysis with interaction and uplift in mode 1.
 
-THEORY.md section 7 (paper Eqs. 21-35). Pure functions of a System and a spectrum
+docs/theory.md section 7 (paper Eqs. 21-35). Pure functions of a System and a spectrum
 object with .sa(periods [s], damping [-]) -> S_a [m/s^2]:
 
 - rigid: standard modal response spectrum analysis on a fixed base [31-35];
@@ -88,7 +88,7 @@ def uplift_base_shear(critical_shear: float, slenderness: float, x_value: float,
 
 
 def _uplift(system: System, props: dict, v1_bonded: float, sa1bar: float, options: SimplifiedOptions) -> dict:
-    """Steps 4-5 of THEORY.md section 7: zeta, X, phi and V_1 with uplift."""
+    """Steps 4-5 of docs/theory.md section 7: zeta, X, phi and V_1 with uplift."""
     b, h1 = system.half_width, system.effective_height
     v_c = system.critical_base_shear
     r = math.hypot(h1, b)

@@ -1,6 +1,6 @@
 """Shear building (or frame) on a fixed base: matrices, modes, effective modal quantities.
 
-Everything here is THEORY.md sections 1 and 5 (paper Eqs. 6, 9, 10). SI units:
+Everything here is docs/theory.md sections 1 and 5 (paper Eqs. 6, 9, 10). SI units:
 kg, m, N/m, s.
 """
 
@@ -110,7 +110,7 @@ def scale_to_period(building: Building, period: float) -> Building:
 
 @dataclass(frozen=True)
 class Modes:
-    """Fixed-base modes of a building (THEORY.md section 5).
+    """Fixed-base modes of a building (docs/theory.md section 5).
 
     omega: circular frequencies w_n [rad/s], ascending, shape (n,).
     shapes: mode shapes phi_n as columns, normalised to phi_n^T M phi_n = 1, (N, n).

@@ -1,11 +1,11 @@
-"""Foundation idealisations under the rigid mat (THEORY.md section 1) and their contact elements.
+"""Foundation idealisations under the rigid mat (docs/theory.md section 1) and their contact elements.
 
 Each foundation gives
 - its rocking stiffness K_theta [N m/rad] and damping C_theta [N m s/rad] for the
   simplified engine (paper Eqs. 22, 25 and their Winkler/half-space counterparts);
 - its vertical stiffness [N/m] and damping [N s/m];
 - the unilateral spring-damper elements (positions x_i [m], k_i [N/m], c_i [N s/m])
-  that the exact engine integrates (THEORY.md sections 2 and 4).
+  that the exact engine integrates (docs/theory.md sections 2 and 4).
 """
 
 from __future__ import annotations
@@ -116,7 +116,7 @@ class Winkler:
     damping: float
     elements: int = 20
     kind: ClassVar[str] = "winkler"
-    #: contact loss starts at the kern, M = W b / 3 (THEORY.md section 7, item 6)
+    #: contact loss starts at the kern, M = W b / 3 (docs/theory.md section 7, item 6)
     contact_loss_moment_ratio: ClassVar[float] = 1.0 / 3.0
     deck_fields: ClassVar[dict[str, Field]] = {
         "k_w": Field("number", "N/m^2", "winkler: stiffness per unit length along the width", "positive"),
@@ -161,7 +161,7 @@ class Winkler:
 def two_element_from_ratios(
     total_mass: float, omega_1: float, frequency_ratio: float, damping_ratio: float
 ) -> TwoElement:
-    """The paper's nondimensional foundation: w_v/w_1 and xi_v (THEORY.md section 6).
+    """The paper's nondimensional foundation: w_v/w_1 and xi_v (docs/theory.md section 6).
 
     w_v = sqrt(2 k_f / m_t) and xi_v = c_f / (m_t w_v), so k_f = m_t w_v^2 / 2 [N/m]
     and c_f = xi_v m_t w_v [N s/m].
@@ -185,7 +185,7 @@ class HalfSpace:
     C = 2 beta K(omega) / omega (NIST GCR 12-917-21 Eq. 2-9). With omega = None the static
     stiffness and zero radiation damping are returned (rocking radiation damping vanishes as
     a_0 -> 0). The exact engine represents the half-space by two equivalent edge elements
-    k = K_theta / (2 b^2), c = C_theta / (2 b^2) (THEORY.md section 1, item 3).
+    k = K_theta / (2 b^2), c = C_theta / (2 b^2) (docs/theory.md section 1, item 3).
     """
 
     shear_modulus: float

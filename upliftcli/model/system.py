@@ -1,4 +1,4 @@
-"""The whole system of THEORY.md section 1: building, rigid mat and foundation.
+"""The whole system of docs/theory.md section 1: building, rigid mat and foundation.
 
 Totals m_t, L_0 and the critical base shear and moment [16a, 16b].
 """

@@ -1,5 +1,5 @@
 """Ground-motion records: readers (PEER .AT2, plain text, CSV, the headered files of
-../shared/records), unit conversion to SI, scale, time window, and record measures
+records/: '#' lines, then time and acceleration), unit conversion to SI, scale, time window, and record measures
 (PGA, PGV, PGD, Arias intensity).
 
 Every bad input raises `errors.InputError(file, "line N" or field, expected)`.

@@ -18,7 +18,7 @@ Peaks are exact, not sampled:
 * after the record the ground acceleration goes linearly to zero over one dt and the oscillator
   vibrates freely; the largest free-vibration peak is the first turning point, found in closed
   form. This equals any free-vibration tail of half a damped period or more, in particular the
-  "2T tail" used for the reference values in ../shared/records/README.md. (Those reference
+  "2T tail" used for the sample-read reference values of records/README.md. (Those reference
   values were read at the record samples, hence lower than exact at short periods: 5 % S_a at
   0.1 s is 0.608 g sampled, 0.649 g exact; see tests/test_spectra.py.)
 

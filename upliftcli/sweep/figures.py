@@ -3,7 +3,7 @@
 Pure functions of the tidy rows of a sweep (sweep/plan.py, sweep/table.py): they return
 plots.FigureSpec objects (lines as arrays) that plots.plot_figure draws. The paper's
 response spectra are maxima plotted against the fixed-base period T_1 with everything else
-scaled with it (THEORY.md section 6): a sweep of `building.period`.
+scaled with it (docs/theory.md section 6): a sweep of `building.period`.
 
 - Figs. 3-4: V_b/(m_t g) and M_b/(m_t g h_1*) for rigid, bonded and uplift, with the
   critical value b/h_1* of both coefficients [16a, 16b];

@@ -1,21 +1,21 @@
 """Linear state-space form of the modal equations [11a-11c] for one contact state.
 
 The exact and approximate engines are the same piecewise-linear system: in each contact
-state (which elements touch the mat) the equations are linear (THEORY.md sections 3-5).
+state (which elements touch the mat) the equations are linear (docs/theory.md sections 3-5).
 
 Generalised coordinates p = [W_c, Y_u, theta, v]:
 - W_c = Y_n* + h_n* theta for the modes coupled with the mat (all modes in the exact
   engine, mode 1 in the approximate one); in these coordinates the mass matrix is
   diagonal: diag(m_n*, I_theta, m_t), with I_theta = I_0 (+ the residual rotary inertia
-  I_b - sum m_n* h_n*^2 of truncated modes if asked for) (THEORY.md section 9);
+  I_b - sum m_n* h_n*^2 of truncated modes if asked for) (docs/theory.md section 9);
 - Y_u for fixed-base modes that do not interact with the mat (approximate engine);
 - theta, the mat rotation [rad], and v, the vertical displacement of the mat centre [m].
 
 When I_theta = 0 (massless mat, all modes), theta has no inertia and the rocking equation
 is first order in theta: its theta' coefficient is sum 2 xi_n w_n m_n* h_n*^2 + sum c_i x_i^2
-over the elements in contact (THEORY.md section 9). That coordinate is "massless"; the
+over the elements in contact (docs/theory.md section 9). That coordinate is "massless"; the
 state then holds [p_a, p_a', theta, z] instead of [p, p', z]. z_i is the top of a lifted
-element relaxing as k z + c z' = 0 (THEORY.md section 4).
+element relaxing as k z + c z' = 0 (docs/theory.md section 4).
 
 The state is augmented with [a_g, da_g/dt, 1] so that a piecewise-linear ground
 acceleration and gravity make the system autonomous: X' = A X, X(t + tau) = expm(A tau) X.

@@ -9,7 +9,7 @@ the crossing is bracketed by bisection with the finer operators (one product per
 halving, exact at every level) down to h / 2^L, then placed by linear interpolation
 inside that last sliver; the state switches there and the rest of the step is
 integrated in the new state, itself checked for events. Nothing is rounded to a step
-boundary (THEORY.md section 4).
+boundary (docs/theory.md section 4).
 
 Status codes returned: DONE, NEED_STATE (a contact pattern without operators was
 reached: the caller builds them and calls again), FULL (the sample buffer is full),
