@@ -12,19 +12,19 @@ import os
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-import statistics  # noqa: E402
-import sys  # noqa: E402
-import time  # noqa: E402
-from concurrent.futures import ProcessPoolExecutor  # noqa: E402
-from pathlib import Path  # noqa: E402
+import statistics
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
 
-import numpy as np  # noqa: E402
+import numpy as np
 
-from upliftcli.engines.exact import engine as exact  # noqa: E402
-from upliftcli.model.building import modal_analysis, uniform_building  # noqa: E402
-from upliftcli.model.foundations import two_element_from_ratios  # noqa: E402
-from upliftcli.model.system import System  # noqa: E402
-from upliftcli.motion.records import read_record  # noqa: E402
+from upliftcli.engines.exact import engine as exact
+from upliftcli.model.building import modal_analysis, uniform_building
+from upliftcli.model.foundations import two_element_from_ratios
+from upliftcli.model.system import System
+from upliftcli.motion.records import read_record
 
 RECORD = Path(__file__).resolve().parents[1] / "records" / "elcentro_1940_ns_chopra.txt"
 SUPPORTS = ("rigid", "bonded", "uplift")

@@ -46,7 +46,7 @@ def fine_reference(acceleration, dt, period, damping, refine=100):
     n = acceleration.size
     fine_t = np.arange((n - 1) * refine + 1) * fine_dt
     fine_a = np.interp(fine_t, np.arange(n) * dt, acceleration)
-    fine_a = np.concatenate([fine_a, np.zeros(int(math.ceil(2 * period / fine_dt)) + 1)])
+    fine_a = np.concatenate([fine_a, np.zeros(math.ceil(2 * period / fine_dt) + 1)])
     omega = 2 * math.pi / period
     system = (np.array([[0.0, 1.0], [-omega**2, -2 * damping * omega]]), np.array([[0.0], [-1.0]]),
               np.array([[1.0, 0.0]]), np.zeros((1, 1)))

@@ -2,7 +2,8 @@
 1940 N-S, uplift support, 25 foundation stiffnesses x 20 periods) on 1 and 2 local workers.
 
 Prints cases per second for the serial executor (1 worker, in this process), the same without
-batching the cases that share a structure (one case per chunk), for 2 local worker processes (start-up included: spawning, imports, loading numba's cache) and the
+batching the cases that share a structure (one case per chunk), for 2 local worker processes
+(start-up included: spawning, imports, loading numba's cache) and the
 speed-up, and checks that both give the same rows. Optionally the same on a Dask LocalCluster.
 
     python benchmarks/bench_sweep.py [--cases 500] [--dask]
@@ -16,7 +17,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from upliftcli.sweep.executors import DaskExecutor, ProcessExecutor, SerialExecutor, available_cores
+from upliftcli.sweep.dask_executor import DaskExecutor
+from upliftcli.sweep.executors import ProcessExecutor, SerialExecutor, available_cores
 from upliftcli.sweep.plan import plan_sweep
 from upliftcli.sweep.run import run_sweep
 from upliftcli.sweep.store import RowStore

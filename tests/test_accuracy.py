@@ -34,7 +34,7 @@ def test_the_check_equals_separate_runs_of_the_two_engines():
 
 
 def test_exact_results_already_run_are_reused():
-    deck = load_deck(EXAMPLE, SHORT + ['analysis.engine=["simplified", "exact"]', 'analysis.supports="uplift"'])
+    deck = load_deck(EXAMPLE, [*SHORT, 'analysis.engine=["simplified", "exact"]', 'analysis.supports="uplift"'])
     results = run(deck)
     check_accuracy(deck, results)
     simplified, exact = results

@@ -310,6 +310,7 @@ def test_a_one_sample_record_is_bad_input_for_every_engine(tmp_path):
 def test_an_engine_the_deck_cannot_serve_names_the_option():
     result = invoke("analyze", ROOT / "inputs" / "ten_story_asce7.toml", "--engine", "exact")
     assert result.exit_code == 2
-    assert result.stderr == (f"error: {ROOT / 'inputs' / 'ten_story_asce7.toml'}: ground_motion.record: a record for the "
+    deck = ROOT / "inputs" / "ten_story_asce7.toml"
+    assert result.stderr == (f"error: {deck}: ground_motion.record: a record for the "
                              "exact engine (asked by --engine or --set analysis.engine; a design spectrum serves only "
                              "the simplified engine)\n")

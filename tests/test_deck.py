@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from upliftcli import deck_schema
-from upliftcli.deck import build_deck, load_deck, parse_override
+from upliftcli.deck import build_deck, load_deck
 from upliftcli.errors import InputError
 from upliftcli.model.foundations import HalfSpace, TwoElement, Winkler
 
@@ -133,27 +133,6 @@ def test_set_k_f_replaces_ratio(tmp_path):
     assert deck.system.foundation.stiffness == 2e9
     w_v = math.sqrt(2 * 2e9 / deck.system.total_mass)
     assert deck.system.foundation.damping == pytest.approx(0.4 * deck.system.total_mass * w_v)
-
-
-def test_parse_override_values():
-    assert parse_override("building.period=0.5") == ("building.period", 0.5)
-    assert parse_override("building.stories=3") == ("building.stories", 3)
-    assert parse_override("analysis.combination=cqc") == ("analysis.combination", "cqc")
-    assert parse_override('analysis.engine=["simplified", "exact"]')[1] == ["simplified", "exact"]
-    assert parse_override("ground_motion.design_spectrum.sds=1.0") == ("ground_motion.design_spectrum.sds", 1.0)
-
-
-@pytest.mark.parametrize("text, location, words", [
-    ("building.perod=0.5", "building.perod", "did you mean 'building.period'"),
-    ("building.period", "building.period", "PATH=VALUE"),
-    ("nothing.here=1", "nothing.here", "a known deck field"),
-])
-def test_bad_override_names_set_and_path(text, location, words):
-    with pytest.raises(InputError) as info:
-        parse_override(text)
-    assert info.value.source == "--set"
-    assert info.value.location == location
-    assert words in str(info.value)
 
 
 def test_bad_override_value_is_reported_against_set():
@@ -330,11 +309,6 @@ def test_deeply_nested_toml_is_one_error(tmp_path):
         load_deck(path)
     with pytest.raises(InputError, match=r"^--set: building.period: a number > 0 \[s\], got '\[\[\["):
         load_deck(EXAMPLE, ["building.period=" + "[" * 5000 + "]" * 5000])
-
-
-def test_a_newline_inside_a_set_value_is_refused():
-    with pytest.raises(InputError, match=r"^--set: building.period: a value on one line"):
-        parse_override("building.period=0.5\nx=1")
 
 
 @pytest.mark.parametrize(("override", "message"), [

@@ -71,7 +71,7 @@ def test_tabulated_spectrum_interpolation_damping_and_range():
     asce = TabulatedSpectrum([0.1, 0.5, 2.0], [0.5, 1.0, 0.25], damping=0.05, damping_correction="asce", units="m/s2")
     np.testing.assert_allclose(asce.sa([0.5], 0.10), asce_damping_coefficient(0.05) / asce_damping_coefficient(0.10))
     assert table.period_range == (0.1, 2.0)
-    with pytest.raises(InputError, match="period: periods within 0.1 to 2 s"):
+    with pytest.raises(InputError, match=r"period: periods within 0\.1 to 2 s"):
         table.sa([0.05], 0.05)
     with pytest.raises(InputError, match="periods"):
         TabulatedSpectrum([0.5, 0.1], [1.0, 2.0], damping=0.05)

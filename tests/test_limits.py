@@ -42,7 +42,8 @@ def test_spectrum_at_the_shortest_period_is_quick_and_follows_the_ground():
 def test_step_states_problem():
     assert limits.step_states_problem(1000, 28) is None
     words = limits.step_states_problem(3_741_600, 28)
-    assert words.startswith("at most 50,000,000 internal steps x states (about 20 s of stepping on 2 cores), got 3,741,600 steps x 30")
+    assert words.startswith("at most 50,000,000 internal steps x states (about 20 s of stepping on 2 cores), "
+                            "got 3,741,600 steps x 30")
 
 
 def test_cases_problem_is_computed_without_expanding():

@@ -32,7 +32,7 @@ def elcentro():
 def short(record, seconds: float, refine: int = 1):
     """The first seconds of a record, optionally resampled `refine` times finer (exactly: it is
     piecewise linear)."""
-    n = int(round(seconds / record.dt)) + 1
+    n = round(seconds / record.dt) + 1
     coarse = record.acceleration[:n]
     fine = np.interp(np.arange((n - 1) * refine + 1) / refine, np.arange(n), coarse)
     return SimpleNamespace(acceleration=fine, dt=record.dt / refine)

@@ -33,7 +33,10 @@ def test_quintic_interpolant_reproduces_a_sinusoid_peak_at_coarse_sampling():
     best = 0.0
     for i in range(5):
         t0, t1 = i * h + phase, (i + 1) * h + phase
-        f = lambda t, k=0: np.real((1j * omega) ** k * np.exp(1j * omega * t))
+
+        def f(t, k=0):
+            return np.real((1j * omega) ** k * np.exp(1j * omega * t))
+
         value, _ = postkernel._quintic_extremum(f(t0), f(t1), f(t0, 1) * h, f(t1, 1) * h,
                                                  f(t0, 2) * h * h, f(t1, 2) * h * h)
         best = max(best, value)
@@ -88,7 +91,7 @@ def test_hermite_peaks_equals_its_numpy_twin_with_rates_and_transitions():
     lengths = rng.uniform(0.5, 1.0, n - 1)
     value_cols, rate_cols = np.array([0, 1, 2, 3]), np.array([2, 3, 4, 5])  # (Y, Y') then (Y', Y'')
     rows = rng.normal(size=(3, 4))
-    best, where = postkernel.hermite_peaks(values, slopes, end_values, end_slopes, switch, value_cols, rate_cols,
+    best, _where = postkernel.hermite_peaks(values, slopes, end_values, end_slopes, switch, value_cols, rate_cols,
                                            rate_cols, np.ascontiguousarray(rows.T), lengths, np.zeros(3))
     twin = _hermite_peaks_twin(values, slopes, end_values, end_slopes, switch, value_cols, rate_cols, rate_cols,
                                rows, lengths)

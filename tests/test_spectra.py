@@ -32,7 +32,7 @@ def brute_force(acceleration, dt, period, damping, refine=200, tail_periods=2.0)
     n = acceleration.size
     fine_t = np.arange((n - 1) * refine + 1) * fine_dt
     fine_a = np.interp(fine_t, np.arange(n) * dt, acceleration)
-    fine_a = np.concatenate([fine_a, np.zeros(int(math.ceil(tail_periods * period / fine_dt)) + 1)])
+    fine_a = np.concatenate([fine_a, np.zeros(math.ceil(tail_periods * period / fine_dt) + 1)])
     omega = 2 * math.pi / period
     a_matrix = np.array([[0.0, 1.0], [-omega**2, -2 * damping * omega]])
     b_matrix = np.array([[0.0], [-1.0]])

@@ -10,7 +10,8 @@ import pytest
 from sweep_cases import EXAMPLE, SHORT
 
 from upliftcli.errors import InputError
-from upliftcli.sweep.executors import DaskExecutor, ProcessExecutor
+from upliftcli.sweep.dask_executor import DaskExecutor
+from upliftcli.sweep.executors import ProcessExecutor
 from upliftcli.sweep.plan import (
     Chunk,
     make_chunks,
@@ -82,10 +83,10 @@ def test_dask_cli_scheduler_option(dask_cluster, tmp_path):
 
     args = ["sweep", str(EXAMPLE), "--vary", "building.period=0.5,1.0", "--support", "uplift", "--out",
             str(tmp_path), "--quiet"]
-    remote = CliRunner().invoke(app, args + ["--scheduler", dask_cluster.scheduler_address, "--name", "dask"],
+    remote = CliRunner().invoke(app, [*args, "--scheduler", dask_cluster.scheduler_address, "--name", "dask"],
                                 env={"CI": "true"})
     assert remote.exit_code == 0, remote.output
-    local = CliRunner().invoke(app, args + ["--workers", "1", "--name", "serial"], env={"CI": "true"})
+    local = CliRunner().invoke(app, [*args, "--workers", "1", "--name", "serial"], env={"CI": "true"})
     assert local.exit_code == 0, local.output
 
     def table(path):  # without the '#' provenance lines (time, command)
@@ -268,7 +269,7 @@ def test_an_unreachable_scheduler_is_refused_at_once():
     import socket
     import time
 
-    from upliftcli.sweep.executors import check_reachable
+    from upliftcli.sweep.dask_executor import check_reachable
 
     with socket.socket() as server:
         server.bind(("127.0.0.1", 0))

@@ -39,7 +39,7 @@ def test_parse_values_ranges_and_lists():
 def test_parse_vary_checks_the_path():
     vary = parse_vary("foundation.k_f=1e7:1e9:3:log")
     assert vary.path == "foundation.k_f" and vary.unit == "N/m" and vary.values == (1e7, 1e8, 1e9)
-    with pytest.raises(InputError, match="did you mean 'foundation.k_f'"):
+    with pytest.raises(InputError, match=r"did you mean 'foundation\.k_f'"):
         parse_vary("foundation.kf=1:2:2")
     with pytest.raises(InputError, match="--engine"):
         parse_vary("analysis.engine=exact,simplified")

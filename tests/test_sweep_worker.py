@@ -20,7 +20,7 @@ from upliftcli.sweep.worker import run_chunk
 
 def test_rows_equal_single_analyses(small_plan, serial_rows):
     assert len(serial_rows) == len(small_plan.cases) == 14
-    for case, row in zip(small_plan.cases, serial_rows):
+    for case, row in zip(small_plan.cases, serial_rows, strict=False):
         assert row["status"] == "ok", row
         settings = SHORT + [f"{path}={value}" for path, value in case.overrides]
         deck = load_deck(EXAMPLE, settings)
@@ -43,7 +43,7 @@ def test_rows_equal_single_analyses(small_plan, serial_rows):
 
 def test_effective_period_of_the_rows_by_eq_21(small_plan, serial_rows):
     """T1bar = T_1 sqrt(1 + k_1* h_1*^2 / K_theta), K_theta = 2 k_f b^2, rebuilt from the deck here."""
-    for case, row in zip(small_plan.cases, serial_rows):
+    for case, row in zip(small_plan.cases, serial_rows, strict=False):
         system = load_deck(EXAMPLE, SHORT + [f"{p}={v}" for p, v in case.overrides], load_ground_motion=False).system
         if case.support == "rigid":
             assert row["T1bar_s"] == row["T1_s"] and row["xi1bar"] == 0.05
@@ -76,7 +76,7 @@ def test_mode_contributions_of_simplified_rows(serial_rows):
 def test_failed_case_is_recorded_with_its_message():
     # a case beyond the exact engine's memory limit is refused by the worker before it
     # allocates anything, as a failed row naming the field
-    plan = plan_sweep(EXAMPLE, SHORT + ["analysis.exact.time_step=1e-7"], [], ["exact"], ["rigid"])
+    plan = plan_sweep(EXAMPLE, [*SHORT, "analysis.exact.time_step=1e-7"], [], ["exact"], ["rigid"])
     rows = run_chunk(make_chunks(plan, plan.cases, 4)[0])
     assert rows[0]["status"] == "failed"
     assert rows[0]["message"].startswith("--set: analysis.exact.time_step: at most 50,000,000 internal steps")
@@ -115,7 +115,7 @@ def test_cases_sharing_a_structure_run_as_one_batch(monkeypatch):
     monkeypatch.setattr(exact, "iter_batch", recording)
     rows = [row for chunk in chunks for row in run_chunk(chunk)]
     assert sizes == [3, 3]
-    for case, row in zip([c for chunk in chunks for c in chunk.cases], rows):
+    for case, row in zip([c for chunk in chunks for c in chunk.cases], rows, strict=False):
         deck = load_deck(EXAMPLE, ["ground_motion.window=[0, 3]"] + [f"{p}={v}" for p, v in case.overrides])
         result = run_one(deck, "exact", "uplift")
         assert row["key"] == case.key and row["base_shear_N"] == result.base_shear

@@ -23,7 +23,8 @@ CHECKED: dict[str, tuple[str, str, Callable[[AnalysisResult], float]]] = {
     "base_shear": ("N", "base shear V_b", lambda r: r.base_shear),
     "base_moment": ("N m", "base overturning moment M_b", lambda r: r.base_moment),
     "max_drift_ratio": ("-", "largest story drift ratio", lambda r: r.value("drift_ratio")),
-    "roof_displacement": ("m", "roof displacement relative to the mat", lambda r: float(abs(r.peaks["displacement"][-1]))),
+    "roof_displacement": ("m", "roof displacement relative to the mat",
+                          lambda r: float(abs(r.peaks["displacement"][-1]))),
 }
 
 

@@ -10,11 +10,10 @@ expected; nothing here prints or exits.
 
 from __future__ import annotations
 
-import copy
 import os
 import re
 import tomllib
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -22,27 +21,13 @@ from typing import Any
 import numpy as np
 
 from . import deck_schema as schema
+from .deck_overrides import ALTERNATIVES, FOUNDATION_FIELDS, apply_overrides, parse_override
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from .errors import InputError, not_found
 from .limits import MAX_DECK_BYTES, MAX_STORIES, read_limited
 from .model.building import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
 from .model.foundations import FOUNDATIONS, DeckContext
 from .model.system import System
-
-#: groups of mutually exclusive fields: a `--set` of one member removes the others
-ALTERNATIVES: list[tuple[str, list[set[str]]]] = [
-    ("building", [{"floor_mass"}, {"masses"}]),
-    ("building", [{"story_height"}, {"story_heights"}]),
-    ("building", [{"story_stiffness"}, {"story_stiffnesses"}, {"stiffness_matrix"}]),
-    ("foundation", [{"b"}, {"slenderness"}]),
-    *[("foundation", groups) for kind in FOUNDATIONS.values() for groups in kind.deck_alternatives],
-    ("analysis", [{"modes"}, {"mass_participation"}]),
-    ("ground_motion", [{"record", "format", "units", "dt", "window", "scale"},
-                       {"design_spectrum", "suite", "scaling", "suite_factor", "period_range", "statistics"}]),
-]
-
-#: foundation type -> its own fields of the [foundation] table
-FOUNDATION_FIELDS = {kind: set(cls.deck_fields) for kind, cls in FOUNDATIONS.items()}
 
 
 @dataclass
@@ -91,62 +76,6 @@ class Deck:
             if name in self.values.get(table, {}):
                 return self.source, path
         return self.source, paths[0]
-
-
-# ----------------------------------------------------------------------------- overrides
-
-def parse_override(text: str) -> tuple[str, Any]:
-    """'a.b=value' -> ('a.b', value); the value is read as a TOML value, else as a bare string."""
-    path, sep, value_text = text.partition("=")
-    path = path.strip()
-    if not sep or not path:
-        raise InputError("--set", text, "PATH=VALUE, e.g. building.period=0.5")
-    if not schema.known_path(path):
-        candidates = schema.all_paths()
-        raise InputError("--set", path, f"a known deck field{schema.suggestion(path, candidates)}")
-    value_text = value_text.strip()
-    if any(not (ch.isprintable() or ch == "\t") for ch in value_text):
-        raise InputError("--set", path, "a value on one line (without line breaks or control characters)")
-    return path, toml_value(value_text)
-
-
-def toml_value(text: str) -> Any:
-    """A command-line value read as a TOML value, else the bare string; nesting too deep
-    for the parser (RecursionError) is kept as the string, which the field check refuses."""
-    try:
-        return tomllib.loads(f"value = {text}")["value"]
-    except (tomllib.TOMLDecodeError, RecursionError):
-        return text
-
-
-def apply_overrides(raw: dict, overrides: Iterable[tuple[str, Any]]) -> tuple[dict, frozenset[str]]:
-    """Copy of `raw` with each (dotted path, value) set; members of the same group of
-    alternatives (e.g. foundation.b vs foundation.slenderness) are removed, and setting
-    foundation.type removes the fields of the other foundation types."""
-    result = copy.deepcopy(raw)
-    paths = []
-    for path, value in overrides:
-        parts = path.split(".")
-        table = result
-        for part in parts[:-1]:
-            if not isinstance(table.get(part), dict):
-                table[part] = {}
-            table = table[part]
-        parent, name = ".".join(parts[:-1]), parts[-1]
-        for group_table, groups in ALTERNATIVES:
-            if group_table == parent and any(name in group for group in groups):
-                for group in groups:
-                    if name not in group:
-                        for other in group:
-                            table.pop(other, None)
-        if path == "foundation.type" and isinstance(value, str) and value in FOUNDATION_FIELDS:
-            for kind, names in FOUNDATION_FIELDS.items():  # fields of the replaced type go
-                if kind != value:
-                    for other in names:
-                        table.pop(other, None)
-        table[name] = value
-        paths.append(path)
-    return result, frozenset(paths)
 
 
 # ----------------------------------------------------------------------------- loading

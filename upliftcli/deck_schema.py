@@ -18,7 +18,7 @@ from .errors import InputError
 from .fields import Field, check_value, suggestion
 from .model.foundations import FOUNDATIONS
 from .motion.code_rules import RULES, SCALINGS
-from .motion.records import FORMATS
+from .motion.readers import FORMATS
 from .units import STANDARD_GRAVITY
 
 TABLES: dict[str, dict[str, Field]] = {

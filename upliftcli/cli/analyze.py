@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import json
 from dataclasses import replace
-from enum import Enum
+from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -29,7 +29,7 @@ if TYPE_CHECKING:
 SET_HELP = "Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values)."
 
 
-class OutputFormat(str, Enum):
+class OutputFormat(StrEnum):
     table = "table"
     json = "json"
 
@@ -249,7 +249,7 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
     if out is not None:
         inputs = [path for item in loaded for path in input_files(item)]
         refuse_inputs([path for deck in decks for path in result_paths(out, deck.stem)], inputs, "--out")
-    runs = [(deck, item, analysis.run(item)) for deck, item in zip(decks, loaded)]
+    runs = [(deck, item, analysis.run(item)) for deck, item in zip(decks, loaded, strict=False)]
     records = [provenance.of_deck(item) for item in loaded]
     for deck, _, results in runs:
         _warn_suite(results, f"{deck}: ")
@@ -280,7 +280,7 @@ def _batch_table(runs, violating: set[str]) -> Table:
 
     table = Table(title=f"Summary of {len(runs)} decks")
     names = [deck.name for deck, _, _ in runs]
-    label = (lambda deck: deck.name) if len(set(names)) == len(names) else str  # noqa: E731
+    label = (lambda deck: deck.name) if len(set(names)) == len(names) else str
     table.caption = escape("V_b/W = V_b/(m_t g), M_b/Wh = M_b/(m_t g h_1*); criteria: the deck's [criteria] limits")
     for header in ("deck", "engine", "support", "V_b [kN]", "V_b/W", "M_b [kN m]", "M_b/Wh", "b/h_1*", "uplift",
                    "criteria"):

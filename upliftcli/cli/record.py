@@ -134,7 +134,8 @@ def info(
     ]
     for key, value in lines:
         out.print(f"{key:<16} {escape(value)}" if key else f"{'':<16} {escape(value)}")
-    table = Table(title="Response spectrum", caption="exact; peaks between samples and in the free vibration after the record")
+    table = Table(title="Response spectrum",
+                  caption="exact; peaks between samples and in the free vibration after the record")
     table.add_column(escape("T [s]"), justify="right")
     for xi in dampings:
         pct = f"{100 * xi:g} %"

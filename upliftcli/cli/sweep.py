@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import json
 import signal
-from enum import Enum
+from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -39,12 +39,12 @@ PER_RECORD_HELP = ("Record suite decks: after each case's row (the design statis
 MAX_WARNINGS = 5
 
 
-class OutputFormat(str, Enum):
+class OutputFormat(StrEnum):
     table = "table"
     json = "json"
 
 
-class TableFormat(str, Enum):
+class TableFormat(StrEnum):
     json = "json"
     parquet = "parquet"
     csv = "csv"
@@ -56,14 +56,8 @@ CASE_SECONDS = {"simplified": 0.002, "approximate": 0.04, "exact": 0.04}
 
 
 def choose_executor(plan: SweepPlan, workers: int | None, scheduler: str | None, dask: str | None):
-    from ..sweep.executors import (
-        DaskExecutor,
-        ProcessExecutor,
-        SerialExecutor,
-        available_cores,
-        check_reachable,
-        import_distributed,
-    )
+    from ..sweep.dask_executor import DaskExecutor, check_reachable, import_distributed
+    from ..sweep.executors import ProcessExecutor, SerialExecutor, available_cores
 
     if dask is not None and dask != "local":
         raise InputError("--dask", dask, "'local' (or give --scheduler tcp://host:port)")

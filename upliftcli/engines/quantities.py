@@ -26,8 +26,8 @@ class Quantity:
     """A response quantity.
 
     name: key in results, files and [criteria]; where: FLOOR, STORY or ELEMENT; unit: SI unit;
-    meaning: what it is, in words (its peak is reported); display: (unit, factor from SI, format) of the terminal tables;
-    engines: the engines that give it; column: sweep-row column of its largest value
+    meaning: what it is, in words (its peak is reported); display: (unit, factor from SI, format)
+    of the terminal tables; engines: the engines that give it; column: sweep-row column of its largest value
     (with its unit), or "" if the sweep rows do not carry it; criterion: whether [criteria]
     may limit its largest value.
     """
@@ -51,7 +51,8 @@ QUANTITIES: dict[str, Quantity] = {q.name: q for q in (
     Quantity("displacement", FLOOR, "m", "floor displacement relative to the mat", ("mm", 1e3, ".2f"),
              column="max_displacement_m"),
     Quantity("drift", STORY, "m", "story drift u_j - u_(j-1)", ("mm", 1e3, ".2f")),
-    Quantity("drift_ratio", STORY, "-", "story drift ratio (drift / story height)", ("%", 100.0, ".3f"), column="max_drift_ratio"),
+    Quantity("drift_ratio", STORY, "-", "story drift ratio (drift / story height)", ("%", 100.0, ".3f"),
+             column="max_drift_ratio"),
     Quantity("shear", STORY, "N", "story shear (story 1: the base shear V_b [14a])", ("kN", 1e-3, ".1f"),
              criterion=False),
     Quantity("moment", STORY, "N m", "overturning moment at the bottom of the story (story 1: M_b [14b])",

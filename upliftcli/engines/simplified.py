@@ -146,7 +146,7 @@ def paper_analyze(system: System, spectrum, support: str, options: SimplifiedOpt
     n = int(options.n_modes or modes.n_modes)
     periods = modes.periods[:n]
     xi = modes.damping[:n]
-    sa = np.array([spectral_acceleration(spectrum, t, d) for t, d in zip(periods, xi)])
+    sa = np.array([spectral_acceleration(spectrum, t, d) for t, d in zip(periods, xi, strict=False)])
     base_shears = modes.effective_mass[:n] * sa  # [31]
     m_t = system.total_mass
     inter: dict = {"T_n": periods.tolist(), "Sa_n": sa.tolist(),
@@ -163,7 +163,8 @@ def paper_analyze(system: System, spectrum, support: str, options: SimplifiedOpt
         sa1bar = spectral_acceleration(spectrum, props["T1bar"], props["xi1bar"])
         v1_bonded = float(modes.effective_mass[0]) * sa1bar  # [26]
         inter.update(props)
-        inter.update({"Sa1bar": sa1bar, "V1_bonded": v1_bonded, "V1_bonded/V_c": v1_bonded / system.critical_base_shear})
+        inter.update({"Sa1bar": sa1bar, "V1_bonded": v1_bonded,
+                      "V1_bonded/V_c": v1_bonded / system.critical_base_shear})
         base_shears[0] = v1_bonded
         omega_corr[0], damping_corr[0] = 2 * math.pi / props["T1bar"], props["xi1bar"]
         ratio = system.foundation.contact_loss_moment_ratio
@@ -175,18 +176,19 @@ def paper_analyze(system: System, spectrum, support: str, options: SimplifiedOpt
         if support == "uplift" and ratio < 1.0 and v1_bonded > ratio * system.critical_base_shear:
             warnings.append(
                 f"{system.foundation.kind} foundation: contact is lost at the kern (M = {ratio:.3g} W b, "
-                f"V = {ratio:.3g} V_c) before tipping at V_c; for V_1/V_c = {v1_bonded / system.critical_base_shear:.3g} "
+                f"V = {ratio:.3g} V_c) before tipping at V_c; for "
+                f"V_1/V_c = {v1_bonded / system.critical_base_shear:.3g} "
                 "the mat is partly uplifted, which the simplified procedure does not model")
     inter["V_n"] = base_shears.tolist()
     per_mode = modal_static_response(system, base_shears, n)
-    if options.combination == "cqc":
-        combine = lambda peaks: cqc(peaks, omega_corr, damping_corr)  # noqa: E731
-    else:
-        combine = srss
+    def combine(peaks):
+        return cqc(peaks, omega_corr, damping_corr) if options.combination == "cqc" else srss(peaks)
+
     peaks = {name: combine(values) for name, values in per_mode.items() if name != "forces"}
     if n >= 2:
         two = base_shears[:2]
-        inter["V_1+2"] = float(srss(two) if options.combination == "srss" else cqc(two, omega_corr[:2], damping_corr[:2]))
+        inter["V_1+2"] = float(srss(two) if options.combination == "srss"
+                               else cqc(two, omega_corr[:2], damping_corr[:2]))
     elements = None if support == "rigid" else system.foundation.contact_elements(system.half_width)
     # quasi-static reactions under W and the peak M_b either way (no vertical inertia: impacts
     # are the history engines'); the uplifting mat's elements cannot pull

@@ -219,7 +219,7 @@ class RecordSpectrum:
         if missing:
             spectrum = response_spectrum(self.record.acceleration, self.record.dt, missing, [damping],
                                          free_vibration=self.free_vibration, method="numpy")
-            for t, value in zip(missing, spectrum.pseudo_acceleration[0]):
+            for t, value in zip(missing, spectrum.pseudo_acceleration[0], strict=False):
                 self._cache[(t, damping)] = float(value)
         result = np.array([self._cache[(float(t), damping)] for t in flat])
         return result.reshape(periods_array.shape) if periods_array.ndim else result[0] * np.ones(())

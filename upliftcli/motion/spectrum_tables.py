@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..units import ACCELERATION_UNITS
-from .records import normalize_units
+from .readers import normalize_units
 
 #: damping corrections a table may use: name -> what it is
 DAMPING_CORRECTIONS = {

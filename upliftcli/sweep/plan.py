@@ -32,7 +32,8 @@ import numpy as np
 
 from .. import deck_schema as schema
 from ..analysis import ground_motion_for
-from ..deck import Deck, build_deck, parse_override, read_toml, toml_value
+from ..deck import Deck, build_deck, read_toml
+from ..deck_overrides import parse_override, toml_value
 from ..engines.registry import ENGINES
 from ..errors import InputError
 from ..fields import parse_choices  # noqa: F401 - part of this module's interface
@@ -50,10 +51,6 @@ STATUSES = ("ok", "failed", "crashed")
 
 # ----------------------------------------------------------------------------- parsing
 
-def _toml_value(text: str) -> Any:
-    return toml_value(text)
-
-
 def _too_many(option: str, text: str, count: int) -> InputError:
     return InputError(option, text if len(text) <= 80 else text[:75] + "...",
                       f"at most {MAX_VARY_VALUES:,} values in one range (limit of the tool), got {count:,}")
@@ -68,7 +65,7 @@ def parse_values(text: str, option: str, default_spacing: str = "linear") -> tup
     if text.count(",") >= MAX_VARY_VALUES:  # counted before anything is parsed
         raise _too_many(option, text, text.count(",") + 1)
     if text.startswith("["):
-        value = _toml_value(text)
+        value = toml_value(text)
         if not isinstance(value, list) or not value:
             raise InputError(option, text, "a non-empty TOML array of values, e.g. [0.5, 1.0]")
         return value, "list"
@@ -95,7 +92,7 @@ def parse_values(text: str, option: str, default_spacing: str = "linear") -> tup
         return values, spacing
     if len(parts) != 1:
         raise InputError(option, text, "START:STOP:N[:log|lin], a comma list or a TOML array")
-    values = [_toml_value(part.strip()) for part in text.split(",") if part.strip()]
+    values = [toml_value(part.strip()) for part in text.split(",") if part.strip()]
     if not values:
         raise InputError(option, text, "at least one value")
     return values, "list"

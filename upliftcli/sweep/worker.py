@@ -119,7 +119,7 @@ def _safe_row(case: Case, deck: Deck, result) -> dict[str, Any]:
         return failed_row(case, "failed", _failure(result))
     try:
         return case_row(case, deck, result)
-    except Exception as error:  # noqa: BLE001 - recorded per case, the sweep goes on
+    except Exception as error:
         return failed_row(case, "failed", _failure(error))
 
 
@@ -135,7 +135,7 @@ def _run_batch(members: list[tuple[Case, Deck]], deliver: Callable[[int, Any], N
 
     try:
         run_batch([deck for _, deck in members], engine, support, on_result)
-    except Exception as error:  # noqa: BLE001 - recorded per case, the sweep goes on
+    except Exception as error:
         rest = [j for j in range(len(members)) if j not in delivered]
         for j in rest:
             if len(members) == 1:
@@ -161,7 +161,7 @@ def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list
             if deck_key not in decks:
                 overrides = list(chunk.base_overrides) + list(case.overrides)
                 decks[deck_key] = build_case_deck(chunk.raw, chunk.source, overrides)
-        except Exception as error:  # noqa: BLE001 - recorded per case, the sweep goes on
+        except Exception as error:
             rows[case.index] = failed_row(case, "failed", _failure(error))
             if emit:
                 emit(("start", [case.key]))

@@ -131,7 +131,8 @@ def signals(history: History) -> Signals:
                    np.ascontiguousarray(ends[:, start:]), names)
 
 
-def hermite_peaks(sig: Signals, rows: np.ndarray, lengths: np.ndarray, periods: np.ndarray, rates: np.ndarray | None = None
+def hermite_peaks(sig: Signals, rows: np.ndarray, lengths: np.ndarray, periods: np.ndarray,
+                  rates: np.ndarray | None = None
                   ) -> tuple[np.ndarray, np.ndarray]:
     """Peak |r| of each response r = rows @ Y* (+ rates @ Y*') between samples, and where
     (interval index + fraction), from the quintic Hermite interpolant through the samples with

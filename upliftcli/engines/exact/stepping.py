@@ -112,13 +112,13 @@ def add_states(requests: list[tuple[_Operators, int, bool]]) -> list[int | Analy
                     states.append(_states([requests[k]])[0])
                 except ZeroDivisionError:
                     states.append(None)
-        built = [(k, state) for k, state in zip(members, states) if state is not None]
+        built = [(k, state) for k, state in zip(members, states, strict=False) if state is not None]
         if not built:
             continue
         # transposed (the kernel's _matvec runs down columns); (E^T)^2 = (E^2)^T
         a_t = np.stack([state.matrix.T for _, state in built])
         h = np.array([requests[k][0].h for k, _ in built])[:, None, None]
-        ops = np.empty((len(built), LEVELS + 1) + a_t.shape[1:])
+        ops = np.empty((len(built), LEVELS + 1, *a_t.shape[1:]))
         ops[:, LEVELS] = expm(a_t * (h / 2.0**LEVELS))
         for j in range(LEVELS - 1, 0, -1):
             ops[:, j] = ops[:, j + 1] @ ops[:, j + 1]
@@ -286,7 +286,7 @@ def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisErro
     while active:
         built = add_states(requests)
         going = []
-        for k, index in zip(active, built):
+        for k, index in zip(active, built, strict=False):
             if isinstance(index, AnalysisError):
                 runs[k] = None
                 yield k, index
