@@ -14,10 +14,11 @@ pure functions) separately. Target: every figure well under a second (here: belo
 from __future__ import annotations
 
 import argparse
-import statistics
 import tempfile
 import time
 from pathlib import Path
+
+from timing import timed
 
 from upliftcli import analysis, plots
 from upliftcli.cli.plotting import keep_histories
@@ -27,16 +28,6 @@ from upliftcli.sweep import figures as sweep_figures
 
 DECK = Path(__file__).resolve().parent.parent / "inputs" / "ten_story_elcentro.toml"
 TARGET_SECONDS = 0.5
-
-
-def timed(function, repeats: int) -> tuple[float, float]:
-    """(best, median) wall time [ms] of function() over `repeats` calls."""
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(1e3 * (time.perf_counter() - start))
-    return min(times), statistics.median(times)
 
 
 def sweep_rows(engines=("exact", "simplified"), supports=("rigid", "bonded", "uplift"), count=60):

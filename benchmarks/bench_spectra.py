@@ -13,13 +13,13 @@ from __future__ import annotations
 
 import argparse
 import math
-import statistics
 import time
 from pathlib import Path
 
 import numba
 import numpy as np
 from scipy import signal
+from timing import timed
 
 from upliftcli.motion.records import read_record
 from upliftcli.motion.spectra import response_spectrum
@@ -28,16 +28,6 @@ from upliftcli.units import STANDARD_GRAVITY
 RECORD = Path(__file__).resolve().parent.parent / "records" / "elcentro_1940_ns_chopra.txt"
 PERIODS = np.geomspace(0.05, 5.0, 200)
 DAMPINGS = np.array([0.02, 0.05, 0.10])
-
-
-def timed(function, repeats: int) -> tuple[float, float]:
-    """(best, median) wall time [ms] of function() over `repeats` calls."""
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(1e3 * (time.perf_counter() - start))
-    return min(times), statistics.median(times)
 
 
 def fine_reference(acceleration, dt, period, damping, refine=100):

@@ -6,7 +6,7 @@ import shutil
 from pathlib import Path
 
 import pytest
-from sweep_cases import dask_cluster, serial_rows, small_plan  # noqa: F401 (shared fixtures)
+from sweep_cases import batch_sizes, dask_cluster, serial_rows, small_plan  # noqa: F401 (shared fixtures)
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE_DECK = ROOT / "inputs" / "ten_story_elcentro.toml"

@@ -27,6 +27,22 @@ def memory_store():
     return RowStore(Path(tempfile.mkdtemp()) / "rows.jsonl")
 
 
+@pytest.fixture()
+def batch_sizes(monkeypatch):
+    """The number of systems of each batch the exact engine is given (a list filled as it runs)."""
+    from upliftcli.engines import exact
+
+    sizes = []
+    original = exact.iter_batch
+
+    def recording(systems, *args, **kwargs):
+        sizes.append(len(systems))
+        return original(systems, *args, **kwargs)
+
+    monkeypatch.setattr(exact, "iter_batch", recording)
+    return sizes
+
+
 @pytest.fixture(scope="session")
 def small_plan():
     """12 simplified cases and 2 exact ones (uplift, short record)."""

@@ -62,21 +62,11 @@ def test_a_case_row_holds_the_statistic_of_its_deck(plan, rows):
         assert row["base_shear_N"] == pytest.approx(np.mean([r["base_shear_N"] for r in records]), rel=1e-14)
 
 
-def test_foundation_only_variations_run_one_batch_per_record(plan, monkeypatch):
+def test_foundation_only_variations_run_one_batch_per_record(plan, batch_sizes):
     """The three foundations change T1bar and so the suite's period range, not its records (scaling
     = "none"): one exact-engine batch of the three systems per record."""
-    from upliftcli.engines import exact
-
-    sizes = []
-    original = exact.iter_batch
-
-    def recording(systems, *args, **kwargs):
-        sizes.append(len(systems))
-        return original(systems, *args, **kwargs)
-
-    monkeypatch.setattr(exact, "iter_batch", recording)
     fresh = run_chunk(make_chunks(plan, plan.cases, len(plan.cases))[0])
-    assert sizes == [3, 3, 3] and all(row["status"] == "ok" for row in fresh)
+    assert batch_sizes == [3, 3, 3] and all(row["status"] == "ok" for row in fresh)
 
 
 def test_the_suite_follows_the_structure_it_is_scaled_for(plan):

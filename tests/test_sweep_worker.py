@@ -20,7 +20,7 @@ from upliftcli.sweep.worker import run_chunk
 
 def test_rows_equal_single_analyses(small_plan, serial_rows):
     assert len(serial_rows) == len(small_plan.cases) == 14
-    for case, row in zip(small_plan.cases, serial_rows, strict=False):
+    for case, row in zip(small_plan.cases, serial_rows, strict=True):
         assert row["status"] == "ok", row
         settings = SHORT + [f"{path}={value}" for path, value in case.overrides]
         deck = load_deck(EXAMPLE, settings)
@@ -43,7 +43,7 @@ def test_rows_equal_single_analyses(small_plan, serial_rows):
 
 def test_effective_period_of_the_rows_by_eq_21(small_plan, serial_rows):
     """T1bar = T_1 sqrt(1 + k_1* h_1*^2 / K_theta), K_theta = 2 k_f b^2, rebuilt from the deck here."""
-    for case, row in zip(small_plan.cases, serial_rows, strict=False):
+    for case, row in zip(small_plan.cases, serial_rows, strict=True):
         system = load_deck(EXAMPLE, SHORT + [f"{p}={v}" for p, v in case.overrides], load_ground_motion=False).system
         if case.support == "rigid":
             assert row["T1bar_s"] == row["T1_s"] and row["xi1bar"] == 0.05
@@ -95,27 +95,17 @@ def test_ground_motion_cache_follows_the_varied_record_fields():
         assert by_input[(2.5, period)] == pytest.approx(2.5 * by_input[(1, period)], rel=1e-12)
 
 
-def test_cases_sharing_a_structure_run_as_one_batch(monkeypatch):
+def test_cases_sharing_a_structure_run_as_one_batch(batch_sizes):
     """Chunks put together the cases that differ only in foundation fields (whatever the --vary
     order), and the exact engine gets each such group as one batch; the rows equal the
     single analyses."""
-    from upliftcli.engines import exact
-
     plan = plan_sweep(EXAMPLE, ["ground_motion.window=[0, 3]"],
                       ["foundation.frequency_ratio=4,8,16", "building.period=0.4,1.2"], ["exact"], ["uplift"])
     chunks = make_chunks(plan, plan.cases, 3)
     assert [[dict(c.overrides)["building.period"] for c in chunk.cases] for chunk in chunks] == [[0.4] * 3, [1.2] * 3]
-    sizes = []
-    original = exact.iter_batch
-
-    def recording(systems, *args, **kwargs):
-        sizes.append(len(systems))
-        return original(systems, *args, **kwargs)
-
-    monkeypatch.setattr(exact, "iter_batch", recording)
     rows = [row for chunk in chunks for row in run_chunk(chunk)]
-    assert sizes == [3, 3]
-    for case, row in zip([c for chunk in chunks for c in chunk.cases], rows, strict=False):
+    assert batch_sizes == [3, 3]
+    for case, row in zip([c for chunk in chunks for c in chunk.cases], rows, strict=True):
         deck = load_deck(EXAMPLE, ["ground_motion.window=[0, 3]"] + [f"{p}={v}" for p, v in case.overrides])
         result = run_one(deck, "exact", "uplift")
         assert row["key"] == case.key and row["base_shear_N"] == result.base_shear

@@ -176,29 +176,28 @@ def _labelled(results: list[AnalysisResult]) -> tuple[list[str], list[tuple[list
     return ["engine", "support", "statistic", "record"], labelled
 
 
+def _table(results: list[AnalysisResult], chosen, index: str, position: str, positions) -> tuple[list[str], list]:
+    """(header, rows): one row per (engine, support, place), the places' positions [m] from
+    `positions(result)`, a column per quantity of `chosen` that some result has."""
+    present = [q for q in chosen if any(q.name in r.peaks for r in results)]
+    lead, labelled = _labelled(results)
+    header = [*lead, index, position] + [column_name(q.name, q.unit) for q in present]
+    rows = [[*labels, k + 1, float(x)] + [float(r.peaks[q.name][k]) if q.name in r.peaks else np.nan for q in present]
+            for labels, r in labelled for k, x in enumerate(positions(r))]
+    return header, rows
+
+
 def story_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[Any]]]:
     """(header, rows) of the story tables of all results, one row per (engine, support, story);
     units in the headers (floor quantities of floor j on story j's row); a suite's records after
     its statistic (_labelled); numbers as floats (NaN: no value)."""
-    present = [q for q in _STORY_QUANTITIES if any(q.name in r.peaks for r in results)]
-    lead, labelled = _labelled(results)
-    header = lead + ["story", "elevation_m"] + [column_name(q.name, q.unit) for q in present]
-    rows = [labels + [j + 1, float(r.elevations[j])]
-            + [float(r.peaks[q.name][j]) if q.name in r.peaks else np.nan for q in present]
-            for labels, r in labelled for j in range(r.elevations.size)]
-    return header, rows
+    return _table(results, _STORY_QUANTITIES, "story", "elevation_m", lambda r: r.elevations)
 
 
 def elements_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[Any]]]:
     """(header, rows) of the foundation tables: one row per (engine, support, contact element),
     left to right (a suite's records after its statistic, as story_table)."""
-    present = [q for q in quantities(ELEMENT) if any(q.name in r.peaks for r in results)]
-    lead, labelled = _labelled(results)
-    header = lead + ["element", "position_m"] + [column_name(q.name, q.unit) for q in present]
-    rows = [labels + [i + 1, float(r.element_positions[i])]
-            + [float(r.peaks[q.name][i]) if q.name in r.peaks else np.nan for q in present]
-            for labels, r in labelled for i in range(r.element_positions.size)]
-    return header, rows
+    return _table(results, quantities(ELEMENT), "element", "position_m", lambda r: r.element_positions)
 
 
 def _texts(rows: list[list[Any]]) -> list[list[Any]]:

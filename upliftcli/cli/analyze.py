@@ -249,7 +249,7 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
     if out is not None:
         inputs = [path for item in loaded for path in input_files(item)]
         refuse_inputs([path for deck in decks for path in result_paths(out, deck.stem)], inputs, "--out")
-    runs = [(deck, item, analysis.run(item)) for deck, item in zip(decks, loaded, strict=False)]
+    runs = [(deck, item, analysis.run(item)) for deck, item in zip(decks, loaded, strict=True)]
     records = [provenance.of_deck(item) for item in loaded]
     for deck, _, results in runs:
         _warn_suite(results, f"{deck}: ")

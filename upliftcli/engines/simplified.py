@@ -146,7 +146,7 @@ def paper_analyze(system: System, spectrum, support: str, options: SimplifiedOpt
     n = int(options.n_modes or modes.n_modes)
     periods = modes.periods[:n]
     xi = modes.damping[:n]
-    sa = np.array([spectral_acceleration(spectrum, t, d) for t, d in zip(periods, xi, strict=False)])
+    sa = np.array([spectral_acceleration(spectrum, t, d) for t, d in zip(periods, xi, strict=True)])
     base_shears = modes.effective_mass[:n] * sa  # [31]
     m_t = system.total_mass
     inter: dict = {"T_n": periods.tolist(), "Sa_n": sa.tolist(),
