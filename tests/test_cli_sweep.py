@@ -380,7 +380,7 @@ def test_sweep_refuses_engine_names_as_analyze_does(tmp_path):
 
 
 @pytest.mark.parametrize(("args", "line"), [
-    (["--workers", "abc"], "error: --workers: Input should be a valid integer, unable to parse string as an integer"),
+    (["--workers", "abc"], "error: --workers: 'abc' is not a valid int."),
     (["--table", "xls"], "error: --table: 'xls' is not one of 'json', 'parquet', 'csv'."),
     (["--format", "xml"], "error: --format: 'xml' is not one of 'table', 'json'."),
 ])
