@@ -77,6 +77,16 @@ def uplift_command(python: str) -> list[str]:
     return [str(script)] if script.exists() else [python, "-c", "from upliftcli.cli import main; main()"]
 
 
+def user_environment() -> dict:
+    """This process's environment as a user's shell has it: PYTHONDONTWRITEBYTECODE removed (set
+    on this project's machine, it makes every command compile its Python source again, about
+    1 s for an exact analysis; pip writes the .pyc files of an installation, an editable one
+    writes them at its first run)."""
+    env = dict(os.environ)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    return env
+
+
 def timed(command: list[str], env: dict | None = None, cwd: str | None = None) -> float:
     start = time.perf_counter()
     done = subprocess.run(command, env=env, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
@@ -110,11 +120,11 @@ def main() -> None:
         argv, cold, target = TARGETS[name]
         argv = [*argv, "--out", out] if argv[0] == "spectra" else argv
         if not cold and args.venv is None:
-            timed(uplift + argv, cwd=out)  # warm: the numba cache and .pyc files exist
+            timed(uplift + argv, env=user_environment(), cwd=out)  # warm: the numba cache and .pyc files exist
         times, paired = [], []
         for _ in range(1 if (cold and args.venv) else args.repeats):
-            paired.append(timed([python, "-c", "import numpy"]))
-            env = dict(os.environ)
+            paired.append(timed([python, "-c", "import numpy"], env=user_environment()))
+            env = user_environment()
             if cold and args.venv is None:
                 env["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="numba_cold_")
             times.append(timed(uplift + argv, env=env, cwd=out))
@@ -132,7 +142,7 @@ def main() -> None:
             values, steady = [], []
             for _ in range(args.repeats):
                 done = subprocess.run([python, "-c", ANALYSIS_PART, str(workers), README_DECK], capture_output=True,
-                                      text=True, check=True)
+                                      text=True, check=True, env=user_environment())
                 seconds, rate = (float(x) for x in done.stdout.split())
                 values.append(seconds)
                 steady.append(rate)
