@@ -10,6 +10,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .stepping_kernels import copy_into
+
 
 @njit(cache=True)
 def _quintic_extremum(p0, p1, d0, d1, c0, c1):
@@ -65,11 +67,11 @@ def evaluate_signals(states, ids, rows_t, values, slopes, ends):
     for i in range(n):
         s = ids[i]
         _accumulate(states, i, rows_t[s], acc)
-        values[i, :] = acc[:k]
-        slopes[i, :] = acc[k:]
+        copy_into(values[i], acc[:k])
+        copy_into(slopes[i], acc[k:])
         if i + 1 < n and ids[i + 1] != s:
             _accumulate(states, i + 1, rows_t[s], acc)
-            ends[n_switch, :] = acc
+            copy_into(ends[n_switch], acc)
             n_switch += 1
 
 

@@ -35,6 +35,15 @@ REFINE_LEVELS = 5
 
 
 @njit(cache=True, inline="always")
+def copy_into(destination, source):
+    """destination[j] = source[j] for a 1-D source: an explicit loop, because a slice assignment
+    from an array makes numba compile its shape-mismatch message (string formatting: about 3 s of
+    the first run after installing)."""
+    for j in range(source.size):
+        destination[j] = source[j]
+
+
+@njit(cache=True, inline="always")
 def _matvec(matrix_t, x, out):
     """out = M x from the transposed matrix M^T, column by column: the inner loop runs along
     contiguous memory without a reduction, so it vectorises (3x faster than row dot products)."""
@@ -124,12 +133,12 @@ def _crossing(ops_s, events_s, x, level, chunk, n_levels, left, trial, right):
     operators down to h / 2^L (left, right: its ends), then place it by linear interpolation
     of each event function inside that last sliver. Returns (start, fraction): the crossing
     is at start + fraction * chunk[L] from x."""
-    left[:] = x
+    copy_into(left, x)
     start = 0.0
     for j in range(level + 1, n_levels + 1):
         _matvec(ops_s[j], left, trial)
         if _max_event(events_s, trial) <= EVENT_TOLERANCE:
-            left[:] = trial
+            copy_into(left, trial)
             start += chunk[j]
     _matvec(ops_s[n_levels], left, right)
     # earliest crossing inside the last sliver, linear interpolation of each g_i
@@ -226,7 +235,7 @@ def integrate(states, elements, grid, samples, state, step, offset, n_out):
                 _matvec(ops_s[level], x, trial)
                 crossed = _max_event(events_s, trial) > EVENT_TOLERANCE
             if not crossed:
-                x[:] = trial
+                copy_into(x, trial)
                 offset += chunk[level]
                 continue
             start, fraction = _crossing(ops_s, events_s, x, level, chunk, n_levels, left, trial, right)
@@ -244,7 +253,7 @@ def integrate(states, elements, grid, samples, state, step, offset, n_out):
             if events_in_step >= MAX_EVENTS_PER_STEP:
                 return CHATTER, step, offset, state, n_out, pattern
             out_t[n_out] = step * h + offset
-            out_x[n_out, :] = x
+            copy_into(out_x[n_out], x)
             out_state[n_out] = state
             n_out += 1
         step += 1
@@ -260,7 +269,7 @@ def integrate(states, elements, grid, samples, state, step, offset, n_out):
         if not finite:
             return NONFINITE, step, offset, state, n_out, states.patterns[state]
         out_t[n_out] = step * h
-        out_x[n_out, :] = x
+        copy_into(out_x[n_out], x)
         out_state[n_out] = state
         n_out += 1
     return DONE, step, offset, state, n_out, states.patterns[state]
