@@ -1,0 +1,197 @@
+"""Tests of motion/readers.py, one reader per format (PEER .AT2, plain text, CSV, the headered
+files of records/), through read_record, and their bad input named by file and line."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from upliftcli.errors import InputError
+from upliftcli.motion.readers import detect_format, separated
+from upliftcli.motion.records import bundled_records_dir, read_record
+from upliftcli.units import STANDARD_GRAVITY
+
+G = STANDARD_GRAVITY
+VALUES = np.array([0.0, 0.01, -0.02, 0.03, -0.015, 0.005, 0.0, 0.002, -0.001, 0.0, 0.004])
+
+
+def write(tmp_path, name, text):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def at2_text(values, npts=None, dt="0.0100", per_line=5, units_line="ACCELERATION TIME SERIES IN UNITS OF G"):
+    rows = [" ".join(f"{value:15.7E}" for value in values[i:i + per_line]) for i in range(0, len(values), per_line)]
+    npts = len(values) if npts is None else npts
+    header = ["PEER NGA STRONG MOTION DATABASE RECORD", "Test event 2000-01-01, Station X, 090", units_line,
+              f"NPTS=  {npts}, DT=   {dt} SEC"]
+    return "\n".join(header + rows) + "\n"
+
+
+def test_bundled_elcentro_in_shared_format():
+    path = bundled_records_dir() / "elcentro_1940_ns_chopra.txt"
+    assert detect_format(path) == "shared"
+    record = read_record(path)
+    assert (record.npts, record.dt, record.units) == (1560, 0.02, "g")
+    assert record.duration == pytest.approx(31.18)
+    assert record.pga / G == pytest.approx(0.31882, abs=1e-12)
+    assert record.time[102] == pytest.approx(2.04)
+    assert abs(record.acceleration[102]) == pytest.approx(record.pga)
+    raw = np.loadtxt(path)
+    np.testing.assert_array_equal(record.acceleration, raw[:, 1] * G)
+
+
+def test_at2_reader(tmp_path):
+    path = write(tmp_path, "small.AT2", at2_text(VALUES))
+    assert detect_format(path) == "at2"
+    record = read_record(path)
+    assert record.dt == 0.01 and record.npts == VALUES.size and record.units == "g"
+    np.testing.assert_allclose(record.acceleration, VALUES * G, rtol=1e-7, atol=1e-12)
+    assert record.name.startswith("Test event")
+    # the old header layout "npts dt NPTS, DT" and a .txt extension with format given
+    old = at2_text(VALUES).replace(f"NPTS=  {VALUES.size}, DT=   0.0100 SEC", f"{VALUES.size}   0.0100   NPTS, DT")
+    record = read_record(write(tmp_path, "old.txt", old), format="at2")
+    assert record.dt == 0.01 and record.npts == VALUES.size
+
+
+def test_at2_npts_mismatch_and_bad_dt(tmp_path):
+    with pytest.raises(InputError, match=r"bad\.AT2: line 4: NPTS = 12 .* found 11"):
+        read_record(write(tmp_path, "bad.AT2", at2_text(VALUES, npts=12)))
+    with pytest.raises(InputError, match=r"line 4: a time step 0 < dt <= 10 s"):
+        read_record(write(tmp_path, "zero.AT2", at2_text(VALUES, dt="0.0")))
+    with pytest.raises(InputError, match=r"line 4"):
+        read_record(write(tmp_path, "noheader.AT2", at2_text(VALUES).replace("NPTS=", "N=").replace("DT=", "T=")))
+
+
+def test_text_single_and_multi_column(tmp_path):
+    single = "# test record\n# dt = 0.005 s\n# units: cm/s2\n" + "\n".join(str(v) for v in VALUES) + "\n"
+    record = read_record(write(tmp_path, "single.txt", single))
+    assert record.dt == 0.005 and record.units == "cm/s2"
+    np.testing.assert_allclose(record.acceleration, VALUES * 0.01)
+    multi = "\n".join("  ".join(str(v) for v in VALUES[i:i + 4]) for i in range(0, VALUES.size, 4)) + "\n"
+    record = read_record(write(tmp_path, "multi.dat", multi), units="in/s2", dt=0.02)
+    np.testing.assert_allclose(record.acceleration, VALUES * 0.0254)
+    assert record.npts == VALUES.size and record.dt == 0.02
+    with pytest.raises(InputError, match=r"multi\.dat: dt: a time step"):
+        read_record(tmp_path / "multi.dat", units="g")
+    with pytest.raises(InputError, match=r"multi\.dat: units: acceleration units"):
+        read_record(tmp_path / "multi.dat", dt=0.01)
+
+
+def test_csv_reader_and_units_from_column_name(tmp_path):
+    rows = "\n".join(f"{i * 0.01:.2f},{v}" for i, v in enumerate(VALUES))
+    record = read_record(write(tmp_path, "rec.csv", "time,acc (g)\n" + rows + "\n"))
+    assert record.dt == pytest.approx(0.01) and record.units == "g"
+    np.testing.assert_allclose(record.acceleration, VALUES * G)
+    record = read_record(write(tmp_path, "rec2.csv", "time_s,accel_m/s2\n" + rows + "\n"))
+    assert record.units == "m/s2"
+    np.testing.assert_allclose(record.acceleration, VALUES)
+
+
+@pytest.mark.parametrize("content, line", [
+    ("# dt = 0.01\n# units: g\n0.1\n0.2\nnan\n", 5),
+    ("# dt = 0.01\n# units: g\n0.1 0.2\n0.3 inf\n", 4),
+    ("# dt = 0.01\n# units: g\n0.1\n0.2\n0.3 abc\n", 5),
+    ("# dt = 0.01\n# units: g\n# npts = 4\n0.1\n0.2\n0.3\n", 3),
+    ("# dt = -0.01\n# units: g\n0.1\n0.2\n", 1),
+])
+def test_bad_text_names_the_line(tmp_path, content, line):
+    path = write(tmp_path, "bad.txt", content)
+    with pytest.raises(InputError, match=rf"bad\.txt: line {line}: "):
+        read_record(path)
+
+
+def test_bad_csv_time_column(tmp_path):
+    path = write(tmp_path, "nonuniform.csv", "t,a\n0.0,0.1\n0.01,0.2\n0.025,0.3\n0.03,0.1\n")
+    with pytest.raises(InputError, match=r"nonuniform\.csv: line 4: a uniform time step"):
+        read_record(path, units="g")
+    path = write(tmp_path, "backwards.csv", "0.03,0.1\n0.02,0.2\n0.01,0.3\n")
+    with pytest.raises(InputError, match=r"backwards\.csv: line 2: increasing times"):
+        read_record(path, units="g")
+
+
+def test_csv_times_rounded_in_print_are_accepted(tmp_path):
+    rows = "\n".join(f"{i / 300:.4f},{v}" for i, v in enumerate(VALUES))  # steps 0.0033 / 0.0034
+    record = read_record(write(tmp_path, "rounded.csv", rows + "\n"), units="g")
+    assert record.dt == pytest.approx(1 / 300, rel=1e-3)
+
+
+def test_at2_units_from_header_other_than_g(tmp_path):
+    path = write(tmp_path, "cm.AT2", at2_text(VALUES, units_line="ACCELERATION TIME SERIES IN UNITS OF CM/SEC/SEC"))
+    record = read_record(path)
+    assert record.units == "cm/s2"
+    np.testing.assert_allclose(record.acceleration, VALUES * 0.01, rtol=1e-7, atol=1e-14)
+
+
+# ----------------------------------------------------------------------------- nonsense refused (issue 13)
+
+
+def test_a_byte_order_mark_is_accepted_in_text_and_csv_records(tmp_path):
+    text = write(tmp_path, "bom.txt", "\ufeff# dt = 0.01\n# units: g\n0.1\n-0.2\n0.3\n")
+    record = read_record(text)
+    np.testing.assert_allclose(record.acceleration, np.array([0.1, -0.2, 0.3]) * G)
+    csv = write(tmp_path, "bom.csv", "\ufefftime,acc\n0,0.1\n0.01,0.2\n")
+    assert read_record(csv, units="g").npts == 2
+
+
+def test_a_decimal_comma_is_refused_not_split_in_two(tmp_path):
+    path = write(tmp_path, "comma.txt", "# dt = 0.01\n# units: g\n0,05\n0,07\n")
+    with pytest.raises(InputError, match=r"comma.txt: line 3: numbers with a decimal point, got '0,05'"):
+        read_record(path)
+    # commas between numbers with decimal points still separate values
+    assert read_record(write(tmp_path, "list.txt", "# dt = 0.01\n# units: g\n0.05,0.07, 0.1\n")).npts == 3
+
+
+def test_devices_directories_and_binary_files_are_refused_quickly(tmp_path):
+    import time
+
+    start = time.perf_counter()
+    with pytest.raises(InputError, match=r"^/dev/zero: a record file of at most 64 MiB"):
+        read_record("/dev/zero", units="g", dt=0.01)
+    assert time.perf_counter() - start < 10.0
+    with pytest.raises(InputError, match="this is a directory"):
+        read_record(tmp_path, units="g", dt=0.01)
+    binary = tmp_path / "b.txt"
+    binary.write_bytes(b"0.1\n\x00\x00\n")
+    with pytest.raises(InputError, match="NUL bytes found"):
+        read_record(binary, units="g", dt=0.01)
+
+
+def test_sample_limit(tmp_path, monkeypatch):
+    from upliftcli.motion import readers
+
+    monkeypatch.setattr(readers, "MAX_RECORD_SAMPLES", 5)
+    assert read_record(write(tmp_path, "five.txt", "# dt = 0.01\n# units: g\n1 2 3 4 5\n")).npts == 5
+    with pytest.raises(InputError, match=r"six.txt: line 3: at most 5 samples"):
+        read_record(write(tmp_path, "six.txt", "# dt = 0.01\n# units: g\n1 2 3 4 5 6\n"))
+    with pytest.raises(InputError, match=r"six.csv: line 7: at most 5 samples"):
+        read_record(write(tmp_path, "six.csv", "t,a\n" + "".join(f"{0.01 * i},{i}\n" for i in range(6))), units="g")
+
+
+@pytest.mark.parametrize(("name", "line", "what"), [
+    ("RSN1_VEL.VT2", "VELOCITY TIME SERIES IN UNITS OF CM/S", "velocity"),
+    ("RSN1_DIS.DT2", "DISPLACEMENT TIME SERIES IN UNITS OF CM", "displacement"),
+    ("renamed.AT2", "VELOCITY TIME SERIES IN UNITS OF CM/S", "velocity"),
+    ("RSN1_VEL.VT2", "ACCELERATION TIME SERIES IN UNITS OF G", "velocity"),  # the extension says so
+])
+def test_peer_velocity_and_displacement_files_are_named_for_what_they_are(tmp_path, name, line, what):
+    path = write(tmp_path, name, at2_text(VALUES, units_line=line))
+    assert detect_format(path) == "at2"
+    with pytest.raises(InputError) as info:
+        read_record(path)
+    message = str(info.value)
+    assert message.startswith(f"{path}: line 3: an acceleration history (PEER .AT2); this is a {what} history")
+    assert "\n" not in message
+
+
+def test_fixed_width_values_that_touch_are_two_values(tmp_path):
+    rows = ["1.71300E-02-3.43000E-03 2.00000E-02", "-1.00000E-02-2.50000D-03+4.00000E-04", "0.5-0.25"]
+    expected = [1.713e-2, -3.43e-3, 2e-2, -1e-2, -2.5e-3, 4e-4, 0.5, -0.25]
+    header = ["PEER NGA STRONG MOTION DATABASE RECORD", "event", "ACCELERATION TIME SERIES IN UNITS OF G",
+              f"NPTS=  {len(expected)}, DT=   0.0100 SEC"]
+    record = read_record(write(tmp_path, "touch.AT2", "\n".join(header + rows) + "\n"))
+    np.testing.assert_array_equal(record.acceleration, np.array(expected) * G)
+    text = read_record(write(tmp_path, "touch.txt", "# dt = 0.01\n# units: g\n" + "\n".join(rows) + "\n"))
+    np.testing.assert_array_equal(text.acceleration, record.acceleration)
+    assert separated("1.0E-05 2.0D+03") == "1.0E-05 2.0D+03"  # exponents are not split
