@@ -344,3 +344,30 @@ def test_energy_balance_closes_when_lifted_elements_relax_within_a_step(elcentro
     assert result.uplift
     assert result.intermediates["energy_residual"] < 5e-4
     assert "steps_per_period" not in result.intermediates  # no refinement was needed
+
+
+def test_the_size_check_and_the_analysis_build_one_model(monkeypatch):
+    """analysis.run checks the steps x states of a deck before the engine runs it: both use the
+    same model (engine.model_for), built once per system, support and options."""
+    from upliftcli import analysis
+    from upliftcli.deck import load_deck
+    from upliftcli.engines.exact import statespace
+
+    built = []
+    original = statespace.state_space
+
+    def counting(model):
+        built.append(model)
+        return original(model)
+
+    monkeypatch.setattr(exact, "_MODELS", {})
+    monkeypatch.setattr(statespace, "state_space", counting)
+    deck = load_deck(INPUTS / "ten_story_elcentro.toml", ['analysis.engine="exact"', "ground_motion.window=[0, 2]",
+                                                          'analysis.supports=["bonded", "uplift"]'])
+    results = analysis.run(deck)
+    assert len(built) == 2 and len(results) == 2  # one model per support, not one for the check and one to run
+    system = deck.system
+    first = exact.model_for(system, "uplift", deck.analysis.exact)
+    assert len(built) == 2 and exact.model_for(system, "uplift", deck.analysis.exact) is first
+    assert exact.model_for(system, "uplift", replace(deck.analysis.exact, steps_per_period=12)) is not first
+    assert len(built) == 3

@@ -99,11 +99,9 @@ def _check_step_states(deck: Deck, engine: Engine, support: str, record: Record)
     options = deck.analysis.exact
     build = approximate_model if engine.name == "approximate" else exact_model
     try:
-        space = build(deck.system, support, options)
+        space, samples, steps = exact.size_estimate(deck.system, record.dt, record.npts, support, options, build)
     except ValueError as error:
         raise InputError(deck.source, "analysis.exact.n_modes", str(error)) from None
-    samples = record.npts + (math.ceil(options.free_vibration / record.dt) if options.free_vibration > 0 else 0)
-    steps = exact.substeps_for(space, record.dt, options) * (samples - 1)
     problem = limits.step_states_problem(steps, space.layout.n_aug)
     if problem is None:
         return

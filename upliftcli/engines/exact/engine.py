@@ -80,6 +80,35 @@ def _checked_substeps(space: StateSpace, samples: int, dt: float, options: Exact
 #: approximate engine's)
 ModelBuilder = Callable[[System, str, ExactOptions], StateSpace]
 
+#: the models built last, (id(system), support, options, builder) -> (system, model): the size
+#: check before an analysis (size_estimate) and the analysis build each model once. The entry
+#: holds the system, so its id cannot be reused while it is kept.
+_MODELS: dict[tuple, tuple[System, StateSpace]] = {}
+MODELS_KEPT = 16
+
+
+def model_for(system: System, support: str, options: ExactOptions, model: ModelBuilder = exact_model) -> StateSpace:
+    """model(system, support, options), built once for the last MODELS_KEPT requests."""
+    key = (id(system), support, options, model)
+    kept = _MODELS.get(key)
+    if kept is not None and kept[0] is system:
+        return kept[1]
+    space = model(system, support, options)
+    while len(_MODELS) >= MODELS_KEPT:
+        _MODELS.pop(next(iter(_MODELS)))
+    _MODELS[key] = (system, space)
+    return space
+
+
+def size_estimate(system: System, dt: float, samples: int, support: str, options: ExactOptions,
+                  model: ModelBuilder = exact_model) -> tuple[StateSpace, int, int]:
+    """(model, record samples with the free vibration, internal steps) of an analysis of a
+    record of `samples` samples at step dt [s], before anything is allocated."""
+    space = model_for(system, support, options, model)
+    if options.free_vibration > 0.0:
+        samples += math.ceil(options.free_vibration / dt)
+    return space, samples, substeps_for(space, dt, options) * (samples - 1)
+
 
 def _rigid_key(system: System) -> tuple:
     """What a fixed-base analysis depends on: the building, m_t, g (and I_0, kept for safety);
@@ -119,7 +148,7 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
         runs: list[tuple[int, StateSpace, int]] = []  # (system, its model, sub-steps per record step)
         for k in shared:
             try:
-                space = model(systems[k], support, options)
+                space = model_for(systems[k], support, options, model)
                 runs.append((k, space, _checked_substeps(space, acceleration.size, record.dt, options)))
             except (AnalysisError, InputError) as error:
                 yield from outcomes(k, error)
