@@ -15,7 +15,6 @@ import math
 
 import numpy as np
 
-from ...model.interaction import impedance
 from ...model.system import System
 from ..options import ExactOptions
 from ..result import AnalysisResult
@@ -83,10 +82,10 @@ class Digest:
         sig = signals(chunk)
         lengths = chunk.lengths
         peaks, where = hermite_peaks(sig, self.stacked, lengths, self.periods)
-        self._keep("stacked", peaks, np.array([time_at(chunk, w) for w in where]))
+        self._keep("stacked", peaks, time_at(chunk, where))
         acceleration, where = hermite_peaks(sig, self.rows.acceleration, lengths, self.acceleration_periods,
                                             self.rows.acceleration_rate)
-        self._keep("floor_acceleration", acceleration, np.array([time_at(chunk, w) for w in where]))
+        self._keep("floor_acceleration", acceleration, time_at(chunk, where))
         for name, (peak, when) in reaction_peaks(chunk, sig).items():
             self._keep(name, peak, when)
         for name, value in uplift_summary(chunk, sig).items():
@@ -151,7 +150,7 @@ class Digest:
             "energy_residual": energy["relative_residual"],
         }
         if model.flexible:
-            intermediates.update(impedance(system))  # the foundation model of every engine
+            intermediates.update(model.impedance)  # the foundation model of every engine, as built
         for name in ("uplift_time", "episodes", "max_rotation", "max_uplift_left", "max_uplift_right",
                      "min_reaction"):
             if name in summary:

@@ -153,12 +153,14 @@ def hermite_peaks(sig: Signals, rows: np.ndarray, lengths: np.ndarray, periods: 
                                           lengths, fractions)
 
 
-def time_at(history: History, location: float) -> float:
-    """Time [s] at an interval index + fraction."""
-    i = int(np.floor(location))
-    if i >= history.times.size - 1:
-        return float(history.times[-1])
-    return float(history.times[i] + (location - i) * (history.times[i + 1] - history.times[i]))
+def time_at(history: History, locations: np.ndarray) -> np.ndarray:
+    """Times [s] at interval indices + fractions (the last sample's time at or past the end)."""
+    times = history.times
+    locations = np.asarray(locations, dtype=float)
+    i = np.minimum(np.floor(locations).astype(np.int64), times.size - 1)
+    inside = i < times.size - 1
+    j = np.where(inside, i + 1, i)
+    return np.where(inside, times[i] + (locations - i) * (times[j] - times[i]), times[-1])
 
 
 def element_reactions(history: History, sig: Signals) -> tuple[np.ndarray, np.ndarray]:

@@ -45,6 +45,8 @@ class ModalModel:
         excitation not carried by the coupled modes.
     total_mass: m_t [kg] (vertical equation). gravity: g [m/s^2].
     elements: the foundation's contact elements; None for a rigid (fixed) base.
+    impedance: the foundation model the elements were built with (interaction.impedance:
+        K_theta, C_theta at omega_impedance, k and c of the edge elements); None for a rigid base.
     """
 
     omega: np.ndarray
@@ -57,6 +59,7 @@ class ModalModel:
     total_mass: float
     gravity: float
     elements: ContactElements | None
+    impedance: dict[str, float] | None = None
 
     @property
     def n_modes(self) -> int:
@@ -88,10 +91,11 @@ def modal_model(system: System, support: str, n_modes: int, coupled_modes: int |
     if abs(first_moment_residual) < 1e-12 * system.first_moment:
         first_moment_residual = 0.0
     # the impedance at the flexible-base frequency, as in every engine (model/interaction.py)
-    omega = impedance(system)["omega_impedance"] if flexible else None
-    elements = system.foundation.contact_elements(system.half_width, omega) if flexible else None
+    foundation = impedance(system) if flexible else None
+    elements = system.foundation.contact_elements(system.half_width, foundation["omega_impedance"]) if flexible \
+        else None
     return ModalModel(modes.omega, modes.damping, modes.effective_mass, modes.effective_height, coupled,
-                      theta_inertia, first_moment_residual, system.total_mass, system.gravity, elements)
+                      theta_inertia, first_moment_residual, system.total_mass, system.gravity, elements, foundation)
 
 
 def governing_period(model: ModalModel) -> float:
