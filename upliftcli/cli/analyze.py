@@ -305,10 +305,10 @@ def modes(
     plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
 ) -> None:
     """Fixed-base modes: periods, w_n/w_1, effective masses m_n*/m_t (and cumulative), heights h_n*, h_n*/b."""
-    import numpy as np
     from rich.markup import escape
 
     from ..deck import load_deck
+    from ..model.system import MODE_ROW_UNITS, fixed_base_mode_rows
     from ..output import to_jsonable
     from . import render
 
@@ -318,19 +318,10 @@ def modes(
     if plot is not None:
         plotting.modes_plots(loaded, plot, deck.stem, formats)
     if output_format is OutputFormat.json:
-        m = system.modes
-        m_t = system.total_mass
         document = {
-            "source": loaded.source, "total_mass": m_t, "half_width": system.half_width,
-            "units": {"period": "s", "total_mass": "kg", "half_width": "m", "effective_height": "m"},
-            "modes": [
-                {"mode": i + 1, "period": m.periods[i], "frequency_ratio": m.omega[i] / m.omega[0],
-                 "effective_mass_ratio": m.effective_mass[i] / m_t,
-                 "cumulative_mass_ratio": float(np.sum(m.effective_mass[: i + 1]) / m_t),
-                 "effective_height": m.effective_height[i],
-                 "effective_height_over_b": m.effective_height[i] / system.half_width}
-                for i in range(m.n_modes)
-            ],
+            "source": loaded.source, "total_mass": system.total_mass, "half_width": system.half_width,
+            "units": {"total_mass": "kg", "half_width": "m", **MODE_ROW_UNITS},
+            "modes": fixed_base_mode_rows(system),
         }
         typer.echo(json.dumps(to_jsonable(document), indent=2))
         return

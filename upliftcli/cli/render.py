@@ -23,7 +23,7 @@ from rich.text import Text
 from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, QUANTITIES, STORY, quantities
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
-from ..model.system import System
+from ..model.system import System, fixed_base_mode_rows
 
 #: floor and story quantities in table order
 STORY_QUANTITIES = [q for q in QUANTITIES.values() if q.where in (FLOOR, STORY)]
@@ -153,20 +153,18 @@ def fit_table(table: Table, width: int) -> list[Table]:
 
 def modes_table(system: System, n_modes: int | None = None) -> Table:
     """Periods, w_n/w_1, m_n*/m_t (and cumulative), h_n* and h_n*/b (docs/theory.md sections 5, 6)."""
-    modes = system.modes
-    n = n_modes or modes.n_modes
+    rows = fixed_base_mode_rows(system)[:n_modes]
     m_t = system.total_mass
-    cumulative = np.cumsum(modes.effective_mass) / m_t
     table = Table(title=escape(f"Fixed-base modes (m_t = {m_t:.6g} kg, b = {system.half_width:.4g} m)"))
     for header in ("mode", "T_n [s]", "w_n/w_1", "m_n*/m_t", "cumulative", "h_n* [m]", "h_n*/b"):
         table.add_column(escape(header), justify="right")
     if system.mat_mass > 0.0:
         table.caption = escape(f"m_t includes the mat mass m_0 = {system.mat_mass:.6g} kg: the m_n* add up to "
                                f"the building mass, {1 - system.mat_mass / m_t:.4f} m_t")
-    for i in range(n):
-        table.add_row(str(i + 1), f"{modes.periods[i]:.4f}", f"{modes.omega[i] / modes.omega[0]:.3f}",
-                      f"{modes.effective_mass[i] / m_t:.4f}", f"{cumulative[i]:.4f}",
-                      f"{modes.effective_height[i]:.3f}", f"{modes.effective_height[i] / system.half_width:.3f}")
+    for row in rows:
+        table.add_row(str(row["mode"]), f"{row['period']:.4f}", f"{row['frequency_ratio']:.3f}",
+                      f"{row['effective_mass_ratio']:.4f}", f"{row['cumulative_mass_ratio']:.4f}",
+                      f"{row['effective_height']:.3f}", f"{row['effective_height_over_b']:.3f}")
     return table
 
 

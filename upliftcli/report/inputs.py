@@ -10,6 +10,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from .. import deck_schema as schema
+from ..model.system import fixed_base_mode_rows
 from ..units import STANDARD_GRAVITY
 from .document import Pre, Section, Table, Text, number
 from .provenance import sha256
@@ -158,12 +159,11 @@ def motion_section(deck) -> Section:
 def modes_section(deck) -> Section:
     """Fixed-base modes: T_n, w_n/w_1, m_n*/m_t (and cumulative), h_n*, h_n*/b [6, 9]."""
     system = deck.system
-    modes = system.modes
     m_t = system.total_mass
-    cumulative = np.cumsum(modes.effective_mass) / m_t
-    rows = [[str(n + 1), number(modes.periods[n]), number(modes.omega[n] / modes.omega[0], 4),
-             number(modes.effective_mass[n] / m_t, 4), number(cumulative[n], 4), number(modes.effective_height[n]),
-             number(modes.effective_height[n] / system.half_width, 4)] for n in range(modes.n_modes)]
+    rows = [[str(row["mode"]), number(row["period"]), number(row["frequency_ratio"], 4),
+             number(row["effective_mass_ratio"], 4), number(row["cumulative_mass_ratio"], 4),
+             number(row["effective_height"]), number(row["effective_height_over_b"], 4)]
+            for row in fixed_base_mode_rows(system)]
     note = "" if system.mat_mass == 0 else (f"m_t includes the mat mass m_0: the m_n* add up to the building mass, "
                                             f"{1 - system.mat_mass / m_t:.4f} m_t.")
     return Section("modes", "Fixed-base modes", [Table(
