@@ -24,7 +24,9 @@ def invoke(*args, env=None):
 def test_modes_table_reproduces_the_paper():
     result = invoke("modes", EXAMPLE, "--format", "json")
     assert result.exit_code == 0, result.output
-    modes = json.loads(result.stdout)["modes"]
+    document = json.loads(result.stdout)
+    modes = document["modes"]
+    assert [entry["role"] for entry in document["provenance"]["files"]] == ["deck"]  # no record is read
     np.testing.assert_allclose([m["frequency_ratio"] for m in modes[:5]], [1, 2.98, 4.89, 6.69, 8.34], atol=0.01)
     np.testing.assert_allclose([m["effective_mass_ratio"] for m in modes[:5]], [0.844, 0.091, 0.031, 0.014, 0.007],
                                atol=0.005)

@@ -321,7 +321,7 @@ def modes(
         document = {
             "source": loaded.source, "total_mass": system.total_mass, "half_width": system.half_width,
             "units": {"total_mass": "kg", "half_width": "m", **MODE_ROW_UNITS},
-            "modes": fixed_base_mode_rows(system),
+            "modes": fixed_base_mode_rows(system), "provenance": provenance.of_deck(loaded),
         }
         typer.echo(json.dumps(to_jsonable(document), indent=2))
         return
