@@ -97,42 +97,44 @@ def hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns,
     rate_columns[q]] and curvature s_q'' = slopes[:, curvature_columns[q]] (Y* with its rate
     and curvature; for accelerations also Y*' with its own). end_values[switch[i]],
     end_slopes[switch[i]]: left limits at the end of an interval i that ends at a transition
-    (rates may jump there); rows_t (n_basis, m) = R^T. Responses are formed on the fly (never
-    stored); only intervals with an end sample at or above `fractions[j]` of the sampled peak
+    (rates may jump there); rows_t (n_basis, m) = R^T. Only intervals with an end sample at or above `fractions[j]` of the sampled peak
     of response j can hold its peak (fractions[j] <= cos(omega h / 2) for the highest
-    frequency omega that matters in response j) and are searched between samples.
+    frequency omega that matters in response j) and are searched between samples, and every
+    interval that ends at a transition (its left limit is not a sample). The responses at the
+    samples are kept for the chunk, (n, m) doubles.
     """
     n = values.shape[0]
     n_b, m = rows_t.shape
     best = np.zeros(m)
     where = np.zeros(m)
-    r0 = np.empty(m)
     r1 = np.empty(m)
-    # pass 1: sampled peaks; flag the samples within the fraction of the running peak of some
-    # response (a superset of those within the fraction of the final peak)
-    flagged = np.zeros(n, dtype=np.bool_)
+    # pass 1: every response at every sample (kept) and its sampled peak
+    sampled = np.empty((n, m))
     for i in range(n):
-        _combine(values[i], value_columns, rows_t, r0)
+        _combine(values[i], value_columns, rows_t, sampled[i])
         for j in range(m):
-            v = abs(r0[j])
+            v = abs(sampled[i, j])
             if v > best[j]:
                 best[j] = v
                 where[j] = i
-            if v >= fractions[j] * best[j]:
-                flagged[i] = True
-    # pass 2: between samples, on the intervals with a flagged end
+    # the samples within the fraction of the peak of some response
     threshold = fractions * best
-    ready = -1  # the sample whose responses r0 holds
+    flagged = np.zeros(n, dtype=np.bool_)
+    for i in range(n):
+        for j in range(m):
+            if abs(sampled[i, j]) >= threshold[j]:
+                flagged[i] = True
+                break
+    # pass 2: between samples, on the intervals with a flagged end or ending at a transition
     for i in range(n - 1):
-        if not (flagged[i] or flagged[i + 1]):
-            continue
-        if ready != i:
-            _combine(values[i], value_columns, rows_t, r0)
         fix = switch[i]
+        if not (flagged[i] or flagged[i + 1] or fix >= 0):
+            continue
+        r0 = sampled[i]
         if fix >= 0:  # the interval ends at a transition: its left limit
             _combine(end_values[fix], value_columns, rows_t, r1)
         else:
-            _combine(values[i + 1], value_columns, rows_t, r1)
+            copy_into(r1, sampled[i + 1])
         for j in range(m):
             if abs(r0[j]) < threshold[j] and abs(r1[j]) < threshold[j]:
                 continue
@@ -155,11 +157,6 @@ def hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns,
             if value > best[j]:
                 best[j] = value
                 where[j] = i + s
-        if fix >= 0:
-            ready = -1
-        else:
-            r0, r1 = r1, r0
-            ready = i + 1
     return best, where
 
 
