@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from test_readers import VALUES, write  # a small record and a file writer, shared
 
 from upliftcli.errors import InputError
 from upliftcli.motion.records import (
@@ -19,21 +20,6 @@ from upliftcli.motion.records import (
 from upliftcli.units import STANDARD_GRAVITY
 
 G = STANDARD_GRAVITY
-VALUES = np.array([0.0, 0.01, -0.02, 0.03, -0.015, 0.005, 0.0, 0.002, -0.001, 0.0, 0.004])
-
-
-def write(tmp_path, name, text):
-    path = tmp_path / name
-    path.write_text(text)
-    return path
-
-
-def at2_text(values, npts=None, dt="0.0100", per_line=5, units_line="ACCELERATION TIME SERIES IN UNITS OF G"):
-    rows = [" ".join(f"{value:15.7E}" for value in values[i:i + per_line]) for i in range(0, len(values), per_line)]
-    npts = len(values) if npts is None else npts
-    header = ["PEER NGA STRONG MOTION DATABASE RECORD", "Test event 2000-01-01, Station X, 090", units_line,
-              f"NPTS=  {npts}, DT=   {dt} SEC"]
-    return "\n".join(header + rows) + "\n"
 
 
 def test_scale_units_and_window(tmp_path):
