@@ -97,11 +97,11 @@ def hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns,
     rate_columns[q]] and curvature s_q'' = slopes[:, curvature_columns[q]] (Y* with its rate
     and curvature; for accelerations also Y*' with its own). end_values[switch[i]],
     end_slopes[switch[i]]: left limits at the end of an interval i that ends at a transition
-    (rates may jump there); rows_t (n_basis, m) = R^T. Only intervals with an end sample at or above `fractions[j]` of the sampled peak
-    of response j can hold its peak (fractions[j] <= cos(omega h / 2) for the highest
-    frequency omega that matters in response j) and are searched between samples, and every
-    interval that ends at a transition (its left limit is not a sample). The responses at the
-    samples are kept for the chunk, (n, m) doubles.
+    (rates may jump there); rows_t (n_basis, m) = R^T. The peak of response j can lie between
+    two samples only if one of them is at least `fractions[j]` of its sampled peak
+    (fractions[j] <= cos(omega h / 2) for the highest frequency omega that matters in
+    response j): those intervals are searched, and every interval that ends at a transition
+    (its left limit is not a sample). The responses at the samples are kept, (n, m) doubles.
     """
     n = values.shape[0]
     n_b, m = rows_t.shape
