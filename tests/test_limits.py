@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from upliftcli import limits
+from upliftcli.errors import InputError
 from upliftcli.motion.spectra import response_spectrum, substeps
 
 
@@ -62,3 +63,20 @@ def test_read_limited_stops_at_the_limit(tmp_path):
         limits.read_limited("/dev/zero", 2**20)  # endless: refused after reading the limit
     assert time.perf_counter() - start < 5.0
     assert isinstance(io.BytesIO(limits.read_limited(path, 1000)).read(), bytes)
+
+
+def test_every_input_file_is_read_within_its_limit(tmp_path):
+    """Decks, records and spectrum tables share one bounded read: a device such as /dev/zero is
+    refused at the limit, a directory or a missing file named as such."""
+    from upliftcli.limits import read_input
+    from upliftcli.motion.design_spectra import from_mapping
+
+    with pytest.raises(InputError, match=r"^/dev/zero: a deck file of at most 16 MiB \(limit of the tool\)$"):
+        read_input("/dev/zero", limits.MAX_DECK_BYTES, "/dev/zero", None, "deck file")
+    with pytest.raises(InputError, match=r": a record file \(this is a directory\)$"):
+        read_input(tmp_path, limits.MAX_RECORD_BYTES, str(tmp_path), None, "record file")
+    with pytest.raises(InputError, match=r"an existing record file \(file not found\)$"):
+        read_input(tmp_path / "none.txt", limits.MAX_RECORD_BYTES, "r.txt", None, "record file")
+    deck = str(tmp_path / "deck.toml")
+    with pytest.raises(InputError, match=r"spectrum\.file: a spectrum table \('/dev/zero'\) of at most 64 MiB"):
+        from_mapping({"type": "table", "file": "/dev/zero", "damping": 0.05}, deck)

@@ -24,7 +24,7 @@ from . import deck_schema as schema
 from .deck_overrides import ALTERNATIVES, FOUNDATION_FIELDS, apply_overrides, parse_override
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from .errors import InputError, not_found
-from .limits import MAX_DECK_BYTES, MAX_STORIES, read_limited
+from .limits import MAX_DECK_BYTES, MAX_STORIES, read_input
 from .model.building import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
 from .model.foundations import FOUNDATIONS, DeckContext
 from .model.system import System
@@ -83,18 +83,11 @@ class Deck:
 def read_toml(path: str | Path) -> dict:
     """Parse a TOML file; InputError with the line on malformed TOML."""
     source = str(path)
+    data = read_input(path, MAX_DECK_BYTES, source, None, "deck file")
     try:
-        text = read_limited(path, MAX_DECK_BYTES).decode("utf-8-sig")  # a byte-order mark is accepted
-    except FileNotFoundError:
-        raise InputError(source, None, "an existing deck file (file not found)") from None
-    except IsADirectoryError:
-        raise InputError(source, None, "a deck file (this is a directory)") from None
-    except OSError as error:
-        raise InputError(source, None, f"a readable UTF-8 TOML file ({error.strerror or error})") from None
+        text = data.decode("utf-8-sig")  # a byte-order mark is accepted
     except UnicodeDecodeError as error:
         raise InputError(source, None, f"a readable UTF-8 TOML file ({error})") from None
-    except ValueError as error:
-        raise InputError(source, None, f"a deck file of {error}") from None
     try:
         return tomllib.loads(text)
     except RecursionError:

@@ -84,3 +84,21 @@ def read_limited(path, limit: int) -> bytes:
     if len(data) > limit:
         raise ValueError(f"at most {limit / 2**20:g} MiB (limit of the tool)")
     return data
+
+
+def read_input(path, limit: int, source: str, location: str | None, what: str) -> bytes:
+    """The bytes of an input file (a deck, a record, a spectrum table) read with read_limited;
+    InputError(source, location, ...) naming `what` was expected if it is missing, a
+    directory, unreadable or longer than `limit` bytes."""
+    from .errors import InputError
+
+    try:
+        return read_limited(path, limit)
+    except FileNotFoundError:
+        raise InputError(source, location, f"an existing {what} (file not found)") from None
+    except IsADirectoryError:
+        raise InputError(source, location, f"a {what} (this is a directory)") from None
+    except OSError as error:
+        raise InputError(source, location, f"a readable {what} ({error.strerror or error})") from None
+    except ValueError as error:
+        raise InputError(source, location, f"a {what} of {error}") from None

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..limits import MAX_RECORD_BYTES, MAX_RECORD_DT, MAX_RECORD_SAMPLES, read_limited
+from ..limits import MAX_RECORD_BYTES, MAX_RECORD_DT, MAX_RECORD_SAMPLES, read_input
 
 _UNIT_ALIASES = {
     "g": "g", "m/s2": "m/s2", "m/s^2": "m/s2", "m/s/s": "m/s2", "m/s**2": "m/s2", "mps2": "m/s2",
@@ -72,16 +72,7 @@ def _unit_hint(text: str) -> str | None:
 def read_lines(path: Path, source: str) -> list[str]:
     """The lines of a text record (a UTF-8 byte-order mark is dropped); at most
     MAX_RECORD_BYTES are read, and a file holding NUL bytes is refused as binary."""
-    try:
-        data = read_limited(path, MAX_RECORD_BYTES)
-    except FileNotFoundError:
-        raise InputError(source, None, "an existing record file (file not found)") from None
-    except IsADirectoryError:
-        raise InputError(source, None, "a record file (this is a directory)") from None
-    except OSError as error:
-        raise InputError(source, None, f"a readable record file ({error.strerror or error})") from None
-    except ValueError as error:
-        raise InputError(source, None, f"a record file of {error}") from None
+    data = read_input(path, MAX_RECORD_BYTES, source, None, "record file")
     if b"\0" in data:
         raise InputError(source, None, "a text record file (NUL bytes found: binary data)")
     lines = data.decode("utf-8-sig", errors="replace").splitlines()

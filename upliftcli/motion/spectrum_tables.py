@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..limits import MAX_RECORD_BYTES, read_input
 from ..units import ACCELERATION_UNITS
 from .readers import normalize_units
 
@@ -115,10 +116,8 @@ class TabulatedSpectrum:
 def read_spectrum_table(path: str | Path, source: str) -> tuple[np.ndarray, np.ndarray]:
     """Two columns period [s], S_a (comma or blank separated; '#' comments, an optional header row)."""
     path = Path(path)
-    try:
-        lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
-    except OSError:
-        raise InputError(source, "file", f"a readable spectrum table, cannot read {str(path)!r}") from None
+    data = read_input(path, MAX_RECORD_BYTES, source, "file", f"spectrum table ({str(path)!r})")
+    lines = data.decode("utf-8-sig", errors="replace").splitlines()
     rows: list[tuple[float, float]] = []
     for number, line in enumerate(lines, start=1):
         text = line.split("#", 1)[0].strip()
