@@ -19,7 +19,8 @@ def test_asce7_22_counts_and_mean():
 
 def test_ec8_takes_the_maximum_below_seven_records():
     rule = RULES["ec8"]
-    assert rule.statistic(6) == "max" and rule.statistic(7) == "mean"
+    assert [rule.statistic(n) for n in (3, 6, 7, 11)] == ["max", "max", "mean", "mean"]
+    assert RULES["asce7-22"].statistic(5) == "mean" and RULES["mean"].statistic(1) == "mean"
     assert rule.count_warnings(7) == []
     (message,) = rule.count_warnings(5)
     assert "with fewer than 7 records the design value is the maximum" in message

@@ -137,4 +137,4 @@ def test_moment_rotation_of_the_flexible_supports():
     slope = np.polyfit(bonded["theta"], bonded["base_moment"], 1)[0]
     system = small_run()[0].system
     k_theta = 2 * system.foundation.stiffness * system.half_width**2  # [22]
-    assert slope == pytest.approx(k_theta, rel=0.05)
+    assert slope == pytest.approx(k_theta, rel=1e-3)  # measured 2.1e-4 (the dashpot's part)

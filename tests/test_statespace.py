@@ -99,7 +99,16 @@ def test_event_rows_are_the_scaled_element_forces():
     (state,) = contact_states([space], np.zeros((1, 2), dtype=bool), "reaction")
     rng = np.random.default_rng(2)
     x = rng.normal(size=space.layout.n_aug)
-    v = space.displacement_rows @ x
-    v_dot = space.directions @ (state.velocity @ x)
+    # v_i = v - x_i theta [3b], built from the coordinates p = (Y*_1..Y*_N, theta, v) and the
+    # element positions of the foundation (-b, +b): theta > 0 raises the left edge
+    n = space.model.n_modes
+    positions = system.foundation.contact_elements(system.half_width).positions
+    p, p_dot = space.position @ x, state.velocity @ x  # X -> p, X -> p'
+    v = p[n + 1] - positions * p[n]
+    v_dot = p_dot[n + 1] - positions * p_dot[n]
+    np.testing.assert_allclose(space.displacement_rows @ x, v, rtol=1e-12)
     force = space.element_stiffness * v + space.element_damping * v_dot
     np.testing.assert_allclose(state.events @ x, force / system.weight, rtol=1e-12)
+    lift = np.zeros(space.layout.n_p)
+    lift[n] = 1e-3  # theta > 0 alone
+    assert (space.directions @ lift)[0] > 0 > (space.directions @ lift)[1]

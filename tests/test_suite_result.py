@@ -15,7 +15,6 @@ from upliftcli.engines.suite_result import (
     statistic_of,
     suite_result,
 )
-from upliftcli.motion.code_rules import RULES
 
 RNG = np.random.default_rng(12)
 
@@ -85,14 +84,6 @@ def test_suite_result_is_the_design_statistic(results):
     assert result.statistics["max"].peaks is not result.peaks
     with pytest.raises(ValueError):
         suite_result(results, records[:-1], "mean")
-
-
-def test_ec8_takes_the_maximum_below_seven_records():
-    rule = RULES["ec8"]
-    assert [rule.statistic(n) for n in (3, 6, 7, 11)] == ["max", "max", "mean", "mean"]
-    assert RULES["asce7-22"].statistic(5) == "mean" and RULES["mean"].statistic(1) == "mean"
-    assert any("fewer than 7" in m and "maximum" in m for m in rule.count_warnings(6))
-    assert rule.count_warnings(7) == []
 
 
 def test_simplified_ratios(results):
