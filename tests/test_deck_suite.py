@@ -135,3 +135,13 @@ def test_a_missing_suite_record_names_its_entry_and_the_folder(entry, where):
     assert info.value.source == "--set" and info.value.location == where
     assert info.value.expected == (f"an existing record file, not found: 'nothere.txt' (relative to the deck's "
                                    f"folder '{folder}': '{folder / 'nothere.txt'}')")
+
+
+def test_a_deck_that_is_a_link_finds_its_suite_next_to_its_target(tmp_path):
+    """A linked deck is read where it points: its suite folder (and record, and table) are
+    resolved next to the target, as for a copy of the deck."""
+    link = tmp_path / "linked.toml"
+    link.symlink_to(ROOT / "inputs" / "ten_story_asce7_suite.toml")
+    deck = load_deck(link)
+    assert [r.name for r in deck.ground_motion.records] == [r.name for r in load_deck(
+        ROOT / "inputs" / "ten_story_asce7_suite.toml").ground_motion.records]

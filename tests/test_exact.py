@@ -371,3 +371,15 @@ def test_the_size_check_and_the_analysis_build_one_model(monkeypatch):
     assert len(built) == 2 and exact.model_for(system, "uplift", deck.analysis.exact) is first
     assert exact.model_for(system, "uplift", replace(deck.analysis.exact, steps_per_period=12)) is not first
     assert len(built) == 3
+
+
+def test_a_system_the_engine_refuses_does_not_stop_the_others_of_its_batch(elcentro):
+    """More than 62 contact elements is refused for that system alone; the other system of the
+    batch gets the result it gets alone."""
+    good = paper_system(0.5)
+    many = replace(good, foundation=Winkler(1e9, 1e7, 100))
+    record = short(elcentro, 2.0)
+    outcomes = dict(exact.iter_batch([good, many], record, "uplift"))
+    assert isinstance(outcomes[1], AnalysisError) and "at most 62 contact elements" in str(outcomes[1])
+    alone = exact.analyze(good, record, "uplift")
+    assert outcomes[0].base_shear == alone.base_shear

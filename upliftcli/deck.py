@@ -23,7 +23,7 @@ import numpy as np
 from . import deck_schema as schema
 from .deck_overrides import ALTERNATIVES, FOUNDATION_FIELDS, apply_overrides, parse_override
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
-from .errors import InputError, not_found
+from .errors import InputError, deck_relative_path, not_found
 from .limits import MAX_DECK_BYTES, MAX_STORIES, read_input
 from .model.building import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
 from .model.foundations import FOUNDATIONS, DeckContext
@@ -329,10 +329,10 @@ def _ground_motion(fields: dict, source: str, error, system: System | None = Non
                     "ground_motion.design_spectrum)")
     from .motion import records, spectra
 
-    path = record_path(fields["record"], source)
+    path = deck_relative_path(fields["record"], source)
     if not path.exists():  # the folder a relative path was resolved from: the deck's (its target's, a link)
         raise error("ground_motion.record", not_found(path, fields["record"], source,
-                                                      folder=record_path(".", source)))
+                                                      folder=deck_relative_path(".", source)))
     try:
         record = records.read_record(path, fields.get("format"), fields.get("units"), fields.get("dt"),
                                      fields.get("scale", 1.0), fields.get("window"))
@@ -346,16 +346,3 @@ def _ground_motion(fields: dict, source: str, error, system: System | None = Non
 
 #: record options of read_record that are deck fields of [ground_motion]
 RECORD_OPTIONS = ("format", "units", "dt", "scale", "window")
-
-
-def record_path(record: str, source: str) -> Path:
-    """The record file named in a deck: relative paths are relative to the deck file; a deck
-    that is a symbolic link is read where it points, so its record is found next to the
-    link's target (as for a copy of the deck), not next to the link."""
-    path = Path(record)
-    if path.is_absolute():
-        return path
-    deck = Path(source)
-    if deck.is_symlink():
-        deck = deck.resolve()
-    return deck.parent / path

@@ -34,6 +34,21 @@ class AnalysisError(Exception):
         return one_line(super().__str__())
 
 
+def deck_relative_path(given: str, source: str):
+    """The file a deck names: relative paths are relative to the deck file's folder; a deck
+    that is a symbolic link is read where it points, so its files are found next to the link's
+    target (as for a copy of the deck), not next to the link."""
+    from pathlib import Path
+
+    path = Path(given)
+    if path.is_absolute():
+        return path
+    deck = Path(source)
+    if deck.is_symlink():
+        deck = deck.resolve()
+    return deck.parent / path
+
+
 def not_found(path, given: str, source: str, what: str = "record file", folder=None) -> str:
     """What a deck field naming a missing file expected, in words: the file as the deck gives
     it and, for a relative path, the deck's folder it was resolved from (default: the folder
@@ -42,6 +57,6 @@ def not_found(path, given: str, source: str, what: str = "record file", folder=N
 
     if os.path.isabs(given):
         return f"an existing {what}, not found: {str(path)!r}"
-    folder = os.path.abspath(folder if folder is not None else os.path.dirname(source) or ".")
+    folder = os.path.abspath(folder if folder is not None else deck_relative_path(".", source))
     return (f"an existing {what}, not found: {given!r} (relative to the deck's folder {folder!r}: "
             f"{os.path.abspath(path)!r})")

@@ -170,15 +170,15 @@ def motion_files(motion) -> list[dict[str, Any]]:
 def absolute_paths(raw: dict, source: str) -> dict:
     """A copy of a deck mapping with its file paths (ground_motion.record, the suite's folder or
     files, design_spectrum.file) absolute: relative paths joined to the deck's folder."""
-    from .deck import record_path
+    from .errors import deck_relative_path
 
     raw = copy.deepcopy(raw)
     motion = raw.get("ground_motion")
     if not isinstance(motion, dict):
         return raw
 
-    def absolute(path: Any) -> Any:  # as deck.record_path resolves it (a deck that is a link: next to its target)
-        return os.path.abspath(record_path(path, source)) if isinstance(path, str) else path
+    def absolute(path: Any) -> Any:  # as errors.deck_relative_path resolves it
+        return os.path.abspath(deck_relative_path(path, source)) if isinstance(path, str) else path
 
     if "record" in motion:
         motion["record"] = absolute(motion["record"])

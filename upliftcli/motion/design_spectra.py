@@ -21,11 +21,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, not_found
+from ..errors import InputError, deck_relative_path, not_found
 from ..units import STANDARD_GRAVITY
 from .spectrum_tables import (
     DAMPING_CORRECTIONS,
@@ -268,9 +267,7 @@ def _table_values(mapping: dict, source: str, field: str) -> tuple[np.ndarray, n
     if has_file == has_values:
         raise InputError(source, f"{field}.file", "either 'file' or both 'periods' and 'sa'")
     if has_file:
-        path = Path(mapping["file"])
-        if not path.is_absolute():
-            path = Path(source).parent / path
+        path = deck_relative_path(str(mapping["file"]), source)
         if not path.exists():
             raise InputError(source, f"{field}.file", not_found(path, str(mapping["file"]), source, "spectrum table"))
         periods, sa = read_spectrum_table(path, source)

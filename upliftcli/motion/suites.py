@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, deck_relative_path
 from .code_rules import SCALINGS, CodeRule
 from .design_spectra import spectrum_warnings
 from .matching import MatchSettings, control_periods, match_record, settings_for
@@ -184,9 +184,8 @@ def suite_entries(value, source: str, field: str = "ground_motion.suite") -> lis
     """(path, reader options) of each record of a deck's suite: a folder (its record files, sorted
     by name) or a list of paths and tables {file, format, units, dt, scale}; paths relative to the
     deck's folder."""
-    base = Path(source).parent
     if isinstance(value, str):
-        folder = Path(value) if Path(value).is_absolute() else base / value
+        folder = deck_relative_path(value, source)
         if not folder.is_dir():
             raise InputError(source, field, f"a folder of records (or a list of files), not found: {str(folder)!r}")
         files = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in RECORD_SUFFIXES
@@ -207,8 +206,7 @@ def suite_entries(value, source: str, field: str = "ground_motion.suite") -> lis
             raise InputError(source, f"{where}.file", "the path of a record file")
         if "format" in item and item["format"] not in FORMATS:
             raise InputError(source, f"{where}.format", f"one of {', '.join(FORMATS)}, got {item['format']!r}")
-        path = Path(item["file"])
-        entries.append((path if path.is_absolute() else base / path, {key: item[key] for key in item if key != "file"}))
+        entries.append((deck_relative_path(item["file"], source), {key: item[key] for key in item if key != "file"}))
     return entries
 
 

@@ -13,11 +13,11 @@ from typing import Any
 import numpy as np
 
 from ..analysis import check_criteria, run_batch
-from ..deck import Deck, build_deck, record_path
+from ..deck import Deck, build_deck
 from ..engines.quantities import QUANTITIES, SCALARS
 from ..engines.simplified import effective_properties
 from ..engines.suite_result import SuiteResult
-from ..errors import AnalysisError, InputError
+from ..errors import AnalysisError, InputError, deck_relative_path
 from .plan import Case, Chunk, ground_motion_key
 
 #: per process: (deck, ground-motion fields, record file signature) ->
@@ -31,7 +31,7 @@ def _file_signature(record: str | None, source: str) -> tuple:
     if not record:
         return ()
     try:
-        info = os.stat(record_path(record, source))
+        info = os.stat(deck_relative_path(record, source))
     except OSError:
         return ()
     return (info.st_ino, info.st_size, info.st_mtime_ns)

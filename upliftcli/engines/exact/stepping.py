@@ -262,8 +262,13 @@ def simulate(spaces: list[StateSpace], substeps: list[int], acceleration: np.nda
     for k, (space, count) in enumerate(zip(spaces, substeps, strict=True)):
         if count not in grids:
             grids[count] = ground_grid(acceleration, count, dt)
-        pending.append((k, Run(space, *grids[count], dt / count, criterion, uplift=uplift, allow_flight=allow_flight,
-                               on_chunk=on_chunk[k] if on_chunk else None)))
+        try:
+            run = Run(space, *grids[count], dt / count, criterion, uplift=uplift, allow_flight=allow_flight,
+                      on_chunk=on_chunk[k] if on_chunk else None)
+        except AnalysisError as error:  # this run only (e.g. too many contact elements)
+            yield k, error
+            continue
+        pending.append((k, run))
     while pending:
         size, used = 1, pending[0][1].buffer_bytes
         while size < len(pending) and used + pending[size][1].buffer_bytes <= BATCH_MEMORY:
