@@ -11,7 +11,7 @@ from scipy import signal
 
 from upliftcli.errors import InputError
 from upliftcli.motion.records import Record, bundled_records_dir, read_record
-from upliftcli.motion.spectra import RecordSpectrum, response_spectrum, sdof_history
+from upliftcli.motion.spectra import RecordSpectrum, response_spectrum, sdof_history, substeps
 from upliftcli.units import STANDARD_GRAVITY
 
 G = STANDARD_GRAVITY
@@ -205,3 +205,23 @@ def test_record_spectrum_sa_and_errors(elcentro):
         spectrum.sa([-1.0], 0.05)
     with pytest.raises(InputError, match="damping"):
         spectrum.sa([1.0], 1.5)
+
+
+def test_the_numpy_path_hands_long_oscillators_to_the_streaming_loop(elcentro, monkeypatch):
+    """The numpy loops hold an oscillator's whole record of sub-steps: one whose sub-steps exceed
+    NUMPY_BLOCK goes to the compiled loop (bounded memory), with the same peaks."""
+    from upliftcli.motion import spectra, spectra_numpy
+
+    periods = [0.05, 1.0]
+    reference = response_spectrum(elcentro.acceleration, elcentro.dt, periods, [0.05], method="numba")
+    monkeypatch.setattr(spectra, "NUMPY_BLOCK", elcentro.npts)
+    assert list(substeps(elcentro.dt, periods)) == [2, 1]  # T = 0.05 s to the compiled loop, 1 s to numpy
+    original = spectra_numpy.chunk_peaks
+
+    def bounded(acc, dt, omegas, xis, count, free_vibration):
+        assert count * acc.size <= spectra.NUMPY_BLOCK
+        return original(acc, dt, omegas, xis, count, free_vibration)
+
+    monkeypatch.setattr(spectra_numpy, "chunk_peaks", bounded)
+    numpy_path = response_spectrum(elcentro.acceleration, elcentro.dt, periods, [0.05], method="numpy")
+    np.testing.assert_allclose(numpy_path.displacement, reference.displacement, rtol=1e-12)

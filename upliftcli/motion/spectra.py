@@ -41,7 +41,8 @@ from . import spectra_numpy
 
 TWO_PI = 2.0 * math.pi
 CHUNK = 32  # oscillators integrated side by side
-#: numpy: oscillators x steps integrated at once (bounds the memory to some 50 MB)
+#: numpy: oscillators x steps integrated at once (bounds the memory to some 50 MB); one
+#: oscillator with more sub-steps than this over the record goes to the compiled loop, which streams
 NUMPY_BLOCK = 2**18
 #: "numba": many oscillators; "numpy": a few (El Centro, 1560 samples: numpy 1 ms for one
 #: oscillator, 16 ms for 16; numba 9-12 ms warm, plus some 0.3 s to load it into a process)
@@ -171,12 +172,18 @@ def _numba_peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.ndarr
 
 
 def _numpy_peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.ndarray, np.ndarray]:
-    """Peaks |u|, |a_t| by spectra_numpy: oscillators of equal sub-step count together, in blocks."""
+    """Peaks |u|, |a_t| by spectra_numpy: oscillators of equal sub-step count together, in blocks;
+    an oscillator whose sub-steps over the record exceed NUMPY_BLOCK by the compiled loop (the
+    choice depends on the oscillator alone, not on the others asked with it)."""
     out_u = np.empty(omegas.size)
     out_at = np.empty(omegas.size)
     for count in sorted({int(c) for c in counts}):  # (np.unique's first call imports more than it saves)
         members = np.flatnonzero(counts == count)
-        block = max(1, NUMPY_BLOCK // (count * acc.size))
+        if count * acc.size > NUMPY_BLOCK:
+            out_u[members], out_at[members] = _numba_peaks(acc, dt, omegas[members], xis[members], counts[members],
+                                                           free_vibration)
+            continue
+        block = NUMPY_BLOCK // (count * acc.size)
         for start in range(0, members.size, block):
             k = members[start:start + block]
             out_u[k], out_at[k] = spectra_numpy.chunk_peaks(acc, dt, omegas[k], xis[k], count, free_vibration)
