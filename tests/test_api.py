@@ -172,3 +172,16 @@ def test_figures_are_matplotlib_figures_of_their_descriptions():
     run = upliftcli.analyze(deck.system, deck.ground_motion, "uplift", "exact", upliftcli.ExactOptions(histories=True))
     rotation = upliftcli.moment_rotation_figure(run)
     assert isinstance(rotation, Figure) and len(rotation.axes) == len(moment_rotation_figure([run]).panels)
+
+
+def test_a_per_record_sweep_lists_each_record_once():
+    """per_record: each case's row, then one row per record of its suite, in the table, the
+    document and the DataFrame alike (3 records x 2 periods: 2 + 6 rows)."""
+    suite = ROOT / "inputs" / "ten_story_ec8_suite.toml"
+    three = [f'"../records/ten_story_asce7_suite/artificial_2024_0{k}.txt"' for k in (1, 2, 3)]
+    sweep = upliftcli.run_sweep(suite, ["building.period=0.5,1.0"],
+                                [f"ground_motion.suite=[{', '.join(three)}]"],
+                                engines=["exact"], supports=["uplift"], per_record=True)
+    assert len(sweep.case_rows) == 2 and len(sweep.rows) == 8
+    assert len(sweep.document()["rows"]) == 8
+    assert sweep.rows[1]["base_shear_N"] == sweep.case_rows[0]["record_rows"][0]["base_shear_N"]

@@ -116,16 +116,24 @@ def _units(header: list[str]) -> dict[str, str]:
 
 @dataclass
 class SweepTable:
-    """The outcome of run_sweep: the plan (sweep.plan.SweepPlan), one row per case (and per
-    record with per_record), the column names and their units, the summary (ranges, governing
-    cases, envelope) and the provenance (docs/provenance.md)."""
+    """The outcome of run_sweep: the plan (sweep.plan.SweepPlan), one row per case (case_rows;
+    `rows` adds each record's row after its case with per_record, as <stem>.csv), the column
+    names and their units, the summary (ranges, governing cases, envelope) and the provenance
+    (docs/provenance.md)."""
 
     plan: Any
-    rows: list[dict]
+    case_rows: list[dict]
     columns: list[str]
     units: dict[str, str]
     summary: dict
     provenance: dict = field(default_factory=dict)
+
+    @property
+    def rows(self) -> list[dict]:
+        """The rows of the tables: each case and, with per_record, its records after it."""
+        from .sweep.table import table_rows
+
+        return table_rows(self.plan, self.case_rows)
 
     def to_dataframe(self):
         """The rows as a pandas DataFrame (columns as in <stem>.csv, units in frame.attrs["units"])."""
@@ -138,7 +146,7 @@ class SweepTable:
         """The JSON document of <stem>.json (rows, units, summary, provenance)."""
         from .sweep.table import document
 
-        return document(self.plan, self.rows, self.summary, self.provenance)
+        return document(self.plan, self.case_rows, self.summary, self.provenance)
 
 
 def run_sweep(deck: str | Path, vary: Sequence[str] = (), overrides: Sequence[str] = (),
@@ -162,8 +170,7 @@ def run_sweep(deck: str | Path, vary: Sequence[str] = (), overrides: Sequence[st
         outcome = drive(plan, executor, store, resume=resume and rows_file is not None)
     rows = outcome.rows
     summary = table.summarize(plan, rows)
-    return SweepTable(plan, table.table_rows(plan, rows), table.columns(plan), table.units(plan), summary,
-                      table.sweep_provenance(plan))
+    return SweepTable(plan, rows, table.columns(plan), table.units(plan), summary, table.sweep_provenance(plan))
 
 
 # ----------------------------------------------------------------------------- figures
@@ -228,4 +235,4 @@ def sweep_figure(sweep: SweepTable):
     from .sweep.figures import plan_motion_label
     from .sweep.figures import sweep_figure as spec
 
-    return draw(spec(sweep.plan, sweep.rows, plan_motion_label(sweep.plan)))
+    return draw(spec(sweep.plan, sweep.case_rows, plan_motion_label(sweep.plan)))
