@@ -423,3 +423,18 @@ def test_sweep_files_follow_the_umask(tmp_path):
     assert {p.name: stat.S_IMODE(p.stat().st_mode) for p in tmp_path.iterdir()} == {
         "ten_story_elcentro.sweep.rows.jsonl": 0o664, "ten_story_elcentro.sweep.csv": 0o664,
         "ten_story_elcentro.sweep.json": 0o664}
+
+
+def test_resume_from_another_folder_is_the_same_sweep(tmp_path, monkeypatch):
+    """The files a sweep reads are fingerprinted by absolute path: the same deck named from
+    another working folder resumes its rows (nothing is run again)."""
+    args = ["--vary", "building.period=0.5,1", "--support", "rigid", "--out", tmp_path, "--quiet"]
+    monkeypatch.chdir(ROOT)
+    assert invoke("sweep", "inputs/ten_story_elcentro.toml", *args).exit_code == 0
+    rows = tmp_path / "ten_story_elcentro.sweep.rows.jsonl"
+    before = rows.read_text()
+    monkeypatch.chdir(ROOT / "inputs")
+    result = invoke("sweep", "ten_story_elcentro.toml", *args, "--resume")
+    assert result.exit_code == 0, result.stderr
+    added = rows.read_text()[len(before):].splitlines()
+    assert rows.read_text().startswith(before) and all(line.startswith('{"run"') for line in added)  # no case again

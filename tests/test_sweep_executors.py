@@ -4,6 +4,7 @@ parents that die; local workers forked from the warm server start with the engin
 import multiprocessing
 import os
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -310,10 +311,12 @@ def _with(extra: dict, chunk, emit):
 
 
 def _reports_warm_state(chunk, emit):
-    """Chunk runner: each row carries the worker's state before its first chunk ran."""
+    """Chunk runner: each row carries the worker's state before its first chunk ran (a chunk
+    takes at least 50 ms, so that the second worker gets chunks before the first has run them all)."""
     global _FIRST
     if _FIRST is None:
         _FIRST = _warm_state()
+    time.sleep(0.05)
     return _with({"warm": _FIRST}, chunk, emit)
 
 

@@ -126,3 +126,29 @@ def test_rows_of_a_batch_are_emitted_as_each_case_ends():
     assert len(messages) == 4 and emitted[0]["case"] == 1 and emitted[0]["status"] == "failed"
     assert sorted(r["case"] for r in emitted) == [0, 1, 2] and [r["case"] for r in rows] == [0, 1, 2]
     assert all(r["status"] == "ok" for r in emitted[1:])
+
+
+def test_a_record_changed_between_two_sweeps_in_one_process_is_read_again(tmp_path):
+    """The ground-motion cache of a worker process is keyed by the plan's fingerprint, which
+    hashes every file the ground motions read (a suite's records too): a suite record scaled on
+    disk between two sweeps gives scaled rows."""
+    root = EXAMPLE.parent.parent
+    folder = tmp_path / "suite"
+    folder.mkdir()
+    original = (root / "records" / "ten_story_asce7_suite" / "artificial_2024_01.txt").read_text()
+    (folder / "r1.txt").write_text(original)
+    deck = tmp_path / "deck.toml"
+    deck.write_text((root / "inputs" / "ten_story_asce7_suite.toml").read_text()
+                    .replace('"../records/ten_story_asce7_suite"', f'"{folder}"'))
+
+    def base_shears():
+        plan = plan_sweep(deck, [], ["building.period=0.5,1"], ["exact"], ["rigid"])
+        return plan, [row["base_shear_N"] for chunk in make_chunks(plan, plan.cases, 2) for row in run_chunk(chunk)]
+
+    plan, first = base_shears()
+    doubled = [line if line.startswith("#") or not line.strip() else f"{2 * float(line):.10g}"
+               for line in original.splitlines()]  # one acceleration [g] per line
+    (folder / "r1.txt").write_text("\n".join(doubled) + "\n")
+    again, second = base_shears()
+    assert again.fingerprint != plan.fingerprint
+    np.testing.assert_allclose(second, [2 * value for value in first], rtol=1e-6)  # linear: rigid base

@@ -16,6 +16,7 @@ import json
 import socket
 from collections import deque
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 
 from ..errors import InputError
 from .executors import WORKER_ENVIRONMENT, OnRow, sigint_ignored
@@ -172,12 +173,12 @@ class DaskExecutor:
             if resubmits[case.key] > max_resubmits:
                 deliver(failed_row(case, "crashed", f"{message} (submitted {max_resubmits + 1} times)"))
             elif case.key in started:
-                again.append(Chunk(chunk.raw, chunk.source, chunk.base_overrides, [case]))
+                again.append(replace(chunk, cases=[case]))
             else:
                 waiting.append(case)
             started.discard(case.key)  # from now on: whether it started in its new task
         if waiting:
-            again.append(Chunk(chunk.raw, chunk.source, chunk.base_overrides, waiting))
+            again.append(replace(chunk, cases=waiting))
         return again
 
 

@@ -37,6 +37,7 @@ import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
+from dataclasses import replace
 
 from .plan import Chunk
 from .signals import deferred
@@ -212,10 +213,10 @@ class ProcessExecutor:
                                 deliver(failed_row(case, "crashed", "the worker process died while running this "
                                                    f"case ({attempts[case.key]} attempts)"))
                                 continue
-                        isolate.append(Chunk(chunk.raw, chunk.source, chunk.base_overrides, [case]))
+                        isolate.append(replace(chunk, cases=[case]))
                     others = [case for case in rest if case not in suspects]
                     if others:
-                        pending.append(Chunk(chunk.raw, chunk.source, chunk.base_overrides, others))
+                        pending.append(replace(chunk, cases=others))
 
     def _run_pool(self, chunks, workers: int, context, queue, started: set, deliver) -> list[Chunk]:
         """Run the chunks on a fresh pool; return the chunks of a broken pool (a worker died)."""

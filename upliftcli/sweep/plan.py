@@ -38,7 +38,6 @@ from ..engines.registry import ENGINES
 from ..errors import InputError
 from ..fields import parse_choices  # noqa: F401 - part of this module's interface
 from ..limits import MAX_VARY_VALUES, cases_problem
-from ..motion.records import Record
 from ..motion.suites import Suite
 from ..provenance import motion_files, tool_version
 
@@ -179,15 +178,6 @@ def ground_motion_key(deck: Deck) -> str:
     return json.dumps(key, sort_keys=True, default=str)
 
 
-def file_sha256(path: str | Path) -> str:
-    """SHA-256 of a file's bytes (hex)."""
-    digest = hashlib.sha256()
-    with open(path, "rb") as handle:
-        for block in iter(lambda: handle.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()
-
-
 def run_fingerprint(deck_fingerprint: str, records: dict[str, str], version: str) -> str:
     """What the rows of a sweep depend on beyond their case key: the record files' contents
     and the tool version (the deck and --set are in the key already), as one short hash."""
@@ -203,9 +193,10 @@ class SweepPlan:
     few records for the rule ...), each once; check: the tables get the ratios simplified / exact
     of each simplified case (sweep/table.add_checks).
 
-    records: every record file the cases read (a suite's each) -> its SHA-256; version: of the
-    tool; fingerprint: run_fingerprint of both and the resolved deck (checked by --resume);
-    record_steps: every record file -> (dt [s], samples); inputs: the provenance entries of every
+    records: every file the cases' ground motions read (records, a suite's each, a spectrum
+    table), by absolute path -> its SHA-256; version: of the tool; fingerprint: run_fingerprint
+    of both and the resolved deck (checked by --resume; the workers' ground-motion cache is keyed
+    by it); record_steps: every record file -> (dt [s], samples); inputs: the provenance entries of every
     record (and spectrum table) file any case reads (provenance.motion_files). The limits of each
     case (engine memory, spectrum periods: analysis.check_resources) are checked by the worker: a
     case beyond them is a 'failed' row naming the field."""
@@ -275,20 +266,12 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     deck_fingerprint = fingerprint(raw, base)
     cases = expand_cases(varies, engines, supports, deck_fingerprint)
     grounds: dict[str, Any] = {}
-    records: dict[str, str] = {}
-    samples: dict[str, tuple[float, int]] = {}
     for combo in itertools.product(*[[(v.path, value) for value in v.values] for v in varies]):
         try:
             case_deck = build_deck(raw, source, base + list(combo), load_ground_motion=False)
             motion_key = ground_motion_key(case_deck)
             if motion_key not in grounds:
                 grounds[motion_key] = _with_suite(raw, source, base, combo, case_deck)
-                motion = grounds[motion_key].ground_motion
-                for record in (motion.records if isinstance(motion, Suite) else [motion]):
-                    if isinstance(record, Record) and record.source and record.source not in records:
-                        with contextlib.suppress(OSError):
-                            records[record.source] = file_sha256(record.source)
-                            samples[record.source] = (record.dt, record.npts)
         except InputError as error:
             raise _vary_error(error, set(paths)) from None
         for engine in engines:
@@ -303,6 +286,9 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     version = tool_version()
     inputs = {json.dumps(entry, sort_keys=True): entry
               for ground in grounds.values() for entry in motion_files(ground.ground_motion)}
+    # every file the ground motions read (absolute paths: a run from another folder is the same run)
+    records = {entry["path"]: entry["sha256"] for entry in inputs.values() if entry["path"] and entry["sha256"]}
+    samples = {entry["path"]: (entry["dt"], entry["npts"]) for entry in inputs.values() if "dt" in entry}
     return SweepPlan(raw, source, deck.title, tuple(base), varies, engines, supports, cases, deck.criteria,
                      max((suite.count for suite in suites), default=0), per_record, warnings, records=records,
                      version=version, fingerprint=run_fingerprint(deck_fingerprint, records, version),
@@ -319,6 +305,8 @@ class Chunk:
     source: str
     base_overrides: tuple
     cases: list[Case]
+    #: the plan's fingerprint (the contents of every file its ground motions read)
+    inputs: str = ""
 
 
 def _structure_order(case: Case) -> tuple:
@@ -334,7 +322,7 @@ def make_chunks(plan: SweepPlan, cases: Sequence[Case], size: int) -> list[Chunk
     stable, so otherwise in case order)."""
     size = max(1, int(size))
     ordered = sorted(cases, key=_structure_order)
-    return [Chunk(plan.raw, plan.source, plan.base_overrides, ordered[i:i + size])
+    return [Chunk(plan.raw, plan.source, plan.base_overrides, ordered[i:i + size], plan.fingerprint)
             for i in range(0, len(ordered), size)]
 
 

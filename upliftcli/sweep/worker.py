@@ -6,7 +6,6 @@ and, under "record_rows", each record's row (written to the tables with --per-re
 from __future__ import annotations
 
 import json
-import os
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -17,30 +16,20 @@ from ..deck import Deck, build_deck
 from ..engines.quantities import QUANTITIES, SCALARS
 from ..engines.simplified import effective_properties
 from ..engines.suite_result import SuiteResult
-from ..errors import AnalysisError, InputError, deck_relative_path
+from ..errors import AnalysisError, InputError
 from .plan import Case, Chunk, ground_motion_key
 
-#: per process: (deck, ground-motion fields, record file signature) ->
+#: per process: (deck, ground-motion fields, the plan's fingerprint) ->
 #: (record or design spectrum, spectrum object with its S_a cache)
 _GROUND_MOTIONS: dict[tuple, tuple[Any, Any]] = {}
 
 
-def _file_signature(record: str | None, source: str) -> tuple:
-    """(inode, size, mtime) of a record file: a record changed on disk is read again, not
-    taken from the cache of an earlier sweep in this process (a long-lived Dask worker)."""
-    if not record:
-        return ()
-    try:
-        info = os.stat(deck_relative_path(record, source))
-    except OSError:
-        return ()
-    return (info.st_ino, info.st_size, info.st_mtime_ns)
-
-
-def build_case_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]]) -> Deck:
-    """build_deck, reusing the ground motion (record and spectrum cache) of earlier cases."""
+def build_case_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]], inputs: str = "") -> Deck:
+    """build_deck, reusing the ground motion (record and spectrum cache) of earlier cases with
+    the same `inputs` (SweepPlan.fingerprint, which hashes every file the ground motions read:
+    a file changed between two sweeps in one process, a long-lived Dask worker, is read again)."""
     deck = build_deck(raw, source, overrides, load_ground_motion=False)
-    key = (source, ground_motion_key(deck), _file_signature(deck.values["ground_motion"].get("record"), source))
+    key = (source, ground_motion_key(deck), inputs)
     if key not in _GROUND_MOTIONS:
         if len(_GROUND_MOTIONS) >= 16:
             _GROUND_MOTIONS.clear()
@@ -160,7 +149,7 @@ def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list
         try:
             if deck_key not in decks:
                 overrides = list(chunk.base_overrides) + list(case.overrides)
-                decks[deck_key] = build_case_deck(chunk.raw, chunk.source, overrides)
+                decks[deck_key] = build_case_deck(chunk.raw, chunk.source, overrides, chunk.inputs)
         except Exception as error:
             rows[case.index] = failed_row(case, "failed", _failure(error))
             if emit:
