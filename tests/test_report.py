@@ -142,7 +142,8 @@ def test_tables_equal_the_results():
     assert float(system["M_c"]) == pytest.approx(deck.system.critical_base_moment, rel=1e-5)
     foundation = {row[0]: row[1] for row in parsed.tables["table-foundation"][1:]}
     k_f, b = deck.system.foundation.stiffness, deck.system.half_width
-    assert float(foundation["K_theta at w_1"]) == pytest.approx(2 * k_f * b**2, rel=1e-4)  # [22]
+    assert float(foundation["K_theta"]) == pytest.approx(2 * k_f * b**2, rel=1e-4)  # [22]
+    assert float(foundation["C_theta"]) == pytest.approx(2 * deck.system.foundation.damping * b**2, rel=1e-4)  # [25]
     assert "deck-as-given" in text and "floor_mass = 350e3" in text
 
 
@@ -277,3 +278,20 @@ def test_suite_records_and_accuracy_from_the_suite_result():
     assert float(rows[-1][3]) == pytest.approx(1e-3 * np.mean([r.base_shear for r in suite.record_results]), rel=1e-4)
     ratios = {row[1]: float(row[4]) for row in parsed.tables["table-accuracy"][1:]}
     assert ratios["V_b"] == pytest.approx(simplified.base_shear / suite.base_shear, rel=1e-3)
+
+
+def test_the_foundation_table_is_the_one_the_engines_use():
+    """A half-space: K_theta, C_theta and the elements at the frequency every engine uses
+    (omega_impedance, the flexible-base w1bar), not at the fixed-base w_1; every row with a unit."""
+    from upliftcli.deck import load_deck
+    from upliftcli.model.interaction import impedance
+    from upliftcli.report.inputs import _foundation_rows
+
+    deck = load_deck(ROOT / "inputs" / "frame_halfspace.toml", load_ground_motion=False)
+    rows = {row[0]: row for row in _foundation_rows(deck.system)}
+    omega = impedance(deck.system)["omega_impedance"]
+    foundation, b = deck.system.foundation, deck.system.half_width
+    assert float(rows["K_theta"][1]) == pytest.approx(foundation.rocking_stiffness(b, omega), rel=1e-4)
+    assert float(rows["C_theta"][1]) == pytest.approx(foundation.rocking_damping(b, omega), rel=1e-4)
+    assert float(rows["omega_impedance"][1]) != pytest.approx(float(deck.system.modes.omega[0]), rel=1e-2)
+    assert all(row[2] for row in rows.values()) and rows["shear_modulus"][2] == "Pa"

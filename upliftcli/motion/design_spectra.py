@@ -252,6 +252,11 @@ def spectrum_warnings(spectrum, periods, procedure: str | None = None) -> list[s
     return messages
 
 
+#: units of the design_spectrum keys (docs/deck.md)
+KEY_UNITS = {"type": "-", "sds": "g", "sd1": "g", "tl": "s", "ag": "g", "ground_type": "-", "spectrum_type": "-",
+             "importance": "-", "damping": "-", "periods": "s", "sa": "g (or the table's units)", "units": "-",
+             "file": "-", "damping_correction": "-", "name": "-"}
+
 _KEYS = {
     "asce7": ({"type", "sds", "sd1", "tl"}, set()),
     "asce7-multiperiod": ({"type"}, {"sa", "file", "periods", "sds", "sd1", "units", "name"}),

@@ -4,13 +4,14 @@ the ground motion and the fixed-base modes."""
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Sequence
 
 import numpy as np
 
 from .. import deck_schema as schema
+from ..engines.quantities import INTERMEDIATES
 from ..model.system import fixed_base_mode_rows
+from ..motion.design_spectra import KEY_UNITS
 from ..units import STANDARD_GRAVITY
 from .document import Pre, Section, Table, Text, number
 from .provenance import sha256
@@ -37,38 +38,41 @@ def inputs_section(deck, deck_text: str, overrides: Sequence[str]) -> Section:
         for name, value in fields.items():
             declared = schema.TABLES.get(table, {}).get(name)
             path = f"{table}.{name}" if table else name
-            for key, item in _flatten(value, path) if isinstance(value, dict) else [(path, value)]:
-                given = "--set" if path in deck.overridden else "deck"
-                rows.append([key, number(item), declared.unit if declared else "", given,
-                             declared.doc if declared else ""])
+            for key, item in _flatten(value, path):
+                given = "--set" if key in deck.overridden or path in deck.overridden else "deck"
+                unit = declared.unit if declared else ""
+                if key != path:  # a key of a table field (the design spectrum's)
+                    unit = KEY_UNITS.get(key.rsplit(".", 1)[-1], "")
+                rows.append([key, number(item), unit, given, declared.doc if declared and key == path else ""])
     blocks.append(Table("table-resolved", "The deck as resolved: every field given (after the overrides)",
                         ["field", "value", "unit", "from", "meaning"], rows,
                         "Fields not listed take their defaults (docs/deck.md)."))
     return Section("inputs", "Inputs", blocks)
 
 
-def _foundation_rows(system, omega_1: float) -> list[list[str]]:
-    foundation = system.foundation
-    b = system.half_width
-    rows = [["foundation type", getattr(foundation, "kind", type(foundation).__name__), "-", ""]]
-    units = {"stiffness": "N/m (per element; N/m^2 for Winkler)", "damping": "N s/m (per element; N s/m^2 for Winkler)"}
-    for item in dataclasses.fields(foundation):
-        value = getattr(foundation, item.name)
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
-            rows.append([item.name, number(value), units.get(item.name, ""), "foundation parameter"])
-    rows += [
-        ["K_theta at w_1", number(foundation.rocking_stiffness(b, omega_1)), "N m/rad",
-         "rocking stiffness [22] at the fixed-base w_1"],
-        ["C_theta at w_1", number(foundation.rocking_damping(b, omega_1)), "N m s/rad",
-         "rocking damping [25] at the fixed-base w_1"],
-        ["k_v", number(foundation.vertical_stiffness(b, omega_1)), "N/m", "vertical stiffness of the foundation"],
-        ["c_v", number(foundation.vertical_damping(b, omega_1)), "N s/m", "vertical damping of the foundation"],
-    ]
-    elements = foundation.contact_elements(b, omega_1)
+def _foundation_rows(system) -> list[list[str]]:
+    """The foundation as the engines use it (provenance.foundation_entry): its own parameters
+    with their deck units, K_theta, C_theta, k_v, c_v and the contact elements at the frequency
+    omega_impedance every engine evaluates them at (model/interaction.py)."""
+    from ..model.interaction import impedance
+    from ..provenance import MODEL_UNITS, foundation_entry, foundation_units
+
+    entry = foundation_entry(system)
+    units = {**foundation_units(system), **MODEL_UNITS}
+    fields = type(system.foundation).deck_fields
+    meanings = {"vertical_stiffness": "vertical stiffness of the foundation at omega_impedance",
+                "vertical_damping": "vertical damping of the foundation at omega_impedance",
+                "shear_wave_velocity": "V_s = sqrt(G / rho)",
+                **{name: INTERMEDIATES[name][1] for name in INTERMEDIATES if name in entry}}
+    rows = [["foundation type", str(entry.pop("type")), "-", ""]]
+    for name, value in entry.items():
+        meaning = fields[name].doc if name in fields else meanings.get(name, "")
+        rows.append([name, number(value) if not isinstance(value, str) else value, units.get(name, "-"), meaning])
+    elements = system.foundation.contact_elements(system.half_width, impedance(system)["omega_impedance"])
     rows.append(["contact elements", str(elements.count), "-",
                  f"at x = {number(elements.positions.min(), 4)} .. {number(elements.positions.max(), 4)} m, "
                  f"k_i = {number(elements.stiffness[0])} N/m, c_i = {number(elements.damping[0])} N s/m each"
-                 + ("" if np.ptp(elements.stiffness) == 0 else " (first element)")])
+                 + ("" if np.ptp(elements.stiffness) == 0 else " (first element)") + " (exact engine)"])
     return rows
 
 
@@ -87,7 +91,6 @@ def model_section(deck, results: Sequence = ()) -> Section:
             else "Story stiffnesses as given.")
     if stiffness is None:
         note = "A stiffness matrix was given (no story stiffnesses)."
-    omega_1 = float(system.modes.omega[0])
     h1 = system.effective_height
     scalars = [
         ["m_t", number(system.total_mass), "kg", "total mass (floors and mat)"],
@@ -108,7 +111,8 @@ def model_section(deck, results: Sequence = ()) -> Section:
     for result in results:
         for name in ("K_theta", "C_theta", "T1bar", "xi1bar", "xi_f"):
             if name in result.intermediates and not any(row[0] == name for row in used):
-                used.append([name, number(result.intermediates[name]), "", f"as used by the {result.engine} engine"])
+                used.append([name, number(result.intermediates[name]), INTERMEDIATES[name][0],
+                             f"{INTERMEDIATES[name][1]}, as used by the {result.engine} engine"])
     return Section("model", "Derived model", [
         Table("table-building", "Building: floors and stories (story j joins floor j-1 and floor j)",
               ["story", "elevation h_j [m]", "story height [m]", "floor mass m_j [kg]", "story stiffness k_j [N/m]",
@@ -116,7 +120,7 @@ def model_section(deck, results: Sequence = ()) -> Section:
         Table("table-system", "The system: mat, totals and critical values", ["quantity", "value", "unit", "meaning"],
               scalars + used),
         Table("table-foundation", "Foundation", ["quantity", "value", "unit", "meaning"],
-              _foundation_rows(system, omega_1)),
+              _foundation_rows(system)),
     ])
 
 
