@@ -203,3 +203,14 @@ def test_winkler_lifts_from_the_kern_in_the_improved_procedure():
     assert result.uplift and result.intermediates["capacity"] == pytest.approx(capacity)
     assert result.base_shear < paper_analyze(winkler, spectrum, "bonded").base_shear
     assert not any("kern" in w for w in result.details["warnings"])
+
+
+def test_the_reported_uplift_damping_is_the_one_used():
+    """The improved procedure damps the uplifted mode with zeta = xi1bar r / b [27] whatever the
+    paper options (uplift_damping = "xi1" changes only the paper's): it reports that value."""
+    system = paper_system(period=1.2, stories=10, slenderness=8.0)
+    result = analyze(system, Smooth(8.0), "uplift", SimplifiedOptions(uplift_damping="xi1"))
+    r = math.hypot(system.effective_height, system.half_width)
+    assert result.uplift and result.intermediates["r"] == pytest.approx(r, rel=1e-12)
+    assert result.intermediates["zeta"] == pytest.approx(result.intermediates["xi1bar"] * r / system.half_width,
+                                                         rel=1e-12)

@@ -42,7 +42,8 @@ TERMS_VERSION = 2
 
 @dataclass(frozen=True)
 class Coefficients:
-    """Coefficients of the improved procedure (module docstring; docs/accuracy.md)."""
+    """Coefficients of the improved procedure (module docstring; docs/accuracy.md): all
+    dimensionless [-] but short_period [s], the period below which impacts govern."""
 
     lengthening: float = 0.0
     short_gain: float = 0.0
@@ -194,8 +195,9 @@ def severity(x, c: Coefficients):
 
 
 def modal_factors(x, t1bar, n_modes: int, c: Coefficients) -> np.ndarray:
-    """Factors on the modal base shears (cases, modes): 1 + (1 - 1/x) (gain_n + short_modes
-    e^(-T1bar/short_period)) for modes 2.. (gain2 for mode 2, gain3 above); 1 for mode 1."""
+    """Factors on the modal base shears (cases, modes): 1 + s (gain_n + short_modes short(T1bar))
+    for modes 2.. (gain2 for mode 2, gain3 above), s = severity(x) and short as in
+    Coefficients.short; 1 for mode 1."""
     gains = np.full(n_modes, c.gain3)
     gains[0] = 0.0
     if n_modes > 1:
@@ -214,7 +216,7 @@ def combine_peaks(peaks: np.ndarray, rho: np.ndarray) -> np.ndarray:
 
 def correlations(x, base: np.ndarray, c: Coefficients) -> np.ndarray:
     """rho (cases, modes, modes): the deck's rule (base, identity for SRSS) with
-    rho_1n = max(base_1n, correlation (1 - 1/x)) for n >= 2."""
+    rho_1n = max(base_1n, correlation s) for n >= 2, s = severity(x)."""
     rho = np.array(base, dtype=float, copy=True)
     coupled = np.maximum(rho[:, 0, 1:], (c.correlation * severity(x, c))[:, None])
     rho[:, 0, 1:] = coupled
@@ -281,7 +283,8 @@ def analyze_uplift(system: System, spectrum, options: SimplifiedOptions,
     elements = system.foundation.contact_elements(system.half_width)
     peaks["reaction"] = largest_compression(elements.positions, elements.stiffness, system.weight,
                                             float(peaks["moment"][0]), False)
-    inter.update({"X": mode1["X"], "phi": mode1["phi"], "T_u": mode1["T_u"], "x_u": mode1["amplitude"],
+    inter.update({"zeta": terms.zeta, "r": math.hypot(system.effective_height, system.half_width),  # as used
+                  "X": mode1["X"], "phi": mode1["phi"], "T_u": mode1["T_u"], "x_u": mode1["amplitude"],
                   "V1_uplift": float(shears[0]), "V_n": (scale * shears).tolist(), "modal_factors": factors.tolist(),
                   "rho_1n": float(rho[0, 1]) if n > 1 else 0.0, "cap": scale})
     if n >= 2:

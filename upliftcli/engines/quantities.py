@@ -130,6 +130,7 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "cap": ("-", "improved procedure: V_b / its value before the caps at the bonded and rigid V_b (V_n scaled by it)"),
     "n_modes": ("-", "fixed-base modes in the model"),
     "time_step": ("s", "internal step h (exact step operator; crossings located inside it)"),
+    "steps_per_period": ("-", "internal steps per governing period after the step was refined (energy balance)"),
     "criterion": ("-", "uplift criterion [4a] reaction or [4b] displacement"),
     "rotation_inertia": ("kg m^2", "inertia of the mat rotation (0: first-order rocking constraint)"),
     "samples": ("-", "history samples: every step plus every contact transition"),

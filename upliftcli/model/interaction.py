@@ -6,8 +6,10 @@ The rocking impedance K_theta(w), C_theta(w) of a half-space depends on the freq
 engines evaluate it at the flexible-base fundamental frequency w1bar = 2 pi / T1bar, the
 fixed point of w -> 2 pi / T1bar(K_theta(w)) (docs/theory.md, simplified procedure), unless
 the foundation says otherwise (HalfSpace.impedance_frequency = "fixed-base": at the
-fixed-base w_1). The exact engine represents any foundation in rocking by the equivalent
-edge elements k = K_theta / (2 b^2), c = C_theta / (2 b^2) reported here.
+fixed-base w_1). The equivalent edge elements k = K_theta / (2 b^2), c = C_theta / (2 b^2)
+reported here are the exact engine's elements for a two-element foundation and a half-space;
+a Winkler strip keeps its distributed elements (foundations.Winkler.contact_elements), and
+for it they are the two-element equivalent of its rocking stiffness and damping.
 """
 
 from __future__ import annotations
