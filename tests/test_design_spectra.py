@@ -228,3 +228,9 @@ def test_a_missing_table_file_names_the_field_and_the_folder(tmp_path):
     assert info.value.location == "ground_motion.design_spectrum.file"
     assert info.value.expected == (f"an existing spectrum table, not found: 'sa.csv' (relative to the deck's folder "
                                    f"'{tmp_path}': '{tmp_path / 'sa.csv'}')")
+
+
+def test_the_damping_correction_is_read_whatever_its_case(tmp_path):
+    """"ASCE" or "asce": the deck's choice and the one of a table built in code agree."""
+    table = {"type": "table", "periods": [0.0, 4.0], "sa": [1.0, 1.0], "damping": 0.05, "damping_correction": "ASCE"}
+    assert from_mapping(table, str(tmp_path / "deck.toml")).damping_correction == "asce"

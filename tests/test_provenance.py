@@ -195,4 +195,5 @@ def test_json_result_holds_the_provenance(deck_file):
     assert document["provenance"]["files"][0]["sha256"] == digest(deck_file)
     assert document["provenance"]["options"]["supports"] == ["rigid", "uplift"]
     assert document["provenance"]["options"]["simplified"]["procedure"] == "improved"
+    assert document["provenance"]["options"]["units"]["exact"]["time_step"] == "s"  # every option with its unit
     assert document["provenance"]["deck"]["resolved"]["building"]["period"] == 0.4

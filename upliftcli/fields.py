@@ -165,7 +165,7 @@ def _files(field: Field, value: Any, error: Error) -> str | list:
     if isinstance(value, str) and value:
         return value
     if not (isinstance(value, list) and value and all(isinstance(v, (str, dict)) for v in value)):
-        error(f"a folder (string) or a non-empty array of file paths or tables {{file = ...}}, got {value!r}")
+        error(f"a folder (string) or a non-empty array of file paths or tables {{file = ...}}, got {shown(value)}")
     return list(value)
 
 

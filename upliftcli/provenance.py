@@ -302,10 +302,16 @@ def spectrum_entry(spectrum) -> dict[str, Any] | None:
 
 def engine_options(analysis) -> dict[str, Any]:
     """The engines and supports of a deck and every option of the simplified and the
-    response-history engines (engines/options.py)."""
+    response-history engines (engines/options.py), with the units of the options (their deck fields)."""
+    from .engines.options import deck_fields
+
+    simplified = dataclasses.asdict(analysis.simplified)
+    exact = {k: v for k, v in dataclasses.asdict(analysis.exact).items() if k != "histories"}
+    units = {table: {name: field.unit for name, field in deck_fields(type(options)).items() if name in values}
+             for table, options, values in (("simplified", analysis.simplified, simplified),
+                                            ("exact", analysis.exact, exact))}
     return {"engines": list(analysis.engines), "supports": list(analysis.supports), "n_modes": analysis.n_modes,
-            "simplified": plain(dataclasses.asdict(analysis.simplified)),
-            "exact": plain({k: v for k, v in dataclasses.asdict(analysis.exact).items() if k != "histories"})}
+            "simplified": plain(simplified), "exact": plain(exact), "units": units}
 
 
 # ----------------------------------------------------------------------------- records

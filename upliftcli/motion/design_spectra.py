@@ -335,8 +335,8 @@ def from_mapping(mapping: dict, source: str, field: str = "spectrum", default_co
             return EC8Spectrum(mapping["ag"], mapping["ground_type"], mapping.get("spectrum_type", 1),
                                mapping.get("importance", 1.0), source=source)
         periods, sa, table_source = _table_values(mapping, source, field)
-        correction = mapping.get("damping_correction", default_correction)
-        if correction not in DAMPING_CORRECTIONS:
+        correction = str(mapping.get("damping_correction", default_correction)).lower()
+        if correction not in DAMPING_CORRECTIONS:  # (TabulatedSpectrum checks again for a table built in code)
             raise InputError(source, f"{field}.damping_correction", f"'asce' or 'ec8', got {correction!r}")
         return TabulatedSpectrum(periods, sa, mapping["damping"], units=mapping.get("units", "g"),
                                  damping_correction=correction, source=table_source,
