@@ -60,11 +60,14 @@ _CASE_HEAD = ("case", "key", "engine", "support", "status", "message", "violatio
 SUMMARY_OUTPUTS = ("base_shear_coefficient", "base_moment_coefficient", "max_drift_ratio")
 
 
+#: sweep --check: the row columns compared (as accuracy.CHECKED, with the largest floor
+#: displacement of the rows for the roof's)
+CHECKED_COLUMNS = ("base_shear_N", "base_moment_Nm", "max_drift_ratio", "max_displacement_m")
 #: sweep --check: the simplified case's value / the exact case's (same fields, same support)
 CHECK_COLUMNS: dict[str, tuple[str, str]] = {
     f"check_{column.removesuffix('_N').removesuffix('_Nm').removesuffix('_m')}": (
         "-", f"simplified / exact: {OUTPUT_COLUMNS[column][1]} (sweep --check)")
-    for column in ("base_shear_N", "base_moment_Nm", "max_drift_ratio", "max_displacement_m")
+    for column in CHECKED_COLUMNS
 }
 
 
@@ -88,7 +91,7 @@ def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
     paths = [v.path for v in plan.varies]
 
     def key(row: dict) -> str:
-        return json.dumps([row.get("support"), row.get("record"), *(row.get(p) for p in paths)], default=str)
+        return json.dumps([row.get("support"), *(row.get(p) for p in paths)], default=str)
 
     exact = {key(row): row for row in rows if row.get("engine") == "exact" and row.get("status") == "ok"}
     out = []
@@ -96,8 +99,7 @@ def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
         reference = exact.get(key(row)) if row.get("engine") == "simplified" and row.get("status") == "ok" else None
         if reference is not None:
             row = dict(row)
-            for name, source in zip(CHECK_COLUMNS, ("base_shear_N", "base_moment_Nm", "max_drift_ratio",
-                                                    "max_displacement_m"), strict=True):
+            for name, source in zip(CHECK_COLUMNS, CHECKED_COLUMNS, strict=True):
                 value, base = _number(row.get(source)), _number(reference.get(source))
                 row[name] = value / base if value is not None and base else None
         out.append(row)
