@@ -59,9 +59,10 @@ def main() -> None:
     print(f"history samples per run: {samples}")
     data_best, data_median = timed(lambda: analysis_figures(deck, results), args.repeats)
     specs = analysis_figures(deck, results)
+    analysis_count = len(specs)
     specs.update({f"paper_{k}": v for k, v in sweep_figures.paper_figures(
         sweep_rows(), ["exact", "simplified"], ["rigid", "bonded", "uplift"], "record El Centro", 0.5).items()})
-    print(f"figure data of the run ({len(specs) - 5} figures, pure functions): best {data_best:.1f} ms, "
+    print(f"figure data of the run ({analysis_count} figures, pure functions): best {data_best:.1f} ms, "
           f"median {data_median:.1f} ms")
     empty = plots.FigureSpec("", "", [plots.Panel("", "")], columns=1, panel_size=(4.0, 3.0))
     with tempfile.TemporaryDirectory() as folder:

@@ -107,10 +107,8 @@ def _units(header: list[str]) -> dict[str, str]:
     """Column -> SI unit of a story or element table (engines/quantities.column_name)."""
     from .engines.quantities import QUANTITIES, column_name
 
-    units = {"elevation_m": "m", "position_m": "m"}
-    for quantity in QUANTITIES.values():
-        for suffix in ("", "_time"):
-            units[column_name(quantity.name, quantity.unit) + suffix] = "s" if suffix else quantity.unit
+    units = {"elevation_m": "m", "position_m": "m",
+             **{column_name(quantity.name, quantity.unit): quantity.unit for quantity in QUANTITIES.values()}}
     return {name: units[name] for name in header if name in units}
 
 

@@ -155,11 +155,6 @@ def _csv(header: list[str], rows: list[list[Any]], provenance: dict | None = Non
     return buffer.getvalue()
 
 
-def _number(value: float) -> str:
-    """The text of a number ('' for NaN: no value), provenance.number_text."""
-    return number_text(value)
-
-
 def _labelled(results: list[AnalysisResult]) -> tuple[list[str], list[tuple[list[str], AnalysisResult]]]:
     """(leading columns, [(their values, result)]): engine and support; with a suite's result
     also `statistic` (the design statistic on its rows, empty on a record's) and `record` (the
@@ -201,7 +196,7 @@ def elements_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[
 
 
 def _texts(rows: list[list[Any]]) -> list[list[Any]]:
-    return [[_number(v) if isinstance(v, float) else v for v in row] for row in rows]
+    return [[number_text(v) if isinstance(v, float) else v for v in row] for row in rows]
 
 
 def to_csv(results: list[AnalysisResult], provenance: dict | None = None) -> str:

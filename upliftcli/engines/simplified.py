@@ -22,12 +22,7 @@ from dataclasses import asdict
 import numpy as np
 
 from ..errors import AnalysisError, InputError
-from ..model.interaction import (  # noqa: F401 (re-exported)
-    effective_properties,
-    effective_properties_eigenvalue,
-    effective_properties_formula,
-    frequency_warning,
-)
+from ..model.interaction import effective_properties, frequency_warning
 from ..model.system import System
 from .options import SimplifiedOptions
 from .registry import check_support

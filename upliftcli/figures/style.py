@@ -25,7 +25,6 @@ MANY_LINES = 4
 
 SUPPORT_COLORS = {"rigid": BLACK, "bonded": BLUE, "uplift": VERMILLION}
 ENGINE_LINES = {"exact": "-", "approximate": "--", "simplified": "-."}
-ENGINE_MARKERS = {"exact": "o", "approximate": "s", "simplified": "^"}
 SUPPORT_STYLES = {"rigid": ("-", BLACK), "bonded": ("--", BLUE), "uplift": ("-", VERMILLION)}
 ENGINE_STYLES = {"exact": ("-", BLACK), "approximate": ("--", ORANGE), "simplified": ("-.", GREEN)}
 #: shading of the contact state: the left and the right edge of the mat lifted

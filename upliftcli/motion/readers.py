@@ -159,7 +159,7 @@ def _parse_at2(lines: list[str], source: str) -> tuple[np.ndarray, float, str | 
         npts_text, dt_text = npts_match.group(1), dt_match.group(1)
     npts = int(float(npts_text))
     dt = check_dt(_float(dt_text, source, 4), source, "line 4")
-    units = _unit_hint(lines[2]) or _unit_hint(lines[2].replace("UNITS OF", "units"))
+    units = _unit_hint(lines[2])
     values = _values_row_by_row([separated(line) for line in lines], 4, source)
     if values.size != npts:
         raise InputError(source, "line 4", f"NPTS = {npts} values as the header says, found {values.size}")

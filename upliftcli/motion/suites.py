@@ -67,10 +67,6 @@ class Suite:
         return len(self.records)
 
     @property
-    def names(self) -> tuple[str, ...]:
-        return tuple(record.name for record in self.records)
-
-    @property
     def sources(self) -> tuple[str, ...]:
         return tuple(record.source for record in self.records)
 

@@ -103,7 +103,7 @@ class Digest:
         self.transitions += int(np.count_nonzero(np.diff(chunk.state_ids)))
         self.time_step = chunk.time_step
         if self.options.histories:
-            piece = histories(self.system, chunk, self.rows, sig)
+            piece = histories(chunk, self.rows, sig)
             self.pieces.append({k: np.array(v[1:] if self.chunks else v) for k, v in piece.items()})
         self.chunks += 1
 

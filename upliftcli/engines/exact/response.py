@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...model.system import System
+from ..quantities import HISTORY_QUANTITIES
 from ..statics import story_maps
 from . import response_kernels
 from .statespace import StateSpace
@@ -265,8 +266,10 @@ def uplift_summary(history: History, sig: Signals) -> dict:
     return summary
 
 
-def histories(system: System, history: History, rows: ResponseRows, sig: Signals) -> dict[str, np.ndarray]:
-    """Time histories at every sample (SI units) for --histories (engines/quantities.HISTORIES)."""
+def histories(history: History, rows: ResponseRows, sig: Signals) -> dict[str, np.ndarray]:
+    """Time histories at every sample (SI units) for --histories: the signals of
+    quantities.HISTORY_SIGNALS, then one column per story or element of each quantity of
+    quantities.HISTORY_QUANTITIES."""
     y, ydot = sig["Y"], sig["Ydot"]
     out = {
         "time": history.times,
@@ -282,14 +285,11 @@ def histories(system: System, history: History, rows: ResponseRows, sig: Signals
         out["right_edge_displacement"] = sig["element_displacement"][:, -1]
         patterns = np.array([sum(int(f) << i for i, f in enumerate(c.lifted)) for c in history.contact])
         out["contact_state"] = patterns[history.state_ids]
-    drifts = y @ rows.drift.T
-    accelerations = y @ rows.acceleration.T + ydot @ rows.acceleration_rate.T
-    for j in range(system.building.n_stories):
-        out[f"drift_{j + 1}"] = drifts[:, j]
-    for j in range(system.building.n_stories):
-        out[f"floor_acceleration_{j + 1}"] = accelerations[:, j]
+    places = {"drift": y @ rows.drift.T,
+              "floor_acceleration": y @ rows.acceleration.T + ydot @ rows.acceleration_rate.T}
     if history.space.layout.n_elements:
-        reactions, _ = element_reactions(history, sig)
-        for i in range(reactions.shape[1]):
-            out[f"reaction_{i + 1}"] = reactions[:, i]
+        places["reaction"] = element_reactions(history, sig)[0]
+    for name in HISTORY_QUANTITIES:
+        for j in range(places[name].shape[1] if name in places else 0):
+            out[f"{name}_{j + 1}"] = places[name][:, j]
     return out
