@@ -58,6 +58,7 @@ def test_mass_target_count(ten_story):
     assert modes_for_mass_target(modes, m_t, 0.80) == 1
     assert modes_for_mass_target(modes, m_t, 0.90) == 2
     assert modes_for_mass_target(modes, m_t, 0.99) == 5
+    assert modes_for_mass_target(modes, 2 * m_t, 0.99) == 10  # never reached: every mode
 
 
 def test_modes_are_shared_between_equal_buildings():

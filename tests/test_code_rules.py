@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
-from upliftcli.motion.code_rules import RULES, period_of_mass_fraction
+from upliftcli.motion.code_rules import RULES
 
 
 def test_asce7_22_counts_and_mean():
@@ -39,9 +38,3 @@ def test_period_ranges():
     assert (low, high) == pytest.approx((0.2, 2.4))
 
 
-def test_period_of_mass_fraction():
-    periods = np.array([1.0, 0.33, 0.2, 0.14])
-    ratios = np.array([0.80, 0.09, 0.06, 0.05])
-    assert period_of_mass_fraction(periods, ratios) == 0.2  # 0.80, 0.89, 0.95
-    assert period_of_mass_fraction(periods, ratios, 0.89) == 0.33  # reached exactly
-    assert period_of_mass_fraction(periods, ratios * 0.5) == 0.14  # never: the shortest mode

@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Iterator, Sequence
-from functools import lru_cache
-from pathlib import Path
 from typing import Any
 
 from .deck import Deck
@@ -22,6 +20,7 @@ from .engines.suite_result import SuiteRecord, SuiteResult, suite_result
 from .errors import AnalysisError, InputError
 from .motion.design_spectra import procedure_warning
 from .motion.suites import Suite
+from .provenance import sha256
 
 
 def motion_key(suite: Suite) -> tuple:
@@ -31,25 +30,12 @@ def motion_key(suite: Suite) -> tuple:
     return ("suite", *((m.dt, hashlib.sha1(m.acceleration.tobytes()).hexdigest()) for m in suite.motions()))
 
 
-@lru_cache(maxsize=256)
-def _file_sha256(path: str, mtime_ns: int) -> str:
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
-
-
-def file_sha256(path: str) -> str | None:
-    """SHA-256 of a file's bytes, None when it cannot be read."""
-    try:
-        return _file_sha256(path, Path(path).stat().st_mtime_ns)
-    except OSError:
-        return None
-
-
 def suite_records(suite: Suite) -> tuple[SuiteRecord, ...]:
     """Name, source, factor, provenance and the source file's SHA-256 of every record (a matched
     record's source is the record it was matched from: its SHA-256 is that file's)."""
     provenance = tuple(suite.provenance) + ("",) * (suite.count - len(suite.provenance))
     return tuple(SuiteRecord(record.name, record.source, float(factor), note,
-                             file_sha256(record.source) if record.source else None)
+                             sha256(record.source) if record.source else None)
                  for record, factor, note in zip(suite.records, suite.factors, provenance, strict=True))
 
 

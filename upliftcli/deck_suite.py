@@ -18,7 +18,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from .errors import InputError, not_found
-from .motion.code_rules import RULES, CodeRule, period_of_mass_fraction
+from .model.building import modes_for_mass_target
+from .motion.code_rules import RULES, CodeRule
 from .motion.design_spectra import ASCE7MultiPeriodSpectrum, ASCE7Spectrum, EC8Spectrum
 from .motion.suites import Suite, build_suite, check_target, read_records, suite_entries
 
@@ -54,7 +55,8 @@ def structure_period_range(rule: CodeRule, system, effective_properties: str = "
     modes = system.modes
     first = float(modes.periods[0])
     flexible = float(properties(system, effective_properties)["T1bar"])
-    period_90 = period_of_mass_fraction(modes.periods, modes.effective_mass / float(system.building.masses.sum()))
+    # the last mode needed for 90 % of the building's mass (the shortest mode if never)
+    period_90 = float(modes.periods[modes_for_mass_target(modes, float(system.building.masses.sum()), 0.9) - 1])
     period_range, note = rule.period_range(max(first, flexible), first, period_90)
     return period_range, f"{note}; T_1 fixed-base {first:.4g} s, flexible-base T1bar {flexible:.4g} s"
 

@@ -18,8 +18,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
 #: how a suite is brought to its target (suites.build_suite)
 SCALINGS = ("none", "amplitude", "match")
 
@@ -91,10 +89,3 @@ RULES: dict[str, CodeRule] = {
 }
 
 
-def period_of_mass_fraction(periods, mass_ratios, fraction: float = 0.9) -> float:
-    """The period [s] of the last mode needed for the cumulative effective mass ratios [-]
-    (modes in order of decreasing period) to reach `fraction` [-] (the shortest mode if never)."""
-    periods = np.asarray(periods, dtype=float)
-    cumulative = np.cumsum(np.asarray(mass_ratios, dtype=float))
-    index = int(np.searchsorted(cumulative, fraction - 1e-12))
-    return float(periods[min(index, periods.size - 1)])
