@@ -6,17 +6,22 @@ from pathlib import Path
 
 import numpy as np
 
-from upliftcli.motion.baseline import _integrals, baseline_correct
+from upliftcli.motion.baseline import baseline_correct
 from upliftcli.motion.records import ground_displacement, ground_velocity, read_record
 
 ELCENTRO = Path(__file__).resolve().parents[1] / "records" / "elcentro_1940_ns_chopra.txt"
 
 
 
-def test_integrals_equal_the_record_integrals():
+def test_the_record_integrals_work_on_columns_and_are_exact_for_a_ramp():
+    """The correction integrates its basis as columns: each column as alone, and a(t) = t
+    (piecewise linear, so exact) gives v = t^2/2 and d = t^3/6."""
     rng = np.random.default_rng(3)
     values = rng.normal(size=(500, 3))
-    velocity, displacement = _integrals(values, 0.01)
+    velocity, displacement = ground_velocity(values, 0.01), ground_displacement(values, 0.01)
+    t = np.arange(500) * 0.01
+    np.testing.assert_allclose(ground_velocity(t, 0.01), t**2 / 2, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(ground_displacement(t, 0.01), t**3 / 6, rtol=1e-12, atol=1e-15)
     for k in range(3):
         np.testing.assert_allclose(velocity[:, k], ground_velocity(values[:, k], 0.01), rtol=0, atol=1e-14)
         np.testing.assert_allclose(displacement[:, k], ground_displacement(values[:, k], 0.01), rtol=0, atol=1e-14)

@@ -14,17 +14,10 @@ from __future__ import annotations
 import numpy as np
 from numpy.polynomial import legendre
 
+from .records import ground_displacement, ground_velocity
+
 #: degree of the correcting polynomial in the acceleration (5 terms)
 ORDER = 4
-
-
-def _integrals(values: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
-    """Velocity and displacement (columns, zero initial conditions) of piecewise-linear accelerations
-    (n, k), as records.ground_velocity and records.ground_displacement for each column."""
-    zero = np.zeros((1, *values.shape[1:]))
-    velocity = np.concatenate((zero, np.cumsum(0.5 * dt * (values[1:] + values[:-1]), axis=0)))
-    steps = velocity[:-1] * dt + (2.0 * values[:-1] + values[1:]) * dt * dt / 6.0
-    return velocity, np.concatenate((zero, np.cumsum(steps, axis=0)))
 
 
 def baseline_correct(acceleration, dt: float, order: int = ORDER) -> np.ndarray:
@@ -36,7 +29,8 @@ def baseline_correct(acceleration, dt: float, order: int = ORDER) -> np.ndarray:
         return a.copy()
     t = np.arange(n) * dt
     basis = legendre.legvander(2.0 * t / t[-1] - 1.0, order)  # (n, order + 1)
-    velocity, displacement = _integrals(np.column_stack((a, basis)), dt)
+    columns = np.column_stack((a, basis))
+    velocity, displacement = ground_velocity(columns, dt), ground_displacement(columns, dt)
     scale = t[-1] ** 2  # displacement of a unit acceleration over the record, for conditioning
     d_record, d_basis = displacement[:, 0] / scale, displacement[:, 1:] / scale
     constraints = np.vstack((velocity[-1, 1:] / t[-1], d_basis[-1]))

@@ -136,18 +136,20 @@ def _apply_window(acceleration: np.ndarray, dt: float, window: tuple[float, floa
 
 def ground_velocity(acceleration: np.ndarray, dt: float) -> np.ndarray:
     """Ground velocity [m/s] by exact integration of the piecewise-linear acceleration
-    (trapezoidal rule), v(0) = 0, no baseline correction."""
+    (trapezoidal rule), v(0) = 0, no baseline correction; along axis 0 (columns: records)."""
     a = np.asarray(acceleration, dtype=float)
-    return np.concatenate(([0.0], np.cumsum(0.5 * dt * (a[1:] + a[:-1]))))
+    zero = np.zeros((1, *a.shape[1:]))
+    return np.concatenate((zero, np.cumsum(0.5 * dt * (a[1:] + a[:-1]), axis=0)))
 
 
 def ground_displacement(acceleration: np.ndarray, dt: float) -> np.ndarray:
     """Ground displacement [m], exact double integral of the piecewise-linear acceleration,
-    d(0) = v(0) = 0, no baseline correction: d_{i+1} = d_i + v_i dt + (2 a_i + a_{i+1}) dt^2 / 6."""
+    d(0) = v(0) = 0, no baseline correction: d_{i+1} = d_i + v_i dt + (2 a_i + a_{i+1}) dt^2 / 6;
+    along axis 0."""
     a = np.asarray(acceleration, dtype=float)
     v = ground_velocity(a, dt)
     increments = v[:-1] * dt + (2.0 * a[:-1] + a[1:]) * dt * dt / 6.0
-    return np.concatenate(([0.0], np.cumsum(increments)))
+    return np.concatenate((np.zeros((1, *a.shape[1:])), np.cumsum(increments, axis=0)))
 
 
 def arias_intensity(acceleration: np.ndarray, dt: float) -> float:
