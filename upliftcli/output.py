@@ -34,8 +34,7 @@ UNITS = {
     "weight": "N", "effective_height": "m", "periods": "s", "critical_coefficient": "-", "times": "s",
     "factor": "-", "period_range": "s", **{name: unit for name, (unit, _) in COMPARED.items()},
 }
-_STORY_QUANTITIES = quantities(FLOOR) + quantities(STORY)
-_STORY_QUANTITIES.sort(key=lambda q: list(QUANTITIES).index(q.name))
+_STORY_QUANTITIES = quantities(FLOOR, STORY)
 
 
 def to_jsonable(value: Any) -> Any:

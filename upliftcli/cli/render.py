@@ -20,13 +20,13 @@ from rich.measure import Measurement
 from rich.table import Table
 from rich.text import Text
 
-from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, QUANTITIES, STORY, quantities
+from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, STORY, quantities
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
 from ..model.system import System, fixed_base_mode_rows
 
 #: floor and story quantities in table order
-STORY_QUANTITIES = [q for q in QUANTITIES.values() if q.where in (FLOOR, STORY)]
+STORY_QUANTITIES = quantities(FLOOR, STORY)
 #: short headings of the story tables (name -> (heading, legend entry)); the others: Quantity.heading
 SHORT_HEADINGS = {"displacement": ("disp.", "disp. = floor displacement relative to the mat"),
                   "drift_ratio": ("drift ratio", "drift ratio = story drift / story height"),

@@ -85,9 +85,9 @@ SCALARS: dict[str, Scalar] = {s.name: s for s in (
 )}
 
 
-def quantities(where: str) -> list[Quantity]:
-    """The quantities that live per floor, per story or per element."""
-    return [q for q in QUANTITIES.values() if q.where == where]
+def quantities(*where: str) -> list[Quantity]:
+    """The quantities that live per floor, per story or per element (several: in table order)."""
+    return [q for q in QUANTITIES.values() if q.where in where]
 
 
 #: intermediate values an engineer checks by hand, name -> (unit, meaning): those of the

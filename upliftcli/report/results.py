@@ -13,7 +13,7 @@ from ..engines.result import AnalysisResult
 from .document import Section, Table, Text, number
 
 EXIT_OK, EXIT_CRITERIA = 0, 3
-STORY_QUANTITIES = [q for q in QUANTITIES.values() if q.where in (FLOOR, STORY)]
+STORY_QUANTITIES = quantities(FLOOR, STORY)
 #: the quantities of the accuracy check in the report's words (upliftcli/accuracy.py CHECKED)
 ACCURACY_LABELS = {"base_shear": "V_b", "base_moment": "M_b", "max_drift_ratio": "largest story drift ratio",
                    "roof_displacement": "roof displacement"}
