@@ -154,9 +154,10 @@ def test_accuracy_ratios_simplified_over_exact():
     for support, label, simplified, exact, ratio in rows:
         s = next(r for r in results if r.engine == "simplified" and r.support == support)
         e = next(r for r in results if r.engine == "exact" and r.support == support)
-        value = {"V_b": lambda r: r.base_shear, "M_b": lambda r: r.base_moment,
-                 "largest story drift ratio": lambda r: r.peaks["drift_ratio"].max(),
-                 "roof displacement": lambda r: r.peaks["displacement"][-1]}[label]
+        value = {"base shear V_b [N]": lambda r: r.base_shear,
+                 "base overturning moment M_b [N m]": lambda r: r.base_moment,
+                 "largest story drift ratio [-]": lambda r: r.peaks["drift_ratio"].max(),
+                 "roof displacement relative to the mat [m]": lambda r: r.peaks["displacement"][-1]}[label]
         assert (float(simplified), float(exact)) == pytest.approx((value(s), value(e)), rel=1e-4)
         assert float(ratio) == pytest.approx(value(s) / value(e), rel=1e-3)
     # the accuracy object uplift analyze attaches (upliftcli/accuracy.py) is shown instead, as given
@@ -277,7 +278,7 @@ def test_suite_records_and_accuracy_from_the_suite_result():
     assert rows[-1][1] == "mean (design value)" and rows[-1][-1] == f"{suite.uplift_count} of 3"
     assert float(rows[-1][3]) == pytest.approx(1e-3 * np.mean([r.base_shear for r in suite.record_results]), rel=1e-4)
     ratios = {row[1]: float(row[4]) for row in parsed.tables["table-accuracy"][1:]}
-    assert ratios["V_b"] == pytest.approx(simplified.base_shear / suite.base_shear, rel=1e-3)
+    assert ratios["base shear V_b [N]"] == pytest.approx(simplified.base_shear / suite.base_shear, rel=1e-3)
 
 
 def test_the_foundation_table_is_the_one_the_engines_use():

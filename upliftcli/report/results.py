@@ -14,9 +14,6 @@ from .document import Section, Table, Text, number
 
 EXIT_OK, EXIT_CRITERIA = 0, 3
 STORY_QUANTITIES = quantities(FLOOR, STORY)
-#: the quantities of the accuracy check in the report's words (upliftcli/accuracy.py CHECKED)
-ACCURACY_LABELS = {"base_shear": "V_b", "base_moment": "M_b", "max_drift_ratio": "largest story drift ratio",
-                   "roof_displacement": "roof displacement"}
 
 
 def _slug(result: AnalysisResult) -> str:
@@ -121,47 +118,27 @@ def accuracy_section(results: Sequence[AnalysisResult]) -> Section | None:
     simplified/exact of V_b, M_b, the largest drift and the roof displacement for each support
     both engines ran (on a suite: the simplified engine on the target against the suite's
     design statistic); None when neither is available."""
-    given = [r.details["accuracy"] for r in results if r.details.get("accuracy")]
-    note = ("SI units: N, N m, m. The exact engine solves the same model without the simplified procedure's "
-            "approximations (docs/theory.md sections 7 and 11); docs/accuracy.md gives the measured spread of "
-            "these ratios.")
-    rows = []
-    if given:
-        for check in given:
-            if "error" in check:
-                rows.append([str(check.get("support", "")), "exact engine", "-", "-", f"not run: {check['error']}"])
-                continue
-            if not all(isinstance(check.get(k), Mapping) for k in ("simplified", "exact", "ratio")):
-                rows += [[str(check.get("support", "")), key, "-", "-", number(value)] for key, value in _items(check)]
-                continue
-            for name, ratio in check["ratio"].items():
-                rows.append([str(check.get("support", "")), ACCURACY_LABELS.get(name, name),
-                             number(check["simplified"].get(name)), number(check["exact"].get(name)),
-                             number(np.nan if ratio is None else ratio, 4)])
-    else:
-        from ..accuracy import CHECKED
+    from ..accuracy import CHECKED, accuracy
 
-        for simplified, exact in accuracy_pairs(results):
-            for name, (_, _, value) in CHECKED.items():
-                a, b = value(simplified), value(exact)
-                rows.append([simplified.support, ACCURACY_LABELS.get(name, name), number(a), number(b),
-                             number(a / b if b else np.nan, 4)])
+    checks = [r.details["accuracy"] for r in results if r.details.get("accuracy")]
+    if not checks:
+        checks = [accuracy(simplified, exact) for simplified, exact in accuracy_pairs(results)]
+    note = ("The exact engine solves the same model without the simplified procedure's approximations "
+            "(docs/theory.md sections 7 and 11); docs/accuracy.md gives the measured spread of these ratios.")
+    rows = []
+    for check in checks:
+        if "error" in check:
+            rows.append([str(check["support"]), "exact engine", "-", "-", f"not run: {check['error']}"])
+            continue
+        for name, ratio in check["ratio"].items():
+            unit, meaning, _ = CHECKED[name]
+            rows.append([str(check["support"]), f"{meaning} [{unit}]", number(check["simplified"][name]),
+                         number(check["exact"][name]), number(np.nan if ratio is None else ratio, 4)])
     if not rows:
         return None
     table = Table("table-accuracy", "Accuracy of the simplified procedure: simplified / exact",
-                  ["support", "quantity", "simplified [SI]", "exact [SI]", "simplified/exact [-]"], rows, note)
+                  ["support", "quantity [unit]", "simplified", "exact", "simplified/exact [-]"], rows, note)
     return Section("accuracy", "Accuracy check", [table])
-
-
-def _items(value, prefix: str = ""):
-    if isinstance(value, Mapping):
-        for key, item in value.items():
-            yield from _items(item, f"{prefix}.{key}" if prefix else str(key))
-    elif isinstance(value, (list, tuple)) and value and isinstance(value[0], Mapping):
-        for k, item in enumerate(value):
-            yield from _items(item, f"{prefix}[{k}]")
-    else:
-        yield prefix, value
 
 
 def warnings_section(results: Sequence[AnalysisResult], deck=None) -> Section:
