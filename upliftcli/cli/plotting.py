@@ -10,22 +10,20 @@ from pathlib import Path
 import typer
 
 from ..errors import InputError
+from ..fields import parse_choices
 
 PLOT_HELP = ("Also draw the figures into this directory, as <deck>.<figure>.png: story profiles, mode shapes, "
              "the ground motion's spectra and, for the exact/approximate engines, response histories (paper "
              "Fig. 5 style), base moment against mat rotation and the energy balance.")
-FORMAT_HELP = "Figure formats with --plot: png, svg, pdf; repeatable or comma list."
+#: figure formats (file extensions)
+FORMATS = ("png", "svg", "pdf")
+FORMAT_HELP = "Figure formats with --plot: png, svg, pdf or all; repeatable or comma list."
 HISTORY_ENGINES = ("exact", "approximate")
 
 
 def check_plot(directory: Path | None, formats: list[str]) -> list[str]:
     """The figure formats, or InputError: --plot must name a directory (it is created)."""
-    chosen = []
-    for name in (part.strip().lower() for text in formats for part in text.split(",")):
-        if name and name not in ("png", "svg", "pdf"):
-            raise InputError("--plot-format", name, "one of png, svg, pdf")
-        if name and name not in chosen:
-            chosen.append(name)
+    chosen = parse_choices(formats, FORMATS, "--plot-format")  # as sweep and spectra read it
     if directory is not None and directory.exists() and not directory.is_dir():
         raise InputError("--plot", str(directory), "a directory (a file of that name exists)")
     return chosen or ["png"]

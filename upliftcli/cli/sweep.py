@@ -16,6 +16,7 @@ from .. import limits
 from ..atomic import refuse_inputs
 from ..errors import InputError
 from ..sweep.signals import ignore_stop_signals
+from . import plotting
 from .analyze import SET_HELP
 
 if TYPE_CHECKING:
@@ -274,7 +275,8 @@ def spectra(
     out: Path = typer.Option(Path("."), "--out", "-o", help="Directory of the output files."),
     name: str | None = typer.Option(None, "--name", help="Stem of the output files (default: <deck>.spectra)."),
     table: TableFormat = typer.Option(TableFormat.json, "--table", help="Besides <stem>.csv: json, parquet or csv."),
-    plot_format: list[str] = typer.Option(["png"], "--plot-format", help="png, svg, pdf; repeatable or comma list."),
+    plot_format: list[str] = typer.Option(["png"], "--plot-format",
+                                          help="png, svg, pdf or all; repeatable or comma list."),
     workers: int | None = typer.Option(None, "--workers", "-w", help=WORKERS_HELP),
     scheduler: str | None = typer.Option(None, "--scheduler", help=SCHEDULER_HELP),
     dask: str | None = typer.Option(None, "--dask", help=DASK_HELP),
@@ -298,7 +300,7 @@ def spectra(
     from ..sweep.plan import parse_choices, plan_sweep
     from ..sweep.store import stem_lock
 
-    formats = parse_choices(plot_format, ("png", "svg", "pdf"), "--plot-format")
+    formats = parse_choices(plot_format, plotting.FORMATS, "--plot-format")
     sweep_table.check_table_format(table.value)
     period_vary: Vary = figures.period_vary(periods)
     engines = parse_choices(engine, ENGINES, "--engine")
