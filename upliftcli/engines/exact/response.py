@@ -244,7 +244,6 @@ def uplift_summary(history: History, sig: Signals) -> dict:
         return {}
     summary: dict = {"max_rotation": float(np.abs(sig["theta"]).max())}
     displacement = sig["element_displacement"]
-    velocity = sig["element_velocity"]
     lifted = history.lifted
     lengths = history.lengths
     damped = space.element_damping > 0.0
@@ -257,9 +256,7 @@ def uplift_summary(history: History, sig: Signals) -> dict:
         summary[f"episodes_{name}"] = int(np.count_nonzero(lifted[1:, i] & ~lifted[:-1, i]))
         summary[f"max_uplift_{name}"] = float(max(gap[:, i].max(), 0.0))
         summary[f"max_edge_displacement_{name}"] = float(displacement[:, i].max())
-    # reactions R_i = -(k v_i + c v_i') of the elements in contact [3a]
-    force = displacement * space.element_stiffness + velocity * space.element_damping
-    reactions = np.where(lifted, np.inf, -force)
+    reactions = np.where(lifted, np.inf, element_reactions(history, sig)[0])  # of the elements in contact [3a]
     summary["min_reaction_left"] = float(reactions[:, 0].min())
     summary["min_reaction_right"] = float(reactions[:, -1].min())
     summary["min_reaction"] = float(reactions.min())
