@@ -10,9 +10,9 @@ benchmarks/accuracy.py, uplift support:
    squared shortfalls of the 20 % quantile of log(simplified/exact) below log 0.92, of the 5 %
    quantile below log 0.82 and of the median outside [log 0.97, log 1.08] (a small margin
    inside the goals), plus 0.1 x the mean squared log-ratio;
-3. the fitted values, the residuals by quantity and period band, and the check that the
-   engine (simplified.analyze, procedure "improved") reproduces the vectorised prediction
-   are printed.
+3. the fitted values and the residuals by quantity and period band are printed (that the
+   engine, simplified.analyze with procedure "improved", gives the vectorised prediction to
+   rounding is checked by tests/test_improved.py).
 
     nice -n 19 python benchmarks/calibrate.py          # after accuracy.py --exact-only has run
 """

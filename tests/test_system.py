@@ -19,7 +19,7 @@ def test_mode_rows_give_the_papers_table():
         assert row["frequency_ratio"] == pytest.approx(frequency, abs=0.01)
         assert row["effective_mass_ratio"] == pytest.approx(mass, abs=0.005)
         assert row["effective_height_over_b"] == pytest.approx(slenderness, abs=0.05)
-    assert rows[0]["period"] == pytest.approx(0.5, rel=1e-12)
+    assert rows[0]["period"] == pytest.approx(0.5, rel=1e-12) and rows[0]["damping"] == 0.05  # 5 % in every mode
     assert rows[-1]["cumulative_mass_ratio"] == pytest.approx(1.0, rel=1e-12)  # sum of m_n* = building mass
 
 

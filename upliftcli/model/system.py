@@ -69,12 +69,14 @@ class System:
 
 #: the columns of fixed_base_mode_rows and their units
 MODE_ROW_UNITS = {"mode": "-", "period": "s", "frequency_ratio": "-", "effective_mass_ratio": "-",
-                     "cumulative_mass_ratio": "-", "effective_height": "m", "effective_height_over_b": "-"}
+                     "cumulative_mass_ratio": "-", "effective_height": "m", "effective_height_over_b": "-",
+                     "damping": "-"}
 
 
 def fixed_base_mode_rows(system: System) -> list[dict[str, float]]:
-    """One row per fixed-base mode: T_n [s], w_n/w_1, m_n*/m_t and its running sum, h_n* [m] and
-    h_n*/b [9, 10] (m_t includes the mat mass, so with a mat the m_n*/m_t add up to less than 1)."""
+    """One row per fixed-base mode: T_n [s], w_n/w_1, m_n*/m_t and its running sum, h_n* [m],
+    h_n*/b [9, 10] and the modal damping ratio xi_n [-] (m_t includes the mat mass, so with a
+    mat the m_n*/m_t add up to less than 1)."""
     modes = system.modes
     ratio = modes.effective_mass / system.total_mass
     cumulative = np.cumsum(ratio)
@@ -82,5 +84,6 @@ def fixed_base_mode_rows(system: System) -> list[dict[str, float]]:
              "frequency_ratio": float(modes.omega[n] / modes.omega[0]),
              "effective_mass_ratio": float(ratio[n]), "cumulative_mass_ratio": float(cumulative[n]),
              "effective_height": float(modes.effective_height[n]),
-             "effective_height_over_b": float(modes.effective_height[n] / system.half_width)}
+             "effective_height_over_b": float(modes.effective_height[n] / system.half_width),
+             "damping": float(modes.damping[n])}
             for n in range(modes.n_modes)]

@@ -85,8 +85,7 @@ def model_section(deck, results: Sequence = ()) -> Section:
     story_rows = []
     for j in range(building.n_stories):
         story_rows.append([str(j + 1), number(building.heights[j]), number(building.story_heights[j]),
-                           number(building.masses[j]), number(stiffness[j]) if stiffness is not None else "-",
-                           number(building.damping[j], 3)])
+                           number(building.masses[j]), number(stiffness[j]) if stiffness is not None else "-"])
     note = ("Story stiffnesses after scaling to building.period." if "period" in deck.values.get("building", {})
             else "Story stiffnesses as given.")
     if stiffness is None:
@@ -115,8 +114,8 @@ def model_section(deck, results: Sequence = ()) -> Section:
                              f"{INTERMEDIATES[name][1]}, as used by the {result.engine} engine"])
     return Section("model", "Derived model", [
         Table("table-building", "Building: floors and stories (story j joins floor j-1 and floor j)",
-              ["story", "elevation h_j [m]", "story height [m]", "floor mass m_j [kg]", "story stiffness k_j [N/m]",
-               "damping xi_n [-]"], story_rows, note),
+              ["story", "elevation h_j [m]", "story height [m]", "floor mass m_j [kg]", "story stiffness k_j [N/m]"],
+              story_rows, note),
         Table("table-system", "The system: mat, totals and critical values", ["quantity", "value", "unit", "meaning"],
               scalars + used),
         Table("table-foundation", "Foundation", ["quantity", "value", "unit", "meaning"],
@@ -166,10 +165,10 @@ def modes_section(deck) -> Section:
     m_t = system.total_mass
     rows = [[str(row["mode"]), number(row["period"]), number(row["frequency_ratio"], 4),
              number(row["effective_mass_ratio"], 4), number(row["cumulative_mass_ratio"], 4),
-             number(row["effective_height"]), number(row["effective_height_over_b"], 4)]
+             number(row["effective_height"]), number(row["effective_height_over_b"], 4), number(row["damping"], 3)]
             for row in fixed_base_mode_rows(system)]
     note = "" if system.mat_mass == 0 else (f"m_t includes the mat mass m_0: the m_n* add up to the building mass, "
                                             f"{1 - system.mat_mass / m_t:.4f} m_t.")
     return Section("modes", "Fixed-base modes", [Table(
         "table-modes", "Fixed-base modes [6, 9]", ["mode", "T_n [s]", "w_n/w_1 [-]", "m_n*/m_t [-]", "cumulative [-]",
-                                                   "h_n* [m]", "h_n*/b [-]"], rows, note)])
+                                                   "h_n* [m]", "h_n*/b [-]", "damping xi_n [-]"], rows, note)])

@@ -7,13 +7,15 @@ depends only on the case (sweep.run_chunk), never on which worker ran it.
 
 Local workers are forked from a server process that imported the engines and loaded their
 compiled code once (multiprocessing's forkserver preloading sweep/warm.py), so each starts in
-milliseconds with everything in memory; where there is no forkserver (Windows), they are spawned.
+milliseconds with everything in memory; where there is no forkserver, they are spawned. Sweeps
+need a POSIX system (Linux, macOS): the rows file is locked with fcntl and SIGHUP is handled.
 
-Parent death: a local worker process exits when the sweep's process dies (SIGKILL included):
-on Linux the kernel sends it SIGKILL (prctl PR_SET_PDEATHSIG) when its parent dies, elsewhere a
-watchdog thread sees its parent change. A forked worker's parent is the warm server, which exits
-when the sweep's process does (multiprocessing's forkserver watches it). Workers ignore SIGINT and
-SIGHUP (the parent stops them).
+Parent death: a local worker process exits when the sweep's process dies (SIGKILL included): a
+thread of every worker waits on the sweep's process sentinel (_exit_when_ready). A forked
+worker's parent is the warm server, which lives on while a worker holds its liveness pipe, so
+the kernel's PR_SET_PDEATHSIG (Linux) and the parent-pid watchdog (exit_with_parent) only add
+to it where the parent is the sweep's process. Workers ignore SIGINT and SIGHUP (the parent
+stops them).
 
 Worker deaths: local processes report the cases as they start and as each finishes. After a worker
 dies, the cases that were running (started, not finished) are run again one at a time on a
