@@ -162,8 +162,6 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
             else:
                 batch = chosen.iter_batch([decks[k].system for k in members], motion, support, options)
             for j, result in batch:
-                if not chosen.needs_record and isinstance(result, AnalysisResult):
-                    result = analysis_suite.with_procedure_warning(result, motion, "modal")
                 keep(members[j], result)
         except (ArithmeticError, MemoryError) as error:  # the last guard: magnitudes the checks let through
             raise AnalysisError(f"{decks[members[0]].source}: the {engine} analysis ({support}) failed with "

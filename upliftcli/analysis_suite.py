@@ -18,7 +18,6 @@ from .engines.registry import ENGINES, Engine
 from .engines.result import AnalysisResult
 from .engines.suite_result import SuiteRecord, SuiteResult, suite_result
 from .errors import AnalysisError, InputError
-from .motion.design_spectra import procedure_warning
 from .motion.suites import Suite
 from .provenance import sha256
 
@@ -50,20 +49,9 @@ def _simplified(deck: Deck, support: str) -> AnalysisResult | None:
     if deck.spectrum is None:
         return None
     try:
-        return with_procedure_warning(
-            ENGINES["simplified"].analyze(deck.system, deck.spectrum, support, deck.analysis.simplified),
-            deck.spectrum, "modal")
+        return ENGINES["simplified"].analyze(deck.system, deck.spectrum, support, deck.analysis.simplified)
     except (AnalysisError, InputError):
         return None
-
-
-def with_procedure_warning(result: AnalysisResult, spectrum, procedure: str) -> AnalysisResult:
-    """The result with design_spectra.procedure_warning (the two-period ASCE 7-22 spectrum used
-    by a modal or response-history procedure) added to its warnings, if it applies."""
-    message = procedure_warning(spectrum, procedure)
-    if message and message not in result.details.get("warnings", []):
-        result.details["warnings"] = [*result.details.get("warnings", []), message]
-    return result
 
 
 def iter_suite_batch(engine: Engine, decks: Sequence[Deck], suite: Suite, support: str, options: Any

@@ -35,13 +35,16 @@ MARGIN = 1e-9
 
 def warnings(system: System, spectrum, support: str, options: SimplifiedOptions,
              result: AnalysisResult) -> list[str]:
-    """The warning lines for one simplified result (empty when none applies)."""
+    """The warning lines for one simplified result (empty when none applies), the design
+    spectrum's for a modal procedure among them (design_spectra.procedure_warning)."""
+    from ..motion.design_spectra import procedure_warning
     from .simplified import paper_analyze
 
     lines: list[str] = []
     inter = result.intermediates
     if support == "uplift" and result.uplift:
-        for other in ("bonded", "rigid"):
+        # the improved procedure caps V_b at the bonded and rigid values: only the paper's can exceed them
+        for other in ("bonded", "rigid") if options.procedure == "paper" else ():
             reference = paper_analyze(system, spectrum, other, options).base_shear
             if result.base_shear > reference * (1 + MARGIN):
                 lines.append(
@@ -67,4 +70,6 @@ def warnings(system: System, spectrum, support: str, options: SimplifiedOptions,
             lines.append(
                 f"xi1bar = {xi1bar:.4g} is above {CODE_DAMPING_MAX:g}, the largest flexible-base damping "
                 "ASCE 7-22 section 19.3 admits; the paper's value is used")
+    if message := procedure_warning(spectrum, "modal"):
+        lines.append(message)
     return lines
