@@ -137,7 +137,7 @@ def test_match_errors(tmp_path):
     before = (folder / "e_matched.txt").read_bytes()
     result = invoke("record", "match", deck, folder / "e.txt", folder / "e_matched.txt", "--out", folder,
                     "--overwrite")
-    assert result.exit_code == 2 and "a path that is not an input of this run" in result.stderr
+    assert result.exit_code == 2 and "a path that does not replace an input of the run" in result.stderr
     assert (folder / "e_matched.txt").read_bytes() == before
 
 

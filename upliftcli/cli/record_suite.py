@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import typer
 
+from ..atomic import refuse_inputs
 from ..errors import InputError
 from ..units import STANDARD_GRAVITY
 from .record import DT_HELP, FORMAT_HELP, UNITS_HELP
@@ -45,11 +46,9 @@ def _check_out(out: Path, names: list[str], overwrite: bool, inputs: list[Path])
     """Nothing is written when --out is a file, a target file exists (without --overwrite) or is an input."""
     if out.exists() and not out.is_dir():
         raise InputError("--out", str(out), "a directory (a file of that name exists)")
-    protected = {p.resolve() for p in inputs}
+    refuse_inputs([out / name for name in names], inputs, "--out")  # the same file by inode or path
     for name in names:
         path = out / name
-        if path.resolve() in protected:
-            raise InputError("--out", str(path), "a path that is not an input of this run")
         if path.exists() and not overwrite:
             raise InputError("--out", str(path), "a new file (it exists; give --overwrite to replace it)")
 

@@ -34,7 +34,7 @@ def report(
     report is written and says so), 4 analysis failure.
     """
     from .. import analysis, plots
-    from ..atomic import write_text
+    from ..atomic import refuse_inputs, write_text
     from ..deck import load_deck
     from ..report.build import build_report
     from ..report.html import render
@@ -47,8 +47,7 @@ def report(
         raise InputError("--out", str(out), "a file name (a directory of that name exists)")
     overrides = _overrides(settings, engine, support)
     loaded = keep_histories(load_deck(deck, overrides))
-    if any(out.resolve() == Path(path).resolve() for _, path in input_files(loaded)):
-        raise InputError("--out", str(out), "a file other than the inputs of the run")
+    refuse_inputs([out], [path for _, path in input_files(loaded)], "--out")
     deck_text = deck.read_text(encoding="utf-8")
     results = analysis.run(loaded)
     if check:
