@@ -76,3 +76,11 @@ def test_sweep_check_adds_the_ratios_of_matching_exact_cases(tmp_path):
             assert row["check_max_drift_ratio"] == pytest.approx(row["max_drift_ratio"] / exact["max_drift_ratio"])
         else:
             assert row["check_base_shear"] is None
+
+
+def test_sweep_check_needs_a_record_and_says_so():
+    result = CliRunner().invoke(app, ["sweep", str(ROOT / "inputs" / "ten_story_asce7.toml"), "--vary",
+                                      "building.period=0.5,1.0", "--check", "--workers", "1", "-q"],
+                                env={"CI": "true"})
+    assert result.exit_code == 2
+    assert result.stderr.startswith("error: --check: ") and "a deck with a record or a record suite" in result.stderr

@@ -234,11 +234,7 @@ def sweep(
     sweep_table.check_table_format(table.value)
     engines = parse_choices(engine, ENGINES, "--engine")
     plan = plan_sweep(deck, settings, vary, engines, parse_choices(support, SUPPORTS, "--support"),
-                      per_record=per_record)
-    if check:  # the exact engine runs beside the simplified one: its cases are batched as usual
-        plan = plan_sweep(deck, settings, vary, list(dict.fromkeys([*plan.engines, "exact"])), plan.supports,
-                          per_record=per_record)
-        plan.check = True
+                      per_record=per_record, check=check)  # --check: the exact engine's cases batched as usual
     warn_suites(plan)
     if plot_path is not None:
         figures.sweep_figure(plan, [])  # a numeric varied field to plot against, checked before running

@@ -38,6 +38,7 @@ from ..engines.registry import ENGINES
 from ..errors import InputError
 from ..fields import parse_choices  # noqa: F401 - part of this module's interface
 from ..limits import MAX_VARY_VALUES, cases_problem
+from ..motion.records import Record
 from ..motion.suites import Suite
 from ..provenance import motion_files, tool_version
 
@@ -246,10 +247,12 @@ def _with_suite(raw: dict, source: str, base: list, combo: Sequence[tuple[str, A
 
 def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: Sequence[str] = (),
                engines: Sequence[str] = (), supports: Sequence[str] = (), *, varies: Sequence[Vary] = (),
-               per_record: bool = False) -> SweepPlan:
+               per_record: bool = False, check: bool = False) -> SweepPlan:
     """Parse and validate a sweep: every case's deck is built (without its record) and every
     distinct ground motion is read once here, so bad input stops the run before any analysis.
-    per_record: each record's row in the tables (a deck with a suite run by a history engine)."""
+    per_record: each record's row in the tables (a deck with a suite run by a history engine);
+    check: the exact engine runs beside the others for the ratios simplified / exact (a deck
+    with a record or a suite)."""
     base = [parse_override(text) for text in settings]
     varies = list(varies) + [parse_vary(text) for text in vary_texts]
     paths = [v.path for v in varies]
@@ -260,6 +263,11 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     deck = build_deck(raw, source, base)
     engines = list(engines) or deck.analysis.engines
     supports = list(supports) or deck.analysis.supports
+    if check:
+        if not isinstance(deck.ground_motion, (Record, Suite)):
+            raise InputError("--check", source, "a deck with a record or a record suite (the exact engine checks "
+                             "the simplified one on it; this deck gives only a design spectrum)")
+        engines = list(dict.fromkeys([*engines, "exact"]))
     problem = cases_problem([len(v.values) for v in varies], len(engines) * len(supports))
     if problem:  # before any case is expanded
         raise InputError("--vary" if varies else "--engine/--support", None, problem)
@@ -292,7 +300,7 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     return SweepPlan(raw, source, deck.title, tuple(base), varies, engines, supports, cases, deck.criteria,
                      max((suite.count for suite in suites), default=0), per_record, warnings, records=records,
                      version=version, fingerprint=run_fingerprint(deck_fingerprint, records, version),
-                     record_steps=samples, inputs=tuple(inputs.values()))
+                     record_steps=samples, inputs=tuple(inputs.values()), check=check)
 
 
 # ----------------------------------------------------------------------------- chunks
