@@ -40,3 +40,23 @@ def test_an_override_replaces_its_alternatives():
                                     "damping_ratio": 0.1}
     assert paths == frozenset({"foundation.slenderness"})
     assert raw["foundation"]["b"] == 2.0  # the input is not changed
+
+
+def test_a_key_of_an_overridden_table_is_named_as_set():
+    from upliftcli.deck_overrides import set_by_override
+
+    overridden = frozenset({"ground_motion.design_spectrum", "ground_motion.suite"})
+    assert set_by_override("ground_motion.design_spectrum.sds", overridden)
+    assert set_by_override("ground_motion.suite[1].file", overridden)
+    assert not set_by_override("ground_motion.design_spectrum_x", overridden)
+    assert not set_by_override("building.period", overridden)
+
+
+def test_a_bad_design_spectrum_given_by_set_names_set():
+    from pathlib import Path
+
+    from upliftcli.deck import load_deck
+
+    deck = Path(__file__).resolve().parents[1] / "inputs" / "ten_story_asce7.toml"
+    with pytest.raises(InputError, match=r"^--set: ground_motion\.design_spectrum\.sds: a number > 0 \[g\]"):
+        load_deck(deck, ['ground_motion.design_spectrum={type="asce7", sds=-1.0, sd1=0.6, tl=8}'])

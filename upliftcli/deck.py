@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from . import deck_schema as schema
-from .deck_overrides import ALTERNATIVES, FOUNDATION_FIELDS, apply_overrides, parse_override
+from .deck_overrides import ALTERNATIVES, FOUNDATION_FIELDS, apply_overrides, parse_override, set_by_override
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from .errors import InputError, deck_relative_path, not_found
 from .limits import MAX_DECK_BYTES, MAX_STORIES, read_input
@@ -133,7 +133,7 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     values = schema.validate(raw, source, overridden)
 
     def error(path: str, expected: str):  # ground_motion.suite[1].file came from --set ground_motion.suite
-        return InputError("--set" if path in overridden or path.split("[")[0] in overridden else source, path, expected)
+        return InputError("--set" if set_by_override(path, overridden) else source, path, expected)
 
     building = _building(values["building"], error)
     system = _system(building, values["foundation"], values["analysis"], error)
@@ -294,23 +294,14 @@ def _ground_motion(fields: dict, source: str, error, system: System | None = Non
     """(record, design spectrum or suite, spectrum for the simplified engine)."""
     if not fields:
         raise error("ground_motion", "a [ground_motion] table with a record (path) or a design_spectrum")
-    from .deck_suite import SUITE_ONLY, TABLE_CORRECTION
+    from .deck_suite import SUITE_ONLY, target_spectrum
 
     suite_fields = {"suite", *SUITE_ONLY, "period_range", "statistics"}
     if "design_spectrum" in fields:
         extra = sorted(set(fields) - {"design_spectrum"} - suite_fields)
         if extra:
             raise error(f"ground_motion.{extra[0]}", "no record fields together with a design_spectrum")
-        from .motion import design_spectra
-
-        correction = TABLE_CORRECTION[fields.get("statistics", "mean")]
-        try:
-            spectrum = design_spectra.from_mapping(fields["design_spectrum"], source, "ground_motion.design_spectrum",
-                                                   default_correction=correction)
-        except InputError as bad:
-            if bad.source == source and bad.location:  # name "--set" if the value came from an override
-                raise error(bad.location, bad.expected) from None
-            raise
+        spectrum = target_spectrum(fields, source, error)
         if "suite" not in fields:
             for name in SUITE_ONLY:
                 if name in fields:

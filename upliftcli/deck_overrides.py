@@ -56,6 +56,12 @@ def toml_value(text: str) -> Any:
         return text
 
 
+def set_by_override(path: str, overridden) -> bool:
+    """Whether the field at `path` came from a --set: the path itself or a table or array it is
+    in (ground_motion.design_spectrum.sds, ground_motion.suite[1].file) was overridden."""
+    return path in overridden or any(path[:i] in overridden for i, ch in enumerate(path) if ch in ".[")
+
+
 def apply_overrides(raw: dict, overrides: Iterable[tuple[str, Any]]) -> tuple[dict, frozenset[str]]:
     """Copy of `raw` with each (dotted path, value) set; members of the same group of
     alternatives (e.g. foundation.b vs foundation.slenderness) are removed, and setting

@@ -105,18 +105,32 @@ def load_suite(fields: dict, plan: SuitePlan, source: str, error: Callable[[str,
         raise
 
 
+def target_spectrum(fields: dict, source: str, error: Callable[[str, str], InputError]):
+    """The design spectrum of a [ground_motion] table (design_spectra.from_mapping, the table's
+    damping correction by the suite's code rule); its errors through `error` (naming "--set"
+    for a value that came from an override)."""
+    from .motion.design_spectra import from_mapping
+
+    try:
+        return from_mapping(fields["design_spectrum"], source, "ground_motion.design_spectrum",
+                            default_correction=TABLE_CORRECTION[fields.get("statistics", "mean")])
+    except InputError as bad:
+        if bad.source == source and bad.location:
+            raise error(bad.location, bad.expected) from None
+        raise
+
+
 def plan_from_deck(deck) -> SuitePlan:
     """The SuitePlan of a deck loaded without its ground motion (load_deck(load_ground_motion=False)):
     its design spectrum, code rule and period range, whether or not its suite exists yet."""
-    from .motion.design_spectra import from_mapping
+    from .deck_overrides import set_by_override
 
     fields = deck.values.get("ground_motion", {})
 
     def error(path: str, expected: str) -> InputError:
-        return InputError("--set" if path in deck.overridden else deck.source, path, expected)
+        return InputError("--set" if set_by_override(path, deck.overridden) else deck.source, path, expected)
 
     if "design_spectrum" not in fields:
         raise error("ground_motion.design_spectrum", "a design spectrum (the target of the records)")
-    target = from_mapping(fields["design_spectrum"], deck.source, "ground_motion.design_spectrum",
-                          default_correction=TABLE_CORRECTION[fields.get("statistics", "mean")])
+    target = target_spectrum(fields, deck.source, error)
     return suite_plan(fields, target, deck.system, deck.analysis.simplified.effective_properties, deck.source, error)
