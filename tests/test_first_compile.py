@@ -26,7 +26,8 @@ deck = load_deck(sys.argv[1])
 result = engine.analyze(deck.system, deck.ground_motion, "uplift")
 print(json.dumps({
     "launched": first_compile.launched,
-    "loaded": {name: sum(getattr(response_kernels, name).stats.cache_hits.values()) for name in first_compile.SIGNATURES},
+    "loaded": {name: sum(getattr(response_kernels, name).stats.cache_hits.values())
+               for name in first_compile.SIGNATURES},
     "compiled": {name: sum(getattr(response_kernels, name).stats.cache_misses.values())
                  for name in first_compile.SIGNATURES},
     "shear": result.peaks["shear"].tolist(), "drift": result.peaks["drift"].tolist(),
