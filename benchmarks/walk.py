@@ -4,6 +4,12 @@ left (consecutive frames in one file merged; properties, dunder methods and comp
 are not stages; compiled numba loops are invisible). Printed twice: every return, and with
 the iterations of a loop counted once (a repeated cycle A -> B -> A -> B kept once).
 
+Counting returns, any layered chain pays one per stage a module calls: analysis -> registry ->
+engine -> {model, stepping, post-processing, result} -> registry -> analysis already returns 6
+times. A second count is printed for comparison: the re-entries into a file by a call (a file
+entered again from another one; coming back from a callee does not count), the back and forth
+of data between modules.
+
     python benchmarks/walk.py [DECK] [--engine exact] [--support uplift]
 """
 
@@ -44,9 +50,10 @@ def not_stages() -> set:
     return skip
 
 
-def walk(deck) -> list[str]:
-    """The files of the package the call chain is in, in order (consecutive repeats merged)."""
-    skip, sequence, stack = not_stages(), [], []
+def walk(deck) -> tuple[list[str], list[str]]:
+    """The files of the package the call chain is in, in order (consecutive repeats merged),
+    and the files entered by a call from another file, in order (consecutive repeats merged)."""
+    skip, sequence, stack, entered = not_stages(), [], [], []
 
     def profile(frame, event, arg):
         if event not in ("call", "return"):
@@ -63,6 +70,8 @@ def walk(deck) -> list[str]:
         if "<" in code.co_name and code.co_name != "<lambda>":
             return  # comprehensions and generator expressions
         if event == "call":
+            if (not stack or stack[-1] != code.co_filename) and (not entered or entered[-1] != code.co_filename):
+                entered.append(code.co_filename)
             stack.append(code.co_filename)
         elif stack:
             stack.pop()
@@ -75,7 +84,7 @@ def walk(deck) -> list[str]:
         analysis.run(deck)
     finally:
         sys.setprofile(None)
-    return [path[len(ROOT) + 1:] for path in sequence]
+    return [path[len(ROOT) + 1:] for path in sequence], [path[len(ROOT) + 1:] for path in entered]
 
 
 def loops_once(sequence: list[str]) -> list[str]:
@@ -109,9 +118,11 @@ def main() -> None:
     args = parser.parse_args()
     deck = load_deck(args.deck, [f'analysis.engine="{args.engine}"', f'analysis.supports="{args.support}"'])
     analysis.run(deck)  # compiled code loaded, caches warm
-    sequence = walk(deck)
+    sequence, entered = walk(deck)
     once = loops_once(sequence)
     print(f"returns to a file already left: {returns(sequence)}; with loop iterations counted once: {returns(once)}")
+    print(f"re-entries into a file by a call: {returns(entered)}; with loop iterations counted once: "
+          f"{returns(loops_once(entered))}")
     for name, count in collections.Counter(once).most_common():
         if count > 1:
             print(f"  {name}: {count} visits")
