@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from upliftcli import analysis
-from upliftcli.analysis import check_criteria, run, run_batch
+from upliftcli.analysis import run, run_batch
+from upliftcli.criteria import check_criteria
 from upliftcli.deck import load_deck
 from upliftcli.engines.suite_result import SuiteResult
 from upliftcli.errors import AnalysisError

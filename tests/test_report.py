@@ -15,7 +15,7 @@ import pytest
 from figure_cases import SMALL, small_run
 from typer.testing import CliRunner
 
-from upliftcli import analysis
+from upliftcli import criteria
 from upliftcli.cli import app
 from upliftcli.engines.quantities import QUANTITIES
 from upliftcli.report.build import build_report
@@ -178,14 +178,14 @@ def test_accuracy_ratios_simplified_over_exact():
 def test_criteria_verdict_and_exit_code_as_analyze():
     report, _, text, deck, results = make_report()
     assert report.exit_code == 0 and "exits with code 0" in report.verdict
-    assert not analysis.check_criteria(results, deck.criteria)
+    assert not criteria.check_criteria(results, deck.criteria)
     rows = Parsed(text).tables["table-criteria"][1:]
     for row, r in zip(rows, results, strict=True):
         assert row[2] == "drift_ratio" and float(row[3]) == pytest.approx(r.peaks["drift_ratio"].max(), rel=1e-4)
         assert row[-1] == "ok"
     strict = replace(deck, criteria={"drift_ratio": 1e-4, "uplift": False})
     report, _, text, _, _ = make_report(deck=strict)
-    violated = analysis.check_criteria(results, strict.criteria)
+    violated = criteria.check_criteria(results, strict.criteria)
     assert report.exit_code == 3 and violated
     assert sum(row[-1] == "VIOLATED" for row in Parsed(text).tables["table-criteria"]) == len(violated)
     assert 'class="verdict fail"' in text and "exits with code 3" in text

@@ -16,10 +16,8 @@ import numpy as np
 
 from . import analysis_suite, limits
 from .deck import Deck
-from .engines.quantities import QUANTITIES, SCALARS
 from .engines.registry import ENGINES, Engine
 from .engines.result import AnalysisResult
-from .engines.suite_result import SuiteResult
 from .errors import AnalysisError, InputError
 from .motion.records import Record
 from .motion.suites import Suite
@@ -184,26 +182,3 @@ def run(deck: Deck, engine: str | Sequence[str] | None = None,
     engines = [engine] if isinstance(engine, str) else list(engine or deck.analysis.engines)
     support_list = [supports] if isinstance(supports, str) else list(supports or deck.analysis.supports)
     return [run_one(deck, name, support) for name in engines for support in support_list]
-
-
-def check_criteria(results: Sequence[AnalysisResult], criteria: dict) -> list[str]:
-    """One message per violated acceptance criterion (deck [criteria]: a limit on the largest
-    |value| of a response quantity, on a scalar, or uplift = false); empty when all pass.
-    On a suite (SuiteResult) the limits apply to the design statistic (the mean, or EC8's
-    maximum below 7 records) and uplift = false to every record."""
-    messages = []
-    for result in results:
-        label = f"{result.engine}/{result.support}"
-        if isinstance(result, SuiteResult):
-            label += f" ({result.statistic} of {result.count} records)"
-        for name, limit in criteria.items():
-            if name == "uplift":
-                if not limit and result.uplift:
-                    under = f" under {result.uplift_count} records" if isinstance(result, SuiteResult) else ""
-                    messages.append(f"{label}: the mat lifts off{under} (criteria.uplift = false)")
-                continue
-            unit = (QUANTITIES.get(name) or SCALARS[name]).unit
-            value = abs(result.value(name))
-            if value > limit:
-                messages.append(f"{label}: {name} = {value:.4g} exceeds the limit {limit:.4g} [{unit}]")
-    return messages

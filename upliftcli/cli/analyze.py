@@ -99,6 +99,7 @@ def analyze(
     """
     from .. import analysis
     from ..accuracy import check_accuracy
+    from ..criteria import check_criteria
     from ..deck import load_deck
     from ..output import to_json
     from . import render
@@ -138,7 +139,7 @@ def analyze(
         render.print_results(render.console(), results, loaded.title)
     if out is not None:
         _write(results, out, deck.stem, loaded, record)
-    violations = analysis.check_criteria(results, loaded.criteria)
+    violations = check_criteria(results, loaded.criteria)
     if violations:
         for message in violations:
             typer.echo(f"criterion violated: {message}", err=True)
@@ -237,6 +238,7 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
     """Several decks: every deck is read and checked before any is run (bad input: exit 2, no
     output); one summary table (or {"decks": [...]} in JSON); exit 3 if any deck violates its criteria."""
     from .. import analysis
+    from ..criteria import check_criteria
     from ..deck import load_deck
     from ..output import dumps, results_document
     from . import render
@@ -254,7 +256,7 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
     for deck, _, results in runs:
         _warn_suite(results, f"{deck}: ")
     violations = [(deck, message) for deck, item, results in runs
-                  for message in analysis.check_criteria(results, item.criteria)]
+                  for message in check_criteria(results, item.criteria)]
     if output_format is OutputFormat.json:
         document = {"decks": [results_document(results, item.source, item.title, record)
                               for (_, item, results), record in zip(runs, records, strict=True)]}
@@ -275,7 +277,7 @@ def _batch_table(runs, violating: set[str]) -> Table:
     from rich.markup import escape
     from rich.table import Table
 
-    from .. import analysis
+    from ..criteria import check_criteria
     from . import render
 
     table = Table(title=f"Summary of {len(runs)} decks")
@@ -287,7 +289,7 @@ def _batch_table(runs, violating: set[str]) -> Table:
         table.add_column(escape(header), justify="left" if header == "deck" else "right", no_wrap=header == "deck")
     for deck, item, results in runs:
         for r in results:
-            failed = analysis.check_criteria([r], item.criteria)
+            failed = check_criteria([r], item.criteria)
             verdict = "-" if not item.criteria else ("violated" if failed else "ok")
             table.add_row(escape(label(deck)), escape(render.engine_label(r)), r.support, f"{1e-3 * r.base_shear:.1f}",
                           f"{r.base_shear_coefficient:.4f}", f"{1e-3 * r.base_moment:.1f}",

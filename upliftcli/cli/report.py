@@ -35,6 +35,7 @@ def report(
     """
     from .. import analysis, plots
     from ..atomic import refuse_inputs, write_text
+    from ..criteria import check_criteria
     from ..deck import load_deck
     from ..report.build import build_report
     from ..report.html import render
@@ -62,7 +63,7 @@ def report(
         raise InputError("--out", str(out), f"a writable file ({error.strerror or error})") from None
     typer.echo(f"wrote {out}", err=True)
     if document.exit_code:
-        for message in analysis.check_criteria(results, loaded.criteria):
+        for message in check_criteria(results, loaded.criteria):
             typer.echo(f"criterion violated: {message}", err=True)
         raise typer.Exit(document.exit_code)
 

@@ -8,7 +8,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, QUANTITIES, SCALARS, STORY, quantities
+from ..criteria import outcomes
+from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, STORY, quantities
 from ..engines.result import AnalysisResult
 from .document import Section, Table, Text, number
 
@@ -153,22 +154,15 @@ def warnings_section(results: Sequence[AnalysisResult], deck=None) -> Section:
 
 
 def criteria_rows(results: Sequence[AnalysisResult], criteria: Mapping) -> tuple[list[list[str]], int]:
-    """One row per result and criterion (value, limit, verdict) and the number violated; the
-    same tests as analysis.check_criteria."""
+    """One row per result and criterion (value, limit, verdict) and the number violated
+    (the tests of criteria.py)."""
     rows, violated = [], 0
-    for result in results:
-        for name, limit in criteria.items():
-            if name == "uplift":
-                ok = limit or not result.uplift
-                rows.append([result.engine, result.support, "uplift", number(result.uplift),
-                             "allowed" if limit else "not allowed", "-", "ok" if ok else "VIOLATED"])
-            else:
-                unit = (QUANTITIES.get(name) or SCALARS[name]).unit
-                value = abs(result.value(name))
-                ok = value <= limit
-                rows.append([result.engine, result.support, name, number(value), number(limit), unit,
-                             "ok" if ok else "VIOLATED"])
-            violated += not ok
+    for outcome in outcomes(results, criteria):
+        result = outcome.result
+        limit = ("allowed" if outcome.limit else "not allowed") if outcome.name == "uplift" else number(outcome.limit)
+        rows.append([result.engine, result.support, outcome.name, number(outcome.value), limit, outcome.unit,
+                     "ok" if outcome.ok else "VIOLATED"])
+        violated += not outcome.ok
     return rows, violated
 
 

@@ -11,7 +11,8 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis import check_criteria, run_batch
+from ..analysis import run_batch
+from ..criteria import check_criteria
 from ..deck import Deck, build_deck
 from ..engines.quantities import QUANTITIES, SCALARS
 from ..engines.simplified import effective_properties

@@ -174,12 +174,16 @@ def element_directions(model: ModalModel) -> np.ndarray:
     return e
 
 
+def modal_stiffness_damping(model: ModalModel) -> tuple[np.ndarray, np.ndarray]:
+    """w_n^2 m_n* [N/m] and 2 xi_n w_n m_n* [N s/m] of each mode [11a]."""
+    return model.effective_mass * model.omega**2, 2.0 * model.damping * model.omega * model.effective_mass
+
+
 def structure_matrices(model: ModalModel) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Stiffness, damping and forcing (per unit a_g, per unit 1) of the structure alone in p."""
     n_m = model.n_modes
     n_p = n_m + 2 if model.flexible else n_m
-    k_modal = model.effective_mass * model.omega**2
-    c_modal = 2.0 * model.damping * model.omega * model.effective_mass
+    k_modal, c_modal = modal_stiffness_damping(model)
     # structural deformation Y = T p with T = [I, -h* (coupled)]
     transform = np.zeros((n_m, n_p))
     transform[:, :n_m] = np.eye(n_m)
@@ -263,8 +267,7 @@ def state_space(model: ModalModel) -> StateSpace:
         settlement = weight / k_el.sum()
     else:
         directions, k_el, c_el, settlement = np.zeros((0, lay.n_p)), np.zeros(0), np.zeros(0), 0.0
-    k_modal = model.effective_mass * model.omega**2
-    c_modal = 2.0 * model.damping * model.omega * model.effective_mass
+    k_modal, c_modal = modal_stiffness_damping(model)
     to_modal = modal_map(model, lay)
     return StateSpace(model, lay, stiffness, damping, forcing, coordinate_masses(model), position, to_modal,
                       to_modal @ position, k_modal, c_modal, directions, k_el, c_el, directions @ position,

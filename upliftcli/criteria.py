@@ -1,0 +1,64 @@
+"""The deck's acceptance criteria ([criteria]) applied to results: one home for the tests that
+`uplift analyze` turns into its exit code, a sweep into its `violations` column and the report
+into its criteria table.
+
+A criterion is a limit on the largest |value| of a response quantity or a scalar
+(engines/quantities.py), or `uplift = false`. On a suite (SuiteResult) the limits apply to the
+design statistic (the mean, or EC8's maximum below 7 records) and uplift = false to every record.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+from .engines.quantities import QUANTITIES, SCALARS
+from .engines.result import AnalysisResult
+from .engines.suite_result import SuiteResult
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """One criterion applied to one result. value: the largest |value| (in `unit`), or for
+    `uplift` whether the mat lifts off; limit: the deck's (for `uplift`: whether it may)."""
+
+    result: AnalysisResult
+    name: str
+    value: float | bool
+    limit: float | bool
+    unit: str
+
+    @property
+    def ok(self) -> bool:
+        if self.name == "uplift":
+            return bool(self.limit) or not self.value
+        return self.value <= self.limit
+
+    def message(self) -> str:
+        """The one line that reports a violation."""
+        result = self.result
+        label = f"{result.engine}/{result.support}"
+        if isinstance(result, SuiteResult):
+            label += f" ({result.statistic} of {result.count} records)"
+        if self.name == "uplift":
+            under = f" under {result.uplift_count} records" if isinstance(result, SuiteResult) else ""
+            return f"{label}: the mat lifts off{under} (criteria.uplift = false)"
+        return f"{label}: {self.name} = {self.value:.4g} exceeds the limit {self.limit:.4g} [{self.unit}]"
+
+
+def outcomes(results: Sequence[AnalysisResult], criteria: Mapping) -> list[Outcome]:
+    """Every criterion applied to every result, in the order of the results, then the criteria."""
+    found = []
+    for result in results:
+        for name, limit in criteria.items():
+            if name == "uplift":
+                found.append(Outcome(result, name, bool(result.uplift), bool(limit), "-"))
+            else:
+                unit = (QUANTITIES.get(name) or SCALARS[name]).unit
+                found.append(Outcome(result, name, abs(result.value(name)), limit, unit))
+    return found
+
+
+def check_criteria(results: Sequence[AnalysisResult], criteria: Mapping) -> list[str]:
+    """One message per violated acceptance criterion; empty when all pass."""
+    return [outcome.message() for outcome in outcomes(results, criteria) if not outcome.ok]
