@@ -38,6 +38,16 @@ def test_suite_is_frozen_and_applies_its_factors(record):
     assert suite.count == 2 and suite.statistic == "mean" and suite.sources == (str(ELCENTRO),) * 2
 
 
+def test_check_spectra_computed_once_read_only_and_equal_to_explicit_periods(record):
+    suite = build_suite([record, replace(record, acceleration=2 * record.acceleration)], TARGET, (0.2, 2.0),
+                        RULES["mean"], "amplitude")
+    spectra = suite.spectra()
+    assert suite.spectra() is spectra and not spectra.flags.writeable
+    np.testing.assert_array_equal(spectra, suite.spectra(suite.periods.copy()))
+    rescaled = replace(suite, factors=(1.0, 1.0))  # a new suite: its own spectra
+    np.testing.assert_allclose(rescaled.spectra()[1], 2.0 * rescaled.spectra()[0], rtol=1e-12)
+
+
 def test_record_too_short_for_the_period_range(record):
     with pytest.raises(InputError, match=r"elcentro_1940_ns_chopra\.txt: duration: a record of at least 4 x the "
                                          r"upper period 8 s = 32 s for the period range, got 31\.18 s"):

@@ -14,6 +14,7 @@ scaling = "none", a mean below the code's criterion.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -81,8 +82,19 @@ class Suite:
                      for record, factor in zip(self.records, self.factors, strict=True))
 
     def spectra(self, periods=None) -> np.ndarray:
-        """S_a [m/s^2] of each scaled record (rows) at periods [s] (default: the check periods)."""
-        periods = self.periods if periods is None else np.asarray(periods, dtype=float)
+        """S_a [m/s^2] of each scaled record (rows) at periods [s] (default: the check periods,
+        computed once per suite and read-only)."""
+        if periods is None:
+            return self._check_spectra
+        return self._spectra(np.asarray(periods, dtype=float))
+
+    @functools.cached_property
+    def _check_spectra(self) -> np.ndarray:
+        spectra = self._spectra(self.periods)
+        spectra.flags.writeable = False
+        return spectra
+
+    def _spectra(self, periods: np.ndarray) -> np.ndarray:
         return np.array([response_spectrum(r.acceleration, r.dt, periods, [self.damping]).pseudo_acceleration[0]
                          for r in self.motions()])
 
