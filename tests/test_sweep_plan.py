@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from sweep_cases import ASCE7, EXAMPLE, ROOT, SHORT
 
+from upliftcli.deck import load_deck
 from upliftcli.errors import InputError
 from upliftcli.sweep.plan import (
     Case,
@@ -113,3 +114,11 @@ def test_plan_fingerprints_the_records_and_the_version():
     assert plan.record_steps[record] == (0.02, 301)
     other = plan_sweep(EXAMPLE, SHORT, ["building.period=0.5,2"], ["simplified"], ["rigid"])
     assert other.fingerprint == plan.fingerprint  # the varied values are in the case keys, not in the fingerprint
+
+
+def test_base_deck_is_the_deck_with_its_overrides_before_vary_built_once():
+    plan = plan_sweep(EXAMPLE, ["building.damping=0.03"], ["building.period=0.5,1"])
+    deck = plan.base_deck
+    assert plan.base_deck is deck and deck.ground_motion is None
+    assert (deck.system.building.damping == 0.03).all()
+    assert deck.system.modes.periods[0] == pytest.approx(load_deck(EXAMPLE).system.modes.periods[0], rel=1e-12)

@@ -43,7 +43,6 @@ def nominal_value(plan: SweepPlan, path: str) -> float | None:
     """The deck's own value of a field (after --set): as the deck gives it, else derived from
     its model (building.period: T_1; foundation.b, slenderness; the two-element k_f, c_f,
     frequency_ratio, damping_ratio), else the field's default; None if unknown or not a number."""
-    from ..deck import build_deck
     from ..deck_overrides import apply_overrides
 
     raw, _ = apply_overrides(plan.raw, plan.base_overrides)
@@ -52,7 +51,7 @@ def nominal_value(plan: SweepPlan, path: str) -> float | None:
         value = value.get(part) if isinstance(value, dict) else None
     if value is None:
         try:
-            system = build_deck(plan.raw, plan.source, plan.base_overrides, load_ground_motion=False).system
+            system = plan.base_deck.system
         except InputError:
             return None
         value = _derived(system, path)

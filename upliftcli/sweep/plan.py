@@ -19,6 +19,7 @@ here prints or exits.
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import itertools
 import json
@@ -225,6 +226,12 @@ class SweepPlan:
     def input_files(self) -> list[str]:
         """The files the sweep reads: the deck and the records (never overwritten by its outputs)."""
         return [self.source, *self.records]
+
+    @functools.cached_property
+    def base_deck(self) -> Deck:
+        """The deck after its --set overrides, before --vary, without its ground motion (built
+        once: the provenance and the figures' nominal values read it); InputError if invalid."""
+        return build_deck(self.raw, self.source, list(self.base_overrides), load_ground_motion=False)
 
 
 def _vary_error(error: InputError, varied: set[str]) -> InputError:

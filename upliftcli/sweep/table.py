@@ -127,10 +127,9 @@ def sweep_provenance(plan: SweepPlan) -> dict:
     """The provenance of a sweep (docs/provenance.md): that of its deck with the --set overrides,
     before --vary, every record file a case reads, and `sweep`: the varied fields and their
     values, the engines, supports and the number of cases."""
-    from ..deck import build_deck
     from ..provenance import of_deck, plain
 
-    record = of_deck(build_deck(plan.raw, plan.source, list(plan.base_overrides), load_ground_motion=False))
+    record = of_deck(plan.base_deck)
     record["files"] = [*record["files"], *plan.inputs]
     record["sweep"] = {"varied": [{"path": v.path, "unit": v.unit, "spacing": v.spacing, "values": plain(v.values)}
                                   for v in plan.varies],
