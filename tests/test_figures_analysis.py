@@ -106,7 +106,14 @@ def test_suite_records_thin_statistic_thick_target_dashed(statistic):
     assert thin[0].label.endswith("each of 3 records") and not thin[1].label  # one legend entry
 
 
-def test_unknown_statistic_is_refused():
+def test_unknown_statistic_is_refused_and_every_suite_statistic_is_drawn():
     _, results = small_run()
     with pytest.raises(ValueError, match="statistic"):
-        fa.suite_profile_figure([results[0], results[0]], "p84")
+        fa.suite_profile_figure([results[0], results[0]], "p90")
+    from upliftcli.engines.suite_result import STATISTICS
+    from upliftcli.figures.ensemble import statistic_of
+
+    values = np.array([[1.0, 4.0], [2.0, 8.0], [3.0, 6.0]])
+    assert set(STATISTICS) >= {"mean", "median", "p84", "max"}
+    np.testing.assert_allclose(statistic_of(values, "p84"), [2.68, 7.36])  # order statistic 1.68 of 0..2
+    fa.suite_profile_figure([results[0], results[0]], "p84")

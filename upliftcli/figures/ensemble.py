@@ -2,27 +2,20 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numpy as np
 
+from ..engines.suite_result import STATISTICS
 from .spec import Series
 
-#: statistics over the records of a suite, by name (the codes take the mean, or the maximum
-#: of fewer records: motion/code_rules.py)
-STATISTICS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
-    "mean": lambda values: np.mean(values, axis=0),
-    "max": lambda values: np.max(values, axis=0),
-    "median": lambda values: np.median(values, axis=0),
-}
 RECORD_WIDTH, STATISTIC_WIDTH, TARGET_WIDTH = 0.7, 2.6, 2.0
 
 
 def statistic_of(values: np.ndarray, statistic: str) -> np.ndarray:
-    """The statistic ("mean", "max" or "median") over the first axis (records)."""
+    """A statistic of a suite (engines/suite_result.STATISTICS: the codes take the mean, or
+    the maximum of fewer records) over the first axis (records)."""
     if statistic not in STATISTICS:
         raise ValueError(f"statistic must be one of {', '.join(STATISTICS)}, got {statistic!r}")
-    return STATISTICS[statistic](np.asarray(values, dtype=float))
+    return STATISTICS[statistic][1](np.asarray(values, dtype=float))
 
 
 def ensemble(label: str, position: np.ndarray, values: np.ndarray, statistic: str, color: str,
