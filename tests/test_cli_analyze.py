@@ -6,19 +6,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from typer.testing import CliRunner
-
-from upliftcli.cli import app
+from cli_helpers import invoke
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
 RECORD = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
 
-runner = CliRunner()
 
-
-def invoke(*args, env=None):
-    return runner.invoke(app, [str(a) for a in args], env={"CI": "true", **(env or {})})
 
 
 def test_modes_table_reproduces_the_paper():

@@ -11,19 +11,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from typer.testing import CliRunner
-
-from upliftcli.cli import app
+from cli_helpers import invoke
 
 ROOT = Path(__file__).resolve().parents[1]
 ASCE = ROOT / "inputs" / "ten_story_asce7_suite.toml"
 THREE = "ground_motion.suite=" + json.dumps([f"../records/ten_story_asce7_suite/artificial_2024_{k:02d}.txt"
                                              for k in (1, 2, 3)])
-runner = CliRunner()
 
-
-def invoke(*args):
-    return runner.invoke(app, [str(a) for a in args], env={"CI": "true"})
 
 
 @pytest.fixture(scope="module")

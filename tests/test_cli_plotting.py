@@ -4,9 +4,7 @@ end to end through typer's test runner."""
 import json
 from pathlib import Path
 
-from typer.testing import CliRunner
-
-from upliftcli.cli import app
+from cli_helpers import invoke
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
@@ -14,11 +12,7 @@ RECORD = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
 SMALL = ["--set", "building.stories=4", "--set", "ground_motion.window=[0, 6]"]
 PNG = b"\x89PNG\r\n\x1a\n"
 
-runner = CliRunner()
 
-
-def invoke(*args):
-    return runner.invoke(app, [str(a) for a in args], env={"CI": "true"})
 
 
 def test_analyze_plot_writes_every_figure_and_keeps_json_free_of_histories(tmp_path):

@@ -9,9 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import typer
-from typer.testing import CliRunner
+from cli_helpers import invoke, runner
 
-from upliftcli.cli import app
 from upliftcli.cli import record as record_cli
 from upliftcli.motion.records import read_record
 from upliftcli.motion.spectra import response_spectrum
@@ -19,11 +18,7 @@ from upliftcli.provenance import read_csv_provenance
 from upliftcli.units import STANDARD_GRAVITY
 
 RECORD = Path(__file__).resolve().parent.parent / "records" / "elcentro_1940_ns_chopra.txt"
-runner = CliRunner()
 
-
-def invoke(*args):
-    return runner.invoke(app, [str(a) for a in args], env={"CI": "true"})
 
 
 def test_info_prints_the_measures():

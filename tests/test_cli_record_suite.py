@@ -9,20 +9,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from typer.testing import CliRunner
+from cli_helpers import invoke
 
-from upliftcli.cli import app
 from upliftcli.motion.design_spectra import EC8Spectrum
 from upliftcli.motion.records import read_record
 from upliftcli.motion.spectra import response_spectrum
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORD = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
-runner = CliRunner()
 
-
-def invoke(*args):
-    return runner.invoke(app, [str(a) for a in args], env={"CI": "true"})
 
 
 def deck_with(tmp_path: Path, ground_motion: str, name: str = "deck.toml") -> Path:

@@ -11,10 +11,9 @@ import time
 from pathlib import Path
 
 import pytest
-from typer.testing import CliRunner
+from cli_helpers import invoke
 
 from upliftcli.analysis import run_one
-from upliftcli.cli import app
 from upliftcli.deck import load_deck
 from upliftcli.provenance import rounded
 from upliftcli.sweep.store import RowStore
@@ -24,11 +23,7 @@ EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
 RECORD = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
 PNG = b"\x89PNG\r\n\x1a\n"
 
-runner = CliRunner()
 
-
-def invoke(*args, env=None):
-    return runner.invoke(app, [str(a) for a in args], env={"CI": "true", **(env or {})})
 
 
 def table_text(path) -> str:
