@@ -13,6 +13,14 @@ EXAMPLE_DECK = ROOT / "inputs" / "ten_story_elcentro.toml"
 ELCENTRO = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
 
 
+@pytest.fixture(scope="module")
+def elcentro():
+    """The bundled El Centro 1940 NS record (records/README.md), read once per test module."""
+    from upliftcli.motion.records import read_record
+
+    return read_record(ELCENTRO)
+
+
 @pytest.fixture()
 def deck_dir(tmp_path):
     """A copy of the example deck (inputs/deck.toml) and its record in a temporary directory."""

@@ -16,16 +16,11 @@ from upliftcli.engines.options import ExactOptions
 from upliftcli.errors import AnalysisError
 from upliftcli.model.foundations import TwoElement, Winkler
 from upliftcli.model.system import System
-from upliftcli.motion.records import read_record
 from upliftcli.motion.spectra import sdof_history
 
 G = 9.80665
 RECORD = Path(__file__).resolve().parents[1] / "records" / "elcentro_1940_ns_chopra.txt"
 
-
-@pytest.fixture(scope="module")
-def elcentro():
-    return read_record(RECORD)
 
 
 def short(record, seconds: float):

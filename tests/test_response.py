@@ -18,15 +18,10 @@ from upliftcli.engines.options import ExactOptions
 from upliftcli.model.building import uniform_building
 from upliftcli.model.foundations import TwoElement, Winkler, two_element_from_ratios
 from upliftcli.model.system import System
-from upliftcli.motion.records import read_record
 from upliftcli.motion.spectra import sdof_history
 
 RECORD = Path(__file__).resolve().parents[1] / "records" / "elcentro_1940_ns_chopra.txt"
 
-
-@pytest.fixture(scope="module")
-def elcentro():
-    return read_record(RECORD)
 
 
 def short(record, seconds: float, refine: int = 1):

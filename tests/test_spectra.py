@@ -10,17 +10,12 @@ import pytest
 from scipy import signal
 
 from upliftcli.errors import InputError
-from upliftcli.motion.records import Record, bundled_records_dir, read_record
 from upliftcli.motion.spectra import RecordSpectrum, response_spectrum, sdof_history, substeps
 from upliftcli.units import STANDARD_GRAVITY
 
 G = STANDARD_GRAVITY
 INCH = 0.0254
 
-
-@pytest.fixture(scope="module")
-def elcentro() -> Record:
-    return read_record(bundled_records_dir() / "elcentro_1940_ns_chopra.txt")
 
 
 def brute_force(acceleration, dt, period, damping, refine=200, tail_periods=2.0):

@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 from test_spectra import brute_force
 
-from upliftcli.motion.records import Record, bundled_records_dir, read_record
 from upliftcli.motion.spectra import RecordSpectrum, response_spectrum
 from upliftcli.motion.spectra_numpy import _states
 
@@ -18,10 +17,6 @@ from upliftcli.motion.spectra_numpy import _states
 #: precision for either, test_states_match_extended_precision)
 AGREEMENT = 5e-12
 
-
-@pytest.fixture(scope="module")
-def elcentro() -> Record:
-    return read_record(bundled_records_dir() / "elcentro_1940_ns_chopra.txt")
 
 
 def both(acc, dt, periods, dampings, **options):
