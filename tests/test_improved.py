@@ -7,6 +7,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from paper_example import paper_system
+from spectrum_stand_ins import ConstantSpectrum
 
 from upliftcli.engines import improved
 from upliftcli.engines.improved import COEFFICIENTS, Coefficients, analyze_uplift, combine_peaks
@@ -18,13 +19,6 @@ G = 9.80665
 NEUTRAL = Coefficients()
 OPTIONS = SimplifiedOptions()
 
-
-class Constant:
-    def __init__(self, value):
-        self.value = value
-
-    def sa(self, periods, damping):
-        return np.full(np.shape(np.atleast_1d(periods)), self.value)
 
 
 class Smooth:
@@ -46,7 +40,7 @@ def heavy_mat_system(period=0.6):
 
 def test_below_critical_shear_equals_the_paper_and_bonded():
     system = heavy_mat_system()
-    spectrum = Constant(0.9 * system.critical_base_shear / float(system.modes.effective_mass[0]))
+    spectrum = ConstantSpectrum(0.9 * system.critical_base_shear / float(system.modes.effective_mass[0]))
     result = analyze(system, spectrum, "uplift")
     bonded = paper_analyze(system, spectrum, "bonded")
     assert not result.uplift
@@ -61,7 +55,7 @@ def test_continuous_at_the_onset_of_uplift_with_a_heavy_mat(coefficients):
     system = heavy_mat_system()
     m1 = float(system.modes.effective_mass[0])
     assert m1 / system.total_mass < 0.55
-    just_above = Constant((1 + 1e-9) * system.critical_base_shear / m1)
+    just_above = ConstantSpectrum((1 + 1e-9) * system.critical_base_shear / m1)
     result = analyze_uplift(system, just_above, OPTIONS, coefficients)
     bonded = paper_analyze(system, just_above, "bonded")
     # the phase decay factor makes X - 1 ~ sqrt(V_1/V_c - 1): the limit is approached slowly
@@ -197,7 +191,7 @@ def test_winkler_lifts_from_the_kern_in_the_improved_procedure():
     b = system.half_width
     winkler = replace(system, foundation=Winkler(system.foundation.rocking_stiffness(b) * 1.5 / b**3, 0.0))
     m1 = float(winkler.modes.effective_mass[0])
-    spectrum = Constant(0.6 * winkler.critical_base_shear / m1)  # above the kern, below tipping
+    spectrum = ConstantSpectrum(0.6 * winkler.critical_base_shear / m1)  # above the kern, below tipping
     result = analyze(winkler, spectrum, "uplift")
     capacity = improved.uplift_capacity(0.6, 1 / 3)
     assert result.uplift and result.intermediates["capacity"] == pytest.approx(capacity)

@@ -3,9 +3,9 @@ it reports checked against separate analyses, and its absence where it does not 
 
 from pathlib import Path
 
-import numpy as np
 import pytest
 from paper_example import paper_system
+from spectrum_stand_ins import ConstantSpectrum
 from typer.testing import CliRunner
 
 from upliftcli.cli import app
@@ -17,13 +17,6 @@ from upliftcli.engines.simplified import analyze
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = SimplifiedOptions(procedure="paper")
 
-
-class Constant:
-    def __init__(self, value):
-        self.value = value
-
-    def sa(self, periods, damping):
-        return np.full(np.shape(np.atleast_1d(periods)), self.value)
 
 
 def matching(result, words):
@@ -48,7 +41,7 @@ def test_uplift_above_bonded_and_rigid_is_reported_with_both_values():
 def test_no_uplift_no_comparison_with_rigid():
     """Without uplift the uplift result is the bonded one, which may legitimately exceed the rigid one."""
     system = paper_system(period=1.0)
-    spectrum = Constant(0.5 * system.critical_base_shear / float(system.modes.effective_mass[0]))
+    spectrum = ConstantSpectrum(0.5 * system.critical_base_shear / float(system.modes.effective_mass[0]))
     result = analyze(system, spectrum, "uplift", PAPER)
     assert not result.uplift and not matching(result, "above the")
 
@@ -56,40 +49,40 @@ def test_no_uplift_no_comparison_with_rigid():
 def test_base_moment_above_the_limit_is_reported():
     system = paper_system(period=0.6, slenderness=4.0)
     m1 = float(system.modes.effective_mass[0])
-    strong = analyze(system, Constant(40 * system.critical_base_shear / m1), "uplift", PAPER)
+    strong = analyze(system, ConstantSpectrum(40 * system.critical_base_shear / m1), "uplift", PAPER)
     ratio = strong.base_moment / system.critical_base_moment
     assert ratio > MOMENT_LIMIT
     (line,) = matching(strong, "M_c")
     assert f"{ratio:.3g} M_c" in line
-    mild = analyze(system, Constant(1.5 * system.critical_base_shear / m1), "uplift", PAPER)
+    mild = analyze(system, ConstantSpectrum(1.5 * system.critical_base_shear / m1), "uplift", PAPER)
     assert mild.uplift and mild.base_moment < MOMENT_LIMIT * system.critical_base_moment
     assert not matching(mild, "M_c")
     short = paper_system(period=0.1, slenderness=4.0)  # impacts: large moments are real, no warning
     m1 = float(short.modes.effective_mass[0])
-    result = analyze(short, Constant(40 * short.critical_base_shear / m1), "uplift", PAPER)
+    result = analyze(short, ConstantSpectrum(40 * short.critical_base_shear / m1), "uplift", PAPER)
     assert result.base_moment > MOMENT_LIMIT * short.critical_base_moment and not matching(result, "M_c")
 
 
 def test_effective_damping_below_fixed_base_damping_is_reported():
     """The paper's example: xi1bar = 0.0328 < xi_1 = 0.05 (docs/theory.md); the value is kept."""
     system = paper_system()
-    result = analyze(system, Constant(3.0), "bonded")
+    result = analyze(system, ConstantSpectrum(3.0), "bonded")
     assert result.intermediates["xi1bar"] == pytest.approx(0.0328, abs=5e-5)
     (line,) = matching(result, "below the fixed-base")
     assert "0.03279" in line
-    assert not matching(analyze(system, Constant(3.0), "rigid"), "xi1bar")
+    assert not matching(analyze(system, ConstantSpectrum(3.0), "rigid"), "xi1bar")
 
 
 def test_effective_damping_above_the_code_limit_is_reported():
     heavy = paper_system(frequency_ratio=2.5, damping_ratio=3.0)  # very soft, very damped foundation
-    result = analyze(heavy, Constant(3.0), "bonded")
+    result = analyze(heavy, ConstantSpectrum(3.0), "bonded")
     assert result.intermediates["xi1bar"] > CODE_DAMPING_MAX
     assert matching(result, f"above {CODE_DAMPING_MAX:g}")
     assert not matching(result, "below the fixed-base")
     moderate = paper_system(frequency_ratio=3.0, damping_ratio=0.6)
-    xi = analyze(moderate, Constant(3.0), "bonded").intermediates
+    xi = analyze(moderate, ConstantSpectrum(3.0), "bonded").intermediates
     assert xi["xi1"] <= xi["xi1bar"] <= CODE_DAMPING_MAX
-    assert not analyze(moderate, Constant(3.0), "bonded").details["warnings"]
+    assert not analyze(moderate, ConstantSpectrum(3.0), "bonded").details["warnings"]
 
 
 def test_warnings_leave_the_exit_code_unchanged():

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from paper_example import paper_system
 from scipy.integrate import solve_ivp
+from spectrum_stand_ins import ConstantSpectrum
 
 from upliftcli.engines.options import SimplifiedOptions
 from upliftcli.engines.simplified import analyze, cqc, cqc_correlation, effective_properties, srss, uplift_base_shear
@@ -26,13 +27,6 @@ class SmoothSpectrum:
         eta = np.sqrt(0.10 / (0.05 + damping))
         return eta * G * np.where(t < 0.4, 0.4 + 1.5 * t / 0.4 * 0.6 / 0.6, 0.76 / np.maximum(t, 1e-9) ** 0.8)
 
-
-class ConstantSpectrum:
-    def __init__(self, value):
-        self.value = value
-
-    def sa(self, periods, damping):
-        return np.full(np.shape(np.atleast_1d(periods)), self.value)
 
 
 # ----------------------------------------------------------------------------- rigid base
