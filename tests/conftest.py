@@ -14,6 +14,14 @@ ELCENTRO = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
 
 
 @pytest.fixture(scope="module")
+def example_deck():
+    """The bundled example deck (inputs/ten_story_elcentro.toml), loaded once per test module."""
+    from upliftcli.deck import load_deck
+
+    return load_deck(EXAMPLE_DECK)
+
+
+@pytest.fixture(scope="module")
 def elcentro():
     """The bundled El Centro 1940 NS record (records/README.md), read once per test module."""
     from upliftcli.motion.records import read_record

@@ -1,26 +1,14 @@
 """The deck's acceptance criteria applied to results (upliftcli/criteria.py): the same outcomes
 for the exit code of `uplift analyze`, the sweep's violations column and the report's table."""
 
-from pathlib import Path
-
-import pytest
-
 from upliftcli.analysis import run
 from upliftcli.criteria import check_criteria, outcomes
 from upliftcli.deck import load_deck
 from upliftcli.report.results import criteria_rows
 
-ROOT = Path(__file__).resolve().parent.parent
-EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
 
-
-@pytest.fixture(scope="module")
-def deck():
-    return load_deck(EXAMPLE)
-
-
-def test_criteria(deck):
-    results = run(deck)
+def test_criteria(example_deck):
+    results = run(example_deck)
     worst_drift = max(float(max(r.drift_ratio)) for r in results)
     assert check_criteria(results, {"drift_ratio": worst_drift * 1.001}) == []
     messages = check_criteria(results, {"drift_ratio": worst_drift * 0.999})
@@ -31,21 +19,21 @@ def test_criteria(deck):
     assert check_criteria(results, {"uplift": True}) == []
 
 
-def test_criteria_on_floor_accelerations_and_reactions(deck):
+def test_criteria_on_floor_accelerations_and_reactions(example_deck):
     """Every quantity of engines/quantities.py with criterion=True is a [criteria] field."""
-    results = run(deck)
+    results = run(example_deck)
     accel = max(float(r.floor_acceleration.max()) for r in results)
     reaction = max(float(r.reaction.max(initial=0.0)) for r in results)
     assert check_criteria(results, {"floor_acceleration": accel * 1.001, "reaction": reaction * 1.001}) == []
     messages = check_criteria(results, {"floor_acceleration": accel * 0.999, "reaction": reaction * 0.999})
     assert any("floor_acceleration" in m and "[m/s^2]" in m for m in messages)
     assert any("reaction" in m and "[N]" in m for m in messages)
-    deck_with_limit = load_deck(EXAMPLE, ["criteria.floor_acceleration=1.0"])
+    deck_with_limit = load_deck(example_deck.source, ["criteria.floor_acceleration=1.0"])
     assert deck_with_limit.criteria == {"drift_ratio": 0.02, "floor_acceleration": 1.0}
 
 
-def test_outcomes_values_units_and_report_rows_agree(deck):
-    results = run(deck)
+def test_outcomes_values_units_and_report_rows_agree(example_deck):
+    results = run(example_deck)
     limits = {"drift_ratio": 0.004, "base_shear": 1e7, "uplift": False}
     found = outcomes(results, limits)
     assert [(o.result.support, o.name) for o in found] == [(r.support, n) for r in results for n in limits]
