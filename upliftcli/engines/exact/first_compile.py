@@ -54,7 +54,8 @@ def _cached(name: str) -> bool:
 
 def start() -> None:
     """Launch the child compiling the post-processing loops that are not cached, once per
-    process and only in a main process (the workers of a sweep start none)."""
+    process and only in a main process: `uplift analyze`, or the warm server of local sweep
+    workers (sweep/warm.py); the workers themselves (multiprocessing or Dask children) start none."""
     global _child, _started, launched
     if _started:
         return
