@@ -14,23 +14,18 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 from .deck import Deck
-from .engines.quantities import QUANTITIES, SCALARS
+from .engines.quantities import unit_of
 from .engines.result import AnalysisResult
 from .errors import AnalysisError, InputError
 from .motion.records import Record
 
-
-def _unit(name: str) -> str:
-    return (QUANTITIES.get(name) or SCALARS[name]).unit
-
-
 #: the quantities compared: name -> (unit, meaning, value of a result); the units are those of
 #: the quantities table (engines/quantities.py)
 CHECKED: dict[str, tuple[str, str, Callable[[AnalysisResult], float]]] = {
-    "base_shear": (_unit("base_shear"), "base shear V_b", lambda r: r.base_shear),
-    "base_moment": (_unit("base_moment"), "base overturning moment M_b", lambda r: r.base_moment),
-    "max_drift_ratio": (_unit("drift_ratio"), "largest story drift ratio", lambda r: r.value("drift_ratio")),
-    "roof_displacement": (_unit("displacement"), "roof displacement relative to the mat",
+    "base_shear": (unit_of("base_shear"), "base shear V_b", lambda r: r.base_shear),
+    "base_moment": (unit_of("base_moment"), "base overturning moment M_b", lambda r: r.base_moment),
+    "max_drift_ratio": (unit_of("drift_ratio"), "largest story drift ratio", lambda r: r.value("drift_ratio")),
+    "roof_displacement": (unit_of("displacement"), "roof displacement relative to the mat",
                           lambda r: float(abs(r.peaks["displacement"][-1]))),
 }
 

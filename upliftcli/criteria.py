@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-from .engines.quantities import QUANTITIES, SCALARS
+from .engines.quantities import unit_of
 from .engines.result import AnalysisResult
 from .engines.suite_result import SuiteResult
 
@@ -54,8 +54,7 @@ def outcomes(results: Sequence[AnalysisResult], criteria: Mapping) -> list[Outco
             if name == "uplift":
                 found.append(Outcome(result, name, bool(result.uplift), bool(limit), "-"))
             else:
-                unit = (QUANTITIES.get(name) or SCALARS[name]).unit
-                found.append(Outcome(result, name, abs(result.value(name)), limit, unit))
+                found.append(Outcome(result, name, abs(result.value(name)), limit, unit_of(name)))
     return found
 
 

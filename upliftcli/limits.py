@@ -18,6 +18,8 @@ MIN_MAGNITUDE = 1e-30
 MAX_INTEGER = 1_000_000
 #: stories of a building (dense N x N eigenproblem)
 MAX_STORIES = 500
+#: bytes of a deck file
+MAX_DECK_BYTES = 16 * 2**20
 #: bytes of a record file and samples of a record
 MAX_RECORD_BYTES = 64 * 2**20
 MAX_RECORD_SAMPLES = 1_000_000
@@ -70,10 +72,6 @@ def cases_problem(counts, per_combination: int) -> str | None:
     if total <= MAX_CASES:
         return None
     return f"at most {MAX_CASES:,} cases, got {total:,} ({' x '.join(str(c) for c in counts)} x {per_combination})"
-
-
-#: bytes of a deck file
-MAX_DECK_BYTES = 16 * 2**20
 
 
 def read_limited(path, limit: int) -> bytes:

@@ -85,6 +85,11 @@ SCALARS: dict[str, Scalar] = {s.name: s for s in (
 )}
 
 
+def unit_of(name: str) -> str:
+    """The SI unit of a response quantity or a scalar (KeyError if it is neither)."""
+    return (QUANTITIES.get(name) or SCALARS[name]).unit
+
+
 def quantities(*where: str) -> list[Quantity]:
     """The quantities that live per floor, per story or per element (several: in table order)."""
     return [q for q in QUANTITIES.values() if q.where in where]

@@ -8,7 +8,7 @@ post-processing loops are not in the cache, `start` launches a child process tha
 them from their signatures while this process compiles the stepping loop and steps; `join`,
 before the first post-processing call, waits for the child, and the loops are then loaded from
 the cache. If the child fails, this process compiles them itself: the same machine code either
-way, so results do not depend on it. See docs/exact-engine.md ("First run").
+way, so results do not depend on it. See docs/exact-engine.md ("Compiled loops").
 """
 
 from __future__ import annotations

@@ -179,11 +179,12 @@ def modal_stiffness_damping(model: ModalModel) -> tuple[np.ndarray, np.ndarray]:
     return model.effective_mass * model.omega**2, 2.0 * model.damping * model.omega * model.effective_mass
 
 
-def structure_matrices(model: ModalModel) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Stiffness, damping and forcing (per unit a_g, per unit 1) of the structure alone in p."""
+def structure_matrices(model: ModalModel, k_modal: np.ndarray, c_modal: np.ndarray
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Stiffness, damping and forcing (per unit a_g, per unit 1) of the structure alone in p,
+    from the modal stiffness k_modal [N/m] and damping c_modal [N s/m] (modal_stiffness_damping)."""
     n_m = model.n_modes
     n_p = n_m + 2 if model.flexible else n_m
-    k_modal, c_modal = modal_stiffness_damping(model)
     # structural deformation Y = T p with T = [I, -h* (coupled)]
     transform = np.zeros((n_m, n_p))
     transform[:, :n_m] = np.eye(n_m)
@@ -255,7 +256,8 @@ class StateSpace:
 def state_space(model: ModalModel) -> StateSpace:
     """The layout and the pattern-independent terms of the model's contact states."""
     lay = layout(model)
-    stiffness, damping, forcing_ground, forcing_gravity = structure_matrices(model)
+    k_modal, c_modal = modal_stiffness_damping(model)
+    stiffness, damping, forcing_ground, forcing_gravity = structure_matrices(model, k_modal, c_modal)
     forcing = np.zeros((lay.n_p, lay.n_aug))
     forcing[:, lay.index_acceleration] = forcing_ground
     forcing[:, lay.index_one] = forcing_gravity
@@ -267,7 +269,6 @@ def state_space(model: ModalModel) -> StateSpace:
         settlement = weight / k_el.sum()
     else:
         directions, k_el, c_el, settlement = np.zeros((0, lay.n_p)), np.zeros(0), np.zeros(0), 0.0
-    k_modal, c_modal = modal_stiffness_damping(model)
     to_modal = modal_map(model, lay)
     return StateSpace(model, lay, stiffness, damping, forcing, coordinate_masses(model), position, to_modal,
                       to_modal @ position, k_modal, c_modal, directions, k_el, c_el, directions @ position,
