@@ -1,5 +1,5 @@
-"""The `uplift` entry point: commands that run no history engine load neither numba nor scipy
-(scipy.linalg included; each run in a fresh interpreter, its sys.modules inspected after the command)."""
+"""The `uplift` entry point: commands that run no history engine load no scipy, and the exact
+engine no scipy.linalg (each run in a fresh interpreter, its sys.modules inspected after the command)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,8 @@ from pathlib import Path
 import pytest
 
 INPUTS = Path(__file__).resolve().parent.parent / "inputs"
-#: numba and scipy.linalg (issue 10), and any of scipy (scipy.special or scipy.fft alone: 0.1-0.2 s) and matplotlib
+#: scipy.linalg (0.15-0.2 s to import: issues 10, 14), any of scipy (scipy.special or scipy.fft alone: 0.1-0.2 s),
+#: matplotlib, and numba (the compiled loops are C extensions: no run-time compiler)
 HEAVY = ("numba", "scipy.linalg", "scipy", "matplotlib")
 
 PROBE = """
@@ -44,15 +45,22 @@ def loaded_after(*args: str) -> tuple[int, list[str]]:
     # the README's deck, simplified on a record (numpy S_a), its check by the exact engine switched off
     ("analyze", str(INPUTS / "ten_story_elcentro.toml"), "--no-check"),
 ], ids=["help", "modes", "analyze-design-spectrum", "analyze-record-simplified"])
-def test_commands_without_history_engine_load_no_numba_nor_scipy_linalg(args):
+def test_commands_without_history_engine_load_no_scipy(args):
     code, loaded = loaded_after(*args)
     assert code == 0
     assert loaded == []
 
 
-def test_exact_engine_loads_numba():
-    """The probe sees the modules a history engine loads (it is not blind)."""
-    code, loaded = loaded_after("analyze", str(INPUTS / "ten_story_elcentro.toml"), "--engine", "exact",
-                                "--support", "rigid")
+def test_readme_command_loads_neither_scipy_linalg_nor_numba():
+    """The README's first command, with the exact engine's check (step operators by engines/exact/expm.py)."""
+    code, loaded = loaded_after("analyze", str(INPUTS / "ten_story_elcentro.toml"))
     assert code == 0
-    assert {"numba", "scipy.linalg", "scipy"} <= set(loaded)
+    assert loaded == []
+
+
+def test_probe_sees_what_a_command_loads(tmp_path):
+    """The probe is not blind: drawing the figures loads matplotlib."""
+    code, loaded = loaded_after("analyze", str(INPUTS / "ten_story_elcentro.toml"), "--no-check", "--plot",
+                                str(tmp_path))
+    assert code == 0
+    assert loaded == ["matplotlib"]

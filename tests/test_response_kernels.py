@@ -21,7 +21,7 @@ def test_quintic_extremum_matches_dense_evaluation():
     s = np.linspace(0.0, 1.0, 200_001)
     for _ in range(200):
         p0, p1, d0, d1, c0, c1 = rng.normal(size=6) * [1, 1, 3, 3, 10, 10]
-        value, where = postkernel._quintic_extremum(p0, p1, d0, d1, c0, c1)
+        value, where = postkernel.quintic_extremum(p0, p1, d0, d1, c0, c1)
         dense = np.abs(_quintic(p0, p1, d0, d1, c0, c1, s))
         assert abs(value - dense.max()) < 1e-9 * max(1.0, dense.max())
         assert abs(value - abs(_quintic(p0, p1, d0, d1, c0, c1, where))) < 1e-12 * max(1.0, value)
@@ -38,7 +38,7 @@ def test_quintic_interpolant_reproduces_a_sinusoid_peak_at_coarse_sampling():
         def f(t, k=0):
             return np.real((1j * omega) ** k * np.exp(1j * omega * t))
 
-        value, _ = postkernel._quintic_extremum(f(t0), f(t1), f(t0, 1) * h, f(t1, 1) * h,
+        value, _ = postkernel.quintic_extremum(f(t0), f(t1), f(t0, 1) * h, f(t1, 1) * h,
                                                  f(t0, 2) * h * h, f(t1, 2) * h * h)
         best = max(best, value)
     assert abs(best - 1.0) < (omega * h) ** 6 / 46080 * 2

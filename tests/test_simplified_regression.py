@@ -4,7 +4,7 @@ before the improved procedure existed (commit c0f2a40), on the example decks and
 tests/data/simplified_paper_regression.json holds what the generator below (`python
 tests/test_simplified_regression.py OUT.json`, which needs no `procedure` option) computed on the
 code of that commit; every float is compared exactly, but to 1e-12 relative where S_a comes from
-a record (RECORD_DECKS).
+a record (RECORD_DECKS) and to 1e-8 with the eigenvalue effective properties (EIGENVALUE).
 """
 
 from __future__ import annotations
@@ -40,11 +40,18 @@ CASES = json.loads(DATA.read_text()) if DATA.exists() else []
 RECORD_DECKS = {"ten_story_elcentro", "ten_story_winkler", "frame_halfspace"}
 
 
-def same(now, then, rounding: bool) -> bool:
+#: the complex-eigenvalue effective properties come from LAPACK's QZ algorithm (scipy.linalg.eig
+#: on a singular mass matrix), whose round-off differs between LAPACK builds: T1bar by 6e-12
+#: relative between scipy 1.17.1 and the stored numbers, xi_f = xi1bar - xi_1 (T_1/T1bar)^3, a
+#: difference, by 2e-9, and S_a(T1bar) by 3.5e-10: 1e-8 relative for those cases
+EIGENVALUE = "analysis.effective_properties=eigenvalue"
+
+
+def same(now, then, rel: float | None) -> bool:
     if isinstance(then, list):
-        return len(now) == len(then) and all(same(a, b, rounding) for a, b in zip(now, then, strict=True))
-    if rounding and isinstance(then, float) and not isinstance(then, bool):
-        return now == pytest.approx(then, rel=1e-12, abs=0.0)
+        return len(now) == len(then) and all(same(a, b, rel) for a, b in zip(now, then, strict=True))
+    if rel is not None and isinstance(then, float) and not isinstance(then, bool):
+        return now == pytest.approx(then, rel=rel, abs=0.0)
     return now == then
 
 
@@ -52,11 +59,11 @@ def same(now, then, rounding: bool) -> bool:
                                               for c in CASES])
 def test_paper_procedure_is_unchanged(case):
     now = compute(case["deck"], [*case["set"], "analysis.procedure=paper"], case["support"])
-    rounding = case["deck"] in RECORD_DECKS
+    rel = 1e-8 if EIGENVALUE in case["set"] else 1e-12 if case["deck"] in RECORD_DECKS else None
     for name in ("base_shear", "base_moment", "uplift", *ARRAYS):
-        assert same(now[name], case[name], rounding), name
+        assert same(now[name], case[name], rel), name
     for name, value in case["intermediates"].items():
-        assert same(now["intermediates"][name], value, rounding), name
+        assert same(now["intermediates"][name], value, rel), name
 
 
 if __name__ == "__main__":

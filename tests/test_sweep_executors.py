@@ -292,10 +292,8 @@ FORKSERVER = "forkserver" in multiprocessing.get_all_start_methods()
 
 def _warm_state() -> dict:
     """What a worker has in memory when it is handed its first chunk."""
-    compiled = False
-    if "upliftcli.engines.exact.stepping_kernels" in sys.modules:
-        compiled = bool(sys.modules["upliftcli.engines.exact.stepping_kernels"].integrate.overloads)
-    return {"numba": "numba" in sys.modules, "compiled": compiled, "pid": os.getpid()}
+    return {"engine": "upliftcli.engines.exact.engine" in sys.modules,
+            "compiled": "upliftcli.engines.exact._stepping" in sys.modules, "pid": os.getpid()}
 
 
 _FIRST: dict | None = None
@@ -326,7 +324,7 @@ def test_forked_workers_start_with_the_engines_loaded(small_plan, serial_rows, t
     assert executor.start_method == "forkserver"
     executor.prestart()
     rows = run_sweep(small_plan, executor, RowStore(tmp_path / "rows.jsonl"), size=1).rows
-    assert all(row["warm"]["numba"] and row["warm"]["compiled"] for row in rows)
+    assert all(row["warm"]["engine"] and row["warm"]["compiled"] for row in rows)
     assert len({row["warm"]["pid"] for row in rows}) == 2  # both workers
     assert [{k: v for k, v in row.items() if k != "warm"} for row in rows] == serial_rows
 

@@ -20,17 +20,13 @@ moment_rotation_figure, spectrum_figure, sweep_figure, and draw (any figures.spe
 Errors: InputError (bad input, one line naming the field), AnalysisError.
 
 Every name is imported on first use (PEP 562), so that `import upliftcli` and `uplift --help`
-load neither numpy nor scipy nor numba.
+load neither numpy nor scipy.
 """
 
 from __future__ import annotations
 
 import importlib
 from typing import Any
-
-from .numba_cache import configure as _configure_numba_cache
-
-_configure_numba_cache()  # before anything imports numba: a writable compile cache (numba_cache.py)
 
 #: public name -> (module, attribute) it is re-exported from
 _EXPORTS: dict[str, tuple[str, str]] = {

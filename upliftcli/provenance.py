@@ -36,7 +36,7 @@ from typing import Any
 
 TOOL = "uplift"
 #: libraries whose versions are recorded (they decide the numbers)
-LIBRARIES = ("numpy", "scipy", "numba", "matplotlib")
+LIBRARIES = ("numpy", "scipy", "matplotlib")
 #: significant digits of every number written to a result file (DBL_DIG: the digits a double
 #: keeps through decimal text; 15.299999999999999 is written 15.3)
 DIGITS = 15

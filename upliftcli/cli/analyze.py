@@ -2,7 +2,7 @@
 
 Only typer and the light modules are imported at module level: the analysis modules, numpy and
 rich are imported by the commands that use them, so that `uplift --help` starts in about the time
-of the interpreter and a command that runs no history engine never loads numba or scipy.
+of the interpreter and a command that runs no history engine never loads scipy (nor any command scipy.linalg).
 """
 
 from __future__ import annotations
@@ -129,7 +129,10 @@ def analyze(
     _warn(results)
     if plot is not None:
         plotting.analysis_plots(results, loaded, plot, deck.stem, formats)
-    record = provenance.of_deck(loaded)
+    # the provenance of the files and the JSON (not built for the terminal alone: 30-60 ms of
+    # package-metadata look-ups)
+    record = provenance.of_deck(loaded) if histories is not None or out is not None or \
+        output_format is OutputFormat.json else None
     if histories is not None:
         _write_histories(histories, results, input_files(loaded), record)
     plotting.drop_histories(results)

@@ -4,7 +4,7 @@ default, choices) and the frozen dataclasses the engines take.
 The deck's `[analysis]` and `[analysis.exact]` tables are built from these declarations
 (deck_schema.py), and the dataclasses check themselves against the same fields, so an
 option is validated by one rule whether it comes from a deck, `--set` or Python code.
-Nothing here imports numba or scipy.
+Nothing here imports scipy.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 
 An engine module is imported the first time it is used, so that naming the engines (the
 deck schema, `--help`) costs nothing and a command that runs only the simplified engine
-never imports the exact engine (numba, scipy.linalg).
+never imports the exact engine.
 
 Every engine module has `iter_batch(systems, ground_motion, support, options)`, which
 yields (index, result or the InputError/AnalysisError that stopped it) as each system's

@@ -23,10 +23,9 @@ Peaks are exact, not sampled:
   0.1 s is 0.608 g sampled, 0.649 g exact; see tests/test_spectra.py.)
 
 Two implementations of these loops agree to rounding (about 1e-12 relative, the rounding of the
-step coefficients at long periods; tests/test_spectra.py): compiled with numba
-(spectra_kernels.py), run in parallel over the oscillators (period, damping), for many
-oscillators; vectorised in numpy (spectra_numpy.py) for a few, where loading the compiled
-kernels would cost a process more than the integration (the simplified engine's S_a of a record).
+step coefficients at long periods; tests/test_spectra.py): compiled (C, spectra_kernels.py), one
+oscillator chunk after the other in one thread, for many oscillators; vectorised in numpy
+(spectra_numpy.py) for a few (the simplified engine's S_a of a record).
 """
 
 from __future__ import annotations
@@ -44,9 +43,9 @@ CHUNK = 32  # oscillators integrated side by side
 #: numpy: oscillators x steps integrated at once (bounds the memory to some 50 MB); one
 #: oscillator with more sub-steps than this over the record goes to the compiled loop, which streams
 NUMPY_BLOCK = 2**18
-#: "numba": many oscillators; "numpy": a few (El Centro, 1560 samples: numpy 1 ms for one
-#: oscillator, 16 ms for 16; numba 9-12 ms warm, plus some 0.3 s to load it into a process)
-METHODS = ("numba", "numpy")
+#: "compiled" (C): many oscillators; "numpy": a few (El Centro, 1560 samples: numpy 1 ms for one
+#: oscillator, 16 ms for 16)
+METHODS = ("compiled", "numpy")
 
 
 def _check_damping(damping: float) -> float:
@@ -100,15 +99,14 @@ def substeps(dt: float, periods: np.ndarray, min_steps_per_period: int = 4) -> n
 
 
 def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *, free_vibration: bool = True,
-                      min_steps_per_period: int = 4, method: str = "numba") -> Spectrum:
+                      min_steps_per_period: int = 4, method: str = "compiled") -> Spectrum:
     """Exact linear response spectra of a piecewise-linear ground acceleration.
 
     acceleration [m/s^2] at uniform step dt [s]; periods [s] >= 0 (T = 0: rigid, S_a = PGA);
     dampings: ratios of critical in [0, 1). free_vibration: include the free vibration after the
     record end (default; see the module docstring). min_steps_per_period: sub-stepping of short
-    periods. Peaks are exact between samples (analytic turning points). method: "numba" (compiled
-    loops, parallel over the oscillators) or "numpy" (vectorised; faster for a few oscillators in a
-    process that has not loaded numba).
+    periods. Peaks are exact between samples (analytic turning points). method: "compiled" (C
+    loops, the default) or "numpy" (the vectorised twin).
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
@@ -135,7 +133,7 @@ def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *,
     index = np.flatnonzero(positive)
     if index.size:
         counts = substeps(dt, flat_t[index], min_steps_per_period)
-        peaks = _numpy_peaks if method == "numpy" else _numba_peaks
+        peaks = _numpy_peaks if method == "numpy" else _compiled_peaks
         peak_u[index], peak_at[index] = peaks(acc, float(dt), omegas[index], flat_xi[index], counts,
                                               bool(free_vibration))
     shape = grid_t.shape
@@ -147,10 +145,8 @@ def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *,
                     absolute_acceleration=peak_at.reshape(shape))
 
 
-def _numba_peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.ndarray, np.ndarray]:
-    """Peaks |u|, |a_t| by the compiled kernel: chunks of equal sub-step count, costliest first."""
-    import numba
-
+def _compiled_peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.ndarray, np.ndarray]:
+    """Peaks |u|, |a_t| by the compiled (C) kernel: chunks of equal sub-step count, costliest first."""
     from .spectra_kernels import spectrum_kernel
 
     order = np.argsort(-counts, kind="stable")
@@ -163,7 +159,7 @@ def _numba_peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.ndarr
     sorted_at = np.empty(order.size)
     spectrum_kernel(acc, dt, np.ascontiguousarray(omegas[order]), np.ascontiguousarray(xis[order]),
                     np.ascontiguousarray(counts[order]), np.asarray(chunk_starts, dtype=np.int64),
-                    numba.get_num_threads(), free_vibration, sorted_u, sorted_at)
+                    free_vibration, sorted_u, sorted_at)
     out_u = np.empty(order.size)
     out_at = np.empty(order.size)
     out_u[order] = sorted_u
@@ -180,8 +176,8 @@ def _numpy_peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.ndarr
     for count in sorted({int(c) for c in counts}):  # (np.unique's first call imports more than it saves)
         members = np.flatnonzero(counts == count)
         if count * acc.size > NUMPY_BLOCK:
-            out_u[members], out_at[members] = _numba_peaks(acc, dt, omegas[members], xis[members], counts[members],
-                                                           free_vibration)
+            out_u[members], out_at[members] = _compiled_peaks(acc, dt, omegas[members], xis[members],
+                                                              counts[members], free_vibration)
             continue
         block = NUMPY_BLOCK // (count * acc.size)
         for start in range(0, members.size, block):
@@ -195,8 +191,8 @@ class RecordSpectrum:
     """Pseudo-acceleration spectrum of a record at any damping, computed exactly on demand and cached.
 
     Used by the simplified engine in place of a design spectrum (same `.sa`, `.name`, `.period_range`).
-    It asks a few periods at a time: always the numpy loops (no numba), so that a value does not
-    depend on which periods were asked together.
+    It asks a few periods at a time: always the numpy loops, so that a value does not depend on
+    which periods were asked together.
     """
 
     record: object  # records.Record

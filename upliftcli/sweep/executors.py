@@ -46,8 +46,7 @@ from .signals import deferred
 from .worker import failed_row, run_chunk
 
 #: environment of worker processes, set before they import numpy: one thread per worker
-WORKER_ENVIRONMENT = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
-                      "NUMBA_NUM_THREADS": "1"}
+WORKER_ENVIRONMENT = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
 OnRow = Callable[[dict], None]
 

@@ -1,11 +1,9 @@
-"""Warm start of local sweep workers: importing this module imports the engines and loads their
-compiled functions (numba's cache, or compiles them once) by a tiny analysis with each history
-engine and support.
+"""Warm start of local sweep workers: importing this module imports the engines and runs a tiny
+analysis with each history engine and support (every module and first-call path loaded).
 
 The forkserver of the local worker processes imports it before it forks them
 (sweep/executors.py), so each worker starts with the modules and the compiled code in memory
-instead of importing numpy, scipy, numba and the engines and reading the cache again (about
-1 s of CPU per worker).
+instead of importing numpy and the engines again.
 """
 
 from __future__ import annotations

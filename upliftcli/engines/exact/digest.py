@@ -18,7 +18,6 @@ import numpy as np
 from ...model.system import System
 from ..options import ExactOptions
 from ..result import AnalysisResult
-from . import first_compile
 from .energy import balance, stored, work
 from .response import (
     _STORY_AND_FLOOR,
@@ -80,7 +79,6 @@ class Digest:
 
     def add(self, chunk: History) -> None:
         """Fold in one chunk (its first sample is the previous chunk's last)."""
-        first_compile.join()  # on a first run, the loops below are then in the cache
         sig = signals(chunk)
         lengths = chunk.lengths
         peaks, where = hermite_peaks(sig, self.stacked, lengths, self.periods)

@@ -28,7 +28,6 @@ from ...model.system import System
 from ..options import ExactOptions
 from ..registry import check_support
 from ..result import AnalysisResult
-from . import first_compile
 from .digest import Digest
 from .statespace import StateSpace, exact_model
 from .stepping import simulate
@@ -145,7 +144,6 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
         for other in shared[k]:
             yield other, outcome.for_system(systems[other]) if isinstance(outcome, AnalysisResult) else outcome
 
-    first_compile.start()  # a first run after an install: the post-processing loops compile meanwhile
     with one_blas_thread():
         runs: list[tuple[int, StateSpace, int]] = []  # (system, its model, sub-steps per record step)
         for k in shared:

@@ -12,10 +12,10 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import expm
 
 from ...errors import AnalysisError
 from . import stepping_kernels as kernel
+from .expm import expm
 from .statespace import ContactState, StateSpace, contact_states
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
@@ -115,7 +115,7 @@ def add_states(requests: list[tuple[_Operators, int, bool]]) -> list[int | Analy
         built = [(k, state) for k, state in zip(members, states, strict=False) if state is not None]
         if not built:
             continue
-        # transposed (the kernel's _matvec runs down columns); (E^T)^2 = (E^2)^T
+        # transposed (the kernel's matvec runs down columns); (E^T)^2 = (E^2)^T
         a_t = np.stack([state.matrix.T for _, state in built])
         h = np.array([requests[k][0].h for k, _ in built])[:, None, None]
         ops = np.empty((len(built), LEVELS + 1, *a_t.shape[1:]))

@@ -1,0 +1,20 @@
+"""The compiled loops (C, built at install: gcc or any C99 compiler; docs/exact-engine.md,
+"Compiled loops"). Everything else about the package is in pyproject.toml."""
+
+from setuptools import Extension, setup
+
+# -ffp-contract=off: no fused multiply-adds, so a result does not depend on the machine's
+# instruction set (the numpy twins in the tests compare to round-off)
+FLAGS = ["-O3", "-std=c99", "-ffp-contract=off", "-fno-math-errno"]
+
+
+def module(name: str, source: str) -> Extension:
+    return Extension(name, [source], include_dirs=["upliftcli/compiled"], extra_compile_args=FLAGS,
+                     depends=["upliftcli/compiled/buffers.h"])
+
+
+setup(ext_modules=[
+    module("upliftcli.engines.exact._stepping", "upliftcli/engines/exact/_stepping.c"),
+    module("upliftcli.engines.exact._response", "upliftcli/engines/exact/_response.c"),
+    module("upliftcli.motion._spectra", "upliftcli/motion/_spectra.c"),
+])

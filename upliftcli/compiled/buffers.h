@@ -1,0 +1,93 @@
+/* Typed, C-contiguous views of the arrays the compiled loops take, through the buffer protocol
+ * (no numpy headers at build time). Shared by every extension module of the package. */
+#ifndef UPLIFT_BUFFERS_H
+#define UPLIFT_BUFFERS_H
+
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <stdint.h>
+#include <string.h>
+
+#define MAX_VIEWS 40
+
+/* the views taken by one call, released together */
+typedef struct {
+    Py_buffer views[MAX_VIEWS];
+    int count;
+} Views;
+
+static void release_views(Views *v)
+{
+    for (int i = 0; i < v->count; i++) {
+        PyBuffer_Release(&v->views[i]);
+    }
+    v->count = 0;
+}
+
+static int format_is(const Py_buffer *view, char kind)
+{
+    const char *f = view->format ? view->format : "B";
+    char last = f[strlen(f) - 1];
+    switch (kind) {
+    case 'd':
+        return last == 'd' && view->itemsize == 8;
+    case 'q':
+        return (last == 'q' || last == 'l') && view->itemsize == 8;
+    case '?':
+        return last == '?' && view->itemsize == 1;
+    default:
+        return 0;
+    }
+}
+
+/* A C-contiguous view of obj with items of `kind` ('d' float64, 'q' int64, '?' bool) and `ndim`
+ * dimensions, writable if asked; NULL with a TypeError naming the argument otherwise. */
+static Py_buffer *take_view(Views *v, PyObject *obj, char kind, int ndim, int writable, const char *name)
+{
+    if (v->count == MAX_VIEWS) {
+        PyErr_SetString(PyExc_RuntimeError, "too many array arguments");
+        return NULL;
+    }
+    Py_buffer *view = &v->views[v->count];
+    int flags = PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0);
+    if (PyObject_GetBuffer(obj, view, flags) < 0) {
+        PyErr_Format(PyExc_TypeError, "%s: a C-contiguous%s array is expected", name, writable ? " writable" : "");
+        return NULL;
+    }
+    v->count++;
+    if (!format_is(view, kind) || view->ndim != ndim) {
+        PyErr_Format(PyExc_TypeError, "%s: a %d-D array of %s is expected", name, ndim,
+                     kind == 'd' ? "float64" : kind == 'q' ? "int64" : "bool");
+        return NULL;
+    }
+    return view;
+}
+
+#define DOUBLES(view) ((double *)(view)->buf)
+#define INT64S(view) ((int64_t *)(view)->buf)
+#define BOOLS(view) ((const unsigned char *)(view)->buf)
+
+/* The loops are compiled three times where the compiler and C library allow: for AVX-512, AVX2
+ * and the baseline instruction set, the one the processor runs chosen when the module loads. Only
+ * elementwise loops vectorise (reductions keep their order, no FMA: -ffp-contract=off), so both
+ * versions give the same bits. */
+#if defined(__x86_64__) && defined(__GNUC__) && defined(__GLIBC__) && defined(__has_attribute)
+#if __has_attribute(target_clones)
+#define HOT_LOOP __attribute__((target_clones("default", "avx2", "avx512f")))
+#endif
+#endif
+#ifndef HOT_LOOP
+#define HOT_LOOP
+#endif
+
+/* positional-argument count check of a METH_FASTCALL function */
+static int expect_args(Py_ssize_t nargs, Py_ssize_t expected, const char *function)
+{
+    if (nargs != expected) {
+        PyErr_Format(PyExc_TypeError, "%s takes %zd arguments (%zd given)", function, expected, nargs);
+        return 0;
+    }
+    return 1;
+}
+
+#endif

@@ -1,0 +1,500 @@
+/* Compiled loops of the exact engine's post-processing: signals at the samples, peaks between
+ * samples and work integrals. See response_kernels.py for the arguments; the numpy twins are in
+ * tests/test_response_kernels.py. Each walks the samples (or the intervals between them) once. */
+
+#include "buffers.h"
+#include <math.h>
+#include <stdlib.h>
+
+/* Largest |p(s)| for s in [0, 1] of the quintic Hermite p with p, p', p'' given at both ends
+ * (slopes times the interval length, second derivatives times its square); *where = s. The
+ * stationary points are bracketed on 8 sub-intervals and bisected. */
+static double quintic_extremum(double p0, double p1, double d0, double d1, double c0, double c1, double *where)
+{
+    const double a2 = 0.5 * c0;
+    const double a3 = -1.5 * c0 + 0.5 * c1 - 6.0 * d0 - 4.0 * d1 - 10.0 * p0 + 10.0 * p1;
+    const double a4 = 1.5 * c0 - c1 + 8.0 * d0 + 7.0 * d1 + 15.0 * p0 - 15.0 * p1;
+    const double a5 = -0.5 * c0 + 0.5 * c1 - 3.0 * d0 - 3.0 * d1 - 6.0 * p0 + 6.0 * p1;
+    double best = fabs(p0);
+    *where = 0.0;
+    if (fabs(p1) > best) {
+        best = fabs(p1);
+        *where = 1.0;
+    }
+    double lo = 0.0, g_lo = d0;
+    for (int k = 1; k < 9; k++) {
+        double hi = k / 8.0;
+        double g_hi = (((5.0 * a5 * hi + 4.0 * a4) * hi + 3.0 * a3) * hi + 2.0 * a2) * hi + d0;
+        if ((g_lo > 0.0) != (g_hi > 0.0) || g_hi == 0.0) {
+            double left = lo, right = hi, g_left = g_lo;
+            for (int it = 0; it < 40; it++) {
+                double mid = 0.5 * (left + right);
+                double g_mid = (((5.0 * a5 * mid + 4.0 * a4) * mid + 3.0 * a3) * mid + 2.0 * a2) * mid + d0;
+                if ((g_mid > 0.0) == (g_left > 0.0) && g_mid != 0.0) {
+                    left = mid;
+                    g_left = g_mid;
+                } else {
+                    right = mid;
+                }
+            }
+            double root = 0.5 * (left + right);
+            double value = fabs((((((a5 * root + a4) * root + a3) * root + a2) * root + d0) * root) + p0);
+            if (value > best) {
+                best = value;
+                *where = root;
+            }
+        }
+        lo = hi;
+        g_lo = g_hi;
+    }
+    return best;
+}
+
+/* out = R x from R^T (n_aug, width), skipping zero state entries */
+static inline void accumulate(const double *restrict x, int64_t n_aug, const double *restrict rows_t, int64_t width,
+                              double *restrict out)
+{
+    for (int64_t r = 0; r < width; r++) {
+        out[r] = 0.0;
+    }
+    for (int64_t q = 0; q < n_aug; q++) {
+        const double xq = x[q];
+        if (xq != 0.0) {
+            const double *row = rows_t + q * width;
+            for (int64_t r = 0; r < width; r++) {
+                out[r] += row[r] * xq;
+            }
+        }
+    }
+}
+
+/* Signal values and slopes at every sample, each sample with its own contact state's rows;
+ * the left limits at the end of every interval that ends at a transition, in order. */
+HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n_aug, const int64_t *ids, const double *rows_t,
+                             int64_t k, int64_t k_s, double *values, double *slopes, double *ends, double *acc)
+{
+    const int64_t width = k + k_s;
+    int64_t n_switch = 0;
+    for (int64_t i = 0; i < n; i++) {
+        const int64_t s = ids[i];
+        const double *rows = rows_t + s * n_aug * width;
+        accumulate(states + i * n_aug, n_aug, rows, width, acc);
+        memcpy(values + i * k, acc, k * sizeof(double));
+        memcpy(slopes + i * k_s, acc + k, k_s * sizeof(double));
+        if (i + 1 < n && ids[i + 1] != s) {
+            accumulate(states + (i + 1) * n_aug, n_aug, rows, width, ends + n_switch * width);
+            n_switch++;
+        }
+    }
+}
+
+/* out = R y with y = row[columns], from R^T (n_basis, m) */
+static inline void combine(const double *restrict row, const int64_t *restrict columns, const double *restrict rows_t,
+                           int64_t n_basis, int64_t m, double *restrict out)
+{
+    for (int64_t j = 0; j < m; j++) {
+        out[j] = 0.0;
+    }
+    for (int64_t q = 0; q < n_basis; q++) {
+        const double yq = row[columns[q]];
+        const double *r = rows_t + q * m;
+        for (int64_t j = 0; j < m; j++) {
+            out[j] += r[j] * yq;
+        }
+    }
+}
+
+typedef struct {
+    const double *values, *slopes, *end_values, *end_slopes, *rows_t, *lengths, *fractions;
+    const int64_t *switch_, *value_columns, *rate_columns, *curvature_columns;
+    int64_t n, k, k_s, width_end_slopes, n_basis, m;
+} PeakInput;
+
+/* Peak |r| of each response r = R s between samples and where it is (interval index +
+ * fraction), from the quintic Hermite interpolant through the samples with the exact first and
+ * second derivatives (response_kernels.hermite_peaks). sampled (n, m) and flagged (n) are work
+ * space. */
+HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *where, double *sampled, unsigned char *flagged,
+                          double *r1, double *threshold)
+{
+    const int64_t n = in->n, m = in->m, n_b = in->n_basis, k = in->k, k_s = in->k_s, k_e = in->width_end_slopes;
+    for (int64_t j = 0; j < m; j++) {
+        best[j] = 0.0;
+        where[j] = 0.0;
+    }
+    /* pass 1: every response at every sample (kept) and its sampled peak */
+    for (int64_t i = 0; i < n; i++) {
+        double *row = sampled + i * m;
+        combine(in->values + i * k, in->value_columns, in->rows_t, n_b, m, row);
+        for (int64_t j = 0; j < m; j++) {
+            double v = fabs(row[j]);
+            if (v > best[j]) {
+                best[j] = v;
+                where[j] = (double)i;
+            }
+        }
+    }
+    /* the samples within the fraction of the peak of some response */
+    for (int64_t j = 0; j < m; j++) {
+        threshold[j] = in->fractions[j] * best[j];
+    }
+    for (int64_t i = 0; i < n; i++) {
+        flagged[i] = 0;
+        const double *row = sampled + i * m;
+        for (int64_t j = 0; j < m; j++) {
+            if (fabs(row[j]) >= threshold[j]) {
+                flagged[i] = 1;
+                break;
+            }
+        }
+    }
+    /* pass 2: between samples, on the intervals with a flagged end or ending at a transition */
+    for (int64_t i = 0; i + 1 < n; i++) {
+        const int64_t fix = in->switch_[i];
+        if (!(flagged[i] || flagged[i + 1] || fix >= 0)) {
+            continue;
+        }
+        const double *r0 = sampled + i * m;
+        if (fix >= 0) { /* the interval ends at a transition: its left limit */
+            combine(in->end_values + fix * k, in->value_columns, in->rows_t, n_b, m, r1);
+        } else {
+            memcpy(r1, sampled + (i + 1) * m, m * sizeof(double));
+        }
+        const double length = in->lengths[i];
+        for (int64_t j = 0; j < m; j++) {
+            if (fabs(r0[j]) < threshold[j] && fabs(r1[j]) < threshold[j]) {
+                continue;
+            }
+            double d0 = 0.0, d1 = 0.0, c0 = 0.0, c1 = 0.0;
+            for (int64_t q = 0; q < n_b; q++) {
+                const double rq = in->rows_t[q * m + j];
+                d0 += rq * in->values[i * k + in->rate_columns[q]];
+                c0 += rq * in->slopes[i * k_s + in->curvature_columns[q]];
+                if (fix >= 0) {
+                    d1 += rq * in->end_values[fix * k + in->rate_columns[q]];
+                    c1 += rq * in->end_slopes[fix * k_e + in->curvature_columns[q]];
+                } else {
+                    d1 += rq * in->values[(i + 1) * k + in->rate_columns[q]];
+                    c1 += rq * in->slopes[(i + 1) * k_s + in->curvature_columns[q]];
+                }
+            }
+            double s;
+            double value = quintic_extremum(r0[j], r1[j], d0 * length, d1 * length, c0 * length * length,
+                                            c1 * length * length, &s);
+            if (value > best[j]) {
+                best[j] = value;
+                where[j] = i + s;
+            }
+        }
+    }
+}
+
+static inline double hermite(double v0, double v1, double d0, double d1, double s)
+{
+    double s2 = s * s, s3 = s2 * s;
+    return (2 * s3 - 3 * s2 + 1) * v0 + (s3 - 2 * s2 + s) * d0 + (-2 * s3 + 3 * s2) * v1 + (s3 - s2) * d1;
+}
+
+typedef struct {
+    const double *values, *slopes, *end_values, *end_slopes, *lengths, *modal_damping, *element_stiffness,
+        *element_damping;
+    const int64_t *switch_;
+    const unsigned char *lifted;
+    int64_t n_intervals, k, k_s, k_e, n_interpolated, row_a, row_input, row_ydot, n_modes, row_vel, row_z, n_elements;
+} WorkInput;
+
+/* Input work, structural and foundation damping energy [J] by 3-point Gauss quadrature on the
+ * cubic Hermite interpolants of the signals in every interval (the dashpots of lifted elements
+ * exactly: k (z0^2 - z1^2) / 2). gauss: 3 n_interpolated doubles of work space. */
+HOT_LOOP static void work_integrals(const WorkInput *in, double *gauss, double out[3])
+{
+    const double root = sqrt(0.6);
+    const double nodes[3] = {0.5 * (1.0 - root), 0.5, 0.5 * (1.0 + root)};
+    const double weights[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+    double basis[3][4]; /* Hermite basis h00, h10, h01, h11 at the Gauss nodes */
+    for (int g = 0; g < 3; g++) {
+        basis[g][0] = hermite(1.0, 0.0, 0.0, 0.0, nodes[g]);
+        basis[g][1] = hermite(0.0, 0.0, 1.0, 0.0, nodes[g]);
+        basis[g][2] = hermite(0.0, 1.0, 0.0, 0.0, nodes[g]);
+        basis[g][3] = hermite(0.0, 0.0, 0.0, 1.0, nodes[g]);
+    }
+    const int64_t k = in->n_interpolated, kv = in->k, ks = in->k_s, ke = in->k_e;
+    double work_in = 0.0, damp_struct = 0.0, damp_found = 0.0;
+    for (int64_t i = 0; i < in->n_intervals; i++) {
+        const double length = in->lengths[i];
+        const int64_t fix = in->switch_[i];
+        for (int64_t q = 0; q < k; q++) {
+            double v0 = in->values[i * kv + q];
+            double d0 = in->slopes[i * ks + q] * length;
+            double v1, d1;
+            if (fix >= 0) {
+                v1 = in->end_values[fix * kv + q];
+                d1 = in->end_slopes[fix * ke + q] * length;
+            } else if (q == in->row_a) {
+                /* the ground acceleration is linear inside the interval (its slope jumps at samples) */
+                v1 = in->values[(i + 1) * kv + q];
+                d1 = d0;
+            } else {
+                v1 = in->values[(i + 1) * kv + q];
+                d1 = in->slopes[(i + 1) * ks + q] * length;
+            }
+            for (int g = 0; g < 3; g++) {
+                gauss[g * k + q] = basis[g][0] * v0 + basis[g][1] * d0 + basis[g][2] * v1 + basis[g][3] * d1;
+            }
+        }
+        const unsigned char *lifted = in->lifted + i * in->n_elements;
+        for (int g = 0; g < 3; g++) {
+            const double *at = gauss + g * k;
+            double w = weights[g] * length;
+            work_in += w * at[in->row_a] * at[in->row_input];
+            double acc = 0.0;
+            for (int64_t mode = 0; mode < in->n_modes; mode++) {
+                double yd = at[in->row_ydot + mode];
+                acc += in->modal_damping[mode] * yd * yd;
+            }
+            damp_struct += w * acc;
+            acc = 0.0;
+            for (int64_t e = 0; e < in->n_elements; e++) {
+                double c = in->element_damping[e];
+                if (c > 0.0 && !lifted[e]) {
+                    double vel = at[in->row_vel + e];
+                    acc += c * vel * vel;
+                }
+            }
+            damp_found += w * acc;
+        }
+        /* a lifted element relaxes on its own, k z + c z' = 0: its dashpot dissipates exactly the
+         * spring energy released, k (z0^2 - z1^2) / 2 (no quadrature: z may decay within the step) */
+        for (int64_t e = 0; e < in->n_elements; e++) {
+            if (in->element_damping[e] > 0.0 && lifted[e]) {
+                double z0 = in->values[i * kv + in->row_z + e];
+                double z1 = fix >= 0 ? in->end_values[fix * kv + in->row_z + e] : in->values[(i + 1) * kv + in->row_z + e];
+                damp_found += 0.5 * in->element_stiffness[e] * (z0 * z0 - z1 * z1);
+            }
+        }
+    }
+    out[0] = work_in;
+    out[1] = damp_struct;
+    out[2] = damp_found;
+}
+
+/* ---------------------------------------------------------------------------- Python entry points */
+
+/* evaluate_signals(states, ids, rows_t, values, slopes, ends) */
+static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (!expect_args(nargs, 6, "evaluate_signals")) {
+        return NULL;
+    }
+    Views v = {.count = 0};
+    PyObject *result = NULL;
+    Py_buffer *states = take_view(&v, args[0], 'd', 2, 0, "states");
+    Py_buffer *ids = states ? take_view(&v, args[1], 'q', 1, 0, "ids") : NULL;
+    Py_buffer *rows_t = ids ? take_view(&v, args[2], 'd', 3, 0, "rows_t") : NULL;
+    Py_buffer *values = rows_t ? take_view(&v, args[3], 'd', 2, 1, "values") : NULL;
+    Py_buffer *slopes = values ? take_view(&v, args[4], 'd', 2, 1, "slopes") : NULL;
+    Py_buffer *ends = slopes ? take_view(&v, args[5], 'd', 2, 1, "ends") : NULL;
+    if (!ends) {
+        goto done;
+    }
+    const int64_t n = states->shape[0], n_aug = states->shape[1], k = values->shape[1], k_s = slopes->shape[1];
+    int64_t transitions = 0;
+    for (int64_t i = 0; i + 1 < ids->shape[0]; i++) {
+        transitions += INT64S(ids)[i + 1] != INT64S(ids)[i];
+    }
+    int ids_ok = 1;
+    for (int64_t i = 0; i < ids->shape[0]; i++) {
+        ids_ok &= INT64S(ids)[i] >= 0 && INT64S(ids)[i] < rows_t->shape[0];
+    }
+    if (ids->shape[0] != n || rows_t->shape[1] != n_aug || rows_t->shape[2] != k + k_s || values->shape[0] != n
+        || slopes->shape[0] != n || ends->shape[0] < transitions || ends->shape[1] != k + k_s || !ids_ok) {
+        PyErr_SetString(PyExc_ValueError, "evaluate_signals: inconsistent array shapes");
+        goto done;
+    }
+    double *acc = malloc((k + k_s + 1) * sizeof(double));
+    if (!acc) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    Py_BEGIN_ALLOW_THREADS
+    evaluate_signals(DOUBLES(states), n, n_aug, INT64S(ids), DOUBLES(rows_t), k, k_s, DOUBLES(values),
+                     DOUBLES(slopes), DOUBLES(ends), acc);
+    Py_END_ALLOW_THREADS
+    free(acc);
+    result = Py_NewRef(Py_None);
+done:
+    release_views(&v);
+    return result;
+}
+
+/* hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns, rate_columns,
+ *               curvature_columns, rows_t, lengths, fractions, best, where) */
+static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (!expect_args(nargs, 13, "hermite_peaks")) {
+        return NULL;
+    }
+    Views v = {.count = 0};
+    PyObject *result = NULL;
+    const char *names[13] = {"values", "slopes", "end_values", "end_slopes", "switch", "value_columns",
+                             "rate_columns", "curvature_columns", "rows_t", "lengths", "fractions", "best", "where"};
+    const char kinds[13] = {'d', 'd', 'd', 'd', 'q', 'q', 'q', 'q', 'd', 'd', 'd', 'd', 'd'};
+    const int dims[13] = {2, 2, 2, 2, 1, 1, 1, 1, 2, 1, 1, 1, 1};
+    Py_buffer *b[13];
+    for (int a = 0; a < 13; a++) {
+        b[a] = take_view(&v, args[a], kinds[a], dims[a], a >= 11, names[a]);
+        if (!b[a]) {
+            goto done;
+        }
+    }
+    PeakInput in = {
+        .values = DOUBLES(b[0]), .slopes = DOUBLES(b[1]), .end_values = DOUBLES(b[2]), .end_slopes = DOUBLES(b[3]),
+        .switch_ = INT64S(b[4]), .value_columns = INT64S(b[5]), .rate_columns = INT64S(b[6]),
+        .curvature_columns = INT64S(b[7]), .rows_t = DOUBLES(b[8]), .lengths = DOUBLES(b[9]),
+        .fractions = DOUBLES(b[10]), .n = b[0]->shape[0], .k = b[0]->shape[1], .k_s = b[1]->shape[1],
+        .width_end_slopes = b[3]->shape[1], .n_basis = b[8]->shape[0], .m = b[8]->shape[1],
+    };
+    int ok = b[1]->shape[0] == in.n && b[2]->shape[1] == in.k && b[3]->shape[0] == b[2]->shape[0]
+             && b[4]->shape[0] >= in.n - 1 && b[5]->shape[0] == in.n_basis && b[6]->shape[0] == in.n_basis
+             && b[7]->shape[0] == in.n_basis && b[9]->shape[0] >= in.n - 1 && b[10]->shape[0] == in.m
+             && b[11]->shape[0] == in.m && b[12]->shape[0] == in.m;
+    for (int64_t q = 0; ok && q < in.n_basis; q++) {
+        ok = in.value_columns[q] >= 0 && in.value_columns[q] < in.k && in.rate_columns[q] >= 0
+             && in.rate_columns[q] < in.k && in.curvature_columns[q] >= 0 && in.curvature_columns[q] < in.k_s
+             && in.curvature_columns[q] < in.width_end_slopes;
+    }
+    for (int64_t i = 0; ok && i + 1 < in.n; i++) {
+        ok = in.switch_[i] < b[2]->shape[0];
+    }
+    if (!ok) {
+        PyErr_SetString(PyExc_ValueError, "hermite_peaks: inconsistent array shapes");
+        goto done;
+    }
+    double *sampled = malloc((in.n * in.m + 2 * in.m + 1) * sizeof(double));
+    unsigned char *flagged = malloc(in.n + 1);
+    if (!sampled || !flagged) {
+        free(sampled);
+        free(flagged);
+        PyErr_NoMemory();
+        goto done;
+    }
+    Py_BEGIN_ALLOW_THREADS
+    hermite_peaks(&in, DOUBLES(b[11]), DOUBLES(b[12]), sampled, flagged, sampled + in.n * in.m,
+                  sampled + in.n * in.m + in.m);
+    Py_END_ALLOW_THREADS
+    free(sampled);
+    free(flagged);
+    result = Py_NewRef(Py_None);
+done:
+    release_views(&v);
+    return result;
+}
+
+/* work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lifted, n_interpolated,
+ *                row_a, row_input, row_ydot, n_modes, row_vel, row_z, n_elements, modal_damping,
+ *                element_stiffness, element_damping) -> (work_in, damp_struct, damp_found) */
+static PyObject *py_work_integrals(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (!expect_args(nargs, 18, "work_integrals")) {
+        return NULL;
+    }
+    Views v = {.count = 0};
+    PyObject *result = NULL;
+    Py_buffer *values = take_view(&v, args[0], 'd', 2, 0, "values");
+    Py_buffer *slopes = values ? take_view(&v, args[1], 'd', 2, 0, "slopes") : NULL;
+    Py_buffer *switch_ = slopes ? take_view(&v, args[2], 'q', 1, 0, "switch") : NULL;
+    Py_buffer *end_values = switch_ ? take_view(&v, args[3], 'd', 2, 0, "end_values") : NULL;
+    Py_buffer *end_slopes = end_values ? take_view(&v, args[4], 'd', 2, 0, "end_slopes") : NULL;
+    Py_buffer *lengths = end_slopes ? take_view(&v, args[5], 'd', 1, 0, "lengths") : NULL;
+    Py_buffer *lifted = lengths ? take_view(&v, args[6], '?', 2, 0, "lifted") : NULL;
+    Py_buffer *modal = lifted ? take_view(&v, args[15], 'd', 1, 0, "modal_damping") : NULL;
+    Py_buffer *stiffness = modal ? take_view(&v, args[16], 'd', 1, 0, "element_stiffness") : NULL;
+    Py_buffer *damping = stiffness ? take_view(&v, args[17], 'd', 1, 0, "element_damping") : NULL;
+    if (!damping) {
+        goto done;
+    }
+    int64_t scalars[8];
+    for (int a = 0; a < 8; a++) {
+        scalars[a] = PyLong_AsLongLong(args[7 + a]);
+    }
+    if (PyErr_Occurred()) {
+        goto done;
+    }
+    WorkInput in = {
+        .values = DOUBLES(values), .slopes = DOUBLES(slopes), .end_values = DOUBLES(end_values),
+        .end_slopes = DOUBLES(end_slopes), .lengths = DOUBLES(lengths), .modal_damping = DOUBLES(modal),
+        .element_stiffness = DOUBLES(stiffness), .element_damping = DOUBLES(damping), .switch_ = INT64S(switch_),
+        .lifted = BOOLS(lifted), .n_intervals = lengths->shape[0], .k = values->shape[1], .k_s = slopes->shape[1],
+        .k_e = end_slopes->shape[1], .n_interpolated = scalars[0], .row_a = scalars[1], .row_input = scalars[2],
+        .row_ydot = scalars[3], .n_modes = scalars[4], .row_vel = scalars[5], .row_z = scalars[6],
+        .n_elements = scalars[7],
+    };
+    const int64_t k = in.n_interpolated;
+    int ok = values->shape[0] == in.n_intervals + 1 && slopes->shape[0] == in.n_intervals + 1
+             && switch_->shape[0] >= in.n_intervals && lifted->shape[0] >= in.n_intervals
+             && lifted->shape[1] == in.n_elements && k <= in.k_s && k <= in.k_e && end_values->shape[1] == in.k
+             && in.row_a >= 0 && in.row_a < k && in.row_input >= 0 && in.row_input < k && in.row_ydot >= 0
+             && in.row_ydot + in.n_modes <= k && in.row_vel >= 0 && in.row_vel + in.n_elements <= k
+             && in.row_z >= 0 && in.row_z + in.n_elements <= in.k && modal->shape[0] >= in.n_modes
+             && stiffness->shape[0] >= in.n_elements && damping->shape[0] >= in.n_elements;
+    for (int64_t i = 0; ok && i < in.n_intervals; i++) {
+        ok = in.switch_[i] < end_values->shape[0];
+    }
+    if (!ok) {
+        PyErr_SetString(PyExc_ValueError, "work_integrals: inconsistent array shapes");
+        goto done;
+    }
+    double *gauss = malloc((3 * k + 1) * sizeof(double));
+    if (!gauss) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    double out[3];
+    Py_BEGIN_ALLOW_THREADS
+    work_integrals(&in, gauss, out);
+    Py_END_ALLOW_THREADS
+    free(gauss);
+    result = Py_BuildValue("(ddd)", out[0], out[1], out[2]);
+done:
+    release_views(&v);
+    return result;
+}
+
+/* quintic_extremum(p0, p1, d0, d1, c0, c1) -> (value, s) (tests) */
+static PyObject *py_quintic_extremum(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (!expect_args(nargs, 6, "quintic_extremum")) {
+        return NULL;
+    }
+    double p[6];
+    for (int a = 0; a < 6; a++) {
+        p[a] = PyFloat_AsDouble(args[a]);
+    }
+    if (PyErr_Occurred()) {
+        return NULL;
+    }
+    double where;
+    double value = quintic_extremum(p[0], p[1], p[2], p[3], p[4], p[5], &where);
+    return Py_BuildValue("(dd)", value, where);
+}
+
+static PyMethodDef methods[] = {
+    {"evaluate_signals", (PyCFunction)(void (*)(void))py_evaluate_signals, METH_FASTCALL, "Signals at the samples."},
+    {"hermite_peaks", (PyCFunction)(void (*)(void))py_hermite_peaks, METH_FASTCALL, "Peaks between samples."},
+    {"work_integrals", (PyCFunction)(void (*)(void))py_work_integrals, METH_FASTCALL, "Work integrals."},
+    {"quintic_extremum", (PyCFunction)(void (*)(void))py_quintic_extremum, METH_FASTCALL, "Quintic Hermite peak."},
+    {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef module = {
+    PyModuleDef_HEAD_INIT, .m_name = "_response", .m_doc = "Compiled post-processing loops of the exact engine.", .m_size = -1, .m_methods = methods,
+};
+
+PyMODINIT_FUNC PyInit__response(void)
+{
+    return PyModule_Create(&module);
+}

@@ -1,0 +1,440 @@
+/* Compiled stepping loop of the exact engine: see stepping_kernels.py for the method, the
+ * arguments and the status codes (this file is its C body; the numpy twin is in
+ * tests/test_stepping_kernels.py). Operators and matrices are passed transposed (matvec). */
+
+#include "buffers.h"
+#include <math.h>
+
+enum { DONE, NEED_STATE, FULL, FLIGHT, NONFINITE, CHATTER };
+#define MAX_EVENTS_PER_STEP 256
+#define EVENT_TOLERANCE 1e-12
+#define REFINE_LEVELS 5
+
+/* out = M x from the transposed matrix M^T (n, n), column by column: the inner loop runs along
+ * contiguous memory without a reduction, so it vectorises; zero entries of x are skipped. */
+static inline void matvec(const double *restrict matrix_t, const double *restrict x, double *restrict out, int64_t n)
+{
+    for (int64_t i = 0; i < n; i++) {
+        out[i] = 0.0;
+    }
+    for (int64_t j = 0; j < n; j++) {
+        const double xj = x[j];
+        if (xj != 0.0) {
+            const double *column = matrix_t + j * n;
+            for (int64_t i = 0; i < n; i++) {
+                out[i] += column[i] * xj;
+            }
+        }
+    }
+}
+
+static inline double dot(const double *restrict row, const double *restrict x, int64_t n)
+{
+    double acc = 0.0;
+    for (int64_t j = 0; j < n; j++) {
+        acc += row[j] * x[j];
+    }
+    return acc;
+}
+
+static double max_event(const double *events, int64_t n_events, const double *x, int64_t n)
+{
+    double best = -INFINITY;
+    for (int64_t i = 0; i < n_events; i++) {
+        double acc = dot(events + i * n, x, n);
+        if (acc > best) {
+            best = acc;
+        }
+    }
+    return best;
+}
+
+/* True if some event function, not positive at either end of a chunk (states x, y, length [s]),
+ * has a positive interior maximum on its cubic Hermite interpolant (values G x, G y and exact
+ * rates G A x, G A y): a brief excursion the chunk ends would miss. */
+static int excursion(const double *events, const double *rates, int64_t n_events, const double *x, const double *y,
+                     int64_t n, double length)
+{
+    for (int64_t i = 0; i < n_events; i++) {
+        const double *g = events + i * n, *r = rates + i * n;
+        double g0 = 0.0, g1 = 0.0, d0 = 0.0, d1 = 0.0;
+        for (int64_t j = 0; j < n; j++) {
+            g0 += g[j] * x[j];
+            g1 += g[j] * y[j];
+            d0 += r[j] * x[j];
+            d1 += r[j] * y[j];
+        }
+        if (d0 <= 0.0 && d1 >= 0.0) {
+            continue; /* falling at the start and rising at the end: no interior maximum */
+        }
+        d0 *= length;
+        d1 *= length;
+        double a = 2.0 * (g0 - g1) + d0 + d1;
+        double b = 3.0 * (g1 - g0) - 2.0 * d0 - d1;
+        /* p'(s) = 3 a s^2 + 2 b s + d0 = 0 */
+        if (fabs(a) > 1e-14 * (fabs(b) + fabs(d0))) {
+            double disc = b * b - 3.0 * a * d0;
+            if (disc < 0.0) {
+                continue;
+            }
+            double root = sqrt(disc);
+            double candidates[2] = {(-b + root) / (3.0 * a), (-b - root) / (3.0 * a)};
+            for (int k = 0; k < 2; k++) {
+                double s = candidates[k];
+                if (0.0 < s && s < 1.0 && ((a * s + b) * s + d0) * s + g0 > EVENT_TOLERANCE) {
+                    return 1;
+                }
+            }
+        } else if (b != 0.0) {
+            double s = -d0 / (2.0 * b);
+            if (0.0 < s && s < 1.0 && ((a * s + b) * s + d0) * s + g0 > EVENT_TOLERANCE) {
+                return 1;
+            }
+        }
+    }
+    return 0;
+}
+
+/* the contact states and elements of one run (see stepping_kernels.States, Elements, Grid) */
+typedef struct {
+    const double *ops, *events, *rates, *matrices;
+    const int64_t *patterns;
+    int64_t count, n_events, n, levels;
+    const int64_t *z_index;
+    const double *lift_rows;
+    const unsigned char *damped;
+    int64_t all_lifted;
+    int allow_flight;
+} Model;
+
+static inline const double *op_of(const Model *m, int64_t state, int64_t level)
+{
+    return m->ops + (state * (m->levels + 1) + level) * m->n * m->n;
+}
+
+/* Bracket the first crossing inside the chunk x -> trial by bisection with the finer exact
+ * operators down to h / 2^L (left, right: its ends), then place it by linear interpolation of
+ * each event function inside that last sliver. Returns start; *fraction: the crossing is at
+ * start + fraction * chunk[L] from x. */
+static double crossing(const Model *m, int64_t state, const double *x, int64_t level, const double *chunk,
+                       double *left, double *trial, double *right, double *fraction)
+{
+    const int64_t n = m->n, n_levels = m->levels;
+    const double *events = m->events + state * m->n_events * n;
+    memcpy(left, x, n * sizeof(double));
+    double start = 0.0;
+    for (int64_t j = level + 1; j <= n_levels; j++) {
+        matvec(op_of(m, state, j), left, trial, n);
+        if (max_event(events, m->n_events, trial, n) <= EVENT_TOLERANCE) {
+            memcpy(left, trial, n * sizeof(double));
+            start += chunk[j];
+        }
+    }
+    matvec(op_of(m, state, n_levels), left, right, n);
+    /* earliest crossing inside the last sliver, linear interpolation of each g_i */
+    double best = 1.0;
+    for (int64_t i = 0; i < m->n_events; i++) {
+        double gl = dot(events + i * n, left, n);
+        double gr = dot(events + i * n, right, n);
+        if (gr > EVENT_TOLERANCE) {
+            double f = 0.0;
+            if (gr > gl) {
+                f = (EVENT_TOLERANCE - gl) / (gr - gl);
+            }
+            if (f < 0.0) {
+                f = 0.0;
+            }
+            if (f < best) {
+                best = f;
+            }
+        }
+    }
+    *fraction = best;
+    return start;
+}
+
+/* The new contact pattern at the crossing x: every element whose event function has reached
+ * zero there (and is positive at the sliver's end) switches; a lifting element's top starts
+ * where the edge is (k z + c z' = 0 from there). Updates x. */
+static int64_t switch_pattern(const Model *m, int64_t state, int64_t pattern, double *x, const double *right)
+{
+    const int64_t n = m->n;
+    const double *events = m->events + state * m->n_events * n;
+    for (int64_t i = 0; i < m->n_events; i++) {
+        if (dot(events + i * n, x, n) >= -1e-9 && dot(events + i * n, right, n) > EVENT_TOLERANCE) {
+            pattern ^= (int64_t)1 << i;
+            if ((pattern >> i) & 1) {
+                double value = 0.0;
+                if (m->damped[i]) {
+                    value = dot(m->lift_rows + i * n, x, n);
+                }
+                x[m->z_index[i]] = value;
+            }
+        }
+    }
+    return pattern;
+}
+
+typedef struct {
+    int64_t status, step, state, n_out, pattern;
+    double offset;
+} Outcome;
+
+HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const double *slopes, int64_t n_ground, double h,
+                         int64_t index_acceleration, int64_t index_slope, double *x, double *out_x, double *out_t,
+                         int64_t *out_state, int64_t capacity, int64_t state, int64_t step, double offset,
+                         int64_t n_out, double *work)
+{
+    const int64_t n = m->n, n_levels = m->levels, n_steps = n_ground - 1;
+    double *trial = work, *left = work + n, *right = work + 2 * n, *tmp = work + 3 * n, *chunk = work + 4 * n;
+    Outcome out;
+    for (int64_t j = 0; j <= n_levels; j++) {
+        chunk[j] = h / ldexp(1.0, (int)j);
+    }
+    const double smallest = chunk[n_levels];
+#define RETURN(code, with_pattern)                                                                                    \
+    do {                                                                                                               \
+        out.status = (code);                                                                                           \
+        out.step = step;                                                                                               \
+        out.offset = offset;                                                                                           \
+        out.state = state;                                                                                             \
+        out.n_out = n_out;                                                                                             \
+        out.pattern = (with_pattern);                                                                                  \
+        return out;                                                                                                    \
+    } while (0)
+    while (step < n_steps) {
+        if (n_out + MAX_EVENTS_PER_STEP + 1 > capacity) {
+            RETURN(FULL, m->patterns[state]);
+        }
+        int64_t events_in_step = 0;
+        if (offset == 0.0) {
+            x[index_acceleration] = ground[step];
+            x[index_slope] = slopes[step];
+        }
+        for (;;) {
+            double remaining = h - offset;
+            if (remaining < smallest * (1.0 - 1e-9)) {
+                if (remaining > 0.0) {
+                    /* sub-sliver close: second-order Taylor step (error ~ (|A| h 2^-L)^3) */
+                    const double *matrix_t = m->matrices + state * n * n;
+                    matvec(matrix_t, x, tmp, n);
+                    matvec(matrix_t, tmp, trial, n);
+                    for (int64_t i = 0; i < n; i++) {
+                        x[i] += remaining * tmp[i] + 0.5 * remaining * remaining * trial[i];
+                    }
+                }
+                break;
+            }
+            int64_t level = 0;
+            while (level < n_levels && chunk[level] > remaining * (1.0 + 1e-12)) {
+                level++;
+            }
+            const double *events = m->events + state * m->n_events * n;
+            const double *rates = m->rates + state * m->n_events * n;
+            matvec(op_of(m, state, level), x, trial, n);
+            int crossed = max_event(events, m->n_events, trial, n) > EVENT_TOLERANCE;
+            /* an event function may rise above zero and fall back inside the chunk: halve it
+             * while its cubic interpolant says so (down to h / 2^REFINE_LEVELS) */
+            while (!crossed && level < REFINE_LEVELS && excursion(events, rates, m->n_events, x, trial, n, chunk[level])) {
+                level++;
+                matvec(op_of(m, state, level), x, trial, n);
+                crossed = max_event(events, m->n_events, trial, n) > EVENT_TOLERANCE;
+            }
+            if (!crossed) {
+                memcpy(x, trial, n * sizeof(double));
+                offset += chunk[level];
+                continue;
+            }
+            double fraction;
+            double start = crossing(m, state, x, level, chunk, left, trial, right, &fraction);
+            for (int64_t j = 0; j < n; j++) {
+                x[j] = left[j] + fraction * (right[j] - left[j]);
+            }
+            offset += start + fraction * smallest;
+            int64_t pattern = switch_pattern(m, state, m->patterns[state], x, right);
+            if (pattern == m->all_lifted && !m->allow_flight) {
+                RETURN(FLIGHT, pattern);
+            }
+            int64_t new_state = -1;
+            for (int64_t s = 0; s < m->count; s++) {
+                if (m->patterns[s] == pattern) {
+                    new_state = s;
+                    break;
+                }
+            }
+            if (new_state < 0) {
+                RETURN(NEED_STATE, pattern);
+            }
+            state = new_state;
+            events_in_step++;
+            if (events_in_step >= MAX_EVENTS_PER_STEP) {
+                RETURN(CHATTER, pattern);
+            }
+            out_t[n_out] = step * h + offset;
+            memcpy(out_x + n_out * n, x, n * sizeof(double));
+            out_state[n_out] = state;
+            n_out++;
+        }
+        step++;
+        offset = 0.0;
+        x[index_acceleration] = ground[step];
+        if (step < n_steps) {
+            /* the sample opens the next interval: it carries that interval's ground slope */
+            x[index_slope] = slopes[step];
+        }
+        int finite = 1;
+        for (int64_t i = 0; i < n; i++) {
+            if (!isfinite(x[i])) {
+                finite = 0;
+            }
+        }
+        if (!finite) {
+            RETURN(NONFINITE, m->patterns[state]);
+        }
+        out_t[n_out] = step * h;
+        memcpy(out_x + n_out * n, x, n * sizeof(double));
+        out_state[n_out] = state;
+        n_out++;
+    }
+    RETURN(DONE, m->patterns[state]);
+#undef RETURN
+}
+
+/* integrate(ops, events, event_rates, matrices, patterns, count,
+ *           z_index, lift_rows, damped, all_lifted, allow_flight,
+ *           ground, slopes, h, levels, index_acceleration, index_slope,
+ *           x, out_x, out_t, out_state, state, step, offset, n_out)
+ * -> (status, step, offset, state, n_out, pattern) */
+static PyObject *py_integrate(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (!expect_args(nargs, 25, "integrate")) {
+        return NULL;
+    }
+    Views v = {.count = 0};
+    PyObject *result = NULL;
+    Py_buffer *ops = take_view(&v, args[0], 'd', 4, 0, "ops");
+    Py_buffer *events = ops ? take_view(&v, args[1], 'd', 3, 0, "events") : NULL;
+    Py_buffer *rates = events ? take_view(&v, args[2], 'd', 3, 0, "event_rates") : NULL;
+    Py_buffer *matrices = rates ? take_view(&v, args[3], 'd', 3, 0, "matrices") : NULL;
+    Py_buffer *patterns = matrices ? take_view(&v, args[4], 'q', 1, 0, "patterns") : NULL;
+    Py_buffer *z_index = patterns ? take_view(&v, args[6], 'q', 1, 0, "z_index") : NULL;
+    Py_buffer *lift_rows = z_index ? take_view(&v, args[7], 'd', 2, 0, "lift_rows") : NULL;
+    Py_buffer *damped = lift_rows ? take_view(&v, args[8], '?', 1, 0, "damped") : NULL;
+    Py_buffer *ground = damped ? take_view(&v, args[11], 'd', 1, 0, "ground") : NULL;
+    Py_buffer *slopes = ground ? take_view(&v, args[12], 'd', 1, 0, "slopes") : NULL;
+    Py_buffer *x = slopes ? take_view(&v, args[17], 'd', 1, 1, "x") : NULL;
+    Py_buffer *out_x = x ? take_view(&v, args[18], 'd', 2, 1, "out_x") : NULL;
+    Py_buffer *out_t = out_x ? take_view(&v, args[19], 'd', 1, 1, "out_t") : NULL;
+    Py_buffer *out_state = out_t ? take_view(&v, args[20], 'q', 1, 1, "out_state") : NULL;
+    if (!out_state) {
+        goto done;
+    }
+    Model m = {
+        .ops = DOUBLES(ops), .events = DOUBLES(events), .rates = DOUBLES(rates), .matrices = DOUBLES(matrices),
+        .patterns = INT64S(patterns), .count = PyLong_AsLongLong(args[5]), .n_events = events->shape[1],
+        .n = x->shape[0], .levels = PyLong_AsLongLong(args[14]), .z_index = INT64S(z_index),
+        .lift_rows = DOUBLES(lift_rows), .damped = BOOLS(damped), .all_lifted = PyLong_AsLongLong(args[9]),
+        .allow_flight = PyObject_IsTrue(args[10]),
+    };
+    double h = PyFloat_AsDouble(args[13]);
+    int64_t index_acceleration = PyLong_AsLongLong(args[15]), index_slope = PyLong_AsLongLong(args[16]);
+    int64_t state = PyLong_AsLongLong(args[21]), step = PyLong_AsLongLong(args[22]);
+    double offset = PyFloat_AsDouble(args[23]);
+    int64_t n_out = PyLong_AsLongLong(args[24]);
+    if (PyErr_Occurred()) {
+        goto done;
+    }
+    const int64_t n = m.n;
+    if (ops->shape[1] != m.levels + 1 || ops->shape[2] != n || ops->shape[3] != n || matrices->shape[1] != n
+        || events->shape[2] != n || out_x->shape[1] != n || m.count > ops->shape[0] || state < 0
+        || state >= m.count || out_t->shape[0] > out_x->shape[0] || out_state->shape[0] < out_t->shape[0]) {
+        PyErr_SetString(PyExc_ValueError, "integrate: inconsistent array shapes");
+        goto done;
+    }
+    double *work = PyMem_Malloc((4 * n + m.levels + 1) * sizeof(double));
+    if (!work) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    Outcome o;
+    Py_BEGIN_ALLOW_THREADS
+    o = integrate(&m, DOUBLES(ground), DOUBLES(slopes), ground->shape[0], h, index_acceleration, index_slope,
+                  DOUBLES(x), DOUBLES(out_x), DOUBLES(out_t), INT64S(out_state), out_t->shape[0], state, step, offset,
+                  n_out, work);
+    Py_END_ALLOW_THREADS
+    PyMem_Free(work);
+    result = Py_BuildValue("(LLdLLL)", (long long)o.status, (long long)o.step, o.offset, (long long)o.state,
+                           (long long)o.n_out, (long long)o.pattern);
+done:
+    release_views(&v);
+    return result;
+}
+
+/* matvec(matrix_t, x, out): out = M x from M^T (tests) */
+static PyObject *py_matvec(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (!expect_args(nargs, 3, "matvec")) {
+        return NULL;
+    }
+    Views v = {.count = 0};
+    PyObject *result = NULL;
+    Py_buffer *matrix_t = take_view(&v, args[0], 'd', 2, 0, "matrix_t");
+    Py_buffer *x = matrix_t ? take_view(&v, args[1], 'd', 1, 0, "x") : NULL;
+    Py_buffer *out = x ? take_view(&v, args[2], 'd', 1, 1, "out") : NULL;
+    if (out) {
+        int64_t n = x->shape[0];
+        if (matrix_t->shape[0] != n || matrix_t->shape[1] != n || out->shape[0] != n) {
+            PyErr_SetString(PyExc_ValueError, "matvec: inconsistent array shapes");
+        } else {
+            matvec(DOUBLES(matrix_t), DOUBLES(x), DOUBLES(out), n);
+            result = Py_NewRef(Py_None);
+        }
+    }
+    release_views(&v);
+    return result;
+}
+
+/* excursion(events, rates, x, y, length) -> bool (tests) */
+static PyObject *py_excursion(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (!expect_args(nargs, 5, "excursion")) {
+        return NULL;
+    }
+    Views v = {.count = 0};
+    PyObject *result = NULL;
+    Py_buffer *events = take_view(&v, args[0], 'd', 2, 0, "events");
+    Py_buffer *rates = events ? take_view(&v, args[1], 'd', 2, 0, "rates") : NULL;
+    Py_buffer *x = rates ? take_view(&v, args[2], 'd', 1, 0, "x") : NULL;
+    Py_buffer *y = x ? take_view(&v, args[3], 'd', 1, 0, "y") : NULL;
+    double length = y ? PyFloat_AsDouble(args[4]) : 0.0;
+    if (y && !PyErr_Occurred()) {
+        int64_t n = x->shape[0];
+        if (events->shape[1] != n || rates->shape[1] != n || rates->shape[0] != events->shape[0] || y->shape[0] != n) {
+            PyErr_SetString(PyExc_ValueError, "excursion: inconsistent array shapes");
+        } else {
+            result = PyBool_FromLong(excursion(DOUBLES(events), DOUBLES(rates), events->shape[0], DOUBLES(x),
+                                               DOUBLES(y), n, length));
+        }
+    }
+    release_views(&v);
+    return result;
+}
+
+static PyMethodDef methods[] = {
+    {"integrate", (PyCFunction)(void (*)(void))py_integrate, METH_FASTCALL, "The stepping loop (stepping_kernels.py)."},
+    {"matvec", (PyCFunction)(void (*)(void))py_matvec, METH_FASTCALL, "out = M x from M^T."},
+    {"excursion", (PyCFunction)(void (*)(void))py_excursion, METH_FASTCALL, "The interior-excursion test."},
+    {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef module = {
+    PyModuleDef_HEAD_INIT, .m_name = "_stepping", .m_doc = "Compiled stepping loop of the exact engine.", .m_size = -1, .m_methods = methods,
+};
+
+PyMODINIT_FUNC PyInit__stepping(void)
+{
+    return PyModule_Create(&module);
+}
