@@ -2,11 +2,13 @@
 baseline measured in the same run: the interpreter start with numpy, `python -c "import numpy"`.
 
 Every command runs in a fresh process, `--repeats` times, interleaved with the baseline (the
-machine is shared: medians and ranges). Warm: the numba cache exists (one untimed run first).
-First run (cold): an empty numba cache (NUMBA_CACHE_DIR set to a new directory), as after a
-fresh install; with --venv DIR, the commands of that virtual environment instead (make one with
-`python3 -m venv DIR && DIR/bin/pip install .`; its first runs are then the real first runs,
---repeats 1). The Fig. 3 spectrum: end to end with its three PNGs, and its analysis part
+machine is shared: medians and ranges). Warm: one untimed run first (the .pyc files exist). First
+run (cold): no bytecode (PYTHONPYCACHEPREFIX set to a new directory, a worse case than after an
+install, where pip has written the .pyc files; the compiled loops are C extensions built at
+install, so nothing else is compiled at run time); with --venv DIR, the commands of that virtual
+environment instead (make one with `python3 -m venv DIR && DIR/bin/pip install .`; its first
+runs are then the real first runs, --repeats 1).
+The Fig. 3 spectrum: end to end with its three PNGs, and its analysis part
 (run_sweep in a fresh process after what `uplift spectra` does before it: with 2 local workers
 their warm server is started and matplotlib imported meanwhile) on 1 and 2 workers, overall and
 between the first and the last row.
@@ -30,7 +32,7 @@ README_DECK = str(ROOT / "inputs" / "ten_story_elcentro.toml")
 DESIGN_DECK = str(ROOT / "inputs" / "ten_story_asce7.toml")
 FIG3 = ["spectra", README_DECK, "--periods", "0.05:5:100", "--engine", "exact", "--quiet", "--overwrite"]
 
-#: name -> (arguments of uplift, first run (empty numba cache)?, target: ("ratio", r) or ("seconds", s))
+#: name -> (arguments of uplift, first run (no bytecode)?, target: ("ratio", r) or ("seconds", s))
 TARGETS = {
     "help": (["--help"], False, ("ratio", 2.5)),
     "modes": (["modes", README_DECK], False, ("seconds", 0.5)),
@@ -120,13 +122,13 @@ def main() -> None:
         argv, cold, target = TARGETS[name]
         argv = [*argv, "--out", out] if argv[0] == "spectra" else argv
         if not cold and args.venv is None:
-            timed(uplift + argv, env=user_environment(), cwd=out)  # warm: the numba cache and .pyc files exist
+            timed(uplift + argv, env=user_environment(), cwd=out)  # warm: the .pyc files exist
         times, paired = [], []
         for _ in range(1 if (cold and args.venv) else args.repeats):
             paired.append(timed([python, "-c", "import numpy"], env=user_environment()))
             env = user_environment()
             if cold and args.venv is None:
-                env["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="numba_cold_")
+                env["PYTHONPYCACHEPREFIX"] = tempfile.mkdtemp(prefix="pycache_cold_")
             times.append(timed(uplift + argv, env=env, cwd=out))
         baseline += paired
         ratio = statistics.median(times) / statistics.median(paired)

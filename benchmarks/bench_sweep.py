@@ -3,7 +3,7 @@
 
 Prints cases per second for the serial executor (1 worker, in this process), the same without
 batching the cases that share a structure (one case per chunk), for 2 local worker processes
-(start-up included: spawning, imports, loading numba's cache) and the
+(start-up included: spawning, imports) and the
 speed-up, and checks that both give the same rows. Optionally the same on a Dask LocalCluster.
 
     python benchmarks/bench_sweep.py [--cases 500] [--dask]

@@ -1,7 +1,7 @@
 """Measure of the layout (issue 10): follow one analysis from `analysis.run` to its result and
 count how often the Python call chain returns to a source file of the package it had already
 left (consecutive frames in one file merged; properties, dunder methods and comprehensions
-are not stages; compiled numba loops are invisible). Printed twice: every return, and with
+are not stages; compiled C loops are invisible). Printed twice: every return, and with
 the iterations of a loop counted once (a repeated cycle A -> B -> A -> B kept once).
 
 Counting returns, any layered chain pays one per stage a module calls: analysis -> registry ->

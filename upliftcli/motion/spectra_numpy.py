@@ -1,9 +1,9 @@
-"""The response-spectrum peaks in numpy: the twin of spectra_kernels._chunk_peaks (same method,
-see spectra.py), vectorised over the oscillators and over time instead of compiled.
+"""The response-spectrum peaks in numpy: the twin of chunk_peaks in _spectra.c (same method, see
+spectra.py), vectorised over the oscillators and over time instead of compiled.
 
-It serves the simplified engine, which needs S_a at a handful of (period, damping) pairs: for
-so few oscillators, loading (or compiling) the numba kernels costs far more than the
-integration. The results agree with the compiled loop to rounding (tests/test_spectra.py).
+It serves the simplified engine, which needs S_a at a handful of (period, damping) pairs, each
+computed alone so that a value does not depend on which periods were asked together. The results
+agree with the compiled loop to rounding (tests/test_spectra.py).
 
 Per oscillator of a group sharing one sub-step h = dt / nsub:
 
@@ -27,7 +27,7 @@ import numpy as np
 
 def _transition(omegas: np.ndarray, xis: np.ndarray, t: float) -> np.ndarray:
     """Coefficients (8, m) of [u1, v1] = A [u0, v0] + B [a0, a1] over a step t: rows A_uu, A_vu,
-    A_uv, A_vv, B_u0, B_v0, B_u1, B_v1 (the order of spectra_kernels._step_coefficients)."""
+    A_uv, A_vv, B_u0, B_v0, B_u1, B_v1 (the order of step_coefficients in _spectra.c)."""
     w = omegas
     sigma = xis * w
     wd = w * np.sqrt(1.0 - xis * xis)
@@ -69,7 +69,7 @@ def _states(omegas: np.ndarray, xis: np.ndarray, h: float, a0: np.ndarray, a1: n
 def _turning_values(l0, l1, pa, qa, sigma, wd, lo, hi, d_lo, d_hi) -> np.ndarray:
     """|f| at the root of f' in (lo, hi) (f' changes sign there), elementwise, for
     f = l0 + l1 t + exp(-sigma t)(pa cos wd t + qa sin wd t): safeguarded Newton from the secant
-    estimate, as spectra_kernels._root_value."""
+    estimate, as root_value in _spectra.c."""
     pd = qa * wd - sigma * pa
     qd = -pa * wd - sigma * qa
     pdd = qd * wd - sigma * pd
@@ -103,7 +103,7 @@ def _turning_values(l0, l1, pa, qa, sigma, wd, lo, hi, d_lo, d_hi) -> np.ndarray
 
 def _interior_peaks(l0, l1, pa, qa, sigma, wd, h, d0, d1) -> np.ndarray:
     """Largest |f| at the turning points inside (0, h) of each step (0 where none), as
-    spectra_kernels._interior_peak: one root of f' when f'(0), f'(h) differ in sign, else none or
+    interior_peak in _spectra.c: one root of f' when f'(0), f'(h) differ in sign, else none or
     two around the root t_e of f'' (wd h < pi: at most one)."""
     pd = qa * wd - sigma * pa
     qd = -pa * wd - sigma * qa
