@@ -63,6 +63,28 @@ static Py_buffer *take_view(Views *v, PyObject *obj, char kind, int ndim, int wr
     return view;
 }
 
+/* one array argument of a call: its position, item kind, dimensions, whether it is written, name */
+typedef struct {
+    int arg;
+    char kind;
+    int ndim;
+    int writable;
+    const char *name;
+} ArraySpec;
+
+/* Views of the `count` array arguments of `specs`, out[i] for specs[i]; 0 with the error set at
+ * the first that is not as specified. */
+static int take_views(Views *v, PyObject *const *args, const ArraySpec *specs, int count, Py_buffer **out)
+{
+    for (int i = 0; i < count; i++) {
+        out[i] = take_view(v, args[specs[i].arg], specs[i].kind, specs[i].ndim, specs[i].writable, specs[i].name);
+        if (!out[i]) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
 #define DOUBLES(view) ((double *)(view)->buf)
 #define INT64S(view) ((int64_t *)(view)->buf)
 #define BOOLS(view) ((const unsigned char *)(view)->buf)

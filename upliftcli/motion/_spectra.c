@@ -307,14 +307,13 @@ static PyObject *py_spectrum_kernel(PyObject *self, PyObject *const *args, Py_ss
     }
     Views v = {.count = 0};
     PyObject *result = NULL;
-    Py_buffer *acc = take_view(&v, args[0], 'd', 1, 0, "acc");
-    Py_buffer *omegas = acc ? take_view(&v, args[2], 'd', 1, 0, "omegas") : NULL;
-    Py_buffer *xis = omegas ? take_view(&v, args[3], 'd', 1, 0, "xis") : NULL;
-    Py_buffer *nsubs = xis ? take_view(&v, args[4], 'q', 1, 0, "nsubs") : NULL;
-    Py_buffer *chunk_starts = nsubs ? take_view(&v, args[5], 'q', 1, 0, "chunk_starts") : NULL;
-    Py_buffer *out_u = chunk_starts ? take_view(&v, args[7], 'd', 1, 1, "out_u") : NULL;
-    Py_buffer *out_at = out_u ? take_view(&v, args[8], 'd', 1, 1, "out_at") : NULL;
-    if (!out_at) {
+    static const ArraySpec arrays[] = {{0, 'd', 1, 0, "acc"}, {2, 'd', 1, 0, "omegas"}, {3, 'd', 1, 0, "xis"},
+        {4, 'q', 1, 0, "nsubs"}, {5, 'q', 1, 0, "chunk_starts"}, {7, 'd', 1, 1, "out_u"}, {8, 'd', 1, 1, "out_at"}};
+    Py_buffer *b[7];
+    int taken = take_views(&v, args, arrays, 7, b);
+    Py_buffer *acc = b[0], *omegas = b[1], *xis = b[2], *nsubs = b[3], *chunk_starts = b[4], *out_u = b[5],
+              *out_at = b[6];
+    if (!taken) {
         goto done;
     }
     double dt = PyFloat_AsDouble(args[1]);
@@ -370,10 +369,11 @@ static PyObject *py_history_kernel(PyObject *self, PyObject *const *args, Py_ssi
     }
     Views views = {.count = 0};
     PyObject *result = NULL;
-    Py_buffer *acc = take_view(&views, args[0], 'd', 1, 0, "acc");
-    Py_buffer *u_out = acc ? take_view(&views, args[4], 'd', 1, 1, "u_out") : NULL;
-    Py_buffer *v_out = u_out ? take_view(&views, args[5], 'd', 1, 1, "v_out") : NULL;
-    if (!v_out) {
+    static const ArraySpec arrays[] = {{0, 'd', 1, 0, "acc"}, {4, 'd', 1, 1, "u_out"}, {5, 'd', 1, 1, "v_out"}};
+    Py_buffer *b[3];
+    int taken = take_views(&views, args, arrays, 3, b);
+    Py_buffer *acc = b[0], *u_out = b[1], *v_out = b[2];
+    if (!taken) {
         goto done;
     }
     double dt = PyFloat_AsDouble(args[1]);

@@ -289,23 +289,20 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
     }
     Views v = {.count = 0};
     PyObject *result = NULL;
-    Py_buffer *states = take_view(&v, args[0], 'd', 2, 0, "states");
-    Py_buffer *ids = states ? take_view(&v, args[1], 'q', 1, 0, "ids") : NULL;
-    Py_buffer *rows_t = ids ? take_view(&v, args[2], 'd', 3, 0, "rows_t") : NULL;
-    Py_buffer *values = rows_t ? take_view(&v, args[3], 'd', 2, 1, "values") : NULL;
-    Py_buffer *slopes = values ? take_view(&v, args[4], 'd', 2, 1, "slopes") : NULL;
-    Py_buffer *ends = slopes ? take_view(&v, args[5], 'd', 2, 1, "ends") : NULL;
-    if (!ends) {
+    static const ArraySpec arrays[] = {{0, 'd', 2, 0, "states"}, {1, 'q', 1, 0, "ids"}, {2, 'd', 3, 0, "rows_t"},
+        {3, 'd', 2, 1, "values"}, {4, 'd', 2, 1, "slopes"}, {5, 'd', 2, 1, "ends"}};
+    Py_buffer *b[6];
+    int taken = take_views(&v, args, arrays, 6, b);
+    Py_buffer *states = b[0], *ids = b[1], *rows_t = b[2], *values = b[3], *slopes = b[4], *ends = b[5];
+    if (!taken) {
         goto done;
     }
     const int64_t n = states->shape[0], n_aug = states->shape[1], k = values->shape[1], k_s = slopes->shape[1];
     int64_t transitions = 0;
-    for (int64_t i = 0; i + 1 < ids->shape[0]; i++) {
-        transitions += INT64S(ids)[i + 1] != INT64S(ids)[i];
-    }
     int ids_ok = 1;
     for (int64_t i = 0; i < ids->shape[0]; i++) {
         ids_ok &= INT64S(ids)[i] >= 0 && INT64S(ids)[i] < rows_t->shape[0];
+        transitions += i > 0 && INT64S(ids)[i] != INT64S(ids)[i - 1];
     }
     if (ids->shape[0] != n || rows_t->shape[1] != n_aug || rows_t->shape[2] != k + k_s || values->shape[0] != n
         || slopes->shape[0] != n || ends->shape[0] < transitions || ends->shape[1] != k + k_s || !ids_ok) {
@@ -338,16 +335,15 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
     }
     Views v = {.count = 0};
     PyObject *result = NULL;
-    const char *names[13] = {"values", "slopes", "end_values", "end_slopes", "switch", "value_columns",
-                             "rate_columns", "curvature_columns", "rows_t", "lengths", "fractions", "best", "where"};
-    const char kinds[13] = {'d', 'd', 'd', 'd', 'q', 'q', 'q', 'q', 'd', 'd', 'd', 'd', 'd'};
-    const int dims[13] = {2, 2, 2, 2, 1, 1, 1, 1, 2, 1, 1, 1, 1};
+    static const ArraySpec arrays[] = {
+        {0, 'd', 2, 0, "values"}, {1, 'd', 2, 0, "slopes"}, {2, 'd', 2, 0, "end_values"},
+        {3, 'd', 2, 0, "end_slopes"}, {4, 'q', 1, 0, "switch"}, {5, 'q', 1, 0, "value_columns"},
+        {6, 'q', 1, 0, "rate_columns"}, {7, 'q', 1, 0, "curvature_columns"}, {8, 'd', 2, 0, "rows_t"},
+        {9, 'd', 1, 0, "lengths"}, {10, 'd', 1, 0, "fractions"}, {11, 'd', 1, 1, "best"}, {12, 'd', 1, 1, "where"},
+    };
     Py_buffer *b[13];
-    for (int a = 0; a < 13; a++) {
-        b[a] = take_view(&v, args[a], kinds[a], dims[a], a >= 11, names[a]);
-        if (!b[a]) {
-            goto done;
-        }
+    if (!take_views(&v, args, arrays, 13, b)) {
+        goto done;
     }
     PeakInput in = {
         .values = DOUBLES(b[0]), .slopes = DOUBLES(b[1]), .end_values = DOUBLES(b[2]), .end_slopes = DOUBLES(b[3]),
@@ -403,17 +399,15 @@ static PyObject *py_work_integrals(PyObject *self, PyObject *const *args, Py_ssi
     }
     Views v = {.count = 0};
     PyObject *result = NULL;
-    Py_buffer *values = take_view(&v, args[0], 'd', 2, 0, "values");
-    Py_buffer *slopes = values ? take_view(&v, args[1], 'd', 2, 0, "slopes") : NULL;
-    Py_buffer *switch_ = slopes ? take_view(&v, args[2], 'q', 1, 0, "switch") : NULL;
-    Py_buffer *end_values = switch_ ? take_view(&v, args[3], 'd', 2, 0, "end_values") : NULL;
-    Py_buffer *end_slopes = end_values ? take_view(&v, args[4], 'd', 2, 0, "end_slopes") : NULL;
-    Py_buffer *lengths = end_slopes ? take_view(&v, args[5], 'd', 1, 0, "lengths") : NULL;
-    Py_buffer *lifted = lengths ? take_view(&v, args[6], '?', 2, 0, "lifted") : NULL;
-    Py_buffer *modal = lifted ? take_view(&v, args[15], 'd', 1, 0, "modal_damping") : NULL;
-    Py_buffer *stiffness = modal ? take_view(&v, args[16], 'd', 1, 0, "element_stiffness") : NULL;
-    Py_buffer *damping = stiffness ? take_view(&v, args[17], 'd', 1, 0, "element_damping") : NULL;
-    if (!damping) {
+    static const ArraySpec arrays[] = {{0, 'd', 2, 0, "values"}, {1, 'd', 2, 0, "slopes"}, {2, 'q', 1, 0, "switch"},
+        {3, 'd', 2, 0, "end_values"}, {4, 'd', 2, 0, "end_slopes"}, {5, 'd', 1, 0, "lengths"},
+        {6, '?', 2, 0, "lifted"}, {15, 'd', 1, 0, "modal_damping"}, {16, 'd', 1, 0, "element_stiffness"},
+        {17, 'd', 1, 0, "element_damping"}};
+    Py_buffer *b[10];
+    int taken = take_views(&v, args, arrays, 10, b);
+    Py_buffer *values = b[0], *slopes = b[1], *switch_ = b[2], *end_values = b[3], *end_slopes = b[4], *lengths = b[5],
+              *lifted = b[6], *modal = b[7], *stiffness = b[8], *damping = b[9];
+    if (!taken) {
         goto done;
     }
     int64_t scalars[8];

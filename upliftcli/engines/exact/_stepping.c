@@ -313,21 +313,16 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *args, Py_ssize_t 
     }
     Views v = {.count = 0};
     PyObject *result = NULL;
-    Py_buffer *ops = take_view(&v, args[0], 'd', 4, 0, "ops");
-    Py_buffer *events = ops ? take_view(&v, args[1], 'd', 3, 0, "events") : NULL;
-    Py_buffer *rates = events ? take_view(&v, args[2], 'd', 3, 0, "event_rates") : NULL;
-    Py_buffer *matrices = rates ? take_view(&v, args[3], 'd', 3, 0, "matrices") : NULL;
-    Py_buffer *patterns = matrices ? take_view(&v, args[4], 'q', 1, 0, "patterns") : NULL;
-    Py_buffer *z_index = patterns ? take_view(&v, args[6], 'q', 1, 0, "z_index") : NULL;
-    Py_buffer *lift_rows = z_index ? take_view(&v, args[7], 'd', 2, 0, "lift_rows") : NULL;
-    Py_buffer *damped = lift_rows ? take_view(&v, args[8], '?', 1, 0, "damped") : NULL;
-    Py_buffer *ground = damped ? take_view(&v, args[11], 'd', 1, 0, "ground") : NULL;
-    Py_buffer *slopes = ground ? take_view(&v, args[12], 'd', 1, 0, "slopes") : NULL;
-    Py_buffer *x = slopes ? take_view(&v, args[17], 'd', 1, 1, "x") : NULL;
-    Py_buffer *out_x = x ? take_view(&v, args[18], 'd', 2, 1, "out_x") : NULL;
-    Py_buffer *out_t = out_x ? take_view(&v, args[19], 'd', 1, 1, "out_t") : NULL;
-    Py_buffer *out_state = out_t ? take_view(&v, args[20], 'q', 1, 1, "out_state") : NULL;
-    if (!out_state) {
+    static const ArraySpec arrays[] = {{0, 'd', 4, 0, "ops"}, {1, 'd', 3, 0, "events"}, {2, 'd', 3, 0, "event_rates"},
+        {3, 'd', 3, 0, "matrices"}, {4, 'q', 1, 0, "patterns"}, {6, 'q', 1, 0, "z_index"}, {7, 'd', 2, 0, "lift_rows"},
+        {8, '?', 1, 0, "damped"}, {11, 'd', 1, 0, "ground"}, {12, 'd', 1, 0, "slopes"}, {17, 'd', 1, 1, "x"},
+        {18, 'd', 2, 1, "out_x"}, {19, 'd', 1, 1, "out_t"}, {20, 'q', 1, 1, "out_state"}};
+    Py_buffer *b[14];
+    int taken = take_views(&v, args, arrays, 14, b);
+    Py_buffer *ops = b[0], *events = b[1], *rates = b[2], *matrices = b[3], *patterns = b[4], *z_index = b[5],
+              *lift_rows = b[6], *damped = b[7], *ground = b[8], *slopes = b[9], *x = b[10], *out_x = b[11],
+              *out_t = b[12], *out_state = b[13];
+    if (!taken) {
         goto done;
     }
     Model m = {
@@ -380,10 +375,11 @@ static PyObject *py_matvec(PyObject *self, PyObject *const *args, Py_ssize_t nar
     }
     Views v = {.count = 0};
     PyObject *result = NULL;
-    Py_buffer *matrix_t = take_view(&v, args[0], 'd', 2, 0, "matrix_t");
-    Py_buffer *x = matrix_t ? take_view(&v, args[1], 'd', 1, 0, "x") : NULL;
-    Py_buffer *out = x ? take_view(&v, args[2], 'd', 1, 1, "out") : NULL;
-    if (out) {
+    static const ArraySpec arrays[] = {{0, 'd', 2, 0, "matrix_t"}, {1, 'd', 1, 0, "x"}, {2, 'd', 1, 1, "out"}};
+    Py_buffer *b[3];
+    int taken = take_views(&v, args, arrays, 3, b);
+    Py_buffer *matrix_t = b[0], *x = b[1], *out = b[2];
+    if (taken) {
         int64_t n = x->shape[0];
         if (matrix_t->shape[0] != n || matrix_t->shape[1] != n || out->shape[0] != n) {
             PyErr_SetString(PyExc_ValueError, "matvec: inconsistent array shapes");
@@ -405,12 +401,13 @@ static PyObject *py_excursion(PyObject *self, PyObject *const *args, Py_ssize_t 
     }
     Views v = {.count = 0};
     PyObject *result = NULL;
-    Py_buffer *events = take_view(&v, args[0], 'd', 2, 0, "events");
-    Py_buffer *rates = events ? take_view(&v, args[1], 'd', 2, 0, "rates") : NULL;
-    Py_buffer *x = rates ? take_view(&v, args[2], 'd', 1, 0, "x") : NULL;
-    Py_buffer *y = x ? take_view(&v, args[3], 'd', 1, 0, "y") : NULL;
-    double length = y ? PyFloat_AsDouble(args[4]) : 0.0;
-    if (y && !PyErr_Occurred()) {
+    static const ArraySpec arrays[] = {{0, 'd', 2, 0, "events"}, {1, 'd', 2, 0, "rates"}, {2, 'd', 1, 0, "x"},
+        {3, 'd', 1, 0, "y"}};
+    Py_buffer *b[4];
+    int taken = take_views(&v, args, arrays, 4, b);
+    Py_buffer *events = b[0], *rates = b[1], *x = b[2], *y = b[3];
+    double length = taken ? PyFloat_AsDouble(args[4]) : 0.0;
+    if (taken && !PyErr_Occurred()) {
         int64_t n = x->shape[0];
         if (events->shape[1] != n || rates->shape[1] != n || rates->shape[0] != events->shape[0] || y->shape[0] != n) {
             PyErr_SetString(PyExc_ValueError, "excursion: inconsistent array shapes");
