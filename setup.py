@@ -10,7 +10,7 @@ FLAGS = ["-O3", "-std=c99", "-ffp-contract=off", "-fno-math-errno"]
 
 def module(name: str, source: str) -> Extension:
     return Extension(name, [source], include_dirs=["upliftcli/compiled"], extra_compile_args=FLAGS,
-                     depends=["upliftcli/compiled/buffers.h"])
+                     depends=["upliftcli/compiled/buffers.h", "upliftcli/compiled/product.h"])
 
 
 setup(ext_modules=[

@@ -10,7 +10,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from rich import box as rich_box
+from rich.markup import escape
 from rich.table import Table
+from rich.text import Text
 from typer.testing import CliRunner
 
 from upliftcli import analysis
@@ -77,6 +80,43 @@ def test_a_table_too_wide_is_split_keeping_its_label_columns():
     assert sorted(cells) == sorted(f"{1e6 * (row + 1) + k:.1f}" for row in range(3) for k in range(12))
     assert [part.title for part in parts] == [f"wide ({k + 1}/{len(parts)})" for k in range(len(parts))]
     assert render.fit_table(table, 1000) == [table]
+
+
+@pytest.mark.parametrize("box", [rich_box.HEAVY_HEAD, rich_box.SIMPLE, None])
+@pytest.mark.parametrize("width", [40, 55, 70, 90])
+def test_each_part_takes_as_many_columns_as_fit(box, width):
+    """fit_table adds up column widths measured once (_frame_width): every part fits, measured
+    as a whole, and would not with the next column."""
+    table = Table(title="wide", box=box)
+    table.add_column("case", justify="left")
+    for k in range(9):
+        table.add_column(f"quantity {k} {'x' * k} [kN m]", justify="right")
+    table.add_row("case 0", *[f"{10.0**k:.1f}" for k in range(9)])
+    parts = render.fit_table(table, width)
+    assert len(parts) > 1
+    start = 1  # the parts take the number columns in order, each after the label column
+    for part in parts:
+        count = len(part.columns) - 1
+        assert render.minimum_width(part) <= width
+        if start + count < len(table.columns):
+            grown = render._part(table, [0, *range(start, start + count + 1)], compact=True)
+            assert render.minimum_width(grown) > width
+        start += count
+    assert start == len(table.columns)
+
+
+def test_the_quick_width_bound_is_never_below_what_rich_measures():
+    table = Table(title="t")
+    table.add_column("a [kN]", justify="right")
+    table.add_column(escape("[b] and text"), justify="left", min_width=20)
+    table.add_column(Text("stacked\nheading"), justify="right")
+    table.add_row("1.0", escape("[bold]not markup[/bold]"), Text("12345"))
+    table.add_row("[bold]2.0[/bold]", "x\ny", "")
+    for box in (rich_box.HEAVY_HEAD, rich_box.SIMPLE, None):
+        table.box = box
+        assert render._widest(table) >= render._measure(table).maximum
+    table.add_row("1", Table(), "2")
+    assert render._widest(table) == float("inf")
 
 
 def table_rows(text: str) -> list[list[str]]:

@@ -13,7 +13,6 @@ from paper_example import paper_system
 
 from upliftcli.engines import approximate
 from upliftcli.engines.exact import engine as exact
-from upliftcli.engines.exact.response import _cubic_maximum
 from upliftcli.engines.options import ExactOptions
 from upliftcli.model.building import uniform_building
 from upliftcli.model.foundations import TwoElement, Winkler, two_element_from_ratios
@@ -126,19 +125,6 @@ def test_approximate_engine_gives_the_same_quantities(elcentro):
     np.testing.assert_allclose(rigid, exact.analyze(system, record, "rigid").peaks["floor_acceleration"], rtol=1e-12)
     at_rest = approximate.analyze(system, SimpleNamespace(acceleration=np.zeros(200), dt=0.01), "bonded")
     np.testing.assert_allclose(at_rest.peaks["reaction"], [system.weight / 2] * 2, rtol=1e-9)
-
-
-def test_cubic_maximum_matches_dense_evaluation():
-    rng = np.random.default_rng(5)
-    p0, p1, d0, d1 = rng.normal(size=(4, 300)) * np.array([[1.0], [1.0], [3.0], [3.0]])
-    value, where = _cubic_maximum(p0, p1, d0, d1)
-    s = np.linspace(0.0, 1.0, 20001)[:, None]
-    dense = ((2 * s**3 - 3 * s**2 + 1) * p0 + (s**3 - 2 * s**2 + s) * d0 + (-2 * s**3 + 3 * s**2) * p1
-             + (s**3 - s**2) * d1)
-    np.testing.assert_allclose(value, dense.max(axis=0), atol=1e-8)
-    at = ((2 * where**3 - 3 * where**2 + 1) * p0 + (where**3 - 2 * where**2 + where) * d0
-          + (-2 * where**3 + 3 * where**2) * p1 + (where**3 - where**2) * d1)
-    np.testing.assert_allclose(at, value, atol=1e-12)
 
 
 def test_flight_is_reported_as_a_property_of_the_model(elcentro):

@@ -14,6 +14,7 @@ import os
 import re
 
 import numpy as np
+from rich.cells import cell_len
 from rich.console import Console
 from rich.markup import escape
 from rich.measure import Measurement
@@ -136,19 +137,46 @@ def fit_table(table: Table, width: int) -> list[Table]:
     stacked (_part compact), and if that is still too wide, in parts, each with the leading
     label columns (_labels) and as many of the others, in order, as fit (one at least),
     titled "(1/2)" ... A number is never cut."""
-    if _measure(table).maximum <= width:
+    if _widest(table) <= width or _measure(table).maximum <= width:
         return [table]
     every = list(range(len(table.columns)))
     compact = _part(table, every, compact=True)
     if minimum_width(compact) <= width or len(every) < 2:
         return [compact]
     keys = every[:_labels(table)]
+    # rich draws a table as wide as its columns' minimums plus its frame (_frame_width): each
+    # column is measured once, alone, instead of every candidate part
+    columns = [minimum_width(_part(table, [index], compact=True)) - _frame_width(table, 1) for index in every]
     groups: list[list[int]] = [[]]
     for index in every[len(keys):]:
-        if groups[-1] and minimum_width(_part(table, keys + groups[-1] + [index], compact=True)) > width:
+        candidate = keys + groups[-1] + [index]
+        if groups[-1] and sum(columns[c] for c in candidate) + _frame_width(table, len(candidate)) > width:
             groups.append([])
         groups[-1].append(index)
     return [_part(table, keys + group, k, len(groups), compact=True) for k, group in enumerate(groups)]
+
+
+def _widest(table: Table) -> float:
+    """An upper bound of the table's natural width, from the lengths of its texts as given
+    (markup and escapes only shorten them): most tables fit, and rich measures a table by
+    rendering every cell. Infinite when a cell is not text."""
+    _, right, _, left = table.padding
+    total = _frame_width(table, len(table.columns)) + len(table.columns) * (left + right)
+    for column in table.columns:
+        texts = [column.header, *column.cells]
+        if not all(isinstance(text, (str, Text)) for text in texts):
+            return float("inf")
+        widest = max(cell_len(line) for text in texts for line in (_text(text).splitlines() or [""]))
+        total += max(widest, column.min_width or 0) if column.width is None else column.width
+    return total
+
+
+def _frame_width(table: Table, count: int) -> int:
+    """Columns a table of `count` columns adds to its cells (padding included): its outer
+    edges and the rules between the columns (as rich.table.Table lays it out)."""
+    if table.box is None:
+        return 0
+    return (2 if table.show_edge else 0) + count - 1
 
 
 def modes_table(system: System, n_modes: int | None = None) -> Table:

@@ -3,6 +3,7 @@
  * tests/test_response_kernels.py. Each walks the samples (or the intervals between them) once. */
 
 #include "buffers.h"
+#include "product.h"
 #include <math.h>
 #include <stdlib.h>
 
@@ -50,45 +51,130 @@ static double quintic_extremum(double p0, double p1, double d0, double d1, doubl
     return best;
 }
 
-/* out = R x from R^T (n_aug, width), skipping zero state entries */
-static inline void accumulate(const double *restrict x, int64_t n_aug, const double *restrict rows_t, int64_t width,
-                              double *restrict out)
+/* The rows of one contact state, each output computed the cheapest way that gives the bits of the
+ * dense product R x (transposed_product): an output equal to an earlier one is copied; one with few
+ * nonzero coefficients sums them alone (the terms left out are zero and the others are added in
+ * the same order, so the sum is the same); the others come from one dense product over their
+ * columns. Each list holds output indices (and where from), in increasing order. */
+typedef struct {
+    int64_t n_dense, n_sparse, n_copies;
+    double *dense;         /* (n_aug, n_dense): the rows computed densely, transposed */
+    int64_t *dense_output; /* n_dense: the output of each dense column */
+    int64_t *sparse;       /* n_sparse x (output, first entry, entries) */
+    int64_t *copies;       /* n_copies x (output, the earlier output it equals) */
+    int64_t *entry_input;  /* sparse entries: input index and coefficient, by output and input */
+    double *entry_value;
+} SplitRows;
+
+/* Split R^T (n_aug, width) into `split`, whose arrays have room for the worst case: dense and
+ * entry_value n_aug width doubles each, dense_output width, sparse and copies 3 width,
+ * entry_input n_aug width integers. */
+static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, SplitRows *split)
 {
+    int64_t n_entries = 0;
+    split->n_dense = split->n_sparse = split->n_copies = 0;
     for (int64_t r = 0; r < width; r++) {
-        out[r] = 0.0;
-    }
-    for (int64_t q = 0; q < n_aug; q++) {
-        const double xq = x[q];
-        if (xq != 0.0) {
-            const double *row = rows_t + q * width;
-            for (int64_t r = 0; r < width; r++) {
-                out[r] += row[r] * xq;
+        int64_t same = -1;
+        for (int64_t earlier = 0; earlier < r && same < 0; earlier++) {
+            int equal = 1;
+            for (int64_t q = 0; q < n_aug && equal; q++) {
+                equal = rows_t[q * width + r] == rows_t[q * width + earlier];
             }
+            same = equal ? earlier : -1;
+        }
+        int64_t nonzero = 0;
+        for (int64_t q = 0; q < n_aug; q++) {
+            nonzero += rows_t[q * width + r] != 0.0;
+        }
+        if (same >= 0) {
+            int64_t *copy = split->copies + 2 * split->n_copies++;
+            copy[0] = r;
+            copy[1] = same;
+        } else if (4 * nonzero <= n_aug) {
+            int64_t *sparse = split->sparse + 3 * split->n_sparse++;
+            sparse[0] = r;
+            sparse[1] = n_entries;
+            sparse[2] = nonzero;
+            for (int64_t q = 0; q < n_aug; q++) {
+                if (rows_t[q * width + r] != 0.0) {
+                    split->entry_input[n_entries] = q;
+                    split->entry_value[n_entries++] = rows_t[q * width + r];
+                }
+            }
+        } else {
+            split->dense_output[split->n_dense++] = r;
+        }
+    }
+    for (int64_t c = 0; c < split->n_dense; c++) {
+        for (int64_t q = 0; q < n_aug; q++) {
+            split->dense[q * split->n_dense + c] = rows_t[q * width + split->dense_output[c]];
         }
     }
 }
 
-/* Signal values and slopes at every sample, each sample with its own contact state's rows;
- * the left limits at the end of every interval that ends at a transition, in order. */
-HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n_aug, const int64_t *ids, const double *rows_t,
-                             int64_t k, int64_t k_s, double *values, double *slopes, double *ends, double *acc)
+/* out = R x with the rows split by split_rows; dense_out: n_dense doubles of work space */
+static inline void split_product(const SplitRows *split, const double *restrict x, int64_t n_aug,
+                                 double *restrict dense_out, double *restrict out)
+{
+    transposed_product(split->dense, x, n_aug, split->n_dense, dense_out);
+    for (int64_t c = 0; c < split->n_dense; c++) {
+        out[split->dense_output[c]] = dense_out[c];
+    }
+    for (int64_t j = 0; j < split->n_sparse; j++) {
+        const int64_t *sparse = split->sparse + 3 * j;
+        double sum = 0.0;
+        for (int64_t e = sparse[1]; e < sparse[1] + sparse[2]; e++) {
+            const double xq = x[split->entry_input[e]];
+            if (xq != 0.0) {
+                sum += split->entry_value[e] * xq;
+            }
+        }
+        out[sparse[0]] = sum;
+    }
+    for (int64_t j = 0; j < split->n_copies; j++) {
+        out[split->copies[2 * j]] = out[split->copies[2 * j + 1]];
+    }
+}
+
+/* Signal values and slopes at every sample, each sample with its own contact state's rows
+ * (split[s]); the left limits at the end of every interval that ends at a transition, in order.
+ * acc: 2 (k + k_s) doubles of work space. */
+HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n_aug, const int64_t *ids,
+                                      const SplitRows *split, int64_t k, int64_t k_s, double *values, double *slopes,
+                                      double *ends, double *acc)
 {
     const int64_t width = k + k_s;
+    double *dense_out = acc + width;
     int64_t n_switch = 0;
     for (int64_t i = 0; i < n; i++) {
-        const int64_t s = ids[i];
-        const double *rows = rows_t + s * n_aug * width;
-        accumulate(states + i * n_aug, n_aug, rows, width, acc);
+        const SplitRows *rows = split + ids[i];
+        split_product(rows, states + i * n_aug, n_aug, dense_out, acc);
         memcpy(values + i * k, acc, k * sizeof(double));
         memcpy(slopes + i * k_s, acc + k, k_s * sizeof(double));
-        if (i + 1 < n && ids[i + 1] != s) {
-            accumulate(states + (i + 1) * n_aug, n_aug, rows, width, ends + n_switch * width);
+        if (i + 1 < n && ids[i + 1] != ids[i]) {
+            split_product(rows, states + (i + 1) * n_aug, n_aug, dense_out, ends + n_switch * width);
             n_switch++;
         }
     }
 }
 
-/* out = R y with y = row[columns], from R^T (n_basis, m) */
+/* True if the quintic Hermite p of quintic_extremum (same arguments) stays below `peak` on [0, 1]
+ * by a margin far above round-off: p lies in the hull of its Bernstein coefficients, p0, p0 + d0/5,
+ * p0 + 2 d0/5 + c0/20, p1 - 2 d1/5 + c1/20, p1 - d1/5, p1. Such an interval cannot raise the
+ * peak found so far, so skipping it leaves the result as it is, to the bit. */
+static inline int hull_below(double p0, double p1, double d0, double d1, double c0, double c1, double peak)
+{
+    const double b[6] = {p0, p0 + d0 / 5.0, p0 + 2.0 * d0 / 5.0 + c0 / 20.0, p1 - 2.0 * d1 / 5.0 + c1 / 20.0,
+                         p1 - d1 / 5.0, p1};
+    double hull = 0.0;
+    for (int i = 0; i < 6; i++) {
+        hull = fabs(b[i]) > hull ? fabs(b[i]) : hull;
+    }
+    return hull * (1.0 + 1e-9) < peak;
+}
+
+/* out = R y with y = row[columns], from R^T (n_basis, m) (each out[j] summed over the basis in
+ * order, as transposed_product) */
 static inline void combine(const double *restrict row, const int64_t *restrict columns, const double *restrict rows_t,
                            int64_t n_basis, int64_t m, double *restrict out)
 {
@@ -126,12 +212,11 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
     for (int64_t i = 0; i < n; i++) {
         double *row = sampled + i * m;
         combine(in->values + i * k, in->value_columns, in->rows_t, n_b, m, row);
-        for (int64_t j = 0; j < m; j++) {
-            double v = fabs(row[j]);
-            if (v > best[j]) {
-                best[j] = v;
-                where[j] = (double)i;
-            }
+        for (int64_t j = 0; j < m; j++) { /* branch-free: it vectorises */
+            const double v = fabs(row[j]);
+            const int better = v > best[j];
+            best[j] = better ? v : best[j];
+            where[j] = better ? (double)i : where[j];
         }
     }
     /* the samples within the fraction of the peak of some response */
@@ -139,14 +224,12 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
         threshold[j] = in->fractions[j] * best[j];
     }
     for (int64_t i = 0; i < n; i++) {
-        flagged[i] = 0;
         const double *row = sampled + i * m;
+        int flag = 0;
         for (int64_t j = 0; j < m; j++) {
-            if (fabs(row[j]) >= threshold[j]) {
-                flagged[i] = 1;
-                break;
-            }
+            flag |= fabs(row[j]) >= threshold[j];
         }
+        flagged[i] = (unsigned char)flag;
     }
     /* pass 2: between samples, on the intervals with a flagged end or ending at a transition */
     for (int64_t i = 0; i + 1 < n; i++) {
@@ -178,9 +261,12 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
                     c1 += rq * in->slopes[(i + 1) * k_s + in->curvature_columns[q]];
                 }
             }
+            const double e0 = d0 * length, e1 = d1 * length, f0 = c0 * length * length, f1 = c1 * length * length;
+            if (hull_below(r0[j], r1[j], e0, e1, f0, f1, best[j])) {
+                continue;
+            }
             double s;
-            double value = quintic_extremum(r0[j], r1[j], d0 * length, d1 * length, c0 * length * length,
-                                            c1 * length * length, &s);
+            const double value = quintic_extremum(r0[j], r1[j], e0, e1, f0, f1, &s);
             if (value > best[j]) {
                 best[j] = value;
                 where[j] = i + s;
@@ -278,6 +364,203 @@ HOT_LOOP static void work_integrals(const WorkInput *in, double *gauss, double o
     out[2] = damp_found;
 }
 
+/* The sum of a[0..n) as numpy sums a contiguous array (pairwise, eight accumulators in blocks of
+ * up to 128), so that a total agrees with numpy's bit for bit. */
+static double pairwise_sum(const double *a, int64_t n)
+{
+    if (n < 8) {
+        double sum = 0.0;
+        for (int64_t i = 0; i < n; i++) {
+            sum += a[i];
+        }
+        return sum;
+    }
+    if (n <= 128) {
+        double r[8];
+        for (int l = 0; l < 8; l++) {
+            r[l] = a[l];
+        }
+        int64_t i = 8;
+        for (; i < n - (n % 8); i += 8) {
+            for (int l = 0; l < 8; l++) {
+                r[l] += a[i + l];
+            }
+        }
+        double sum = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]));
+        for (; i < n; i++) {
+            sum += a[i];
+        }
+        return sum;
+    }
+    int64_t half = n / 2;
+    half -= half % 8;
+    return pairwise_sum(a, half) + pairwise_sum(a + half, n - half);
+}
+
+/* Largest value of the cubic Hermite p(s), s in [0, 1], with p(0) = p0, p(1) = p1, p'(0) = d0,
+ * p'(1) = d1 (slopes times the interval length); *where = s. */
+static double cubic_maximum(double p0, double p1, double d0, double d1, double *where)
+{
+    const double a = 2.0 * (p0 - p1) + d0 + d1;
+    const double b = 3.0 * (p1 - p0) - 2.0 * d0 - d1;
+    double best = p0 > p1 ? p0 : p1;
+    *where = p1 > p0 ? 1.0 : 0.0;
+    const double disc = b * b - 3.0 * a * d0;
+    const double root = sqrt(disc > 0.0 ? disc : 0.0);
+    const int quadratic = fabs(a) > 1e-14 * (fabs(b) + fabs(d0));
+    double candidates[2];
+    candidates[0] = quadratic ? (-b + root) / (3.0 * a) : (b != 0.0 ? -d0 / (2.0 * b) : -1.0);
+    candidates[1] = quadratic ? (-b - root) / (3.0 * a) : -1.0;
+    for (int c = 0; c < 2; c++) {
+        const double s = candidates[c];
+        if (s > 0.0 && s < 1.0 && disc >= 0.0) {
+            const double value = ((a * s + b) * s + d0) * s + p0;
+            if (value > best) {
+                best = value;
+                *where = s;
+            }
+        }
+    }
+    return best;
+}
+
+typedef struct {
+    const double *values, *slopes, *end_values, *end_slopes, *lengths, *times, *stiffness, *damping;
+    const int64_t *switch_;
+    const unsigned char *lifted;
+    int64_t n, k, k_s, k_e, n_elements, row_displacement, row_velocity, row_z, row_theta;
+} ContactInput;
+
+/* summary entries, in order (response_kernels.SUMMARY) */
+enum { MAX_ROTATION, UPLIFT_TIME, EPISODES, FLIGHT_TIME, EPISODES_LEFT, EPISODES_RIGHT, MAX_UPLIFT_LEFT,
+       MAX_UPLIFT_RIGHT, MAX_EDGE_LEFT, MAX_EDGE_RIGHT, MIN_REACTION_LEFT, MIN_REACTION_RIGHT, MIN_REACTION,
+       N_SUMMARY };
+
+/* reaction R = -(k v + c v') [3a] of element e and its rate from a row of values and slopes
+ * (0 where lifted) */
+static inline void reaction_at(const ContactInput *in, const double *values, const double *slopes, int64_t e,
+                               double *reaction, double *rate)
+{
+    const double k = in->stiffness[e], c = in->damping[e];
+    const double v = values[in->row_displacement + e], velocity = values[in->row_velocity + e];
+    *reaction = -(v * k + velocity * c);
+    *rate = -(velocity * k + slopes[in->row_velocity + e] * c);
+}
+
+/* Per element: the largest compression between samples (cubic Hermite interpolant of R in each
+ * interval in contact) and when, the largest reaction at a recontact (the sample where a contact
+ * starts) and when (NaN: none); the uplift statistics summary[N_SUMMARY] (docs/theory.md section
+ * 4). One pass over the samples, in the order and with the arithmetic of its numpy twin (ties go
+ * to the first interval or sample; times summed as numpy sums). uplifted, flying: n - 1 doubles
+ * of work space each. */
+HOT_LOOP static void contact_response(const ContactInput *in, double *peak, double *peak_time, double *impact,
+                                      double *impact_time, double *summary, double *uplifted, double *flying)
+{
+    const int64_t n = in->n, n_e = in->n_elements;
+    const int64_t sides[2] = {0, n_e - 1};
+    for (int64_t e = 0; e < n_e; e++) {
+        peak[e] = impact[e] = -INFINITY;
+        peak_time[e] = 0.0;
+        impact_time[e] = NAN;
+    }
+    double max_rotation = 0.0, min_reaction = INFINITY;
+    int64_t n_uplifted = 0, n_flying = 0;
+    double max_gap[2] = {-INFINITY, -INFINITY}, max_edge[2] = {-INFINITY, -INFINITY};
+    double min_side[2] = {INFINITY, INFINITY};
+    int64_t episodes = 0, side_episodes[2] = {0, 0};
+    for (int64_t i = 0; i < n; i++) {
+        const double *values = in->values + i * in->k, *slopes = in->slopes + i * in->k_s;
+        const unsigned char *lifted = in->lifted + i * n_e;
+        const double theta = in->row_theta >= 0 ? fabs(values[in->row_theta]) : 0.0;
+        max_rotation = theta > max_rotation ? theta : max_rotation;
+        int any = 0, all = 1;
+        for (int64_t e = 0; e < n_e; e++) {
+            any |= lifted[e];
+            all &= lifted[e];
+            if (!lifted[e]) {
+                double r, rate;
+                reaction_at(in, values, slopes, e, &r, &rate);
+                min_reaction = r < min_reaction ? r : min_reaction;
+            }
+        }
+        for (int side = 0; side < 2; side++) {
+            const int64_t e = sides[side];
+            const double displacement = values[in->row_displacement + e];
+            const double gap = lifted[e] ? displacement - (in->damping[e] > 0.0 ? values[in->row_z + e] : 0.0) : 0.0;
+            max_gap[side] = gap > max_gap[side] ? gap : max_gap[side];
+            max_edge[side] = displacement > max_edge[side] ? displacement : max_edge[side];
+            if (!lifted[e]) {
+                double r, rate;
+                reaction_at(in, values, slopes, e, &r, &rate);
+                min_side[side] = r < min_side[side] ? r : min_side[side];
+            }
+        }
+        if (i + 1 == n) {
+            break;
+        }
+        /* the interval from sample i to i + 1; its right end is the left limit where it ends at a transition */
+        const unsigned char *lifted1 = lifted + n_e;
+        int any1 = 0;
+        for (int64_t e = 0; e < n_e; e++) {
+            any1 |= lifted1[e];
+        }
+        episodes += any1 && !any;
+        for (int side = 0; side < 2; side++) {
+            side_episodes[side] += lifted1[sides[side]] && !lifted[sides[side]];
+        }
+        const double length = in->lengths[i];
+        if (any) {
+            uplifted[n_uplifted++] = length;
+        }
+        if (all && n_e > 1) {
+            flying[n_flying++] = length;
+        }
+        const int64_t fix = in->switch_[i];
+        const double *values1 = fix >= 0 ? in->end_values + fix * in->k : values + in->k;
+        const double *slopes1 = fix >= 0 ? in->end_slopes + fix * in->k_e : slopes + in->k_s;
+        for (int64_t e = 0; e < n_e; e++) {
+            double value = 0.0, s = 0.0;
+            if (!lifted[e]) {
+                double r0, d0, r1 = 0.0, d1 = 0.0;
+                reaction_at(in, values, slopes, e, &r0, &d0);
+                if (fix >= 0 || !lifted1[e]) {
+                    reaction_at(in, values1, slopes1, e, &r1, &d1);
+                }
+                value = cubic_maximum(r0, r1, d0 * length, d1 * length, &s);
+            }
+            if (value > peak[e]) {
+                peak[e] = value;
+                peak_time[e] = in->times[i] + s * length;
+            }
+            if (lifted[e] && !lifted1[e]) { /* sample i + 1 starts a contact: the impact */
+                double r1, d1;
+                reaction_at(in, values + in->k, slopes + in->k_s, e, &r1, &d1);
+                if (r1 > impact[e]) {
+                    impact[e] = r1;
+                    impact_time[e] = in->times[i + 1];
+                }
+            }
+        }
+    }
+    for (int64_t e = 0; e < n_e; e++) {
+        peak[e] = peak[e] > 0.0 ? peak[e] : 0.0;
+        impact[e] = isnan(impact_time[e]) ? 0.0 : impact[e] > 0.0 ? impact[e] : 0.0;
+    }
+    summary[MAX_ROTATION] = max_rotation;
+    summary[UPLIFT_TIME] = pairwise_sum(uplifted, n_uplifted);
+    summary[EPISODES] = (double)episodes;
+    summary[FLIGHT_TIME] = pairwise_sum(flying, n_flying);
+    summary[EPISODES_LEFT] = (double)side_episodes[0];
+    summary[EPISODES_RIGHT] = (double)side_episodes[1];
+    summary[MAX_UPLIFT_LEFT] = max_gap[0] > 0.0 ? max_gap[0] : 0.0;
+    summary[MAX_UPLIFT_RIGHT] = max_gap[1] > 0.0 ? max_gap[1] : 0.0;
+    summary[MAX_EDGE_LEFT] = max_edge[0];
+    summary[MAX_EDGE_RIGHT] = max_edge[1];
+    summary[MIN_REACTION_LEFT] = min_side[0];
+    summary[MIN_REACTION_RIGHT] = min_side[1];
+    summary[MIN_REACTION] = min_reaction;
+}
+
 /* ---------------------------------------------------------------------------- Python entry points */
 
 /* evaluate_signals(states, ids, rows_t, values, slopes, ends) */
@@ -309,16 +592,35 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
         PyErr_SetString(PyExc_ValueError, "evaluate_signals: inconsistent array shapes");
         goto done;
     }
-    double *acc = malloc((k + k_s + 1) * sizeof(double));
-    if (!acc) {
+    const int64_t width = k + k_s, n_states = rows_t->shape[0], per_state = n_aug * width;
+    /* work space: the product (2 width) and, per state, its split rows (split_rows) */
+    double *doubles = malloc((2 * width + 2 * n_states * per_state + 1) * sizeof(double));
+    int64_t *integers = malloc((7 * n_states * width + n_states * per_state + 1) * sizeof(int64_t));
+    SplitRows *split = malloc((n_states + 1) * sizeof(SplitRows));
+    if (!doubles || !integers || !split) {
+        free(doubles);
+        free(integers);
+        free(split);
         PyErr_NoMemory();
         goto done;
     }
     Py_BEGIN_ALLOW_THREADS
-    evaluate_signals(DOUBLES(states), n, n_aug, INT64S(ids), DOUBLES(rows_t), k, k_s, DOUBLES(values),
-                     DOUBLES(slopes), DOUBLES(ends), acc);
+    for (int64_t s = 0; s < n_states; s++) {
+        SplitRows *rows = split + s;
+        rows->dense = doubles + 2 * width + s * per_state;
+        rows->entry_value = doubles + 2 * width + (n_states + s) * per_state;
+        rows->dense_output = integers + 7 * s * width;
+        rows->sparse = rows->dense_output + width;
+        rows->copies = rows->sparse + 3 * width;
+        rows->entry_input = integers + 7 * n_states * width + s * per_state;
+        split_rows(DOUBLES(rows_t) + s * per_state, n_aug, width, rows);
+    }
+    evaluate_signals(DOUBLES(states), n, n_aug, INT64S(ids), split, k, k_s, DOUBLES(values), DOUBLES(slopes),
+                     DOUBLES(ends), doubles);
     Py_END_ALLOW_THREADS
-    free(acc);
+    free(doubles);
+    free(integers);
+    free(split);
     result = Py_NewRef(Py_None);
 done:
     release_views(&v);
@@ -457,6 +759,73 @@ done:
     return result;
 }
 
+/* contact_response(values, slopes, end_values, end_slopes, switch, lifted, lengths, times, stiffness,
+ *                  damping, rows, peak, peak_time, impact, impact_time, summary); rows: int64
+ *                  (element displacement, element velocity, z, theta or -1) columns */
+static PyObject *py_contact_response(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (!expect_args(nargs, 16, "contact_response")) {
+        return NULL;
+    }
+    Views v = {.count = 0};
+    PyObject *result = NULL;
+    static const ArraySpec arrays[] = {
+        {0, 'd', 2, 0, "values"}, {1, 'd', 2, 0, "slopes"}, {2, 'd', 2, 0, "end_values"},
+        {3, 'd', 2, 0, "end_slopes"}, {4, 'q', 1, 0, "switch"}, {5, '?', 2, 0, "lifted"}, {6, 'd', 1, 0, "lengths"},
+        {7, 'd', 1, 0, "times"}, {8, 'd', 1, 0, "stiffness"}, {9, 'd', 1, 0, "damping"}, {10, 'q', 1, 0, "rows"},
+        {11, 'd', 1, 1, "peak"}, {12, 'd', 1, 1, "peak_time"}, {13, 'd', 1, 1, "impact"},
+        {14, 'd', 1, 1, "impact_time"}, {15, 'd', 1, 1, "summary"},
+    };
+    Py_buffer *b[16];
+    if (!take_views(&v, args, arrays, 16, b)) {
+        goto done;
+    }
+    const int64_t *rows = INT64S(b[10]);
+    ContactInput in = {
+        .values = DOUBLES(b[0]), .slopes = DOUBLES(b[1]), .end_values = DOUBLES(b[2]), .end_slopes = DOUBLES(b[3]),
+        .switch_ = INT64S(b[4]), .lifted = BOOLS(b[5]), .lengths = DOUBLES(b[6]), .times = DOUBLES(b[7]),
+        .stiffness = DOUBLES(b[8]), .damping = DOUBLES(b[9]), .n = b[0]->shape[0], .k = b[0]->shape[1],
+        .k_s = b[1]->shape[1], .k_e = b[3]->shape[1], .n_elements = b[5]->shape[1],
+    };
+    const int64_t n_e = in.n_elements;
+    int ok = b[10]->shape[0] == 4 && n_e >= 1 && in.n >= 1 && b[1]->shape[0] == in.n && b[2]->shape[1] == in.k
+             && b[3]->shape[0] == b[2]->shape[0] && b[4]->shape[0] >= in.n - 1 && b[5]->shape[0] == in.n
+             && b[6]->shape[0] >= in.n - 1 && b[7]->shape[0] == in.n && b[8]->shape[0] == n_e
+             && b[9]->shape[0] == n_e && b[11]->shape[0] == n_e && b[12]->shape[0] == n_e
+             && b[13]->shape[0] == n_e && b[14]->shape[0] == n_e && b[15]->shape[0] == N_SUMMARY;
+    if (ok) {
+        in.row_displacement = rows[0];
+        in.row_velocity = rows[1];
+        in.row_z = rows[2];
+        in.row_theta = rows[3];
+        ok = in.row_displacement >= 0 && in.row_displacement + n_e <= in.k && in.row_velocity >= 0
+             && in.row_velocity + n_e <= in.k_s && in.row_velocity + n_e <= in.k_e && in.row_z >= 0
+             && in.row_z + n_e <= in.k && in.row_theta < in.k;
+    }
+    for (int64_t i = 0; ok && i + 1 < in.n; i++) {
+        ok = in.switch_[i] < b[2]->shape[0];
+    }
+    if (!ok) {
+        PyErr_SetString(PyExc_ValueError, "contact_response: inconsistent array shapes");
+        goto done;
+    }
+    double *work = malloc((2 * in.n + 1) * sizeof(double));
+    if (!work) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    Py_BEGIN_ALLOW_THREADS
+    contact_response(&in, DOUBLES(b[11]), DOUBLES(b[12]), DOUBLES(b[13]), DOUBLES(b[14]), DOUBLES(b[15]), work,
+                     work + in.n);
+    Py_END_ALLOW_THREADS
+    free(work);
+    result = Py_NewRef(Py_None);
+done:
+    release_views(&v);
+    return result;
+}
+
 /* quintic_extremum(p0, p1, d0, d1, c0, c1) -> (value, s) (tests) */
 static PyObject *py_quintic_extremum(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
@@ -480,6 +849,7 @@ static PyMethodDef methods[] = {
     {"evaluate_signals", (PyCFunction)(void (*)(void))py_evaluate_signals, METH_FASTCALL, "Signals at the samples."},
     {"hermite_peaks", (PyCFunction)(void (*)(void))py_hermite_peaks, METH_FASTCALL, "Peaks between samples."},
     {"work_integrals", (PyCFunction)(void (*)(void))py_work_integrals, METH_FASTCALL, "Work integrals."},
+    {"contact_response", (PyCFunction)(void (*)(void))py_contact_response, METH_FASTCALL, "Reactions and uplift."},
     {"quintic_extremum", (PyCFunction)(void (*)(void))py_quintic_extremum, METH_FASTCALL, "Quintic Hermite peak."},
     {NULL, NULL, 0, NULL},
 };

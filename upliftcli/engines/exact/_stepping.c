@@ -3,6 +3,7 @@
  * tests/test_stepping_kernels.py). Operators and matrices are passed transposed (matvec). */
 
 #include "buffers.h"
+#include "product.h"
 #include <math.h>
 
 enum { DONE, NEED_STATE, FULL, FLIGHT, NONFINITE, CHATTER };
@@ -10,22 +11,10 @@ enum { DONE, NEED_STATE, FULL, FLIGHT, NONFINITE, CHATTER };
 #define EVENT_TOLERANCE 1e-12
 #define REFINE_LEVELS 5
 
-/* out = M x from the transposed matrix M^T (n, n), column by column: the inner loop runs along
- * contiguous memory without a reduction, so it vectorises; zero entries of x are skipped. */
+/* out = M x from the transposed matrix M^T (n, n) (product.h) */
 static inline void matvec(const double *restrict matrix_t, const double *restrict x, double *restrict out, int64_t n)
 {
-    for (int64_t i = 0; i < n; i++) {
-        out[i] = 0.0;
-    }
-    for (int64_t j = 0; j < n; j++) {
-        const double xj = x[j];
-        if (xj != 0.0) {
-            const double *column = matrix_t + j * n;
-            for (int64_t i = 0; i < n; i++) {
-                out[i] += column[i] * xj;
-            }
-        }
-    }
+    transposed_product(matrix_t, x, n, n, out);
 }
 
 static inline double dot(const double *restrict row, const double *restrict x, int64_t n)

@@ -21,13 +21,12 @@ from ..result import AnalysisResult
 from .energy import balance, stored, work
 from .response import (
     _STORY_AND_FLOOR,
+    contact_response,
     hermite_peaks,
     histories,
-    reaction_peaks,
     response_rows,
     signals,
     time_at,
-    uplift_summary,
 )
 from .statespace import StateSpace
 from .stepping import History
@@ -86,9 +85,10 @@ class Digest:
         acceleration, where = hermite_peaks(sig, self.rows.acceleration, lengths, self.acceleration_periods,
                                             self.rows.acceleration_rate)
         self._keep("floor_acceleration", acceleration, time_at(chunk, where))
-        for name, (peak, when) in reaction_peaks(chunk, sig).items():
+        reactions, summary = contact_response(chunk, sig)
+        for name, (peak, when) in reactions.items():
             self._keep(name, peak, when)
-        for name, value in uplift_summary(chunk, sig).items():
+        for name, value in summary.items():
             fold = _FOLDS[name]
             old = self.summary.get(name)
             self.summary[name] = value if old is None else {"sum": old + value, "max": max(old, value),

@@ -13,7 +13,8 @@ time derivative at a sample is one more row, so:
   samples come from the quintic Hermite interpolant through the sampled values and exact
   first and second derivatives (O(h^6) between samples);
 - element reactions R_i = -(k_i v_i + c_i v_i') [3a] are searched between samples on the
-  cubic Hermite interpolant of each contact interval (O(h^4)).
+  cubic Hermite interpolant of each contact interval (O(h^4)), in the same pass as the uplift
+  statistics (contact_response).
 """
 
 from __future__ import annotations
@@ -176,91 +177,29 @@ def element_reactions(history: History, sig: Signals) -> tuple[np.ndarray, np.nd
     return np.where(lifted, 0.0, -force), np.where(lifted, 0.0, -(velocity * k + acceleration * c))
 
 
-def reaction_peaks(history: History, sig: Signals) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """Largest compression of each element between samples (cubic Hermite interpolant of R in
-    each interval the element is in contact) and the largest at a recontact (the impact: the
-    reaction right after the edge comes down onto the element); (peaks [N], times [s]) each."""
-    n_e = history.space.layout.n_elements
-    if not n_e:
-        return {"reaction": (np.zeros(0), np.zeros(0)), "impact": (np.zeros(0), np.zeros(0))}
-    reactions, rates = element_reactions(history, sig)
-    lifted = history.lifted
-    times, lengths = history.times, history.lengths
+def contact_response(history: History, sig: Signals) -> tuple[dict[str, tuple[np.ndarray, np.ndarray]], dict]:
+    """The element reactions [3a] and the uplift statistics (docs/theory.md section 4) of a
+    history, in one compiled pass (response_kernels.contact_response):
+    - {"reaction": largest compression of each element between samples, on the cubic Hermite
+      interpolant of R in each interval in contact; "impact": largest at a recontact (the
+      reaction right after the edge comes down onto the element)}, (peaks [N], times [s]) each;
+    - episodes, time uplifted and in flight, largest edge uplift and displacement, rotation and
+      smallest reaction ({} without a flexible foundation)."""
     space = history.space
-    # right ends of the intervals: left limits where the interval ends at a transition
-    r1, d1 = reactions[1:].copy(), rates[1:].copy()
-    ends = sig.switch >= 0
-    if ends.any():
-        fix = sig.switch[ends]
-        v = sig.end_values[fix][:, sig.rows["element_displacement"]]
-        vel = sig.end_values[fix][:, sig.rows["element_velocity"]]
-        acc = sig.end_slopes[fix][:, sig.rows["element_velocity"]]
-        r1[ends] = -(v * space.element_stiffness + vel * space.element_damping)
-        d1[ends] = -(vel * space.element_stiffness + acc * space.element_damping)
-    contact = ~lifted[:-1]
-    r1 = np.where(contact, r1, 0.0)
-    d1 = np.where(contact, d1, 0.0)
-    value, fraction = _cubic_maximum(reactions[:-1], r1, rates[:-1] * lengths[:, None], d1 * lengths[:, None])
-    value = np.where(contact, value, 0.0)
-    interval = np.argmax(value, axis=0)
-    columns = np.arange(n_e)
-    peak = np.maximum(value[interval, columns], 0.0)
-    when = times[interval] + fraction[interval, columns] * lengths[interval]
-    recontact = lifted[:-1] & ~lifted[1:]  # sample i + 1 starts a contact
-    at_impact = np.where(recontact, reactions[1:], -np.inf)
-    sample = np.argmax(at_impact, axis=0)
-    hit = recontact.any(axis=0)
-    impact = np.where(hit, np.maximum(at_impact[sample, columns], 0.0), 0.0)
-    return {"reaction": (peak, when), "impact": (impact, np.where(hit, times[sample + 1], np.nan))}
-
-
-def _cubic_maximum(p0, p1, d0, d1):
-    """Largest value of the cubic Hermite p(s), s in [0, 1], with p(0) = p0, p(1) = p1,
-    p'(0) = d0, p'(1) = d1 (slopes times the interval length), elementwise; (value, s)."""
-    a = 2.0 * (p0 - p1) + d0 + d1
-    b = 3.0 * (p1 - p0) - 2.0 * d0 - d1
-    best = np.maximum(p0, p1)
-    where = np.where(p1 > p0, 1.0, 0.0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        disc = b * b - 3.0 * a * d0
-        root = np.sqrt(np.maximum(disc, 0.0))
-        quadratic = np.abs(a) > 1e-14 * (np.abs(b) + np.abs(d0))
-        candidates = [np.where(quadratic, (-b + root) / (3.0 * a), np.where(b != 0.0, -d0 / (2.0 * b), -1.0)),
-                      np.where(quadratic, (-b - root) / (3.0 * a), -1.0)]
-    for s in candidates:
-        inside = (s > 0.0) & (s < 1.0) & (disc >= 0.0)
-        value = ((a * s + b) * s + d0) * s + p0
-        better = inside & (value > best)
-        best = np.where(better, value, best)
-        where = np.where(better, s, where)
-    return best, where
-
-
-def uplift_summary(history: History, sig: Signals) -> dict:
-    """Episodes, time uplifted, maximum edge uplift, rotation, minimum reaction (docs/theory.md section 4)."""
-    space = history.space
-    lay = space.layout
-    if not space.model.flexible:
-        return {}
-    summary: dict = {"max_rotation": float(np.abs(sig["theta"]).max())}
-    displacement = sig["element_displacement"]
-    lifted = history.lifted
-    lengths = history.lengths
-    damped = space.element_damping > 0.0
-    gap = np.where(lifted, displacement - np.where(damped, sig["z"], 0.0), 0.0)
-    any_lifted = lifted.any(axis=1)
-    summary["uplift_time"] = float(lengths[any_lifted[:-1]].sum())
-    summary["episodes"] = int(np.count_nonzero(any_lifted[1:] & ~any_lifted[:-1]))
-    summary["flight_time"] = float(lengths[lifted.all(axis=1)[:-1]].sum()) if lay.n_elements > 1 else 0.0
-    for name, i in (("left", 0), ("right", lay.n_elements - 1)):
-        summary[f"episodes_{name}"] = int(np.count_nonzero(lifted[1:, i] & ~lifted[:-1, i]))
-        summary[f"max_uplift_{name}"] = float(max(gap[:, i].max(), 0.0))
-        summary[f"max_edge_displacement_{name}"] = float(displacement[:, i].max())
-    reactions = np.where(lifted, np.inf, element_reactions(history, sig)[0])  # of the elements in contact [3a]
-    summary["min_reaction_left"] = float(reactions[:, 0].min())
-    summary["min_reaction_right"] = float(reactions[:, -1].min())
-    summary["min_reaction"] = float(reactions.min())
-    return summary
+    if not space.layout.n_elements:
+        return {"reaction": (np.zeros(0), np.zeros(0)), "impact": (np.zeros(0), np.zeros(0))}, {}
+    rows = sig.rows
+    flexible = space.model.flexible
+    columns = (rows["element_displacement"].start, rows["element_velocity"].start, rows["z"].start,
+               rows["theta"].start if flexible else -1)
+    peak, peak_time, impact, impact_time, values = response_kernels.contact_response(
+        sig.values, sig.slopes, sig.end_values, sig.end_slopes, sig.switch, history.lifted, history.lengths,
+        history.times, space.element_stiffness, space.element_damping, columns)
+    summary: dict = {}
+    if flexible:
+        summary = {name: int(value) if name.startswith("episodes") else float(value)
+                   for name, value in zip(response_kernels.SUMMARY, values, strict=True)}
+    return {"reaction": (peak, peak_time), "impact": (impact, impact_time)}, summary
 
 
 def histories(history: History, rows: ResponseRows, sig: Signals) -> dict[str, np.ndarray]:

@@ -1,5 +1,5 @@
 """Compiled loops of the post-processing (C: _response.c, built at install): signals at the
-samples, peaks between samples and work integrals.
+samples, peaks between samples, element reactions and uplift statistics, and work integrals.
 
 Each walks the samples (or the intervals between them) once; numpy versions of the same loops
 cost 5-10 times more on the ten-story example (temporaries and strided reductions). Their numpy
@@ -67,3 +67,36 @@ def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lift
     return _response.work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lifted, n_interpolated,
                                      row_a, row_input, row_ydot, n_modes, row_vel, row_z, n_elements, modal_damping,
                                      element_stiffness, element_damping)
+
+
+#: the uplift statistics contact_response returns, in order (counts are whole numbers)
+SUMMARY = ("max_rotation", "uplift_time", "episodes", "flight_time", "episodes_left", "episodes_right",
+           "max_uplift_left", "max_uplift_right", "max_edge_displacement_left", "max_edge_displacement_right",
+           "min_reaction_left", "min_reaction_right", "min_reaction")
+
+
+def contact_response(values, slopes, end_values, end_slopes, switch, lifted, lengths, times, stiffness, damping,
+                     rows) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Element reactions R = -(k v + c v') [3a] and uplift statistics in one pass over the samples.
+
+    Per element: the largest compression between samples (the cubic Hermite interpolant of R in
+    each interval the element is in contact) and its time [s]; the largest reaction at a
+    recontact (the sample where a contact starts: the impact) and its time (NaN: none). And the
+    statistics SUMMARY: largest |theta|, time with some element lifted and time with all lifted
+    (flight) [s], uplift episodes (in all, at the left and right elements), largest uplift of the
+    left and right edges (above the relaxed element top z, or the element's top) and their
+    largest displacement [m], smallest reaction in contact (left, right, any) [N].
+
+    values (n, k), slopes (n, k_s), end_values, end_slopes, switch: as for hermite_peaks;
+    lifted (n, n_e) bool, valid from each sample on; lengths (n - 1,), times (n,) [s];
+    stiffness, damping (n_e,); rows: the columns of the element displacements, the element
+    velocities (whose slopes are in `slopes` at the same columns), z, and theta (-1: none).
+    Returns (peak, peak_time, impact, impact_time, summary).
+    """
+    n_e = lifted.shape[1]
+    peak, peak_time, impact, impact_time = (np.empty(n_e) for _ in range(4))
+    summary = np.empty(len(SUMMARY))
+    _response.contact_response(values, slopes, end_values, end_slopes, switch, lifted, lengths, times, stiffness,
+                               damping, np.asarray(rows, dtype=np.int64), peak, peak_time, impact, impact_time,
+                               summary)
+    return peak, peak_time, impact, impact_time, summary
