@@ -7,6 +7,7 @@
 #include <math.h>
 
 enum { DONE, NEED_STATE, FULL, FLIGHT, NONFINITE, CHATTER };
+enum { VALUES = 1, RATES = 2 }; /* what integrate knows of the event functions at x */
 #define MAX_EVENTS_PER_STEP 256
 #define EVENT_TOLERANCE 1e-12
 #define REFINE_LEVELS 5
@@ -38,21 +39,77 @@ static double max_event(const double *events, int64_t n_events, const double *x,
     return best;
 }
 
-/* True if some event function, not positive at either end of a chunk (states x, y, length [s]),
- * has a positive interior maximum on its cubic Hermite interpolant (values G x, G y and exact
- * rates G A x, G A y): a brief excursion the chunk ends would miss. */
-static int excursion(const double *events, const double *rates, int64_t n_events, const double *x, const double *y,
-                     int64_t n, double length)
+static inline double largest(const double *values, int64_t count)
+{
+    double best = -INFINITY;
+    for (int64_t i = 0; i < count; i++) {
+        best = values[i] > best ? values[i] : best;
+    }
+    return best;
+}
+
+/* values[i] = G_i x and rates[i] = (G A)_i x of every event function at the state x, each summed
+ * as dot sums (all of them in one pass over x) */
+static inline void event_values(const double *events, const double *event_rates, int64_t n_events,
+                                const double *restrict x, int64_t n, double *restrict values,
+                                double *restrict rates)
+{
+    int64_t i = 0;
+    for (; i + 1 < n_events; i += 2) { /* two events at a time: four sums in flight */
+        const double *g0 = events + i * n, *g1 = g0 + n, *r0 = event_rates + i * n, *r1 = r0 + n;
+        double v0 = 0.0, v1 = 0.0, s0 = 0.0, s1 = 0.0;
+        for (int64_t j = 0; j < n; j++) {
+            v0 += g0[j] * x[j];
+            s0 += r0[j] * x[j];
+            v1 += g1[j] * x[j];
+            s1 += r1[j] * x[j];
+        }
+        values[i] = v0;
+        rates[i] = s0;
+        values[i + 1] = v1;
+        rates[i + 1] = s1;
+    }
+    for (; i < n_events; i++) {
+        const double *g = events + i * n, *r = event_rates + i * n;
+        double v = 0.0, d = 0.0;
+        for (int64_t j = 0; j < n; j++) {
+            v += g[j] * x[j];
+            d += r[j] * x[j];
+        }
+        values[i] = v;
+        rates[i] = d;
+    }
+}
+
+/* out[i] = row i of rows (count, n) times x, each summed as dot sums, two rows at a time */
+static inline void row_values(const double *rows, int64_t count, const double *restrict x, int64_t n,
+                              double *restrict out)
+{
+    int64_t i = 0;
+    for (; i + 1 < count; i += 2) {
+        const double *a = rows + i * n, *b = a + n;
+        double va = 0.0, vb = 0.0;
+        for (int64_t j = 0; j < n; j++) {
+            va += a[j] * x[j];
+            vb += b[j] * x[j];
+        }
+        out[i] = va;
+        out[i + 1] = vb;
+    }
+    if (i < count) {
+        out[i] = dot(rows + i * n, x, n);
+    }
+}
+
+/* True if some event function, not positive at either end of a chunk of `length` [s], has a
+ * positive interior maximum on its cubic Hermite interpolant through its values g0, g1 and exact
+ * rates d0, d1 at the ends: a brief excursion the chunk ends would miss. */
+static int excursion_between(const double *g0s, const double *d0s, const double *g1s, const double *d1s,
+                             int64_t n_events, double length)
 {
     for (int64_t i = 0; i < n_events; i++) {
-        const double *g = events + i * n, *r = rates + i * n;
-        double g0 = 0.0, g1 = 0.0, d0 = 0.0, d1 = 0.0;
-        for (int64_t j = 0; j < n; j++) {
-            g0 += g[j] * x[j];
-            g1 += g[j] * y[j];
-            d0 += r[j] * x[j];
-            d1 += r[j] * y[j];
-        }
+        const double g0 = g0s[i], g1 = g1s[i];
+        double d0 = d0s[i], d1 = d1s[i];
         if (d0 <= 0.0 && d1 >= 0.0) {
             continue; /* falling at the start and rising at the end: no interior maximum */
         }
@@ -82,6 +139,17 @@ static int excursion(const double *events, const double *rates, int64_t n_events
         }
     }
     return 0;
+}
+
+/* excursion_between for the states x, y at the ends of the chunk (values G x, G y and exact rates
+ * G A x, G A y); work: 4 n_events doubles */
+static int excursion(const double *events, const double *rates, int64_t n_events, const double *x, const double *y,
+                     int64_t n, double length, double *work)
+{
+    double *g0 = work, *d0 = work + n_events, *g1 = work + 2 * n_events, *d1 = work + 3 * n_events;
+    event_values(events, rates, n_events, x, n, g0, d0);
+    event_values(events, rates, n_events, y, n, g1, d1);
+    return excursion_between(g0, d0, g1, d1, n_events, length);
 }
 
 /* the contact states and elements of one run (see stepping_kernels.States, Elements, Grid) */
@@ -181,6 +249,27 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
         chunk[j] = h / ldexp(1.0, (int)j);
     }
     const double smallest = chunk[n_levels];
+    /* per state: whether it has event functions (a bonded run's are all zero), and what of their
+     * values and rates at x stays known when a sample sets the ground acceleration and its slope
+     * (those that do not depend on them) */
+    double *g_x = chunk + n_levels + 1, *d_x = g_x + m->n_events, *g_trial = d_x + m->n_events,
+           *d_trial = g_trial + m->n_events;
+    unsigned char *active = (unsigned char *)(d_trial + m->n_events), *ground_free = active + m->count;
+    for (int64_t s = 0; s < m->count; s++) {
+        const double *events = m->events + s * m->n_events * n, *rates = m->rates + s * m->n_events * n;
+        active[s] = 0;
+        int values_free = 1, rates_free = 1;
+        for (int64_t i = 0; i < m->n_events * n; i++) {
+            active[s] |= events[i] != 0.0;
+        }
+        for (int64_t i = 0; i < m->n_events; i++) {
+            const int64_t a = i * n + index_acceleration, b = i * n + index_slope;
+            values_free &= events[a] == 0.0 && events[b] == 0.0;
+            rates_free &= rates[a] == 0.0 && rates[b] == 0.0;
+        }
+        ground_free[s] = (unsigned char)((values_free ? VALUES : 0) | (values_free && rates_free ? RATES : 0));
+    }
+    int known = 0;
 #define RETURN(code, with_pattern)                                                                                    \
     do {                                                                                                               \
         out.status = (code);                                                                                           \
@@ -199,11 +288,13 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
         if (offset == 0.0) {
             x[index_acceleration] = ground[step];
             x[index_slope] = slopes[step];
+            known &= ground_free[state];
         }
         for (;;) {
             double remaining = h - offset;
             if (remaining < smallest * (1.0 - 1e-9)) {
                 if (remaining > 0.0) {
+                    known = 0;
                     /* sub-sliver close: second-order Taylor step (error ~ (|A| h 2^-L)^3) */
                     const double *matrix_t = m->matrices + state * n * n;
                     matvec(matrix_t, x, tmp, n);
@@ -220,20 +311,35 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
             }
             const double *events = m->events + state * m->n_events * n;
             const double *rates = m->rates + state * m->n_events * n;
+            const int64_t n_events = active[state] ? m->n_events : 0;
+            /* the event functions and their rates at x, kept while they stay */
+            if (!(known & VALUES)) {
+                event_values(events, rates, n_events, x, n, g_x, d_x);
+                known = VALUES | RATES;
+            } else if (!(known & RATES)) {
+                row_values(rates, n_events, x, n, d_x);
+                known |= RATES;
+            }
             matvec(op_of(m, state, level), x, trial, n);
-            int crossed = max_event(events, m->n_events, trial, n) > EVENT_TOLERANCE;
+            event_values(events, rates, n_events, trial, n, g_trial, d_trial);
+            int crossed = largest(g_trial, n_events) > EVENT_TOLERANCE;
             /* an event function may rise above zero and fall back inside the chunk: halve it
              * while its cubic interpolant says so (down to h / 2^REFINE_LEVELS) */
-            while (!crossed && level < REFINE_LEVELS && excursion(events, rates, m->n_events, x, trial, n, chunk[level])) {
+            while (!crossed && level < REFINE_LEVELS
+                   && excursion_between(g_x, d_x, g_trial, d_trial, n_events, chunk[level])) {
                 level++;
                 matvec(op_of(m, state, level), x, trial, n);
-                crossed = max_event(events, m->n_events, trial, n) > EVENT_TOLERANCE;
+                event_values(events, rates, n_events, trial, n, g_trial, d_trial);
+                crossed = largest(g_trial, n_events) > EVENT_TOLERANCE;
             }
             if (!crossed) {
                 memcpy(x, trial, n * sizeof(double));
+                memcpy(g_x, g_trial, n_events * sizeof(double));
+                memcpy(d_x, d_trial, n_events * sizeof(double));
                 offset += chunk[level];
                 continue;
             }
+            known = 0;
             double fraction;
             double start = crossing(m, state, x, level, chunk, left, trial, right, &fraction);
             for (int64_t j = 0; j < n; j++) {
@@ -271,6 +377,7 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
             /* the sample opens the next interval: it carries that interval's ground slope */
             x[index_slope] = slopes[step];
         }
+        known &= ground_free[state];
         int finite = 1;
         for (int64_t i = 0; i < n; i++) {
             if (!isfinite(x[i])) {
@@ -336,7 +443,9 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *args, Py_ssize_t 
         PyErr_SetString(PyExc_ValueError, "integrate: inconsistent array shapes");
         goto done;
     }
-    double *work = PyMem_Malloc((4 * n + m.levels + 1) * sizeof(double));
+    /* work space of integrate: 4 states, the chunk lengths, 4 event vectors, 2 flags per state */
+    double *work = PyMem_Malloc((4 * n + m.levels + 1 + 4 * m.n_events + (2 * m.count) / sizeof(double) + 1)
+                                * sizeof(double));
     if (!work) {
         PyErr_NoMemory();
         goto done;
@@ -401,8 +510,14 @@ static PyObject *py_excursion(PyObject *self, PyObject *const *args, Py_ssize_t 
         if (events->shape[1] != n || rates->shape[1] != n || rates->shape[0] != events->shape[0] || y->shape[0] != n) {
             PyErr_SetString(PyExc_ValueError, "excursion: inconsistent array shapes");
         } else {
-            result = PyBool_FromLong(excursion(DOUBLES(events), DOUBLES(rates), events->shape[0], DOUBLES(x),
-                                               DOUBLES(y), n, length));
+            double *work = PyMem_Malloc((4 * events->shape[0] + 1) * sizeof(double));
+            if (!work) {
+                PyErr_NoMemory();
+            } else {
+                result = PyBool_FromLong(excursion(DOUBLES(events), DOUBLES(rates), events->shape[0], DOUBLES(x),
+                                                   DOUBLES(y), n, length, work));
+                PyMem_Free(work);
+            }
         }
     }
     release_views(&v);
