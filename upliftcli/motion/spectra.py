@@ -191,8 +191,8 @@ class RecordSpectrum:
     """Pseudo-acceleration spectrum of a record at any damping, computed exactly on demand and cached.
 
     Used by the simplified engine in place of a design spectrum (same `.sa`, `.name`, `.period_range`).
-    It asks a few periods at a time: always the numpy loops, so that a value does not depend on
-    which periods were asked together.
+    It asks a few periods at a time, by the compiled loop, whose oscillators do not share any
+    arithmetic: a value does not depend on which periods were asked together.
     """
 
     record: object  # records.Record
@@ -221,7 +221,7 @@ class RecordSpectrum:
         missing = sorted({float(t) for t in flat if (float(t), damping) not in self._cache})
         if missing:
             spectrum = response_spectrum(self.record.acceleration, self.record.dt, missing, [damping],
-                                         free_vibration=self.free_vibration, method="numpy")
+                                         free_vibration=self.free_vibration)
             for t, value in zip(missing, spectrum.pseudo_acceleration[0], strict=False):
                 self._cache[(t, damping)] = float(value)
         result = np.array([self._cache[(float(t), damping)] for t in flat])

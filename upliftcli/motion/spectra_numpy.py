@@ -1,9 +1,8 @@
 """The response-spectrum peaks in numpy: the twin of chunk_peaks in _spectra.c (same method, see
 spectra.py), vectorised over the oscillators and over time instead of compiled.
 
-It serves the simplified engine, which needs S_a at a handful of (period, damping) pairs, each
-computed alone so that a value does not depend on which periods were asked together. The results
-agree with the compiled loop to rounding (tests/test_spectra.py).
+It is response_spectrum(method="numpy") and the twin the tests compare the compiled loop with
+(tests/test_spectra.py, tests/test_spectra_numpy.py): the results agree to rounding.
 
 Per oscillator of a group sharing one sub-step h = dt / nsub:
 
