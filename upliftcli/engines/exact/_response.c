@@ -173,21 +173,14 @@ static inline int hull_below(double p0, double p1, double d0, double d1, double 
     return hull * (1.0 + 1e-9) < peak;
 }
 
-/* out = R y with y = row[columns], from R^T (n_basis, m) (each out[j] summed over the basis in
- * order, as transposed_product) */
+/* out = R y with y = row[columns], from R^T (n_basis, m); y: n_basis doubles of work space */
 static inline void combine(const double *restrict row, const int64_t *restrict columns, const double *restrict rows_t,
-                           int64_t n_basis, int64_t m, double *restrict out)
+                           int64_t n_basis, int64_t m, double *restrict y, double *restrict out)
 {
-    for (int64_t j = 0; j < m; j++) {
-        out[j] = 0.0;
-    }
     for (int64_t q = 0; q < n_basis; q++) {
-        const double yq = row[columns[q]];
-        const double *r = rows_t + q * m;
-        for (int64_t j = 0; j < m; j++) {
-            out[j] += r[j] * yq;
-        }
+        y[q] = row[columns[q]];
     }
+    transposed_product(rows_t, y, n_basis, m, out);
 }
 
 typedef struct {
@@ -201,7 +194,7 @@ typedef struct {
  * second derivatives (response_kernels.hermite_peaks). sampled (n, m) and flagged (n) are work
  * space. */
 HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *where, double *sampled, unsigned char *flagged,
-                          double *r1, double *threshold)
+                          double *r1, double *threshold, double *y)
 {
     const int64_t n = in->n, m = in->m, n_b = in->n_basis, k = in->k, k_s = in->k_s, k_e = in->width_end_slopes;
     for (int64_t j = 0; j < m; j++) {
@@ -211,7 +204,7 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
     /* pass 1: every response at every sample (kept) and its sampled peak */
     for (int64_t i = 0; i < n; i++) {
         double *row = sampled + i * m;
-        combine(in->values + i * k, in->value_columns, in->rows_t, n_b, m, row);
+        combine(in->values + i * k, in->value_columns, in->rows_t, n_b, m, y, row);
         for (int64_t j = 0; j < m; j++) { /* branch-free: it vectorises */
             const double v = fabs(row[j]);
             const int better = v > best[j];
@@ -239,7 +232,7 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
         }
         const double *r0 = sampled + i * m;
         if (fix >= 0) { /* the interval ends at a transition: its left limit */
-            combine(in->end_values + fix * k, in->value_columns, in->rows_t, n_b, m, r1);
+            combine(in->end_values + fix * k, in->value_columns, in->rows_t, n_b, m, y, r1);
         } else {
             memcpy(r1, sampled + (i + 1) * m, m * sizeof(double));
         }
@@ -670,7 +663,7 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
         PyErr_SetString(PyExc_ValueError, "hermite_peaks: inconsistent array shapes");
         goto done;
     }
-    double *sampled = malloc((in.n * in.m + 2 * in.m + 1) * sizeof(double));
+    double *sampled = malloc((in.n * in.m + 2 * in.m + in.n_basis + 1) * sizeof(double));
     unsigned char *flagged = malloc(in.n + 1);
     if (!sampled || !flagged) {
         free(sampled);
@@ -680,7 +673,7 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
     }
     Py_BEGIN_ALLOW_THREADS
     hermite_peaks(&in, DOUBLES(b[11]), DOUBLES(b[12]), sampled, flagged, sampled + in.n * in.m,
-                  sampled + in.n * in.m + in.m);
+                  sampled + in.n * in.m + in.m, sampled + in.n * in.m + 2 * in.m);
     Py_END_ALLOW_THREADS
     free(sampled);
     free(flagged);
