@@ -17,6 +17,7 @@ import typer
 from typer.core import TyperGroup
 
 from ..errors import AnalysisError, InputError, one_line
+from ..heap import keep_freed_memory
 
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
 
@@ -110,6 +111,7 @@ _register_all()
 
 def main() -> None:
     """Console-script entry point (`uplift`)."""
+    keep_freed_memory()
     try:
         app()
     except InputError as error:  # raised outside a command (e.g. while parsing)

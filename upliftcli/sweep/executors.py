@@ -41,6 +41,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import replace
 
+from ..heap import keep_freed_memory
 from .plan import Chunk
 from .signals import deferred
 from .worker import failed_row, run_chunk
@@ -126,6 +127,7 @@ def _init_worker(queue, runner, parent_pid: int | None = None, environment=None,
         os.environ.update(environment)
     if directory is not None:  # relative deck and record paths as in the parent
         os.chdir(directory)
+    keep_freed_memory()
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     signal.signal(signal.SIGHUP, signal.SIG_IGN)  # so is a hang-up of the terminal
     if parent_pid is not None:

@@ -1,0 +1,41 @@
+"""heap.keep_freed_memory: freed blocks of a few megabytes are reused instead of being mapped
+(and page-faulted) again."""
+
+from __future__ import annotations
+
+import platform
+import subprocess
+import sys
+
+import pytest
+
+LOOP = """
+import resource, sys
+import numpy as np
+from upliftcli.heap import keep_freed_memory
+if sys.argv[1] == "keep":
+    assert keep_freed_memory()
+if sys.argv[1] == "import":  # what a program using the Python API imports
+    import upliftcli.api, upliftcli.cli, upliftcli.sweep.executors
+def chunk():  # the arrays of one exact-engine chunk, about 6-8 MB each
+    arrays = [np.ones(1_000_000), np.ones(800_000), np.ones(900_000)]
+    return sum(float(a[-1]) for a in arrays)
+chunk()
+before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+for _ in range(20):
+    chunk()
+print(resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before)
+"""
+
+
+def _faults(mode: str) -> int:
+    done = subprocess.run([sys.executable, "-c", LOOP, mode], capture_output=True, text=True, check=True)
+    return int(done.stdout)
+
+
+@pytest.mark.skipif(platform.libc_ver()[0] != "glibc", reason="the setting is glibc's")
+def test_kept_memory_is_not_faulted_in_again_and_importing_keeps_the_default():
+    default, kept, imported = _faults("default"), _faults("keep"), _faults("import")
+    assert default > 5_000  # chunks of 21 MB: glibc maps most of them again each time
+    assert kept < default / 20
+    assert imported > default / 2  # the package changes the allocator only where it runs the process
