@@ -9,8 +9,9 @@ install, so nothing else is compiled at run time); with --venv DIR, the commands
 environment instead (make one with `python3 -m venv DIR && DIR/bin/pip install .`; its first
 runs are then the real first runs, --repeats 1).
 The Fig. 3 spectrum: end to end with its three PNGs, and its analysis part
-(run_sweep in a fresh process after what `uplift spectra` does before it: with 2 local workers
-their warm server is started and matplotlib imported meanwhile) on 1 and 2 workers, overall and
+(run_sweep in a fresh process after what `uplift spectra` does before it: the allocator set as the
+command sets it (heap.py); with 2 local workers their warm server is started and matplotlib
+imported meanwhile) on 1 and 2 workers, overall and
 between the first and the last row.
 
     python benchmarks/bench_commands.py [--repeats 5] [--only help,modes,...] [--venv DIR]
@@ -60,6 +61,8 @@ class Stamps(NoProgress):
     def advance(self, row):
         self.times.append(time.perf_counter())
 
+from upliftcli.heap import keep_freed_memory
+keep_freed_memory()  # as the uplift command does
 workers = int(sys.argv[1])
 plan = plan_sweep(sys.argv[2], (), (), ["exact"], (), varies=[period_vary("0.05:5:100")])
 executor = SerialExecutor() if workers == 1 else ProcessExecutor(workers)

@@ -17,6 +17,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from upliftcli.heap import keep_freed_memory
 from upliftcli.sweep.dask_executor import DaskExecutor
 from upliftcli.sweep.executors import ProcessExecutor, SerialExecutor, available_cores
 from upliftcli.sweep.plan import plan_sweep
@@ -69,6 +70,7 @@ def main() -> None:
     parser.add_argument("--dask", action="store_true", help="also on a Dask LocalCluster of 2 workers")
     parser.add_argument("--supports", default="uplift", help="support conditions, e.g. rigid,bonded,uplift")
     args = parser.parse_args()
+    keep_freed_memory()  # as `uplift sweep` does (its local workers do it themselves)
     plan = plan_for(args.cases, args.supports.split(","))
     n = len(plan.cases)
     print(f"{n} exact cases ({args.supports} support, {DECK.name}), {available_cores()} cores available")

@@ -183,6 +183,18 @@ static inline void combine(const double *restrict row, const int64_t *restrict c
     transposed_product(rows_t, y, n_basis, m, out);
 }
 
+/* best[j] = |row[j]| and where[j] = position where |row[j]| is larger (branch-free: it vectorises) */
+static inline void keep_larger(const double *restrict row, int64_t m, double position, double *restrict best,
+                               double *restrict where)
+{
+    for (int64_t j = 0; j < m; j++) {
+        const double v = fabs(row[j]);
+        const int better = v > best[j];
+        best[j] = better ? v : best[j];
+        where[j] = better ? position : where[j];
+    }
+}
+
 typedef struct {
     const double *values, *slopes, *end_values, *end_slopes, *rows_t, *lengths, *fractions;
     const int64_t *switch_, *value_columns, *rate_columns, *curvature_columns;
@@ -205,12 +217,7 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
     for (int64_t i = 0; i < n; i++) {
         double *row = sampled + i * m;
         combine(in->values + i * k, in->value_columns, in->rows_t, n_b, m, y, row);
-        for (int64_t j = 0; j < m; j++) { /* branch-free: it vectorises */
-            const double v = fabs(row[j]);
-            const int better = v > best[j];
-            best[j] = better ? v : best[j];
-            where[j] = better ? (double)i : where[j];
-        }
+        keep_larger(row, m, (double)i, best, where);
     }
     /* the samples within the fraction of the peak of some response */
     for (int64_t j = 0; j < m; j++) {
