@@ -281,6 +281,20 @@ static inline double hermite(double v0, double v1, double d0, double d1, double 
     return (2 * s3 - 3 * s2 + 1) * v0 + (s3 - 2 * s2 + s) * d0 + (-2 * s3 + 3 * s2) * v1 + (s3 - s2) * d1;
 }
 
+/* gauss[g k + q]: the cubic Hermite interpolant of signal q (values v, slopes s at the ends of an
+ * interval of `length`) at Gauss node g, from the Hermite basis there (it vectorises over q) */
+static inline void interpolate_at_nodes(const double *restrict v0, const double *restrict s0,
+                                        const double *restrict v1, const double *restrict s1, double length,
+                                        int64_t k, const double basis[3][4], double *restrict gauss)
+{
+    for (int64_t q = 0; q < k; q++) {
+        const double d0 = s0[q] * length, d1 = s1[q] * length;
+        for (int g = 0; g < 3; g++) {
+            gauss[g * k + q] = basis[g][0] * v0[q] + basis[g][1] * d0 + basis[g][2] * v1[q] + basis[g][3] * d1;
+        }
+    }
+}
+
 typedef struct {
     const double *values, *slopes, *end_values, *end_slopes, *lengths, *modal_damping, *element_stiffness,
         *element_damping;
@@ -309,23 +323,17 @@ HOT_LOOP static void work_integrals(const WorkInput *in, double *gauss, double o
     for (int64_t i = 0; i < in->n_intervals; i++) {
         const double length = in->lengths[i];
         const int64_t fix = in->switch_[i];
-        for (int64_t q = 0; q < k; q++) {
-            double v0 = in->values[i * kv + q];
-            double d0 = in->slopes[i * ks + q] * length;
-            double v1, d1;
-            if (fix >= 0) {
-                v1 = in->end_values[fix * kv + q];
-                d1 = in->end_slopes[fix * ke + q] * length;
-            } else if (q == in->row_a) {
-                /* the ground acceleration is linear inside the interval (its slope jumps at samples) */
-                v1 = in->values[(i + 1) * kv + q];
-                d1 = d0;
-            } else {
-                v1 = in->values[(i + 1) * kv + q];
-                d1 = in->slopes[(i + 1) * ks + q] * length;
-            }
+        /* the right ends: the next sample, or the left limits where the interval ends at a transition */
+        const double *v0 = in->values + i * kv, *s0 = in->slopes + i * ks;
+        const double *v1 = fix >= 0 ? in->end_values + fix * kv : v0 + kv;
+        const double *s1 = fix >= 0 ? in->end_slopes + fix * ke : s0 + ks;
+        interpolate_at_nodes(v0, s0, v1, s1, length, k, basis, gauss);
+        if (fix < 0) {
+            /* the ground acceleration is linear inside the interval (its slope jumps at samples) */
+            const int64_t q = in->row_a;
+            const double d0 = s0[q] * length;
             for (int g = 0; g < 3; g++) {
-                gauss[g * k + q] = basis[g][0] * v0 + basis[g][1] * d0 + basis[g][2] * v1 + basis[g][3] * d1;
+                gauss[g * k + q] = basis[g][0] * v0[q] + basis[g][1] * d0 + basis[g][2] * v1[q] + basis[g][3] * d0;
             }
         }
         const unsigned char *lifted = in->lifted + i * in->n_elements;
