@@ -459,10 +459,11 @@ static inline void reaction_at(const ContactInput *in, const double *values, con
  * interval in contact) and when, the largest reaction at a recontact (the sample where a contact
  * starts) and when (NaN: none); the uplift statistics summary[N_SUMMARY] (docs/theory.md section
  * 4). One pass over the samples, in the order and with the arithmetic of its numpy twin (ties go
- * to the first interval or sample; times summed as numpy sums). uplifted, flying: n - 1 doubles
- * of work space each. */
+ * to the first interval or sample; times summed as numpy sums). Work space: uplifted, flying
+ * (n - 1 doubles each), reactions (4 n_elements). */
 HOT_LOOP static void contact_response(const ContactInput *in, double *peak, double *peak_time, double *impact,
-                                      double *impact_time, double *summary, double *uplifted, double *flying)
+                                      double *impact_time, double *summary, double *uplifted, double *flying,
+                                      double *reactions)
 {
     const int64_t n = in->n, n_e = in->n_elements;
     const int64_t sides[2] = {0, n_e - 1};
@@ -476,6 +477,11 @@ HOT_LOOP static void contact_response(const ContactInput *in, double *peak, doub
     double max_gap[2] = {-INFINITY, -INFINITY}, max_edge[2] = {-INFINITY, -INFINITY};
     double min_side[2] = {INFINITY, INFINITY};
     int64_t episodes = 0, side_episodes[2] = {0, 0};
+    /* the reactions and their rates at sample i (r, d) and at sample i + 1 (r_next, d_next) */
+    double *r = reactions, *d = reactions + n_e, *r_next = reactions + 2 * n_e, *d_next = reactions + 3 * n_e;
+    for (int64_t e = 0; e < n_e && n > 0; e++) {
+        reaction_at(in, in->values, in->slopes, e, r + e, d + e);
+    }
     for (int64_t i = 0; i < n; i++) {
         const double *values = in->values + i * in->k, *slopes = in->slopes + i * in->k_s;
         const unsigned char *lifted = in->lifted + i * n_e;
@@ -486,9 +492,7 @@ HOT_LOOP static void contact_response(const ContactInput *in, double *peak, doub
             any |= lifted[e];
             all &= lifted[e];
             if (!lifted[e]) {
-                double r, rate;
-                reaction_at(in, values, slopes, e, &r, &rate);
-                min_reaction = r < min_reaction ? r : min_reaction;
+                min_reaction = r[e] < min_reaction ? r[e] : min_reaction;
             }
         }
         for (int side = 0; side < 2; side++) {
@@ -498,9 +502,7 @@ HOT_LOOP static void contact_response(const ContactInput *in, double *peak, doub
             max_gap[side] = gap > max_gap[side] ? gap : max_gap[side];
             max_edge[side] = displacement > max_edge[side] ? displacement : max_edge[side];
             if (!lifted[e]) {
-                double r, rate;
-                reaction_at(in, values, slopes, e, &r, &rate);
-                min_side[side] = r < min_side[side] ? r : min_side[side];
+                min_side[side] = r[e] < min_side[side] ? r[e] : min_side[side];
             }
         }
         if (i + 1 == n) {
@@ -511,6 +513,7 @@ HOT_LOOP static void contact_response(const ContactInput *in, double *peak, doub
         int any1 = 0;
         for (int64_t e = 0; e < n_e; e++) {
             any1 |= lifted1[e];
+            reaction_at(in, values + in->k, slopes + in->k_s, e, r_next + e, d_next + e);
         }
         episodes += any1 && !any;
         for (int side = 0; side < 2; side++) {
@@ -524,31 +527,33 @@ HOT_LOOP static void contact_response(const ContactInput *in, double *peak, doub
             flying[n_flying++] = length;
         }
         const int64_t fix = in->switch_[i];
-        const double *values1 = fix >= 0 ? in->end_values + fix * in->k : values + in->k;
-        const double *slopes1 = fix >= 0 ? in->end_slopes + fix * in->k_e : slopes + in->k_s;
         for (int64_t e = 0; e < n_e; e++) {
             double value = 0.0, s = 0.0;
             if (!lifted[e]) {
-                double r0, d0, r1 = 0.0, d1 = 0.0;
-                reaction_at(in, values, slopes, e, &r0, &d0);
-                if (fix >= 0 || !lifted1[e]) {
-                    reaction_at(in, values1, slopes1, e, &r1, &d1);
+                double r1 = 0.0, d1 = 0.0;
+                if (fix >= 0) {
+                    reaction_at(in, in->end_values + fix * in->k, in->end_slopes + fix * in->k_e, e, &r1, &d1);
+                } else if (!lifted1[e]) {
+                    r1 = r_next[e];
+                    d1 = d_next[e];
                 }
-                value = cubic_maximum(r0, r1, d0 * length, d1 * length, &s);
+                value = cubic_maximum(r[e], r1, d[e] * length, d1 * length, &s);
             }
             if (value > peak[e]) {
                 peak[e] = value;
                 peak_time[e] = in->times[i] + s * length;
             }
-            if (lifted[e] && !lifted1[e]) { /* sample i + 1 starts a contact: the impact */
-                double r1, d1;
-                reaction_at(in, values + in->k, slopes + in->k_s, e, &r1, &d1);
-                if (r1 > impact[e]) {
-                    impact[e] = r1;
-                    impact_time[e] = in->times[i + 1];
-                }
+            if (lifted[e] && !lifted1[e] && r_next[e] > impact[e]) { /* sample i + 1 starts a contact: the impact */
+                impact[e] = r_next[e];
+                impact_time[e] = in->times[i + 1];
             }
         }
+        double *swap = r;
+        r = r_next;
+        r_next = swap;
+        swap = d;
+        d = d_next;
+        d_next = swap;
     }
     for (int64_t e = 0; e < n_e; e++) {
         peak[e] = peak[e] > 0.0 ? peak[e] : 0.0;
@@ -818,14 +823,14 @@ static PyObject *py_contact_response(PyObject *self, PyObject *const *args, Py_s
         PyErr_SetString(PyExc_ValueError, "contact_response: inconsistent array shapes");
         goto done;
     }
-    double *work = malloc((2 * in.n + 1) * sizeof(double));
+    double *work = malloc((2 * in.n + 4 * n_e + 1) * sizeof(double));
     if (!work) {
         PyErr_NoMemory();
         goto done;
     }
     Py_BEGIN_ALLOW_THREADS
     contact_response(&in, DOUBLES(b[11]), DOUBLES(b[12]), DOUBLES(b[13]), DOUBLES(b[14]), DOUBLES(b[15]), work,
-                     work + in.n);
+                     work + in.n, work + 2 * in.n);
     Py_END_ALLOW_THREADS
     free(work);
     result = Py_NewRef(Py_None);
