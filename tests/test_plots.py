@@ -1,5 +1,7 @@
 """Figure data (upliftcli.figures) and figure files (upliftcli.plots)."""
 
+import os
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -121,6 +123,81 @@ def test_plot_figure_writes_png_and_svg(tmp_path):
     with pytest.raises(InputError, match="--plot"):
         plots.plot_figure(spec, tmp_path / "fig.jpg")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fig.png", "fig.svg"]  # no temporary file left
+
+
+def _paper_specs():
+    return figures.paper_figures(make_rows(), ["exact", "simplified"], ["rigid", "bonded", "uplift"], "elcentro")
+
+
+def test_plot_figures_shares_the_work_and_writes_what_plot_figure_writes(tmp_path, monkeypatch):
+    """Forked copies draw part of the figures (here: two cores): the same files, byte for byte,
+    as one plot_figure after another; the paths in the order given."""
+    monkeypatch.setattr("upliftcli.sweep.executors.available_cores", lambda: 2)
+    specs = _paper_specs()
+    items = [(spec, tmp_path / "shared" / f"{name}.png") for name, spec in specs.items()]
+    (tmp_path / "shared").mkdir()
+    parent = os.getpid()
+    drawn_by = []
+    draw = plots.plot_figure
+
+    def recording(spec, path, option="--plot"):
+        drawn_by.append(os.getpid())
+        return draw(spec, path, option)
+
+    monkeypatch.setattr(plots, "plot_figure", recording)
+    assert plots.plot_figures(items) == [path for _, path in items]
+    assert set(drawn_by) == {parent}  # the copies' calls are not seen here: they drew the rest
+    assert len(drawn_by) < len(items)
+    for name, spec in specs.items():
+        alone = draw(spec, tmp_path / f"{name}.png")
+        assert alone.read_bytes() == (tmp_path / "shared" / f"{name}.png").read_bytes()
+
+
+def test_plot_figures_raises_the_error_of_a_forked_copy(tmp_path, monkeypatch):
+    monkeypatch.setattr("upliftcli.sweep.executors.available_cores", lambda: 2)
+    specs = list(_paper_specs().values())
+    (tmp_path / "file").write_text("not a directory")
+    items = [(specs[0], tmp_path / "a.png"), (specs[1], tmp_path / "file" / "b.png"),
+             (specs[2], tmp_path / "c.png")]
+    with pytest.raises(OSError) as caught:
+        plots.plot_figures(items)
+    assert caught.value.filename == str(tmp_path / "file" / "b.png")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.png", "c.png", "file"]
+    draw = plots.plot_figure
+
+    def refusing(spec, path, option="--plot"):  # an InputError raised in whichever process draws it
+        if Path(path).name == "b.png":
+            raise InputError("--plot", str(path), "a figure this test refuses")
+        return draw(spec, path, option)
+
+    monkeypatch.setattr(plots, "plot_figure", refusing)
+    items[1] = (specs[1], tmp_path / "b.png")
+    with pytest.raises(InputError, match="a figure this test refuses"):
+        plots.plot_figures(items)
+
+
+def test_plot_figures_draws_in_this_process_while_another_thread_runs(tmp_path, monkeypatch):
+    """Forking a process that runs threads is unsafe: then every figure is drawn here."""
+    monkeypatch.setattr("upliftcli.sweep.executors.available_cores", lambda: 2)
+    stop = threading.Event()
+    worker = threading.Thread(target=stop.wait)
+    worker.start()
+    drawn_by = []
+    draw = plots.plot_figure
+
+    def recording(spec, path, option="--plot"):
+        drawn_by.append(os.getpid())
+        return draw(spec, path, option)
+
+    monkeypatch.setattr(plots, "plot_figure", recording)
+    try:
+        items = [(spec, tmp_path / f"{name}.png") for name, spec in _paper_specs().items()]
+        plots.plot_figures(items)
+    finally:
+        stop.set()
+        worker.join()
+    assert drawn_by == [os.getpid()] * len(items)
+    assert all(path.stat().st_size > 10_000 for _, path in items)
 
 
 # ----------------------------------------------------------------------------- deck values, palette, layout

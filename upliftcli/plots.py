@@ -14,7 +14,11 @@ from __future__ import annotations
 import io
 import math
 import os
+import pickle
+import sys
 import textwrap
+import threading
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -71,6 +75,99 @@ def plot_figure(spec: FigureSpec, path: str | os.PathLike, option: str = "--plot
     """Draw a FigureSpec and write it atomically."""
     check_figure_path(path, option)
     return save_figure(line_figure(spec), path, option)
+
+
+def plot_figures(figures: Sequence[tuple[FigureSpec, str | os.PathLike]], option: str = "--plot") -> list[Path]:
+    """Draw and write several figures (plot_figure each); their paths in the order given.
+
+    Drawing is Python (threads would not help), so where the system forks and this process runs
+    no other thread, the figures are shared out between it and forked copies of it, one per
+    core, that start with matplotlib imported and the figure data in memory (the three figures
+    of `uplift spectra` in 0.45 s instead of 0.85 s on two cores). An error in any figure is
+    raised here, after every copy has ended."""
+    paths = [check_figure_path(path, option) for _, path in figures]
+    from .sweep.executors import available_cores
+
+    groups = _shares(figures, min(available_cores(), len(figures)))
+    if len(groups) < 2 or not hasattr(os, "fork") or threading.active_count() > 1:
+        for spec, path in figures:
+            _draw(spec, path, option)
+        return paths
+    preload()
+    for stream in (sys.stdout, sys.stderr):  # nothing buffered is written twice
+        stream.flush()
+    children: list[tuple[int, int]] = []
+    try:
+        for group in groups[1:]:
+            read, write = os.pipe()
+            pid = os.fork()
+            if pid == 0:  # the copy: draw its share, report an error through the pipe, never return
+                os.close(read)
+                code = 0
+                try:
+                    for spec, path in group:
+                        _draw(spec, path, option)
+                except BaseException as error:  # every error, Ctrl-C included, goes to the parent
+                    code = 1
+                    os.write(write, _carried(error))
+                finally:
+                    os._exit(code)
+            os.close(write)
+            children.append((pid, read))
+        for spec, path in groups[0]:
+            _draw(spec, path, option)
+    finally:
+        failures = [_child_failure(pid, read) for pid, read in children]
+    for failure in failures:
+        if failure is not None:
+            raise failure
+    return paths
+
+
+def _draw(spec: FigureSpec, path, option: str) -> None:
+    """plot_figure; an OSError names the figure's path (not its temporary file)."""
+    try:
+        plot_figure(spec, path, option)
+    except OSError as error:
+        raise OSError(error.errno, error.strerror or str(error), str(path)) from None
+
+
+def _shares(figures: Sequence[tuple[FigureSpec, object]], count: int) -> list[list]:
+    """The figures in `count` groups of about equal work (by number of panels, largest first)."""
+    groups: list[list] = [[] for _ in range(max(count, 1))]
+    loads = [0] * len(groups)
+    for item in sorted(figures, key=lambda item: -max(len(item[0].panels), 1)):
+        lightest = loads.index(min(loads))
+        groups[lightest].append(item)
+        loads[lightest] += max(len(item[0].panels), 1)
+    return [group for group in groups if group]
+
+
+def _carried(error: BaseException) -> bytes:
+    """An error of a forked copy as bytes for the parent (an InputError by its fields)."""
+    if isinstance(error, InputError):
+        return pickle.dumps(("input", error.source, error.location, error.expected))
+    try:
+        return pickle.dumps(("error", error))
+    except Exception:  # an error that does not pickle goes as its text
+        return pickle.dumps(("text", f"{type(error).__name__}: {error}"))
+
+
+def _child_failure(pid: int, read: int) -> BaseException | None:
+    """Wait for a forked copy; the error it reported (or its death), None if it succeeded."""
+    chunks = []
+    while chunk := os.read(read, 65536):
+        chunks.append(chunk)
+    os.close(read)
+    _, status = os.waitpid(pid, 0)
+    if status == 0:
+        return None
+    if not chunks:
+        return RuntimeError(f"a process drawing figures ended with status {status}")
+    kind, *fields = pickle.loads(b"".join(chunks))
+    if kind == "input":
+        return InputError(*fields)
+    return fields[0] if kind == "error" else RuntimeError(fields[0])
 
 
 def figure_bytes(spec: FigureSpec, file_format: str = "png", dpi: int = 110) -> bytes:

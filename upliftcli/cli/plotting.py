@@ -50,15 +50,15 @@ def write_figures(specs: dict, directory: Path, stem: str, formats: list[str]) -
     """Draw every figure and write it as directory/<stem>.<name>.<format>; report each file."""
     from .. import plots
 
-    written = []
-    for name, spec in specs.items():
-        for extension in formats:
-            path = directory / f"{stem}.{name}.{extension}"
-            try:
-                written.append(plots.plot_figure(spec, path, "--plot"))
-            except OSError as error:
-                raise InputError("--plot", str(path), f"a writable directory ({error.strerror or error})") from None
-            typer.echo(f"wrote {path}", err=True)
+    figures = [(spec, directory / f"{stem}.{name}.{extension}") for name, spec in specs.items()
+               for extension in formats]
+    try:
+        written = plots.plot_figures(figures, "--plot")
+    except OSError as error:
+        where = error.filename or str(directory)
+        raise InputError("--plot", str(where), f"a writable directory ({error.strerror or error})") from None
+    for path in written:
+        typer.echo(f"wrote {path}", err=True)
     return written
 
 

@@ -322,11 +322,11 @@ def spectra(
                           figures_written=figure_paths)
         summary = sweep_table.summarize(plan, outcome.rows)
         written = _write(plan, outcome.rows, out, stem, table, summary, sweep_table.sweep_provenance(plan))
-        for figure_name, spec in figures.paper_figures(outcome.rows, plan.engines, plan.supports,
-                                                       figures.plan_motion_label(plan),
-                                                       figures.nominal_value(plan, figures.PERIOD_PATH)).items():
-            for extension in formats:
-                written.append(plots.plot_figure(spec, out / f"{stem}.{figure_name}.{extension}", "--plot-format"))
+        specs = figures.paper_figures(outcome.rows, plan.engines, plan.supports, figures.plan_motion_label(plan),
+                                      figures.nominal_value(plan, figures.PERIOD_PATH))
+        written += plots.plot_figures([(spec, out / f"{stem}.{figure_name}.{extension}")
+                                       for figure_name, spec in specs.items() for extension in formats],
+                                      "--plot-format")
     if not quiet:
         _print_spectra_summary(plan, outcome.rows)
     for path in written:
