@@ -16,5 +16,7 @@ def module(name: str, source: str) -> Extension:
 setup(ext_modules=[
     module("upliftcli.engines.exact._stepping", "upliftcli/engines/exact/_stepping.c"),
     module("upliftcli.engines.exact._response", "upliftcli/engines/exact/_response.c"),
+    module("upliftcli.engines.exact._contact", "upliftcli/engines/exact/_contact.c"),
+    module("upliftcli.engines.exact._energy", "upliftcli/engines/exact/_energy.c"),
     module("upliftcli.motion._spectra", "upliftcli/motion/_spectra.c"),
 ])

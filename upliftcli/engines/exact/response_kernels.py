@@ -1,5 +1,6 @@
-"""Compiled loops of the post-processing (C: _response.c, built at install): signals at the
-samples, peaks between samples, element reactions and uplift statistics, and work integrals.
+"""Compiled loops of the post-processing (C, built at install): signals at the samples and peaks
+between samples (_response.c), element reactions and uplift statistics (_contact.c), work
+integrals (_energy.c).
 
 Each walks the samples (or the intervals between them) once; numpy versions of the same loops
 cost 5-10 times more on the ten-story example (temporaries and strided reductions). Their numpy
@@ -10,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _response
+from . import _contact, _energy, _response
 
 
 def quintic_extremum(p0: float, p1: float, d0: float, d1: float, c0: float, c1: float) -> tuple[float, float]:
@@ -64,7 +65,7 @@ def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lift
 
     values (n, k), slopes (n, k_s): one row per sample; only the first n_interpolated signals
     (they have slopes) are interpolated; lifted (n - 1, n_e) per interval."""
-    return _response.work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lifted, n_interpolated,
+    return _energy.work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lifted, n_interpolated,
                                      row_a, row_input, row_ydot, n_modes, row_vel, row_z, n_elements, modal_damping,
                                      element_stiffness, element_damping)
 
@@ -96,7 +97,7 @@ def contact_response(values, slopes, end_values, end_slopes, switch, lifted, len
     n_e = lifted.shape[1]
     peak, peak_time, impact, impact_time = (np.empty(n_e) for _ in range(4))
     summary = np.empty(len(SUMMARY))
-    _response.contact_response(values, slopes, end_values, end_slopes, switch, lifted, lengths, times, stiffness,
+    _contact.contact_response(values, slopes, end_values, end_slopes, switch, lifted, lengths, times, stiffness,
                                damping, np.asarray(rows, dtype=np.int64), peak, peak_time, impact, impact_time,
                                summary)
     return peak, peak_time, impact, impact_time, summary
