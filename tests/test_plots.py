@@ -129,6 +129,18 @@ def _paper_specs():
     return figures.paper_figures(make_rows(), ["exact", "simplified"], ["rigid", "bonded", "uplift"], "elcentro")
 
 
+def _record_drawing(monkeypatch) -> list[int]:
+    """plot_figure wrapped: the list it returns gets the process id of each call made here."""
+    drawn_by, draw = [], plots.plot_figure
+
+    def recording(spec, path, option="--plot"):
+        drawn_by.append(os.getpid())
+        return draw(spec, path, option)
+
+    monkeypatch.setattr(plots, "plot_figure", recording)
+    return drawn_by
+
+
 def test_plot_figures_shares_the_work_and_writes_what_plot_figure_writes(tmp_path, monkeypatch):
     """Forked copies draw part of the figures (here: two cores): the same files, byte for byte,
     as one plot_figure after another; the paths in the order given."""
@@ -137,14 +149,8 @@ def test_plot_figures_shares_the_work_and_writes_what_plot_figure_writes(tmp_pat
     items = [(spec, tmp_path / "shared" / f"{name}.png") for name, spec in specs.items()]
     (tmp_path / "shared").mkdir()
     parent = os.getpid()
-    drawn_by = []
     draw = plots.plot_figure
-
-    def recording(spec, path, option="--plot"):
-        drawn_by.append(os.getpid())
-        return draw(spec, path, option)
-
-    monkeypatch.setattr(plots, "plot_figure", recording)
+    drawn_by = _record_drawing(monkeypatch)
     assert plots.plot_figures(items) == [path for _, path in items]
     assert set(drawn_by) == {parent}  # the copies' calls are not seen here: they drew the rest
     assert len(drawn_by) < len(items)
@@ -182,14 +188,7 @@ def test_plot_figures_draws_in_this_process_while_another_thread_runs(tmp_path, 
     stop = threading.Event()
     worker = threading.Thread(target=stop.wait)
     worker.start()
-    drawn_by = []
-    draw = plots.plot_figure
-
-    def recording(spec, path, option="--plot"):
-        drawn_by.append(os.getpid())
-        return draw(spec, path, option)
-
-    monkeypatch.setattr(plots, "plot_figure", recording)
+    drawn_by = _record_drawing(monkeypatch)
     try:
         items = [(spec, tmp_path / f"{name}.png") for name, spec in _paper_specs().items()]
         plots.plot_figures(items)

@@ -103,6 +103,19 @@ static int take_views(Views *v, PyObject *const *args, const ArraySpec *specs, i
 #define HOT_LOOP
 #endif
 
+/* a METH_FASTCALL entry of a module's method table */
+#define FASTCALL(name, doc) {#name, (PyCFunction)(void (*)(void))py_##name, METH_FASTCALL, doc}
+
+/* The module definition and its init function, PyInit_<name>, for the method table `methods`. */
+#define DEFINE_MODULE(name, doc)                                                                                      \
+    static struct PyModuleDef module = {                                                                              \
+        PyModuleDef_HEAD_INIT, .m_name = #name, .m_doc = doc, .m_size = -1, .m_methods = methods,                     \
+    };                                                                                                                 \
+    PyMODINIT_FUNC PyInit_##name(void)                                                                                 \
+    {                                                                                                                  \
+        return PyModule_Create(&module);                                                                               \
+    }
+
 /* positional-argument count check of a METH_FASTCALL function */
 static int expect_args(Py_ssize_t nargs, Py_ssize_t expected, const char *function)
 {

@@ -414,20 +414,11 @@ done:
 }
 
 static PyMethodDef methods[] = {
-    {"spectrum_kernel", (PyCFunction)(void (*)(void))py_spectrum_kernel, METH_FASTCALL,
-     "spectrum_kernel(acc, dt, omegas, xis, nsubs, chunk_starts, free_vibration, out_u, out_at): peaks of the "
-     "oscillators, chunk by chunk (spectra_kernels.py)."},
-    {"history_kernel", (PyCFunction)(void (*)(void))py_history_kernel, METH_FASTCALL,
-     "history_kernel(acc, dt, w, xi, u_out, v_out): SDOF history at the samples (spectra_kernels.py)."},
+    FASTCALL(spectrum_kernel, "spectrum_kernel(acc, dt, omegas, xis, nsubs, chunk_starts, free_vibration, out_u, "
+                              "out_at): peaks of the oscillators, chunk by chunk (spectra_kernels.py)."),
+    FASTCALL(history_kernel, "history_kernel(acc, dt, w, xi, u_out, v_out): SDOF history at the samples "
+                             "(spectra_kernels.py)."),
     {NULL, NULL, 0, NULL},
 };
 
-static struct PyModuleDef module = {
-    PyModuleDef_HEAD_INIT, .m_name = "_spectra", .m_doc = "Compiled loops of the response spectra.", .m_size = -1,
-    .m_methods = methods,
-};
-
-PyMODINIT_FUNC PyInit__spectra(void)
-{
-    return PyModule_Create(&module);
-}
+DEFINE_MODULE(_spectra, "Compiled loops of the response spectra.")

@@ -278,15 +278,8 @@ done:
 }
 
 static PyMethodDef methods[] = {
-    {"contact_response", (PyCFunction)(void (*)(void))py_contact_response, METH_FASTCALL, "Reactions and uplift."},
+    FASTCALL(contact_response, "Reactions and uplift."),
     {NULL, NULL, 0, NULL},
 };
 
-static struct PyModuleDef module = {
-    PyModuleDef_HEAD_INIT, .m_name = "_contact", .m_doc = "Reactions and uplift statistics of the exact engine.", .m_size = -1, .m_methods = methods,
-};
-
-PyMODINIT_FUNC PyInit__contact(void)
-{
-    return PyModule_Create(&module);
-}
+DEFINE_MODULE(_contact, "Reactions and uplift statistics of the exact engine.")

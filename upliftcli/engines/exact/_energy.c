@@ -175,15 +175,8 @@ done:
 }
 
 static PyMethodDef methods[] = {
-    {"work_integrals", (PyCFunction)(void (*)(void))py_work_integrals, METH_FASTCALL, "Work integrals."},
+    FASTCALL(work_integrals, "Work integrals."),
     {NULL, NULL, 0, NULL},
 };
 
-static struct PyModuleDef module = {
-    PyModuleDef_HEAD_INIT, .m_name = "_energy", .m_doc = "The work integrals of the exact engine's energy balance.", .m_size = -1, .m_methods = methods,
-};
-
-PyMODINIT_FUNC PyInit__energy(void)
-{
-    return PyModule_Create(&module);
-}
+DEFINE_MODULE(_energy, "The work integrals of the exact engine's energy balance.")

@@ -424,17 +424,10 @@ static PyObject *py_quintic_extremum(PyObject *self, PyObject *const *args, Py_s
 }
 
 static PyMethodDef methods[] = {
-    {"evaluate_signals", (PyCFunction)(void (*)(void))py_evaluate_signals, METH_FASTCALL, "Signals at the samples."},
-    {"hermite_peaks", (PyCFunction)(void (*)(void))py_hermite_peaks, METH_FASTCALL, "Peaks between samples."},
-    {"quintic_extremum", (PyCFunction)(void (*)(void))py_quintic_extremum, METH_FASTCALL, "Quintic Hermite peak."},
+    FASTCALL(evaluate_signals, "Signals at the samples."),
+    FASTCALL(hermite_peaks, "Peaks between samples."),
+    FASTCALL(quintic_extremum, "Quintic Hermite peak."),
     {NULL, NULL, 0, NULL},
 };
 
-static struct PyModuleDef module = {
-    PyModuleDef_HEAD_INIT, .m_name = "_response", .m_doc = "Compiled post-processing loops of the exact engine.", .m_size = -1, .m_methods = methods,
-};
-
-PyMODINIT_FUNC PyInit__response(void)
-{
-    return PyModule_Create(&module);
-}
+DEFINE_MODULE(_response, "Compiled post-processing loops of the exact engine.")

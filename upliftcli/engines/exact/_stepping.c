@@ -525,17 +525,10 @@ static PyObject *py_excursion(PyObject *self, PyObject *const *args, Py_ssize_t 
 }
 
 static PyMethodDef methods[] = {
-    {"integrate", (PyCFunction)(void (*)(void))py_integrate, METH_FASTCALL, "The stepping loop (stepping_kernels.py)."},
-    {"matvec", (PyCFunction)(void (*)(void))py_matvec, METH_FASTCALL, "out = M x from M^T."},
-    {"excursion", (PyCFunction)(void (*)(void))py_excursion, METH_FASTCALL, "The interior-excursion test."},
+    FASTCALL(integrate, "The stepping loop (stepping_kernels.py)."),
+    FASTCALL(matvec, "out = M x from M^T."),
+    FASTCALL(excursion, "The interior-excursion test."),
     {NULL, NULL, 0, NULL},
 };
 
-static struct PyModuleDef module = {
-    PyModuleDef_HEAD_INIT, .m_name = "_stepping", .m_doc = "Compiled stepping loop of the exact engine.", .m_size = -1, .m_methods = methods,
-};
-
-PyMODINIT_FUNC PyInit__stepping(void)
-{
-    return PyModule_Create(&module);
-}
+DEFINE_MODULE(_stepping, "Compiled stepping loop of the exact engine.")
