@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -42,9 +43,9 @@ class History:
     lifted: np.ndarray
 
 
-    @property
+    @cached_property
     def lengths(self) -> np.ndarray:
-        """Lengths of the intervals between samples [s]."""
+        """Lengths of the intervals between samples [s] (computed once: every digest step uses them)."""
         return np.diff(self.times)
 
 
