@@ -80,16 +80,17 @@ def plot_figure(spec: FigureSpec, path: str | os.PathLike, option: str = "--plot
 def plot_figures(figures: Sequence[tuple[FigureSpec, str | os.PathLike]], option: str = "--plot") -> list[Path]:
     """Draw and write several figures (plot_figure each); their paths in the order given.
 
-    Drawing is Python (threads would not help), so where the system forks and this process runs
-    no other thread, the figures are shared out between it and forked copies of it, one per
-    core, that start with matplotlib imported and the figure data in memory (the three figures
-    of `uplift spectra` in 0.45 s instead of 0.85 s on two cores). An error in any figure is
-    raised here, after every copy has ended."""
+    Drawing is Python (threads would not help), so on Linux, when this process runs no other
+    thread, the figures are shared out between it and forked copies of it, one per core, that
+    start with matplotlib imported and the figure data in memory (the three figures of `uplift
+    spectra` in 0.45 s instead of 0.85 s on two cores; elsewhere, e.g. macOS, where system
+    libraries may not survive a fork, one after the other). An error in any figure is raised
+    here, after every copy has ended."""
     paths = [check_figure_path(path, option) for _, path in figures]
     from .sweep.executors import available_cores
 
     groups = _shares(figures, min(available_cores(), len(figures)))
-    if len(groups) < 2 or not hasattr(os, "fork") or threading.active_count() > 1:
+    if len(groups) < 2 or not sys.platform.startswith("linux") or threading.active_count() > 1:
         for spec, path in figures:
             _draw(spec, path, option)
         return paths
