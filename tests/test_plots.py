@@ -1,6 +1,7 @@
 """Figure data (upliftcli.figures) and figure files (upliftcli.plots)."""
 
 import os
+import sys
 import threading
 from pathlib import Path
 
@@ -141,6 +142,7 @@ def _record_drawing(monkeypatch) -> list[int]:
     return drawn_by
 
 
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="figures are shared out on Linux only")
 def test_plot_figures_shares_the_work_and_writes_what_plot_figure_writes(tmp_path, monkeypatch):
     """Forked copies draw part of the figures (here: two cores): the same files, byte for byte,
     as one plot_figure after another; the paths in the order given."""
