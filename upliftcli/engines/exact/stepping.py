@@ -181,6 +181,15 @@ class Run:
         self.out_s = np.empty(self.capacity, dtype=np.int64)
         return self.operators, 0, self.uplift and self.layout.n_elements > 0
 
+    def first_lifts(self) -> list[int]:
+        """The contact patterns a run that lifts off reaches first: an edge element lifted (the
+        others in contact); built with the initial state, in one stacked exponentiation, instead
+        of one round each when the run reaches them (about 0.6 ms of an uplift analysis)."""
+        n_e = self.layout.n_elements
+        if not (self.uplift and n_e):
+            return []
+        return sorted({1, 1 << (n_e - 1)})
+
     def enter(self, index: int) -> None:
         """Switch to state `index` (just added) and store the sample where it starts."""
         self.state = index
@@ -284,13 +293,17 @@ def simulate(spaces: list[StateSpace], substeps: list[int], acceleration: np.nda
 
 def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisError]]:
     """Drive several runs in rounds: each advances until it finishes or needs a new contact
-    state; the states asked for in a round are built together (add_states). Yields
+    state; the states asked for in a round are built together (add_states), in the first round
+    with those each run reaches first when it lifts off (Run.first_lifts). Yields
     (index, History or the AnalysisError that stopped it) as each run ends."""
     runs = list(runs)  # a finished run is dropped from here, so its buffers go with its history
     active = list(range(len(runs)))
     requests = [runs[k].first_request() for k in active]
+    # built ahead with the initial states; one that cannot be built fails the run only if reached
+    ahead = [(runs[k].operators, pattern, True) for k in active for pattern in runs[k].first_lifts()]
     while active:
-        built = add_states(requests)
+        built = add_states(requests + ahead)[:len(requests)]
+        ahead = []
         going = []
         for k, index in zip(active, built, strict=False):
             if isinstance(index, AnalysisError):
