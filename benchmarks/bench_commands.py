@@ -10,7 +10,7 @@ environment instead (make one with `python3 -m venv DIR && DIR/bin/pip install .
 runs are then the real first runs, --repeats 1).
 The Fig. 3 spectrum: end to end with its three PNGs, and its analysis part
 (run_sweep in a fresh process after what `uplift spectra` does before it: the allocator set as the
-command sets it (heap.py); with 2 local workers their warm server is started and matplotlib
+command sets it (process.py); with 2 local workers their warm server is started and matplotlib
 imported meanwhile) on 1 and 2 workers, overall and
 between the first and the last row.
 
@@ -61,7 +61,7 @@ class Stamps(NoProgress):
     def advance(self, row):
         self.times.append(time.perf_counter())
 
-from upliftcli.heap import keep_freed_memory
+from upliftcli.process import keep_freed_memory
 keep_freed_memory()  # as the uplift command does
 workers = int(sys.argv[1])
 plan = plan_sweep(sys.argv[2], (), (), ["exact"], (), varies=[period_vary("0.05:5:100")])

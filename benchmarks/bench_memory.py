@@ -6,7 +6,7 @@ engine's limit of 50 million). The post-processing streams (engines/exact/digest
 peak stays bounded whatever the record's length. Printed: V_b, the run time and the peak
 resident memory of the process, and as a baseline the peak of the same process after the
 imports and the deck (what the analysis adds is the difference); once as the Python API runs
-it, once as the `uplift` command does (heap.keep_freed_memory: freed blocks are kept for reuse).
+it, once as the `uplift` command does (process.keep_freed_memory: freed blocks are kept for reuse).
 
     python benchmarks/bench_memory.py
 """
@@ -24,7 +24,7 @@ TARGET_MB = 300.0
 CHILD = r"""
 import resource, sys, time
 from upliftcli import analysis
-from upliftcli.heap import keep_freed_memory
+from upliftcli.process import keep_freed_memory
 if sys.argv[3] == "command":
     keep_freed_memory()
 from upliftcli.deck import load_deck

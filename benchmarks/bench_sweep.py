@@ -17,9 +17,9 @@ import tempfile
 import time
 from pathlib import Path
 
-from upliftcli.heap import keep_freed_memory
+from upliftcli.process import available_cores, keep_freed_memory
 from upliftcli.sweep.dask_executor import DaskExecutor
-from upliftcli.sweep.executors import ProcessExecutor, SerialExecutor, available_cores
+from upliftcli.sweep.executors import ProcessExecutor, SerialExecutor
 from upliftcli.sweep.plan import plan_sweep
 from upliftcli.sweep.run import run_sweep
 from upliftcli.sweep.store import RowStore

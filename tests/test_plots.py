@@ -146,7 +146,7 @@ def _record_drawing(monkeypatch) -> list[int]:
 def test_plot_figures_shares_the_work_and_writes_what_plot_figure_writes(tmp_path, monkeypatch):
     """Forked copies draw part of the figures (here: two cores): the same files, byte for byte,
     as one plot_figure after another; the paths in the order given."""
-    monkeypatch.setattr("upliftcli.sweep.executors.available_cores", lambda: 2)
+    monkeypatch.setattr("upliftcli.process.available_cores", lambda: 2)
     specs = _paper_specs()
     items = [(spec, tmp_path / "shared" / f"{name}.png") for name, spec in specs.items()]
     (tmp_path / "shared").mkdir()
@@ -162,7 +162,7 @@ def test_plot_figures_shares_the_work_and_writes_what_plot_figure_writes(tmp_pat
 
 
 def test_plot_figures_raises_the_error_of_a_forked_copy(tmp_path, monkeypatch):
-    monkeypatch.setattr("upliftcli.sweep.executors.available_cores", lambda: 2)
+    monkeypatch.setattr("upliftcli.process.available_cores", lambda: 2)
     specs = list(_paper_specs().values())
     (tmp_path / "file").write_text("not a directory")
     items = [(specs[0], tmp_path / "a.png"), (specs[1], tmp_path / "file" / "b.png"),
@@ -186,7 +186,7 @@ def test_plot_figures_raises_the_error_of_a_forked_copy(tmp_path, monkeypatch):
 
 def test_plot_figures_draws_in_this_process_while_another_thread_runs(tmp_path, monkeypatch):
     """Forking a process that runs threads is unsafe: then every figure is drawn here."""
-    monkeypatch.setattr("upliftcli.sweep.executors.available_cores", lambda: 2)
+    monkeypatch.setattr("upliftcli.process.available_cores", lambda: 2)
     stop = threading.Event()
     worker = threading.Thread(target=stop.wait)
     worker.start()

@@ -87,7 +87,7 @@ def plot_figures(figures: Sequence[tuple[FigureSpec, str | os.PathLike]], option
     libraries may not survive a fork, one after the other). An error in any figure is raised
     here, after every copy has ended."""
     paths = [check_figure_path(path, option) for _, path in figures]
-    from .sweep.executors import available_cores
+    from .process import available_cores
 
     groups = _shares(figures, min(available_cores(), len(figures)))
     if len(groups) < 2 or not sys.platform.startswith("linux") or threading.active_count() > 1:

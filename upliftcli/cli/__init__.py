@@ -17,7 +17,7 @@ import typer
 from typer.core import TyperGroup
 
 from ..errors import AnalysisError, InputError, one_line
-from ..heap import keep_freed_memory
+from ..process import keep_freed_memory
 
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
 

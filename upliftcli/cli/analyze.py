@@ -2,7 +2,8 @@
 
 Only typer and the light modules are imported at module level: the analysis modules, numpy and
 rich are imported by the commands that use them, so that `uplift --help` starts in about the time
-of the interpreter and a command that runs no history engine never loads scipy (nor any command scipy.linalg).
+of the interpreter; scipy is imported only where it is needed (the eigenvalue effective
+properties, record matching and generation), never by the README's analysis.
 """
 
 from __future__ import annotations

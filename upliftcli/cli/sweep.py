@@ -57,8 +57,9 @@ CASE_SECONDS = {"simplified": 0.002, "approximate": 0.04, "exact": 0.04}
 
 
 def choose_executor(plan: SweepPlan, workers: int | None, scheduler: str | None, dask: str | None):
+    from ..process import available_cores
     from ..sweep.dask_executor import DaskExecutor, check_reachable, import_distributed
-    from ..sweep.executors import ProcessExecutor, SerialExecutor, available_cores
+    from ..sweep.executors import ProcessExecutor, SerialExecutor
 
     if dask is not None and dask != "local":
         raise InputError("--dask", dask, "'local' (or give --scheduler tcp://host:port)")

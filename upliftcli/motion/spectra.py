@@ -24,8 +24,8 @@ Peaks are exact, not sampled:
 
 Two implementations of these loops agree to rounding (about 1e-12 relative, the rounding of the
 step coefficients at long periods; tests/test_spectra.py): compiled (C, spectra_kernels.py), one
-oscillator chunk after the other in one thread, for many oscillators; vectorised in numpy
-(spectra_numpy.py) for a few (the simplified engine's S_a of a record).
+oscillator chunk after the other in one thread, the default and what the engines use; vectorised
+in numpy (spectra_numpy.py), the twin the tests compare it with.
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ CHUNK = 32  # oscillators integrated side by side
 #: numpy: oscillators x steps integrated at once (bounds the memory to some 50 MB); one
 #: oscillator with more sub-steps than this over the record goes to the compiled loop, which streams
 NUMPY_BLOCK = 2**18
-#: "compiled" (C): many oscillators; "numpy": a few (El Centro, 1560 samples: numpy 1 ms for one
+#: "compiled" (C, the default); "numpy" (the vectorised twin: El Centro, 1560 samples, 1 ms for one
 #: oscillator, 16 ms for 16)
 METHODS = ("compiled", "numpy")
 

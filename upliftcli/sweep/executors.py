@@ -41,7 +41,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import replace
 
-from ..heap import keep_freed_memory
+from ..process import keep_freed_memory
 from .plan import Chunk
 from .signals import deferred
 from .worker import failed_row, run_chunk
@@ -53,13 +53,6 @@ OnRow = Callable[[dict], None]
 
 #: imported by the forkserver before it forks the local workers (the engines, warm)
 WARM_MODULE = f"{__package__}.warm"
-
-
-def available_cores() -> int:
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        return os.cpu_count() or 1
 
 
 @contextlib.contextmanager

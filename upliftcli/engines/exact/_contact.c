@@ -78,8 +78,8 @@ enum { MAX_ROTATION, UPLIFT_TIME, EPISODES, FLIGHT_TIME, EPISODES_LEFT, EPISODES
        MAX_UPLIFT_RIGHT, MAX_EDGE_LEFT, MAX_EDGE_RIGHT, MIN_REACTION_LEFT, MIN_REACTION_RIGHT, MIN_REACTION,
        N_SUMMARY };
 
-/* reaction R = -(k v + c v') [3a] of element e and its rate from a row of values and slopes
- * (0 where lifted) */
+/* reaction R = -(k v + c v') [3a] of element e and its rate from a row of values and slopes (as if
+ * in contact: the callers leave out the lifted elements) */
 static inline void reaction_at(const ContactInput *in, const double *values, const double *slopes, int64_t e,
                                double *reaction, double *rate)
 {

@@ -203,10 +203,10 @@ typedef struct {
 
 /* Peak |r| of each response r = R s between samples and where it is (interval index +
  * fraction), from the quintic Hermite interpolant through the samples with the exact first and
- * second derivatives (response_kernels.hermite_peaks). sampled (n, m) and flagged (n) are work
- * space. */
-HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *where, double *sampled, unsigned char *flagged,
-                          double *r1, double *threshold, double *y)
+ * second derivatives (response_kernels.hermite_peaks). Work space: sampled (n, m), flagged (n),
+ * end and threshold (m each), y (n_basis). */
+HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *where, double *sampled,
+                                   unsigned char *flagged, double *end, double *threshold, double *y)
 {
     const int64_t n = in->n, m = in->m, n_b = in->n_basis, k = in->k, k_s = in->k_s, k_e = in->width_end_slopes;
     for (int64_t j = 0; j < m; j++) {
@@ -237,11 +237,10 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
         if (!(flagged[i] || flagged[i + 1] || fix >= 0)) {
             continue;
         }
-        const double *r0 = sampled + i * m;
+        const double *r0 = sampled + i * m, *r1 = sampled + (i + 1) * m;
         if (fix >= 0) { /* the interval ends at a transition: its left limit */
-            combine(in->end_values + fix * k, in->value_columns, in->rows_t, n_b, m, y, r1);
-        } else {
-            memcpy(r1, sampled + (i + 1) * m, m * sizeof(double));
+            combine(in->end_values + fix * k, in->value_columns, in->rows_t, n_b, m, y, end);
+            r1 = end;
         }
         const double length = in->lengths[i];
         for (int64_t j = 0; j < m; j++) {

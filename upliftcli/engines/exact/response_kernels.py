@@ -28,7 +28,10 @@ def evaluate_signals(states: np.ndarray, ids: np.ndarray, rows_t: np.ndarray, va
     rows_t (S, n_aug, k + k_s): transposed rows of every state (k value rows, then the slope
     rows of the first k_s signals); values (n, k), slopes (n, k_s) filled in place; ends
     (n_switch, k + k_s): the left limits at the end of every interval that ends at a
-    transition, in order. Accumulated column by column, skipping zero state entries.
+    transition, in order. Each state's rows are split once per call: a row equal to an earlier
+    one is copied (the slopes of Y*' are the values of Y*''), one with few nonzero coefficients
+    sums them alone, the rest is one dense product; every way gives the bits of the dense
+    product R x.
     """
     _response.evaluate_signals(states, ids, rows_t, values, slopes, ends)
 
@@ -66,8 +69,8 @@ def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lift
     values (n, k), slopes (n, k_s): one row per sample; only the first n_interpolated signals
     (they have slopes) are interpolated; lifted (n - 1, n_e) per interval."""
     return _energy.work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lifted, n_interpolated,
-                                     row_a, row_input, row_ydot, n_modes, row_vel, row_z, n_elements, modal_damping,
-                                     element_stiffness, element_damping)
+                                  row_a, row_input, row_ydot, n_modes, row_vel, row_z, n_elements, modal_damping,
+                                  element_stiffness, element_damping)
 
 
 #: the uplift statistics contact_response returns, in order (counts are whole numbers)
@@ -98,6 +101,6 @@ def contact_response(values, slopes, end_values, end_slopes, switch, lifted, len
     peak, peak_time, impact, impact_time = (np.empty(n_e) for _ in range(4))
     summary = np.empty(len(SUMMARY))
     _contact.contact_response(values, slopes, end_values, end_slopes, switch, lifted, lengths, times, stiffness,
-                               damping, np.asarray(rows, dtype=np.int64), peak, peak_time, impact, impact_time,
-                               summary)
+                              damping, np.asarray(rows, dtype=np.int64), peak, peak_time, impact, impact_time,
+                              summary)
     return peak, peak_time, impact, impact_time, summary

@@ -1,6 +1,6 @@
-"""Keep freed memory for reuse in the processes the package runs (the `uplift` command and the
-local sweep workers), never on import: a program that uses the Python API keeps its allocator as
-it is.
+"""What the package sets in the processes it runs (the `uplift` command and the local sweep
+workers), never on import, so that a program using the Python API keeps its own: how many cores
+the work may use, and an allocator that keeps freed memory for reuse.
 
 The exact engine allocates arrays of the same few megabytes chunk after chunk and analysis after
 analysis (the states, the signals and the responses at the samples: 3-8 MB each for ten stories at
@@ -13,6 +13,7 @@ the kernel's page handling (perf), and keeping the memory took its 300 analyses 
 from __future__ import annotations
 
 import ctypes
+import os
 import platform
 
 #: glibc's mallopt parameters
@@ -33,3 +34,11 @@ def keep_freed_memory() -> bool:
     except (OSError, AttributeError):
         return False
     return bool(mallopt(_M_TRIM_THRESHOLD, TRIM_THRESHOLD)) and bool(mallopt(_M_MMAP_THRESHOLD, MMAP_THRESHOLD))
+
+
+def available_cores() -> int:
+    """The cores this process may run on (its CPU affinity where the system tells it)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1

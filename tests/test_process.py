@@ -1,8 +1,9 @@
-"""heap.keep_freed_memory: freed blocks of a few megabytes are reused instead of being mapped
-(and page-faulted) again."""
+"""process.py: freed blocks of a few megabytes are reused instead of being mapped (and
+page-faulted) again; the cores a process may use."""
 
 from __future__ import annotations
 
+import os
 import platform
 import subprocess
 import sys
@@ -12,7 +13,7 @@ import pytest
 LOOP = """
 import resource, sys
 import numpy as np
-from upliftcli.heap import keep_freed_memory
+from upliftcli.process import keep_freed_memory
 if sys.argv[1] == "keep":
     assert keep_freed_memory()
 if sys.argv[1] == "import":  # what a program using the Python API imports
@@ -39,3 +40,9 @@ def test_kept_memory_is_not_faulted_in_again_and_importing_keeps_the_default():
     assert default > 5_000  # chunks of 21 MB: glibc maps most of them again each time
     assert kept < default / 20
     assert imported > default / 2  # the package changes the allocator only where it runs the process
+
+
+def test_available_cores_are_those_the_process_may_run_on():
+    from upliftcli.process import available_cores
+
+    assert 1 <= available_cores() <= (os.cpu_count() or 1)
