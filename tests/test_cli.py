@@ -64,3 +64,21 @@ def test_probe_sees_what_a_command_loads(tmp_path):
                                 str(tmp_path))
     assert code == 0
     assert loaded == ["matplotlib"]
+
+
+def test_console_script_exits_with_the_command_code_and_its_whole_output(tmp_path):
+    """The `uplift` script (cli.console): the exit code and the output of main(), without the teardown."""
+    command = [sys.executable, "-c", "from upliftcli.cli import console; console()"]
+    missing = subprocess.run([*command, "analyze", str(tmp_path / "none.toml")], capture_output=True, text=True)
+    assert missing.returncode == 2
+    assert missing.stderr.count("\n") == 1 and "file not found" in missing.stderr
+    deck = str(INPUTS / "ten_story_elcentro.toml")
+    fast = subprocess.run([*command, "analyze", deck, "--no-check", "--format", "json"], capture_output=True,
+                          text=True)
+    assert fast.returncode == 0
+    slow = subprocess.run([sys.executable, "-c", "from upliftcli.cli import main; main()", "analyze", deck,
+                           "--no-check", "--format", "json"], capture_output=True, text=True)
+    ours, theirs = json.loads(fast.stdout), json.loads(slow.stdout)  # whole documents: flushed
+    for document in (ours, theirs):
+        document["provenance"].pop("time_utc")
+    assert ours == theirs

@@ -46,3 +46,28 @@ def test_available_cores_are_those_the_process_may_run_on():
     from upliftcli.process import available_cores
 
     assert 1 <= available_cores() <= (os.cpu_count() or 1)
+
+
+EXIT = """
+import atexit, sys, threading, time
+from upliftcli.process import exit_now
+atexit.register(lambda: print("handler ran", file=sys.stderr))
+def late():
+    time.sleep(0.2)
+    print("thread done", file=sys.stderr)
+threading.Thread(target=late).start()
+sys.stdout.write("x" * 100_000)  # buffered: only a flush writes it
+exit_now(eval(sys.argv[1]))
+print("not reached", file=sys.stderr)
+"""
+
+
+@pytest.mark.parametrize(("code", "expected"), [("3", 3), ("None", 0), ("'failed'", 1)])
+def test_exit_now_ends_as_a_normal_exit_would(code, expected):
+    done = subprocess.run([sys.executable, "-c", EXIT, code], capture_output=True, text=True)
+    assert done.returncode == expected
+    assert done.stdout == "x" * 100_000  # flushed
+    lines = done.stderr.splitlines()
+    assert lines[-2:] == ["thread done", "handler ran"]  # threads waited for, then the atexit handlers
+    assert ("failed" in lines) == (code == "'failed'")
+    assert "not reached" not in done.stderr

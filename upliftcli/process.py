@@ -1,6 +1,7 @@
 """What the package sets in the processes it runs (the `uplift` command and the local sweep
 workers), never on import, so that a program using the Python API keeps its own: how many cores
-the work may use, and an allocator that keeps freed memory for reuse.
+the work may use, an allocator that keeps freed memory for reuse, and an exit that skips the
+interpreter's teardown.
 
 The exact engine allocates arrays of the same few megabytes chunk after chunk and analysis after
 analysis (the states, the signals and the responses at the samples: 3-8 MB each for ten stories at
@@ -12,9 +13,12 @@ the kernel's page handling (perf), and keeping the memory took its 300 analyses 
 
 from __future__ import annotations
 
+import atexit
 import ctypes
 import os
 import platform
+import sys
+import threading
 
 #: glibc's mallopt parameters
 _M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
@@ -42,3 +46,30 @@ def available_cores() -> int:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux
         return os.cpu_count() or 1
+
+
+def exit_now(code: int | str | None) -> None:
+    """End the process as SystemExit(code) would, without the interpreter's teardown.
+
+    As at a normal exit, the threads that are not daemons are waited for, the atexit handlers run
+    (the pool's and the forkserver's clean-up among them) and the standard streams are flushed;
+    what is skipped is freeing every module and object
+    one by one, which nothing needs at the end of a command: 0.13 s after the Fig. 3 spectrum with
+    its figures (strace: from the last handler to exit_group). Files are all closed by then (the
+    writers are atomic: written, closed and renamed). A failed flush of stdout exits 120, as
+    Python does."""
+    if code is None:
+        code = 0
+    elif not isinstance(code, int):
+        print(code, file=sys.stderr)
+        code = 1
+    shutdown = getattr(threading, "_shutdown", None)  # what the interpreter calls first at exit
+    if shutdown is not None:
+        shutdown()
+    atexit._run_exitfuncs()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # a closed pipe or a full disk: the output is not whole
+            code = code or 120
+    os._exit(code)

@@ -17,7 +17,7 @@ import typer
 from typer.core import TyperGroup
 
 from ..errors import AnalysisError, InputError, one_line
-from ..process import keep_freed_memory
+from ..process import exit_now, keep_freed_memory
 
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
 
@@ -110,7 +110,7 @@ _register_all()
 
 
 def main() -> None:
-    """Console-script entry point (`uplift`)."""
+    """Run the command line in sys.argv; ends with SystemExit (the exit code)."""
     keep_freed_memory()
     try:
         app()
@@ -120,3 +120,13 @@ def main() -> None:
     except AnalysisError as error:
         typer.echo(f"analysis failed: {error}", err=True)
         raise SystemExit(EXIT_ANALYSIS) from None
+
+
+def console() -> None:
+    """Console-script entry point (`uplift`): main(), then the process ends at once
+    (process.exit_now) instead of tearing the interpreter down."""
+    try:
+        main()
+    except SystemExit as end:
+        exit_now(end.code)
+    exit_now(0)
