@@ -38,4 +38,70 @@ static inline void transposed_product(const double *restrict m_t, const double *
     }
 }
 
+/* The rows of signals hermite_peaks reads (a few columns of each) have left the cache since
+ * evaluate_signals wrote them, and the hardware does not foresee the stride: each row is asked
+ * for this many samples ahead (a hint, nothing where unsupported). */
+#define PREFETCH_SAMPLES 32
+#if defined(__GNUC__)
+#define PREFETCH(p) __builtin_prefetch(p)
+#else
+#define PREFETCH(p) ((void)(p))
+#endif
+
+/* Outputs of product_samples are computed PRODUCT_LANES at a time for PRODUCT_SAMPLES samples at once. */
+#define PRODUCT_LANES 8
+#define PRODUCT_SAMPLES 4
+
+#if defined(__GNUC__)
+/* four doubles at any address of a double (GCC and Clang vector extension: one AVX2 register, or
+ * two SSE2 ones); loads and stores through it are unaligned */
+typedef double product_vector __attribute__((vector_size(4 * sizeof(double)), aligned(sizeof(double)), may_alias));
+#define VECTOR_AT(p) (*(product_vector *)(p))
+#endif
+
+/* out[s * width + r] = sum_q m_t[q * width + r] x[s * n_in + q] for PRODUCT_SAMPLES samples s at once;
+ * width a multiple of PRODUCT_LANES. Each row of M^T is loaded once for the four samples and the
+ * accumulators stay in registers. The terms are added in the order q = 0, 1, ... from 0, as in
+ * transposed_product; zero inputs are not skipped, which can only turn a result of -0 into +0. */
+static inline __attribute__((always_inline)) void product_samples(const double *restrict m_t, const double *restrict x, int64_t n_in, int64_t width,
+                                   double *restrict out)
+{
+    for (int64_t r0 = 0; r0 < width; r0 += PRODUCT_LANES) {
+#if defined(__GNUC__)
+        const product_vector zero = {0.0, 0.0, 0.0, 0.0};
+        product_vector a0 = zero, b0 = zero, a1 = zero, b1 = zero, a2 = zero, b2 = zero, a3 = zero, b3 = zero;
+        for (int64_t q = 0; q < n_in; q++) {
+            const product_vector low = VECTOR_AT(m_t + q * width + r0), high = VECTOR_AT(m_t + q * width + r0 + 4);
+            const double x0 = x[q], x1 = x[n_in + q], x2 = x[2 * n_in + q], x3 = x[3 * n_in + q];
+            a0 += low * x0;
+            b0 += high * x0;
+            a1 += low * x1;
+            b1 += high * x1;
+            a2 += low * x2;
+            b2 += high * x2;
+            a3 += low * x3;
+            b3 += high * x3;
+        }
+        VECTOR_AT(out + r0) = a0;
+        VECTOR_AT(out + r0 + 4) = b0;
+        VECTOR_AT(out + width + r0) = a1;
+        VECTOR_AT(out + width + r0 + 4) = b1;
+        VECTOR_AT(out + 2 * width + r0) = a2;
+        VECTOR_AT(out + 2 * width + r0 + 4) = b2;
+        VECTOR_AT(out + 3 * width + r0) = a3;
+        VECTOR_AT(out + 3 * width + r0 + 4) = b3;
+#else
+        for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
+            for (int64_t l = 0; l < PRODUCT_LANES; l++) {
+                double sum = 0.0;
+                for (int64_t q = 0; q < n_in; q++) {
+                    sum += m_t[q * width + r0 + l] * x[s * n_in + q];
+                }
+                out[s * width + r0 + l] = sum;
+            }
+        }
+#endif
+    }
+}
+
 #endif

@@ -51,6 +51,12 @@ static double quintic_extremum(double p0, double p1, double d0, double d1, doubl
     return best;
 }
 
+/* m rounded up to whole PRODUCT_LANES */
+static inline int64_t padded_width(int64_t m)
+{
+    return (m + PRODUCT_LANES - 1) / PRODUCT_LANES * PRODUCT_LANES;
+}
+
 /* The rows of one contact state, each output computed the cheapest way that gives the bits of the
  * dense product R x (transposed_product): an output equal to an earlier one is copied; one with few
  * nonzero coefficients sums them alone (the terms left out are zero and the others are added in
@@ -58,7 +64,8 @@ static double quintic_extremum(double p0, double p1, double d0, double d1, doubl
  * columns. Each list holds output indices (and where from), in increasing order. */
 typedef struct {
     int64_t n_dense, n_sparse, n_copies;
-    double *dense;         /* (n_aug, n_dense): the rows computed densely, transposed */
+    int64_t dense_width;   /* n_dense rounded up to whole PRODUCT_LANES */
+    double *dense;         /* (n_aug, dense_width): the rows computed densely, transposed (zeros past n_dense) */
     int64_t *dense_output; /* n_dense: the output of each dense column */
     int64_t *sparse;       /* n_sparse x (output, first entry, entries) */
     int64_t *copies;       /* n_copies x (output, the earlier output it equals) */
@@ -66,9 +73,9 @@ typedef struct {
     double *entry_value;
 } SplitRows;
 
-/* Split R^T (n_aug, width) into `split`, whose arrays have room for the worst case: dense and
- * entry_value n_aug width doubles each, dense_output width, sparse and copies 3 width,
- * entry_input n_aug width integers. */
+/* Split R^T (n_aug, width) into `split`, whose arrays have room for the worst case: dense
+ * n_aug padded_width(width) doubles, entry_value n_aug width, dense_output width, sparse and
+ * copies 3 width, entry_input n_aug width integers. */
 static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, SplitRows *split)
 {
     int64_t n_entries = 0;
@@ -105,18 +112,20 @@ static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, Split
             split->dense_output[split->n_dense++] = r;
         }
     }
-    for (int64_t c = 0; c < split->n_dense; c++) {
+    split->dense_width = padded_width(split->n_dense);
+    for (int64_t c = 0; c < split->dense_width; c++) {
         for (int64_t q = 0; q < n_aug; q++) {
-            split->dense[q * split->n_dense + c] = rows_t[q * width + split->dense_output[c]];
+            split->dense[q * split->dense_width + c] =
+                c < split->n_dense ? rows_t[q * width + split->dense_output[c]] : 0.0;
         }
     }
 }
 
-/* out = R x with the rows split by split_rows; dense_out: n_dense doubles of work space */
-static inline void split_product(const SplitRows *split, const double *restrict x, int64_t n_aug,
-                                 double *restrict dense_out, double *restrict out)
+/* out = R x with the rows split by split_rows, the dense rows' outputs dense_out (their product
+ * with x) given */
+static inline void split_rest(const SplitRows *split, const double *restrict x, const double *restrict dense_out,
+                              double *restrict out)
 {
-    transposed_product(split->dense, x, n_aug, split->n_dense, dense_out);
     for (int64_t c = 0; c < split->n_dense; c++) {
         out[split->dense_output[c]] = dense_out[c];
     }
@@ -124,10 +133,7 @@ static inline void split_product(const SplitRows *split, const double *restrict 
         const int64_t *sparse = split->sparse + 3 * j;
         double sum = 0.0;
         for (int64_t e = sparse[1]; e < sparse[1] + sparse[2]; e++) {
-            const double xq = x[split->entry_input[e]];
-            if (xq != 0.0) {
-                sum += split->entry_value[e] * xq;
-            }
+            sum += split->entry_value[e] * x[split->entry_input[e]];
         }
         out[sparse[0]] = sum;
     }
@@ -136,24 +142,48 @@ static inline void split_product(const SplitRows *split, const double *restrict 
     }
 }
 
+/* out = R x with the rows split by split_rows; dense_out: dense_width doubles of work space */
+static inline void split_product(const SplitRows *split, const double *restrict x, int64_t n_aug,
+                                 double *restrict dense_out, double *restrict out)
+{
+    transposed_product(split->dense, x, n_aug, split->dense_width, dense_out);
+    split_rest(split, x, dense_out, out);
+}
+
 /* Signal values and slopes at every sample, each sample with its own contact state's rows
  * (split[s]); the left limits at the end of every interval that ends at a transition, in order.
- * acc: 2 (k + k_s) doubles of work space. */
+ * PRODUCT_SAMPLES samples in the same state have their dense rows computed together
+ * (product_samples). acc: width + (PRODUCT_SAMPLES + 1) padded_width(width) doubles of work space. */
 HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n_aug, const int64_t *ids,
                                       const SplitRows *split, int64_t k, int64_t k_s, double *values, double *slopes,
                                       double *ends, double *acc)
 {
     const int64_t width = k + k_s;
-    double *dense_out = acc + width;
+    double *dense_out = acc + width, *dense_block = dense_out + padded_width(width);
     int64_t n_switch = 0;
-    for (int64_t i = 0; i < n; i++) {
-        const SplitRows *rows = split + ids[i];
-        split_product(rows, states + i * n_aug, n_aug, dense_out, acc);
-        memcpy(values + i * k, acc, k * sizeof(double));
-        memcpy(slopes + i * k_s, acc + k, k_s * sizeof(double));
-        if (i + 1 < n && ids[i + 1] != ids[i]) {
-            split_product(rows, states + (i + 1) * n_aug, n_aug, dense_out, ends + n_switch * width);
-            n_switch++;
+    for (int64_t i0 = 0; i0 < n; i0 += PRODUCT_SAMPLES) {
+        const int64_t count = n - i0 < PRODUCT_SAMPLES ? n - i0 : PRODUCT_SAMPLES;
+        int same = count == PRODUCT_SAMPLES;
+        for (int64_t i = i0 + 1; i < i0 + count; i++) {
+            same &= ids[i] == ids[i0];
+        }
+        if (same) {
+            const SplitRows *rows = split + ids[i0];
+            product_samples(rows->dense, states + i0 * n_aug, n_aug, rows->dense_width, dense_block);
+        }
+        for (int64_t i = i0; i < i0 + count; i++) {
+            const SplitRows *rows = split + ids[i];
+            if (same) {
+                split_rest(rows, states + i * n_aug, dense_block + (i - i0) * rows->dense_width, acc);
+            } else {
+                split_product(rows, states + i * n_aug, n_aug, dense_out, acc);
+            }
+            memcpy(values + i * k, acc, k * sizeof(double));
+            memcpy(slopes + i * k_s, acc + k, k_s * sizeof(double));
+            if (i + 1 < n && ids[i + 1] != ids[i]) {
+                split_product(rows, states + (i + 1) * n_aug, n_aug, dense_out, ends + n_switch * width);
+                n_switch++;
+            }
         }
     }
 }
@@ -203,28 +233,46 @@ typedef struct {
 
 /* Peak |r| of each response r = R s between samples and where it is (interval index +
  * fraction), from the quintic Hermite interpolant through the samples with the exact first and
- * second derivatives (response_kernels.hermite_peaks). Work space: sampled (n, m), flagged (n),
- * end and threshold (m each), y (n_basis). */
+ * second derivatives (response_kernels.hermite_peaks). Work space: sampled (n rounded up to
+ * whole PRODUCT_SAMPLES, padded_width(m)), padded (n_basis, padded_width(m)), flagged (n), end and
+ * threshold (m each), y (PRODUCT_SAMPLES n_basis). */
 HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *where, double *sampled,
-                                   unsigned char *flagged, double *end, double *threshold, double *y)
+                                   double *padded, unsigned char *flagged, double *end, double *threshold, double *y)
 {
     const int64_t n = in->n, m = in->m, n_b = in->n_basis, k = in->k, k_s = in->k_s, k_e = in->width_end_slopes;
+    const int64_t width = padded_width(m);
     for (int64_t j = 0; j < m; j++) {
         best[j] = 0.0;
         where[j] = 0.0;
     }
-    /* pass 1: every response at every sample (kept) and its sampled peak */
-    for (int64_t i = 0; i < n; i++) {
-        double *row = sampled + i * m;
-        combine(in->values + i * k, in->value_columns, in->rows_t, n_b, m, y, row);
-        keep_larger(row, m, (double)i, best, where);
+    for (int64_t q = 0; q < n_b; q++) { /* R^T with zero columns up to the padded width */
+        for (int64_t j = 0; j < width; j++) {
+            padded[q * width + j] = j < m ? in->rows_t[q * m + j] : 0.0;
+        }
+    }
+    /* pass 1: every response at every sample (kept), PRODUCT_SAMPLES samples at a time, and its
+     * sampled peak (samples past the last are zeros) */
+    for (int64_t i0 = 0; i0 < n; i0 += PRODUCT_SAMPLES) {
+        for (int64_t i = i0 + PREFETCH_SAMPLES; i < n && i < i0 + PREFETCH_SAMPLES + PRODUCT_SAMPLES; i++) {
+            PREFETCH(in->values + i * k + in->value_columns[0]);
+            PREFETCH(in->values + i * k + in->value_columns[n_b - 1]);
+        }
+        for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
+            for (int64_t q = 0; q < n_b; q++) {
+                y[s * n_b + q] = i0 + s < n ? in->values[(i0 + s) * k + in->value_columns[q]] : 0.0;
+            }
+        }
+        product_samples(padded, y, n_b, width, sampled + i0 * width);
+        for (int64_t i = i0; i < n && i < i0 + PRODUCT_SAMPLES; i++) {
+            keep_larger(sampled + i * width, m, (double)i, best, where);
+        }
     }
     /* the samples within the fraction of the peak of some response */
     for (int64_t j = 0; j < m; j++) {
         threshold[j] = in->fractions[j] * best[j];
     }
     for (int64_t i = 0; i < n; i++) {
-        const double *row = sampled + i * m;
+        const double *row = sampled + i * width;
         int flag = 0;
         for (int64_t j = 0; j < m; j++) {
             flag |= fabs(row[j]) >= threshold[j];
@@ -237,7 +285,7 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
         if (!(flagged[i] || flagged[i + 1] || fix >= 0)) {
             continue;
         }
-        const double *r0 = sampled + i * m, *r1 = sampled + (i + 1) * m;
+        const double *r0 = sampled + i * width, *r1 = sampled + (i + 1) * width;
         if (fix >= 0) { /* the interval ends at a transition: its left limit */
             combine(in->end_values + fix * k, in->value_columns, in->rows_t, n_b, m, y, end);
             r1 = end;
@@ -306,8 +354,9 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
         goto done;
     }
     const int64_t width = k + k_s, n_states = rows_t->shape[0], per_state = n_aug * width;
-    /* work space: the product (2 width) and, per state, its split rows (split_rows) */
-    double *doubles = malloc((2 * width + 2 * n_states * per_state + 1) * sizeof(double));
+    /* work space: the products (evaluate_signals) and, per state, its split rows (split_rows) */
+    const int64_t n_acc = width + (PRODUCT_SAMPLES + 1) * padded_width(width), n_dense = n_aug * padded_width(width);
+    double *doubles = malloc((n_acc + n_states * (n_dense + per_state) + 1) * sizeof(double));
     int64_t *integers = malloc((7 * n_states * width + n_states * per_state + 1) * sizeof(int64_t));
     SplitRows *split = malloc((n_states + 1) * sizeof(SplitRows));
     if (!doubles || !integers || !split) {
@@ -320,8 +369,8 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
     Py_BEGIN_ALLOW_THREADS
     for (int64_t s = 0; s < n_states; s++) {
         SplitRows *rows = split + s;
-        rows->dense = doubles + 2 * width + s * per_state;
-        rows->entry_value = doubles + 2 * width + (n_states + s) * per_state;
+        rows->dense = doubles + n_acc + s * n_dense;
+        rows->entry_value = doubles + n_acc + n_states * n_dense + s * per_state;
         rows->dense_output = integers + 7 * s * width;
         rows->sparse = rows->dense_output + width;
         rows->copies = rows->sparse + 3 * width;
@@ -383,7 +432,9 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
         PyErr_SetString(PyExc_ValueError, "hermite_peaks: inconsistent array shapes");
         goto done;
     }
-    double *sampled = malloc((in.n * in.m + 2 * in.m + in.n_basis + 1) * sizeof(double));
+    const int64_t width = padded_width(in.m), rows = (in.n + PRODUCT_SAMPLES - 1) / PRODUCT_SAMPLES * PRODUCT_SAMPLES;
+    const int64_t n_sampled = rows * width, n_padded = in.n_basis * width;
+    double *sampled = malloc((n_sampled + n_padded + 2 * in.m + PRODUCT_SAMPLES * in.n_basis + 1) * sizeof(double));
     unsigned char *flagged = malloc(in.n + 1);
     if (!sampled || !flagged) {
         free(sampled);
@@ -391,9 +442,9 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
         PyErr_NoMemory();
         goto done;
     }
+    double *padded = sampled + n_sampled, *end = padded + n_padded, *threshold = end + in.m, *y = threshold + in.m;
     Py_BEGIN_ALLOW_THREADS
-    hermite_peaks(&in, DOUBLES(b[11]), DOUBLES(b[12]), sampled, flagged, sampled + in.n * in.m,
-                  sampled + in.n * in.m + in.m, sampled + in.n * in.m + 2 * in.m);
+    hermite_peaks(&in, DOUBLES(b[11]), DOUBLES(b[12]), sampled, padded, flagged, end, threshold, y);
     Py_END_ALLOW_THREADS
     free(sampled);
     free(flagged);
