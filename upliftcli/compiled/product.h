@@ -59,12 +59,21 @@ typedef double product_vector __attribute__((vector_size(4 * sizeof(double)), al
 #define VECTOR_AT(p) (*(product_vector *)(p))
 #endif
 
+/* inlined even into a function compiled for another instruction set (the AVX2 version of a HOT_LOOP):
+ * a copy of its own, compiled for the baseline set, runs several times slower */
+#if defined(__GNUC__)
+#define ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define ALWAYS_INLINE inline
+#endif
+
 /* out[s * width + r] = sum_q m_t[q * width + r] x[s * n_in + q] for PRODUCT_SAMPLES samples s at once;
  * width a multiple of PRODUCT_LANES. Each row of M^T is loaded once for the four samples and the
- * accumulators stay in registers. The terms are added in the order q = 0, 1, ... from 0, as in
- * transposed_product; zero inputs are not skipped, which can only turn a result of -0 into +0. */
-static inline __attribute__((always_inline)) void product_samples(const double *restrict m_t, const double *restrict x, int64_t n_in, int64_t width,
-                                   double *restrict out)
+ * sums stay in registers. The terms are added in the order q = 0, 1, ... from +0, as in
+ * transposed_product, so the bits are its bits: the products of zero inputs, which it skips, change
+ * no sum (a sum from +0 never becomes -0: x + (-x) is +0). */
+static ALWAYS_INLINE void product_samples(const double *restrict m_t, const double *restrict x, int64_t n_in,
+                                          int64_t width, double *restrict out)
 {
     for (int64_t r0 = 0; r0 < width; r0 += PRODUCT_LANES) {
 #if defined(__GNUC__)
