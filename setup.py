@@ -8,14 +8,16 @@ from setuptools import Extension, setup
 FLAGS = ["-O3", "-std=c99", "-ffp-contract=off", "-fno-math-errno"]
 
 
-def module(name: str, source: str) -> Extension:
+def module(name: str, source: str, depends: tuple[str, ...] = ()) -> Extension:
     return Extension(name, [source], include_dirs=["upliftcli/compiled"], extra_compile_args=FLAGS,
-                     depends=["upliftcli/compiled/buffers.h", "upliftcli/compiled/product.h"])
+                     depends=["upliftcli/compiled/buffers.h", "upliftcli/compiled/product.h", *depends])
 
 
 setup(ext_modules=[
-    module("upliftcli.engines.exact._stepping", "upliftcli/engines/exact/_stepping.c"),
-    module("upliftcli.engines.exact._response", "upliftcli/engines/exact/_response.c"),
+    module("upliftcli.engines.exact._stepping", "upliftcli/engines/exact/_stepping.c",
+           ("upliftcli/engines/exact/events.h",)),
+    module("upliftcli.engines.exact._signals", "upliftcli/engines/exact/_signals.c"),
+    module("upliftcli.engines.exact._peaks", "upliftcli/engines/exact/_peaks.c"),
     module("upliftcli.engines.exact._contact", "upliftcli/engines/exact/_contact.c"),
     module("upliftcli.engines.exact._energy", "upliftcli/engines/exact/_energy.c"),
     module("upliftcli.motion._spectra", "upliftcli/motion/_spectra.c"),

@@ -52,6 +52,12 @@ static inline void transposed_product(const double *restrict m_t, const double *
 #define PRODUCT_LANES 8
 #define PRODUCT_SAMPLES 4
 
+/* m rounded up to whole PRODUCT_LANES (the width product_samples takes) */
+static inline int64_t padded_width(int64_t m)
+{
+    return (m + PRODUCT_LANES - 1) / PRODUCT_LANES * PRODUCT_LANES;
+}
+
 #if defined(__GNUC__)
 /* four doubles at any address of a double (GCC and Clang vector extension: one AVX2 register, or
  * two SSE2 ones); loads and stores through it are unaligned */

@@ -3,153 +3,19 @@
  * tests/test_stepping_kernels.py). Operators and matrices are passed transposed (matvec). */
 
 #include "buffers.h"
+#include "events.h"
 #include "product.h"
 #include <math.h>
 
 enum { DONE, NEED_STATE, FULL, FLIGHT, NONFINITE, CHATTER };
 enum { VALUES = 1, RATES = 2 }; /* what integrate knows of the event functions at x */
 #define MAX_EVENTS_PER_STEP 256
-#define EVENT_TOLERANCE 1e-12
 #define REFINE_LEVELS 5
 
 /* out = M x from the transposed matrix M^T (n, n) (product.h) */
 static inline void matvec(const double *restrict matrix_t, const double *restrict x, double *restrict out, int64_t n)
 {
     transposed_product(matrix_t, x, n, n, out);
-}
-
-static inline double dot(const double *restrict row, const double *restrict x, int64_t n)
-{
-    double acc = 0.0;
-    for (int64_t j = 0; j < n; j++) {
-        acc += row[j] * x[j];
-    }
-    return acc;
-}
-
-static double max_event(const double *events, int64_t n_events, const double *x, int64_t n)
-{
-    double best = -INFINITY;
-    for (int64_t i = 0; i < n_events; i++) {
-        double acc = dot(events + i * n, x, n);
-        if (acc > best) {
-            best = acc;
-        }
-    }
-    return best;
-}
-
-static inline double largest(const double *values, int64_t count)
-{
-    double best = -INFINITY;
-    for (int64_t i = 0; i < count; i++) {
-        best = values[i] > best ? values[i] : best;
-    }
-    return best;
-}
-
-/* values[i] = G_i x and rates[i] = (G A)_i x of every event function at the state x, each summed
- * as dot sums (all of them in one pass over x) */
-static inline void event_values(const double *events, const double *event_rates, int64_t n_events,
-                                const double *restrict x, int64_t n, double *restrict values,
-                                double *restrict rates)
-{
-    int64_t i = 0;
-    for (; i + 1 < n_events; i += 2) { /* two events at a time: four sums in flight */
-        const double *g0 = events + i * n, *g1 = g0 + n, *r0 = event_rates + i * n, *r1 = r0 + n;
-        double v0 = 0.0, v1 = 0.0, s0 = 0.0, s1 = 0.0;
-        for (int64_t j = 0; j < n; j++) {
-            v0 += g0[j] * x[j];
-            s0 += r0[j] * x[j];
-            v1 += g1[j] * x[j];
-            s1 += r1[j] * x[j];
-        }
-        values[i] = v0;
-        rates[i] = s0;
-        values[i + 1] = v1;
-        rates[i + 1] = s1;
-    }
-    for (; i < n_events; i++) {
-        const double *g = events + i * n, *r = event_rates + i * n;
-        double v = 0.0, d = 0.0;
-        for (int64_t j = 0; j < n; j++) {
-            v += g[j] * x[j];
-            d += r[j] * x[j];
-        }
-        values[i] = v;
-        rates[i] = d;
-    }
-}
-
-/* out[i] = row i of rows (count, n) times x, each summed as dot sums, two rows at a time */
-static inline void row_values(const double *rows, int64_t count, const double *restrict x, int64_t n,
-                              double *restrict out)
-{
-    int64_t i = 0;
-    for (; i + 1 < count; i += 2) {
-        const double *a = rows + i * n, *b = a + n;
-        double va = 0.0, vb = 0.0;
-        for (int64_t j = 0; j < n; j++) {
-            va += a[j] * x[j];
-            vb += b[j] * x[j];
-        }
-        out[i] = va;
-        out[i + 1] = vb;
-    }
-    if (i < count) {
-        out[i] = dot(rows + i * n, x, n);
-    }
-}
-
-/* True if some event function, not positive at either end of a chunk of `length` [s], has a
- * positive interior maximum on its cubic Hermite interpolant through its values g0, g1 and exact
- * rates d0, d1 at the ends: a brief excursion the chunk ends would miss. */
-static int excursion_between(const double *g0s, const double *d0s, const double *g1s, const double *d1s,
-                             int64_t n_events, double length)
-{
-    for (int64_t i = 0; i < n_events; i++) {
-        const double g0 = g0s[i], g1 = g1s[i];
-        double d0 = d0s[i], d1 = d1s[i];
-        if (d0 <= 0.0 && d1 >= 0.0) {
-            continue; /* falling at the start and rising at the end: no interior maximum */
-        }
-        d0 *= length;
-        d1 *= length;
-        double a = 2.0 * (g0 - g1) + d0 + d1;
-        double b = 3.0 * (g1 - g0) - 2.0 * d0 - d1;
-        /* p'(s) = 3 a s^2 + 2 b s + d0 = 0 */
-        if (fabs(a) > 1e-14 * (fabs(b) + fabs(d0))) {
-            double disc = b * b - 3.0 * a * d0;
-            if (disc < 0.0) {
-                continue;
-            }
-            double root = sqrt(disc);
-            double candidates[2] = {(-b + root) / (3.0 * a), (-b - root) / (3.0 * a)};
-            for (int k = 0; k < 2; k++) {
-                double s = candidates[k];
-                if (0.0 < s && s < 1.0 && ((a * s + b) * s + d0) * s + g0 > EVENT_TOLERANCE) {
-                    return 1;
-                }
-            }
-        } else if (b != 0.0) {
-            double s = -d0 / (2.0 * b);
-            if (0.0 < s && s < 1.0 && ((a * s + b) * s + d0) * s + g0 > EVENT_TOLERANCE) {
-                return 1;
-            }
-        }
-    }
-    return 0;
-}
-
-/* excursion_between for the states x, y at the ends of the chunk (values G x, G y and exact rates
- * G A x, G A y); work: 4 n_events doubles */
-static int excursion(const double *events, const double *rates, int64_t n_events, const double *x, const double *y,
-                     int64_t n, double length, double *work)
-{
-    double *g0 = work, *d0 = work + n_events, *g1 = work + 2 * n_events, *d1 = work + 3 * n_events;
-    event_values(events, rates, n_events, x, n, g0, d0);
-    event_values(events, rates, n_events, y, n, g1, d1);
-    return excursion_between(g0, d0, g1, d1, n_events, length);
 }
 
 /* the contact states and elements of one run (see stepping_kernels.States, Elements, Grid) */

@@ -1,6 +1,6 @@
-"""Compiled loops of the post-processing (C, built at install): signals at the samples and peaks
-between samples (_response.c), element reactions and uplift statistics (_contact.c), work
-integrals (_energy.c).
+"""Compiled loops of the post-processing (C, built at install): signals at the samples
+(_signals.c), peaks between samples (_peaks.c), element reactions and uplift statistics
+(_contact.c), work integrals (_energy.c).
 
 Each walks the samples (or the intervals between them) once; numpy versions of the same loops
 cost 5-10 times more on the ten-story example (temporaries and strided reductions). Their numpy
@@ -11,14 +11,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _contact, _energy, _response
+from . import _contact, _energy, _peaks, _signals
 
 
 def quintic_extremum(p0: float, p1: float, d0: float, d1: float, c0: float, c1: float) -> tuple[float, float]:
     """Largest |p(s)| for s in [0, 1] of the quintic Hermite p with p, p', p'' given at both
     ends (slopes times the interval length, second derivatives times its square); returns
     (value, s). The stationary points are bracketed on 8 sub-intervals and bisected."""
-    return _response.quintic_extremum(float(p0), float(p1), float(d0), float(d1), float(c0), float(c1))
+    return _peaks.quintic_extremum(float(p0), float(p1), float(d0), float(d1), float(c0), float(c1))
 
 
 def evaluate_signals(states: np.ndarray, ids: np.ndarray, rows_t: np.ndarray, values: np.ndarray,
@@ -33,7 +33,7 @@ def evaluate_signals(states: np.ndarray, ids: np.ndarray, rows_t: np.ndarray, va
     sums them alone, the rest is one dense product; every way gives the bits of the dense
     product R x.
     """
-    _response.evaluate_signals(states, ids, rows_t, values, slopes, ends)
+    _signals.evaluate_signals(states, ids, rows_t, values, slopes, ends)
 
 
 def hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns, rate_columns, curvature_columns,
@@ -54,7 +54,7 @@ def hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns,
     """
     m = rows_t.shape[1]
     best, where = np.zeros(m), np.zeros(m)
-    _response.hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns, rate_columns,
+    _peaks.hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns, rate_columns,
                             curvature_columns, rows_t, lengths, fractions, best, where)
     return best, where
 

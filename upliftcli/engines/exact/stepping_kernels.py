@@ -32,7 +32,7 @@ MAX_EVENTS_PER_STEP = 256
 EVENT_TOLERANCE = 1e-12
 #: a chunk whose event functions may make a brief positive excursion is halved down to h / 2^this
 REFINE_LEVELS = 5
-# (the same constants are #defined in _stepping.c)
+# (the same constants are #defined in _stepping.c and events.h)
 
 #: the contact states built so far: step operators ops[s, j] = expm(A_s h / 2^j)^T, event rows
 #: G_s, their rates G_s A_s, A_s^T, the contact pattern of each and how many there are

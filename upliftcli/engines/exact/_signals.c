@@ -1,0 +1,213 @@
+/* Compiled loop of the exact engine's post-processing: the signals at the samples, each sample
+ * with its own contact state's rows (the peaks between samples: _peaks.c; reactions and uplift
+ * statistics: _contact.c; work integrals: _energy.c). See response_kernels.py for the arguments;
+ * the numpy twins are in tests/test_response_kernels.py. */
+
+#include "buffers.h"
+#include "product.h"
+#include <stdlib.h>
+
+/* The rows of one contact state, each output computed the cheapest way that gives the bits of the
+ * dense product R x (transposed_product): an output equal to an earlier one is copied; one with few
+ * nonzero coefficients sums them alone (the terms left out are zero and the others are added in
+ * the same order, so the sum is the same); the others come from one dense product over their
+ * columns. Each list holds output indices (and where from), in increasing order. */
+typedef struct {
+    int64_t n_dense, n_sparse, n_copies;
+    int64_t dense_width;   /* n_dense rounded up to whole PRODUCT_LANES */
+    double *dense;         /* (n_aug, dense_width): the rows computed densely, transposed (zeros past n_dense) */
+    int64_t *dense_output; /* n_dense: the output of each dense column */
+    int64_t *sparse;       /* n_sparse x (output, first entry, entries) */
+    int64_t *copies;       /* n_copies x (output, the earlier output it equals) */
+    int64_t *entry_input;  /* sparse entries: input index and coefficient, by output and input */
+    double *entry_value;
+} SplitRows;
+
+/* Split R^T (n_aug, width) into `split`, whose arrays have room for the worst case: dense
+ * n_aug padded_width(width) doubles, entry_value n_aug width, dense_output width, sparse and
+ * copies 3 width, entry_input n_aug width integers. */
+static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, SplitRows *split)
+{
+    int64_t n_entries = 0;
+    split->n_dense = split->n_sparse = split->n_copies = 0;
+    for (int64_t r = 0; r < width; r++) {
+        int64_t same = -1;
+        for (int64_t earlier = 0; earlier < r && same < 0; earlier++) {
+            int equal = 1;
+            for (int64_t q = 0; q < n_aug && equal; q++) {
+                equal = rows_t[q * width + r] == rows_t[q * width + earlier];
+            }
+            same = equal ? earlier : -1;
+        }
+        int64_t nonzero = 0;
+        for (int64_t q = 0; q < n_aug; q++) {
+            nonzero += rows_t[q * width + r] != 0.0;
+        }
+        if (same >= 0) {
+            int64_t *copy = split->copies + 2 * split->n_copies++;
+            copy[0] = r;
+            copy[1] = same;
+        } else if (4 * nonzero <= n_aug) {
+            int64_t *sparse = split->sparse + 3 * split->n_sparse++;
+            sparse[0] = r;
+            sparse[1] = n_entries;
+            sparse[2] = nonzero;
+            for (int64_t q = 0; q < n_aug; q++) {
+                if (rows_t[q * width + r] != 0.0) {
+                    split->entry_input[n_entries] = q;
+                    split->entry_value[n_entries++] = rows_t[q * width + r];
+                }
+            }
+        } else {
+            split->dense_output[split->n_dense++] = r;
+        }
+    }
+    split->dense_width = padded_width(split->n_dense);
+    for (int64_t c = 0; c < split->dense_width; c++) {
+        for (int64_t q = 0; q < n_aug; q++) {
+            split->dense[q * split->dense_width + c] =
+                c < split->n_dense ? rows_t[q * width + split->dense_output[c]] : 0.0;
+        }
+    }
+}
+
+/* out = R x with the rows split by split_rows, the dense rows' outputs dense_out (their product
+ * with x) given */
+static inline void split_rest(const SplitRows *split, const double *restrict x, const double *restrict dense_out,
+                              double *restrict out)
+{
+    for (int64_t c = 0; c < split->n_dense; c++) {
+        out[split->dense_output[c]] = dense_out[c];
+    }
+    for (int64_t j = 0; j < split->n_sparse; j++) {
+        const int64_t *sparse = split->sparse + 3 * j;
+        double sum = 0.0;
+        for (int64_t e = sparse[1]; e < sparse[1] + sparse[2]; e++) {
+            sum += split->entry_value[e] * x[split->entry_input[e]];
+        }
+        out[sparse[0]] = sum;
+    }
+    for (int64_t j = 0; j < split->n_copies; j++) {
+        out[split->copies[2 * j]] = out[split->copies[2 * j + 1]];
+    }
+}
+
+/* out = R x with the rows split by split_rows; dense_out: dense_width doubles of work space */
+static inline void split_product(const SplitRows *split, const double *restrict x, int64_t n_aug,
+                                 double *restrict dense_out, double *restrict out)
+{
+    transposed_product(split->dense, x, n_aug, split->dense_width, dense_out);
+    split_rest(split, x, dense_out, out);
+}
+
+/* Signal values and slopes at every sample, each sample with its own contact state's rows
+ * (split[s]); the left limits at the end of every interval that ends at a transition, in order.
+ * PRODUCT_SAMPLES samples in the same state have their dense rows computed together
+ * (product_samples). acc: width + (PRODUCT_SAMPLES + 1) padded_width(width) doubles of work space. */
+HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n_aug, const int64_t *ids,
+                                      const SplitRows *split, int64_t k, int64_t k_s, double *values, double *slopes,
+                                      double *ends, double *acc)
+{
+    const int64_t width = k + k_s;
+    double *dense_out = acc + width, *dense_block = dense_out + padded_width(width);
+    int64_t n_switch = 0;
+    for (int64_t i0 = 0; i0 < n; i0 += PRODUCT_SAMPLES) {
+        const int64_t count = n - i0 < PRODUCT_SAMPLES ? n - i0 : PRODUCT_SAMPLES;
+        int same = count == PRODUCT_SAMPLES;
+        for (int64_t i = i0 + 1; i < i0 + count; i++) {
+            same &= ids[i] == ids[i0];
+        }
+        if (same) {
+            const SplitRows *rows = split + ids[i0];
+            product_samples(rows->dense, states + i0 * n_aug, n_aug, rows->dense_width, dense_block);
+        }
+        for (int64_t i = i0; i < i0 + count; i++) {
+            const SplitRows *rows = split + ids[i];
+            if (same) {
+                split_rest(rows, states + i * n_aug, dense_block + (i - i0) * rows->dense_width, acc);
+            } else {
+                split_product(rows, states + i * n_aug, n_aug, dense_out, acc);
+            }
+            memcpy(values + i * k, acc, k * sizeof(double));
+            memcpy(slopes + i * k_s, acc + k, k_s * sizeof(double));
+            if (i + 1 < n && ids[i + 1] != ids[i]) {
+                split_product(rows, states + (i + 1) * n_aug, n_aug, dense_out, ends + n_switch * width);
+                n_switch++;
+            }
+        }
+    }
+}
+
+/* ---------------------------------------------------------------------------- Python entry point */
+
+/* evaluate_signals(states, ids, rows_t, values, slopes, ends) */
+static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (!expect_args(nargs, 6, "evaluate_signals")) {
+        return NULL;
+    }
+    Views v = {.count = 0};
+    PyObject *result = NULL;
+    static const ArraySpec arrays[] = {{0, 'd', 2, 0, "states"}, {1, 'q', 1, 0, "ids"}, {2, 'd', 3, 0, "rows_t"},
+        {3, 'd', 2, 1, "values"}, {4, 'd', 2, 1, "slopes"}, {5, 'd', 2, 1, "ends"}};
+    Py_buffer *b[6];
+    int taken = take_views(&v, args, arrays, 6, b);
+    Py_buffer *states = b[0], *ids = b[1], *rows_t = b[2], *values = b[3], *slopes = b[4], *ends = b[5];
+    if (!taken) {
+        goto done;
+    }
+    const int64_t n = states->shape[0], n_aug = states->shape[1], k = values->shape[1], k_s = slopes->shape[1];
+    int64_t transitions = 0;
+    int ids_ok = 1;
+    for (int64_t i = 0; i < ids->shape[0]; i++) {
+        ids_ok &= INT64S(ids)[i] >= 0 && INT64S(ids)[i] < rows_t->shape[0];
+        transitions += i > 0 && INT64S(ids)[i] != INT64S(ids)[i - 1];
+    }
+    if (ids->shape[0] != n || rows_t->shape[1] != n_aug || rows_t->shape[2] != k + k_s || values->shape[0] != n
+        || slopes->shape[0] != n || ends->shape[0] < transitions || ends->shape[1] != k + k_s || !ids_ok) {
+        PyErr_SetString(PyExc_ValueError, "evaluate_signals: inconsistent array shapes");
+        goto done;
+    }
+    const int64_t width = k + k_s, n_states = rows_t->shape[0], per_state = n_aug * width;
+    /* work space: the products (evaluate_signals) and, per state, its split rows (split_rows) */
+    const int64_t n_acc = width + (PRODUCT_SAMPLES + 1) * padded_width(width), n_dense = n_aug * padded_width(width);
+    double *doubles = malloc((n_acc + n_states * (n_dense + per_state) + 1) * sizeof(double));
+    int64_t *integers = malloc((7 * n_states * width + n_states * per_state + 1) * sizeof(int64_t));
+    SplitRows *split = malloc((n_states + 1) * sizeof(SplitRows));
+    if (!doubles || !integers || !split) {
+        free(doubles);
+        free(integers);
+        free(split);
+        PyErr_NoMemory();
+        goto done;
+    }
+    Py_BEGIN_ALLOW_THREADS
+    for (int64_t s = 0; s < n_states; s++) {
+        SplitRows *rows = split + s;
+        rows->dense = doubles + n_acc + s * n_dense;
+        rows->entry_value = doubles + n_acc + n_states * n_dense + s * per_state;
+        rows->dense_output = integers + 7 * s * width;
+        rows->sparse = rows->dense_output + width;
+        rows->copies = rows->sparse + 3 * width;
+        rows->entry_input = integers + 7 * n_states * width + s * per_state;
+        split_rows(DOUBLES(rows_t) + s * per_state, n_aug, width, rows);
+    }
+    evaluate_signals(DOUBLES(states), n, n_aug, INT64S(ids), split, k, k_s, DOUBLES(values), DOUBLES(slopes),
+                     DOUBLES(ends), doubles);
+    Py_END_ALLOW_THREADS
+    free(doubles);
+    free(integers);
+    free(split);
+    result = Py_NewRef(Py_None);
+done:
+    release_views(&v);
+    return result;
+}
+
+static PyMethodDef methods[] = {
+    FASTCALL(evaluate_signals, "Signals at the samples."),
+    {NULL, NULL, 0, NULL},
+};
+
+DEFINE_MODULE(_signals, "Compiled loop of the exact engine: the signals at the samples.")
