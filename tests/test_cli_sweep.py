@@ -209,6 +209,21 @@ def test_spectra_writes_data_and_paper_figures(tmp_path):
     assert not list(tmp_path.glob("*engines*"))  # one engine: no comparison figure
 
 
+@pytest.mark.parametrize(("workers", "scheduler", "cores", "started"), [
+    (None, None, 2, True), (3, None, 1, True), (None, None, 1, False), (1, None, 4, False),
+    (None, "tcp://127.0.0.1:1", 4, False)])
+def test_spectra_starts_the_warm_server_early_when_local_workers_are_likely(monkeypatch, workers, scheduler,
+                                                                            cores, started):
+    from upliftcli.cli import sweep as cli_sweep
+    from upliftcli.sweep.executors import ProcessExecutor
+
+    calls = []
+    monkeypatch.setattr(ProcessExecutor, "prestart", lambda self: calls.append(self.workers))
+    monkeypatch.setattr("upliftcli.process.available_cores", lambda: cores)
+    cli_sweep.warm_workers_early(workers, scheduler, None)
+    assert calls == ([workers or 2] if started else [])
+
+
 def test_spectra_bad_periods(tmp_path):
     result = invoke("spectra", EXAMPLE, "--periods", "0:2:4", "--out", tmp_path)
     assert result.exit_code == 2 and "--periods" in result.stderr

@@ -3,6 +3,7 @@
 import os
 import sys
 import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -159,6 +160,28 @@ def test_plot_figures_shares_the_work_and_writes_what_plot_figure_writes(tmp_pat
     for name, spec in specs.items():
         alone = draw(spec, tmp_path / f"{name}.png")
         assert alone.read_bytes() == (tmp_path / "shared" / f"{name}.png").read_bytes()
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="figures are shared out on Linux only")
+def test_plot_figures_waits_for_a_background_preload_and_still_shares_the_work(tmp_path, monkeypatch):
+    """preload(background=True) imports matplotlib in a thread (uplift spectra, while the workers
+    run); plot_figures waits for it, so the process has one thread again and forks its copies."""
+    monkeypatch.setattr("upliftcli.process.available_cores", lambda: 2)
+    imported = plots._import_matplotlib
+
+    def slow_import():
+        time.sleep(0.3)  # still importing when the figures are asked for
+        imported()
+
+    monkeypatch.setattr(plots, "_import_matplotlib", slow_import)
+    plots.preload(background=True)
+    assert threading.active_count() == 2
+    drawn_by = _record_drawing(monkeypatch)
+    items = [(spec, tmp_path / f"{name}.png") for name, spec in _paper_specs().items()]
+    plots.plot_figures(items)
+    assert threading.active_count() == 1
+    assert 0 < len(drawn_by) < len(items)  # the rest was drawn by a forked copy
+    assert all(path.stat().st_size > 10_000 for _, path in items)
 
 
 def test_plot_figures_raises_the_error_of_a_forked_copy(tmp_path, monkeypatch):

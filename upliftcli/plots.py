@@ -45,12 +45,34 @@ def check_figure_path(path: str | os.PathLike, option: str = "--plot") -> Path:
     return path
 
 
-def preload() -> None:
-    """Import what drawing a figure needs (matplotlib's Figure, Agg canvas, tickers): about 0.25 s
-    that a caller can spend while another process works."""
+#: the thread importing matplotlib for preload(background=True), until a figure is drawn
+_preloading: threading.Thread | None = None
+
+
+def preload(background: bool = False) -> None:
+    """Import what drawing a figure needs (matplotlib's Figure, Agg canvas, tickers): about 0.3 s
+    that a caller can spend while other processes work. background: in a thread, for a caller
+    whose main thread then only waits on worker processes (the drawing functions wait for it)."""
+    global _preloading
+    if not background:
+        _wait_for_preload()
+        _import_matplotlib()
+    elif _preloading is None:
+        _preloading = threading.Thread(target=_import_matplotlib, name="uplift-preload", daemon=True)
+        _preloading.start()
+
+
+def _import_matplotlib() -> None:
     import matplotlib.backends.backend_agg
     import matplotlib.figure
     import matplotlib.ticker  # noqa: F401
+
+
+def _wait_for_preload() -> None:
+    global _preloading
+    if _preloading is not None:
+        _preloading.join()
+        _preloading = None
 
 
 def new_figure(width: float = 7.0, height: float = 4.5):
@@ -87,6 +109,7 @@ def plot_figures(figures: Sequence[tuple[FigureSpec, str | os.PathLike]], option
     libraries may not survive a fork, one after the other). An error in any figure is raised
     here, after every copy has ended."""
     paths = [check_figure_path(path, option) for _, path in figures]
+    _wait_for_preload()
     from .process import available_cores
 
     groups = _shares(figures, min(available_cores(), len(figures)))
