@@ -22,9 +22,10 @@ from .energy import balance, stored, work
 from .response import (
     _STORY_AND_FLOOR,
     contact_response,
-    hermite_peaks,
     histories,
+    peak_search,
     response_rows,
+    signal_layout,
     signals,
     time_at,
 )
@@ -59,6 +60,10 @@ class Digest:
         self.periods = np.concatenate((np.full(4 * n, governing), mode_periods,
                                        np.maximum(mode_periods, governing)))
         self.acceleration_periods = np.full(n, min(governing, mode_periods.min()))
+        names = signal_layout(model.n_modes, space.layout.n_elements)
+        self.searches = (peak_search(names, self.stacked, self.periods),
+                         peak_search(names, self.rows.acceleration, self.acceleration_periods,
+                                     self.rows.acceleration_rate))
         self.peaks = {}  # name -> (values, instants [s])
         self.summary: dict = {}
         self.works = (0.0, 0.0, 0.0)
@@ -80,11 +85,9 @@ class Digest:
         """Fold in one chunk (its first sample is the previous chunk's last)."""
         sig = signals(chunk)
         lengths = chunk.lengths
-        peaks, where = hermite_peaks(sig, self.stacked, lengths, self.periods)
-        self._keep("stacked", peaks, time_at(chunk, where))
-        acceleration, where = hermite_peaks(sig, self.rows.acceleration, lengths, self.acceleration_periods,
-                                            self.rows.acceleration_rate)
-        self._keep("floor_acceleration", acceleration, time_at(chunk, where))
+        for name, search in zip(("stacked", "floor_acceleration"), self.searches, strict=True):
+            peaks, where = search.run(sig, lengths)
+            self._keep(name, peaks, time_at(chunk, where))
         reactions, summary = contact_response(chunk, sig)
         for name, (peak, when) in reactions.items():
             self._keep(name, peak, when)

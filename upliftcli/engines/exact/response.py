@@ -19,6 +19,7 @@ time derivative at a sample is one more row, so:
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -82,14 +83,22 @@ class Signals:
         """The signal's columns (n, k_name)."""
         return self.values[:, self.rows[name]]
 
-    def columns(self, name: str) -> np.ndarray:
-        """The column indices of a signal."""
-        return np.arange(self.rows[name].start, self.rows[name].stop, dtype=np.int64)
-
 
 #: signals with rates: those the work integrals use first (energy.py), then Y*''
 WITH_RATES = ("Ydot", "a", "input", "element_velocity", "z", "Yddot")
 VALUES_ONLY = ("Y", "theta", "v", "element_displacement")
+
+
+@functools.cache
+def signal_layout(n_modes: int, n_elements: int) -> dict[str, slice]:
+    """The columns of each signal (WITH_RATES first, in order, then VALUES_ONLY)."""
+    sizes = {"Ydot": n_modes, "a": 1, "input": 1, "element_velocity": n_elements, "z": n_elements,
+             "Yddot": n_modes, "Y": n_modes, "theta": 1, "v": 1, "element_displacement": n_elements}
+    names, start = {}, 0
+    for name in WITH_RATES + VALUES_ONLY:
+        names[name] = slice(start, start + sizes[name])
+        start += sizes[name]
+    return names
 
 
 def signals(history: History) -> Signals:
@@ -97,13 +106,9 @@ def signals(history: History) -> Signals:
     (response_kernels.evaluate_signals)."""
     space = history.space
     model, lay = space.model, space.layout
-    n_m, n_e = model.n_modes, lay.n_elements
-    sizes = {"Ydot": n_m, "a": 1, "input": 1, "element_velocity": n_e, "z": n_e, "Yddot": n_m, "Y": n_m,
-             "theta": 1, "v": 1, "element_displacement": n_e}
-    names, start = {}, 0
-    for name in WITH_RATES + VALUES_ONLY:
-        names[name] = slice(start, start + sizes[name])
-        start += sizes[name]
+    n_m = model.n_modes
+    names = signal_layout(n_m, lay.n_elements)
+    start = names["element_displacement"].stop
     n_slopes = names["Yddot"].stop
     forcing_ground = space.forcing[:, lay.index_acceleration]
     rows_by_state = []
@@ -133,6 +138,41 @@ def signals(history: History) -> Signals:
                    np.ascontiguousarray(ends[:, start:]), names)
 
 
+@dataclass(frozen=True)
+class PeakSearch:
+    """What hermite_peaks needs of some responses, prepared once for every chunk of a run:
+    R^T (n_basis, m), the signal columns of the basis values, rates and curvatures, and the
+    shortest period that matters in each response [s]."""
+
+    rows_t: np.ndarray
+    value_columns: np.ndarray
+    rate_columns: np.ndarray
+    curvature_columns: np.ndarray
+    periods: np.ndarray
+
+    def run(self, sig: Signals, lengths: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Peaks and where they are (response_kernels.hermite_peaks) in one chunk."""
+        step = float(lengths.max()) if lengths.size else 0.0
+        fractions = 0.9 * np.cos(np.minimum(np.pi * step / self.periods, 0.5 * np.pi))
+        return response_kernels.hermite_peaks(sig.values, sig.slopes, sig.end_values, sig.end_slopes, sig.switch,
+                                              self.value_columns, self.rate_columns, self.curvature_columns,
+                                              self.rows_t, lengths, fractions)
+
+
+def peak_search(names: dict[str, slice], rows: np.ndarray, periods: np.ndarray,
+                rates: np.ndarray | None = None) -> PeakSearch:
+    """The PeakSearch of the responses rows @ Y* (+ rates @ Y*') in the signal layout `names`."""
+    y, ydot, yddot = (np.arange(names[k].start, names[k].stop, dtype=np.int64) for k in ("Y", "Ydot", "Yddot"))
+    if rates is None:
+        basis, value_cols, rate_cols, curvature_cols = rows, y, ydot, ydot
+    else:
+        basis = np.hstack((rows, rates))
+        value_cols, rate_cols, curvature_cols = np.concatenate((y, ydot)), np.concatenate((ydot, yddot)), \
+            np.concatenate((ydot, yddot))
+    return PeakSearch(np.ascontiguousarray(basis.T), value_cols, rate_cols, curvature_cols,
+                      np.asarray(periods, dtype=float))
+
+
 def hermite_peaks(sig: Signals, rows: np.ndarray, lengths: np.ndarray, periods: np.ndarray,
                   rates: np.ndarray | None = None
                   ) -> tuple[np.ndarray, np.ndarray]:
@@ -141,18 +181,7 @@ def hermite_peaks(sig: Signals, rows: np.ndarray, lengths: np.ndarray, periods: 
     the exact first and second derivatives (response_kernels.hermite_peaks). periods (m,) [s]:
     the shortest period that matters in each response; with the step it sets which intervals
     can hold the peak."""
-    step = float(lengths.max()) if lengths.size else 0.0
-    fractions = 0.9 * np.cos(np.minimum(np.pi * step / np.asarray(periods, dtype=float), 0.5 * np.pi))
-    y, ydot, yddot = sig.columns("Y"), sig.columns("Ydot"), sig.columns("Yddot")
-    if rates is None:
-        basis, value_cols, rate_cols, curvature_cols = rows, y, ydot, ydot
-    else:
-        basis = np.hstack((rows, rates))
-        value_cols, rate_cols, curvature_cols = np.concatenate((y, ydot)), np.concatenate((ydot, yddot)), \
-            np.concatenate((ydot, yddot))
-    return response_kernels.hermite_peaks(sig.values, sig.slopes, sig.end_values, sig.end_slopes, sig.switch,
-                                          value_cols, rate_cols, curvature_cols, np.ascontiguousarray(basis.T),
-                                          lengths, fractions)
+    return peak_search(sig.rows, rows, periods, rates).run(sig, lengths)
 
 
 def time_at(history: History, locations: np.ndarray) -> np.ndarray:
