@@ -13,23 +13,23 @@
  * the same order, so the sum is the same); the others come from one dense product over their
  * columns. Each list holds output indices (and where from), in increasing order. */
 typedef struct {
-    int64_t n_dense, n_sparse, n_copies;
+    int64_t n_dense, n_sparse, n_copies, n_entries;
     int64_t dense_width;   /* n_dense rounded up to whole PRODUCT_LANES */
     double *dense;         /* (n_aug, dense_width): the rows computed densely, transposed (zeros past n_dense) */
     int64_t *dense_output; /* n_dense: the output of each dense column */
-    int64_t *sparse;       /* n_sparse x (output, first entry, entries) */
+    int64_t *sparse;       /* n_sparse: the output of each sparse row */
     int64_t *copies;       /* n_copies x (output, the earlier output it equals) */
-    int64_t *entry_input;  /* sparse entries: input index and coefficient, by output and input */
+    int64_t *entry_input;  /* sparse entries: input index, output index and coefficient, by output and input */
+    int64_t *entry_output;
     double *entry_value;
 } SplitRows;
 
 /* Split R^T (n_aug, width) into `split`, whose arrays have room for the worst case: dense
- * n_aug padded_width(width) doubles, entry_value n_aug width, dense_output width, sparse and
- * copies 3 width, entry_input n_aug width integers. */
+ * n_aug padded_width(width) doubles, entry_value n_aug width, dense_output and sparse width,
+ * copies 2 width, entry_input and entry_output n_aug width integers each. */
 static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, SplitRows *split)
 {
-    int64_t n_entries = 0;
-    split->n_dense = split->n_sparse = split->n_copies = 0;
+    split->n_dense = split->n_sparse = split->n_copies = split->n_entries = 0;
     for (int64_t r = 0; r < width; r++) {
         int64_t same = -1;
         for (int64_t earlier = 0; earlier < r && same < 0; earlier++) {
@@ -48,14 +48,13 @@ static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, Split
             copy[0] = r;
             copy[1] = same;
         } else if (4 * nonzero <= n_aug) {
-            int64_t *sparse = split->sparse + 3 * split->n_sparse++;
-            sparse[0] = r;
-            sparse[1] = n_entries;
-            sparse[2] = nonzero;
+            split->sparse[split->n_sparse++] = r;
             for (int64_t q = 0; q < n_aug; q++) {
                 if (rows_t[q * width + r] != 0.0) {
-                    split->entry_input[n_entries] = q;
-                    split->entry_value[n_entries++] = rows_t[q * width + r];
+                    const int64_t e = split->n_entries++;
+                    split->entry_input[e] = q;
+                    split->entry_output[e] = r;
+                    split->entry_value[e] = rows_t[q * width + r];
                 }
             }
         } else {
@@ -79,13 +78,13 @@ static inline void split_rest(const SplitRows *split, const double *restrict x, 
     for (int64_t c = 0; c < split->n_dense; c++) {
         out[split->dense_output[c]] = dense_out[c];
     }
+    /* every sparse output from +0, then its entries in order, in one flat pass (the rows are short:
+     * a loop per row cost more than its terms) */
     for (int64_t j = 0; j < split->n_sparse; j++) {
-        const int64_t *sparse = split->sparse + 3 * j;
-        double sum = 0.0;
-        for (int64_t e = sparse[1]; e < sparse[1] + sparse[2]; e++) {
-            sum += split->entry_value[e] * x[split->entry_input[e]];
-        }
-        out[sparse[0]] = sum;
+        out[split->sparse[j]] = 0.0;
+    }
+    for (int64_t e = 0; e < split->n_entries; e++) {
+        out[split->entry_output[e]] += split->entry_value[e] * x[split->entry_input[e]];
     }
     for (int64_t j = 0; j < split->n_copies; j++) {
         out[split->copies[2 * j]] = out[split->copies[2 * j + 1]];
@@ -173,7 +172,7 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
     /* work space: the products (evaluate_signals) and, per state, its split rows (split_rows) */
     const int64_t n_acc = width + (PRODUCT_SAMPLES + 1) * padded_width(width), n_dense = n_aug * padded_width(width);
     double *doubles = malloc((n_acc + n_states * (n_dense + per_state) + 1) * sizeof(double));
-    int64_t *integers = malloc((7 * n_states * width + n_states * per_state + 1) * sizeof(int64_t));
+    int64_t *integers = malloc((7 * n_states * width + 2 * n_states * per_state + 1) * sizeof(int64_t));
     SplitRows *split = malloc((n_states + 1) * sizeof(SplitRows));
     if (!doubles || !integers || !split) {
         free(doubles);
@@ -190,7 +189,8 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
         rows->dense_output = integers + 7 * s * width;
         rows->sparse = rows->dense_output + width;
         rows->copies = rows->sparse + 3 * width;
-        rows->entry_input = integers + 7 * n_states * width + s * per_state;
+        rows->entry_input = integers + 7 * n_states * width + 2 * s * per_state;
+        rows->entry_output = rows->entry_input + per_state;
         split_rows(DOUBLES(rows_t) + s * per_state, n_aug, width, rows);
     }
     evaluate_signals(DOUBLES(states), n, n_aug, INT64S(ids), split, k, k_s, DOUBLES(values), DOUBLES(slopes),
