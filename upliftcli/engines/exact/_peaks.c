@@ -116,7 +116,7 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
     /* pass 1: every response at every sample (kept), PRODUCT_SAMPLES samples at a time, and its
      * sampled peak (samples past the last are zeros) */
     for (int64_t i0 = 0; i0 < n; i0 += PRODUCT_SAMPLES) {
-        for (int64_t i = i0 + PREFETCH_SAMPLES; i < n && i < i0 + PREFETCH_SAMPLES + PRODUCT_SAMPLES; i++) {
+        for (int64_t i = i0 + PREFETCH_SAMPLES; n_b > 0 && i < n && i < i0 + PREFETCH_SAMPLES + PRODUCT_SAMPLES; i++) {
             PREFETCH(in->values + i * k + in->value_columns[0]);
             PREFETCH(in->values + i * k + in->value_columns[n_b - 1]);
         }
