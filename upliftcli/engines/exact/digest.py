@@ -103,7 +103,7 @@ class Digest:
         if self.space.layout.n_elements:
             self.uplifted |= bool(chunk.lifted.any())
         self.samples += chunk.times.size - (1 if self.chunks else 0)
-        self.transitions += int(np.count_nonzero(np.diff(chunk.state_ids)))
+        self.transitions += sig.end_values.shape[0]  # one left limit per interval that ends at a transition
         self.time_step = chunk.time_step
         if self.options.histories:
             piece = histories(chunk, self.rows, sig)
