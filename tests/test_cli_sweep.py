@@ -164,7 +164,7 @@ def test_killed_sweep_resumes_to_the_same_table(deck_dir):
     common = ["sweep", str(deck), "--engine", "exact", "--support", "uplift", "--set", "ground_motion.window=[0, 8]",
               "--vary", "building.period=0.3:2:100", "--quiet"]
     killed = deck_dir / "killed"
-    process = subprocess.Popen([sys.executable, "-c", "from upliftcli.cli import main; main()", *common,
+    process = subprocess.Popen([sys.executable, "-c", "from upliftcli.cli import console; console()", *common,
                                 "--out", str(killed), "--workers", "1"], stdout=subprocess.DEVNULL,
                                stderr=subprocess.PIPE)
     rows_path = killed / "deck.sweep.rows.jsonl"
@@ -294,7 +294,7 @@ def _start_long_sweep(out: Path) -> tuple[subprocess.Popen, list[int]]:
     """A sweep of 18,000 simplified cases on 2 local workers, once it has written 5 rows;
     returns the process and its descendants (multiprocessing's helpers: the resource tracker and
     the warm server, and the workers it forked)."""
-    process = subprocess.Popen([sys.executable, "-c", "from upliftcli.cli import main; main()", *LONG_SWEEP,
+    process = subprocess.Popen([sys.executable, "-c", "from upliftcli.cli import console; console()", *LONG_SWEEP,
                                 "--out", str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                                env={**os.environ, "PYTHONFAULTHANDLER": "1"})  # SIGABRT: its stacks
     rows_path = out / "ten_story_elcentro.sweep.rows.jsonl"
