@@ -1,5 +1,7 @@
-/* out = M x from the transposed matrix M^T (n_in, width): the one matrix-vector product of the
- * compiled loops (step operators, signal rows, response rows). Shared by the extension modules. */
+/* out = M x from the transposed matrix M^T (n_in, width): the matrix-vector products of the
+ * compiled loops, for one vector (transposed_product: the step operators, whose products form a
+ * chain) or four at once (product_samples: the signal and response rows at the samples), with
+ * the same bits. Shared by the extension modules. */
 #ifndef UPLIFT_PRODUCT_H
 #define UPLIFT_PRODUCT_H
 
