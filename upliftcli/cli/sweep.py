@@ -112,9 +112,9 @@ def output_paths(out: Path, stem: str, extra=()) -> list[Path]:
 
 def warm_workers_early(workers: int | None, scheduler: str | None, dask: str | None) -> None:
     """Start the warm server of local worker processes now, before the deck is read and the cases
-    planned, when they are likely (more than one core, neither --workers 1 nor Dask): it imports
-    the engines on another core meanwhile. A sweep that then runs in this process leaves it unused
-    (it ends with this process)."""
+    planned, when they are likely (more than one core, neither --workers 1 nor Dask; `uplift
+    sweep` asks only with --workers N): it imports the engines on another core meanwhile. A sweep
+    that then runs in this process leaves it unused (it ends with this process)."""
     if scheduler is not None or dask is not None or (workers is not None and workers <= 1):
         return
     from ..process import available_cores
@@ -239,6 +239,8 @@ def sweep(
     Exit codes: 0 ok, 2 bad input, 3 a case exceeds a limit of the deck's criteria, 4 a case failed, 130 interrupted
     (Ctrl-C; 143 SIGTERM, 129 SIGHUP).
     """
+    if workers is not None:  # by default the plan's size decides whether local workers run
+        warm_workers_early(workers, scheduler, dask)
     from .. import plots
     from ..engines.registry import ENGINES, SUPPORTS
     from ..sweep import figures
