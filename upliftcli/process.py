@@ -52,12 +52,11 @@ def exit_now(code: int | str | None) -> None:
     """End the process as SystemExit(code) would, without the interpreter's teardown.
 
     As at a normal exit, the threads that are not daemons are waited for, the atexit handlers run
-    (the pool's and the forkserver's clean-up among them) and the standard streams are flushed;
-    what is skipped is freeing every module and object
-    one by one, which nothing needs at the end of a command: 0.13 s after the Fig. 3 spectrum with
-    its figures (strace: from the last handler to exit_group). Files are all closed by then (the
-    writers are atomic: written, closed and renamed). A failed flush of stdout exits 120, as
-    Python does."""
+    (the pool's and the forkserver's clean-up among them) and the standard streams are flushed.
+    What is skipped is freeing every module and object one by one, which nothing needs at the end
+    of a command: 0.13 s after the Fig. 3 spectrum with its figures (strace: from the last handler
+    to exit_group). Files are all closed by then (the writers are atomic: written, closed and
+    renamed). A failed flush of stdout exits 120, as Python does."""
     if code is None:
         code = 0
     elif not isinstance(code, int):
