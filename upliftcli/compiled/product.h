@@ -40,9 +40,9 @@ static inline void transposed_product(const double *restrict m_t, const double *
     }
 }
 
-/* The rows of signals hermite_peaks reads (a few columns of each) have left the cache since
- * evaluate_signals wrote them, and the hardware does not foresee the stride: each row is asked
- * for this many samples ahead (a hint, nothing where unsupported). */
+/* The rows of signals hermite_peaks reads (10-20 of their 40 columns) have left the cache since
+ * evaluate_signals wrote them, and the hardware does not foresee the stride: the cache lines of
+ * the columns read are asked for this many samples ahead (a hint, nothing where unsupported). */
 #define PREFETCH_SAMPLES 32
 #if defined(__GNUC__)
 #define PREFETCH(p) __builtin_prefetch(p)

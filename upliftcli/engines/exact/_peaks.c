@@ -108,6 +108,11 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
         best[j] = 0.0;
         where[j] = 0.0;
     }
+    int64_t first_column = k, last_column = -1; /* the span of the signal columns read */
+    for (int64_t q = 0; q < n_b; q++) {
+        first_column = in->value_columns[q] < first_column ? in->value_columns[q] : first_column;
+        last_column = in->value_columns[q] > last_column ? in->value_columns[q] : last_column;
+    }
     for (int64_t q = 0; q < n_b; q++) { /* R^T with zero columns up to the padded width */
         for (int64_t j = 0; j < width; j++) {
             padded[q * width + j] = j < m ? in->rows_t[q * m + j] : 0.0;
@@ -116,9 +121,12 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
     /* pass 1: every response at every sample (kept), PRODUCT_SAMPLES samples at a time, and its
      * sampled peak (samples past the last are zeros) */
     for (int64_t i0 = 0; i0 < n; i0 += PRODUCT_SAMPLES) {
-        for (int64_t i = i0 + PREFETCH_SAMPLES; n_b > 0 && i < n && i < i0 + PREFETCH_SAMPLES + PRODUCT_SAMPLES; i++) {
-            PREFETCH(in->values + i * k + in->value_columns[0]);
-            PREFETCH(in->values + i * k + in->value_columns[n_b - 1]);
+        for (int64_t i = i0 + PREFETCH_SAMPLES; last_column >= 0 && i < n && i < i0 + PREFETCH_SAMPLES + PRODUCT_SAMPLES;
+             i++) { /* every cache line of the columns read, PREFETCH_SAMPLES ahead */
+            for (int64_t c = first_column; c <= last_column; c += 8) {
+                PREFETCH(in->values + i * k + c);
+            }
+            PREFETCH(in->values + i * k + last_column);
         }
         for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
             for (int64_t q = 0; q < n_b; q++) {
