@@ -50,19 +50,17 @@ class Digest:
         self.rows = response_rows(system, space)
         modal = self.rows.modal_base_shear
         # peaks of the instant-by-instant sums of modes 1..k (paper Fig. 7)
-        self.stacked = np.vstack([getattr(self.rows, name) for name in _STORY_AND_FLOOR]
-                                 + [modal, np.tril(np.ones_like(modal)) @ modal])
-        # shortest period that matters in each response: the governing one, or the mode's own
+        stacked = np.vstack([getattr(self.rows, name) for name in _STORY_AND_FLOOR]
+                            + [modal, np.tril(np.ones_like(modal)) @ modal])
+        # shortest period that matters in each response [s]: the governing one, or the mode's own
         # period for a single mode's base shear (modes above the governing band are searched more);
         # accelerations weigh the higher modes by w_n^2: searched with the shortest mode period too
         mode_periods = 2.0 * math.pi / model.omega
         governing = space.governing_period
-        self.periods = np.concatenate((np.full(4 * n, governing), mode_periods,
-                                       np.maximum(mode_periods, governing)))
-        self.acceleration_periods = np.full(n, min(governing, mode_periods.min()))
+        periods = np.concatenate((np.full(4 * n, governing), mode_periods, np.maximum(mode_periods, governing)))
         names = signal_layout(model.n_modes, space.layout.n_elements)
-        self.searches = (peak_search(names, self.stacked, self.periods),
-                         peak_search(names, self.rows.acceleration, self.acceleration_periods,
+        self.searches = (peak_search(names, stacked, periods),
+                         peak_search(names, self.rows.acceleration, np.full(n, min(governing, mode_periods.min())),
                                      self.rows.acceleration_rate))
         self.peaks = {}  # name -> (values, instants [s])
         self.summary: dict = {}

@@ -47,7 +47,6 @@ Grid = namedtuple("Grid", "ground slopes h levels index_acceleration index_slope
 Samples = namedtuple("Samples", "x out_x out_t out_state")
 
 
-
 def integrate(states: States, elements: Elements, grid: Grid, samples: Samples, state: int, step: int,
               offset: float, n_out: int) -> tuple[int, int, float, int, int, int]:
     """Advance from (step, offset) to the end of the ground-motion grid.
