@@ -66,6 +66,14 @@ def test_probe_sees_what_a_command_loads(tmp_path):
     assert loaded == ["matplotlib"]
 
 
+def test_version_is_the_installed_distributions():
+    from importlib.metadata import version
+
+    done = subprocess.run([sys.executable, "-c", "from upliftcli.cli import main; main()", "--version"],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and done.stdout == version("uplift") + "\n"
+
+
 def test_console_script_exits_with_the_command_code_and_its_whole_output(tmp_path):
     """The `uplift` script (cli.console): the exit code and the output of main(), without the teardown."""
     command = [sys.executable, "-c", "from upliftcli.cli import console; console()"]

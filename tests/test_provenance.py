@@ -7,7 +7,9 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import platform
 import shutil
+import sys
 import tomllib
 from datetime import UTC, datetime
 
@@ -172,6 +174,32 @@ def test_version_time_and_libraries(monkeypatch):
     assert provenance.tool_version() == "0+unknown"
     stamp = datetime.strptime(provenance.utc_now(), "%Y-%m-%dT%H:%M:%SZ").replace(tzinfo=UTC)
     assert abs((datetime.now(UTC) - stamp).total_seconds()) < 60
+
+
+def test_package_version_reads_what_importlib_metadata_reads(tmp_path, monkeypatch):
+    from importlib.metadata import version
+
+    for name in ("uplift", "numpy", "scipy", "matplotlib", "typer"):
+        assert provenance.package_version(name) == version(name)
+    assert provenance.package_version("no-such-distribution-xyz") == "not installed"
+    # a dist-info found by its folded name; one without a Version header falls back to importlib.metadata
+    (tmp_path / "My.Tool-2.5.1.dist-info").mkdir()
+    (tmp_path / "My.Tool-2.5.1.dist-info" / "METADATA").write_text(
+        "Metadata-Version: 2.1\nName: My.Tool\nVersion: 2.5.1\n\nVersion: 9 (the description)\n")
+    (tmp_path / "broken-1.0.dist-info").mkdir()
+    (tmp_path / "broken-1.0.dist-info" / "METADATA").write_text("Name: broken\n\nVersion: 1.0\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert provenance.package_version("my_tool") == provenance.package_version("MY-TOOL") == "2.5.1"
+    assert provenance.package_version("broken") == "not installed"
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the Linux branch")
+def test_platform_name_is_platform_platform():
+    machine = platform.uname().machine
+    if platform.uname().processor not in ("", "unknown", machine):
+        pytest.skip("platform.platform() names a processor other than the machine here")
+    assert provenance.platform_name() == platform.platform()
+    assert provenance.base()["platform"] == platform.platform()
 
 
 def test_command_line_is_quoted():

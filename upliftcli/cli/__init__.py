@@ -74,12 +74,10 @@ app = typer.Typer(
 
 def _version(value: bool) -> None:
     if value:
-        from importlib.metadata import PackageNotFoundError, version
+        from ..provenance import TOOL, package_version
 
-        try:
-            typer.echo(version("uplift"))
-        except PackageNotFoundError:
-            typer.echo("uplift (not installed)")
+        found = package_version(TOOL)
+        typer.echo(f"{TOOL} (not installed)" if found == "not installed" else found)
         raise typer.Exit()
 
 
