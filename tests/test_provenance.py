@@ -182,7 +182,7 @@ def test_package_version_reads_what_importlib_metadata_reads(tmp_path, monkeypat
     for name in ("uplift", "numpy", "scipy", "matplotlib", "typer"):
         assert provenance.package_version(name) == version(name)
     assert provenance.package_version("no-such-distribution-xyz") == "not installed"
-    # a dist-info found by its folded name; one without a Version header falls back to importlib.metadata
+    # a dist-info found by its folded name; one without a Version header: importlib.metadata, "unknown"
     (tmp_path / "My.Tool-2.5.1.dist-info").mkdir()
     (tmp_path / "My.Tool-2.5.1.dist-info" / "METADATA").write_text(
         "Metadata-Version: 2.1\nName: My.Tool\nVersion: 2.5.1\n\nVersion: 9 (the description)\n")
@@ -190,7 +190,7 @@ def test_package_version_reads_what_importlib_metadata_reads(tmp_path, monkeypat
     (tmp_path / "broken-1.0.dist-info" / "METADATA").write_text("Name: broken\n\nVersion: 1.0\n")
     monkeypatch.syspath_prepend(str(tmp_path))
     assert provenance.package_version("my_tool") == provenance.package_version("MY-TOOL") == "2.5.1"
-    assert provenance.package_version("broken") == "not installed"
+    assert provenance.package_version("broken") == "unknown"
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the Linux branch")

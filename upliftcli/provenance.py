@@ -58,10 +58,11 @@ MODEL_UNITS = {
 # ----------------------------------------------------------------------------- small pieces
 
 def package_version(name: str) -> str:
-    """The installed version of a distribution, "not installed" if it is not: the Version
-    field of the first <name>-<version>.dist-info on sys.path, which importlib.metadata.version
-    reads too (importing that module costs a command 20-25 ms); importlib.metadata itself for
-    any other kind of installation (an .egg-info, a zip)."""
+    """The installed version of a distribution: the Version field of the first
+    <name>-<version>.dist-info on sys.path, which importlib.metadata.version reads too
+    (importing that module costs a command 20-25 ms); importlib.metadata itself for any other
+    kind of installation (an .egg-info, a zip). "not installed" if it is not, "unknown" if its
+    metadata has no version."""
     wanted = _distribution_key(name)
     for entry in sys.path:
         try:
@@ -76,9 +77,11 @@ def package_version(name: str) -> str:
     from importlib.metadata import PackageNotFoundError, version
 
     try:
-        return version(name) or "not installed"  # None: metadata without a version
+        return version(name) or "unknown"
     except PackageNotFoundError:
         return "not installed"
+    except (KeyError, OSError, ValueError):  # metadata without a version (an importlib_metadata backport raises)
+        return "unknown"
 
 
 def _distribution_key(name: str) -> str:
