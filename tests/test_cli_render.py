@@ -158,3 +158,13 @@ def test_sweep_summary_fits_and_repeats_the_group_columns(tmp_path, columns):
     assert max(len(line) for line in lines) <= columns and "…" not in result.stdout
     rows = [line for line in lines if line.startswith("│ simplified")]
     assert all("0.5" in row or "1.5" in row for row in rows)  # each part names the group's period
+
+
+def test_titles_are_printed_as_written(tmp_path):
+    """No emoji codes replaced, no markup read: a deck's title reaches the terminal as written."""
+    text = EXAMPLE.read_text().replace("../records/", f"{ROOT / 'records'}/")
+    deck = tmp_path / "titled.toml"
+    deck.write_text(re.sub(r'(?m)^title = .*$', 'title = "Block B :warning: [m] 10:30:00"', text))
+    result = invoke("analyze", deck, "--no-check", columns=120)
+    assert result.exit_code == 0, result.output
+    assert "Block B :warning: [m] 10:30:00" in result.output

@@ -54,14 +54,15 @@ class FittedConsole(Console):
 
 def console(stderr: bool = False) -> Console:
     """A console that never needs a terminal: on a terminal its width, else $COLUMNS or
-    PIPE_WIDTH; tables too wide for it are split (FittedConsole)."""
+    PIPE_WIDTH; tables too wide for it are split (FittedConsole). Texts are printed as they
+    are: no ":name:" emoji codes replaced (a deck title "Block B :warning:" stays that)."""
     probe = Console(stderr=stderr)
     width = None if probe.is_terminal else console_width() or PIPE_WIDTH
-    return FittedConsole(stderr=stderr, width=width, highlight=False)
+    return FittedConsole(stderr=stderr, width=width, highlight=False, emoji=False)
 
 
 def _measure(table: Table) -> Measurement:
-    probe = Console(width=100_000)
+    probe = Console(width=100_000, emoji=False)
     return Measurement.get(probe, probe.options, table)
 
 
