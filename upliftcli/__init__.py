@@ -58,7 +58,7 @@ __all__ = ["__version__", *_EXPORTS]
 def __getattr__(name: str) -> Any:
     """The public names, imported when first used; __version__ from the package metadata."""
     if name == "__version__":
-        from .provenance import tool_version
+        from .installed import tool_version
 
         value = tool_version()
     elif name in _EXPORTS:

@@ -74,7 +74,7 @@ app = typer.Typer(
 
 def _version(value: bool) -> None:
     if value:
-        from ..provenance import TOOL, package_version
+        from ..installed import TOOL, package_version
 
         found = package_version(TOOL)
         typer.echo(f"{TOOL} (not installed)" if found == "not installed" else found)

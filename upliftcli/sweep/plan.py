@@ -38,10 +38,11 @@ from ..deck_overrides import parse_override, toml_value
 from ..engines.registry import ENGINES
 from ..errors import InputError
 from ..fields import parse_choices  # noqa: F401 - part of this module's interface
+from ..installed import tool_version
 from ..limits import MAX_VARY_VALUES, cases_problem
 from ..motion.records import Record
 from ..motion.suites import Suite
-from ..provenance import motion_files, tool_version
+from ..provenance import motion_files
 
 #: deck fields that are case dimensions of their own, not --vary paths
 NOT_VARIED = {"analysis.engine": "--engine", "analysis.supports": "--support"}
