@@ -20,5 +20,5 @@ setup(ext_modules=[
     module("upliftcli.engines.exact._peaks", "upliftcli/engines/exact/_peaks.c"),
     module("upliftcli.engines.exact._contact", "upliftcli/engines/exact/_contact.c"),
     module("upliftcli.engines.exact._energy", "upliftcli/engines/exact/_energy.c"),
-    module("upliftcli.motion._spectra", "upliftcli/motion/_spectra.c"),
+    module("upliftcli.motion._spectra", "upliftcli/motion/_spectra.c", ("upliftcli/motion/turning_points.h",)),
 ])
