@@ -77,7 +77,7 @@ def test_values_that_overflow_after_units_and_scale_are_refused(tmp_path):
 
 
 def test_record_time_step_is_bounded(tmp_path):
-    with pytest.raises(InputError, match=r"line 1: a time step 0 < dt <= 10 s, got 1e\+300"):
+    with pytest.raises(InputError, match=r"line 1: a time step dt: a number > 0 and at most 10 \[s\], got 1e\+300"):
         read_record(write(tmp_path, "dt.txt", "# dt = 1e300\n# units: g\n0.1\n0.1\n"))
 
 

@@ -10,6 +10,7 @@ expected; nothing here prints or exits.
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import tomllib
@@ -50,8 +51,10 @@ class Deck:
         the design spectrum), or None (not loaded / not given);
     spectrum: object with .sa(periods [s], damping [-]) -> S_a [m/s^2] for the simplified engine;
     analysis: AnalysisSettings; criteria: acceptance limits {name: value} (deck_schema "criteria");
-    raw: the TOML mapping after the overrides; values: validated {table: {field: value}};
-    overridden: the dotted paths set by `--set` (errors about them name "--set").
+    raw: the TOML mapping after the overrides; values: validated {table: {field: value}} (SI);
+    overridden: the dotted paths set by `--set` (errors about them name "--set");
+    warnings: one line per value far outside building practice (deck_schema.plausibility);
+    resolved: `raw` with every number in bare SI (deck_schema.si_mapping: the resolved deck).
     """
 
     source: str
@@ -64,6 +67,8 @@ class Deck:
     raw: dict
     values: dict[str, dict[str, Any]] = field(repr=False, default_factory=dict)
     overridden: frozenset[str] = frozenset()
+    warnings: tuple[str, ...] = ()
+    resolved: dict = field(repr=False, default_factory=dict)
 
     def blame(self, *paths: str) -> tuple[str, str]:
         """(source, field) to name for a problem produced by the first of `paths` that was
@@ -143,7 +148,8 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
         ground_motion, spectrum = _ground_motion(values["ground_motion"], source, error, system,
                                                  analysis.simplified.effective_properties)
     return Deck(source, values[""].get("title", Path(source).stem), system, ground_motion, spectrum,
-                analysis, dict(values["criteria"]), raw, values, overridden)
+                analysis, dict(values["criteria"]), raw, values, overridden,
+                tuple(schema.plausibility(values, source, overridden)), schema.si_mapping(raw, values))
 
 
 def _default(table: str, name: str) -> Any:
@@ -257,8 +263,33 @@ def _system(building: Building, fields: dict, analysis: dict, error) -> System:
 
     context = DeckContext(float(b), total_mass, float(modes.omega[0]), missing)
     foundation = FOUNDATIONS[kind].from_deck(fields, context)
-    return System(building, foundation, float(b), float(mat_mass), float(fields.get("mat_rotary_inertia", 0.0)),
-                  float(analysis.get("gravity", _default("analysis", "gravity"))))
+    system = System(building, foundation, float(b), float(mat_mass), float(fields.get("mat_rotary_inertia", 0.0)),
+                    float(analysis.get("gravity", _default("analysis", "gravity"))))
+    vars(system)["modes"] = modes  # System.modes (a cached property) of this very building: not solved twice
+    _check_impedance(system, fields, which, error)
+    return system
+
+
+def _check_impedance(system: System, fields: dict, half_width: str, error) -> None:
+    """The foundation's rocking stiffness K_theta > 0 and finite at the frequency every engine
+    evaluates it (model/interaction.impedance): the half-space's K_theta(w) of NIST GCR 12-917-21
+    Table 2-3a turns negative for a mat thousands of times longer than wide. The error names
+    the foundation field that set the shape (half_length, else b or slenderness)."""
+    from .model.interaction import impedance
+
+    try:
+        values = impedance(system)
+        rocking, omega = values["K_theta"], values["omega_impedance"]
+    except (ValueError, ArithmeticError):
+        rocking, omega = math.nan, math.nan
+    if math.isfinite(rocking) and rocking > 0.0:
+        return
+    name = "half_length" if "half_length" in fields else half_width
+    length = getattr(system.foundation, "half_length", None)
+    shape = f"{2 * system.half_width:.4g} m wide" + (f", {2 * length:.4g} m long" if length else "")
+    raise error(f"foundation.{name}", f"a foundation giving a finite rocking stiffness K_theta > 0 at the impedance "
+                f"frequency (w = {omega:.4g} rad/s), got K_theta = {rocking:.4g} N m/rad (the mat is {shape}; "
+                "check its dimensions and the soil)")
 
 
 def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSettings:
@@ -326,7 +357,8 @@ def _ground_motion(fields: dict, source: str, error, system: System | None = Non
                                                       folder=deck_relative_path(".", source)))
     try:
         record = records.read_record(path, fields.get("format"), fields.get("units"), fields.get("dt"),
-                                     fields.get("scale", 1.0), fields.get("window"))
+                                     fields.get("scale", 1.0), fields.get("window"),
+                                     fields.get("override_header_units", False))
     except InputError as bad:
         # a deck field that does not suit the file is the deck's (or --set's) mistake, not the file's
         if bad.source == str(path) and bad.location in RECORD_OPTIONS and bad.location in fields:
@@ -336,4 +368,4 @@ def _ground_motion(fields: dict, source: str, error, system: System | None = Non
 
 
 #: record options of read_record that are deck fields of [ground_motion]
-RECORD_OPTIONS = ("format", "units", "dt", "scale", "window")
+RECORD_OPTIONS = ("format", "units", "dt", "scale", "window", "override_header_units")

@@ -181,9 +181,10 @@ def absolute_paths(raw: dict, source: str) -> dict:
 
 
 def resolved_deck(deck) -> dict:
-    """The deck a run used: its mapping after `--set`, file paths absolute, its title stated
-    (a copy of it under another name keeps the title)."""
-    raw = absolute_paths(plain(deck.raw), deck.source)
+    """The deck a run used: its mapping after `--set`, every number in bare SI (a value given
+    with a unit or under `units = "us"` converted: Deck.resolved), file paths absolute, its
+    title stated (a copy of it under another name keeps the title)."""
+    raw = absolute_paths(plain(deck.resolved or deck.raw), deck.source)
     return {"title": deck.title, **raw}
 
 
