@@ -121,3 +121,11 @@ def test_info_of_a_one_sample_record_is_one_line(tmp_path):
     result = invoke("record", "info", path)
     assert result.exit_code == 2
     assert result.stderr.strip() == f"error: {path}: at least two acceleration samples, found 1"
+
+
+def test_units_contradicting_the_header_need_the_override_option():
+    refused = invoke("record", "info", RECORD, "--units", "gal")
+    assert refused.exit_code == 2 and refused.stderr.count("\n") == 1
+    assert "declares, g, got 'gal'" in refused.stderr and "--override-header-units" in refused.stderr
+    meant = invoke("record", "info", RECORD, "--units", "gal", "--override-header-units")
+    assert meant.exit_code == 0 and "units cm/s2" in meant.stdout

@@ -390,3 +390,53 @@ def test_a_missing_record_names_the_deck_field_and_the_folder(deck_dir):
     absolute = deck_dir / "gone.txt"
     with pytest.raises(InputError, match=f"ground_motion.record: an existing record file, not found: '{absolute}'$"):
         load_deck(deck, [f'ground_motion.record="{absolute}"'])
+
+
+# ----------------------------------------------------------------------------- units, attribution, warnings
+
+US_EXAMPLE = ROOT / "inputs" / "ten_story_elcentro_us.toml"
+
+
+def test_the_us_deck_builds_the_si_decks_system():
+    si, us = load_deck(EXAMPLE), load_deck(US_EXAMPLE)
+    np.testing.assert_allclose(us.system.building.masses, si.system.building.masses, rtol=1e-15)
+    np.testing.assert_allclose(us.system.building.heights, si.system.building.heights, rtol=1e-15)
+    np.testing.assert_allclose(us.system.building.stiffness, si.system.building.stiffness, rtol=1e-14)
+    assert us.system.half_width == pytest.approx(si.system.half_width, rel=1e-15)
+    assert us.system.foundation.stiffness == pytest.approx(si.system.foundation.stiffness, rel=1e-14)
+    assert us.system.foundation.damping == pytest.approx(si.system.foundation.damping, rel=1e-14)
+    assert us.resolved["building"]["floor_mass"] == pytest.approx(350e3, rel=1e-15) and "units" not in us.resolved
+
+
+def test_set_values_are_read_in_the_decks_units():
+    us = load_deck(US_EXAMPLE, ["building.story_height=12"], load_ground_motion=False)
+    assert us.system.building.heights[0] == pytest.approx(12 * 0.3048, rel=1e-15)
+    with_unit = load_deck(US_EXAMPLE, ['building.story_height="3.6 m"'], load_ground_motion=False)
+    assert with_unit.system.building.heights[0] == 3.6
+    bare_text = load_deck(EXAMPLE, ["building.story_height=12 ft"], load_ground_motion=False)  # not TOML: a text
+    assert bare_text.system.building.heights[0] == pytest.approx(3.6576, rel=1e-15)
+
+
+def test_a_half_space_with_a_negative_rocking_stiffness_names_its_half_length():
+    """half_length = 1e30 was reported as 'analysis.exact.n_modes: math domain error'."""
+    with pytest.raises(InputError) as info:
+        load_deck(ROOT / "inputs" / "frame_halfspace.toml", ["foundation.half_length=1e30"], load_ground_motion=False)
+    assert (info.value.source, info.value.location) == ("--set", "foundation.half_length")
+    assert info.value.expected.startswith("a foundation giving a finite rocking stiffness K_theta > 0 at the impedance "
+                                          "frequency") and "2e+30 m long" in info.value.expected
+
+
+def test_the_decks_warnings_name_the_field():
+    deck = load_deck(EXAMPLE, ["building.floor_mass=300", "criteria.drift_ratio=2"], load_ground_motion=False)
+    assert [w.split(":")[1].strip() for w in deck.warnings] == ["building.floor_mass", "criteria.drift_ratio"]
+    assert load_deck(EXAMPLE, load_ground_motion=False).warnings == ()
+
+
+def test_record_units_contradicting_the_header_name_the_deck_field():
+    with pytest.raises(InputError) as info:
+        load_deck(EXAMPLE, ["ground_motion.units=cm/s2"])
+    assert (info.value.source, info.value.location) == ("--set", "ground_motion.units")
+    assert "declares, g, got 'cm/s2'" in info.value.expected
+    meant = load_deck(EXAMPLE, ["ground_motion.units=cm/s2", "ground_motion.override_header_units=true"])
+    assert meant.ground_motion.units == "cm/s2"
+    assert meant.ground_motion.pga == pytest.approx(load_deck(EXAMPLE).ground_motion.pga / 980.665)

@@ -19,7 +19,7 @@ from .errors import InputError
 from .fields import NUMERIC, Field, check_value, implausible, raise_all, suggestion
 from .model.foundations import FOUNDATIONS
 from .motion.code_rules import RULES, SCALINGS
-from .motion.design_spectra import check_spectrum
+from .motion.design_spectra import check_keys
 from .motion.records import RECORD_FIELDS
 from .motion.suites import check_entry
 from .units import STANDARD_GRAVITY, SYSTEMS
@@ -192,7 +192,7 @@ def _nested(path: str, value: Any, source: str, raiser) -> Any:
     """A design spectrum's keys and a suite's entries, checked by their own fields (the values,
     converted); other values as they are."""
     if path == "ground_motion.design_spectrum":
-        return check_spectrum(value, source, path, raiser)
+        return check_keys(value, source, path, raiser)
     if path == "ground_motion.suite" and isinstance(value, list):
         gathered, entries = [], []
         for k, item in enumerate(value):
@@ -209,7 +209,7 @@ def plausibility(values: dict[str, dict[str, Any]], source: str, overridden=froz
     """One warning per validated field whose value lies outside the range of building practice
     its declaration gives (Field.plausible; the design spectrum's keys too), naming the deck (or
     --set) and the field: 'inputs/a.toml: building.floor_mass: 300 kg is far outside ...'."""
-    from .motion.design_spectra import SPECTRUM_FIELDS
+    from .motion.spectrum_fields import SPECTRUM_FIELDS
 
     found = [(dotted(table, name), TABLES[table][name], value) for table, fields in values.items()
              for name, value in fields.items()]

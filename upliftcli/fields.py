@@ -121,15 +121,16 @@ def in_field_unit(field: Field, value: Any, system: str = "si") -> float | None:
     """A number of `field` in its own unit: a bare number (in the deck's unit system `system`:
     units.system_unit of the field's quantity) or a text 'number unit' ('11.5 ft') of the
     field's dimension, converted; None if `value` is neither (a bool, a date, an array, a text
-    that is not a number with a unit of that dimension, a unit on a dimensionless field)."""
+    that is not a number with a unit of that dimension, a number as a text without a unit, a
+    unit on a dimensionless field)."""
     kind = field.quantity_kind
     if isinstance(value, str):
         parsed = split_quantity(value)
         if parsed is None or kind is None:
             return None
         number, unit = parsed
-        try:
-            return number * conversion(unit, field.unit) if unit else _bare(number, field, kind, system)
+        try:  # a text is a number with its unit ('1.0' alone is a text, not a number)
+            return number * conversion(unit, field.unit) if unit else None
         except ValueError:
             return None
     if not is_number(value):

@@ -375,5 +375,6 @@ def deck_toml(deck, record: dict[str, Any] | None = None) -> str:
              f"# {deck.source}" + (" with " + ", ".join(f"{k}={json.dumps(v)}" for k, v in changed.items())
                                    if changed else ""),
              "# after the overrides, file paths absolute. `uplift analyze` on this file repeats the run.",
+             "# Every number is bare SI (kg, m, s, N; design-spectrum ordinates in g), whatever units the deck used.",
              f"# command: {record['command']}"]
     return "".join(line.replace("\n", " ") + "\n" for line in lines) + "\n" + tomli_w.dumps(resolved_deck(deck))

@@ -71,8 +71,8 @@ SYMBOLS: dict[str, tuple[float, Dimension]] = {
 }
 
 _TOKEN = re.compile(r"([A-Za-z]+)(?:\^|\*\*)?(-?\d+)?")
-_SEPARATOR = re.compile(r"[\s*\u00b7]+|(?<=[A-Za-z0-9])-(?=[A-Za-z])")
-_QUANTITY = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*")
+_SEPARATOR = re.compile(r"\s*(?:(?<!\*)\*(?!\*)|\u00b7)\s*|\s+|(?<=[A-Za-z0-9])-(?=[A-Za-z])")
+_QUANTITY = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)(?:\s*([A-Za-z].*?))?\s*")
 
 
 def parse_unit(text: str) -> tuple[float, Dimension]:
@@ -106,7 +106,7 @@ def split_quantity(text: str) -> tuple[float, str] | None:
     if match is None:
         return None
     value = float(match.group(1))
-    return (value, match.group(2)) if math.isfinite(value) else None
+    return (value, match.group(2) or "") if math.isfinite(value) else None
 
 
 # ----------------------------------------------------------------------------- quantities

@@ -120,7 +120,7 @@ def read_record(path: str | Path, format: str | None = None, units: str | None =
             factor = ACCELERATION_UNITS[unit] / ACCELERATION_UNITS[file_units]
             raise InputError(source, "units", f"the units that the header of {source!r} declares, {file_units}, got "
                              f"{units!r} (a factor of {factor:.4g} on every value; to read the file in {unit} anyway: "
-                             "override_header_units = true)")
+                             "override_header_units = true in a deck, --override-header-units on the command line)")
     elif file_units is not None:
         unit = file_units
     else:
