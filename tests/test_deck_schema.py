@@ -109,3 +109,16 @@ def test_the_deck_in_bare_si():
     assert raw["building"]["story_height"] == 10  # the deck as given is kept
     si = {"building": {"stories": 2, "story_height": 3, "floor_mass": 1e5}, "ground_motion": {"window": [0, 5]}}
     assert si_mapping(si, validate(si, "deck.toml")) == si  # bare SI comes back as it was
+
+
+def test_every_numeric_field_has_a_quantity_or_none():
+    """A unit without a quantity kind would be read as SI in a US deck: every number field of the
+    deck is dimensionless or of a kind of units.QUANTITY_KINDS."""
+    from upliftcli.fields import NUMERIC
+    from upliftcli.motion.spectrum_fields import SPECTRUM_FIELDS
+
+    fields = [(deck_schema.dotted(table, name), field) for table, fields in deck_schema.TABLES.items()
+              for name, field in fields.items()] + list(SPECTRUM_FIELDS.items())
+    for path, field in fields:
+        if field.kind in NUMERIC and field.unit != "-":
+            assert field.quantity_kind is not None or path == "sa", path

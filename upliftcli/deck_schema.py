@@ -16,7 +16,7 @@ from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from .engines.quantities import QUANTITIES, SCALARS
 from .engines.registry import ENGINES, SUPPORTS
 from .errors import InputError
-from .fields import NUMERIC, Field, check_value, implausible, raise_all, suggestion
+from .fields import NUMERIC, Field, check_value, gather, implausible, raise_all, raiser, suggestion
 from .model.foundations import FOUNDATIONS
 from .motion.code_rules import RULES, SCALINGS
 from .motion.design_spectra import check_keys
@@ -138,7 +138,7 @@ def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -
     """Check every key, type, unit and range; return {table: {field: value}} with only the given
     fields, numbers in the unit each field declares (SI: a number with a unit converted, a bare
     number read in the deck's `units` system). The keys of a design spectrum and the entries of
-    a suite are checked here too (design_spectra.check_spectrum, suites.check_entry).
+    a suite are checked here too (design_spectra.check_keys, suites.check_entry).
 
     Every error is found before any is raised: one error as it is, several as one
     errors.InputErrors (one line each). Values that came from `--set` are reported with source
@@ -147,17 +147,8 @@ def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -
     values: dict[str, dict[str, Any]] = {table: {} for table in TABLES}
     gathered: list[InputError] = []
 
-    def raiser(path: str):
-        def error(expected: str):
-            raise InputError("--set" if set_by_override(path, overridden) else source, path, expected)
-        return error
-
-    def gather(check, *args):
-        try:
-            return check(*args)
-        except InputError as bad:
-            gathered.extend(getattr(bad, "errors", [bad]))
-            return None
+    def error_for(path: str):  # a value that came from a --set (or inside one) names "--set"
+        return raiser("--set" if set_by_override(path, overridden) else source)(path)
 
     system = raw.get("units", "si") if raw.get("units", "si") in SYSTEMS else "si"
 
@@ -169,7 +160,7 @@ def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -
                 if isinstance(value, dict):
                     walk(path, value)
                 else:
-                    gather(raiser(path), f"a table [{path}], got {value!r}")
+                    gather(gathered, error_for(path), f"a table [{path}], got {value!r}")
                 continue
             if key not in fields:
                 names = list(fields) + [name.rsplit(".", 1)[-1] for name, parent in SUBTABLES.items()
@@ -177,29 +168,27 @@ def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -
                 if table == "":
                     names += [name for name in TABLES if name and "." not in name]
                 where = f"[{table}]" if table else "the top level"
-                gather(raiser(path), f"a known field of {where}{suggestion(key, names)}; unknown key {key!r}")
+                gather(gathered, error_for(path), f"a known field of {where}{suggestion(key, names)}; unknown key "
+                       f"{key!r}")
                 continue
-            checked = gather(check_value, fields[key], value, raiser(path), system)
+            checked = gather(gathered, check_value, fields[key], value, error_for(path), system)
             if checked is not None:
-                values[table][key] = gather(_nested, path, checked, source, raiser)
+                values[table][key] = gather(gathered, _nested, path, checked, source, error_for)
 
     walk("", raw)
     raise_all(gathered)
     return values
 
 
-def _nested(path: str, value: Any, source: str, raiser) -> Any:
+def _nested(path: str, value: Any, source: str, error_for) -> Any:
     """A design spectrum's keys and a suite's entries, checked by their own fields (the values,
     converted); other values as they are."""
     if path == "ground_motion.design_spectrum":
-        return check_keys(value, source, path, raiser)
+        return check_keys(value, source, path, error_for)
     if path == "ground_motion.suite" and isinstance(value, list):
-        gathered, entries = [], []
-        for k, item in enumerate(value):
-            try:
-                entries.append(item if isinstance(item, str) else check_entry(item, source, f"{path}[{k}]", raiser))
-            except InputError as bad:
-                gathered.extend(getattr(bad, "errors", [bad]))
+        gathered: list[InputError] = []
+        entries = [item if isinstance(item, str) else gather(gathered, check_entry, item, source, f"{path}[{k}]",
+                                                             error_for) for k, item in enumerate(value)]
         raise_all(gathered)
         return entries
     return value

@@ -303,15 +303,33 @@ def check_mapping(fields: dict[str, Field], mapping: dict, path: str, error_for:
     checked: dict[str, Any] = {}
     for key, value in mapping.items():
         where = f"{path}.{key}" if path else str(key)
-        try:
-            if key not in fields:
-                error_for(where)(f"{what or 'a known key'}: {', '.join(fields)}{suggestion(str(key), fields)}; "
-                                 f"unknown key {key!r}")
-            checked[key] = check_value(fields[key], value, error_for(where), system)
-        except InputError as bad:
-            gathered.extend(getattr(bad, "errors", [bad]))
+        if key not in fields:
+            gather(gathered, error_for(where), f"{what or 'a known key'}: {', '.join(fields)}"
+                   f"{suggestion(str(key), fields)}; unknown key {key!r}")
+            continue
+        result = gather(gathered, check_value, fields[key], value, error_for(where), system)
+        if result is not None:
+            checked[key] = result
     raise_all(gathered)
     return checked
+
+
+def raiser(source: str) -> Callable[[str], Error]:
+    """error_for(path) of check_mapping that names `source` (a file, or "--set")."""
+    def error_for(path: str) -> Error:
+        def error(expected: str) -> NoReturn:
+            raise InputError(source, path, expected)
+        return error
+    return error_for
+
+
+def gather(errors: list[InputError], check: Callable[..., Any], *args: Any) -> Any:
+    """check(*args), or None with its InputError(s) appended to `errors` (to report them all)."""
+    try:
+        return check(*args)
+    except InputError as bad:
+        errors.extend(getattr(bad, "errors", [bad]))
+        return None
 
 
 def raise_all(errors: list[InputError]) -> None:

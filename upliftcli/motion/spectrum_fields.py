@@ -7,7 +7,7 @@ type of spectrum takes (its _KEYS) and builds the spectrum from the checked valu
 from __future__ import annotations
 
 from ..errors import InputError
-from ..fields import Field, check_mapping, raise_all, suggestion
+from ..fields import Field, check_mapping, gather, raise_all, raiser, suggestion
 
 #: the keys of a design_spectrum table (docs/deck.md), checked by the one field checker
 #: (fields.check_mapping: type, unit, the 1e-30..1e30 limits, range) wherever they are given
@@ -40,12 +40,7 @@ def check_spectrum(mapping, kinds: dict[str, tuple[set[str], set[str]]], source:
     (errors.InputErrors), each naming `field`.<key> and, for a spectrum read from a file, that
     file. error_for(path) gives the error function of a key (default: InputError(source, path, ...)).
     The checked values (numbers with a unit converted)."""
-    def default(path: str):
-        def error(expected: str):
-            raise InputError(source, path, expected)
-        return error
-
-    error_for = error_for or default
+    error_for = error_for or raiser(source)
     if not isinstance(mapping, dict):
         error_for(field)(f"a table with a 'type' key ({', '.join(kinds)}), got {mapping!r}")
     kind = mapping.get("type")
@@ -62,15 +57,10 @@ def check_spectrum(mapping, kinds: dict[str, tuple[set[str], set[str]]], source:
         return error
 
     allowed = {key: SPECTRUM_FIELDS[key] for key in sorted(required | optional)}
-    gathered = []
-    try:
-        checked = check_mapping(allowed, mapping, field, keyed, what=f"a key of a spectrum of type {kind!r}")
-    except InputError as bad:
-        gathered, checked = getattr(bad, "errors", [bad]), {}
+    gathered: list[InputError] = []
+    checked = gather(gathered, check_mapping, allowed, mapping, field, keyed, "si",
+                     f"a key of a spectrum of type {kind!r}")
     for key in sorted(required - set(mapping)):
-        try:
-            keyed(f"{field}.{key}")(f"a value (required for a spectrum of type {kind!r})")
-        except InputError as bad:
-            gathered.append(bad)
+        gather(gathered, keyed(f"{field}.{key}"), f"a value (required for a spectrum of type {kind!r})")
     raise_all(gathered)
     return checked

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, deck_relative_path
-from ..fields import Field, check_mapping
+from ..fields import Field, check_mapping, raiser
 from .code_rules import SCALINGS, CodeRule
 from .design_spectra import spectrum_warnings
 from .matching import MatchSettings, control_periods, match_record, settings_for
@@ -220,12 +220,7 @@ def check_entry(item, source: str, where: str, error_for=None) -> dict:
     """A suite's record entry (a table) checked by the field checker (fields.check_mapping: every
     key, its type, unit and range; all errors together), with its `file`; error_for(path) gives
     the error function of a key (default: InputError(source, path, ...))."""
-    def default(path: str):
-        def error(expected: str):
-            raise InputError(source, path, expected)
-        return error
-
-    error_for = error_for or default
+    error_for = error_for or raiser(source)
     if not isinstance(item, dict):
         error_for(where)(f"a file path or a table {{file = ..., units = ..., dt = ...}}, got {item!r}")
     checked = check_mapping(ENTRY_FIELDS, item, where, error_for, what="a key of a suite record")
