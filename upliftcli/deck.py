@@ -271,25 +271,24 @@ def _system(building: Building, fields: dict, analysis: dict, error) -> System:
 
 
 def _check_impedance(system: System, fields: dict, half_width: str, error) -> None:
-    """The foundation's rocking stiffness K_theta > 0 and finite at the frequency every engine
-    evaluates it (model/interaction.impedance): the half-space's K_theta(w) of NIST GCR 12-917-21
-    Table 2-3a turns negative for a mat thousands of times longer than wide. The error names
-    the foundation field that set the shape (half_length, else b or slenderness)."""
-    from .model.interaction import impedance
-
+    """The foundation's rocking stiffness K_theta > 0 and finite at the fixed-base w_1, the highest
+    frequency the engines evaluate it at (model/interaction.py: the flexible-base w1bar <= w_1),
+    where the half-space's K_theta(w) of NIST GCR 12-917-21 Table 2-3a, decreasing in w, is
+    lowest: it turns negative for a mat about 2,000 times longer than wide. The error names the
+    foundation field that set the shape (half_length, else b or slenderness)."""
+    omega = float(system.modes.omega[0])
     try:
-        values = impedance(system)
-        rocking, omega = values["K_theta"], values["omega_impedance"]
+        rocking = system.foundation.rocking_stiffness(system.half_width, omega)
     except (ValueError, ArithmeticError):
-        rocking, omega = math.nan, math.nan
+        rocking = math.nan
     if math.isfinite(rocking) and rocking > 0.0:
         return
     name = "half_length" if "half_length" in fields else half_width
     length = getattr(system.foundation, "half_length", None)
     shape = f"{2 * system.half_width:.4g} m wide" + (f", {2 * length:.4g} m long" if length else "")
-    raise error(f"foundation.{name}", f"a foundation giving a finite rocking stiffness K_theta > 0 at the impedance "
-                f"frequency (w = {omega:.4g} rad/s), got K_theta = {rocking:.4g} N m/rad (the mat is {shape}; "
-                "check its dimensions and the soil)")
+    raise error(f"foundation.{name}", f"a foundation giving a finite rocking stiffness K_theta > 0 at the fixed-base "
+                f"w_1 = {omega:.4g} rad/s, got K_theta = {rocking:.4g} N m/rad (the mat is {shape}; check its "
+                "dimensions and the soil)")
 
 
 def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSettings:

@@ -9,7 +9,6 @@ how fields combine (which alternatives are given) is decided in deck.py.
 
 from __future__ import annotations
 
-import copy
 from typing import Any
 
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
@@ -131,7 +130,8 @@ def all_paths() -> list[str]:
 def set_by_override(path: str, overridden) -> bool:
     """Whether the field at `path` came from a --set: the path itself or a table or array it is
     in (ground_motion.design_spectrum.sds, ground_motion.suite[1].file) was overridden."""
-    return path in overridden or any(path[:i] in overridden for i, ch in enumerate(path) if ch in ".[")
+    return bool(overridden) and (path in overridden or any(path[:i] in overridden for i, ch in enumerate(path)
+                                                           if ch in ".["))
 
 
 def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -> dict[str, dict[str, Any]]:
@@ -148,7 +148,9 @@ def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -
     gathered: list[InputError] = []
 
     def error_for(path: str):  # a value that came from a --set (or inside one) names "--set"
-        return raiser("--set" if set_by_override(path, overridden) else source)(path)
+        def error(expected: str):
+            raiser("--set" if set_by_override(path, overridden) else source)(path)(expected)
+        return error
 
     system = raw.get("units", "si") if raw.get("units", "si") in SYSTEMS else "si"
 
@@ -216,16 +218,25 @@ def plausibility(values: dict[str, dict[str, Any]], source: str, overridden=froz
 def si_mapping(raw: dict, values: dict[str, dict[str, Any]]) -> dict:
     """The deck as a mapping whose numbers are all bare SI numbers: every value given with a
     unit, or under `units = "us"`, replaced by its checked SI value, and `units` dropped (the
-    resolved deck, docs/provenance.md). A deck written in SI with bare numbers comes back as it was."""
-    result = copy.deepcopy(raw)
-    result.pop("units", None)
+    resolved deck, docs/provenance.md). A deck written in SI with bare numbers is `raw` itself
+    (not copied: sweeps build a deck per case)."""
+    changed = []
     for table, fields in values.items():
+        given = raw
+        for part in table.split(".") if table else []:
+            given = given.get(part, {})
+        for name, value in fields.items():
+            value = list(value) if isinstance(value, tuple) else value
+            if (TABLES[table][name].kind in NUMERIC or name in ("design_spectrum", "suite")) \
+                    and given.get(name) != value:
+                changed.append((table, name, value))
+    if not changed and "units" not in raw:
+        return raw
+    result = {key: value for key, value in raw.items() if key != "units"}
+    for table, name, value in changed:
         target = result
         for part in table.split(".") if table else []:
-            target = target.get(part, {})
-        for name, value in fields.items():
-            kind = TABLES[table][name].kind
-            value = list(value) if isinstance(value, tuple) else value
-            if (kind in NUMERIC or name in ("design_spectrum", "suite")) and target.get(name) != value:
-                target[name] = value
+            target[part] = dict(target[part])  # copied on the way down: raw is left as it was
+            target = target[part]
+        target[name] = value
     return result

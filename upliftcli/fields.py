@@ -123,6 +123,8 @@ def in_field_unit(field: Field, value: Any, system: str = "si") -> float | None:
     field's dimension, converted; None if `value` is neither (a bool, a date, an array, a text
     that is not a number with a unit of that dimension, a number as a text without a unit, a
     unit on a dimensionless field)."""
+    if system == "si" and is_number(value):
+        return value  # a bare SI number: every field's unit is the SI unit of its quantity
     kind = field.quantity_kind
     if isinstance(value, str):
         parsed = split_quantity(value)

@@ -48,11 +48,19 @@ _UNIT_HINT_RE = re.compile(
 _PLAIN_NUMBER = re.compile(_NUMBER + r"|[-+]?(?:nan|inf|infinity)", re.IGNORECASE)
 
 
-def _float(token: str, source: str, line_no: int) -> float:
-    """Parse one finite number (Fortran 'D' exponents accepted; not Python's '1_000')."""
+def plain_number(token: str) -> float | None:
+    """A number as data files write it (Fortran 'D' exponents accepted; not Python's '1_000',
+    '0x10' or other literals float() takes), or None."""
     if not _PLAIN_NUMBER.fullmatch(token):
+        return None
+    return float(token.replace("D", "E").replace("d", "e"))
+
+
+def _float(token: str, source: str, line_no: int) -> float:
+    """Parse one finite number (plain_number)."""
+    value = plain_number(token)
+    if value is None:
         raise InputError(source, f"line {line_no}", f"a number, got {token!r}")
-    value = float(token.replace("D", "E").replace("d", "e"))
     if not math.isfinite(value):
         raise InputError(source, f"line {line_no}", f"a finite number, got {token!r}")
     return value

@@ -18,7 +18,7 @@ from ..errors import InputError
 from ..fields import MAGNITUDE_WORDS, in_magnitude, is_number
 from ..limits import MAX_RECORD_BYTES, read_input
 from ..units import ACCELERATION_UNITS
-from .readers import normalize_units
+from .readers import normalize_units, plain_number
 
 #: damping corrections a table may use: name -> what it is
 DAMPING_CORRECTIONS = {
@@ -125,12 +125,11 @@ def read_spectrum_table(path: str | Path, source: str) -> tuple[np.ndarray, np.n
         if not text:
             continue
         tokens = text.replace(",", " ").split()
-        try:
-            values = [float(token) for token in tokens[:2]]
-        except ValueError:
-            if not rows:
-                continue  # header row
-            raise InputError(str(path), f"line {number}", f"two numbers (period [s], S_a), got {text!r}") from None
+        values = [plain_number(token) for token in tokens[:2]]
+        if None in values:
+            if not rows and values[0] is None:
+                continue  # a header row of names (a row that starts with a number is data)
+            raise InputError(str(path), f"line {number}", f"two numbers (period [s], S_a), got {text!r}")
         if len(values) < 2 or not all(math.isfinite(value) for value in values):
             raise InputError(str(path), f"line {number}", f"two finite numbers (period [s], S_a), got {text!r}")
         rows.append((values[0], values[1]))
