@@ -298,19 +298,3 @@ def test_keys_of_a_spectrum_read_from_a_file_are_blamed_on_the_deck_naming_the_f
 def test_a_spectrum_key_may_carry_its_unit():
     spectrum = from_mapping({"type": "asce7", "sds": "9.80665 m/s2", "sd1": "0.6 g", "tl": "8000 ms"}, "deck.toml")
     assert (spectrum.sds, spectrum.sd1, spectrum.tl) == (1.0, 0.6, 8.0)
-
-
-def test_spectra_built_in_code_refuse_booleans_and_texts():
-    with pytest.raises(InputError, match="sds: a number > 0 of magnitude"):
-        ASCE7Spectrum(True, 0.6, 8.0)
-    with pytest.raises(InputError, match="damping: a damping ratio between 0 and 1"):
-        TabulatedSpectrum([0.0, 1.0], [1.0, 1.0], "5%")
-
-
-def test_a_spectrum_table_file_holds_plain_numbers(tmp_path):
-    deck = str(tmp_path / "deck.toml")
-    (tmp_path / "t.csv").write_text("period_s,sa_g\n0,1_000\n1,0.5\n")
-    with pytest.raises(InputError, match=r"t\.csv: line 2: two numbers \(period \[s\], S_a\), got '0,1_000'$"):
-        from_mapping({"type": "table", "file": "t.csv", "damping": 0.05}, deck)
-    (tmp_path / "u.csv").write_text("period_s,sa_g\n0,0.4\n1,0.5\n")
-    assert from_mapping({"type": "table", "file": "u.csv", "damping": 0.05}, deck).sa_values[1] == 0.5 * G

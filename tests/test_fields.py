@@ -133,3 +133,11 @@ def test_implausible_values_are_named_with_the_range():
                                         "mistake? (the analysis goes on)")
     masses = Field("numbers", "kg", "masses", "positive", plausible=(1e3, 1e8))
     assert implausible(masses, [350e3, 2e9]).startswith("2e+09 kg")
+
+
+def test_implausible_values_of_a_us_deck_are_shown_in_its_units_too():
+    from upliftcli.fields import implausible
+
+    height = Field("number", "m", "story height", "positive", plausible=(1.5, 30.0))
+    assert implausible(height, 91.44, "us") == ("91.44 m = 300 ft is far outside building practice (1.5 to 30 m = "
+                                                "4.921 to 98.43 ft): a unit mistake? (the analysis goes on)")

@@ -207,9 +207,10 @@ def plausibility(values: dict[str, dict[str, Any]], source: str, overridden=froz
     spectrum = values.get("ground_motion", {}).get("design_spectrum") or {}
     found += [(f"ground_motion.design_spectrum.{key}", SPECTRUM_FIELDS[key], value) for key, value in spectrum.items()
               if key in SPECTRUM_FIELDS]
+    system = values[""].get("units", "si")
     warnings = []
     for path, field, value in found:
-        words = implausible(field, value)
+        words = implausible(field, value, system)
         if words:
             warnings.append(f"{'--set' if set_by_override(path, overridden) else source}: {path}: {words}")
     return warnings

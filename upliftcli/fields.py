@@ -342,9 +342,10 @@ def raise_all(errors: list[InputError]) -> None:
         raise InputErrors(errors)
 
 
-def implausible(field: Field, value: Any) -> str | None:
+def implausible(field: Field, value: Any, system: str = "si") -> str | None:
     """Words for a checked value (a number or an array of numbers, in the field's unit) outside
-    the range of building practice the field declares (Field.plausible), or None."""
+    the range of building practice the field declares (Field.plausible), or None; in a deck of
+    units `system` "us", the value and the range in its US unit too."""
     if field.plausible is None or field.kind not in NUMERIC:
         return None
     low, high = field.plausible
@@ -354,5 +355,11 @@ def implausible(field: Field, value: Any) -> str | None:
     if not outside:
         return None
     unit = "" if field.unit == "-" else f" {field.unit}"
-    return (f"{outside[0]:.4g}{unit} is far outside building practice ({low:g} to {high:g}{unit}): a unit "
-            "mistake? (the analysis goes on)")
+    shown_value, shown_range = f"{outside[0]:.4g}{unit}", f"{low:g} to {high:g}{unit}"
+    kind = field.quantity_kind
+    if system == "us" and kind is not None and system_unit(kind, "us") != field.unit:
+        us = system_unit(kind, "us")
+        factor = conversion(field.unit, us)
+        shown_value += f" = {outside[0] * factor:.4g} {us}"
+        shown_range += f" = {low * factor:.4g} to {high * factor:.4g} {us}"
+    return f"{shown_value} is far outside building practice ({shown_range}): a unit mistake? (the analysis goes on)"
