@@ -122,3 +122,29 @@ def test_every_numeric_field_has_a_quantity_or_none():
     for path, field in fields:
         if field.kind in NUMERIC and field.unit != "-":
             assert field.quantity_kind is not None or path == "sa", path
+
+
+def test_the_units_table_of_the_docs_is_the_declared_one():
+    """docs/deck.md, Units: each quantity's SI and US unit (units.QUANTITY_KINDS) and the fields
+    of that quantity; every dimensional number field of the deck is listed once."""
+    from upliftcli.fields import NUMERIC
+    from upliftcli.motion.spectrum_fields import SPECTRUM_FIELDS
+    from upliftcli.units import QUANTITY_KINDS
+
+    text = (ROOT / "docs" / "deck.md").read_text()
+    section = text.split("\n## Units", 1)[1].split("\n## ", 1)[0]
+    listed = {}
+    for match in re.finditer(r"^\| ([a-z ]+) \| (.+?) \| ([^|]+?) \| (.+?) \|$", section, re.M):
+        kind, cells, si, us = match.groups()
+        if kind not in QUANTITY_KINDS:
+            continue
+        assert (si, us.split(" (")[0]) == QUANTITY_KINDS[kind], kind
+        for name in re.findall(r"`([\w.()]+)`", cells):
+            for expanded in ([name.replace("(s)", ""), name.replace("(s)", "s")] if "(s)" in name else
+                             [name.replace("(es)", ""), name.replace("(es)", "es")] if "(es)" in name else [name]):
+                listed[expanded.rsplit(".", 1)[-1]] = kind
+    declared = {name: field.quantity_kind for fields in deck_schema.TABLES.values() for name, field in fields.items()
+                if field.kind in NUMERIC and field.unit != "-"}
+    declared |= {name: field.quantity_kind for name, field in SPECTRUM_FIELDS.items()
+                 if field.kind in NUMERIC and field.quantity_kind}
+    assert listed == declared
