@@ -69,7 +69,7 @@ def test_plausibility_names_the_deck_and_the_field():
         "(the analysis goes on)",
         "a.toml: building.story_height: 3200 m is far outside building practice (1.5 to 30 m): a unit mistake? "
         "(the analysis goes on)",
-        "--set: criteria.drift_ratio: 2 is far outside building practice (0.0001 to 0.1): a unit mistake? "
+        "a.toml (--set): criteria.drift_ratio: 2 is far outside building practice (0.0001 to 0.1): a unit mistake? "
         "(the analysis goes on)",
         "a.toml: ground_motion.design_spectrum.sds: 50 g is far outside building practice (0.01 to 5 g): a unit "
         "mistake? (the analysis goes on)"]

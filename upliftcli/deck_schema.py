@@ -198,8 +198,9 @@ def _nested(path: str, value: Any, source: str, error_for) -> Any:
 
 def plausibility(values: dict[str, dict[str, Any]], source: str, overridden=frozenset()) -> list[str]:
     """One warning per validated field whose value lies outside the range of building practice
-    its declaration gives (Field.plausible; the design spectrum's keys too), naming the deck (or
-    --set) and the field: 'inputs/a.toml: building.floor_mass: 300 kg is far outside ...'."""
+    its declaration gives (Field.plausible; the design spectrum's keys too), naming the deck
+    ('(--set)' after it for a value of --set) and the field: 'inputs/a.toml: building.floor_mass:
+    300 kg is far outside ...'."""
     from .motion.spectrum_fields import SPECTRUM_FIELDS
 
     found = [(dotted(table, name), TABLES[table][name], value) for table, fields in values.items()
@@ -212,7 +213,7 @@ def plausibility(values: dict[str, dict[str, Any]], source: str, overridden=froz
     for path, field, value in found:
         words = implausible(field, value, system)
         if words:
-            warnings.append(f"{'--set' if set_by_override(path, overridden) else source}: {path}: {words}")
+            warnings.append(f"{source}{' (--set)' if set_by_override(path, overridden) else ''}: {path}: {words}")
     return warnings
 
 
