@@ -442,3 +442,19 @@ def test_record_units_contradicting_the_header_name_the_deck_field():
     meant = load_deck(EXAMPLE, ["ground_motion.units=cm/s2", "ground_motion.override_header_units=true"])
     assert meant.ground_motion.units == "cm/s2"
     assert meant.ground_motion.pga == pytest.approx(load_deck(EXAMPLE).ground_motion.pga / 980.665)
+
+
+def test_the_building_and_the_ground_motion_are_checked_together(tmp_path):
+    from upliftcli.errors import InputErrors
+
+    deck = tmp_path / "missing.toml"
+    deck.write_text('[building]\nstories = 10\nfloor_mass = 350e3\nstory_height = 3.5\n[foundation]\nslenderness = 6\n'
+                    '[ground_motion]\nrecord = "nowhere.txt"\n')
+    with pytest.raises(InputErrors) as info:
+        load_deck(deck)
+    assert [e.location for e in info.value.errors] == ["building.story_stiffness", "ground_motion.record"]
+    fixed = deck.read_text().replace("story_height = 3.5\n", "story_height = 3.5\nperiod = 1.0\n")
+    deck.write_text(fixed)
+    with pytest.raises(InputErrors) as info:  # the foundation's missing k_f with the record
+        load_deck(deck)
+    assert [e.location for e in info.value.errors] == ["foundation.k_f", "ground_motion.record"]

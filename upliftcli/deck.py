@@ -25,6 +25,7 @@ from . import deck_schema as schema
 from .deck_overrides import ALTERNATIVES, FOUNDATION_FIELDS, apply_overrides, parse_override, set_by_override
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from .errors import InputError, deck_relative_path, not_found
+from .fields import gather, raise_all
 from .limits import MAX_DECK_BYTES, MAX_STORIES, read_input
 from .model.building import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
 from .model.foundations import FOUNDATIONS, DeckContext
@@ -140,9 +141,15 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     def error(path: str, expected: str):  # ground_motion.suite[1].file came from --set ground_motion.suite
         return InputError("--set" if set_by_override(path, overridden) else source, path, expected)
 
-    building = _building(values["building"], error)
-    system = _system(building, values["foundation"], values["analysis"], error)
-    analysis = _analysis(values["analysis"], values["analysis.exact"], system, error)
+    gathered: list[InputError] = []  # the mistakes of the building, the foundation and the ground motion at once
+    building = gather(gathered, _building, values["building"], error)
+    system = None if building is None else gather(gathered, _system, building, values["foundation"],
+                                                  values["analysis"], error)
+    analysis = None if system is None else gather(gathered, _analysis, values["analysis"], values["analysis.exact"],
+                                                  system, error)
+    if analysis is None and load_ground_motion:
+        gather(gathered, _motion_fields, values["ground_motion"], source, error)
+    raise_all(gathered)
     ground_motion = spectrum = None
     if load_ground_motion:
         ground_motion, spectrum = _ground_motion(values["ground_motion"], source, error, system,
@@ -319,28 +326,23 @@ def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSetti
     )
 
 
-def _ground_motion(fields: dict, source: str, error, system: System | None = None,
-                   effective_properties: str = "formula") -> tuple[Any, Any]:
-    """(record, design spectrum or suite, spectrum for the simplified engine)."""
+def _motion_fields(fields: dict, source: str, error):
+    """The [ground_motion] fields checked as a whole, before anything is read: a record or a design
+    spectrum, the suite fields with a design spectrum, the record file existing. The record's
+    path, or None for a design spectrum."""
     if not fields:
         raise error("ground_motion", "a [ground_motion] table with a record (path) or a design_spectrum")
-    from .deck_suite import SUITE_ONLY, target_spectrum
+    from .deck_suite import SUITE_ONLY
 
     suite_fields = {"suite", *SUITE_ONLY, "period_range", "statistics"}
     if "design_spectrum" in fields:
         extra = sorted(set(fields) - {"design_spectrum"} - suite_fields)
         if extra:
             raise error(f"ground_motion.{extra[0]}", "no record fields together with a design_spectrum")
-        spectrum = target_spectrum(fields, source, error)
-        if "suite" not in fields:
-            for name in SUITE_ONLY:
-                if name in fields:
-                    raise error(f"ground_motion.{name}", "a ground_motion.suite to scale (none given)")
-            return spectrum, spectrum
-        from .deck_suite import load_suite, suite_plan
-
-        plan = suite_plan(fields, spectrum, system, effective_properties, source, error)
-        return load_suite(fields, plan, source, error), spectrum
+        for name in SUITE_ONLY if "suite" not in fields else ():
+            if name in fields:
+                raise error(f"ground_motion.{name}", "a ground_motion.suite to scale (none given)")
+        return None
     given = sorted(suite_fields & set(fields))
     if given:
         raise error("ground_motion.design_spectrum", f"a design spectrum, the target of ground_motion.{given[0]} "
@@ -348,12 +350,27 @@ def _ground_motion(fields: dict, source: str, error, system: System | None = Non
     if "record" not in fields:
         raise error("ground_motion.record", "the path of a record file (missing; or give "
                     "ground_motion.design_spectrum)")
-    from .motion import records, spectra
-
     path = deck_relative_path(fields["record"], source)
     if not path.exists():  # the folder a relative path was resolved from: the deck's (its target's, a link)
         raise error("ground_motion.record", not_found(path, fields["record"], source,
                                                       folder=deck_relative_path(".", source)))
+    return path
+
+
+def _ground_motion(fields: dict, source: str, error, system: System | None = None,
+                   effective_properties: str = "formula") -> tuple[Any, Any]:
+    """(record, design spectrum or suite, spectrum for the simplified engine)."""
+    path = _motion_fields(fields, source, error)
+    if path is None:
+        from .deck_suite import load_suite, suite_plan, target_spectrum
+
+        spectrum = target_spectrum(fields, source, error)
+        if "suite" not in fields:
+            return spectrum, spectrum
+        plan = suite_plan(fields, spectrum, system, effective_properties, source, error)
+        return load_suite(fields, plan, source, error), spectrum
+    from .motion import records, spectra
+
     try:
         record = records.read_record(path, fields.get("format"), fields.get("units"), fields.get("dt"),
                                      fields.get("scale", 1.0), fields.get("window"),
