@@ -99,3 +99,12 @@ def test_an_overflow_inside_an_engine_is_an_analysis_error(monkeypatch, deck):
     with pytest.raises(AnalysisError, match=r"ten_story_elcentro.toml: the simplified analysis \(rigid\) failed with "
                                             r"OverflowError .*check the magnitudes of the deck's fields"):
         run_one(deck, "simplified", "rigid")
+
+
+def test_every_result_carries_the_decks_warnings_first():
+    deck = load_deck(EXAMPLE, ["building.floor_mass=300"])
+    results = run(deck, "simplified")
+    assert len(deck.warnings) == 1
+    assert all(result.details["warnings"][0] == deck.warnings[0] for result in results)
+    assert all("building practice" not in message for result in run(load_deck(EXAMPLE), "simplified")
+               for message in result.details.get("warnings", []))

@@ -310,3 +310,93 @@ def test_an_engine_the_deck_cannot_serve_names_the_option():
     assert result.stderr == (f"error: {deck}: ground_motion.record: a record for the "
                              "exact engine (asked by --engine or --set analysis.engine; a design spectrum serves only "
                              "the simplified engine)\n")
+
+
+# ----------------------------------------------------------------------------- units, errors, warnings (issues 27, 29)
+
+def _results(document):
+    """The results of a JSON document (without the source, title and provenance of the run)."""
+    return document["results"]
+
+
+def test_the_us_deck_gives_the_si_decks_results():
+    si = invoke("analyze", EXAMPLE, "--format", "json")
+    us = invoke("analyze", ROOT / "inputs" / "ten_story_elcentro_us.toml", "--format", "json")
+    assert si.exit_code == us.exit_code == 0, us.output
+    first, second = _results(json.loads(si.stdout)), _results(json.loads(us.stdout))
+
+    def close(a, b, path):
+        if isinstance(a, dict):
+            assert set(a) == set(b), path
+            for key in a:
+                close(a[key], b[key], f"{path}.{key}")
+        elif isinstance(a, list):
+            assert len(a) == len(b), path
+            for k, (x, y) in enumerate(zip(a, b, strict=True)):
+                close(x, y, f"{path}[{k}]")
+        elif isinstance(a, float):
+            assert b == pytest.approx(a, rel=1e-12, abs=1e-12 * (1 + abs(a))), path
+        else:
+            assert a == b, path
+
+    close(first, second, "results")
+
+
+def test_a_resolved_us_deck_repeats_the_run_in_si(tmp_path):
+    us = ROOT / "inputs" / "ten_story_elcentro_us.toml"
+    run = invoke("analyze", us, "--set", "building.story_height=12", "--out", tmp_path, "--format", "json")
+    assert run.exit_code == 0, run.output
+    resolved = tmp_path / "ten_story_elcentro_us.deck.toml"
+    text = resolved.read_text()
+    assert "units = \"us\"" not in text and "story_height = 3.6576" in text and "floor_mass = 350000.0" in text
+    again = invoke("analyze", resolved, "--format", "json")
+    assert _results(json.loads(again.stdout)) == _results(json.loads(run.stdout))
+
+
+def test_record_units_contradicting_the_header_exit_2_with_one_line():
+    """--set ground_motion.units=cm/s2 silently divided El Centro by 981 (V_b/W = 0.0008)."""
+    for units in ("cm/s2", "gal"):
+        result = invoke("analyze", EXAMPLE, "--set", f"ground_motion.units={units}")
+        assert result.exit_code == 2
+        assert result.stderr.count("\n") == 1 and "ground_motion.units" in result.stderr
+        assert "declares, g" in result.stderr
+    meant = invoke("analyze", EXAMPLE, "--set", "ground_motion.units=cm/s2", "--set",
+                   "ground_motion.override_header_units=true", "--format", "json", "--no-check")
+    assert meant.exit_code == 0 and json.loads(meant.stdout)["results"][0]["base_shear_coefficient"] < 0.01
+
+
+def test_every_deck_error_is_reported_in_one_run(tmp_path):
+    deck = tmp_path / "four.toml"
+    deck.write_text('[building]\nstories = 10\nfloor_mas = 350e3\nstory_height = "3.5 furlongs"\nperiod = -1\n'
+                    "[foundation]\nslenderness = 6\ndamping_ratio = true\n"
+                    '[ground_motion]\ndesign_spectrum = { type = "asce7", sds = true, sd1 = 0.6, tl = 8.0 }\n')
+    result = invoke("analyze", deck)
+    assert result.exit_code == 2 and result.stdout == ""
+    lines = result.stderr.splitlines()
+    assert [line.split(": ")[2] for line in lines] == ["building.floor_mas", "building.story_height", "building.period",
+                                                      "foundation.damping_ratio", "ground_motion.design_spectrum.sds"]
+    assert all(line.startswith(f"error: {deck}: ") for line in lines)
+
+
+@pytest.mark.parametrize("value", [
+    '{type="table",periods=[0,1,8],sa=[1,1,1],damping="5%"}',
+    '{type="asce7",sds=true,sd1=0.6,tl=8}',
+    '{type="asce7",sds=1e300,sd1=0.6,tl=8}',
+    '{type="table",periods=[0,1,8],sa=[1,1,1],damping=0.05,name=1979-05-27}',
+])
+def test_bad_design_spectrum_keys_are_one_line_exit_2(tmp_path, value):
+    result = invoke("analyze", ROOT / "inputs" / "ten_story_asce7.toml", "--set",
+                    f"ground_motion.design_spectrum={value}", "--out", tmp_path)
+    assert result.exit_code == 2 and result.stderr.count("\n") == 1, result.output
+    assert result.stderr.startswith("error: --set: ground_motion.design_spectrum.") and not list(tmp_path.iterdir())
+
+
+def test_implausible_values_warn_once_and_keep_the_exit_code():
+    result = invoke("analyze", EXAMPLE, "--set", "building.floor_mass=300", "--set", "building.story_height=3200",
+                    "--set", "criteria.drift_ratio=2", "--format", "json", "--no-check")
+    assert result.exit_code == 0, result.output
+    warnings = [line for line in result.stderr.splitlines() if "building practice" in line]
+    assert [line.split(": ")[2] for line in warnings] == ["building.floor_mass", "building.story_height",
+                                                         "criteria.drift_ratio"]
+    for entry in json.loads(result.stdout)["results"]:
+        assert sum("building practice" in message for message in entry["warnings"]) == 3

@@ -62,7 +62,8 @@ def test_spectrum_to_stdout_with_period_list():
     ("# dt = 0.01\n# units: g\n0.1\n0.2 x\n", "text.txt", "text.txt: line 4: a number"),
     ("t,a\n0,0.1\n0.01,0.2\n0.03,0.1\n", "step.csv", "step.csv: line 4: a uniform time step"),
     ("", "empty.txt", "empty.txt: acceleration values (the file is empty)"),
-    ("# dt = 0\n# units: g\n0.1\n0.2\n", "zero.txt", "zero.txt: line 1: a time step 0 < dt <= 10 s"),
+    ("# dt = 0\n# units: g\n0.1\n0.2\n", "zero.txt",
+     "zero.txt: line 1: a time step dt: a number > 0 and at most 10 [s]"),
     ("# dt = 0.01\n# units: furlongs\n0.1\n0.2\n", "unit.txt", "unit.txt: units: acceleration units"),
     ("PEER NGA STRONG MOTION DATABASE RECORD\nx\nACCELERATION IN UNITS OF G\nNPTS=   3, DT=   .0100 SEC\n"
      "0.1 0.2\n", "short.AT2", "short.AT2: line 4: NPTS = 3"),
@@ -120,3 +121,11 @@ def test_info_of_a_one_sample_record_is_one_line(tmp_path):
     result = invoke("record", "info", path)
     assert result.exit_code == 2
     assert result.stderr.strip() == f"error: {path}: at least two acceleration samples, found 1"
+
+
+def test_units_contradicting_the_header_need_the_override_option():
+    refused = invoke("record", "info", RECORD, "--units", "gal")
+    assert refused.exit_code == 2 and refused.stderr.count("\n") == 1
+    assert "declares, g, got 'gal'" in refused.stderr and "--override-header-units" in refused.stderr
+    meant = invoke("record", "info", RECORD, "--units", "gal", "--override-header-units")
+    assert meant.exit_code == 0 and "units cm/s2" in meant.stdout

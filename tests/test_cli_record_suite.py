@@ -158,3 +158,11 @@ def test_analyze_runs_the_suite_with_the_factors_record_scale_prints():
     for record in records:
         line = next(line for line in printed.stdout.splitlines() if Path(record["source"]).name in line)
         assert f"{record['factor']:.4f}" in line
+
+
+def test_scale_refuses_units_contradicting_a_records_header_unless_overridden():
+    deck = ROOT / "inputs" / "ten_story_ec8_suite.toml"
+    refused = invoke("record", "scale", deck, RECORD, "--units", "gal")
+    assert refused.exit_code == 2 and "declares, g, got 'gal'" in refused.stderr
+    meant = invoke("record", "scale", deck, RECORD, "--units", "gal", "--override-header-units")
+    assert meant.exit_code == 0, meant.output

@@ -307,7 +307,8 @@ def test_deeply_nested_toml_is_one_error(tmp_path):
     path.write_text("a = " + "[" * 5000 + "]" * 5000 + "\n")
     with pytest.raises(InputError, match=r"deep.toml: valid TOML \(arrays or tables nested too deeply\)$"):
         load_deck(path)
-    with pytest.raises(InputError, match=r"^--set: building.period: a number > 0 \[s\], got '\[\[\["):
+    with pytest.raises(InputError, match=r"^--set: building.period: a number > 0 \[s\] or a text 'number unit' "
+                                         r".*, got '\[\[\["):
         load_deck(EXAMPLE, ["building.period=" + "[" * 5000 + "]" * 5000])
 
 
@@ -354,7 +355,7 @@ def test_record_fields_of_the_deck_are_blamed_on_the_deck_not_the_record(tmp_pat
         assert (info.value.source, info.value.location) == ("--set", location), str(info.value)
     bad = tmp_path / "bad.toml"
     bad.write_text(path.read_text().replace('units = "g"', 'units = "furlong"'))
-    with pytest.raises(InputError, match=r"bad.toml: ground_motion.units: acceleration units one of"):
+    with pytest.raises(InputError, match=r"bad.toml: ground_motion.units: acceleration units g, m/s2, cm/s2 or in/s2"):
         load_deck(bad)
 
 
@@ -389,3 +390,71 @@ def test_a_missing_record_names_the_deck_field_and_the_folder(deck_dir):
     absolute = deck_dir / "gone.txt"
     with pytest.raises(InputError, match=f"ground_motion.record: an existing record file, not found: '{absolute}'$"):
         load_deck(deck, [f'ground_motion.record="{absolute}"'])
+
+
+# ----------------------------------------------------------------------------- units, attribution, warnings
+
+US_EXAMPLE = ROOT / "inputs" / "ten_story_elcentro_us.toml"
+
+
+def test_the_us_deck_builds_the_si_decks_system():
+    si, us = load_deck(EXAMPLE), load_deck(US_EXAMPLE)
+    np.testing.assert_allclose(us.system.building.masses, si.system.building.masses, rtol=1e-15)
+    np.testing.assert_allclose(us.system.building.heights, si.system.building.heights, rtol=1e-15)
+    np.testing.assert_allclose(us.system.building.stiffness, si.system.building.stiffness, rtol=1e-14)
+    assert us.system.half_width == pytest.approx(si.system.half_width, rel=1e-15)
+    assert us.system.foundation.stiffness == pytest.approx(si.system.foundation.stiffness, rel=1e-14)
+    assert us.system.foundation.damping == pytest.approx(si.system.foundation.damping, rel=1e-14)
+    assert us.resolved["building"]["floor_mass"] == pytest.approx(350e3, rel=1e-15) and "units" not in us.resolved
+
+
+def test_set_values_are_read_in_the_decks_units():
+    us = load_deck(US_EXAMPLE, ["building.story_height=12"], load_ground_motion=False)
+    assert us.system.building.heights[0] == pytest.approx(12 * 0.3048, rel=1e-15)
+    with_unit = load_deck(US_EXAMPLE, ['building.story_height="3.6 m"'], load_ground_motion=False)
+    assert with_unit.system.building.heights[0] == 3.6
+    bare_text = load_deck(EXAMPLE, ["building.story_height=12 ft"], load_ground_motion=False)  # not TOML: a text
+    assert bare_text.system.building.heights[0] == pytest.approx(3.6576, rel=1e-15)
+
+
+def test_a_half_space_with_a_negative_rocking_stiffness_names_its_half_length():
+    """half_length = 1e30 was reported as 'analysis.exact.n_modes: math domain error'."""
+    with pytest.raises(InputError) as info:
+        load_deck(ROOT / "inputs" / "frame_halfspace.toml", ["foundation.half_length=1e30"], load_ground_motion=False)
+    assert (info.value.source, info.value.location) == ("--set", "foundation.half_length")
+    assert info.value.expected.startswith("a foundation giving a finite rocking stiffness K_theta > 0 at the "
+                                          "fixed-base w_1") and "2e+30 m long" in info.value.expected
+    assert load_deck(ROOT / "inputs" / "frame_halfspace.toml", ["foundation.half_length=1e3"],
+                     load_ground_motion=False).system.foundation.half_length == 1e3  # L/B = 143: fine
+
+
+def test_the_decks_warnings_name_the_field():
+    deck = load_deck(EXAMPLE, ["building.floor_mass=300", "criteria.drift_ratio=2"], load_ground_motion=False)
+    assert [w.split(":")[1].strip() for w in deck.warnings] == ["building.floor_mass", "criteria.drift_ratio"]
+    assert load_deck(EXAMPLE, load_ground_motion=False).warnings == ()
+
+
+def test_record_units_contradicting_the_header_name_the_deck_field():
+    with pytest.raises(InputError) as info:
+        load_deck(EXAMPLE, ["ground_motion.units=cm/s2"])
+    assert (info.value.source, info.value.location) == ("--set", "ground_motion.units")
+    assert "declares, g, got 'cm/s2'" in info.value.expected
+    meant = load_deck(EXAMPLE, ["ground_motion.units=cm/s2", "ground_motion.override_header_units=true"])
+    assert meant.ground_motion.units == "cm/s2"
+    assert meant.ground_motion.pga == pytest.approx(load_deck(EXAMPLE).ground_motion.pga / 980.665)
+
+
+def test_the_building_and_the_ground_motion_are_checked_together(tmp_path):
+    from upliftcli.errors import InputErrors
+
+    deck = tmp_path / "missing.toml"
+    deck.write_text('[building]\nstories = 10\nfloor_mass = 350e3\nstory_height = 3.5\n[foundation]\nslenderness = 6\n'
+                    '[ground_motion]\nrecord = "nowhere.txt"\n')
+    with pytest.raises(InputErrors) as info:
+        load_deck(deck)
+    assert [e.location for e in info.value.errors] == ["building.story_stiffness", "ground_motion.record"]
+    fixed = deck.read_text().replace("story_height = 3.5\n", "story_height = 3.5\nperiod = 1.0\n")
+    deck.write_text(fixed)
+    with pytest.raises(InputErrors) as info:  # the foundation's missing k_f with the record
+        load_deck(deck)
+    assert [e.location for e in info.value.errors] == ["foundation.k_f", "ground_motion.record"]

@@ -60,3 +60,11 @@ def test_a_bad_design_spectrum_given_by_set_names_set():
     deck = Path(__file__).resolve().parents[1] / "inputs" / "ten_story_asce7.toml"
     with pytest.raises(InputError, match=r"^--set: ground_motion\.design_spectrum\.sds: a number > 0 \[g\]"):
         load_deck(deck, ['ground_motion.design_spectrum={type="asce7", sds=-1.0, sd1=0.6, tl=8}'])
+
+
+def test_override_header_units_goes_with_the_record_fields():
+    from upliftcli.deck_overrides import apply_overrides
+
+    raw = {"ground_motion": {"record": "r.txt", "units": "gal", "override_header_units": True}}
+    result, _ = apply_overrides(raw, [("ground_motion.design_spectrum", {"type": "asce7"})])
+    assert result["ground_motion"] == {"design_spectrum": {"type": "asce7"}}

@@ -145,3 +145,14 @@ def test_a_deck_that_is_a_link_finds_its_suite_next_to_its_target(tmp_path):
     deck = load_deck(link)
     assert [r.name for r in deck.ground_motion.records] == [r.name for r in load_deck(
         ROOT / "inputs" / "ten_story_asce7_suite.toml").ground_motion.records]
+
+
+def test_a_suite_entrys_option_that_does_not_suit_its_file_names_the_entry():
+    record = "../records/ten_story_asce7_suite/artificial_2024_01.txt"
+    deck = ROOT / "inputs" / "ten_story_ec8_suite.toml"
+    with pytest.raises(InputError) as info:
+        load_deck(deck, [f'ground_motion.suite=[{{file="{record}", units="gal"}}]'])
+    assert (info.value.source, info.value.location) == ("--set", "ground_motion.suite[0].units")
+    assert "declares, g, got 'gal'" in info.value.expected
+    meant = load_deck(deck, [f'ground_motion.suite=[{{file="{record}", units="gal", override_header_units=true}}]'])
+    assert meant.ground_motion.records[0].units == "cm/s2"

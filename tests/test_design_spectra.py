@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import datetime
 import math
 
 import numpy as np
@@ -92,7 +93,8 @@ def test_from_mapping_builds_each_type(tmp_path):
 
 @pytest.mark.parametrize("mapping, message", [
     ({"type": "asce7", "sds": 1.0, "sd1": 0.6}, r"spectrum\.tl: a value"),
-    ({"type": "asce7", "sds": 1.0, "sd1": 0.6, "tl": 8.0, "sdz": 1}, r"spectrum\.sdz: a key of a asce7"),
+    ({"type": "asce7", "sds": 1.0, "sd1": 0.6, "tl": 8.0, "sdz": 1},
+     r"spectrum\.sdz: a key of a spectrum of type .asce7."),
     ({"type": "asce7", "sds": -1.0, "sd1": 0.6, "tl": 8.0}, r"spectrum\.sds: a number > 0 \[g\]"),
     ({"type": "ec8", "ag": 0.3, "ground_type": "S1"}, r"spectrum\.ground_type"),
     ({"type": "ec8", "ag": 0.3, "ground_type": "B", "spectrum_type": 3}, r"spectrum\.spectrum_type"),
@@ -234,3 +236,65 @@ def test_the_damping_correction_is_read_whatever_its_case(tmp_path):
     """"ASCE" or "asce": the deck's choice and the one of a table built in code agree."""
     table = {"type": "table", "periods": [0.0, 4.0], "sa": [1.0, 1.0], "damping": 0.05, "damping_correction": "ASCE"}
     assert from_mapping(table, str(tmp_path / "deck.toml")).damping_correction == "asce"
+
+
+# ----------------------------------------------------------------------------- keys through the field checker
+
+@pytest.mark.parametrize(("mapping", "message"), [
+    ({"type": "asce7", "sds": True, "sd1": 0.6, "tl": 8.0}, r"spectrum\.sds: a number > 0 \[g\], got True$"),
+    ({"type": "asce7", "sds": 1e300, "sd1": 0.6, "tl": 8.0}, r"spectrum\.sds: a number > 0 of magnitude 1e-30 to "
+                                                           r"1e\+30 \[g\], got 1e\+300$"),
+    ({"type": "asce7", "sds": "1.0", "sd1": 0.6, "tl": 8.0}, r"spectrum\.sds: a number > 0 \[g\] or a text"),
+    ({"type": "asce7", "sds": [[1.0]], "sd1": 0.6, "tl": 8.0}, r"spectrum\.sds: a number > 0 \[g\], got \[\[1\.0\]\]"),
+    ({"type": "ec8", "ag": 0.3, "ground_type": "B", "importance": False}, r"spectrum\.importance: a number > 0"),
+    ({"type": "ec8", "ag": 0.3, "ground_type": "B", "spectrum_type": 3}, r"spectrum\.spectrum_type: an integer 1 or 2"),
+    ({"type": "table", "periods": [0, 1, 8], "sa": [1, 1, 1], "damping": "5%"},
+     r"spectrum\.damping: a number in \(0, 1\) \(0\.05 = 5 %\) \(a bare number: this field takes no unit\), "
+     r"got '5%'$"),
+    ({"type": "table", "periods": [0, 1, 8], "sa": [1, True, 1], "damping": 0.05}, r"spectrum\.sa: every entry a"),
+    ({"type": "table", "periods": [0, 1, 8], "sa": [1, 1, 1], "damping": 0.05, "name": datetime.date(1979, 5, 27)},
+     r"spectrum\.name: a string, got datetime\.date\(1979, 5, 27\)$"),
+    ({"type": "asce7-multiperiod", "sa": [0.5] * 22, "name": 3}, r"spectrum\.name: a string, got 3$"),
+    ({"type": "table", "periods": [0, 8], "sa": [1, 1], "damping": 0.05, "units": "furlong"},
+     r"spectrum\.units: acceleration units g, m/s2, cm/s2 or in/s2"),
+])
+def test_every_key_goes_through_the_field_checker(tmp_path, mapping, message):
+    deck = str(tmp_path / "deck.toml")
+    with pytest.raises(InputError, match=message) as info:
+        from_mapping(mapping, deck)
+    assert info.value.source == deck and "\n" not in str(info.value)
+
+
+def test_all_the_bad_keys_of_a_spectrum_are_reported_together(tmp_path):
+    from upliftcli.errors import InputErrors
+
+    with pytest.raises(InputErrors) as info:
+        from_mapping({"type": "asce7", "sds": True, "sd1": "x", "tll": 8}, str(tmp_path / "deck.toml"),
+                     "ground_motion.design_spectrum")
+    assert [e.location for e in info.value.errors] == [
+        "ground_motion.design_spectrum.sds", "ground_motion.design_spectrum.sd1", "ground_motion.design_spectrum.tll",
+        "ground_motion.design_spectrum.tl"]
+    assert "did you mean 'tl'" in info.value.errors[2].expected
+
+
+def test_keys_of_a_spectrum_read_from_a_file_are_blamed_on_the_deck_naming_the_file(tmp_path):
+    (tmp_path / "usgs.csv").write_text("".join(f"{t},0.5\n" for t in USGS_PERIODS))
+    deck = str(tmp_path / "deck.toml")
+    with pytest.raises(InputError) as info:
+        from_mapping({"type": "asce7-multiperiod", "file": "usgs.csv", "sds": -1}, deck,
+                     "ground_motion.design_spectrum")
+    assert str(info.value) == (f"{deck}: ground_motion.design_spectrum.sds: a number > 0 [g], got -1 (spectrum read "
+                               "from 'usgs.csv')")
+    (tmp_path / "table.csv").write_text("period_s,sa_g\n0,0.4\n1,-0.5\n8,0.1\n")
+    with pytest.raises(InputError) as info:  # what the file holds: the deck's field, naming the file
+        from_mapping({"type": "table", "file": "table.csv", "damping": 0.05}, deck, "ground_motion.design_spectrum")
+    assert (info.value.source, info.value.location) == (deck, "ground_motion.design_spectrum.file")
+    assert "spectral accelerations >= 0" in info.value.expected and "table.csv" in info.value.expected
+    (tmp_path / "bad.csv").write_text("0,0.4\n1,x\n")
+    with pytest.raises(InputError, match=r"bad\.csv: line 2: two numbers"):  # a fault of the file: the file's line
+        from_mapping({"type": "table", "file": "bad.csv", "damping": 0.05}, deck, "ground_motion.design_spectrum")
+
+
+def test_a_spectrum_key_may_carry_its_unit():
+    spectrum = from_mapping({"type": "asce7", "sds": "9.80665 m/s2", "sd1": "0.6 g", "tl": "8000 ms"}, "deck.toml")
+    assert (spectrum.sds, spectrum.sd1, spectrum.tl) == (1.0, 0.6, 8.0)

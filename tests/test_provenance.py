@@ -10,6 +10,7 @@ import math
 import shutil
 import tomllib
 from datetime import UTC, datetime
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -195,3 +196,17 @@ def test_json_result_holds_the_provenance(deck_file):
     assert document["provenance"]["options"]["simplified"]["procedure"] == "improved"
     assert document["provenance"]["options"]["units"]["exact"]["time_step"] == "s"  # every option with its unit
     assert document["provenance"]["deck"]["resolved"]["building"]["period"] == 0.4
+
+
+def test_the_resolved_deck_is_in_bare_si():
+    """A deck with units (units = "us", or texts such as "11.5 ft") resolves to bare SI numbers."""
+    root = Path(__file__).resolve().parent.parent
+    deck = load_deck(root / "inputs" / "ten_story_elcentro_us.toml", ['foundation.b="7.5 ft"'],
+                     load_ground_motion=False)
+    resolved = provenance.resolved_deck(deck)
+    assert "units" not in resolved
+    assert resolved["foundation"]["b"] == pytest.approx(2.286, rel=1e-15)
+    assert resolved["building"]["story_height"] == pytest.approx(3.5, rel=1e-15)
+    assert deck.raw["foundation"]["b"] == "7.5 ft"  # the deck as given (and the --set shown) are kept
+    text = provenance.deck_toml(load_deck(root / "inputs" / "ten_story_elcentro_us.toml"))
+    assert "Every number is bare SI" in text and tomllib.loads(text)["building"]["floor_mass"] == pytest.approx(350e3)

@@ -58,7 +58,7 @@ def test_at2_reader(tmp_path):
 def test_at2_npts_mismatch_and_bad_dt(tmp_path):
     with pytest.raises(InputError, match=r"bad\.AT2: line 4: NPTS = 12 .* found 11"):
         read_record(write(tmp_path, "bad.AT2", at2_text(VALUES, npts=12)))
-    with pytest.raises(InputError, match=r"line 4: a time step 0 < dt <= 10 s"):
+    with pytest.raises(InputError, match=r"line 4: a time step dt: a number > 0 and at most 10 \[s\]"):
         read_record(write(tmp_path, "zero.AT2", at2_text(VALUES, dt="0.0")))
     with pytest.raises(InputError, match=r"line 4"):
         read_record(write(tmp_path, "noheader.AT2", at2_text(VALUES).replace("NPTS=", "N=").replace("DT=", "T=")))
@@ -195,3 +195,15 @@ def test_fixed_width_values_that_touch_are_two_values(tmp_path):
     text = read_record(write(tmp_path, "touch.txt", "# dt = 0.01\n# units: g\n" + "\n".join(rows) + "\n"))
     np.testing.assert_array_equal(text.acceleration, record.acceleration)
     assert separated("1.0E-05 2.0D+03") == "1.0E-05 2.0D+03"  # exponents are not split
+
+
+def test_values_are_plain_numbers_not_python_literals(tmp_path):
+    """A record value 1_000 was read as 1000 (Python's float accepts digit separators)."""
+    with pytest.raises(InputError, match=r"line 4: a number, got '1_000'$"):
+        read_record(write(tmp_path, "r.txt", "# dt = 0.01\n# units: g\n0.1\n1_000\n0.2\n"))
+
+
+def test_a_header_time_step_below_the_magnitude_limit_is_refused(tmp_path):
+    with pytest.raises(InputError, match=r"r\.txt: line 1: a time step dt: a number > 0 and at most 10 of magnitude "
+                                         r"1e-30 to 1e\+30 \[s\], got 1e-300$"):
+        read_record(write(tmp_path, "r.txt", "# dt = 1e-300\n# units: g\n0.1\n0.2\n0.3\n"))

@@ -77,10 +77,32 @@ def test_values_that_overflow_after_units_and_scale_are_refused(tmp_path):
 
 
 def test_record_time_step_is_bounded(tmp_path):
-    with pytest.raises(InputError, match=r"line 1: a time step 0 < dt <= 10 s, got 1e\+300"):
+    with pytest.raises(InputError, match=r"line 1: a time step dt: a number > 0 and at most 10 \[s\], got 1e\+300"):
         read_record(write(tmp_path, "dt.txt", "# dt = 1e300\n# units: g\n0.1\n0.1\n"))
 
 
 def test_a_window_ending_far_past_the_record_keeps_the_rest(tmp_path):
     path = write(tmp_path, "w.txt", "# dt = 0.01\n# units: g\n1 2 3 4 5\n")
     assert read_record(path, window=(0.02, 1e30)).acceleration.size == 3
+
+
+def test_units_that_contradict_the_header_are_refused_unless_overridden(tmp_path):
+    path = write(tmp_path, "r.txt", "# dt = 0.01\n# units: g\n0.1\n-0.2\n0.3\n")
+    with pytest.raises(InputError) as info:
+        read_record(path, units="gal")
+    assert info.value.location == "units"
+    assert "declares, g, got 'gal' (a factor of 0.00102 on every value" in info.value.expected
+    assert "override_header_units = true" in info.value.expected
+    record = read_record(path, units="cm/s2", override_header_units=True)
+    assert record.units == "cm/s2" and record.pga == pytest.approx(0.003)
+    assert read_record(path, units="G").pga == pytest.approx(0.3 * STANDARD_GRAVITY)  # the same units: fine
+    plain = write(tmp_path, "plain.txt", "# dt = 0.01\n0.1\n-0.2\n0.3\n")  # no units in the header
+    assert read_record(plain, units="gal").pga == pytest.approx(0.003)
+
+
+def test_a_boolean_is_no_time_step_nor_scale(tmp_path):
+    path = write(tmp_path, "r.txt", "0.1\n-0.2\n0.3\n")
+    with pytest.raises(InputError, match=r"dt: a time step dt: a number > 0 and at most 10 \[s\], got True"):
+        read_record(path, units="g", dt=True)
+    with pytest.raises(InputError, match="scale: a finite non-zero scale factor, got True"):
+        read_record(path, units="g", dt=0.01, scale=True)

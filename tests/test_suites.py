@@ -109,3 +109,25 @@ def test_entries_from_a_folder_and_a_list(tmp_path):
     (tmp_path / "empty").mkdir()
     with pytest.raises(InputError, match=r"ground_motion\.suite: record files"):
         suite_entries("empty", deck)
+
+
+# ----------------------------------------------------------------------------- entries through the field checker
+
+def test_suite_entries_go_through_the_field_checker(tmp_path):
+    from upliftcli.errors import InputErrors
+    from upliftcli.motion.suites import suite_entries
+
+    deck = str(tmp_path / "deck.toml")
+    with pytest.raises(InputError, match=r"deck\.toml: ground_motion\.suite\[0\]\.dt: a number > 0 and at most 10 "
+                                         r"\[s\], got True$"):
+        suite_entries([{"file": "a.txt", "dt": True}], deck)  # was read as dt = 1 s: a base shear 88x too large
+    with pytest.raises(InputErrors) as info:
+        suite_entries([{"file": "a.txt", "dt": "x", "scale": 0, "units": "furlong", "formats": "at2"}], deck)
+    assert [e.location for e in info.value.errors] == [f"ground_motion.suite[0].{key}" for key in
+                                                       ("dt", "scale", "units", "formats")]
+    with pytest.raises(InputError, match=r"suite\[1\]\.file: the path of a record file"):
+        suite_entries(["a.txt", {"dt": 0.01}], deck)
+    with pytest.raises(InputError, match=r"suite\[0\]: a file path or a table"):
+        suite_entries([3], deck)
+    (path, options), = suite_entries([{"file": "a.txt", "dt": "10 ms", "units": "gal"}], deck)
+    assert path == tmp_path / "a.txt" and options == {"dt": 0.01, "units": "gal"}

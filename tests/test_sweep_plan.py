@@ -122,3 +122,9 @@ def test_base_deck_is_the_deck_with_its_overrides_before_vary_built_once():
     assert plan.base_deck is deck and deck.ground_motion is None
     assert (deck.system.building.damping == 0.03).all()
     assert deck.system.modes.periods[0] == pytest.approx(load_deck(EXAMPLE).system.modes.periods[0], rel=1e-12)
+
+
+def test_the_plan_carries_the_decks_warnings_once_each():
+    plan = plan_sweep(EXAMPLE, ["building.floor_mass=300"], ["building.story_height=3,3200,3200"])
+    assert [w.split(": ")[1] for w in plan.warnings] == ["building.floor_mass", "building.story_height"]
+    assert plan_sweep(EXAMPLE, [], ["building.period=0.5,1"]).warnings == ()

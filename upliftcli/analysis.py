@@ -128,7 +128,8 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
     exact engine shares work across them); results equal one-at-a-time analysis, bit for bit.
     A suite is run one batch per record (analysis_suite.iter_suite_batch): decks whose suites
     have the same scaled records share those batches. The simplified engine's results carry the
-    design spectrum's warning for a modal procedure (design_spectra.procedure_warning)."""
+    design spectrum's warning for a modal procedure (design_spectra.procedure_warning); every
+    result carries its deck's warnings (Deck.warnings: values far outside building practice)."""
     if engine not in ENGINES:
         raise InputError(decks[0].source if decks else "engine", "analysis.engine",
                          f"one of {', '.join(ENGINES)}, got {engine!r}")
@@ -136,6 +137,8 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
     out: list[AnalysisResult | Exception] = [None] * len(decks)  # type: ignore[list-item]
 
     def keep(k: int, result: AnalysisResult | Exception) -> None:
+        if isinstance(result, AnalysisResult) and decks[k].warnings:  # the deck's own, first (deck_schema.plausibility)
+            result.details["warnings"] = [*decks[k].warnings, *result.details.get("warnings", [])]
         out[k] = result
         if on_result:
             on_result(k, result)

@@ -10,6 +10,7 @@ expected; nothing here prints or exits.
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import tomllib
@@ -24,6 +25,7 @@ from . import deck_schema as schema
 from .deck_overrides import ALTERNATIVES, FOUNDATION_FIELDS, apply_overrides, parse_override, set_by_override
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from .errors import InputError, deck_relative_path, not_found
+from .fields import gather, raise_all
 from .limits import MAX_DECK_BYTES, MAX_STORIES, read_input
 from .model.building import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
 from .model.foundations import FOUNDATIONS, DeckContext
@@ -50,8 +52,10 @@ class Deck:
         the design spectrum), or None (not loaded / not given);
     spectrum: object with .sa(periods [s], damping [-]) -> S_a [m/s^2] for the simplified engine;
     analysis: AnalysisSettings; criteria: acceptance limits {name: value} (deck_schema "criteria");
-    raw: the TOML mapping after the overrides; values: validated {table: {field: value}};
-    overridden: the dotted paths set by `--set` (errors about them name "--set").
+    raw: the TOML mapping after the overrides; values: validated {table: {field: value}} (SI);
+    overridden: the dotted paths set by `--set` (errors about them name "--set");
+    warnings: one line per value far outside building practice (deck_schema.plausibility);
+    resolved: `raw` with every number in bare SI (deck_schema.si_mapping: the resolved deck).
     """
 
     source: str
@@ -64,6 +68,8 @@ class Deck:
     raw: dict
     values: dict[str, dict[str, Any]] = field(repr=False, default_factory=dict)
     overridden: frozenset[str] = frozenset()
+    warnings: tuple[str, ...] = ()
+    resolved: dict = field(repr=False, default_factory=dict)
 
     def blame(self, *paths: str) -> tuple[str, str]:
         """(source, field) to name for a problem produced by the first of `paths` that was
@@ -135,15 +141,22 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     def error(path: str, expected: str):  # ground_motion.suite[1].file came from --set ground_motion.suite
         return InputError("--set" if set_by_override(path, overridden) else source, path, expected)
 
-    building = _building(values["building"], error)
-    system = _system(building, values["foundation"], values["analysis"], error)
-    analysis = _analysis(values["analysis"], values["analysis.exact"], system, error)
+    gathered: list[InputError] = []  # the mistakes of the building, the foundation and the ground motion at once
+    building = gather(gathered, _building, values["building"], error)
+    system = None if building is None else gather(gathered, _system, building, values["foundation"],
+                                                  values["analysis"], error)
+    analysis = None if system is None else gather(gathered, _analysis, values["analysis"], values["analysis.exact"],
+                                                  system, error)
+    if analysis is None and load_ground_motion:
+        gather(gathered, _motion_fields, values["ground_motion"], source, error)
+    raise_all(gathered)
     ground_motion = spectrum = None
     if load_ground_motion:
         ground_motion, spectrum = _ground_motion(values["ground_motion"], source, error, system,
                                                  analysis.simplified.effective_properties)
     return Deck(source, values[""].get("title", Path(source).stem), system, ground_motion, spectrum,
-                analysis, dict(values["criteria"]), raw, values, overridden)
+                analysis, dict(values["criteria"]), raw, values, overridden,
+                tuple(schema.plausibility(values, source, overridden)), schema.si_mapping(raw, values))
 
 
 def _default(table: str, name: str) -> Any:
@@ -257,8 +270,32 @@ def _system(building: Building, fields: dict, analysis: dict, error) -> System:
 
     context = DeckContext(float(b), total_mass, float(modes.omega[0]), missing)
     foundation = FOUNDATIONS[kind].from_deck(fields, context)
-    return System(building, foundation, float(b), float(mat_mass), float(fields.get("mat_rotary_inertia", 0.0)),
-                  float(analysis.get("gravity", _default("analysis", "gravity"))))
+    system = System(building, foundation, float(b), float(mat_mass), float(fields.get("mat_rotary_inertia", 0.0)),
+                    float(analysis.get("gravity", _default("analysis", "gravity"))))
+    vars(system)["modes"] = modes  # System.modes (a cached property) of this very building: not solved twice
+    _check_impedance(system, fields, which, error)
+    return system
+
+
+def _check_impedance(system: System, fields: dict, half_width: str, error) -> None:
+    """The foundation's rocking stiffness K_theta > 0 and finite at the fixed-base w_1, the highest
+    frequency the engines evaluate it at (model/interaction.py: the flexible-base w1bar <= w_1),
+    where the half-space's K_theta(w) of NIST GCR 12-917-21 Table 2-3a, decreasing in w, is
+    lowest: it turns negative for a mat about 2,000 times longer than wide. The error names the
+    foundation field that set the shape (half_length, else b or slenderness)."""
+    omega = float(system.modes.omega[0])
+    try:
+        rocking = system.foundation.rocking_stiffness(system.half_width, omega)
+    except (ValueError, ArithmeticError):
+        rocking = math.nan
+    if math.isfinite(rocking) and rocking > 0.0:
+        return
+    name = "half_length" if "half_length" in fields else half_width
+    length = getattr(system.foundation, "half_length", None)
+    shape = f"{2 * system.half_width:.4g} m wide" + (f", {2 * length:.4g} m long" if length else "")
+    raise error(f"foundation.{name}", f"a foundation giving a finite rocking stiffness K_theta > 0 at the fixed-base "
+                f"w_1 = {omega:.4g} rad/s, got K_theta = {rocking:.4g} N m/rad (the mat is {shape}; check its "
+                "dimensions and the soil)")
 
 
 def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSettings:
@@ -289,28 +326,23 @@ def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSetti
     )
 
 
-def _ground_motion(fields: dict, source: str, error, system: System | None = None,
-                   effective_properties: str = "formula") -> tuple[Any, Any]:
-    """(record, design spectrum or suite, spectrum for the simplified engine)."""
+def _motion_fields(fields: dict, source: str, error):
+    """The [ground_motion] fields checked as a whole, before anything is read: a record or a design
+    spectrum, the suite fields with a design spectrum, the record file existing. The record's
+    path, or None for a design spectrum."""
     if not fields:
         raise error("ground_motion", "a [ground_motion] table with a record (path) or a design_spectrum")
-    from .deck_suite import SUITE_ONLY, target_spectrum
+    from .deck_suite import SUITE_ONLY
 
     suite_fields = {"suite", *SUITE_ONLY, "period_range", "statistics"}
     if "design_spectrum" in fields:
         extra = sorted(set(fields) - {"design_spectrum"} - suite_fields)
         if extra:
             raise error(f"ground_motion.{extra[0]}", "no record fields together with a design_spectrum")
-        spectrum = target_spectrum(fields, source, error)
-        if "suite" not in fields:
-            for name in SUITE_ONLY:
-                if name in fields:
-                    raise error(f"ground_motion.{name}", "a ground_motion.suite to scale (none given)")
-            return spectrum, spectrum
-        from .deck_suite import load_suite, suite_plan
-
-        plan = suite_plan(fields, spectrum, system, effective_properties, source, error)
-        return load_suite(fields, plan, source, error), spectrum
+        for name in SUITE_ONLY if "suite" not in fields else ():
+            if name in fields:
+                raise error(f"ground_motion.{name}", "a ground_motion.suite to scale (none given)")
+        return None
     given = sorted(suite_fields & set(fields))
     if given:
         raise error("ground_motion.design_spectrum", f"a design spectrum, the target of ground_motion.{given[0]} "
@@ -318,15 +350,31 @@ def _ground_motion(fields: dict, source: str, error, system: System | None = Non
     if "record" not in fields:
         raise error("ground_motion.record", "the path of a record file (missing; or give "
                     "ground_motion.design_spectrum)")
-    from .motion import records, spectra
-
     path = deck_relative_path(fields["record"], source)
     if not path.exists():  # the folder a relative path was resolved from: the deck's (its target's, a link)
         raise error("ground_motion.record", not_found(path, fields["record"], source,
                                                       folder=deck_relative_path(".", source)))
+    return path
+
+
+def _ground_motion(fields: dict, source: str, error, system: System | None = None,
+                   effective_properties: str = "formula") -> tuple[Any, Any]:
+    """(record, design spectrum or suite, spectrum for the simplified engine)."""
+    path = _motion_fields(fields, source, error)
+    if path is None:
+        from .deck_suite import load_suite, suite_plan, target_spectrum
+
+        spectrum = target_spectrum(fields, source, error)
+        if "suite" not in fields:
+            return spectrum, spectrum
+        plan = suite_plan(fields, spectrum, system, effective_properties, source, error)
+        return load_suite(fields, plan, source, error), spectrum
+    from .motion import records, spectra
+
     try:
         record = records.read_record(path, fields.get("format"), fields.get("units"), fields.get("dt"),
-                                     fields.get("scale", 1.0), fields.get("window"))
+                                     fields.get("scale", 1.0), fields.get("window"),
+                                     fields.get("override_header_units", False))
     except InputError as bad:
         # a deck field that does not suit the file is the deck's (or --set's) mistake, not the file's
         if bad.source == str(path) and bad.location in RECORD_OPTIONS and bad.location in fields:
@@ -336,4 +384,4 @@ def _ground_motion(fields: dict, source: str, error, system: System | None = Non
 
 
 #: record options of read_record that are deck fields of [ground_motion]
-RECORD_OPTIONS = ("format", "units", "dt", "scale", "window")
+RECORD_OPTIONS = ("format", "units", "dt", "scale", "window", "override_header_units")

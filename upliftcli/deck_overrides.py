@@ -12,6 +12,7 @@ from collections.abc import Iterable
 from typing import Any
 
 from . import deck_schema as schema
+from .deck_schema import set_by_override  # noqa: F401 - part of this module's interface
 from .errors import InputError
 from .model.foundations import FOUNDATIONS
 
@@ -23,7 +24,7 @@ ALTERNATIVES: list[tuple[str, list[set[str]]]] = [
     ("foundation", [{"b"}, {"slenderness"}]),
     *[("foundation", groups) for kind in FOUNDATIONS.values() for groups in kind.deck_alternatives],
     ("analysis", [{"modes"}, {"mass_participation"}]),
-    ("ground_motion", [{"record", "format", "units", "dt", "window", "scale"},
+    ("ground_motion", [{"record", "format", "units", "override_header_units", "dt", "window", "scale"},
                        {"design_spectrum", "suite", "scaling", "suite_factor", "period_range", "statistics"}]),
 ]
 
@@ -54,12 +55,6 @@ def toml_value(text: str) -> Any:
         return tomllib.loads(f"value = {text}")["value"]
     except (tomllib.TOMLDecodeError, RecursionError):
         return text
-
-
-def set_by_override(path: str, overridden) -> bool:
-    """Whether the field at `path` came from a --set: the path itself or a table or array it is
-    in (ground_motion.design_spectrum.sds, ground_motion.suite[1].file) was overridden."""
-    return path in overridden or any(path[:i] in overridden for i, ch in enumerate(path) if ch in ".[")
 
 
 def apply_overrides(raw: dict, overrides: Iterable[tuple[str, Any]]) -> tuple[dict, frozenset[str]]:

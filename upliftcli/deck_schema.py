@@ -15,37 +15,52 @@ from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from .engines.quantities import QUANTITIES, SCALARS
 from .engines.registry import ENGINES, SUPPORTS
 from .errors import InputError
-from .fields import Field, check_value, suggestion
+from .fields import NUMERIC, Field, check_value, gather, implausible, raise_all, raiser, suggestion
 from .model.foundations import FOUNDATIONS
 from .motion.code_rules import RULES, SCALINGS
-from .motion.readers import FORMATS
-from .units import STANDARD_GRAVITY
+from .motion.design_spectra import check_keys
+from .motion.records import RECORD_FIELDS
+from .motion.suites import check_entry
+from .units import STANDARD_GRAVITY, SYSTEMS
+
+#: the range of building practice of acceptance limits (a value outside: a warning)
+CRITERIA_PLAUSIBLE = {"drift_ratio": (1e-4, 0.1), "base_shear_coefficient": (1e-3, 3.0),
+                      "base_moment_coefficient": (1e-3, 3.0)}
 
 TABLES: dict[str, dict[str, Field]] = {
     "": {
         "title": Field("string", "-", "a label for the deck, printed with the results"),
+        "units": Field("string", "-", "unit system of the deck's bare numbers: si, or us (US customary units "
+                       "of ASCE 7 practice, docs/deck.md)", "", "si", SYSTEMS),
     },
     "building": {
         "stories": Field("integer", "-", "number of stories N (uniform shorthand)", "stories"),
-        "floor_mass": Field("number", "kg", "mass of every floor m_j (uniform shorthand)", "positive"),
-        "masses": Field("numbers", "kg", "floor masses m_1..m_N, lowest floor first", "positive"),
-        "story_height": Field("number", "m", "height of every story (uniform shorthand)", "positive"),
-        "story_heights": Field("numbers", "m", "story heights h_j - h_(j-1), lowest story first", "positive"),
-        "story_stiffness": Field("number", "N/m", "lateral stiffness k_j of every story", "positive"),
+        "floor_mass": Field("number", "kg", "mass of every floor m_j (uniform shorthand)", "positive",
+                            plausible=(1e3, 1e8)),
+        "masses": Field("numbers", "kg", "floor masses m_1..m_N, lowest floor first", "positive",
+                        plausible=(1e3, 1e8)),
+        "story_height": Field("number", "m", "height of every story (uniform shorthand)", "positive",
+                              plausible=(1.5, 30.0)),
+        "story_heights": Field("numbers", "m", "story heights h_j - h_(j-1), lowest story first", "positive",
+                               plausible=(1.5, 30.0)),
+        "story_stiffness": Field("number", "N/m", "lateral stiffness k_j of every story", "positive",
+                                 plausible=(1e5, 1e12)),
         "story_stiffnesses": Field("numbers", "N/m", "story stiffnesses k_1..k_N, lowest story first",
-                                   "positive"),
+                                   "positive", plausible=(1e5, 1e12)),
         "stiffness_matrix": Field("matrix", "N/m", "lateral stiffness matrix K of a frame (N x N, "
                                   "symmetric positive definite), instead of story stiffnesses"),
         "period": Field("number", "s", "fixed-base fundamental period T_1; alone it sets a uniform story "
-                        "stiffness, with a stiffness it scales that stiffness to give T_1", "positive"),
+                        "stiffness, with a stiffness it scales that stiffness to give T_1", "positive",
+                        plausible=(0.02, 20.0)),
         "damping": Field("number-or-numbers", "-", "modal damping ratio xi_n: one value for all modes or "
-                         "one per mode", "fraction", 0.05),
+                         "one per mode", "fraction", 0.05, plausible=(0.0, 0.3)),
     },
     "foundation": {
         "type": Field("string", "-", "foundation idealisation", "", "two-element", tuple(FOUNDATIONS)),
-        "b": Field("number", "m", "half-width b of the rigid mat in the plane of motion", "positive"),
+        "b": Field("number", "m", "half-width b of the rigid mat in the plane of motion", "positive",
+                   plausible=(0.5, 300.0)),
         "slenderness": Field("number", "-", "h_1*/b: sets b from the first-mode effective height "
-                             "(instead of b)", "positive"),
+                             "(instead of b)", "positive", plausible=(0.1, 30.0)),
         "mat_mass": Field("number", "kg", "mass m_0 of the mat", "nonnegative", 0.0),
         "mat_rotary_inertia": Field("number", "kg m^2", "rotary inertia I_0 of the mat about its centre",
                                     "nonnegative", 0.0),
@@ -53,11 +68,7 @@ TABLES: dict[str, dict[str, Field]] = {
     },
     "ground_motion": {
         "record": Field("string", "-", "path of the accelerogram file (relative to the deck)"),
-        "format": Field("string", "-", "record format (default: detected)", "", None, FORMATS),
-        "units": Field("string", "-", "record acceleration units: g, m/s2, cm/s2 or in/s2 (default: from "
-                       "the file header)"),
-        "dt": Field("number", "s", "time step, for plain text files without a 'dt' header", "positive"),
-        "scale": Field("number", "-", "factor applied to the record", "positive", 1.0),
+        **RECORD_FIELDS,
         "window": Field("pair", "s", "[start, end] time window of the record to keep"),
         "design_spectrum": Field("table", "-", "a design spectrum instead of a record (see the records "
                                  "documentation for its fields); the target of a suite"),
@@ -79,13 +90,16 @@ TABLES: dict[str, dict[str, Field]] = {
         "mass_participation": Field("number", "-", "keep the fewest modes whose effective masses reach this "
                                     "fraction of the building mass (instead of modes)", "unit-interval"),
         **deck_fields(SimplifiedOptions),
-        "gravity": Field("number", "m/s^2", "acceleration of gravity g", "positive", STANDARD_GRAVITY),
+        "gravity": Field("number", "m/s^2", "acceleration of gravity g", "positive", STANDARD_GRAVITY,
+                         plausible=(9.7, 9.9)),
     },
     "analysis.exact": deck_fields(ExactOptions),
     "criteria": {
-        **{q.name: Field("number", q.unit, f"largest allowed {q.meaning}", "positive")
+        **{q.name: Field("number", q.unit, f"largest allowed {q.meaning}", "positive",
+                         quantity="displacement" if q.unit == "m" else "", plausible=CRITERIA_PLAUSIBLE.get(q.name))
            for q in QUANTITIES.values() if q.criterion},
-        **{q.name: Field("number", q.unit, f"largest allowed {q.meaning}", "positive") for q in SCALARS.values()},
+        **{q.name: Field("number", q.unit, f"largest allowed {q.meaning}", "positive",
+                         plausible=CRITERIA_PLAUSIBLE.get(q.name)) for q in SCALARS.values()},
         "uplift": Field("bool", "-", "whether uplift of the mat is acceptable (false: uplift fails)"),
     },
 }
@@ -113,26 +127,42 @@ def all_paths() -> list[str]:
     return [dotted(table, name) for table, fields in TABLES.items() for name in fields]
 
 
-def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -> dict[str, dict[str, Any]]:
-    """Check every key, type and range; return {table: {field: value}} with only the given fields.
+def set_by_override(path: str, overridden) -> bool:
+    """Whether the field at `path` came from a --set: the path itself or a table or array it is
+    in (ground_motion.design_spectrum.sds, ground_motion.suite[1].file) was overridden."""
+    return bool(overridden) and (path in overridden or any(path[:i] in overridden for i, ch in enumerate(path)
+                                                           if ch in ".["))
 
-    Values that came from `--set` are reported with source "--set".
+
+def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -> dict[str, dict[str, Any]]:
+    """Check every key, type, unit and range; return {table: {field: value}} with only the given
+    fields, numbers in the unit each field declares (SI: a number with a unit converted, a bare
+    number read in the deck's `units` system). The keys of a design spectrum and the entries of
+    a suite are checked here too (design_spectra.check_keys, suites.check_entry).
+
+    Every error is found before any is raised: one error as it is, several as one
+    errors.InputErrors (one line each). Values that came from `--set` are reported with source
+    "--set".
     """
     values: dict[str, dict[str, Any]] = {table: {} for table in TABLES}
+    gathered: list[InputError] = []
 
-    def raiser(path: str):
+    def error_for(path: str):  # a value that came from a --set (or inside one) names "--set"
         def error(expected: str):
-            raise InputError("--set" if path in overridden else source, path, expected)
+            raiser("--set" if set_by_override(path, overridden) else source)(path)(expected)
         return error
+
+    system = raw.get("units", "si") if raw.get("units", "si") in SYSTEMS else "si"
 
     def walk(table: str, mapping: dict) -> None:
         fields = TABLES[table]
         for key, value in mapping.items():
             path = dotted(table, key)
             if path in TABLES and SUBTABLES.get(path, "") == table:
-                if not isinstance(value, dict):
-                    raiser(path)(f"a table [{path}], got {value!r}")
-                walk(path, value)
+                if isinstance(value, dict):
+                    walk(path, value)
+                else:
+                    gather(gathered, error_for(path), f"a table [{path}], got {value!r}")
                 continue
             if key not in fields:
                 names = list(fields) + [name.rsplit(".", 1)[-1] for name, parent in SUBTABLES.items()
@@ -140,8 +170,75 @@ def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -
                 if table == "":
                     names += [name for name in TABLES if name and "." not in name]
                 where = f"[{table}]" if table else "the top level"
-                raiser(path)(f"a known field of {where}{suggestion(key, names)}; unknown key {key!r}")
-            values[table][key] = check_value(fields[key], value, raiser(path))
+                gather(gathered, error_for(path), f"a known field of {where}{suggestion(key, names)}; unknown key "
+                       f"{key!r}")
+                continue
+            checked = gather(gathered, check_value, fields[key], value, error_for(path), system)
+            if checked is not None:
+                values[table][key] = gather(gathered, _nested, path, checked, source, error_for)
 
     walk("", raw)
+    raise_all(gathered)
     return values
+
+
+def _nested(path: str, value: Any, source: str, error_for) -> Any:
+    """A design spectrum's keys and a suite's entries, checked by their own fields (the values,
+    converted); other values as they are."""
+    if path == "ground_motion.design_spectrum":
+        return check_keys(value, source, path, error_for)
+    if path == "ground_motion.suite" and isinstance(value, list):
+        gathered: list[InputError] = []
+        entries = [item if isinstance(item, str) else gather(gathered, check_entry, item, source, f"{path}[{k}]",
+                                                             error_for) for k, item in enumerate(value)]
+        raise_all(gathered)
+        return entries
+    return value
+
+
+def plausibility(values: dict[str, dict[str, Any]], source: str, overridden=frozenset()) -> list[str]:
+    """One warning per validated field whose value lies outside the range of building practice
+    its declaration gives (Field.plausible; the design spectrum's keys too), naming the deck
+    ('(--set)' after it for a value of --set) and the field: 'inputs/a.toml: building.floor_mass:
+    300 kg is far outside ...'."""
+    from .motion.spectrum_fields import SPECTRUM_FIELDS
+
+    found = [(dotted(table, name), TABLES[table][name], value) for table, fields in values.items()
+             for name, value in fields.items()]
+    spectrum = values.get("ground_motion", {}).get("design_spectrum") or {}
+    found += [(f"ground_motion.design_spectrum.{key}", SPECTRUM_FIELDS[key], value) for key, value in spectrum.items()
+              if key in SPECTRUM_FIELDS]
+    system = values[""].get("units", "si")
+    warnings = []
+    for path, field, value in found:
+        words = implausible(field, value, system)
+        if words:
+            warnings.append(f"{source}{' (--set)' if set_by_override(path, overridden) else ''}: {path}: {words}")
+    return warnings
+
+
+def si_mapping(raw: dict, values: dict[str, dict[str, Any]]) -> dict:
+    """The deck as a mapping whose numbers are all bare SI numbers: every value given with a
+    unit, or under `units = "us"`, replaced by its checked SI value, and `units` dropped (the
+    resolved deck, docs/provenance.md). A deck written in SI with bare numbers is `raw` itself
+    (not copied: sweeps build a deck per case)."""
+    changed = []
+    for table, fields in values.items():
+        given = raw
+        for part in table.split(".") if table else []:
+            given = given.get(part, {})
+        for name, value in fields.items():
+            value = list(value) if isinstance(value, tuple) else value
+            if (TABLES[table][name].kind in NUMERIC or name in ("design_spectrum", "suite")) \
+                    and given.get(name) != value:
+                changed.append((table, name, value))
+    if not changed and "units" not in raw:
+        return raw
+    result = {key: value for key, value in raw.items() if key != "units"}
+    for table, name, value in changed:
+        target = result
+        for part in table.split(".") if table else []:
+            target[part] = dict(target[part])  # copied on the way down: raw is left as it was
+            target = target[part]
+        target[name] = value
+    return result

@@ -95,7 +95,14 @@ def load_suite(fields: dict, plan: SuitePlan, source: str, error: Callable[[str,
                 given = item if isinstance(item, str) else item["file"]
                 where = f"ground_motion.suite[{k}]" + ("" if isinstance(item, str) else ".file")
                 raise error(where, not_found(path, given, source))
-    records = read_records(entries)
+    records = []
+    for k, entry in enumerate(entries):
+        try:
+            records += read_records([entry])
+        except InputError as bad:  # an option the entry gives that does not suit its file: the deck's mistake
+            if bad.source == str(entry[0]) and bad.location in entry[1]:
+                raise error(f"ground_motion.suite[{k}].{bad.location}", bad.expected) from None
+            raise
     try:
         return build_suite(records, plan.target, plan.period_range, plan.rule, fields.get("scaling", "none"),
                            bool(fields.get("suite_factor", False)), plan.period_note, source=source)

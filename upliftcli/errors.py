@@ -26,6 +26,23 @@ class InputError(Exception):
         super().__init__(one_line(f"{where}: {expected}"))
 
 
+class InputErrors(InputError):
+    """Several independent input errors found in one pass (a deck with four mistakes): one line
+    each, in the order found. source, location and expected are those of the first; `errors`
+    holds them all. The CLI prints each line and exits with code 2."""
+
+    def __init__(self, errors):
+        self.errors = [item for error in errors for item in getattr(error, "errors", [error])]
+        first = self.errors[0]
+        self.source, self.location, self.expected = first.source, first.location, first.expected
+        Exception.__init__(self, "\n".join(str(error) for error in self.errors))
+
+
+def lines(error: Exception) -> list[str]:
+    """The lines to print for an error: one per InputError of an InputErrors."""
+    return [str(item) for item in getattr(error, "errors", [error])]
+
+
 class AnalysisError(Exception):
     """An analysis that cannot give a trustworthy number (flight unsupported, non-finite state,
     tolerance not met). The CLI prints it on one line and exits with code 4."""

@@ -181,9 +181,10 @@ def absolute_paths(raw: dict, source: str) -> dict:
 
 
 def resolved_deck(deck) -> dict:
-    """The deck a run used: its mapping after `--set`, file paths absolute, its title stated
-    (a copy of it under another name keeps the title)."""
-    raw = absolute_paths(plain(deck.raw), deck.source)
+    """The deck a run used: its mapping after `--set`, every number in bare SI (a value given
+    with a unit or under `units = "us"` converted: Deck.resolved), file paths absolute, its
+    title stated (a copy of it under another name keeps the title)."""
+    raw = absolute_paths(plain(deck.resolved or deck.raw), deck.source)
     return {"title": deck.title, **raw}
 
 
@@ -374,5 +375,6 @@ def deck_toml(deck, record: dict[str, Any] | None = None) -> str:
              f"# {deck.source}" + (" with " + ", ".join(f"{k}={json.dumps(v)}" for k, v in changed.items())
                                    if changed else ""),
              "# after the overrides, file paths absolute. `uplift analyze` on this file repeats the run.",
+             "# Every number is bare SI (kg, m, s, N; design-spectrum ordinates in g), whatever units the deck used.",
              f"# command: {record['command']}"]
     return "".join(line.replace("\n", " ") + "\n" for line in lines) + "\n" + tomli_w.dumps(resolved_deck(deck))

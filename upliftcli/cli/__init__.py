@@ -16,7 +16,7 @@ import importlib
 import typer
 from typer.core import TyperGroup
 
-from ..errors import AnalysisError, InputError, one_line
+from ..errors import AnalysisError, InputError, lines, one_line
 from ..process import exit_now, keep_freed_memory
 
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
@@ -37,7 +37,8 @@ class UpliftGroup(TyperGroup):
             typer.echo(f"error: {usage_line(error)}", err=True)
             raise typer.Exit(EXIT_INPUT) from None
         except InputError as error:
-            typer.echo(f"error: {error}", err=True)
+            for line in lines(error):
+                typer.echo(f"error: {line}", err=True)
             raise typer.Exit(EXIT_INPUT) from None
         except AnalysisError as error:
             typer.echo(f"analysis failed: {error}", err=True)
@@ -113,7 +114,8 @@ def main() -> None:
     try:
         app()
     except InputError as error:  # raised outside a command (e.g. while parsing)
-        typer.echo(f"error: {error}", err=True)
+        for line in lines(error):
+            typer.echo(f"error: {line}", err=True)
         raise SystemExit(EXIT_INPUT) from None
     except AnalysisError as error:
         typer.echo(f"analysis failed: {error}", err=True)

@@ -123,11 +123,12 @@ def analyze(
                                                                                   histories=True)))
     if plot is not None:
         loaded = plotting.keep_histories(loaded)
+    warn_deck(loaded)
     results = analysis.run(loaded)
     if check:
         check_accuracy(loaded, results)
     _warn_suite(results)
-    _warn(results)
+    _warn(results, loaded.warnings)
     if plot is not None:
         plotting.analysis_plots(results, loaded, plot, deck.stem, formats)
     # the provenance of the files and the JSON (not built for the terminal alone: 30-60 ms of
@@ -191,12 +192,21 @@ def _warn_suite(results, prefix: str = "") -> None:
         typer.echo(f"warning: {prefix}{message}", err=True)
 
 
-def _warn(results) -> None:
+def _warn(results, printed=()) -> None:
     """Each result's warnings (a result that cannot be right, a step refined ...): one line each
-    on stderr (the JSON keeps them in details.warnings); the exit code is unchanged."""
+    on stderr (the JSON keeps them in details.warnings); the exit code is unchanged. `printed`:
+    the deck's warnings, printed once before (warn_deck), not again per result."""
     for result in results:
         for message in dict.fromkeys(result.details.get("warnings", [])):
-            typer.echo(f"warning: {result.engine}/{result.support}: {message}", err=True)
+            if message not in printed:
+                typer.echo(f"warning: {result.engine}/{result.support}: {message}", err=True)
+
+
+def warn_deck(deck: Deck) -> None:
+    """The deck's warnings (values far outside building practice: Deck.warnings), one line each on
+    stderr, each naming the deck (or --set) and the field; the exit code is unchanged."""
+    for message in deck.warnings:
+        typer.echo(f"warning: {message}", err=True)
 
 
 def _with_histories(results) -> list[tuple[str, object]]:
@@ -252,6 +262,8 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
         twice = next(stem for stem in stems if stems.count(stem) > 1)
         raise InputError("--out", str(out), f"decks with different file names ({twice}.toml is given twice)")
     loaded = [load_deck(deck, overrides) for deck in decks]
+    for item in loaded:
+        warn_deck(item)
     if out is not None:
         inputs = [path for item in loaded for path in input_files(item)]
         refuse_inputs([path for deck in decks for path in result_paths(out, deck.stem)], inputs, "--out")
@@ -320,6 +332,7 @@ def modes(
 
     formats = plotting.check_plot(plot, plot_format)
     loaded = load_deck(deck, settings, load_ground_motion=False)
+    warn_deck(loaded)
     system = loaded.system
     if plot is not None:
         plotting.modes_plots(loaded, plot, deck.stem, formats)

@@ -22,7 +22,9 @@ if TYPE_CHECKING:
 INFO_PERIODS = (0.1, 0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0)  # s
 
 FORMAT_HELP = "File format: at2, text, csv or shared (default: detected from the extension and header)."
-UNITS_HELP = "Acceleration units of the file: g, m/s2, cm/s2, in/s2 (default: from the header)."
+UNITS_HELP = ("Acceleration units of the file: g, m/s2, cm/s2, in/s2 or an alias (docs/deck.md; default: from the "
+              "header; units that contradict the header's are refused unless --override-header-units).")
+OVERRIDE_HELP = "Read the file in --units even where its header declares other units."
 DT_HELP = "Time step [s] of a plain-text file without a 'dt = ...' header line."
 SCALE_HELP = "Scale factor applied to the acceleration [-]."
 WINDOW_HELP = "Keep only this time window, START:END in s (time restarts at 0)."
@@ -86,16 +88,18 @@ def parse_dampings(text: str) -> np.ndarray:
 
 
 def _read(file: Path, file_format: str | None, units: str | None, dt: float | None, scale: float,
-          window: str | None) -> records.Record:
+          window: str | None, override: bool = False) -> records.Record:
     from ..motion import records
 
-    return records.read_record(file, format=file_format, units=units, dt=dt, scale=scale, window=parse_window(window))
+    return records.read_record(file, format=file_format, units=units, dt=dt, scale=scale, window=parse_window(window),
+                               override_header_units=override)
 
 
 def info(
     file: Path = typer.Argument(..., help="Record file."),
     file_format: str | None = typer.Option(None, "--format", help=FORMAT_HELP),
     units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
+    override: bool = typer.Option(False, "--override-header-units", help=OVERRIDE_HELP),
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
     scale: float = typer.Option(1.0, "--scale", help=SCALE_HELP),
     window: str | None = typer.Option(None, "--window", help=WINDOW_HELP),
@@ -110,7 +114,7 @@ def info(
     from . import render
 
     dampings = parse_dampings(damping)
-    record = _read(file, file_format, units, dt, scale, window)
+    record = _read(file, file_format, units, dt, scale, window, override)
     a = record.acceleration
     velocity = records.ground_velocity(a, record.dt)
     displacement = records.ground_displacement(a, record.dt)
@@ -178,6 +182,7 @@ def spectrum(
                                      help="Plot S_d, S_v and S_a against log T into this .png/.pdf/.svg file."),
     file_format: str | None = typer.Option(None, "--format", help=FORMAT_HELP),
     units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
+    override: bool = typer.Option(False, "--override-header-units", help=OVERRIDE_HELP),
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
     scale: float = typer.Option(1.0, "--scale", help=SCALE_HELP),
     window: str | None = typer.Option(None, "--window", help=WINDOW_HELP),
@@ -192,7 +197,7 @@ def spectrum(
         plots.check_figure_path(plot)
     if out is not None and out.is_dir():
         raise InputError("--out", str(out), "a file name (a directory of that name exists)")
-    record = _read(file, file_format, units, dt, scale, window)
+    record = _read(file, file_format, units, dt, scale, window, override)
     problem = limits.period_problem(period_values, record.dt, record.npts)
     if problem:
         raise InputError("--periods", periods, problem)

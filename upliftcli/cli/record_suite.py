@@ -12,7 +12,7 @@ import typer
 from ..atomic import refuse_inputs
 from ..errors import InputError
 from ..units import STANDARD_GRAVITY
-from .record import DT_HELP, FORMAT_HELP, UNITS_HELP
+from .record import DT_HELP, FORMAT_HELP, OVERRIDE_HELP, UNITS_HELP
 
 if TYPE_CHECKING:  # imported by the commands that use them (numpy, scipy, rich, the suites: see analyze.py)
     from ..motion import records
@@ -29,13 +29,14 @@ def _warn(messages) -> None:
 
 
 def _records(deck_path: Path, loaded, files: list[Path] | None, file_format: str | None, units: str | None,
-             dt: float | None) -> list[records.Record]:
+             dt: float | None, override: bool = False) -> list[records.Record]:
     """The records named on the command line, else those of the deck's ground_motion.suite."""
     from ..motion import records
     from ..motion.suites import read_records, suite_entries
 
     if files:
-        return [records.read_record(f, format=file_format, units=units, dt=dt) for f in files]
+        return [records.read_record(f, format=file_format, units=units, dt=dt, override_header_units=override)
+                for f in files]
     suite = loaded.values.get("ground_motion", {}).get("suite")
     if suite is None:
         raise InputError(str(deck_path), "ground_motion.suite", "records: give RECORD files or a suite in the deck")
@@ -151,6 +152,7 @@ def match(
     out: Path = typer.Option(..., "--out", "-o", help=OUT_HELP),
     file_format: str | None = typer.Option(None, "--format", help=FORMAT_HELP),
     units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
+    override: bool = typer.Option(False, "--override-header-units", help=OVERRIDE_HELP),
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing files in --out."),
@@ -164,7 +166,7 @@ def match(
 
     loaded = load_deck(deck, settings, load_ground_motion=False)
     plan = plan_from_deck(loaded)
-    seeds = _records(deck, loaded, files, file_format, units, dt)
+    seeds = _records(deck, loaded, files, file_format, units, dt, override)
     names = [f"{Path(r.source).stem}_matched.txt" for r in seeds]
     if len(set(names)) != len(names):
         raise InputError("RECORD", ", ".join(names), "records with different file names")
@@ -198,6 +200,7 @@ def scale(
     suite_factor: bool = typer.Option(False, "--suite-factor", help="One factor for the whole suite."),
     file_format: str | None = typer.Option(None, "--format", help=FORMAT_HELP),
     units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
+    override: bool = typer.Option(False, "--override-header-units", help=OVERRIDE_HELP),
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
 ) -> None:
@@ -208,7 +211,7 @@ def scale(
 
     loaded = load_deck(deck, settings, load_ground_motion=False)
     plan = plan_from_deck(loaded)
-    seeds = _records(deck, loaded, files, file_format, units, dt)
+    seeds = _records(deck, loaded, files, file_format, units, dt, override)
     suite = build_suite(seeds, plan.target, plan.period_range, plan.rule, "amplitude", suite_factor,
                         plan.period_note, source=str(deck))
     _print_suite(suite, [Path(r.source).name for r in seeds], "Amplitude factors")

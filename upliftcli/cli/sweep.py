@@ -172,11 +172,12 @@ def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, 
 
 
 def warn_suites(plan: SweepPlan) -> None:
-    """The suites' warnings (too few records for the rule ...), each once, at most MAX_WARNINGS."""
+    """The plan's warnings (values of the deck or of a case far outside building practice, the
+    suites' too few records for the rule ...), each once, at most MAX_WARNINGS."""
     for message in plan.warnings[:MAX_WARNINGS]:
         typer.echo(f"warning: {message}", err=True)
     if len(plan.warnings) > MAX_WARNINGS:
-        typer.echo(f"warning: and {len(plan.warnings) - MAX_WARNINGS} more about the suites of the cases "
+        typer.echo(f"warning: and {len(plan.warnings) - MAX_WARNINGS} more about the cases "
                    "(uplift analyze on a case's deck shows them)", err=True)
 
 

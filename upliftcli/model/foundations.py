@@ -58,10 +58,11 @@ class TwoElement:
     contact_loss_moment_ratio: ClassVar[float] = 1.0
     #: its fields in the deck's [foundation] table, and the groups of them that replace each other
     deck_fields: ClassVar[dict[str, Field]] = {
-        "k_f": Field("number", "N/m", "two-element: stiffness of each edge element", "positive"),
+        "k_f": Field("number", "N/m", "two-element: stiffness of each edge element", "positive",
+                     plausible=(1e5, 1e13)),
         "c_f": Field("number", "N s/m", "two-element: damping of each edge element", "nonnegative", 0.0),
         "frequency_ratio": Field("number", "-", "two-element: w_v/w_1 with w_v = sqrt(2 k_f / m_t) "
-                                 "(instead of k_f)", "positive"),
+                                 "(instead of k_f)", "positive", plausible=(0.5, 100.0)),
         "damping_ratio": Field("number", "-", "two-element: xi_v = c_f / (m_t w_v) (instead of c_f)",
                                "nonnegative"),
     }
@@ -119,7 +120,8 @@ class Winkler:
     #: contact loss starts at the kern, M = W b / 3 (docs/theory.md section 7, item 6)
     contact_loss_moment_ratio: ClassVar[float] = 1.0 / 3.0
     deck_fields: ClassVar[dict[str, Field]] = {
-        "k_w": Field("number", "N/m^2", "winkler: stiffness per unit length along the width", "positive"),
+        "k_w": Field("number", "N/m^2", "winkler: stiffness per unit length along the width", "positive",
+                     plausible=(1e5, 1e13)),
         "c_w": Field("number", "N s/m^2", "winkler: damping per unit length along the width",
                      "nonnegative", 0.0),
         "elements": Field("integer", "-", "winkler: number of discrete elements for the exact engine",
@@ -197,13 +199,13 @@ class HalfSpace:
     #: represented by two edge elements: contact is lost at M = W b, as for two elements
     contact_loss_moment_ratio: ClassVar[float] = 1.0
     deck_fields: ClassVar[dict[str, Field]] = {
-        "shear_modulus": Field("number", "Pa", "halfspace: shear modulus G", "positive"),
+        "shear_modulus": Field("number", "Pa", "halfspace: shear modulus G", "positive", plausible=(1e6, 1e11)),
         "shear_wave_velocity": Field("number", "m/s", "halfspace: V_s (instead of G; G = rho V_s^2)",
-                                     "positive"),
+                                     "positive", plausible=(50.0, 3500.0)),
         "poisson_ratio": Field("number", "-", "halfspace: Poisson's ratio nu", "poisson", 1.0 / 3.0),
-        "density": Field("number", "kg/m^3", "halfspace: mass density rho", "positive"),
+        "density": Field("number", "kg/m^3", "halfspace: mass density rho", "positive", plausible=(1000.0, 3000.0)),
         "half_length": Field("number", "m", "halfspace: half-dimension of the mat normal to the plane of "
-                             "motion (default: b, a square mat)", "positive"),
+                             "motion (default: b, a square mat)", "positive", plausible=(0.5, 300.0)),
         "impedance_frequency": Field("string", "-", "halfspace: frequency at which every engine evaluates "
                                      "K_theta, C_theta: the flexible-base w1bar (fixed point) or the fixed-base "
                                      "w_1", "", "flexible-base", ("flexible-base", "fixed-base")),

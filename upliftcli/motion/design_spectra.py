@@ -26,8 +26,8 @@ import numpy as np
 
 from ..errors import InputError, deck_relative_path, not_found
 from ..units import STANDARD_GRAVITY
+from .spectrum_fields import SPECTRUM_FIELDS, check_spectrum
 from .spectrum_tables import (
-    DAMPING_CORRECTIONS,
     TabulatedSpectrum,
     asce_damping_coefficient,
     check_damping,
@@ -253,9 +253,7 @@ def spectrum_warnings(spectrum, periods, procedure: str | None = None) -> list[s
 
 
 #: units of the design_spectrum keys (docs/deck.md)
-KEY_UNITS = {"type": "-", "sds": "g", "sd1": "g", "tl": "s", "ag": "g", "ground_type": "-", "spectrum_type": "-",
-             "importance": "-", "damping": "-", "periods": "s", "sa": "g (or the table's units)", "units": "-",
-             "file": "-", "damping_correction": "-", "name": "-"}
+KEY_UNITS = {key: field.unit for key, field in SPECTRUM_FIELDS.items()}
 
 _KEYS = {
     "asce7": ({"type", "sds", "sd1", "tl"}, set()),
@@ -263,6 +261,12 @@ _KEYS = {
     "ec8": ({"type", "ag", "ground_type"}, {"spectrum_type", "importance"}),
     "table": ({"type", "damping"}, {"file", "periods", "sa", "units", "damping_correction", "name"}),
 }
+
+
+def check_keys(mapping, source: str, field: str, error_for=None) -> dict:
+    """The keys of a design_spectrum table checked by the field checker, those of its type
+    (_KEYS): spectrum_fields.check_spectrum."""
+    return check_spectrum(mapping, _KEYS, source, field, error_for)
 
 
 def _table_values(mapping: dict, source: str, field: str) -> tuple[np.ndarray, np.ndarray, str]:
@@ -313,19 +317,8 @@ def from_mapping(mapping: dict, source: str, field: str = "spectrum", default_co
     {type = "table", periods = [...], sa = [...], damping = 0.05, units = "g"}.
     `field` is the deck path of the table, used in error messages; `default_correction` the
     damping correction of a table that names none ('asce' or 'ec8')."""
-    if not isinstance(mapping, dict):
-        raise InputError(source, field, f"a table with a 'type' key ({', '.join(_KEYS)})")
-    kind = str(mapping.get("type", "")).strip().lower()
-    if kind not in _KEYS:
-        raise InputError(source, f"{field}.type", f"one of {', '.join(_KEYS)}, got {mapping.get('type')!r}")
-    required, optional = _KEYS[kind]
-    for key in mapping:
-        if key not in required | optional:
-            raise InputError(source, f"{field}.{key}",
-                             f"a key of a {kind} spectrum: {', '.join(sorted(required | optional))}")
-    for key in sorted(required):
-        if key not in mapping:
-            raise InputError(source, f"{field}.{key}", f"a value (required for a {kind} spectrum)")
+    mapping = check_keys(mapping, source, field)
+    kind = mapping["type"]
     try:
         if kind == "asce7":
             return ASCE7Spectrum(mapping["sds"], mapping["sd1"], mapping["tl"], source=source)
@@ -335,13 +328,16 @@ def from_mapping(mapping: dict, source: str, field: str = "spectrum", default_co
             return EC8Spectrum(mapping["ag"], mapping["ground_type"], mapping.get("spectrum_type", 1),
                                mapping.get("importance", 1.0), source=source)
         periods, sa, table_source = _table_values(mapping, source, field)
-        correction = str(mapping.get("damping_correction", default_correction)).lower()
-        if correction not in DAMPING_CORRECTIONS:  # (TabulatedSpectrum checks again for a table built in code)
-            raise InputError(source, f"{field}.damping_correction", f"'asce' or 'ec8', got {correction!r}")
         return TabulatedSpectrum(periods, sa, mapping["damping"], units=mapping.get("units", "g"),
-                                 damping_correction=correction, source=table_source,
-                                 label=str(mapping.get("name", "")))
+                                 damping_correction=mapping.get("damping_correction", default_correction),
+                                 source=table_source, label=mapping.get("name", ""))
     except InputError as error:
         if error.source == source and error.location and not error.location.startswith(field + "."):
             raise InputError(source, f"{field}.{error.location}", error.expected) from None
+        table = mapping.get("file")
+        if table and error.location and not error.location.startswith("line") and error.source != source:
+            # what the deck's table file holds (or a key checked with it) is blamed on the deck field, naming the file
+            key = error.location if error.location in mapping else "file"
+            raise InputError(source, f"{field}.{key}", f"{error.expected} (spectrum read from {table!r}: "
+                             f"{error.source!r})") from None
         raise

@@ -16,22 +16,21 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..limits import MAX_RECORD_BYTES, MAX_RECORD_DT, MAX_RECORD_SAMPLES, read_input
+from ..fields import Field, check_value
+from ..limits import MAX_RECORD_BYTES, MAX_RECORD_SAMPLES, read_input
+from ..units import ACCELERATION_ALIASES, acceleration_unit
 
-_UNIT_ALIASES = {
-    "g": "g", "m/s2": "m/s2", "m/s^2": "m/s2", "m/s/s": "m/s2", "m/s**2": "m/s2", "mps2": "m/s2",
-    "cm/s2": "cm/s2", "cm/s^2": "cm/s2", "cm/s/s": "cm/s2", "cm/s**2": "cm/s2", "gal": "cm/s2",
-    "in/s2": "in/s2", "in/s^2": "in/s2", "in/s/s": "in/s2", "in/s**2": "in/s2",
-}
 UNIT_CHOICES = "one of g, m/s2, cm/s2, in/s2"
+#: the time step of a record, wherever it is given (a file header, the deck, a suite entry)
+DT = Field("number", "s", "time step of the record", "time-step", plausible=(1e-4, 0.1))
 
 
 def normalize_units(units: str, source: str, location: str = "units") -> str:
-    """Canonical unit name ('g', 'm/s2', 'cm/s2', 'in/s2') or InputError."""
-    key = str(units).strip().lower().replace(" ", "").replace("sec", "s")
-    if key in _UNIT_ALIASES:
-        return _UNIT_ALIASES[key]
-    raise InputError(source, location, f"acceleration units {UNIT_CHOICES}, got {units!r}")
+    """Canonical unit name ('g', 'm/s2', 'cm/s2', 'in/s2'; aliases: units.ACCELERATION_ALIASES) or InputError."""
+    unit = acceleration_unit(units)
+    if unit is None:
+        raise InputError(source, location, f"acceleration units {UNIT_CHOICES}, got {units!r}")
+    return unit
 
 
 # ----------------------------------------------------------------------------- helpers
@@ -46,12 +45,22 @@ _UNIT_HINT_RE = re.compile(
 )
 
 
+_PLAIN_NUMBER = re.compile(_NUMBER + r"|[-+]?(?:nan|inf|infinity)", re.IGNORECASE)
+
+
+def plain_number(token: str) -> float | None:
+    """A number as data files write it (Fortran 'D' exponents accepted; not Python's '1_000',
+    '0x10' or other literals float() takes), or None."""
+    if not _PLAIN_NUMBER.fullmatch(token):
+        return None
+    return float(token.replace("D", "E").replace("d", "e"))
+
+
 def _float(token: str, source: str, line_no: int) -> float:
-    """Parse one finite number (Fortran 'D' exponents accepted)."""
-    try:
-        value = float(token.replace("D", "E").replace("d", "e"))
-    except ValueError:
-        raise InputError(source, f"line {line_no}", f"a number, got {token!r}") from None
+    """Parse one finite number (plain_number)."""
+    value = plain_number(token)
+    if value is None:
+        raise InputError(source, f"line {line_no}", f"a number, got {token!r}")
     if not math.isfinite(value):
         raise InputError(source, f"line {line_no}", f"a finite number, got {token!r}")
     return value
@@ -66,7 +75,7 @@ def _resolution(token: str) -> float:
 
 def _unit_hint(text: str) -> str | None:
     match = _UNIT_HINT_RE.search(text)
-    return _UNIT_ALIASES.get(match.group(1).lower().replace("sec", "s")) if match else None
+    return ACCELERATION_ALIASES.get(match.group(1).lower().replace("sec", "s")) if match else None
 
 
 def read_lines(path: Path, source: str) -> list[str]:
@@ -82,9 +91,12 @@ def read_lines(path: Path, source: str) -> list[str]:
 
 
 def check_dt(dt: float, source: str, location: str) -> float:
-    if not (math.isfinite(dt) and 0.0 < dt <= MAX_RECORD_DT):
-        raise InputError(source, location, f"a time step 0 < dt <= {MAX_RECORD_DT:g} s, got {dt:g}")
-    return float(dt)
+    """The time step [s] checked by the field checker (DT: > 0, at most limits.MAX_RECORD_DT, of
+    magnitude 1e-30 to 1e30); InputError(source, location, ...) otherwise."""
+    def error(expected: str):
+        raise InputError(source, location, f"a time step dt: {expected}")
+
+    return check_value(DT, dt, error)
 
 
 def _is_comment(line: str) -> bool:

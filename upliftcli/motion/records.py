@@ -8,18 +8,33 @@ All accelerations inside are m/s^2; time in s.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
+from ..fields import Field
 from ..limits import MAX_MAGNITUDE
 from ..units import ACCELERATION_UNITS, STANDARD_GRAVITY
-from .readers import FORMATS, READERS, UNIT_CHOICES, check_dt, detect_format, normalize_units, read_lines
+from .readers import DT, FORMATS, READERS, UNIT_CHOICES, check_dt, detect_format, normalize_units, read_lines
 
-__all__ = ["FORMATS", "READERS", "Record", "arias_intensity", "bundled_records_dir", "ground_displacement",
-           "ground_velocity", "normalize_units", "read_record"]
+__all__ = ["FORMATS", "READERS", "RECORD_FIELDS", "Record", "arias_intensity", "bundled_records_dir",
+           "ground_displacement", "ground_velocity", "normalize_units", "read_record"]
+
+
+#: the options of read_record that a deck gives (`[ground_motion]`, a suite's entry {file, ...}):
+#: one declaration, checked by the one field checker wherever they are given
+RECORD_FIELDS: dict[str, Field] = {
+    "format": Field("string", "-", "record format (default: detected)", "", None, FORMATS),
+    "units": Field("string", "-", "record acceleration units: g, m/s2, cm/s2 or in/s2, or an alias (default: "
+                   "from the file header; one that contradicts the header is an error unless "
+                   "override_header_units)", "acceleration-units"),
+    "override_header_units": Field("bool", "-", "read the file in `units` even where its header declares "
+                                   "other units", "", False),
+    "dt": replace(DT, doc="time step, for plain text files without a 'dt' header"),
+    "scale": Field("number", "-", "factor applied to the record", "positive", 1.0, plausible=(0.01, 100.0)),
+}
 
 
 @dataclass
@@ -64,11 +79,14 @@ class Record:
 # ----------------------------------------------------------------------------- public reader
 
 def read_record(path: str | Path, format: str | None = None, units: str | None = None, dt: float | None = None,
-                scale: float = 1.0, window: tuple[float, float] | None = None) -> Record:
+                scale: float = 1.0, window: tuple[float, float] | None = None,
+                override_header_units: bool = False) -> Record:
     """Read an accelerogram and convert it to m/s^2.
 
     format: 'at2', 'text', 'csv', 'shared' or None (detect from extension and header).
-    units: 'g', 'm/s2', 'cm/s2', 'in/s2'; None = from the file header (an error if it gives none).
+    units: 'g', 'm/s2', 'cm/s2', 'in/s2' (or an alias); None = from the file header (an error if it
+        gives none). Units that contradict those the header declares are an error naming both,
+        unless override_header_units (then `units` are used).
     dt: time step [s] for 'text' files without a 'dt' header line (overrides the header if given;
         for 'at2', 'csv' and 'shared' the file's own step is used and a different dt is an error).
     scale: factor applied to the acceleration [-].
@@ -80,8 +98,9 @@ def read_record(path: str | Path, format: str | None = None, units: str | None =
     if fmt not in FORMATS:
         raise InputError(source, "format", f"one of {', '.join(FORMATS)}, got {format!r}")
     if dt is not None:
-        check_dt(float(dt), source, "dt")
-    if not (isinstance(scale, (int, float)) and math.isfinite(scale) and scale != 0.0):
+        dt = check_dt(dt, source, "dt")
+    if not (isinstance(scale, (int, float)) and not isinstance(scale, bool) and math.isfinite(scale)
+            and scale != 0.0):
         raise InputError(source, "scale", f"a finite non-zero scale factor, got {scale!r}")
     lines = read_lines(path, source)
     values, file_dt, file_units, name = READERS[fmt](lines, source)
@@ -97,6 +116,11 @@ def read_record(path: str | Path, format: str | None = None, units: str | None =
             raise InputError(source, "dt", f"dt = {step:g} s as in the file, got {float(dt):g} s")
     if units is not None:
         unit = normalize_units(units, source)
+        if file_units is not None and unit != file_units and not override_header_units:
+            factor = ACCELERATION_UNITS[unit] / ACCELERATION_UNITS[file_units]
+            raise InputError(source, "units", f"the units that the header of {source!r} declares, {file_units}, got "
+                             f"{units!r} (a factor of {factor:.4g} on every value; to read the file in {unit} anyway: "
+                             "override_header_units = true in a deck, --override-header-units on the command line)")
     elif file_units is not None:
         unit = file_units
     else:

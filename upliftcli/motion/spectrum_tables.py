@@ -15,9 +15,10 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..fields import MAGNITUDE_WORDS, in_magnitude, is_number
 from ..limits import MAX_RECORD_BYTES, read_input
 from ..units import ACCELERATION_UNITS
-from .readers import normalize_units
+from .readers import normalize_units, plain_number
 
 #: damping corrections a table may use: name -> what it is
 DAMPING_CORRECTIONS = {
@@ -55,21 +56,21 @@ def check_periods(periods, period_range, source: str, name: str, field: str = "p
 
 
 def check_damping(damping, source: str, allow_zero: bool = False) -> float:
-    damping = float(damping)
-    if not (0.0 < damping < 1.0 or (allow_zero and damping == 0.0)):
-        raise InputError(source, "damping", f"a damping ratio between 0 and 1 (0.05 = 5 %), got {damping:g}")
-    return damping
+    if isinstance(damping, np.generic):
+        damping = damping.item()
+    if not (is_number(damping) and (0.0 < damping < 1.0 or (allow_zero and damping == 0.0))):
+        raise InputError(source, "damping", f"a damping ratio between 0 and 1 (0.05 = 5 %), got {damping!r}")
+    return float(damping)
 
 
 def positive(value, source: str, field: str, unit: str) -> float:
-    """A finite number > 0 or InputError naming the field and its unit."""
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise InputError(source, field, f"a number > 0 [{unit}], got {value!r}") from None
-    if not (math.isfinite(number) and number > 0.0):
-        raise InputError(source, field, f"a number > 0 [{unit}], got {value!r}")
-    return number
+    """A number > 0 of magnitude 1e-30 to 1e30 (not a bool or a text) or InputError naming the
+    field and its unit (a deck's values are checked before, by fields.check_value)."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    if not (is_number(value) and value > 0.0 and in_magnitude(value)):
+        raise InputError(source, field, f"a number > 0 {MAGNITUDE_WORDS} [{unit}], got {value!r}")
+    return float(value)
 
 
 class TabulatedSpectrum:
@@ -124,12 +125,11 @@ def read_spectrum_table(path: str | Path, source: str) -> tuple[np.ndarray, np.n
         if not text:
             continue
         tokens = text.replace(",", " ").split()
-        try:
-            values = [float(token) for token in tokens[:2]]
-        except ValueError:
-            if not rows:
-                continue  # header row
-            raise InputError(str(path), f"line {number}", f"two numbers (period [s], S_a), got {text!r}") from None
+        values = [plain_number(token) for token in tokens[:2]]
+        if None in values:
+            if not rows and values[0] is None:
+                continue  # a header row of names (a row that starts with a number is data)
+            raise InputError(str(path), f"line {number}", f"two numbers (period [s], S_a), got {text!r}")
         if len(values) < 2 or not all(math.isfinite(value) for value in values):
             raise InputError(str(path), f"line {number}", f"two finite numbers (period [s], S_a), got {text!r}")
         rows.append((values[0], values[1]))

@@ -22,10 +22,11 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, deck_relative_path
+from ..fields import Field, check_mapping, raiser
 from .code_rules import SCALINGS, CodeRule
 from .design_spectra import spectrum_warnings
 from .matching import MatchSettings, control_periods, match_record, settings_for
-from .records import FORMATS, Record, read_record
+from .records import RECORD_FIELDS, Record, read_record
 from .scaling import amplitude_factors, factor_warnings, matched_factors, mean_ratio
 from .spectra import response_spectrum
 
@@ -190,8 +191,8 @@ def with_warnings(suite: Suite) -> Suite:
 
 def suite_entries(value, source: str, field: str = "ground_motion.suite") -> list[tuple[Path, dict]]:
     """(path, reader options) of each record of a deck's suite: a folder (its record files, sorted
-    by name) or a list of paths and tables {file, format, units, dt, scale}; paths relative to the
-    deck's folder."""
+    by name) or a list of paths and tables {file, format, units, dt, scale, override_header_units}
+    (check_entry); paths relative to the deck's folder."""
     if isinstance(value, str):
         folder = deck_relative_path(value, source)
         if not folder.is_dir():
@@ -202,23 +203,34 @@ def suite_entries(value, source: str, field: str = "ground_motion.suite") -> lis
             raise InputError(source, field, f"record files ({', '.join(RECORD_SUFFIXES)}) in {str(folder)!r}")
         return [(path, {}) for path in files]
     entries = []
-    keys = {"file", "format", "units", "dt", "scale"}
     for k, item in enumerate(value):
         where = f"{field}[{k}]"
-        if isinstance(item, str):
-            item = {"file": item}
-        unknown = sorted(set(item) - keys)
-        if unknown:
-            raise InputError(source, f"{where}.{unknown[0]}", f"a key of a suite record: {', '.join(sorted(keys))}")
-        if not isinstance(item.get("file"), str):
-            raise InputError(source, f"{where}.file", "the path of a record file")
-        if "format" in item and item["format"] not in FORMATS:
-            raise InputError(source, f"{where}.format", f"one of {', '.join(FORMATS)}, got {item['format']!r}")
-        entries.append((deck_relative_path(item["file"], source), {key: item[key] for key in item if key != "file"}))
+        checked = check_entry({"file": item} if isinstance(item, str) else item, source, where)
+        entries.append((deck_relative_path(checked["file"], source), {key: checked[key] for key in checked
+                                                                      if key != "file"}))
     return entries
+
+
+#: the keys of a suite's record entry {file, format, units, dt, scale, override_header_units}
+ENTRY_FIELDS: dict[str, Field] = {"file": Field("string", "-", "path of the record file (relative to the deck)"),
+                                  **RECORD_FIELDS}
+
+
+def check_entry(item, source: str, where: str, error_for=None) -> dict:
+    """A suite's record entry (a table) checked by the field checker (fields.check_mapping: every
+    key, its type, unit and range; all errors together), with its `file`; error_for(path) gives
+    the error function of a key (default: InputError(source, path, ...))."""
+    error_for = error_for or raiser(source)
+    if not isinstance(item, dict):
+        error_for(where)(f"a file path or a table {{file = ..., units = ..., dt = ...}}, got {item!r}")
+    checked = check_mapping(ENTRY_FIELDS, item, where, error_for, what="a key of a suite record")
+    if "file" not in checked:
+        error_for(f"{where}.file")("the path of a record file")
+    return checked
 
 
 def read_records(entries: list[tuple[Path, dict]]) -> list[Record]:
     """Read every record of suite_entries (format and units detected unless given)."""
     return [read_record(path, options.get("format"), options.get("units"), options.get("dt"),
-                        options.get("scale", 1.0)) for path, options in entries]
+                        options.get("scale", 1.0), override_header_units=options.get("override_header_units", False))
+            for path, options in entries]

@@ -192,8 +192,9 @@ def run_fingerprint(deck_fingerprint: str, records: dict[str, str], version: str
 class SweepPlan:
     """Everything the workers need: the parsed deck, the overrides and the cases; suite_records:
     the most records of a suite that a history engine runs in a case (0: no suite); per_record:
-    the tables get each record's row after its case's row; warnings: the suites' messages (too
-    few records for the rule ...), each once; check: the tables get the ratios simplified / exact
+    the tables get each record's row after its case's row; warnings: the decks' (values far
+    outside building practice) and the suites' messages (too few records for the rule ...),
+    each once; check: the tables get the ratios simplified / exact
     of each simplified case (sweep/table.add_checks).
 
     records: every file the cases' ground motions read (records, a suite's each, a spectrum
@@ -282,9 +283,11 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     deck_fingerprint = fingerprint(raw, base)
     cases = expand_cases(varies, engines, supports, deck_fingerprint)
     grounds: dict[str, Any] = {}
+    deck_warnings = list(deck.warnings)  # values far outside building practice, the base deck's and the cases'
     for combo in itertools.product(*[[(v.path, value) for value in v.values] for v in varies]):
         try:
             case_deck = build_deck(raw, source, base + list(combo), load_ground_motion=False)
+            deck_warnings += case_deck.warnings
             motion_key = ground_motion_key(case_deck)
             if motion_key not in grounds:
                 grounds[motion_key] = _with_suite(raw, source, base, combo, case_deck)
@@ -298,7 +301,7 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     if per_record and not suites:
         raise InputError("--per-record", source, "a deck whose ground_motion.suite a response-history engine runs "
                          "(--engine exact or approximate)")
-    warnings = tuple(dict.fromkeys(message for suite in suites for message in suite.warnings))
+    warnings = tuple(dict.fromkeys([*deck_warnings, *(message for suite in suites for message in suite.warnings)]))
     version = tool_version()
     inputs = {json.dumps(entry, sort_keys=True): entry
               for ground in grounds.values() for entry in motion_files(ground.ground_motion)}
