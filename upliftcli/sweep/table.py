@@ -24,7 +24,7 @@ from ..engines.quantities import ALL_ENGINES, QUANTITIES, SCALARS
 from ..errors import InputError
 from ..output import to_jsonable
 from ..provenance import csv_comments, number_text, to_text_numbers
-from .plan import SweepPlan
+from .plan import STATUSES, SweepPlan
 
 #: output column -> (unit, meaning): the row's own columns, the scalars and the largest value
 #: of each response quantity (engines/quantities.py)
@@ -311,7 +311,7 @@ def violating(rows: Sequence[dict]) -> list[dict]:
 
 def summarize(plan: SweepPlan, rows: Sequence[dict]) -> dict:
     """Counts, ranges, governing cases, envelope and the cases violating the deck's criteria."""
-    counts = {status: sum(row.get("status") == status for row in rows) for status in ("ok", "failed", "crashed")}
+    counts = {status: sum(row.get("status") == status for row in rows) for status in STATUSES}
     return to_jsonable({
         "cases": len(plan.cases), "finished": len(rows), **counts,
         "ranges": ranges(plan),
