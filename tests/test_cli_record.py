@@ -106,6 +106,24 @@ def test_periods_shorter_than_the_record_resolves_are_refused_at_once():
                                      "record's dt = 0.02 s and 1,560 samples: T >= dt/2,500), got 1e-08 s")
 
 
+def test_spectrum_work_is_limited_before_anything_is_allocated():
+    """--periods 0.1:5:10000000 ran for 299 s; the periods are counted before the array is made,
+    and the oscillator sub-steps of all periods and dampings are bounded (limits.MAX_SPECTRUM_WORK)."""
+    import time
+
+    start = time.perf_counter()
+    result = invoke("record", "spectrum", RECORD, "--periods", "0.1:5:10000000")
+    assert result.stderr.strip() == "error: --periods: 0.1:5:10000000: at most 10,000 periods (limit of the tool), " \
+                                    "got 10,000,000"
+    result = invoke("record", "spectrum", RECORD, "--periods", ",".join(["1"] * 10_001))
+    assert result.exit_code == 2 and "at most 10,000 periods" in result.stderr
+    result = invoke("record", "spectrum", RECORD, "--periods", "0.0001:5:1000")
+    assert result.exit_code == 2 and "at most 100,000,000 oscillator sub-steps" in result.stderr
+    result = invoke("record", "info", RECORD, "--damping", ",".join(["0.05"] * 8000))
+    assert result.exit_code == 2 and result.stderr.startswith("error: --damping: ") and "sub-steps" in result.stderr
+    assert time.perf_counter() - start < 10.0
+
+
 def test_spectrum_out_never_replaces_the_record(tmp_path):
     record = tmp_path / "rec.txt"
     record.write_bytes(RECORD.read_bytes())

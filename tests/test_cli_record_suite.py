@@ -80,10 +80,21 @@ def test_generate_bad_input_one_line_and_nothing_written(tmp_path):
     out = tmp_path / "out"
     cases = [
         (["--dt", "0.1"], "--dt: 0.1: a time step > 0 and <= 0.05 s"),
-        (["--count", "0"], "--count: 0: at least 1 record"),
+        (["--count", "0"], "--count: 0: from 1 to 1,000 records"),
+        # limits checked before anything is allocated (these allocated gigabytes, ran unbounded or crashed)
+        (["--count", "1000000"], "--count: 1000000: from 1 to 1,000 records"),
+        (["--count", "400"], "--count: 400: at most 500,000 samples in all"),
+        (["--dt", "1e-6"], "--dt: 1e-06: records of at most 1,000,000 samples (limit of the tool)"),
+        (["--dt", "1e-30"], "--dt: 1e-30: records of at most 1,000,000 samples"),
+        (["--dt", "nan"], "--dt: nan: a time step > 0"),
+        (["--seed", "-1"], "--seed: -1: an integer from 0 to 9,223,372,036,854,775,807"),
+        (["--seed", str(2**64)], "--seed: 18446744073709551616: an integer from 0"),
+        # a record the tool could not read back (more than 1,000,000 samples) is never written
+        (["--stationary", "9999"], "--stationary: 9999: records of at most 1,000,000 samples"),
+        (["--stationary", "-1"], "--stationary: -1: a stationary duration > 0 s"),
     ]
     for extra, message in cases:
-        result = invoke("record", "generate", deck, "--seed", 1, "--out", out, *extra)
+        result = invoke("record", "generate", deck, "--seed", 1, "--out", out, *extra)  # the last --seed counts
         assert result.exit_code == 2, result.output
         assert len(result.stderr.strip().splitlines()) == 1 and "Traceback" not in result.output
         assert message in result.stderr
@@ -117,8 +128,8 @@ def test_match_errors(tmp_path):
     zeros = tmp_path / "zeros.txt"
     zeros.write_text("# dt = 0.01\n# units: g\n" + "0.0\n" * 3000)
     out = tmp_path / "out"
-    result = invoke("record", "match", deck, zeros, "--out", out)
-    assert result.exit_code == 4 and "spectral matching did not converge" in result.stderr, result.output
+    result = invoke("record", "match", deck, zeros, "--out", out)  # bad input (exit 2), refused before matching
+    assert result.exit_code == 2 and "zeros.txt: a record with non-zero accelerations to be scaled" in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1 and not out.exists()
     short = tmp_path / "short.txt"
     short.write_text("# dt = 0.01\n# units: g\n" + "0.1\n-0.1\n" * 200)

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import Any, NoReturn
 
 from .errors import InputError
-from .limits import MAX_INTEGER, MAX_MAGNITUDE, MAX_STORIES, MIN_MAGNITUDE
+from .limits import MAX_CONTACT_ELEMENTS, MAX_INTEGER, MAX_MAGNITUDE, MAX_STORIES, MIN_MAGNITUDE
 
 
 @dataclass(frozen=True)
@@ -51,6 +51,7 @@ CHECKS: dict[str, tuple[Callable[[Any], bool], str]] = {
     "count": (lambda v: v >= 1, ">= 1"),
     "two-or-more": (lambda v: v >= 2, ">= 2"),
     "stories": (lambda v: 1 <= v <= MAX_STORIES, f"from 1 to {MAX_STORIES}"),
+    "contact-elements": (lambda v: 2 <= v <= MAX_CONTACT_ELEMENTS, f"from 2 to {MAX_CONTACT_ELEMENTS}"),
     "": (lambda v: True, ""),
 }
 

@@ -93,6 +93,23 @@ def spectrum_work_problem(periods, dampings: int, dt: float, samples: int) -> st
             "fewer periods, fewer dampings or a shorter --window")
 
 
+def suite_samples_problem(counts, what: str) -> str | None:
+    """The words of the record-suite limits if the records (their samples each, `counts`) exceed
+    them: MAX_SUITE_RECORDS records, MAX_RECORD_SAMPLES samples each (a record the tool can read
+    back), MAX_SUITE_SAMPLES samples in all. what: the records, in words ('records of 2,001 samples')."""
+    counts = list(counts)
+    if len(counts) > MAX_SUITE_RECORDS:
+        return f"at most {MAX_SUITE_RECORDS:,} records (limit of the tool), got {len(counts):,}"
+    longest = max(counts, default=0)
+    if longest > MAX_RECORD_SAMPLES:
+        return f"records of at most {MAX_RECORD_SAMPLES:,} samples (limit of the tool), got {what}"
+    total = sum(counts)
+    if total > MAX_SUITE_SAMPLES:
+        return (f"at most {MAX_SUITE_SAMPLES:,} samples in all (limit of the tool: about 100 s of spectral "
+                f"iteration), got {total:,} ({what})")
+    return None
+
+
 def step_states_problem(steps: int, states: int) -> str | None:
     """The words of the exact engine's run-time limit if steps x (states + 2) exceeds it."""
     product = steps * (states + 2)

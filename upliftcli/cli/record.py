@@ -54,7 +54,13 @@ def parse_periods(text: str) -> np.ndarray:
             start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
             if not (0.0 < start < stop and math.isfinite(stop) and count >= 2):
                 raise ValueError
+            if count > limits.MAX_SPECTRUM_PERIODS:  # before anything is allocated
+                raise InputError("--periods", text, f"at most {limits.MAX_SPECTRUM_PERIODS:,} periods (limit of the "
+                                 f"tool), got {count:,}")
             return np.geomspace(start, stop, count)
+        if text.count(",") >= limits.MAX_SPECTRUM_PERIODS:
+            raise InputError("--periods", text[:40] + "...", f"at most {limits.MAX_SPECTRUM_PERIODS:,} periods (limit "
+                             f"of the tool), got {text.count(',') + 1:,}")
         values = np.array([float(part) for part in text.split(",") if part.strip()])
         if values.size == 0 or not np.all(np.isfinite(values)) or np.any(values < 0.0):
             raise ValueError
@@ -118,6 +124,9 @@ def info(
     i_a, i_v, i_d = (int(np.argmax(np.abs(x))) for x in (a, velocity, displacement))
     shortest = limits.shortest_period(record.dt, record.npts)
     periods = np.array([t for t in INFO_PERIODS if t >= shortest])  # a record with a long dt: fewer rows
+    problem = limits.spectrum_work_problem(periods, dampings.size, record.dt, record.npts)
+    if problem:
+        raise InputError("--damping", damping if len(damping) <= 40 else damping[:37] + "...", problem)
     spectrum = spectra.response_spectrum(a, record.dt, periods, dampings)
     out = render.console()
     lines = [
@@ -194,6 +203,9 @@ def spectrum(
         raise InputError("--out", str(out), "a file name (a directory of that name exists)")
     record = _read(file, file_format, units, dt, scale, window)
     problem = limits.period_problem(period_values, record.dt, record.npts)
+    if problem:
+        raise InputError("--periods", periods, problem)
+    problem = limits.spectrum_work_problem(period_values, dampings.size, record.dt, record.npts)
     if problem:
         raise InputError("--periods", periods, problem)
     refuse_inputs([path for path in (out, plot) if path is not None], [record.source], "--out/--plot")

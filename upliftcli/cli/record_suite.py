@@ -4,11 +4,13 @@ deck's design spectrum (target, code rule and period range from the deck, docs/d
 from __future__ import annotations
 
 import hashlib
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import typer
 
+from .. import limits
 from ..atomic import refuse_inputs
 from ..errors import InputError
 from ..units import STANDARD_GRAVITY
@@ -104,25 +106,34 @@ def generate(
     """Artificial records matching the deck's design spectrum (Gasparini & Vanmarcke), with a manifest."""
     from ..deck import load_deck
     from ..deck_suite import plan_from_deck
-    from ..motion.generate import Envelope, generate_suite
+    from ..motion.generate import Envelope, generate_suite, suite_envelope
     from ..motion.matching import settings_for
     from ..motion.record_files import manifest_text, record_checks, record_text, sha256
     from ..motion.suites import SAMPLES_PER_PERIOD
 
-    if count < 1:
-        raise InputError("--count", str(count), "at least 1 record")
-    if not (0.0 < stationary < 1e4):
+    if not 1 <= count <= limits.MAX_SUITE_RECORDS:
+        raise InputError("--count", str(count), f"from 1 to {limits.MAX_SUITE_RECORDS:,} records")
+    if not 0 <= seed <= limits.MAX_SEED:
+        raise InputError("--seed", str(seed), f"an integer from 0 to {limits.MAX_SEED:,}")
+    if not (math.isfinite(stationary) and stationary > 0.0):
         raise InputError("--stationary", f"{stationary:g}", "a stationary duration > 0 s")
     loaded = load_deck(deck, settings, load_ground_motion=False)
     plan = plan_from_deck(loaded)
     if not 0.0 < dt <= plan.period_range[0] / SAMPLES_PER_PERIOD:
         raise InputError("--dt", f"{dt:g}", f"a time step > 0 and <= {plan.period_range[0] / SAMPLES_PER_PERIOD:.4g} s "
                          f"(the lower period {plan.period_range[0]:.4g} s / {SAMPLES_PER_PERIOD})")
+    envelope = suite_envelope(plan.period_range, plan.rule, Envelope(strong=stationary))
+    samples = envelope.samples(dt)
+    problem = limits.suite_samples_problem([samples] * count, f"{count:,} records of {samples:,} samples: "
+                                           f"{envelope.duration:.4g} s at dt = {dt:g} s")
+    if problem:
+        raise InputError(*_generate_blame(envelope, dt, count, plan.period_range[0] / SAMPLES_PER_PERIOD,
+                                          stationary), problem)
     names = [f"artificial_{seed}_{k + 1:02d}.txt" for k in range(count)]
     _check_out(out, [*names, "manifest.json"], overwrite, [deck])
     match_settings = settings_for(plan.rule)
-    suite, items = generate_suite(plan.target, plan.period_range, plan.rule, count, seed, dt,
-                                  Envelope(strong=stationary), match_settings, plan.period_note)
+    suite, items = generate_suite(plan.target, plan.period_range, plan.rule, count, seed, dt, envelope, match_settings,
+                                  plan.period_note)
     files, rows = {}, []
     for name, motion, factor, item, check in zip(names, suite.motions(), suite.factors, items,
                                                  record_checks(suite, match_settings), strict=True):
@@ -145,6 +156,19 @@ def generate(
     typer.echo(f"wrote {count} records and manifest.json to {out}", err=True)
 
 
+def _generate_blame(envelope, dt: float, count: int, largest_dt: float, stationary: float) -> tuple[str, str]:
+    """(option, value) of `record generate` that exceeds the suite limits: --count when one record
+    is within them, else --dt when a record at the default step would be, else --stationary."""
+    def fits(samples: int) -> bool:
+        return samples <= min(limits.MAX_RECORD_SAMPLES, limits.MAX_SUITE_SAMPLES)
+
+    if fits(envelope.samples(dt)) and count > 1:
+        return "--count", str(count)
+    if fits(envelope.samples(min(0.01, largest_dt))):
+        return "--dt", f"{dt:g}"
+    return "--stationary", f"{stationary:g}"
+
+
 def match(
     deck: Path = typer.Argument(..., help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
     files: list[Path] = typer.Argument(None, help="Records to match (default: the deck's ground_motion.suite)."),
@@ -165,6 +189,10 @@ def match(
     loaded = load_deck(deck, settings, load_ground_motion=False)
     plan = plan_from_deck(loaded)
     seeds = _records(deck, loaded, files, file_format, units, dt)
+    problem = limits.suite_samples_problem([r.npts for r in seeds], f"{len(seeds):,} records of "
+                                           f"{sum(r.npts for r in seeds):,} samples")
+    if problem:
+        raise InputError("RECORD" if files else str(deck), None if files else "ground_motion.suite", problem)
     names = [f"{Path(r.source).stem}_matched.txt" for r in seeds]
     if len(set(names)) != len(names):
         raise InputError("RECORD", ", ".join(names), "records with different file names")
