@@ -115,6 +115,11 @@ def test_previous_rows_need_resume_or_overwrite(tmp_path):
     (["--vary", "building.period=1:2"], "START:STOP:N"),
     (["--engine", "fast"], "--engine: fast"),
     (["--workers", "0"], "--workers"),
+    (["--workers", "1000", "--oversubscribe"], "--workers: 1000: at most 256 worker processes"),
+    (["--name", "."], "--name: .: a plain file stem"),
+    (["--name", "a/b"], "it holds a folder separator"),
+    (["--name", ""], "it is empty"),
+    (["--name", ".hidden"], "it starts with '.'"),
     (["--dask", "remote"], "--dask"),
     (["--plot", "--plot-format", "jpg"], "--plot-format"),
 ])

@@ -12,6 +12,7 @@ Exit codes: 0 ok, 2 bad input (errors.InputError: one line on stderr, no traceba
 from __future__ import annotations
 
 import importlib
+import warnings
 
 import typer
 from typer.core import TyperGroup
@@ -30,7 +31,9 @@ class UpliftGroup(TyperGroup):
 
     def invoke(self, ctx):
         try:
-            return super().invoke(ctx)
+            with warnings.catch_warnings():  # numpy's RuntimeWarnings never reach the user (the results are checked)
+                warnings.simplefilter("ignore", RuntimeWarning)
+                return super().invoke(ctx)
         except USAGE_ERROR as error:  # a bad option value: one line naming the option, not a usage box
             if type(error).__name__ == "NoArgsIsHelpError":
                 raise

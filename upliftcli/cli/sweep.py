@@ -18,6 +18,7 @@ from ..errors import InputError
 from ..sweep.signals import ignore_stop_signals
 from . import plotting
 from .analyze import SET_HELP
+from .sweep_options import OVERSUBSCRIBE_HELP, WORKERS_HELP, check_name, local_workers
 
 if TYPE_CHECKING:
     from ..sweep.plan import SweepPlan, Vary
@@ -27,8 +28,6 @@ VARY_HELP = ("Vary a deck field (same dotted paths as --set): PATH=START:STOP:N 
              "PATH=a,b,c or PATH=\\[a, b]; repeatable, cases are the cartesian product.")
 ENGINE_HELP = "Engine(s): simplified, approximate, exact or all; repeatable or comma separated (default: the deck's)."
 SUPPORT_HELP = "Support condition(s): rigid, bonded, uplift; repeatable or comma separated (default: the deck's)."
-WORKERS_HELP = ("Local worker processes (default: all cores when the sweep is long enough to gain from them, "
-                "else 1 = in this process).")
 SCHEDULER_HELP = "Run the cases on a Dask cluster at this address (tcp://host:8786), or 'local' for a local one."
 DASK_HELP = "'local': run on a Dask LocalCluster of --workers processes on this machine (same as --scheduler local)."
 CHECK_HELP = ("Also run the exact engine (record decks) and add to the tables the ratios simplified / exact of V_b, "
@@ -220,6 +219,7 @@ def sweep(
     plot: bool = typer.Option(False, "--plot", help="Plot the responses against the first varied field."),
     plot_format: str = typer.Option("png", "--plot-format", help="png, svg or pdf."),
     workers: int | None = typer.Option(None, "--workers", "-w", help=WORKERS_HELP),
+    oversubscribe: bool = typer.Option(False, "--oversubscribe", help=OVERSUBSCRIBE_HELP),
     scheduler: str | None = typer.Option(None, "--scheduler", help=SCHEDULER_HELP),
     dask: str | None = typer.Option(None, "--dask", help=DASK_HELP),
     resume: bool = typer.Option(False, "--resume", help="Skip the cases a previous run of this sweep finished "
@@ -239,6 +239,7 @@ def sweep(
     Exit codes: 0 ok, 2 bad input, 3 a case exceeds a limit of the deck's criteria, 4 a case failed, 130 interrupted
     (Ctrl-C; 143 SIGTERM, 129 SIGHUP).
     """
+    workers = local_workers(workers, oversubscribe, scheduler)
     if workers is not None:  # by default the plan's size decides whether local workers run
         warm_workers_early(workers, scheduler, dask)
     from .. import plots
@@ -250,6 +251,7 @@ def sweep(
     from . import render
     from .sweep_render import print_summary
 
+    check_name(name)
     plot_path = plots.check_figure_path(out / f"{name or deck.stem + '.sweep'}.{plot_format}", "--plot-format") \
         if plot else None
     sweep_table.check_table_format(table.value)
@@ -295,6 +297,7 @@ def spectra(
     plot_format: list[str] = typer.Option(["png"], "--plot-format",
                                           help="png, svg, pdf or all; repeatable or comma list."),
     workers: int | None = typer.Option(None, "--workers", "-w", help=WORKERS_HELP),
+    oversubscribe: bool = typer.Option(False, "--oversubscribe", help=OVERSUBSCRIBE_HELP),
     scheduler: str | None = typer.Option(None, "--scheduler", help=SCHEDULER_HELP),
     dask: str | None = typer.Option(None, "--dask", help=DASK_HELP),
     resume: bool = typer.Option(False, "--resume", help="Skip the periods a previous run finished."),
@@ -310,6 +313,7 @@ def spectra(
 
     Exit codes: 0 ok, 2 bad input, 4 a case failed, 130 interrupted (Ctrl-C; 143 SIGTERM, 129 SIGHUP).
     """
+    workers = local_workers(workers, oversubscribe, scheduler)
     warm_workers_early(workers, scheduler, dask)
     from .. import plots
     from ..engines.registry import ENGINES, SUPPORTS
@@ -318,6 +322,7 @@ def spectra(
     from ..sweep.plan import parse_choices, plan_sweep
     from ..sweep.store import stem_lock
 
+    check_name(name)
     formats = parse_choices(plot_format, plotting.FORMATS, "--plot-format")
     sweep_table.check_table_format(table.value)
     period_vary: Vary = figures.period_vary(periods)
