@@ -169,3 +169,27 @@ def test_analyze_runs_the_suite_with_the_factors_record_scale_prints():
     for record in records:
         line = next(line for line in printed.stdout.splitlines() if Path(record["source"]).name in line)
         assert f"{record['factor']:.4f}" in line
+
+
+def test_a_full_disk_leaves_no_record_and_no_manifest(tmp_path, monkeypatch):
+    """The records and the manifest are written all or none (atomic.write_set): a full disk while
+    writing left 7 of 11 records and no manifest."""
+    import errno
+
+    from upliftcli import atomic
+
+    original, calls = atomic._finish, []
+
+    def full_disk(tmp, target):
+        calls.append(target.name)
+        if target.name == "manifest.json":
+            raise OSError(errno.ENOSPC, "No space left on device")
+        original(tmp, target)
+
+    monkeypatch.setattr(atomic, "_finish", full_disk)
+    out = tmp_path / "out"
+    result = invoke("record", "generate", deck_with(tmp_path, EC8), "--count", 1, "--seed", 5, "--out", out)
+    assert result.exit_code == 2 and calls == ["artificial_5_01.txt", "manifest.json"]
+    assert result.stderr.strip() == (f"error: --out: {out}: a writable directory (No space left on device); nothing "
+                                     "was written")
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["deck.toml"]

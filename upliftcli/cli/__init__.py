@@ -18,7 +18,7 @@ import typer
 from typer.core import TyperGroup
 
 from ..errors import AnalysisError, InputError, one_line
-from ..process import exit_now, keep_freed_memory
+from ..process import exit_now, exit_on_stop_signals, keep_freed_memory
 
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
 
@@ -113,6 +113,7 @@ _register_all()
 def main() -> None:
     """Run the command line in sys.argv; ends with SystemExit (the exit code)."""
     keep_freed_memory()
+    exit_on_stop_signals()
     try:
         app()
     except InputError as error:  # raised outside a command (e.g. while parsing)

@@ -56,13 +56,15 @@ def _check_out(out: Path, names: list[str], overwrite: bool, inputs: list[Path])
 
 
 def _write(out: Path, files: dict[str, str]) -> None:
-    from ..atomic import write_text
+    """The records and their manifest (last) all or none (atomic.write_set): a full disk or a
+    stop leaves the folder as it was (it left 7 of 11 records and no manifest)."""
+    from ..atomic import write_set
 
     try:
-        for name, text in files.items():
-            write_text(out / name, text)
+        write_set({out / name: text for name, text in files.items()})
     except OSError as error:
-        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error}); nothing was "
+                         "written") from None
 
 
 def _print_suite(suite: Suite, labels: list[str], title: str, tolerance: MatchSettings | None = None) -> None:
