@@ -138,3 +138,16 @@ def test_info_of_a_one_sample_record_is_one_line(tmp_path):
     result = invoke("record", "info", path)
     assert result.exit_code == 2
     assert result.stderr.strip() == f"error: {path}: at least two acceleration samples, found 1"
+
+
+def test_spectrum_out_and_plot_replace_a_file_only_with_overwrite(tmp_path):
+    out, plot = tmp_path / "s.csv", tmp_path / "s.png"
+    out.write_text("mine")
+    result = invoke("record", "spectrum", RECORD, "--periods", "0.5,1", "--out", out)
+    assert result.exit_code == 2 and out.read_text() == "mine"
+    assert result.stderr == f"error: --out: {out}: a new file (it exists; pass --overwrite to replace it)\n"
+    plot.write_text("mine")
+    result = invoke("record", "spectrum", RECORD, "--periods", "0.5,1", "--plot", plot)
+    assert result.exit_code == 2 and plot.read_text() == "mine" and result.stderr.startswith("error: --plot: ")
+    assert invoke("record", "spectrum", RECORD, "--periods", "0.5,1", "--out", out, "--overwrite").exit_code == 0
+    assert out.read_text().count("\n") == 5  # two '#' lines, the header and two rows

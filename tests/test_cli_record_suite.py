@@ -71,7 +71,7 @@ def test_generate_is_reproducible_and_keeps_existing_files(generated, tmp_path):
     before = (out / "manifest.json").read_bytes()
     refused = invoke("record", "generate", deck, "--count", 3, "--seed", 5, "--out", out)
     assert refused.exit_code == 2 and refused.stderr.count("\n") == 1
-    assert "--out: " in refused.stderr and "give --overwrite" in refused.stderr
+    assert "--out: " in refused.stderr and "pass --overwrite" in refused.stderr
     assert (out / "manifest.json").read_bytes() == before
 
 

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 import typer
 
 from .. import limits
-from ..atomic import refuse_inputs, write_text
+from ..atomic import refuse_existing, refuse_inputs, write_text
 from ..errors import InputError
 from ..units import STANDARD_GRAVITY
 
@@ -190,6 +190,7 @@ def spectrum(
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
     scale: float = typer.Option(1.0, "--scale", help=SCALE_HELP),
     window: str | None = typer.Option(None, "--window", help=WINDOW_HELP),
+    overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing --out and --plot files."),
 ) -> None:
     """Exact linear response spectra (S_d, pseudo S_v and S_a, absolute acceleration) of a record."""
     from .. import plots
@@ -209,6 +210,8 @@ def spectrum(
     if problem:
         raise InputError("--periods", periods, problem)
     refuse_inputs([path for path in (out, plot) if path is not None], [record.source], "--out/--plot")
+    for option, path in (("--out", out), ("--plot", plot)):
+        refuse_existing([path] if path is not None else [], option, overwrite)
     result = spectra.response_spectrum(record.acceleration, record.dt, period_values, dampings)
     from ..provenance import of_record
 

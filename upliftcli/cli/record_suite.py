@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 import typer
 
 from .. import limits
-from ..atomic import refuse_inputs
+from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
 from ..units import STANDARD_GRAVITY
 from .record import DT_HELP, FORMAT_HELP, UNITS_HELP
@@ -49,10 +49,7 @@ def _check_out(out: Path, names: list[str], overwrite: bool, inputs: list[Path])
     if out.exists() and not out.is_dir():
         raise InputError("--out", str(out), "a directory (a file of that name exists)")
     refuse_inputs([out / name for name in names], inputs, "--out")  # the same file by inode or path
-    for name in names:
-        path = out / name
-        if path.exists() and not overwrite:
-            raise InputError("--out", str(path), "a new file (it exists; give --overwrite to replace it)")
+    refuse_existing([out / name for name in names], "--out", overwrite)
 
 
 def _write(out: Path, files: dict[str, str]) -> None:

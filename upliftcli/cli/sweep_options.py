@@ -1,7 +1,11 @@
 """Options of `uplift sweep` and `uplift spectra` checked before anything starts: --name (a plain
-file stem) and --workers (capped at the cores unless --oversubscribe, docs/sweep.md#limits)."""
+file stem) and --workers (capped at the cores unless --oversubscribe, docs/sweep.md#limits); the
+tables they write, and an error writing their figures as one line."""
 
 from __future__ import annotations
+
+import contextlib
+from pathlib import Path
 
 import typer
 
@@ -49,3 +53,20 @@ def local_workers(workers: int | None, oversubscribe: bool, scheduler: str | Non
                    f"starts {workers} processes)", err=True)
         return cores
     return workers
+
+
+def table_paths(out: Path, stem: str, table: str) -> list[Path]:
+    """The tables sweep_table.write_tables writes for --table `table`: <stem>.csv and .json or .parquet."""
+    return [out / f"{stem}.csv"] + ([out / f"{stem}.{table}"] if table != "csv" else [])
+
+
+@contextlib.contextmanager
+def figure_errors(out: Path, tables: list[Path]):
+    """An OSError drawing the figures (a full disk) as one line naming the figure: each figure is
+    whole or absent (atomic), the tables written before it are named, --resume writes them again."""
+    try:
+        yield
+    except OSError as error:
+        raise InputError("--out", str(error.filename or out), f"a writable directory ({error.strerror or error}); "
+                         f"the figures were not all written, the tables were ({', '.join(p.name for p in tables)}): "
+                         "run the same command with --resume once there is room") from None
