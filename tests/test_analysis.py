@@ -99,3 +99,13 @@ def test_an_overflow_inside_an_engine_is_an_analysis_error(monkeypatch, deck):
     with pytest.raises(AnalysisError, match=r"ten_story_elcentro.toml: the simplified analysis \(rigid\) failed with "
                                             r"OverflowError .*check the magnitudes of the deck's fields"):
         run_one(deck, "simplified", "rigid")
+
+
+def test_a_design_spectrum_not_covering_the_periods_names_the_deck_field():
+    """A table spectrum asked for a period outside it was blamed on 'deck.toml: period' (no such
+    field): the field that gave the spectrum is named (or --set)."""
+    deck = ROOT / "inputs" / "ten_story_asce7.toml"
+    table = 'ground_motion.design_spectrum={type="table", periods=[0.5, 4], sa=[1, 1], damping=0.05}'
+    with pytest.raises(InputError, match=r"^--set: ground_motion.design_spectrum: periods within 0.5 to 4 s .*got "
+                                         r"0.335834 s \(a period of the building's modes"):
+        run_one(load_deck(deck, [table]), "simplified", "rigid")

@@ -92,6 +92,7 @@ def test_generate_bad_input_one_line_and_nothing_written(tmp_path):
         # a record the tool could not read back (more than 1,000,000 samples) is never written
         (["--stationary", "9999"], "--stationary: 9999: records of at most 1,000,000 samples"),
         (["--stationary", "-1"], "--stationary: -1: a stationary duration > 0 s"),
+        (["--stationary", "1e300", "--dt", "1e-30"], "--stationary: 1e+300: records of at most 1,000,000 samples"),
     ]
     for extra, message in cases:
         result = invoke("record", "generate", deck, "--seed", 1, "--out", out, *extra)  # the last --seed counts
@@ -104,6 +105,10 @@ def test_generate_bad_input_one_line_and_nothing_written(tmp_path):
     assert result.exit_code == 2 and len(result.stderr.strip().splitlines()) == 1
     assert "--set: ground_motion.period_range: a period range within the target's 0-10 s" in result.stderr
     assert not out.exists()
+    result = invoke("record", "generate", ROOT / "inputs" / "ten_story_asce7_suite.toml", "--seed", 1, "--out", out,
+                    "--set", "ground_motion.period_range=[1e-6, 2e-6]")  # the default --dt: the range is named
+    assert result.stderr == ("error: --set: ground_motion.period_range: a lower period of at least 0.04 s for records "
+                             "at the default step of 0.01 s (or give --dt <= 2.5e-07 s), got 1e-06 s\n")
     result = invoke("record", "generate", ROOT / "inputs" / "ten_story_elcentro.toml", "--seed", 1, "--out", out)
     assert result.exit_code == 2 and "ground_motion.design_spectrum: a design spectrum" in result.stderr
 

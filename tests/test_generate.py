@@ -111,3 +111,4 @@ def test_envelope_of_a_long_stationary_part_has_no_overflow():
         values = envelope(t)
     np.testing.assert_allclose(values, [0.0, 0.25, 1.0, envelope.final])
     assert envelope.samples(0.01) == round(envelope.duration / 0.01) + 1
+    assert Envelope(strong=1e300).samples(1e-30) == 2**62  # no OverflowError (round(inf))

@@ -59,6 +59,25 @@ def input_files(deck: Deck) -> list[str]:
     return [deck.source, *(entry["path"] for entry in motion if entry["path"])]
 
 
+def named_files(loaded: Deck) -> list[str]:
+    """The files a deck names, whether this run reads them or not (`modes` loads no ground motion):
+    its record, its suite's files (or every file of its suite folder) and a spectrum table."""
+    import os
+
+    from ..provenance import absolute_paths
+
+    motion = absolute_paths({"ground_motion": loaded.values.get("ground_motion", {})}, loaded.source)["ground_motion"]
+    spectrum = motion.get("design_spectrum")
+    paths = [motion.get("record"), spectrum.get("file") if isinstance(spectrum, dict) else None]
+    suite = motion.get("suite")
+    if isinstance(suite, str) and os.path.isdir(suite):
+        paths += [os.path.join(suite, name) for name in os.listdir(suite)]
+    elif isinstance(suite, list):
+        paths += [item if isinstance(item, str) else item.get("file") for item in suite
+                  if isinstance(item, (str, dict))]
+    return [path for path in paths if isinstance(path, str)]
+
+
 def result_paths(out: Path, stem: str) -> list[Path]:
     """The files --out may receive for one deck (output.write_results)."""
     from ..output import result_paths as paths
@@ -331,7 +350,7 @@ def modes(
     system = loaded.system
     if plot is not None:
         plotting.check_outputs(plotting.figure_paths(loaded, plot, deck.stem, formats, modes_only=True),
-                               [loaded.source], overwrite)
+                               [loaded.source, *named_files(loaded)], overwrite)
         plotting.modes_plots(loaded, plot, deck.stem, formats)
     if output_format is OutputFormat.json:
         document = {

@@ -22,6 +22,7 @@ if TYPE_CHECKING:  # imported by the commands that use them (numpy, scipy, rich,
     from ..motion.suites import Suite
 
 SET_HELP = "Override a deck field by dotted path, e.g. --set ground_motion.period_range=[0.1,3] (repeatable)."
+DEFAULT_DT = 0.01  # s, the step of generated records
 OUT_HELP = "Directory for the records and manifest.json (created; existing files are kept unless --overwrite)."
 
 
@@ -97,12 +98,13 @@ def generate(
     count: int = typer.Option(11, "--count", "-n", help="Number of records (ASCE 7-22 asks >= 11, EN 1998-1 >= 3)."),
     seed: int = typer.Option(..., "--seed", help="Seed: record k is reproducible from (seed, k)."),
     out: Path = typer.Option(..., "--out", "-o", help=OUT_HELP),
-    dt: float = typer.Option(0.01, "--dt", help="Time step of the records [s]."),
+    dt: float | None = typer.Option(None, "--dt", help=f"Time step of the records [s] (default {DEFAULT_DT:g})."),
     stationary: float = typer.Option(10.0, "--stationary", help="Stationary part of the envelope [s] (EC8: >= 10)."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing files in --out."),
 ) -> None:
     """Artificial records matching the deck's design spectrum (Gasparini & Vanmarcke), with a manifest."""
+    from ..analysis import BUILDING_PATHS
     from ..deck import load_deck
     from ..deck_suite import plan_from_deck
     from ..motion.generate import Envelope, generate_suite, suite_envelope
@@ -118,8 +120,15 @@ def generate(
         raise InputError("--stationary", f"{stationary:g}", "a stationary duration > 0 s")
     loaded = load_deck(deck, settings, load_ground_motion=False)
     plan = plan_from_deck(loaded)
-    if not 0.0 < dt <= plan.period_range[0] / SAMPLES_PER_PERIOD:
-        raise InputError("--dt", f"{dt:g}", f"a time step > 0 and <= {plan.period_range[0] / SAMPLES_PER_PERIOD:.4g} s "
+    largest = plan.period_range[0] / SAMPLES_PER_PERIOD
+    if dt is None and largest < DEFAULT_DT:  # the period range asks for a finer step than the default
+        raise InputError(*loaded.blame("ground_motion.period_range", *BUILDING_PATHS),
+                         f"a lower period of at least {SAMPLES_PER_PERIOD * DEFAULT_DT:g} s for records at the "
+                         f"default step of {DEFAULT_DT:g} s (or give --dt <= {largest:.4g} s), got "
+                         f"{plan.period_range[0]:.4g} s")
+    dt = DEFAULT_DT if dt is None else dt
+    if not 0.0 < dt <= largest:
+        raise InputError("--dt", f"{dt:g}", f"a time step > 0 and <= {largest:.4g} s "
                          f"(the lower period {plan.period_range[0]:.4g} s / {SAMPLES_PER_PERIOD})")
     envelope = suite_envelope(plan.period_range, plan.rule, Envelope(strong=stationary))
     samples = envelope.samples(dt)

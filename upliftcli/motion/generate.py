@@ -57,8 +57,10 @@ class Envelope:
         return np.where(t < self.rise, (t / self.rise) ** 2, np.where(t <= t2, 1.0, decay))
 
     def samples(self, dt: float) -> int:
-        """Samples of a record of this envelope at step dt [s] (generate_acceleration)."""
-        return round(self.duration / dt) + 1
+        """Samples of a record of this envelope at step dt [s] (generate_acceleration); 2^62 for
+        a count beyond it (an infinite duration / dt)."""
+        count = self.duration / dt
+        return round(count) + 1 if count < 2.0**62 else 2**62
 
 
 def starting_amplitudes(frequencies: np.ndarray, periods: np.ndarray, target: np.ndarray, damping: float,
