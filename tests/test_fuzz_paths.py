@@ -277,9 +277,26 @@ KNOWN_OPEN = {
 }
 
 
-@pytest.mark.xfail(strict=True, reason="issue 29 item 1, fixed on branch i27-input: remove this mark after the merge")
+#: record files of item 1: values the field checker refuses (a header dt below 1e-30 s, '1_000')
+KNOWN_OPEN_RECORDS = {"header dt = 1e-300": "# dt = 1e-300\n# units: g\n0.1\n0.2\n0.1\n",
+                      "a value 1_000": "# dt = 0.01\n# units: g\n0.1\n1_000\n0.1\n"}
+OPEN = pytest.mark.xfail(strict=True, reason="issue 29 item 1, fixed on branch i27-input: remove this mark after "
+                                             "the merge")
+
+
+@OPEN
 @pytest.mark.parametrize("name", sorted(KNOWN_OPEN))
 def test_known_open_item1_examples(folder, name):
     (folder / "r1.txt").write_text(record_text(random.Random(1), 600))
     deck, override = KNOWN_OPEN[name]
     _deck_value(folder, deck, override, ("--set: ground_motion",))
+
+
+@OPEN
+@pytest.mark.parametrize("name", sorted(KNOWN_OPEN_RECORDS))
+def test_known_open_item1_records(tmp_path, name):
+    path = tmp_path / "r.txt"
+    path.write_text(KNOWN_OPEN_RECORDS[name])
+    result = invoke("record", "info", path)
+    assert result.exit_code == 2
+    one_line_naming(result.stderr.strip(), (f"error: {path}: line ",))
