@@ -133,3 +133,14 @@ def test_entries_from_a_folder_and_a_list(tmp_path):
     (tmp_path / "empty").mkdir()
     with pytest.raises(InputError, match=r"ground_motion\.suite: record files"):
         suite_entries("empty", deck)
+
+
+def test_a_suite_holds_at_most_the_documented_number_of_records(tmp_path):
+    from upliftcli.limits import MAX_SUITE_RECORDS
+
+    deck = str(tmp_path / "deck.toml")
+    with pytest.raises(InputError, match=r"ground_motion.suite: at most 1,000 records \(limit of the tool\), got 1,0"):
+        suite_entries(["r.txt"] * (MAX_SUITE_RECORDS + 1), deck)
+    for k in range(3):
+        (tmp_path / f"r{k}.txt").write_text("x")
+    assert len(suite_entries(".", deck)) == 3

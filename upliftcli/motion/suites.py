@@ -225,7 +225,13 @@ def suite_entries(value, source: str, field: str = "ground_motion.suite") -> lis
                        and not p.name.lower().startswith(("readme", "manifest")))
         if not files:
             raise InputError(source, field, f"record files ({', '.join(RECORD_SUFFIXES)}) in {str(folder)!r}")
+        if len(files) > limits.MAX_SUITE_RECORDS:
+            raise InputError(source, field, f"at most {limits.MAX_SUITE_RECORDS:,} records (limit of the tool), got "
+                             f"{len(files):,} in {str(folder)!r}")
         return [(path, {}) for path in files]
+    if len(value) > limits.MAX_SUITE_RECORDS:
+        raise InputError(source, field, f"at most {limits.MAX_SUITE_RECORDS:,} records (limit of the tool), got "
+                         f"{len(value):,}")
     entries = []
     keys = {"file", "format", "units", "dt", "scale"}
     for k, item in enumerate(value):
