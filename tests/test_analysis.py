@@ -108,3 +108,13 @@ def test_every_result_carries_the_decks_warnings_first():
     assert all(result.details["warnings"][0] == deck.warnings[0] for result in results)
     assert all("building practice" not in message for result in run(load_deck(EXAMPLE), "simplified")
                for message in result.details.get("warnings", []))
+
+
+def test_a_design_spectrum_not_covering_the_periods_names_the_deck_field():
+    """A table spectrum asked for a period outside it was blamed on 'deck.toml: period' (no such
+    field): the field that gave the spectrum is named (or --set)."""
+    deck = ROOT / "inputs" / "ten_story_asce7.toml"
+    table = 'ground_motion.design_spectrum={type="table", periods=[0.5, 4], sa=[1, 1], damping=0.05}'
+    with pytest.raises(InputError, match=r"^--set: ground_motion.design_spectrum: periods within 0.5 to 4 s .*got "
+                                         r"0.335834 s \(a period of the building's modes"):
+        run_one(load_deck(deck, [table]), "simplified", "rigid")

@@ -90,3 +90,34 @@ def test_console_script_exits_with_the_command_code_and_its_whole_output(tmp_pat
     for document in (ours, theirs):
         document["provenance"].pop("time_utc")
     assert ours == theirs
+
+
+def test_numpy_runtime_warnings_never_reach_the_terminal():
+    """A command's numpy RuntimeWarnings (overflow in exp, 0/0) are not printed (they reached
+    stderr); other warnings and the command's own output are."""
+    import warnings
+
+    import numpy as np
+    import typer
+    from typer.testing import CliRunner
+
+    from upliftcli.cli import UpliftGroup
+
+    app = typer.Typer(cls=UpliftGroup)
+
+    @app.command()
+    def noisy() -> None:
+        with np.errstate(all="warn"):
+            np.exp(np.array([1000.0]))
+            np.array([0.0]) / np.array([0.0])
+        warnings.warn("a user warning", UserWarning, stacklevel=1)
+        typer.echo("done", err=True)
+
+    @app.command()
+    def other() -> None: ...
+
+    with warnings.catch_warnings(record=True) as shown:
+        warnings.simplefilter("always")
+        result = CliRunner().invoke(app, ["noisy"])
+    assert result.exit_code == 0 and "done" in result.stderr
+    assert [type(w.message) for w in shown if issubclass(w.category, Warning)] == [UserWarning]

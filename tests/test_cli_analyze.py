@@ -244,8 +244,8 @@ def test_histories_refuse_the_record_and_existing_files(tmp_path):
     target.write_text("mine")
     result = invoke(*args, "--histories", target)
     assert result.exit_code == 2 and target.read_text() == "mine"
-    assert result.stderr.strip() == f"error: --histories: {target}: a file that does not exist yet (pass --overwrite " \
-                                    "to replace it)"
+    assert result.stderr.strip() == f"error: --histories: {target}: a new file (it exists; pass --overwrite to " \
+                                    "replace it)"
     assert invoke(*args, "--histories", target, "--overwrite").exit_code == 0
 
     def table(text):  # without the provenance lines (they hold the time)
@@ -400,3 +400,20 @@ def test_implausible_values_warn_once_and_keep_the_exit_code():
                                                          "criteria.drift_ratio"]
     for entry in json.loads(result.stdout)["results"]:
         assert sum("building practice" in message for message in entry["warnings"]) == 3
+def test_a_second_run_into_the_same_out_folder_needs_overwrite(tmp_path):
+    """--out never replaces the results of an earlier run silently: refused before the run (exit 2,
+    the files unchanged) unless --overwrite; several decks the same."""
+    from pathlib import Path
+
+    example = Path(__file__).resolve().parent.parent / "inputs" / "ten_story_asce7.toml"  # the simplified engine
+    out = tmp_path / "out"
+    assert invoke("analyze", example, "--out", out).exit_code == 0
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    result = invoke("analyze", example, "--out", out, "--set", "building.period=0.5")
+    assert result.exit_code == 2 and {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert result.stderr == (f"error: --out: {out / 'ten_story_asce7.json'}: a new file (it exists: the results of "
+                             "an earlier run; pass --overwrite to replace it)\n")
+    result = invoke("analyze", example, example.parent / "ten_story_elcentro.toml", "--no-check", "--out", out)
+    assert result.exit_code == 2 and "pass --overwrite" in result.stderr
+    assert invoke("analyze", example, "--out", out, "--set", "building.period=0.5", "--overwrite").exit_code == 0
+    assert (out / "ten_story_asce7.json").read_bytes() != before["ten_story_asce7.json"]

@@ -70,3 +70,30 @@ def test_record_spectrum_plot_has_three_panels(tmp_path):
     assert result.exit_code == 0, result.output
     svg = (tmp_path / "s.svg").read_text()
     assert all(words in svg for words in ("S_d [cm]", "S_v [cm/s]", "S_a [g]", "Response spectra"))
+
+
+def test_figures_never_replace_an_input_and_an_existing_figure_needs_overwrite(tmp_path):
+    """A record named deck.modes.png in the --plot folder was replaced by the figure; figures of an
+    earlier run are replaced only with --overwrite (checked before the run, nothing written)."""
+    folder = tmp_path / "d"
+    folder.mkdir()
+    record = folder / "deck.modes.png"
+    record.write_bytes(RECORD.read_bytes())
+    (folder / "deck.toml").write_text(EXAMPLE.read_text().replace("../records/elcentro_1940_ns_chopra.txt",
+                                                                  "deck.modes.png"))
+    for extra in ([], ["--overwrite"]):
+        result = invoke("analyze", folder / "deck.toml", *SMALL, "--no-check", "--plot", folder, *extra)
+        assert result.exit_code == 2 and record.read_bytes() == RECORD.read_bytes()
+        assert result.stderr.startswith(f"error: --plot: {record}: a path that does not replace an input of the run")
+    assert sorted(p.name for p in folder.iterdir()) == ["deck.modes.png", "deck.toml"]
+    figures = tmp_path / "figs"
+    assert invoke("modes", EXAMPLE, "--plot", figures).exit_code == 0
+    first = (figures / "ten_story_elcentro.modes.png").read_bytes()
+    result = invoke("analyze", EXAMPLE, *SMALL, "--no-check", "--plot", figures)
+    assert result.exit_code == 2 and (figures / "ten_story_elcentro.modes.png").read_bytes() == first
+    assert result.stderr == (f"error: --plot: {figures / 'ten_story_elcentro.modes.png'}: a new file (it exists; "
+                             "pass --overwrite to replace it)\n")
+    assert sorted(p.name for p in figures.iterdir()) == ["ten_story_elcentro.modes.png"]
+    assert invoke("modes", EXAMPLE, "--plot", figures).exit_code == 2
+    assert invoke("analyze", EXAMPLE, *SMALL, "--no-check", "--plot", figures, "--overwrite").exit_code == 0
+    assert len(list(figures.iterdir())) == 3

@@ -107,6 +107,24 @@ def test_periods_shorter_than_the_record_resolves_are_refused_at_once():
                                      "record's dt = 0.02 s and 1,560 samples: T >= dt/2,500), got 1e-08 s")
 
 
+def test_spectrum_work_is_limited_before_anything_is_allocated():
+    """--periods 0.1:5:10000000 ran for 299 s; the periods are counted before the array is made,
+    and the oscillator sub-steps of all periods and dampings are bounded (limits.MAX_SPECTRUM_WORK)."""
+    import time
+
+    start = time.perf_counter()
+    result = invoke("record", "spectrum", RECORD, "--periods", "0.1:5:10000000")
+    assert result.stderr.strip() == "error: --periods: 0.1:5:10000000: at most 10,000 periods (limit of the tool), " \
+                                    "got 10,000,000"
+    result = invoke("record", "spectrum", RECORD, "--periods", ",".join(["1"] * 10_001))
+    assert result.exit_code == 2 and "at most 10,000 periods" in result.stderr
+    result = invoke("record", "spectrum", RECORD, "--periods", "0.0001:5:1000")
+    assert result.exit_code == 2 and "at most 100,000,000 oscillator sub-steps" in result.stderr
+    result = invoke("record", "info", RECORD, "--damping", ",".join(["0.05"] * 8000))
+    assert result.exit_code == 2 and result.stderr.startswith("error: --damping: ") and "sub-steps" in result.stderr
+    assert time.perf_counter() - start < 10.0
+
+
 def test_spectrum_out_never_replaces_the_record(tmp_path):
     record = tmp_path / "rec.txt"
     record.write_bytes(RECORD.read_bytes())
@@ -129,3 +147,16 @@ def test_units_contradicting_the_header_need_the_override_option():
     assert "declares, g, got 'gal'" in refused.stderr and "--override-header-units" in refused.stderr
     meant = invoke("record", "info", RECORD, "--units", "gal", "--override-header-units")
     assert meant.exit_code == 0 and "units cm/s2" in meant.stdout
+
+
+def test_spectrum_out_and_plot_replace_a_file_only_with_overwrite(tmp_path):
+    out, plot = tmp_path / "s.csv", tmp_path / "s.png"
+    out.write_text("mine")
+    result = invoke("record", "spectrum", RECORD, "--periods", "0.5,1", "--out", out)
+    assert result.exit_code == 2 and out.read_text() == "mine"
+    assert result.stderr == f"error: --out: {out}: a new file (it exists; pass --overwrite to replace it)\n"
+    plot.write_text("mine")
+    result = invoke("record", "spectrum", RECORD, "--periods", "0.5,1", "--plot", plot)
+    assert result.exit_code == 2 and plot.read_text() == "mine" and result.stderr.startswith("error: --plot: ")
+    assert invoke("record", "spectrum", RECORD, "--periods", "0.5,1", "--out", out, "--overwrite").exit_code == 0
+    assert out.read_text().count("\n") == 5  # two '#' lines, the header and two rows

@@ -71,7 +71,7 @@ def test_generate_is_reproducible_and_keeps_existing_files(generated, tmp_path):
     before = (out / "manifest.json").read_bytes()
     refused = invoke("record", "generate", deck, "--count", 3, "--seed", 5, "--out", out)
     assert refused.exit_code == 2 and refused.stderr.count("\n") == 1
-    assert "--out: " in refused.stderr and "give --overwrite" in refused.stderr
+    assert "--out: " in refused.stderr and "pass --overwrite" in refused.stderr
     assert (out / "manifest.json").read_bytes() == before
 
 
@@ -80,10 +80,22 @@ def test_generate_bad_input_one_line_and_nothing_written(tmp_path):
     out = tmp_path / "out"
     cases = [
         (["--dt", "0.1"], "--dt: 0.1: a time step > 0 and <= 0.05 s"),
-        (["--count", "0"], "--count: 0: at least 1 record"),
+        (["--count", "0"], "--count: 0: from 1 to 1,000 records"),
+        # limits checked before anything is allocated (these allocated gigabytes, ran unbounded or crashed)
+        (["--count", "1000000"], "--count: 1000000: from 1 to 1,000 records"),
+        (["--count", "400"], "--count: 400: at most 500,000 samples in all"),
+        (["--dt", "1e-6"], "--dt: 1e-06: records of at most 1,000,000 samples (limit of the tool)"),
+        (["--dt", "1e-30"], "--dt: 1e-30: records of at most 1,000,000 samples"),
+        (["--dt", "nan"], "--dt: nan: a time step > 0"),
+        (["--seed", "-1"], "--seed: -1: an integer from 0 to 9,223,372,036,854,775,807"),
+        (["--seed", str(2**64)], "--seed: 18446744073709551616: an integer from 0"),
+        # a record the tool could not read back (more than 1,000,000 samples) is never written
+        (["--stationary", "9999"], "--stationary: 9999: records of at most 1,000,000 samples"),
+        (["--stationary", "-1"], "--stationary: -1: a stationary duration > 0 s"),
+        (["--stationary", "1e300", "--dt", "1e-30"], "--stationary: 1e+300: records of at most 1,000,000 samples"),
     ]
     for extra, message in cases:
-        result = invoke("record", "generate", deck, "--seed", 1, "--out", out, *extra)
+        result = invoke("record", "generate", deck, "--seed", 1, "--out", out, *extra)  # the last --seed counts
         assert result.exit_code == 2, result.output
         assert len(result.stderr.strip().splitlines()) == 1 and "Traceback" not in result.output
         assert message in result.stderr
@@ -93,6 +105,10 @@ def test_generate_bad_input_one_line_and_nothing_written(tmp_path):
     assert result.exit_code == 2 and len(result.stderr.strip().splitlines()) == 1
     assert "--set: ground_motion.period_range: a period range within the target's 0-10 s" in result.stderr
     assert not out.exists()
+    result = invoke("record", "generate", ROOT / "inputs" / "ten_story_asce7_suite.toml", "--seed", 1, "--out", out,
+                    "--set", "ground_motion.period_range=[1e-6, 2e-6]")  # the default --dt: the range is named
+    assert result.stderr == ("error: --set: ground_motion.period_range: a lower period of at least 0.04 s for records "
+                             "at the default step of 0.01 s (or give --dt <= 2.5e-07 s), got 1e-06 s\n")
     result = invoke("record", "generate", ROOT / "inputs" / "ten_story_elcentro.toml", "--seed", 1, "--out", out)
     assert result.exit_code == 2 and "ground_motion.design_spectrum: a design spectrum" in result.stderr
 
@@ -117,8 +133,8 @@ def test_match_errors(tmp_path):
     zeros = tmp_path / "zeros.txt"
     zeros.write_text("# dt = 0.01\n# units: g\n" + "0.0\n" * 3000)
     out = tmp_path / "out"
-    result = invoke("record", "match", deck, zeros, "--out", out)
-    assert result.exit_code == 4 and "spectral matching did not converge" in result.stderr, result.output
+    result = invoke("record", "match", deck, zeros, "--out", out)  # bad input (exit 2), refused before matching
+    assert result.exit_code == 2 and "zeros.txt: a record with non-zero accelerations to be scaled" in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1 and not out.exists()
     short = tmp_path / "short.txt"
     short.write_text("# dt = 0.01\n# units: g\n" + "0.1\n-0.1\n" * 200)
@@ -166,3 +182,27 @@ def test_scale_refuses_units_contradicting_a_records_header_unless_overridden():
     assert refused.exit_code == 2 and "declares, g, got 'gal'" in refused.stderr
     meant = invoke("record", "scale", deck, RECORD, "--units", "gal", "--override-header-units")
     assert meant.exit_code == 0, meant.output
+
+
+def test_a_full_disk_leaves_no_record_and_no_manifest(tmp_path, monkeypatch):
+    """The records and the manifest are written all or none (atomic.write_set): a full disk while
+    writing left 7 of 11 records and no manifest."""
+    import errno
+
+    from upliftcli import atomic
+
+    original, calls = atomic._finish, []
+
+    def full_disk(tmp, target):
+        calls.append(target.name)
+        if target.name == "manifest.json":
+            raise OSError(errno.ENOSPC, "No space left on device")
+        original(tmp, target)
+
+    monkeypatch.setattr(atomic, "_finish", full_disk)
+    out = tmp_path / "out"
+    result = invoke("record", "generate", deck_with(tmp_path, EC8), "--count", 1, "--seed", 5, "--out", out)
+    assert result.exit_code == 2 and calls == ["artificial_5_01.txt", "manifest.json"]
+    assert result.stderr.strip() == (f"error: --out: {out}: a writable directory (No space left on device); nothing "
+                                     "was written")
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["deck.toml"]

@@ -115,6 +115,11 @@ def test_previous_rows_need_resume_or_overwrite(tmp_path):
     (["--vary", "building.period=1:2"], "START:STOP:N"),
     (["--engine", "fast"], "--engine: fast"),
     (["--workers", "0"], "--workers"),
+    (["--workers", "1000", "--oversubscribe"], "--workers: 1000: at most 256 worker processes"),
+    (["--name", "."], "--name: .: a plain file stem"),
+    (["--name", "a/b"], "it holds a folder separator"),
+    (["--name", ""], "it is empty"),
+    (["--name", ".hidden"], "it starts with '.'"),
     (["--dask", "remote"], "--dask"),
     (["--plot", "--plot-format", "jpg"], "--plot-format"),
 ])
@@ -448,3 +453,43 @@ def test_resume_from_another_folder_is_the_same_sweep(tmp_path, monkeypatch):
     assert result.exit_code == 0, result.stderr
     added = rows.read_text()[len(before):].splitlines()
     assert rows.read_text().startswith(before) and all(line.startswith('{"run"') for line in added)  # no case again
+
+
+def test_a_full_disk_under_the_figures_of_spectra_is_one_line(tmp_path, monkeypatch):
+    """An OSError writing a figure ended in a traceback: one line naming the figure and what was
+    written, exit 2; --resume then writes the tables and figures again."""
+    import errno
+
+    from upliftcli import plots
+
+    def full_disk(figures, option="--plot"):
+        raise OSError(errno.ENOSPC, "No space left on device", str(figures[0][1]))
+
+    monkeypatch.setattr(plots, "plot_figures", full_disk)
+    args = ["spectra", EXAMPLE, "--periods", "0.5,1", "--out", tmp_path, "--workers", "1", "--quiet",
+            "--support", "rigid"]
+    result = invoke(*args)
+    figure = tmp_path / "ten_story_elcentro.spectra.base_shear_simplified.png"
+    assert result.exit_code == 2 and "Traceback" not in result.output
+    assert result.stderr == (f"error: --out: {figure}: a writable directory (No space left on device); the figures "
+                             "were not all written, the tables were (ten_story_elcentro.spectra.csv, "
+                             "ten_story_elcentro.spectra.json): run the same command with --resume once there is "
+                             "room\n")
+    monkeypatch.undo()
+    assert invoke(*args).exit_code == 2  # the rows of that run: --resume or --overwrite
+    assert invoke(*args, "--resume").exit_code == 0 and figure.exists()
+
+
+def test_tables_of_an_earlier_run_are_replaced_only_with_resume_or_overwrite(tmp_path):
+    args = ["sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--out", tmp_path, "--workers", "1", "--quiet",
+            "--table", "csv"]
+    assert invoke(*args).exit_code == 0
+    (tmp_path / "ten_story_elcentro.sweep.rows.jsonl").unlink()
+    before = (tmp_path / "ten_story_elcentro.sweep.csv").read_text()
+    result = invoke(*args)
+    assert result.exit_code == 2 and (tmp_path / "ten_story_elcentro.sweep.csv").read_text() == before
+    assert result.stderr == (f"error: --out: {tmp_path / 'ten_story_elcentro.sweep.csv'}: a new file (it exists: "
+                             "written by an earlier run; --resume continues that run; pass --overwrite to replace "
+                             "it)\n")
+    assert not (tmp_path / "ten_story_elcentro.sweep.rows.jsonl").exists()
+    assert invoke(*args, "--overwrite").exit_code == 0

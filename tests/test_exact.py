@@ -331,6 +331,37 @@ def test_a_large_energy_residual_refines_the_step_or_fails_naming_the_option(elc
         exact.analyze(system, record, "uplift", ExactOptions(time_step=0.01))
 
 
+def test_refinement_is_bounded_by_the_work_limit_and_stops_without_progress(elcentro, monkeypatch):
+    """The refinements of one analysis count against limits.MAX_STEP_STATES with its first run
+    (frequency_ratio = 1000, c_f = 1e-12 ran 16 s a run and 240 s in all, its residual
+    unchanged), and a halving that leaves the residual where it was ends the refinement."""
+    record = short(elcentro, 4.0)
+    system = paper_system(0.5)
+    runs = []
+    original = exact.iter_batch
+
+    def counted(*args, **kwargs):
+        options = args[3] if len(args) > 3 else kwargs.get("options")
+        runs.append((options or ExactOptions()).steps_per_period)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(exact, "iter_batch", counted)
+    monkeypatch.setattr(exact, "ENERGY_TOLERANCE", 1e-30)  # never met
+    monkeypatch.setattr(exact, "MIN_PROGRESS", 10.0)  # every halving counts as progress
+    first = exact._work(system, record, "uplift", ExactOptions(), exact.exact_model)
+    monkeypatch.setattr(exact, "MAX_STEP_STATES", 3 * first + 1)  # the first run and one halving (2x) fit
+    with pytest.raises(AnalysisError, match=r"with 12 steps per governing period; a finer step would exceed the limit "
+                                            r"of [\d,]+ internal steps x states of one analysis"):
+        exact.analyze(system, record, "uplift")
+    assert runs[1:] == [12]
+    runs.clear()
+    monkeypatch.setattr(exact, "MAX_STEP_STATES", 100 * first)
+    monkeypatch.setattr(exact, "MIN_PROGRESS", 0.0)  # any residual left counts as no progress
+    with pytest.raises(AnalysisError, match=r"halving the step left it at [\d.e-]+ of its value"):
+        exact.analyze(system, record, "uplift")
+    assert runs[1:] == [12]
+
+
 @pytest.mark.parametrize("damping_ratio", [0.01, 4.3e-4])
 def test_energy_balance_closes_when_lifted_elements_relax_within_a_step(elcentro, damping_ratio):
     """xi_v small: a lifted element's top relaxes (time c/k) far faster than the step; its

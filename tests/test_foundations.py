@@ -96,3 +96,18 @@ def test_halfspace_dynamic_stiffness_decreases_and_elements_match():
     assert list(e.positions) == [-b, b]
     assert np.sum(e.stiffness * e.positions**2) == pytest.approx(f.rocking_stiffness(b, omega))
     assert np.sum(e.damping * e.positions**2) == pytest.approx(f.rocking_damping(b, omega))
+
+
+def test_winkler_elements_are_limited_before_anything_is_allocated():
+    """foundation.elements = 100000 allocated a 74.5 GiB state matrix before the exact engine's own
+    62-element check: the deck field is refused at the limit (limits.MAX_CONTACT_ELEMENTS)."""
+    from pathlib import Path
+
+    from upliftcli.deck import load_deck
+    from upliftcli.errors import InputError
+    from upliftcli.limits import MAX_CONTACT_ELEMENTS
+
+    deck = Path(__file__).resolve().parents[1] / "inputs" / "ten_story_winkler.toml"
+    with pytest.raises(InputError, match=r"^--set: foundation.elements: an integer from 2 to 62, got 100000$"):
+        load_deck(deck, ["foundation.elements=100000"])
+    assert load_deck(deck, [f"foundation.elements={MAX_CONTACT_ELEMENTS}"]).system.foundation.elements == 62

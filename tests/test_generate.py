@@ -95,3 +95,20 @@ def test_generation_that_cannot_meet_the_tolerance_is_one_clear_error():
     settings = replace(settings_for(RULES["ec8"]), low=1.0, high=1.01, max_iterations=2)
     with pytest.raises(AnalysisError, match=r"artificial record 1 \(seed 3\): no draw of 5 met the tolerance 1-1\.01"):
         generate(EC8, RANGE, 3, 0, settings=settings)
+
+
+def test_envelope_of_a_long_stationary_part_has_no_overflow():
+    """exp of the decay was evaluated over the whole record, also where it is not used: a
+    stationary part of 9999 s overflowed (a RuntimeWarning on the terminal)."""
+    import warnings
+
+    from upliftcli.motion.generate import Envelope
+
+    envelope = Envelope(strong=9999.0)
+    t = np.array([0.0, 1.0, 5000.0, envelope.rise + envelope.strong + envelope.decay])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        values = envelope(t)
+    np.testing.assert_allclose(values, [0.0, 0.25, 1.0, envelope.final])
+    assert envelope.samples(0.01) == round(envelope.duration / 0.01) + 1
+    assert Envelope(strong=1e300).samples(1e-30) == 2**62  # no OverflowError (round(inf))

@@ -1,6 +1,7 @@
 """Documented limits: each is refused with the limit, the value and the field, before anything is allocated."""
 
 import io
+import os
 import time
 
 import numpy as np
@@ -59,24 +60,33 @@ def test_read_limited_stops_at_the_limit(tmp_path):
     with pytest.raises(ValueError, match="at most"):
         limits.read_limited(path, 99)
     start = time.perf_counter()
-    with pytest.raises(ValueError, match="at most 1 MiB"):
-        limits.read_limited("/dev/zero", 2**20)  # endless: refused after reading the limit
+    with pytest.raises(limits.NotRegularFile, match="a device"):
+        limits.read_limited("/dev/zero", 2**20)  # endless: refused before it is opened
     assert time.perf_counter() - start < 5.0
     assert isinstance(io.BytesIO(limits.read_limited(path, 1000)).read(), bytes)
 
 
 def test_every_input_file_is_read_within_its_limit(tmp_path):
-    """Decks, records and spectrum tables share one bounded read: a device such as /dev/zero is
-    refused at the limit, a directory or a missing file named as such."""
+    """Decks, records and spectrum tables share one bounded read of regular files: a device such as
+    /dev/zero or a FIFO is refused before it is opened (a FIFO blocked for ever), a directory or a
+    missing file named as such."""
     from upliftcli.limits import read_input
     from upliftcli.motion.design_spectra import from_mapping
 
-    with pytest.raises(InputError, match=r"^/dev/zero: a deck file of at most 16 MiB \(limit of the tool\)$"):
+    with pytest.raises(InputError, match=r"^/dev/zero: a regular deck file \(this is a device\)$"):
         read_input("/dev/zero", limits.MAX_DECK_BYTES, "/dev/zero", None, "deck file")
+    fifo = tmp_path / "fifo.toml"
+    os.mkfifo(fifo)
+    with pytest.raises(InputError, match=r"fifo.toml: a regular deck file \(this is a FIFO\)$"):
+        read_input(fifo, limits.MAX_DECK_BYTES, str(fifo), None, "deck file")
+    big = tmp_path / "big.toml"
+    big.write_bytes(b"#" * 2000)
+    with pytest.raises(InputError, match=r"big.toml: a deck file of at most 0.000976562 MiB"):
+        read_input(big, 1024, str(big), None, "deck file")
     with pytest.raises(InputError, match=r": a record file \(this is a directory\)$"):
         read_input(tmp_path, limits.MAX_RECORD_BYTES, str(tmp_path), None, "record file")
     with pytest.raises(InputError, match=r"an existing record file \(file not found\)$"):
         read_input(tmp_path / "none.txt", limits.MAX_RECORD_BYTES, "r.txt", None, "record file")
     deck = str(tmp_path / "deck.toml")
-    with pytest.raises(InputError, match=r"spectrum\.file: a spectrum table \('/dev/zero'\) of at most 64 MiB"):
+    with pytest.raises(InputError, match=r"spectrum\.file: a regular spectrum table .* \(this is a device\)"):
         from_mapping({"type": "table", "file": "/dev/zero", "damping": 0.05}, deck)

@@ -141,3 +141,26 @@ def test_histories_files_carry_the_provenance(deck_dir):
     with np.load(deck_dir / "h.npz") as data:
         assert json.loads(str(data["provenance"]))["deck"]["title"] == deck.title
         np.testing.assert_array_equal(data["base_shear"], histories["base_shear"])
+
+
+def test_results_are_written_all_or_none(tmp_path, monkeypatch, example_deck):
+    """A full disk at the third file of --out left two new files beside two old ones: none now."""
+    import errno
+
+    from upliftcli import atomic
+    from upliftcli.analysis import run_one
+    from upliftcli.output import write_results
+
+    result = run_one(example_deck, "simplified", "bonded")
+    original, calls = atomic._finish, []
+
+    def full_disk(tmp, target):
+        calls.append(target.name)
+        if len(calls) == 3:
+            raise OSError(errno.ENOSPC, "No space left on device")
+        original(tmp, target)
+
+    monkeypatch.setattr(atomic, "_finish", full_disk)
+    with pytest.raises(OSError):
+        write_results([result], tmp_path / "out", "deck", deck=example_deck)
+    assert len(calls) == 3 and not (tmp_path / "out").exists()

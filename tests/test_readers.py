@@ -147,7 +147,7 @@ def test_devices_directories_and_binary_files_are_refused_quickly(tmp_path):
     import time
 
     start = time.perf_counter()
-    with pytest.raises(InputError, match=r"^/dev/zero: a record file of at most 64 MiB"):
+    with pytest.raises(InputError, match=r"^/dev/zero: a regular record file \(this is a device\)"):
         read_record("/dev/zero", units="g", dt=0.01)
     assert time.perf_counter() - start < 10.0
     with pytest.raises(InputError, match="this is a directory"):
@@ -207,3 +207,26 @@ def test_a_header_time_step_below_the_magnitude_limit_is_refused(tmp_path):
     with pytest.raises(InputError, match=r"r\.txt: line 1: a time step dt: a number > 0 and at most 10 of magnitude "
                                          r"1e-30 to 1e\+30 \[s\], got 1e-300$"):
         read_record(write(tmp_path, "r.txt", "# dt = 1e-300\n# units: g\n0.1\n0.2\n0.3\n"))
+
+
+def test_a_fifo_is_refused_before_it_is_opened(tmp_path):
+    """A FIFO as a record blocked the reader for ever (open() waits for a writer): it is refused
+    from os.stat, whatever the format, and detect_format does not open it either."""
+    import os
+
+    fifo = tmp_path / "fifo.txt"
+    os.mkfifo(fifo)
+    with pytest.raises(InputError, match=r"fifo.txt: a regular record file \(this is a FIFO\)"):
+        read_record(fifo, units="g", dt=0.01)
+    with pytest.raises(InputError, match="this is a FIFO"):
+        read_record(fifo, format="text", units="g", dt=0.01)
+    assert detect_format(fifo) == "text"
+
+
+def test_the_checksum_is_that_of_the_bytes_parsed(tmp_path):
+    """read_record reads the file once: its sha256 is of the bytes its values came from."""
+    import hashlib
+
+    path = write(tmp_path, "r.txt", "# dt = 0.01\n# units: g\n0.1\n-0.2\n")
+    record = read_record(path)
+    assert record.sha256 == hashlib.sha256(path.read_bytes()).hexdigest()

@@ -242,11 +242,17 @@ def test_report_command(tmp_path):
         png = base64.b64decode(src.split(",", 1)[1])
         assert png.startswith(PNG) and len(png) > 20_000  # drawn figures
     assert "wrote" in result.stderr
+    before = out.read_bytes()
+    refused = runner.invoke(app, args, env={"CI": "true"})  # an existing report is replaced only with --overwrite
+    assert refused.exit_code == 2 and out.read_bytes() == before
+    assert refused.stderr == f"error: --out: {out}: a new file (it exists; pass --overwrite to replace it)\n"
+    args.append("--overwrite")
     strict = runner.invoke(app, [*args, "--set", "criteria.drift_ratio=1e-5"], env={"CI": "true"})
     assert strict.exit_code == 3 and "criterion violated" in strict.stderr and "exits with code 3" in out.read_text()
     small = [item for setting in SMALL[1:] for item in ("--set", setting)]
     for flag, rows in (("--check", 3 * 4), ("--no-check", 0)):  # the simplified engine alone, as the deck says
-        result = runner.invoke(app, ["report", str(EXAMPLE), "--out", str(out), *small, flag], env={"CI": "true"})
+        result = runner.invoke(app, ["report", str(EXAMPLE), "--out", str(out), *small, flag, "--overwrite"],
+                               env={"CI": "true"})
         assert result.exit_code == 0, result.output
         tables = Parsed(out.read_text()).tables
         assert len(tables.get("table-accuracy", [None])[1:]) == rows

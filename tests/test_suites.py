@@ -54,6 +54,30 @@ def test_record_too_short_for_the_period_range(record):
         build_suite([record], TARGET, (0.2, 8.0), RULES["asce7-22"])
 
 
+def test_the_documented_limits_of_a_suite_are_checked_before_its_spectra(record):
+    """A period range of [1e-6, 2e-6] s ran past 300 s: the lower period is refused below the
+    record's spectrum range, and the sub-steps of the suite's check spectra are bounded."""
+    import time
+
+    start = time.perf_counter()
+    with pytest.raises(InputError, match=r"^suite: period_range: periods of at least 8e-06 s or 0 \(limit for the "
+                                         r"record's dt = 0.02 s .*got 1e-06 s \(record .*elcentro"):
+        build_suite([record], TARGET, (1e-6, 2e-6), RULES["mean"], "amplitude")
+    with pytest.raises(InputError, match=r"^suite: period_range: at most 100,000,000 oscillator sub-steps for the "
+                                         r"spectra of the suite"):
+        build_suite([record] * 3, TARGET, (1e-5, 2e-5), RULES["mean"], "amplitude")
+    assert time.perf_counter() - start < 10.0
+
+
+def test_an_all_zero_record_is_not_scaled(record):
+    """An all-zero record in a scaled suite gave the factor nan with exit 0."""
+    zero = replace(record, acceleration=np.zeros_like(record.acceleration), source="zero.txt")
+    for scaling in ("amplitude", "match"):
+        with pytest.raises(InputError, match=r"^zero.txt: a record with non-zero accelerations to be scaled"):
+            build_suite([record, zero], TARGET, (0.2, 2.0), RULES["mean"], scaling)
+    assert build_suite([record, zero], TARGET, (0.2, 2.0), RULES["mean"], "none").factors == (1.0, 1.0)
+
+
 def test_record_too_coarse_to_be_matched(record):
     with pytest.raises(InputError, match=r"dt: a time step of at most 0\.0125 s .* to be matched, got 0\.02 s"):
         build_suite([record], TARGET, (0.05, 2.0), RULES["asce7-22"], "match")
@@ -131,3 +155,12 @@ def test_suite_entries_go_through_the_field_checker(tmp_path):
         suite_entries([3], deck)
     (path, options), = suite_entries([{"file": "a.txt", "dt": "10 ms", "units": "gal"}], deck)
     assert path == tmp_path / "a.txt" and options == {"dt": 0.01, "units": "gal"}
+def test_a_suite_holds_at_most_the_documented_number_of_records(tmp_path):
+    from upliftcli.limits import MAX_SUITE_RECORDS
+
+    deck = str(tmp_path / "deck.toml")
+    with pytest.raises(InputError, match=r"ground_motion.suite: at most 1,000 records \(limit of the tool\), got 1,0"):
+        suite_entries(["r.txt"] * (MAX_SUITE_RECORDS + 1), deck)
+    for k in range(3):
+        (tmp_path / f"r{k}.txt").write_text("x")
+    assert len(suite_entries(".", deck)) == 3

@@ -51,6 +51,34 @@ def _always_dies(chunk, emit):
     return run_chunk(chunk, emit)
 
 
+def _stops_once_then_runs(chunk, emit):
+    """Chunk runner: the first worker to reach the case with building.period 1.2, rigid support,
+    stops itself (SIGSTOP, as `kill -STOP` would); later attempts run."""
+    import signal
+
+    marker = Path(os.environ["UPLIFT_TEST_MARKER"])
+    for case in chunk.cases:
+        if dict(case.overrides).get("building.period") == 1.2 and case.support == "rigid" and not marker.exists():
+            emit(("start", [case.key]))
+            marker.write_text("stopped")
+            os.kill(os.getpid(), signal.SIGSTOP)
+    return run_chunk(chunk, emit)
+
+
+def test_a_stalled_worker_is_killed_and_its_case_retried(small_plan, serial_rows, tmp_path, monkeypatch):
+    """A stopped (SIGSTOP) worker blocked the sweep for ever: without a heartbeat for
+    stall_seconds it is killed and its cases run elsewhere; the rows are the serial ones."""
+    monkeypatch.setenv("UPLIFT_TEST_MARKER", str(tmp_path / "marker"))
+    simplified = [c for c in small_plan.cases if c.engine == "simplified"]
+    plan = type(small_plan)(**{**small_plan.__dict__, "cases": simplified})
+    expected = [row for row in serial_rows if row["engine"] == "simplified"]
+    start = time.monotonic()
+    outcome = run_sweep(plan, ProcessExecutor(2, runner=_stops_once_then_runs, stall_seconds=3.0),
+                        RowStore(tmp_path / "rows.jsonl"), size=4)
+    assert (tmp_path / "marker").exists() and outcome.rows == expected
+    assert time.monotonic() - start < 60.0
+
+
 def test_a_dead_worker_is_retried_and_a_killer_case_reported(small_plan, serial_rows, tmp_path, monkeypatch):
     monkeypatch.setenv("UPLIFT_TEST_MARKER", str(tmp_path / "marker"))
     simplified = [c for c in small_plan.cases if c.engine == "simplified"]

@@ -152,3 +152,25 @@ def test_a_record_changed_between_two_sweeps_in_one_process_is_read_again(tmp_pa
     again, second = base_shears()
     assert again.fingerprint != plan.fingerprint
     np.testing.assert_allclose(second, [2 * value for value in first], rtol=1e-6)  # linear: rigid base
+
+
+def test_a_record_replaced_during_a_sweep_gives_stale_rows_not_rows_with_the_old_checksum(tmp_path):
+    """A record file replaced after the plan read it: the worker's cases are not computed from the
+    new bytes under the plan's checksum (2,641 of 3,000 rows were), they are 'stale' rows naming the
+    file; with the file restored, the cases run."""
+    import shutil
+
+    record = tmp_path / "elcentro.txt"
+    shutil.copy(EXAMPLE.parent.parent / "records" / "elcentro_1940_ns_chopra.txt", record)
+    deck = tmp_path / "deck.toml"
+    deck.write_text(EXAMPLE.read_text().replace("../records/elcentro_1940_ns_chopra.txt", str(record)))
+    plan = plan_sweep(deck, SHORT, ["building.period=0.5,1"], ["simplified"], ["rigid"])
+    original = record.read_text()
+    record.write_text(original.replace("0.0063", "0.0064", 1))
+    rows = [row for chunk in make_chunks(plan, plan.cases, 2) for row in run_chunk(chunk)]
+    assert [row["status"] for row in rows] == ["stale", "stale"]
+    assert "the record file changed after the sweep read it" in rows[0]["message"]
+    assert str(record) in rows[0]["message"] and "--resume --rerun-stale" in rows[0]["message"]
+    record.write_text(original)
+    rows = [row for chunk in make_chunks(plan, plan.cases, 2) for row in run_chunk(chunk)]
+    assert [row["status"] for row in rows] == ["ok", "ok"]

@@ -117,6 +117,17 @@ def _check_step_states(deck: Deck, engine: Engine, support: str, record: Record)
                      "analysis.exact.steps_per_period or shorten the record (ground_motion.window)")
 
 
+def _spectrum_range_error(deck: Deck, result):
+    """A design spectrum asked for a period outside its table (its own InputError names the
+    spectrum's source and 'period', not a deck field): named as the deck field that gave the
+    spectrum, or the building field that set the period."""
+    if not (isinstance(result, InputError) and result.location == "period"
+            and result.source == str(getattr(deck.spectrum, "source", None))):
+        return result
+    return InputError(*deck.blame("ground_motion.design_spectrum", *BUILDING_PATHS),
+                      f"{result.expected} (a period of the building's modes or its effective period T1bar)")
+
+
 def run_batch(decks: Sequence[Deck], engine: str, support: str,
               on_result: Callable[[int, AnalysisResult | Exception], None] | None = None,
               ) -> list[AnalysisResult | Exception]:
@@ -137,6 +148,7 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
     out: list[AnalysisResult | Exception] = [None] * len(decks)  # type: ignore[list-item]
 
     def keep(k: int, result: AnalysisResult | Exception) -> None:
+        result = _spectrum_range_error(decks[k], result)
         if isinstance(result, AnalysisResult) and decks[k].warnings:  # the deck's own, first (deck_schema.plausibility)
             result.details["warnings"] = [*decks[k].warnings, *result.details.get("warnings", [])]
         out[k] = result

@@ -19,7 +19,7 @@ from .engines.result import AnalysisResult
 from .engines.suite_result import SuiteRecord, SuiteResult, suite_result
 from .errors import AnalysisError, InputError
 from .motion.suites import Suite
-from .provenance import sha256
+from .provenance import record_sha256
 
 
 def motion_key(suite: Suite) -> tuple:
@@ -34,7 +34,7 @@ def suite_records(suite: Suite) -> tuple[SuiteRecord, ...]:
     record's source is the record it was matched from: its SHA-256 is that file's)."""
     provenance = tuple(suite.provenance) + ("",) * (suite.count - len(suite.provenance))
     return tuple(SuiteRecord(record.name, record.source, float(factor), note,
-                             sha256(record.source) if record.source else None)
+                             record_sha256(record))
                  for record, factor, note in zip(suite.records, suite.factors, provenance, strict=True))
 
 

@@ -1,20 +1,33 @@
-"""Atomic file output: write to a temporary file beside the target, then rename; and the
-guard that keeps the outputs of a run off its inputs.
+"""Atomic file output: write to a temporary file beside the target, flush it to the disk, then
+rename; a set of files all or none; the guards that keep the outputs of a run off its inputs
+and off the files of an earlier run.
 
 A new file gets the permissions of any file the user creates (0666 less the umask); a file
-that is replaced keeps its own permissions (mkstemp's private 0600 is never left behind).
+that is replaced keeps its own permissions, and its owner and group where the user may set
+them (mkstemp's private 0600 is never left behind). The temporary files are named
+`.<target>.uplift-tmp-<pid>-<random><suffix>`: they are removed when the write fails or the
+command is stopped (SIGTERM, SIGHUP and Ctrl-C end it through the clean-up), and those a killed
+process (SIGKILL) left behind are removed by the next write into their folder once that process
+is gone (remove_stale).
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import re
 import stat
 import tempfile
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 
 from .errors import InputError
+
+#: what marks a temporary file of this tool; the pid of the process that writes it follows
+TEMP_MARK = ".uplift-tmp-"
+_TEMP_NAME = re.compile(r"^\..+" + re.escape(TEMP_MARK) + r"(?P<pid>\d+)-[A-Za-z0-9_]+")
+#: folders whose stale temporary files this process has removed already
+_SWEPT: set[str] = set()
 
 
 def current_umask() -> int:
@@ -39,18 +52,95 @@ def file_mode(target: Path) -> int:
         return 0o666 & ~current_umask()
 
 
+def _alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # another user's process: alive
+        return True
+    return True
+
+
+def remove_stale(directory: str | os.PathLike) -> list[Path]:
+    """Remove the temporary files of this tool in `directory` whose writing process is gone (a
+    SIGKILL leaves them); return them. Files of a running process are left alone."""
+    removed = []
+    try:
+        names = os.listdir(directory)
+    except OSError:
+        return removed
+    for name in names:
+        match = _TEMP_NAME.match(name)
+        if match and not _alive(int(match.group("pid"))):
+            path = Path(directory) / name
+            with contextlib.suppress(OSError):
+                path.unlink()
+                removed.append(path)
+    return removed
+
+
+def _sweep_once(directory: Path) -> None:
+    key = os.path.abspath(directory)
+    if key not in _SWEPT:
+        _SWEPT.add(key)
+        remove_stale(directory)
+
+
+def _fsync(path: Path, directory: bool = False) -> None:
+    """Flush a file (or a folder's entries) to the disk; a file system that cannot is left as is."""
+    try:
+        fd = os.open(path, os.O_RDONLY | (getattr(os, "O_DIRECTORY", 0) if directory else 0))
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        if not directory:
+            raise
+    finally:
+        os.close(fd)
+
+
+def _keep_owner(tmp: Path, target: Path) -> None:
+    """Give `tmp` the owner and group of the file it replaces, where the user may."""
+    try:
+        status = os.stat(target)
+    except OSError:
+        return
+    with contextlib.suppress(OSError, AttributeError):
+        os.chown(tmp, status.st_uid, status.st_gid)
+
+
+def _temporary(target: Path) -> Path:
+    target.parent.mkdir(parents=True, exist_ok=True)
+    _sweep_once(target.parent)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}{TEMP_MARK}{os.getpid()}-", suffix=target.suffix or ".tmp",
+                               dir=target.parent)
+    os.close(fd)
+    return Path(tmp)
+
+
+def _finish(tmp: Path, target: Path) -> None:
+    """Permissions, owner and a flush to the disk before `tmp` may replace `target`."""
+    os.chmod(tmp, file_mode(target))
+    _keep_owner(tmp, target)
+    _fsync(tmp)
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
-    """Yield a temporary path beside `path`; on success it replaces `path`, on error it is removed."""
+    """Yield a temporary path beside `path`; on success it is flushed to the disk and replaces
+    `path`, on error (or a stop signal) it is removed."""
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=target.suffix or ".tmp", dir=target.parent)
-    os.close(fd)
-    tmp_path = Path(tmp)
+    tmp_path = _temporary(target)
     try:
         yield tmp_path
-        os.chmod(tmp_path, file_mode(target))
+        _finish(tmp_path, target)
         os.replace(tmp_path, target)
+        _fsync(target.parent, directory=True)
     finally:
         if tmp_path.exists():
             tmp_path.unlink()
@@ -66,6 +156,40 @@ def write_bytes(path: str | os.PathLike, data: bytes) -> None:
     """Write bytes atomically."""
     with atomic_path(path) as tmp:
         tmp.write_bytes(data)
+
+
+def write_set(files: Mapping[str | os.PathLike, str | bytes]) -> list[Path]:
+    """Write several files all or none: every one to its temporary file first (flushed to the
+    disk), and only when all are written are they renamed into place, in the order given (put
+    a manifest last); a failure (a full disk) or a stop signal before that removes them all,
+    and the folders this call created, and leaves the targets as they were."""
+    targets = [Path(path) for path in files]
+    created = {folder for target in targets for folder in (target.parent, *target.parent.parents)
+               if not folder.exists()}
+    temporaries: list[Path] = []
+    renamed = False
+    try:
+        for target, content in zip(targets, files.values(), strict=True):
+            temporaries.append(_temporary(target))
+            if isinstance(content, bytes):
+                temporaries[-1].write_bytes(content)
+            else:
+                temporaries[-1].write_text(content, encoding="utf-8")
+            _finish(temporaries[-1], target)
+        for tmp, target in zip(temporaries, targets, strict=True):
+            os.replace(tmp, target)
+        renamed = True
+        for folder in {t.parent for t in targets}:
+            _fsync(folder, directory=True)
+    finally:
+        for tmp in temporaries:
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+        if not renamed:
+            for folder in sorted(created, key=lambda p: len(p.parts), reverse=True):
+                with contextlib.suppress(OSError):
+                    folder.rmdir()
+    return targets
 
 
 def _same_file(a: Path, b: Path) -> bool:
@@ -85,3 +209,13 @@ def refuse_inputs(outputs: Iterable[str | os.PathLike], inputs: Iterable[str | o
             if _same_file(output, source) or output.resolve() == source.resolve():
                 raise InputError(option, str(output), f"a path that does not replace {what} ({source} is read by "
                                  "this run); choose another output directory or name")
+
+
+def refuse_existing(outputs: Iterable[str | os.PathLike], option: str, overwrite: bool, what: str = "") -> None:
+    """InputError naming `option` and the first output that exists already, unless `overwrite`
+    (the option that allows it is --overwrite). what: whose file it is, in words."""
+    if overwrite:
+        return
+    for output in (Path(p) for p in outputs):
+        if output.exists() or output.is_symlink():
+            raise InputError(option, str(output), f"a new file (it exists{what}; pass --overwrite to replace it)")

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from typing import Any, NoReturn
 
 from .errors import InputError, InputErrors
-from .limits import MAX_INTEGER, MAX_MAGNITUDE, MAX_RECORD_DT, MAX_STORIES, MIN_MAGNITUDE
+from .limits import MAX_CONTACT_ELEMENTS, MAX_INTEGER, MAX_MAGNITUDE, MAX_RECORD_DT, MAX_STORIES, MIN_MAGNITUDE
 from .units import KIND_OF_UNIT, acceleration_unit, conversion, split_quantity, system_unit
 
 
@@ -75,6 +75,7 @@ CHECKS: dict[str, tuple[Callable[[Any], bool], str]] = {
     "one-or-two": (lambda v: v in (1, 2), "1 or 2"),
     "acceleration-units": (lambda v: acceleration_unit(v) is not None,
                            "acceleration units g, m/s2, cm/s2 or in/s2 (or an alias of docs/deck.md)"),
+    "contact-elements": (lambda v: 2 <= v <= MAX_CONTACT_ELEMENTS, f"from 2 to {MAX_CONTACT_ELEMENTS}"),
     "": (lambda v: True, ""),
 }
 

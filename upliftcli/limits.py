@@ -7,7 +7,10 @@ limit and the value. Pure functions of numbers, and a bounded file read; nothing
 
 from __future__ import annotations
 
+import errno
 import math
+import os
+import stat
 
 #: number magnitudes accepted in any numeric field: 0 where the field allows it, otherwise
 #: MIN_MAGNITUDE <= |value| <= MAX_MAGNITUDE (squares and cubes of the physical quantities
@@ -33,9 +36,23 @@ MAX_SPECTRUM_STEPS = 100_000_000
 #: on its run time (the memory is bounded anyway: the post-processing streams); measured 52
 #: million steps x states, fifty stories, in 20 s on this project's 2-core machine
 MAX_STEP_STATES = 50_000_000
+#: response spectra of one command (`record spectrum`, `record info`): periods, and oscillator
+#: sub-steps over all periods and dampings (about 150 ns each: 100 million take about 15 s)
+MAX_SPECTRUM_PERIODS = 10_000
+MAX_SPECTRUM_WORK = 100_000_000
+#: exact engine: contact elements of a foundation (one bit each in a 64-bit contact pattern)
+MAX_CONTACT_ELEMENTS = 62
+#: record suites: records generated, and samples generated or matched in all (the spectral
+#: iteration costs about 0.2 ms per sample: 500,000 samples take about 100 s on 2 cores)
+MAX_SUITE_RECORDS = 1_000
+MAX_SUITE_SAMPLES = 500_000
+#: seeds of `record generate` (numpy's SeedSequence takes non-negative integers)
+MAX_SEED = 2**63 - 1
 #: sweeps: values of one --vary range and cases of a plan
 MAX_VARY_VALUES = 10_000
 MAX_CASES = 100_000
+#: sweeps: local worker processes beyond the cores (only with --oversubscribe)
+MAX_WORKERS = 256
 
 
 def shortest_period(dt: float, samples: int) -> float:
@@ -56,6 +73,43 @@ def period_problem(periods, dt: float, samples: int) -> str | None:
             f"{samples:,} samples: T >= dt/{MAX_DT_OVER_PERIOD:,}), got {min(short):.3g} s")
 
 
+def spectrum_work(periods, dampings: int, dt: float, samples: int) -> int:
+    """Oscillator sub-steps of a response spectrum: samples x sub-steps per record step
+    (max(1, ceil(4 dt / T)), as spectra.substeps) summed over the periods, times the dampings."""
+    steps = sum(max(1, math.ceil(4.0 * dt / float(t) - 1e-9)) if float(t) > 0.0 else 1 for t in periods)
+    return steps * max(samples, 1) * max(int(dampings), 1)
+
+
+def spectrum_work_problem(periods, dampings: int, dt: float, samples: int) -> str | None:
+    """The words of the spectrum limits (MAX_SPECTRUM_PERIODS, MAX_SPECTRUM_WORK) if exceeded."""
+    count = len(periods)
+    if count > MAX_SPECTRUM_PERIODS:
+        return f"at most {MAX_SPECTRUM_PERIODS:,} periods (limit of the tool), got {count:,}"
+    work = spectrum_work(periods, dampings, dt, samples)
+    if work <= MAX_SPECTRUM_WORK:
+        return None
+    return (f"at most {MAX_SPECTRUM_WORK:,} oscillator sub-steps (about 15 s), got {work:,} ({count:,} periods x "
+            f"{int(dampings)} dampings x {samples:,} samples, sub-steps of T/4 below 4 dt = {4 * dt:g} s): "
+            "fewer periods, fewer dampings or a shorter --window")
+
+
+def suite_samples_problem(counts, what: str) -> str | None:
+    """The words of the record-suite limits if the records (their samples each, `counts`) exceed
+    them: MAX_SUITE_RECORDS records, MAX_RECORD_SAMPLES samples each (a record the tool can read
+    back), MAX_SUITE_SAMPLES samples in all. what: the records, in words ('records of 2,001 samples')."""
+    counts = list(counts)
+    if len(counts) > MAX_SUITE_RECORDS:
+        return f"at most {MAX_SUITE_RECORDS:,} records (limit of the tool), got {len(counts):,}"
+    longest = max(counts, default=0)
+    if longest > MAX_RECORD_SAMPLES:
+        return f"records of at most {MAX_RECORD_SAMPLES:,} samples (limit of the tool), got {what}"
+    total = sum(counts)
+    if total > MAX_SUITE_SAMPLES:
+        return (f"at most {MAX_SUITE_SAMPLES:,} samples in all (limit of the tool: about 100 s of spectral "
+                f"iteration), got {total:,} ({what})")
+    return None
+
+
 def step_states_problem(steps: int, states: int) -> str | None:
     """The words of the exact engine's run-time limit if steps x (states + 2) exceeds it."""
     product = steps * (states + 2)
@@ -74,14 +128,39 @@ def cases_problem(counts, per_combination: int) -> str | None:
     return f"at most {MAX_CASES:,} cases, got {total:,} ({' x '.join(str(c) for c in counts)} x {per_combination})"
 
 
+class NotRegularFile(ValueError):
+    """An input path that is not a regular file (a FIFO, a device, a socket): never opened."""
+
+
 def read_limited(path, limit: int) -> bytes:
-    """The bytes of a file, refusing (ValueError with the limit in words) a file longer than
-    `limit` bytes before reading more than that (a device such as /dev/zero included)."""
-    with open(path, "rb") as handle:
+    """The bytes of a regular file, refusing (ValueError with the limit in words) a file longer
+    than `limit` bytes before reading more than that. A path that is not a regular file (a FIFO
+    would block the reader for ever, a device such as /dev/zero never ends) is refused from
+    os.stat, before it is opened (NotRegularFile)."""
+    _regular(os.stat(path).st_mode, path)
+    with open(path, "rb", opener=_nonblocking) as handle:  # a FIFO put in its place meanwhile does not block
+        _regular(os.fstat(handle.fileno()).st_mode, path)
         data = handle.read(limit + 1)
     if len(data) > limit:
         raise ValueError(f"at most {limit / 2**20:g} MiB (limit of the tool)")
     return data
+
+
+def _regular(mode: int, path) -> None:
+    """NotRegularFile naming what `path` is unless its mode is a regular file's (a directory:
+    IsADirectoryError, as open() raises it)."""
+    if stat.S_ISREG(mode):
+        return
+    if stat.S_ISDIR(mode):
+        raise IsADirectoryError(errno.EISDIR, "Is a directory", str(path))
+    raise NotRegularFile("a FIFO" if stat.S_ISFIFO(mode) else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode)
+                         else "a socket" if stat.S_ISSOCK(mode) else "not a file")
+
+
+def _nonblocking(path, flags: int) -> int:
+    """os.open for read_limited: O_NONBLOCK, so that opening a FIFO swapped in after os.stat
+    returns at once (reads of a regular file are not affected by the flag)."""
+    return os.open(path, flags | getattr(os, "O_NONBLOCK", 0))
 
 
 def read_input(path, limit: int, source: str, location: str | None, what: str) -> bytes:
@@ -96,6 +175,8 @@ def read_input(path, limit: int, source: str, location: str | None, what: str) -
         raise InputError(source, location, f"an existing {what} (file not found)") from None
     except IsADirectoryError:
         raise InputError(source, location, f"a {what} (this is a directory)") from None
+    except NotRegularFile as error:
+        raise InputError(source, location, f"a regular {what} (this is {error})") from None
     except OSError as error:
         raise InputError(source, location, f"a readable {what} ({error.strerror or error})") from None
     except ValueError as error:

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from .atomic import atomic_path, write_text
+from .atomic import atomic_path, write_set, write_text
 from .engines.quantities import ELEMENT, FLOOR, QUANTITIES, SCALARS, STORY, column_name, history_unit, quantities
 from .engines.result import AnalysisResult
 from .engines.suite_result import COMPARED, STATISTICS, SuiteResult, simplified_ratios
@@ -224,7 +224,8 @@ def write_results(results: list[AnalysisResult], directory, stem: str, source: s
     a flexible support was analysed) and, given the deck.Deck, <stem>.deck.toml (the resolved
     deck: `uplift analyze` on it repeats the run) into directory, each atomically; return the
     paths. The provenance (default: provenance.of_deck of the deck) goes into every file. All
-    texts are built before the first file is written, so a failure leaves no file."""
+    texts are built before the first file is written, and the files are written all or none
+    (atomic.write_set), so a failure (a full disk) leaves no file of the set."""
     if provenance is None and deck is not None:
         provenance = of_deck(deck)
     if deck is not None:
@@ -237,8 +238,7 @@ def write_results(results: list[AnalysisResult], directory, stem: str, source: s
         texts.append(elements_csv(results, provenance))
     if deck is not None:
         texts.append(deck_toml(deck, provenance))
-    for path, text in zip(paths, texts, strict=True):
-        write_text(path, text)
+    write_set(dict(zip(paths, texts, strict=True)))  # all or none: a full disk leaves no file of the set
     return paths
 
 

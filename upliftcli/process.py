@@ -1,7 +1,7 @@
 """What the package sets in the processes it runs (the `uplift` command and the local sweep
 workers), never on import, so that a program using the Python API keeps its own: how many cores
-the work may use, an allocator that keeps freed memory for reuse, and an exit that skips the
-interpreter's teardown.
+the work may use, an allocator that keeps freed memory for reuse, stop signals (SIGTERM, SIGHUP)
+that end a command through its clean-up, and an exit that skips the interpreter's teardown.
 
 The exact engine allocates arrays of the same few megabytes chunk after chunk and analysis after
 analysis (the states, the signals and the responses at the samples: 3-8 MB each for ten stories at
@@ -17,6 +17,7 @@ import atexit
 import ctypes
 import os
 import platform
+import signal
 import sys
 import threading
 
@@ -38,6 +39,26 @@ def keep_freed_memory() -> bool:
     except (OSError, AttributeError):
         return False
     return bool(mallopt(_M_TRIM_THRESHOLD, TRIM_THRESHOLD)) and bool(mallopt(_M_MMAP_THRESHOLD, MMAP_THRESHOLD))
+
+
+class Stopped(SystemExit):
+    """SIGTERM or SIGHUP ended the command (exit code 128 + the signal): raised where the process
+    is, so that the `finally` blocks run (atomic.py removes its temporary files)."""
+
+
+def _stop(signum, frame) -> None:
+    for each in (signal.SIGTERM, signal.SIGHUP):
+        signal.signal(each, signal.SIG_IGN)  # the clean-up is not cut short by a second one
+    raise Stopped(128 + signum)
+
+
+def exit_on_stop_signals() -> None:
+    """SIGTERM and SIGHUP end the command as an exception (Stopped), not at once, so that its
+    clean-up runs; sweeps install their own handlers while they run (sweep/signals.py).
+    Main thread only; set by the `uplift` command, never on import."""
+    if threading.current_thread() is threading.main_thread():
+        for each in (signal.SIGTERM, signal.SIGHUP):
+            signal.signal(each, _stop)
 
 
 def available_cores() -> int:

@@ -124,11 +124,18 @@ def plain(value: Any) -> Any:
 
 # ----------------------------------------------------------------------------- inputs
 
+def record_sha256(record) -> str | None:
+    """The SHA-256 of the bytes a records.Record was parsed from (read once: a file replaced
+    since does not change it); for a record made in code without one, its file's now, or None."""
+    return getattr(record, "sha256", "") or (sha256(record.source) if record.source else None)
+
+
 def record_entry(record, role: str = "record", **extra: Any) -> dict[str, Any]:
-    """An input-file entry of a records.Record: its file's SHA-256 and size, the format it was
-    read as, units of the file, name, time step dt [s], samples, the scale applied [-]."""
-    entry = file_entry(role, record.source) if record.source else {"role": role, "path": None, "sha256": None,
-                                                                   "bytes": None}
+    """An input-file entry of a records.Record: the SHA-256 of the bytes it was read from
+    (record_sha256) and its file's size, the format it was read as, units of the file, name,
+    time step dt [s], samples, the scale applied [-]."""
+    entry = {**file_entry(role, record.source), "sha256": record_sha256(record)} if record.source else \
+        {"role": role, "path": None, "sha256": None, "bytes": None}
     return {**entry, "format": getattr(record, "format", ""), "units": record.units, "name": record.name,
             "dt": float(record.dt), "npts": record.npts, "scale": float(record.scale), **extra}
 

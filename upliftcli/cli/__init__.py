@@ -12,12 +12,13 @@ Exit codes: 0 ok, 2 bad input (errors.InputError: one line on stderr, no traceba
 from __future__ import annotations
 
 import importlib
+import warnings
 
 import typer
 from typer.core import TyperGroup
 
 from ..errors import AnalysisError, InputError, lines, one_line
-from ..process import exit_now, keep_freed_memory
+from ..process import exit_now, exit_on_stop_signals, keep_freed_memory
 
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
 
@@ -30,7 +31,9 @@ class UpliftGroup(TyperGroup):
 
     def invoke(self, ctx):
         try:
-            return super().invoke(ctx)
+            with warnings.catch_warnings():  # numpy's RuntimeWarnings never reach the user (the results are checked)
+                warnings.simplefilter("ignore", RuntimeWarning)
+                return super().invoke(ctx)
         except USAGE_ERROR as error:  # a bad option value: one line naming the option, not a usage box
             if type(error).__name__ == "NoArgsIsHelpError":
                 raise
@@ -111,6 +114,7 @@ _register_all()
 def main() -> None:
     """Run the command line in sys.argv; ends with SystemExit (the exit code)."""
     keep_freed_memory()
+    exit_on_stop_signals()
     try:
         app()
     except InputError as error:  # raised outside a command (e.g. while parsing)

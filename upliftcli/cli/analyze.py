@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 import typer
 
 from .. import provenance
-from ..atomic import refuse_inputs
+from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
 from ..fields import parse_choices
 from . import plotting
@@ -27,6 +27,8 @@ if TYPE_CHECKING:
 
     from ..deck import Deck
 
+#: what an existing result file is, in the message that refuses it
+EARLIER = ": the results of an earlier run"
 SET_HELP = "Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values)."
 
 
@@ -57,6 +59,25 @@ def input_files(deck: Deck) -> list[str]:
     return [deck.source, *(entry["path"] for entry in motion if entry["path"])]
 
 
+def named_files(loaded: Deck) -> list[str]:
+    """The files a deck names, whether this run reads them or not (`modes` loads no ground motion):
+    its record, its suite's files (or every file of its suite folder) and a spectrum table."""
+    import os
+
+    from ..provenance import absolute_paths
+
+    motion = absolute_paths({"ground_motion": loaded.values.get("ground_motion", {})}, loaded.source)["ground_motion"]
+    spectrum = motion.get("design_spectrum")
+    paths = [motion.get("record"), spectrum.get("file") if isinstance(spectrum, dict) else None]
+    suite = motion.get("suite")
+    if isinstance(suite, str) and os.path.isdir(suite):
+        paths += [os.path.join(suite, name) for name in os.listdir(suite)]
+    elif isinstance(suite, list):
+        paths += [item if isinstance(item, str) else item.get("file") for item in suite
+                  if isinstance(item, (str, dict))]
+    return [path for path in paths if isinstance(path, str)]
+
+
 def result_paths(out: Path, stem: str) -> list[Path]:
     """The files --out may receive for one deck (output.write_results)."""
     from ..output import result_paths as paths
@@ -84,7 +105,8 @@ def analyze(
         help="Exact/approximate engines: write the response histories to this file (.csv or .npz); with "
              "several analyses, one file each, named <stem>_<engine>_<support><suffix>. An existing file "
              "is refused unless --overwrite."),
-    overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing --histories files."),
+    overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing output files (of --out, --plot and "
+                                   "--histories); without it an existing file is refused before the run."),
     check: bool = typer.Option(
         True, "--check/--no-check",
         help="With a record: also run the exact engine for the supports the simplified engine ran (about "
@@ -111,12 +133,16 @@ def analyze(
     if plot is not None and len(decks) > 1:
         raise InputError("--plot", str(plot), f"a single deck ({len(decks)} decks given)")
     if len(decks) > 1:
-        _analyze_batch(decks, _overrides(settings, engine, support), output_format, out)
+        _analyze_batch(decks, _overrides(settings, engine, support), output_format, out, overwrite)
         return
     deck = decks[0]
     loaded = load_deck(deck, _overrides(settings, engine, support))
     if out is not None:
         refuse_inputs(result_paths(out, deck.stem), input_files(loaded), "--out")
+        refuse_existing(result_paths(out, deck.stem), "--out", overwrite, EARLIER)
+    if plot is not None:
+        plotting.check_outputs(plotting.figure_paths(loaded, plot, deck.stem, formats), input_files(loaded),
+                               overwrite)
     if histories is not None:
         _check_histories(histories, loaded, overwrite)
         loaded = replace(loaded, analysis=replace(loaded.analysis, exact=replace(loaded.analysis.exact,
@@ -179,10 +205,7 @@ def _check_histories(path: Path, loaded: Deck, overwrite: bool) -> None:
              for s in loaded.analysis.supports for suffix in _record_suffixes(loaded)]
     targets = _history_paths(path, names)
     refuse_inputs(targets, input_files(loaded), "--histories")
-    existing = [target for target in targets if target.exists()]
-    if existing and not overwrite:
-        raise InputError("--histories", str(existing[0]), "a file that does not exist yet (pass --overwrite to "
-                         "replace it)")
+    refuse_existing(targets, "--histories", overwrite)
 
 
 def _warn_suite(results, prefix: str = "") -> None:
@@ -248,7 +271,8 @@ def _write(results, out: Path, stem: str, loaded, record: dict | None = None) ->
         typer.echo(f"wrote {path}", err=True)
 
 
-def _analyze_batch(decks: list[Path], overrides: list[str], output_format: OutputFormat, out: Path | None) -> None:
+def _analyze_batch(decks: list[Path], overrides: list[str], output_format: OutputFormat, out: Path | None,
+                   overwrite: bool = False) -> None:
     """Several decks: every deck is read and checked before any is run (bad input: exit 2, no
     output); one summary table (or {"decks": [...]} in JSON); exit 3 if any deck violates its criteria."""
     from .. import analysis
@@ -266,7 +290,9 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
         warn_deck(item)
     if out is not None:
         inputs = [path for item in loaded for path in input_files(item)]
-        refuse_inputs([path for deck in decks for path in result_paths(out, deck.stem)], inputs, "--out")
+        outputs = [path for deck in decks for path in result_paths(out, deck.stem)]
+        refuse_inputs(outputs, inputs, "--out")
+        refuse_existing(outputs, "--out", overwrite, EARLIER)
     runs = [(deck, item, analysis.run(item)) for deck, item in zip(decks, loaded, strict=True)]
     records = [provenance.of_deck(item) for item in loaded]
     for deck, _, results in runs:
@@ -321,6 +347,7 @@ def modes(
     plot: Path | None = typer.Option(None, "--plot", help="Also draw the mode shapes (T_n, m_n*/m_t) into this "
                                      "directory as <deck>.modes.png."),
     plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
+    overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing --plot figure."),
 ) -> None:
     """Fixed-base modes: periods, w_n/w_1, effective masses m_n*/m_t (and cumulative), heights h_n*, h_n*/b."""
     from rich.markup import escape
@@ -335,6 +362,8 @@ def modes(
     warn_deck(loaded)
     system = loaded.system
     if plot is not None:
+        plotting.check_outputs(plotting.figure_paths(loaded, plot, deck.stem, formats, modes_only=True),
+                               [loaded.source, *named_files(loaded)], overwrite)
         plotting.modes_plots(loaded, plot, deck.stem, formats)
     if output_format is OutputFormat.json:
         document = {

@@ -29,6 +29,23 @@ def check_plot(directory: Path | None, formats: list[str]) -> list[str]:
     return chosen or ["png"]
 
 
+def figure_paths(loaded, directory: Path, stem: str, formats: list[str], modes_only: bool = False) -> list[Path]:
+    """Every file the figures of a run may be written to (figures.sets.analysis_figures names
+    them from the results: this is the most it may hold), checked before the run."""
+    names = ["modes"] if modes_only else ["profiles", "modes", "spectrum"] + [
+        f"{kind}_{engine}" for engine in loaded.analysis.engines if engine in HISTORY_ENGINES
+        for kind in ("histories", "moment_rotation", "energy")]
+    return [directory / f"{stem}.{name}.{extension}" for name in names for extension in formats]
+
+
+def check_outputs(paths: list[Path], inputs: list[str], overwrite: bool) -> None:
+    """--plot never replaces an input of the run, nor an existing file unless --overwrite."""
+    from ..atomic import refuse_existing, refuse_inputs
+
+    refuse_inputs(paths, inputs, "--plot")
+    refuse_existing(paths, "--plot", overwrite)
+
+
 def keep_histories(loaded):
     """The deck with the history engines keeping their histories (ExactOptions.histories)."""
     if not set(loaded.analysis.engines) & set(HISTORY_ENGINES):

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 import typer
 
 from .. import limits
-from ..atomic import refuse_inputs, write_text
+from ..atomic import refuse_existing, refuse_inputs, write_text
 from ..errors import InputError
 from ..units import STANDARD_GRAVITY
 
@@ -56,7 +56,13 @@ def parse_periods(text: str) -> np.ndarray:
             start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
             if not (0.0 < start < stop and math.isfinite(stop) and count >= 2):
                 raise ValueError
+            if count > limits.MAX_SPECTRUM_PERIODS:  # before anything is allocated
+                raise InputError("--periods", text, f"at most {limits.MAX_SPECTRUM_PERIODS:,} periods (limit of the "
+                                 f"tool), got {count:,}")
             return np.geomspace(start, stop, count)
+        if text.count(",") >= limits.MAX_SPECTRUM_PERIODS:
+            raise InputError("--periods", text[:40] + "...", f"at most {limits.MAX_SPECTRUM_PERIODS:,} periods (limit "
+                             f"of the tool), got {text.count(',') + 1:,}")
         values = np.array([float(part) for part in text.split(",") if part.strip()])
         if values.size == 0 or not np.all(np.isfinite(values)) or np.any(values < 0.0):
             raise ValueError
@@ -122,6 +128,9 @@ def info(
     i_a, i_v, i_d = (int(np.argmax(np.abs(x))) for x in (a, velocity, displacement))
     shortest = limits.shortest_period(record.dt, record.npts)
     periods = np.array([t for t in INFO_PERIODS if t >= shortest])  # a record with a long dt: fewer rows
+    problem = limits.spectrum_work_problem(periods, dampings.size, record.dt, record.npts)
+    if problem:
+        raise InputError("--damping", damping if len(damping) <= 40 else damping[:37] + "...", problem)
     spectrum = spectra.response_spectrum(a, record.dt, periods, dampings)
     out = render.console()
     lines = [
@@ -186,6 +195,7 @@ def spectrum(
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
     scale: float = typer.Option(1.0, "--scale", help=SCALE_HELP),
     window: str | None = typer.Option(None, "--window", help=WINDOW_HELP),
+    overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing --out and --plot files."),
 ) -> None:
     """Exact linear response spectra (S_d, pseudo S_v and S_a, absolute acceleration) of a record."""
     from .. import plots
@@ -201,7 +211,12 @@ def spectrum(
     problem = limits.period_problem(period_values, record.dt, record.npts)
     if problem:
         raise InputError("--periods", periods, problem)
+    problem = limits.spectrum_work_problem(period_values, dampings.size, record.dt, record.npts)
+    if problem:
+        raise InputError("--periods", periods, problem)
     refuse_inputs([path for path in (out, plot) if path is not None], [record.source], "--out/--plot")
+    for option, path in (("--out", out), ("--plot", plot)):
+        refuse_existing([path] if path is not None else [], option, overwrite)
     result = spectra.response_spectrum(record.acceleration, record.dt, period_values, dampings)
     from ..provenance import of_record
 

@@ -4,12 +4,14 @@ deck's design spectrum (target, code rule and period range from the deck, docs/d
 from __future__ import annotations
 
 import hashlib
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import typer
 
-from ..atomic import refuse_inputs
+from .. import limits
+from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
 from ..units import STANDARD_GRAVITY
 from .record import DT_HELP, FORMAT_HELP, OVERRIDE_HELP, UNITS_HELP
@@ -20,6 +22,7 @@ if TYPE_CHECKING:  # imported by the commands that use them (numpy, scipy, rich,
     from ..motion.suites import Suite
 
 SET_HELP = "Override a deck field by dotted path, e.g. --set ground_motion.period_range=[0.1,3] (repeatable)."
+DEFAULT_DT = 0.01  # s, the step of generated records
 OUT_HELP = "Directory for the records and manifest.json (created; existing files are kept unless --overwrite)."
 
 
@@ -48,20 +51,19 @@ def _check_out(out: Path, names: list[str], overwrite: bool, inputs: list[Path])
     if out.exists() and not out.is_dir():
         raise InputError("--out", str(out), "a directory (a file of that name exists)")
     refuse_inputs([out / name for name in names], inputs, "--out")  # the same file by inode or path
-    for name in names:
-        path = out / name
-        if path.exists() and not overwrite:
-            raise InputError("--out", str(path), "a new file (it exists; give --overwrite to replace it)")
+    refuse_existing([out / name for name in names], "--out", overwrite)
 
 
 def _write(out: Path, files: dict[str, str]) -> None:
-    from ..atomic import write_text
+    """The records and their manifest (last) all or none (atomic.write_set): a full disk or a
+    stop leaves the folder as it was (it left 7 of 11 records and no manifest)."""
+    from ..atomic import write_set
 
     try:
-        for name, text in files.items():
-            write_text(out / name, text)
+        write_set({out / name: text for name, text in files.items()})
     except OSError as error:
-        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error}); nothing was "
+                         "written") from None
 
 
 def _print_suite(suite: Suite, labels: list[str], title: str, tolerance: MatchSettings | None = None) -> None:
@@ -97,33 +99,50 @@ def generate(
     count: int = typer.Option(11, "--count", "-n", help="Number of records (ASCE 7-22 asks >= 11, EN 1998-1 >= 3)."),
     seed: int = typer.Option(..., "--seed", help="Seed: record k is reproducible from (seed, k)."),
     out: Path = typer.Option(..., "--out", "-o", help=OUT_HELP),
-    dt: float = typer.Option(0.01, "--dt", help="Time step of the records [s]."),
+    dt: float | None = typer.Option(None, "--dt", help=f"Time step of the records [s] (default {DEFAULT_DT:g})."),
     stationary: float = typer.Option(10.0, "--stationary", help="Stationary part of the envelope [s] (EC8: >= 10)."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing files in --out."),
 ) -> None:
     """Artificial records matching the deck's design spectrum (Gasparini & Vanmarcke), with a manifest."""
+    from ..analysis import BUILDING_PATHS
     from ..deck import load_deck
     from ..deck_suite import plan_from_deck
-    from ..motion.generate import Envelope, generate_suite
+    from ..motion.generate import Envelope, generate_suite, suite_envelope
     from ..motion.matching import settings_for
     from ..motion.record_files import manifest_text, record_checks, record_text, sha256
     from ..motion.suites import SAMPLES_PER_PERIOD
 
-    if count < 1:
-        raise InputError("--count", str(count), "at least 1 record")
-    if not (0.0 < stationary < 1e4):
+    if not 1 <= count <= limits.MAX_SUITE_RECORDS:
+        raise InputError("--count", str(count), f"from 1 to {limits.MAX_SUITE_RECORDS:,} records")
+    if not 0 <= seed <= limits.MAX_SEED:
+        raise InputError("--seed", str(seed), f"an integer from 0 to {limits.MAX_SEED:,}")
+    if not (math.isfinite(stationary) and stationary > 0.0):
         raise InputError("--stationary", f"{stationary:g}", "a stationary duration > 0 s")
     loaded = load_deck(deck, settings, load_ground_motion=False)
     plan = plan_from_deck(loaded)
-    if not 0.0 < dt <= plan.period_range[0] / SAMPLES_PER_PERIOD:
-        raise InputError("--dt", f"{dt:g}", f"a time step > 0 and <= {plan.period_range[0] / SAMPLES_PER_PERIOD:.4g} s "
+    largest = plan.period_range[0] / SAMPLES_PER_PERIOD
+    if dt is None and largest < DEFAULT_DT:  # the period range asks for a finer step than the default
+        raise InputError(*loaded.blame("ground_motion.period_range", *BUILDING_PATHS),
+                         f"a lower period of at least {SAMPLES_PER_PERIOD * DEFAULT_DT:g} s for records at the "
+                         f"default step of {DEFAULT_DT:g} s (or give --dt <= {largest:.4g} s), got "
+                         f"{plan.period_range[0]:.4g} s")
+    dt = DEFAULT_DT if dt is None else dt
+    if not 0.0 < dt <= largest:
+        raise InputError("--dt", f"{dt:g}", f"a time step > 0 and <= {largest:.4g} s "
                          f"(the lower period {plan.period_range[0]:.4g} s / {SAMPLES_PER_PERIOD})")
+    envelope = suite_envelope(plan.period_range, plan.rule, Envelope(strong=stationary))
+    samples = envelope.samples(dt)
+    problem = limits.suite_samples_problem([samples] * count, f"{count:,} records of {samples:,} samples: "
+                                           f"{envelope.duration:.4g} s at dt = {dt:g} s")
+    if problem:
+        raise InputError(*_generate_blame(envelope, dt, count, plan.period_range[0] / SAMPLES_PER_PERIOD,
+                                          stationary), problem)
     names = [f"artificial_{seed}_{k + 1:02d}.txt" for k in range(count)]
     _check_out(out, [*names, "manifest.json"], overwrite, [deck])
     match_settings = settings_for(plan.rule)
-    suite, items = generate_suite(plan.target, plan.period_range, plan.rule, count, seed, dt,
-                                  Envelope(strong=stationary), match_settings, plan.period_note)
+    suite, items = generate_suite(plan.target, plan.period_range, plan.rule, count, seed, dt, envelope, match_settings,
+                                  plan.period_note)
     files, rows = {}, []
     for name, motion, factor, item, check in zip(names, suite.motions(), suite.factors, items,
                                                  record_checks(suite, match_settings), strict=True):
@@ -144,6 +163,19 @@ def generate(
     _print_suite(suite, names, f"Artificial records, seed {seed}", match_settings)
     _warn(suite.warnings)
     typer.echo(f"wrote {count} records and manifest.json to {out}", err=True)
+
+
+def _generate_blame(envelope, dt: float, count: int, largest_dt: float, stationary: float) -> tuple[str, str]:
+    """(option, value) of `record generate` that exceeds the suite limits: --count when one record
+    is within them, else --dt when a record at the default step would be, else --stationary."""
+    def fits(samples: int) -> bool:
+        return samples <= min(limits.MAX_RECORD_SAMPLES, limits.MAX_SUITE_SAMPLES)
+
+    if fits(envelope.samples(dt)) and count > 1:
+        return "--count", str(count)
+    if fits(envelope.samples(min(0.01, largest_dt))):
+        return "--dt", f"{dt:g}"
+    return "--stationary", f"{stationary:g}"
 
 
 def match(
@@ -167,6 +199,10 @@ def match(
     loaded = load_deck(deck, settings, load_ground_motion=False)
     plan = plan_from_deck(loaded)
     seeds = _records(deck, loaded, files, file_format, units, dt, override)
+    problem = limits.suite_samples_problem([r.npts for r in seeds], f"{len(seeds):,} records of "
+                                           f"{sum(r.npts for r in seeds):,} samples")
+    if problem:
+        raise InputError("RECORD" if files else str(deck), None if files else "ground_motion.suite", problem)
     names = [f"{Path(r.source).stem}_matched.txt" for r in seeds]
     if len(set(names)) != len(names):
         raise InputError("RECORD", ", ".join(names), "records with different file names")

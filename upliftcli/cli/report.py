@@ -23,6 +23,7 @@ def report(
     check: bool = typer.Option(True, "--check/--no-check",
                                help="With a record: check the simplified engine against the exact engine (as "
                                     "uplift analyze does) and report simplified/exact."),
+    overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing --out file."),
 ) -> None:
     """A calculation report a checker can sign: inputs (as given and resolved), derived model, modes,
     results of every engine and support, accuracy check, warnings, criteria verdict, figures, method
@@ -34,7 +35,7 @@ def report(
     report is written and says so), 4 analysis failure.
     """
     from .. import analysis, plots
-    from ..atomic import refuse_inputs, write_text
+    from ..atomic import refuse_existing, refuse_inputs, write_text
     from ..criteria import check_criteria
     from ..deck import load_deck
     from ..report.build import build_report
@@ -49,6 +50,7 @@ def report(
     overrides = _overrides(settings, engine, support)
     loaded = keep_histories(load_deck(deck, overrides))
     refuse_inputs([out], [path for _, path in input_files(loaded)], "--out")
+    refuse_existing([out], "--out", overwrite)
     deck_text = deck.read_text(encoding="utf-8")
     results = analysis.run(loaded)
     if check:

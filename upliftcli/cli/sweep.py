@@ -13,11 +13,12 @@ from typing import TYPE_CHECKING
 import typer
 
 from .. import limits
-from ..atomic import refuse_inputs
+from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
 from ..sweep.signals import ignore_stop_signals
 from . import plotting
 from .analyze import SET_HELP
+from .sweep_options import OVERSUBSCRIBE_HELP, WORKERS_HELP, check_name, figure_errors, local_workers, table_paths
 
 if TYPE_CHECKING:
     from ..sweep.plan import SweepPlan, Vary
@@ -27,8 +28,6 @@ VARY_HELP = ("Vary a deck field (same dotted paths as --set): PATH=START:STOP:N 
              "PATH=a,b,c or PATH=\\[a, b]; repeatable, cases are the cartesian product.")
 ENGINE_HELP = "Engine(s): simplified, approximate, exact or all; repeatable or comma separated (default: the deck's)."
 SUPPORT_HELP = "Support condition(s): rigid, bonded, uplift; repeatable or comma separated (default: the deck's)."
-WORKERS_HELP = ("Local worker processes (default: all cores when the sweep is long enough to gain from them, "
-                "else 1 = in this process).")
 SCHEDULER_HELP = "Run the cases on a Dask cluster at this address (tcp://host:8786), or 'local' for a local one."
 DASK_HELP = "'local': run on a Dask LocalCluster of --workers processes on this machine (same as --scheduler local)."
 CHECK_HELP = ("Also run the exact engine (record decks) and add to the tables the ratios simplified / exact of V_b, "
@@ -142,16 +141,20 @@ def head_start(executor, figures: bool) -> None:
 
 
 def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, resume, retry_failed,
-            overwrite, quiet, label, rerun_stale=False, figures_written=()):
+            overwrite, quiet, label, rerun_stale=False, figures_written=(), tables=()):
     """Run the plan with progress (the caller holds stem_lock); exit 128 + the signal (130 for
     Ctrl-C, 143 for SIGTERM, 129 for SIGHUP) keeping the rows when interrupted. figures_written:
-    the figures that follow the run (their paths)."""
+    the figures that follow the run (their paths); tables: the tables it writes (both refused if
+    they exist, unless overwrite or resume)."""
     from ..sweep.run import run_sweep
     from ..sweep.store import RowStore
 
     rows_path = out / f"{stem}.rows.jsonl"
     refuse_inputs(output_paths(out, stem, figures_written), plan.input_files, "--out")
     _prepare_out(out, rows_path, resume, overwrite)
+    if not resume:  # --resume finishes an earlier run: its tables and figures are written again
+        refuse_existing([*tables, *figures_written], "--out", overwrite, ": written by an earlier run; --resume "
+                        "continues that run")
     executor = choose_executor(plan, workers, scheduler, dask)
     head_start(executor, bool(figures_written))
     try:
@@ -221,6 +224,7 @@ def sweep(
     plot: bool = typer.Option(False, "--plot", help="Plot the responses against the first varied field."),
     plot_format: str = typer.Option("png", "--plot-format", help="png, svg or pdf."),
     workers: int | None = typer.Option(None, "--workers", "-w", help=WORKERS_HELP),
+    oversubscribe: bool = typer.Option(False, "--oversubscribe", help=OVERSUBSCRIBE_HELP),
     scheduler: str | None = typer.Option(None, "--scheduler", help=SCHEDULER_HELP),
     dask: str | None = typer.Option(None, "--dask", help=DASK_HELP),
     resume: bool = typer.Option(False, "--resume", help="Skip the cases a previous run of this sweep finished "
@@ -228,7 +232,8 @@ def sweep(
     retry_failed: bool = typer.Option(False, "--retry-failed", help="With --resume: run failed cases again."),
     rerun_stale: bool = typer.Option(False, "--rerun-stale", help="With --resume: run again the cases computed "
                                      "from another record file or tool version (instead of refusing)."),
-    overwrite: bool = typer.Option(False, "--overwrite", help="Discard the rows of a previous run."),
+    overwrite: bool = typer.Option(False, "--overwrite", help="Discard the rows of a previous run and replace its "
+                                   "tables and figures."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress and no summary tables."),
     per_record: bool = typer.Option(False, "--per-record", help=PER_RECORD_HELP),
     check: bool = typer.Option(False, "--check", help=CHECK_HELP),
@@ -240,6 +245,7 @@ def sweep(
     Exit codes: 0 ok, 2 bad input, 3 a case exceeds a limit of the deck's criteria, 4 a case failed, 130 interrupted
     (Ctrl-C; 143 SIGTERM, 129 SIGHUP).
     """
+    workers = local_workers(workers, oversubscribe, scheduler)
     if workers is not None:  # by default the plan's size decides whether local workers run
         warm_workers_early(workers, scheduler, dask)
     from .. import plots
@@ -251,6 +257,7 @@ def sweep(
     from . import render
     from .sweep_render import print_summary
 
+    check_name(name)
     plot_path = plots.check_figure_path(out / f"{name or deck.stem + '.sweep'}.{plot_format}", "--plot-format") \
         if plot else None
     sweep_table.check_table_format(table.value)
@@ -265,14 +272,16 @@ def sweep(
     with stem_lock(out, stem):
         outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
                           retry_failed=retry_failed, overwrite=overwrite, quiet=quiet, label="sweep",
-                          rerun_stale=rerun_stale, figures_written=[plot_path] if plot_path else [])
+                          rerun_stale=rerun_stale, figures_written=[plot_path] if plot_path else [],
+                          tables=table_paths(out, stem, table.value))
         rows = sweep_table.add_checks(plan, outcome.rows) if plan.check else outcome.rows
         summary = sweep_table.summarize(plan, rows)
         record = sweep_table.sweep_provenance(plan)
         written = _write(plan, rows, out, stem, table, summary, record)
         if plot_path is not None:
-            written.append(plots.plot_figure(figures.sweep_figure(plan, rows, figures.plan_motion_label(plan)),
-                                             plot_path, "--plot-format"))
+            with figure_errors(out, written):
+                written.append(plots.plot_figure(figures.sweep_figure(plan, rows, figures.plan_motion_label(plan)),
+                                                 plot_path, "--plot-format"))
     if output_format is OutputFormat.json:
         typer.echo(json.dumps(sweep_table.document(plan, rows, summary, record), indent=1))
     elif not quiet:
@@ -296,10 +305,12 @@ def spectra(
     plot_format: list[str] = typer.Option(["png"], "--plot-format",
                                           help="png, svg, pdf or all; repeatable or comma list."),
     workers: int | None = typer.Option(None, "--workers", "-w", help=WORKERS_HELP),
+    oversubscribe: bool = typer.Option(False, "--oversubscribe", help=OVERSUBSCRIBE_HELP),
     scheduler: str | None = typer.Option(None, "--scheduler", help=SCHEDULER_HELP),
     dask: str | None = typer.Option(None, "--dask", help=DASK_HELP),
     resume: bool = typer.Option(False, "--resume", help="Skip the periods a previous run finished."),
-    overwrite: bool = typer.Option(False, "--overwrite", help="Discard the rows of a previous run."),
+    overwrite: bool = typer.Option(False, "--overwrite", help="Discard the rows of a previous run and replace its "
+                                   "tables and figures."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress."),
     per_record: bool = typer.Option(False, "--per-record", help=PER_RECORD_HELP),
 ) -> None:
@@ -311,6 +322,7 @@ def spectra(
 
     Exit codes: 0 ok, 2 bad input, 4 a case failed, 130 interrupted (Ctrl-C; 143 SIGTERM, 129 SIGHUP).
     """
+    workers = local_workers(workers, oversubscribe, scheduler)
     warm_workers_early(workers, scheduler, dask)
     from .. import plots
     from ..engines.registry import ENGINES, SUPPORTS
@@ -319,6 +331,7 @@ def spectra(
     from ..sweep.plan import parse_choices, plan_sweep
     from ..sweep.store import stem_lock
 
+    check_name(name)
     formats = parse_choices(plot_format, plotting.FORMATS, "--plot-format")
     sweep_table.check_table_format(table.value)
     period_vary: Vary = figures.period_vary(periods)
@@ -342,14 +355,15 @@ def spectra(
     with stem_lock(out, stem):
         outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
                           retry_failed=False, overwrite=overwrite, quiet=quiet, label="spectra",
-                          figures_written=figure_paths)
+                          figures_written=figure_paths, tables=table_paths(out, stem, table.value))
         summary = sweep_table.summarize(plan, outcome.rows)
         written = _write(plan, outcome.rows, out, stem, table, summary, sweep_table.sweep_provenance(plan))
         specs = figures.paper_figures(outcome.rows, plan.engines, plan.supports, figures.plan_motion_label(plan),
                                       figures.nominal_value(plan, figures.PERIOD_PATH))
-        written += plots.plot_figures([(spec, out / f"{stem}.{figure_name}.{extension}")
-                                       for figure_name, spec in specs.items() for extension in formats],
-                                      "--plot-format")
+        with figure_errors(out, written):
+            written += plots.plot_figures([(spec, out / f"{stem}.{figure_name}.{extension}")
+                                           for figure_name, spec in specs.items() for extension in formats],
+                                          "--plot-format")
     if not quiet:
         _print_spectra_summary(plan, outcome.rows)
     for path in written:

@@ -174,7 +174,8 @@ def envelope_table(summary: dict) -> Table | None:
 def print_summary(out: Console, plan: SweepPlan, summary: dict) -> None:
     out.print(f"[bold]{escape(plan.title)}[/bold]: {summary['cases']} cases, {summary['ok']} ok"
               + (f", {summary['failed']} failed" if summary["failed"] else "")
-              + (f", {summary['crashed']} crashed" if summary["crashed"] else ""))
+              + (f", {summary['crashed']} crashed" if summary["crashed"] else "")
+              + (f", {summary['stale']} stale" if summary.get("stale") else ""))
     if summary["ranges"]:
         out.print(ranges_table(summary))
     if summary["governing"]:

@@ -124,8 +124,8 @@ class Winkler:
                      plausible=(1e5, 1e13)),
         "c_w": Field("number", "N s/m^2", "winkler: damping per unit length along the width",
                      "nonnegative", 0.0),
-        "elements": Field("integer", "-", "winkler: number of discrete elements for the exact engine",
-                          "two-or-more", 20),
+        "elements": Field("integer", "-", "winkler: number of discrete elements for the exact engine "
+                          "(limits.MAX_CONTACT_ELEMENTS: one bit each of its contact pattern)", "contact-elements", 20),
     }
     deck_alternatives: ClassVar[list[list[set[str]]]] = []
 

@@ -53,7 +53,14 @@ class Envelope:
         t = np.asarray(t, dtype=float)
         t2 = self.rise + self.strong
         rate = -math.log(self.final) / self.decay
-        return np.where(t < self.rise, (t / self.rise) ** 2, np.where(t <= t2, 1.0, np.exp(-rate * (t - t2))))
+        decay = np.exp(-rate * np.maximum(t - t2, 0.0))  # 1 before t2 (no overflow where it is not used)
+        return np.where(t < self.rise, (t / self.rise) ** 2, np.where(t <= t2, 1.0, decay))
+
+    def samples(self, dt: float) -> int:
+        """Samples of a record of this envelope at step dt [s] (generate_acceleration); 2^62 for
+        a count beyond it (an infinite duration / dt)."""
+        count = self.duration / dt
+        return round(count) + 1 if count < 2.0**62 else 2**62
 
 
 def starting_amplitudes(frequencies: np.ndarray, periods: np.ndarray, target: np.ndarray, damping: float,
@@ -75,7 +82,7 @@ def generate_acceleration(periods: np.ndarray, target: np.ndarray, draw, dt: flo
                           envelope: Envelope = Envelope(), settings: MatchSettings = DEFAULT_SETTINGS) -> MatchResult:
     """One artificial accelerogram [m/s^2] at step dt [s] iterated to target S_a [m/s^2] at the
     control periods [s] (module docstring); its phases from SeedSequence(draw), e.g. [seed, index]."""
-    n = round(envelope.duration / dt) + 1
+    n = envelope.samples(dt)
     t = np.arange(n) * dt
     shape = envelope(t)
     frequencies = fft.rfftfreq(n, dt)
@@ -138,6 +145,13 @@ def generate(target_spectrum, period_range: tuple[float, float], seed: int, inde
                         f"(S_a/target {low:.3f} to {high:.3f}); try another seed or a narrower range")
 
 
+def suite_envelope(period_range: tuple[float, float], rule: CodeRule, envelope: Envelope = Envelope()) -> Envelope:
+    """The envelope of the records of generate_suite: a stationary part of at least
+    rule.stationary_duration, lengthened for MIN_CYCLES of the upper period [s]."""
+    strong = max(envelope.strong, rule.stationary_duration)
+    return envelope_for(period_range, MIN_CYCLES, replace(envelope, strong=strong))
+
+
 def generate_suite(target_spectrum, period_range: tuple[float, float], rule: CodeRule, count: int, seed: int,
                    dt: float = 0.01, envelope: Envelope = Envelope(), settings: MatchSettings | None = None,
                    period_note: str = "") -> tuple[Suite, list[Artificial]]:
@@ -146,8 +160,7 @@ def generate_suite(target_spectrum, period_range: tuple[float, float], rule: Cod
     The stationary part is at least rule.stationary_duration and long enough for MIN_CYCLES."""
     check_target(target_spectrum, period_range, "record generate", "period_range")
     settings = settings or settings_for(rule)
-    strong = max(envelope.strong, rule.stationary_duration)
-    envelope = envelope_for(period_range, MIN_CYCLES, replace(envelope, strong=strong))
+    envelope = suite_envelope(period_range, rule, envelope)
     items = [generate(target_spectrum, period_range, seed, k, dt, envelope, settings) for k in range(count)]
     records = tuple(Record(name=f"artificial {seed}-{k + 1:02d}", dt=dt, acceleration=item.result.acceleration,
                            source=f"artificial {seed}-{k + 1:02d}", units="g") for k, item in enumerate(items))

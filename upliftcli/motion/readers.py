@@ -78,16 +78,26 @@ def _unit_hint(text: str) -> str | None:
     return ACCELERATION_ALIASES.get(match.group(1).lower().replace("sec", "s")) if match else None
 
 
-def read_lines(path: Path, source: str) -> list[str]:
-    """The lines of a text record (a UTF-8 byte-order mark is dropped); at most
-    MAX_RECORD_BYTES are read, and a file holding NUL bytes is refused as binary."""
-    data = read_input(path, MAX_RECORD_BYTES, source, None, "record file")
+def read_bytes(path: Path, source: str) -> bytes:
+    """The bytes of a record file, read once (limits.read_input: a regular file of at most
+    MAX_RECORD_BYTES); its SHA-256, its format and its values all come from these bytes."""
+    return read_input(path, MAX_RECORD_BYTES, source, None, "record file")
+
+
+def decode_lines(data: bytes, source: str) -> list[str]:
+    """The lines of a text record's bytes (a UTF-8 byte-order mark is dropped); a file holding
+    NUL bytes is refused as binary."""
     if b"\0" in data:
         raise InputError(source, None, "a text record file (NUL bytes found: binary data)")
     lines = data.decode("utf-8-sig", errors="replace").splitlines()
     if not any(line.strip() for line in lines):
         raise InputError(source, None, "acceleration values (the file is empty)")
     return lines
+
+
+def read_lines(path: Path, source: str) -> list[str]:
+    """The lines of a text record (read_bytes, then decode_lines)."""
+    return decode_lines(read_bytes(path, source), source)
 
 
 def check_dt(dt: float, source: str, location: str) -> float:
@@ -103,19 +113,25 @@ def _is_comment(line: str) -> bool:
     return line.lstrip().startswith(("#", "%", "!", "//"))
 
 
-def detect_format(path: str | Path) -> str:
-    """Guess the format from the extension and first lines: 'at2', 'csv', 'shared' or 'text'."""
+def detect_format(path: str | Path, data: bytes | None = None) -> str:
+    """Guess the format from the extension and first lines: 'at2', 'csv', 'shared' or 'text'.
+    data: the file's bytes when they are read already (else the first 64 KiB of a regular file
+    are read; anything else is 'text', and the reader refuses it)."""
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix in (".at2", ".vt2", ".dt2"):  # the PEER layout (a velocity or displacement file is refused on reading)
         return "at2"
     if suffix == ".csv":
         return "csv"
-    try:
-        with path.open("rb") as handle:  # a bounded read: a file without line breaks (/dev/zero) ends too
-            head = handle.read(65536).decode("utf-8-sig", errors="replace").splitlines()[:40]
-    except OSError:
-        return "text"
+    if data is None:
+        try:
+            if not path.is_file():  # a FIFO or a device is never opened here (the reader refuses it)
+                return "text"
+            with path.open("rb") as handle:
+                data = handle.read(65536)
+        except OSError:
+            return "text"
+    head = data[:65536].decode("utf-8-sig", errors="replace").splitlines()[:40]
     first = next((line for line in head if line.strip()), "")
     if first.strip().upper().startswith(("PEER", "PACIFIC ENGINEERING")):
         return "at2"

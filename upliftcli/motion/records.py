@@ -7,6 +7,7 @@ All accelerations inside are m/s^2; time in s.
 
 from __future__ import annotations
 
+import hashlib
 import math
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -17,7 +18,17 @@ from ..errors import InputError
 from ..fields import Field
 from ..limits import MAX_MAGNITUDE
 from ..units import ACCELERATION_UNITS, STANDARD_GRAVITY
-from .readers import DT, FORMATS, READERS, UNIT_CHOICES, check_dt, detect_format, normalize_units, read_lines
+from .readers import (
+    DT,
+    FORMATS,
+    READERS,
+    UNIT_CHOICES,
+    check_dt,
+    decode_lines,
+    detect_format,
+    normalize_units,
+    read_bytes,
+)
 
 __all__ = ["FORMATS", "READERS", "RECORD_FIELDS", "Record", "arias_intensity", "bundled_records_dir",
            "ground_displacement", "ground_velocity", "normalize_units", "read_record"]
@@ -43,7 +54,8 @@ class Record:
 
     name: label; dt: time step [s]; acceleration: ground acceleration [m/s^2] (already scaled);
     source: the file it came from; units: units of the file; scale: factor applied;
-    format: the reader that read it (READERS; "" for a record made in code).
+    format: the reader that read it (READERS; "" for a record made in code);
+    sha256: the SHA-256 of the bytes it was parsed from ("" for a record made in code).
     """
 
     name: str
@@ -53,6 +65,7 @@ class Record:
     units: str = "m/s2"
     scale: float = 1.0
     format: str = ""
+    sha256: str = ""
 
     @property
     def npts(self) -> int:
@@ -94,15 +107,16 @@ def read_record(path: str | Path, format: str | None = None, units: str | None =
     """
     source = str(path)
     path = Path(path)
-    fmt = (format or detect_format(path)).strip().lower()
-    if fmt not in FORMATS:
+    if format is not None and format.strip().lower() not in FORMATS:
         raise InputError(source, "format", f"one of {', '.join(FORMATS)}, got {format!r}")
     if dt is not None:
         dt = check_dt(dt, source, "dt")
     if not (isinstance(scale, (int, float)) and not isinstance(scale, bool) and math.isfinite(scale)
             and scale != 0.0):
         raise InputError(source, "scale", f"a finite non-zero scale factor, got {scale!r}")
-    lines = read_lines(path, source)
+    data = read_bytes(path, source)  # read once: the checksum is that of the bytes parsed
+    fmt = (format or detect_format(path, data)).strip().lower()
+    lines = decode_lines(data, source)
     values, file_dt, file_units, name = READERS[fmt](lines, source)
     if file_dt is None:  # plain text without a 'dt' header line
         if dt is None:
@@ -138,7 +152,7 @@ def read_record(path: str | Path, format: str | None = None, units: str | None =
     if window is not None:
         acceleration = _apply_window(acceleration, step, window, source)
     return Record(name=name or path.stem, dt=step, acceleration=acceleration, source=source, units=unit,
-                  scale=float(scale), format=fmt)
+                  scale=float(scale), format=fmt, sha256=hashlib.sha256(data).hexdigest())
 
 
 def _apply_window(acceleration: np.ndarray, dt: float, window: tuple[float, float], source: str) -> np.ndarray:

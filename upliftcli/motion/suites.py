@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import limits
 from ..errors import InputError, deck_relative_path
 from ..fields import Field, check_mapping, raiser
 from .code_rules import SCALINGS, CodeRule
@@ -126,6 +127,26 @@ def check_record(record: Record, period_range: tuple[float, float], matching: bo
                          f"{period_range[0]:.4g} s / {SAMPLES_PER_PERIOD}) to be matched, got {record.dt:g} s")
 
 
+def check_work(records, period_range: tuple[float, float], matching: bool, source: str) -> None:
+    """The documented limits of a suite, before any spectrum is computed (InputError naming the
+    period range): its lower period within every record's spectrum range (limits.period_problem),
+    the oscillator sub-steps of the records' spectra at the check periods (limits.spectrum_work:
+    [1e-6, 2e-6] s ran past 300 s), and for matching the samples (limits.suite_samples_problem)."""
+    periods = control_periods(period_range, PERIODS_PER_OCTAVE)
+    for record in records:
+        problem = limits.period_problem([period_range[0]], record.dt, record.npts)
+        if problem:
+            raise InputError(source, "period_range", f"{problem} (record {record.source or record.name})")
+    work = sum(limits.spectrum_work(periods, 1, record.dt, record.npts) for record in records)
+    if work > limits.MAX_SPECTRUM_WORK:
+        raise InputError(source, "period_range", f"at most {limits.MAX_SPECTRUM_WORK:,} oscillator sub-steps for the "
+                         f"spectra of the suite (about 15 s), got {work:,} ({periods.size} check periods from "
+                         f"{period_range[0]:.4g} s, {len(records)} records): a longer lower period")
+    problem = limits.suite_samples_problem([r.npts for r in records], f"{len(records)} records") if matching else None
+    if problem:
+        raise InputError(source, "suite", f"{problem} to be matched")
+
+
 def build_suite(records, target, period_range: tuple[float, float], rule: CodeRule, scaling: str = "none",
                 suite_factor: bool = False, period_note: str = "", provenance=(), damping: float = 0.05,
                 settings: MatchSettings | None = None, source: str = "suite") -> Suite:
@@ -143,6 +164,10 @@ def build_suite(records, target, period_range: tuple[float, float], rule: CodeRu
     check_target(target, (lower, upper), source, "period_range")
     for record in records:
         check_record(record, (lower, upper), scaling == "match")
+        if scaling != "none" and not np.any(record.acceleration):  # its factor would be nan (0/0)
+            raise InputError(record.source or record.name, None, f"a record with non-zero accelerations to be "
+                             f"scaled (scaling = \"{scaling}\"): every sample is 0")
+    check_work(records, (lower, upper), scaling == "match", source)
     if scaling == "match":
         settings = settings or settings_for(rule, damping=damping)
         results = [match_record(record, target, (lower, upper), settings) for record in records]
@@ -201,7 +226,13 @@ def suite_entries(value, source: str, field: str = "ground_motion.suite") -> lis
                        and not p.name.lower().startswith(("readme", "manifest")))
         if not files:
             raise InputError(source, field, f"record files ({', '.join(RECORD_SUFFIXES)}) in {str(folder)!r}")
+        if len(files) > limits.MAX_SUITE_RECORDS:
+            raise InputError(source, field, f"at most {limits.MAX_SUITE_RECORDS:,} records (limit of the tool), got "
+                             f"{len(files):,} in {str(folder)!r}")
         return [(path, {}) for path in files]
+    if len(value) > limits.MAX_SUITE_RECORDS:
+        raise InputError(source, field, f"at most {limits.MAX_SUITE_RECORDS:,} records (limit of the tool), got "
+                         f"{len(value):,}")
     entries = []
     for k, item in enumerate(value):
         where = f"{field}[{k}]"

@@ -12,9 +12,9 @@ from .. import deck_schema as schema
 from ..engines.quantities import INTERMEDIATES
 from ..model.system import fixed_base_mode_rows
 from ..motion.design_spectra import KEY_UNITS
+from ..provenance import record_sha256
 from ..units import STANDARD_GRAVITY
 from .document import Pre, Section, Table, Text, number
-from .provenance import sha256
 
 
 def _flatten(value, prefix: str):
@@ -134,14 +134,14 @@ def motion_section(deck) -> Section:
     headers = ["quantity", "value", "unit"]
     if isinstance(motion, Record):
         rows = [["record", motion.name, ""], ["file", str(motion.source), ""],
-                ["SHA-256", sha256(motion.source) if motion.source else "-", ""],
+                ["SHA-256", record_sha256(motion) or "-", ""],
                 ["units of the file", motion.units, ""], ["scale factor", number(motion.scale), "-"],
                 ["time step dt", number(motion.dt), "s"], ["points", str(motion.npts), "-"],
                 ["duration", number(motion.duration), "s"], ["PGA", number(motion.pga / g, 4), "g"]]
         return Section("motion", "Ground motion", [Table("table-motion", "Ground motion record", headers, rows)])
     if isinstance(motion, Suite):
         rows = [[str(k + 1), record.name, str(record.source), number(factor, 4), number(record.pga * factor / g, 4),
-                 sha256(record.source) if record.source else "-"]
+                 record_sha256(record) or "-"]
                 for k, (record, factor) in enumerate(zip(motion.records, motion.factors, strict=True))]
         text = Text([f"Suite of {motion.count} records, target {motion.target.name}, period range "
                      f"{number(motion.period_range[0], 4)}-{number(motion.period_range[1], 4)} s, scaling "

@@ -21,6 +21,11 @@ Worker deaths: local processes report the cases as they start and as each finish
 dies, the cases that were running (started, not finished) are run again one at a time on a
 single worker, so a case that kills its worker is known for sure; it is charged an attempt
 and marked 'crashed' after `max_attempts`. The other cases go on in parallel.
+
+Stalled workers: a thread of every local worker sends a heartbeat every HEARTBEAT_SECONDS (the
+compiled loops release the interpreter's lock, so it beats while they run); a worker silent
+for `stall_seconds` (STALL_SECONDS: stopped by SIGSTOP, or hung) is killed, and its cases are
+retried as after a death (a stopped worker blocked the sweep for ever).
 The Dask executor: sweep/dask_executor.py.
 """
 
@@ -36,6 +41,7 @@ import signal
 import sys
 import threading
 import time
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -53,6 +59,9 @@ OnRow = Callable[[dict], None]
 
 #: imported by the forkserver before it forks the local workers (the engines, warm)
 WARM_MODULE = f"{__package__}.warm"
+#: a local worker's heartbeat period [s], and the silence after which it is taken as stalled [s]
+HEARTBEAT_SECONDS = 1.0
+STALL_SECONDS = 60.0
 
 
 @contextlib.contextmanager
@@ -121,6 +130,7 @@ def _init_worker(queue, runner, parent_pid: int | None = None, environment=None,
     if directory is not None:  # relative deck and record paths as in the parent
         os.chdir(directory)
     keep_freed_memory()
+    warnings.simplefilter("ignore", RuntimeWarning)  # as in the uplift process: numpy's never reach the terminal
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     signal.signal(signal.SIGHUP, signal.SIG_IGN)  # so is a hang-up of the terminal
     if parent_pid is not None:
@@ -128,6 +138,19 @@ def _init_worker(queue, runner, parent_pid: int | None = None, environment=None,
     sweep = multiprocessing.parent_process()  # the sweep's process, also when the warm server forked us
     if sweep is not None and sweep.sentinel is not None:
         threading.Thread(target=_exit_when_ready, args=(sweep.sentinel,), name="exit-with-sweep", daemon=True).start()
+    threading.Thread(target=_beat, args=(queue,), name="heartbeat", daemon=True).start()
+
+
+def _beat(queue) -> None:
+    """Tell the sweep every HEARTBEAT_SECONDS that this worker runs (ProcessExecutor kills one
+    that stays silent for its stall_seconds)."""
+    pid = os.getpid()
+    try:
+        while True:
+            queue.put(("beat", pid))
+            time.sleep(HEARTBEAT_SECONDS)
+    except (OSError, ValueError, EOFError):  # the sweep is gone
+        return
 
 
 def _exit_when_ready(sentinel) -> None:
@@ -153,14 +176,16 @@ class ProcessExecutor:
     spawned: either is safe whatever threads the parent has.
 
     runner: the chunk runner, a module-level function like sweep.run_chunk(chunk, emit);
-    start_method: "forkserver" (default where available) or "spawn"."""
+    start_method: "forkserver" (default where available) or "spawn"; stall_seconds: a worker
+    without a heartbeat for this long is killed and its cases retried (module docstring)."""
 
     def __init__(self, workers: int, max_attempts: int = 3, poll_seconds: float = 0.1,
-                 runner: Callable = run_chunk, start_method: str | None = None):
+                 runner: Callable = run_chunk, start_method: str | None = None, stall_seconds: float = STALL_SECONDS):
         self.runner = runner
         self.workers = max(1, int(workers))
         self.max_attempts = max_attempts
         self.poll_seconds = poll_seconds
+        self.stall_seconds = stall_seconds
         methods = multiprocessing.get_all_start_methods()
         self.start_method = start_method or ("forkserver" if "forkserver" in methods else "spawn")
 
@@ -221,6 +246,7 @@ class ProcessExecutor:
         with sigint_ignored(), deferred():  # processes are started by submit; they ignore Ctrl-C from birth
             futures = {pool.submit(_worker_run_chunk, chunk): chunk for chunk in chunks}
         leftovers = []
+        beats: dict[int, float] = {}  # worker pid -> time of its last heartbeat (or of its first sight)
 
         def drain() -> None:
             while True:
@@ -230,6 +256,8 @@ class ProcessExecutor:
                     kind, value = queue.get()
                     if kind == "start":
                         started.update(value)
+                    elif kind == "beat":
+                        beats[value] = time.monotonic()
                     else:
                         deliver(value)
 
@@ -238,6 +266,7 @@ class ProcessExecutor:
                 with deferred():  # a signal inside wait() could leave futures' locks held: the pool would hang
                     finished, _ = wait(futures, timeout=self.poll_seconds, return_when=FIRST_COMPLETED)
                 drain()
+                self._kill_stalled(pool, beats)
                 for future in finished:
                     chunk = futures.pop(future)
                     try:
@@ -259,6 +288,15 @@ class ProcessExecutor:
             raise
         pool.shutdown(wait=True)
         return leftovers
+
+
+    def _kill_stalled(self, pool, beats: dict[int, float]) -> None:
+        """SIGKILL the workers silent for stall_seconds (the pool then breaks: their cases are
+        retried as after a death)."""
+        now = time.monotonic()
+        for pid, process in list(getattr(pool, "_processes", {}).items()):
+            if now - beats.setdefault(pid, now) > self.stall_seconds and process.is_alive():
+                process.kill()  # a stopped process is killed too
 
 
 @contextlib.contextmanager

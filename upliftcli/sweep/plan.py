@@ -47,8 +47,9 @@ from ..provenance import motion_files
 #: deck fields that are case dimensions of their own, not --vary paths
 NOT_VARIED = {"analysis.engine": "--engine", "analysis.supports": "--support"}
 #: status of a row: ok; failed (the analysis raised: deterministic, not retried within a run);
-#: crashed (the worker process died on this case `max_attempts` times)
-STATUSES = ("ok", "failed", "crashed")
+#: crashed (the worker process died on this case `max_attempts` times); stale (not computed: a
+#: record file's content changed after the sweep had read it; run again by --resume)
+STATUSES = ("ok", "failed", "crashed", "stale")
 
 
 # ----------------------------------------------------------------------------- parsing
@@ -326,6 +327,8 @@ class Chunk:
     cases: list[Case]
     #: the plan's fingerprint (the contents of every file its ground motions read)
     inputs: str = ""
+    #: the SHA-256 of every record file as the plan read it (absolute path -> digest)
+    records: dict = field(default_factory=dict)
 
 
 def _structure_order(case: Case) -> tuple:
@@ -341,7 +344,7 @@ def make_chunks(plan: SweepPlan, cases: Sequence[Case], size: int) -> list[Chunk
     stable, so otherwise in case order)."""
     size = max(1, int(size))
     ordered = sorted(cases, key=_structure_order)
-    return [Chunk(plan.raw, plan.source, plan.base_overrides, ordered[i:i + size], plan.fingerprint)
+    return [Chunk(plan.raw, plan.source, plan.base_overrides, ordered[i:i + size], plan.fingerprint, plan.records)
             for i in range(0, len(ordered), size)]
 
 

@@ -19,12 +19,12 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from ..atomic import atomic_path, write_text
+from ..atomic import write_set
 from ..engines.quantities import ALL_ENGINES, QUANTITIES, SCALARS
 from ..errors import InputError
 from ..output import to_jsonable
 from ..provenance import csv_comments, number_text, to_text_numbers
-from .plan import SweepPlan
+from .plan import STATUSES, SweepPlan
 
 #: output column -> (unit, meaning): the row's own columns, the scalars and the largest value
 #: of each response quantity (engines/quantities.py)
@@ -215,7 +215,7 @@ def write_tables(plan: SweepPlan, rows: Sequence[dict], directory: str | Path, s
                  table_format: str = "json", summary: dict | None = None, provenance: dict | None = None
                  ) -> list[Path]:
     """<stem>.csv and <stem>.json or <stem>.parquet, each atomically with the provenance
-    (default: sweep_provenance of the plan); both built before writing."""
+    (default: sweep_provenance of the plan); both built before writing, written both or neither."""
     directory = Path(directory)
     provenance = sweep_provenance(plan) if provenance is None else provenance
     outputs: dict[Path, Any] = {directory / f"{stem}.csv": to_csv(table_rows(plan, rows), columns(plan), provenance)}
@@ -223,12 +223,7 @@ def write_tables(plan: SweepPlan, rows: Sequence[dict], directory: str | Path, s
         outputs[directory / f"{stem}.json"] = json.dumps(document(plan, rows, summary, provenance), indent=1) + "\n"
     elif table_format == "parquet":
         outputs[directory / f"{stem}.parquet"] = _parquet_bytes(plan, rows, provenance)
-    for path, content in outputs.items():
-        if isinstance(content, bytes):
-            with atomic_path(path) as tmp:
-                tmp.write_bytes(content)
-        else:
-            write_text(path, content)
+    write_set(outputs)  # both or neither
     return list(outputs)
 
 
@@ -311,7 +306,7 @@ def violating(rows: Sequence[dict]) -> list[dict]:
 
 def summarize(plan: SweepPlan, rows: Sequence[dict]) -> dict:
     """Counts, ranges, governing cases, envelope and the cases violating the deck's criteria."""
-    counts = {status: sum(row.get("status") == status for row in rows) for status in ("ok", "failed", "crashed")}
+    counts = {status: sum(row.get("status") == status for row in rows) for status in STATUSES}
     return to_jsonable({
         "cases": len(plan.cases), "finished": len(rows), **counts,
         "ranges": ranges(plan),

@@ -6,6 +6,7 @@ and, under "record_rows", each record's row (written to the tables with --per-re
 from __future__ import annotations
 
 import json
+import os
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -25,16 +26,37 @@ from .plan import Case, Chunk, ground_motion_key
 _GROUND_MOTIONS: dict[tuple, tuple[Any, Any]] = {}
 
 
-def build_case_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]], inputs: str = "") -> Deck:
+class StaleRecord(Exception):
+    """A record file read by a worker is not the content the sweep planned with (its SHA-256
+    differs): the case is not computed (status 'stale')."""
+
+
+def check_records(motion, planned: dict[str, str]) -> None:
+    """StaleRecord naming the first record of `motion` (a Record or a Suite) whose bytes, as read,
+    have another SHA-256 than the plan's (`planned`: absolute path -> digest)."""
+    for record in getattr(motion, "records", None) or [motion]:
+        digest = getattr(record, "sha256", "")
+        expected = planned.get(os.path.abspath(record.source)) if getattr(record, "source", "") else None
+        if digest and expected and digest != expected:
+            raise StaleRecord(f"{record.source}: the record file changed after the sweep read it (SHA-256 "
+                              f"{expected[:12]}... then, {digest[:12]}... now): this case was not computed; run the "
+                              "same command with --resume --rerun-stale once the file is settled")
+
+
+def build_case_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]], inputs: str = "",
+                    records: dict[str, str] | None = None) -> Deck:
     """build_deck, reusing the ground motion (record and spectrum cache) of earlier cases with
     the same `inputs` (SweepPlan.fingerprint, which hashes every file the ground motions read:
-    a file changed between two sweeps in one process, a long-lived Dask worker, is read again)."""
+    a file changed between two sweeps in one process, a long-lived Dask worker, is read again).
+    records: the plan's SHA-256 of every record file; a record read with other bytes (the file
+    was replaced during the sweep) raises StaleRecord, and is not kept."""
     deck = build_deck(raw, source, overrides, load_ground_motion=False)
     key = (source, ground_motion_key(deck), inputs)
     if key not in _GROUND_MOTIONS:
         if len(_GROUND_MOTIONS) >= 16:
             _GROUND_MOTIONS.clear()
         full = build_deck(raw, source, overrides)
+        check_records(full.ground_motion, records or {})
         _GROUND_MOTIONS[key] = (full.ground_motion, full.spectrum)
     deck.ground_motion, deck.spectrum = _GROUND_MOTIONS[key]
     return deck
@@ -99,7 +121,7 @@ def _outputs(deck: Deck, result, t1bar: float | None, xi1bar: float | None) -> d
 
 
 def _failure(error: Exception) -> str:
-    if isinstance(error, (InputError, AnalysisError)):
+    if isinstance(error, (InputError, AnalysisError, StaleRecord)):
         return str(error)
     return f"{type(error).__name__}: {error}"
 
@@ -150,9 +172,10 @@ def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list
         try:
             if deck_key not in decks:
                 overrides = list(chunk.base_overrides) + list(case.overrides)
-                decks[deck_key] = build_case_deck(chunk.raw, chunk.source, overrides, chunk.inputs)
+                decks[deck_key] = build_case_deck(chunk.raw, chunk.source, overrides, chunk.inputs, chunk.records)
         except Exception as error:
-            rows[case.index] = failed_row(case, "failed", _failure(error))
+            rows[case.index] = failed_row(case, "stale" if isinstance(error, StaleRecord) else "failed",
+                                          _failure(error))
             if emit:
                 emit(("start", [case.key]))
                 emit(("row", rows[case.index]))

@@ -23,6 +23,7 @@ import numpy as np
 from threadpoolctl import ThreadpoolController
 
 from ...errors import AnalysisError, InputError
+from ...limits import MAX_STEP_STATES
 from ...model.building import building_key
 from ...model.system import System
 from ..options import ExactOptions
@@ -171,20 +172,40 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
 ENERGY_TOLERANCE = 1e-3
 #: at most this many halvings of the step are tried
 MAX_REFINEMENTS = 3
+#: a halving that leaves more than this fraction of the residual shows the step is not the cause
+#: (the residual of a converging step falls by 4 or more): no further halving is tried
+MIN_PROGRESS = 0.9
+
+
+def _work(system: System, record, support: str, options: ExactOptions, model: ModelBuilder) -> int:
+    """Internal steps x (state size + 2) of one run (limits.step_states_problem's measure)."""
+    space, _, steps = size_estimate(system, record.dt, np.asarray(record.acceleration).size, support, options, model)
+    return steps * (space.layout.n_aug + 2)
 
 
 def _refined(system: System, record, support: str, options: ExactOptions, model: ModelBuilder, name: str,
              result: AnalysisResult) -> AnalysisResult | AnalysisError:
     """The analysis again with the step halved until the energy balance closes to
     ENERGY_TOLERANCE (never a silent large residual); an AnalysisError naming the option to
-    set when it does not, or when the user fixed the step (analysis.exact.time_step)."""
+    set when it does not, or when the user fixed the step (analysis.exact.time_step). The runs
+    of one analysis, its refinements included, stay within limits.MAX_STEP_STATES in all, and
+    a halving that does not lower the residual (MIN_PROGRESS) ends the refinement (a contact
+    chatter with almost no damping ran 16 s per run and 240 s in all, its residual unchanged)."""
     residual = result.intermediates["energy_residual"]
     steps = options.steps_per_period
+    stopped = ""
     if options.time_step is None:
+        spent = _work(system, record, support, options, model)
         for refinement in range(1, MAX_REFINEMENTS + 1):
-            steps = options.steps_per_period * 2**refinement
-            ((_, result),) = tuple(iter_batch([system], record, support, replace(options, steps_per_period=steps),
-                                              model=model, name=name, refine=False))
+            finer = replace(options, steps_per_period=options.steps_per_period * 2**refinement)
+            cost = _work(system, record, support, finer, model)
+            if spent + cost > MAX_STEP_STATES:
+                stopped = (f"; a finer step would exceed the limit of {MAX_STEP_STATES:,} internal steps x states of "
+                           f"one analysis, its refinements included ({spent + cost:,})")
+                break
+            spent += cost
+            previous, steps = residual, finer.steps_per_period
+            ((_, result),) = tuple(iter_batch([system], record, support, finer, model=model, name=name, refine=False))
             if isinstance(result, AnalysisError):
                 return result
             residual = result.intermediates["energy_residual"]
@@ -194,11 +215,15 @@ def _refined(system: System, record, support: str, options: ExactOptions, model:
                     f"the energy balance closed to {residual:.2g} only after refining the step to {steps} steps "
                     f"per governing period (analysis.exact.steps_per_period = {options.steps_per_period})")
                 return result
+            if residual > MIN_PROGRESS * previous:
+                stopped = (f"; halving the step left it at {residual / previous:.3g} of its value (the step is not "
+                           "the cause)")
+                break
     where = (f"analysis.exact.time_step = {options.time_step:g} s" if options.time_step is not None
              else f"{steps} steps per governing period")
     return AnalysisError(f"the energy balance closes only to {residual:.2g} of the input work (tolerance "
-                         f"{ENERGY_TOLERANCE:g}) with {where}: set a finer analysis.exact.time_step or a larger "
-                         "analysis.exact.steps_per_period")
+                         f"{ENERGY_TOLERANCE:g}) with {where}{stopped}: set a finer analysis.exact.time_step or a "
+                         "larger analysis.exact.steps_per_period")
 
 
 def analyze_batch(systems: list[System], record, support: str, options: ExactOptions | None = None,

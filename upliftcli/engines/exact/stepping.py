@@ -15,6 +15,7 @@ from functools import cached_property
 import numpy as np
 
 from ...errors import AnalysisError
+from ...limits import MAX_CONTACT_ELEMENTS
 from . import stepping_kernels as kernel
 from .expm import expm
 from .statespace import ContactState, StateSpace, contact_states
@@ -151,8 +152,9 @@ class Run:
                  on_chunk: Callable[[History], None] | None = None):
         lay = space.layout
         n_e = lay.n_elements
-        if n_e > 62:
-            raise AnalysisError(f"at most 62 contact elements are supported (got {n_e}): lower foundation.elements")
+        if n_e > MAX_CONTACT_ELEMENTS:  # the deck's field is checked against it (a model built in code is not)
+            raise AnalysisError(f"at most {MAX_CONTACT_ELEMENTS} contact elements are supported (got {n_e}): lower "
+                                "foundation.elements")
         self.space, self.layout, self.h, self.criterion = space, lay, h, criterion
         self.uplift = uplift
         self.operators = _Operators(space, h, criterion)

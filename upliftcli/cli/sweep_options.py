@@ -1,0 +1,72 @@
+"""Options of `uplift sweep` and `uplift spectra` checked before anything starts: --name (a plain
+file stem) and --workers (capped at the cores unless --oversubscribe, docs/sweep.md#limits); the
+tables they write, and an error writing their figures as one line."""
+
+from __future__ import annotations
+
+import contextlib
+from pathlib import Path
+
+import typer
+
+from .. import limits
+from ..errors import InputError
+
+WORKERS_HELP = ("Local worker processes (default: all cores when the sweep is long enough to gain from them, "
+                "else 1 = in this process); capped at the cores unless --oversubscribe.")
+OVERSUBSCRIBE_HELP = ("Start --workers N local processes even when N exceeds the cores (at most 256); without it "
+                      "N is capped at the cores.")
+
+
+def check_name(name: str | None) -> None:
+    """--name must be a plain file stem: not empty, no folder separator, no control character, not
+    hidden (a leading '.': `--name .` wrote '..csv'), at most 200 characters."""
+    if name is None:
+        return
+    problem = ("it is empty" if not name.strip() else "it starts with '.' (a hidden file)" if name.startswith(".")
+               else "it holds a folder separator" if "/" in name or "\\" in name
+               else "it holds a control character" if not name.isprintable()
+               else f"it has {len(name)} characters" if len(name) > 200 else "")
+    if problem:
+        raise InputError("--name", name, f"a plain file stem such as 'tall_frames' (letters, digits, '_', '-', '.' "
+                         f"inside; {problem}), at most 200 characters")
+
+
+def local_workers(workers: int | None, oversubscribe: bool, scheduler: str | None) -> int | None:
+    """--workers checked before anything starts: an integer from 1 to limits.MAX_WORKERS, capped
+    (with a warning) at the cores this process may use unless `oversubscribe` (--workers 1000
+    started 127 processes and 4 GiB in 14 s); a remote Dask cluster's workers are its own."""
+    from ..process import available_cores
+
+    if workers is None:
+        return None
+    if workers < 1:
+        raise InputError("--workers", str(workers), "an integer >= 1")
+    if scheduler not in (None, "local"):
+        return workers
+    if workers > limits.MAX_WORKERS:
+        raise InputError("--workers", str(workers), f"at most {limits.MAX_WORKERS} worker processes (limit of the "
+                         "tool)")
+    cores = available_cores()
+    if workers > cores and not oversubscribe:
+        typer.echo(f"warning: --workers {workers} capped at the {cores} cores this process may use (--oversubscribe "
+                   f"starts {workers} processes)", err=True)
+        return cores
+    return workers
+
+
+def table_paths(out: Path, stem: str, table: str) -> list[Path]:
+    """The tables sweep_table.write_tables writes for --table `table`: <stem>.csv and .json or .parquet."""
+    return [out / f"{stem}.csv"] + ([out / f"{stem}.{table}"] if table != "csv" else [])
+
+
+@contextlib.contextmanager
+def figure_errors(out: Path, tables: list[Path]):
+    """An OSError drawing the figures (a full disk) as one line naming the figure: each figure is
+    whole or absent (atomic), the tables written before it are named, --resume writes them again."""
+    try:
+        yield
+    except OSError as error:
+        raise InputError("--out", str(error.filename or out), f"a writable directory ({error.strerror or error}); "
+                         f"the figures were not all written, the tables were ({', '.join(p.name for p in tables)}): "
+                         "run the same command with --resume once there is room") from None
