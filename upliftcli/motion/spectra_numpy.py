@@ -1,8 +1,12 @@
-"""The response-spectrum peaks in numpy: the twin of chunk_peaks in _spectra.c (same method, see
-spectra.py), vectorised over the oscillators and over time instead of compiled.
+"""The numpy twin of the response-spectrum loops of _spectra.c (same method, see spectra.py):
+spectrum_kernel and history_kernel with the same arguments (spectra_kernels.py), vectorised over
+the oscillators and over time instead of compiled.
 
-It is response_spectrum(method="numpy") and the twin the tests compare the compiled loop with
-(tests/test_spectra.py, tests/test_spectra_numpy.py): the results agree to rounding.
+It runs them when upliftcli.backend chooses numpy, and for response_spectrum(method="numpy");
+the tests compare it with the compiled loop (tests/test_spectra.py, tests/test_spectra_numpy.py):
+the results agree to rounding. Oscillators x sub-steps are taken NUMPY_BLOCK at a time (about
+50 MB of arrays): oscillators in groups, a record too long for one oscillator in segments of
+time, each starting from the state where the last ended.
 
 Per oscillator of a group sharing one sub-step h = dt / nsub:
 
@@ -19,9 +23,13 @@ Per oscillator of a group sharing one sub-step h = dt / nsub:
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
+
+#: oscillators x sub-steps integrated at once (bounds the memory to some 50 MB)
+NUMPY_BLOCK = 2**18
 
 
 def _transition(omegas: np.ndarray, xis: np.ndarray, t: float) -> np.ndarray:
@@ -46,12 +54,15 @@ def _transition(omegas: np.ndarray, xis: np.ndarray, t: float) -> np.ndarray:
     return out
 
 
-def _states(omegas: np.ndarray, xis: np.ndarray, h: float, a0: np.ndarray, a1: np.ndarray
+def _states(omegas: np.ndarray, xis: np.ndarray, h: float, a0: np.ndarray, a1: np.ndarray, u0=0.0, v0=0.0
             ) -> tuple[np.ndarray, np.ndarray]:
-    """u, v (m, K + 1) at the ends of the K steps of ground acceleration a0 -> a1 (K,), from rest."""
+    """u, v (m, K + 1) at the ends of the K steps of ground acceleration a0 -> a1 (K,), from the
+    state u0, v0 (m,) (rest by default)."""
     cf = _transition(omegas, xis, h)[:, :, None]
     y_u = cf[4] * a0 + cf[6] * a1  # b_k: the step's forced response from rest
     y_v = cf[5] * a0 + cf[7] * a1
+    y_u[:, 0] += cf[0, :, 0] * u0 + cf[2, :, 0] * v0  # b_0 + A x_0: the scan then gives A^k x_0
+    y_v[:, 0] += cf[1, :, 0] * u0 + cf[3, :, 0] * v0
     shift = 1
     while shift < a0.size:
         p = _transition(omegas, xis, shift * h)[:4, :, None]  # A^shift in closed form
@@ -61,8 +72,9 @@ def _states(omegas: np.ndarray, xis: np.ndarray, h: float, a0: np.ndarray, a1: n
         y_u[:, shift:] += add_u
         y_v[:, shift:] += add_v
         shift *= 2
-    zero = np.zeros((omegas.size, 1))
-    return np.concatenate((zero, y_u), axis=1), np.concatenate((zero, y_v), axis=1)
+    start = np.zeros((2, omegas.size, 1))
+    start[0, :, 0], start[1, :, 0] = u0, v0
+    return np.concatenate((start[0], y_u), axis=1), np.concatenate((start[1], y_v), axis=1)
 
 
 def _turning_values(l0, l1, pa, qa, sigma, wd, lo, hi, d_lo, d_hi) -> np.ndarray:
@@ -144,8 +156,23 @@ def chunk_peaks(acc: np.ndarray, dt: float, omegas: np.ndarray, xis: np.ndarray,
                 free_vibration: bool) -> tuple[np.ndarray, np.ndarray]:
     """Peak |u| [m] and |absolute acceleration| [m/s^2] of oscillators w [rad/s] > 0, xi in [0, 1)
     sharing the sub-step count nsub, under the ground acceleration acc [m/s^2] at step dt [s]
-    (piecewise linear; with free_vibration, then linearly to zero over dt and free vibration)."""
+    (piecewise linear; with free_vibration, then linearly to zero over dt and free vibration).
+    At most NUMPY_BLOCK oscillator sub-steps at once: the record in segments of time."""
     acc = np.asarray(acc, dtype=float)
+    omegas = np.asarray(omegas, dtype=float)
+    length = max(NUMPY_BLOCK // (nsub * max(omegas.size, 1)), 2)  # samples per segment (sharing its ends)
+    peak_u = peak_at = np.zeros(omegas.size)
+    u0 = v0 = np.zeros(omegas.size)
+    for start in range(0, acc.size - 1, length - 1):
+        last = start + length >= acc.size
+        segment_u, segment_at, u0, v0 = _segment_peaks(acc[start:start + length], dt, omegas, xis, nsub,
+                                                       free_vibration and last, u0, v0)
+        peak_u, peak_at = np.maximum(peak_u, segment_u), np.maximum(peak_at, segment_at)
+    return peak_u, peak_at
+
+
+def _segment_peaks(acc, dt, omegas, xis, nsub, free_vibration, u0, v0):
+    """chunk_peaks over one segment of the record from the state u0, v0: (peak_u, peak_at, u, v at its end)."""
     omegas = np.asarray(omegas, dtype=float)
     xis = np.asarray(xis, dtype=float)
     g0 = acc[:-1]
@@ -157,7 +184,7 @@ def chunk_peaks(acc: np.ndarray, dt: float, omegas: np.ndarray, xis: np.ndarray,
     a0 = (g0[:, None] + (g1 - g0)[:, None] * fractions[None, :-1]).ravel()
     a1 = (g0[:, None] + (g1 - g0)[:, None] * fractions[None, 1:]).ravel()
     h = dt / nsub
-    u, v = _states(omegas, xis, h, a0, a1)
+    u, v = _states(omegas, xis, h, a0, a1, u0, v0)
     col = (slice(None), None)
     w = omegas[col]
     sigma = (xis * omegas)[col]
@@ -204,4 +231,26 @@ def chunk_peaks(acc: np.ndarray, dt: float, omegas: np.ndarray, xis: np.ndarray,
         peak_u = np.maximum(peak_u, _free_vibration_peaks(amp_a, amp_b, s, d))
         pa, qa = _acceleration_terms(amp_a, amp_b, q2, s, d)
         peak_at = np.maximum(peak_at, _free_vibration_peaks(pa, qa, s, d))
-    return peak_u, peak_at
+    return peak_u, peak_at, u[:, -1], v[:, -1]
+
+
+def spectrum_kernel(acc, dt, omegas, xis, nsubs, chunk_starts, free_vibration, out_u, out_at) -> None:
+    """Peaks |u| and |a_t| into out_u, out_at, chunk by chunk (spectra_kernels.spectrum_kernel):
+    the oscillators of a chunk share the sub-step count of its first; NUMPY_BLOCK sub-steps of
+    oscillators at a time."""
+    for first, end in itertools.pairwise(chunk_starts):
+        nsub = int(nsubs[first])
+        group = max(NUMPY_BLOCK // (nsub * acc.size), 1)
+        for start in range(first, end, group):
+            k = slice(start, min(start + group, end))
+            out_u[k], out_at[k] = chunk_peaks(acc, dt, omegas[k], xis[k], nsub, bool(free_vibration))
+
+
+def history_kernel(acc, dt, w, xi, u_out, v_out) -> None:
+    """Relative displacement and velocity at the samples of acc, from rest (spectra_kernels.history_kernel)."""
+    acc = np.asarray(acc, dtype=float)
+    if acc.size < 2:
+        u_out[:], v_out[:] = 0.0, 0.0
+        return
+    u, v = _states(np.array([float(w)]), np.array([float(xi)]), float(dt), acc[:-1], acc[1:])
+    u_out[:], v_out[:] = u[0], v[0]
