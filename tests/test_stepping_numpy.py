@@ -75,6 +75,6 @@ def test_excursion_test_of_the_twin_is_the_loops():
     cases = rng.normal(size=(2000, 2, 4)) * [1.0, 1.0, 3.0, 3.0]
     compiled, twin = on_both(lambda: [kernel.excursion(events, rates, x, y, 0.7) for x, y in cases])
     assert twin == compiled and 0 < sum(twin) < len(twin)
-    together = stepping_numpy.excursion_between(cases[:, 0, :2], cases[:, 0, 2:], cases[:, 1, :2], cases[:, 1, 2:],
-                                                0.7)
+    together = stepping_numpy.excursion_between(cases[:, 0, :2].T, cases[:, 0, 2:].T, cases[:, 1, :2].T,
+                                                cases[:, 1, 2:].T, 0.7)
     assert together.tolist() == twin

@@ -6,6 +6,7 @@
 #define UPLIFT_EVENTS_H
 
 #include <math.h>
+#include "buffers.h" /* restrict on every compiler */
 #include <stdint.h>
 
 /* an event function counts as crossed above this (they are dimensionless: a force over the weight,

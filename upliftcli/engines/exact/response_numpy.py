@@ -48,7 +48,7 @@ def _quintic_coefficients(p0, p1, d0, d1, c0, c1):
 def quintic_extrema(p0, p1, d0, d1, c0, c1) -> tuple[np.ndarray, np.ndarray]:
     """Largest |p(s)|, s in [0, 1], of the quintic Hermite p with p, p', p'' at both ends (slopes
     times the interval length, curvatures times its square), elementwise; (value, s). Each
-    sign change of p' on 8 sub-intervals is bisected 40 times, as in the loop."""
+    sign change of p' on 8 sub-intervals is bisected 40 times, as in the loop (all at once)."""
     p0, p1, d0, d1, c0, c1 = np.broadcast_arrays(*(np.atleast_1d(np.asarray(a, dtype=float))
                                                    for a in (p0, p1, d0, d1, c0, c1)))
     a2, a3, a4, a5 = _quintic_coefficients(p0, p1, d0, d1, c0, c1)
@@ -59,23 +59,20 @@ def quintic_extrema(p0, p1, d0, d1, c0, c1) -> tuple[np.ndarray, np.ndarray]:
     best = np.maximum(np.abs(p0), np.abs(p1))
     where = np.where(np.abs(p1) > np.abs(p0), 1.0, 0.0)
     every = np.arange(p0.size)
-    g = [d0] + [slope(k / 8.0, every) for k in range(1, 9)]
-    for k in range(1, 9):  # in order: the first sub-interval holding the largest value wins
-        at = np.nonzero(((g[k - 1] > 0.0) != (g[k] > 0.0)) | (g[k] == 0.0))
-        if not at[0].size:
-            continue
-        left, right, g_left = np.full(at[0].size, (k - 1) / 8.0), np.full(at[0].size, k / 8.0), g[k - 1][at]
-        for _ in range(40):
-            mid = 0.5 * (left + right)
-            g_mid = slope(mid, at)
-            keep = ((g_mid > 0.0) == (g_left > 0.0)) & (g_mid != 0.0)
-            left, g_left, right = np.where(keep, mid, left), np.where(keep, g_mid, g_left), np.where(keep, right, mid)
-        root = 0.5 * (left + right)
-        value = np.abs((((((a5[at] * root + a4[at]) * root + a3[at]) * root + a2[at]) * root + d0[at]) * root)
-                       + p0[at])
-        better = value > best[at]
-        best[at] = np.where(better, value, best[at])
-        where[at] = np.where(better, root, where[at])
+    g = np.stack([d0] + [slope(k / 8.0, every) for k in range(1, 9)], axis=1)  # p' at s = k / 8
+    k, sub = np.nonzero(((g[:, :-1] > 0.0) != (g[:, 1:] > 0.0)) | (g[:, 1:] == 0.0))  # by interval, then s
+    left, right, g_left = sub / 8.0, (sub + 1) / 8.0, g[k, sub]
+    for _ in range(40):
+        mid = 0.5 * (left + right)
+        g_mid = slope(mid, k)
+        keep = ((g_mid > 0.0) == (g_left > 0.0)) & (g_mid != 0.0)
+        left, g_left, right = np.where(keep, mid, left), np.where(keep, g_mid, g_left), np.where(keep, right, mid)
+    root = 0.5 * (left + right)
+    value = np.abs((((((a5[k] * root + a4[k]) * root + a3[k]) * root + a2[k]) * root + d0[k]) * root) + p0[k])
+    order = np.lexsort((sub, -value, k))  # per interval: the largest, at its first sub-interval
+    first = order[np.r_[True, k[order][1:] != k[order][:-1]]] if k.size else order
+    better = first[value[first] > best[k[first]]]
+    best[k[better]], where[k[better]] = value[better], root[better]
     return best, where
 
 
@@ -83,6 +80,17 @@ def quintic_extremum(p0: float, p1: float, d0: float, d1: float, c0: float, c1: 
     """quintic_extrema of one interval: (value, s)."""
     value, where = quintic_extrema(p0, p1, d0, d1, c0, c1)
     return float(value[0]), float(where[0])
+
+
+def _hermite_basis(s: np.ndarray) -> np.ndarray:
+    """The quintic Hermite basis at s (len(s), 6), for [p0, d0, c0, c1, d1, p1]."""
+    s = s[:, None]
+    return np.hstack([1 - 10 * s**3 + 15 * s**4 - 6 * s**5, s - 6 * s**3 + 8 * s**4 - 3 * s**5,
+                      0.5 * s**2 - 1.5 * s**3 + 1.5 * s**4 - 0.5 * s**5, 0.5 * s**3 - s**4 + 0.5 * s**5,
+                      -4 * s**3 + 7 * s**4 - 3 * s**5, 10 * s**3 - 15 * s**4 + 6 * s**5])
+
+
+_GRID_BASIS = _hermite_basis(np.arange(1, 16) / 16.0)
 
 
 def _hull(p0, p1, d0, d1, c0, c1):
@@ -125,7 +133,13 @@ def hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns,
                                 slopes[np.where(ends, 0, after), curvature_columns[q]])
     length = lengths[interval]
     e0, e1, f0, f1 = d0 * length, d1 * length, c0 * length * length, c1 * length * length
-    keep = ~(_hull(r0, r1, e0, e1, f0, f1) * (1.0 + 1e-9) < best[j])
+    # a lower bound of each response's peak from its quintics on a grid (Hermite basis at s = k / 16):
+    # an interval whose Bernstein hull stays below it cannot hold the peak (the loop compares with
+    # its running peak, 1e-9 above round-off)
+    hull = _hull(r0, r1, e0, e1, f0, f1)
+    lower = best.copy()
+    np.maximum.at(lower, j, np.abs(_GRID_BASIS @ np.array([r0, e0, f0, f1, e1, r1])).max(axis=0))
+    keep = ~(hull * (1.0 + 1e-9) < lower[j])
     interval, j = interval[keep], j[keep]
     value, s = quintic_extrema(r0[keep], r1[keep], e0[keep], e1[keep], f0[keep], f1[keep])
     higher = value > best[j]

@@ -1,21 +1,24 @@
 """The numpy twin of the compiled stepping loop (_stepping.c): the same functions with the same
 arguments (stepping_kernels.py has the method, the arguments and the status codes), the same
-steps, crossings and samples to round-off (tests/test_backend_agreement.py).
+steps, crossings and samples to round-off (tests/test_stepping_numpy.py,
+tests/test_backend_agreement.py).
 
-Steps in one contact state run as blocks of BLOCK steps: with the ground acceleration a_i and
-its slope s_i set at the start of every step (as the C loop sets them) and y the other
-components of the state, one step is y' = A y + b_a a_i + b_s s_i, so the states after
-j = 1..BLOCK steps are one product (a block recurrence, `_Block`):
+Whole steps in one contact state run many at once. With the ground acceleration a_i and its
+slope s_i set at the start of every step (as the C loop sets them) and y the other components
+of the state, a step is y' = A y + b_a a_i + b_s s_i, so within a block of BLOCK steps
 
-    y_j = A^j y_0 + sum_{i<j} A^(j-1-i) (b_a a_i + b_s s_i),
+    y_j = A^j y_0 + sum_{i<j} A^(j-1-i) (b_a a_i + b_s s_i),   j = 1..BLOCK
 
-and the event functions and their rates at both ends of every step come from one more. The first
-step of a block that needs more than one operator (an event function crosses, or its cubic
-interpolant says it may rise above zero and fall back inside the step, or the state stops being
-finite), a step entered part-way (after a transition) and the record's last step are stepped as
-the C loop steps them (`_Loop.finish_step`, line by line: crossings bracketed with the finer
-operators and placed by linear interpolation, the contact pattern switched, the rest of the
-step in the new state).
+(`_Block`: the forced part of every block of a run is one product with the block's inputs, the
+block starts follow one matrix-vector product each, the states one product more). The event
+functions and their rates at both ends of every step come from one product too, and the steps
+are checked together: an event function crosses, or its cubic interpolant may rise above zero
+inside the step (`excursion_between`, after a bound that clears almost every step at once), or
+the state stops being finite. The first such step, a step entered part-way (after a transition)
+and the record's last step are stepped as the C loop steps them (`_Loop.finish_step`, line by
+line: crossings bracketed with the finer operators and placed by linear interpolation, the
+contact pattern switched, the rest of the step in the new state). A run of blocks starts one
+block long after such a step and doubles while no step needs more, up to RUN_BLOCKS.
 """
 
 from __future__ import annotations
@@ -34,8 +37,10 @@ from .stepping_kernels import (
     REFINE_LEVELS,
 )
 
-#: steps of one block recurrence (the work of a block grows as BLOCK^2: 32 was fastest measured)
+#: steps of one block recurrence (its operators grow as BLOCK^2)
 BLOCK = 32
+#: blocks in the longest run computed at once
+RUN_BLOCKS = 16
 
 
 def matvec(matrix_t, x, out) -> None:
@@ -43,11 +48,27 @@ def matvec(matrix_t, x, out) -> None:
     out[:] = x @ matrix_t
 
 
-def excursion_between(g0, d0, g1, d1, length: float) -> np.ndarray:
-    """True where some event function (last axis), not positive at either end of a chunk of
+def excursion_between(g0, d0, g1, d1, length: float):
+    """True where some event function (first axis), not positive at either end of a chunk of
     `length` [s], has a positive interior maximum on its cubic Hermite interpolant through its
-    values g and exact rates d at the ends (events.h, excursion_between, elementwise)."""
+    values g and exact rates d at the ends (events.h, excursion_between; one answer per column
+    of 2-D arrays)."""
     d0, d1 = d0 * length, d1 * length
+    if np.ndim(g0) == 1:
+        return _excursion(g0, d0, g1, d1)
+    # p lies below its largest Bernstein coefficient, g0, g0 + d0/3, g1 - d1/3, g1: the exact test
+    # only where that bound (with room for round-off) reaches the tolerance
+    bound = np.maximum(np.maximum(g0, g1), np.maximum(g0 + d0 / 3.0, g1 - d1 / 3.0))
+    bound += 1e-12 * (np.abs(g0) + np.abs(g1) + np.abs(d0) + np.abs(d1))
+    columns = np.flatnonzero(np.logical_or.reduce(bound > EVENT_TOLERANCE, axis=0))
+    found = np.zeros(g0.shape[1], dtype=bool)
+    if columns.size:
+        found[columns] = _excursion(g0[:, columns], d0[:, columns], g1[:, columns], d1[:, columns])
+    return found
+
+
+def _excursion(g0, d0, g1, d1):
+    """excursion_between with the slopes already times the chunk's length."""
     a = 2.0 * (g0 - g1) + d0 + d1
     b = 3.0 * (g1 - g0) - 2.0 * d0 - d1
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -60,7 +81,7 @@ def excursion_between(g0, d0, g1, d1, length: float) -> np.ndarray:
         found = np.zeros(np.shape(g0), dtype=bool)
         for s in candidates:
             found |= (s > 0.0) & (s < 1.0) & (((a * s + b) * s + d0) * s + g0 > EVENT_TOLERANCE)
-    return (possible & found).any(axis=-1)
+    return np.logical_or.reduce(possible & found, axis=0)
 
 
 def excursion(events, rates, x, y, length: float) -> bool:
@@ -69,9 +90,11 @@ def excursion(events, rates, x, y, length: float) -> bool:
 
 
 class _Block:
-    """The block recurrence of one contact state: `weights` maps [y_0, a_0..a_{B-1}, s_0..s_{B-1}]
-    to the free components after 1..B steps, `checks` a full state at a step's start to the event
-    values and rates there and at the step's end (G, G A, G M, G A M for the step operator M)."""
+    """The block recurrence of one contact state. `forcing` maps a block's inputs [a_0..a_{B-1},
+    s_0..s_{B-1}] to its free components after 1..B steps from zero, `powers` the block's start
+    y_0 to their homogeneous part [A y_0, ..., A^B y_0]; `checks` maps a full state at a step's
+    start to the event values and rates there and at the step's end (G, G A, G M, G A M for the
+    step operator M)."""
 
     def __init__(self, operator: np.ndarray, events: np.ndarray, rates: np.ndarray, free: np.ndarray,
                  index_acceleration: int, index_slope: int):
@@ -83,13 +106,14 @@ class _Block:
         for j in range(1, size + 1):
             powers[j] = a @ powers[j - 1]
         responses = powers[:size] @ inputs  # A^m b: (size, n_f, 2)
-        weights = np.zeros((n_f + 2 * size, size, n_f))
-        weights[:n_f] = powers[1:].transpose(2, 0, 1)
+        forcing = np.zeros((2 * size, size, n_f))
         for i in range(size):
-            weights[n_f + i, i:] = responses[:size - i, :, 0]
-            weights[n_f + size + i, i:] = responses[:size - i, :, 1]
-        self.weights = weights.reshape(n_f + 2 * size, size * n_f)
-        self.checks = np.vstack((events, rates, events @ operator, rates @ operator)).T
+            forcing[i, i:] = responses[:size - i, :, 0]
+            forcing[size + i, i:] = responses[:size - i, :, 1]
+        self.forcing = forcing.reshape(2 * size, size * n_f)
+        self.powers = np.ascontiguousarray(powers[1:].transpose(2, 0, 1).reshape(n_f, size * n_f))
+        self.last = powers[size].T  # y_0 -> A^B y_0, transposed (row vectors)
+        self.checks = np.vstack((events, rates, events @ operator, rates @ operator))
 
 
 class _Loop:
@@ -196,31 +220,38 @@ class _Loop:
         self.out_t[n_out], self.out_x[n_out], self.out_state[n_out] = time, x, state
 
     # ------------------------------------------------------------------ blocks of whole steps
-    def run_block(self, state: int, step: int, n_out: int, size: int) -> int:
-        """Up to `size` (<= BLOCK) whole steps from step `step` (offset 0) in one block; stores the
-        samples of the steps that need nothing more and returns their count (the next step, if
-        any in the block, needs finish_step)."""
+    def run_blocks(self, state: int, step: int, n_out: int, size: int) -> int:
+        """Up to `size` whole steps from step `step` (offset 0) at once; stores the samples of the
+        steps that need nothing more and returns their count (the next step, if any of the
+        `size`, needs finish_step)."""
         if state not in self.blocks:
             events, rates = self.state_events(state)
             self.blocks[state] = _Block(self.ops[state, 0].T, events, rates, self.free, self.ia, self.islope)
-        block = self.blocks[state]
-        ground = np.zeros((2, BLOCK))
-        ground[0, :size] = self.ground[step:step + size]
-        ground[1, :size] = self.slopes[step:step + size]
-        x = self.x
+        block, x = self.blocks[state], self.x
+        count = -(-size // BLOCK)
+        inputs = np.zeros((2, count * BLOCK))
+        inputs[0, :size], inputs[1, :size] = self.ground[step:step + size], self.slopes[step:step + size]
+        inputs = inputs.reshape(2, count, BLOCK).transpose(1, 0, 2).reshape(count, 2 * BLOCK)
+        forced = (inputs @ block.forcing).reshape(count, BLOCK, -1)
+        starts = np.empty((count, self.free.size))
+        starts[0] = x[self.free]
+        for k in range(1, count):
+            starts[k] = starts[k - 1] @ block.last + forced[k - 1, -1]
+        moved = (starts @ block.powers).reshape(count, BLOCK, -1) + forced
         states = np.empty((size + 1, self.n))
         states[0] = x
-        moved = np.concatenate((x[self.free], ground.ravel())) @ block.weights
-        states[1:, self.free] = moved.reshape(BLOCK, -1)[:size]
+        states[1:, self.free] = moved.reshape(count * BLOCK, -1)[:size]
         states[1:, self.ia] = self.ground[step + 1:step + size + 1]
         states[1:, self.islope] = self.slopes[step + 1:step + size + 1]
-        checks = states[:size] @ block.checks
-        n_e = block.checks.shape[1] // 4
-        needs = ~np.isfinite(states[1:]).all(axis=1)
-        if n_e:
-            g_x, d_x, g_t, d_t = (checks[:, k * n_e:(k + 1) * n_e] for k in range(4))
-            crossed = (g_t > EVENT_TOLERANCE).any(axis=1)
-            needs |= crossed | excursion_between(g_x, d_x, g_t, d_t, self.chunk[0])
+        n_e = block.checks.shape[0] // 4
+        # a sum is finite where every term is (or a spurious flag: finish_step checks each)
+        needs = ~np.isfinite(states[1:] @ np.ones(self.n))
+        if n_e:  # one row per event function, one column per step
+            g_x, d_x, g_t, d_t = (block.checks[k * n_e:(k + 1) * n_e] @ states[:size].T for k in range(4))
+            needs |= np.logical_or.reduce(g_t > EVENT_TOLERANCE, axis=0)
+            before = int(np.argmax(needs)) if needs.any() else size  # the steps up to the first flagged
+            needs[:before] = excursion_between(g_x[:, :before], d_x[:, :before], g_t[:, :before], d_t[:, :before],
+                                               self.chunk[0])
         done = int(np.argmax(needs)) if needs.any() else size
         if done:
             self.out_x[n_out:n_out + done] = states[1:done + 1]
@@ -235,16 +266,18 @@ def integrate(states, elements, grid, samples, state: int, step: int, offset: fl
     """Advance from (step, offset) to the end of the ground-motion grid (stepping_kernels.integrate)."""
     loop = _Loop(states, elements, grid, samples)
     n_steps, capacity, x = loop.ground.size - 1, loop.out_t.size, loop.x
+    run = BLOCK  # steps of the next run of blocks
     while step < n_steps:
         if n_out + MAX_EVENTS_PER_STEP + 1 > capacity:
             return FULL, step, offset, state, n_out, int(loop.patterns[state])
         if offset == 0.0:
             x[loop.ia], x[loop.islope] = loop.ground[step], loop.slopes[step]
             # whole steps before the last one, as long as the sample buffer holds them
-            size = min(BLOCK, n_steps - 1 - step, capacity - MAX_EVENTS_PER_STEP - n_out)
+            size = min(run, n_steps - 1 - step, capacity - MAX_EVENTS_PER_STEP - n_out)
             if size > 0:
-                done = loop.run_block(state, step, n_out, size)
+                done = loop.run_blocks(state, step, n_out, size)
                 step, n_out = step + done, n_out + done
+                run = min(2 * run, RUN_BLOCKS * BLOCK) if done == size else BLOCK
                 if done:
                     continue
         status, state, offset, n_out, pattern = loop.finish_step(state, step, offset, n_out)
