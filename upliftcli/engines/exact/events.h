@@ -5,8 +5,8 @@
 #ifndef UPLIFT_EVENTS_H
 #define UPLIFT_EVENTS_H
 
-#include <math.h>
 #include "buffers.h" /* restrict on every compiler */
+#include <math.h>
 #include <stdint.h>
 
 /* an event function counts as crossed above this (they are dimensionless: a force over the weight,
