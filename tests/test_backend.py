@@ -37,7 +37,7 @@ def test_the_variable_chooses_and_use_overrides_it(monkeypatch):
 
 def test_an_unknown_value_is_one_input_error(monkeypatch):
     monkeypatch.setenv(backend.VARIABLE, "fast")
-    with pytest.raises(InputError, match="UPLIFT_BACKEND: one of auto, compiled, numpy .* got 'fast'"):
+    with pytest.raises(InputError, match=r"UPLIFT_BACKEND: one of auto, compiled, numpy .* got 'fast'"):
         backend.choice()
 
 

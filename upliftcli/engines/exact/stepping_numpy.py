@@ -117,7 +117,7 @@ class _Block:
 
 
 class _Loop:
-    """One call of integrate: the model, and the C loop's step (finish_step) and blocks (run_block)."""
+    """One call of integrate: the model, the C loop's step (finish_step) and runs of blocks (run_blocks)."""
 
     def __init__(self, states, elements, grid, samples):
         self.ops, self.events, self.rates, self.matrices, self.patterns, self.count = states
