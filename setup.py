@@ -16,8 +16,8 @@ FLAGS = {
 }
 #: what a failed build costs, said once
 WITHOUT = ("uplift: the compiled loops were not built ({reason}); installed without them: their numpy twins run "
-           "instead, with the same results to round-off and 1.5-4x the time (the README analysis about 1.5x, an "
-           "exact spectrum sweep about 4x). A C compiler and a reinstall build them.")
+           "instead, with the same results to round-off in 1.5-6x the time (the README analysis 1.5x, an exact "
+           "spectrum sweep 4x, the spectra of long records 6x). A C compiler and a reinstall build them.")
 
 
 class OptionalBuildExt(build_ext):

@@ -92,8 +92,8 @@ def describe() -> str:
     if wanted == "compiled":
         return f"loops: compiled asked for, but not built: {', '.join(missing)}"
     which = "" if not present else f" for {', '.join(missing)}"
-    return (f"loops: numpy twins{which} (the C extensions were not built: the same results to round-off, the "
-            "exact engine 1.5-4x slower; reinstall where a C compiler works to build them)")
+    return (f"loops: numpy twins{which} (the C extensions were not built: the same results to round-off in "
+            "1.5-6x the time; reinstall where a C compiler works to build them)")
 
 
 @contextmanager
