@@ -17,7 +17,7 @@ FLAGS = {
 #: what a failed build costs, said once
 WITHOUT = ("uplift: the compiled loops were not built ({reason}); installed without them: their numpy twins run "
            "instead, with the same results to round-off in 1.5-6x the time (the README analysis 1.5x, an exact "
-           "spectrum sweep 4x, the spectra of long records 6x). A C compiler and a reinstall build them.")
+           "spectrum sweep 3.4x, the spectra of long records 6x). A C compiler and a reinstall build them.")
 
 
 class OptionalBuildExt(build_ext):
