@@ -4,6 +4,7 @@ engine no scipy.linalg (each run in a fresh interpreter, its sys.modules inspect
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -66,12 +67,16 @@ def test_probe_sees_what_a_command_loads(tmp_path):
     assert loaded == ["matplotlib"]
 
 
-def test_version_is_the_installed_distributions():
+def test_version_is_the_installed_distributions_and_names_the_loops_in_use():
     from importlib.metadata import version
 
-    done = subprocess.run([sys.executable, "-c", "from upliftcli.cli import main; main()", "--version"],
-                          capture_output=True, text=True, timeout=120)
-    assert done.returncode == 0 and done.stdout == version("uplift") + "\n"
+    command = [sys.executable, "-c", "from upliftcli.cli import main; main()", "--version"]
+    done = subprocess.run(command, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and done.stdout.splitlines()[0] == version("uplift")
+    assert done.stdout.splitlines()[1].startswith("loops: ") and len(done.stdout.splitlines()) == 2
+    twins = subprocess.run(command, capture_output=True, text=True, timeout=120,
+                           env=dict(os.environ, UPLIFT_BACKEND="numpy"))
+    assert twins.stdout.splitlines()[1] == "loops: numpy twins (UPLIFT_BACKEND=numpy)"
 
 
 def test_console_script_exits_with_the_command_code_and_its_whole_output(tmp_path):

@@ -1,8 +1,7 @@
-"""Compiled post-processing loops against direct evaluation."""
+"""The post-processing loops (compiled or numpy, as upliftcli.backend chooses) against direct
+evaluation; the two implementations against each other: tests/test_response_numpy.py."""
 
 from __future__ import annotations
-
-from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -61,11 +60,12 @@ def test_evaluate_signals_uses_each_samples_state_and_left_limits():
         np.testing.assert_allclose(ends[n], rows[ids[i]] @ states[i + 1])
 
 
-# ----------------------------------------------------------------------------- numpy twins
+# ----------------------------------------------------------------------------- an independent reference
 
-def _hermite_peaks_twin(values, slopes, end_values, end_slopes, switch, value_cols, rate_cols, curvature_cols,
-                        rows, lengths, points=20001):
-    """hermite_peaks without any pruning: every interval's quintic evaluated on a dense grid."""
+def _hermite_peaks_dense(values, slopes, end_values, end_slopes, switch, value_cols, rate_cols, curvature_cols,
+                         rows, lengths, points=20001):
+    """hermite_peaks without any pruning (a reference, not a twin): every interval's quintic
+    evaluated on a dense grid."""
     r = values[:, value_cols] @ rows.T
     d = values[:, rate_cols] @ rows.T
     c = slopes[:, curvature_cols] @ rows.T
@@ -81,7 +81,7 @@ def _hermite_peaks_twin(values, slopes, end_values, end_slopes, switch, value_co
     return np.maximum(np.abs(dense).max(axis=(0, 1)), np.abs(r).max(axis=0))
 
 
-def test_hermite_peaks_equals_its_numpy_twin_with_rates_and_transitions():
+def test_hermite_peaks_match_a_dense_evaluation_with_rates_and_transitions():
     """Random signals (the interpolant does not need them consistent), responses combining Y*
     and Y*' columns, two intervals ending at transitions (their left limits differ)."""
     rng = np.random.default_rng(11)
@@ -96,50 +96,10 @@ def test_hermite_peaks_equals_its_numpy_twin_with_rates_and_transitions():
     rows = rng.normal(size=(3, 4))
     best, _where = postkernel.hermite_peaks(values, slopes, end_values, end_slopes, switch, value_cols, rate_cols,
                                            rate_cols, np.ascontiguousarray(rows.T), lengths, np.zeros(3))
-    twin = _hermite_peaks_twin(values, slopes, end_values, end_slopes, switch, value_cols, rate_cols, rate_cols,
+    twin = _hermite_peaks_dense(values, slopes, end_values, end_slopes, switch, value_cols, rate_cols, rate_cols,
                                rows, lengths)
     np.testing.assert_allclose(best, twin, rtol=1e-6)
     assert np.all(best >= twin * (1 - 1e-12))  # the dense grid can only undershoot
-
-
-def _work_integrals_twin(values, slopes, switch, end_values, end_slopes, lengths, lifted, row_a, row_input, row_ydot,
-                         n_modes, row_vel, row_z, n_el, modal_damping, k_el, c_el):
-    """The same 3-point Gauss quadrature of the cubic Hermite interpolants, written with numpy."""
-    nodes = 0.5 + 0.5 * np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)])
-    weights = np.array([5.0, 8.0, 5.0]) / 18.0
-    v0, d0 = values[:-1], slopes[:-1] * lengths[:, None]
-    v1, d1 = values[1:].copy(), slopes[1:].copy()
-    ends = switch >= 0
-    v1[ends], d1[ends] = end_values[switch[ends]], end_slopes[switch[ends]]
-    d1 = d1 * lengths[:, None]
-    d1[~ends, row_a] = d0[~ends, row_a]  # a_g is linear inside each interval
-    k = slopes.shape[1]
-    total_in = total_struct = total_found = 0.0
-    for s, w in zip(nodes, weights, strict=True):
-        h00, h10, h01, h11 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s, -2 * s**3 + 3 * s**2, s**3 - s**2
-        g = h00 * v0[:, :k] + h10 * d0 + h01 * v1[:, :k] + h11 * d1
-        total_in += np.sum(w * lengths * g[:, row_a] * g[:, row_input])
-        total_struct += np.sum(w * lengths * (g[:, row_ydot:row_ydot + n_modes] ** 2 @ modal_damping))
-        vel = g[:, row_vel:row_vel + n_el]
-        total_found += np.sum(w * lengths * np.where(~lifted & (c_el > 0), c_el * vel**2, 0.0).sum(axis=1))
-    z0, z1 = v0[:, row_z:row_z + n_el], v1[:, row_z:row_z + n_el]  # lifted: k z + c z' = 0, exactly
-    total_found += np.sum(np.where(lifted & (c_el > 0), 0.5 * k_el * (z0**2 - z1**2), 0.0))
-    return total_in, total_struct, total_found
-
-
-def test_work_integrals_equal_their_numpy_twin():
-    rng = np.random.default_rng(4)
-    n, k, n_modes, n_el = 30, 9, 3, 2
-    values, slopes = rng.normal(size=(n, k + 2)), rng.normal(size=(n, k))
-    switch = np.full(n - 1, -1, dtype=np.int64)
-    switch[[4, 17]] = [0, 1]
-    end_values, end_slopes = rng.normal(size=(2, k + 2)), rng.normal(size=(2, k))
-    lengths = rng.uniform(0.5, 1.0, n - 1)
-    lifted = rng.random((n - 1, n_el)) < 0.3
-    args = (values, slopes, switch, end_values, end_slopes, lengths, lifted)
-    layout = (3, 4, 0, n_modes, 5, 7, n_el, np.array([1.0, 2.0, 3.0]), np.array([5.0, 6.0]), np.array([0.5, 0.0]))
-    got = postkernel.work_integrals(*args, k, *layout)
-    np.testing.assert_allclose(got, _work_integrals_twin(*args, *layout), rtol=1e-12)
 
 
 def test_work_integrals_are_exact_for_polynomial_signals():
@@ -164,133 +124,3 @@ def test_work_integrals_are_exact_for_polynomial_signals():
     assert work_in == pytest.approx(16.8, rel=1e-13)
     assert structure == pytest.approx(6.4, rel=1e-13)
     assert foundation == pytest.approx(0.5 / 3 + 0.2, rel=1e-13)
-
-
-def _cubic_maximum(p0, p1, d0, d1):
-    """Largest value of the cubic Hermite p(s), s in [0, 1], with p(0) = p0, p(1) = p1,
-    p'(0) = d0, p'(1) = d1 (slopes times the interval length), elementwise; (value, s)."""
-    a = 2.0 * (p0 - p1) + d0 + d1
-    b = 3.0 * (p1 - p0) - 2.0 * d0 - d1
-    best = np.maximum(p0, p1)
-    where = np.where(p1 > p0, 1.0, 0.0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        disc = b * b - 3.0 * a * d0
-        root = np.sqrt(np.maximum(disc, 0.0))
-        quadratic = np.abs(a) > 1e-14 * (np.abs(b) + np.abs(d0))
-        candidates = [np.where(quadratic, (-b + root) / (3.0 * a), np.where(b != 0.0, -d0 / (2.0 * b), -1.0)),
-                      np.where(quadratic, (-b - root) / (3.0 * a), -1.0)]
-    for s in candidates:
-        inside = (s > 0.0) & (s < 1.0) & (disc >= 0.0)
-        value = ((a * s + b) * s + d0) * s + p0
-        better = inside & (value > best)
-        best = np.where(better, value, best)
-        where = np.where(better, s, where)
-    return best, where
-
-
-def test_the_cubic_maximum_of_the_twin_matches_dense_evaluation():
-    rng = np.random.default_rng(5)
-    p0, p1, d0, d1 = rng.normal(size=(4, 300)) * np.array([[1.0], [1.0], [3.0], [3.0]])
-    value, where = _cubic_maximum(p0, p1, d0, d1)
-    s = np.linspace(0.0, 1.0, 20001)[:, None]
-    dense = ((2 * s**3 - 3 * s**2 + 1) * p0 + (s**3 - 2 * s**2 + s) * d0 + (-2 * s**3 + 3 * s**2) * p1
-             + (s**3 - s**2) * d1)
-    np.testing.assert_allclose(value, dense.max(axis=0), atol=1e-8)
-    at = ((2 * where**3 - 3 * where**2 + 1) * p0 + (where**3 - 2 * where**2 + where) * d0
-          + (-2 * where**3 + 3 * where**2) * p1 + (where**3 - where**2) * d1)
-    np.testing.assert_allclose(at, value, atol=1e-12)
-
-
-def _contact_twin(values, slopes, end_values, end_slopes, switch, lifted, lengths, times, k, c, rows):
-    """contact_response written with numpy: (peak, peak_time, impact, impact_time, summary)."""
-    disp, vel, z, theta = rows
-    n_e = lifted.shape[1]
-    columns = np.arange(n_e)
-
-    def reaction(v, s):
-        return -(v[:, disp:disp + n_e] * k + v[:, vel:vel + n_e] * c), -(v[:, vel:vel + n_e] * k
-                                                                         + s[:, vel:vel + n_e] * c)
-
-    r, d = reaction(values, slopes)
-    r, d = np.where(lifted, 0.0, r), np.where(lifted, 0.0, d)
-    r1, d1 = r[1:].copy(), d[1:].copy()
-    ends = switch >= 0
-    if ends.any():
-        r1[ends], d1[ends] = reaction(end_values[switch[ends]], end_slopes[switch[ends]])
-    contact = ~lifted[:-1]
-    r1, d1 = np.where(contact, r1, 0.0), np.where(contact, d1, 0.0)
-    value, fraction = _cubic_maximum(r[:-1], r1, d[:-1] * lengths[:, None], d1 * lengths[:, None])
-    value = np.where(contact, value, 0.0)
-    interval = np.argmax(value, axis=0)
-    peak = np.maximum(value[interval, columns], 0.0)
-    when = times[interval] + fraction[interval, columns] * lengths[interval]
-    recontact = lifted[:-1] & ~lifted[1:]
-    at_impact = np.where(recontact, r[1:], -np.inf)
-    sample = np.argmax(at_impact, axis=0)
-    hit = recontact.any(axis=0)
-    impact = np.where(hit, np.maximum(at_impact[sample, columns], 0.0), 0.0)
-    displacement = values[:, disp:disp + n_e]
-    gap = np.where(lifted, displacement - np.where(c > 0.0, values[:, z:z + n_e], 0.0), 0.0)
-    any_lifted = lifted.any(axis=1)
-    in_contact = np.where(lifted, np.inf, reaction(values, slopes)[0])
-    summary = [np.abs(values[:, theta]).max() if theta >= 0 else 0.0, lengths[any_lifted[:-1]].sum(),
-               np.count_nonzero(any_lifted[1:] & ~any_lifted[:-1]),
-               lengths[lifted.all(axis=1)[:-1]].sum() if n_e > 1 else 0.0]
-    summary += [np.count_nonzero(lifted[1:, i] & ~lifted[:-1, i]) for i in (0, -1)]
-    summary += [max(gap[:, i].max(), 0.0) for i in (0, -1)] + [displacement[:, i].max() for i in (0, -1)]
-    summary += [in_contact[:, 0].min(), in_contact[:, -1].min(), in_contact.min()]
-    return peak, when, impact, np.where(hit, times[sample + 1], np.nan), np.array(summary, dtype=float)
-
-
-@pytest.mark.parametrize("n_elements", [1, 2, 5])
-def test_contact_response_equals_its_numpy_twin_bit_for_bit(n_elements):
-    """Random signals, contact episodes on each element (flight included), intervals ending at
-    transitions (their left limits differ), damped and undamped elements."""
-    rng = np.random.default_rng(n_elements)
-    n, k = 400, 12
-    values, slopes = rng.normal(size=(n, k + 3)), rng.normal(size=(n, k))
-    switch = np.full(n - 1, -1, dtype=np.int64)
-    at = np.sort(rng.choice(n - 1, 30, replace=False))
-    switch[at] = np.arange(at.size)
-    end_values, end_slopes = rng.normal(size=(at.size, k + 3)), rng.normal(size=(at.size, k))
-    lifted = np.repeat(rng.random((n // 20, n_elements)) < 0.4, 20, axis=0)
-    lengths = rng.uniform(0.5, 1.0, n - 1)
-    times = np.concatenate(([0.0], np.cumsum(lengths)))
-    stiffness = rng.uniform(1.0, 2.0, n_elements)
-    damping = np.where(np.arange(n_elements) % 2 == 0, 0.3, 0.0)
-    rows = (0, k - n_elements, k + 3 - n_elements, 6)
-    args = (values, slopes, end_values, end_slopes, switch, lifted, lengths, times, stiffness, damping, rows)
-    got = postkernel.contact_response(*args)
-    twin = _contact_twin(*args)
-    for mine, theirs in zip(got, twin, strict=True):
-        np.testing.assert_array_equal(mine, theirs)
-    assert got[4][1] > 0.0 and got[2].max() > 0.0  # uplift and recontacts did happen
-
-
-def test_contact_response_equals_its_numpy_twin_on_histories(elcentro):
-    """The ten-story example (uplift, flight at T_1 = 0.05 s) and a Winkler mat: bit for bit."""
-    from paper_example import paper_system
-
-    from upliftcli.engines.exact import response
-    from upliftcli.engines.exact.engine import model_for
-    from upliftcli.engines.exact.stepping import simulate
-    from upliftcli.engines.options import ExactOptions
-    from upliftcli.model.foundations import Winkler
-
-    base = paper_system(0.5)
-    two, b = base.foundation, base.half_width  # the same rocking stiffness and damping, spread over the mat
-    winkler = replace(base, foundation=Winkler(3.0 * two.stiffness / b, 3.0 * two.damping / b, 6))
-    for system in (paper_system(0.05), paper_system(0.5), winkler):
-        space = model_for(system, "uplift", ExactOptions())
-        ((_, history),) = simulate([space], [4], elcentro.acceleration[:600], elcentro.dt, "reaction", uplift=True,
-                                   allow_flight=True)
-        sig = response.signals(history)
-        rows = sig.rows
-        args = (sig.values, sig.slopes, sig.end_values, sig.end_slopes, sig.switch, history.lifted,
-                history.lengths, history.times, space.element_stiffness, space.element_damping,
-                (rows["element_displacement"].start, rows["element_velocity"].start, rows["z"].start,
-                 rows["theta"].start))
-        got = postkernel.contact_response(*args)
-        for mine, theirs in zip(got, _contact_twin(*args), strict=True):
-            np.testing.assert_array_equal(mine, theirs)
-        assert got[4][1] > 0.0  # the mat did lift off

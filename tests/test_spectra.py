@@ -202,21 +202,24 @@ def test_record_spectrum_sa_and_errors(elcentro):
         spectrum.sa([1.0], 1.5)
 
 
-def test_the_numpy_path_hands_long_oscillators_to_the_streaming_loop(elcentro, monkeypatch):
-    """The numpy loops hold an oscillator's whole record of sub-steps: one whose sub-steps exceed
-    NUMPY_BLOCK goes to the compiled loop (bounded memory), with the same peaks."""
-    from upliftcli.motion import spectra, spectra_numpy
+def test_the_numpy_loops_take_a_long_record_in_segments_of_time(elcentro, monkeypatch):
+    """The numpy loops hold at most NUMPY_BLOCK oscillator sub-steps at once: a record longer
+    than that for one oscillator is integrated in segments, each from the state where the last
+    ended, with the peaks of the compiled loop (which streams) to rounding."""
+    from upliftcli.motion import spectra_numpy
 
     periods = [0.05, 1.0]
     reference = response_spectrum(elcentro.acceleration, elcentro.dt, periods, [0.05], method="compiled")
-    monkeypatch.setattr(spectra, "NUMPY_BLOCK", elcentro.npts)
-    assert list(substeps(elcentro.dt, periods)) == [2, 1]  # T = 0.05 s to the compiled loop, 1 s to numpy
-    original = spectra_numpy.chunk_peaks
+    monkeypatch.setattr(spectra_numpy, "NUMPY_BLOCK", 400)
+    assert list(substeps(elcentro.dt, periods)) == [2, 1]
+    original, sizes = spectra_numpy._segment_peaks, []
 
-    def bounded(acc, dt, omegas, xis, count, free_vibration):
-        assert count * acc.size <= spectra.NUMPY_BLOCK
-        return original(acc, dt, omegas, xis, count, free_vibration)
+    def bounded(acc, dt, omegas, xis, nsub, *rest):
+        sizes.append(nsub * (acc.size - 1) * omegas.size)
+        return original(acc, dt, omegas, xis, nsub, *rest)
 
-    monkeypatch.setattr(spectra_numpy, "chunk_peaks", bounded)
+    monkeypatch.setattr(spectra_numpy, "_segment_peaks", bounded)
     numpy_path = response_spectrum(elcentro.acceleration, elcentro.dt, periods, [0.05], method="numpy")
+    assert len(sizes) > 8 and max(sizes) <= 400
     np.testing.assert_allclose(numpy_path.displacement, reference.displacement, rtol=1e-12)
+    np.testing.assert_allclose(numpy_path.absolute_acceleration, reference.absolute_acceleration, rtol=1e-12)

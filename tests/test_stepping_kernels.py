@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from upliftcli.engines.exact import stepping_kernels as kernel
 
@@ -101,3 +102,69 @@ def test_integrate_equals_its_numpy_twin_through_lift_offs_and_recontacts():
     assert transitions.size == changes.size >= 4
     np.testing.assert_allclose(history.times[changes], transitions, atol=1e-9)
     np.testing.assert_allclose(history.states[-1], end, rtol=1e-7, atol=1e-9 * np.abs(end).max())
+
+
+# ----------------------------------------------------------------------------- argument checks of the C loop
+
+def test_integrate_refuses_every_wrong_argument_with_an_exception():
+    """The compiled loop checks every array shape, index and limit it follows before it runs: a
+    wrong caller gets a Python exception, never a write out of bounds."""
+    from backends import compiled_or_skip
+    from paper_example import paper_system
+
+    from upliftcli.engines.exact.statespace import modal_model, state_space
+    from upliftcli.engines.exact.stepping import Run, add_states
+
+    compiled_or_skip()
+    from upliftcli.engines.exact import _stepping
+
+    space = state_space(modal_model(paper_system(0.5), "uplift", 3))
+    ground = 0.01 * np.sin(np.arange(201) * 0.05)  # small: no lift-off
+    run = Run(space, ground, np.diff(ground, append=0.0) / 0.005, 0.005)
+    (index,) = add_states([run.first_request()])
+    ops = run.operators
+
+    def arguments(**change):
+        states = dict(zip(kernel.States._fields, (ops.ops, ops.events, ops.event_rates, ops.matrices, ops.patterns,
+                                                 len(ops.contact)), strict=True))
+        elements, grid = run.elements._asdict(), run.grid._asdict()
+        samples = dict(x=run.x.copy(), out_x=run.out_x, out_t=run.out_t, out_state=run.out_s)
+        scalars = dict(state=index, step=0, offset=0.0, n_out=0)
+        for name, value in change.items():
+            for group in (states, elements, grid, samples, scalars):
+                if name in group:
+                    group[name] = value
+        return (tuple(states.values()), tuple(elements.values()), tuple(grid.values()), tuple(samples.values()),
+                *scalars.values())
+
+    status, *_ = _stepping.integrate(*arguments())
+    assert status == kernel.DONE
+    n_aug, n_e = space.layout.n_aug, space.layout.n_elements
+    wrong = {
+        "z_index": np.array([0, n_aug], dtype=np.int64),  # an element's top outside the state
+        "lift_rows": np.zeros((n_e, n_aug - 1)),
+        "damped": np.ones(n_e + 1, dtype=bool),
+        "count": ops.ops.shape[0] + 1,  # more states than operators
+        "patterns": np.zeros(0, dtype=np.int64),
+        "levels": 3,  # fewer bisection levels than the refinement uses
+        "index_acceleration": n_aug,
+        "index_slope": -1,
+        "slopes": np.zeros(10),
+        "h": 0.0,
+        "state": 5,
+        "step": 201,
+        "offset": float("nan"),
+        "n_out": run.out_t.size + 1,
+        "out_x": np.zeros((3, n_aug)),
+        "out_state": np.zeros(3, dtype=np.int64),
+        "x": np.zeros(n_aug + 1),
+        "ground": np.zeros((2, 3)),  # 2-D
+        "ops": ops.ops[:, :, :-1, :-1],
+    }
+    for name, value in wrong.items():
+        with pytest.raises((ValueError, TypeError)):
+            _stepping.integrate(*arguments(**{name: value}))
+    with pytest.raises(TypeError, match="states must be a tuple of 6 items"):
+        _stepping.integrate(arguments()[0][:5], *arguments()[1:])
+    with pytest.raises(TypeError, match="takes 8 arguments"):
+        _stepping.integrate(*arguments()[:7])

@@ -78,17 +78,19 @@ app = typer.Typer(
 
 def _version(value: bool) -> None:
     if value:
+        from ..backend import describe
         from ..installed import TOOL, package_version
 
-        found = package_version(TOOL)
+        found, loops = package_version(TOOL), describe()
         typer.echo(f"{TOOL} (not installed)" if found == "not installed" else found)
+        typer.echo(loops)
         raise typer.Exit()
 
 
 @app.callback()
 def _root(
     show_version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
-                                      help="Print the version and exit."),
+                                      help="Print the version and the loops in use (compiled or numpy) and exit."),
 ) -> None:
     """Earthquake response of multistory buildings with foundation-mat uplift.
 

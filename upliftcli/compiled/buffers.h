@@ -8,6 +8,13 @@
 #include <stdint.h>
 #include <string.h>
 
+/* C99's restrict, which MSVC's C compiler spells __restrict (the headers of the loops include this
+ * file first); GCC and Clang extensions (HOT_LOOP here, PREFETCH, ALWAYS_INLINE and the vector type
+ * of product.h) are used only where __GNUC__ says they exist, with portable fallbacks. */
+#if defined(_MSC_VER) && !defined(__clang__)
+#define restrict __restrict
+#endif
+
 #define MAX_VIEWS 40
 
 /* the views taken by one call, released together */

@@ -5,6 +5,7 @@
 #ifndef UPLIFT_PRODUCT_H
 #define UPLIFT_PRODUCT_H
 
+#include "buffers.h" /* restrict on every compiler */
 #include <stdint.h>
 
 /* Row q of M^T at a time: the inner loop runs along contiguous memory without a reduction, so it

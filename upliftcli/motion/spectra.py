@@ -23,9 +23,9 @@ Peaks are exact, not sampled:
   0.1 s is 0.608 g sampled, 0.649 g exact; see tests/test_spectra.py.)
 
 Two implementations of these loops agree to rounding (about 1e-12 relative, the rounding of the
-step coefficients at long periods; tests/test_spectra.py): compiled (C, spectra_kernels.py), one
-oscillator chunk after the other in one thread, the default and what the engines use; vectorised
-in numpy (spectra_numpy.py), the twin the tests compare it with.
+step coefficients at long periods; tests/test_spectra.py): compiled (C, _spectra.c), one
+oscillator chunk after the other in one thread; vectorised in numpy (spectra_numpy.py), its twin.
+spectra_kernels.py runs the one upliftcli.backend chooses.
 """
 
 from __future__ import annotations
@@ -35,17 +35,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import backend
 from ..errors import InputError
-from . import spectra_numpy
 
 TWO_PI = 2.0 * math.pi
 CHUNK = 32  # oscillators integrated side by side
-#: numpy: oscillators x steps integrated at once (bounds the memory to some 50 MB); one
-#: oscillator with more sub-steps than this over the record goes to the compiled loop, which streams
-NUMPY_BLOCK = 2**18
-#: "compiled" (C, the default); "numpy" (the vectorised twin: El Centro, 1560 samples, 1 ms for one
-#: oscillator, 16 ms for 16)
-METHODS = ("compiled", "numpy")
+#: "auto" (the loops upliftcli.backend chooses, the default), "compiled" (C), "numpy" (the vectorised
+#: twin: El Centro, 1560 samples, 1 ms for one oscillator, 16 ms for 16)
+METHODS = backend.CHOICES
 
 
 def _check_damping(damping: float) -> float:
@@ -99,14 +96,14 @@ def substeps(dt: float, periods: np.ndarray, min_steps_per_period: int = 4) -> n
 
 
 def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *, free_vibration: bool = True,
-                      min_steps_per_period: int = 4, method: str = "compiled") -> Spectrum:
+                      min_steps_per_period: int = 4, method: str = "auto") -> Spectrum:
     """Exact linear response spectra of a piecewise-linear ground acceleration.
 
     acceleration [m/s^2] at uniform step dt [s]; periods [s] >= 0 (T = 0: rigid, S_a = PGA);
     dampings: ratios of critical in [0, 1). free_vibration: include the free vibration after the
     record end (default; see the module docstring). min_steps_per_period: sub-stepping of short
-    periods. Peaks are exact between samples (analytic turning points). method: "compiled" (C
-    loops, the default) or "numpy" (the vectorised twin).
+    periods. Peaks are exact between samples (analytic turning points). method: "auto" (the
+    loops of upliftcli.backend, the default), "compiled" (C) or "numpy" (the vectorised twin).
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
@@ -133,9 +130,9 @@ def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *,
     index = np.flatnonzero(positive)
     if index.size:
         counts = substeps(dt, flat_t[index], min_steps_per_period)
-        peaks = _numpy_peaks if method == "numpy" else _compiled_peaks
-        peak_u[index], peak_at[index] = peaks(acc, float(dt), omegas[index], flat_xi[index], counts,
-                                              bool(free_vibration))
+        with backend.use(backend.choice() if method == "auto" else method):
+            peak_u[index], peak_at[index] = _peaks(acc, float(dt), omegas[index], flat_xi[index], counts,
+                                                   bool(free_vibration))
     shape = grid_t.shape
     displacement = peak_u.reshape(shape)
     omega = omegas.reshape(shape)
@@ -145,8 +142,8 @@ def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *,
                     absolute_acceleration=peak_at.reshape(shape))
 
 
-def _compiled_peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.ndarray, np.ndarray]:
-    """Peaks |u|, |a_t| by the compiled (C) kernel: chunks of equal sub-step count, costliest first."""
+def _peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.ndarray, np.ndarray]:
+    """Peaks |u|, |a_t| by spectra_kernels.spectrum_kernel: chunks of equal sub-step count, costliest first."""
     from .spectra_kernels import spectrum_kernel
 
     order = np.argsort(-counts, kind="stable")
@@ -167,32 +164,13 @@ def _compiled_peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.nd
     return out_u, out_at
 
 
-def _numpy_peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.ndarray, np.ndarray]:
-    """Peaks |u|, |a_t| by spectra_numpy: oscillators of equal sub-step count together, in blocks;
-    an oscillator whose sub-steps over the record exceed NUMPY_BLOCK by the compiled loop (the
-    choice depends on the oscillator alone, not on the others asked with it)."""
-    out_u = np.empty(omegas.size)
-    out_at = np.empty(omegas.size)
-    for count in sorted({int(c) for c in counts}):  # (np.unique's first call imports more than it saves)
-        members = np.flatnonzero(counts == count)
-        if count * acc.size > NUMPY_BLOCK:
-            out_u[members], out_at[members] = _compiled_peaks(acc, dt, omegas[members], xis[members],
-                                                              counts[members], free_vibration)
-            continue
-        block = NUMPY_BLOCK // (count * acc.size)
-        for start in range(0, members.size, block):
-            k = members[start:start + block]
-            out_u[k], out_at[k] = spectra_numpy.chunk_peaks(acc, dt, omegas[k], xis[k], count, free_vibration)
-    return out_u, out_at
-
-
 @dataclass
 class RecordSpectrum:
     """Pseudo-acceleration spectrum of a record at any damping, computed exactly on demand and cached.
 
     Used by the simplified engine in place of a design spectrum (same `.sa`, `.name`, `.period_range`).
-    It asks a few periods at a time, by the compiled loop, whose oscillators do not share any
-    arithmetic: a value does not depend on which periods were asked together.
+    It asks a few periods at a time; the oscillators of the loops do not share any arithmetic: a
+    value does not depend on which periods were asked together.
     """
 
     record: object  # records.Record

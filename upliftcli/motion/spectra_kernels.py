@@ -1,7 +1,8 @@
-"""Compiled loops of the response spectra (C: _spectra.c, built at install): the exact
+"""The loops of the response spectra, compiled (C: _spectra.c, built at install) or their numpy
+twin (spectra_numpy.py), as upliftcli.backend chooses: the exact
 Nigam-Jennings step, the bound that finds the steps where a peak can lie between samples, and
 the exact turning points there (see spectra.py for the method). Each loop runs over many
-oscillators at once; the numpy twin is spectra_numpy.py.
+oscillators at once.
 
 spectrum_kernel(acc, dt, omegas, xis, nsubs, chunk_starts, free_vibration, out_u, out_at):
     peak |u| [m] and |absolute acceleration| [m/s^2] of the oscillators (omegas [rad/s] > 0,
@@ -16,6 +17,16 @@ Arrays are C-contiguous float64 (int64 where said), the outputs written in place
 
 from __future__ import annotations
 
-from ._spectra import history_kernel, spectrum_kernel
+from .. import backend
 
-__all__ = ["history_kernel", "spectrum_kernel"]
+
+def _loops():
+    return backend.loops(f"{__package__}._spectra", f"{__package__}.spectra_numpy")
+
+
+def spectrum_kernel(acc, dt, omegas, xis, nsubs, chunk_starts, free_vibration, out_u, out_at) -> None:
+    _loops().spectrum_kernel(acc, dt, omegas, xis, nsubs, chunk_starts, free_vibration, out_u, out_at)
+
+
+def history_kernel(acc, dt, w, xi, u_out, v_out) -> None:
+    _loops().history_kernel(acc, dt, w, xi, u_out, v_out)

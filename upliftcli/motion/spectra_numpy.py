@@ -1,15 +1,19 @@
-"""The response-spectrum peaks in numpy: the twin of chunk_peaks in _spectra.c (same method, see
-spectra.py), vectorised over the oscillators and over time instead of compiled.
+"""The numpy twin of the response-spectrum loops of _spectra.c (same method, see spectra.py):
+spectrum_kernel and history_kernel with the same arguments (spectra_kernels.py), vectorised over
+the oscillators and over time instead of compiled.
 
-It is response_spectrum(method="numpy") and the twin the tests compare the compiled loop with
-(tests/test_spectra.py, tests/test_spectra_numpy.py): the results agree to rounding.
+It runs them when upliftcli.backend chooses numpy, and for response_spectrum(method="numpy");
+the tests compare it with the compiled loop (tests/test_spectra.py, tests/test_spectra_numpy.py):
+the results agree to rounding. Oscillators x sub-steps are taken NUMPY_BLOCK at a time (about
+50 MB of arrays): oscillators in groups, a record too long for one oscillator in segments of
+time, each starting from the state where the last ended.
 
 Per oscillator of a group sharing one sub-step h = dt / nsub:
 
 * the exact piecewise-linear step [u1, v1] = A [u0, v0] + B [a0, a1] (Nigam-Jennings) is a
   linear recurrence x_{k+1} = A x_k + b_k; all states are its prefix sums x_{k+1} = sum_j A^(k-j) b_j,
-  formed in log2(steps) doubling passes y_k += A^s y_{k-s}, s = 1, 2, 4, ... with A^s = A(s h)
-  in closed form (no repeated products);
+  in blocks of steps (one product per block with the powers of A, the blocks' starts in doubling
+  passes y_k += A^s y_{k-s}, s = 1, 2, 4, ... with A^s = A(s h) in closed form: _states);
 * peaks between samples: the steps where a turning point is possible (a sign change of f' or
   f'') and where the bound of max |f| (Bezier control points of the cubic Hermite interpolant
   plus its error (w h)^4 / 384 * amplitude) reaches the largest sampled |f| are solved on the
@@ -19,21 +23,28 @@ Per oscillator of a group sharing one sub-step h = dt / nsub:
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
 
+#: oscillators x sub-steps integrated at once (bounds the memory to some 50 MB)
+NUMPY_BLOCK = 2**18
+#: steps of one block of the state recurrence (its matrices grow as STATE_BLOCK^2)
+STATE_BLOCK = 16
 
-def _transition(omegas: np.ndarray, xis: np.ndarray, t: float) -> np.ndarray:
-    """Coefficients (8, m) of [u1, v1] = A [u0, v0] + B [a0, a1] over a step t: rows A_uu, A_vu,
-    A_uv, A_vv, B_u0, B_v0, B_u1, B_v1 (the order of step_coefficients in _spectra.c)."""
+
+def _transition(omegas: np.ndarray, xis: np.ndarray, t) -> np.ndarray:
+    """Coefficients (8, m) of [u1, v1] = A [u0, v0] + B [a0, a1] over a step t > 0: rows A_uu, A_vu,
+    A_uv, A_vv, B_u0, B_v0, B_u1, B_v1 (the order of step_coefficients in _spectra.c); (8, n, m) for
+    steps t of shape (n, 1)."""
     w = omegas
     sigma = xis * w
     wd = w * np.sqrt(1.0 - xis * xis)
     e = np.exp(-sigma * t)
     c = np.cos(wd * t)
     s = np.sin(wd * t)
-    out = np.empty((8, w.size))
+    out = np.empty((8, *np.broadcast_shapes(np.shape(w), np.shape(t))))
     for k, (u0, v0, a0, a1) in enumerate(((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0),
                                           (0.0, 0.0, 0.0, 1.0))):
         slope = (a1 - a0) / t
@@ -46,23 +57,50 @@ def _transition(omegas: np.ndarray, xis: np.ndarray, t: float) -> np.ndarray:
     return out
 
 
-def _states(omegas: np.ndarray, xis: np.ndarray, h: float, a0: np.ndarray, a1: np.ndarray
+def _states(omegas: np.ndarray, xis: np.ndarray, h: float, a0: np.ndarray, a1: np.ndarray, u0=0.0, v0=0.0
             ) -> tuple[np.ndarray, np.ndarray]:
-    """u, v (m, K + 1) at the ends of the K steps of ground acceleration a0 -> a1 (K,), from rest."""
+    """u, v (m, K + 1) at the ends of the K steps of ground acceleration a0 -> a1 (K,), from the
+    state u0, v0 (m,) (rest by default).
+
+    The step x_{k+1} = A x_k + b_k in blocks of STATE_BLOCK steps: inside a block the forced part
+    sum_{i<j} A^(j-1-i) b_i is one product of the block's b with a lower-triangular Toeplitz matrix
+    of A^l per oscillator; the blocks' starts follow s' = A^B s + (the block's forced end) in
+    log2(blocks) doubling passes; every step adds A^j s (A^t in closed form, _transition)."""
+    m, n_steps = omegas.size, a0.size
+    size = min(STATE_BLOCK, n_steps)
+    count = -(-n_steps // size)
     cf = _transition(omegas, xis, h)[:, :, None]
-    y_u = cf[4] * a0 + cf[6] * a1  # b_k: the step's forced response from rest
-    y_v = cf[5] * a0 + cf[7] * a1
+    b = np.zeros((2, m, count * size))
+    b[0, :, :n_steps] = cf[4] * a0 + cf[6] * a1  # the step's forced response from rest
+    b[1, :, :n_steps] = cf[5] * a0 + cf[7] * a1
+    b = b.reshape(2, m, count, size)
+    powers = np.empty((size + 1, 4, m))  # A^l, l = 0..size: rows uu, vu, uv, vv
+    powers[0] = np.array([1.0, 0.0, 0.0, 1.0])[:, None]
+    powers[1:] = _transition(omegas, xis, h * np.arange(1, size + 1)[:, None])[:4].transpose(1, 0, 2)
+    lag = np.subtract.outer(np.arange(size), np.arange(size))  # row j - 1 (after step j), column i
+    toeplitz = np.where(lag[:, :, None, None] >= 0, powers[np.maximum(lag, 0)], 0.0).transpose(2, 3, 1, 0)
+    forced = [b[0] @ toeplitz[c] + b[1] @ toeplitz[c + 2] for c in (0, 1)]  # u, v: (m, count, size)
+    # the blocks' starts: y_k = forced end of block k (+ A^B x_0 for the first), scanned
+    y_u, y_v = forced[0][:, :, -1].copy(), forced[1][:, :, -1].copy()
+    y_u[:, 0] += powers[size, 0] * u0 + powers[size, 2] * v0
+    y_v[:, 0] += powers[size, 1] * u0 + powers[size, 3] * v0
     shift = 1
-    while shift < a0.size:
-        p = _transition(omegas, xis, shift * h)[:4, :, None]  # A^shift in closed form
+    while shift < count:
+        p = _transition(omegas, xis, shift * size * h)[:4, :, None]  # (A^B)^shift in closed form
         back_u, back_v = y_u[:, :-shift], y_v[:, :-shift]
         add_u = p[0] * back_u + p[2] * back_v
         add_v = p[1] * back_u + p[3] * back_v
         y_u[:, shift:] += add_u
         y_v[:, shift:] += add_v
         shift *= 2
-    zero = np.zeros((omegas.size, 1))
-    return np.concatenate((zero, y_u), axis=1), np.concatenate((zero, y_v), axis=1)
+    start_u = np.concatenate((np.broadcast_to(u0, (m,))[:, None], y_u[:, :-1]), axis=1)[:, :, None]
+    start_v = np.concatenate((np.broadcast_to(v0, (m,))[:, None], y_v[:, :-1]), axis=1)[:, :, None]
+    after = powers[1:].transpose(1, 2, 0)[:, :, None, :]  # A^j for j = 1..size: (4, m, 1, size)
+    u = (after[0] * start_u + after[2] * start_v + forced[0]).reshape(m, -1)[:, :n_steps]
+    v = (after[1] * start_u + after[3] * start_v + forced[1]).reshape(m, -1)[:, :n_steps]
+    first = np.zeros((2, m, 1))
+    first[0, :, 0], first[1, :, 0] = u0, v0
+    return np.concatenate((first[0], u), axis=1), np.concatenate((first[1], v), axis=1)
 
 
 def _turning_values(l0, l1, pa, qa, sigma, wd, lo, hi, d_lo, d_hi) -> np.ndarray:
@@ -144,8 +182,23 @@ def chunk_peaks(acc: np.ndarray, dt: float, omegas: np.ndarray, xis: np.ndarray,
                 free_vibration: bool) -> tuple[np.ndarray, np.ndarray]:
     """Peak |u| [m] and |absolute acceleration| [m/s^2] of oscillators w [rad/s] > 0, xi in [0, 1)
     sharing the sub-step count nsub, under the ground acceleration acc [m/s^2] at step dt [s]
-    (piecewise linear; with free_vibration, then linearly to zero over dt and free vibration)."""
+    (piecewise linear; with free_vibration, then linearly to zero over dt and free vibration).
+    At most NUMPY_BLOCK oscillator sub-steps at once: the record in segments of time."""
     acc = np.asarray(acc, dtype=float)
+    omegas = np.asarray(omegas, dtype=float)
+    length = max(NUMPY_BLOCK // (nsub * max(omegas.size, 1)), 2)  # samples per segment (sharing its ends)
+    peak_u = peak_at = np.zeros(omegas.size)
+    u0 = v0 = np.zeros(omegas.size)
+    for start in range(0, acc.size - 1, length - 1):
+        last = start + length >= acc.size
+        segment_u, segment_at, u0, v0 = _segment_peaks(acc[start:start + length], dt, omegas, xis, nsub,
+                                                       free_vibration and last, u0, v0)
+        peak_u, peak_at = np.maximum(peak_u, segment_u), np.maximum(peak_at, segment_at)
+    return peak_u, peak_at
+
+
+def _segment_peaks(acc, dt, omegas, xis, nsub, free_vibration, u0, v0):
+    """chunk_peaks over one segment of the record from the state u0, v0: (peak_u, peak_at, u, v at its end)."""
     omegas = np.asarray(omegas, dtype=float)
     xis = np.asarray(xis, dtype=float)
     g0 = acc[:-1]
@@ -157,17 +210,37 @@ def chunk_peaks(acc: np.ndarray, dt: float, omegas: np.ndarray, xis: np.ndarray,
     a0 = (g0[:, None] + (g1 - g0)[:, None] * fractions[None, :-1]).ravel()
     a1 = (g0[:, None] + (g1 - g0)[:, None] * fractions[None, 1:]).ravel()
     h = dt / nsub
-    u, v = _states(omegas, xis, h, a0, a1)
+    u, v = _states(omegas, xis, h, a0, a1, u0, v0)
     col = (slice(None), None)
     w = omegas[col]
     sigma = (xis * omegas)[col]
     wd = (omegas * np.sqrt(1.0 - xis * xis))[col]
     w2 = w * w
     at = -w2 * u - 2.0 * sigma * v  # absolute acceleration at the step ends
-    sampled_u = np.max(np.abs(u), axis=1)
-    sampled_at = np.max(np.abs(at[:, 1:]), axis=1)
-    u0, u1, v0, v1, at0, at1 = u[:, :-1], u[:, 1:], v[:, :-1], v[:, 1:], at[:, :-1], at[:, 1:]
+    mu, mv, mat = np.abs(u), np.abs(v), np.abs(at)
+    sampled_u = np.max(mu, axis=1)
+    sampled_at = np.max(mat[:, 1:], axis=1)
     slope = (a1 - a0) / h
+    margin = 1.0 - 1e-9  # no step whose bound is below the largest sample can hold the peak
+    # The steps whose bound (below) can reach the largest sample: first by a cheaper upper bound of
+    # it (the amplitude of the closed form over the whole segment), 1e-12 above round-off
+    c1_most = np.abs(slope).max(initial=0.0) / w2
+    c0_most = (np.maximum(np.abs(a0).max(initial=0.0), np.abs(a1).max(initial=0.0)) + 2.0 * sigma * c1_most) / w2
+    most_a = mu.max(axis=1, keepdims=True) + c0_most
+    error_most = (w * h) ** 4 / 384.0 * (most_a + (mv.max(axis=1, keepdims=True) + c1_most + sigma * most_a) / wd)
+    pair = np.maximum  # of the two ends of every step
+    ground = pair(np.abs(a0), np.abs(a1))
+    near_u = pair(mu[:, :-1], mu[:, 1:]) + h / 3.0 * pair(mv[:, :-1], mv[:, 1:]) + error_most
+    near_at = (pair(mat[:, :-1], mat[:, 1:]) + h / 3.0 * (w2 * pair(mv[:, :-1], mv[:, 1:])
+               + 2.0 * sigma * (pair(mat[:, :-1], mat[:, 1:]) + ground)) + error_most * w * (w + 2.0 * sigma))
+    slack = 1.0 + 1e-12
+    rows, steps = np.nonzero((near_u * slack >= margin * sampled_u[col])
+                             | (near_at * slack >= margin * sampled_at[col]))
+    # there, the bounds of the C loop: control points of the cubic Hermite interpolant + its error
+    w, sigma, wd, w2 = w[rows, 0], sigma[rows, 0], wd[rows, 0], w2[rows, 0]
+    u0, u1, v0, v1, at0, at1 = u[rows, steps], u[rows, steps + 1], v[rows, steps], v[rows, steps + 1], \
+        at[rows, steps], at[rows, steps + 1]
+    a0, a1, slope = a0[steps], a1[steps], slope[steps]
     dat0 = -w2 * v0 - 2.0 * sigma * (at0 - a0)  # slope of the absolute acceleration
     dat1 = -w2 * v1 - 2.0 * sigma * (at1 - a1)
     c1 = -slope / w2  # u = c0 + c1 t + exp(-sigma t)(amp_a cos wd t + amp_b sin wd t) over the step
@@ -180,23 +253,22 @@ def chunk_peaks(acc: np.ndarray, dt: float, omegas: np.ndarray, xis: np.ndarray,
     rel0, rel1 = at0 - a0, at1 - a1  # u''
     jerk0 = -w2 * rel0 + 2.0 * sigma * (slope + 2.0 * sigma * rel0 + w2 * v0)  # a_t''
     jerk1 = -w2 * rel1 + 2.0 * sigma * (slope + 2.0 * sigma * rel1 + w2 * v1)
-    margin = 1.0 - 1e-9  # no step whose bound is below the largest sample can hold the peak
-    flag_u = ((v0 * v1 < 0.0) | (rel0 * rel1 < 0.0)) & (bound_u >= margin * sampled_u[col])
-    flag_at = ((dat0 * dat1 < 0.0) | (jerk0 * jerk1 < 0.0)) & (bound_at >= margin * sampled_at[col])
+    flag_u = ((v0 * v1 < 0.0) | (rel0 * rel1 < 0.0)) & (bound_u >= margin * sampled_u[rows])
+    flag_at = ((dat0 * dat1 < 0.0) | (jerk0 * jerk1 < 0.0)) & (bound_at >= margin * sampled_at[rows])
     peak_u, peak_at = sampled_u.copy(), sampled_at.copy()
     for flags, peaks in ((flag_u, peak_u), (flag_at, peak_at)):
-        rows, steps = np.nonzero(flags)
-        if rows.size == 0:
+        k = np.flatnonzero(flags)
+        if k.size == 0:
             continue
-        s, d = sigma[rows, 0], wd[rows, 0]
-        pa, qa = amp_a[rows, steps], amp_b[rows, steps]
+        pa, qa = amp_a[k], amp_b[k]
         if peaks is peak_u:
-            values = _interior_peaks(c0[rows, steps], c1[rows, steps], pa, qa, s, d, h, v0[rows, steps],
-                                     v1[rows, steps])
+            values = _interior_peaks(c0[k], c1[k], pa, qa, sigma[k], wd[k], h, v0[k], v1[k])
         else:
-            pa, qa = _acceleration_terms(pa, qa, w2[rows, 0], s, d)
-            values = _interior_peaks(a0[steps], slope[steps], pa, qa, s, d, h, dat0[rows, steps], dat1[rows, steps])
-        np.maximum.at(peaks, rows, values)
+            pa, qa = _acceleration_terms(pa, qa, w2[k], sigma[k], wd[k])
+            values = _interior_peaks(a0[k], slope[k], pa, qa, sigma[k], wd[k], h, dat0[k], dat1[k])
+        np.maximum.at(peaks, rows[k], values)
+    col = (slice(None), None)
+    sigma, wd, w2 = (xis * omegas)[col], (omegas * np.sqrt(1.0 - xis * xis))[col], (omegas * omegas)[col]
     if free_vibration:
         s, d, q2 = sigma[:, 0], wd[:, 0], w2[:, 0]
         amp_a = u[:, -1]
@@ -204,4 +276,26 @@ def chunk_peaks(acc: np.ndarray, dt: float, omegas: np.ndarray, xis: np.ndarray,
         peak_u = np.maximum(peak_u, _free_vibration_peaks(amp_a, amp_b, s, d))
         pa, qa = _acceleration_terms(amp_a, amp_b, q2, s, d)
         peak_at = np.maximum(peak_at, _free_vibration_peaks(pa, qa, s, d))
-    return peak_u, peak_at
+    return peak_u, peak_at, u[:, -1], v[:, -1]
+
+
+def spectrum_kernel(acc, dt, omegas, xis, nsubs, chunk_starts, free_vibration, out_u, out_at) -> None:
+    """Peaks |u| and |a_t| into out_u, out_at, chunk by chunk (spectra_kernels.spectrum_kernel):
+    the oscillators of a chunk share the sub-step count of its first; NUMPY_BLOCK sub-steps of
+    oscillators at a time."""
+    for first, end in itertools.pairwise(chunk_starts):
+        nsub = int(nsubs[first])
+        group = max(NUMPY_BLOCK // (nsub * acc.size), 1)
+        for start in range(first, end, group):
+            k = slice(start, min(start + group, end))
+            out_u[k], out_at[k] = chunk_peaks(acc, dt, omegas[k], xis[k], nsub, bool(free_vibration))
+
+
+def history_kernel(acc, dt, w, xi, u_out, v_out) -> None:
+    """Relative displacement and velocity at the samples of acc, from rest (spectra_kernels.history_kernel)."""
+    acc = np.asarray(acc, dtype=float)
+    if acc.size < 2:
+        u_out[:], v_out[:] = 0.0, 0.0
+        return
+    u, v = _states(np.array([float(w)]), np.array([float(xi)]), float(dt), acc[:-1], acc[1:])
+    u_out[:], v_out[:] = u[0], v[0]

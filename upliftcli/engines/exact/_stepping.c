@@ -1,6 +1,6 @@
 /* Compiled stepping loop of the exact engine: see stepping_kernels.py for the method, the
  * arguments and the status codes (this file is its C body; the numpy twin is in
- * tests/test_stepping_kernels.py). Operators and matrices are passed transposed (matvec). */
+ * stepping_numpy.py). Operators and matrices are passed transposed (matvec). */
 
 #include "buffers.h"
 #include "events.h"
@@ -262,16 +262,39 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
 #undef RETURN
 }
 
-/* integrate(ops, events, event_rates, matrices, patterns, count,
- *           z_index, lift_rows, damped, all_lifted, allow_flight,
- *           ground, slopes, h, levels, index_acceleration, index_slope,
- *           x, out_x, out_t, out_state, state, step, offset, n_out)
- * -> (status, step, offset, state, n_out, pattern) */
-static PyObject *py_integrate(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+/* the `size` items of the tuple argument `name` (stepping_kernels.States, Elements, Grid, Samples)
+ * into out; 0 with a TypeError otherwise */
+static int unpack(PyObject *tuple, Py_ssize_t size, const char *name, PyObject **out)
+{
+    if (!PyTuple_Check(tuple) || PyTuple_Size(tuple) != size) {
+        PyErr_Format(PyExc_TypeError, "integrate: %s must be a tuple of %zd items", name, size);
+        return 0;
+    }
+    for (Py_ssize_t i = 0; i < size; i++) {
+        out[i] = PyTuple_GetItem(tuple, i);
+    }
+    return 1;
+}
+
+/* integrate(states, elements, grid, samples, state, step, offset, n_out) with the tuples
+ *   states = (ops, events, event_rates, matrices, patterns, count),
+ *   elements = (z_index, lift_rows, damped, all_lifted, allow_flight),
+ *   grid = (ground, slopes, h, levels, index_acceleration, index_slope),
+ *   samples = (x, out_x, out_t, out_state)
+ * -> (status, step, offset, state, n_out, pattern). Every index the loop follows is checked first. */
+static PyObject *py_integrate(PyObject *self, PyObject *const *call, Py_ssize_t nargs)
 {
     (void)self;
-    if (!expect_args(nargs, 25, "integrate")) {
+    if (!expect_args(nargs, 8, "integrate")) {
         return NULL;
+    }
+    PyObject *args[25]; /* the items of the four tuples, then state, step, offset, n_out */
+    if (!unpack(call[0], 6, "states", args) || !unpack(call[1], 5, "elements", args + 6)
+        || !unpack(call[2], 6, "grid", args + 11) || !unpack(call[3], 4, "samples", args + 17)) {
+        return NULL;
+    }
+    for (int i = 0; i < 4; i++) {
+        args[21 + i] = call[4 + i];
     }
     Views v = {.count = 0};
     PyObject *result = NULL;
@@ -299,18 +322,37 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *args, Py_ssize_t 
     int64_t state = PyLong_AsLongLong(args[21]), step = PyLong_AsLongLong(args[22]);
     double offset = PyFloat_AsDouble(args[23]);
     int64_t n_out = PyLong_AsLongLong(args[24]);
-    if (PyErr_Occurred()) {
+    if (PyErr_Occurred() || m.allow_flight < 0) {
         goto done;
     }
-    const int64_t n = m.n;
-    if (ops->shape[1] != m.levels + 1 || ops->shape[2] != n || ops->shape[3] != n || matrices->shape[1] != n
-        || events->shape[2] != n || out_x->shape[1] != n || m.count > ops->shape[0] || state < 0
-        || state >= m.count || out_t->shape[0] > out_x->shape[0] || out_state->shape[0] < out_t->shape[0]) {
-        PyErr_SetString(PyExc_ValueError, "integrate: inconsistent array shapes");
+    const int64_t n = m.n, n_e = m.n_events, capacity = out_t->shape[0], n_steps = ground->shape[0] - 1;
+    /* shapes: every state's arrays for `count` states, n x n operators at levels 0..L */
+    int ok = n >= 1 && m.count >= 1 && m.count <= ops->shape[0] && m.count <= events->shape[0]
+             && m.count <= matrices->shape[0] && m.count <= patterns->shape[0] && ops->shape[1] == m.levels + 1
+             && ops->shape[2] == n && ops->shape[3] == n && matrices->shape[1] == n && matrices->shape[2] == n
+             && events->shape[2] == n && rates->shape[0] == events->shape[0] && rates->shape[1] == n_e
+             && rates->shape[2] == n;
+    /* elements: at most 62 (the contact pattern is a bit set), their state indices inside the state */
+    ok = ok && n_e <= 62 && z_index->shape[0] == n_e && lift_rows->shape[0] == n_e && lift_rows->shape[1] == n
+         && damped->shape[0] == n_e;
+    for (int64_t i = 0; ok && i < n_e; i++) {
+        ok = INT64S(z_index)[i] >= 0 && INT64S(z_index)[i] < n;
+    }
+    /* the grid, the bisection levels (the refinement uses levels up to REFINE_LEVELS) and where to start */
+    ok = ok && n_steps >= 0 && slopes->shape[0] >= n_steps && isfinite(h) && h > 0.0 && m.levels >= REFINE_LEVELS
+         && m.levels <= 60 && index_acceleration >= 0 && index_acceleration < n && index_slope >= 0
+         && index_slope < n && state >= 0 && state < m.count && step >= 0 && step <= n_steps && isfinite(offset)
+         && offset >= 0.0;
+    /* the sample buffers: the loop writes at most MAX_EVENTS_PER_STEP + 1 samples past n_out per step and
+     * returns FULL before a step that might not fit */
+    ok = ok && out_x->shape[0] >= capacity && out_x->shape[1] == n && out_state->shape[0] >= capacity && n_out >= 0
+         && n_out <= capacity;
+    if (!ok) {
+        PyErr_SetString(PyExc_ValueError, "integrate: inconsistent arguments (shapes, indices or limits)");
         goto done;
     }
     /* work space of integrate: 4 states, the chunk lengths, 4 event vectors, 2 flags per state */
-    double *work = PyMem_Malloc((4 * n + m.levels + 1 + 4 * m.n_events + (2 * m.count) / sizeof(double) + 1)
+    double *work = PyMem_Malloc((4 * n + m.levels + 1 + 4 * n_e + (2 * m.count) / sizeof(double) + 1)
                                 * sizeof(double));
     if (!work) {
         PyErr_NoMemory();
@@ -319,7 +361,7 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *args, Py_ssize_t 
     Outcome o;
     Py_BEGIN_ALLOW_THREADS
     o = integrate(&m, DOUBLES(ground), DOUBLES(slopes), ground->shape[0], h, index_acceleration, index_slope,
-                  DOUBLES(x), DOUBLES(out_x), DOUBLES(out_t), INT64S(out_state), out_t->shape[0], state, step, offset,
+                  DOUBLES(x), DOUBLES(out_x), DOUBLES(out_t), INT64S(out_state), capacity, state, step, offset,
                   n_out, work);
     Py_END_ALLOW_THREADS
     PyMem_Free(work);

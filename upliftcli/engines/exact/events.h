@@ -5,6 +5,7 @@
 #ifndef UPLIFT_EVENTS_H
 #define UPLIFT_EVENTS_H
 
+#include "buffers.h" /* restrict on every compiler */
 #include <math.h>
 #include <stdint.h>
 

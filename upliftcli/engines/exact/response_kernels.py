@@ -1,24 +1,30 @@
-"""Compiled loops of the post-processing (C, built at install): signals at the samples
-(_signals.c), peaks between samples (_peaks.c), element reactions and uplift statistics
-(_contact.c), work integrals (_energy.c).
+"""The loops of the post-processing: signals at the samples (_signals.c), peaks between samples
+(_peaks.c), element reactions and uplift statistics (_contact.c), work integrals (_energy.c),
+compiled (C, built at install) or their numpy twins (response_numpy.py), as upliftcli.backend
+chooses.
 
-Each walks the samples (or the intervals between them) once; numpy versions of the same loops
-cost 5-10 times more on the ten-story example (temporaries and strided reductions). Their numpy
-twins are in tests/test_response_kernels.py.
+Each C loop walks the samples (or the intervals between them) once; the twins work on whole
+arrays (temporaries and strided reductions).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from . import _contact, _energy, _peaks, _signals
+from ... import backend
+
+
+def _loops(name: str):
+    """The module that runs loop module `name` (_signals, _peaks, _contact, _energy): itself (C) or
+    response_numpy (upliftcli.backend)."""
+    return backend.loops(f"{__package__}.{name}", f"{__package__}.response_numpy")
 
 
 def quintic_extremum(p0: float, p1: float, d0: float, d1: float, c0: float, c1: float) -> tuple[float, float]:
     """Largest |p(s)| for s in [0, 1] of the quintic Hermite p with p, p', p'' given at both
     ends (slopes times the interval length, second derivatives times its square); returns
     (value, s). The stationary points are bracketed on 8 sub-intervals and bisected."""
-    return _peaks.quintic_extremum(float(p0), float(p1), float(d0), float(d1), float(c0), float(c1))
+    return _loops("_peaks").quintic_extremum(float(p0), float(p1), float(d0), float(d1), float(c0), float(c1))
 
 
 def evaluate_signals(states: np.ndarray, ids: np.ndarray, rows_t: np.ndarray, values: np.ndarray,
@@ -33,7 +39,7 @@ def evaluate_signals(states: np.ndarray, ids: np.ndarray, rows_t: np.ndarray, va
     sums them alone, the rest is one dense product; every way gives the bits of the dense
     product R x.
     """
-    _signals.evaluate_signals(states, ids, rows_t, values, slopes, ends)
+    _loops("_signals").evaluate_signals(states, ids, rows_t, values, slopes, ends)
 
 
 def hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns, rate_columns, curvature_columns,
@@ -54,8 +60,8 @@ def hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns,
     """
     m = rows_t.shape[1]
     best, where = np.zeros(m), np.zeros(m)
-    _peaks.hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns, rate_columns,
-                            curvature_columns, rows_t, lengths, fractions, best, where)
+    _loops("_peaks").hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns, rate_columns,
+                                   curvature_columns, rows_t, lengths, fractions, best, where)
     return best, where
 
 
@@ -68,9 +74,9 @@ def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lift
 
     values (n, k), slopes (n, k_s): one row per sample; only the first n_interpolated signals
     (they have slopes) are interpolated; lifted (n - 1, n_e) per interval."""
-    return _energy.work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lifted, n_interpolated,
-                                  row_a, row_input, row_ydot, n_modes, row_vel, row_z, n_elements, modal_damping,
-                                  element_stiffness, element_damping)
+    return _loops("_energy").work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lifted,
+                                           n_interpolated, row_a, row_input, row_ydot, n_modes, row_vel, row_z,
+                                           n_elements, modal_damping, element_stiffness, element_damping)
 
 
 #: the uplift statistics contact_response returns, in order (counts are whole numbers)
@@ -100,7 +106,7 @@ def contact_response(values, slopes, end_values, end_slopes, switch, lifted, len
     n_e = lifted.shape[1]
     peak, peak_time, impact, impact_time = (np.empty(n_e) for _ in range(4))
     summary = np.empty(len(SUMMARY))
-    _contact.contact_response(values, slopes, end_values, end_slopes, switch, lifted, lengths, times, stiffness,
-                              damping, np.asarray(rows, dtype=np.int64), peak, peak_time, impact, impact_time,
-                              summary)
+    _loops("_contact").contact_response(values, slopes, end_values, end_slopes, switch, lifted, lengths, times,
+                                        stiffness, damping, np.asarray(rows, dtype=np.int64), peak, peak_time, impact,
+                                        impact_time, summary)
     return peak, peak_time, impact, impact_time, summary

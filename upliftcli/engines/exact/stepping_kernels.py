@@ -1,4 +1,5 @@
-"""Compiled stepping loop of the exact engine (C: _stepping.c, built at install).
+"""The stepping loop of the exact engine: compiled (C: _stepping.c, built at install) or its
+numpy twin (stepping_numpy.py), as upliftcli.backend chooses.
 
 For each contact state s the caller supplies the exact step operators
 ops[s, j] = expm(A_s h / 2^j)^T, j = 0..L, of the augmented autonomous system (see
@@ -23,7 +24,7 @@ from __future__ import annotations
 
 from collections import namedtuple
 
-from . import _stepping
+from ... import backend
 
 DONE, NEED_STATE, FULL, FLIGHT, NONFINITE, CHATTER = 0, 1, 2, 3, 4, 5
 #: samples kept free at the start of every step; more events than this inside one step is chatter
@@ -47,6 +48,11 @@ Grid = namedtuple("Grid", "ground slopes h levels index_acceleration index_slope
 Samples = namedtuple("Samples", "x out_x out_t out_state")
 
 
+def _loops():
+    """The module that runs the loop: _stepping (C) or stepping_numpy (upliftcli.backend)."""
+    return backend.loops(f"{__package__}._stepping", f"{__package__}.stepping_numpy")
+
+
 def integrate(states: States, elements: Elements, grid: Grid, samples: Samples, state: int, step: int,
               offset: float, n_out: int) -> tuple[int, int, float, int, int, int]:
     """Advance from (step, offset) to the end of the ground-motion grid.
@@ -54,16 +60,16 @@ def integrate(states: States, elements: Elements, grid: Grid, samples: Samples, 
     Returns (status, step, offset, state, n_out, pattern) and updates samples.x and the
     sample buffers in place; pattern is the pending contact pattern for NEED_STATE.
     """
-    return _stepping.integrate(*states, *elements, *grid, *samples, state, step, offset, n_out)
+    return _loops().integrate(states, elements, grid, samples, state, step, offset, n_out)
 
 
 def matvec(matrix_t, x, out) -> None:
     """out = M x from the transposed matrix M^T (how the loop multiplies: along contiguous columns)."""
-    _stepping.matvec(matrix_t, x, out)
+    _loops().matvec(matrix_t, x, out)
 
 
 def excursion(events, rates, x, y, length: float) -> bool:
     """True if some event function, not positive at either end of a chunk (states x, y,
     length [s]), has a positive interior maximum on its cubic Hermite interpolant (values
     G x, G y and exact rates G A x, G A y): a brief excursion the chunk ends would miss."""
-    return _stepping.excursion(events, rates, x, y, float(length))
+    return _loops().excursion(events, rates, x, y, float(length))
