@@ -2,6 +2,7 @@
 numerical equilibrium solve of the elements with their plastic memory, the elastic backbone
 already in the code (engines/improved.uplift_capacity) and the limits of docs/theory.md 14.4."""
 
+import itertools
 import math
 
 import numpy as np
@@ -113,7 +114,8 @@ def test_winkler_backbone_refuses_a_capacity_below_the_weight():
 @pytest.mark.parametrize("fs", [1.25, 2.0, 3.0])
 def test_midpoint_capacity_of_the_elements_tends_to_the_strip(fs):
     """The exact engine's n midpoint elements: their M_c tends to (P B/2)(1 - q/q_c) as n grows,
-    the difference shrinking as 1/n^2 (or zero where the elements tile the plastic length), and equals the large-rotation equilibrium."""
+    the difference shrinking as 1/n^2 (or zero where the elements tile the plastic length), and
+    equals the large-rotation equilibrium."""
     line_capacity = fs * W / (2.0 * B)
     strip_capacity = rc.winkler_moment_capacity(B, line_capacity, W)
     errors = []
@@ -121,7 +123,7 @@ def test_midpoint_capacity_of_the_elements_tends_to_the_strip(fs):
         positions, _, capacities = strip(n, line_capacity)
         errors.append(abs(rc.midpoint_moment_capacity(positions, capacities, W) - strip_capacity))
     assert errors[-1] < 1e-3 * W * B
-    assert all(later <= 0.55 * earlier + 1e-12 * W * B for earlier, later in zip(errors, errors[1:]))
+    assert all(later <= 0.55 * earlier + 1e-12 * W * B for earlier, later in itertools.pairwise(errors))
     positions, stiffness, capacities = strip(20, line_capacity)
     pushed = equilibrium_push(positions, stiffness, capacities, W, np.geomspace(1e-6, 0.05, 120))[-1]
     assert pushed == pytest.approx(rc.midpoint_moment_capacity(positions, capacities, W), rel=1e-6)
