@@ -25,6 +25,7 @@ from .deck_overrides import ALTERNATIVES, FOUNDATION_FIELDS, apply_overrides, pa
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from .errors import InputError, deck_relative_path, not_found
 from .limits import MAX_DECK_BYTES, MAX_STORIES, read_input
+from .model.bearing import CAPACITY_FIELDS
 from .model.building import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
 from .model.foundations import FOUNDATIONS, DeckContext
 from .model.system import System
@@ -232,6 +233,12 @@ def _building(fields: dict, error) -> Building:
 def _system(building: Building, fields: dict, analysis: dict, error) -> System:
     """Mat half-width, mat mass and inertia, and the foundation."""
     kind = fields.get("type", _default("foundation", "type"))
+    if kind == "halfspace":
+        for name in ("element_capacity", "line_capacity", *CAPACITY_FIELDS):
+            if name in fields:
+                raise error(f"foundation.{name}", "no bearing capacity for the half-space foundation: the "
+                            "yielding-soil model (docs/theory.md section 14) is for type \"two-element\" or "
+                            "\"winkler\"")
     for name in fields:
         owners = [k for k, names in FOUNDATION_FIELDS.items() if name in names]
         if owners and kind not in owners:
@@ -255,10 +262,11 @@ def _system(building: Building, fields: dict, analysis: dict, error) -> System:
     def missing(name: str, expected: str):
         raise error(f"foundation.{name}", expected)
 
-    context = DeckContext(float(b), total_mass, float(modes.omega[0]), missing)
+    gravity = float(analysis.get("gravity", _default("analysis", "gravity")))
+    context = DeckContext(float(b), total_mass, float(modes.omega[0]), missing, gravity)
     foundation = FOUNDATIONS[kind].from_deck(fields, context)
     return System(building, foundation, float(b), float(mat_mass), float(fields.get("mat_rotary_inertia", 0.0)),
-                  float(analysis.get("gravity", _default("analysis", "gravity"))))
+                  gravity)
 
 
 def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSettings:
