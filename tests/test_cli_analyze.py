@@ -310,3 +310,20 @@ def test_an_engine_the_deck_cannot_serve_names_the_option():
     assert result.stderr == (f"error: {deck}: ground_motion.record: a record for the "
                              "exact engine (asked by --engine or --set analysis.engine; a design spectrum serves only "
                              "the simplified engine)\n")
+
+
+@pytest.mark.parametrize("engine", ["exact", "approximate"])
+def test_a_bearing_capacity_is_refused_by_the_history_engines(engine, tmp_path):
+    """Until they model yielding soil (docs/theory.md section 14, issue 28): one line naming the
+    capacity field, exit 2, nothing written."""
+    out = tmp_path / "results"
+    result = invoke("analyze", EXAMPLE, "--engine", engine, "--set", "foundation.safety_factor=1.5", "--out", out)
+    assert result.exit_code == 2, result.output
+    assert result.stdout == "" and not out.exists()
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1
+    assert lines[0].startswith(f"error: --set: foundation.safety_factor: no bearing capacity for the {engine} engine")
+    simplified = invoke("analyze", EXAMPLE, "--set", "foundation.safety_factor=1.5", "--support", "uplift",
+                        "--no-check", "--format", "json")
+    assert simplified.exit_code == 0, simplified.output
+    assert json.loads(simplified.stdout)["intermediates"]["FS_v"] == pytest.approx(1.5)

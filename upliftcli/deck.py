@@ -23,6 +23,7 @@ import numpy as np
 from . import deck_schema as schema
 from .deck_overrides import ALTERNATIVES, FOUNDATION_FIELDS, apply_overrides, parse_override, set_by_override
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
+from .engines.quantities import ROCKING
 from .errors import InputError, deck_relative_path, not_found
 from .limits import MAX_DECK_BYTES, MAX_STORIES, read_input
 from .model.bearing import CAPACITY_FIELDS
@@ -143,8 +144,24 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     if load_ground_motion:
         ground_motion, spectrum = _ground_motion(values["ground_motion"], source, error, system,
                                                  analysis.simplified.effective_properties)
+    _check_rocking_criteria(values["criteria"], analysis, system, error)
     return Deck(source, values[""].get("title", Path(source).stem), system, ground_motion, spectrum,
                 analysis, dict(values["criteria"]), raw, values, overridden)
+
+
+def _check_rocking_criteria(criteria: dict, analysis: AnalysisSettings, system: System, error) -> None:
+    """A limit on a rocking quantity (engines/quantities.ROCKING) needs the analysis that reports
+    it: the exact engine, the uplift support and a foundation with a bearing capacity."""
+    for name in criteria:
+        if name not in ROCKING:
+            continue
+        missing = [what for what, ok in (("the exact engine in analysis.engine", "exact" in analysis.engines),
+                                         ("the uplift support in analysis.supports", "uplift" in analysis.supports),
+                                         ("a bearing capacity in [foundation]",
+                                          getattr(system.foundation, "capacity", None) is not None)) if not ok]
+        if missing:
+            raise error(f"criteria.{name}", f"a limit the exact engine reports for the uplift analysis of a foundation "
+                        f"with a bearing capacity (docs/theory.md 14.7); the deck has not {', '.join(missing)}")
 
 
 def _default(table: str, name: str) -> Any:

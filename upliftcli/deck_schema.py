@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import Any
 
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
-from .engines.quantities import QUANTITIES, SCALARS
+from .engines.quantities import QUANTITIES, ROCKING, SCALARS
 from .engines.registry import ENGINES, SUPPORTS
 from .errors import InputError
 from .fields import Field, check_value, suggestion
@@ -86,6 +86,10 @@ TABLES: dict[str, dict[str, Field]] = {
         **{q.name: Field("number", q.unit, f"largest allowed {q.meaning}", "positive")
            for q in QUANTITIES.values() if q.criterion},
         **{q.name: Field("number", q.unit, f"largest allowed {q.meaning}", "positive") for q in SCALARS.values()},
+        **{q.name: Field("number", q.unit, f"largest allowed {q.meaning}: the exact engine's uplift analysis of a "
+                         "foundation with a bearing capacity; the limit of ASCE 41-17 section 8.4 for the chosen "
+                         "performance level, as the user reads it there", "positive")
+           for q in ROCKING.values() if q.criterion},
         "uplift": Field("bool", "-", "whether uplift of the mat is acceptable (false: uplift fails)"),
     },
 }
