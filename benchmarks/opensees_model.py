@@ -38,6 +38,9 @@ import numpy as np
 PENALTY = 1.0e4
 #: penalty factor of the rigid ties (equalDOF, rigidLink)
 PENALTY_TIES = 1.0e17
+#: Newton iterations stop when the displacement increment's norm is below this [m] (round-off with
+#: the penalty ties is about 1e-12 m)
+TOLERANCE = 1.0e-10
 
 
 def stiffness_proportional_damping(omega: np.ndarray, xi_1: float) -> np.ndarray:
@@ -128,7 +131,7 @@ def _gravity(ops, system, tags: dict) -> None:
     ops.load(tags["mat"], 0.0, -system.mat_mass * g, 0.0)
     for tag, mass in zip(tags["floors"], system.building.masses, strict=True):
         ops.load(tag, 0.0, -float(mass) * g, 0.0)
-    _solver(ops, 1e-12)
+    _solver(ops, TOLERANCE)
     ops.integrator("LoadControl", 1.0)
     ops.analysis("Static")
     if ops.analyze(1) != 0:
@@ -150,8 +153,9 @@ def run(system, acceleration: np.ndarray, record_dt: float, dt: float, support: 
         penalty: float = PENALTY, integrator: tuple = ("Newmark", 0.5, 0.25)) -> dict[str, np.ndarray]:
     """Histories at every step dt [s] (SI; the project's signs: theta > 0 lifts the left edge):
     time, theta, v, left/right edge displacement, base shear V_b = k_1 u_1, base moment
-    M_b = sum_j h_j (K u)_j, roof displacement relative to the mat u_N, the elements' contact
-    forces (compression negative). acceleration [m/s^2] sampled at record_dt [s]."""
+    M_b = sum_j h_j (K u)_j, roof displacement relative to the mat u_N, each element's reaction on
+    the mat R_i = -F_i [N] (> 0 in compression, docs/theory.md [3a]). acceleration [m/s^2] sampled
+    at record_dt [s]."""
     import openseespy.opensees as ops
 
     ops.logFile("/dev/null", "-noEcho")  # OpenSees prints every split step: the histories say enough
@@ -160,7 +164,7 @@ def run(system, acceleration: np.ndarray, record_dt: float, dt: float, support: 
     ops.timeSeries("Path", 2, "-dt", float(record_dt), "-values", *np.asarray(acceleration, dtype=float).tolist())
     ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
     ops.wipeAnalysis()
-    _solver(ops, 1e-12)
+    _solver(ops, TOLERANCE)
     ops.integrator(*integrator)
     ops.analysis("Transient")
     building = system.building
@@ -168,7 +172,7 @@ def run(system, acceleration: np.ndarray, record_dt: float, dt: float, support: 
     count = round((acceleration.size - 1) * record_dt / dt)
     n_e = tags["positions"].size
     out = {name: np.empty(count + 1) for name in ("time", "theta", "v", "base_shear", "base_moment", "roof")}
-    out["contact_force"] = np.empty((count + 1, n_e))
+    out["reaction"] = np.empty((count + 1, n_e))
     b = system.half_width
     for step in range(count + 1):
         if step:
@@ -182,7 +186,8 @@ def run(system, acceleration: np.ndarray, record_dt: float, dt: float, support: 
         out["base_shear"][step] = building.story_stiffness[0] * u[0]
         out["base_moment"][step] = heights @ (stiffness @ u)
         out["roof"][step] = u[-1]
-        out["contact_force"][step] = [ops.eleResponse(2001 + 2 * i, "force")[1] for i in range(n_e)]
+        # the contact's resisting force at its lower node (the top): -F_i, the upward reaction on the mat
+        out["reaction"][step] = [ops.eleResponse(2001 + 2 * i, "force")[1] for i in range(n_e)]
     out["left_edge_displacement"] = out["v"] + b * out["theta"]
     out["right_edge_displacement"] = out["v"] - b * out["theta"]
     ops.wipe()
