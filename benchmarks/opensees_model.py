@@ -113,13 +113,13 @@ def build(ops, system, support: str = "uplift", penalty: float = PENALTY) -> dic
     return {"mat": mat, "floors": floors, "positions": elements.positions.copy()}
 
 
-def _solver(ops, test_tolerance: float) -> None:
+def _solver(ops, test: tuple) -> None:
     # penalty ties: a Transformation handler made anew for the transient analysis starts the tied
     # nodes from zero displacement, not from the static state (the mat then falls)
     ops.constraints("Penalty", PENALTY_TIES, PENALTY_TIES)
     ops.numberer("RCM")
     ops.system("BandGeneral")
-    ops.test("NormDispIncr", test_tolerance, 50, 0)
+    ops.test(*test, 50, 0)
     ops.algorithm("Newton")
 
 
@@ -131,7 +131,9 @@ def _gravity(ops, system, tags: dict) -> None:
     ops.load(tags["mat"], 0.0, -system.mat_mass * g, 0.0)
     for tag, mass in zip(tags["floors"], system.building.masses, strict=True):
         ops.load(tag, 0.0, -float(mass) * g, 0.0)
-    _solver(ops, TOLERANCE)
+    # one linear step: its unbalance after the first solve is round-off (the displacement increment
+    # of a stiffer contact penalty may stay above TOLERANCE), so the test is on the force
+    _solver(ops, ("NormUnbalance", 1e-9 * system.weight))
     ops.integrator("LoadControl", 1.0)
     ops.analysis("Static")
     if ops.analyze(1) != 0:
@@ -164,7 +166,7 @@ def run(system, acceleration: np.ndarray, record_dt: float, dt: float, support: 
     ops.timeSeries("Path", 2, "-dt", float(record_dt), "-values", *np.asarray(acceleration, dtype=float).tolist())
     ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
     ops.wipeAnalysis()
-    _solver(ops, TOLERANCE)
+    _solver(ops, ("NormDispIncr", TOLERANCE))
     ops.integrator(*integrator)
     ops.analysis("Transient")
     building = system.building
