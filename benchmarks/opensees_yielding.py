@@ -78,7 +78,9 @@ def exact_run(system: System, record: Record) -> tuple[dict, dict]:
 def opensees_run(system: System, record: Record, dt: float, penalty: float, cache: Path, key: str) -> dict:
     path = cache / f"{key}.npz"
     if path.exists():
-        return dict(np.load(path))
+        histories = dict(np.load(path))
+        positions = system.foundation.contact_elements(system.half_width).positions
+        return {**histories, **om.edge_displacements(histories, positions)}
     start = time.perf_counter()
     histories = om.run(system, record.acceleration, record.dt, dt, "uplift", penalty)
     histories["seconds"] = np.array(time.perf_counter() - start)
