@@ -181,12 +181,11 @@ def paper_analyze(system: System, spectrum, support: str, options: SimplifiedOpt
             inter.update(values)
             base_shears[0] = values["V1_uplift"]
         tipping_shear = system.tipping_moment / system.effective_height  # V_c without a capacity
-        tipping = "V_c" if "M_tip" not in inter else "W b/h_1*"
+        tipping, over = ("V_c", "V_1/V_c") if "M_tip" not in inter else ("W b/h_1*", "V_1/(W b/h_1*)")
         if support == "uplift" and ratio < 1.0 and v1_bonded > ratio * tipping_shear:
             warnings.append(
                 f"{system.foundation.kind} foundation: contact is lost at the kern (M = {ratio:.3g} W b, "
-                f"V = {ratio:.3g} {tipping}) before tipping at {tipping}; for "
-                f"V_1/{tipping if tipping == 'V_c' else '(' + tipping + ')'} = {v1_bonded / tipping_shear:.3g} "
+                f"V = {ratio:.3g} {tipping}) before tipping at {tipping}; for {over} = {v1_bonded / tipping_shear:.3g} "
                 "the mat is partly uplifted, which the simplified procedure does not model")
     inter["V_n"] = base_shears.tolist()
     per_mode = modal_static_response(system, base_shears, n)
