@@ -417,3 +417,18 @@ def test_a_second_run_into_the_same_out_folder_needs_overwrite(tmp_path):
     assert result.exit_code == 2 and "pass --overwrite" in result.stderr
     assert invoke("analyze", example, "--out", out, "--set", "building.period=0.5", "--overwrite").exit_code == 0
     assert (out / "ten_story_asce7.json").read_bytes() != before["ten_story_asce7.json"]
+@pytest.mark.parametrize("engine", ["exact", "approximate"])
+def test_a_bearing_capacity_is_refused_by_the_history_engines(engine, tmp_path):
+    """Until they model yielding soil (docs/theory.md section 14, issue 28): one line naming the
+    capacity field, exit 2, nothing written."""
+    out = tmp_path / "results"
+    result = invoke("analyze", EXAMPLE, "--engine", engine, "--set", "foundation.safety_factor=1.5", "--out", out)
+    assert result.exit_code == 2, result.output
+    assert result.stdout == "" and not out.exists()
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1
+    assert lines[0].startswith(f"error: --set: foundation.safety_factor: no bearing capacity for the {engine} engine")
+    simplified = invoke("analyze", EXAMPLE, "--set", "foundation.safety_factor=1.5", "--support", "uplift",
+                        "--no-check", "--format", "json")
+    assert simplified.exit_code == 0, simplified.output
+    assert json.loads(simplified.stdout)["intermediates"]["FS_v"] == pytest.approx(1.5)

@@ -1,9 +1,13 @@
 """The deck's acceptance criteria applied to results (upliftcli/criteria.py): the same outcomes
 for the exit code of `uplift analyze`, the sweep's violations column and the report's table."""
 
+import numpy as np
+import pytest
+
 from upliftcli.analysis import run
 from upliftcli.criteria import check_criteria, outcomes
 from upliftcli.deck import load_deck
+from upliftcli.errors import InputError
 from upliftcli.report.results import criteria_rows
 
 
@@ -48,3 +52,38 @@ def test_outcomes_values_units_and_report_rows_agree(example_deck):
     rows, violated = criteria_rows(results, limits)
     assert violated == sum(not o.ok for o in found) == len(check_criteria(results, limits)) > 0
     assert [row[-1] == "ok" for row in rows] == [o.ok for o in found]
+
+
+def test_rocking_limits_judge_the_results_that_report_them(example_deck):
+    """ASCE 41-17 8.4 rotation and settlement limits (engines/quantities.ROCKING): judged on a
+    result that carries the quantity, with its unit; results without it are not judged."""
+    results = run(example_deck)
+    rocking = results[-1]
+    rocking.peaks["rotation"] = np.array([0.012])
+    rocking.peaks["residual_settlement"] = np.array([0.004, 0.010, 0.016])
+    limits = {"rotation": 0.01, "residual_settlement": 0.02}
+    found = outcomes(results, limits)
+    assert [(o.result.support, o.name) for o in found] == [(rocking.support, "rotation"),
+                                                            (rocking.support, "residual_settlement")]
+    messages = check_criteria(results, limits)
+    assert messages == [f"simplified/{rocking.support}: rotation = 0.012 exceeds the limit 0.01 [rad]"]
+
+
+def test_a_rocking_limit_needs_the_analysis_that_reports_it(example_deck):
+    with pytest.raises(InputError, match=r"the exact engine in analysis\.engine, a bearing capacity") as info:
+        load_deck(example_deck.source, ["criteria.rotation=0.01"])
+    assert (info.value.source, info.value.location) == ("--set", "criteria.rotation")
+    deck = load_deck(example_deck.source, ["criteria.rotation=0.01", "analysis.engine=exact",
+                                           "foundation.safety_factor=2"])
+    assert deck.criteria["rotation"] == 0.01
+
+
+def test_every_rocking_limit_is_a_deck_field_with_its_unit():
+    from upliftcli import deck_schema
+    from upliftcli.engines.quantities import ROCKING, unit_of
+
+    limited = {name for name, q in ROCKING.items() if q.criterion}
+    assert limited == {"rotation", "residual_rotation", "settlement", "residual_settlement"}
+    for name in limited:
+        assert deck_schema.TABLES["criteria"][name].unit == unit_of(name) == ROCKING[name].unit
+        assert "ASCE 41-17 section 8.4" in deck_schema.TABLES["criteria"][name].doc

@@ -305,3 +305,59 @@ def test_reactions_are_the_statics_of_the_weight_and_the_base_moment():
     assert uplift.uplift and uplift.base_moment > system.critical_base_moment
     np.testing.assert_allclose(uplift.peaks["reaction"], [weight, weight], rtol=1e-12)  # the mat tips
     assert analyze(system, ConstantSpectrum(3.0), "rigid").peaks["reaction"].size == 0
+
+
+# ----------------------------------------------------------------------------- bearing capacity
+
+def with_capacity(system, capacity):
+    """The system with each of its two elements given the capacity Q_y [N]."""
+    return replace(system, foundation=replace(system.foundation, capacity=capacity))
+
+
+@pytest.mark.parametrize("procedure", ["paper", "improved"])
+def test_a_capacity_never_reached_gives_the_elastic_result(procedure):
+    """FS_v >= 2 on two elements: M_c = W b, the same V_c, the same peaks bit for bit (docs/theory.md 14.4)."""
+    system = paper_system(0.5)
+    options = SimplifiedOptions(procedure=procedure)
+    elastic = analyze(system, SmoothSpectrum(), "uplift", options)
+    strong = analyze(with_capacity(system, 10.0 * system.weight), SmoothSpectrum(), "uplift", options)
+    assert strong.critical_base_shear == elastic.critical_base_shear
+    for name, values in elastic.peaks.items():
+        assert np.array_equal(strong.peaks[name], values), name
+    assert strong.intermediates["FS_v"] == 20.0 and strong.intermediates["M_tip"] == system.tipping_moment
+
+
+def test_the_paper_procedure_uses_the_critical_shear_of_the_capacity():
+    """V_c = M_c / h_1* with M_c = W b (FS_v - 1) for FS_v = 1.4: X0 = (m_t S_a1bar / V_c)^2 and
+    V_1 by [28a] with that V_c; the reactions at most Q_y."""
+    system = with_capacity(paper_system(0.5), 0.7 * paper_system(0.5).weight)
+    result = analyze(system, SmoothSpectrum(), "uplift", PAPER)
+    inter = result.intermediates
+    v_c = 0.4 * system.weight * system.half_width / system.effective_height
+    assert inter["V_c"] == pytest.approx(v_c, rel=1e-14)
+    assert inter["M_c"] == pytest.approx(v_c * system.effective_height, rel=1e-14)
+    assert inter["X0"] == pytest.approx((system.total_mass * inter["Sa1bar"] / v_c) ** 2, rel=1e-12)
+    expected, _ = uplift_base_shear(v_c, system.effective_height / system.half_width, inter["X"], inter["zeta"])
+    assert inter["V1_uplift"] == pytest.approx(expected, rel=1e-12)
+    assert result.uplift and inter["Q_y"] == 0.7 * system.weight
+    assert np.all(result.reaction <= inter["Q_y"] * (1 + 1e-12))
+    elastic = analyze(paper_system(0.5), SmoothSpectrum(), "uplift", PAPER)
+    assert inter["V1_uplift"] < elastic.intermediates["V1_uplift"]
+
+
+def test_improved_winkler_capacity_is_the_backbone_at_the_bonded_rotation():
+    """A Winkler capacity whose toe yields only past the bonded rotation (theta = FS_v^2 W/(8 k_w b^2)
+    against 1.5 x W/(k_w b^2), x = V_1/V_c: FS_v = 20 here) gives the elastic strip's effective
+    moment, hence the same mode-1 base shear; FS_v = 3 and 1.3 lower it."""
+    base = paper_system(0.5)
+    b = base.half_width
+    strip = Winkler(3.0 * base.foundation.stiffness / b, 3.0 * base.foundation.damping / b)  # same K_theta
+    elastic = replace(base, foundation=strip)
+    results = {}
+    for fs in (None, 20.0, 3.0, 1.3):
+        foundation = strip if fs is None else replace(strip, capacity=fs * base.weight / (2.0 * b))
+        results[fs] = analyze(replace(elastic, foundation=foundation), SmoothSpectrum(), "uplift").intermediates
+    assert results[20.0]["V1_uplift"] == pytest.approx(results[None]["V1_uplift"], rel=1e-12)
+    assert results[20.0]["capacity"] * results[20.0]["M_c"] == pytest.approx(
+        results[None]["capacity"] * results[None]["M_c"], rel=1e-12)
+    assert results[1.3]["V1_uplift"] < results[3.0]["V1_uplift"] < results[None]["V1_uplift"]

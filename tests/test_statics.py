@@ -47,3 +47,28 @@ def test_winkler_strip_partly_lifted_gives_the_triangular_pressure():
     reactions = static_reactions(x, np.ones(n), weight, weight * 0.2, tension=False)
     assert np.all(reactions > 0)
     assert reactions.max() / dx == pytest.approx(weight / (2 * b) * (1 + 3 * 0.2), rel=2e-3)
+
+
+def test_elements_with_a_capacity_carry_at_most_it_and_keep_equilibrium():
+    """Two elements, W = 100, Q_y = 70: M below M_c = (2 Q_y - W) b = 80 is elastic, at 80 the
+    right element is at capacity; beyond there is no static solution and each carries at most Q_y.
+    A strip: the reactions carry W and M, none above Q_y, the elastic ones on one straight line."""
+    x, k, weight = np.array([-2.0, 2.0]), np.array([5.0, 5.0]), 100.0
+    cap = np.array([70.0, 70.0])
+    np.testing.assert_allclose(static_reactions(x, k, weight, 60.0, False, cap), [35.0, 65.0])
+    np.testing.assert_allclose(static_reactions(x, k, weight, 80.0, False, cap), [30.0, 70.0])
+    assert np.all(static_reactions(x, k, weight, 150.0, False, cap) <= cap)
+    n, b = 200, 1.0
+    dx = 2 * b / n
+    xs = -b + dx * (np.arange(n) + 0.5)
+    q_y = np.full(n, 1.5 * weight / n)  # FS_v = 1.5: M_c = W b (1 - 1/1.5) = W b / 3
+    reactions = static_reactions(xs, np.ones(n), weight, 0.3 * weight * b, False, q_y)
+    assert reactions.sum() == pytest.approx(weight, rel=1e-12)
+    assert (reactions * xs).sum() == pytest.approx(0.3 * weight * b, rel=1e-12)
+    assert reactions.max() == pytest.approx(q_y[0], rel=1e-12) and np.any(reactions == q_y)
+    elastic = (reactions > 0) & (reactions < q_y)
+    slope = np.polyfit(xs[elastic], reactions[elastic], 1)
+    np.testing.assert_allclose(np.polyval(slope, xs[elastic]), reactions[elastic], rtol=1e-9)
+    # a capacity never reached changes nothing, bit for bit
+    plain = static_reactions(xs, np.ones(n), weight, 0.3 * weight * b, False)
+    assert np.array_equal(static_reactions(xs, np.ones(n), weight, 0.3 * weight * b, False, np.full(n, 1e30)), plain)

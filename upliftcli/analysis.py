@@ -16,7 +16,7 @@ import numpy as np
 
 from . import analysis_suite, limits
 from .deck import Deck
-from .engines.registry import ENGINES, Engine
+from .engines.registry import ENGINES, Engine, capacity_refusal
 from .engines.result import AnalysisResult
 from .errors import AnalysisError, InputError
 from .motion.records import Record
@@ -51,9 +51,19 @@ def _foundation_paths(deck: Deck) -> list[str]:
         ["foundation.b", "foundation.slenderness", "foundation.mat_mass", "foundation.mat_rotary_inertia"]
 
 
+#: the deck fields that give a foundation its bearing capacity (model/bearing.py)
+CAPACITY_PATHS = ("foundation.element_capacity", "foundation.line_capacity", "foundation.bearing_pressure",
+                  "foundation.safety_factor")
+
+
 def check_before_running(deck: Deck, engine: Engine, support: str, motion: Any) -> None:
-    """check_resources, then the derived quantities: with the simplified engine and a flexible
-    support, an effective damping xi1bar < 1 [23] (InputError naming the deck field)."""
+    """A bearing capacity the engine does not model (registry.capacity_refusal), check_resources,
+    then the derived quantities: with the simplified engine and a flexible support, an
+    effective damping xi1bar < 1 [23] (InputError naming the deck field)."""
+    refusal = capacity_refusal(engine.name, deck.system, support)
+    if refusal is not None:
+        given = [path for path in CAPACITY_PATHS if path.rpartition(".")[2] in deck.values["foundation"]]
+        raise InputError(*deck.blame(*given, *CAPACITY_PATHS), refusal)
     check_resources(deck, engine, support, motion)
     if not engine.needs_record and support != "rigid":
         from .engines.simplified import effective_properties

@@ -5,6 +5,10 @@ into its criteria table.
 A criterion is a limit on the largest |value| of a response quantity or a scalar
 (engines/quantities.py), or `uplift = false`. On a suite (SuiteResult) the limits apply to the
 design statistic (the mean, or EC8's maximum below 7 records) and uplift = false to every record.
+A limit on a rocking quantity (quantities.ROCKING: rotation, residual rotation, settlement; the
+values of ASCE 41-17 section 8.4 for the chosen performance level, given by the user) applies to
+the results that report it: the exact engine's uplift analyses of a foundation with a bearing
+capacity (the deck asks for one: deck.py).
 """
 
 from __future__ import annotations
@@ -12,7 +16,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-from .engines.quantities import unit_of
+from .engines.quantities import ROCKING, unit_of
 from .engines.result import AnalysisResult
 from .engines.suite_result import SuiteResult
 
@@ -53,6 +57,8 @@ def outcomes(results: Sequence[AnalysisResult], criteria: Mapping) -> list[Outco
         for name, limit in criteria.items():
             if name == "uplift":
                 found.append(Outcome(result, name, bool(result.uplift), bool(limit), "-"))
+            elif name in ROCKING and name not in result.peaks:
+                continue  # not reported by this engine or support (the deck has the one that reports it)
             else:
                 found.append(Outcome(result, name, abs(result.value(name)), limit, unit_of(name)))
     return found

@@ -24,9 +24,11 @@ import numpy as np
 from . import deck_schema as schema
 from .deck_overrides import ALTERNATIVES, FOUNDATION_FIELDS, apply_overrides, parse_override, set_by_override
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
+from .engines.quantities import ROCKING
 from .errors import InputError, deck_relative_path, not_found
 from .fields import gather, raise_all
 from .limits import MAX_DECK_BYTES, MAX_STORIES, read_input
+from .model.bearing import CAPACITY_FIELDS
 from .model.building import Building, modal_analysis, modes_for_mass_target, scale_to_period, shear_building
 from .model.foundations import FOUNDATIONS, DeckContext
 from .model.system import System
@@ -154,9 +156,25 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     if load_ground_motion:
         ground_motion, spectrum = _ground_motion(values["ground_motion"], source, error, system,
                                                  analysis.simplified.effective_properties)
+    _check_rocking_criteria(values["criteria"], analysis, system, error)
     return Deck(source, values[""].get("title", Path(source).stem), system, ground_motion, spectrum,
                 analysis, dict(values["criteria"]), raw, values, overridden,
                 tuple(schema.plausibility(values, source, overridden)), schema.si_mapping(raw, values))
+
+
+def _check_rocking_criteria(criteria: dict, analysis: AnalysisSettings, system: System, error) -> None:
+    """A limit on a rocking quantity (engines/quantities.ROCKING) needs the analysis that reports
+    it: the exact engine, the uplift support and a foundation with a bearing capacity."""
+    for name in criteria:
+        if name not in ROCKING:
+            continue
+        missing = [what for what, ok in (("the exact engine in analysis.engine", "exact" in analysis.engines),
+                                         ("the uplift support in analysis.supports", "uplift" in analysis.supports),
+                                         ("a bearing capacity in [foundation]",
+                                          getattr(system.foundation, "capacity", None) is not None)) if not ok]
+        if missing:
+            raise error(f"criteria.{name}", f"a limit the exact engine reports for the uplift analysis of a foundation "
+                        f"with a bearing capacity (docs/theory.md 14.7); the deck has not {', '.join(missing)}")
 
 
 def _default(table: str, name: str) -> Any:
@@ -245,6 +263,12 @@ def _building(fields: dict, error) -> Building:
 def _system(building: Building, fields: dict, analysis: dict, error) -> System:
     """Mat half-width, mat mass and inertia, and the foundation."""
     kind = fields.get("type", _default("foundation", "type"))
+    if kind == "halfspace":
+        for name in ("element_capacity", "line_capacity", *CAPACITY_FIELDS):
+            if name in fields:
+                raise error(f"foundation.{name}", "no bearing capacity for the half-space foundation: the "
+                            "yielding-soil model (docs/theory.md section 14) is for type \"two-element\" or "
+                            "\"winkler\"")
     for name in fields:
         owners = [k for k, names in FOUNDATION_FIELDS.items() if name in names]
         if owners and kind not in owners:
@@ -268,10 +292,11 @@ def _system(building: Building, fields: dict, analysis: dict, error) -> System:
     def missing(name: str, expected: str):
         raise error(f"foundation.{name}", expected)
 
-    context = DeckContext(float(b), total_mass, float(modes.omega[0]), missing)
+    gravity = float(analysis.get("gravity", _default("analysis", "gravity")))
+    context = DeckContext(float(b), total_mass, float(modes.omega[0]), missing, gravity)
     foundation = FOUNDATIONS[kind].from_deck(fields, context)
     system = System(building, foundation, float(b), float(mat_mass), float(fields.get("mat_rotary_inertia", 0.0)),
-                    float(analysis.get("gravity", _default("analysis", "gravity"))))
+                    gravity)
     vars(system)["modes"] = modes  # System.modes (a cached property) of this very building: not solved twice
     _check_impedance(system, fields, which, error)
     return system

@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import Any
 
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
-from .engines.quantities import QUANTITIES, SCALARS
+from .engines.quantities import QUANTITIES, ROCKING, SCALARS
 from .engines.registry import ENGINES, SUPPORTS
 from .errors import InputError
 from .fields import NUMERIC, Field, check_value, gather, implausible, raise_all, raiser, suggestion
@@ -100,6 +100,11 @@ TABLES: dict[str, dict[str, Field]] = {
            for q in QUANTITIES.values() if q.criterion},
         **{q.name: Field("number", q.unit, f"largest allowed {q.meaning}", "positive",
                          plausible=CRITERIA_PLAUSIBLE.get(q.name)) for q in SCALARS.values()},
+        **{q.name: Field("number", q.unit, f"largest allowed {q.meaning}: the exact engine's uplift analysis of a "
+                         "foundation with a bearing capacity; the limit of ASCE 41-17 section 8.4 for the chosen "
+                         "performance level, as the user reads it there", "positive",
+                         quantity="displacement" if q.unit == "m" else "")
+           for q in ROCKING.values() if q.criterion},
         "uplift": Field("bool", "-", "whether uplift of the mat is acceptable (false: uplift fails)"),
     },
 }

@@ -66,6 +66,7 @@ CHECKS: dict[str, tuple[Callable[[Any], bool], str]] = {
     "nonnegative": (lambda v: v >= 0, ">= 0"),
     "fraction": (lambda v: 0 <= v < 1, "in [0, 1)"),
     "unit-interval": (lambda v: 0 < v <= 1, "in (0, 1]"),
+    "greater-than-one": (lambda v: v > 1, "> 1"),
     "poisson": (lambda v: 0 <= v < 0.5, "in [0, 0.5)"),
     "count": (lambda v: v >= 1, ">= 1"),
     "two-or-more": (lambda v: v >= 2, ">= 2"),

@@ -42,8 +42,9 @@ LIBRARIES = ("numpy", "scipy", "matplotlib")
 #: keeps through decimal text; 15.299999999999999 is written 15.3)
 DIGITS = 15
 #: the foundation's dataclass attributes under their deck names (foundation.<name>)
-FOUNDATION_NAMES = {"two-element": {"stiffness": "k_f", "damping": "c_f"},
-                    "winkler": {"stiffness": "k_w", "damping": "c_w", "elements": "elements"}}
+FOUNDATION_NAMES = {"two-element": {"stiffness": "k_f", "damping": "c_f", "capacity": "element_capacity"},
+                    "winkler": {"stiffness": "k_w", "damping": "c_w", "elements": "elements",
+                                "capacity": "line_capacity"}}
 #: units of the derived model's entries
 MODEL_UNITS = {
     "masses": "kg", "elevations": "m", "story_heights": "m", "story_stiffnesses": "N/m", "stiffness_matrix": "N/m",
@@ -52,6 +53,7 @@ MODEL_UNITS = {
     "gravity": "m/s^2", "weight": "N", "critical_base_shear": "N", "critical_base_moment": "N m",
     "T1bar": "s", "xi1bar": "-", "K_theta": "N m/rad", "C_theta": "N m s/rad", "omega_impedance": "rad/s",
     "k_element": "N/m", "c_element": "N s/m", "vertical_stiffness": "N/m", "vertical_damping": "N s/m",
+    "Q_y": "N", "FS_v": "-",
 }
 
 
@@ -219,7 +221,11 @@ def foundation_entry(system) -> dict[str, Any]:
     names = FOUNDATION_NAMES.get(foundation.kind, {})
     entry: dict[str, Any] = {"type": foundation.kind}
     for item in dataclasses.fields(foundation):
-        entry[names.get(item.name, item.name)] = plain(getattr(foundation, item.name))
+        if getattr(foundation, item.name) is not None:  # no bearing capacity: not an entry
+            entry[names.get(item.name, item.name)] = plain(getattr(foundation, item.name))
+    if getattr(foundation, "capacity", None) is not None:  # each element's Q_y and FS_v (docs/theory.md 14)
+        entry["Q_y"] = plain(foundation.contact_elements(system.half_width).capacity)
+        entry["FS_v"] = foundation.total_capacity(system.half_width) / system.weight
     if hasattr(foundation, "shear_wave_velocity"):
         entry["shear_wave_velocity"] = float(foundation.shear_wave_velocity)
     rocking = impedance(system)
@@ -234,7 +240,8 @@ def foundation_units(system) -> dict[str, str]:
     cls = type(system.foundation)
     names = FOUNDATION_NAMES.get(cls.kind, {})
     units = {names.get(item.name, item.name): cls.deck_fields[names.get(item.name, item.name)].unit
-             for item in dataclasses.fields(cls) if names.get(item.name, item.name) in cls.deck_fields}
+             for item in dataclasses.fields(cls) if names.get(item.name, item.name) in cls.deck_fields
+             and getattr(system.foundation, item.name) is not None}
     if "shear_wave_velocity" in cls.deck_fields:
         units["shear_wave_velocity"] = "m/s"
     return units

@@ -68,6 +68,7 @@ SYMBOLS: dict[str, tuple[float, Dimension]] = {
     "psf": (POUND_FORCE / FOOT**2, PRESSURE), "ksf": (KIP / FOOT**2, PRESSURE),
     "pcf": (POUND_MASS / FOOT**3, (1, -3, 0)),
     "g": (STANDARD_GRAVITY, (0, 1, -2)), "gal": (0.01, (0, 1, -2)),
+    "rad": (1.0, (0, 0, 0)), "mrad": (0.001, (0, 0, 0)),
 }
 
 _TOKEN = re.compile(r"([A-Za-z]+)(?:\^|\*\*)?(-?\d+)?")
@@ -123,6 +124,7 @@ QUANTITY_KINDS: dict[str, tuple[str, str]] = {
     "stiffness": ("N/m", "kip/in"),
     "damping": ("N s/m", "kip s/in"),
     "stiffness per length": ("N/m^2", "kip/in2"),
+    "force per length": ("N/m", "kip/ft"),
     "damping per length": ("N s/m^2", "kip s/in2"),
     "pressure": ("Pa", "ksf"),
     "velocity": ("m/s", "ft/s"),
@@ -131,6 +133,7 @@ QUANTITY_KINDS: dict[str, tuple[str, str]] = {
     "force": ("N", "kip"),
     "moment": ("N m", "kip ft"),
     "spectral acceleration": ("g", "g"),
+    "rotation": ("rad", "rad"),
 }
 
 #: a field's declared unit -> its quantity kind, unless the field names another (the first kind of that unit)

@@ -118,8 +118,7 @@ def uplift_terms(system: System, spectrum, options: SimplifiedOptions) -> Uplift
     n = len(inter["V_n"])
     modes = system.modes
     m1 = float(modes.effective_mass[0])
-    capacity = uplift_capacity(float(inter["V1_bonded"]) / system.critical_base_shear,
-                               system.foundation.contact_loss_moment_ratio)
+    capacity = backbone_capacity(system, float(inter["V1_bonded"]))
     v_c = capacity * system.critical_base_shear
     t1bar, xi1bar = float(inter["T1bar"]), float(inter["xi1bar"])
     sa = np.asarray(spectrum.sa(STRETCH * t1bar, xi1bar), dtype=float)
@@ -148,6 +147,22 @@ def uplift_capacity(x: float, kern: float) -> float:
     if kern >= 1.0:
         return 1.0
     return 1.0 - (1.0 - kern) * math.sqrt(kern / max(x, kern))
+
+
+def backbone_capacity(system: System, v1_bonded: float) -> float:
+    """M_c,eff / M_c of the mat at the bonded mode-1 base shear V_1 [N]: uplift_capacity, or with a
+    bearing capacity of a Winkler strip the strip's static backbone (model/rocking_capacity.py,
+    docs/theory.md 14.4) at the bonded rotation V_1 h_1* / K_theta over the capacity's M_c (two
+    elements: 1 past V_c, as without a capacity)."""
+    foundation = system.foundation
+    if getattr(foundation, "capacity", None) is None or foundation.kind != "winkler":
+        return uplift_capacity(v1_bonded / system.critical_base_shear, foundation.contact_loss_moment_ratio)
+    from ..model.rocking_capacity import winkler_backbone
+
+    b = system.half_width
+    theta = v1_bonded * system.effective_height / foundation.rocking_stiffness(b)
+    moment = float(winkler_backbone(theta, b, foundation.stiffness, foundation.capacity, system.weight)[0])
+    return moment / system.critical_base_moment
 
 
 def as_arrays(terms: UpliftTerms, size: int) -> dict[str, np.ndarray | float]:
@@ -282,7 +297,7 @@ def analyze_uplift(system: System, spectrum, options: SimplifiedOptions,
     scale = float(peaks["shear"][0] / combined["shear"][0]) if combined["shear"][0] > 0 else 1.0
     elements = system.foundation.contact_elements(system.half_width)
     peaks["reaction"] = largest_compression(elements.positions, elements.stiffness, system.weight,
-                                            float(peaks["moment"][0]), False)
+                                            float(peaks["moment"][0]), False, elements.capacity)
     inter.update({"zeta": terms.zeta, "r": math.hypot(system.effective_height, system.half_width),  # as used
                   "X": mode1["X"], "phi": mode1["phi"], "T_u": mode1["T_u"], "x_u": mode1["amplitude"],
                   "V1_uplift": float(shears[0]), "V_n": (scale * shears).tolist(), "modal_factors": factors.tolist(),

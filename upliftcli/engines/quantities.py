@@ -66,6 +66,36 @@ QUANTITIES: dict[str, Quantity] = {q.name: q for q in (
 )}
 
 
+#: where a rocking quantity lives: one value for the mat, or three: the left edge (x = -b),
+#: the centre and the right edge (x = +b)
+MAT, MAT_POINTS = "mat", "mat-points"
+
+#: The response of a rocking foundation with a bearing capacity (docs/theory.md section 14.7),
+#: declared for the exact engine (engines = ("exact",)), which fills them in by name in
+#: AnalysisResult.peaks when it models yielding (issue 28). Kept out of QUANTITIES so that the
+#: outputs of an elastic foundation stay what they are: the outputs add them where a result
+#: carries them. Settlements are positive downwards, from the mat's rest position under gravity.
+#: criterion: [criteria] may limit them (deck_schema; values from ASCE 41-17 section 8.4, given
+#: by the user: docs/deck.md).
+ROCKING: dict[str, Quantity] = {q.name: q for q in (
+    Quantity("rotation", MAT, "rad", "mat rotation |theta| (ASCE 41-17 section 8.4: the rotation of a rocking "
+             "shallow foundation)", ("mrad", 1e3, ".3f"), engines=("exact",)),
+    Quantity("residual_rotation", MAT, "rad", "mat rotation |theta| at the end of the analysis (the record and "
+             "analysis.exact.free_vibration)", ("mrad", 1e3, ".3f"), engines=("exact",)),
+    Quantity("settlement", MAT_POINTS, "m", "settlement (downward displacement from the rest position under "
+             "gravity) of the left edge, the centre and the right edge of the mat", ("mm", 1e3, ".2f"),
+             engines=("exact",)),
+    Quantity("residual_settlement", MAT_POINTS, "m", "settlement of the left edge, the centre and the right edge "
+             "at the end of the analysis", ("mm", 1e3, ".2f"), engines=("exact",)),
+    Quantity("plastic_settlement", ELEMENT, "m", "plastic settlement -s_i of the contact element at the end "
+             "(> 0: the element yielded)", ("mm", 1e3, ".3f"), engines=("exact",), criterion=False),
+    Quantity("yielded_elements", MAT, "-", "number of contact elements that yielded", ("-", 1.0, ".0f"),
+             engines=("exact",), criterion=False),
+    Quantity("plastic_work", MAT, "J", "energy dissipated by the yielding soil, sum Q_y,i |s_i| (docs/theory.md "
+             "14.5)", ("kJ", 1e-3, ".1f"), engines=("exact",), criterion=False),
+)}
+
+
 @dataclass(frozen=True)
 class Scalar:
     """A single-valued result: name, SI unit, meaning (the value is a property of AnalysisResult)."""
@@ -86,8 +116,8 @@ SCALARS: dict[str, Scalar] = {s.name: s for s in (
 
 
 def unit_of(name: str) -> str:
-    """The SI unit of a response quantity or a scalar (KeyError if it is neither)."""
-    return (QUANTITIES.get(name) or SCALARS[name]).unit
+    """The SI unit of a response quantity, a rocking quantity or a scalar (KeyError if it is none)."""
+    return (QUANTITIES.get(name) or ROCKING.get(name) or SCALARS[name]).unit
 
 
 def quantities(*where: str) -> list[Quantity]:
@@ -118,6 +148,10 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "Sa1bar": ("m/s^2", "S_a(T1bar, xi1bar)"),
     "V_c": ("N", "critical base shear m_t g b / h_1* [16a]"),
     "M_c": ("N m", "critical base moment m_t g b [16b]"),
+    "M_tip": ("N m", "elastic tipping moment m_t g b [16b], given with a bearing capacity (M_c, V_c are then the "
+              "capacity's: docs/theory.md 14.4)"),
+    "Q_y": ("N", "bearing capacity of each contact element (docs/theory.md section 14)"),
+    "FS_v": ("-", "factor of safety against vertical bearing failure q_c/q under the weight (ASCE 41-17 8.4)"),
     "V1_bonded": ("N", "mode-1 base shear without uplift m_1* S_a(T1bar, xi1bar) [26]"),
     "V1_bonded/V_c": ("-", "> 1 means the mat lifts off (uplift) or pulls (bonded)"),
     "r": ("m", "sqrt(h_1*^2 + b^2)"),
@@ -152,7 +186,7 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
 }
 
 #: unit -> suffix of a column name ("max_drift_ratio", "shear_N", "floor_acceleration_m_s2")
-_SUFFIXES = {"-": "", "m": "_m", "N": "_N", "N m": "_Nm", "m/s^2": "_m_s2", "s": "_s", "rad": "_rad"}
+_SUFFIXES = {"-": "", "m": "_m", "N": "_N", "N m": "_Nm", "m/s^2": "_m_s2", "s": "_s", "rad": "_rad", "J": "_J"}
 
 
 def column_name(name: str, unit: str) -> str:

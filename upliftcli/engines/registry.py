@@ -39,9 +39,19 @@ class Engine:
 
     def iter_batch(self, systems: Sequence[Any], ground_motion: Any, support: str, options: Any
                    ) -> Iterator[tuple[int, AnalysisResult | InputError | AnalysisError]]:
-        """Analyse several systems under one ground motion and support (see the module docstring)."""
+        """Analyse several systems under one ground motion and support (see the module docstring);
+        a system this engine cannot model (capacity_refusal) gets an InputError."""
         module = importlib.import_module(self.module, __package__)
-        yield from module.iter_batch(list(systems), ground_motion, support, options)
+        systems = list(systems)
+        kept = []
+        for k, system in enumerate(systems):
+            refusal = capacity_refusal(self.name, system, support)
+            if refusal is None:
+                kept.append(k)
+            else:
+                yield k, InputError("foundation", "capacity", refusal)
+        for j, result in module.iter_batch([systems[k] for k in kept], ground_motion, support, options):
+            yield kept[j], result
 
     def analyze(self, system: Any, ground_motion: Any, support: str, options: Any) -> AnalysisResult:
         """One analysis; raises the error that stopped it."""
@@ -57,6 +67,21 @@ ENGINES: dict[str, Engine] = {
     "approximate": Engine("approximate", "approximate (mode 1 coupled, Eq. 17)", True, "exact", ".approximate"),
     "exact": Engine("exact", "exact (Eq. 11, all modes coupled)", True, "exact", ".exact"),
 }
+
+
+#: the engines that model a bearing capacity of the foundation (docs/theory.md section 14); the
+#: others refuse an uplift analysis of a foundation that has one (rigid and bonded supports are
+#: linear references, which a capacity does not change)
+CAPACITY_ENGINES = ("simplified",)
+
+
+def capacity_refusal(name: str, system: Any, support: str) -> str | None:
+    """Why the engine `name` cannot analyse `system` with `support`: a bearing capacity it does
+    not model, in words (what is expected); None when it can."""
+    if name in CAPACITY_ENGINES or support != "uplift" or getattr(system.foundation, "capacity", None) is None:
+        return None
+    return (f"no bearing capacity for the {name} engine, which does not model yielding soil yet (docs/theory.md "
+            "section 14; the simplified engine does): remove the capacity or run the simplified engine")
 
 
 def engine(name: str) -> Engine:

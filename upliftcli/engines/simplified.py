@@ -102,6 +102,17 @@ def _uplift(system: System, props: dict, v1_bonded: float, sa1bar: float, option
     return {"r": r, "zeta": zeta, "X0": x0, "X_factor": factor, "X": x_value, "phi": phi, "V1_uplift": v1}
 
 
+def capacity_intermediates(system: System) -> dict[str, float]:
+    """With a bearing capacity (docs/theory.md section 14.6): the elastic tipping moment M_tip =
+    m_t g b [N m] (M_c is the capacity's), each element's capacity Q_y [N] and FS_v [-]; else {}."""
+    foundation = system.foundation
+    if getattr(foundation, "capacity", None) is None:
+        return {}
+    capacity = foundation.contact_elements(system.half_width).capacity
+    return {"M_tip": system.tipping_moment, "Q_y": float(capacity[0]),
+            "FS_v": foundation.total_capacity(system.half_width) / system.weight}
+
+
 def modal_static_response(system: System, modal_base_shears: np.ndarray, n_modes: int) -> dict[str, np.ndarray]:
     """Per-mode peaks (modes x floors) from modal base shears: equivalent lateral forces [32],
     story shears and overturning moments by statics (engines/statics.py), floor displacements
@@ -148,6 +159,7 @@ def paper_analyze(system: System, spectrum, support: str, options: SimplifiedOpt
                    "m_n*/m_t": (modes.effective_mass[:n] / m_t).tolist(),
                    "h_n*": modes.effective_height[:n].tolist(),
                    "V_c": system.critical_base_shear, "M_c": system.critical_base_moment}
+    inter.update(capacity_intermediates(system))
     warnings: list[str] = []
     omega_corr, damping_corr = modes.omega[:n].copy(), xi.copy()
     uplift = False
@@ -168,11 +180,12 @@ def paper_analyze(system: System, spectrum, support: str, options: SimplifiedOpt
             values = _uplift(system, props, v1_bonded, sa1bar, options)
             inter.update(values)
             base_shears[0] = values["V1_uplift"]
-        if support == "uplift" and ratio < 1.0 and v1_bonded > ratio * system.critical_base_shear:
+        tipping_shear = system.tipping_moment / system.effective_height  # V_c without a capacity
+        tipping, over = ("V_c", "V_1/V_c") if "M_tip" not in inter else ("W b/h_1*", "V_1/(W b/h_1*)")
+        if support == "uplift" and ratio < 1.0 and v1_bonded > ratio * tipping_shear:
             warnings.append(
                 f"{system.foundation.kind} foundation: contact is lost at the kern (M = {ratio:.3g} W b, "
-                f"V = {ratio:.3g} V_c) before tipping at V_c; for "
-                f"V_1/V_c = {v1_bonded / system.critical_base_shear:.3g} "
+                f"V = {ratio:.3g} {tipping}) before tipping at {tipping}; for {over} = {v1_bonded / tipping_shear:.3g} "
                 "the mat is partly uplifted, which the simplified procedure does not model")
     inter["V_n"] = base_shears.tolist()
     per_mode = modal_static_response(system, base_shears, n)
@@ -188,7 +201,8 @@ def paper_analyze(system: System, spectrum, support: str, options: SimplifiedOpt
     # quasi-static reactions under W and the peak M_b either way (no vertical inertia: impacts
     # are the history engines'); the uplifting mat's elements cannot pull
     peaks["reaction"] = np.zeros(0) if elements is None else largest_compression(
-        elements.positions, elements.stiffness, system.weight, float(peaks["moment"][0]), support == "bonded")
+        elements.positions, elements.stiffness, system.weight, float(peaks["moment"][0]), support == "bonded",
+        elements.capacity if support == "uplift" else None)
     return AnalysisResult.of(system, "simplified", support, peaks, uplift=uplift, periods=periods,
                              elements=elements, intermediates=inter,
                              details={"options": asdict(options), "warnings": warnings,

@@ -38,32 +38,49 @@ def story_maps(building: Building) -> StoryMaps:
 
 
 def static_reactions(positions: np.ndarray, stiffness: np.ndarray, weight: float, moment: float,
-                     tension: bool) -> np.ndarray:
+                     tension: bool, capacity: np.ndarray | None = None) -> np.ndarray:
     """Upward reactions R_i [N] of contact elements (positions x_i [m], stiffnesses k_i [N/m])
     under a rigid mat carrying its weight W [N] and an overturning moment M [N m] (positive:
     pressing the side x > 0): R_i = k_i (d + x_i phi) with sum R_i = W and sum x_i R_i = M.
 
     tension=False (a mat that may lift off): elements that would pull are dropped and the
     rest solved again until none pulls; when M exceeds what the outermost element can take
-    (W |x|: the mat tips, no static solution) that element carries the whole weight."""
+    (W |x|: the mat tips, no static solution) that element carries the whole weight.
+    capacity: each element's bearing capacity Q_y [N] (docs/theory.md section 14), or None:
+    an element that would carry more carries Q_y and the rest are solved again; beyond the
+    moment capacity (no static solution) the elements keep at most Q_y."""
     x = np.asarray(positions, dtype=float)
     k = np.asarray(stiffness, dtype=float)
     active = np.ones(x.size, dtype=bool)
+    yielded = np.zeros(x.size, dtype=bool)
+    cap = np.zeros(x.size) if capacity is None else np.asarray(capacity, dtype=float)
     while True:
+        carried = np.where(yielded, cap, 0.0)
+        load, turning = weight - carried.sum(), moment - (x * carried).sum()
         ka, xa = k[active], x[active]
-        if np.ptp(xa) == 0.0:  # one element (or several at one point) left: it takes the weight
-            return np.where(active, weight * k / ka.sum(), 0.0)
+        if ka.size == 0 or np.ptp(xa) == 0.0:  # one element (or several at one point) left: it takes the weight
+            share = np.where(active, load * k / ka.sum(), 0.0) if ka.size else 0.0
+            reactions = carried + share
+            return reactions if capacity is None else np.minimum(reactions, cap)
         matrix = np.array([[ka.sum(), (ka * xa).sum()], [(ka * xa).sum(), (ka * xa**2).sum()]])
-        d, phi = np.linalg.solve(matrix, [weight, moment])
+        d, phi = np.linalg.solve(matrix, [load, turning])
         reactions = np.where(active, k * (d + x * phi), 0.0)
-        if tension or reactions.min() >= -1e-12 * weight:
+        holding = not tension and reactions.min() >= -1e-12 * weight  # none pulls
+        over = active & (reactions > cap) if capacity is not None else np.zeros(x.size, dtype=bool)
+        if (tension or holding) and not over.any():
+            if capacity is not None:
+                reactions = reactions + carried
             return np.maximum(reactions, 0.0) if not tension else reactions
-        # drop the pulling elements on the far side of the moment and solve again
-        active &= reactions > 0.0
+        if over.any():  # the most loaded elements yield first: carry Q_y, solve the rest again
+            yielded |= over
+            active &= ~over
+        else:  # drop the pulling elements on the far side of the moment and solve again
+            active &= reactions > 0.0
 
 
 def largest_compression(positions: np.ndarray, stiffness: np.ndarray, weight: float, moment: float,
-                        tension: bool) -> np.ndarray:
-    """Largest reaction of each element [N] when the moment |M| [N m] acts either way."""
-    return np.maximum(static_reactions(positions, stiffness, weight, abs(moment), tension),
-                      static_reactions(positions, stiffness, weight, -abs(moment), tension))
+                        tension: bool, capacity: np.ndarray | None = None) -> np.ndarray:
+    """Largest reaction of each element [N] when the moment |M| [N m] acts either way
+    (capacity: each element's Q_y [N], static_reactions)."""
+    return np.maximum(static_reactions(positions, stiffness, weight, abs(moment), tension, capacity),
+                      static_reactions(positions, stiffness, weight, -abs(moment), tension, capacity))

@@ -5,7 +5,10 @@ Each foundation gives
   simplified engine (paper Eqs. 22, 25 and their Winkler/half-space counterparts);
 - its vertical stiffness [N/m] and damping [N s/m];
 - the unilateral spring-damper elements (positions x_i [m], k_i [N/m], c_i [N s/m])
-  that the exact engine integrates (docs/theory.md sections 2 and 4).
+  that the exact engine integrates (docs/theory.md sections 2 and 4);
+- two elements and Winkler: an optional bearing capacity, each element's spring then
+  elastic-perfectly-plastic in compression with capacity Q_y [N] (docs/theory.md section 14),
+  and the moment capacity M_c of the static backbone (model/rocking_capacity.py).
 """
 
 from __future__ import annotations
@@ -17,15 +20,20 @@ from typing import Any, ClassVar, NoReturn
 import numpy as np
 
 from ..fields import Field
+from . import rocking_capacity
+from .bearing import CAPACITY_FIELDS, bearing_capacity, check_static_capacity
 
 
 @dataclass(frozen=True)
 class ContactElements:
-    """Unilateral spring-dampers under the mat: positions [m], stiffnesses [N/m], dampings [N s/m]."""
+    """Unilateral spring-dampers under the mat: positions [m], stiffnesses [N/m], dampings [N s/m];
+    capacity: the bearing capacity Q_y [N] of each element's spring (docs/theory.md section 14),
+    None for elastic elements (no capacity given)."""
 
     positions: np.ndarray
     stiffness: np.ndarray
     damping: np.ndarray
+    capacity: np.ndarray | None = None
 
     @property
     def count(self) -> int:
@@ -35,24 +43,28 @@ class ContactElements:
 @dataclass(frozen=True)
 class DeckContext:
     """What a foundation needs from the rest of the deck to build itself: the mat half-width
-    b [m], the total mass m_t [kg] and the fixed-base w_1 [rad/s]; missing(field, expected)
-    raises the deck error for a required field that is not given."""
+    b [m], the total mass m_t [kg], the fixed-base w_1 [rad/s] and gravity g [m/s^2];
+    missing(field, expected) raises the deck error naming foundation.<field> (a required field
+    not given, or values that do not fit together)."""
 
     half_width: float
     total_mass: float
     omega_1: float
     missing: Callable[[str, str], NoReturn]
+    gravity: float = 9.80665
 
 
 @dataclass(frozen=True)
 class TwoElement:
     """Two spring-dampers at the mat edges x = -b and x = +b (the paper's model).
 
-    stiffness: k_f of each element [N/m]; damping: c_f of each element [N s/m].
+    stiffness: k_f of each element [N/m]; damping: c_f of each element [N s/m]; capacity:
+    bearing capacity Q_y of each element [N] (None: elastic; docs/theory.md section 14).
     """
 
     stiffness: float
     damping: float
+    capacity: float | None = None
     kind: ClassVar[str] = "two-element"
     #: fraction of W b at which contact is first lost under a static overturning moment
     contact_loss_moment_ratio: ClassVar[float] = 1.0
@@ -65,8 +77,13 @@ class TwoElement:
                                  "(instead of k_f)", "positive", plausible=(0.5, 100.0)),
         "damping_ratio": Field("number", "-", "two-element: xi_v = c_f / (m_t w_v) (instead of c_f)",
                                "nonnegative"),
+        "element_capacity": Field("number", "N", "two-element: bearing capacity Q_y of each edge element "
+                                  "(instead of bearing_pressure or safety_factor)", "positive"),
+        **CAPACITY_FIELDS,
     }
-    deck_alternatives: ClassVar[list[list[set[str]]]] = [[{"k_f"}, {"frequency_ratio"}], [{"c_f"}, {"damping_ratio"}]]
+    deck_alternatives: ClassVar[list[list[set[str]]]] = [
+        [{"k_f"}, {"frequency_ratio"}], [{"c_f"}, {"damping_ratio"}],
+        [{"element_capacity"}, {"bearing_pressure"}, {"safety_factor"}]]
 
     @classmethod
     def from_deck(cls, fields: dict[str, Any], context: DeckContext) -> TwoElement:
@@ -80,7 +97,21 @@ class TwoElement:
                             "foundation.frequency_ratio = w_v/w_1)")
         omega_v = float(np.sqrt(2.0 * k_f / context.total_mass))
         c_f = fields["c_f"] if "c_f" in fields else fields.get("damping_ratio", 0.0) * context.total_mass * omega_v
-        return cls(float(k_f), float(c_f))
+        # each edge element stands for half the mat: a strip of width b
+        capacity = bearing_capacity(fields, context, "element_capacity", context.half_width)
+        if capacity is not None:
+            check_static_capacity(2.0 * capacity, context, fields, "element_capacity")
+        return cls(float(k_f), float(c_f), capacity)
+
+    def moment_capacity(self, b: float, weight: float) -> float:
+        """M_c [N m]: W b without a capacity [16b], else W b min(1, FS_v - 1) (docs/theory.md 14.4)."""
+        if self.capacity is None:
+            return weight * b
+        return rocking_capacity.two_element_moment_capacity(b, self.capacity, weight)
+
+    def total_capacity(self, b: float) -> float | None:
+        """Sum of the elements' capacities [N] (None: elastic)."""
+        return None if self.capacity is None else 2.0 * self.capacity
 
     def rocking_stiffness(self, b: float, omega: float | None = None) -> float:
         """K_theta = 2 k_f b^2 [N m/rad] [22]."""
@@ -99,8 +130,9 @@ class TwoElement:
         return 2.0 * self.damping
 
     def contact_elements(self, b: float, omega: float | None = None) -> ContactElements:
+        capacity = None if self.capacity is None else np.full(2, float(self.capacity))
         return ContactElements(
-            np.array([-b, b]), np.full(2, float(self.stiffness)), np.full(2, float(self.damping))
+            np.array([-b, b]), np.full(2, float(self.stiffness)), np.full(2, float(self.damping)), capacity
         )
 
 
@@ -110,12 +142,15 @@ class Winkler:
 
     stiffness: k_w [N/m per m of width = N/m^2]; damping: c_w [N s/m^2];
     elements: number n of discrete elements the exact engine uses (midpoint rule,
-    k_i = k_w dx, c_i = c_w dx, dx = 2b/n).
+    k_i = k_w dx, c_i = c_w dx, dx = 2b/n); capacity: bearing capacity q_w per unit length
+    along the width [N/m] = q_c L (None: elastic), each element Q_y = q_w dx
+    (docs/theory.md section 14).
     """
 
     stiffness: float
     damping: float
     elements: int = 20
+    capacity: float | None = None
     kind: ClassVar[str] = "winkler"
     #: contact loss starts at the kern, M = W b / 3 (docs/theory.md section 7, item 6)
     contact_loss_moment_ratio: ClassVar[float] = 1.0 / 3.0
@@ -126,16 +161,35 @@ class Winkler:
                      "nonnegative", 0.0),
         "elements": Field("integer", "-", "winkler: number of discrete elements for the exact engine "
                           "(limits.MAX_CONTACT_ELEMENTS: one bit each of its contact pattern)", "contact-elements", 20),
+        "line_capacity": Field("number", "N/m", "winkler: bearing capacity per unit length along the width, q_c L "
+                               "(instead of bearing_pressure or safety_factor)", "positive",
+                               quantity="force per length"),
+        **CAPACITY_FIELDS,
     }
-    deck_alternatives: ClassVar[list[list[set[str]]]] = []
+    deck_alternatives: ClassVar[list[list[set[str]]]] = [[{"line_capacity"}, {"bearing_pressure"},
+                                                          {"safety_factor"}]]
 
     @classmethod
     def from_deck(cls, fields: dict[str, Any], context: DeckContext) -> Winkler:
         """k_w [N/m^2], c_w [N s/m^2], elements."""
         if "k_w" not in fields:
             context.missing("k_w", "the Winkler stiffness k_w > 0 [N/m^2] (missing)")
+        capacity = bearing_capacity(fields, context, "line_capacity", 1.0)
+        if capacity is not None:
+            check_static_capacity(2.0 * context.half_width * capacity, context, fields, "line_capacity")
         return cls(fields["k_w"], fields.get("c_w", cls.deck_fields["c_w"].default),
-                   fields.get("elements", cls.deck_fields["elements"].default))
+                   fields.get("elements", cls.deck_fields["elements"].default), capacity)
+
+    def moment_capacity(self, b: float, weight: float) -> float:
+        """M_c [N m]: W b without a capacity, else the strip's W b (1 - W/(2 b q_w)) =
+        (P B/2)(1 - q/q_c) (docs/theory.md 14.4; the n elements tend to it as n grows)."""
+        if self.capacity is None:
+            return weight * b
+        return rocking_capacity.winkler_moment_capacity(b, self.capacity, weight)
+
+    def total_capacity(self, b: float) -> float | None:
+        """2 b q_w [N] (None: elastic)."""
+        return None if self.capacity is None else 2.0 * b * self.capacity
 
     def rocking_stiffness(self, b: float, omega: float | None = None) -> float:
         """K_theta = (2/3) k_w b^3 [N m/rad]."""
@@ -157,7 +211,8 @@ class Winkler:
         n = int(self.elements)
         dx = 2.0 * b / n
         positions = -b + dx * (np.arange(n) + 0.5)
-        return ContactElements(positions, np.full(n, self.stiffness * dx), np.full(n, self.damping * dx))
+        capacity = None if self.capacity is None else np.full(n, self.capacity * dx)
+        return ContactElements(positions, np.full(n, self.stiffness * dx), np.full(n, self.damping * dx), capacity)
 
 
 def two_element_from_ratios(

@@ -1,6 +1,7 @@
 """The whole system of docs/theory.md section 1: building, rigid mat and foundation.
 
-Totals m_t, L_0 and the critical base shear and moment [16a, 16b].
+Totals m_t, L_0 and the critical base shear and moment [16a, 16b] (with a bearing capacity,
+those of the capacity: docs/theory.md section 14.4).
 """
 
 from __future__ import annotations
@@ -52,13 +53,22 @@ class System:
         return float(self.modes.effective_height[0])
 
     @property
-    def critical_base_moment(self) -> float:
-        """M_c = m_t g b [N m] [16b]."""
+    def tipping_moment(self) -> float:
+        """m_t g b [N m]: the moment at which a rigid mat on elastic elements tips [16b]."""
         return self.total_mass * self.gravity * self.half_width
 
     @property
+    def critical_base_moment(self) -> float:
+        """M_c [N m]: m_t g b [16b]; with a bearing capacity, the maximum of the foundation's
+        static backbone (docs/theory.md section 14.4: two elements W b min(1, FS_v - 1), Winkler
+        (P B/2)(1 - q/q_c) of ASCE 41-17 section 8.4)."""
+        if getattr(self.foundation, "capacity", None) is None:
+            return self.tipping_moment
+        return self.foundation.moment_capacity(self.half_width, self.weight)
+
+    @property
     def critical_base_shear(self) -> float:
-        """V_c = m_t g b / h_1* [N] [16a]."""
+        """V_c = M_c / h_1* [N] [16a] (m_t g b / h_1*, or with the capacity's M_c)."""
         return self.critical_base_moment / self.effective_height
 
     @property
