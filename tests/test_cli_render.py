@@ -19,6 +19,7 @@ from typer.testing import CliRunner
 from upliftcli import analysis
 from upliftcli.cli import app, render
 from upliftcli.deck import load_deck
+from upliftcli.units import STANDARD_GRAVITY
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
@@ -144,7 +145,7 @@ def test_modal_table_shows_the_mode_1_the_engine_used():
             continue
         xi1bar = result.intermediates["xi1bar"]
         sa = float(deck.spectrum.sa(np.array([t1bar]), xi1bar)[0])
-        assert rows[0][:3] == ["1*", f"{t1bar:.4f}", f"{sa:.4f}"]
+        assert rows[0][:3] == ["1*", f"{t1bar:.4f}", f"{sa / STANDARD_GRAVITY:.4f}"]  # S_a [g]
         assert rows[1][:2] == ["2", f"{modes.periods[1]:.4f}"]
         assert re.search(r"fixed-base T_1 = " + f"{t1:.4f}", " ".join(captured.get().split()))
 

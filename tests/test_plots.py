@@ -246,7 +246,8 @@ def test_sweep_marks_the_decks_value_of_the_varied_field():
     assert all(p.lines[0].value == pytest.approx(deck.system.foundation.stiffness) for p in spec.panels)
     # the deck's [criteria] drift limit on the drift panel
     (limit,) = [line for line in spec.panels[2].lines if line.axis == "y"]
-    assert limit.value == deck.criteria["drift_ratio"] == 0.02
+    assert limit.value == 100 * deck.criteria["drift_ratio"] == 2.0  # in %, as the drift ratios of the figure
+    assert spec.panels[2].ylabel.endswith("[%]")
     assert "record elcentro_1940_ns_chopra" in figures.plan_motion_label(plan)
 
 

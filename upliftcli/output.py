@@ -23,7 +23,17 @@ from typing import Any
 import numpy as np
 
 from .atomic import atomic_path, write_text
-from .engines.quantities import ELEMENT, FLOOR, QUANTITIES, SCALARS, STORY, column_name, history_unit, quantities
+from .engines.quantities import (
+    ELEMENT,
+    FLOOR,
+    INTERMEDIATES,
+    QUANTITIES,
+    SCALARS,
+    STORY,
+    column_name,
+    history_unit,
+    quantities,
+)
 from .engines.result import AnalysisResult
 from .engines.suite_result import COMPARED, STATISTICS, SuiteResult, simplified_ratios
 from .provenance import csv_comments, deck_toml, number_text, of_deck, to_text_numbers
@@ -34,6 +44,7 @@ UNITS = {
     **{s.name: s.unit for s in SCALARS.values()}, "critical_base_shear": "N", "critical_base_moment": "N m",
     "weight": "N", "effective_height": "m", "periods": "s", "critical_coefficient": "-", "times": "s",
     "factor": "-", "period_range": "s", **{name: unit for name, (unit, _) in COMPARED.items()},
+    "intermediates": {name: unit for name, (unit, _) in INTERMEDIATES.items()},
 }
 _STORY_QUANTITIES = quantities(FLOOR, STORY)
 
