@@ -247,7 +247,7 @@ def write_results(results: list[AnalysisResult], directory, stem: str, source: s
     if elements:
         texts.append(elements_csv(results, provenance))
     if deck is not None:
-        texts.append(deck_toml(deck, provenance))
+        texts.append(deck_toml(deck, provenance, directory))
     for path, text in zip(paths, texts, strict=True):
         write_text(path, text)
     return paths
