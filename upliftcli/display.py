@@ -28,7 +28,7 @@ POUND_MASS = 0.45359237  # kg
 
 
 def number(value, digits: int = 5) -> str:
-    """A value as text: numbers to `digits` significant digits (plain between 1e-4 and 1e9,
+    """A value as text: numbers to `digits` significant digits (plain between 1e-4 and 1e12,
     at least their integer digits, no trailing zeros), lists joined, booleans yes/no, non-finite as '-'."""
     if isinstance(value, (bool, np.bool_)):
         return "yes" if value else "no"
@@ -40,7 +40,7 @@ def number(value, digits: int = 5) -> str:
         value = float(value)
         if not math.isfinite(value):
             return "-"
-        if value == 0.0 or not 1e-4 <= abs(value) < 1e9:
+        if value == 0.0 or not 1e-4 <= abs(value) < 1e12:
             return f"{value:.{digits}g}"
         decimals = max(0, digits - 1 - math.floor(math.log10(abs(value))))
         text = f"{value:.{decimals}f}"  # `digits` significant digits, no exponent
@@ -73,7 +73,7 @@ DISPLAY: dict[str, tuple[Unit, Unit]] = {
     "N": (Unit("kN", 1e-3, ".1f"), Unit("kip", 1 / KIP, ".1f")),
     "N m": (Unit("kN m", 1e-3, ".1f"), Unit("kip ft", 1 / (KIP * FOOT), ".1f")),
     "mm": (Unit("mm", 1e3, ".2f"), Unit("in", 1 / INCH, ".3f")),
-    "m": (Unit("m", 1.0, ".2f"), Unit("ft", 1 / FOOT, ".2f")),
+    "m": (Unit("m"), Unit("ft", 1 / FOOT)),
     "g": (Unit("g", 1 / STANDARD_GRAVITY, ".4f"),) * 2,
     "%": (Unit("%", 100.0, ".3f"),) * 2,
     "coefficient": (Unit("-", 1.0, ".4f"),) * 2,

@@ -161,7 +161,7 @@ def moment_rotation_figure(results: Sequence[AnalysisResult], title: str = "", u
                              SUPPORT_COLORS.get(result.support), 0.8))
     panel = Panel("", axis_label(results, "base_moment", units), cycle(series), critical_lines(results, units),
                   xlabel=axis_label(results, "theta"))
-    return FigureSpec(title or "Base moment against mat rotation", "", [panel], columns=1, panel_size=(6.0, 4.2))
+    return FigureSpec(title or "Base moment against mat rotation", "", [panel], columns=1, panel_size=(5.0, 3.0))
 
 
 def energy_figure(results: Sequence[AnalysisResult], title: str = "", units: str = "si") -> FigureSpec:
@@ -180,4 +180,4 @@ def energy_figure(results: Sequence[AnalysisResult], title: str = "", units: str
                           for r in results)
     panel = Panel(f"residual / input: {residuals}", "", bars=bars, xlabel=f"energy [{unit}]",
                   lines=[Line(0.0, "", "x", "-", "#999999")])
-    return FigureSpec(title or "Energy balance", "", [panel], columns=1, panel_size=(5.8, 3.6), left=2.3)
+    return FigureSpec(title or "Energy balance", "", [panel], columns=1, panel_size=(5.0, 2.6), left=2.3)
