@@ -204,12 +204,16 @@ def _warn_suite(results, prefix: str = "") -> None:
 
 
 def _warn(results, prefix: str = "") -> None:
-    """Each result's warnings (a result that cannot be right, a step refined ...): one line each
-    on stderr, each once (the JSON keeps them in details.warnings); the exit code is unchanged.
-    prefix: the deck, when several are analysed."""
+    """The results' warnings (a result that cannot be right, a step refined ...) on stderr, each
+    once, naming the analyses that gave it ('simplified/bonded, simplified/uplift: ...'); the
+    JSON keeps them in details.warnings; the exit code is unchanged. prefix: the deck, when
+    several are analysed."""
+    given: dict[str, list[str]] = {}
     for result in results:
         for message in dict.fromkeys(result.details.get("warnings", [])):
-            typer.echo(f"warning: {prefix}{result.engine}/{result.support}: {message}", err=True)
+            given.setdefault(message, []).append(f"{result.engine}/{result.support}")
+    for message, analyses in given.items():
+        typer.echo(f"warning: {prefix}{', '.join(dict.fromkeys(analyses))}: {message}", err=True)
 
 
 def _with_histories(results) -> list[tuple[str, object]]:
