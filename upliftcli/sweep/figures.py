@@ -16,11 +16,13 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from .. import deck_schema as schema
+from ..display import unit as display_unit
 from ..engines.registry import ENGINES, SUPPORT_LABELS
 from ..errors import InputError
 from ..figures.spec import FigureSpec, Line, Panel, Series
@@ -245,13 +247,14 @@ def paper_figures(rows: Sequence[dict], engines: Sequence[str], supports: Sequen
     return figures
 
 
-def sweep_figure(plan: SweepPlan, rows: Sequence[dict], motion: str = "") -> FigureSpec:
+def sweep_figure(plan: SweepPlan, rows: Sequence[dict], motion: str = "", units: str = "si") -> FigureSpec:
     """Response against the first numeric varied field (log axis for a log range): one line per
     engine, support and value of the other varied fields (sweep_lines: the support's colour,
     the engine's line style, the other values as shades and markers); panels V_b/(m_t g),
     M_b/(m_t g h_1*), largest drift ratio [%] (with the deck's [criteria] drift_ratio limit);
     b/h_1* on the first two when it does not depend on the other fields; the deck's value of the
-    varied field marked; motion: named in the title."""
+    varied field marked; motion: named in the title; the varied field in its display unit
+    (display.py: units)."""
     numeric = [v for v in plan.varies if all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v.values)]
     if not numeric:
         raise InputError("--plot", "--vary", "a numeric varied field to plot against")
@@ -262,7 +265,10 @@ def sweep_figure(plan: SweepPlan, rows: Sequence[dict], motion: str = "") -> Fig
         if row.get("status") == "ok":
             key = (row["engine"], row["support"], *(json.dumps(row.get(p), default=str) for p in others))
             groups.setdefault(key, []).append(row)
-    marks = nominal_line(nominal_value(plan, axis.path), axis.path, axis.unit)
+    shown = display_unit(axis.unit, units) if axis.unit and axis.unit != "-" else None
+    nominal = nominal_value(plan, axis.path)
+    marks = nominal_line(None if nominal is None else nominal * (shown.factor if shown else 1.0), axis.path,
+                         shown.label if shown else axis.unit)
     criticals = {round(float(row["critical_coefficient"]), 12) for row in rows
                  if row.get("status") == "ok" and row.get("critical_coefficient") is not None}
     panels = []
@@ -277,7 +283,10 @@ def sweep_figure(plan: SweepPlan, rows: Sequence[dict], motion: str = "") -> Fig
             limit = factor * float(plan.criteria["drift_ratio"])
             lines.append(Line(limit, f"[criteria] limit drift ratio = {limit:g} {unit}", "y", ":", "black"))
         panels.append(Panel(label, label, series, lines))
-    unit = f" [{axis.unit}]" if axis.unit and axis.unit != "-" else ""
+    if shown is not None and shown.factor != 1.0:
+        for panel in panels:
+            panel.series = [replace(series, x=np.asarray(series.x) * shown.factor) for series in panel.series]
+    unit = f" [{shown.label}]" if shown is not None else ""
     return FigureSpec(f"{plan.title}: sweep of {axis.path}{', ' + motion if motion else ''}", f"{axis.path}{unit}",
                       panels, xlog=axis.spacing == "log")
 
