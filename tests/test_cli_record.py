@@ -120,3 +120,23 @@ def test_info_of_a_one_sample_record_is_one_line(tmp_path):
     result = invoke("record", "info", path)
     assert result.exit_code == 2
     assert result.stderr.strip() == f"error: {path}: at least two acceleration samples, found 1"
+
+
+def test_the_record_file_format_is_input_format_and_the_old_spelling_is_refused(tmp_path):
+    """--format is the output format everywhere; under `record` the file's format is --input-format,
+    and --format is refused in one line naming the new option (never read as something else)."""
+    good = invoke("record", "info", RECORD, "--input-format", "shared")
+    assert good.exit_code == 0 and "units g" in good.stdout
+    for command in (["record", "info", RECORD], ["record", "spectrum", RECORD]):
+        result = invoke(*command, "--format", "text")
+        assert result.exit_code == 2
+        (line,) = result.stderr.strip().splitlines()
+        assert line.startswith("error: --format:") and "--input-format text" in line
+    assert "--input-format" in invoke("record", "scale", "--help").stdout
+
+
+def test_every_csv_file_names_its_columns_quantity_unit(tmp_path):
+    """The spectrum CSV as the results' and the sweeps' (shear_N, floor_acceleration_m_s2)."""
+    text = invoke("record", "spectrum", RECORD, "--periods", "0.5,1").stdout
+    header = next(line for line in text.splitlines() if not line.startswith("#"))
+    assert header == "damping_ratio,period_s,sd_m,psv_m_s,psa_m_s2,psa_g,abs_acc_m_s2"

@@ -195,3 +195,15 @@ def test_fixed_width_values_that_touch_are_two_values(tmp_path):
     text = read_record(write(tmp_path, "touch.txt", "# dt = 0.01\n# units: g\n" + "\n".join(rows) + "\n"))
     np.testing.assert_array_equal(text.acceleration, record.acceleration)
     assert separated("1.0E-05 2.0D+03") == "1.0E-05 2.0D+03"  # exponents are not split
+
+
+@pytest.mark.parametrize("header, units", [("time_s,acc_m_s2", "m/s2"), ("time_s,accel_g", "g"),
+                                           ("t_s,acc_cm_s2", "cm/s2"), ("time,acceleration_in_s2", "in/s2"),
+                                           ("time (s),acceleration (m/s^2)", "m/s2")])
+def test_a_csv_record_headed_in_the_csv_style_of_the_tool(tmp_path, header, units):
+    path = tmp_path / "a.csv"
+    path.write_text(f"{header}\n0,0\n0.01,0.5\n0.02,-1\n0.03,0.25\n")
+    record = read_record(path)
+    assert record.units == units and record.dt == pytest.approx(0.01)
+    factor = {"m/s2": 1.0, "g": STANDARD_GRAVITY, "cm/s2": 0.01, "in/s2": 0.0254}[units]
+    np.testing.assert_allclose(record.acceleration, factor * np.array([0, 0.5, -1, 0.25]))

@@ -256,7 +256,8 @@ def write_results(results: list[AnalysisResult], directory, stem: str, source: s
 def write_histories(path, histories: dict[str, np.ndarray], provenance: dict | None = None) -> None:
     """Write response histories atomically: NPZ if the name ends in .npz (the provenance as JSON
     text in its array 'provenance'), else CSV with units in the header
-    (engines/quantities.history_unit), after the provenance's '#' lines; values with 10
+    (engines/quantities.history_unit) as every CSV result has them (column_name: time_s, drift_3_m,
+    contact_state), after the provenance's '#' lines; values with 10
     significant digits (the histories are sampled at the record's step: more digits would
     only lengthen the file)."""
     path = Path(path)
@@ -266,7 +267,7 @@ def write_histories(path, histories: dict[str, np.ndarray], provenance: dict | N
             np.savez_compressed(handle, **histories, **extra)
         return
     names = list(histories)
-    header = ",".join(f"{name} [{history_unit(name)}]" for name in names)
+    header = ",".join(column_name(name, history_unit(name)) for name in names)
     table = np.column_stack([np.asarray(histories[name], dtype=float) for name in names])
     lines = [header] + [",".join(f"{value:.10g}" for value in row) for row in table]
     head = csv_comments(provenance) if provenance is not None else ""

@@ -20,7 +20,7 @@ from .. import provenance
 from ..atomic import refuse_inputs
 from ..errors import InputError
 from ..fields import parse_choices
-from . import plotting
+from . import plotting, stdout
 
 if TYPE_CHECKING:
     from rich.table import Table
@@ -150,7 +150,7 @@ def analyze(
         _write_histories(histories, results, input_files(loaded), record)
     plotting.drop_histories(results)
     if output_format is OutputFormat.json:
-        typer.echo(to_json(results, loaded.source, loaded.title, record), nl=False)
+        stdout.echo(to_json(results, loaded.source, loaded.title, record), nl=False)
     else:
         render.print_results(render.console(), results, loaded.title, units.value)
     if out is not None:
@@ -284,7 +284,7 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
     if output_format is OutputFormat.json:
         document = {"decks": [results_document(results, item.source, item.title, record)
                               for (_, item, results), record in zip(runs, records, strict=True)]}
-        typer.echo(dumps(document), nl=False)
+        stdout.echo(dumps(document), nl=False)
     else:
         render.console().print(_batch_table(runs, units))
     if out is not None:
@@ -355,7 +355,7 @@ def modes(
             "units": {"total_mass": "kg", "half_width": "m", **MODE_ROW_UNITS},
             "modes": fixed_base_mode_rows(system), "provenance": provenance.of_deck(loaded),
         }
-        typer.echo(json.dumps(to_jsonable(document), indent=2))
+        stdout.echo(json.dumps(to_jsonable(document), indent=2))
         return
     out = render.console()
     out.print(f"[bold]{escape(loaded.title)}[/bold]")

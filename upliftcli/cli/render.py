@@ -44,12 +44,19 @@ def console_width(environ=os.environ) -> int | None:
 
 
 class FittedConsole(Console):
-    """A Console that draws every table within its width (fit_table)."""
+    """A Console that draws every table within its width (fit_table); a reader that closes the
+    pipe early (`| head`) silences it and the command goes on (cli/stdout.py; rich would exit 1)."""
 
     def print(self, *objects, **kwargs) -> None:
         parts = [part for item in objects for part in (fit_table(item, self.width) if isinstance(item, Table)
                                                         else [item])]
         super().print(*parts, **kwargs)
+
+    def on_broken_pipe(self) -> None:
+        from .stdout import silence
+
+        silence()
+        self.quiet = True
 
 
 def console(stderr: bool = False) -> Console:

@@ -16,7 +16,7 @@ from .. import limits
 from ..atomic import refuse_inputs
 from ..errors import InputError
 from ..sweep.signals import ignore_stop_signals
-from . import plotting
+from . import plotting, stdout
 from .analyze import SET_HELP, UNITS_HELP, DisplayUnits
 
 if TYPE_CHECKING:
@@ -275,7 +275,7 @@ def sweep(
                                                                   units.value),
                                              plot_path, "--plot-format"))
     if output_format is OutputFormat.json:
-        typer.echo(json.dumps(sweep_table.document(plan, rows, summary, record), indent=1))
+        stdout.echo(json.dumps(sweep_table.document(plan, rows, summary, record), indent=1))
     elif not quiet:
         print_summary(render.console(), plan, summary, units.value)
     for path in written:

@@ -163,13 +163,16 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "energy_residual": ("-", "energy balance residual / input energy"),
 }
 
-#: unit -> suffix of a column name ("max_drift_ratio", "shear_N", "floor_acceleration_m_s2")
-_SUFFIXES = {"-": "", "m": "_m", "N": "_N", "N m": "_Nm", "m/s^2": "_m_s2", "s": "_s", "rad": "_rad"}
+#: unit -> suffix of a column name ("max_drift_ratio", "shear_N", "floor_acceleration_m_s2"): the one
+#: style of every CSV file's columns (results, sweeps, histories, record spectra), quantity_unit
+_SUFFIXES = {"-": "", "m": "_m", "N": "_N", "N m": "_Nm", "m/s^2": "_m_s2", "m/s": "_m_s", "s": "_s", "rad": "_rad",
+             "g": "_g"}
 
 
 def column_name(name: str, unit: str) -> str:
-    """A file column name that carries its unit: ('shear', 'N') -> 'shear_N'."""
-    return name + _SUFFIXES[unit]
+    """A file column name that carries its unit: ('shear', 'N') -> 'shear_N', ('drift_3', 'm') ->
+    'drift_3_m'; a value without a physical unit (a ratio, a bitmask) keeps its name."""
+    return name + _SUFFIXES.get(unit, "")
 
 
 #: response histories written by --histories (besides one column per floor, story or element
