@@ -33,3 +33,19 @@ def test_mode_shapes_titles_and_values():
     effective = (shapes.T @ building.masses) ** 2 / ((shapes**2).T @ building.masses)
     assert np.sum(effective) == pytest.approx(building.masses.sum())
     assert len(mode_shape_figure(system, n_modes=2).panels) == 2
+
+
+def test_six_mode_titles_never_run_into_each_other():
+    """Drawn: each panel's title lies within its own column (they overlapped at six panels a row)."""
+    from matplotlib.transforms import Bbox
+
+    from upliftcli.plots import line_figure
+
+    figure = line_figure(mode_shape_figure(paper_system(period=1.234567, mat_mass=0.5 * 3.5e6)))
+    renderer = figure.canvas.get_renderer()
+    titles = [axes.title.get_window_extent(renderer) for axes in figure.axes]
+    assert len(titles) == MAX_MODES
+    for i, first in enumerate(titles):
+        for second in titles[i + 1:]:
+            assert not Bbox.intersection(first, second), "two titles overlap"
+    assert all(box.x0 >= 0 and box.x1 <= figure.bbox.width for box in titles)
