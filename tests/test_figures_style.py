@@ -64,3 +64,7 @@ def test_scaled_units():
     assert scaled_unit(9.9e6, "N") == (1e-3, "kN")
     assert scaled_unit(1.2e7, "N m") == (1e-6, "MN m")
     assert scaled_unit(2e13, "J") == (1e-9, "GJ")
+    factor, unit = scaled_unit(2e7, "N", "us")  # 4496 kip
+    assert unit == "kip" and factor == pytest.approx(1 / 4448.2216152605)
+    factor, unit = scaled_unit(6.3e8, "N m", "us")  # 464,700 kip ft
+    assert unit == "1000 kip ft" and factor == pytest.approx(1e-3 / 1355.8179483314)

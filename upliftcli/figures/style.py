@@ -68,12 +68,14 @@ def shades(color: str, count: int) -> list[str]:
 def scaled_unit(largest: float, unit: str, units: str = "si") -> tuple[float, str]:
     """(factor from SI, unit) of an axis of forces (N), moments (N m) or energies (J): in SI kilo
     or mega (or giga), whichever keeps its tick labels below 10 000; in US units kip, kip ft
-    (display.py)."""
+    (display.py), or thousands of them."""
     if units != "si":
         from ..display import unit as display_unit
 
         shown = display_unit(unit, units)
-        return shown.factor, shown.label
+        if abs(largest) * shown.factor < 1e4:
+            return shown.factor, shown.label
+        return shown.factor * 1e-3, f"1000 {shown.label}"
     for factor, prefix in ((1e-3, "k"), (1e-6, "M")):
         if abs(largest) * factor < 1e4:
             return factor, prefix + unit
