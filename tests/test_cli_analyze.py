@@ -359,5 +359,7 @@ def test_units_us_in_every_table():
     batch = invoke("analyze", EXAMPLE, ROOT / "inputs" / "ten_story_winkler.toml", "--units", "us",
                    env={"COLUMNS": "200"})
     assert "V_b [kip]" in batch.stdout and "M_b [kip ft]" in batch.stdout
+    modes = invoke("modes", EXAMPLE, "--units", "us", env={"COLUMNS": "200"}).stdout
+    assert "h_n* [ft]" in modes and "kip s^2/in" in modes  # m_t in the title
     bad = invoke("analyze", EXAMPLE, "--units", "imperial")
     assert bad.exit_code == 2 and "--units" in bad.stderr

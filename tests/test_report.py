@@ -322,10 +322,11 @@ def test_title_block_signoff_and_project_fields(tmp_path, monkeypatch):
     out = tmp_path / "r.html"
     small = [item for setting in SMALL[1:] for item in ("--set", setting)]
     result = runner.invoke(app, ["report", "decks/deck.toml", "--out", "r.html", *small, "--no-check",
-                                 "--checker", "B. Checker", "--revision", "B"], env={"CI": "true"})
+                                 "--checker", "B. Checker", "--revision", "B", "--units", "us"], env={"CI": "true"})
     assert result.exit_code == 0, result.output
     text = out.read_text()
     parsed = Parsed(text)
+    assert parsed.tables["table-summary"][0][2] == "V_b [kip]"  # --units us
     block = {row[i]: row[i + 1] for row in parsed.tables["title-block"] for i in (0, 2)}
     assert block["Project"] == "Harbour St, block B" and block["Job number"] == "24-117"
     assert block["Prepared by"] == "A. Engineer" and block["Checked by"] == "B. Checker"
