@@ -191,7 +191,7 @@ RECORD_OPTIONS = {
     "--window": ["0:5", "1:3", "5:1", "0:0", "x", "0:1e300", "100:200"],
     "--damping": ["0.05", "0.02,0.05", "5%", "0", "1", "-0.1", "x", ""],
     "--periods": ["0.1,1", "0.05:5:20", "0:1:5", "1:0.1:5", "0.1:5:10000000", "1e-9", "x", "0.1:5:1"],
-    "--format": ["text", "csv", "at2", "shared", "xml"],
+    "--input-format": ["text", "csv", "at2", "shared", "xml"],
 }
 RECORD_FILES = ("rec.txt", "rec.txt", "rec.txt", "short.txt", "empty.txt", "binary.txt", "fifo.txt", "missing.txt",
                 "folder")

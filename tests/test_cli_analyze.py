@@ -2,6 +2,7 @@
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -400,6 +401,8 @@ def test_implausible_values_warn_once_and_keep_the_exit_code():
                                                          "criteria.drift_ratio"]
     for entry in json.loads(result.stdout)["results"]:
         assert sum("building practice" in message for message in entry["warnings"]) == 3
+
+
 def test_a_second_run_into_the_same_out_folder_needs_overwrite(tmp_path):
     """--out never replaces the results of an earlier run silently: refused before the run (exit 2,
     the files unchanged) unless --overwrite; several decks the same."""
@@ -417,6 +420,8 @@ def test_a_second_run_into_the_same_out_folder_needs_overwrite(tmp_path):
     assert result.exit_code == 2 and "pass --overwrite" in result.stderr
     assert invoke("analyze", example, "--out", out, "--set", "building.period=0.5", "--overwrite").exit_code == 0
     assert (out / "ten_story_asce7.json").read_bytes() != before["ten_story_asce7.json"]
+
+
 @pytest.mark.parametrize("engine", ["exact", "approximate"])
 def test_a_bearing_capacity_is_refused_by_the_history_engines(engine, tmp_path):
     """Until they model yielding soil (docs/theory.md section 14, issue 28): one line naming the
@@ -432,3 +437,55 @@ def test_a_bearing_capacity_is_refused_by_the_history_engines(engine, tmp_path):
                         "--no-check", "--format", "json")
     assert simplified.exit_code == 0, simplified.output
     assert json.loads(simplified.stdout)["intermediates"]["FS_v"] == pytest.approx(1.5)
+
+
+def test_several_decks_print_every_warning_once_naming_the_deck():
+    """Each per-analysis warning on stderr once, naming its deck and the analyses that gave it:
+    the ASCE 7-22 11.4.5 warning of the two-period spectrum included (only --format json had them)."""
+    asce7 = ROOT / "inputs" / "ten_story_asce7.toml"
+    result = invoke("analyze", asce7, EXAMPLE)
+    assert result.exit_code == 0, result.output
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == len(set(lines)) and all(line.startswith("warning: ") for line in lines)
+    two_period = [line for line in lines if "ASCE 7-22 11.4.5" in line]
+    assert len(two_period) == 1 and two_period[0].startswith(
+        f"warning: {asce7}: simplified/rigid, simplified/bonded, simplified/uplift: ASCE 7-22 11.4.5 permits")
+    assert any(line.startswith(f"warning: {EXAMPLE}: simplified/bonded, simplified/uplift: xi1bar") for line in lines)
+    # every warning of the JSON documents is heard, and no other
+    documents = json.loads(invoke("analyze", asce7, EXAMPLE, "--format", "json").stdout)["decks"]
+    given = {(document["source"], warning) for document in documents for r in document["results"]
+             for warning in r["warnings"]}
+    heard = {(line.split(": ", 2)[1], line.split(": ", 3)[3]) for line in lines}
+    assert {(str(Path(source)), warning) for source, warning in given} == heard
+    # one deck: the same lines without the deck's name
+    alone = invoke("analyze", asce7).stderr.strip().splitlines()
+    assert alone == [line.replace(f" {asce7}:", "", 1) for line in lines if str(asce7) in line]
+
+
+def test_units_us_in_every_table():
+    """--units us: kip, kip ft, in, ft; the coefficients and the JSON unchanged."""
+    document = json.loads(invoke("analyze", EXAMPLE, "--format", "json", "--units", "us").stdout)
+    assert document == json.loads(invoke("analyze", EXAMPLE, "--format", "json").stdout) | {
+        "provenance": document["provenance"]}  # the JSON stays SI
+    result = invoke("analyze", EXAMPLE, "--units", "us", "--no-check", env={"COLUMNS": "200"})
+    assert result.exit_code == 0, result.output
+    text = result.stdout
+    for heading in ("elevation [ft]", "disp. [in]", "shear [kip]", "moment [kip ft]", "V_b [kip]", "M_b [kip ft]",
+                    "h_n* [ft]", "V_n [kip]"):
+        assert heading in text, heading
+    assert "[kN" not in text and "[mm]" not in text
+    rows = {(r["engine"], r["support"]): r for r in document["results"]}
+    summary = text[text.index("Summary"):]
+    for (engine, support), r in rows.items():
+        cells = r"\s*[│|]\s*([\d.]+)" * 3
+        match = re.search(rf"{engine}\s*[│|]\s*{support}{cells}", summary)
+        assert float(match.group(1)) == pytest.approx(r["base_shear"] / 4448.2216152605, abs=0.05)
+        assert float(match.group(2)) == pytest.approx(r["base_shear_coefficient"], abs=5e-5)
+        assert float(match.group(3)) == pytest.approx(r["base_moment"] / (4448.2216152605 * 0.3048), abs=0.05)
+    batch = invoke("analyze", EXAMPLE, ROOT / "inputs" / "ten_story_winkler.toml", "--units", "us",
+                   env={"COLUMNS": "200"})
+    assert "V_b [kip]" in batch.stdout and "M_b [kip ft]" in batch.stdout
+    modes = invoke("modes", EXAMPLE, "--units", "us", env={"COLUMNS": "200"}).stdout
+    assert "h_n* [ft]" in modes and "kip s^2/in" in modes  # m_t in the title
+    bad = invoke("analyze", EXAMPLE, "--units", "imperial")
+    assert bad.exit_code == 2 and "--units" in bad.stderr

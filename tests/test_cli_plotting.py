@@ -40,7 +40,7 @@ def test_analyze_plot_with_histories_writes_both(tmp_path):
     result = invoke("analyze", EXAMPLE, *SMALL, "-e", "exact", "--support", "uplift", "--plot", tmp_path,
                     "--histories", tmp_path / "h.csv")
     assert result.exit_code == 0, result.output
-    assert (tmp_path / "h.csv").read_text().splitlines()[2].startswith("time [s],")  # after the provenance lines
+    assert (tmp_path / "h.csv").read_text().splitlines()[2].startswith("time_s,")  # after the provenance lines
     assert (tmp_path / "ten_story_elcentro.histories_exact.png").exists()
 
 

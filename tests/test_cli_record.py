@@ -160,3 +160,23 @@ def test_spectrum_out_and_plot_replace_a_file_only_with_overwrite(tmp_path):
     assert result.exit_code == 2 and plot.read_text() == "mine" and result.stderr.startswith("error: --plot: ")
     assert invoke("record", "spectrum", RECORD, "--periods", "0.5,1", "--out", out, "--overwrite").exit_code == 0
     assert out.read_text().count("\n") == 5  # two '#' lines, the header and two rows
+
+
+def test_the_record_file_format_is_input_format_and_the_old_spelling_is_refused(tmp_path):
+    """--format is the output format everywhere; under `record` the file's format is --input-format,
+    and --format is refused in one line naming the new option (never read as something else)."""
+    good = invoke("record", "info", RECORD, "--input-format", "shared")
+    assert good.exit_code == 0 and "units g" in good.stdout
+    for command in (["record", "info", RECORD], ["record", "spectrum", RECORD]):
+        result = invoke(*command, "--format", "text")
+        assert result.exit_code == 2
+        (line,) = result.stderr.strip().splitlines()
+        assert line.startswith("error: --format:") and "--input-format text" in line
+    assert "--input-format" in invoke("record", "scale", "--help").stdout
+
+
+def test_every_csv_file_names_its_columns_quantity_unit(tmp_path):
+    """The spectrum CSV as the results' and the sweeps' (shear_N, floor_acceleration_m_s2)."""
+    text = invoke("record", "spectrum", RECORD, "--periods", "0.5,1").stdout
+    header = next(line for line in text.splitlines() if not line.startswith("#"))
+    assert header == "damping_ratio,period_s,sd_m,psv_m_s,psa_m_s2,psa_g,abs_acc_m_s2"

@@ -19,6 +19,7 @@ from typer.testing import CliRunner
 from upliftcli import analysis
 from upliftcli.cli import app, render
 from upliftcli.deck import load_deck
+from upliftcli.units import STANDARD_GRAVITY
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
@@ -144,7 +145,7 @@ def test_modal_table_shows_the_mode_1_the_engine_used():
             continue
         xi1bar = result.intermediates["xi1bar"]
         sa = float(deck.spectrum.sa(np.array([t1bar]), xi1bar)[0])
-        assert rows[0][:3] == ["1*", f"{t1bar:.4f}", f"{sa:.4f}"]
+        assert rows[0][:3] == ["1*", f"{t1bar:.4f}", f"{sa / STANDARD_GRAVITY:.4f}"]  # S_a [g]
         assert rows[1][:2] == ["2", f"{modes.periods[1]:.4f}"]
         assert re.search(r"fixed-base T_1 = " + f"{t1:.4f}", " ".join(captured.get().split()))
 
@@ -168,3 +169,25 @@ def test_titles_are_printed_as_written(tmp_path):
     result = invoke("analyze", deck, "--no-check", columns=120)
     assert result.exit_code == 0, result.output
     assert "Block B :warning: [m] 10:30:00" in result.output
+
+
+def test_the_uplift_ratio_states_the_criterion_of_each_foundation():
+    """V1_bonded/V_c is stated with the criterion per foundation type: a Winkler mat loses contact
+    at its kern, above 1/3 (the improved procedure's verdict: 'uplift yes' at 0.68), two edge
+    elements above 1. The meaning printed beside it says so."""
+    from upliftcli.engines.quantities import INTERMEDIATES
+
+    meaning = INTERMEDIATES["V1_bonded/V_c"][1]
+    assert "1 for two edge elements" in meaning and "1/3 for a Winkler mat" in meaning
+    for deck_name, support in (("ten_story_winkler.toml", "uplift"), ("ten_story_elcentro.toml", "uplift")):
+        deck = load_deck(Path(__file__).resolve().parents[1] / "inputs" / deck_name)
+        (result,) = analysis.run(deck, "simplified", support)
+        ratio = result.intermediates["V1_bonded/V_c"]
+        assert result.uplift == (ratio > deck.system.foundation.contact_loss_moment_ratio)
+        out = render.FittedConsole(width=200, highlight=False, force_terminal=False)
+        with out.capture() as captured:
+            out.print(render.intermediates_table(result))
+        assert "Winkler mat (its kern" in " ".join(captured.get().split())
+    winkler = load_deck(Path(__file__).resolve().parents[1] / "inputs" / "ten_story_winkler.toml")
+    (result,) = analysis.run(winkler, "simplified", "uplift")
+    assert 1 / 3 < result.intermediates["V1_bonded/V_c"] < 1 and result.uplift  # the case the issue saw

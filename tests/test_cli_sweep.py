@@ -4,6 +4,7 @@ import csv
 import io
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -61,6 +62,24 @@ def test_sweep_writes_the_tidy_table_and_prints_the_envelope(tmp_path):
     single = run_one(deck, row["engine"], row["support"])
     assert float(row["base_moment_Nm"]) == rounded(single.base_moment)  # 15 significant digits
     assert (row["uplift"] == "true") is single.uplift
+
+
+def test_sweep_summary_in_the_display_units(tmp_path):
+    """--units us: the varied fields in kip/in, ft ...; drift ratios in % (as the story tables),
+    the files unchanged (SI)."""
+    result = invoke("sweep", EXAMPLE, "--vary", "foundation.k_f=1e8,1e9", "--vary", "foundation.b=2,3",
+                    "--support", "uplift", "--out", tmp_path, "--workers", "1", "--units", "us",
+                    env={"COLUMNS": "200"})
+    assert result.exit_code == 0, result.output
+    text = result.stdout
+    assert "foundation.k_f [kip/in]" in text and "foundation.b [ft]" in text and "drift ratio [%]" in text
+    bar = r"\s*[│|]\s*"
+    assert re.search(rf"foundation\.k_f{bar}kip/in{bar}2{bar}list{bar}571\.01{bar}5710\.1", text)  # 1e8, 1e9 N/m
+    assert re.search(rf"foundation\.b{bar}ft{bar}2{bar}list{bar}6\.5617{bar}9\.8425", text)  # 2, 3 m
+    rows = json.loads((tmp_path / "ten_story_elcentro.sweep.json").read_text())["rows"]
+    largest = max(r["max_drift_ratio"] for r in rows)
+    governing = next(line for line in text.splitlines() if "drift ratio [%]" in line)
+    assert f"{100 * largest:.3f}" in governing
 
 
 def test_sweep_json_on_stdout_and_quiet(tmp_path):

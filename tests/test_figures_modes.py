@@ -26,9 +26,26 @@ def test_mode_shapes_titles_and_values():
         np.testing.assert_allclose(series.x, np.concatenate(([0.0], phi)), atol=1e-10)
         effective = (shapes[:, n] @ building.masses) ** 2 / (shapes[:, n] ** 2 @ building.masses)
         ratio = effective / system.total_mass
-        assert panel.title == f"mode {n + 1}: T_{n + 1} = {periods[n]:.4g} s, m_{n + 1}*/m_t = {ratio:.3f}"
+        # two lines: six panels' titles never run into each other
+        assert panel.title == f"mode {n + 1}: T_{n + 1} = {periods[n]:.4g} s\nm_{n + 1}*/m_t = {ratio:.3f}"
     assert abs(periods[0] - 0.5) < 1e-12
     # the m_n* add up to the building mass (the mat mass is in m_t, not in any mode)
     effective = (shapes.T @ building.masses) ** 2 / ((shapes**2).T @ building.masses)
     assert np.sum(effective) == pytest.approx(building.masses.sum())
     assert len(mode_shape_figure(system, n_modes=2).panels) == 2
+
+
+def test_six_mode_titles_never_run_into_each_other():
+    """Drawn: each panel's title lies within its own column (they overlapped at six panels a row)."""
+    from matplotlib.transforms import Bbox
+
+    from upliftcli.plots import line_figure
+
+    figure = line_figure(mode_shape_figure(paper_system(period=1.234567, mat_mass=0.5 * 3.5e6)))
+    renderer = figure.canvas.get_renderer()
+    titles = [axes.title.get_window_extent(renderer) for axes in figure.axes]
+    assert len(titles) == MAX_MODES
+    for i, first in enumerate(titles):
+        for second in titles[i + 1:]:
+            assert not Bbox.intersection(first, second), "two titles overlap"
+    assert all(box.x0 >= 0 and box.x1 <= figure.bbox.width for box in titles)

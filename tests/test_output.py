@@ -4,6 +4,7 @@ import csv
 import io
 import json
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,6 +14,8 @@ from upliftcli.deck import load_deck
 from upliftcli.engines.result import AnalysisResult
 from upliftcli.output import elements_csv, results_document, to_csv, to_json, write_results
 from upliftcli.provenance import of_deck, read_csv_provenance, to_text_numbers
+
+EXAMPLE_DECK = Path(__file__).resolve().parents[1] / "inputs" / "ten_story_elcentro.toml"
 
 
 def make_result(support="uplift", scale=1.0):
@@ -136,7 +139,7 @@ def test_histories_files_carry_the_provenance(deck_dir):
     assert read_csv_provenance(text)["files"][1]["role"] == "record"
     table = np.loadtxt(deck_dir / "h.csv", delimiter=",", skiprows=3)  # two '#' lines and the header
     np.testing.assert_array_equal(table[:, 1], histories["base_shear"])
-    assert text.splitlines()[2] == "time [s],base_shear [N]"
+    assert text.splitlines()[2] == "time_s,base_shear_N"  # quantity_unit, as every CSV file
     write_histories(deck_dir / "h.npz", histories, record)
     with np.load(deck_dir / "h.npz") as data:
         assert json.loads(str(data["provenance"]))["deck"]["title"] == deck.title
@@ -164,3 +167,17 @@ def test_results_are_written_all_or_none(tmp_path, monkeypatch, example_deck):
     with pytest.raises(OSError):
         write_results([result], tmp_path / "out", "deck", deck=example_deck)
     assert len(calls) == 3 and not (tmp_path / "out").exists()
+
+
+def test_the_units_map_covers_every_intermediate_of_every_engine():
+    """The JSON's units: every key, the intermediates' too (units.intermediates), for every engine."""
+    from upliftcli import analysis
+    from upliftcli.engines.quantities import INTERMEDIATES
+
+    deck = load_deck(EXAMPLE_DECK, ["building.stories=3", "ground_motion.window=[0, 4]",
+                                    'analysis.engine=["simplified", "exact", "approximate"]'])
+    document = json.loads(to_json(analysis.run(deck), deck.source, deck.title))
+    units = document["units"]["intermediates"]
+    assert units == {name: unit for name, (unit, _) in INTERMEDIATES.items()}
+    for result in document["results"]:
+        assert set(result["intermediates"]) <= set(units), result["engine"]

@@ -102,13 +102,20 @@ def test_sweep_figure_against_the_first_varied_field():
                          "base_moment_coefficient": 0.2, "max_drift_ratio": 0.01, "critical_coefficient": 0.1,
                          "status": "ok"})
     spec = figures.sweep_figure(plan, rows)
-    assert spec.xlog and spec.xlabel == "foundation.k_f [N/m]"
+    assert spec.xlog and spec.xlabel == "foundation.k_f [kN/m]"  # the display unit (display.py)
     shear = spec.panels[0].series
     assert [s.label for s in shear] == ["simplified, uplift, building.period=0.5",
                                         "simplified, uplift, building.period=1.0", "critical b/h_1* = 0.1"]
-    np.testing.assert_array_equal(shear[1].x, [1e8, 1e9])
+    np.testing.assert_array_equal(shear[1].x, [1e5, 1e6])
     np.testing.assert_allclose(shear[1].y, [1.01, 1.1])
+    # one support, two periods: the support's colour in two shades, with markers; the engine's line style
+    assert shear[0].color == "#D55E00" and shear[1].color != shear[0].color and shear[1].marker
+    assert shear[0].style == shear[1].style == "-."
     assert len(spec.panels[2].series) == 2  # no critical line on the drift panel
+    np.testing.assert_allclose(spec.panels[2].series[0].y, [1.0, 1.0])  # drift ratios in %
+    us = figures.sweep_figure(plan, rows, units="us")
+    assert us.xlabel == "foundation.k_f [kip/in]"
+    np.testing.assert_allclose(us.panels[0].series[1].x, np.array([1e8, 1e9]) * 0.0254 / 4448.2216152605)
     text = SweepPlan({}, "d", "t", (), [Vary("analysis.combination", ("srss", "cqc"), "list")], [], [], [])
     with pytest.raises(InputError, match="numeric"):
         figures.sweep_figure(text, [])
@@ -243,10 +250,13 @@ def test_sweep_marks_the_decks_value_of_the_varied_field():
     assert figures.nominal_value(plan, "foundation.mat_mass") == 0.0
     assert figures.nominal_value(plan, "analysis.combination") is None  # not a number
     spec = figures.sweep_figure(plan, [])
-    assert all(p.lines[0].value == pytest.approx(deck.system.foundation.stiffness) for p in spec.panels)
+    # in the axis's display unit, kN/m
+    assert all(p.lines[0].value == pytest.approx(1e-3 * deck.system.foundation.stiffness) for p in spec.panels)
+    assert "kN/m" in spec.panels[0].lines[0].label
     # the deck's [criteria] drift limit on the drift panel
     (limit,) = [line for line in spec.panels[2].lines if line.axis == "y"]
-    assert limit.value == deck.criteria["drift_ratio"] == 0.02
+    assert limit.value == 100 * deck.criteria["drift_ratio"] == 2.0  # in %, as the drift ratios of the figure
+    assert spec.panels[2].ylabel.endswith("[%]")
     assert "record elcentro_1940_ns_chopra" in figures.plan_motion_label(plan)
 
 

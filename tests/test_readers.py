@@ -230,3 +230,15 @@ def test_the_checksum_is_that_of_the_bytes_parsed(tmp_path):
     path = write(tmp_path, "r.txt", "# dt = 0.01\n# units: g\n0.1\n-0.2\n")
     record = read_record(path)
     assert record.sha256 == hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+@pytest.mark.parametrize("header, units", [("time_s,acc_m_s2", "m/s2"), ("time_s,accel_g", "g"),
+                                           ("t_s,acc_cm_s2", "cm/s2"), ("time,acceleration_in_s2", "in/s2"),
+                                           ("time (s),acceleration (m/s^2)", "m/s2")])
+def test_a_csv_record_headed_in_the_csv_style_of_the_tool(tmp_path, header, units):
+    path = tmp_path / "a.csv"
+    path.write_text(f"{header}\n0,0\n0.01,0.5\n0.02,-1\n0.03,0.25\n")
+    record = read_record(path)
+    assert record.units == units and record.dt == pytest.approx(0.01)
+    factor = {"m/s2": 1.0, "g": STANDARD_GRAVITY, "cm/s2": 0.01, "in/s2": 0.0254}[units]
+    np.testing.assert_allclose(record.acceleration, factor * np.array([0, 0.5, -1, 0.25]))

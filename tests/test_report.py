@@ -19,7 +19,6 @@ from upliftcli import criteria
 from upliftcli.cli import app
 from upliftcli.engines.quantities import QUANTITIES
 from upliftcli.report.build import build_report
-from upliftcli.report.document import number
 from upliftcli.report.html import CSP, render
 from upliftcli.report.provenance import provenance
 
@@ -90,7 +89,7 @@ def test_every_table_and_figure_present():
             expected.add(f"table-{r.engine}-{r.support}-elements")
         if r.engine == "exact":
             expected.add(f"table-{r.engine}-{r.support}-energy")
-    assert expected <= set(parsed.tables) == {t.id for t in report.tables()}
+    assert expected <= set(parsed.tables) == {t.id for t in report.tables()} | {"title-block", "signoff"}
     assert set(parsed.figures) == {f"figure-{name.replace('_', '-')}" for name in specs} == \
         {f.id for f in report.figures()}
     assert set(specs) == {"profiles", "modes", "spectrum", "histories_exact", "moment_rotation_exact", "energy_exact"}
@@ -119,14 +118,14 @@ def test_tables_equal_the_results():
     summary = parsed.tables["table-summary"]
     assert summary[0][:3] == ["engine", "support", "V_b [kN]"]
     for row, r in zip(summary[1:], results, strict=True):
-        assert row[:3] == [r.engine, r.support, number(1e-3 * r.base_shear)]
+        assert row[:3] == [r.engine, r.support, f"{1e-3 * r.base_shear:.1f}"]
         assert float(row[3]) == pytest.approx(r.base_shear_coefficient, abs=5e-5)
         assert row[-1] == ("yes" if r.uplift else "no")
     exact_uplift = next(r for r in results if r.engine == "exact" and r.support == "uplift")
     stories = parsed.tables["table-exact-uplift-stories"]
     header = stories[0]
-    shear = header.index(QUANTITIES["shear"].heading)
-    drift = header.index(QUANTITIES["drift_ratio"].heading)
+    shear = header.index(QUANTITIES["shear"].heading())
+    drift = header.index(QUANTITIES["drift_ratio"].heading())
     for row in stories[1:]:  # top story first
         j = int(row[0]) - 1
         assert float(row[shear]) == pytest.approx(1e-3 * exact_uplift.peaks["shear"][j], abs=0.05)
@@ -139,11 +138,16 @@ def test_tables_equal_the_results():
     assert resolved["building.stories"][1:4] == ["4", "-", "--set"]
     assert resolved["building.floor_mass"][1:4] == ["350000", "kg", "deck"]
     system = {row[0]: row[1] for row in parsed.tables["table-system"][1:]}
-    assert float(system["M_c"]) == pytest.approx(deck.system.critical_base_moment, rel=1e-5)
-    foundation = {row[0]: row[1] for row in parsed.tables["table-foundation"][1:]}
+    assert float(system["M_c"]) == pytest.approx(1e-3 * deck.system.critical_base_moment, abs=0.05)  # kN m
+    foundation = {row[0]: row[1:3] for row in parsed.tables["table-foundation"][1:]}
     k_f, b = deck.system.foundation.stiffness, deck.system.half_width
-    assert float(foundation["K_theta"]) == pytest.approx(2 * k_f * b**2, rel=1e-4)  # [22]
-    assert float(foundation["C_theta"]) == pytest.approx(2 * deck.system.foundation.damping * b**2, rel=1e-4)  # [25]
+    assert foundation["K_theta"][1] == "kN m/rad" and foundation["k_f"][1] == "kN/m"
+    assert float(foundation["K_theta"][0]) == pytest.approx(2e-3 * k_f * b**2, rel=1e-4)  # [22]
+    assert float(foundation["C_theta"][0]) == pytest.approx(2e-3 * deck.system.foundation.damping * b**2,
+                                                            rel=1e-4)  # [25]
+    # no large number of the report in E-notation (stiffnesses, N and N m were: 2.686e+07)
+    numbers = [cell for rows in parsed.tables.values() for row in rows[1:] for cell in row]
+    assert not [cell for cell in numbers if re.fullmatch(r"[-+]?\d+(\.\d+)?e\+\d+", cell)]
     assert "deck-as-given" in text and "floor_mass = 350e3" in text
 
 
@@ -154,11 +158,13 @@ def test_accuracy_ratios_simplified_over_exact():
     for support, label, simplified, exact, ratio in rows:
         s = next(r for r in results if r.engine == "simplified" and r.support == support)
         e = next(r for r in results if r.engine == "exact" and r.support == support)
-        value = {"base shear V_b [N]": lambda r: r.base_shear,
-                 "base overturning moment M_b [N m]": lambda r: r.base_moment,
-                 "largest story drift ratio [-]": lambda r: r.peaks["drift_ratio"].max(),
-                 "roof displacement relative to the mat [m]": lambda r: r.peaks["displacement"][-1]}[label]
-        assert (float(simplified), float(exact)) == pytest.approx((value(s), value(e)), rel=1e-4)
+        # display units (display.py): kN, kN m, %, mm
+        value, factor, digits = {"base shear V_b [kN]": (lambda r: r.base_shear, 1e-3, 0.05),
+                                 "base overturning moment M_b [kN m]": (lambda r: r.base_moment, 1e-3, 0.05),
+                                 "largest story drift ratio [%]": (lambda r: r.peaks["drift_ratio"].max(), 100, 5e-4),
+                                 "roof displacement relative to the mat [mm]": (
+                                     lambda r: r.peaks["displacement"][-1], 1e3, 5e-3)}[label]
+        assert (float(simplified), float(exact)) == pytest.approx((factor * value(s), factor * value(e)), abs=digits)
         assert float(ratio) == pytest.approx(value(s) / value(e), rel=1e-3)
     # the accuracy object uplift analyze attaches (upliftcli/accuracy.py) is shown instead, as given
     from upliftcli.accuracy import accuracy
@@ -181,7 +187,8 @@ def test_criteria_verdict_and_exit_code_as_analyze():
     assert not criteria.check_criteria(results, deck.criteria)
     rows = Parsed(text).tables["table-criteria"][1:]
     for row, r in zip(rows, results, strict=True):
-        assert row[2] == "drift_ratio" and float(row[3]) == pytest.approx(r.peaks["drift_ratio"].max(), rel=1e-4)
+        assert row[2] == "drift_ratio" and row[5] == "%"
+        assert float(row[3]) == pytest.approx(100 * r.peaks["drift_ratio"].max(), abs=5e-4)
         assert row[-1] == "ok"
     strict = replace(deck, criteria={"drift_ratio": 1e-4, "uplift": False})
     report, _, text, _, _ = make_report(deck=strict)
@@ -284,7 +291,7 @@ def test_suite_records_and_accuracy_from_the_suite_result():
     assert rows[-1][1] == "mean (design value)" and rows[-1][-1] == f"{suite.uplift_count} of 3"
     assert float(rows[-1][3]) == pytest.approx(1e-3 * np.mean([r.base_shear for r in suite.record_results]), rel=1e-4)
     ratios = {row[1]: float(row[4]) for row in parsed.tables["table-accuracy"][1:]}
-    assert ratios["base shear V_b [N]"] == pytest.approx(simplified.base_shear / suite.base_shear, rel=1e-3)
+    assert ratios["base shear V_b [kN]"] == pytest.approx(simplified.base_shear / suite.base_shear, rel=1e-3)
 
 
 def test_the_foundation_table_is_the_one_the_engines_use():
@@ -298,7 +305,83 @@ def test_the_foundation_table_is_the_one_the_engines_use():
     rows = {row[0]: row for row in _foundation_rows(deck.system)}
     omega = impedance(deck.system)["omega_impedance"]
     foundation, b = deck.system.foundation, deck.system.half_width
-    assert float(rows["K_theta"][1]) == pytest.approx(foundation.rocking_stiffness(b, omega), rel=1e-4)
-    assert float(rows["C_theta"][1]) == pytest.approx(foundation.rocking_damping(b, omega), rel=1e-4)
+    assert rows["K_theta"][2] == "kN m/rad" and rows["C_theta"][2] == "kN m s/rad"  # display units (display.py)
+    assert float(rows["K_theta"][1]) == pytest.approx(1e-3 * foundation.rocking_stiffness(b, omega), rel=1e-4)
+    assert float(rows["C_theta"][1]) == pytest.approx(1e-3 * foundation.rocking_damping(b, omega), rel=1e-4)
     assert float(rows["omega_impedance"][1]) != pytest.approx(float(deck.system.modes.omega[0]), rel=1e-2)
-    assert all(row[2] for row in rows.values()) and rows["shear_modulus"][2] == "Pa"
+    assert all(row[2] for row in rows.values()) and rows["shear_modulus"][2] == "MPa"
+    us = {row[0]: row for row in _foundation_rows(deck.system, "us")}
+    assert us["K_theta"][2] == "kip ft/rad" and us["shear_modulus"][2] == "ksi"
+    assert float(us["K_theta"][1]) == pytest.approx(foundation.rocking_stiffness(b, omega) / 1355.8179483314, rel=1e-4)
+
+
+def test_title_block_signoff_and_project_fields(tmp_path, monkeypatch):
+    """The deck's [project] fields fill the title block, the running header and the sign-off
+    block; uplift report's options replace them; fields not given are blank lines to fill in."""
+    (tmp_path / "decks").mkdir()
+    (tmp_path / "records").mkdir()
+    (tmp_path / "records" / RECORD.name).write_bytes(RECORD.read_bytes())
+    (tmp_path / "decks" / "deck.toml").write_text(EXAMPLE.read_text().replace(
+        "[building]", '[project]\nproject = "Harbour St, block B"\njob_number = "24-117"\nengineer = "A. Engineer"\n'
+        'revision = "A"\n\n[building]', 1))
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "r.html"
+    small = [item for setting in SMALL[1:] for item in ("--set", setting)]
+    result = runner.invoke(app, ["report", "decks/deck.toml", "--out", "r.html", *small, "--no-check",
+                                 "--checker", "B. Checker", "--revision", "B", "--units", "us"], env={"CI": "true"})
+    assert result.exit_code == 0, result.output
+    text = out.read_text()
+    parsed = Parsed(text)
+    assert parsed.tables["table-summary"][0][2] == "V_b [kip]"  # --units us
+    block = {row[i]: row[i + 1] for row in parsed.tables["title-block"] for i in (0, 2)}
+    assert block["Project"] == "Harbour St, block B" and block["Job number"] == "24-117"
+    assert block["Prepared by"] == "A. Engineer" and block["Checked by"] == "B. Checker"
+    assert block["Revision"] == "B" and block["Date (UTC)"] == datetime.now(UTC).strftime("%Y-%m-%d")
+    assert block["Subject"] == "Ten-story building, El Centro 1940 N-S (Yim & Chopra example)"
+    signoff = parsed.tables["signoff"]
+    assert signoff[0] == ["", "name", "signature", "date"]
+    assert signoff[1] == ["Prepared by", "A. Engineer", "", ""] and signoff[2] == ["Checked by", "B. Checker", "", ""]
+    # the running header and the page numbers are in the print CSS (margin boxes of @page)
+    assert '"Harbour St, block B \u2014 job 24-117 \u2014 rev. B"' in text
+    assert 'counter(page) " of " counter(pages)' in text
+    # no absolute path anywhere in the report: files relative to the deck's folder
+    assert str(tmp_path) not in text and str(ROOT) not in text
+    files = {row[0]: row[1] for row in parsed.tables["table-files"][1:]}
+    assert files["deck"] == "deck.toml" and files["record"] == f"../records/{RECORD.name}"
+
+
+def test_css_strings_cannot_end_the_style_element():
+    from upliftcli.report.html import css_string
+
+    assert css_string('a "b" \\ </style>') == '"a \\"b\\" \\\\ \\3C /style>"'
+
+
+def test_report_in_us_units():
+    deck, results = small_run()
+    info = provenance(deck, ["uplift", "report"], NOW)
+    report, _ = build_report(deck, list(results), Path(deck.source).read_text(), SMALL, info, "us")
+    images = {name: PNG for name in report_figure_names(report)}
+    parsed = Parsed(render(report, images))
+    summary = parsed.tables["table-summary"]
+    assert summary[0][2:5] == ["V_b [kip]", "V_b/W", "M_b [kip ft]"]
+    for row, r in zip(summary[1:], results, strict=True):
+        assert float(row[2]) == pytest.approx(r.base_shear / 4448.2216152605, abs=0.05)
+        assert float(row[3]) == pytest.approx(r.base_shear_coefficient, abs=5e-5)  # unchanged
+    stories = parsed.tables["table-exact-uplift-stories"]
+    assert stories[0][:3] == ["story", "elevation [ft]", "displacement [in]"]
+    building = {row[0]: row for row in parsed.tables["table-building"]}
+    assert building["story"][4] == "story stiffness k_j [kip/in]"
+    assert any("units: US" in line for line in report.subtitle)
+
+
+def report_figure_names(report):
+    return {figure.name for figure in report.figures()}
+
+
+def test_pdf_without_chromium_is_refused_in_one_line(tmp_path):
+    out = tmp_path / "r.pdf"
+    result = runner.invoke(app, ["report", str(EXAMPLE), "--out", str(out)], env={"CI": "true", "PATH": ""})
+    assert result.exit_code == 2
+    (line,) = result.stderr.strip().splitlines()
+    assert "--out" in line and "Chromium" in line and "apt-get install chromium" in line
+    assert not list(tmp_path.iterdir())

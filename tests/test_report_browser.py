@@ -5,15 +5,21 @@ every figure decodes, a screenshot of the figures is not blank, the print styles
 .ci/run installs chromium where it is missing; without it these tests are skipped."""
 
 import base64
+import html
 import io
+import re
+import shutil
+import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
 from cdp import Browser, chromium
-from figure_cases import SMALL, small_run
+from figure_cases import EXAMPLE_DECK, SMALL, small_run
+from typer.testing import CliRunner
 
 from upliftcli import plots
+from upliftcli.cli import app
 from upliftcli.figures.style import BLUE, VERMILLION
 from upliftcli.report.build import build_report
 from upliftcli.report.html import render
@@ -108,3 +114,119 @@ def test_the_checks_catch_a_broken_page(browser, tmp_path):
     assert any("boom" in e for e in errors) and len(errors) >= 2
     assert browser.evaluate("Array.from(document.images).map(i => i.naturalWidth)") == [0]
     assert colours(browser.screenshot({"x": 0, "y": 0, "width": 400, "height": 300}))[1] < 2000  # no figure
+
+
+# ----------------------------------------------------------------------------- the PDF
+
+needs_poppler = pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdfimages") is None,
+                                   reason="poppler-utils is not installed (apt-get install -y poppler-utils; "
+                                          ".ci/run installs it)")
+PROJECT = ["--project", "Harbour St", "--job-number", "24-117", "--engineer", "A. Engineer", "--checker",
+           "B. Checker", "--revision", "A"]
+#: the smallest text a printed report may hold [pt]
+SMALLEST_PT = 7.0
+
+
+def poppler(*args: str) -> str:
+    return subprocess.run(args, capture_output=True, text=True, check=True, timeout=120).stdout
+
+
+def word_boxes(pdf: Path) -> list[list[tuple[float, float, float, float, str]]]:
+    """Per page, every word (xMin, yMin, xMax, yMax [pt], text) of `pdftotext -bbox`."""
+    pages = poppler("pdftotext", "-bbox", str(pdf), "-").split("<page ")[1:]
+    pattern = re.compile(r'<word xMin="([\d.]+)" yMin="([\d.]+)" xMax="([\d.]+)" yMax="([\d.]+)">([^<]*)</word>')
+    return [[(*map(float, match.groups()[:4]), html.unescape(match.group(5))) for match in pattern.finditer(page)]
+            for page in pages]
+
+
+@pytest.fixture(scope="module")
+def pdf_report(tmp_path_factory):
+    """`uplift report --out report.pdf` of the small run, with the [project] fields given as options."""
+    out = tmp_path_factory.mktemp("pdf") / "report.pdf"
+    settings = [item for setting in SMALL for item in ("--set", setting)]
+    result = CliRunner().invoke(app, ["report", str(EXAMPLE_DECK), "--out", str(out), *settings, *PROJECT],
+                                env={"CI": "true"})
+    assert result.exit_code == 0, result.output
+    return out
+
+
+@pytest.fixture(scope="module")
+def seven_point_height(tmp_path_factory):
+    """The height pdftotext gives a word set in 7 pt, printed by the same Chromium, in the
+    report's fonts: a word's box is its font's ascent plus descent, proportional to its size
+    (1.16 x the size in DejaVu Sans and in DejaVu Sans Mono alike). The larger of the two: a word
+    at least that tall is set in 7 pt or more in either font (pdftotext does not tell the font;
+    PyMuPDF would, but is a large dependency for one test)."""
+    from upliftcli.report.pdf import browser, print_pdf
+
+    out = tmp_path_factory.mktemp("probe") / "probe.pdf"
+    print_pdf('<!DOCTYPE html><html><body><p style="font: 7pt \'DejaVu Sans\'">Sample seven</p>'
+              '<p style="font: 7pt \'DejaVu Sans Mono\'">Sample mono</p></body></html>', out, browser())
+    heights = [y1 - y0 for page in word_boxes(out) for _, y0, _, y1, _ in page]
+    assert len(heights) == 4
+    return max(heights)
+
+
+@needs_poppler
+def test_pdf_pages_numbered_with_running_header(pdf_report):
+    pages = poppler("pdftotext", "-layout", str(pdf_report), "-").split("\f")[:-1]
+    count = int(re.search(r"Pages:\s+(\d+)", poppler("pdfinfo", str(pdf_report))).group(1))
+    assert len(pages) == count > 5
+    for number, text in enumerate(pages, 1):
+        assert re.search(rf"page {number} of {count}\s*$", text.rstrip()), f"page {number}: no 'page N of M'"
+        assert "Harbour St \u2014 job 24-117 \u2014 rev. A" in text.splitlines()[0]
+        assert "file://" not in text and "report.html" not in text  # none of the browser's own header and footer
+
+
+@needs_poppler
+def test_pdf_title_and_signoff_blocks_on_page_one(pdf_report):
+    first = poppler("pdftotext", "-f", "1", "-l", "1", "-layout", str(pdf_report), "-")
+    for label, value in (("Project", "Harbour St"), ("Job number", "24-117"), ("Prepared by", "A. Engineer"),
+                         ("Checked by", "B. Checker"), ("Revision", "A")):
+        assert re.search(rf"{label}\s+{re.escape(value)}", first), label
+    assert re.search(r"Sign-off\s+name\s+signature\s+date", first)
+    assert re.search(r"Prepared by\s+A\. Engineer\s*\n", first) and re.search(r"Checked by\s+B\. Checker", first)
+    assert "Summary" in first and "V_b [kN]" in first  # page 1 is not half empty: the summary follows the blocks
+
+
+@needs_poppler
+def test_pdf_text_no_smaller_than_7_pt(pdf_report, seven_point_height):
+    """Every word of the PDF (tables, notes, header, footer) at least as tall as a 7-pt word of
+    the same fonts, and the figures' text at least 7 pt as printed: the smallest font a figure
+    uses (read from the drawn figure) times the figure's printed scale (its image's pixels per
+    printed inch, from pdfimages, against the resolution it was drawn at)."""
+    from upliftcli.cli.report import REPORT_DPI
+    from upliftcli.figures.sets import analysis_figures
+
+    heights = [y1 - y0 for page in word_boxes(pdf_report) for _, y0, _, y1, _ in page]
+    assert len(heights) > 2000
+    assert min(heights) >= 0.999 * seven_point_height
+    listed = poppler("pdfimages", "-list", str(pdf_report)).splitlines()[2:]
+    images = [line.split() for line in listed if line.split()[2] == "image"]
+    specs = list(analysis_figures(*small_run()).values())
+    assert len(images) == len(specs)
+    from matplotlib.text import Text
+
+    for spec, image in zip(specs, images, strict=True):
+        figure = plots.line_figure(spec)
+        smallest = min(text.get_fontsize() for text in figure.findobj(Text) if text.get_text().strip())
+        x_ppi = float(image[12])
+        printed = smallest * REPORT_DPI / x_ppi
+        assert printed >= SMALLEST_PT, f"{spec.title}: {printed:.2f} pt"
+        width = figure.get_figwidth()
+        assert int(image[3]) == round(width * REPORT_DPI)  # the image of this figure
+
+
+@needs_poppler
+def test_pdf_no_page_with_one_small_figure(pdf_report):
+    """A page holding a figure holds more than it when the figure is small (under 40 % of the
+    printable area of A4 with the report's margins)."""
+    listed = [line.split() for line in poppler("pdfimages", "-list", str(pdf_report)).splitlines()[2:]]
+    images = [row for row in listed if row[2] == "image"]
+    boxes = word_boxes(pdf_report)
+    printable = (210 - 24) / 25.4 * (297 - 32) / 25.4  # in^2
+    for page in {int(row[0]) for row in images}:
+        mine = [row for row in images if int(row[0]) == page]
+        area = sum(int(row[3]) / float(row[12]) * int(row[4]) / float(row[13]) for row in mine)
+        words = len(boxes[page - 1])
+        assert len(mine) > 1 or area > 0.4 * printable or words > 150, f"page {page}: one small figure"

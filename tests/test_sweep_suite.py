@@ -136,8 +136,38 @@ def test_sweep_and_spectra_commands_on_a_suite_deck(tmp_path):
     assert (tmp_path / "ten_story_asce7_suite.spectra.base_shear_exact.svg").exists()
 
 
-def test_a_suite_that_does_not_suit_a_case_names_the_case(tmp_path):
-    result = runner.invoke(app, ["spectra", str(ASCE), "--set", THREE, "--periods", "1,4", "--out", str(tmp_path)],
-                           env={"CI": "true"})
-    assert result.exit_code == 2 and "building.period=4" in result.stderr and "duration" in result.stderr
-    assert list(tmp_path.iterdir()) == []
+def test_a_case_the_suite_cannot_serve_fails_alone(tmp_path):
+    """T_1 = 4 s asks for records of 4 x its period range's upper end, longer than the suite's
+    20 s: its cases fail alone (exit 4, the message in their rows), the T_1 = 1 s cases run; the
+    warning before the run names the case."""
+    result = runner.invoke(app, ["spectra", str(ASCE), "--set", THREE, "--periods", "1,4", "--out", str(tmp_path),
+                                 "--workers", "1", "--quiet"], env={"CI": "true"})
+    assert result.exit_code == 4, result.output
+    assert "1 of 2 combinations" in result.stderr and "building.period=4" in result.stderr
+    rows = list(csv.DictReader(table_lines(tmp_path / "ten_story_asce7_suite.spectra.csv")))
+    assert len(rows) == 2 * 3
+    for row in rows:
+        if float(row["building.period"]) == 1.0:
+            assert row["status"] == "ok" and float(row["base_shear_coefficient"]) > 0
+        else:
+            assert row["status"] == "failed" and "duration: a record of at least 4 x" in row["message"]
+            assert row["base_shear_coefficient"] == ""
+    assert result.stderr.count("failed: ") == 3  # each failed case named
+
+
+@pytest.mark.parametrize("deck", ["ten_story_asce7_suite.toml", "ten_story_ec8_suite.toml"])
+def test_the_example_suite_decks_run_under_spectra(deck, tmp_path):
+    """The example suite decks under `uplift spectra`: the default periods (0.05-5 s, 100) plan
+    without failing, the periods their 20 s records cannot serve (T_1 above about 2.5 s, where
+    the suite's period range ends beyond 5 s) marked to fail alone; a coarse grid runs (the
+    default one takes minutes of the exact engine on 11 and 7 records)."""
+    from upliftcli.sweep import figures
+
+    default = plan_sweep(ROOT / "inputs" / deck, varies=[figures.period_vary("0.05:5:100")])
+    assert len(default.cases) == 100 * len(default.engines) * len(default.supports)
+    assert any("fail alone" in message for message in default.warnings)
+    result = runner.invoke(app, ["spectra", str(ROOT / "inputs" / deck), "--periods", "0.5,3", "--support", "uplift",
+                                 "--out", str(tmp_path), "--workers", "1", "--quiet"], env={"CI": "true"})
+    assert result.exit_code == 4, result.output
+    rows = list(csv.DictReader(table_lines(tmp_path / f"{Path(deck).stem}.spectra.csv")))
+    assert [row["status"] for row in rows] == ["ok", "failed"]

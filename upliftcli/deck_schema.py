@@ -33,6 +33,13 @@ TABLES: dict[str, dict[str, Field]] = {
         "units": Field("string", "-", "unit system of the deck's bare numbers: si, or us (US customary units "
                        "of ASCE 7 practice, docs/deck.md)", "", "si", SYSTEMS),
     },
+    "project": {
+        "project": Field("string", "-", "project name, in the report's title block and running header"),
+        "job_number": Field("string", "-", "job (project) number, in the title block and running header"),
+        "engineer": Field("string", "-", "the engineer who prepared the calculation (title and sign-off blocks)"),
+        "checker": Field("string", "-", "the engineer who checks it (title and sign-off blocks)"),
+        "revision": Field("string", "-", "revision of the calculation, e.g. \"A\" or \"P01\""),
+    },
     "building": {
         "stories": Field("integer", "-", "number of stories N (uniform shorthand)", "stories"),
         "floor_mass": Field("number", "kg", "mass of every floor m_j (uniform shorthand)", "positive",

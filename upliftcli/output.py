@@ -23,7 +23,17 @@ from typing import Any
 import numpy as np
 
 from .atomic import atomic_path, write_set, write_text
-from .engines.quantities import ELEMENT, FLOOR, QUANTITIES, SCALARS, STORY, column_name, history_unit, quantities
+from .engines.quantities import (
+    ELEMENT,
+    FLOOR,
+    INTERMEDIATES,
+    QUANTITIES,
+    SCALARS,
+    STORY,
+    column_name,
+    history_unit,
+    quantities,
+)
 from .engines.result import AnalysisResult
 from .engines.suite_result import COMPARED, STATISTICS, SuiteResult, simplified_ratios
 from .provenance import csv_comments, deck_toml, number_text, of_deck, to_text_numbers
@@ -34,6 +44,7 @@ UNITS = {
     **{s.name: s.unit for s in SCALARS.values()}, "critical_base_shear": "N", "critical_base_moment": "N m",
     "weight": "N", "effective_height": "m", "periods": "s", "critical_coefficient": "-", "times": "s",
     "factor": "-", "period_range": "s", **{name: unit for name, (unit, _) in COMPARED.items()},
+    "intermediates": {name: unit for name, (unit, _) in INTERMEDIATES.items()},
 }
 _STORY_QUANTITIES = quantities(FLOOR, STORY)
 
@@ -237,7 +248,7 @@ def write_results(results: list[AnalysisResult], directory, stem: str, source: s
     if elements:
         texts.append(elements_csv(results, provenance))
     if deck is not None:
-        texts.append(deck_toml(deck, provenance))
+        texts.append(deck_toml(deck, provenance, directory))
     write_set(dict(zip(paths, texts, strict=True)))  # all or none: a full disk leaves no file of the set
     return paths
 
@@ -245,7 +256,8 @@ def write_results(results: list[AnalysisResult], directory, stem: str, source: s
 def write_histories(path, histories: dict[str, np.ndarray], provenance: dict | None = None) -> None:
     """Write response histories atomically: NPZ if the name ends in .npz (the provenance as JSON
     text in its array 'provenance'), else CSV with units in the header
-    (engines/quantities.history_unit), after the provenance's '#' lines; values with 10
+    (engines/quantities.history_unit) as every CSV result has them (column_name: time_s, drift_3_m,
+    contact_state), after the provenance's '#' lines; values with 10
     significant digits (the histories are sampled at the record's step: more digits would
     only lengthen the file)."""
     path = Path(path)
@@ -255,7 +267,7 @@ def write_histories(path, histories: dict[str, np.ndarray], provenance: dict | N
             np.savez_compressed(handle, **histories, **extra)
         return
     names = list(histories)
-    header = ",".join(f"{name} [{history_unit(name)}]" for name in names)
+    header = ",".join(column_name(name, history_unit(name)) for name in names)
     table = np.column_stack([np.asarray(histories[name], dtype=float) for name in names])
     lines = [header] + [",".join(f"{value:.10g}" for value in row) for row in table]
     head = csv_comments(provenance) if provenance is not None else ""

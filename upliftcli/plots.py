@@ -33,7 +33,7 @@ DPI = 150
 #: layout [in]: one line of a 10-pt title, tick and axis labels below a panel, right margin,
 #: gap between panels sharing an axis, padding, one row of the legend
 _LINE, _BOTTOM, _RIGHT, _SHARED_GAP, _PAD, _LEGEND_ROW = 0.19, 0.6, 0.25, 0.22, 0.12, 0.21
-_CHAR = 0.072  # width of a character of a 10-pt title [in]
+_CHAR = 0.08  # width of a character of a 10-pt title [in] (digits and capitals: an average that never overflows)
 _LEGEND_CHAR, _LEGEND_HANDLE = 0.06, 0.75  # a character of a legend entry, handle and padding [in]
 
 
@@ -211,7 +211,9 @@ def plot_spectrum(spectrum, path: str | os.PathLike, title: str = "", option: st
 # ----------------------------------------------------------------------------- layout
 
 def _wrap(text: str, width_in: float) -> str:
-    return textwrap.fill(text, max(12, int(width_in / _CHAR))) if text else ""
+    """The text in lines no wider than width_in [in] (its own line breaks kept)."""
+    width = max(12, int(width_in / _CHAR))
+    return "\n".join(textwrap.fill(line, width) for line in text.splitlines()) if text else ""
 
 
 def _legend_shape(labels: list[str], width_in: float) -> tuple[int, int]:

@@ -161,9 +161,10 @@ def motion_files(motion) -> list[dict[str, Any]]:
     return []
 
 
-def absolute_paths(raw: dict, source: str) -> dict:
+def absolute_paths(raw: dict, source: str, relative_to: str | os.PathLike | None = None) -> dict:
     """A copy of a deck mapping with its file paths (ground_motion.record, the suite's folder or
-    files, design_spectrum.file) absolute: relative paths joined to the deck's folder."""
+    files, design_spectrum.file) absolute: relative paths joined to the deck's folder; with
+    relative_to (a folder), relative to that folder instead (the folder of a resolved deck file)."""
     from .errors import deck_relative_path
 
     raw = copy.deepcopy(raw)
@@ -172,7 +173,10 @@ def absolute_paths(raw: dict, source: str) -> dict:
         return raw
 
     def absolute(path: Any) -> Any:  # as errors.deck_relative_path resolves it
-        return os.path.abspath(deck_relative_path(path, source)) if isinstance(path, str) else path
+        if not isinstance(path, str):
+            return path
+        found = os.path.abspath(deck_relative_path(path, source))
+        return found if relative_to is None else os.path.relpath(found, os.path.abspath(relative_to))
 
     if "record" in motion:
         motion["record"] = absolute(motion["record"])
@@ -189,11 +193,12 @@ def absolute_paths(raw: dict, source: str) -> dict:
     return raw
 
 
-def resolved_deck(deck) -> dict:
+def resolved_deck(deck, relative_to: str | os.PathLike | None = None) -> dict:
     """The deck a run used: its mapping after `--set`, every number in bare SI (a value given
-    with a unit or under `units = "us"` converted: Deck.resolved), file paths absolute, its
-    title stated (a copy of it under another name keeps the title)."""
-    raw = absolute_paths(plain(deck.resolved or deck.raw), deck.source)
+    with a unit or under `units = "us"` converted: Deck.resolved), file paths absolute
+    (relative_to: relative to that folder), its title stated (a copy of it under another name
+    keeps the title)."""
+    raw = absolute_paths(plain(deck.resolved or deck.raw), deck.source, relative_to)
     return {"title": deck.title, **raw}
 
 
@@ -378,17 +383,21 @@ def to_text_numbers(value: Any) -> Any:
     return value
 
 
-def deck_toml(deck, record: dict[str, Any] | None = None) -> str:
+def deck_toml(deck, record: dict[str, Any] | None = None, directory: str | os.PathLike = ".") -> str:
     """<stem>.deck.toml: the resolved deck (resolved_deck) with '#' lines saying where it came
-    from; `uplift analyze <stem>.deck.toml` repeats the run (same engines, supports, options)."""
+    from, its file paths (and the deck's) relative to `directory`, the folder it is written into
+    (no absolute path: the folder of results and inputs may move together); `uplift analyze
+    <stem>.deck.toml` repeats the run (same engines, supports, options)."""
     import tomli_w
 
     record = record or of_deck(deck)
     changed = record["deck"]["set"]
+    source = os.path.relpath(os.path.abspath(deck.source), os.path.abspath(directory))
     lines = [f"# The deck of a run of {record['tool']} {record['version']} at {record['time_utc']}:",
-             f"# {deck.source}" + (" with " + ", ".join(f"{k}={json.dumps(v)}" for k, v in changed.items())
-                                   if changed else ""),
-             "# after the overrides, file paths absolute. `uplift analyze` on this file repeats the run.",
+             f"# {source}" + (" with " + ", ".join(f"{k}={json.dumps(v)}" for k, v in changed.items())
+                              if changed else ""),
+             "# after the overrides, file paths relative to this file. `uplift analyze` on this file repeats the run.",
              "# Every number is bare SI (kg, m, s, N; design-spectrum ordinates in g), whatever units the deck used.",
              f"# command: {record['command']}"]
-    return "".join(line.replace("\n", " ") + "\n" for line in lines) + "\n" + tomli_w.dumps(resolved_deck(deck))
+    return ("".join(line.replace("\n", " ") + "\n" for line in lines) + "\n"
+            + tomli_w.dumps(resolved_deck(deck, directory)))

@@ -20,7 +20,7 @@ from .. import provenance
 from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
 from ..fields import parse_choices
-from . import plotting
+from . import plotting, stdout
 
 if TYPE_CHECKING:
     from rich.table import Table
@@ -35,6 +35,17 @@ SET_HELP = "Override a deck field by dotted path, e.g. --set building.period=0.5
 class OutputFormat(StrEnum):
     table = "table"
     json = "json"
+
+
+class DisplayUnits(StrEnum):
+    """The display units of the human outputs (upliftcli/display.py); files and JSON stay SI."""
+
+    si = "si"
+    us = "us"
+
+
+UNITS_HELP = ("Display units of the tables and figures: si (kN, kN m, mm, m, g) or us (kip, kip ft, in, ft, g); "
+              "JSON and CSV stay SI.")
 
 
 def _overrides(settings: list[str], engines: list[str], supports: list[str]) -> list[str]:
@@ -114,6 +125,7 @@ def analyze(
              "displacement."),
     plot: Path | None = typer.Option(None, "--plot", help=plotting.PLOT_HELP),
     plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
+    units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
 ) -> None:
     """Peak story shears, drifts, displacements and the uplift verdict of a deck (or of several decks).
 
@@ -133,7 +145,7 @@ def analyze(
     if plot is not None and len(decks) > 1:
         raise InputError("--plot", str(plot), f"a single deck ({len(decks)} decks given)")
     if len(decks) > 1:
-        _analyze_batch(decks, _overrides(settings, engine, support), output_format, out, overwrite)
+        _analyze_batch(decks, _overrides(settings, engine, support), output_format, out, overwrite, units.value)
         return
     deck = decks[0]
     loaded = load_deck(deck, _overrides(settings, engine, support))
@@ -154,9 +166,9 @@ def analyze(
     if check:
         check_accuracy(loaded, results)
     _warn_suite(results)
-    _warn(results, loaded.warnings)
+    _warn(results, printed=loaded.warnings)
     if plot is not None:
-        plotting.analysis_plots(results, loaded, plot, deck.stem, formats)
+        plotting.analysis_plots(results, loaded, plot, deck.stem, formats, units.value)
     # the provenance of the files and the JSON (not built for the terminal alone: 30-60 ms of
     # package-metadata look-ups)
     record = provenance.of_deck(loaded) if histories is not None or out is not None or \
@@ -165,9 +177,9 @@ def analyze(
         _write_histories(histories, results, input_files(loaded), record)
     plotting.drop_histories(results)
     if output_format is OutputFormat.json:
-        typer.echo(to_json(results, loaded.source, loaded.title, record), nl=False)
+        stdout.echo(to_json(results, loaded.source, loaded.title, record), nl=False)
     else:
-        render.print_results(render.console(), results, loaded.title)
+        render.print_results(render.console(), results, loaded.title, units.value)
     if out is not None:
         _write(results, out, deck.stem, loaded, record)
     violations = check_criteria(results, loaded.criteria)
@@ -215,14 +227,19 @@ def _warn_suite(results, prefix: str = "") -> None:
         typer.echo(f"warning: {prefix}{message}", err=True)
 
 
-def _warn(results, printed=()) -> None:
-    """Each result's warnings (a result that cannot be right, a step refined ...): one line each
-    on stderr (the JSON keeps them in details.warnings); the exit code is unchanged. `printed`:
-    the deck's warnings, printed once before (warn_deck), not again per result."""
+def _warn(results, prefix: str = "", printed=()) -> None:
+    """The results' warnings (a result that cannot be right, a step refined ...) on stderr, each
+    once, naming the analyses that gave it ('simplified/bonded, simplified/uplift: ...'); the
+    JSON keeps them in details.warnings; the exit code is unchanged. prefix: the deck, when
+    several are analysed; printed: the deck's warnings, printed once before (warn_deck), not
+    again per result."""
+    given: dict[str, list[str]] = {}
     for result in results:
         for message in dict.fromkeys(result.details.get("warnings", [])):
             if message not in printed:
-                typer.echo(f"warning: {result.engine}/{result.support}: {message}", err=True)
+                given.setdefault(message, []).append(f"{result.engine}/{result.support}")
+    for message, analyses in given.items():
+        typer.echo(f"warning: {prefix}{', '.join(dict.fromkeys(analyses))}: {message}", err=True)
 
 
 def warn_deck(deck: Deck) -> None:
@@ -272,9 +289,10 @@ def _write(results, out: Path, stem: str, loaded, record: dict | None = None) ->
 
 
 def _analyze_batch(decks: list[Path], overrides: list[str], output_format: OutputFormat, out: Path | None,
-                   overwrite: bool = False) -> None:
+                   overwrite: bool = False, units: str = "si") -> None:
     """Several decks: every deck is read and checked before any is run (bad input: exit 2, no
-    output); one summary table (or {"decks": [...]} in JSON); exit 3 if any deck violates its criteria."""
+    output); one summary table (or {"decks": [...]} in JSON); each analysis's warnings on stderr,
+    once, naming its deck; exit 3 if any deck violates its criteria."""
     from .. import analysis
     from ..criteria import check_criteria
     from ..deck import load_deck
@@ -295,16 +313,17 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
         refuse_existing(outputs, "--out", overwrite, EARLIER)
     runs = [(deck, item, analysis.run(item)) for deck, item in zip(decks, loaded, strict=True)]
     records = [provenance.of_deck(item) for item in loaded]
-    for deck, _, results in runs:
+    for deck, item, results in runs:
         _warn_suite(results, f"{deck}: ")
+        _warn(results, f"{deck}: ", item.warnings)
     violations = [(deck, message) for deck, item, results in runs
                   for message in check_criteria(results, item.criteria)]
     if output_format is OutputFormat.json:
         document = {"decks": [results_document(results, item.source, item.title, record)
                               for (_, item, results), record in zip(runs, records, strict=True)]}
-        typer.echo(dumps(document), nl=False)
+        stdout.echo(dumps(document), nl=False)
     else:
-        render.console().print(_batch_table(runs, {str(deck) for deck, _ in violations}))
+        render.console().print(_batch_table(runs, units))
     if out is not None:
         for (deck, item, results), record in zip(runs, records, strict=True):
             _write(results, out, deck.stem, item, record)
@@ -314,29 +333,34 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
         raise typer.Exit(3)
 
 
-def _batch_table(runs, violating: set[str]) -> Table:
-    """One row per deck, engine and support: V_b, coefficients, V_c, uplift, criteria."""
+#: the columns of the several decks' summary (display.SUMMARY)
+BATCH_COLUMNS = ("base_shear", "base_shear_coefficient", "base_moment", "base_moment_coefficient",
+                 "critical_coefficient", "uplift")
+
+
+def _batch_table(runs, units: str = "si") -> Table:
+    """One row per deck, engine and support: V_b, coefficients, b/h_1*, uplift, criteria."""
     from rich.markup import escape
     from rich.table import Table
 
     from ..criteria import check_criteria
+    from ..display import WEIGHT_LEGEND, summary_columns
     from . import render
 
     table = Table(title=f"Summary of {len(runs)} decks")
     names = [deck.name for deck, _, _ in runs]
     label = (lambda deck: deck.name) if len(set(names)) == len(names) else str
-    table.caption = escape("V_b/W = V_b/(m_t g), M_b/Wh = M_b/(m_t g h_1*); criteria: the deck's [criteria] limits")
-    for header in ("deck", "engine", "support", "V_b [kN]", "V_b/W", "M_b [kN m]", "M_b/Wh", "b/h_1*", "uplift",
-                   "criteria"):
-        table.add_column(escape(header), justify="left" if header == "deck" else "right", no_wrap=header == "deck")
+    table.caption = escape(f"{WEIGHT_LEGEND}; criteria: the deck's [criteria] limits")
+    columns = summary_columns(BATCH_COLUMNS)
+    table.add_column("deck", justify="left", no_wrap=True)
+    for header in ("engine", "support", *(column.heading(units) for column in columns), "criteria"):
+        table.add_column(escape(header), justify="right")
     for deck, item, results in runs:
         for r in results:
             failed = check_criteria([r], item.criteria)
             verdict = "-" if not item.criteria else ("violated" if failed else "ok")
-            table.add_row(escape(label(deck)), escape(render.engine_label(r)), r.support, f"{1e-3 * r.base_shear:.1f}",
-                          f"{r.base_shear_coefficient:.4f}", f"{1e-3 * r.base_moment:.1f}",
-                          f"{r.base_moment_coefficient:.4f}", f"{r.critical_coefficient:.4f}",
-                          "yes" if r.uplift else "no", verdict)
+            table.add_row(escape(label(deck)), escape(render.engine_label(r)), r.support,
+                          *(column.cell(r, units) for column in columns), verdict)
     return table
 
 
@@ -348,6 +372,7 @@ def modes(
                                      "directory as <deck>.modes.png."),
     plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing --plot figure."),
+    units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
 ) -> None:
     """Fixed-base modes: periods, w_n/w_1, effective masses m_n*/m_t (and cumulative), heights h_n*, h_n*/b."""
     from rich.markup import escape
@@ -364,18 +389,18 @@ def modes(
     if plot is not None:
         plotting.check_outputs(plotting.figure_paths(loaded, plot, deck.stem, formats, modes_only=True),
                                [loaded.source, *named_files(loaded)], overwrite)
-        plotting.modes_plots(loaded, plot, deck.stem, formats)
+        plotting.modes_plots(loaded, plot, deck.stem, formats, units.value)
     if output_format is OutputFormat.json:
         document = {
             "source": loaded.source, "total_mass": system.total_mass, "half_width": system.half_width,
             "units": {"total_mass": "kg", "half_width": "m", **MODE_ROW_UNITS},
             "modes": fixed_base_mode_rows(system), "provenance": provenance.of_deck(loaded),
         }
-        typer.echo(json.dumps(to_jsonable(document), indent=2))
+        stdout.echo(json.dumps(to_jsonable(document), indent=2))
         return
     out = render.console()
     out.print(f"[bold]{escape(loaded.title)}[/bold]")
-    out.print(render.modes_table(system))
+    out.print(render.modes_table(system, units=units.value))
 
 
 def register(app: typer.Typer) -> None:

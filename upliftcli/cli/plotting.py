@@ -79,15 +79,15 @@ def write_figures(specs: dict, directory: Path, stem: str, formats: list[str]) -
     return written
 
 
-def analysis_plots(results, loaded, directory: Path, stem: str, formats: list[str]) -> list[Path]:
-    """The figures of `uplift analyze` (figures.sets.analysis_figures)."""
+def analysis_plots(results, loaded, directory: Path, stem: str, formats: list[str], units: str = "si") -> list[Path]:
+    """The figures of `uplift analyze` (figures.sets.analysis_figures) in the display units."""
     from ..figures.sets import analysis_figures
 
-    return write_figures(analysis_figures(loaded, results), directory, stem, formats)
+    return write_figures(analysis_figures(loaded, results, units), directory, stem, formats)
 
 
-def modes_plots(loaded, directory: Path, stem: str, formats: list[str]) -> list[Path]:
+def modes_plots(loaded, directory: Path, stem: str, formats: list[str], units: str = "si") -> list[Path]:
     """The mode-shape figure of `uplift modes`."""
     from ..figures.sets import modes_figures
 
-    return write_figures(modes_figures(loaded), directory, stem, formats)
+    return write_figures(modes_figures(loaded, units), directory, stem, formats)

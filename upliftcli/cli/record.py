@@ -13,6 +13,7 @@ from .. import limits
 from ..atomic import refuse_existing, refuse_inputs, write_text
 from ..errors import InputError
 from ..units import STANDARD_GRAVITY
+from . import stdout
 
 if TYPE_CHECKING:
     import numpy as np
@@ -21,13 +22,26 @@ if TYPE_CHECKING:
 
 INFO_PERIODS = (0.1, 0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0)  # s
 
-FORMAT_HELP = "File format: at2, text, csv or shared (default: detected from the extension and header)."
+FORMAT_HELP = "The record file's format: at2, text, csv or shared (default: detected from the extension and header)."
 UNITS_HELP = ("Acceleration units of the file: g, m/s2, cm/s2, in/s2 or an alias (docs/deck.md; default: from the "
               "header; units that contradict the header's are refused unless --override-header-units).")
 OVERRIDE_HELP = "Read the file in --units even where its header declares other units."
 DT_HELP = "Time step [s] of a plain-text file without a 'dt = ...' header line."
 SCALE_HELP = "Scale factor applied to the acceleration [-]."
 WINDOW_HELP = "Keep only this time window, START:END in s (time restarts at 0)."
+
+
+def _moved_format(value: str | None) -> None:
+    """--format under `uplift record` named the record's file format; it is --input-format now
+    (--format is the output format everywhere else): the old spelling is refused, never misread."""
+    if value is not None:
+        raise InputError("--format", None, f"under `uplift record` the record file's format is --input-format "
+                         f"(--input-format {value}); --format is the output format of the other commands")
+
+
+#: the record's file format, and the old spelling refused with the new one named
+INPUT_FORMAT = typer.Option(None, "--input-format", help=FORMAT_HELP)
+MOVED_FORMAT = typer.Option(None, "--format", hidden=True, expose_value=False, callback=_moved_format)
 
 
 def parse_window(text: str | None) -> tuple[float, float] | None:
@@ -103,7 +117,8 @@ def _read(file: Path, file_format: str | None, units: str | None, dt: float | No
 
 def info(
     file: Path = typer.Argument(..., help="Record file."),
-    file_format: str | None = typer.Option(None, "--format", help=FORMAT_HELP),
+    file_format: str | None = INPUT_FORMAT,
+    moved_format: str | None = MOVED_FORMAT,
     units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
     override: bool = typer.Option(False, "--override-header-units", help=OVERRIDE_HELP),
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
@@ -170,7 +185,7 @@ def spectrum_csv(spectrum: spectra.Spectrum, record: dict | None = None) -> str:
     buffer = io.StringIO()
     if record is not None:
         buffer.write(csv_comments(record))
-    buffer.write("damping_ratio,period_s,sd_m,psv_m_per_s,psa_m_per_s2,psa_g,abs_acc_m_per_s2\n")
+    buffer.write("damping_ratio,period_s,sd_m,psv_m_s,psa_m_s2,psa_g,abs_acc_m_s2\n")  # quantity_unit, as every CSV
     g = STANDARD_GRAVITY
     for k, xi in enumerate(spectrum.dampings):
         for j, period in enumerate(spectrum.periods):
@@ -189,7 +204,8 @@ def spectrum(
     out: Path | None = typer.Option(None, "--out", "-o", help="Write the spectrum as CSV here (default: stdout)."),
     plot: Path | None = typer.Option(None, "--plot",
                                      help="Plot S_d, S_v and S_a against log T into this .png/.pdf/.svg file."),
-    file_format: str | None = typer.Option(None, "--format", help=FORMAT_HELP),
+    file_format: str | None = INPUT_FORMAT,
+    moved_format: str | None = MOVED_FORMAT,
     units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
     override: bool = typer.Option(False, "--override-header-units", help=OVERRIDE_HELP),
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
@@ -224,7 +240,7 @@ def spectrum(
                                           dampings=dampings))
     try:
         if out is None:
-            typer.echo(text, nl=False)
+            stdout.echo(text, nl=False)
         else:
             write_text(out, text)
             typer.echo(f"wrote {out}", err=True)

@@ -14,7 +14,7 @@ from .. import limits
 from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
 from ..units import STANDARD_GRAVITY
-from .record import DT_HELP, FORMAT_HELP, OVERRIDE_HELP, UNITS_HELP
+from .record import DT_HELP, INPUT_FORMAT, MOVED_FORMAT, OVERRIDE_HELP, UNITS_HELP
 
 if TYPE_CHECKING:  # imported by the commands that use them (numpy, scipy, rich, the suites: see analyze.py)
     from ..motion import records
@@ -182,7 +182,8 @@ def match(
     deck: Path = typer.Argument(..., help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
     files: list[Path] = typer.Argument(None, help="Records to match (default: the deck's ground_motion.suite)."),
     out: Path = typer.Option(..., "--out", "-o", help=OUT_HELP),
-    file_format: str | None = typer.Option(None, "--format", help=FORMAT_HELP),
+    file_format: str | None = INPUT_FORMAT,
+    moved_format: str | None = MOVED_FORMAT,
     units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
     override: bool = typer.Option(False, "--override-header-units", help=OVERRIDE_HELP),
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
@@ -234,7 +235,8 @@ def scale(
     deck: Path = typer.Argument(..., help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
     files: list[Path] = typer.Argument(None, help="Records to scale (default: the deck's ground_motion.suite)."),
     suite_factor: bool = typer.Option(False, "--suite-factor", help="One factor for the whole suite."),
-    file_format: str | None = typer.Option(None, "--format", help=FORMAT_HELP),
+    file_format: str | None = INPUT_FORMAT,
+    moved_format: str | None = MOVED_FORMAT,
     units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
     override: bool = typer.Option(False, "--override-header-units", help=OVERRIDE_HELP),
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),

@@ -13,7 +13,6 @@ from __future__ import annotations
 import os
 import re
 
-import numpy as np
 from rich.cells import cell_len
 from rich.console import Console
 from rich.markup import escape
@@ -21,7 +20,8 @@ from rich.measure import Measurement
 from rich.table import Table
 from rich.text import Text
 
-from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, STORY, quantities
+from ..display import WEIGHT_LEGEND, intermediate_kind, label, show, summary_columns
+from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, STORY, display_kind, quantities
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
 from ..model.system import System, fixed_base_mode_rows
@@ -44,12 +44,19 @@ def console_width(environ=os.environ) -> int | None:
 
 
 class FittedConsole(Console):
-    """A Console that draws every table within its width (fit_table)."""
+    """A Console that draws every table within its width (fit_table); a reader that closes the
+    pipe early (`| head`) silences it and the command goes on (cli/stdout.py; rich would exit 1)."""
 
     def print(self, *objects, **kwargs) -> None:
         parts = [part for item in objects for part in (fit_table(item, self.width) if isinstance(item, Table)
                                                         else [item])]
         super().print(*parts, **kwargs)
+
+    def on_broken_pipe(self) -> None:
+        from .stdout import silence
+
+        silence()
+        self.quiet = True
 
 
 def console(stderr: bool = False) -> Console:
@@ -180,83 +187,84 @@ def _frame_width(table: Table, count: int) -> int:
     return (2 if table.show_edge else 0) + count - 1
 
 
-def modes_table(system: System, n_modes: int | None = None) -> Table:
+def modes_table(system: System, n_modes: int | None = None, units: str = "si") -> Table:
     """Periods, w_n/w_1, m_n*/m_t (and cumulative), h_n* and h_n*/b (docs/theory.md sections 5, 6)."""
     rows = fixed_base_mode_rows(system)[:n_modes]
     m_t = system.total_mass
-    table = Table(title=escape(f"Fixed-base modes (m_t = {m_t:.6g} kg, b = {system.half_width:.4g} m)"))
-    for header in ("mode", "T_n [s]", "w_n/w_1", "m_n*/m_t", "cumulative", "h_n* [m]", "h_n*/b"):
+    table = Table(title=escape(f"Fixed-base modes (m_t = {show(m_t, 'kg', units)} {label('kg', units)}, "
+                               f"b = {show(system.half_width, 'm', units)} {label('m', units)})"))
+    for header in ("mode", "T_n [s]", "w_n/w_1", "m_n*/m_t", "cumulative", f"h_n* [{label('m', units)}]", "h_n*/b"):
         table.add_column(escape(header), justify="right")
     if system.mat_mass > 0.0:
-        table.caption = escape(f"m_t includes the mat mass m_0 = {system.mat_mass:.6g} kg: the m_n* add up to "
-                               f"the building mass, {1 - system.mat_mass / m_t:.4f} m_t")
+        table.caption = escape(f"m_t includes the mat mass m_0 = {show(system.mat_mass, 'kg', units)} "
+                               f"{label('kg', units)}: the m_n* add up to the building mass, "
+                               f"{1 - system.mat_mass / m_t:.4f} m_t")
     for row in rows:
         table.add_row(str(row["mode"]), f"{row['period']:.4f}", f"{row['frequency_ratio']:.3f}",
                       f"{row['effective_mass_ratio']:.4f}", f"{row['cumulative_mass_ratio']:.4f}",
-                      f"{row['effective_height']:.3f}", f"{row['effective_height_over_b']:.3f}")
+                      show(row["effective_height"], "m", units), f"{row['effective_height_over_b']:.3f}")
     return table
 
 
-def story_table(result: AnalysisResult) -> Table:
+def story_table(result: AnalysisResult, units: str = "si") -> Table:
     """Per story (top first): elevation and the peak of every floor and story quantity the
-    engine gives (engines/quantities.py), in the display units."""
+    engine gives (engines/quantities.py), in the display units (display.py)."""
     title = f"{result.engine} engine, {result.support} support"
     if isinstance(result, SuiteResult):
         title += f": {result.statistic} of {result.count} records ({result.rule_label})"
     table = Table(title=escape(title))
     shown = [q for q in STORY_QUANTITIES if q.name in result.peaks]
-    headings = [f"{SHORT_HEADINGS[q.name][0]} [{q.display[0]}]" if q.name in SHORT_HEADINGS else q.heading
-                for q in shown]
-    for header in ["story", "elevation [m]", *headings]:
+    headings = [f"{SHORT_HEADINGS[q.name][0]} [{label(q.display, units)}]" if q.name in SHORT_HEADINGS
+                else q.heading(units) for q in shown]
+    for header in ["story", f"elevation [{label('m', units)}]", *headings]:
         table.add_column(escape(header), justify="right")
     legend = [SHORT_HEADINGS[q.name][1] for q in shown if q.name in SHORT_HEADINGS]
     table.caption = escape("; ".join(legend)) if legend else None
     for j in range(result.elevations.size - 1, -1, -1):
-        table.add_row(str(j + 1), f"{result.elevations[j]:.2f}",
-                      *[_display(q, result.peaks[q.name][j]) for q in shown])
+        table.add_row(str(j + 1), show(result.elevations[j], "m", units),
+                      *[show(result.peaks[q.name][j], q.display, units) for q in shown])
     return table
 
 
-def elements_table(result: AnalysisResult) -> Table | None:
+def elements_table(result: AnalysisResult, units: str = "si") -> Table | None:
     """Per foundation contact element (left to right): position and its peak reactions."""
     shown = [q for q in quantities(ELEMENT) if q.name in result.peaks and result.peaks[q.name].size]
     if not shown:
         return None
     table = Table(title=escape(f"Foundation elements ({engine_label(result)}, {result.support}): largest compression"))
-    for header in ["element", "position x [m]"] + [q.heading for q in shown]:
+    for header in ["element", f"position x [{label('m', units)}]"] + [q.heading(units) for q in shown]:
         table.add_column(escape(header), justify="right")
     for i, x in enumerate(result.element_positions):
-        table.add_row(str(i + 1), f"{x:.3f}", *[_display(q, result.peaks[q.name][i]) for q in shown])
+        table.add_row(str(i + 1), show(x, "m", units), *[show(result.peaks[q.name][i], q.display, units)
+                                                         for q in shown])
     return table
 
 
-def _display(quantity, value: float) -> str:
-    """A peak in the display unit and format of its quantity ('-' when there is none)."""
-    _, factor, spec = quantity.display
-    return format(value * factor, spec) if np.isfinite(value) else "-"
+#: the columns of the summary table (display.SUMMARY); the critical ones go into the caption
+#: when every row has the same (one building)
+SUMMARY_COLUMNS = ("base_shear", "base_shear_coefficient", "base_moment", "base_moment_coefficient")
+CRITICAL_COLUMNS = ("critical_base_shear", "critical_base_moment", "critical_coefficient")
 
 
-def summary_table(results: list[AnalysisResult]) -> Table:
+def summary_table(results: list[AnalysisResult], units: str = "si") -> Table:
     """One row per result: base shear and moment, their coefficients (W = m_t g), uplift; the
     critical values V_c [16a], M_c [16b] and b/h_1* in the caption when every row has the same
-    (one building), else in columns."""
-    critical = [(f"{1e-3 * r.critical_base_shear:.1f}", f"{1e-3 * r.critical_base_moment:.1f}",
-                 f"{r.critical_coefficient:.4f}") for r in results]
-    shared = len(set(critical)) == 1
+    (one building), else in columns (display.SUMMARY)."""
+    critical = summary_columns(CRITICAL_COLUMNS)
+    values = [tuple(column.cell(r, units) for column in critical) for r in results]
+    shared = len(set(values)) == 1
+    columns = summary_columns(SUMMARY_COLUMNS + (() if shared else CRITICAL_COLUMNS) + ("uplift",))
     table = Table(title="Summary")
-    headers = ["engine", "support", "V_b [kN]", "V_b/W", "M_b [kN m]", "M_b/(W h_1*)"]
-    headers += ["uplift"] if shared else ["V_c [kN]", "M_c [kN m]", "b/h_1*", "uplift"]
-    for header in headers:
-        table.add_column(escape(header), justify="left" if header in ("engine", "support") else "right")
-    for r, values in zip(results, critical, strict=True):
-        table.add_row(escape(engine_label(r)), r.support, f"{1e-3 * r.base_shear:.1f}",
-                      f"{r.base_shear_coefficient:.4f}", f"{1e-3 * r.base_moment:.1f}",
-                      f"{r.base_moment_coefficient:.4f}", *(() if shared else values), "yes" if r.uplift else "no")
-    legend = "W = m_t g"
+    for header in ("engine", "support"):
+        table.add_column(header, justify="left")
+    for column in columns:
+        table.add_column(escape(column.heading(units)), justify="right")
+    for r in results:
+        table.add_row(escape(engine_label(r)), r.support, *[column.cell(r, units) for column in columns])
+    legend = WEIGHT_LEGEND
     if shared and results:
-        v_c, m_c, ratio = critical[0]
-        legend += (f"; every row: V_c = {v_c} kN [16a], M_c = {m_c} kN m [16b], b/h_1* = {ratio} (the critical value "
-                   "of both coefficients)")
+        legend += (f"; every row: {', '.join(column.stated(results[0], units) for column in critical)} [16a, 16b] "
+                   "(b/h_1*: the critical value of both coefficients)")
     table.caption = escape(legend)
     return table
 
@@ -266,34 +274,26 @@ def engine_label(result: AnalysisResult) -> str:
     return result.label if isinstance(result, SuiteResult) else result.engine
 
 
-def _format(value) -> str:
-    if isinstance(value, bool):
-        return "yes" if value else "no"
-    if isinstance(value, (list, tuple, np.ndarray)):
-        return ", ".join(_format(v) for v in value)
-    if isinstance(value, (int, float, np.floating)):
-        return f"{float(value):.5g}"
-    return str(value)
-
-
 MODAL_LISTS = ("T_n", "Sa_n", "m_n*/m_t", "h_n*", "V_n")
 
 
-def modal_table(result: AnalysisResult) -> Table:
+def modal_table(result: AnalysisResult, units: str = "si") -> Table:
     """Per mode what the engine combined: period, S_a, m_n*/m_t, h_n* and V_n; for the
     flexible supports mode 1 is the bonded system's: T1bar [21] and S_a(T1bar, xi1bar) [23]
     (marked 1*), the higher modes fixed-base."""
     inter = result.intermediates
     flexible = "T1bar" in inter and "Sa1bar" in inter
     table = Table(title=escape(f"Modal base shears ({engine_label(result)}, {result.support})"))
-    for header in ("mode", "T [s]", "S_a [m/s^2]", "m_n*/m_t", "h_n* [m]", "V_n [kN]"):
+    for header in ("mode", "T [s]", "S_a [g]", "m_n*/m_t", f"h_n* [{label('m', units)}]",
+                   f"V_n [{label('N', units)}]"):
         table.add_column(escape(header), justify="right")
     for i, period in enumerate(inter["T_n"]):
         sa = inter["Sa_n"][i]
         if i == 0 and flexible:
             period, sa = inter["T1bar"], inter["Sa1bar"]
-        table.add_row("1*" if i == 0 and flexible else str(i + 1), f"{period:.4f}", f"{sa:.4f}",
-                      f"{inter['m_n*/m_t'][i]:.4f}", f"{inter['h_n*'][i]:.3f}", f"{1e-3 * inter['V_n'][i]:.1f}")
+        table.add_row("1*" if i == 0 and flexible else str(i + 1), f"{period:.4f}", show(sa, "g", units),
+                      f"{inter['m_n*/m_t'][i]:.4f}", show(inter["h_n*"][i], "m", units),
+                      show(inter["V_n"][i], "N", units))
     if flexible:
         note = (f"1*: the bonded system's T1bar [21] and S_a(T1bar, xi1bar = {inter['xi1bar']:.4g}) [23] "
                 f"(fixed-base T_1 = {inter['T_n'][0]:.4f} s)")
@@ -308,8 +308,8 @@ def modal_table(result: AnalysisResult) -> Table:
     return table
 
 
-def intermediates_table(result: AnalysisResult) -> Table:
-    """Scalar intermediates with unit and meaning (engines/quantities.INTERMEDIATES)."""
+def intermediates_table(result: AnalysisResult, units: str = "si") -> Table:
+    """Scalar intermediates in their display units, with meaning (engines/quantities.INTERMEDIATES)."""
     table = Table(title=escape(f"Intermediate values ({engine_label(result)}, {result.support})"))
     for header in ("quantity", "value", "unit", "meaning"):
         table.add_column(escape(header), justify="left")
@@ -317,11 +317,12 @@ def intermediates_table(result: AnalysisResult) -> Table:
         if name in MODAL_LISTS:
             continue
         unit, meaning = INTERMEDIATES.get(name, ("", ""))
-        table.add_row(escape(name), _format(value), escape(unit), escape(meaning))
+        kind = intermediate_kind(name, unit)
+        table.add_row(escape(name), show(value, kind, units), escape(label(kind, units)), escape(meaning))
     return table
 
 
-def print_results(out: Console, results: list[AnalysisResult], title: str | None = None) -> None:
+def print_results(out: Console, results: list[AnalysisResult], title: str | None = None, units: str = "si") -> None:
     """Every table of every result, then the summary (a suite's result: its statistics and its
     records too, and the simplified engine beside it: cli/render_suite.py)."""
     from . import render_suite
@@ -329,27 +330,27 @@ def print_results(out: Console, results: list[AnalysisResult], title: str | None
     if title:
         out.print(f"[bold]{escape(title)}[/bold]")
     for result in results:
-        out.print(story_table(result))
-        elements = elements_table(result)
+        out.print(story_table(result, units))
+        elements = elements_table(result, units)
         if elements is not None:
             out.print(elements)
         if all(name in result.intermediates for name in MODAL_LISTS):
-            out.print(modal_table(result))
+            out.print(modal_table(result, units))
         if result.intermediates:
-            out.print(intermediates_table(result))
+            out.print(intermediates_table(result, units))
         if isinstance(result, SuiteResult):
-            out.print(render_suite.statistics_table(result))
-            out.print(render_suite.records_table(result))
-    out.print(summary_table(results))
-    comparison = render_suite.comparison_table(results)
+            out.print(render_suite.statistics_table(result, units))
+            out.print(render_suite.records_table(result, units))
+    out.print(summary_table(results, units))
+    comparison = render_suite.comparison_table(results, units)
     if comparison is not None:
         out.print(comparison)
-    checked = accuracy_table(results)
+    checked = accuracy_table(results, units)
     if checked is not None:
         out.print(checked)
 
 
-def accuracy_table(results: list[AnalysisResult]) -> Table | None:
+def accuracy_table(results: list[AnalysisResult], units: str = "si") -> Table | None:
     """The simplified engine against the exact engine, per support (accuracy.py), or None."""
     from ..accuracy import CHECKED
 
@@ -365,8 +366,9 @@ def accuracy_table(results: list[AnalysisResult]) -> Table | None:
         if "error" in check:
             table.add_row(check["support"], "-", "-", "-", escape(f"exact engine failed: {check['error']}"))
             continue
-        for name, (unit, meaning, _) in CHECKED.items():
-            ratio = check["ratio"][name]
-            table.add_row(check["support"], escape(f"{meaning} [{unit}]"), f"{check['simplified'][name]:.4g}",
-                          f"{check['exact'][name]:.4g}", "-" if ratio is None else f"{ratio:.3f}")
+        for name, (_, meaning, _) in CHECKED.items():
+            ratio, kind = check["ratio"][name], display_kind(name)
+            table.add_row(check["support"], escape(f"{meaning} [{label(kind, units)}]"),
+                          show(check["simplified"][name], kind, units), show(check["exact"][name], kind, units),
+                          "-" if ratio is None else f"{ratio:.3f}")
     return table

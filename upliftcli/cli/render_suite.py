@@ -6,41 +6,33 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-import numpy as np
 from rich.markup import escape
 from rich.table import Table
 
-from ..engines.quantities import QUANTITIES, SCALARS
+from ..display import SUMMARY, WEIGHT_LEGEND, heading, show
+from ..engines.quantities import QUANTITIES, SCALARS, display_kind
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import STATISTICS, SuiteResult, simplified_ratios
 
-#: how the scalars and the compared values are shown: name -> (heading, factor from SI, format)
-SCALAR_DISPLAY = {"base_shear": ("V_b [kN]", 1e-3, ".1f"), "base_shear_coefficient": ("V_b/W", 1.0, ".4f"),
-                  "base_moment": ("M_b [kN m]", 1e-3, ".1f"), "base_moment_coefficient": ("M_b/Wh", 1.0, ".4f")}
-COMPARED_DISPLAY = {"base_shear": ("V_b [kN]", 1e-3, ".1f"), "base_moment": ("M_b [kN m]", 1e-3, ".1f"),
-                    "drift_ratio": ("largest drift ratio [%]", 100.0, ".3f"),
-                    "roof_displacement": ("roof displacement [mm]", 1e3, ".2f")}
+#: the scalars of the statistics (display.SUMMARY)
+SCALAR_COLUMNS = ("base_shear", "base_shear_coefficient", "base_moment", "base_moment_coefficient")
 STATISTIC_HEADINGS = {"mean": "mean", "median": "median", "p84": "84th percentile", "max": "maximum"}
-CAPTION = ("W = m_t g, Wh = m_t g h_1*; the quantities: their largest value over the floors, stories or "
+CAPTION = (f"{WEIGHT_LEGEND}; the quantities: their largest value over the floors, stories or "
            "elements (all of them in the JSON and CSV files)")
 
 
-def _rows(result: AnalysisResult, scalars=tuple(SCALAR_DISPLAY)) -> list[tuple[str, float, tuple[float, str]]]:
-    """(heading, SI value, (display factor, format)) of the scalars and of the largest value of each
-    quantity that the summaries carry (those with a sweep column, engines/quantities.py)."""
-    rows = [(SCALAR_DISPLAY[name][0], result.value(name), SCALAR_DISPLAY[name][1:]) for name in scalars
+def _rows(result: AnalysisResult, units: str = "si", scalars=SCALAR_COLUMNS) -> list[tuple[str, float, str]]:
+    """(heading, SI value, display kind) of the scalars (display.SUMMARY) and of the largest value
+    of each quantity that the summaries carry (those with a sweep column, engines/quantities.py)."""
+    rows = [(SUMMARY[name].heading(units), result.value(name), SUMMARY[name].kind) for name in scalars
             if name in SCALARS]
     for q in QUANTITIES.values():
         if q.column and q.name in result.peaks and result.peaks[q.name].size:
-            rows.append((q.heading, result.value(q.name), q.display[1:]))
+            rows.append((q.heading(units), result.value(q.name), q.display))
     return rows
 
 
-def _show(value: float, display: tuple[float, str]) -> str:
-    return format(value * display[0], display[1]) if np.isfinite(value) else "-"
-
-
-def statistics_table(result: SuiteResult) -> Table:
+def statistics_table(result: SuiteResult, units: str = "si") -> Table:
     """Rows: the scalars and the largest value of each quantity; columns: every statistic over the
     records, the design statistic marked with *."""
     table = Table(title=escape(f"{result.engine} engine, {result.support} support: statistics of {result.count} "
@@ -49,48 +41,51 @@ def statistics_table(result: SuiteResult) -> Table:
     for name in STATISTICS:
         table.add_column(escape(STATISTIC_HEADINGS[name] + (" *" if name == result.statistic else "")),
                          justify="right")
-    per_statistic = {name: _rows(stat) for name, stat in result.statistics.items()}
-    for i, (heading, _, display) in enumerate(per_statistic[result.statistic]):
-        table.add_row(escape(heading), *[_show(per_statistic[name][i][1], display) for name in STATISTICS])
+    per_statistic = {name: _rows(stat, units) for name, stat in result.statistics.items()}
+    for i, (text, _, kind) in enumerate(per_statistic[result.statistic]):
+        table.add_row(escape(text), *[show(per_statistic[name][i][1], kind, units) for name in STATISTICS])
     table.caption = escape(f"uplift under {result.uplift_count} of {result.count} records; {CAPTION}; "
                            f"{STATISTICS['p84'][0]}")
     return table
 
 
-def records_table(result: SuiteResult) -> Table:
+def records_table(result: SuiteResult, units: str = "si") -> Table:
     """One row per record: name, amplitude factor, coefficients, largest quantities, uplift."""
     table = Table(title=escape(f"{result.engine} engine, {result.support} support: each record"))
     scalars = ("base_shear_coefficient", "base_moment_coefficient")
-    headings = [heading for heading, _, _ in _rows(result.record_results[0], scalars)]
+    headings = [text for text, _, _ in _rows(result.record_results[0], units, scalars)]
     widest = min(20, max(len(info.name) for info in result.records))
-    for heading in ["#", "record", "factor [-]", *headings, "uplift"]:
-        if heading == "record":
-            table.add_column(heading, justify="left", min_width=widest, max_width=20, no_wrap=True,
+    for text in ["#", "record", "factor [-]", *headings, "uplift"]:
+        if text == "record":
+            table.add_column(text, justify="left", min_width=widest, max_width=20, no_wrap=True,
                              overflow="ellipsis")
         else:
-            table.add_column(escape(heading), justify="right")
+            table.add_column(escape(text), justify="right")
     for k, (info, record) in enumerate(zip(result.records, result.record_results, strict=True)):
-        values = {heading: _show(value, display) for heading, value, display in _rows(record, scalars)}
+        values = {text: show(value, kind, units) for text, value, kind in _rows(record, units, scalars)}
         table.add_row(str(k + 1), escape(info.name), f"{info.factor:.4f}", *[values.get(h, "-") for h in headings],
                       "yes" if record.uplift else "no")
     table.caption = escape(CAPTION)
     return table
 
 
-def comparison_table(results: Sequence[AnalysisResult]) -> Table | None:
+def comparison_table(results: Sequence[AnalysisResult], units: str = "si") -> Table | None:
     """The simplified engine on the target spectrum beside each suite's design statistic, per
     support, with the ratio simplified / statistic (None when there is no suite result)."""
     suites = [r for r in results if isinstance(r, SuiteResult) and r.simplified is not None]
     if not suites:
         return None
     table = Table(title="Simplified engine on the target spectrum against the suite")
-    for heading in ("engine", "support", "quantity", "simplified", "suite", "simplified / suite"):
-        table.add_column(escape(heading), justify="left" if heading in ("engine", "quantity") else "right")
+    for text in ("engine", "support", "quantity", "simplified", "suite", "simplified / suite"):
+        table.add_column(escape(text), justify="left" if text in ("engine", "quantity") else "right")
     for r in suites:
         for name, item in simplified_ratios(r).items():
-            heading, factor, spec = COMPARED_DISPLAY[name]
-            table.add_row(escape(r.label), r.support, escape(heading), format(item["simplified"] * factor, spec),
-                          format(item["statistic"] * factor, spec), f"{item['ratio']:.3f}")
+            kind = display_kind(name)
+            text = SUMMARY[name].heading(units) if name in SUMMARY else heading(
+                ("largest " if name in QUANTITIES else "") + name.replace("_", " "), kind, units)
+            table.add_row(escape(r.label), r.support, escape(text),
+                          show(item["simplified"], kind, units), show(item["statistic"], kind, units),
+                          f"{item['ratio']:.3f}")
     table.caption = escape("suite: the design statistic of the records' peaks (the code's rule); "
                            "a ratio below 1: the simplified procedure gives less")
     return table

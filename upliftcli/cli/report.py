@@ -1,5 +1,6 @@
-"""`uplift report`: a calculation report of a deck as one self-contained HTML file (the work is
-in upliftcli.report; this module parses options and writes the file)."""
+"""`uplift report`: a calculation report of a deck as one self-contained HTML file, or a PDF
+printed from it by a headless Chromium (the work is in upliftcli.report; this module parses
+options and writes the file)."""
 
 from __future__ import annotations
 
@@ -9,12 +10,16 @@ from pathlib import Path
 import typer
 
 from ..errors import InputError
-from .analyze import SET_HELP, _overrides
+from .analyze import SET_HELP, UNITS_HELP, DisplayUnits, _overrides
+
+#: figures of the report are drawn at this resolution [dots per inch]
+REPORT_DPI = 150
 
 
 def report(
     deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
-    out: Path = typer.Option(..., "--out", "-o", help="The report file to write (.html, self-contained)."),
+    out: Path = typer.Option(..., "--out", "-o", help="The report file to write: .html (self-contained) or .pdf "
+                             "(printed by a headless Chromium, which must be installed)."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     engine: list[str] = typer.Option([], "--engine", "-e",
                                      help="Engine(s): simplified, approximate, exact (default: the deck's)."),
@@ -24,12 +29,20 @@ def report(
                                help="With a record: check the simplified engine against the exact engine (as "
                                     "uplift analyze does) and report simplified/exact."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing --out file."),
+    units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
+    project: str | None = typer.Option(None, "--project", help="Project name (title block and running header; "
+                                       "replaces the deck's [project] project)."),
+    job_number: str | None = typer.Option(None, "--job-number", help="Job number (replaces [project] job_number)."),
+    engineer: str | None = typer.Option(None, "--engineer", help="Prepared by (replaces [project] engineer)."),
+    checker: str | None = typer.Option(None, "--checker", help="Checked by (replaces [project] checker)."),
+    revision: str | None = typer.Option(None, "--revision", help="Revision (replaces [project] revision)."),
 ) -> None:
-    """A calculation report a checker can sign: inputs (as given and resolved), derived model, modes,
-    results of every engine and support, accuracy check, warnings, criteria verdict, figures, method
-    (with the paper's equation numbers) and provenance, in one HTML file that needs no network.
+    """A calculation report a checker can sign: title block (project, job number, revision, prepared
+    by, checked by, date), summary and sign-off block, inputs (as given and resolved), derived model,
+    modes, results of every engine and support, accuracy check, warnings, criteria verdict, figures,
+    method (with the paper's equation numbers) and provenance, in one HTML file that needs no network.
 
-    Print it from a browser (print CSS: A4); for a PDF: chromium --headless --print-to-pdf=report.pdf report.html.
+    Print it from a browser (A4 portrait, "page N of M"), or give --out report.pdf (needs Chromium).
 
     Exit codes: 0 ok, 2 bad input, 3 an acceptance limit of the deck's criteria is exceeded (the
     report is written and says so), 4 analysis failure.
@@ -40,13 +53,18 @@ def report(
     from ..deck import load_deck
     from ..report.build import build_report
     from ..report.html import render
+    from ..report.pdf import check_browser, print_pdf
     from ..report.provenance import input_files, provenance
     from .plotting import keep_histories
 
-    if out.suffix.lower() not in (".html", ".htm"):
-        raise InputError("--out", str(out), "a file name ending .html")
+    suffix = out.suffix.lower()
+    if suffix not in (".html", ".htm", ".pdf"):
+        raise InputError("--out", str(out), "a file name ending .html or .pdf")
     if out.is_dir():
         raise InputError("--out", str(out), "a file name (a directory of that name exists)")
+    executable = check_browser("--out", str(out)) if suffix == ".pdf" else None
+    given = {"project": project, "job_number": job_number, "engineer": engineer, "checker": checker,
+             "revision": revision}
     overrides = _overrides(settings, engine, support)
     loaded = keep_histories(load_deck(deck, overrides))
     refuse_inputs([out], [path for _, path in input_files(loaded)], "--out")
@@ -57,10 +75,15 @@ def report(
         from ..accuracy import check_accuracy
 
         check_accuracy(loaded, results)
-    document, specs = build_report(loaded, results, deck_text, overrides, provenance(loaded, ["uplift", *sys.argv[1:]]))
-    images = {name: plots.figure_bytes(spec) for name, spec in specs.items()}
+    document, specs = build_report(loaded, results, deck_text, overrides, provenance(loaded, ["uplift", *sys.argv[1:]]),
+                                   units.value, given)
+    images = {name: plots.figure_bytes(spec, dpi=REPORT_DPI) for name, spec in specs.items()}
+    html = render(document, images, REPORT_DPI)
     try:
-        write_text(out, render(document, images))
+        if executable is not None:
+            print_pdf(html, out, executable)
+        else:
+            write_text(out, html)
     except OSError as error:
         raise InputError("--out", str(out), f"a writable file ({error.strerror or error})") from None
     typer.echo(f"wrote {out}", err=True)

@@ -16,8 +16,8 @@ from .. import limits
 from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
 from ..sweep.signals import ignore_stop_signals
-from . import plotting
-from .analyze import SET_HELP
+from . import plotting, stdout
+from .analyze import SET_HELP, UNITS_HELP, DisplayUnits
 from .sweep_options import OVERSUBSCRIBE_HELP, WORKERS_HELP, check_name, figure_errors, local_workers, table_paths
 
 if TYPE_CHECKING:
@@ -237,6 +237,7 @@ def sweep(
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress and no summary tables."),
     per_record: bool = typer.Option(False, "--per-record", help=PER_RECORD_HELP),
     check: bool = typer.Option(False, "--check", help=CHECK_HELP),
+    units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
 ) -> None:
     """Analyse a deck over ranges of its fields: one tidy row per case, summary and envelope.
 
@@ -280,12 +281,13 @@ def sweep(
         written = _write(plan, rows, out, stem, table, summary, record)
         if plot_path is not None:
             with figure_errors(out, written):
-                written.append(plots.plot_figure(figures.sweep_figure(plan, rows, figures.plan_motion_label(plan)),
+                written.append(plots.plot_figure(figures.sweep_figure(plan, rows, figures.plan_motion_label(plan),
+                                                                      units.value),
                                                  plot_path, "--plot-format"))
     if output_format is OutputFormat.json:
-        typer.echo(json.dumps(sweep_table.document(plan, rows, summary, record), indent=1))
+        stdout.echo(json.dumps(sweep_table.document(plan, rows, summary, record), indent=1))
     elif not quiet:
-        print_summary(render.console(), plan, summary)
+        print_summary(render.console(), plan, summary, units.value)
     for path in written:
         typer.echo(f"wrote {path}", err=True)
     _finish(rows, criteria=True)
@@ -313,6 +315,7 @@ def spectra(
                                    "tables and figures."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress."),
     per_record: bool = typer.Option(False, "--per-record", help=PER_RECORD_HELP),
+    units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
 ) -> None:
     """The paper's response spectra over T_1 (Yim & Chopra Figs. 3-4, 6-10), with the critical value b/h_1*.
 

@@ -11,12 +11,15 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from ..display import label, show
 from ..sweep.plan import SweepPlan
 from ..sweep.table import SUMMARY_OUTPUTS
 
 LABELS = {"base_shear_coefficient": "V_b/(m_t g)", "base_moment_coefficient": "M_b/(m_t g h_1*)",
-          "max_drift_ratio": "drift ratio"}
-SHORT = {"base_shear_coefficient": "V/W", "base_moment_coefficient": "M/Wh", "max_drift_ratio": "drift"}
+          "max_drift_ratio": "drift ratio [%]"}
+SHORT = {"base_shear_coefficient": "V/W", "base_moment_coefficient": "M/Wh", "max_drift_ratio": "drift [%]"}
+#: the display kind of the summarised outputs (display.py): drift ratios in %, as in the story tables
+KINDS = {"max_drift_ratio": "%"}
 MAX_ROWS = 60  # envelope rows printed; the files have them all
 
 
@@ -93,42 +96,59 @@ class RichProgress:
         self.progress.stop()
 
 
-def _value(value) -> str:
+def _value(value, kind: str = "", units: str = "si") -> str:
+    """A value of the summary: a number of a field or an output in its display unit (kind: its SI
+    unit or display kind, display.py), else to 4 significant digits."""
     if value is None:
         return "-"
     if isinstance(value, bool):
         return "yes" if value else "no"
+    if isinstance(value, (int, float)) and kind and kind not in ("-", ""):
+        return show(value, kind, units)
     if isinstance(value, float):
         return f"{value:.4g}"
     return str(value)
 
 
-def ranges_table(summary: dict) -> Table:
+def _unit(plan: SweepPlan, path: str) -> str:
+    """The SI unit of a varied field ('' if it has none)."""
+    return next((v.unit for v in plan.varies if v.path == path), "")
+
+
+def _heading(path: str, unit: str, units: str) -> str:
+    return f"{path} [{label(unit, units)}]" if unit and unit != "-" else path
+
+
+def ranges_table(summary: dict, units: str = "si") -> Table:
     table = Table(title="Varied fields")
     for header in ("field", "unit", "values", "spacing", "from", "to"):
         table.add_column(escape(header), justify="left" if header in ("field", "spacing") else "right")
     for entry in summary["ranges"]:
+        unit = entry["unit"]
+        shown_unit = label(unit, units) if unit and unit != "-" else unit
         if "values" in entry:
-            table.add_row(escape(entry["path"]), escape(entry["unit"]), str(entry["count"]), entry["spacing"],
-                          escape(", ".join(_value(v) for v in entry["values"])), "")
+            table.add_row(escape(entry["path"]), escape(shown_unit), str(entry["count"]), entry["spacing"],
+                          escape(", ".join(_value(v, unit, units) for v in entry["values"])), "")
         else:
-            table.add_row(escape(entry["path"]), escape(entry["unit"]), str(entry["count"]), entry["spacing"],
-                          _value(entry["lowest"]), _value(entry["highest"]))
+            table.add_row(escape(entry["path"]), escape(shown_unit), str(entry["count"]), entry["spacing"],
+                          _value(entry["lowest"], unit, units), _value(entry["highest"], unit, units))
     return table
 
 
-def governing_table(plan: SweepPlan, summary: dict) -> Table:
+def governing_table(plan: SweepPlan, summary: dict, units: str = "si") -> Table:
     table = Table(title="Governing cases (largest value over the sweep)")
-    for header in ("output", "value", "case", "engine", "support", *[v.path for v in plan.varies]):
+    for header in ("output", "value", "case", "engine", "support",
+                   *[_heading(v.path, v.unit, units) for v in plan.varies]):
         table.add_column(escape(header), justify="left" if header == "output" else "right")
     for name, entry in summary["governing"].items():
         inputs = entry["inputs"]
-        table.add_row(escape(LABELS.get(name, name)), _value(entry["value"]), str(entry["case"]), inputs["engine"],
-                      inputs["support"], *[escape(_value(inputs.get(v.path))) for v in plan.varies])
+        table.add_row(escape(LABELS.get(name, name)), _value(entry["value"], KINDS.get(name, ""), units),
+                      str(entry["case"]), inputs["engine"], inputs["support"],
+                      *[escape(_value(inputs.get(v.path), v.unit, units)) for v in plan.varies])
     return table
 
 
-def envelope_table(summary: dict) -> Table | None:
+def envelope_table(summary: dict, units: str = "si", plan: SweepPlan | None = None) -> Table | None:
     groups = summary["envelope"]
     if not groups:
         return None
@@ -152,18 +172,20 @@ def envelope_table(summary: dict) -> Table | None:
         else:
             keys = (("at_lower_bound", "lo"), ("at_upper_bound", "up"), ("highest", "max"))
         columns += [(f"{SHORT[name]} {word}", name, key) for key, word in keys]
+    field_units = {path: _unit(plan, path) if plan is not None else "" for path in group_paths}
     for header in group_paths:  # labels: a table split to fit the terminal repeats them (render.fit_table)
-        table.add_column(escape(header), justify="left", no_wrap=True)
+        table.add_column(escape(_heading(header, field_units[header], units)), justify="left", no_wrap=True)
     for header in [c[0] for c in columns] + ["uplift"]:
         table.add_column(escape(header), justify="right", no_wrap=True)
-    table.caption = escape("V/W = V_b/(m_t g), M/Wh = M_b/(m_t g h_1*), drift = largest story drift ratio; "
+    table.caption = escape("V/W = V_b/(m_t g), M/Wh = M_b/(m_t g h_1*), drift = largest story drift ratio [%]; "
                            + ("lo, up: at the lower and upper bound, max: largest over the range" if bounds
                               else "min, max over the range"))
     for entry in groups[:MAX_ROWS]:
-        cells = [escape(_value(entry["group"][p])) for p in group_paths]
+        cells = [escape(_value(entry["group"][p], field_units[p], units)) for p in group_paths]
         for _, name, key in columns:
             value = entry["outputs"].get(name, {}).get(key)
-            cells.append("-" if value is None else f"{value:.3g}")
+            factor = 100.0 if KINDS.get(name) == "%" else 1.0
+            cells.append("-" if value is None else f"{factor * value:.3g}")
         cells.append("some" if entry["uplift"] else "no")
         table.add_row(*cells)
     if len(groups) > MAX_ROWS:
@@ -171,15 +193,15 @@ def envelope_table(summary: dict) -> Table | None:
     return table
 
 
-def print_summary(out: Console, plan: SweepPlan, summary: dict) -> None:
+def print_summary(out: Console, plan: SweepPlan, summary: dict, units: str = "si") -> None:
     out.print(f"[bold]{escape(plan.title)}[/bold]: {summary['cases']} cases, {summary['ok']} ok"
               + (f", {summary['failed']} failed" if summary["failed"] else "")
               + (f", {summary['crashed']} crashed" if summary["crashed"] else "")
               + (f", {summary['stale']} stale" if summary.get("stale") else ""))
     if summary["ranges"]:
-        out.print(ranges_table(summary))
+        out.print(ranges_table(summary, units))
     if summary["governing"]:
-        out.print(governing_table(plan, summary))
-    table = envelope_table(summary)
+        out.print(governing_table(plan, summary, units))
+    table = envelope_table(summary, units, plan)
     if table is not None:
         out.print(table)

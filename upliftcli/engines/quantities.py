@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..units import STANDARD_GRAVITY
+from ..display import heading as display_heading
 
 #: where a quantity's values live: one per floor (1..N), per story (story j joins floor j-1
 #: and floor j) or per foundation contact element (left to right)
@@ -26,43 +26,42 @@ class Quantity:
     """A response quantity.
 
     name: key in results, files and [criteria]; where: FLOOR, STORY or ELEMENT; unit: SI unit;
-    meaning: what it is, in words (its peak is reported); display: (unit, factor from SI, format)
-    of the terminal tables; engines: the engines that give it; column: sweep-row column of its largest value
-    (with its unit), or "" if the sweep rows do not carry it; criterion: whether [criteria]
-    may limit its largest value.
+    meaning: what it is, in words (its peak is reported); display: its display kind ("mm", "%",
+    "N", "N m", "g": display.py), which sets its unit in every human output; engines: the
+    engines that give it; column: sweep-row column of its largest value (with its unit), or ""
+    if the sweep rows do not carry it; criterion: whether [criteria] may limit its largest value.
     """
 
     name: str
     where: str
     unit: str
     meaning: str
-    display: tuple[str, float, str]
+    display: str
     engines: tuple[str, ...] = ALL_ENGINES
     column: str = ""
     criterion: bool = True
 
-    @property
-    def heading(self) -> str:
-        """Terminal column heading with the display unit."""
-        return f"{self.name.replace('_', ' ')} [{self.display[0]}]"
+    def heading(self, system: str = "si") -> str:
+        """Column heading with the display unit ('shear [kN]'; display.py)."""
+        return display_heading(self.name.replace("_", " "), self.display, system)
 
 
 QUANTITIES: dict[str, Quantity] = {q.name: q for q in (
-    Quantity("displacement", FLOOR, "m", "floor displacement relative to the mat", ("mm", 1e3, ".2f"),
+    Quantity("displacement", FLOOR, "m", "floor displacement relative to the mat", "mm",
              column="max_displacement_m"),
-    Quantity("drift", STORY, "m", "story drift u_j - u_(j-1)", ("mm", 1e3, ".2f")),
-    Quantity("drift_ratio", STORY, "-", "story drift ratio (drift / story height)", ("%", 100.0, ".3f"),
+    Quantity("drift", STORY, "m", "story drift u_j - u_(j-1)", "mm"),
+    Quantity("drift_ratio", STORY, "-", "story drift ratio (drift / story height)", "%",
              column="max_drift_ratio"),
-    Quantity("shear", STORY, "N", "story shear (story 1: the base shear V_b [14a])", ("kN", 1e-3, ".1f"),
+    Quantity("shear", STORY, "N", "story shear (story 1: the base shear V_b [14a])", "N",
              criterion=False),
     Quantity("moment", STORY, "N m", "overturning moment at the bottom of the story (story 1: M_b [14b])",
-             ("kN m", 1e-3, ".1f"), criterion=False),
+             "N m", criterion=False),
     Quantity("floor_acceleration", FLOOR, "m/s^2", "absolute floor acceleration (relative acceleration plus "
-             "ground acceleration)", ("g", 1.0 / STANDARD_GRAVITY, ".3f"), column="max_floor_acceleration_m_s2"),
+             "ground acceleration)", "g", column="max_floor_acceleration_m_s2"),
     Quantity("reaction", ELEMENT, "N", "largest compression of the foundation element (upward reaction on the "
-             "mat)", ("kN", 1e-3, ".1f"), column="max_reaction_N"),
+             "mat)", "N", column="max_reaction_N"),
     Quantity("impact", ELEMENT, "N", "largest element compression at a recontact (the impact of the mat)",
-             ("kN", 1e-3, ".1f"), engines=HISTORY_ENGINES, column="max_impact_N", criterion=False),
+             "N", engines=HISTORY_ENGINES, column="max_impact_N", criterion=False),
 )}
 
 
@@ -120,6 +119,17 @@ def unit_of(name: str) -> str:
     return (QUANTITIES.get(name) or ROCKING.get(name) or SCALARS[name]).unit
 
 
+def display_kind(name: str) -> str:
+    """The display kind (display.py) of a response quantity, a scalar or a compared value: a
+    quantity's own; 'max_drift_ratio', 'roof_displacement': that of the quantity they take;
+    else by the SI unit (a ratio '-' as a coefficient)."""
+    for candidate in (name, name.removeprefix("max_"), name.rsplit("_", 1)[-1]):
+        if candidate in QUANTITIES:
+            return QUANTITIES[candidate].display
+    unit = unit_of(name)
+    return "coefficient" if unit == "-" else unit
+
+
 def quantities(*where: str) -> list[Quantity]:
     """The quantities that live per floor, per story or per element (several: in table order)."""
     return [q for q in QUANTITIES.values() if q.where in where]
@@ -153,7 +163,9 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "Q_y": ("N", "bearing capacity of each contact element (docs/theory.md section 14)"),
     "FS_v": ("-", "factor of safety against vertical bearing failure q_c/q under the weight (ASCE 41-17 8.4)"),
     "V1_bonded": ("N", "mode-1 base shear without uplift m_1* S_a(T1bar, xi1bar) [26]"),
-    "V1_bonded/V_c": ("-", "> 1 means the mat lifts off (uplift) or pulls (bonded)"),
+    "V1_bonded/V_c": ("-", "contact is lost at an edge of the mat (uplift; the bonded mat pulls) when this exceeds "
+                      "the foundation's contact-loss ratio: 1 for two edge elements or a half-space (the mat tips), "
+                      "1/3 for a Winkler mat (its kern: the improved procedure; the paper's procedure takes 1)"),
     "r": ("m", "sqrt(h_1*^2 + b^2)"),
     "zeta": ("-", "damping while uplifted [27]"),
     "X0": ("-", "X before the decay factor"),
@@ -185,13 +197,16 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "energy_residual": ("-", "energy balance residual / input energy"),
 }
 
-#: unit -> suffix of a column name ("max_drift_ratio", "shear_N", "floor_acceleration_m_s2")
-_SUFFIXES = {"-": "", "m": "_m", "N": "_N", "N m": "_Nm", "m/s^2": "_m_s2", "s": "_s", "rad": "_rad", "J": "_J"}
+#: unit -> suffix of a column name ("max_drift_ratio", "shear_N", "floor_acceleration_m_s2"): the one
+#: style of every CSV file's columns (results, sweeps, histories, record spectra), quantity_unit
+_SUFFIXES = {"-": "", "m": "_m", "N": "_N", "N m": "_Nm", "m/s^2": "_m_s2", "m/s": "_m_s", "s": "_s", "rad": "_rad",
+             "g": "_g", "J": "_J"}
 
 
 def column_name(name: str, unit: str) -> str:
-    """A file column name that carries its unit: ('shear', 'N') -> 'shear_N'."""
-    return name + _SUFFIXES[unit]
+    """A file column name that carries its unit: ('shear', 'N') -> 'shear_N', ('drift_3', 'm') ->
+    'drift_3_m'; a value without a physical unit (a ratio, a bitmask) keeps its name."""
+    return name + _SUFFIXES.get(unit, "")
 
 
 #: response histories written by --histories (besides one column per floor, story or element

@@ -5,7 +5,7 @@ engine: line style); a record suite as its records thin, their statistic thick a
 result on the target spectrum dashed.
 
 Pure functions of engines/result.AnalysisResult; the values are those of result.peaks in
-the display units of engines/quantities.py.
+the display units (display.py) of engines/quantities.py, SI (the default) or US.
 """
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from ..display import unit as display_unit
 from ..engines.quantities import QUANTITIES, STORY
 from ..engines.result import AnalysisResult
 from .ensemble import ensemble, target_series
@@ -29,18 +30,25 @@ PROFILES = {
     "floor_acceleration": "peak floor acceleration",
 }
 ELEVATION_LABEL = "elevation above the mat [m]"
+#: panels a row of the profile figure: five panels print on A4 with text of 7 pt at least
+COLUMNS = 3
 
 
-def profile_xy(name: str, values: np.ndarray, elevations: np.ndarray, factor: float | None = None
-               ) -> tuple[np.ndarray, np.ndarray]:
+def elevation_label(units: str = "si") -> str:
+    """'elevation above the mat [m]' ([ft] in US units)."""
+    return f"elevation above the mat [{display_unit('m', units).label}]"
+
+
+def profile_xy(name: str, values: np.ndarray, elevations: np.ndarray, factor: float | None = None,
+               elevation_factor: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
     """(x, y) of a profile of a quantity's peaks (SI, one per floor or story) times factor
-    (default: to its display unit) against the elevation [m]: a story quantity constant over
-    each story (a step, every value twice); the moment at the bottom of each story, zero at
-    the roof; the displacement relative to the mat, zero at the mat; the floor acceleration
-    at the floors."""
+    (default: to its SI display unit) against the elevation [m] times elevation_factor: a story
+    quantity constant over each story (a step, every value twice); the moment at the bottom of
+    each story, zero at the roof; the displacement relative to the mat, zero at the mat; the
+    floor acceleration at the floors."""
     quantity = QUANTITIES[name]
-    values = np.asarray(values, dtype=float) * (quantity.display[1] if factor is None else factor)
-    levels = np.concatenate(([0.0], np.asarray(elevations, dtype=float)))
+    values = np.asarray(values, dtype=float) * (display_unit(quantity.display).factor if factor is None else factor)
+    levels = np.concatenate(([0.0], np.asarray(elevations, dtype=float))) * elevation_factor
     if name == "moment":
         return np.append(values, 0.0), levels
     if quantity.where == STORY:
@@ -50,15 +58,16 @@ def profile_xy(name: str, values: np.ndarray, elevations: np.ndarray, factor: fl
     return values, levels[1:]  # FLOOR
 
 
-def plotted_unit(name: str, results: Sequence[AnalysisResult]) -> tuple[float, str]:
-    """(factor from SI, unit) of a profile: the display unit (engines/quantities.py), except
-    for forces and moments, in kN or MN (kN m or MN m) by the size of the largest peak."""
+def plotted_unit(name: str, results: Sequence[AnalysisResult], units: str = "si") -> tuple[float, str]:
+    """(factor from SI, unit) of a profile: the display unit (display.py), except for forces
+    and moments in SI, in kN or MN (kN m or MN m) by the size of the largest peak."""
     quantity = QUANTITIES[name]
     if quantity.unit in ("N", "N m"):
         largest = max((float(np.max(np.abs(r.peaks[name]))) for r in results if r.peaks.get(name) is not None
                        and r.peaks[name].size), default=0.0)
-        return scaled_unit(largest, quantity.unit)
-    return quantity.display[1], quantity.display[0]
+        return scaled_unit(largest, quantity.unit, units)
+    shown = display_unit(quantity.display, units)
+    return shown.factor, shown.label
 
 
 def limit_lines(name: str, criteria: Mapping[str, float] | None, factor: float, unit: str) -> list[Line]:
@@ -74,16 +83,16 @@ def _label(result: AnalysisResult, engines: set[str]) -> str:
 
 
 def profile_figure(results: Sequence[AnalysisResult], criteria: Mapping[str, float] | None = None,
-                   title: str = "") -> FigureSpec:
+                   title: str = "", units: str = "si") -> FigureSpec:
     """One line per result (engine and support) in each panel of PROFILES the results give."""
     engines = {r.engine for r in results}
     groups = [(_label(r, engines), r.support, r.engine, [r]) for r in results]
-    return _figure(groups, [], criteria, title, "mean")
+    return _figure(groups, [], criteria, title, "mean", units)
 
 
 def suite_profile_figure(records: Sequence[AnalysisResult], statistic: str = "mean",
                          target: Sequence[AnalysisResult] = (), criteria: Mapping[str, float] | None = None,
-                         title: str = "") -> FigureSpec:
+                         title: str = "", units: str = "si") -> FigureSpec:
     """A suite: the results of each record (grouped by engine and support) thin, their
     statistic ("mean", "max", "median" per floor or story) thick, the results on the target
     spectrum (e.g. the simplified engine's) dashed."""
@@ -93,17 +102,19 @@ def suite_profile_figure(records: Sequence[AnalysisResult], statistic: str = "me
         grouped.setdefault((result.engine, result.support), []).append(result)
     groups = [(_label(members[0], engines), support, engine, members)
               for (engine, support), members in grouped.items()]
-    return _figure(groups, list(target), criteria, title, statistic)
+    return _figure(groups, list(target), criteria, title, statistic, units)
 
 
-def _figure(groups, target: list[AnalysisResult], criteria, title: str, statistic: str) -> FigureSpec:
+def _figure(groups, target: list[AnalysisResult], criteria, title: str, statistic: str, units: str = "si"
+            ) -> FigureSpec:
     everything = [r for *_, members in groups for r in members] + target
     engines = {r.engine for r in everything}
+    level = display_unit("m", units).factor
     panels = []
     for name in PROFILES:
         if not any(name in r.peaks for r in everything):
             continue
-        factor, unit = plotted_unit(name, everything)
+        factor, unit = plotted_unit(name, everything, units)
         series: list[Series] = []
         for label, support, engine, members in groups:
             members = [r for r in members if name in r.peaks]
@@ -111,18 +122,19 @@ def _figure(groups, target: list[AnalysisResult], criteria, title: str, statisti
                 continue
             color, style = SUPPORT_COLORS.get(support), ENGINE_LINES.get(engine, "-")
             if len(members) == 1:
-                x, y = profile_xy(name, members[0].peaks[name], members[0].elevations, factor)
+                x, y = profile_xy(name, members[0].peaks[name], members[0].elevations, factor, level)
                 series.append(Series(label, x, y, style, color))
                 continue
-            profiles = [profile_xy(name, r.peaks[name], r.elevations, factor) for r in members]
+            profiles = [profile_xy(name, r.peaks[name], r.elevations, factor, level) for r in members]
             series += ensemble(label, profiles[0][1], np.array([x for x, _ in profiles]), statistic, color,
                                style, profile=True)
         for result in target:
             if name in result.peaks:
-                x, y = profile_xy(name, result.peaks[name], result.elevations, factor)
+                x, y = profile_xy(name, result.peaks[name], result.elevations, factor, level)
                 series.append(target_series(f"{_label(result, engines)}: target spectrum", x, y,
                                             SUPPORT_COLORS.get(result.support, "black")))
-        panels.append(Panel(PROFILES[name], ELEVATION_LABEL, cycle(series), limit_lines(name, criteria, factor, unit),
-                            xlabel=f"{PROFILES[name]} [{unit}]", xmin=0.0, ymin=0.0))
-    return FigureSpec(title or "Peak response over the height", "", panels, columns=len(panels) or 1,
-                      panel_size=(3.0, 4.2), sharey=True)
+        panels.append(Panel(PROFILES[name], elevation_label(units), cycle(series),
+                            limit_lines(name, criteria, factor, unit), xlabel=f"{PROFILES[name]} [{unit}]", xmin=0.0,
+                            ymin=0.0))
+    return FigureSpec(title or "Peak response over the height", "", panels, columns=min(len(panels), COLUMNS) or 1,
+                      panel_size=(2.3, 3.0), sharey=True)

@@ -16,6 +16,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ..display import unit as display_unit
 from ..engines.result import AnalysisResult
 from .spec import Bars, FigureSpec, Line, Panel, Series, Span, spans_of
 from .style import ENGINE_LINES, LIFT_COLORS, SUPPORT_COLORS, cycle, scaled_unit
@@ -30,7 +31,7 @@ SIGNALS = {
     "left_edge": ("left_edge_displacement", "m", "edge displacement, up + [{unit}]"),
     "right_edge": ("right_edge_displacement", "m", "edge displacement, up + [{unit}]"),
 }
-_FIXED_UNITS = {"rad": (1e3, "mrad"), "m": (1e3, "mm")}
+_MRAD = (1e3, "mrad")
 #: energy terms (energy.energy_balance) in the order of the bars, with their labels
 ENERGY_TERMS = {
     "input": "input work",
@@ -49,18 +50,22 @@ def with_histories(results: Sequence[AnalysisResult]) -> list[AnalysisResult]:
     return [r for r in results if "histories" in r.details]
 
 
-def unit_of(results: Sequence[AnalysisResult], name: str) -> tuple[float, str]:
-    """(factor from SI, unit) of a plotted signal over these results."""
+def unit_of(results: Sequence[AnalysisResult], name: str, units: str = "si") -> tuple[float, str]:
+    """(factor from SI, unit) of a plotted signal over these results: mrad, the display unit of
+    a small length (mm or in, display.py), forces and moments by their size (style.scaled_unit)."""
     key, si, _ = SIGNALS[name]
-    if si in _FIXED_UNITS:
-        return _FIXED_UNITS[si]
+    if si == "rad":
+        return _MRAD
+    if si == "m":
+        shown = display_unit("mm", units)
+        return shown.factor, shown.label
     largest = max((float(np.max(np.abs(r.details["histories"][key]))) for r in results
                    if key in r.details.get("histories", {}) and len(r.details["histories"][key])), default=0.0)
-    return scaled_unit(largest, si)
+    return scaled_unit(largest, si, units)
 
 
-def axis_label(results: Sequence[AnalysisResult], name: str) -> str:
-    return SIGNALS[name][2].format(unit=unit_of(results, name)[1])
+def axis_label(results: Sequence[AnalysisResult], name: str, units: str = "si") -> str:
+    return SIGNALS[name][2].format(unit=unit_of(results, name, units)[1])
 
 
 def signal(result: AnalysisResult, name: str, factor: float = 1.0) -> tuple[np.ndarray, np.ndarray] | None:
@@ -103,24 +108,25 @@ def _label(result: AnalysisResult, results: Sequence[AnalysisResult]) -> str:
     return f"{result.engine}, {result.support}" if len({r.engine for r in results}) > 1 else result.support
 
 
-def _line(result: AnalysisResult, results, name: str, suffix: str = "", style: str | None = None) -> Series | None:
-    found = signal(result, name, unit_of(results, name)[0])
+def _line(result: AnalysisResult, results, name: str, suffix: str = "", style: str | None = None,
+          units: str = "si") -> Series | None:
+    found = signal(result, name, unit_of(results, name, units)[0])
     if found is None:
         return None
     return Series(_label(result, results) + suffix, found[0], found[1], style or ENGINE_LINES.get(result.engine, "-"),
                   SUPPORT_COLORS.get(result.support), 1.0)
 
 
-def critical_lines(results: Sequence[AnalysisResult]) -> list[Line]:
+def critical_lines(results: Sequence[AnalysisResult], units: str = "si") -> list[Line]:
     """+-M_c = m_t g b [16b] in the unit of the base moment axis."""
     if not results:
         return []
-    factor, unit = unit_of(results, "base_moment")
+    factor, unit = unit_of(results, "base_moment", units)
     m_c = factor * results[0].critical_base_moment
     return [Line(m_c, f"\u00b1M_c = m_t g b = {m_c:.4g} {unit} [16b]"), Line(-m_c)]
 
 
-def history_figure(results: Sequence[AnalysisResult], title: str = "") -> FigureSpec:
+def history_figure(results: Sequence[AnalysisResult], title: str = "", units: str = "si") -> FigureSpec:
     """Base shear, base moment (+-M_c), mat rotation and edge displacements against time (the
     last two for the flexible supports), every result with histories overlaid, the intervals
     with an edge lifted shaded in every panel."""
@@ -129,41 +135,41 @@ def history_figure(results: Sequence[AnalysisResult], title: str = "") -> Figure
     panels = []
     for name, heading in (("base_shear", "base shear"), ("base_moment", "base overturning moment"),
                           ("theta", "rotation of the mat")):
-        series = [s for r in results if (s := _line(r, results, name)) is not None]
+        series = [s for r in results if (s := _line(r, results, name, units=units)) is not None]
         if series:
-            lines = critical_lines(results) if name == "base_moment" else []
-            panels.append(Panel(heading, axis_label(results, name), cycle(series), lines, spans))
+            lines = critical_lines(results, units) if name == "base_moment" else []
+            panels.append(Panel(heading, axis_label(results, name, units), cycle(series), lines, spans))
     edges = [s for r in results for name, suffix, style in (("left_edge", ", left edge", "-"),
                                                               ("right_edge", ", right edge", "--"))
-             if (s := _line(r, results, name, suffix, style)) is not None]
+             if (s := _line(r, results, name, suffix, style, units)) is not None]
     if edges:
-        panels.append(Panel("vertical displacement of the mat edges (uplift)", axis_label(results, "left_edge"),
+        panels.append(Panel("vertical displacement of the mat edges (uplift)", axis_label(results, "left_edge", units),
                             cycle(edges), [Line(0.0, "", "y", "-", "#999999")], spans))
-    return FigureSpec(title or "Response histories", TIME_LABEL, panels, columns=1, panel_size=(9.0, 1.8),
+    return FigureSpec(title or "Response histories", TIME_LABEL, panels, columns=1, panel_size=(7.2, 1.8),
                       sharex=True)
 
 
-def moment_rotation_figure(results: Sequence[AnalysisResult], title: str = "") -> FigureSpec:
+def moment_rotation_figure(results: Sequence[AnalysisResult], title: str = "", units: str = "si") -> FigureSpec:
     """Base moment M_b against the mat rotation theta of the flexible supports, with +-M_c."""
     results = [r for r in with_histories(results) if "theta" in r.details["histories"]]
-    moment_factor, _ = unit_of(results, "base_moment")
+    moment_factor, _ = unit_of(results, "base_moment", units)
     series = []
     for result in results:
-        _, theta = signal(result, "theta", _FIXED_UNITS["rad"][0])
+        _, theta = signal(result, "theta", _MRAD[0])
         _, moment = signal(result, "base_moment", moment_factor)
         series.append(Series(_label(result, results), theta, moment, ENGINE_LINES.get(result.engine, "-"),
                              SUPPORT_COLORS.get(result.support), 0.8))
-    panel = Panel("", axis_label(results, "base_moment"), cycle(series), critical_lines(results),
+    panel = Panel("", axis_label(results, "base_moment", units), cycle(series), critical_lines(results, units),
                   xlabel=axis_label(results, "theta"))
-    return FigureSpec(title or "Base moment against mat rotation", "", [panel], columns=1, panel_size=(6.0, 4.2))
+    return FigureSpec(title or "Base moment against mat rotation", "", [panel], columns=1, panel_size=(5.0, 3.0))
 
 
-def energy_figure(results: Sequence[AnalysisResult], title: str = "") -> FigureSpec:
+def energy_figure(results: Sequence[AnalysisResult], title: str = "", units: str = "si") -> FigureSpec:
     """The energy balance of each history result (input work = dissipated + change of stored
-    energy + residual) as grouped bars [kJ]."""
+    energy + residual) as grouped bars [kJ or MJ; kip ft]."""
     results = [r for r in results if "energy" in r.details]
     largest = max((abs(float(r.details["energy"].get("input", 0.0))) for r in results), default=0.0)
-    factor, unit = scaled_unit(largest, "J")
+    factor, unit = scaled_unit(largest, "J", units)
     bars = []
     for result in results:
         energy = result.details["energy"]
@@ -174,4 +180,4 @@ def energy_figure(results: Sequence[AnalysisResult], title: str = "") -> FigureS
                           for r in results)
     panel = Panel(f"residual / input: {residuals}", "", bars=bars, xlabel=f"energy [{unit}]",
                   lines=[Line(0.0, "", "x", "-", "#999999")])
-    return FigureSpec(title or "Energy balance", "", [panel], columns=1, panel_size=(7.0, 3.6), left=2.3)
+    return FigureSpec(title or "Energy balance", "", [panel], columns=1, panel_size=(5.0, 2.6), left=2.3)

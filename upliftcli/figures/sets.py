@@ -13,7 +13,7 @@ from .histories import energy_figure, history_figure, moment_rotation_figure, wi
 from .modes import mode_shape_figure
 from .spec import FigureSpec, Panel, Series
 from .spectra import PERIOD_LABEL, SPECTRUM_PANELS, period_marks, record_spectrum_figure, suite_figure
-from .style import BLUE
+from .style import MOTION_COLOR
 
 SPECTRUM_PERIODS = np.geomspace(0.05, 5.0, 90)  # s
 
@@ -39,12 +39,12 @@ def _title(deck, what: str) -> str:
     return f"{what}: {deck.title}" + (f", {motion}" if motion else "")
 
 
-def modes_figures(deck) -> dict[str, FigureSpec]:
+def modes_figures(deck, units: str = "si") -> dict[str, FigureSpec]:
     """{"modes": the mode shapes of the deck's building}."""
-    return {"modes": mode_shape_figure(deck.system, title=f"Fixed-base mode shapes: {deck.title}")}
+    return {"modes": mode_shape_figure(deck.system, title=f"Fixed-base mode shapes: {deck.title}", units=units)}
 
 
-def spectrum_figure(deck, results: Sequence[AnalysisResult] = ()) -> FigureSpec | None:
+def spectrum_figure(deck, results: Sequence[AnalysisResult] = (), units: str = "si") -> FigureSpec | None:
     """The ground motion's spectra at the building's damping, with T_1 (and T1bar when an
     engine reports it) marked: a record's S_d, S_v, S_a; a suite's scaled records, their
     statistic and the target; a design spectrum's S_a. None without a ground motion."""
@@ -62,7 +62,7 @@ def spectrum_figure(deck, results: Sequence[AnalysisResult] = ()) -> FigureSpec 
 
         dampings = sorted({xi, 0.05})
         spectrum = response_spectrum(motion.acceleration, motion.dt, SPECTRUM_PERIODS, dampings)
-        return record_spectrum_figure(spectrum, f"{motion.name} ({deck.title})", periods_marked=marks)
+        return record_spectrum_figure(spectrum, f"{motion.name} ({deck.title})", periods_marked=marks, units=units)
     if isinstance(motion, Suite):
         return suite_figure(motion, title=_title(deck, "Response spectra of the suite"))
     if motion is None or not hasattr(motion, "sa"):
@@ -72,7 +72,7 @@ def spectrum_figure(deck, results: Sequence[AnalysisResult] = ()) -> FigureSpec 
     periods = grid[(grid >= low) & (grid <= high)]
     _, heading, label, factor = SPECTRUM_PANELS["pseudo_acceleration"]
     line = Series(f"{motion.name}, damping {100 * xi:g} %", periods, factor * np.asarray(motion.sa(periods, xi)),
-                  "-", BLUE)
+                  "-", MOTION_COLOR)
     lines = period_marks(marks)
     return FigureSpec(f"Design spectrum: {motion.name}", PERIOD_LABEL, [Panel(heading, label, [line], lines, ymin=0.0)],
                       xlog=True, columns=1, panel_size=(6.0, 3.8))
@@ -84,37 +84,38 @@ def suite_results(results: Sequence[AnalysisResult]) -> list:
     return [r for r in results if getattr(r, "record_results", ())]
 
 
-def profiles(deck, results: Sequence[AnalysisResult]) -> FigureSpec:
+def profiles(deck, results: Sequence[AnalysisResult], units: str = "si") -> FigureSpec:
     """The story profiles of a run; on a record suite each record thin, the design statistic
     thick and the simplified engine on the target spectrum dashed (the run's, else the one
     each suite result carries)."""
     title = _title(deck, "Peak response over the height")
     suites = suite_results(results)
     if not suites:
-        return profile_figure(results, deck.criteria, title)
+        return profile_figure(results, deck.criteria, title, units)
     records = [record for result in suites for record in result.record_results]
     target = [r for r in results if not getattr(r, "record_results", ())]
     supports = {r.support for r in target}
     target += [r.simplified for r in suites if getattr(r, "simplified", None) is not None
                and r.simplified.support not in supports]
-    return suite_profile_figure(records, suites[0].statistic, target, deck.criteria, title)
+    return suite_profile_figure(records, suites[0].statistic, target, deck.criteria, title, units)
 
 
-def analysis_figures(deck, results: Sequence[AnalysisResult]) -> dict[str, FigureSpec]:
+def analysis_figures(deck, results: Sequence[AnalysisResult], units: str = "si") -> dict[str, FigureSpec]:
     """Story profiles, mode shapes, the ground motion's spectra and, per history engine (of a
     single record), histories (paper Fig. 5 style), base moment against mat rotation and
-    energy balance."""
-    figures = {"profiles": profiles(deck, results)}
-    figures.update(modes_figures(deck))
-    spectrum = spectrum_figure(deck, results)
+    energy balance, in the display units (display.py)."""
+    figures = {"profiles": profiles(deck, results, units)}
+    figures.update(modes_figures(deck, units))
+    spectrum = spectrum_figure(deck, results, units)
     if spectrum is not None:
         figures["spectrum"] = spectrum
     for engine in dict.fromkeys(r.engine for r in with_histories(results)):
         mine = [r for r in with_histories(results) if r.engine == engine]
-        figures[f"histories_{engine}"] = history_figure(mine, _title(deck, f"Response histories, {engine} engine"))
+        figures[f"histories_{engine}"] = history_figure(mine, _title(deck, f"Response histories, {engine} engine"),
+                                                        units)
         if any("theta" in r.details["histories"] for r in mine):
             figures[f"moment_rotation_{engine}"] = moment_rotation_figure(
-                mine, _title(deck, f"Base moment against mat rotation, {engine} engine"))
+                mine, _title(deck, f"Base moment against mat rotation, {engine} engine"), units)
         if any("energy" in r.details for r in mine):
-            figures[f"energy_{engine}"] = energy_figure(mine, _title(deck, f"Energy balance, {engine} engine"))
+            figures[f"energy_{engine}"] = energy_figure(mine, _title(deck, f"Energy balance, {engine} engine"), units)
     return figures

@@ -8,10 +8,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ..display import INCH
 from ..units import STANDARD_GRAVITY
 from .ensemble import ensemble, target_series
 from .spec import FigureSpec, Line, Panel, Series, Span
-from .style import BLACK, GREEN, VERMILLION, cycle
+from .style import DARK_GREY, GREY, LIGHT_GREY, MOTION_COLOR, cycle
 
 PERIOD_LABEL = "period T [s]"
 #: spectrum quantity -> (attribute of spectra.Spectrum, panel title, axis label, factor from SI)
@@ -21,30 +22,43 @@ SPECTRUM_PANELS = {
     "pseudo_acceleration": ("pseudo_acceleration", "pseudo-acceleration", "pseudo-acceleration S_a [g]",
                             1.0 / STANDARD_GRAVITY),
 }
+#: the same in US units (S_d [in], S_v [in/s]; S_a in g)
+US_SPECTRUM_PANELS = {
+    **SPECTRUM_PANELS,
+    "displacement": ("displacement", "deformation", "deformation S_d [in]", 1.0 / INCH),
+    "pseudo_velocity": ("pseudo_velocity", "pseudo-velocity", "pseudo-velocity S_v [in/s]", 1.0 / INCH),
+}
+
+
+def spectrum_panels(units: str = "si") -> dict:
+    """SPECTRUM_PANELS in the display units (display.py): cm and cm/s, or in and in/s."""
+    return US_SPECTRUM_PANELS if units == "us" else SPECTRUM_PANELS
 
 
 def period_marks(marks: Sequence[tuple[str, float]]) -> list[Line]:
-    """Vertical lines at periods (label, T [s]), each in its own colour and style."""
-    looks = ((":", BLACK), ("--", GREEN), ("-.", VERMILLION))
+    """Vertical lines at periods (label, T [s]), each in its own grey and style (reference lines:
+    no colour of a support or an engine)."""
+    looks = ((":", "#000000"), ("--", DARK_GREY), ("-.", GREY))
     return [Line(float(t), f"{label} = {t:.3g} s", "x", style, color)
             for (label, t), (style, color) in zip(marks, looks, strict=False)]
 
 
 def record_spectrum_figure(spectrum, title: str = "", quantities: Sequence[str] = tuple(SPECTRUM_PANELS),
-                           periods_marked: Sequence[tuple[str, float]] = ()) -> FigureSpec:
-    """Panels S_d [cm], S_v [cm/s], S_a [g] of a spectra.Spectrum against log T, one line per
-    damping (T = 0 left out of the log axis); periods_marked: (label, T [s]) drawn as
-    vertical lines (e.g. T_1 and T1bar of the deck's building)."""
+                           periods_marked: Sequence[tuple[str, float]] = (), units: str = "si") -> FigureSpec:
+    """Panels S_d [cm], S_v [cm/s] (in, in/s in US units), S_a [g] of a spectra.Spectrum against
+    log T, one line per damping (T = 0 left out of the log axis), two panels a row (A4);
+    periods_marked: (label, T [s]) drawn as vertical lines (e.g. T_1 and T1bar of the deck's
+    building)."""
     periods = np.asarray(spectrum.periods, dtype=float)
     marks = period_marks(periods_marked)
     panels = []
     for name in quantities:
-        attribute, heading, label, factor = SPECTRUM_PANELS[name]
+        attribute, heading, label, factor = spectrum_panels(units)[name]
         values = np.asarray(getattr(spectrum, attribute)) * factor
         series = [Series(f"damping {100 * xi:g} %", periods, values[k]) for k, xi in enumerate(spectrum.dampings)]
         panels.append(Panel(heading, label, cycle(series), list(marks), ymin=0.0))
     return FigureSpec(f"Response spectra: {title}" if title else "Response spectra", PERIOD_LABEL, panels,
-                      xlog=True, columns=3, panel_size=(4.0, 3.2))
+                      xlog=True, columns=2, panel_size=(3.2, 2.6))
 
 
 def suite_spectrum_figure(periods: np.ndarray, spectra: np.ndarray, statistic: str, target: np.ndarray | None = None,
@@ -54,13 +68,13 @@ def suite_spectrum_figure(periods: np.ndarray, spectra: np.ndarray, statistic: s
     their statistic ("mean", "max") thick, the target S_a [m/s^2] dashed, the period range of
     the code check shaded."""
     g = STANDARD_GRAVITY
-    series = ensemble("scaled records", periods, np.asarray(spectra) / g, statistic, BLACK)
+    series = ensemble("scaled records", periods, np.asarray(spectra) / g, statistic, DARK_GREY)
     if target is not None:
-        series.append(target_series(f"target: {target_name}", periods, np.asarray(target) / g, VERMILLION))
+        series.append(target_series(f"target: {target_name}", periods, np.asarray(target) / g, MOTION_COLOR))
     spans = []
     if period_range is not None:
         spans.append(Span(f"period range {period_range[0]:.3g}-{period_range[1]:.3g} s",
-                          np.array([period_range], dtype=float), GREEN, 0.12))
+                          np.array([period_range], dtype=float), LIGHT_GREY, 0.3))
     panel = Panel(f"pseudo-acceleration, damping {100 * damping:g} %", SPECTRUM_PANELS["pseudo_acceleration"][2],
                   series, spans=spans, ymin=0.0)
     return FigureSpec(title or "Response spectra of the suite", PERIOD_LABEL, [panel], xlog=True, columns=1,

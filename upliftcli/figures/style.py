@@ -1,9 +1,13 @@
 """Colours and line styles shared by every figure.
 
-The palette is Okabe & Ito's colour-blind-safe set (Okabe and Ito 2008, "Color universal
-design"), without its yellow (too pale on white). Supports have fixed colours, engines fixed
-line styles, so that rigid/bonded/uplift and exact/approximate/simplified read the same in
-every figure; dotted lines are kept for reference lines (critical values, limits).
+The colours are Okabe & Ito's colour-blind-safe set (Okabe and Ito 2008, "Color universal
+design"), without its yellow (too pale on white), and a colour means one thing in every
+figure: a support (rigid black, bonded blue, uplift vermillion) or an engine (exact green,
+approximate orange, simplified purple, where engines are compared). Where a figure shows
+supports, engines are line styles (exact solid, approximate dashed, simplified dash-dot);
+several values of another field are shades of the support's colour with markers (shades).
+Lines that are neither (the dampings of a record's spectra, the ground motion) take sky blue
+and greys (cycle); dotted lines are kept for reference lines (critical values, limits).
 """
 
 from __future__ import annotations
@@ -15,37 +19,63 @@ from .spec import Series
 
 BLACK, ORANGE, SKY_BLUE, GREEN, BLUE, VERMILLION, PURPLE = (
     "#000000", "#E69F00", "#56B4E9", "#009E73", "#0072B2", "#D55E00", "#CC79A7")
-#: colour-blind-safe colours in the order lines take them
-PALETTE = (BLUE, VERMILLION, GREEN, PURPLE, ORANGE, SKY_BLUE, BLACK)
-#: line styles cycled with the colours when a panel has many lines (4 and 7 are coprime:
-#: 28 lines before a (colour, style) pair repeats)
-STYLES = ("-", "--", "-.", (0, (5, 1, 1, 1, 1, 1)))
-#: a panel with more automatically coloured lines than this also varies their style
-MANY_LINES = 4
-
+DARK_GREY, GREY, LIGHT_GREY = "#4D4D4D", "#8C8C8C", "#BDBDBD"
 SUPPORT_COLORS = {"rigid": BLACK, "bonded": BLUE, "uplift": VERMILLION}
+ENGINE_COLORS = {"exact": GREEN, "approximate": ORANGE, "simplified": PURPLE}
 ENGINE_LINES = {"exact": "-", "approximate": "--", "simplified": "-."}
 SUPPORT_STYLES = {"rigid": ("-", BLACK), "bonded": ("--", BLUE), "uplift": ("-", VERMILLION)}
-ENGINE_STYLES = {"exact": ("-", BLACK), "approximate": ("--", ORANGE), "simplified": ("-.", GREEN)}
+ENGINE_STYLES = {engine: (ENGINE_LINES[engine], color) for engine, color in ENGINE_COLORS.items()}
+#: the ground motion (a design spectrum, a suite's target) and the colours of lines that are
+#: neither a support nor an engine, in the order lines take them
+MOTION_COLOR = SKY_BLUE
+PALETTE = (SKY_BLUE, DARK_GREY, GREY)
+#: line styles cycled with the colours when a panel has many lines (4 and 3 are coprime: 12
+#: lines before a (colour, style) pair repeats; then markers)
+STYLES = ("-", "--", "-.", (0, (5, 1, 1, 1, 1, 1)))
+MARKERS = (None, "o", "s", "^", "D")
+#: a panel with more automatically coloured lines than this also varies their style
+MANY_LINES = 3
 #: shading of the contact state: the left and the right edge of the mat lifted
-LIFT_COLORS = {"left": ORANGE, "right": SKY_BLUE}
+LIFT_COLORS = {"left": SKY_BLUE, "right": GREY}
 
 
 def cycle(series: Sequence[Series]) -> list[Series]:
-    """The series with a palette colour for each that has none and, when they are many
-    (more than MANY_LINES), a line style cycling with the colours: every line distinct."""
+    """The series with a PALETTE colour for each that has none and, when they are many
+    (more than MANY_LINES), a line style cycling with the colours (and a marker after 12):
+    every line distinct."""
     free = [k for k, s in enumerate(series) if s.color is None]
     many = len(free) > MANY_LINES
     out = list(series)
+    combinations = len(PALETTE) * len(STYLES)
     for position, k in enumerate(free):
         style = STYLES[position % len(STYLES)] if many else out[k].style
-        out[k] = replace(out[k], color=PALETTE[position % len(PALETTE)], style=style)
+        marker = MARKERS[(position // combinations) % len(MARKERS)] if many else out[k].marker
+        out[k] = replace(out[k], color=PALETTE[position % len(PALETTE)], style=style, marker=marker)
     return out
 
 
-def scaled_unit(largest: float, unit: str) -> tuple[float, str]:
-    """(factor from SI, unit) of an axis of forces (N), moments (N m) or energies (J): kilo or
-    mega (or giga), whichever keeps its tick labels below 10 000."""
+def shades(color: str, count: int) -> list[str]:
+    """`count` shades of a colour, from itself towards white (at most 65 % of the way): the
+    values of a field drawn in one support's colour."""
+    rgb = [int(color[i:i + 2], 16) for i in (1, 3, 5)]
+    out = []
+    for k in range(count):
+        t = 0.65 * k / max(count - 1, 1)
+        out.append("#" + "".join(f"{round(c + (255 - c) * t):02X}" for c in rgb))
+    return out
+
+
+def scaled_unit(largest: float, unit: str, units: str = "si") -> tuple[float, str]:
+    """(factor from SI, unit) of an axis of forces (N), moments (N m) or energies (J): in SI kilo
+    or mega (or giga), whichever keeps its tick labels below 10 000; in US units kip, kip ft
+    (display.py), or thousands of them."""
+    if units != "si":
+        from ..display import unit as display_unit
+
+        shown = display_unit(unit, units)
+        if abs(largest) * shown.factor < 1e4:
+            return shown.factor, shown.label
+        return shown.factor * 1e-3, f"1000 {shown.label}"
     for factor, prefix in ((1e-3, "k"), (1e-6, "M")):
         if abs(largest) * factor < 1e4:
             return factor, prefix + unit

@@ -39,10 +39,13 @@ _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"
 _DT_RE = re.compile(r"\bdt\b\s*(?:\(s\)|\[s\])?\s*[=:]?\s*(" + _NUMBER + r")", re.IGNORECASE)
 _NPTS_RE = re.compile(r"\bnpts\b\s*[=:]?\s*(\d+)", re.IGNORECASE)
 _UNIT_HINT_RE = re.compile(
-    r"(?:units?\s*(?:of|[:=]|are|in)?\s*|accel(?:eration)?\w*\s*(?:in\s+)?[(\[_]?\s*|\(|\[)"
-    r"(g|gal|(?:m|cm|in)/s(?:ec)?(?:\^?2|/s(?:ec)?|\*\*2))(?![\w/])",
+    r"(?:units?\s*(?:of|[:=]|are|in)?\s*|acc(?:el(?:eration)?)?\w*?\s*(?:in\s+)?[(\[_]?\s*|\(|\[)"
+    r"(g|gal|(?:m|cm|in)/s(?:ec)?(?:\^?2|/s(?:ec)?|\*\*2)|(?:m|cm|in)_s_?2)(?![\w/])",
     re.IGNORECASE,
 )
+#: the units of a column name in the project's CSV style (quantity_unit: acc_m_s2, accel_cm_s2)
+_COLUMN_UNITS = {"m_s2": "m/s2", "m_s_2": "m/s2", "cm_s2": "cm/s2", "cm_s_2": "cm/s2", "in_s2": "in/s2",
+                 "in_s_2": "in/s2"}
 
 
 _PLAIN_NUMBER = re.compile(_NUMBER + r"|[-+]?(?:nan|inf|infinity)", re.IGNORECASE)
@@ -75,7 +78,10 @@ def _resolution(token: str) -> float:
 
 def _unit_hint(text: str) -> str | None:
     match = _UNIT_HINT_RE.search(text)
-    return ACCELERATION_ALIASES.get(match.group(1).lower().replace("sec", "s")) if match else None
+    if not match:
+        return None
+    found = match.group(1).lower()
+    return _COLUMN_UNITS.get(found) or ACCELERATION_ALIASES.get(found.replace("sec", "s"))
 
 
 def read_bytes(path: Path, source: str) -> bytes:

@@ -3,15 +3,19 @@ report/document.py) and the figure data out; report/html.py turns both into one 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import os
+from collections.abc import Mapping, Sequence
 
 from ..engines.result import AnalysisResult
 from ..figures.sets import analysis_figures, motion_label
-from .document import Figure, Report, Section, Table, Text
+from .document import PROJECT_FIELDS, Figure, Report, Section, SignOff, Table, Text
 from .inputs import inputs_section, model_section, modes_section, motion_section
 from .method import method_section
+from .provenance import relative_path
 from .results import accuracy_section, criteria_section, results_section, summary_table, warnings_section
 
+#: --units -> the words of the report's subtitle
+UNIT_NAMES = {"si": "SI (kN, kN m, mm, m, g)", "us": "US (kip, kip ft, in, ft, g)"}
 #: figure name (or its prefix before "_<engine>") -> caption
 CAPTIONS = {
     "profiles": "Peak response over the height: floor displacement, story drift ratio (with the [criteria] limit), "
@@ -39,40 +43,54 @@ def figures_section(names: Sequence[str]) -> Section:
     return Section("figures", "Figures", blocks)
 
 
-def provenance_section(info: dict) -> Section:
+def provenance_section(info: dict, folder: str | None = None) -> Section:
+    """Tool and run, and every input file with its SHA-256 (paths relative to `folder`, the
+    deck's, when given: no absolute path in the report)."""
     rows = [["tool", f"{info['tool']} {info['version']}"], ["python", info["python"]], ["platform", info["platform"]],
             ["libraries", ", ".join(f"{k} {v}" for k, v in info["libraries"].items())], ["command", info["command"]],
             ["time (UTC)", info["time_utc"]]]
-    files = [[f["role"], f["path"], f["sha256"] or "-", "-" if f["bytes"] is None else str(f["bytes"])]
-             for f in info["files"]]
+    files = [[f["role"], relative_path(f["path"], folder), f["sha256"] or "-",
+              "-" if f["bytes"] is None else str(f["bytes"])] for f in info["files"]]
     return Section("provenance", "Provenance", [
         Table("table-provenance", "Tool and run", ["item", "value"], rows),
-        Table("table-files", "Input files", ["role", "path", "SHA-256", "bytes"], files,
-              "Check a file against its SHA-256 with `sha256sum FILE`."),
+        Table("table-files", "Input files" + (" (paths relative to the deck's folder)" if folder else ""),
+              ["role", "path", "SHA-256", "bytes"], files, "Check a file against its SHA-256 with `sha256sum FILE`."),
     ])
 
 
+def project_fields(deck, given: Mapping[str, str] | None = None) -> dict[str, str]:
+    """The deck's [project] fields, replaced by those given (uplift report --project ...), in
+    the order of document.PROJECT_FIELDS; empty ones left out."""
+    found = {**getattr(deck, "values", {}).get("project", {}), **{k: v for k, v in (given or {}).items() if v}}
+    return {name: str(found[name]) for name in PROJECT_FIELDS if found.get(name)}
+
+
 def build_report(deck, results: Sequence[AnalysisResult], deck_text: str, overrides: Sequence[str],
-                 info: dict) -> tuple[Report, dict]:
-    """(the Report, its figures: name -> FigureSpec) of a deck's results; info: provenance."""
-    specs = analysis_figures(deck, results)
-    criteria, verdict, code = criteria_section(results, deck.criteria)
+                 info: dict, units: str = "si", project: Mapping[str, str] | None = None) -> tuple[Report, dict]:
+    """(the Report, its figures: name -> FigureSpec) of a deck's results in the display units
+    (display.py); info: provenance; project: [project] fields that replace the deck's."""
+    specs = analysis_figures(deck, results, units)
+    criteria, verdict, code = criteria_section(results, deck.criteria, units)
     motion = motion_label(deck)
-    head = Section("summary", "Summary", [Text([verdict]), _copy(summary_table(results), "table-summary-head")])
-    sections = [head, inputs_section(deck, deck_text, overrides), model_section(deck, results),
-                motion_section(deck), modes_section(deck), results_section(results)]
-    accuracy = accuracy_section(results)
+    fields = project_fields(deck, project)
+    signoff = SignOff([("Prepared by", fields.get("engineer", "")), ("Checked by", fields.get("checker", ""))])
+    head = Section("summary", "Summary", [Text([verdict]), _copy(summary_table(results, units), "table-summary-head"),
+                                          signoff])
+    sections = [head, inputs_section(deck, deck_text, overrides), model_section(deck, results, units),
+                motion_section(deck), modes_section(deck, units), results_section(results, units)]
+    accuracy = accuracy_section(results, units)
     if accuracy is not None:
         sections.append(accuracy)
     sections += [warnings_section(results, deck), criteria, figures_section(list(specs)),
                  method_section([r.engine for r in results], getattr(deck.analysis.simplified, "procedure", "paper")),
-                 provenance_section(info)]
+                 provenance_section(info, os.path.dirname(os.path.abspath(deck.source)))]
     engines = ", ".join(dict.fromkeys(r.engine for r in results))
     supports = ", ".join(dict.fromkeys(r.support for r in results))
-    subtitle = [f"Deck {deck.source}" + (f"; ground motion: {motion}" if motion else ""),
-                f"Engines: {engines}; supports: {supports}",
+    subtitle = [f"Deck {os.path.basename(deck.source)}" + (f"; ground motion: {motion}" if motion else ""),
+                f"Engines: {engines}; supports: {supports}; units: {UNIT_NAMES[units]}",
                 f"uplift {info['version']}, {info['time_utc']}"]
-    return Report(f"Calculation report: {deck.title}", subtitle, sections, verdict, code), specs
+    return Report(f"Calculation report: {deck.title}", subtitle, sections, verdict, code, fields, deck.title,
+                  info["time_utc"][:10], f"uplift {info['version']}"), specs
 
 
 def _copy(table: Table, new_id: str) -> Table:

@@ -3,10 +3,9 @@ already formatted), rendered by report/html.py. Nothing here knows HTML."""
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
-import numpy as np
+from ..display import number  # noqa: F401 - the report's number format, display.number
 
 
 @dataclass
@@ -55,39 +54,37 @@ class Section:
 
 
 @dataclass
+class SignOff:
+    """The sign-off block: (role, name) rows ("Prepared by", "A. Engineer"), each with lines for
+    a signature and a date."""
+
+    rows: list[tuple[str, str]]
+
+
+#: the [project] fields of a deck (deck_schema.TABLES["project"]) and their labels in the title block
+PROJECT_FIELDS = {"project": "Project", "job_number": "Job number", "revision": "Revision",
+                  "engineer": "Prepared by", "checker": "Checked by"}
+
+
+@dataclass
 class Report:
     """Title, the lines under it, the sections, the criteria verdict and the exit code
-    `uplift analyze` gives for the same run."""
+    `uplift analyze` gives for the same run; project: the [project] fields given (PROJECT_FIELDS);
+    subject: what is calculated (the deck's title); date: the run's (UTC); footer: the tool and
+    its version, printed at the foot of every page."""
 
     title: str
     subtitle: list[str]
     sections: list[Section]
     verdict: str
     exit_code: int
+    project: dict[str, str] = field(default_factory=dict)
+    subject: str = ""
+    date: str = ""
+    footer: str = ""
 
     def tables(self) -> list[Table]:
         return [b for s in self.sections for b in s.blocks if isinstance(b, Table)]
 
     def figures(self) -> list[Figure]:
         return [b for s in self.sections for b in s.blocks if isinstance(b, Figure)]
-
-
-def number(value, digits: int = 5) -> str:
-    """A value as text: numbers to `digits` significant digits (plain between 1e-4 and 1e9,
-    at least their integer digits, no trailing zeros), lists joined, booleans yes/no, non-finite as '-'."""
-    if isinstance(value, (bool, np.bool_)):
-        return "yes" if value else "no"
-    if isinstance(value, (list, tuple, np.ndarray)):
-        return ", ".join(number(v, digits) for v in value)
-    if isinstance(value, (int, np.integer)):
-        return str(int(value))
-    if isinstance(value, (float, np.floating)):
-        value = float(value)
-        if not math.isfinite(value):
-            return "-"
-        if value == 0.0 or not 1e-4 <= abs(value) < 1e9:
-            return f"{value:.{digits}g}"
-        decimals = max(0, digits - 1 - math.floor(math.log10(abs(value))))
-        text = f"{value:.{decimals}f}"  # `digits` significant digits, no exponent
-        return text.rstrip("0").rstrip(".") if "." in text else text
-    return "-" if value is None else str(value)

@@ -1,19 +1,25 @@
 """A Report (report/document.py) as one self-contained HTML file: the figures embedded as
 base64 PNG, the styles inline, no script, no link, no external reference; a Content Security
-Policy that forbids every network request; print CSS (A4, figures and table rows kept whole,
-table headers repeated on each page)."""
+Policy that forbids every network request; a title block (project, job number, subject,
+revision, prepared by, checked by, date) and a sign-off block; print CSS (A4 portrait, a
+running header with the project and the subject, "page N of M" and the tool at the foot of
+every page in the page's margin boxes, figures and table rows kept whole, table headers
+repeated on each page, each figure printed at its own size or smaller)."""
 
 from __future__ import annotations
 
 import base64
 import re
+import struct
 from html import escape
 
-from .document import Figure, Pre, Report, Table, Text
+from .document import PROJECT_FIELDS, Figure, Pre, Report, SignOff, Table, Text
 
 #: nothing may be fetched: images only from data: URLs, styles only inline
 CSP = "default-src 'none'; img-src data:; style-src 'unsafe-inline'"
 _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+#: CSS pixels per inch
+CSS_PX = 96
 
 CSS = """
 :root { --ink: #1a1a1a; --rule: #c8c8c8; --muted: #555; --ok: #0b6e4f; --fail: #b03a00; }
@@ -32,25 +38,65 @@ th { background: #f2f2f2; text-align: left; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
 p.note { font-size: 0.85em; color: var(--muted); margin-top: -1em; }
 pre { background: #f7f7f7; border: 1px solid var(--rule); padding: 0.8em; font-size: 0.82em;
-      white-space: pre-wrap; word-break: break-word; }
+      font-family: "DejaVu Sans Mono", "Courier New", monospace; white-space: pre-wrap; word-break: break-word; }
 figure { margin: 1.2em 0 2em; }
 figure img { max-width: 100%; height: auto; border: 1px solid #eee; }
 figcaption { font-size: 0.9em; color: var(--muted); margin-top: 0.3em; }
 .wide { overflow-x: auto; }
-@page { size: A4; margin: 14mm 12mm; }
+table.title-block { width: 100%; margin: 0.6em 0 0.8em; font-size: 0.95em; }
+table.title-block th { width: 16%; }
+table.title-block td { width: 34%; }
+table.signoff { width: 100%; }
+table.signoff th { width: 16%; }
+table.signoff td { height: 2.4em; }
+table.signoff td.line { width: 30%; }
+@page { size: A4 portrait; margin: 17mm 12mm 15mm;
+  @top-left { content: RUNNING_LEFT; font: 8pt "DejaVu Sans", Arial, sans-serif; color: #555; }
+  @top-right { content: RUNNING_RIGHT; font: 8pt "DejaVu Sans", Arial, sans-serif; color: #555; }
+  @bottom-left { content: FOOT_LEFT; font: 8pt "DejaVu Sans", Arial, sans-serif; color: #555; }
+  @bottom-right { content: "page " counter(page) " of " counter(pages); font: 8pt "DejaVu Sans", Arial, sans-serif; }
+}
 @media print {
-  body { margin: 0; max-width: none; padding: 0; font-size: 10.5pt; }
+  body { margin: 0; max-width: none; padding: 0; font-size: 10pt; }
   nav { display: none; }
-  h2 { break-after: avoid; page-break-after: avoid; }
-  figure, pre { break-inside: avoid; page-break-inside: avoid; }
+  h1 { font-size: 15pt; margin-top: 0; }
+  h2 { break-after: avoid; page-break-after: avoid; margin-top: 1.2em; }
+  figure, table.title-block, table.signoff { break-inside: avoid; page-break-inside: avoid; }
+  figure { margin: 0.6em 0 1em; }
+  figure img { border: none; }
+  pre { font-size: 8pt; }
   tr { break-inside: avoid; page-break-inside: avoid; }
   thead { display: table-header-group; }
   table { font-size: 8.5pt; }
+  td, th { overflow-wrap: anywhere; }  /* a SHA-256 or a path never widens the page (Chromium would shrink it) */
+  td.num { overflow-wrap: normal; }
+  table.title-block { font-size: 9pt; }
+  p.note, figcaption { font-size: 8pt; }
   .wide { overflow: visible; }
   a { color: inherit; text-decoration: none; }
-  section#figures figure { break-before: auto; }
 }
 """
+
+
+def css_string(text: str) -> str:
+    """A CSS string literal of a text (quotes, backslashes, line breaks and '<' escaped: no
+    text can end the string or the <style> element)."""
+    out = text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", " ").replace("<", "\\3C ")
+    return f'"{out}"'
+
+
+def page_css(report: Report) -> str:
+    """CSS with the running header and footer of this report: top left the project, job number
+    and revision (or the title), top right the subject; bottom left the tool and the date,
+    bottom right "page N of M"."""
+    project = report.project
+    left = " \u2014 ".join(part for part in (project.get("project", ""),
+                                              f"job {project['job_number']}" if project.get("job_number") else "",
+                                              f"rev. {project['revision']}" if project.get("revision") else "")
+                            if part) or report.title
+    foot = ", ".join(part for part in (report.footer, report.date) if part)
+    return (CSS.replace("RUNNING_LEFT", css_string(left)).replace("RUNNING_RIGHT", css_string(report.subject))
+            .replace("FOOT_LEFT", css_string(foot)))
 
 
 def _cell(text: str, header: bool = False) -> str:
@@ -67,10 +113,20 @@ def table_html(table: Table) -> str:
             f"<thead><tr>{head}</tr></thead>\n<tbody>\n{body}\n</tbody></table></div>{note}")
 
 
-def figure_html(figure: Figure, png: bytes) -> str:
+def png_size(png: bytes) -> tuple[int, int]:
+    """(width, height) in pixels of a PNG image (its IHDR chunk)."""
+    if png[:8] != b"\x89PNG\r\n\x1a\n" or len(png) < 24:
+        raise ValueError("not a PNG image")
+    return struct.unpack(">II", png[16:24])
+
+
+def figure_html(figure: Figure, png: bytes, dpi: float | None = None) -> str:
+    """The figure; dpi: that of the PNG, whose <img> is then as wide as the figure was drawn
+    (its text prints at the size it was set, or smaller on a narrower page)."""
     data = base64.b64encode(png).decode("ascii")
-    return (f'<figure id="{escape(figure.id)}"><img src="data:image/png;base64,{data}" alt="{escape(figure.caption)}">'
-            f"<figcaption>{escape(figure.caption)}</figcaption></figure>")
+    width = f' width="{round(png_size(png)[0] * CSS_PX / dpi)}"' if dpi else ""
+    return (f'<figure id="{escape(figure.id)}"><img src="data:image/png;base64,{data}"{width} '
+            f'alt="{escape(figure.caption)}"><figcaption>{escape(figure.caption)}</figcaption></figure>')
 
 
 def text_html(text: Text) -> str:
@@ -79,8 +135,33 @@ def text_html(text: Text) -> str:
     return paragraphs + (f"<ul>{items}</ul>" if items else "")
 
 
-def render(report: Report, images: dict[str, bytes]) -> str:
-    """The HTML document; images: figure name -> PNG bytes (every Figure of the report needs one)."""
+def signoff_html(block: SignOff) -> str:
+    """The sign-off block: per role the name (or a line to write it on), a signature and a date."""
+    rows = "".join(f'<tr><th>{escape(role)}</th><td class="line">{escape(name)}</td><td class="line"></td>'
+                   '<td class="line"></td></tr>' for role, name in block.rows)
+    return ('<table class="signoff" id="signoff"><caption>Sign-off</caption><thead><tr><th></th><th>name</th>'
+            f"<th>signature</th><th>date</th></tr></thead><tbody>{rows}</tbody></table>")
+
+
+def title_block_html(report: Report) -> str:
+    """Project, job number, subject, revision, prepared by, checked by, date and the tool: the
+    fields not given are left blank (to be filled in by hand)."""
+    project = report.project
+
+    def cell(name: str) -> str:
+        return escape(project.get(name, ""))
+
+    rows = [(PROJECT_FIELDS["project"], cell("project"), PROJECT_FIELDS["job_number"], cell("job_number")),
+            ("Subject", escape(report.subject), PROJECT_FIELDS["revision"], cell("revision")),
+            (PROJECT_FIELDS["engineer"], cell("engineer"), PROJECT_FIELDS["checker"], cell("checker")),
+            ("Date (UTC)", escape(report.date), "Program", escape(report.footer))]
+    body = "".join(f"<tr><th>{a}</th><td>{b}</td><th>{c}</th><td>{d}</td></tr>" for a, b, c, d in rows)
+    return f'<table class="title-block" id="title-block"><tbody>{body}</tbody></table>'
+
+
+def render(report: Report, images: dict[str, bytes], dpi: float | None = None) -> str:
+    """The HTML document; images: figure name -> PNG bytes (every Figure of the report needs
+    one), drawn at `dpi` (then each <img> is as wide as its figure)."""
     parts = []
     for number, section in enumerate(report.sections, 1):
         blocks = []
@@ -88,12 +169,14 @@ def render(report: Report, images: dict[str, bytes]) -> str:
             if isinstance(block, Table):
                 blocks.append(table_html(block))
             elif isinstance(block, Figure):
-                blocks.append(figure_html(block, images[block.name]))
+                blocks.append(figure_html(block, images[block.name], dpi))
             elif isinstance(block, Pre):
                 blocks.append(f'<p class="note">{escape(block.caption)}</p><pre id="{escape(block.id)}">'
                               f"{escape(block.text)}</pre>")
             elif isinstance(block, Text):
                 blocks.append(text_html(block))
+            elif isinstance(block, SignOff):
+                blocks.append(signoff_html(block))
         if section.id == "summary":
             kind = "verdict" if report.exit_code == 0 else "verdict fail"
             blocks[0] = f'<p class="{kind}" id="verdict">{escape(report.verdict)}</p>'
@@ -104,6 +187,6 @@ def render(report: Report, images: dict[str, bytes]) -> str:
     return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
             f'<meta http-equiv="Content-Security-Policy" content="{CSP}">\n'
             '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
-            f"<title>{escape(report.title)}</title>\n<style>{CSS}</style>\n</head>\n<body>\n"
-            f"<header><h1>{escape(report.title)}</h1>{subtitle}</header>\n"
+            f"<title>{escape(report.title)}</title>\n<style>{page_css(report)}</style>\n</head>\n<body>\n"
+            f"<header><h1>{escape(report.title)}</h1>{title_block_html(report)}{subtitle}</header>\n"
             f"<nav><ol>{toc}</ol></nav>\n" + "\n".join(parts) + "\n</body>\n</html>\n")

@@ -4,17 +4,20 @@ the ground motion and the fixed-base modes."""
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 
 import numpy as np
 
 from .. import deck_schema as schema
+from ..display import heading, label, show
 from ..engines.quantities import INTERMEDIATES
 from ..model.system import fixed_base_mode_rows
 from ..motion.design_spectra import KEY_UNITS
 from ..provenance import record_sha256
 from ..units import STANDARD_GRAVITY
 from .document import Pre, Section, Table, Text, number
+from .provenance import relative_path
 
 
 def _flatten(value, prefix: str):
@@ -27,7 +30,7 @@ def _flatten(value, prefix: str):
 
 def inputs_section(deck, deck_text: str, overrides: Sequence[str]) -> Section:
     """The deck file as given, the --set overrides and every validated field with its unit."""
-    blocks: list = [Pre("deck-as-given", f"The deck as given ({deck.source})", deck_text)]
+    blocks: list = [Pre("deck-as-given", f"The deck as given ({os.path.basename(deck.source)})", deck_text)]
     if overrides:
         blocks.append(Text(["Overrides given on the command line (--set, --engine, --support), applied before "
                             "validation:"], [str(o) for o in overrides]))
@@ -50,15 +53,15 @@ def inputs_section(deck, deck_text: str, overrides: Sequence[str]) -> Section:
     return Section("inputs", "Inputs", blocks)
 
 
-def _foundation_rows(system) -> list[list[str]]:
-    """The foundation as the engines use it (provenance.foundation_entry): its own parameters
-    with their deck units, K_theta, C_theta, k_v, c_v and the contact elements at the frequency
-    omega_impedance every engine evaluates them at (model/interaction.py)."""
+def _foundation_rows(system, units: str = "si") -> list[list[str]]:
+    """The foundation as the engines use it (provenance.foundation_entry): its own parameters,
+    K_theta, C_theta, k_v, c_v and the contact elements at the frequency omega_impedance every
+    engine evaluates them at (model/interaction.py), in the display units."""
     from ..model.interaction import impedance
     from ..provenance import MODEL_UNITS, foundation_entry, foundation_units
 
     entry = foundation_entry(system)
-    units = {**foundation_units(system), **MODEL_UNITS}
+    si_units = {**foundation_units(system), **MODEL_UNITS}
     fields = type(system.foundation).deck_fields
     meanings = {"vertical_stiffness": "vertical stiffness of the foundation at omega_impedance",
                 "vertical_damping": "vertical damping of the foundation at omega_impedance",
@@ -67,59 +70,68 @@ def _foundation_rows(system) -> list[list[str]]:
     rows = [["foundation type", str(entry.pop("type")), "-", ""]]
     for name, value in entry.items():
         meaning = fields[name].doc if name in fields else meanings.get(name, "")
-        rows.append([name, number(value) if not isinstance(value, str) else value, units.get(name, "-"), meaning])
+        kind = si_units.get(name, "-")
+        rows.append([name, show(value, kind, units) if not isinstance(value, str) else value, label(kind, units),
+                     meaning])
     elements = system.foundation.contact_elements(system.half_width, impedance(system)["omega_impedance"])
+
+    def stated(value: float, kind: str) -> str:
+        return f"{show(value, kind, units)} {label(kind, units)}"
+
     rows.append(["contact elements", str(elements.count), "-",
-                 f"at x = {number(elements.positions.min(), 4)} .. {number(elements.positions.max(), 4)} m, "
-                 f"k_i = {number(elements.stiffness[0])} N/m, c_i = {number(elements.damping[0])} N s/m each"
+                 f"at x = {stated(elements.positions.min(), 'm')} .. {stated(elements.positions.max(), 'm')}, "
+                 f"k_i = {stated(elements.stiffness[0], 'N/m')}, c_i = {stated(elements.damping[0], 'N s/m')} each"
                  + ("" if np.ptp(elements.stiffness) == 0 else " (first element)") + " (exact engine)"])
     return rows
 
 
-def model_section(deck, results: Sequence = ()) -> Section:
+def model_section(deck, results: Sequence = (), units: str = "si") -> Section:
     """The derived model: per story (elevation, mass, stiffness after the period scaling),
-    the whole system (m_t, b, h_1*, V_c, M_c ...) and the foundation (k_f, c_f, K_theta, C_theta)."""
+    the whole system (m_t, b, h_1*, V_c, M_c ...) and the foundation (k_f, c_f, K_theta, C_theta),
+    in the display units."""
     system = deck.system
     building = system.building
     stiffness = building.story_stiffness
     story_rows = []
     for j in range(building.n_stories):
-        story_rows.append([str(j + 1), number(building.heights[j]), number(building.story_heights[j]),
-                           number(building.masses[j]), number(stiffness[j]) if stiffness is not None else "-"])
+        story_rows.append([str(j + 1), show(building.heights[j], "m", units),
+                           show(building.story_heights[j], "m", units), show(building.masses[j], "kg", units),
+                           show(stiffness[j], "N/m", units) if stiffness is not None else "-"])
     note = ("Story stiffnesses after scaling to building.period." if "period" in deck.values.get("building", {})
             else "Story stiffnesses as given.")
     if stiffness is None:
         note = "A stiffness matrix was given (no story stiffnesses)."
     h1 = system.effective_height
     scalars = [
-        ["m_t", number(system.total_mass), "kg", "total mass (floors and mat)"],
-        ["m_0", number(system.mat_mass), "kg", "mat mass"],
-        ["I_0", number(system.mat_rotary_inertia), "kg m^2", "mat rotary inertia about its centre"],
-        ["I_b", number(float(np.sum(building.masses * building.heights**2)) + system.mat_rotary_inertia), "kg m^2",
+        ["m_t", system.total_mass, "kg", "total mass (floors and mat)"],
+        ["m_0", system.mat_mass, "kg", "mat mass"],
+        ["I_0", system.mat_rotary_inertia, "kg m^2", "mat rotary inertia about its centre"],
+        ["I_b", float(np.sum(building.masses * building.heights**2)) + system.mat_rotary_inertia, "kg m^2",
          "rotary inertia about the mat, sum m_j h_j^2 + I_0"],
-        ["L_0", number(system.first_moment), "kg m", "sum m_j h_j"],
-        ["b", number(system.half_width), "m", "mat half-width"],
-        ["h_1*", number(h1), "m", "first-mode effective height [9]"],
-        ["h_1*/b", number(h1 / system.half_width), "-", "slenderness"],
-        ["T_1", number(system.modes.periods[0]), "s", "fixed-base fundamental period"],
-        ["V_c", number(system.critical_base_shear), "N", "critical base shear m_t g b / h_1* [16a]"],
-        ["M_c", number(system.critical_base_moment), "N m", "critical base moment m_t g b [16b]"],
-        ["g", number(system.gravity), "m/s^2", "gravity"],
+        ["L_0", system.first_moment, "kg m", "sum m_j h_j"],
+        ["b", system.half_width, "m", "mat half-width"],
+        ["h_1*", h1, "m", "first-mode effective height [9]"],
+        ["h_1*/b", h1 / system.half_width, "-", "slenderness"],
+        ["T_1", system.modes.periods[0], "s", "fixed-base fundamental period"],
+        ["V_c", system.critical_base_shear, "N", "critical base shear m_t g b / h_1* [16a]"],
+        ["M_c", system.critical_base_moment, "N m", "critical base moment m_t g b [16b]"],
+        ["g", system.gravity, "m/s^2", "gravity"],
     ]
-    used = []
     for result in results:
         for name in ("K_theta", "C_theta", "T1bar", "xi1bar", "xi_f"):
-            if name in result.intermediates and not any(row[0] == name for row in used):
-                used.append([name, number(result.intermediates[name]), INTERMEDIATES[name][0],
-                             f"{INTERMEDIATES[name][1]}, as used by the {result.engine} engine"])
+            if name in result.intermediates and not any(row[0] == name for row in scalars):
+                scalars.append([name, result.intermediates[name], INTERMEDIATES[name][0],
+                                f"{INTERMEDIATES[name][1]}, as used by the {result.engine} engine"])
+    rows = [[name, show(value, kind, units), label(kind, units), meaning] for name, value, kind, meaning in scalars]
     return Section("model", "Derived model", [
         Table("table-building", "Building: floors and stories (story j joins floor j-1 and floor j)",
-              ["story", "elevation h_j [m]", "story height [m]", "floor mass m_j [kg]", "story stiffness k_j [N/m]"],
+              ["story", heading("elevation h_j", "m", units), heading("story height", "m", units),
+               heading("floor mass m_j", "kg", units), heading("story stiffness k_j", "N/m", units)],
               story_rows, note),
         Table("table-system", "The system: mat, totals and critical values", ["quantity", "value", "unit", "meaning"],
-              scalars + used),
+              rows),
         Table("table-foundation", "Foundation", ["quantity", "value", "unit", "meaning"],
-              _foundation_rows(system)),
+              _foundation_rows(system, units)),
     ])
 
 
@@ -132,16 +144,17 @@ def motion_section(deck) -> Section:
     motion = deck.ground_motion
     g = STANDARD_GRAVITY
     headers = ["quantity", "value", "unit"]
+    folder = os.path.dirname(os.path.abspath(deck.source))
     if isinstance(motion, Record):
-        rows = [["record", motion.name, ""], ["file", str(motion.source), ""],
+        rows = [["record", motion.name, ""], ["file", relative_path(motion.source, folder), ""],
                 ["SHA-256", record_sha256(motion) or "-", ""],
                 ["units of the file", motion.units, ""], ["scale factor", number(motion.scale), "-"],
                 ["time step dt", number(motion.dt), "s"], ["points", str(motion.npts), "-"],
                 ["duration", number(motion.duration), "s"], ["PGA", number(motion.pga / g, 4), "g"]]
         return Section("motion", "Ground motion", [Table("table-motion", "Ground motion record", headers, rows)])
     if isinstance(motion, Suite):
-        rows = [[str(k + 1), record.name, str(record.source), number(factor, 4), number(record.pga * factor / g, 4),
-                 record_sha256(record) or "-"]
+        rows = [[str(k + 1), record.name, relative_path(record.source, folder), number(factor, 4),
+                 number(record.pga * factor / g, 4), record_sha256(record) or "-"]
                 for k, (record, factor) in enumerate(zip(motion.records, motion.factors, strict=True))]
         text = Text([f"Suite of {motion.count} records, target {motion.target.name}, period range "
                      f"{number(motion.period_range[0], 4)}-{number(motion.period_range[1], 4)} s, scaling "
@@ -159,16 +172,18 @@ def motion_section(deck) -> Section:
     return Section("motion", "Ground motion", [Table("table-motion", "Design spectrum", headers, rows)])
 
 
-def modes_section(deck) -> Section:
+def modes_section(deck, units: str = "si") -> Section:
     """Fixed-base modes: T_n, w_n/w_1, m_n*/m_t (and cumulative), h_n*, h_n*/b [6, 9]."""
     system = deck.system
     m_t = system.total_mass
     rows = [[str(row["mode"]), number(row["period"]), number(row["frequency_ratio"], 4),
              number(row["effective_mass_ratio"], 4), number(row["cumulative_mass_ratio"], 4),
-             number(row["effective_height"]), number(row["effective_height_over_b"], 4), number(row["damping"], 3)]
+             show(row["effective_height"], "m", units), number(row["effective_height_over_b"], 4),
+             number(row["damping"], 3)]
             for row in fixed_base_mode_rows(system)]
     note = "" if system.mat_mass == 0 else (f"m_t includes the mat mass m_0: the m_n* add up to the building mass, "
                                             f"{1 - system.mat_mass / m_t:.4f} m_t.")
     return Section("modes", "Fixed-base modes", [Table(
         "table-modes", "Fixed-base modes [6, 9]", ["mode", "T_n [s]", "w_n/w_1 [-]", "m_n*/m_t [-]", "cumulative [-]",
-                                                   "h_n* [m]", "h_n*/b [-]", "damping xi_n [-]"], rows, note)])
+                                                   heading("h_n*", "m", units), "h_n*/b [-]", "damping xi_n [-]"],
+        rows, note)])

@@ -1,6 +1,6 @@
 """Report sections on what came out: the results of every engine and support (the tables of
-engines/quantities.py), the accuracy check (simplified against exact), the warnings and the
-[criteria] verdict with the exit code of `uplift analyze`."""
+engines/quantities.py, in the display units of display.py), the accuracy check (simplified
+against exact), the warnings and the [criteria] verdict with the exit code of `uplift analyze`."""
 
 from __future__ import annotations
 
@@ -9,7 +9,8 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from ..criteria import outcomes
-from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, STORY, quantities
+from ..display import SUMMARY, WEIGHT_LEGEND, heading, intermediate_kind, label, show
+from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, STORY, display_kind, quantities
 from ..engines.result import AnalysisResult
 from .document import Section, Table, Text, number
 
@@ -21,24 +22,17 @@ def _slug(result: AnalysisResult) -> str:
     return f"{result.engine}-{result.support}"
 
 
-def _display(quantity, value: float) -> str:
-    _, factor, spec = quantity.display
-    return format(value * factor, spec) if np.isfinite(value) else "-"
-
-
-def summary_table(results: Sequence[AnalysisResult]) -> Table:
-    rows = [[r.engine, r.support, number(1e-3 * r.base_shear), number(r.base_shear_coefficient, 4),
-             number(1e-3 * r.base_moment), number(r.base_moment_coefficient, 4), number(1e-3 * r.critical_base_shear),
-             number(1e-3 * r.critical_base_moment), number(r.critical_coefficient, 4), number(r.uplift)]
-            for r in results]
+def summary_table(results: Sequence[AnalysisResult], units: str = "si") -> Table:
+    """One row per analysis, every column of the display record of the scalar results (display.SUMMARY)."""
+    columns = list(SUMMARY.values())
+    rows = [[getattr(r, "label", r.engine), r.support, *(column.cell(r, units) for column in columns)] for r in results]
     return Table("table-summary", "Summary: base shear V_b [14a] and base moment M_b [14b] of every analysis",
-                 ["engine", "support", "V_b [kN]", "V_b/(m_t g) [-]", "M_b [kN m]", "M_b/(m_t g h_1*) [-]", "V_c [kN]",
-                  "M_c [kN m]", "b/h_1* [-]", "uplift"], rows,
-                 "The critical value of both coefficients is b/h_1* [16a, 16b].")
+                 ["engine", "support", *(column.heading(units) for column in columns)], rows,
+                 f"{WEIGHT_LEGEND}; the critical value of both coefficients is b/h_1* [16a, 16b].")
 
 
 def detail_unit(table: str, name: str) -> str:
-    """Unit of an entry of the uplift summary or the energy balance of the history engines."""
+    """SI unit of an entry of the uplift summary or the energy balance of the history engines."""
     if table == "energy":
         return "-" if name.startswith("relative") else "J"
     for part, unit in (("rotation", "rad"), ("time", "s"), ("episodes", "-"), ("uplift", "m"),
@@ -48,56 +42,66 @@ def detail_unit(table: str, name: str) -> str:
     return INTERMEDIATES.get(name, ("", ""))[0]
 
 
-def records_table(result) -> Table:
+def records_table(result, units: str = "si") -> Table:
     """A suite's records (engines/suite_result.SuiteResult): factor and peak response of each."""
-    rows = [[str(k + 1), record.name, number(record.factor, 4), number(1e-3 * r.base_shear),
-             number(1e-3 * r.base_moment), number(100 * r.value("drift_ratio"), 4), number(r.uplift)]
+    shear, moment, drift = SUMMARY["base_shear"], SUMMARY["base_moment"], display_kind("drift_ratio")
+
+    def peaks(r) -> list[str]:
+        return [shear.cell(r, units), moment.cell(r, units), show(r.value("drift_ratio"), drift, units)]
+
+    rows = [[str(k + 1), record.name, number(record.factor, 4), *peaks(r), number(r.uplift)]
             for k, (record, r) in enumerate(zip(result.records, result.record_results, strict=True))]
-    rows.append(["", f"{result.statistic} (design value)", "", number(1e-3 * result.base_shear),
-                 number(1e-3 * result.base_moment), number(100 * result.value("drift_ratio"), 4),
+    rows.append(["", f"{result.statistic} (design value)", "", *peaks(result),
                  f"{result.uplift_count} of {result.count}"])
     return Table(f"table-{_slug(result)}-records", f"Each record of the suite, {result.engine} engine, "
                  f"{result.support} support ({result.rule_label or result.rule}: the {result.statistic})",
-                 ["record", "name", "factor [-]", "V_b [kN]", "M_b [kN m]", "largest drift ratio [%]", "uplift"],
-                 rows)
+                 ["record", "name", "factor [-]", shear.heading(units), moment.heading(units),
+                  heading("largest drift ratio", drift, units), "uplift"], rows)
 
 
-def result_tables(result: AnalysisResult) -> list[Table]:
+def result_tables(result: AnalysisResult, units: str = "si") -> list[Table]:
     """Story table, foundation elements, intermediates and the history engines' extras (for a
-    suite: of its design statistic, and each record's peaks)."""
-    label = f"{getattr(result, 'label', result.engine)} engine, {result.support} support"
+    suite: of its design statistic, and each record's peaks), in the display units."""
+    what = f"{getattr(result, 'label', result.engine)} engine, {result.support} support"
     shown = [q for q in STORY_QUANTITIES if q.name in result.peaks]
-    rows = [[str(j + 1), number(result.elevations[j], 4)] + [_display(q, result.peaks[q.name][j]) for q in shown]
+    rows = [[str(j + 1), show(result.elevations[j], "m", units)]
+            + [show(result.peaks[q.name][j], q.display, units) for q in shown]
             for j in range(result.elevations.size - 1, -1, -1)]
-    tables = [Table(f"table-{_slug(result)}-stories", f"Peak response per story, {label} (top story first)",
-                    ["story", "elevation [m]"] + [q.heading for q in shown], rows,
+    tables = [Table(f"table-{_slug(result)}-stories", f"Peak response per story, {what} (top story first)",
+                    ["story", heading("elevation", "m", units)] + [q.heading(units) for q in shown], rows,
                     "Floor quantities are those of the floor at the top of the story.")]
     elements = [q for q in quantities(ELEMENT) if q.name in result.peaks and result.peaks[q.name].size]
     if elements:
-        rows = [[str(i + 1), number(x, 4)] + [_display(q, result.peaks[q.name][i]) for q in elements]
+        rows = [[str(i + 1), show(x, "m", units)] + [show(result.peaks[q.name][i], q.display, units) for q in elements]
                 for i, x in enumerate(result.element_positions)]
-        tables.append(Table(f"table-{_slug(result)}-elements", f"Foundation elements, {label}: largest compression",
-                            ["element", "position x [m]"] + [q.heading for q in elements], rows))
+        tables.append(Table(f"table-{_slug(result)}-elements", f"Foundation elements, {what}: largest compression",
+                            ["element", heading("position x", "m", units), *(q.heading(units) for q in elements)],
+                            rows))
     if result.intermediates:
-        rows = [[name, number(value), *INTERMEDIATES.get(name, ("", ""))]
-                for name, value in result.intermediates.items()]
-        tables.append(Table(f"table-{_slug(result)}-intermediates", f"Intermediate values, {label}",
+        rows = []
+        for name, value in result.intermediates.items():
+            unit, meaning = INTERMEDIATES.get(name, ("", ""))
+            kind = intermediate_kind(name, unit)
+            rows.append([name, show(value, kind, units), label(kind, units), meaning])
+        tables.append(Table(f"table-{_slug(result)}-intermediates", f"Intermediate values, {what}",
                             ["quantity", "value", "unit", "meaning"], rows))
     for key, caption in (("uplift_summary", "Uplift summary"), ("energy", "Energy balance")):
         values = result.details.get(key)
         if values:
-            rows = [[name, number(value), detail_unit(key, name)] for name, value in values.items()]
-            tables.append(Table(f"table-{_slug(result)}-{key.replace('_', '-')}", f"{caption}, {label}",
+            kinds = {name: ("mm" if detail_unit(key, name) == "m" else detail_unit(key, name)) for name in values}
+            rows = [[name, show(value, kinds[name], units), label(kinds[name], units)]
+                    for name, value in values.items()]
+            tables.append(Table(f"table-{_slug(result)}-{key.replace('_', '-')}", f"{caption}, {what}",
                                 ["quantity", "value", "unit"], rows))
     if getattr(result, "record_results", ()):
-        tables.append(records_table(result))
+        tables.append(records_table(result, units))
     return tables
 
 
-def results_section(results: Sequence[AnalysisResult]) -> Section:
-    blocks: list = [summary_table(results)]
+def results_section(results: Sequence[AnalysisResult], units: str = "si") -> Section:
+    blocks: list = [summary_table(results, units)]
     for result in results:
-        blocks += result_tables(result)
+        blocks += result_tables(result, units)
     return Section("results", "Results", blocks)
 
 
@@ -113,7 +117,7 @@ def accuracy_pairs(results: Sequence[AnalysisResult]) -> list[tuple[AnalysisResu
     return pairs
 
 
-def accuracy_section(results: Sequence[AnalysisResult]) -> Section | None:
+def accuracy_section(results: Sequence[AnalysisResult], units: str = "si") -> Section | None:
     """The accuracy check: the engines' own (details["accuracy"], upliftcli/accuracy.py: the
     simplified engine against the exact engine, per support) when they give it, else
     simplified/exact of V_b, M_b, the largest drift and the roof displacement for each support
@@ -132,9 +136,10 @@ def accuracy_section(results: Sequence[AnalysisResult]) -> Section | None:
             rows.append([str(check["support"]), "exact engine", "-", "-", f"not run: {check['error']}"])
             continue
         for name, ratio in check["ratio"].items():
-            unit, meaning, _ = CHECKED[name]
-            rows.append([str(check["support"]), f"{meaning} [{unit}]", number(check["simplified"][name]),
-                         number(check["exact"][name]), number(np.nan if ratio is None else ratio, 4)])
+            meaning, kind = CHECKED[name][1], display_kind(name)
+            rows.append([str(check["support"]), heading(meaning, kind, units),
+                         show(check["simplified"][name], kind, units), show(check["exact"][name], kind, units),
+                         number(np.nan if ratio is None else ratio, 4)])
     if not rows:
         return None
     table = Table("table-accuracy", "Accuracy of the simplified procedure: simplified / exact",
@@ -153,25 +158,31 @@ def warnings_section(results: Sequence[AnalysisResult], deck=None) -> Section:
                                                   ["engine", "support", "warning"], rows)])
 
 
-def criteria_rows(results: Sequence[AnalysisResult], criteria: Mapping) -> tuple[list[list[str]], int]:
-    """One row per result and criterion (value, limit, verdict) and the number violated
-    (the tests of criteria.py)."""
+def criteria_rows(results: Sequence[AnalysisResult], criteria: Mapping, units: str = "si"
+                  ) -> tuple[list[list[str]], int]:
+    """One row per result and criterion (value, limit in the display units, verdict) and the
+    number violated (the tests of criteria.py)."""
     rows, violated = [], 0
     for outcome in outcomes(results, criteria):
         result = outcome.result
-        limit = ("allowed" if outcome.limit else "not allowed") if outcome.name == "uplift" else number(outcome.limit)
-        rows.append([result.engine, result.support, outcome.name, number(outcome.value), limit, outcome.unit,
+        if outcome.name == "uplift":
+            value, limit, unit = number(outcome.value), "allowed" if outcome.limit else "not allowed", "-"
+        else:
+            kind = display_kind(outcome.name)
+            value, limit, unit = show(outcome.value, kind, units), show(outcome.limit, kind, units), label(kind, units)
+        rows.append([result.engine, result.support, outcome.name, value, limit, unit,
                      "ok" if outcome.ok else "VIOLATED"])
         violated += not outcome.ok
     return rows, violated
 
 
-def criteria_section(results: Sequence[AnalysisResult], criteria: Mapping) -> tuple[Section, str, int]:
+def criteria_section(results: Sequence[AnalysisResult], criteria: Mapping, units: str = "si"
+                     ) -> tuple[Section, str, int]:
     """(section, verdict, exit code): 0 when every limit holds (or none is set), 3 otherwise."""
     if not criteria:
         verdict = "The deck sets no acceptance criteria ([criteria]): `uplift analyze` exits with code 0."
         return Section("criteria", "Acceptance criteria", [Text([verdict])]), verdict, EXIT_OK
-    rows, violated = criteria_rows(results, criteria)
+    rows, violated = criteria_rows(results, criteria, units)
     code = EXIT_CRITERIA if violated else EXIT_OK
     verdict = (f"{violated} acceptance limit{'s' if violated > 1 else ''} of the deck's [criteria] exceeded: "
                f"`uplift analyze` exits with code {code}." if violated else

@@ -16,15 +16,17 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from .. import deck_schema as schema
+from ..display import unit as display_unit
 from ..engines.registry import ENGINES, SUPPORT_LABELS
 from ..errors import InputError
 from ..figures.spec import FigureSpec, Line, Panel, Series
-from ..figures.style import BLUE, ENGINE_STYLES, GREEN, SUPPORT_STYLES, VERMILLION, cycle
+from ..figures.style import ENGINE_LINES, ENGINE_STYLES, MARKERS, SUPPORT_COLORS, SUPPORT_STYLES, shades
 from .plan import SweepPlan, Vary, parse_values
 from .table import OUTPUT_COLUMNS
 
@@ -120,10 +122,16 @@ def plan_motion_label(plan: SweepPlan) -> str:
     return motion_label(apply_overrides(plan.raw, plan.base_overrides)[0], plan.source)
 
 
+#: row columns plotted in another unit than the rows': column -> (factor, unit); drift ratios in
+#: percent, as in the story profiles (display.py)
+PLOTTED = {"max_drift_ratio": (100.0, "%")}
+
+
 def axis_label(quantity: str) -> tuple[str, str]:
-    """(row column, axis label with its unit) of a figure quantity."""
+    """(row column, axis label with its plotted unit) of a figure quantity."""
     column = QUANTITIES[quantity]
     unit, meaning = OUTPUT_COLUMNS[column]
+    unit = PLOTTED.get(column, (1.0, unit))[1]
     return column, meaning + ("" if unit in ("-", "") else f" [{unit}]")
 
 
@@ -144,7 +152,7 @@ def curve(rows: Sequence[dict], column: str, x_path: str = PERIOD_PATH, **match)
     if not points:
         return np.empty(0), np.empty(0)
     x, y = zip(*points, strict=True)
-    return np.array(x), np.array(y)
+    return np.array(x), np.array(y) * PLOTTED.get(column, (1.0, ""))[0]
 
 
 def critical_series(rows: Sequence[dict], x_path: str = PERIOD_PATH) -> Series | None:
@@ -188,16 +196,16 @@ def _period_line(nominal: float | None) -> list[Line]:
 def modal_figure(rows: Sequence[dict], engine: str, supports: Sequence[str], record: str = "",
                  nominal: float | None = None) -> FigureSpec:
     """Fig. 7: per support, the base shear of mode 1, of modes 1-2 (when the engine gives it)
-    and of all modes."""
+    and of all modes, in the support's colour (style.py), told apart by line style."""
     panels = []
     for letter, support in zip("abc", supports, strict=False):
         series = []
-        for column, name, style, color in (("mode1_base_shear_coefficient", "mode 1", "--", BLUE),
-                                           ("two_mode_base_shear_coefficient", "modes 1-2", "-.", GREEN),
-                                           ("base_shear_coefficient", "all modes", "-", VERMILLION)):
+        for column, name, style in (("mode1_base_shear_coefficient", "mode 1", "--"),
+                                    ("two_mode_base_shear_coefficient", "modes 1-2", "-."),
+                                    ("base_shear_coefficient", "all modes", "-")):
             x, y = curve(rows, column, engine=engine, support=support)
             if x.size:
-                series.append(Series(name, x, y, style, color))
+                series.append(Series(name, x, y, style, SUPPORT_COLORS[support]))
         panels.append(Panel(f"({letter}) {SUPPORT_LABELS[support]}", axis_label("base_shear")[1],
                             _with_critical(series, rows), _period_line(nominal)))
     title = f"Modal contributions to the maximum base shear, {ENGINES[engine].label}"
@@ -239,12 +247,14 @@ def paper_figures(rows: Sequence[dict], engines: Sequence[str], supports: Sequen
     return figures
 
 
-def sweep_figure(plan: SweepPlan, rows: Sequence[dict], motion: str = "") -> FigureSpec:
+def sweep_figure(plan: SweepPlan, rows: Sequence[dict], motion: str = "", units: str = "si") -> FigureSpec:
     """Response against the first numeric varied field (log axis for a log range): one line per
-    engine, support and value of the other varied fields (palette colours, and line styles
-    when they are many); panels V_b/(m_t g), M_b/(m_t g h_1*), largest drift ratio (with the
-    deck's [criteria] drift_ratio limit); b/h_1* on the first two when it does not depend on the
-    other fields; the deck's value of the varied field marked; motion: named in the title."""
+    engine, support and value of the other varied fields (sweep_lines: the support's colour,
+    the engine's line style, the other values as shades and markers); panels V_b/(m_t g),
+    M_b/(m_t g h_1*), largest drift ratio [%] (with the deck's [criteria] drift_ratio limit);
+    b/h_1* on the first two when it does not depend on the other fields; the deck's value of the
+    varied field marked; motion: named in the title; the varied field in its display unit
+    (display.py: units)."""
     numeric = [v for v in plan.varies if all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v.values)]
     if not numeric:
         raise InputError("--plot", "--vary", "a numeric varied field to plot against")
@@ -255,26 +265,49 @@ def sweep_figure(plan: SweepPlan, rows: Sequence[dict], motion: str = "") -> Fig
         if row.get("status") == "ok":
             key = (row["engine"], row["support"], *(json.dumps(row.get(p), default=str) for p in others))
             groups.setdefault(key, []).append(row)
-    marks = nominal_line(nominal_value(plan, axis.path), axis.path, axis.unit)
+    shown = display_unit(axis.unit, units) if axis.unit and axis.unit != "-" else None
+    nominal = nominal_value(plan, axis.path)
+    marks = nominal_line(None if nominal is None else nominal * (shown.factor if shown else 1.0), axis.path,
+                         shown.label if shown else axis.unit)
     criticals = {round(float(row["critical_coefficient"]), 12) for row in rows
                  if row.get("status") == "ok" and row.get("critical_coefficient") is not None}
     panels = []
     for quantity in ("base_shear", "base_moment", "max_drift_ratio"):
         column, label = axis_label(quantity)
-        series = []
-        for (engine, support, *_), members in groups.items():
-            x, y = curve(members, column, axis.path)
-            extra = ", ".join(f"{p}={members[0].get(p)}" for p in others)
-            series.append(Series(f"{engine}, {support}" + (f", {extra}" if extra else ""), x, y,
-                                 SUPPORT_STYLES[support][0]))
-        series = cycle(series)
+        series = sweep_lines(groups, column, axis.path, others)
         if quantity != "max_drift_ratio" and (len(criticals) == 1 or not others):
             series = _with_critical(series, rows, axis.path)
         lines = list(marks)
         if quantity == "max_drift_ratio" and "drift_ratio" in plan.criteria:
-            limit = float(plan.criteria["drift_ratio"])
-            lines.append(Line(limit, f"[criteria] limit drift ratio = {limit:g}", "y", ":", VERMILLION))
+            factor, unit = PLOTTED[column]
+            limit = factor * float(plan.criteria["drift_ratio"])
+            lines.append(Line(limit, f"[criteria] limit drift ratio = {limit:g} {unit}", "y", ":", "black"))
         panels.append(Panel(label, label, series, lines))
-    unit = f" [{axis.unit}]" if axis.unit and axis.unit != "-" else ""
+    if shown is not None and shown.factor != 1.0:
+        for panel in panels:
+            panel.series = [replace(series, x=np.asarray(series.x) * shown.factor) for series in panel.series]
+    unit = f" [{shown.label}]" if shown is not None else ""
     return FigureSpec(f"{plan.title}: sweep of {axis.path}{', ' + motion if motion else ''}", f"{axis.path}{unit}",
                       panels, xlog=axis.spacing == "log")
+
+
+def sweep_lines(groups: dict[tuple, list[dict]], column: str, x_path: str, others: Sequence[str]) -> list[Series]:
+    """One line per (engine, support, values of the other fields) group: the support's colour
+    (figures/style.py), the engine's line style, and per value of the other fields a shade of
+    that colour with a marker, so that no two lines look alike (nine lines: three supports
+    times three values, say)."""
+    keys = list(groups)
+    values = {support: list(dict.fromkeys(tuple(key[2:]) for key in keys if key[1] == support))
+              for support in dict.fromkeys(key[1] for key in keys)}
+    series = []
+    for key in keys:
+        engine, support, *rest = key
+        members = groups[key]
+        x, y = curve(members, column, x_path)
+        extra = ", ".join(f"{p}={members[0].get(p)}" for p in others)
+        k = values[support].index(tuple(rest))
+        color = shades(SUPPORT_COLORS.get(support, "#000000"), len(values[support]))[k]
+        marker = MARKERS[k % len(MARKERS)] if len(values[support]) > 1 else None
+        series.append(Series(f"{engine}, {support}" + (f", {extra}" if extra else ""), x, y,
+                             ENGINE_LINES.get(engine, "-"), color, marker=marker))
+    return series

@@ -243,16 +243,23 @@ def _vary_error(error: InputError, varied: set[str]) -> InputError:
     return error
 
 
+class CaseUnsupported(InputError):
+    """The ground motion cannot serve one case of a sweep (a record suite whose period range,
+    which follows the structure, asks for longer records than the suite's): the case fails
+    alone, the others run."""
+
+
 def _with_suite(raw: dict, source: str, base: list, combo: Sequence[tuple[str, Any]], case_deck: Deck) -> Deck:
-    """The case's deck with its ground motion; a record suite that does not suit the case (its
-    period range follows the structure) names the case's varied values."""
+    """The case's deck with its ground motion; CaseUnsupported (naming the case's varied values)
+    when a record suite that the deck of the sweep accepts does not suit this case."""
     try:
         return build_deck(raw, source, base + list(combo))
     except InputError as error:
         if not combo or "suite" not in case_deck.values["ground_motion"] or error.source == "--set":
             raise
         case = ", ".join(f"{path}={value}" for path, value in combo)
-        raise InputError(error.source, error.location, f"{error.expected} (the suite of the case {case})") from None
+        raise CaseUnsupported(error.source, error.location,
+                              f"{error.expected} (the suite of the case {case})") from None
 
 
 def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: Sequence[str] = (),
@@ -285,6 +292,7 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     cases = expand_cases(varies, engines, supports, deck_fingerprint)
     grounds: dict[str, Any] = {}
     deck_warnings = list(deck.warnings)  # values far outside building practice, the base deck's and the cases'
+    unsupported: list[str] = []
     for combo in itertools.product(*[[(v.path, value) for value in v.values] for v in varies]):
         try:
             case_deck = build_deck(raw, source, base + list(combo), load_ground_motion=False)
@@ -292,6 +300,9 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
             motion_key = ground_motion_key(case_deck)
             if motion_key not in grounds:
                 grounds[motion_key] = _with_suite(raw, source, base, combo, case_deck)
+        except CaseUnsupported as error:
+            unsupported.append(str(error))  # its cases fail alone, the message in their rows (sweep/worker.py)
+            continue
         except InputError as error:
             raise _vary_error(error, set(paths)) from None
         for engine in engines:
@@ -303,6 +314,10 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
         raise InputError("--per-record", source, "a deck whose ground_motion.suite a response-history engine runs "
                          "(--engine exact or approximate)")
     warnings = tuple(dict.fromkeys([*deck_warnings, *(message for suite in suites for message in suite.warnings)]))
+    if unsupported:
+        total = math.prod(len(v.values) for v in varies)
+        warnings += (f"{len(unsupported)} of {total} combinations of the varied fields cannot be run with the "
+                     f"deck's ground motion and fail alone (exit code 4), e.g. {unsupported[0]}",)
     version = tool_version()
     inputs = {json.dumps(entry, sort_keys=True): entry
               for ground in grounds.values() for entry in motion_files(ground.ground_motion)}

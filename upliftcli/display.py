@@ -1,0 +1,185 @@
+"""Display units: the one table of how a value is shown to a person, in SI or US units.
+
+Every human output (terminal tables, the report, the figures, the sweep and spectra
+summaries) converts its SI values here; the machine outputs (JSON, CSV) stay SI with their
+units stated. A value is shown by its *kind*: an SI unit ("N", "N m", "N/m", "kg" ...) or
+one of the display choices "mm" (a small length: displacements, drifts, uplift), "%" (a ratio
+in percent: drift ratios), "g" (an acceleration in g), "coefficient" (a ratio to 4 decimals).
+`--units si` (the default) shows kN, kN m, mm, m and g; `--units us` kip, kip ft, in, ft and g.
+
+SUMMARY is the display record of the scalar results (V_b, M_b, their coefficients, V_c, M_c,
+b/h_1*, uplift): every summary table takes its columns from it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from .units import STANDARD_GRAVITY
+
+SYSTEMS = ("si", "us")
+INCH, FOOT = 0.0254, 0.3048  # m
+KIP = 4448.2216152605  # N (1000 lbf)
+POUND_MASS = 0.45359237  # kg
+
+
+def number(value, digits: int = 5) -> str:
+    """A value as text: numbers to `digits` significant digits (plain between 1e-4 and 1e12,
+    at least their integer digits, no trailing zeros), lists joined, booleans yes/no, non-finite as '-'."""
+    if isinstance(value, (bool, np.bool_)):
+        return "yes" if value else "no"
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return ", ".join(number(v, digits) for v in value)
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, (float, np.floating)):
+        value = float(value)
+        if not math.isfinite(value):
+            return "-"
+        if value == 0.0 or not 1e-4 <= abs(value) < 1e12:
+            return f"{value:.{digits}g}"
+        decimals = max(0, digits - 1 - math.floor(math.log10(abs(value))))
+        text = f"{value:.{decimals}f}"  # `digits` significant digits, no exponent
+        return text.rstrip("0").rstrip(".") if "." in text else text
+    return "-" if value is None else str(value)
+
+
+@dataclass(frozen=True)
+class Unit:
+    """A display unit: label, factor from SI, format spec ("": `number`, 5 significant digits)."""
+
+    label: str
+    factor: float = 1.0
+    format: str = ""
+
+    def show(self, value) -> str:
+        """An SI value (a number, a list of numbers) in this unit; '-' when it is not finite or missing."""
+        if isinstance(value, (list, tuple, np.ndarray)):
+            return ", ".join(self.show(v) for v in value)
+        if value is None or isinstance(value, (bool, np.bool_, str)):
+            return number(value)
+        value = float(value) * self.factor
+        if not math.isfinite(value):
+            return "-"
+        return format(value, self.format) if self.format else number(value)
+
+
+#: kind -> (SI display unit, US display unit)
+DISPLAY: dict[str, tuple[Unit, Unit]] = {
+    "N": (Unit("kN", 1e-3, ".1f"), Unit("kip", 1 / KIP, ".1f")),
+    "N m": (Unit("kN m", 1e-3, ".1f"), Unit("kip ft", 1 / (KIP * FOOT), ".1f")),
+    "mm": (Unit("mm", 1e3, ".2f"), Unit("in", 1 / INCH, ".3f")),
+    "m": (Unit("m"), Unit("ft", 1 / FOOT)),
+    "g": (Unit("g", 1 / STANDARD_GRAVITY, ".4f"),) * 2,
+    "%": (Unit("%", 100.0, ".3f"),) * 2,
+    "coefficient": (Unit("-", 1.0, ".4f"),) * 2,
+    "m/s^2": (Unit("m/s^2"), Unit("in/s^2", 1 / INCH)),
+    "m/s": (Unit("m/s"), Unit("ft/s", 1 / FOOT)),
+    "kg": (Unit("kg"), Unit("kip s^2/in", INCH / KIP)),
+    "kg m": (Unit("kg m"), Unit("kip s^2", 1 / KIP)),
+    "kg m^2": (Unit("kg m^2"), Unit("kip ft s^2", 1 / (KIP * FOOT))),
+    "kg/m^3": (Unit("kg/m^3"), Unit("lb/ft^3", FOOT**3 / POUND_MASS)),
+    "N/m": (Unit("kN/m", 1e-3), Unit("kip/in", INCH / KIP)),
+    "N/m^2": (Unit("kN/m^2", 1e-3), Unit("kip/in^2", INCH**2 / KIP)),
+    "N s/m": (Unit("kN s/m", 1e-3), Unit("kip s/in", INCH / KIP)),
+    "N s/m^2": (Unit("kN s/m^2", 1e-3), Unit("kip s/in^2", INCH**2 / KIP)),
+    "N m/rad": (Unit("kN m/rad", 1e-3), Unit("kip ft/rad", 1 / (KIP * FOOT))),
+    "N m s/rad": (Unit("kN m s/rad", 1e-3), Unit("kip ft s/rad", 1 / (KIP * FOOT))),
+    "Pa": (Unit("MPa", 1e-6), Unit("ksi", INCH**2 / KIP)),
+    "J": (Unit("kJ", 1e-3), Unit("kip ft", 1 / (KIP * FOOT))),
+}
+
+
+def check_system(system: str) -> str:
+    """The system name, or InputError naming --units."""
+    if system not in SYSTEMS:
+        from .errors import InputError
+
+        raise InputError("--units", system, "si or us")
+    return system
+
+
+def unit(kind: str, system: str = "si") -> Unit:
+    """The display unit of a kind (module docstring) in a system; an unknown kind (s, rad, -)
+    is shown as it is."""
+    pair = DISPLAY.get(kind)
+    if pair is None:
+        return Unit(kind)
+    return pair[SYSTEMS.index(system)]
+
+
+def show(value, kind: str, system: str = "si") -> str:
+    """An SI value shown in its kind's display unit (unit(kind, system).show)."""
+    return unit(kind, system).show(value)
+
+
+def label(kind: str, system: str = "si") -> str:
+    """The unit label of a kind in a system ('kN', 'kip', '-', 's' ...)."""
+    return unit(kind, system).label
+
+
+def heading(text: str, kind: str, system: str = "si") -> str:
+    """'V_b [kN]': a column heading with its display unit ('[-]' left out for a coefficient)."""
+    shown = label(kind, system)
+    return text if kind == "coefficient" else f"{text} [{shown}]"
+
+
+#: intermediate values (engines/quantities.INTERMEDIATES) shown in another kind than their SI unit's
+INTERMEDIATE_KINDS = {"Sa_n": "g", "Sa1bar": "g", "max_uplift_left": "mm", "max_uplift_right": "mm"}
+
+
+def intermediate_kind(name: str, si_unit: str) -> str:
+    """The display kind of an intermediate value (INTERMEDIATE_KINDS, else its SI unit)."""
+    return INTERMEDIATE_KINDS.get(name, si_unit)
+
+
+@dataclass(frozen=True)
+class Column:
+    """A scalar result as the summary tables show it: the AnalysisResult attribute, its symbol
+    (the heading without unit), its display kind ("yes/no" for a verdict) and its meaning."""
+
+    name: str
+    symbol: str
+    kind: str
+    meaning: str
+
+    def value(self, result):
+        return getattr(result, self.name)
+
+    def heading(self, system: str = "si") -> str:
+        return self.symbol if self.kind == "yes/no" else heading(self.symbol, self.kind, system)
+
+    def cell(self, result, system: str = "si") -> str:
+        value = self.value(result)
+        if self.kind == "yes/no":
+            return "yes" if value else "no"
+        return show(value, self.kind, system)
+
+    def stated(self, result, system: str = "si") -> str:
+        """'V_c = 3432.3 kN': the symbol, the value and its unit (none for a coefficient)."""
+        shown = "" if self.kind in ("coefficient", "yes/no") else f" {label(self.kind, system)}"
+        return f"{self.symbol} = {self.cell(result, system)}{shown}"
+
+
+#: the display record of the scalar results, in table order
+SUMMARY: dict[str, Column] = {c.name: c for c in (
+    Column("base_shear", "V_b", "N", "peak base shear [14a]"),
+    Column("base_shear_coefficient", "V_b/W", "coefficient", "base shear coefficient V_b/(m_t g)"),
+    Column("base_moment", "M_b", "N m", "peak base overturning moment [14b]"),
+    Column("base_moment_coefficient", "M_b/(W h_1*)", "coefficient", "base moment coefficient M_b/(m_t g h_1*)"),
+    Column("critical_base_shear", "V_c", "N", "critical base shear m_t g b / h_1* [16a]"),
+    Column("critical_base_moment", "M_c", "N m", "critical base moment m_t g b [16b]"),
+    Column("critical_coefficient", "b/h_1*", "coefficient", "critical value of both coefficients [16a, 16b]"),
+    Column("uplift", "uplift", "yes/no", "whether the mat lifts off"),
+)}
+#: what the summary tables' W means
+WEIGHT_LEGEND = "W = m_t g"
+
+
+def summary_columns(names: Sequence[str]) -> list[Column]:
+    """The display record's columns of these names, in the order given."""
+    return [SUMMARY[name] for name in names]
