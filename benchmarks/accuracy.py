@@ -40,7 +40,9 @@ BANDS = ((0.05, 0.2), (0.2, 0.5), (0.5, 1.0), (1.0, 2.0), (2.0, 5.0001))
 PROCEDURES = ("paper", "improved")
 #: (records, systems, periods, family seed) of the full study and of --subset, per set of records:
 #: the validation records meet another family of systems than the calibration (seed 12, not 11)
-FULL = {"calibration": (None, 12, 10, 11), "validation": (None, 6, 10, 12)}
+FULL = {"calibration": (None, 12, 10, 11), "validation": (None, 9, 10, 12)}
+#: the range of fixed-base periods T_1 [s] (log-spaced)
+PERIODS = (0.1, 3.0)
 SUBSET = {"calibration": (3, 6, 5, 11), "validation": (3, 6, 5, 12)}
 
 
@@ -79,7 +81,7 @@ def collect(which: str, limits, cache: Path, procedures, exact_only: bool = Fals
     """Exact and simplified peaks of every record of a set, stacked (records, systems, periods)."""
     n_records, n_systems, n_periods, seed = limits
     specs = cases.family(n_systems, seed)
-    periods = np.geomspace(0.05, 5.0, n_periods)
+    periods = np.geomspace(*PERIODS, n_periods)
     chosen = cases.records(which)
     if n_records:
         chosen = chosen[:: max(1, len(chosen) // n_records)][:n_records]
@@ -202,7 +204,7 @@ def main(argv=None) -> None:
     parser.add_argument("--subset", action="store_true", help="a few records, systems and periods (minutes)")
     parser.add_argument("--records", choices=("calibration", "validation", "both"), default="both")
     parser.add_argument("--procedures", default=",".join(PROCEDURES), help="comma-separated: paper,improved")
-    parser.add_argument("--cache", type=Path, default=Path("/tmp/uplift-accuracy"), help="exact results cache")
+    parser.add_argument("--cache", type=Path, default=Path("/work/wt/cache/i25-simplified"), help="exact results cache")
     parser.add_argument("--exact-only", action="store_true", help="only fill the cache of exact results")
     args = parser.parse_args(argv)
     limits = SUBSET if args.subset else FULL

@@ -136,7 +136,6 @@ def analyze(
         output_format is OutputFormat.json else None
     if histories is not None:
         _write_histories(histories, results, input_files(loaded), record)
-    plotting.drop_histories(results)
     if output_format is OutputFormat.json:
         typer.echo(to_json(results, loaded.source, loaded.title, record), nl=False)
     else:
@@ -208,12 +207,12 @@ def _with_histories(results) -> list[tuple[str, object]]:
         width = len(str(len(records)))
         pairs += [(f"_r{k + 1:0{max(2, width)}d}", record) for k, record in enumerate(records)]
         pairs.append(("", result))
-    return [(suffix, result) for suffix, result in pairs if "histories" in result.details]
+    return [(suffix, result) for suffix, result in pairs if result.histories]
 
 
 def _write_histories(path: Path, results, inputs: list[str], record: dict | None = None) -> None:
-    """Write each analysis's histories with the provenance `record` (and drop them from the
-    result documents); a suite's records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
+    """Write each analysis's histories with the provenance `record` (the results documents never
+    hold them: AnalysisResult.histories); a suite's records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
     from ..output import write_histories
 
     with_histories = _with_histories(results)
@@ -221,7 +220,7 @@ def _write_histories(path: Path, results, inputs: list[str], record: dict | None
     refuse_inputs(targets, inputs, "--histories")  # as checked before the run (the names are the same)
     for (_, result), target in zip(with_histories, targets, strict=True):
         try:
-            write_histories(target, result.details.pop("histories"), record)
+            write_histories(target, result.histories, record)
         except OSError as error:
             raise InputError("--histories", str(target), f"a writable file ({error.strerror or error})") from None
         typer.echo(f"wrote {target}", err=True)

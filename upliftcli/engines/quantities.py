@@ -10,7 +10,9 @@ the history engines, the instants under AnalysisResult.times).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 from ..units import STANDARD_GRAVITY
 
@@ -83,6 +85,49 @@ SCALARS: dict[str, Scalar] = {s.name: s for s in (
     Scalar("base_moment_coefficient", "-", "base moment coefficient M_b/(m_t g h_1*)",
            "base_moment_coefficient"),
 )}
+
+
+def _largest(result, *names: str) -> float | None:
+    """The largest of the intermediates `names` a result has (None when it has none)."""
+    values = [float(result.intermediates[n]) for n in names if isinstance(result.intermediates.get(n), (int, float))]
+    return max(values) if values else None
+
+
+@dataclass(frozen=True)
+class Compared:
+    """A value compared between two engines (the accuracy check of the simplified engine against
+    the exact one, a suite's statistic against the simplified engine, sweep --check, the report,
+    the accuracy study): name (one name everywhere: JSON keys, check_<name> sweep columns), SI
+    unit, symbol (short label), meaning, value: the value of an AnalysisResult (None when the
+    result does not give it: the uplift of a bonded result), and supports it applies to."""
+
+    name: str
+    unit: str
+    symbol: str
+    meaning: str
+    value: Callable[[Any], float | None]
+    supports: tuple[str, ...] = ("rigid", "bonded", "uplift")
+
+
+#: the compared values, in the order of every table that shows them
+COMPARED: dict[str, Compared] = {c.name: c for c in (
+    Compared("base_shear", "N", "V_b", "base shear V_b [14a]", lambda r: r.base_shear),
+    Compared("base_moment", "N m", "M_b", "base overturning moment M_b [14b]", lambda r: r.base_moment),
+    Compared("drift_ratio", "-", "drift ratio", "largest story drift ratio", lambda r: r.value("drift_ratio")),
+    Compared("roof_displacement", "m", "roof displacement", "roof displacement relative to the mat",
+             lambda r: float(abs(r.peaks["displacement"][-1]))),
+    Compared("floor_acceleration", "m/s^2", "floor acceleration", "largest absolute floor acceleration",
+             lambda r: r.value("floor_acceleration")),
+    Compared("max_uplift", "m", "edge uplift", "largest gap under an edge of the mat (uplift)",
+             lambda r: _largest(r, "max_uplift", "max_uplift_left", "max_uplift_right"), ("uplift",)),
+    Compared("max_rotation", "rad", "mat rotation", "largest mat rotation |theta| (uplift)",
+             lambda r: _largest(r, "max_rotation"), ("uplift",)),
+)}
+
+
+def compared_values(result) -> dict[str, float | None]:
+    """Every COMPARED value of a result that applies to its support (None: not given)."""
+    return {c.name: c.value(result) for c in COMPARED.values() if result.support in c.supports}
 
 
 def unit_of(name: str) -> str:

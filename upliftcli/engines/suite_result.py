@@ -59,7 +59,7 @@ class SuiteRecord:
     sha256: str | None = None
 
 
-@dataclass
+@dataclass(frozen=True)
 class SuiteResult(AnalysisResult):
     """The design statistic of a suite (the peaks are the statistic `statistic` of the records'
     peaks), with: statistic: 'mean' or 'max' (what the code takes from this many records);
@@ -119,7 +119,7 @@ def statistic_of(results: Sequence[AnalysisResult], name: str, common: dict[str,
                for key in STATISTIC_DETAILS
                if all(key in r.details for r in results) and len({len(r.details[key]) for r in results}) == 1}
     return replace(first, elevations=first.elevations.copy(), peaks=peaks, uplift=any(r.uplift for r in results),
-                   times={}, intermediates=intermediates, details=details)
+                   times={}, intermediates=intermediates, details=details, histories={})
 
 
 def common_intermediates(results: Sequence[AnalysisResult]) -> dict[str, Any]:
