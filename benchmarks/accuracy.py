@@ -21,6 +21,7 @@ import argparse
 import datetime
 import os
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -41,6 +42,8 @@ PROCEDURES = ("paper", "improved")
 #: (records, systems, periods, family seed) of the full study and of --subset, per set of records:
 #: the validation records meet another family of systems than the calibration (seed 12, not 11)
 FULL = {"calibration": (None, 12, 10, 11), "validation": (None, 9, 10, 12)}
+#: the exact results cache (--cache)
+CACHE = Path(tempfile.gettempdir()) / "uplift-accuracy"
 #: the range of fixed-base periods T_1 [s] (log-spaced)
 PERIODS = (0.1, 3.0)
 SUBSET = {"calibration": (3, 6, 5, 11), "validation": (3, 6, 5, 12)}
@@ -204,7 +207,7 @@ def main(argv=None) -> None:
     parser.add_argument("--subset", action="store_true", help="a few records, systems and periods (minutes)")
     parser.add_argument("--records", choices=("calibration", "validation", "both"), default="both")
     parser.add_argument("--procedures", default=",".join(PROCEDURES), help="comma-separated: paper,improved")
-    parser.add_argument("--cache", type=Path, default=Path("/work/wt/cache/i25-simplified"), help="exact results cache")
+    parser.add_argument("--cache", type=Path, default=CACHE, help="exact results cache")
     parser.add_argument("--exact-only", action="store_true", help="only fill the cache of exact results")
     args = parser.parse_args(argv)
     limits = SUBSET if args.subset else FULL
@@ -215,7 +218,7 @@ def main(argv=None) -> None:
     for which in sets:
         n_records, n_systems, n_periods, seed = limits[which]
         print(f"- {which}: records {n_records or 'all'}, systems {n_systems} (family seed {seed}), "
-              f"T_1: {n_periods} periods from 0.05 to 5 s (log-spaced)")
+              f"T_1: {n_periods} periods from {PERIODS[0]:g} to {PERIODS[1]:g} s (log-spaced)")
     print()
     for which in sets:
         data = collect(which, limits[which], args.cache, procedures, args.exact_only)

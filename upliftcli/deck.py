@@ -39,6 +39,7 @@ class AnalysisSettings:
     n_modes: int
     simplified: SimplifiedOptions
     exact: ExactOptions
+    check_band: tuple[float, float] = (0.8, 1.25)
 
 
 @dataclass
@@ -286,7 +287,17 @@ def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSetti
         n_modes=n_modes,
         simplified=simplified,
         exact=ExactOptions(**exact_values),
+        check_band=_check_band(fields, error),
     )
+
+
+def _check_band(fields: dict, error) -> tuple[float, float]:
+    """analysis.check_band: a band [low, high] around 1 of the ratios simplified / exact."""
+    low, high = fields.get("check_band", _default("analysis", "check_band"))
+    if not low < 1.0 < high:
+        raise error("analysis.check_band", f"[low, high] with low < 1 < high (ratios simplified / exact), got "
+                    f"[{low:g}, {high:g}]")
+    return (float(low), float(high))
 
 
 def _ground_motion(fields: dict, source: str, error, system: System | None = None,

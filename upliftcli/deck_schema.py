@@ -80,6 +80,8 @@ TABLES: dict[str, dict[str, Field]] = {
                                     "fraction of the building mass (instead of modes)", "unit-interval"),
         **deck_fields(SimplifiedOptions),
         "gravity": Field("number", "m/s^2", "acceleration of gravity g", "positive", STANDARD_GRAVITY),
+        "check_band": Field("pair", "-", "[low, high]: a ratio simplified / exact of the accuracy check outside "
+                            "it is a warning (uplift analyze with a record)", "", [0.8, 1.25]),
     },
     "analysis.exact": deck_fields(ExactOptions),
     "criteria": {
@@ -87,6 +89,9 @@ TABLES: dict[str, dict[str, Field]] = {
            for q in QUANTITIES.values() if q.criterion},
         **{q.name: Field("number", q.unit, f"largest allowed {q.meaning}", "positive") for q in SCALARS.values()},
         "uplift": Field("bool", "-", "whether uplift of the mat is acceptable (false: uplift fails)"),
+        "simplified_error": Field("number", "-", "largest relative error e of the simplified engine in the "
+                                  "accuracy check: a ratio simplified / exact outside [1/(1+e), 1+e] fails",
+                                  "positive"),
     },
 }
 

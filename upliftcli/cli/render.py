@@ -300,7 +300,7 @@ def modal_table(result: AnalysisResult) -> Table:
         if "V1_uplift" in inter:
             slender = result.details.get("options", {}).get("uplift_formula") == "slender"
             note += "; the mat lifts off: V_1 by " + (
-                f"the improved procedure (docs/accuracy.md; lengthened period T_u = {inter['T_u']:.4f} s)"
+                f"the improved procedure (docs/accuracy.md; S_a averaged over T1bar-T_u = {inter['T_u']:.4f} s)"
                 if "T_u" in inter else "[29]" if slender else "[28a]")
         table.caption = escape(note + "; modes 2 and up: fixed-base T_n, S_a(T_n, xi_n)")
     else:
@@ -321,9 +321,10 @@ def intermediates_table(result: AnalysisResult) -> Table:
     return table
 
 
-def print_results(out: Console, results: list[AnalysisResult], title: str | None = None) -> None:
+def print_results(out: Console, results: list[AnalysisResult], title: str | None = None, checks=()) -> None:
     """Every table of every result, then the summary (a suite's result: its statistics and its
-    records too, and the simplified engine beside it: cli/render_suite.py)."""
+    records too, and the simplified engine beside it: cli/render_suite.py) and the accuracy checks
+    (accuracy.Check) given."""
     from . import render_suite
 
     if title:
@@ -344,29 +345,31 @@ def print_results(out: Console, results: list[AnalysisResult], title: str | None
     comparison = render_suite.comparison_table(results)
     if comparison is not None:
         out.print(comparison)
-    checked = accuracy_table(results)
+    checked = accuracy_table(checks)
     if checked is not None:
         out.print(checked)
 
 
-def accuracy_table(results: list[AnalysisResult]) -> Table | None:
-    """The simplified engine against the exact engine, per support (accuracy.py), or None."""
-    from ..accuracy import CHECKED
+def accuracy_table(checks=()) -> Table | None:
+    """The simplified engine against the exact engine, per support (accuracy.Check), or None."""
+    from .render_suite import COMPARED_DISPLAY
 
-    checks = [r.details["accuracy"] for r in results if "accuracy" in r.details]
     if not checks:
         return None
     table = Table(title="Accuracy check: the simplified engine against the exact engine, same deck and record")
-    table.caption = escape("ratio = simplified / exact; the measured spread of these ratios: docs/accuracy.md; "
-                           "--no-check skips this check")
-    for header in ("support", "quantity", "simplified", "exact", "ratio"):
-        table.add_column(escape(header), justify="left" if header in ("support", "quantity") else "right")
+    band = checks[0].band
+    table.caption = escape(f"ratio = simplified / exact; '!': outside [{band[0]:g}, {band[1]:g}] "
+                           "(analysis.check_band), also a warning; the measured spread of these ratios: "
+                           "docs/accuracy.md; --no-check skips this check")
+    for header in ("support", "reference", "quantity", "simplified", "exact", "ratio"):
+        table.add_column(escape(header), justify="left" if header in ("support", "reference", "quantity") else "right")
     for check in checks:
-        if "error" in check:
-            table.add_row(check["support"], "-", "-", "-", escape(f"exact engine failed: {check['error']}"))
+        if check.error is not None:
+            table.add_row(check.support, escape(check.reference), "-", "-", "-", escape(f"failed: {check.error}"))
             continue
-        for name, (unit, meaning, _) in CHECKED.items():
-            ratio = check["ratio"][name]
-            table.add_row(check["support"], escape(f"{meaning} [{unit}]"), f"{check['simplified'][name]:.4g}",
-                          f"{check['exact'][name]:.4g}", "-" if ratio is None else f"{ratio:.3f}")
+        for c in check.comparisons:
+            heading, factor, spec = COMPARED_DISPLAY[c.name]
+            ratio = "-" if c.ratio is None else f"{c.ratio:.3f}" + (" !" if c.outside(check.band) else "")
+            table.add_row(check.support, escape(check.reference), escape(heading), format(c.simplified * factor, spec),
+                          format(c.exact * factor, spec), ratio)
     return table

@@ -13,13 +13,18 @@ from rich.table import Table
 from ..engines.quantities import QUANTITIES, SCALARS
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import STATISTICS, SuiteResult, simplified_ratios
+from ..units import STANDARD_GRAVITY
 
-#: how the scalars and the compared values are shown: name -> (heading, factor from SI, format)
+#: how the scalars and the compared values (engines/quantities.COMPARED) are shown: name -> (heading,
+#: factor from SI, format)
 SCALAR_DISPLAY = {"base_shear": ("V_b [kN]", 1e-3, ".1f"), "base_shear_coefficient": ("V_b/W", 1.0, ".4f"),
                   "base_moment": ("M_b [kN m]", 1e-3, ".1f"), "base_moment_coefficient": ("M_b/Wh", 1.0, ".4f")}
 COMPARED_DISPLAY = {"base_shear": ("V_b [kN]", 1e-3, ".1f"), "base_moment": ("M_b [kN m]", 1e-3, ".1f"),
                     "drift_ratio": ("largest drift ratio [%]", 100.0, ".3f"),
-                    "roof_displacement": ("roof displacement [mm]", 1e3, ".2f")}
+                    "roof_displacement": ("roof displacement [mm]", 1e3, ".2f"),
+                    "floor_acceleration": ("largest floor acceleration [g]", 1.0 / STANDARD_GRAVITY, ".3f"),
+                    "max_uplift": ("edge uplift [mm]", 1e3, ".1f"),
+                    "max_rotation": ("mat rotation [mrad]", 1e3, ".3f")}
 STATISTIC_HEADINGS = {"mean": "mean", "median": "median", "p84": "84th percentile", "max": "maximum"}
 CAPTION = ("W = m_t g, Wh = m_t g h_1*; the quantities: their largest value over the floors, stories or "
            "elements (all of them in the JSON and CSV files)")

@@ -111,8 +111,8 @@ class Compared:
 
 #: the compared values, in the order of every table that shows them
 COMPARED: dict[str, Compared] = {c.name: c for c in (
-    Compared("base_shear", "N", "V_b", "base shear V_b [14a]", lambda r: r.base_shear),
-    Compared("base_moment", "N m", "M_b", "base overturning moment M_b [14b]", lambda r: r.base_moment),
+    Compared("base_shear", "N", "V_b", "base shear V_b", lambda r: r.base_shear),
+    Compared("base_moment", "N m", "M_b", "base overturning moment M_b", lambda r: r.base_moment),
     Compared("drift_ratio", "-", "drift ratio", "largest story drift ratio", lambda r: r.value("drift_ratio")),
     Compared("roof_displacement", "m", "roof displacement", "roof displacement relative to the mat",
              lambda r: float(abs(r.peaks["displacement"][-1]))),
@@ -160,6 +160,9 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "xi1": ("-", "fixed-base damping of mode 1"),
     "xi_f": ("-", "foundation damping [24]"),
     "xi1bar": ("-", "effective damping of the bonded system [23]"),
+    "xi1bar/xi1": ("-", "xi1bar / fixed-base xi_1; below 1 Eq. 23 lowers the damping (the foundation adds less "
+                   "than the (T_1/T1bar)^3 discount takes), which design codes' SSI procedures do not (NIST GCR "
+                   "12-917-21 4.1); the paper's value is used"),
     "Sa1bar": ("m/s^2", "S_a(T1bar, xi1bar)"),
     "V_c": ("N", "critical base shear m_t g b / h_1* [16a]"),
     "M_c": ("N m", "critical base moment m_t g b [16b]"),
@@ -173,11 +176,15 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "phi": ("rad", "phase angle [28b]"),
     "V1_uplift": ("N", "mode-1 base shear with uplift [28a] or [29]"),
     "capacity": ("-", "improved procedure: M_c,eff/M_c of a mat lifting progressively (Winkler: from the kern)"),
-    "T_u": ("s", "improved procedure: lengthened period at which the uplift amplitude ratio is read"),
-    "x_u": ("-", "improved procedure: V_1/V_c at T_u (the amplitude ratio in X)"),
+    "T_u": ("s", "improved procedure: upper end of the band [T1bar, T_u] over which S_a is averaged for X"),
+    "x_u": ("-", "improved procedure: m_1* S_a / V_c, S_a the geometric mean over [T1bar, T_u] (the amplitude "
+            "ratio in X)"),
     "modal_factors": ("-", "improved procedure: factors on the modal base shears raised by uplift (mode 1: 1)"),
     "rho_1n": ("-", "improved procedure: correlation of mode 1 with the higher modes in the combination"),
-    "cap": ("-", "improved procedure: V_b / its value before the caps at the bonded and rigid V_b (V_n scaled by it)"),
+    "max_uplift": ("m", "improved procedure: largest gap under an edge of the mat (rocking displacement of the "
+                   "equivalent system, docs/accuracy.md)"),
+    "impact_acceleration": ("m/s^2", "improved procedure: largest floor acceleration of the impacts at recontact "
+                            "(combined with the modal one by SRSS)"),
     "n_modes": ("-", "fixed-base modes in the model"),
     "time_step": ("s", "internal step h (exact step operator; crossings located inside it)"),
     "steps_per_period": ("-", "internal steps per governing period after the step was refined (energy balance)"),
@@ -189,7 +196,7 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "base_moment_time": ("s", "time of the peak base moment"),
     "uplift_time": ("s", "total time with at least one element lifted"),
     "episodes": ("-", "uplift episodes (contact lost after full contact)"),
-    "max_rotation": ("rad", "largest mat rotation |theta|"),
+    "max_rotation": ("rad", "largest mat rotation |theta| (improved procedure: its estimate)"),
     "max_uplift_left": ("m", "largest gap under the left edge"),
     "max_uplift_right": ("m", "largest gap under the right edge"),
     "min_reaction": ("N", "smallest reaction of an element in contact (< 0: tension)"),

@@ -53,18 +53,19 @@ def provenance_section(info: dict) -> Section:
 
 
 def build_report(deck, results: Sequence[AnalysisResult], deck_text: str, overrides: Sequence[str],
-                 info: dict) -> tuple[Report, dict]:
-    """(the Report, its figures: name -> FigureSpec) of a deck's results; info: provenance."""
+                 info: dict, checks: Sequence = ()) -> tuple[Report, dict]:
+    """(the Report, its figures: name -> FigureSpec) of a deck's results; info: provenance;
+    checks: the accuracy checks (accuracy.check_accuracy)."""
     specs = analysis_figures(deck, results)
-    criteria, verdict, code = criteria_section(results, deck.criteria)
+    criteria, verdict, code = criteria_section(results, deck.criteria, checks)
     motion = motion_label(deck)
     head = Section("summary", "Summary", [Text([verdict]), _copy(summary_table(results), "table-summary-head")])
     sections = [head, inputs_section(deck, deck_text, overrides), model_section(deck, results),
                 motion_section(deck), modes_section(deck), results_section(results)]
-    accuracy = accuracy_section(results)
+    accuracy = accuracy_section(results, checks)
     if accuracy is not None:
         sections.append(accuracy)
-    sections += [warnings_section(results, deck), criteria, figures_section(list(specs)),
+    sections += [warnings_section(results, deck, checks), criteria, figures_section(list(specs)),
                  method_section([r.engine for r in results], getattr(deck.analysis.simplified, "procedure", "paper")),
                  provenance_section(info)]
     engines = ", ".join(dict.fromkeys(r.engine for r in results))
