@@ -357,9 +357,10 @@ def accuracy_table(checks=()) -> Table | None:
     if not checks:
         return None
     table = Table(title="Accuracy check: the simplified engine against the exact engine, same deck and record")
-    band = checks[0].band
+    band, motion = checks[0].band, checks[0].motion_band
     table.caption = escape(f"ratio = simplified / exact; '!': outside [{band[0]:g}, {band[1]:g}] "
-                           "(analysis.check_band), also a warning; the measured spread of these ratios: "
+                           f"(analysis.check_band; edge uplift and mat rotation: [{motion[0]:g}, {motion[1]:g}], "
+                           "analysis.check_band_motion), also a warning; the measured spread of these ratios: "
                            "docs/accuracy.md; --no-check skips this check")
     for header in ("support", "reference", "quantity", "simplified", "exact", "ratio"):
         table.add_column(escape(header), justify="left" if header in ("support", "reference", "quantity") else "right")
@@ -369,7 +370,7 @@ def accuracy_table(checks=()) -> Table | None:
             continue
         for c in check.comparisons:
             heading, factor, spec = COMPARED_DISPLAY[c.name]
-            ratio = "-" if c.ratio is None else f"{c.ratio:.3f}" + (" !" if c.outside(check.band) else "")
+            ratio = "-" if c.ratio is None else f"{c.ratio:.3f}" + (" !" if c.outside(check.band_of(c.name)) else "")
             table.add_row(check.support, escape(check.reference), escape(heading), format(c.simplified * factor, spec),
                           format(c.exact * factor, spec), ratio)
     return table
