@@ -82,14 +82,18 @@ def simplified_peaks(record, specs, periods, procedures) -> dict:
     return out
 
 
-def collect(which: str, limits, cache: Path, procedures, exact_only: bool = False) -> dict:
-    """Exact and simplified values of every record of a set (lists over the records)."""
+def collect(which: str, limits, cache: Path, procedures, exact_only: bool = False, cached_only: bool = False
+            ) -> dict:
+    """Exact and simplified values of every record of a set (lists over the records); cached_only:
+    only the records whose exact results are in the cache."""
     n_records, n_systems, n_periods, seed = limits
     specs = cases.family(n_systems, seed)
     periods = np.geomspace(*PERIODS, n_periods)
     chosen = cases.records(which)
     if n_records:
         chosen = chosen[:: max(1, len(chosen) // n_records)][:n_records]
+    if cached_only:
+        chosen = [r for r in chosen if cases.cached(r, specs, periods, cache)]
     data: dict = {"periods": periods, "specs": specs, "exact": [], "records": [r.name for r in chosen],
                   **{p: [] for p in procedures}}
     start = time.perf_counter()
@@ -153,6 +157,7 @@ def main(argv=None) -> None:
     parser.add_argument("--cache", type=Path, default=CACHE, help="exact results cache")
     parser.add_argument("--exact-only", action="store_true", help="only fill the cache of exact results")
     parser.add_argument("--write", type=Path, help="write the tables into this page (docs/accuracy.md)")
+    parser.add_argument("--cached-only", action="store_true", help="only the records with cached exact results")
     args = parser.parse_args(argv)
     limits = SUBSET if args.subset else FULL
     procedures = [p for p in args.procedures.split(",") if p]
@@ -167,8 +172,11 @@ def main(argv=None) -> None:
                      "(log-spaced)")
     lines.append("")
     for which in sets:
-        data = collect(which, limits[which], args.cache, procedures, args.exact_only)
+        data = collect(which, limits[which], args.cache, procedures, args.exact_only, args.cached_only)
         if not args.exact_only:
+            if args.cached_only:
+                lines += [f"({which}: the {len(data['records'])} records with cached exact results: "
+                          + ", ".join(data["records"]) + ")", ""]
             lines += section(which, data, procedures)
     lines.append(f"(run time {time.perf_counter() - started:.0f} s, exact results cached)")
     if args.exact_only:

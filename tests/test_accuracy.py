@@ -141,9 +141,12 @@ def test_sweep_check_adds_the_ratios_of_matching_exact_cases(tmp_path):
     runner = CliRunner()
     result = runner.invoke(app, ["sweep", str(EXAMPLE), "--set", SHORT[0], "--vary", "building.period=0.5,1.0",
                                  "--support", "uplift", "--engine", "simplified", "--check", "--out",
-                                 str(tmp_path), "--workers", "1", "-q", "--format", "json"])
-    assert result.exit_code in (0, 3), result.output
+                                 str(tmp_path), "--workers", "1", "-q", "--format", "json",
+                                 "--set", "criteria.simplified_error=0.001"])
+    assert result.exit_code == 3, result.output  # no simplified value is within 0.1 % of the exact one
     rows = json.loads(result.stdout)["rows"]
+    assert all("simplified_error: " in r["violations"] for r in rows if r["engine"] == "simplified")
+    assert not any("simplified_error" in r["violations"] for r in rows if r["engine"] == "exact")
     assert {(r["engine"], r["building.period"]) for r in rows} == {(e, p) for e in ("simplified", "exact")
                                                                    for p in (0.5, 1.0)}
     for row in rows:
