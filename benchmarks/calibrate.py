@@ -94,6 +94,16 @@ def gather(cache: Path) -> dict[str, np.ndarray]:
     return data
 
 
+def light(data: dict) -> dict:
+    """The terms with only the columns the forces need (story 1 of the shears and moments, the
+    roof displacement as column 0, the drift ratios): the fit's objective, 5 times faster."""
+    roof = np.take_along_axis(data["unit_displacement"], (data["n_floors"] - 1)[:, None, None], axis=2)
+    return {**data, "unit_shear": data["unit_shear"][:, :, :1], "unit_moment": data["unit_moment"][:, :, :1],
+            "unit_displacement": roof, "unit_drift": data["unit_drift"][:, :, :1],
+            "unit_floor_acceleration": data["unit_floor_acceleration"][:, :, :1],
+            "n_floors": np.ones_like(data["n_floors"])}
+
+
 def predict(data: dict, coefficients) -> dict[str, np.ndarray]:
     """The improved procedure's compared values of every case (its bonded result where x <= 1)."""
     out = improved.combine_arrays(data, coefficients)
@@ -179,10 +189,11 @@ def main(argv=None) -> None:
     fitted = base
     if names:
         start = np.array([getattr(base, n) for n in names], dtype=float)
-        fit = minimize(objective, start, args=(names, data, base), method="Nelder-Mead",
-                       options={"maxiter": 3000, "xatol": 1e-4, "fatol": 1e-7})
+        reduced = light(data)
+        fit = minimize(objective, start, args=(names, reduced, base), method="Nelder-Mead",
+                       options={"maxiter": 1500, "xatol": 1e-3, "fatol": 1e-6})
         fitted = replace(base, **{k: round(v, 4) for k, v in bounded(fit.x, names)[0].items()})
-        print(f"fit: loss {fit.fun:.5f} (start {objective(start, names, data, base):.5f}), "
+        print(f"fit: loss {fit.fun:.5f} (start {objective(start, names, reduced, base):.5f}), "
               f"{fit.nit} iterations, {fit.message}")
     fitted = fit_motion(data, fitted)
     print("fitted:", asdict(fitted))

@@ -75,8 +75,8 @@ BOUNDS = {"span": (1.0, 3.0), "short_gain": (0.0, 10.0), "short_period": (0.02, 
           "short_modes": (0.0, 6.0), "correlation": (0.0, 1.0), "onset": (0.1, 2.0),
           "displacement_period": (0.0, 2.0), "impact": (0.0, 3.0)}
 #: the calibrated values (benchmarks/calibrate.py on the FEMA P695 far-field set)
-COEFFICIENTS = Coefficients(span=1.45, short_gain=1.4345, short_period=0.1791, gain2=0.6415, short_modes=0.4643,
-                            correlation=0.217, onset=0.297, displacement_period=0.29, impact=0.4)
+COEFFICIENTS = Coefficients(span=1.4446, short_gain=1.3372, short_period=0.1608, gain2=1.0483, short_modes=0.3086,
+                            correlation=0.1942, onset=0.3631, displacement_period=0.153, impact=0.3618)
 #: the coefficients benchmarks/calibrate.py fits: those of the forces, then those of the motion
 FITTED = ("span", "short_gain", "short_period", "gain2", "short_modes", "correlation", "onset")
 FITTED_MOTION = ("displacement_period", "impact")
@@ -151,7 +151,7 @@ def severity(x, c: Coefficients):
 def mode1_terms(data: dict, c: Coefficients) -> dict[str, np.ndarray]:
     """V_1,max / V_c with uplift ("ratio"), its X and phi [28a, 28b], the band amplitude x_u and
     T_u (items 1-3 of the module docstring), arrays over the cases."""
-    amplitude = np.maximum(rocking.spectral_band(data["x_long"], STRETCH, data["T1bar"], c.span)[0], 1.0)
+    amplitude = np.maximum(rocking.spectral_band(data["x_long"], STRETCH, c.span), 1.0)
     xi1bar = np.asarray(data["xi1bar"], dtype=float)
     big_x = amplitude**2 * np.exp(2.0 * xi1bar * (math.pi / 2 - np.arcsin(1.0 / amplitude)))
     b_over_r2 = 1.0 / (1.0 + np.asarray(data["slenderness"], dtype=float) ** 2)
@@ -176,7 +176,7 @@ def modal_factors(x, t1bar, n_modes: int, c: Coefficients) -> np.ndarray:
 def combine_peaks(peaks: np.ndarray, rho: np.ndarray) -> np.ndarray:
     """sqrt(sum_ij rho_ij r_i r_j) over modes (axis -2), rho (cases, modes, modes); peaks
     (cases, modes, k). Negative sums (possible with rho_1n > 0 and opposite signs) give 0."""
-    total = np.einsum("cik,cij,cjk->ck", peaks, rho, peaks)
+    total = np.sum(peaks * (rho @ peaks), axis=1)
     return np.sqrt(np.maximum(total, 0.0))
 
 
@@ -205,7 +205,7 @@ def combine_arrays(data: dict, c: Coefficients, base_rho: np.ndarray | None = No
     base = np.broadcast_to(np.eye(n_modes), (x.size, n_modes, n_modes)) if base_rho is None else base_rho
     rho = correlations(x, base, c)
     out = {name: combine_peaks(shears[:, :, None] * data[f"unit_{name}"], rho) for name in COMBINED}
-    motion = rocking.rotation(data, mode1["x_u"], shears[:, 0], c.span, STRETCH, c.displacement_period)
+    motion = rocking.rotation(data, mode1["x_u"], shears[:, 0], STRETCH, c.displacement_period)
     impact = c.impact * rocking.impact_acceleration(data, motion["theta"] - motion["theta_c"])
     out["floor_acceleration"] = np.hypot(out["floor_acceleration"], impact)
     return {**out, **mode1, **motion, "V_n": shears, "rho": rho, "impact_acceleration": impact.max(axis=1)}
@@ -216,7 +216,7 @@ def analyze_uplift(system: System, spectrum, options: SimplifiedOptions,
     """The improved procedure's uplift result (module docstring): intermediates as the paper's
     plus V1_uplift, the band T_u and x_u, the modal factors, the correlation used, the mat rotation
     max_rotation [rad], the edge uplift max_uplift [m] and the impact floor acceleration."""
-    from .simplified import cqc_correlation, paper_analyze
+    from .simplified import cqc_correlation, modal_static_response, paper_analyze
 
     paper = paper_analyze(system, spectrum, "uplift", replace(options, procedure="paper"))
     details = {**paper.details, "warnings": list(paper.details["warnings"]),
@@ -250,8 +250,6 @@ def analyze_uplift(system: System, spectrum, options: SimplifiedOptions,
                   "impact_acceleration": float(out["impact_acceleration"][0])})
     if n >= 2:
         inter["V_1+2"] = float(combine_peaks(shears[None, :2, None], rho[None, :2, :2])[0, 0])
-    from .simplified import modal_static_response
-
     details["modal_forces"] = modal_static_response(system, shears, n)["forces"].tolist()
     return AnalysisResult.of(system, "simplified", "uplift", peaks, uplift=True, periods=paper.periods,
                              elements=elements, intermediates=inter, details=details)

@@ -5,10 +5,13 @@ calibration many), from the paper's equivalent system of mode 1 (Fig. 2: m_1* at
 mat, total mass m_t):
 
 1. rocking displacement: the equivalent system's peak displacement relative to the ground is
-   C D, D the spectral displacement over the band [T1bar, T_u] the amplitude is read from
-   (geometric mean), C = 1 + (x_u - 1) (T_d / T1bar)^2 the short-period amplification of a system
-   whose strength is exceeded x_u times (the form of FEMA 440 eq. 5-1 for C_1; T_d fitted); the
-   structure takes V_1,max / k_1* of it, the rest is rocking: theta = (C D - V_1,max/k_1*) / h_1*;
+   C D, D the spectral displacement S_a (T/2 pi)^2 averaged (geometrically) over the periods the
+   lifting system sweeps, [T1bar, x_u T1bar] (its secant period at the peak: a system whose
+   strength is exceeded x_u times reaches a ductility of about x_u^2 at short periods, equal
+   energy, and the secant period grows as its square root; at most 3 T1bar, the tabulated range),
+   C = 1 + (x_u - 1) (T_d / T1bar)^2 the short-period amplification of such a system (the form of
+   FEMA 440 eq. 5-1 for C_1; T_d fitted); the structure takes V_1,max / k_1* of it, the rest is
+   rocking: theta = (C D - V_1,max/k_1*) / h_1*;
 2. edge uplift: 2 b (theta - theta_c), theta_c = V_c h_1* / K_theta the rotation at which the mat
    lifts (K_theta = k_1* h_1*^2 / ((T1bar/T_1)^2 - 1) [21]);
 3. impact: lifted by theta - theta_c about its edge, the mat falls back under the moment
@@ -28,25 +31,25 @@ import math
 import numpy as np
 
 
-def spectral_band(x_long, stretch, t1bar, span):
-    """(x_u, the band mask): V_1/V_c from the geometric mean of S_a over [T1bar, span T1bar]
-    (x_long: V_1/V_c at stretch x T1bar, cases x stretch)."""
-    band = stretch <= np.asarray(span, dtype=float) + 1e-9
-    amplitude = np.exp(np.mean(np.log(np.maximum(np.asarray(x_long, dtype=float)[:, band], 1e-300)), axis=1))
-    return amplitude, band
+def spectral_band(x_long, stretch, span) -> np.ndarray:
+    """x_u: V_1/V_c from the geometric mean of S_a over [T1bar, span T1bar] (x_long: V_1/V_c at
+    stretch x T1bar, cases x stretch)."""
+    band = stretch <= float(span) + 1e-9
+    return np.exp(np.mean(np.log(np.maximum(np.asarray(x_long, dtype=float)[:, band], 1e-300)), axis=1))
 
 
-def rotation(data: dict, x_u, v1_max, span, stretch, displacement_period) -> dict[str, np.ndarray]:
+def rotation(data: dict, x_u, v1_max, stretch, displacement_period) -> dict[str, np.ndarray]:
     """Mat rotation theta [rad], rotation at lift-off theta_c [rad] and edge uplift [m] of each case
-    (items 1-2 of the module docstring); data: the calibration arrays of improved.as_arrays."""
-    band = stretch <= np.asarray(span, dtype=float) + 1e-9
+    (items 1-2 of the module docstring); data: the terms of improved.uplift_terms, stacked."""
     t1bar, t1 = np.asarray(data["T1bar"], dtype=float), np.asarray(data["T1"], dtype=float)
+    x_u = np.asarray(x_u, dtype=float)
+    band = stretch[None, :] <= np.clip(x_u, 1.0, stretch[-1])[:, None] + 1e-9
     m1 = data["m1"]
     k1 = m1 * data["omega1"] ** 2
     h1 = data["slenderness"] * data["b"]
     sa = np.asarray(data["x_long"], dtype=float) * (data["V_c"] / m1)[:, None]
-    sd = sa * (stretch[None, :] * t1bar[:, None] / (2.0 * math.pi)) ** 2
-    spectral = np.exp(np.mean(np.log(np.maximum(sd[:, band], 1e-300)), axis=1))
+    sd = np.log(np.maximum(sa * (stretch[None, :] * t1bar[:, None] / (2.0 * math.pi)) ** 2, 1e-300))
+    spectral = np.exp(np.sum(np.where(band, sd, 0.0), axis=1) / np.sum(band, axis=1))
     amplification = 1.0 + np.maximum(x_u - 1.0, 0.0) * (displacement_period / t1bar) ** 2
     theta = np.maximum(amplification * spectral - v1_max / k1, 0.0) / h1
     theta_c = data["V_c"] * np.maximum((t1bar / t1) ** 2 - 1.0, 0.0) / (k1 * h1)
