@@ -43,7 +43,7 @@ def warnings(system: System, spectrum, support: str, options: SimplifiedOptions,
     lines: list[str] = []
     inter = result.intermediates
     if support == "uplift" and result.uplift:
-        # the improved procedure caps V_b at the bonded and rigid values: only the paper's can exceed them
+        # the paper's X built with m_t can exceed them (the improved procedure has its own accuracy check)
         for other in ("bonded", "rigid") if options.procedure == "paper" else ():
             reference = paper_analyze(system, spectrum, other, options).base_shear
             if result.base_shear > reference * (1 + MARGIN):
