@@ -55,7 +55,7 @@ def main() -> None:
     start = time.perf_counter()
     results = analysis.run(deck)
     print(f"analysis (6 runs, histories kept): {time.perf_counter() - start:.2f} s")
-    samples = max(r.details["histories"]["time"].size for r in results if "histories" in r.details)
+    samples = max(r.histories["time"].size for r in results if r.histories)
     print(f"history samples per run: {samples}")
     data_best, data_median = timed(lambda: analysis_figures(deck, results), args.repeats)
     specs = analysis_figures(deck, results)

@@ -69,7 +69,7 @@ def example_system(period: float, foundation: str = "two-element", capacity: flo
 def exact_run(system: System, record: Record) -> tuple[dict, dict]:
     """Peaks and histories (finely sampled: 48 steps per governing period) of the exact engine."""
     result = exact.analyze(system, record, "uplift", ExactOptions(histories=True, steps_per_period=48))
-    h = result.details["histories"]
+    h = result.histories
     histories = {name: h[exact_name] for name, exact_name in EXACT_NAMES.items()}
     histories["time"] = h["time"]
     return om.peaks(histories), histories

@@ -18,6 +18,6 @@ SMALL = ['analysis.engine=["exact", "simplified"]', "building.stories=4", "groun
 
 @functools.cache
 def small_run():
-    """(deck, results) of the small run; the results carry details["histories"]."""
+    """(deck, results) of the small run; the results carry their histories (AnalysisResult.histories)."""
     deck = keep_histories(load_deck(EXAMPLE_DECK, SMALL))
     return deck, tuple(analysis.run(deck))

@@ -3,43 +3,110 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from upliftcli.accuracy import check_accuracy
+from upliftcli.accuracy import DEFAULT_BAND, Check, Comparison, all_modes, check_accuracy, compare
 from upliftcli.analysis import run, run_one
 from upliftcli.cli import app
+from upliftcli.criteria import check_criteria
 from upliftcli.deck import load_deck
+from upliftcli.engines.quantities import COMPARED
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
+WINKLER = ROOT / "inputs" / "ten_story_winkler.toml"
 SHORT = ["ground_motion.window=[0, 8]"]
 
 
 def test_the_check_equals_separate_runs_of_the_two_engines():
     deck = load_deck(EXAMPLE, SHORT)
     results = run(deck)
-    check_accuracy(deck, results)
-    for result in results:
-        check = result.details["accuracy"]
+    checks = check_accuracy(deck, results)
+    assert [c.support for c in checks] == [r.support for r in results]
+    for result, check in zip(results, checks, strict=True):
         exact = run_one(deck, "exact", result.support)
-        assert check["exact"]["base_shear"] == exact.base_shear
-        assert check["exact"]["base_moment"] == exact.base_moment
-        assert check["exact"]["max_drift_ratio"] == float(exact.drift_ratio.max())
-        assert check["exact"]["roof_displacement"] == float(exact.displacement[-1])
-        assert check["simplified"]["base_shear"] == result.base_shear
-        assert check["ratio"]["base_shear"] == pytest.approx(result.base_shear / exact.base_shear, rel=1e-15)
+        values = {c.name: c for c in check.comparisons}
+        assert values["base_shear"].exact == exact.base_shear
+        assert values["base_moment"].exact == exact.base_moment
+        assert values["drift_ratio"].exact == float(exact.drift_ratio.max())
+        assert values["roof_displacement"].exact == float(exact.displacement[-1])
+        assert values["floor_acceleration"].exact == float(np.max(np.abs(exact.floor_acceleration)))
+        assert values["base_shear"].simplified == result.base_shear
+        assert check.ratios["base_shear"] == pytest.approx(result.base_shear / exact.base_shear, rel=1e-15)
+        if result.support == "uplift":  # the mat lifts: edge uplift and rotation compared too
+            assert values["max_uplift"].exact == max(exact.intermediates["max_uplift_left"],
+                                                     exact.intermediates["max_uplift_right"])
+            assert values["max_rotation"].simplified == result.intermediates["max_rotation"]
+        else:
+            assert "max_uplift" not in values
+        assert "accuracy" not in result.details  # the result is not changed: the check is beside it
 
 
-def test_exact_results_already_run_are_reused():
+def test_exact_results_already_run_with_all_modes_are_reused():
     deck = load_deck(EXAMPLE, [*SHORT, 'analysis.engine=["simplified", "exact"]', 'analysis.supports="uplift"'])
     results = run(deck)
-    check_accuracy(deck, results)
-    simplified, exact = results
-    assert simplified.details["accuracy"]["exact"]["base_shear"] == exact.base_shear
-    assert "accuracy" not in exact.details
+    _, exact = results
+    (check,) = check_accuracy(deck, results)
+    assert check.comparisons[0].exact == exact.base_shear
+    assert check.reference == "exact engine, all 10 modes"
+
+
+def test_the_check_does_not_inherit_the_decks_mode_truncation():
+    """The Winkler deck keeps 3 modes: its exact result is not the check's, which has all 10."""
+    deck = load_deck(WINKLER, [*SHORT, 'analysis.engine=["simplified", "exact"]', 'analysis.supports="uplift"'])
+    simplified, truncated = run(deck)
+    assert truncated.periods.size == 3
+    (check,) = check_accuracy(deck, [simplified, truncated])
+    full = run_one(all_modes(deck), "exact", "uplift")
+    assert full.periods.size == 10
+    assert {c.name: c.exact for c in check.comparisons}["floor_acceleration"] == full.value("floor_acceleration")
+    assert check.reference == "exact engine, all 10 modes"
+
+
+def test_a_ratio_outside_the_band_is_a_warning_naming_it():
+    check = Check("uplift", "exact engine, all 10 modes", (0.8, 1.25),
+                  (Comparison("base_shear", 2.0e6, 1.0e6), Comparison("base_moment", 1.0, 1.0),
+                   Comparison("floor_acceleration", 1.0, 2.0)), ("both edges ... (flight)",))
+    assert [c.name for c in check.out_of_band] == ["base_shear", "floor_acceleration"]
+    lines = check.warnings()
+    assert "V_b: simplified / exact = 2 (exact 1000.0 kN) is outside [0.8, 1.25]" in lines[0]  # display units
+    assert "floor acceleration: simplified / exact = 0.5 (exact 0.2039 g)" in lines[1]
+    assert lines[2] == "accuracy check, exact engine, all 10 modes: both edges ... (flight)"
+    assert check.largest_error() == (1.0, check.comparisons[0])  # a factor 2 either way is an error of 1
+    assert check.to_dict()["out_of_band"] == ["base_shear", "floor_acceleration"]
+    assert Comparison("base_shear", 1.0, 0.0).ratio is None and not Comparison("base_shear", 1.0, 0.0).outside(
+        DEFAULT_BAND)
+
+
+def test_the_exact_runs_warnings_are_passed_on():
+    deck = load_deck(EXAMPLE, SHORT)
+    (simplified,) = run(deck, "simplified", "uplift")
+    exact = run_one(deck, "exact", "uplift")
+    flying = replace(exact, details={**exact.details, "warnings": ["both edges were off (flight)"]})
+    check = compare(simplified, flying)
+    assert check.warnings()[-1] == "accuracy check, exact engine: both edges were off (flight)"
+    # the deck's own warnings (analysis.run_batch puts them in both results) are not passed on again
+    deck_warning = "ten_story_elcentro.toml: building.damping: 0.35 is outside building practice"
+    ours = replace(simplified, details={**simplified.details, "warnings": [deck_warning]})
+    theirs = replace(flying, details={**flying.details, "warnings": [deck_warning, "both edges were off (flight)"]})
+    assert compare(ours, theirs).reference_warnings == ("both edges were off (flight)",)
+
+
+def test_simplified_error_criterion_fails_an_out_of_band_check():
+    deck = load_deck(EXAMPLE, SHORT)
+    results = run(deck, "simplified", "uplift")
+    (check,) = check_accuracy(deck, results)
+    error, worst = check.largest_error()
+    assert error == max(c.error for c in check.comparisons) and worst is not None
+    assert check_criteria(results, {"simplified_error": error * 1.001}, [check]) == []
+    (message,) = check_criteria(results, {"simplified_error": error * 0.999}, [check])
+    assert message.startswith("simplified/uplift: simplified_error = ") and worst.describe() in message
+    assert check_criteria(results, {"simplified_error": 1e-6}) == []  # no check given: nothing to apply
 
 
 def test_cli_reports_the_check_unless_told_not_to(tmp_path):
@@ -47,8 +114,9 @@ def test_cli_reports_the_check_unless_told_not_to(tmp_path):
     deck = str(EXAMPLE)
     document = json.loads(runner.invoke(app, ["analyze", deck, "--support", "uplift", "--set", SHORT[0],
                                               "--format", "json"]).stdout)
-    assert set(document["accuracy"]["ratio"]) == {"base_shear", "base_moment", "max_drift_ratio",
-                                                  "roof_displacement"}
+    assert list(document["accuracy"]["ratio"]) == list(COMPARED)
+    assert document["accuracy"]["band"] == [0.8, 1.25]
+    assert all(line in document["warnings"] for line in document["accuracy"]["warnings"])
     assert "accuracy" not in document["details"]
     document = json.loads(runner.invoke(app, ["analyze", deck, "--support", "uplift", "--set", SHORT[0],
                                               "--no-check", "--format", "json"]).stdout)
@@ -60,20 +128,40 @@ def test_cli_reports_the_check_unless_told_not_to(tmp_path):
     assert "accuracy" not in spectrum  # a design spectrum: no record to check against
 
 
+def test_cli_band_option_warns_and_criterion_exits_3():
+    runner = CliRunner()
+    args = ["analyze", str(EXAMPLE), "--support", "uplift", "--set", SHORT[0]]
+    narrow = runner.invoke(app, [*args, "--set", "analysis.check_band=[0.999, 1.001]", "--format", "json"])
+    assert narrow.exit_code == 0
+    document = json.loads(narrow.stdout)
+    named = document["accuracy"]["out_of_band"]
+    assert named and all(any(COMPARED[n].symbol in w for w in narrow.stderr.splitlines()) for n in named)
+    failing = runner.invoke(app, [*args, "--set", "criteria.simplified_error=0.001"])
+    assert failing.exit_code == 3 and "criterion violated: simplified/uplift: simplified_error" in failing.stderr
+    bad = runner.invoke(app, [*args, "--set", "analysis.check_band=[1.1, 1.3]"], env={"CI": "true"})
+    assert bad.exit_code == 2 and "analysis.check_band" in bad.stderr and "low < 1 < high" in bad.stderr
+
+
 def test_sweep_check_adds_the_ratios_of_matching_exact_cases(tmp_path):
     runner = CliRunner()
     result = runner.invoke(app, ["sweep", str(EXAMPLE), "--set", SHORT[0], "--vary", "building.period=0.5,1.0",
                                  "--support", "uplift", "--engine", "simplified", "--check", "--out",
-                                 str(tmp_path), "--workers", "1", "-q", "--format", "json"])
-    assert result.exit_code in (0, 3), result.output
+                                 str(tmp_path), "--workers", "1", "-q", "--format", "json",
+                                 "--set", "criteria.simplified_error=0.001"])
+    assert result.exit_code == 3, result.output  # no simplified value is within 0.1 % of the exact one
     rows = json.loads(result.stdout)["rows"]
+    assert all("simplified_error: " in r["violations"] for r in rows if r["engine"] == "simplified")
+    assert not any("simplified_error" in r["violations"] for r in rows if r["engine"] == "exact")
     assert {(r["engine"], r["building.period"]) for r in rows} == {(e, p) for e in ("simplified", "exact")
                                                                    for p in (0.5, 1.0)}
     for row in rows:
+        assert {f"check_{name}" for name in COMPARED} <= set(row)
         if row["engine"] == "simplified":
             exact = next(r for r in rows if r["engine"] == "exact" and r["building.period"] == row["building.period"])
             assert row["check_base_shear"] == pytest.approx(row["base_shear_N"] / exact["base_shear_N"], rel=1e-15)
-            assert row["check_max_drift_ratio"] == pytest.approx(row["max_drift_ratio"] / exact["max_drift_ratio"])
+            assert row["check_drift_ratio"] == pytest.approx(row["max_drift_ratio"] / exact["max_drift_ratio"])
+            assert row["check_floor_acceleration"] == pytest.approx(
+                row["max_floor_acceleration_m_s2"] / exact["max_floor_acceleration_m_s2"])
         else:
             assert row["check_base_shear"] is None
 

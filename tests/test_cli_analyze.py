@@ -441,25 +441,30 @@ def test_a_bearing_capacity_is_refused_by_the_history_engines(engine, tmp_path):
 
 def test_several_decks_print_every_warning_once_naming_the_deck():
     """Each per-analysis warning on stderr once, naming its deck and the analyses that gave it:
-    the ASCE 7-22 11.4.5 warning of the two-period spectrum included (only --format json had them)."""
-    asce7 = ROOT / "inputs" / "ten_story_asce7.toml"
-    result = invoke("analyze", asce7, EXAMPLE)
+    the ASCE 7-22 11.4.5 warning of the two-period spectrum included (only --format json had them),
+    and those of each deck's accuracy check (accuracy.Check.warnings)."""
+    asce7, winkler = ROOT / "inputs" / "ten_story_asce7.toml", ROOT / "inputs" / "ten_story_winkler.toml"
+    result = invoke("analyze", asce7, winkler)
     assert result.exit_code == 0, result.output
     lines = result.stderr.strip().splitlines()
     assert len(lines) == len(set(lines)) and all(line.startswith("warning: ") for line in lines)
     two_period = [line for line in lines if "ASCE 7-22 11.4.5" in line]
     assert len(two_period) == 1 and two_period[0].startswith(
         f"warning: {asce7}: simplified/rigid, simplified/bonded, simplified/uplift: ASCE 7-22 11.4.5 permits")
-    assert any(line.startswith(f"warning: {EXAMPLE}: simplified/bonded, simplified/uplift: xi1bar") for line in lines)
+    assert any(line.startswith(f"warning: {winkler}: simplified/uplift: accuracy check: V_b: simplified / exact")
+               for line in lines)
+    assert not any(line.startswith(f"warning: {winkler}") for line in invoke("analyze", asce7, winkler,
+                                                                          "--no-check").stderr.splitlines())
     # every warning of the JSON documents is heard, and no other
-    documents = json.loads(invoke("analyze", asce7, EXAMPLE, "--format", "json").stdout)["decks"]
+    documents = json.loads(invoke("analyze", asce7, winkler, "--format", "json").stdout)["decks"]
     given = {(document["source"], warning) for document in documents for r in document["results"]
              for warning in r["warnings"]}
     heard = {(line.split(": ", 2)[1], line.split(": ", 3)[3]) for line in lines}
     assert {(str(Path(source)), warning) for source, warning in given} == heard
     # one deck: the same lines without the deck's name
-    alone = invoke("analyze", asce7).stderr.strip().splitlines()
-    assert alone == [line.replace(f" {asce7}:", "", 1) for line in lines if str(asce7) in line]
+    for deck in (asce7, winkler):
+        alone = invoke("analyze", deck).stderr.strip().splitlines()
+        assert alone == [line.replace(f" {deck}:", "", 1) for line in lines if str(deck) in line]
 
 
 def test_units_us_in_every_table():

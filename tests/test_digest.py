@@ -47,6 +47,6 @@ def test_chunks_fold_to_the_single_pass(monkeypatch, support):
     for name, value in whole.details["energy"].items():
         if name != "relative_residual":
             assert chunked.details["energy"][name] == pytest.approx(value, abs=max(twins, 1e-12) * scale), name
-    for name, values in whole.details["histories"].items():  # matrix products of other sizes: 1 ulp
-        np.testing.assert_allclose(chunked.details["histories"][name], values, rtol=max(twins, 1e-14),
+    for name, values in whole.histories.items():  # matrix products of other sizes: 1 ulp
+        np.testing.assert_allclose(chunked.histories[name], values, rtol=max(twins, 1e-14),
                                    atol=twins * np.abs(values).max(initial=0.0) or 1e-300, err_msg=name)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from upliftcli.display import DISPLAY, SUMMARY, SYSTEMS, check_system, heading, intermediate_kind, label, number, show
-from upliftcli.engines.quantities import INTERMEDIATES, QUANTITIES, display_kind
+from upliftcli.engines.quantities import COMPARED, INTERMEDIATES, QUANTITIES, ROCKING, display_kind
 from upliftcli.errors import InputError
 
 LBF = 0.45359237 * 9.80665  # N
@@ -71,6 +71,24 @@ def test_every_quantity_and_intermediate_has_a_display_unit():
     assert intermediate_kind("Sa_n", "m/s^2") == "g" and intermediate_kind("max_uplift_left", "m") == "mm"
     assert display_kind("max_drift_ratio") == "%" and display_kind("roof_displacement") == "mm"
     assert display_kind("base_shear") == "N" and display_kind("base_shear_coefficient") == "coefficient"
+    # the improved procedure's mat motion and impacts, and xi1bar/xi1 (issue 25), shown as the check shows them
+    assert [intermediate_kind(name, INTERMEDIATES[name][0]) for name in (
+        "max_uplift", "max_rotation", "impact_acceleration", "xi1bar/xi1")] == ["mm", "mrad", "g", "coefficient"]
+    assert show(0.0123, "mrad") == "12.300" and label("mrad", "us") == "mrad"
+
+
+def test_every_compared_value_and_rocking_quantity_has_a_display_unit():
+    """The compared values of the accuracy check (quantities.COMPARED) and the rocking quantities
+    (quantities.ROCKING) are shown in display units, SI and US."""
+    for compared in COMPARED.values():
+        assert compared.display in DISPLAY and display_kind(compared.name) == compared.display, compared.name
+    assert [c.heading() for c in COMPARED.values()] == [
+        "V_b [kN]", "M_b [kN m]", "largest drift ratio [%]", "roof displacement [mm]",
+        "largest floor acceleration [g]", "edge uplift [mm]", "mat rotation [mrad]"]
+    assert COMPARED["max_uplift"].heading("us") == "edge uplift [in]"
+    for quantity in ROCKING.values():
+        assert quantity.display in DISPLAY or quantity.display == "-", quantity.name
+        assert display_kind(quantity.name) == quantity.display
 
 
 def test_number_is_plain_without_exponent_for_ordinary_magnitudes():

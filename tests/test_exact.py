@@ -32,7 +32,7 @@ def test_rigid_equals_modal_superposition_of_sdof_histories(elcentro):
     system = paper_system(0.5)
     options = ExactOptions(histories=True, time_step=elcentro.dt)
     result = exact.analyze(system, elcentro, "rigid", options)
-    hist = result.details["histories"]
+    hist = result.histories
     modes = system.modes
     base_shear = np.zeros(elcentro.npts)
     for n in range(modes.n_modes):
@@ -89,7 +89,7 @@ def test_bonded_equals_frequency_domain_solution(elcentro):
     fine = SimpleNamespace(acceleration=np.interp(fine_t, t, elcentro.acceleration), dt=elcentro.dt / factor)
     result = exact.analyze(system, fine, "bonded", ExactOptions(histories=True, time_step=fine.dt))
     base_shear, theta = _frequency_domain_bonded(system, fine.acceleration, fine.dt)
-    hist = result.details["histories"]
+    hist = result.histories
     assert np.abs(hist["base_shear"] - base_shear).max() < 2e-3 * np.abs(base_shear).max()
     assert np.abs(hist["theta"] - theta).max() < 2e-3 * np.abs(theta).max()
 
@@ -118,7 +118,7 @@ def test_static_push_lifts_at_critical_moment_and_shear():
     options = ExactOptions(n_modes=1, histories=True)
     for criterion in ("reaction", "displacement"):
         result = exact.analyze(system, record, "uplift", replace(options, criterion=criterion))
-        hist = result.details["histories"]
+        hist = result.histories
         first = np.nonzero(hist["contact_state"])[0][0]
         assert abs(hist["base_moment"][first]) == pytest.approx(system.critical_base_moment, rel=2e-3)
         assert abs(hist["base_shear"][first]) == pytest.approx(system.critical_base_shear, rel=2e-3)
@@ -129,7 +129,7 @@ def test_undamped_elements_criteria_coincide(elcentro):
     system = paper_system(0.4, damping_ratio=0.0)
     runs = [exact.analyze(system, record, "uplift", ExactOptions(criterion=c, histories=True))
             for c in ("reaction", "displacement")]
-    a, b = (r.details["histories"] for r in runs)
+    a, b = (r.histories for r in runs)
     assert runs[0].uplift
     np.testing.assert_array_equal(a["contact_state"], b["contact_state"])
     np.testing.assert_allclose(a["base_shear"], b["base_shear"], rtol=0, atol=1e-9 * np.abs(a["base_shear"]).max())
@@ -190,7 +190,7 @@ def test_rigid_history_is_exact_at_any_step(elcentro):
     record = short(elcentro, 6.0)
     a = exact.analyze(system, record, "rigid", ExactOptions(time_step=record.dt, histories=True))
     b = exact.analyze(system, record, "rigid", ExactOptions(time_step=record.dt / 8, histories=True))
-    np.testing.assert_allclose(b.details["histories"]["base_shear"][::8], a.details["histories"]["base_shear"],
+    np.testing.assert_allclose(b.histories["base_shear"][::8], a.histories["base_shear"],
                                atol=1e-8 * np.abs(a.base_shear))
 
 

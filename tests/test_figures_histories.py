@@ -37,8 +37,8 @@ def test_history_series_equal_the_kept_histories():
         factor = unit_factor(panel.ylabel)
         assert [s.label for s in panel.series] == [r.support for r in members]
         for result, series in zip(members, panel.series, strict=True):
-            np.testing.assert_array_equal(series.x, result.details["histories"]["time"])
-            np.testing.assert_allclose(series.y, factor * result.details["histories"][key], rtol=1e-15)
+            np.testing.assert_array_equal(series.x, result.histories["time"])
+            np.testing.assert_allclose(series.y, factor * result.histories[key], rtol=1e-15)
     # the sampled peak of the plotted base shear is at most the engine's peak V_b (found between
     # samples) and close to it
     for result, series in zip(results, shear.series, strict=True):
@@ -47,7 +47,7 @@ def test_history_series_equal_the_kept_histories():
     factor = unit_factor(edges.ylabel)
     assert [s.label for s in edges.series] == ["bonded, left edge", "bonded, right edge", "uplift, left edge",
                                                "uplift, right edge"]
-    np.testing.assert_allclose(edges.series[2].y, factor * results[2].details["histories"]["left_edge_displacement"])
+    np.testing.assert_allclose(edges.series[2].y, factor * results[2].histories["left_edge_displacement"])
     # the largest edge displacement is the engine's largest uplift
     lift = results[2].details["uplift_summary"]["max_uplift_left"]
     assert np.max(edges.series[2].y) == pytest.approx(factor * lift)
@@ -70,8 +70,8 @@ def test_lifted_intervals_shaded_where_the_contact_state_says():
     uplift = results[2]
     spans = fh.history_figure(results).panels[0].spans
     assert [s.label for s in spans] == ["left edge lifted", "right edge lifted"]
-    times = uplift.details["histories"]["time"]
-    state = uplift.details["histories"]["contact_state"]
+    times = uplift.histories["time"]
+    state = uplift.histories["contact_state"]
     for span, bit in zip(spans, (1, 2), strict=True):
         assert span.intervals.shape[1] == 2 and len(span.intervals) > 1
         for start, end in span.intervals:
@@ -101,10 +101,10 @@ def test_spans_of_a_mask():
 def test_contact_state_of_many_elements():
     """A foundation of more elements than an int64 holds: Python integers, same bits."""
     uplift = exact_results()[2]
-    state = uplift.details["histories"]["contact_state"]
+    state = uplift.histories["contact_state"]
     wide = np.array([(int(s) & 1) | ((int(s) >> 1) << 79) for s in state], dtype=object)
     many = replace(uplift, element_positions=np.linspace(-1, 1, 80),
-                   details={**uplift.details, "histories": {**uplift.details["histories"], "contact_state": wide}})
+                   histories={**uplift.histories, "contact_state": wide})
     for edge, mask in fh.lifted(many).items():
         np.testing.assert_array_equal(mask, fh.lifted(uplift)[edge])
 
@@ -129,11 +129,11 @@ def test_moment_rotation_of_the_flexible_supports():
     (panel,) = fh.moment_rotation_figure(results).panels
     assert [s.label for s in panel.series] == ["bonded", "uplift"]
     for result, series in zip(results[1:], panel.series, strict=True):
-        h = result.details["histories"]
+        h = result.histories
         np.testing.assert_allclose(series.x, 1e3 * h["theta"])
         np.testing.assert_allclose(series.y, unit_factor(panel.ylabel) * h["base_moment"])
     # bonded: M_b follows K_theta theta (plus damping); the slope is near K_theta
-    bonded = results[1].details["histories"]
+    bonded = results[1].histories
     slope = np.polyfit(bonded["theta"], bonded["base_moment"], 1)[0]
     system = small_run()[0].system
     k_theta = 2 * system.foundation.stiffness * system.half_width**2  # [22]

@@ -64,7 +64,7 @@ def fake_suite(scales=(0.6, 1.0, 1.7)):
     exact = next(r for r in results if r.engine == "exact" and r.support == "uplift")
     simplified = next(r for r in results if r.engine == "simplified" and r.support == "uplift")
     records = [replace(exact, peaks={k: v * s for k, v in exact.peaks.items()},
-                       details={**exact.details, "histories": dict(exact.details["histories"])}) for s in scales]
+                       histories=dict(exact.histories)) for s in scales]
     names = [SuiteRecord(f"record {k}", f"r{k}.txt", s) for k, s in enumerate(scales)]
     return suite_result(records, names, "mean", rule="asce7-22", simplified=simplified), simplified
 
@@ -85,10 +85,11 @@ def test_profiles_of_a_suite_result():
     assert dashed.style == "--" and "target spectrum" in dashed.label
 
 
-def test_drop_histories_of_every_record():
-    from upliftcli.cli.plotting import drop_histories
+def test_results_documents_never_hold_histories():
+    """Histories live beside the peaks (AnalysisResult.histories), never in the documents."""
+    from upliftcli.output import result_to_dict
 
     suite, _ = fake_suite()
-    assert all("histories" in r.details for r in suite.record_results)
-    drop_histories([suite])
-    assert not any("histories" in r.details for r in suite.record_results)
+    assert all(r.histories for r in suite.record_results) and not suite.histories
+    document = result_to_dict(suite)
+    assert all("histories" not in r["result"]["details"] for r in document["suite"]["records"])

@@ -1,5 +1,6 @@
-"""Improved simplified procedure (engines/improved.py): each correction against an independent
-case or limit, the caps, and the calibration's vectorised form against the engine."""
+"""Improved simplified procedure (engines/improved.py, engines/rocking.py): each correction
+against an independent case or limit, no caps, the mat motion by hand, and the calibration's
+padded terms against the engine."""
 
 import math
 from dataclasses import replace
@@ -87,13 +88,13 @@ def test_neutral_mode_1_is_eq_28a_with_the_mass_consistent_phase_x():
 
 
 def test_short_period_factor_and_modal_factors_vanish_where_they_should():
-    c = replace(NEUTRAL, short_gain=1.0, short_period=0.1, gain2=0.5, gain3=0.3, short_modes=1.0)
+    c = replace(NEUTRAL, short_gain=1.0, short_period=0.1, gain2=0.5, short_modes=1.0)
     x = np.array([1.0, 1.0 + 1e-12, 4.0, 4.0])
     t1bar = np.array([0.1, 0.1, 0.1, 50.0])
     factors = improved.modal_factors(x, t1bar, 3, c)
     np.testing.assert_allclose(factors[:2], 1.0, atol=1e-11)  # no uplift: fixed-base higher modes
-    assert factors[2, 1] == pytest.approx(1 + 0.75 * (0.5 + 1.0 / (1.0 + 1.0**2)), rel=1e-12)
-    assert factors[2, 2] == pytest.approx(1 + 0.75 * (0.3 + 0.5), rel=1e-12)
+    assert factors[2, 1] == pytest.approx(1 + 0.75 * (0.5 + 1.0 / (1.0 + 1.0**4)), rel=1e-12)
+    assert factors[2, 2] == pytest.approx(1 + 0.75 * 0.5, rel=1e-12)  # modes 3 and up: the short-period part
     assert factors[3, 1] == pytest.approx(1 + 0.75 * 0.5, rel=1e-5)  # long period: no short-period part
     assert np.all(factors[:, 0] == 1.0)
 
@@ -104,52 +105,101 @@ def test_combination_limits():
     np.testing.assert_allclose(combine_peaks(peaks, np.ones((1, 2, 2))), [[7.0, 1.0]])  # |r_1 + r_2|
 
 
-@pytest.mark.parametrize("period", [0.08, 0.3, 1.0, 3.0])
-@pytest.mark.parametrize("scale", [0.5, 2.0, 6.0])
-def test_never_above_bonded_or_rigid(period, scale):
-    system = heavy_mat_system(period)
-    spectrum = Smooth(scale)
+def test_uplift_can_raise_the_floor_acceleration_above_bonded_and_rigid():
+    """No caps (issue 25): at a short period the impacts of the lifting mat raise the floor
+    accelerations above the bonded and rigid-base values (the exact engine exceeds the bonded floor
+    acceleration in a fifth of the lifting cases of docs/accuracy.md); without the impact term
+    the modal combination alone is what remains."""
+    system = heavy_mat_system(0.15)
+    spectrum = Smooth(6.0)
     result = analyze(system, spectrum, "uplift")
-    if not result.uplift:  # then it is the bonded result (which may exceed the rigid one)
-        bonded = paper_analyze(system, spectrum, "bonded")
-        for name in ("displacement", "drift_ratio", "shear", "moment"):
-            np.testing.assert_allclose(getattr(result, name), getattr(bonded, name), rtol=1e-12)
-        return
-    for support in ("bonded", "rigid"):
-        other = paper_analyze(system, spectrum, support)
-        for name in ("displacement", "drift_ratio", "shear", "moment"):
-            assert np.all(getattr(result, name) <= getattr(other, name) * (1 + 1e-12)), (support, name)
-    assert not any("above the" in w for w in result.details["warnings"])
+    assert result.uplift and result.intermediates["impact_acceleration"] > 0.0
+    assert result.value("floor_acceleration") > max(paper_analyze(system, spectrum, s).value("floor_acceleration")
+                                                    for s in ("bonded", "rigid"))
+    plain = analyze_uplift(system, spectrum, OPTIONS, replace(COEFFICIENTS, impact=0.0))
+    assert plain.intermediates["impact_acceleration"] == 0.0
+    assert np.all(result.floor_acceleration >= plain.floor_acceleration)
+    np.testing.assert_array_equal(result.shear, plain.shear)  # the impact term acts on accelerations only
 
 
 @pytest.mark.parametrize("system", [heavy_mat_system(0.15), paper_system(0.5), paper_system(1.5, stories=15)])
-def test_calibration_form_equals_the_engine(system):
-    """benchmarks/calibrate.py fits improved.combine_arrays; the engine must give the same numbers."""
+def test_padded_terms_give_the_engines_result(system):
+    """benchmarks/calibrate.py stacks uplift_terms padded to 20 modes and floors; the padding must
+    not change a number."""
     spectrum = Smooth(3.0)
-    c = replace(COEFFICIENTS, lengthening=0.7, short_gain=0.5, gain2=0.4, gain3=0.2, short_modes=0.8,
-                correlation=0.6)
+    c = replace(COEFFICIENTS, short_gain=0.5, gain2=0.4, short_modes=0.8, correlation=0.6)
     result = analyze_uplift(system, spectrum, OPTIONS, c)
     assert result.uplift
-    data = improved.as_arrays(improved.uplift_terms(system, spectrum, OPTIONS), 20)
-    stacked = {k: np.asarray(v)[None] for k, v in data.items()}
-    out = improved.combine_arrays(stacked, c)
-    assert out["V"][0] == pytest.approx(result.base_shear, rel=1e-12)
-    assert out["M"][0] == pytest.approx(result.base_moment, rel=1e-12)
-    assert out["drift"][0] == pytest.approx(float(np.max(result.drift_ratio)), rel=1e-12)
-    assert out["roof"][0] == pytest.approx(float(result.displacement[-1]), rel=1e-12)
+    out = improved.combine_arrays(improved.stacked([improved.uplift_terms(system, spectrum, OPTIONS, 20)]), c)
+    n = system.building.n_stories
+    for name in improved.COMBINED:
+        np.testing.assert_allclose(out[name][0, :n], result.peaks[name], rtol=1e-12, atol=1e-300)
+    assert out["uplift"][0] == pytest.approx(result.intermediates["max_uplift"], rel=1e-12)
+    assert out["theta"][0] == pytest.approx(result.intermediates["max_rotation"], rel=1e-12)
 
 
-def test_lengthened_period_reads_the_spectrum_further_out():
-    """With lengthening, x is read at T_u = T1bar (1 + lengthening (1 - 1/x)) > T1bar: on a 1/T branch
-    the amplitude ratio falls by T1bar/T_u."""
+def test_the_amplitude_is_the_geometric_mean_of_the_spectrum_over_the_band():
+    """On a 1/T branch, x_u = x (T1bar / geometric mean of the band's periods) (item 2)."""
     system = paper_system(period=1.2, stories=10, slenderness=8.0)
     spectrum = Smooth(8.0)
-    c = replace(NEUTRAL, lengthening=0.5)
+    c = replace(NEUTRAL, span=1.5)
     inter = analyze_uplift(system, spectrum, OPTIONS, c).intermediates
     x = inter["V1_bonded"] / system.critical_base_shear
-    assert x > 1.5 and inter["T1bar"] > 0.5
-    assert inter["T_u"] == pytest.approx(inter["T1bar"] * (1 + 0.5 * (1 - 1 / x)), rel=1e-12)
-    assert inter["x_u"] == pytest.approx(x * inter["T1bar"] / inter["T_u"], rel=2e-3)  # grid interpolation
+    stretch = improved.STRETCH
+    band = stretch[stretch <= 1.5 + 1e-9]
+    assert inter["T1bar"] > 0.5 and x > 1.5
+    assert inter["T_u"] == pytest.approx(1.5 * inter["T1bar"], rel=1e-12)
+    assert inter["x_u"] == pytest.approx(x / math.exp(np.mean(np.log(band))), rel=1e-12)
+
+
+def test_below_the_onset_the_mat_rotates_elastically_and_does_not_lift():
+    system = heavy_mat_system()
+    spectrum = ConstantSpectrum(0.9 * system.critical_base_shear / float(system.modes.effective_mass[0]))
+    inter = analyze(system, spectrum, "uplift").intermediates
+    assert inter["max_uplift"] == 0.0
+    assert inter["max_rotation"] == pytest.approx(paper_analyze(system, spectrum, "bonded").base_moment
+                                                  / inter["K_theta"], rel=1e-12)
+
+
+def test_rocking_displacement_of_the_equivalent_system():
+    """engines/rocking.py by hand on a flat spectrum: the equivalent system moves C D, D = S_a
+    (T/2 pi)^2 averaged (geometrically) over [T1bar, x_u T1bar], the structure takes V_1,max/k_1*, the mat
+    rotates by the rest over h_1*; the edge lifts by 2 b (theta - theta_c), theta_c = V_c h_1* / K_theta."""
+    system = paper_system(period=0.5)
+    sa = 4.0 * system.critical_base_shear / float(system.modes.effective_mass[0])
+    c = replace(COEFFICIENTS, displacement_period=0.3)
+    inter = analyze_uplift(system, ConstantSpectrum(sa), OPTIONS, c).intermediates
+    m1, w1 = float(system.modes.effective_mass[0]), float(system.modes.omega[0])
+    h1, b = system.effective_height, system.half_width
+    t1bar = inter["T1bar"]
+    amplification = 1 + (inter["x_u"] - 1) * (0.3 / t1bar) ** 2
+    stretch = improved.STRETCH
+    band = stretch[stretch <= min(inter["x_u"], 3.0) + 1e-9]  # [T1bar, x_u T1bar], at most 3 T1bar
+    spectral = sa * (t1bar / (2 * math.pi)) ** 2 * math.exp(2 * np.mean(np.log(band)))
+    theta = (amplification * spectral - inter["V1_uplift"] / (m1 * w1**2)) / h1
+    theta_c = system.critical_base_shear * h1 / inter["K_theta"]
+    assert inter["x_u"] == pytest.approx(4.0, rel=1e-12)
+    assert inter["max_rotation"] == pytest.approx(theta, rel=1e-9)
+    assert inter["max_uplift"] == pytest.approx(2 * b * (theta - theta_c), rel=1e-6)
+
+
+def test_impact_floor_acceleration_by_hand():
+    """The recontact velocity from the fall of the lifted mat under M_c (energy), a pulse on each
+    mode of modal pseudo-acceleration h_n* min(w_n, w_theta) theta', SRSS over the modes."""
+    system = paper_system(period=0.3, stories=3)
+    spectrum = ConstantSpectrum(5.0 * system.critical_base_shear / float(system.modes.effective_mass[0]))
+    c = replace(COEFFICIENTS, impact=1.0)
+    inter = analyze_uplift(system, spectrum, OPTIONS, c).intermediates
+    modes, b, m_t = system.modes, system.half_width, system.total_mass
+    m1, h1 = float(modes.effective_mass[0]), system.effective_height
+    lifted = inter["max_uplift"] / (2 * b)
+    rate = math.sqrt(2 * m_t * system.gravity * b * lifted / (m1 * h1**2 + m_t * b**2))
+    w_theta = 1 / math.sqrt((inter["T1bar"] / (2 * math.pi)) ** 2 - 1 / float(modes.omega[0]) ** 2)
+    gamma_phi = modes.shapes * (modes.participation_h / np.sum(modes.shapes**2 * system.building.masses[:, None],
+                                                                axis=0))  # Gamma_n phi_jn
+    pseudo = modes.effective_height * np.minimum(modes.omega, w_theta) * rate
+    expected = np.sqrt(np.sum((gamma_phi * pseudo) ** 2, axis=1)).max()
+    assert inter["impact_acceleration"] == pytest.approx(expected, rel=1e-9)
 
 
 def test_one_story_building_mass_consistent_equals_spectral():

@@ -4,6 +4,7 @@ import csv
 import io
 import json
 import tomllib
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -103,8 +104,7 @@ def test_write_results_failure_leaves_no_file(tmp_path, monkeypatch):
 
 
 def test_numbers_are_written_with_15_significant_digits():
-    result = make_result()
-    result.elevations = np.cumsum([5.1, 5.1, 5.1])  # 15.299999999999999 in binary
+    result = replace(make_result(), elevations=np.cumsum([5.1, 5.1, 5.1]))  # 15.299999999999999 in binary
     assert result.elevations[-1] != 15.3
     rows = list(csv.reader(io.StringIO(to_csv([result]))))
     assert rows[3][3] == "15.3"

@@ -63,14 +63,16 @@ def test_base_moment_above_the_limit_is_reported():
     assert result.base_moment > MOMENT_LIMIT * short.critical_base_moment and not matching(result, "M_c")
 
 
-def test_effective_damping_below_fixed_base_damping_is_reported():
-    """The paper's example: xi1bar = 0.0328 < xi_1 = 0.05 (docs/theory.md); the value is kept."""
+def test_effective_damping_below_fixed_base_damping_is_an_intermediate_not_a_warning():
+    """The paper's example: xi1bar = 0.0328 < xi_1 = 0.05 (docs/theory.md); the value is kept. It
+    happens on most decks and breaks no code bound (ASCE 7-22 19.3 bounds xi1bar above): the
+    intermediate xi1bar/xi1 reports it, no warning."""
     system = paper_system()
     result = analyze(system, ConstantSpectrum(3.0), "bonded")
     assert result.intermediates["xi1bar"] == pytest.approx(0.0328, abs=5e-5)
-    (line,) = matching(result, "below the fixed-base")
-    assert "0.03279" in line
-    assert not matching(analyze(system, ConstantSpectrum(3.0), "rigid"), "xi1bar")
+    assert result.intermediates["xi1bar/xi1"] == pytest.approx(0.0328 / 0.05, abs=1e-3)
+    assert not matching(result, "xi1bar")
+    assert "xi1bar/xi1" not in analyze(system, ConstantSpectrum(3.0), "rigid").intermediates
 
 
 def test_effective_damping_above_the_code_limit_is_reported():

@@ -38,7 +38,7 @@ def test_rigid_floor_accelerations_are_superposed_sdof_absolute_accelerations(el
     system = paper_system(0.5)
     record = short(elcentro, 8.0)
     result = exact.analyze(system, record, "rigid", ExactOptions(histories=True, time_step=record.dt))
-    hist = result.details["histories"]
+    hist = result.histories
     fine = short(elcentro, 8.0, refine=20)
     modes = system.modes
     coarse_sum = np.zeros((record.acceleration.size, 10))
@@ -64,7 +64,7 @@ def test_undamped_rigid_base_floor_inertia_forces_balance_the_base_shear(elcentr
     building = uniform_building(10, 350e3, 3.5, period=0.5, damping=0.0)
     system = System(building, TwoElement(1e9, 0.0), 3.0)
     result = exact.analyze(system, short(elcentro, 6.0), "rigid", ExactOptions(histories=True))
-    hist = result.details["histories"]
+    hist = result.histories
     inertia = sum(building.masses[j] * hist[f"floor_acceleration_{j + 1}"] for j in range(10))
     assert np.abs(inertia + hist["base_shear"]).max() < 1e-9 * np.abs(hist["base_shear"]).max()
 
@@ -75,7 +75,7 @@ def test_floor_inertia_moment_balances_the_foundation_moment_at_every_sample(elc
     the reactions R_i read off the elements and the accelerations off the modal coordinates."""
     system = paper_system(0.5)
     result = exact.analyze(system, short(elcentro, 8.0), support, ExactOptions(histories=True))
-    hist = result.details["histories"]
+    hist = result.histories
     building = system.building
     inertia = sum(building.masses[j] * building.heights[j] * hist[f"floor_acceleration_{j + 1}"] for j in range(10))
     positions = result.element_positions

@@ -1,61 +1,199 @@
 """The simplified engine checked against the exact engine on the same deck.
 
-When the deck has a record, every simplified result gets the exact engine's values of the
-same support (already run, or run here: about 10 ms each) and the ratio simplified / exact
-for the quantities a designer takes away (docs/accuracy.md gives the measured spread of
-those ratios). The check lives in result.details["accuracy"]; `uplift analyze --no-check`
-skips it. A suite deck has its own comparison (the simplified engine on the target spectrum
-beside the suite statistic, engines/suite_result.py); a design-spectrum deck has no record
-to check against.
+When the deck has a record, every simplified result is compared with the exact engine's result
+of the same support, run with all the building's modes (a truncation of the deck, `analysis.modes`
+or `analysis.exact.n_modes`, is not inherited: the check says which modes it used), for every
+value of engines/quantities.COMPARED (V_b, M_b, the largest drift ratio, the roof displacement,
+the largest floor acceleration and, with uplift, the edge uplift and the mat rotation).
+
+    checks = check_accuracy(deck, results)          # one Check per simplified result, beside them
+    check = compare(simplified, exact, band=(0.8, 1.25), reference="exact engine, all 10 modes")
+    check.ratios                                    # {name: simplified / exact}
+    check.warnings()                                # a line per ratio outside the band, and the
+                                                    # exact run's own warnings (flight ...)
+    check.largest_error()                           # (error, Comparison) for [criteria] simplified_error
+    check.to_dict()                                 # the JSON `accuracy` object
+
+A ratio outside the band (default DEFAULT_BAND, the deck's `analysis.check_band`; for the edge
+uplift and the mat rotation, whose estimate scatters more, DEFAULT_MOTION_BAND,
+`analysis.check_band_motion`) is a warning naming the value, the ratio and the exact value;
+`[criteria] simplified_error = e` fails a run (exit code 3) when a ratio leaves [1/(1 + e), 1 + e]
+(criteria.py). Results are not changed: a Check is a separate object carried beside the results
+(output.py, cli/render.py, report/). A suite deck has its own comparison (the simplified engine
+on the target spectrum beside the suite statistic, engines/suite_result.py); compare() serves
+any pair of results of one support (a suite's statistic among them). A design-spectrum deck has
+no record to check against.
+docs/accuracy.md gives the measured spread of every ratio.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 
 from .deck import Deck
-from .engines.quantities import unit_of
+from .display import label, show
+from .engines.quantities import COMPARED
 from .engines.result import AnalysisResult
 from .errors import AnalysisError, InputError
 from .motion.records import Record
 
-#: the quantities compared: name -> (unit, meaning, value of a result); the units are those of
-#: the quantities table (engines/quantities.py)
-CHECKED: dict[str, tuple[str, str, Callable[[AnalysisResult], float]]] = {
-    "base_shear": (unit_of("base_shear"), "base shear V_b", lambda r: r.base_shear),
-    "base_moment": (unit_of("base_moment"), "base overturning moment M_b", lambda r: r.base_moment),
-    "max_drift_ratio": (unit_of("drift_ratio"), "largest story drift ratio", lambda r: r.value("drift_ratio")),
-    "roof_displacement": (unit_of("displacement"), "roof displacement relative to the mat",
-                          lambda r: float(abs(r.peaks["displacement"][-1]))),
-}
+#: ratios simplified / exact inside this band raise no warning (analysis.check_band)
+DEFAULT_BAND = (0.8, 1.25)
+#: the band of the mat's motion (edge uplift, mat rotation: analysis.check_band_motion), whose
+#: simplified estimate has a wider measured spread (docs/accuracy.md: 5-95 % of about 0.4-2.5)
+DEFAULT_MOTION_BAND = (0.5, 2.0)
+#: the compared values the motion band applies to
+MOTION = ("max_uplift", "max_rotation")
 
 
-def accuracy(simplified: AnalysisResult, exact: AnalysisResult | Exception) -> dict:
-    """{reference, support, simplified, exact, ratio} (SI values; ratio = simplified / exact),
-    or {reference, support, error} when the exact engine could not run."""
-    head = {"reference": "exact", "support": simplified.support}
-    if isinstance(exact, Exception):
-        return {**head, "error": str(exact)}
-    values = {name: value(simplified) for name, (_, _, value) in CHECKED.items()}
-    reference = {name: value(exact) for name, (_, _, value) in CHECKED.items()}
-    ratio = {name: values[name] / reference[name] if reference[name] else None for name in CHECKED}
-    return {**head, "simplified": values, "exact": reference, "ratio": ratio}
+@dataclass(frozen=True)
+class Comparison:
+    """One compared value (engines/quantities.COMPARED name) of the two engines, SI units."""
+
+    name: str
+    simplified: float
+    exact: float
+
+    @property
+    def ratio(self) -> float | None:
+        """simplified / exact (None when the exact value is 0 or either is not finite)."""
+        if not (math.isfinite(self.simplified) and math.isfinite(self.exact)) or self.exact == 0.0:
+            return None
+        return self.simplified / self.exact
+
+    @property
+    def error(self) -> float:
+        """The relative error on the side it falls: max(ratio, 1/ratio) - 1 (0 without a ratio)."""
+        ratio = self.ratio
+        if ratio is None:
+            return 0.0
+        return math.inf if ratio <= 0.0 else max(ratio, 1.0 / ratio) - 1.0
+
+    def outside(self, band: tuple[float, float]) -> bool:
+        ratio = self.ratio
+        return ratio is not None and not band[0] <= ratio <= band[1]
+
+    def describe(self) -> str:
+        """'V_b: simplified / exact = 1.43 (exact 1234.0 kN)': the exact value in its display unit
+        (display.py, SI system: kN, kN m, %, mm, g, mrad)."""
+        quantity = COMPARED[self.name]
+        ratio = "-" if self.ratio is None else f"{self.ratio:.3g}"
+        unit = "" if quantity.display == "coefficient" else f" {label(quantity.display)}"
+        return f"{quantity.symbol}: simplified / exact = {ratio} (exact {show(self.exact, quantity.display)}{unit})"
 
 
-def check_accuracy(deck: Deck, results: Sequence[AnalysisResult]) -> None:
-    """Attach details["accuracy"] to each simplified result of a deck with a record, running the
-    exact engine for the supports it has not run (its results are reused otherwise)."""
+@dataclass(frozen=True)
+class Check:
+    """The simplified result of one support against a reference result (the exact engine).
+
+    support; reference: what was run ('exact engine, all 10 modes'); band: (low, high) of the
+    ratios that raise no warning; motion_band: the same for the edge uplift and the mat rotation
+    (MOTION); comparisons: one per COMPARED value both results give;
+    reference_warnings: the reference run's own warnings; error: why the reference could not run
+    (then there are no comparisons)."""
+
+    support: str
+    reference: str
+    band: tuple[float, float] = DEFAULT_BAND
+    comparisons: tuple[Comparison, ...] = ()
+    reference_warnings: tuple[str, ...] = ()
+    error: str | None = None
+    motion_band: tuple[float, float] = DEFAULT_MOTION_BAND
+
+    @property
+    def ratios(self) -> dict[str, float | None]:
+        return {c.name: c.ratio for c in self.comparisons}
+
+    def band_of(self, name: str) -> tuple[float, float]:
+        """The band of a compared value: motion_band for MOTION, band otherwise."""
+        return self.motion_band if name in MOTION else self.band
+
+    @property
+    def out_of_band(self) -> tuple[Comparison, ...]:
+        return tuple(c for c in self.comparisons if c.outside(self.band_of(c.name)))
+
+    def warnings(self) -> list[str]:
+        """One line per ratio outside its band, then the reference run's warnings."""
+        lines = []
+        for c in self.out_of_band:
+            (low, high), option = self.band_of(c.name), "check_band_motion" if c.name in MOTION else "check_band"
+            lines.append(f"accuracy check: {c.describe()} is outside [{low:g}, {high:g}] (analysis.{option}); the "
+                         "simplified value is not reliable here: use the exact engine's")
+        if self.error is not None:
+            lines.append(f"accuracy check: the {self.reference} could not run: {self.error}")
+        return lines + [f"accuracy check, {self.reference}: {w}" for w in self.reference_warnings]
+
+    def largest_error(self) -> tuple[float, Comparison | None]:
+        """(the largest relative error of the comparisons, that comparison): Comparison.error."""
+        worst = max(self.comparisons, key=lambda c: c.error, default=None)
+        return (0.0, None) if worst is None else (worst.error, worst)
+
+    def to_dict(self) -> dict:
+        """The JSON `accuracy` object: {support, reference, band, simplified, exact, ratio,
+        out_of_band, warnings} (SI values), or {support, reference, error}."""
+        head = {"support": self.support, "reference": self.reference}
+        if self.error is not None:
+            return {**head, "error": self.error, "warnings": self.warnings()}
+        return {**head, "band": list(self.band), "motion_band": list(self.motion_band),
+                "simplified": {c.name: c.simplified for c in self.comparisons},
+                "exact": {c.name: c.exact for c in self.comparisons},
+                "ratio": self.ratios, "out_of_band": [c.name for c in self.out_of_band],
+                "warnings": self.warnings()}
+
+
+def compare(simplified: AnalysisResult, reference: AnalysisResult, band: tuple[float, float] = DEFAULT_BAND,
+            label: str = "exact engine", motion_band: tuple[float, float] = DEFAULT_MOTION_BAND) -> Check:
+    """The Check of a simplified result against a reference result of the same support: every
+    COMPARED value both give; the reference's warnings but those the simplified result carries too
+    (the deck's own, analysis.run_batch)."""
+    comparisons = []
+    for quantity in COMPARED.values():
+        if simplified.support not in quantity.supports:
+            continue
+        mine, theirs = quantity.value(simplified), quantity.value(reference)
+        if mine is None or theirs is None:
+            continue
+        comparisons.append(Comparison(quantity.name, float(mine), float(theirs)))
+    own = simplified.details.get("warnings", ())  # the deck's own warnings are in both: said once
+    passed_on = tuple(w for w in reference.details.get("warnings", ()) if w not in own)
+    return Check(simplified.support, label, tuple(band), tuple(comparisons), passed_on,
+                 motion_band=tuple(motion_band))
+
+
+def all_modes(deck: Deck) -> Deck:
+    """The deck with the exact engine keeping every mode (the check does not inherit a truncation)
+    and no histories."""
+    exact = replace(deck.analysis.exact, n_modes=None, histories=False)
+    return replace(deck, analysis=replace(deck.analysis, exact=exact))
+
+
+def check_accuracy(deck: Deck, results: Sequence[AnalysisResult]) -> list[Check]:
+    """One Check per simplified result of a deck with a record (none otherwise): the exact engine
+    of the same support with all modes, reused from `results` when it ran with all of them, else run
+    here (about 10-100 ms each). The results are not changed."""
     if not isinstance(deck.ground_motion, Record):
-        return
+        return []
     from .analysis import run_one  # analysis imports nothing of this module
 
-    exact = {r.support: r for r in results if r.engine == "exact"}
+    n_total = deck.system.building.n_stories
+    label = f"exact engine, all {n_total} modes"
+    band, motion_band = deck.analysis.check_band, deck.analysis.check_band_motion
+    exact: dict[str, AnalysisResult | Exception] = {
+        r.support: r for r in results if r.engine == "exact" and r.periods.size == n_total}
+    checks = []
     for result in results:
         if result.engine != "simplified":
             continue
         if result.support not in exact:
             try:
-                exact[result.support] = run_one(deck, "exact", result.support)
+                exact[result.support] = run_one(all_modes(deck), "exact", result.support)
             except (AnalysisError, InputError) as error:
                 exact[result.support] = error
-        result.details["accuracy"] = accuracy(result, exact[result.support])
+        reference = exact[result.support]
+        if isinstance(reference, Exception):
+            checks.append(Check(result.support, label, band, error=str(reference), motion_band=motion_band))
+        else:
+            checks.append(compare(result, reference, band, label, motion_band))
+    return checks

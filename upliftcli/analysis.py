@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -138,6 +139,12 @@ def _spectrum_range_error(deck: Deck, result):
                       f"{result.expected} (a period of the building's modes or its effective period T1bar)")
 
 
+def with_warnings(result: AnalysisResult, warnings: Sequence[str]) -> AnalysisResult:
+    """The result with `warnings` before its own in details["warnings"]: a new result (a result is
+    not changed once built, engines/result.py)."""
+    return replace(result, details={**result.details, "warnings": [*warnings, *result.details.get("warnings", [])]})
+
+
 def run_batch(decks: Sequence[Deck], engine: str, support: str,
               on_result: Callable[[int, AnalysisResult | Exception], None] | None = None,
               ) -> list[AnalysisResult | Exception]:
@@ -160,7 +167,7 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
     def keep(k: int, result: AnalysisResult | Exception) -> None:
         result = _spectrum_range_error(decks[k], result)
         if isinstance(result, AnalysisResult) and decks[k].warnings:  # the deck's own, first (deck_schema.plausibility)
-            result.details["warnings"] = [*decks[k].warnings, *result.details.get("warnings", [])]
+            result = with_warnings(result, decks[k].warnings)
         out[k] = result
         if on_result:
             on_result(k, result)

@@ -3,7 +3,9 @@
 into its criteria table.
 
 A criterion is a limit on the largest |value| of a response quantity or a scalar
-(engines/quantities.py), or `uplift = false`. On a suite (SuiteResult) the limits apply to the
+(engines/quantities.py), `uplift = false`, or `simplified_error = e`: every ratio simplified /
+exact of the accuracy check (accuracy.py) within [1/(1 + e), 1 + e] (applied to the checks given;
+none without a record or with --no-check). On a suite (SuiteResult) the limits apply to the
 design statistic (the mean, or EC8's maximum below 7 records) and uplift = false to every record.
 A limit on a rocking quantity (quantities.ROCKING: rotation, residual rotation, settlement; the
 values of ASCE 41-17 section 8.4 for the chosen performance level, given by the user) applies to
@@ -31,6 +33,7 @@ class Outcome:
     value: float | bool
     limit: float | bool
     unit: str
+    detail: str = ""
 
     @property
     def ok(self) -> bool:
@@ -47,11 +50,13 @@ class Outcome:
         if self.name == "uplift":
             under = f" under {result.uplift_count} records" if isinstance(result, SuiteResult) else ""
             return f"{label}: the mat lifts off{under} (criteria.uplift = false)"
-        return f"{label}: {self.name} = {self.value:.4g} exceeds the limit {self.limit:.4g} [{self.unit}]"
+        detail = f" ({self.detail})" if self.detail else ""
+        return f"{label}: {self.name} = {self.value:.4g} exceeds the limit {self.limit:.4g} [{self.unit}]{detail}"
 
 
-def outcomes(results: Sequence[AnalysisResult], criteria: Mapping) -> list[Outcome]:
-    """Every criterion applied to every result, in the order of the results, then the criteria."""
+def outcomes(results: Sequence[AnalysisResult], criteria: Mapping, checks: Sequence = ()) -> list[Outcome]:
+    """Every criterion applied to every result, in the order of the results, then the criteria;
+    simplified_error applied to each accuracy check (accuracy.Check) of a simplified result."""
     found = []
     for result in results:
         for name, limit in criteria.items():
@@ -59,11 +64,24 @@ def outcomes(results: Sequence[AnalysisResult], criteria: Mapping) -> list[Outco
                 found.append(Outcome(result, name, bool(result.uplift), bool(limit), "-"))
             elif name in ROCKING and name not in result.peaks:
                 continue  # not reported by this engine or support (the deck has the one that reports it)
+            elif name == "simplified_error":
+                found += [_simplified_error(result, check, limit) for check in checks
+                          if result.engine == "simplified" and check.support == result.support]
             else:
                 found.append(Outcome(result, name, abs(result.value(name)), limit, unit_of(name)))
     return found
 
 
-def check_criteria(results: Sequence[AnalysisResult], criteria: Mapping) -> list[str]:
-    """One message per violated acceptance criterion; empty when all pass."""
-    return [outcome.message() for outcome in outcomes(results, criteria) if not outcome.ok]
+def _simplified_error(result: AnalysisResult, check, limit: float) -> Outcome:
+    """The largest relative error of a check (max(ratio, 1/ratio) - 1) against the limit."""
+    error, worst = check.largest_error()
+    detail = "" if worst is None else worst.describe()
+    if check.error is not None:
+        error, detail = float("inf"), f"the {check.reference} could not run: {check.error}"
+    return Outcome(result, "simplified_error", error, limit, "-", detail)
+
+
+def check_criteria(results: Sequence[AnalysisResult], criteria: Mapping, checks: Sequence = ()) -> list[str]:
+    """One message per violated acceptance criterion; empty when all pass (checks: the accuracy
+    checks of accuracy.check_accuracy, for simplified_error)."""
+    return [outcome.message() for outcome in outcomes(results, criteria, checks) if not outcome.ok]

@@ -43,6 +43,8 @@ class AnalysisSettings:
     n_modes: int
     simplified: SimplifiedOptions
     exact: ExactOptions
+    check_band: tuple[float, float] = (0.8, 1.25)
+    check_band_motion: tuple[float, float] = (0.5, 2.0)
 
 
 @dataclass
@@ -348,7 +350,18 @@ def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSetti
         n_modes=n_modes,
         simplified=simplified,
         exact=ExactOptions(**exact_values),
+        check_band=_check_band(fields, "check_band", error),
+        check_band_motion=_check_band(fields, "check_band_motion", error),
     )
+
+
+def _check_band(fields: dict, name: str, error) -> tuple[float, float]:
+    """analysis.check_band(_motion): a band [low, high] around 1 of the ratios simplified / exact."""
+    low, high = fields.get(name, _default("analysis", name))
+    if not low < 1.0 < high:
+        raise error(f"analysis.{name}", f"[low, high] with low < 1 < high (ratios simplified / exact), got "
+                    f"[{low:g}, {high:g}]")
+    return (float(low), float(high))
 
 
 def _motion_fields(fields: dict, source: str, error):

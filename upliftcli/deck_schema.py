@@ -99,6 +99,10 @@ TABLES: dict[str, dict[str, Field]] = {
         **deck_fields(SimplifiedOptions),
         "gravity": Field("number", "m/s^2", "acceleration of gravity g", "positive", STANDARD_GRAVITY,
                          plausible=(9.7, 9.9)),
+        "check_band": Field("pair", "-", "[low, high]: a ratio simplified / exact of the accuracy check outside "
+                            "it is a warning (uplift analyze with a record)", "", [0.8, 1.25]),
+        "check_band_motion": Field("pair", "-", "[low, high]: the same for the edge uplift and the mat rotation",
+                                   "", [0.5, 2.0]),
     },
     "analysis.exact": deck_fields(ExactOptions),
     "criteria": {
@@ -113,6 +117,9 @@ TABLES: dict[str, dict[str, Field]] = {
                          quantity="displacement" if q.unit == "m" else "")
            for q in ROCKING.values() if q.criterion},
         "uplift": Field("bool", "-", "whether uplift of the mat is acceptable (false: uplift fails)"),
+        "simplified_error": Field("number", "-", "largest relative error e of the simplified engine in the "
+                                  "accuracy check: a ratio simplified / exact outside [1/(1+e), 1+e] fails",
+                                  "positive"),
     },
 }
 

@@ -4,7 +4,8 @@ Every human output (terminal tables, the report, the figures, the sweep and spec
 summaries) converts its SI values here; the machine outputs (JSON, CSV) stay SI with their
 units stated. A value is shown by its *kind*: an SI unit ("N", "N m", "N/m", "kg" ...) or
 one of the display choices "mm" (a small length: displacements, drifts, uplift), "%" (a ratio
-in percent: drift ratios), "g" (an acceleration in g), "coefficient" (a ratio to 4 decimals).
+in percent: drift ratios), "g" (an acceleration in g), "mrad" (a small angle: the mat's
+rotation), "coefficient" (a ratio to 4 decimals).
 `--units si` (the default) shows kN, kN m, mm, m and g; `--units us` kip, kip ft, in, ft and g.
 
 SUMMARY is the display record of the scalar results (V_b, M_b, their coefficients, V_c, M_c,
@@ -76,6 +77,7 @@ DISPLAY: dict[str, tuple[Unit, Unit]] = {
     "m": (Unit("m"), Unit("ft", 1 / FOOT)),
     "g": (Unit("g", 1 / STANDARD_GRAVITY, ".4f"),) * 2,
     "%": (Unit("%", 100.0, ".3f"),) * 2,
+    "mrad": (Unit("mrad", 1e3, ".3f"),) * 2,
     "coefficient": (Unit("-", 1.0, ".4f"),) * 2,
     "m/s^2": (Unit("m/s^2"), Unit("in/s^2", 1 / INCH)),
     "m/s": (Unit("m/s"), Unit("ft/s", 1 / FOOT)),
@@ -128,8 +130,11 @@ def heading(text: str, kind: str, system: str = "si") -> str:
     return text if kind == "coefficient" else f"{text} [{shown}]"
 
 
-#: intermediate values (engines/quantities.INTERMEDIATES) shown in another kind than their SI unit's
-INTERMEDIATE_KINDS = {"Sa_n": "g", "Sa1bar": "g", "max_uplift_left": "mm", "max_uplift_right": "mm"}
+#: intermediate values (engines/quantities.INTERMEDIATES) shown in another kind than their SI unit's:
+#: accelerations in g, the mat's motion as the accuracy check shows it (edge uplift in mm, rotation in mrad)
+INTERMEDIATE_KINDS = {"Sa_n": "g", "Sa1bar": "g", "impact_acceleration": "g", "max_uplift": "mm",
+                      "max_uplift_left": "mm", "max_uplift_right": "mm", "max_rotation": "mrad",
+                      "xi1bar/xi1": "coefficient"}
 
 
 def intermediate_kind(name: str, si_unit: str) -> str:

@@ -24,6 +24,7 @@ import numpy as np
 
 from .atomic import atomic_path, write_set, write_text
 from .engines.quantities import (
+    COMPARED,
     ELEMENT,
     FLOOR,
     INTERMEDIATES,
@@ -35,7 +36,7 @@ from .engines.quantities import (
     quantities,
 )
 from .engines.result import AnalysisResult
-from .engines.suite_result import COMPARED, STATISTICS, SuiteResult, simplified_ratios
+from .engines.suite_result import STATISTICS, SuiteResult, simplified_ratios
 from .provenance import csv_comments, deck_toml, number_text, of_deck, to_text_numbers
 
 #: units of the result fields in the written files (SI)
@@ -43,7 +44,7 @@ UNITS = {
     "elevation": "m", "position": "m", **{q.name: q.unit for q in QUANTITIES.values()},
     **{s.name: s.unit for s in SCALARS.values()}, "critical_base_shear": "N", "critical_base_moment": "N m",
     "weight": "N", "effective_height": "m", "periods": "s", "critical_coefficient": "-", "times": "s",
-    "factor": "-", "period_range": "s", **{name: unit for name, (unit, _) in COMPARED.items()},
+    "factor": "-", "period_range": "s", **{c.name: c.unit for c in COMPARED.values()},
     "intermediates": {name: unit for name, (unit, _) in INTERMEDIATES.items()},
 }
 _STORY_QUANTITIES = quantities(FLOOR, STORY)
@@ -81,10 +82,11 @@ def _rows(result: AnalysisResult, where: list, count: int) -> list[dict[str, Any
     return rows
 
 
-def result_to_dict(result: AnalysisResult) -> dict[str, Any]:
+def result_to_dict(result: AnalysisResult, check=None) -> dict[str, Any]:
     """JSON-ready summary, story table and foundation table of one result (SI units, see UNITS),
-    its warnings and (the simplified engine checked against the exact one) its `accuracy`; a
-    suite's result also has `suite` (suite_to_dict)."""
+    its warnings and, given its accuracy.Check (the simplified engine against the exact one), its
+    `accuracy` (the check's warnings joined to the result's); a suite's result also has `suite`
+    (suite_to_dict)."""
     stories = [{"story": j + 1, "elevation": result.elevations[j], **row}
                for j, row in enumerate(_rows(result, _STORY_QUANTITIES, result.elevations.size))]
     elements = [{"element": i + 1, "position": result.element_positions[i], **row}
@@ -103,9 +105,9 @@ def result_to_dict(result: AnalysisResult) -> dict[str, Any]:
         "stories": stories,
         "elements": elements,
         "intermediates": result.intermediates,
-        "warnings": result.details.get("warnings", []),
-        **({"accuracy": result.details["accuracy"]} if "accuracy" in result.details else {}),
-        "details": {k: v for k, v in result.details.items() if k not in ("warnings", "accuracy")},
+        "warnings": [*result.details.get("warnings", []), *(check.warnings() if check is not None else [])],
+        **({"accuracy": check.to_dict()} if check is not None else {}),
+        "details": {k: v for k, v in result.details.items() if k != "warnings"},
         **({"suite": suite_to_dict(result)} if isinstance(result, SuiteResult) else {}),
     })
 
@@ -134,16 +136,23 @@ def suite_to_dict(result: SuiteResult) -> dict[str, Any]:
     })
 
 
+def check_of(result: AnalysisResult, checks) -> Any:
+    """The accuracy.Check of a simplified result among `checks` (None if it has none)."""
+    if result.engine != "simplified":
+        return None
+    return next((c for c in checks if c.support == result.support), None)
+
+
 def results_document(results: list[AnalysisResult], source: str | None = None,
-                     title: str | None = None, provenance: dict | None = None) -> dict[str, Any]:
+                     title: str | None = None, provenance: dict | None = None, checks=()) -> dict[str, Any]:
     """The document `--format json` prints: one result -> that result's dict (plus source,
     title, units and the provenance of the run); several -> {"source", "title", "units",
-    "provenance", "results": [...]}."""
+    "provenance", "results": [...]}; checks: the accuracy checks (accuracy.check_accuracy)."""
     head = {"source": source, "title": title, "units": UNITS, "provenance": provenance}
     head = {k: v for k, v in head.items() if v is not None}
     if len(results) == 1:
-        return {**head, **result_to_dict(results[0])}
-    return {**head, "results": [result_to_dict(result) for result in results]}
+        return {**head, **result_to_dict(results[0], check_of(results[0], checks))}
+    return {**head, "results": [result_to_dict(result, check_of(result, checks)) for result in results]}
 
 
 def dumps(document: Any) -> str:
@@ -152,8 +161,8 @@ def dumps(document: Any) -> str:
 
 
 def to_json(results: list[AnalysisResult], source: str | None = None, title: str | None = None,
-            provenance: dict | None = None) -> str:
-    return dumps(results_document(results, source, title, provenance))
+            provenance: dict | None = None, checks=()) -> str:
+    return dumps(results_document(results, source, title, provenance, checks))
 
 
 def _csv(header: list[str], rows: list[list[Any]], provenance: dict | None = None) -> str:
@@ -230,7 +239,7 @@ def result_paths(directory, stem: str, elements: bool = True, deck: bool = True)
 
 
 def write_results(results: list[AnalysisResult], directory, stem: str, source: str | None = None,
-                  title: str | None = None, *, deck=None, provenance: dict | None = None) -> list:
+                  title: str | None = None, *, deck=None, provenance: dict | None = None, checks=()) -> list:
     """Write <stem>.json, <stem>.csv (stories), <stem>.elements.csv (foundation elements, when
     a flexible support was analysed) and, given the deck.Deck, <stem>.deck.toml (the resolved
     deck: `uplift analyze` on it repeats the run) into directory, each atomically; return the
@@ -244,7 +253,7 @@ def write_results(results: list[AnalysisResult], directory, stem: str, source: s
         title = deck.title if title is None else title
     elements = any(r.element_positions.size for r in results)
     paths = result_paths(directory, stem, elements, deck is not None)
-    texts = [to_json(results, source, title, provenance), to_csv(results, provenance)]
+    texts = [to_json(results, source, title, provenance, checks), to_csv(results, provenance)]
     if elements:
         texts.append(elements_csv(results, provenance))
     if deck is not None:

@@ -120,9 +120,10 @@ def analyze(
                                    "--histories); without it an existing file is refused before the run."),
     check: bool = typer.Option(
         True, "--check/--no-check",
-        help="With a record: also run the exact engine for the supports the simplified engine ran (about "
-             "10 ms each) and report simplified/exact for V_b, M_b, the largest drift ratio and the roof "
-             "displacement."),
+        help="With a record: also run the exact engine (all modes) for the supports the simplified engine ran "
+             "(10-100 ms each) and report simplified/exact for V_b, M_b, the largest drift ratio, the roof "
+             "displacement, the largest floor acceleration, the edge uplift and the mat rotation; a ratio "
+             "outside analysis.check_band is a warning."),
     plot: Path | None = typer.Option(None, "--plot", help=plotting.PLOT_HELP),
     plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
     units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
@@ -145,7 +146,8 @@ def analyze(
     if plot is not None and len(decks) > 1:
         raise InputError("--plot", str(plot), f"a single deck ({len(decks)} decks given)")
     if len(decks) > 1:
-        _analyze_batch(decks, _overrides(settings, engine, support), output_format, out, overwrite, units.value)
+        _analyze_batch(decks, _overrides(settings, engine, support), output_format, out, overwrite, units.value,
+                       check)
         return
     deck = decks[0]
     loaded = load_deck(deck, _overrides(settings, engine, support))
@@ -163,10 +165,9 @@ def analyze(
         loaded = plotting.keep_histories(loaded)
     warn_deck(loaded)
     results = analysis.run(loaded)
-    if check:
-        check_accuracy(loaded, results)
+    checks = check_accuracy(loaded, results) if check else []
     _warn_suite(results)
-    _warn(results, printed=loaded.warnings)
+    _warn(results, printed=loaded.warnings, checks=checks)
     if plot is not None:
         plotting.analysis_plots(results, loaded, plot, deck.stem, formats, units.value)
     # the provenance of the files and the JSON (not built for the terminal alone: 30-60 ms of
@@ -175,14 +176,13 @@ def analyze(
         output_format is OutputFormat.json else None
     if histories is not None:
         _write_histories(histories, results, input_files(loaded), record)
-    plotting.drop_histories(results)
     if output_format is OutputFormat.json:
-        stdout.echo(to_json(results, loaded.source, loaded.title, record), nl=False)
+        stdout.echo(to_json(results, loaded.source, loaded.title, record, checks), nl=False)
     else:
-        render.print_results(render.console(), results, loaded.title, units.value)
+        render.print_results(render.console(), results, loaded.title, units.value, checks)
     if out is not None:
-        _write(results, out, deck.stem, loaded, record)
-    violations = check_criteria(results, loaded.criteria)
+        _write(results, out, deck.stem, loaded, record, checks)
+    violations = check_criteria(results, loaded.criteria, checks)
     if violations:
         for message in violations:
             typer.echo(f"criterion violated: {message}", err=True)
@@ -227,15 +227,21 @@ def _warn_suite(results, prefix: str = "") -> None:
         typer.echo(f"warning: {prefix}{message}", err=True)
 
 
-def _warn(results, prefix: str = "", printed=()) -> None:
-    """The results' warnings (a result that cannot be right, a step refined ...) on stderr, each
-    once, naming the analyses that gave it ('simplified/bonded, simplified/uplift: ...'); the
-    JSON keeps them in details.warnings; the exit code is unchanged. prefix: the deck, when
-    several are analysed; printed: the deck's warnings, printed once before (warn_deck), not
-    again per result."""
+def _warn(results, prefix: str = "", printed=(), checks=()) -> None:
+    """The results' warnings (a result that cannot be right, a step refined ...) and those of their
+    accuracy checks (a ratio out of band, the exact run's own: accuracy.Check.warnings) on stderr,
+    each once, naming the analyses that gave it ('simplified/bonded, simplified/uplift: ...'); the
+    JSON keeps them in `warnings`; the exit code is unchanged ([criteria] simplified_error turns an
+    out-of-band check into exit code 3). prefix: the deck, when several are analysed; printed: the
+    deck's warnings, printed once before (warn_deck), not again per result; checks: the accuracy
+    checks (accuracy.check_accuracy)."""
+    from ..output import check_of
+
     given: dict[str, list[str]] = {}
     for result in results:
-        for message in dict.fromkeys(result.details.get("warnings", [])):
+        check = check_of(result, checks)
+        lines = [*result.details.get("warnings", []), *(check.warnings() if check is not None else [])]
+        for message in dict.fromkeys(lines):
             if message not in printed:
                 given.setdefault(message, []).append(f"{result.engine}/{result.support}")
     for message, analyses in given.items():
@@ -258,12 +264,12 @@ def _with_histories(results) -> list[tuple[str, object]]:
         width = len(str(len(records)))
         pairs += [(f"_r{k + 1:0{max(2, width)}d}", record) for k, record in enumerate(records)]
         pairs.append(("", result))
-    return [(suffix, result) for suffix, result in pairs if "histories" in result.details]
+    return [(suffix, result) for suffix, result in pairs if result.histories]
 
 
 def _write_histories(path: Path, results, inputs: list[str], record: dict | None = None) -> None:
-    """Write each analysis's histories with the provenance `record` (and drop them from the
-    result documents); a suite's records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
+    """Write each analysis's histories with the provenance `record` (the results documents never
+    hold them: AnalysisResult.histories); a suite's records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
     from ..output import write_histories
 
     with_histories = _with_histories(results)
@@ -271,17 +277,17 @@ def _write_histories(path: Path, results, inputs: list[str], record: dict | None
     refuse_inputs(targets, inputs, "--histories")  # as checked before the run (the names are the same)
     for (_, result), target in zip(with_histories, targets, strict=True):
         try:
-            write_histories(target, result.details.pop("histories"), record)
+            write_histories(target, result.histories, record)
         except OSError as error:
             raise InputError("--histories", str(target), f"a writable file ({error.strerror or error})") from None
         typer.echo(f"wrote {target}", err=True)
 
 
-def _write(results, out: Path, stem: str, loaded, record: dict | None = None) -> None:
+def _write(results, out: Path, stem: str, loaded, record: dict | None = None, checks=()) -> None:
     from ..output import write_results
 
     try:
-        written = write_results(results, out, stem, deck=loaded, provenance=record)
+        written = write_results(results, out, stem, deck=loaded, provenance=record, checks=checks)
     except OSError as error:
         raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
     for path in written:
@@ -289,11 +295,13 @@ def _write(results, out: Path, stem: str, loaded, record: dict | None = None) ->
 
 
 def _analyze_batch(decks: list[Path], overrides: list[str], output_format: OutputFormat, out: Path | None,
-                   overwrite: bool = False, units: str = "si") -> None:
+                   overwrite: bool = False, units: str = "si", check: bool = True) -> None:
     """Several decks: every deck is read and checked before any is run (bad input: exit 2, no
-    output); one summary table (or {"decks": [...]} in JSON); each analysis's warnings on stderr,
-    once, naming its deck; exit 3 if any deck violates its criteria."""
+    output); one summary table (or {"decks": [...]} in JSON); each analysis's warnings and those
+    of its accuracy check (check: accuracy.check_accuracy of each deck) on stderr, once, naming its
+    deck; exit 3 if any deck violates its criteria."""
     from .. import analysis
+    from ..accuracy import check_accuracy
     from ..criteria import check_criteria
     from ..deck import load_deck
     from ..output import dumps, results_document
@@ -312,21 +320,22 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
         refuse_inputs(outputs, inputs, "--out")
         refuse_existing(outputs, "--out", overwrite, EARLIER)
     runs = [(deck, item, analysis.run(item)) for deck, item in zip(decks, loaded, strict=True)]
+    checks = [check_accuracy(item, results) if check else [] for _, item, results in runs]
     records = [provenance.of_deck(item) for item in loaded]
-    for deck, item, results in runs:
+    for (deck, item, results), checked in zip(runs, checks, strict=True):
         _warn_suite(results, f"{deck}: ")
-        _warn(results, f"{deck}: ", item.warnings)
-    violations = [(deck, message) for deck, item, results in runs
-                  for message in check_criteria(results, item.criteria)]
+        _warn(results, f"{deck}: ", item.warnings, checked)
+    violations = [(deck, message) for (deck, item, results), checked in zip(runs, checks, strict=True)
+                  for message in check_criteria(results, item.criteria, checked)]
     if output_format is OutputFormat.json:
-        document = {"decks": [results_document(results, item.source, item.title, record)
-                              for (_, item, results), record in zip(runs, records, strict=True)]}
+        document = {"decks": [results_document(results, item.source, item.title, record, checked)
+                              for (_, item, results), record, checked in zip(runs, records, checks, strict=True)]}
         stdout.echo(dumps(document), nl=False)
     else:
-        render.console().print(_batch_table(runs, units))
+        render.console().print(_batch_table(runs, units, checks))
     if out is not None:
-        for (deck, item, results), record in zip(runs, records, strict=True):
-            _write(results, out, deck.stem, item, record)
+        for (deck, item, results), record, checked in zip(runs, records, checks, strict=True):
+            _write(results, out, deck.stem, item, record, checked)
     for deck, message in violations:
         typer.echo(f"criterion violated: {deck}: {message}", err=True)
     if violations:
@@ -338,8 +347,9 @@ BATCH_COLUMNS = ("base_shear", "base_shear_coefficient", "base_moment", "base_mo
                  "critical_coefficient", "uplift")
 
 
-def _batch_table(runs, units: str = "si") -> Table:
-    """One row per deck, engine and support: V_b, coefficients, b/h_1*, uplift, criteria."""
+def _batch_table(runs, units: str = "si", checks=None) -> Table:
+    """One row per deck, engine and support: V_b, coefficients, b/h_1*, uplift, criteria (checks:
+    each deck's accuracy checks, for [criteria] simplified_error)."""
     from rich.markup import escape
     from rich.table import Table
 
@@ -355,9 +365,9 @@ def _batch_table(runs, units: str = "si") -> Table:
     table.add_column("deck", justify="left", no_wrap=True)
     for header in ("engine", "support", *(column.heading(units) for column in columns), "criteria"):
         table.add_column(escape(header), justify="right")
-    for deck, item, results in runs:
+    for (deck, item, results), checked in zip(runs, checks or [()] * len(runs), strict=True):
         for r in results:
-            failed = check_criteria([r], item.criteria)
+            failed = check_criteria([r], item.criteria, checked)
             verdict = "-" if not item.criteria else ("violated" if failed else "ok")
             table.add_row(escape(label(deck)), escape(render.engine_label(r)), r.support,
                           *(column.cell(r, units) for column in columns), verdict)

@@ -54,15 +54,6 @@ def keep_histories(loaded):
     return replace(loaded, analysis=replace(loaded.analysis, exact=exact))
 
 
-def drop_histories(results) -> None:
-    """Remove the histories kept for the figures from the results, and from each record's result
-    of a suite (they are not output)."""
-    for result in results:
-        result.details.pop("histories", None)
-        for record in getattr(result, "record_results", ()):
-            record.details.pop("histories", None)
-
-
 def write_figures(specs: dict, directory: Path, stem: str, formats: list[str]) -> list[Path]:
     """Draw every figure and write it as directory/<stem>.<name>.<format>; report each file."""
     from .. import plots

@@ -21,7 +21,7 @@ from rich.table import Table
 from rich.text import Text
 
 from ..display import WEIGHT_LEGEND, intermediate_kind, label, show, summary_columns
-from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, STORY, display_kind, quantities
+from ..engines.quantities import COMPARED, ELEMENT, FLOOR, INTERMEDIATES, STORY, quantities
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
 from ..model.system import System, fixed_base_mode_rows
@@ -148,13 +148,12 @@ def fit_table(table: Table, width: int) -> list[Table]:
     if _widest(table) <= width or _measure(table).maximum <= width:
         return [table]
     every = list(range(len(table.columns)))
-    compact = _part(table, every, compact=True)
-    if minimum_width(compact) <= width or len(every) < 2:
-        return [compact]
-    keys = every[:_labels(table)]
     # rich draws a table as wide as its columns' minimums plus its frame (_frame_width): each
     # column is measured once, alone, instead of every candidate part
-    columns = [minimum_width(_part(table, [index], compact=True)) - _frame_width(table, 1) for index in every]
+    columns = [_column_width(_part(table, [index], compact=True)) - _frame_width(table, 1) for index in every]
+    if sum(columns) + _frame_width(table, len(every)) <= width or len(every) < 2:
+        return [_part(table, every, compact=True)]
+    keys = every[:_labels(table)]
     groups: list[list[int]] = [[]]
     for index in every[len(keys):]:
         candidate = keys + groups[-1] + [index]
@@ -162,6 +161,14 @@ def fit_table(table: Table, width: int) -> list[Table]:
             groups.append([])
         groups[-1].append(index)
     return [_part(table, keys + group, k, len(groups), compact=True) for k, group in enumerate(groups)]
+
+
+def _column_width(part: Table) -> int:
+    """The narrowest a one-column table is drawn: its minimum, or for a column that may not wrap
+    (no_wrap: rich never narrows it below its widest line, though it measures it by its longest
+    word) its maximum."""
+    measured = _measure(part)
+    return measured.maximum if part.columns[0].no_wrap else measured.minimum
 
 
 def _widest(table: Table) -> float:
@@ -300,7 +307,7 @@ def modal_table(result: AnalysisResult, units: str = "si") -> Table:
         if "V1_uplift" in inter:
             slender = result.details.get("options", {}).get("uplift_formula") == "slender"
             note += "; the mat lifts off: V_1 by " + (
-                f"the improved procedure (docs/accuracy.md; lengthened period T_u = {inter['T_u']:.4f} s)"
+                f"the improved procedure (docs/accuracy.md; S_a averaged over T1bar-T_u = {inter['T_u']:.4f} s)"
                 if "T_u" in inter else "[29]" if slender else "[28a]")
         table.caption = escape(note + "; modes 2 and up: fixed-base T_n, S_a(T_n, xi_n)")
     else:
@@ -322,9 +329,11 @@ def intermediates_table(result: AnalysisResult, units: str = "si") -> Table:
     return table
 
 
-def print_results(out: Console, results: list[AnalysisResult], title: str | None = None, units: str = "si") -> None:
+def print_results(out: Console, results: list[AnalysisResult], title: str | None = None, units: str = "si",
+                  checks=()) -> None:
     """Every table of every result, then the summary (a suite's result: its statistics and its
-    records too, and the simplified engine beside it: cli/render_suite.py)."""
+    records too, and the simplified engine beside it: cli/render_suite.py) and the accuracy checks
+    (accuracy.Check) given."""
     from . import render_suite
 
     if title:
@@ -345,30 +354,31 @@ def print_results(out: Console, results: list[AnalysisResult], title: str | None
     comparison = render_suite.comparison_table(results, units)
     if comparison is not None:
         out.print(comparison)
-    checked = accuracy_table(results, units)
+    checked = accuracy_table(checks, units)
     if checked is not None:
         out.print(checked)
 
 
-def accuracy_table(results: list[AnalysisResult], units: str = "si") -> Table | None:
-    """The simplified engine against the exact engine, per support (accuracy.py), or None."""
-    from ..accuracy import CHECKED
-
-    checks = [r.details["accuracy"] for r in results if "accuracy" in r.details]
+def accuracy_table(checks=(), units: str = "si") -> Table | None:
+    """The simplified engine against the exact engine, per support (accuracy.Check), in the display
+    units (display.py), or None."""
     if not checks:
         return None
     table = Table(title="Accuracy check: the simplified engine against the exact engine, same deck and record")
-    table.caption = escape("ratio = simplified / exact; the measured spread of these ratios: docs/accuracy.md; "
-                           "--no-check skips this check")
-    for header in ("support", "quantity", "simplified", "exact", "ratio"):
-        table.add_column(escape(header), justify="left" if header in ("support", "quantity") else "right")
+    band, motion = checks[0].band, checks[0].motion_band
+    table.caption = escape(f"ratio = simplified / exact; '!': outside [{band[0]:g}, {band[1]:g}] "
+                           f"(analysis.check_band; edge uplift and mat rotation: [{motion[0]:g}, {motion[1]:g}], "
+                           "analysis.check_band_motion), also a warning; the measured spread of these ratios: "
+                           "docs/accuracy.md; --no-check skips this check")
+    for header in ("support", "reference", "quantity", "simplified", "exact", "ratio"):
+        table.add_column(escape(header), justify="left" if header in ("support", "reference", "quantity") else "right")
     for check in checks:
-        if "error" in check:
-            table.add_row(check["support"], "-", "-", "-", escape(f"exact engine failed: {check['error']}"))
+        if check.error is not None:
+            table.add_row(check.support, escape(check.reference), "-", "-", "-", escape(f"failed: {check.error}"))
             continue
-        for name, (_, meaning, _) in CHECKED.items():
-            ratio, kind = check["ratio"][name], display_kind(name)
-            table.add_row(check["support"], escape(f"{meaning} [{label(kind, units)}]"),
-                          show(check["simplified"][name], kind, units), show(check["exact"][name], kind, units),
-                          "-" if ratio is None else f"{ratio:.3f}")
+        for c in check.comparisons:
+            compared = COMPARED[c.name]
+            ratio = "-" if c.ratio is None else f"{c.ratio:.3f}" + (" !" if c.outside(check.band_of(c.name)) else "")
+            table.add_row(check.support, escape(check.reference), escape(compared.heading(units)),
+                          show(c.simplified, compared.display, units), show(c.exact, compared.display, units), ratio)
     return table

@@ -9,8 +9,8 @@ from collections.abc import Sequence
 from rich.markup import escape
 from rich.table import Table
 
-from ..display import SUMMARY, WEIGHT_LEGEND, heading, show
-from ..engines.quantities import QUANTITIES, SCALARS, display_kind
+from ..display import SUMMARY, WEIGHT_LEGEND, show
+from ..engines.quantities import COMPARED, QUANTITIES, SCALARS
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import STATISTICS, SuiteResult, simplified_ratios
 
@@ -80,10 +80,8 @@ def comparison_table(results: Sequence[AnalysisResult], units: str = "si") -> Ta
         table.add_column(escape(text), justify="left" if text in ("engine", "quantity") else "right")
     for r in suites:
         for name, item in simplified_ratios(r).items():
-            kind = display_kind(name)
-            text = SUMMARY[name].heading(units) if name in SUMMARY else heading(
-                ("largest " if name in QUANTITIES else "") + name.replace("_", " "), kind, units)
-            table.add_row(escape(r.label), r.support, escape(text),
+            kind = COMPARED[name].display
+            table.add_row(escape(r.label), r.support, escape(COMPARED[name].heading(units)),
                           show(item["simplified"], kind, units), show(item["statistic"], kind, units),
                           f"{item['ratio']:.3f}")
     table.caption = escape("suite: the design statistic of the records' peaks (the code's rule); "

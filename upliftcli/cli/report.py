@@ -71,12 +71,13 @@ def report(
     refuse_existing([out], "--out", overwrite)
     deck_text = deck.read_text(encoding="utf-8")
     results = analysis.run(loaded)
+    checks = []
     if check:
         from ..accuracy import check_accuracy
 
-        check_accuracy(loaded, results)
+        checks = check_accuracy(loaded, results)
     document, specs = build_report(loaded, results, deck_text, overrides, provenance(loaded, ["uplift", *sys.argv[1:]]),
-                                   units.value, given)
+                                   units.value, given, checks)
     images = {name: plots.figure_bytes(spec, dpi=REPORT_DPI) for name, spec in specs.items()}
     html = render(document, images, REPORT_DPI)
     try:
@@ -88,7 +89,7 @@ def report(
         raise InputError("--out", str(out), f"a writable file ({error.strerror or error})") from None
     typer.echo(f"wrote {out}", err=True)
     if document.exit_code:
-        for message in check_criteria(results, loaded.criteria):
+        for message in check_criteria(results, loaded.criteria, checks):
             typer.echo(f"criterion violated: {message}", err=True)
         raise typer.Exit(document.exit_code)
 

@@ -101,7 +101,7 @@ class ExactOptions:
     residual_inertia: with n_modes < N, "neglect" (default: the limit the paper's
         numerically damped integration tends to) or "include" the rotary inertia
         I_b - sum m_n* h_n*^2 of the truncated modes and their share of the excitation.
-    histories: keep the time histories in the result (details["histories"]).
+    histories: keep the time histories in the result (result.histories).
     """
 
     n_modes: int | None = option(Field(

@@ -10,7 +10,9 @@ the history engines, the instants under AnalysisResult.times).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 from ..display import heading as display_heading
 
@@ -78,20 +80,20 @@ MAT, MAT_POINTS = "mat", "mat-points"
 #: by the user: docs/deck.md).
 ROCKING: dict[str, Quantity] = {q.name: q for q in (
     Quantity("rotation", MAT, "rad", "mat rotation |theta| (ASCE 41-17 section 8.4: the rotation of a rocking "
-             "shallow foundation)", ("mrad", 1e3, ".3f"), engines=("exact",)),
+             "shallow foundation)", "mrad", engines=("exact",)),
     Quantity("residual_rotation", MAT, "rad", "mat rotation |theta| at the end of the analysis (the record and "
-             "analysis.exact.free_vibration)", ("mrad", 1e3, ".3f"), engines=("exact",)),
+             "analysis.exact.free_vibration)", "mrad", engines=("exact",)),
     Quantity("settlement", MAT_POINTS, "m", "settlement (downward displacement from the rest position under "
-             "gravity) of the left edge, the centre and the right edge of the mat", ("mm", 1e3, ".2f"),
+             "gravity) of the left edge, the centre and the right edge of the mat", "mm",
              engines=("exact",)),
     Quantity("residual_settlement", MAT_POINTS, "m", "settlement of the left edge, the centre and the right edge "
-             "at the end of the analysis", ("mm", 1e3, ".2f"), engines=("exact",)),
+             "at the end of the analysis", "mm", engines=("exact",)),
     Quantity("plastic_settlement", ELEMENT, "m", "plastic settlement -s_i of the contact element at the end "
-             "(> 0: the element yielded)", ("mm", 1e3, ".3f"), engines=("exact",), criterion=False),
-    Quantity("yielded_elements", MAT, "-", "number of contact elements that yielded", ("-", 1.0, ".0f"),
+             "(> 0: the element yielded)", "mm", engines=("exact",), criterion=False),
+    Quantity("yielded_elements", MAT, "-", "number of contact elements that yielded", "-",
              engines=("exact",), criterion=False),
     Quantity("plastic_work", MAT, "J", "energy dissipated by the yielding soil, sum Q_y,i |s_i| (docs/theory.md "
-             "14.5)", ("kJ", 1e-3, ".1f"), engines=("exact",), criterion=False),
+             "14.5)", "J", engines=("exact",), criterion=False),
 )}
 
 
@@ -114,18 +116,70 @@ SCALARS: dict[str, Scalar] = {s.name: s for s in (
 )}
 
 
+def _largest(result, *names: str) -> float | None:
+    """The largest of the intermediates `names` a result has (None when it has none)."""
+    values = [float(result.intermediates[n]) for n in names if isinstance(result.intermediates.get(n), (int, float))]
+    return max(values) if values else None
+
+
+@dataclass(frozen=True)
+class Compared:
+    """A value compared between two engines (the accuracy check of the simplified engine against
+    the exact one, a suite's statistic against the simplified engine, sweep --check, the report,
+    the accuracy study): name (one name everywhere: JSON keys, check_<name> sweep columns), SI
+    unit, symbol (short label), meaning, value: the value of an AnalysisResult (None when the
+    result does not give it: the uplift of a bonded result), the supports it applies to, and its
+    display kind (display.py), which sets its unit in every human output."""
+
+    name: str
+    unit: str
+    symbol: str
+    meaning: str
+    value: Callable[[Any], float | None]
+    supports: tuple[str, ...] = ("rigid", "bonded", "uplift")
+    display: str = "coefficient"
+
+    def heading(self, system: str = "si") -> str:
+        """'V_b [kN]', 'largest drift ratio [%]', 'edge uplift [mm]': a table heading in the display units."""
+        return display_heading(("largest " if self.name in QUANTITIES else "") + self.symbol, self.display, system)
+
+
+#: the compared values, in the order of every table that shows them
+COMPARED: dict[str, Compared] = {c.name: c for c in (
+    Compared("base_shear", "N", "V_b", "base shear V_b", lambda r: r.base_shear, display="N"),
+    Compared("base_moment", "N m", "M_b", "base overturning moment M_b", lambda r: r.base_moment, display="N m"),
+    Compared("drift_ratio", "-", "drift ratio", "largest story drift ratio", lambda r: r.value("drift_ratio"),
+             display="%"),
+    Compared("roof_displacement", "m", "roof displacement", "roof displacement relative to the mat",
+             lambda r: float(abs(r.peaks["displacement"][-1])), display="mm"),
+    Compared("floor_acceleration", "m/s^2", "floor acceleration", "largest absolute floor acceleration",
+             lambda r: r.value("floor_acceleration"), display="g"),
+    Compared("max_uplift", "m", "edge uplift", "largest gap under an edge of the mat (uplift)",
+             lambda r: _largest(r, "max_uplift", "max_uplift_left", "max_uplift_right"), ("uplift",), "mm"),
+    Compared("max_rotation", "rad", "mat rotation", "largest mat rotation |theta| (uplift)",
+             lambda r: _largest(r, "max_rotation"), ("uplift",), "mrad"),
+)}
+
+
+def compared_values(result) -> dict[str, float | None]:
+    """Every COMPARED value of a result that applies to its support (None: not given)."""
+    return {c.name: c.value(result) for c in COMPARED.values() if result.support in c.supports}
+
+
 def unit_of(name: str) -> str:
     """The SI unit of a response quantity, a rocking quantity or a scalar (KeyError if it is none)."""
     return (QUANTITIES.get(name) or ROCKING.get(name) or SCALARS[name]).unit
 
 
 def display_kind(name: str) -> str:
-    """The display kind (display.py) of a response quantity, a scalar or a compared value: a
-    quantity's own; 'max_drift_ratio', 'roof_displacement': that of the quantity they take;
-    else by the SI unit (a ratio '-' as a coefficient)."""
+    """The display kind (display.py) of a response quantity, a rocking quantity, a compared value
+    (COMPARED) or a scalar: a quantity's or a compared value's own; 'max_drift_ratio': that of
+    the quantity it takes; else by the SI unit (a ratio '-' as a coefficient)."""
+    if name in COMPARED:
+        return COMPARED[name].display
     for candidate in (name, name.removeprefix("max_"), name.rsplit("_", 1)[-1]):
-        if candidate in QUANTITIES:
-            return QUANTITIES[candidate].display
+        if candidate in QUANTITIES or candidate in ROCKING:
+            return (QUANTITIES.get(candidate) or ROCKING[candidate]).display
     unit = unit_of(name)
     return "coefficient" if unit == "-" else unit
 
@@ -155,6 +209,9 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "xi1": ("-", "fixed-base damping of mode 1"),
     "xi_f": ("-", "foundation damping [24]"),
     "xi1bar": ("-", "effective damping of the bonded system [23]"),
+    "xi1bar/xi1": ("-", "xi1bar / fixed-base xi_1; below 1 Eq. 23 lowers the damping (the foundation adds less "
+                   "than the (T_1/T1bar)^3 discount takes), which design codes' SSI procedures do not (NIST GCR "
+                   "12-917-21 4.1); the paper's value is used"),
     "Sa1bar": ("m/s^2", "S_a(T1bar, xi1bar)"),
     "V_c": ("N", "critical base shear m_t g b / h_1* [16a]"),
     "M_c": ("N m", "critical base moment m_t g b [16b]"),
@@ -174,11 +231,15 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "phi": ("rad", "phase angle [28b]"),
     "V1_uplift": ("N", "mode-1 base shear with uplift [28a] or [29]"),
     "capacity": ("-", "improved procedure: M_c,eff/M_c of a mat lifting progressively (Winkler: from the kern)"),
-    "T_u": ("s", "improved procedure: lengthened period at which the uplift amplitude ratio is read"),
-    "x_u": ("-", "improved procedure: V_1/V_c at T_u (the amplitude ratio in X)"),
+    "T_u": ("s", "improved procedure: upper end of the band [T1bar, T_u] over which S_a is averaged for X"),
+    "x_u": ("-", "improved procedure: m_1* S_a / V_c, S_a the geometric mean over [T1bar, T_u] (the amplitude "
+            "ratio in X)"),
     "modal_factors": ("-", "improved procedure: factors on the modal base shears raised by uplift (mode 1: 1)"),
     "rho_1n": ("-", "improved procedure: correlation of mode 1 with the higher modes in the combination"),
-    "cap": ("-", "improved procedure: V_b / its value before the caps at the bonded and rigid V_b (V_n scaled by it)"),
+    "max_uplift": ("m", "improved procedure: largest gap under an edge of the mat (rocking displacement of the "
+                   "equivalent system, docs/accuracy.md)"),
+    "impact_acceleration": ("m/s^2", "improved procedure: largest floor acceleration of the impacts at recontact "
+                            "(combined with the modal one by SRSS)"),
     "n_modes": ("-", "fixed-base modes in the model"),
     "time_step": ("s", "internal step h (exact step operator; crossings located inside it)"),
     "steps_per_period": ("-", "internal steps per governing period after the step was refined (energy balance)"),
@@ -190,7 +251,7 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "base_moment_time": ("s", "time of the peak base moment"),
     "uplift_time": ("s", "total time with at least one element lifted"),
     "episodes": ("-", "uplift episodes (contact lost after full contact)"),
-    "max_rotation": ("rad", "largest mat rotation |theta|"),
+    "max_rotation": ("rad", "largest mat rotation |theta| (improved procedure: its estimate)"),
     "max_uplift_left": ("m", "largest gap under the left edge"),
     "max_uplift_right": ("m", "largest gap under the right edge"),
     "min_reaction": ("N", "smallest reaction of an element in contact (< 0: tension)"),

@@ -17,7 +17,7 @@ from ..model.system import System
 from .quantities import SCALARS
 
 
-@dataclass
+@dataclass(frozen=True)
 class AnalysisResult:
     """Peak response of one analysis (one engine, one support condition).
 
@@ -33,6 +33,12 @@ class AnalysisResult:
     intermediates: named scalar or list values an engineer checks by hand
         (T1bar, xi1bar, V_c, zeta, ... for the simplified engine).
     details: engine-specific extras (uplift summary, energy balance, warnings ...).
+    histories: response histories of the history engines when asked (ExactOptions.histories):
+        signal name -> values (engines/quantities.HISTORY_SIGNALS); never written to the results
+        documents (output.write_histories writes them).
+
+    A result is built once by its engine and not changed afterwards (frozen; what later stages
+    find about it, such as the accuracy check of accuracy.py, is kept beside it).
     """
 
     engine: str
@@ -49,17 +55,19 @@ class AnalysisResult:
     times: dict[str, np.ndarray] = field(default_factory=dict)
     intermediates: dict[str, Any] = field(default_factory=dict)
     details: dict[str, Any] = field(default_factory=dict)
+    histories: dict[str, np.ndarray] = field(default_factory=dict)
 
     @classmethod
     def of(cls, system: System, engine: str, support: str, peaks: dict[str, np.ndarray], *, uplift: bool,
            periods: np.ndarray, elements: ContactElements | None, times: dict[str, np.ndarray] | None = None,
-           intermediates: dict[str, Any] | None = None, details: dict[str, Any] | None = None) -> AnalysisResult:
+           intermediates: dict[str, Any] | None = None, details: dict[str, Any] | None = None,
+           histories: dict[str, np.ndarray] | None = None) -> AnalysisResult:
         """The result of an analysis of `system`; elements: the contact elements analysed (None: rigid base)."""
         return cls(engine, support, system.building.heights.copy(), peaks, system.critical_base_shear,
                    system.critical_base_moment, system.weight, system.effective_height, uplift,
                    np.array(periods, dtype=float),
                    np.zeros(0) if elements is None else elements.positions.copy(), dict(times or {}),
-                   dict(intermediates or {}), dict(details or {}))
+                   dict(intermediates or {}), dict(details or {}), dict(histories or {}))
 
     def __getattr__(self, name: str) -> np.ndarray:
         peaks = self.__dict__.get("peaks")
@@ -106,4 +114,5 @@ class AnalysisResult:
                        critical_base_shear=system.critical_base_shear,
                        critical_base_moment=system.critical_base_moment,
                        times={k: v.copy() for k, v in self.times.items()},
-                       intermediates=dict(self.intermediates), details=copy.deepcopy(self.details))
+                       intermediates=dict(self.intermediates), details=copy.deepcopy(self.details),
+                       histories={k: v.copy() for k, v in self.histories.items()})

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from dataclasses import asdict
+from dataclasses import asdict, replace
 
 import numpy as np
 
@@ -140,8 +140,8 @@ def analyze(system: System, spectrum, support: str, options: SimplifiedOptions =
         result = improved.analyze_uplift(system, spectrum, options)
     else:
         result = paper_analyze(system, spectrum, support, options)
-    result.details["warnings"].extend(plausibility.warnings(system, spectrum, support, options, result))
-    return result
+    found = plausibility.warnings(system, spectrum, support, options, result)
+    return replace(result, details={**result.details, "warnings": [*result.details["warnings"], *found]})
 
 
 def paper_analyze(system: System, spectrum, support: str, options: SimplifiedOptions = SimplifiedOptions()
@@ -170,6 +170,7 @@ def paper_analyze(system: System, spectrum, support: str, options: SimplifiedOpt
         sa1bar = spectral_acceleration(spectrum, props["T1bar"], props["xi1bar"])
         v1_bonded = float(modes.effective_mass[0]) * sa1bar  # [26]
         inter.update(props)
+        inter["xi1bar/xi1"] = props["xi1bar"] / props["xi1"]
         inter.update({"Sa1bar": sa1bar, "V1_bonded": v1_bonded,
                       "V1_bonded/V_c": v1_bonded / system.critical_base_shear})
         base_shears[0] = v1_bonded

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from .quantities import COMPARED, compared_values
 from .result import AnalysisResult
 
 #: statistic name -> (meaning, function of an array (records, values) along axis 0)
@@ -37,16 +38,6 @@ STATISTICS: dict[str, tuple[str, Any]] = {
 STATISTIC_DETAILS = ("modal_base_shear", "cumulative_modal_base_shear")
 #: scalar intermediates that are peaks or durations of one record: their statistic is kept
 STATISTIC_INTERMEDIATES = ("max_rotation", "max_uplift_left", "max_uplift_right", "uplift_time")
-#: values compared between the simplified engine on the target spectrum and the suite statistic:
-#: name -> (unit, meaning)
-COMPARED: dict[str, tuple[str, str]] = {
-    "base_shear": ("N", "base shear V_b [14a]"),
-    "base_moment": ("N m", "base overturning moment M_b [14b]"),
-    "drift_ratio": ("-", "largest story drift ratio"),
-    "roof_displacement": ("m", "roof displacement relative to the mat"),
-}
-
-
 @dataclass(frozen=True)
 class SuiteRecord:
     """One record of a suite as analysed: name, source file, amplitude factor [-], provenance,
@@ -59,7 +50,7 @@ class SuiteRecord:
     sha256: str | None = None
 
 
-@dataclass
+@dataclass(frozen=True)
 class SuiteResult(AnalysisResult):
     """The design statistic of a suite (the peaks are the statistic `statistic` of the records'
     peaks), with: statistic: 'mean' or 'max' (what the code takes from this many records);
@@ -119,7 +110,7 @@ def statistic_of(results: Sequence[AnalysisResult], name: str, common: dict[str,
                for key in STATISTIC_DETAILS
                if all(key in r.details for r in results) and len({len(r.details[key]) for r in results}) == 1}
     return replace(first, elevations=first.elevations.copy(), peaks=peaks, uplift=any(r.uplift for r in results),
-                   times={}, intermediates=intermediates, details=details)
+                   times={}, intermediates=intermediates, details=details, histories={})
 
 
 def common_intermediates(results: Sequence[AnalysisResult]) -> dict[str, Any]:
@@ -154,20 +145,13 @@ def suite_result(results: Sequence[AnalysisResult], records: Sequence[SuiteRecor
                        simplified=simplified, suite=dict(suite or {}), warnings=tuple(warnings))
 
 
-def compared_values(result: AnalysisResult) -> dict[str, float]:
-    """The COMPARED values of a result: V_b [N], M_b [N m], largest drift ratio [-], roof
-    displacement [m]."""
-    return {"base_shear": result.base_shear, "base_moment": result.base_moment,
-            "drift_ratio": result.value("drift_ratio"),
-            "roof_displacement": float(abs(result.peaks["displacement"][-1]))}
-
-
 def simplified_ratios(result: SuiteResult) -> dict[str, dict[str, float]]:
-    """For each COMPARED value: {simplified, statistic, ratio = simplified / statistic} (the
-    simplified engine on the target spectrum against the suite's design statistic); empty
-    when the simplified engine was not run."""
+    """For each value of engines/quantities.COMPARED both give: {simplified, statistic, ratio =
+    simplified / statistic} (the simplified engine on the target spectrum against the suite's
+    design statistic); empty when the simplified engine was not run."""
     if result.simplified is None:
         return {}
     mine, theirs = compared_values(result), compared_values(result.simplified)
     return {name: {"simplified": theirs[name], "statistic": mine[name],
-                   "ratio": theirs[name] / mine[name] if mine[name] else float("nan")} for name in COMPARED}
+                   "ratio": theirs[name] / mine[name] if mine[name] else float("nan")}
+            for name in COMPARED if mine.get(name) is not None and theirs.get(name) is not None}

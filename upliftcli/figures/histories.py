@@ -1,5 +1,5 @@
 """Figures of the response-history engines (exact, approximate), from the histories they keep
-when asked (ExactOptions(histories=True): result.details["histories"], signals and units in
+when asked (ExactOptions(histories=True): result.histories, signals and units in
 engines/quantities.HISTORY_SIGNALS) and from their energy balance (details["energy"]):
 
 - history_figure: in the style of the paper's Fig. 5, stacked on one time axis, the base
@@ -47,7 +47,7 @@ ENERGY_TERMS = {
 
 def with_histories(results: Sequence[AnalysisResult]) -> list[AnalysisResult]:
     """The results that carry response histories."""
-    return [r for r in results if "histories" in r.details]
+    return [r for r in results if r.histories]
 
 
 def unit_of(results: Sequence[AnalysisResult], name: str, units: str = "si") -> tuple[float, str]:
@@ -59,8 +59,8 @@ def unit_of(results: Sequence[AnalysisResult], name: str, units: str = "si") -> 
     if si == "m":
         shown = display_unit("mm", units)
         return shown.factor, shown.label
-    largest = max((float(np.max(np.abs(r.details["histories"][key]))) for r in results
-                   if key in r.details.get("histories", {}) and len(r.details["histories"][key])), default=0.0)
+    largest = max((float(np.max(np.abs(r.histories[key]))) for r in results
+                   if key in r.histories and len(r.histories[key])), default=0.0)
     return scaled_unit(largest, si, units)
 
 
@@ -70,7 +70,7 @@ def axis_label(results: Sequence[AnalysisResult], name: str, units: str = "si") 
 
 def signal(result: AnalysisResult, name: str, factor: float = 1.0) -> tuple[np.ndarray, np.ndarray] | None:
     """(time [s], signal times factor) of SIGNALS[name] from SI, or None if not recorded."""
-    histories = result.details["histories"]
+    histories = result.histories
     key = SIGNALS[name][0]
     if key not in histories:
         return None
@@ -80,7 +80,7 @@ def signal(result: AnalysisResult, name: str, factor: float = 1.0) -> tuple[np.n
 def lifted(result: AnalysisResult) -> dict[str, np.ndarray]:
     """Per edge ("left", "right"), whether it is lifted at each sample: bit i of
     contact_state is element i lifted (element 0 at the left edge, the last at the right)."""
-    histories = result.details["histories"]
+    histories = result.histories
     count = result.element_positions.size
     if "contact_state" not in histories or count == 0:
         return {}
@@ -97,7 +97,7 @@ def lift_spans(results: Sequence[AnalysisResult]) -> list[Span]:
     lifting = [r for r in results if any(mask.any() for mask in lifted(r).values())]
     spans = []
     for result in lifting:
-        times = np.asarray(result.details["histories"]["time"], dtype=float)
+        times = np.asarray(result.histories["time"], dtype=float)
         for edge, mask in lifted(result).items():
             prefix = f"{_label(result, results)}: " if len(lifting) > 1 else ""
             spans.append(Span(f"{prefix}{edge} edge lifted", spans_of(times, mask), LIFT_COLORS[edge]))
@@ -151,7 +151,7 @@ def history_figure(results: Sequence[AnalysisResult], title: str = "", units: st
 
 def moment_rotation_figure(results: Sequence[AnalysisResult], title: str = "", units: str = "si") -> FigureSpec:
     """Base moment M_b against the mat rotation theta of the flexible supports, with +-M_c."""
-    results = [r for r in with_histories(results) if "theta" in r.details["histories"]]
+    results = [r for r in with_histories(results) if "theta" in r.histories]
     moment_factor, _ = unit_of(results, "base_moment", units)
     series = []
     for result in results:

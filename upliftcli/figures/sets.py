@@ -113,7 +113,7 @@ def analysis_figures(deck, results: Sequence[AnalysisResult], units: str = "si")
         mine = [r for r in with_histories(results) if r.engine == engine]
         figures[f"histories_{engine}"] = history_figure(mine, _title(deck, f"Response histories, {engine} engine"),
                                                         units)
-        if any("theta" in r.details["histories"] for r in mine):
+        if any("theta" in r.histories for r in mine):
             figures[f"moment_rotation_{engine}"] = moment_rotation_figure(
                 mine, _title(deck, f"Base moment against mat rotation, {engine} engine"), units)
         if any("energy" in r.details for r in mine):

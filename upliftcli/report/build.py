@@ -66,11 +66,13 @@ def project_fields(deck, given: Mapping[str, str] | None = None) -> dict[str, st
 
 
 def build_report(deck, results: Sequence[AnalysisResult], deck_text: str, overrides: Sequence[str],
-                 info: dict, units: str = "si", project: Mapping[str, str] | None = None) -> tuple[Report, dict]:
+                 info: dict, units: str = "si", project: Mapping[str, str] | None = None, checks: Sequence = ()
+                 ) -> tuple[Report, dict]:
     """(the Report, its figures: name -> FigureSpec) of a deck's results in the display units
-    (display.py); info: provenance; project: [project] fields that replace the deck's."""
+    (display.py); info: provenance; project: [project] fields that replace the deck's; checks: the
+    accuracy checks (accuracy.check_accuracy)."""
     specs = analysis_figures(deck, results, units)
-    criteria, verdict, code = criteria_section(results, deck.criteria, units)
+    criteria, verdict, code = criteria_section(results, deck.criteria, units, checks)
     motion = motion_label(deck)
     fields = project_fields(deck, project)
     signoff = SignOff([("Prepared by", fields.get("engineer", "")), ("Checked by", fields.get("checker", ""))])
@@ -78,10 +80,10 @@ def build_report(deck, results: Sequence[AnalysisResult], deck_text: str, overri
                                           signoff])
     sections = [head, inputs_section(deck, deck_text, overrides), model_section(deck, results, units),
                 motion_section(deck), modes_section(deck, units), results_section(results, units)]
-    accuracy = accuracy_section(results, units)
+    accuracy = accuracy_section(results, units, checks)
     if accuracy is not None:
         sections.append(accuracy)
-    sections += [warnings_section(results, deck), criteria, figures_section(list(specs)),
+    sections += [warnings_section(results, deck, checks), criteria, figures_section(list(specs)),
                  method_section([r.engine for r in results], getattr(deck.analysis.simplified, "procedure", "paper")),
                  provenance_section(info, os.path.dirname(os.path.abspath(deck.source)))]
     engines = ", ".join(dict.fromkeys(r.engine for r in results))

@@ -43,10 +43,13 @@ ENGINES = {
 IMPROVED = (
     "Uplift support, improved procedure (analysis.procedure = \"improved\", the default; docs/accuracy.md): "
     "the paper's procedure with the mass-consistent X in [28a] (V_1/V_c instead of (S_a/g)(h_1*/b)), mode 1 "
-    "read at a lengthened period with a short-period gain, the higher modes raised by the uplift severity "
-    "through the h_n* theta'' term of [11a], a combination that correlates them with mode 1, and no response "
-    "above the bonded or rigid-base value; coefficients calibrated against the exact engine on the FEMA P695 "
-    "far-field records. With analysis.procedure = \"paper\" the procedure is Yim and Chopra's [21-35] as above.")
+    "read from S_a averaged over the band of periods a lifting system sweeps, with a short-period gain for "
+    "the impacts, the higher modes raised by the uplift severity through the h_n* theta'' term of [11a], a "
+    "combination that correlates them with mode 1, no caps; the mat rotation and edge uplift from the "
+    "rocking displacement of the equivalent system of Fig. 2, and the floor accelerations of the impacts at "
+    "recontact; coefficients calibrated against the exact engine on the FEMA P695 far-field records and "
+    "validated on the near-field ones. With analysis.procedure = \"paper\" the procedure is Yim and Chopra's "
+    "[21-35] as above.")
 
 
 def method_section(engines: Sequence[str], procedure: str = "paper") -> Section:

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..criteria import outcomes
 from ..display import SUMMARY, WEIGHT_LEGEND, heading, intermediate_kind, label, show
-from ..engines.quantities import ELEMENT, FLOOR, INTERMEDIATES, STORY, display_kind, quantities
+from ..engines.quantities import COMPARED, ELEMENT, FLOOR, INTERMEDIATES, STORY, display_kind, quantities
 from ..engines.result import AnalysisResult
 from .document import Section, Table, Text, number
 
@@ -117,38 +117,42 @@ def accuracy_pairs(results: Sequence[AnalysisResult]) -> list[tuple[AnalysisResu
     return pairs
 
 
-def accuracy_section(results: Sequence[AnalysisResult], units: str = "si") -> Section | None:
-    """The accuracy check: the engines' own (details["accuracy"], upliftcli/accuracy.py: the
-    simplified engine against the exact engine, per support) when they give it, else
-    simplified/exact of V_b, M_b, the largest drift and the roof displacement for each support
-    both engines ran (on a suite: the simplified engine on the target against the suite's
-    design statistic); None when neither is available."""
-    from ..accuracy import CHECKED, accuracy
+def accuracy_section(results: Sequence[AnalysisResult], units: str = "si", checks: Sequence = ()) -> Section | None:
+    """The accuracy check in the display units (display.py): the checks given (upliftcli/accuracy.py:
+    the simplified engine against the exact engine with all modes, per support) or else, for each
+    support both engines ran (on a suite: the simplified engine on the target against the suite's
+    design statistic), accuracy.compare of the two; None when neither is available."""
+    from ..accuracy import compare
 
-    checks = [r.details["accuracy"] for r in results if r.details.get("accuracy")]
-    if not checks:
-        checks = [accuracy(simplified, exact) for simplified, exact in accuracy_pairs(results)]
+    checks = list(checks) or [compare(simplified, exact) for simplified, exact in accuracy_pairs(results)]
     note = ("The exact engine solves the same model without the simplified procedure's approximations "
-            "(docs/theory.md sections 7 and 11); docs/accuracy.md gives the measured spread of these ratios.")
+            "(docs/theory.md sections 7 and 11); docs/accuracy.md gives the measured spread of these ratios. "
+            "A ratio outside the band of analysis.check_band (edge uplift and mat rotation: "
+            "analysis.check_band_motion) is a warning.")
     rows = []
     for check in checks:
-        if "error" in check:
-            rows.append([str(check["support"]), "exact engine", "-", "-", f"not run: {check['error']}"])
+        if check.error is not None:
+            rows.append([check.support, check.reference, "-", "-", f"not run: {check.error}", "-"])
             continue
-        for name, ratio in check["ratio"].items():
-            meaning, kind = CHECKED[name][1], display_kind(name)
-            rows.append([str(check["support"]), heading(meaning, kind, units),
-                         show(check["simplified"][name], kind, units), show(check["exact"][name], kind, units),
-                         number(np.nan if ratio is None else ratio, 4)])
+        for c in check.comparisons:
+            quantity = COMPARED[c.name]
+            rows.append([check.support, heading(quantity.meaning, quantity.display, units),
+                         show(c.simplified, quantity.display, units), show(c.exact, quantity.display, units),
+                         number(np.nan if c.ratio is None else c.ratio, 4),
+                         "no (warning)" if c.outside(check.band_of(c.name)) else "yes"])
     if not rows:
         return None
     table = Table("table-accuracy", "Accuracy of the simplified procedure: simplified / exact",
-                  ["support", "quantity [unit]", "simplified", "exact", "simplified/exact [-]"], rows, note)
+                  ["support", "quantity [unit]", "simplified", "exact", "simplified/exact [-]", "in band"], rows,
+                  note)
     return Section("accuracy", "Accuracy check", [table])
 
 
-def warnings_section(results: Sequence[AnalysisResult], deck=None) -> Section:
+def warnings_section(results: Sequence[AnalysisResult], deck=None, checks: Sequence = ()) -> Section:
+    from ..output import check_of
+
     rows = [[r.engine, r.support, str(w)] for r in results for w in r.details.get("warnings", [])]
+    rows += [[r.engine, r.support, w] for r in results if (check := check_of(r, checks)) for w in check.warnings()]
     suite = [str(w) for r in results for w in getattr(r, "warnings", ())]
     suite += [str(w) for w in getattr(getattr(deck, "ground_motion", None), "warnings", ()) or ()]
     rows += [["suite", "-", w] for w in dict.fromkeys(suite)]
@@ -158,17 +162,17 @@ def warnings_section(results: Sequence[AnalysisResult], deck=None) -> Section:
                                                   ["engine", "support", "warning"], rows)])
 
 
-def criteria_rows(results: Sequence[AnalysisResult], criteria: Mapping, units: str = "si"
+def criteria_rows(results: Sequence[AnalysisResult], criteria: Mapping, units: str = "si", checks: Sequence = ()
                   ) -> tuple[list[list[str]], int]:
     """One row per result and criterion (value, limit in the display units, verdict) and the
-    number violated (the tests of criteria.py)."""
+    number violated (the tests of criteria.py; checks: the accuracy checks, for simplified_error)."""
     rows, violated = [], 0
-    for outcome in outcomes(results, criteria):
+    for outcome in outcomes(results, criteria, checks):
         result = outcome.result
         if outcome.name == "uplift":
             value, limit, unit = number(outcome.value), "allowed" if outcome.limit else "not allowed", "-"
         else:
-            kind = display_kind(outcome.name)
+            kind = "coefficient" if outcome.name == "simplified_error" else display_kind(outcome.name)
             value, limit, unit = show(outcome.value, kind, units), show(outcome.limit, kind, units), label(kind, units)
         rows.append([result.engine, result.support, outcome.name, value, limit, unit,
                      "ok" if outcome.ok else "VIOLATED"])
@@ -176,13 +180,13 @@ def criteria_rows(results: Sequence[AnalysisResult], criteria: Mapping, units: s
     return rows, violated
 
 
-def criteria_section(results: Sequence[AnalysisResult], criteria: Mapping, units: str = "si"
+def criteria_section(results: Sequence[AnalysisResult], criteria: Mapping, units: str = "si", checks: Sequence = ()
                      ) -> tuple[Section, str, int]:
     """(section, verdict, exit code): 0 when every limit holds (or none is set), 3 otherwise."""
     if not criteria:
         verdict = "The deck sets no acceptance criteria ([criteria]): `uplift analyze` exits with code 0."
         return Section("criteria", "Acceptance criteria", [Text([verdict])]), verdict, EXIT_OK
-    rows, violated = criteria_rows(results, criteria, units)
+    rows, violated = criteria_rows(results, criteria, units, checks)
     code = EXIT_CRITERIA if violated else EXIT_OK
     verdict = (f"{violated} acceptance limit{'s' if violated > 1 else ''} of the deck's [criteria] exceeded: "
                f"`uplift analyze` exits with code {code}." if violated else

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from ..atomic import write_set
-from ..engines.quantities import ALL_ENGINES, QUANTITIES, SCALARS
+from ..engines.quantities import ALL_ENGINES, COMPARED, QUANTITIES, SCALARS
 from ..errors import InputError
 from ..output import to_jsonable
 from ..provenance import csv_comments, number_text, to_text_numbers
@@ -60,14 +60,11 @@ _CASE_HEAD = ("case", "key", "engine", "support", "status", "message", "violatio
 SUMMARY_OUTPUTS = ("base_shear_coefficient", "base_moment_coefficient", "max_drift_ratio")
 
 
-#: sweep --check: the row columns compared (as accuracy.CHECKED, with the largest floor
-#: displacement of the rows for the roof's)
-CHECKED_COLUMNS = ("base_shear_N", "base_moment_Nm", "max_drift_ratio", "max_displacement_m")
-#: sweep --check: the simplified case's value / the exact case's (same fields, same support)
+#: sweep --check: check_<name> = the simplified case's value / the exact case's (same fields, same
+#: support) of each value of engines/quantities.COMPARED (the rows carry them under "compared")
 CHECK_COLUMNS: dict[str, tuple[str, str]] = {
-    f"check_{column.removesuffix('_N').removesuffix('_Nm').removesuffix('_m')}": (
-        "-", f"simplified / exact: {OUTPUT_COLUMNS[column][1]} (sweep --check)")
-    for column in CHECKED_COLUMNS
+    f"check_{c.name}": ("-", f"simplified / exact: {c.meaning} (sweep --check: the exact case with the "
+                             "deck's modes)") for c in COMPARED.values()
 }
 
 
@@ -87,8 +84,11 @@ def units(plan: SweepPlan) -> dict[str, str]:
 
 def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
     """The rows, each finished simplified case with the ratios simplified / exact of the exact
-    case of the same varied values and support (CHECK_COLUMNS; empty where there is none)."""
+    case of the same varied values and support (CHECK_COLUMNS; empty where there is none); with
+    [criteria] simplified_error = e, a ratio outside [1/(1 + e), 1 + e] is a violation of the
+    simplified case (criteria.py)."""
     paths = [v.path for v in plan.varies]
+    limit = plan.criteria.get("simplified_error")
 
     def key(row: dict) -> str:
         return json.dumps([row.get("support"), *(row.get(p) for p in paths)], default=str)
@@ -99,9 +99,16 @@ def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
         reference = exact.get(key(row)) if row.get("engine") == "simplified" and row.get("status") == "ok" else None
         if reference is not None:
             row = dict(row)
-            for name, source in zip(CHECK_COLUMNS, CHECKED_COLUMNS, strict=True):
-                value, base = _number(row.get(source)), _number(reference.get(source))
-                row[name] = value / base if value is not None and base else None
+            mine, theirs = row.get("compared") or {}, reference.get("compared") or {}
+            failed = []
+            for name in COMPARED:
+                value, base = _number(mine.get(name)), _number(theirs.get(name))
+                ratio = row[f"check_{name}"] = value / base if value is not None and base else None
+                if limit is not None and ratio is not None and not 1.0 / (1.0 + limit) <= ratio <= 1.0 + limit:
+                    failed.append(f"simplified_error: {COMPARED[name].symbol} simplified / exact = {ratio:.3g} "
+                                  f"outside [{1.0 / (1.0 + limit):.3g}, {1.0 + limit:g}]")
+            if failed:
+                row["violations"] = "; ".join(filter(None, [row.get("violations"), *failed]))
         out.append(row)
     return out
 

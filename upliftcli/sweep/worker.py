@@ -15,7 +15,7 @@ import numpy as np
 from ..analysis import run_batch
 from ..criteria import check_criteria
 from ..deck import Deck, build_deck
-from ..engines.quantities import QUANTITIES, SCALARS
+from ..engines.quantities import QUANTITIES, SCALARS, compared_values
 from ..engines.simplified import effective_properties
 from ..engines.suite_result import SuiteResult
 from ..errors import AnalysisError, InputError
@@ -117,6 +117,7 @@ def _outputs(deck: Deck, result, t1bar: float | None, xi1bar: float | None) -> d
         "max_drift_story": story + 1,
         "uplift": bool(result.uplift), "V_c_N": result.critical_base_shear,
         "critical_coefficient": result.critical_coefficient,
+        "compared": compared_values(result),  # for sweep --check (sweep/table.add_checks), not a column
     }
 
 

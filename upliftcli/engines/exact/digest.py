@@ -136,8 +136,8 @@ class Digest:
             "uplift_summary": summary,
             "energy": energy,
         }
-        if options.histories:
-            details["histories"] = {k: np.concatenate([piece[k] for piece in self.pieces]) for k in self.pieces[0]}
+        histories = ({k: np.concatenate([piece[k] for piece in self.pieces]) for k in self.pieces[0]}
+                     if options.histories else {})
         intermediates = {
             "T1": float(system.modes.periods[0]),
             "n_modes": model.n_modes,
@@ -158,4 +158,5 @@ class Digest:
                 intermediates[name] = summary[name]
         return AnalysisResult.of(system, engine, support, values, uplift=self.uplifted,
                                  periods=system.modes.periods[:model.n_modes], elements=model.elements,
-                                 times=instants, intermediates=intermediates, details=details)
+                                 times=instants, intermediates=intermediates, details=details,
+                                 histories=histories)

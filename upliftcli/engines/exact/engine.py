@@ -210,11 +210,10 @@ def _refined(system: System, record, support: str, options: ExactOptions, model:
                 return result
             residual = result.intermediates["energy_residual"]
             if residual <= ENERGY_TOLERANCE:
-                result.intermediates["steps_per_period"] = steps
-                result.details.setdefault("warnings", []).append(
-                    f"the energy balance closed to {residual:.2g} only after refining the step to {steps} steps "
-                    f"per governing period (analysis.exact.steps_per_period = {options.steps_per_period})")
-                return result
+                refined = (f"the energy balance closed to {residual:.2g} only after refining the step to {steps} "
+                           f"steps per governing period (analysis.exact.steps_per_period = {options.steps_per_period})")
+                return replace(result, intermediates={**result.intermediates, "steps_per_period": steps},
+                               details={**result.details, "warnings": [*result.details.get("warnings", []), refined]})
             if residual > MIN_PROGRESS * previous:
                 stopped = (f"; halving the step left it at {residual / previous:.3g} of its value (the step is not "
                            "the cause)")
