@@ -80,7 +80,9 @@ def test_generate_bad_input_one_line_and_nothing_written(tmp_path):
     out = tmp_path / "out"
     cases = [
         (["--dt", "0.1"], "--dt: 0.1: a time step > 0 and <= 0.05 s"),
-        (["--count", "0"], "--count: 0: at least 1 record"),
+        (["--count", "0"], "--count: 0: 1 to 200 records"),
+        (["--count", "201"], "--count: 201: 1 to 200 records"),
+        (["--seed", "-1"], "--seed: -1: an integer from 0 to 2^63 - 1"),
     ]
     for extra, message in cases:
         result = invoke("record", "generate", deck, "--seed", 1, "--out", out, *extra)
@@ -118,7 +120,7 @@ def test_match_errors(tmp_path):
     zeros.write_text("# dt = 0.01\n# units: g\n" + "0.0\n" * 3000)
     out = tmp_path / "out"
     result = invoke("record", "match", deck, zeros, "--out", out)
-    assert result.exit_code == 4 and "spectral matching did not converge" in result.stderr, result.output
+    assert result.exit_code == 2 and "zeros.txt: acceleration: a record with motion to match" in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1 and not out.exists()
     short = tmp_path / "short.txt"
     short.write_text("# dt = 0.01\n# units: g\n" + "0.1\n-0.1\n" * 200)
@@ -140,7 +142,7 @@ def test_scale_prints_the_factors_of_the_deck_suite():
     result = invoke("record", "scale", ROOT / "inputs" / "ten_story_ec8_suite.toml")
     assert result.exit_code == 0, result.output
     assert "Amplitude factors" in result.stdout and "elcentro_1940_ns_chopra.txt" in result.stdout
-    assert "mean S_a/target over the range: min 0.900" in result.stdout
+    assert "mean S_a/target over the range: min 0.904" in result.stdout  # 0.5 % above 0.9 at the check periods
     one = invoke("record", "scale", ROOT / "inputs" / "ten_story_ec8_suite.toml", RECORD, "--units", "g",
                  "--suite-factor")
     assert one.exit_code == 0 and "EN 1998-1 3.2.3.1.2" not in one.stderr

@@ -310,7 +310,7 @@ def _ground_motion(fields: dict, source: str, error, system: System | None = Non
         from .deck_suite import load_suite, suite_plan
 
         plan = suite_plan(fields, spectrum, system, effective_properties, source, error)
-        return load_suite(fields, plan, source, error), spectrum
+        return load_suite(fields, plan, source, error), plan.target  # the simplified engine on the suite's target
     given = sorted(suite_fields & set(fields))
     if given:
         raise error("ground_motion.design_spectrum", f"a design spectrum, the target of ground_motion.{given[0]} "
