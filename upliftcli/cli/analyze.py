@@ -87,9 +87,10 @@ def analyze(
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing --histories files."),
     check: bool = typer.Option(
         True, "--check/--no-check",
-        help="With a record: also run the exact engine for the supports the simplified engine ran (about "
-             "10 ms each) and report simplified/exact for V_b, M_b, the largest drift ratio and the roof "
-             "displacement."),
+        help="Check the simplified engine against the exact engine for the supports it ran: with a record on "
+             "that record (about 10 ms each); with a design spectrum on the deck's suite, or on 11 records "
+             "generated for the spectrum (once, then cached); reports simplified/exact for V_b, M_b, the "
+             "largest drift ratio and the roof displacement."),
     plot: Path | None = typer.Option(None, "--plot", help=plotting.PLOT_HELP),
     plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
 ) -> None:
@@ -103,6 +104,7 @@ def analyze(
     from ..criteria import check_criteria
     from ..deck import load_deck
     from ..output import to_json
+    from ..suite_check import check_suite_accuracy
     from . import render
 
     if out is not None and out.exists() and not out.is_dir():
@@ -126,6 +128,7 @@ def analyze(
     results = analysis.run(loaded)
     if check:
         check_accuracy(loaded, results)
+        check_suite_accuracy(loaded, results, lambda text: typer.echo(f"note: {text}", err=True))
     _warn_suite(results)
     _warn(results)
     if plot is not None:

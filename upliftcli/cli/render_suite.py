@@ -84,13 +84,48 @@ def comparison_table(results: Sequence[AnalysisResult]) -> Table | None:
     if not suites:
         return None
     table = Table(title="Simplified engine on the target spectrum against the suite")
-    for heading in ("engine", "support", "quantity", "simplified", "suite", "simplified / suite"):
+    split = all("procedure_ratio" in item for r in suites for item in simplified_ratios(r).values())
+    headings = ["engine", "support", "quantity", "simplified", "suite", "simplified / suite"]
+    headings += ["target / records", "procedure"] if split else []
+    for heading in headings:
         table.add_column(escape(heading), justify="left" if heading in ("engine", "quantity") else "right")
     for r in suites:
         for name, item in simplified_ratios(r).items():
             heading, factor, spec = COMPARED_DISPLAY[name]
+            cells = [f"{item['spectrum_ratio']:.3f}", f"{item['procedure_ratio']:.3f}"] if split else []
             table.add_row(escape(r.label), r.support, escape(heading), format(item["simplified"] * factor, spec),
-                          format(item["statistic"] * factor, spec), f"{item['ratio']:.3f}")
-    table.caption = escape("suite: the design statistic of the records' peaks (the code's rule); "
-                           "a ratio below 1: the simplified procedure gives less")
+                          format(item["statistic"] * factor, spec), f"{item['ratio']:.3f}", *cells)
+    table.caption = escape("suite: the design statistic of the records' peaks (the code's rule); a ratio below 1: "
+                           "the simplified procedure gives less"
+                           + ("; simplified / suite = (target / records) x procedure: target / records = the "
+                              "simplified engine on the target against it on each record's own spectrum (below 1: "
+                              "the records are above the target), procedure = it on each record's spectrum against "
+                              "the exact engine on that record (the procedure's own error)" if split else ""))
+    return table
+
+
+def suite_check_table(results: Sequence[AnalysisResult]) -> Table | None:
+    """The accuracy check on a suite (suite_check.py) split into the suite's standing against the
+    target and the procedure's own error, per support (None without such a check)."""
+    from ..accuracy import CHECKED
+
+    checks = [r.details["accuracy"] for r in results if r.details.get("accuracy", {}).get("reference") == "exact-suite"
+              and "procedure_ratio" in r.details["accuracy"]]
+    if not checks:
+        return None
+    suite = checks[0]["suite"]
+    made = (f"{suite['count']} records generated for the spectrum (seed {suite['seed']}, cached)"
+            if suite["source"] == "generated" else f"the deck's {suite['count']} records")
+    table = Table(title=escape(f"Accuracy check split: simplified / exact {suite['statistic']} of {made}"))
+    for header in ("support", "quantity", "simplified / exact", "target / records", "procedure"):
+        table.add_column(escape(header), justify="left" if header in ("support", "quantity") else "right")
+    for check in checks:
+        for name, (unit, meaning, _) in CHECKED.items():
+            cells = [check[key][name] for key in ("ratio", "spectrum_ratio", "procedure_ratio")]
+            table.add_row(check["support"], escape(f"{meaning} [{unit}]"),
+                          *["-" if value is None else f"{value:.3f}" for value in cells])
+    table.caption = escape("simplified / exact = (target / records) x procedure; target / records: the simplified "
+                           "engine on the target against it on each record's own spectrum (the records' excess over "
+                           "the target); procedure: it on each record's spectrum against the exact engine on that "
+                           "record (the procedure's own error)")
     return table
