@@ -94,7 +94,7 @@ def test_committed_example_records_are_reproduced_from_their_seed():
     folder = ROOT / "records" / "ten_story_asce7_suite"
     manifest = json.loads((folder / "manifest.json").read_text())
     assert (manifest["seed"], manifest["count"], manifest["mean_rule_met"]) == (2024, 11, True)
-    assert (manifest["made"], manifest["generator"]) == ("artificial", "rdk2010-wavelets-1")
+    assert (manifest["made"], manifest["generator"]) == ("artificial", "rdk2010-wavelets-2")
     item = generate(plan.target, plan.period_range, 2024, 0, settings=settings_for(plan.rule))
     committed = read_record(folder / "artificial_2024_01.txt")
     # the file holds factor x the generated record, to 7 significant digits
@@ -162,3 +162,7 @@ def test_what_generation_cannot_do_is_refused_before_any_work():
         generate_suite(table, (0.2, 4.0), RULES["mean"], 3, 1)
     with pytest.raises(InputError, match=r"dt: a time step > 0 and <= 0\.025 s"):
         generate_suite(EC8, RANGE, RULES["ec8"], 3, 1, dt=0.05)
+    zero = TabulatedSpectrum([0.0, 0.5, 2.0, 3.0], [0.4, 1.0, 0.2, 0.0], 0.05)
+    with pytest.raises(InputError, match=r"target: a target spectrum > 0 over 0\.04-3 s, where the records are "
+                                         r"matched \(.* is 0 at 3 s\)"):
+        generate_suite(zero, (0.2, 2.0), RULES["mean"], 3, 1)

@@ -21,8 +21,9 @@ def report(
     support: list[str] = typer.Option([], "--support",
                                       help="Support condition(s): rigid, bonded, uplift (default: the deck's)."),
     check: bool = typer.Option(True, "--check/--no-check",
-                               help="With a record: check the simplified engine against the exact engine (as "
-                                    "uplift analyze does) and report simplified/exact."),
+                               help="Check the simplified engine against the exact engine (as uplift analyze "
+                                    "does: on the record, or on a suite for a design spectrum) and report "
+                                    "simplified/exact."),
 ) -> None:
     """A calculation report a checker can sign: inputs (as given and resolved), derived model, modes,
     results of every engine and support, accuracy check, warnings, criteria verdict, figures, method
@@ -53,8 +54,10 @@ def report(
     results = analysis.run(loaded)
     if check:
         from ..accuracy import check_accuracy
+        from ..suite_check import check_suite_accuracy
 
         check_accuracy(loaded, results)
+        check_suite_accuracy(loaded, results, lambda text: typer.echo(f"note: {text}", err=True))
     document, specs = build_report(loaded, results, deck_text, overrides, provenance(loaded, ["uplift", *sys.argv[1:]]))
     images = {name: plots.figure_bytes(spec) for name, spec in specs.items()}
     try:

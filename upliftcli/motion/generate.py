@@ -50,7 +50,7 @@ MID_FREQUENCY = (1.5, 8.0)
 CORNER = 0.2
 MAX_ATTEMPTS = 10  # draws tried for one record before giving up
 #: changes whenever a seed gives another record (manifests and the cache of check suites name it)
-GENERATOR_VERSION = "rdk2010-wavelets-1"
+GENERATOR_VERSION = "rdk2010-wavelets-2"
 
 
 @dataclass(frozen=True)
@@ -220,11 +220,18 @@ def generate(target_spectrum, period_range: tuple[float, float], seed: int, inde
 
 def check_generation(target_spectrum, period_range: tuple[float, float], dt: float, source: str) -> None:
     """InputError, before any work, for what generation cannot do: a target that does not cover
-    the period range, a step too coarse for its lower period."""
+    the period range, a step too coarse for its lower period, a target with a zero ordinate
+    where the records are matched."""
     check_target(target_spectrum, period_range, source, "period_range")
     if not 0.0 < dt <= period_range[0] / SAMPLES_PER_PERIOD:
         raise InputError(source, "dt", f"a time step > 0 and <= {period_range[0] / SAMPLES_PER_PERIOD:.4g} s "
                          f"(the lower period {period_range[0]:.4g} s / {SAMPLES_PER_PERIOD}), got {dt:g} s")
+    match_range = generation_range(target_spectrum, period_range, dt)
+    periods = np.geomspace(*match_range, 200)
+    zero = periods[target_spectrum.sa(periods, 0.05) <= 0.0]
+    if zero.size:
+        raise InputError(source, "target", f"a target spectrum > 0 over {match_range[0]:.3g}-{match_range[1]:.3g} s, "
+                         f"where the records are matched ({target_spectrum.name} is 0 at {zero[0]:.3g} s)")
 
 
 def generate_suite(target_spectrum, period_range: tuple[float, float], rule: CodeRule, count: int, seed: int,

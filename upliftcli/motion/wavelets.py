@@ -157,7 +157,18 @@ class WaveletResult:
 def wavelet_match(acceleration, dt: float, periods, target, damping: float = 0.05, tolerance: float = 0.03,
                   max_iterations: int = 30) -> WaveletResult:
     """Adjust the record [m/s^2] by wavelets until its S_a at the control periods [s] is within
-    exp(+-tolerance) of target [m/s^2] (module docstring); the best iterate, baseline-corrected."""
+    exp(+-tolerance) of target [m/s^2] (module docstring); the best iterate, baseline-corrected.
+    BLAS runs on one thread: the iteration takes discrete decisions (which peak, which instant),
+    so the last bits of its products must not depend on the threads (a record is reproducible
+    from its seed)."""
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _wavelet_match(acceleration, dt, periods, target, damping, tolerance, max_iterations)
+
+
+def _wavelet_match(acceleration, dt: float, periods, target, damping: float, tolerance: float,
+                   max_iterations: int) -> WaveletResult:
     a = np.array(acceleration, dtype=float)
     periods = np.asarray(periods, dtype=float)
     target = np.asarray(target, dtype=float)
