@@ -50,7 +50,7 @@ MID_FREQUENCY = (1.5, 8.0)
 CORNER = 0.2
 MAX_ATTEMPTS = 10  # draws tried for one record before giving up
 #: changes whenever a seed gives another record (manifests and the cache of check suites name it)
-GENERATOR_VERSION = "rdk2010-wavelets-2"
+GENERATOR_VERSION = "rdk2010-wavelets-3"
 
 
 @dataclass(frozen=True)

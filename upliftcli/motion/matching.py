@@ -35,8 +35,6 @@ import numpy as np
 from ..errors import AnalysisError
 from .code_rules import CodeRule
 from .spectra import response_spectrum
-from .wavelets import control_periods as wavelet_periods
-from .wavelets import wavelet_match
 
 #: per-record tolerance of a matched or artificial record, S_a / target [-]
 TOLERANCE = (0.9, 1.3)
@@ -127,7 +125,12 @@ def match_acceleration(acceleration, dt: float, target_sa: Callable[[np.ndarray]
                        settings: MatchSettings = MatchSettings()) -> MatchResult:
     """Match a ground acceleration [m/s^2] (step dt [s]) to the matching target target_sa(periods)
     [m/s^2] over match_range [s]: scaled to fit in log S_a, then adjusted by wavelets (module
-    docstring); the ratios are those at the check periods [s]. Baseline-corrected, ends kept."""
+    docstring); the ratios are those at the check periods [s]. Baseline-corrected, ends kept. When
+    the check periods (between the control ones) miss the tolerance, the iteration goes on with
+    control periods twice as dense."""
+    from .wavelets import control_periods as wavelet_periods  # here: loading a suite deck imports this module
+    from .wavelets import wavelet_match
+
     periods = wavelet_periods(match_range, settings.wavelets_per_octave)
     aim = settings.level * target_sa(periods)
     seed = np.asarray(acceleration, dtype=float)
@@ -137,8 +140,24 @@ def match_acceleration(acceleration, dt: float, target_sa: Callable[[np.ndarray]
     adjusted = wavelet_match(scaled, dt, periods, aim, settings.damping, settings.wavelet_tolerance,
                              settings.max_iterations)
     ratios = check_ratios(adjusted.acceleration, dt, check_periods, target_sa(check_periods), settings.damping)
-    converged = bool(np.all(ratios > 0.0)) and float(ratios.max() / ratios.min()) <= settings.accepted_spread
-    return MatchResult(adjusted.acceleration, dt, adjusted.iterations, converged, check_periods, ratios, scale)
+    iterations = adjusted.iterations
+    if not _within(ratios, settings):  # ordinates between the control periods: once more, twice as dense
+        periods = wavelet_periods(match_range, 2 * settings.wavelets_per_octave)
+        again = wavelet_match(adjusted.acceleration, dt, periods, settings.level * target_sa(periods),
+                              settings.damping, settings.wavelet_tolerance, settings.max_iterations // 2)
+        more = check_ratios(again.acceleration, dt, check_periods, target_sa(check_periods), settings.damping)
+        if _spread(more) < _spread(ratios):
+            adjusted, ratios, iterations = again, more, iterations + again.iterations
+    return MatchResult(adjusted.acceleration, dt, iterations, _within(ratios, settings), check_periods, ratios, scale)
+
+
+def _spread(ratios: np.ndarray) -> float:
+    return float(ratios.max() / ratios.min()) if np.all(ratios > 0.0) else math.inf
+
+
+def _within(ratios: np.ndarray, settings: MatchSettings) -> bool:
+    """Whether one factor brings every ratio within the tolerance less its margin."""
+    return _spread(ratios) <= settings.accepted_spread
 
 
 def match_record(record, target_spectrum, period_range: tuple[float, float],

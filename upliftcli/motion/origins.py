@@ -11,7 +11,6 @@ only to supplement them (a warning names it).
 from __future__ import annotations
 
 import functools
-import json
 from pathlib import Path
 
 ORIGINS = ("recorded", "matched", "artificial")
@@ -22,6 +21,8 @@ COMMAND_ORIGINS = {"record generate": "artificial", "record match": "matched", "
 @functools.lru_cache(maxsize=64)
 def _manifest_files(folder: str, mtime: float) -> dict[str, str]:
     """{file name: origin} of a folder's manifest.json (empty when there is none or it is not one of ours)."""
+    import json
+
     try:
         document = json.loads((Path(folder) / "manifest.json").read_text(encoding="utf-8"))
     except (OSError, ValueError):
