@@ -142,7 +142,9 @@ def test_scale_prints_the_factors_of_the_deck_suite():
     result = invoke("record", "scale", ROOT / "inputs" / "ten_story_ec8_suite.toml")
     assert result.exit_code == 0, result.output
     assert "Amplitude factors" in result.stdout and "elcentro_1940_ns_chopra.txt" in result.stdout
-    assert "mean S_a/target over the range: min 0.904" in result.stdout  # 0.5 % above 0.9 at the check periods
+    # 0.5 % above 0.9 at the check periods, raised where it dips below 0.9 on the 4x denser grid
+    lowest = float(result.stdout.split("mean S_a/target over the range: min ")[1].split(",")[0])
+    assert 0.9045 <= lowest < 0.91
     one = invoke("record", "scale", ROOT / "inputs" / "ten_story_ec8_suite.toml", RECORD, "--units", "g",
                  "--suite-factor")
     assert one.exit_code == 0 and "EN 1998-1 3.2.3.1.2" not in one.stderr

@@ -186,7 +186,6 @@ def _wavelet_match(acceleration, dt: float, periods, target, damping: float, tol
             break
         log_ratio = np.log(np.abs(values) / target)
         misfit, rms = float(np.max(np.abs(log_ratio))), float(np.sqrt(np.mean(log_ratio**2)))
-
         if misfit < best[0]:
             best = (misfit, a, iteration)
         if best[0] <= tolerance or iteration - best[2] >= PATIENCE or iteration == max_iterations:
@@ -216,6 +215,7 @@ def _wavelet_match(acceleration, dt: float, periods, target, damping: float, tol
         a = a + relax * (wavelets @ amplitudes)
     misfit, a, iteration = best
     return WaveletResult(baseline_correct(a, dt), iteration, misfit)
+
 
 def onset_ramp(t: np.ndarray, begin: float, end: float) -> np.ndarray:
     """0 before `begin` [s], a half-cosine up to 1 at `end` [s], 1 after."""
