@@ -13,6 +13,15 @@ EXAMPLE_DECK = ROOT / "inputs" / "ten_story_elcentro.toml"
 ELCENTRO = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
 
 
+@pytest.fixture(scope="session", autouse=True)
+def _cache_home(tmp_path_factory):
+    """The user's cache folder (XDG_CACHE_HOME: the check suites of suite_check.py) in a temporary
+    folder of the session: the tests never write the real one, and generate each check suite once."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("XDG_CACHE_HOME", str(tmp_path_factory.mktemp("cache")))
+        yield
+
+
 @pytest.fixture(scope="module")
 def example_deck():
     """The bundled example deck (inputs/ten_story_elcentro.toml), loaded once per test module."""

@@ -125,7 +125,8 @@ def test_cli_reports_the_check_unless_told_not_to(tmp_path):
     assert "Accuracy check" in table and "simplified / exact" in table
     spectrum = json.loads(runner.invoke(app, ["analyze", str(ROOT / "inputs" / "ten_story_asce7.toml"),
                                               "--support", "uplift", "--format", "json"]).stdout)
-    assert "accuracy" not in spectrum  # a design spectrum: no record to check against
+    # a design spectrum: checked on a suite generated for it (suite_check.py, tests/test_suite_check.py)
+    assert spectrum["accuracy"]["reference"].startswith("exact engine on a spectrum-compatible suite (11 artificial")
 
 
 def test_cli_band_option_warns_and_criterion_exits_3():

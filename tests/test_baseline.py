@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from upliftcli.motion.baseline import baseline_correct
+from upliftcli.motion.baseline import baseline_correct, correction_basis
 from upliftcli.motion.records import ground_displacement, ground_velocity, read_record
 
 ELCENTRO = Path(__file__).resolve().parents[1] / "records" / "elcentro_1940_ns_chopra.txt"
@@ -39,9 +39,21 @@ def test_corrected_record_ends_at_rest():
 
 
 def test_polynomial_trends_are_removed_exactly():
-    # the correction is a projection: adding any polynomial of degree <= 4 does not change the result
+    # the correction is a projection: adding any polynomial s (1 - s) q(s), q of degree <= 4,
+    # does not change the result
     record = read_record(ELCENTRO)
-    t = record.time / record.time[-1]
-    trend = 0.3 - 0.2 * t + 0.5 * t**2 - 0.1 * t**3 + 0.05 * t**4
+    s = record.time / record.time[-1]
+    trend = s * (1 - s) * (0.3 - 0.2 * s + 0.5 * s**2 - 0.1 * s**3 + 0.05 * s**4)
     np.testing.assert_allclose(baseline_correct(record.acceleration + trend, record.dt),
                                baseline_correct(record.acceleration, record.dt), rtol=0, atol=1e-10)
+
+
+def test_first_and_last_samples_are_kept():
+    # the correcting polynomial vanishes at both ends: no offset where the record is quiet
+    record = read_record(ELCENTRO)
+    drifting = record.acceleration + 0.01
+    corrected = baseline_correct(drifting, record.dt)
+    assert corrected[0] == drifting[0] and corrected[-1] == drifting[-1]
+    basis = correction_basis(record.npts, record.dt)
+    assert basis.shape == (record.npts, 5)
+    np.testing.assert_array_equal(basis[[0, -1]], 0.0)

@@ -134,7 +134,7 @@ def test_match_errors(tmp_path):
     zeros.write_text("# dt = 0.01\n# units: g\n" + "0.0\n" * 3000)
     out = tmp_path / "out"
     result = invoke("record", "match", deck, zeros, "--out", out)  # bad input (exit 2), refused before matching
-    assert result.exit_code == 2 and "zeros.txt: a record with non-zero accelerations to be scaled" in result.stderr
+    assert result.exit_code == 2 and "zeros.txt: acceleration: a record with motion to match" in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1 and not out.exists()
     short = tmp_path / "short.txt"
     short.write_text("# dt = 0.01\n# units: g\n" + "0.1\n-0.1\n" * 200)
@@ -156,7 +156,9 @@ def test_scale_prints_the_factors_of_the_deck_suite():
     result = invoke("record", "scale", ROOT / "inputs" / "ten_story_ec8_suite.toml")
     assert result.exit_code == 0, result.output
     assert "Amplitude factors" in result.stdout and "elcentro_1940_ns_chopra.txt" in result.stdout
-    assert "mean S_a/target over the range: min 0.900" in result.stdout
+    # 0.5 % above 0.9 at the check periods, raised where it dips below 0.9 on the 4x denser grid
+    lowest = float(result.stdout.split("mean S_a/target over the range: min ")[1].split(",")[0])
+    assert 0.904 <= lowest < 0.91  # 0.9045 printed to 3 digits: 0.905 on the compiled loops, 0.904 on the twins
     one = invoke("record", "scale", ROOT / "inputs" / "ten_story_ec8_suite.toml", RECORD, "--units", "g",
                  "--suite-factor")
     assert one.exit_code == 0 and "EN 1998-1 3.2.3.1.2" not in one.stderr

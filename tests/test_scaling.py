@@ -42,11 +42,13 @@ def test_scaled_suite_meets_the_asce_mean_criterion_by_an_independent_spectrum()
     # the records are 1, 2, 0.5 x El Centro: by linearity factor_k x k x S_a(El Centro)
     ratio = np.mean([f * k for f, k in zip(suite.factors, (1.0, 2.0, 0.5), strict=True)]) * spectrum / TARGET.sa(
         periods, 0.05)
-    assert ratio.min() >= 0.9 * (1 - 2e-3)  # equality at the governing period, between check periods within 0.2 %
-    assert suite.mean_ratio().min() == pytest.approx(0.9, rel=1e-9)
+    assert ratio.min() >= 0.9  # 0.5 % above at the governing check period; checked on a 4x denser grid
+    dense = np.geomspace(0.2, 2.4, 4 * suite.periods.size)
+    assert suite.mean_ratio(dense).min() >= 0.9
+    assert suite.mean_ratio().min() == pytest.approx(0.9 * 1.005, rel=1e-9)  # 0.5 % above at the check periods
     # hand: 0.9 max(target / S_a) over the check periods, on El Centro itself
     s_check = response_spectrum(record.acceleration, record.dt, suite.periods, [0.05]).pseudo_acceleration[0]
-    assert suite.factors[0] == pytest.approx(0.9 * np.max(TARGET.sa(suite.periods, 0.05) / s_check), rel=1e-9)
+    assert suite.factors[0] == pytest.approx(0.9 * 1.005 * np.max(TARGET.sa(suite.periods, 0.05) / s_check), rel=1e-9)
     assert suite.factors[1] == pytest.approx(suite.factors[0] / 2, rel=1e-12)
     assert any("amplitude factor" in w and "outside 0.25-4" in w for w in suite.warnings)  # 4.2 for 0.5 x
 

@@ -21,16 +21,18 @@ uplift and the mat rotation, whose estimate scatters more, DEFAULT_MOTION_BAND,
 (criteria.py). Results are not changed: a Check is a separate object carried beside the results
 (output.py, cli/render.py, report/). A suite deck has its own comparison (the simplified engine
 on the target spectrum beside the suite statistic, engines/suite_result.py); compare() serves
-any pair of results of one support (a suite's statistic among them). A design-spectrum deck has
-no record to check against.
+any pair of results of one support (a suite's statistic among them): a deck with a design
+spectrum is checked on a spectrum-compatible suite (suite_check.py), a Check with the suite and
+the ratio's two factors.
 docs/accuracy.md gives the measured spread of every ratio.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any
 
 from .deck import Deck
 from .display import label, show
@@ -92,7 +94,11 @@ class Check:
     ratios that raise no warning; motion_band: the same for the edge uplift and the mat rotation
     (MOTION); comparisons: one per COMPARED value both results give;
     reference_warnings: the reference run's own warnings; error: why the reference could not run
-    (then there are no comparisons)."""
+    (then there are no comparisons). A check on a record suite (suite_check.py: the exact answer
+    for a design spectrum) also has suite: what the suite was (source, count, seed, generator,
+    period range, target, statistic); spectrum_ratio, procedure_ratio: each ratio's two factors,
+    the records' standing against the target and the procedure's own error
+    (engines/suite_result.simplified_ratios), empty when they are not known."""
 
     support: str
     reference: str
@@ -101,6 +107,9 @@ class Check:
     reference_warnings: tuple[str, ...] = ()
     error: str | None = None
     motion_band: tuple[float, float] = DEFAULT_MOTION_BAND
+    suite: Mapping[str, Any] | None = None
+    spectrum_ratio: Mapping[str, float | None] = field(default_factory=dict)
+    procedure_ratio: Mapping[str, float | None] = field(default_factory=dict)
 
     @property
     def ratios(self) -> dict[str, float | None]:
@@ -131,15 +140,19 @@ class Check:
         return (0.0, None) if worst is None else (worst.error, worst)
 
     def to_dict(self) -> dict:
-        """The JSON `accuracy` object: {support, reference, band, simplified, exact, ratio,
-        out_of_band, warnings} (SI values), or {support, reference, error}."""
-        head = {"support": self.support, "reference": self.reference}
+        """The JSON `accuracy` object: {support, reference, band, motion_band, simplified, exact,
+        ratio, out_of_band, warnings} (SI values), or {support, reference, error, warnings}; on a
+        suite also `suite` and, when known, spectrum_ratio and procedure_ratio."""
+        head = {"support": self.support, "reference": self.reference,
+                **({"suite": dict(self.suite)} if self.suite is not None else {})}
         if self.error is not None:
             return {**head, "error": self.error, "warnings": self.warnings()}
+        split = {key: dict(value) for key, value in (("spectrum_ratio", self.spectrum_ratio),
+                                                     ("procedure_ratio", self.procedure_ratio)) if value}
         return {**head, "band": list(self.band), "motion_band": list(self.motion_band),
                 "simplified": {c.name: c.simplified for c in self.comparisons},
                 "exact": {c.name: c.exact for c in self.comparisons},
-                "ratio": self.ratios, "out_of_band": [c.name for c in self.out_of_band],
+                "ratio": self.ratios, **split, "out_of_band": [c.name for c in self.out_of_band],
                 "warnings": self.warnings()}
 
 

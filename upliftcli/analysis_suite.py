@@ -44,14 +44,21 @@ def suite_summary(suite: Suite) -> dict[str, Any]:
             "period_range": list(suite.period_range), "period_note": suite.period_note, "damping": suite.damping}
 
 
-def _simplified(deck: Deck, support: str) -> AnalysisResult | None:
-    """The simplified engine on the deck's target spectrum (None if it cannot run)."""
-    if deck.spectrum is None:
+def _simplified(deck: Deck, support: str, spectrum=None) -> AnalysisResult | None:
+    """The simplified engine on `spectrum` (default: the deck's target spectrum); None if it cannot run."""
+    spectrum = deck.spectrum if spectrum is None else spectrum
+    if spectrum is None:
         return None
     try:
-        return ENGINES["simplified"].analyze(deck.system, deck.spectrum, support, deck.analysis.simplified)
+        return ENGINES["simplified"].analyze(deck.system, spectrum, support, deck.analysis.simplified)
     except (AnalysisError, InputError):
         return None
+
+
+def record_simplified(deck: Deck, suite: Suite, support: str) -> tuple[AnalysisResult, ...]:
+    """The simplified engine on each scaled record's own spectrum (empty if it cannot run on one)."""
+    results = [_simplified(deck, support, spectrum) for spectrum in suite.record_spectra]
+    return tuple(results) if all(r is not None for r in results) else ()
 
 
 def iter_suite_batch(engine: Engine, decks: Sequence[Deck], suite: Suite, support: str, options: Any
@@ -88,4 +95,5 @@ def deck_suite_result(deck: Deck, results: Sequence[AnalysisResult], support: st
     warnings = list(suite.warnings)
     return suite_result(results, suite_records(suite), suite.statistic, rule=suite.rule.name,
                         rule_label=suite.rule.label, simplified=_simplified(deck, support),
-                        suite=suite_summary(suite), warnings=warnings)
+                        suite=suite_summary(suite), warnings=warnings,
+                        record_simplified=record_simplified(deck, suite, support))

@@ -406,7 +406,7 @@ def _ground_motion(fields: dict, source: str, error, system: System | None = Non
         if "suite" not in fields:
             return spectrum, spectrum
         plan = suite_plan(fields, spectrum, system, effective_properties, source, error)
-        return load_suite(fields, plan, source, error), spectrum
+        return load_suite(fields, plan, source, error), plan.target  # the simplified engine on the suite's target
     from .motion import records, spectra
 
     try:

@@ -4,7 +4,9 @@
     suite = load_suite(fields, plan, source, error)                      # records read and scaled
 
 The code rule is `ground_motion.statistics`, or that of the design spectrum (ASCE 7-22 spectra:
-"asce7-22", EC8: "ec8", a table: "mean"). The period range is `ground_motion.period_range`, or
+"asce7-22", EC8: "ec8", a table: "mean"). Under ASCE 7-22 the target is the MCE_R spectrum
+(16.2.1): the deck's spectrum if its level is "mce_r", 1.5 x it if "design" (motion/levels.py).
+The period range is `ground_motion.period_range`, or
 the code's rule (motion/code_rules.py) applied to the structure: the upper bound from the
 flexible-base first-mode period T1bar of the bonded system (Eq. 21; T_1 fixed-base if longer),
 the lower bound from the fixed-base T_1 and the mode that completes 90 % of the building mass.
@@ -21,7 +23,8 @@ from .errors import InputError, not_found
 from .model.building import modes_for_mass_target
 from .motion.code_rules import RULES, CodeRule
 from .motion.design_spectra import ASCE7MultiPeriodSpectrum, ASCE7Spectrum, EC8Spectrum
-from .motion.suites import Suite, build_suite, check_target, read_records, suite_entries
+from .motion.levels import suite_target
+from .motion.suites import Suite, build_suite, check_target, entry_origins, read_records, suite_entries
 
 #: ground_motion.statistics -> damping correction of a table spectrum that names none
 TABLE_CORRECTION = {"asce7-22": "asce", "ec8": "ec8", "mean": "ec8"}
@@ -63,8 +66,10 @@ def structure_period_range(rule: CodeRule, system, effective_properties: str = "
 
 def suite_plan(fields: dict, target, system, effective_properties: str, source: str,
                error: Callable[[str, str], InputError]) -> SuitePlan:
-    """The SuitePlan of validated [ground_motion] fields with `target`, the deck's design spectrum."""
+    """The SuitePlan of validated [ground_motion] fields with `target`, the deck's design spectrum
+    (under ASCE 7-22 the plan's target is the MCE_R spectrum: 1.5 x a design-level one, levels.py)."""
     rule = RULES[fields.get("statistics") or default_statistics(target)]
+    target = suite_target(target, rule.name)
     if "period_range" in fields:
         period_range = tuple(float(v) for v in fields["period_range"])
         if period_range[0] <= 0.0:
@@ -105,7 +110,8 @@ def load_suite(fields: dict, plan: SuitePlan, source: str, error: Callable[[str,
             raise
     try:
         return build_suite(records, plan.target, plan.period_range, plan.rule, fields.get("scaling", "none"),
-                           bool(fields.get("suite_factor", False)), plan.period_note, source=source)
+                           bool(fields.get("suite_factor", False)), plan.period_note, source=source,
+                           made=entry_origins(entries))
     except InputError as bad:
         if bad.source == source and bad.location and not bad.location.startswith("ground_motion."):
             raise error(f"ground_motion.{bad.location}", bad.expected) from None

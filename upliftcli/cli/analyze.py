@@ -120,10 +120,11 @@ def analyze(
                                    "--histories); without it an existing file is refused before the run."),
     check: bool = typer.Option(
         True, "--check/--no-check",
-        help="With a record: also run the exact engine (all modes) for the supports the simplified engine ran "
-             "(10-100 ms each) and report simplified/exact for V_b, M_b, the largest drift ratio, the roof "
-             "displacement, the largest floor acceleration, the edge uplift and the mat rotation; a ratio "
-             "outside analysis.check_band is a warning."),
+        help="Check the simplified engine against the exact engine for the supports it ran: with a record on "
+             "that record, with all modes (10-100 ms each); with a design spectrum on the deck's suite, or on 11 "
+             "records generated for the spectrum (once, then cached); reports simplified/exact for V_b, M_b, the "
+             "largest drift ratio, the roof displacement, the largest floor acceleration, the edge uplift and the "
+             "mat rotation; a ratio outside analysis.check_band is a warning."),
     plot: Path | None = typer.Option(None, "--plot", help=plotting.PLOT_HELP),
     plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
     units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
@@ -134,10 +135,10 @@ def analyze(
     4 analysis failure.
     """
     from .. import analysis
-    from ..accuracy import check_accuracy
     from ..criteria import check_criteria
     from ..deck import load_deck
     from ..output import to_json
+    from ..suite_check import check_deck
     from . import render
 
     if out is not None and out.exists() and not out.is_dir():
@@ -165,7 +166,7 @@ def analyze(
         loaded = plotting.keep_histories(loaded)
     warn_deck(loaded)
     results = analysis.run(loaded)
-    checks = check_accuracy(loaded, results) if check else []
+    checks = check_deck(loaded, results, _note) if check else []
     _warn_suite(results)
     _warn(results, printed=loaded.warnings, checks=checks)
     if plot is not None:
@@ -234,7 +235,7 @@ def _warn(results, prefix: str = "", printed=(), checks=()) -> None:
     JSON keeps them in `warnings`; the exit code is unchanged ([criteria] simplified_error turns an
     out-of-band check into exit code 3). prefix: the deck, when several are analysed; printed: the
     deck's warnings, printed once before (warn_deck), not again per result; checks: the accuracy
-    checks (accuracy.check_accuracy)."""
+    checks (suite_check.check_deck)."""
     from ..output import check_of
 
     given: dict[str, list[str]] = {}
@@ -246,6 +247,11 @@ def _warn(results, prefix: str = "", printed=(), checks=()) -> None:
                 given.setdefault(message, []).append(f"{result.engine}/{result.support}")
     for message, analyses in given.items():
         typer.echo(f"warning: {prefix}{', '.join(dict.fromkeys(analyses))}: {message}", err=True)
+
+
+def _note(text: str) -> None:
+    """A note on stderr (a check suite being generated: suite_check.check_suite)."""
+    typer.echo(f"note: {text}", err=True)
 
 
 def warn_deck(deck: Deck) -> None:
@@ -298,13 +304,13 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
                    overwrite: bool = False, units: str = "si", check: bool = True) -> None:
     """Several decks: every deck is read and checked before any is run (bad input: exit 2, no
     output); one summary table (or {"decks": [...]} in JSON); each analysis's warnings and those
-    of its accuracy check (check: accuracy.check_accuracy of each deck) on stderr, once, naming its
+    of its accuracy check (check: suite_check.check_deck of each deck) on stderr, once, naming its
     deck; exit 3 if any deck violates its criteria."""
     from .. import analysis
-    from ..accuracy import check_accuracy
     from ..criteria import check_criteria
     from ..deck import load_deck
     from ..output import dumps, results_document
+    from ..suite_check import check_deck
     from . import render
 
     stems = [deck.stem for deck in decks]
@@ -320,7 +326,7 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
         refuse_inputs(outputs, inputs, "--out")
         refuse_existing(outputs, "--out", overwrite, EARLIER)
     runs = [(deck, item, analysis.run(item)) for deck, item in zip(decks, loaded, strict=True)]
-    checks = [check_accuracy(item, results) if check else [] for _, item, results in runs]
+    checks = [check_deck(item, results, _note) if check else [] for _, item, results in runs]
     records = [provenance.of_deck(item) for item in loaded]
     for (deck, item, results), checked in zip(runs, checks, strict=True):
         _warn_suite(results, f"{deck}: ")

@@ -1,4 +1,5 @@
-"""`uplift record info` and `uplift record spectrum` (generate, match, scale: record_suite.py)."""
+"""`uplift record info` and `uplift record spectrum` (generate, match, scale: record_suite.py; select:
+record_select.py)."""
 
 from __future__ import annotations
 
@@ -252,12 +253,14 @@ def spectrum(
 
 
 def register(app: typer.Typer) -> None:
-    """Add the `record` command group (info, spectrum; generate, match, scale from record_suite.py)."""
-    from . import record_suite
+    """Add the `record` command group (info, spectrum; generate, match, scale from record_suite.py;
+    select from record_select.py)."""
+    from . import record_select, record_suite
 
     record_app = typer.Typer(help="Ground-motion records: summary measures, response spectra and suites.",
                              no_args_is_help=True, rich_markup_mode=None)
     record_app.command("info")(info)
     record_app.command("spectrum")(spectrum)
     record_suite.register(record_app)
+    record_select.register(record_app)
     app.add_typer(record_app, name="record")

@@ -357,6 +357,9 @@ def print_results(out: Console, results: list[AnalysisResult], title: str | None
     checked = accuracy_table(checks, units)
     if checked is not None:
         out.print(checked)
+    split = render_suite.suite_check_table(checks, units)
+    if split is not None:
+        out.print(split)
 
 
 def accuracy_table(checks=(), units: str = "si") -> Table | None:
@@ -364,21 +367,27 @@ def accuracy_table(checks=(), units: str = "si") -> Table | None:
     units (display.py), or None."""
     if not checks:
         return None
-    table = Table(title="Accuracy check: the simplified engine against the exact engine, same deck and record")
+    references = list(dict.fromkeys(check.reference for check in checks))
+    shared = len(references) == 1  # named in the title, else in a column
+    table = Table(title=escape("Accuracy check: the simplified engine against the "
+                               + (references[0] if shared else "exact engine")
+                               + (", same deck and record" if checks[0].suite is None else "")))
     band, motion = checks[0].band, checks[0].motion_band
     table.caption = escape(f"ratio = simplified / exact; '!': outside [{band[0]:g}, {band[1]:g}] "
                            f"(analysis.check_band; edge uplift and mat rotation: [{motion[0]:g}, {motion[1]:g}], "
                            "analysis.check_band_motion), also a warning; the measured spread of these ratios: "
                            "docs/accuracy.md; --no-check skips this check")
-    for header in ("support", "reference", "quantity", "simplified", "exact", "ratio"):
+    headers = ("support", *(() if shared else ("reference",)), "quantity", "simplified", "exact", "ratio")
+    for header in headers:
         table.add_column(escape(header), justify="left" if header in ("support", "reference", "quantity") else "right")
     for check in checks:
+        lead = (check.support,) if shared else (check.support, escape(check.reference))
         if check.error is not None:
-            table.add_row(check.support, escape(check.reference), "-", "-", "-", escape(f"failed: {check.error}"))
+            table.add_row(*lead, "-", "-", "-", escape(f"failed: {check.error}"))
             continue
         for c in check.comparisons:
             compared = COMPARED[c.name]
             ratio = "-" if c.ratio is None else f"{c.ratio:.3f}" + (" !" if c.outside(check.band_of(c.name)) else "")
-            table.add_row(check.support, escape(check.reference), escape(compared.heading(units)),
-                          show(c.simplified, compared.display, units), show(c.exact, compared.display, units), ratio)
+            table.add_row(*lead, escape(compared.heading(units)), show(c.simplified, compared.display, units),
+                          show(c.exact, compared.display, units), ratio)
     return table

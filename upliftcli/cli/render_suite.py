@@ -19,6 +19,11 @@ SCALAR_COLUMNS = ("base_shear", "base_shear_coefficient", "base_moment", "base_m
 STATISTIC_HEADINGS = {"mean": "mean", "median": "median", "p84": "84th percentile", "max": "maximum"}
 CAPTION = (f"{WEIGHT_LEGEND}; the quantities: their largest value over the floors, stories or "
            "elements (all of them in the JSON and CSV files)")
+#: how a ratio simplified / exact on a suite splits into its two factors (engines/suite_result.simplified_ratios)
+SPLIT_CAPTION = ("simplified / suite = (target / records) x procedure: target / records = the simplified engine "
+                 "on the target against it on each record's own spectrum (below 1: the records are above the "
+                 "target), procedure = it on each record's spectrum against the exact engine on that record (the "
+                 "procedure's own error)")
 
 
 def _rows(result: AnalysisResult, units: str = "si", scalars=SCALAR_COLUMNS) -> list[tuple[str, float, str]]:
@@ -76,14 +81,40 @@ def comparison_table(results: Sequence[AnalysisResult], units: str = "si") -> Ta
     if not suites:
         return None
     table = Table(title="Simplified engine on the target spectrum against the suite")
-    for text in ("engine", "support", "quantity", "simplified", "suite", "simplified / suite"):
+    split = all("procedure_ratio" in item for r in suites for item in simplified_ratios(r).values())
+    headings = ["engine", "support", "quantity", "simplified", "suite", "simplified / suite"]
+    headings += ["target / records", "procedure"] if split else []
+    for text in headings:
         table.add_column(escape(text), justify="left" if text in ("engine", "quantity") else "right")
     for r in suites:
         for name, item in simplified_ratios(r).items():
             kind = COMPARED[name].display
+            cells = [f"{item['spectrum_ratio']:.3f}", f"{item['procedure_ratio']:.3f}"] if split else []
             table.add_row(escape(r.label), r.support, escape(COMPARED[name].heading(units)),
                           show(item["simplified"], kind, units), show(item["statistic"], kind, units),
-                          f"{item['ratio']:.3f}")
-    table.caption = escape("suite: the design statistic of the records' peaks (the code's rule); "
-                           "a ratio below 1: the simplified procedure gives less")
+                          f"{item['ratio']:.3f}", *cells)
+    table.caption = escape("suite: the design statistic of the records' peaks (the code's rule); a ratio below 1: "
+                           "the simplified procedure gives less" + (f"; {SPLIT_CAPTION}" if split else ""))
+    return table
+
+
+def suite_check_table(checks: Sequence, units: str = "si") -> Table | None:
+    """The accuracy check on a suite (suite_check.py: accuracy.Check with a suite and the split
+    ratios) split into the records' standing against the target and the procedure's own error,
+    per support and compared value (None without such a check)."""
+    checks = [check for check in checks if check.suite is not None and check.procedure_ratio]
+    if not checks:
+        return None
+    suite = checks[0].suite
+    made = (f"{suite['count']} records generated for the spectrum (seed {suite['seed']}, cached)"
+            if suite["source"] == "generated" else f"the deck's {suite['count']} records")
+    table = Table(title=escape(f"Accuracy check split: simplified / exact {suite['statistic']} of {made}"))
+    for header in ("support", "quantity", "simplified / exact", "target / records", "procedure"):
+        table.add_column(escape(header), justify="left" if header in ("support", "quantity") else "right")
+    for check in checks:
+        for c in check.comparisons:
+            cells = [c.ratio, check.spectrum_ratio.get(c.name), check.procedure_ratio.get(c.name)]
+            table.add_row(check.support, escape(COMPARED[c.name].heading(units)),
+                          *["-" if value is None else f"{value:.3f}" for value in cells])
+    table.caption = escape(SPLIT_CAPTION.replace("simplified / suite", "simplified / exact"))
     return table

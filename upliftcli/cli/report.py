@@ -26,8 +26,9 @@ def report(
     support: list[str] = typer.Option([], "--support",
                                       help="Support condition(s): rigid, bonded, uplift (default: the deck's)."),
     check: bool = typer.Option(True, "--check/--no-check",
-                               help="With a record: check the simplified engine against the exact engine (as "
-                                    "uplift analyze does) and report simplified/exact."),
+                               help="Check the simplified engine against the exact engine (as uplift analyze "
+                                    "does: on the record, or on a suite for a design spectrum) and report "
+                                    "simplified/exact."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing --out file."),
     units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
     project: str | None = typer.Option(None, "--project", help="Project name (title block and running header; "
@@ -73,9 +74,9 @@ def report(
     results = analysis.run(loaded)
     checks = []
     if check:
-        from ..accuracy import check_accuracy
+        from ..suite_check import check_deck
 
-        checks = check_accuracy(loaded, results)
+        checks = check_deck(loaded, results, lambda text: typer.echo(f"note: {text}", err=True))
     document, specs = build_report(loaded, results, deck_text, overrides, provenance(loaded, ["uplift", *sys.argv[1:]]),
                                    units.value, given, checks)
     images = {name: plots.figure_bytes(spec, dpi=REPORT_DPI) for name, spec in specs.items()}

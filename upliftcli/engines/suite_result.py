@@ -59,7 +59,9 @@ class SuiteResult(AnalysisResult):
     statistic of STATISTICS; simplified: the simplified engine on the target spectrum, same
     support (None if not run or failed; see simplified_ratios); suite: what the suite was
     (scaling, period range [s] and how it was found, target) for the reports; warnings: the
-    suite's messages (too few records for the rule, factors ...)."""
+    suite's messages (too few records for the rule, factors ...); record_simplified: the
+    simplified engine on each record's own spectrum (same support; empty if not run), which
+    separates the suite's excess over the target from the procedure's error (simplified_ratios)."""
 
     statistic: str = "mean"
     rule: str = ""
@@ -70,6 +72,7 @@ class SuiteResult(AnalysisResult):
     simplified: AnalysisResult | None = None
     suite: dict[str, Any] = field(default_factory=dict)
     warnings: tuple[str, ...] = ()
+    record_simplified: tuple[AnalysisResult, ...] = ()
 
     @property
     def count(self) -> int:
@@ -130,7 +133,8 @@ def _same(a: Any, b: Any) -> bool:
 
 def suite_result(results: Sequence[AnalysisResult], records: Sequence[SuiteRecord], statistic: str, *,
                  rule: str = "", rule_label: str = "", simplified: AnalysisResult | None = None,
-                 suite: dict[str, Any] | None = None, warnings: Sequence[str] = ()) -> SuiteResult:
+                 suite: dict[str, Any] | None = None, warnings: Sequence[str] = (),
+                 record_simplified: Sequence[AnalysisResult] = ()) -> SuiteResult:
     """The SuiteResult of the records' results (in the order of `records`) with `statistic`
     ('mean' or 'max', from the code rule) as the design value."""
     if len(results) != len(records):
@@ -142,16 +146,36 @@ def suite_result(results: Sequence[AnalysisResult], records: Sequence[SuiteRecor
     values = {name: dict(value) if isinstance(value, dict) else value for name, value in values.items()}
     return SuiteResult(**values, statistic=statistic, rule=rule, rule_label=rule_label,
                        records=tuple(records), record_results=tuple(results), statistics=statistics,
-                       simplified=simplified, suite=dict(suite or {}), warnings=tuple(warnings))
+                       simplified=simplified, suite=dict(suite or {}), warnings=tuple(warnings),
+                       record_simplified=tuple(record_simplified))
+
+
+def _ratio(a: float, b: float) -> float:
+    return a / b if b else float("nan")
 
 
 def simplified_ratios(result: SuiteResult) -> dict[str, dict[str, float]]:
     """For each value of engines/quantities.COMPARED both give: {simplified, statistic, ratio =
     simplified / statistic} (the simplified engine on the target spectrum against the suite's
-    design statistic); empty when the simplified engine was not run."""
+    design statistic); empty when the simplified engine was not run. With the simplified engine
+    on each record's own spectrum (record_simplified), the ratio is split into two factors whose
+    product it is: records = the design statistic of those simplified values; spectrum_ratio =
+    simplified / records, the target against the records' own spectra through the procedure
+    (below 1: the records are above the target); procedure_ratio = records / statistic, the
+    procedure's own error, each record's simplified value against its exact one."""
     if result.simplified is None:
         return {}
     mine, theirs = compared_values(result), compared_values(result.simplified)
-    return {name: {"simplified": theirs[name], "statistic": mine[name],
-                   "ratio": theirs[name] / mine[name] if mine[name] else float("nan")}
-            for name in COMPARED if mine.get(name) is not None and theirs.get(name) is not None}
+    out = {name: {"simplified": theirs[name], "statistic": mine[name], "ratio": _ratio(theirs[name], mine[name])}
+           for name in COMPARED if mine.get(name) is not None and theirs.get(name) is not None}
+    if len(result.record_simplified) == result.count and result.count:
+        function = STATISTICS[result.statistic][1]
+        each = [compared_values(r) for r in result.record_simplified]
+        for name, item in out.items():
+            values = [value.get(name) for value in each]
+            if any(value is None for value in values):
+                continue
+            records = float(function(np.array(values)))
+            item.update(records=records, spectrum_ratio=_ratio(item["simplified"], records),
+                        procedure_ratio=_ratio(records, item["statistic"]))
+    return out

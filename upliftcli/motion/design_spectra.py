@@ -26,6 +26,7 @@ import numpy as np
 
 from ..errors import InputError, deck_relative_path, not_found
 from ..units import STANDARD_GRAVITY
+from .levels import LEVELS
 from .spectrum_fields import SPECTRUM_FIELDS, check_spectrum
 from .spectrum_tables import (
     TabulatedSpectrum,
@@ -77,10 +78,12 @@ class ASCE7Spectrum:
     sd1: float
     tl: float
     source: str = "asce7 spectrum"
+    level: str = "design"
 
     permitted_procedures = ("elf",)
 
     def __post_init__(self):
+        self.level = check_level(self.level, self.source)
         self.sds = positive(self.sds, self.source, "sds", "g")
         self.sd1 = positive(self.sd1, self.source, "sd1", "g")
         self.tl = positive(self.tl, self.source, "tl", "s")
@@ -99,6 +102,8 @@ class ASCE7Spectrum:
 
     @property
     def name(self) -> str:
+        if self.level == "mce_r":
+            return f"ASCE 7-22 two-period MCE_R (S_MS = {self.sds:g} g, S_M1 = {self.sd1:g} g, T_L = {self.tl:g} s)"
         return f"ASCE 7-22 two-period (S_DS = {self.sds:g} g, S_D1 = {self.sd1:g} g, T_L = {self.tl:g} s)"
 
     @property
@@ -130,8 +135,9 @@ class ASCE7MultiPeriodSpectrum:
     permitted_procedures = ("elf", "modal", "response-history")
 
     def __init__(self, sa, sds: float | None = None, sd1: float | None = None, source: str = "asce7 spectrum",
-                 label: str = ""):
+                 label: str = "", level: str = "design"):
         self.source = str(source)
+        self.level = check_level(level, self.source)
         values = np.asarray(sa, dtype=float).ravel()
         if values.size != len(USGS_PERIODS):
             raise InputError(self.source, "sa", f"the {len(USGS_PERIODS)} ordinates [g] at T = "
@@ -155,7 +161,11 @@ class ASCE7MultiPeriodSpectrum:
 
     @property
     def name(self) -> str:
-        return self.label or f"ASCE 7-22 multi-period (S_DS = {self.sds:.3g} g, S_D1 = {self.sd1:.3g} g)"
+        if self.label:
+            return self.label
+        if self.level == "mce_r":
+            return f"ASCE 7-22 multi-period MCE_R (S_MS = {self.sds:.3g} g, S_M1 = {self.sd1:.3g} g)"
+        return f"ASCE 7-22 multi-period (S_DS = {self.sds:.3g} g, S_D1 = {self.sd1:.3g} g)"
 
     @property
     def period_range(self) -> tuple[float, float]:
@@ -226,6 +236,14 @@ class EC8Spectrum:
         return ag * soil * sa
 
 
+def check_level(level, source: str) -> str:
+    """The level of an ASCE 7-22 spectrum, 'design' or 'mce_r' (motion/levels.py)."""
+    if level not in LEVELS:
+        raise InputError(source, "level", f"one of {', '.join(LEVELS)} (the level of the ordinates given), "
+                         f"got {level!r}")
+    return level
+
+
 def procedure_warning(spectrum, procedure: str) -> str | None:
     """The message for a procedure ('elf', 'modal', 'response-history') the code does not permit
     with this spectrum (ASCE 7-22 11.4.5: the two-period spectrum only with the ELF procedure),
@@ -256,8 +274,8 @@ def spectrum_warnings(spectrum, periods, procedure: str | None = None) -> list[s
 KEY_UNITS = {key: field.unit for key, field in SPECTRUM_FIELDS.items()}
 
 _KEYS = {
-    "asce7": ({"type", "sds", "sd1", "tl"}, set()),
-    "asce7-multiperiod": ({"type"}, {"sa", "file", "periods", "sds", "sd1", "units", "name"}),
+    "asce7": ({"type", "sds", "sd1", "tl"}, {"level"}),
+    "asce7-multiperiod": ({"type"}, {"sa", "file", "periods", "sds", "sd1", "units", "name", "level"}),
     "ec8": ({"type", "ag", "ground_type"}, {"spectrum_type", "importance"}),
     "table": ({"type", "damping"}, {"file", "periods", "sa", "units", "damping_correction", "name"}),
 }
@@ -307,7 +325,7 @@ def _multiperiod(mapping: dict, source: str, field: str) -> ASCE7MultiPeriodSpec
     if units != "g":
         raise InputError(source, f"{field}.units", f"'g' (the USGS service gives g), got {units!r}")
     return ASCE7MultiPeriodSpectrum(sa, mapping.get("sds"), mapping.get("sd1"), source=table_source,
-                                    label=str(mapping.get("name", "")))
+                                    label=str(mapping.get("name", "")), level=mapping.get("level", "design"))
 
 
 def from_mapping(mapping: dict, source: str, field: str = "spectrum", default_correction: str = "ec8"):
@@ -321,7 +339,8 @@ def from_mapping(mapping: dict, source: str, field: str = "spectrum", default_co
     kind = mapping["type"]
     try:
         if kind == "asce7":
-            return ASCE7Spectrum(mapping["sds"], mapping["sd1"], mapping["tl"], source=source)
+            return ASCE7Spectrum(mapping["sds"], mapping["sd1"], mapping["tl"], source=source,
+                                 level=mapping.get("level", "design"))
         if kind == "asce7-multiperiod":
             return _multiperiod(mapping, source, field)
         if kind == "ec8":

@@ -1,19 +1,31 @@
-"""Artificial accelerograms from a target spectrum alone (Gasparini & Vanmarcke 1976, SIMQKE).
+"""Artificial accelerograms from a stochastic seismological model, matched to a target spectrum.
 
-A stationary random process x(t) = sum_k A_k sin(w_k t + phi_k) (random phases phi_k, uniform in
-[0, 2 pi), at the frequencies of the discrete Fourier transform over the record's duration) is
-multiplied by the envelope of Jennings, Housner & Tsai (1968): (t/t_rise)^2 while rising, 1 over
-the stationary part, then exp(-c (t - t_2)) down to `final` at the end. The amplitudes start from
-the power spectral density that Vanmarcke's relation gives for the target,
-G(w) = xi S_a(w)^2 / (pi w r^2) with a peak factor r = 2.5, and are then corrected iteratively
-by the ratio target/S_a, as matching.iterate_to_target does for a recorded seed, each iterate
-baseline-corrected (baseline.py). Every record is reproducible from (seed, index): its phases are
-drawn from numpy's PCG64 seeded with SeedSequence([seed, index]) (and [seed, index, attempt] for
+Model: the site-based stochastic model of Rezaeian & Der Kiureghian (2010), a modulated filtered
+white noise whose filter changes with time,
+
+    x(t) = q(t) / sigma_f(t) sum_{tau_i <= t} h(t - tau_i, tau_i) w_i,
+    h(s, tau) = w_f(tau) / sqrt(1 - z_f^2) exp(-z_f w_f(tau) s) sin(w_f(tau) sqrt(1 - z_f^2) s)   (RDK Eq. 3)
+
+with w_i independent standard normal at the samples, the filter frequency w_f(t) = 2 pi (f_mid +
+f' (t - t_mid)) falling through the record (the predominant frequency of recorded motions falls
+as surface waves arrive), z_f the filter damping and sigma_f(t) the standard deviation of the
+filtered noise, so that x(t) has the variance q(t)^2; then high-passed by a critically damped
+oscillator (RDK Eq. 5, corner f_c) so that it ends at rest. h is an oscillator's displacement
+response: above f_mid the Fourier amplitude falls as f^-2, the high-frequency fall-off of
+recorded motions (measures.fourier_ratio), and the strong motion crosses zero about 2 f_mid
+times a second. The modulating function q(t) is the envelope of Jennings, Housner & Tsai
+(1968): (t/rise)^2 rising, 1 over the stationary part that EN 1998-1 3.2.3.1.2(3) asks of
+artificial records (10 s), exponential decay to `final`, tapered to 0 over the last second.
+
+Parameters from the target and the draw: f_mid = 1/T_p (T_p the log-centre of the periods where
+the target is at least 90 % of its largest ordinate), clipped to MID_FREQUENCY, times
+exp(0.25 N(0, 1)); f' = -f_mid U(0.01, 0.04) per second; z_f = U(0.15, 0.4); f(t) is held above
+1/T_upper and 0.3 Hz. The record is then matched (matching.match_acceleration: scaled, then
+wavelets) to the matching target over the target's whole defined range within GENERATION_RANGE
+and at least the suite's period range, not only over the suite's range: its spectrum follows the
+target at short and long periods too. Every record is reproducible from (seed, index): its draws
+come from numpy's PCG64 seeded with SeedSequence([seed, index]) (and [seed, index, attempt] for
 the rare draw that does not meet the tolerance, tried again up to MAX_ATTEMPTS times).
-
-EN 1998-1 3.2.3.1.2 asks artificial records to have a stationary part of at least 10 s (the
-default); the stationary part is lengthened so that the record lasts at least MIN_CYCLES of the
-longest period of the range (suites.MIN_CYCLES).
 """
 
 from __future__ import annotations
@@ -22,16 +34,25 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy import fft
 
-from ..errors import AnalysisError
-from .baseline import baseline_correct
+from ..errors import AnalysisError, InputError
 from .code_rules import CodeRule
-from .matching import DEFAULT_SETTINGS, MatchResult, MatchSettings, control_periods, iterate_to_target, settings_for
+from .matching import MatchResult, MatchSettings, control_periods, match_acceleration, matching_target, settings_for
 from .records import Record
-from .suites import MIN_CYCLES, Suite, check_target, with_matched_factors
+from .suites import MIN_CYCLES, SAMPLES_PER_PERIOD, Suite, check_target, with_matched_factors
+from .wavelets import end_taper
 
-PEAK_FACTOR = 2.5  # r of Vanmarcke's relation, for the starting amplitudes only
+#: periods [s] over which artificial records follow the target (within its defined range); from
+#: 0.04 s, matching a target that rises steeply below 0.1 s put 15-25 Hz content in (Fourier ratio
+#: 15-40 / 1-3 Hz 0.053 for a table with S_a(0.05)/S_a(0) = 1.6; 0.040 from 0.05 s)
+GENERATION_RANGE = (0.05, 6.0)
+#: f_mid [Hz] is kept within these bounds
+MID_FREQUENCY = (1.5, 8.0)
+#: corner of the high-pass oscillator [Hz] (RDK 2010)
+CORNER = 0.2
+MAX_ATTEMPTS = 10  # draws tried for one record before giving up
+#: changes whenever a seed gives another record (manifests and the cache of check suites name it)
+GENERATOR_VERSION = "rdk2010-wavelets-4"
 
 
 @dataclass(frozen=True)
@@ -57,47 +78,10 @@ class Envelope:
         return np.where(t < self.rise, (t / self.rise) ** 2, np.where(t <= t2, 1.0, decay))
 
     def samples(self, dt: float) -> int:
-        """Samples of a record of this envelope at step dt [s] (generate_acceleration); 2^62 for
+        """Samples of a record of this envelope at step dt [s] (stochastic_record); 2^62 for
         a count beyond it (an infinite duration / dt)."""
         count = self.duration / dt
         return round(count) + 1 if count < 2.0**62 else 2**62
-
-
-def starting_amplitudes(frequencies: np.ndarray, periods: np.ndarray, target: np.ndarray, damping: float,
-                        duration: float) -> np.ndarray:
-    """Amplitudes A_k [m/s^2] of the sinusoids at `frequencies` [Hz] from Vanmarcke's
-    G(w) = xi S_a^2 / (pi w r^2), S_a interpolated in log f from the target [m/s^2] at the control
-    periods [s] and held constant beyond; A_k = sqrt(2 G(w_k) dw), dw = 2 pi / duration."""
-    omega = 2.0 * math.pi * frequencies
-    log_f = np.log(1.0 / periods[::-1])
-    sa = np.zeros_like(frequencies)
-    positive = frequencies > 0.0
-    sa[positive] = np.exp(np.interp(np.log(frequencies[positive]), log_f, np.log(target[::-1])))
-    density = np.zeros_like(frequencies)
-    density[positive] = damping * sa[positive] ** 2 / (math.pi * omega[positive] * PEAK_FACTOR**2)
-    return np.sqrt(2.0 * density * 2.0 * math.pi / duration)
-
-
-def generate_acceleration(periods: np.ndarray, target: np.ndarray, draw, dt: float = 0.01,
-                          envelope: Envelope = Envelope(), settings: MatchSettings = DEFAULT_SETTINGS) -> MatchResult:
-    """One artificial accelerogram [m/s^2] at step dt [s] iterated to target S_a [m/s^2] at the
-    control periods [s] (module docstring); its phases from SeedSequence(draw), e.g. [seed, index]."""
-    n = envelope.samples(dt)
-    t = np.arange(n) * dt
-    shape = envelope(t)
-    frequencies = fft.rfftfreq(n, dt)
-    rng = np.random.default_rng(np.random.SeedSequence(draw))
-    phases = rng.uniform(0.0, 2.0 * math.pi, frequencies.size)
-    amplitudes = starting_amplitudes(frequencies, periods, target, settings.damping, n * dt)
-    amplitudes[0] = 0.0
-    if n % 2 == 0:
-        amplitudes[-1] = 0.0  # the Nyquist line has no phase
-    spectrum = 0.5 * n * amplitudes * np.exp(1j * (phases - 0.5 * math.pi))  # sin(w t + phi) lines
-
-    def synthesize(lines: np.ndarray) -> np.ndarray:
-        return baseline_correct(shape * fft.irfft(lines, n), dt)
-
-    return iterate_to_target(spectrum, frequencies, synthesize, dt, periods, target, settings)
 
 
 def envelope_for(period_range: tuple[float, float], min_cycles: float, envelope: Envelope = Envelope()) -> Envelope:
@@ -109,40 +93,154 @@ def envelope_for(period_range: tuple[float, float], min_cycles: float, envelope:
     return Envelope(envelope.rise, envelope.strong + shortfall, envelope.decay, envelope.final)
 
 
-MAX_ATTEMPTS = 5  # phase draws tried for one record before giving up
+@dataclass(frozen=True)
+class FilterParameters:
+    """Of the time-varying filter: mid_frequency f_mid [Hz] at t_mid [s], rate f' [Hz/s],
+    damping z_f [-], lowest frequency [Hz], corner of the high-pass oscillator f_c [Hz]."""
+
+    mid_frequency: float
+    mid_time: float
+    rate: float
+    damping: float
+    lowest: float
+    corner: float
+
+    def frequency(self, t: np.ndarray) -> np.ndarray:
+        """f(t) [Hz]."""
+        return np.maximum(self.mid_frequency + self.rate * (t - self.mid_time), self.lowest)
+
+
+def predominant_period(target_spectrum, match_range: tuple[float, float], damping: float = 0.05) -> float:
+    """T_p [s]: the log-centre of the periods in match_range where the target is >= 90 % of its largest."""
+    periods = np.geomspace(*match_range, 200)
+    sa = target_spectrum.sa(periods, damping)
+    high = periods[sa >= 0.9 * sa.max()]
+    return float(math.sqrt(high[0] * high[-1]))
+
+
+def draw_parameters(rng: np.random.Generator, target_spectrum, match_range: tuple[float, float],
+                    envelope: Envelope) -> FilterParameters:
+    """The filter of one record (module docstring)."""
+    centre = float(np.clip(1.0 / predominant_period(target_spectrum, match_range), *MID_FREQUENCY))
+    mid = centre * math.exp(0.25 * rng.standard_normal())
+    rate = -mid * rng.uniform(0.01, 0.04)
+    damping = rng.uniform(0.15, 0.4)
+    lowest = max(0.3, 1.0 / match_range[1])
+    corner = CORNER
+    return FilterParameters(mid, envelope.rise + 0.5 * envelope.strong, rate, damping, lowest, corner)
+
+
+def filtered_noise(noise: np.ndarray, dt: float, frequency: np.ndarray, damping: float) -> np.ndarray:
+    """sum_{tau_i <= t} h(t - tau_i, tau_i) w_i / sigma_f(t) (RDK Eq. 3 normalised to unit variance),
+    the filter frequency [Hz] of each pulse that of its own time; the sum is cut where the
+    slowest pulse has decayed to exp(-8)."""
+    n = noise.size
+    omega = 2.0 * math.pi * frequency
+    root = math.sqrt(1.0 - damping**2)
+    lags = min(n, math.ceil(8.0 / (damping * float(omega.min())) / dt) + 1)
+    total = np.zeros(n)
+    variance = np.zeros(n)
+    for lag in range(1, lags):
+        s = lag * dt
+        w = omega[: n - lag]
+        pulse = w / root * np.exp(-damping * w * s) * np.sin(w * root * s)
+        total[lag:] += pulse * noise[: n - lag]
+        variance[lag:] += pulse**2
+    return np.divide(total, np.sqrt(variance), out=np.zeros(n), where=variance > 0.0)
+
+
+def high_pass(acceleration: np.ndarray, dt: float, corner: float) -> np.ndarray:
+    """u'' of u'' + 2 w_c u' + w_c^2 u = a (critically damped oscillator, RDK Eq. 5): H(s) = (s/(s + w_c))^2,
+    by the bilinear transform, two first-order sections y_k = c y_(k-1) + g (x_k - x_(k-1))."""
+    omega = 2.0 * math.pi * corner
+    k = 2.0 / dt
+    gain, pole = k / (k + omega), (k - omega) / (k + omega)
+    out = np.asarray(acceleration, dtype=float)
+    for _ in range(2):
+        x, y = out.tolist(), [0.0] * out.size
+        previous_x = previous_y = 0.0
+        for i, value in enumerate(x):
+            previous_y = pole * previous_y + gain * (value - previous_x)
+            previous_x = value
+            y[i] = previous_y
+        out = np.array(y)
+    return out
+
+
+def stochastic_record(target_spectrum, match_range: tuple[float, float], draw, dt: float,
+                      envelope: Envelope) -> tuple[np.ndarray, FilterParameters]:
+    """The unscaled, unmatched acceleration [-] of one draw (SeedSequence(draw)) and its filter."""
+    rng = np.random.default_rng(np.random.SeedSequence(draw))
+    parameters = draw_parameters(rng, target_spectrum, match_range, envelope)
+    n = envelope.samples(dt)
+    t = np.arange(n) * dt
+    noise = rng.standard_normal(n)
+    process = filtered_noise(noise, dt, parameters.frequency(t), parameters.damping)
+    modulated = envelope(t) * end_taper(n, dt) * process
+    return high_pass(modulated, dt, parameters.corner), parameters
+
+
+def generation_range(target_spectrum, period_range: tuple[float, float], dt: float) -> tuple[float, float]:
+    """Periods [s] over which artificial records are matched: GENERATION_RANGE within the target's
+    defined range and above SAMPLES_PER_PERIOD x dt, widened to hold the suite's period range."""
+    low, high = target_spectrum.period_range
+    lower = max(GENERATION_RANGE[0], low, SAMPLES_PER_PERIOD * dt)
+    upper = min(GENERATION_RANGE[1], high)
+    return min(lower, period_range[0]), max(upper, period_range[1])
 
 
 @dataclass(frozen=True)
 class Artificial:
     """One artificial record: result (MatchResult, acceleration [m/s^2]); seed and index it is
-    reproducible from; attempt: the phase draw that met the tolerance (0: the first); envelope."""
+    reproducible from; attempt: the draw that met the tolerance (0: the first); envelope;
+    parameters: its filter; match_range [s]."""
 
     result: MatchResult
     seed: int
     index: int
     attempt: int
     envelope: Envelope
+    parameters: FilterParameters
+    match_range: tuple[float, float]
 
 
 def generate(target_spectrum, period_range: tuple[float, float], seed: int, index: int = 0, dt: float = 0.01,
-             envelope: Envelope = Envelope(), settings: MatchSettings = DEFAULT_SETTINGS) -> Artificial:
-    """One artificial record for a design spectrum (.sa) over period_range [s]. If the iteration
-    does not meet the tolerance, new phases are drawn (SeedSequence([seed, index, attempt]), up to
-    MAX_ATTEMPTS); AnalysisError if none does."""
+             envelope: Envelope = Envelope(), settings: MatchSettings | None = None) -> Artificial:
+    """One artificial record for a design spectrum (.sa): matched over generation_range, the
+    tolerance checked over period_range [s]. If it is not met, new draws are made
+    (SeedSequence([seed, index, attempt]), up to MAX_ATTEMPTS); AnalysisError if none meets it."""
+    settings = settings or MatchSettings()
+    match_range = generation_range(target_spectrum, period_range, dt)
     periods = control_periods(period_range, settings.periods_per_octave)
-    target = settings.reference * target_spectrum.sa(periods, settings.damping)
-    settings = replace(settings, taper_above=True)
+    target = matching_target(target_spectrum, settings)
     best = None
     for attempt in range(MAX_ATTEMPTS):
         draw = [int(seed), int(index)] + ([attempt] if attempt else [])
-        result = generate_acceleration(periods, target, draw, dt, envelope, settings)
+        seed_record, parameters = stochastic_record(target_spectrum, match_range, draw, dt, envelope)
+        result = match_acceleration(seed_record, dt, target, match_range, periods, settings)
         if result.converged:
-            return Artificial(result, int(seed), int(index), attempt, envelope)
+            return Artificial(result, int(seed), int(index), attempt, envelope, parameters, match_range)
         best = result if best is None or np.ptp(np.log(result.ratios)) < np.ptp(np.log(best.ratios)) else best
     low, high = best.ratio_range
     raise AnalysisError(f"artificial record {index + 1} (seed {seed}): no draw of {MAX_ATTEMPTS} met the tolerance "
                         f"{settings.low:g}-{settings.high:g} over {period_range[0]:.3g}-{period_range[1]:.3g} s "
-                        f"(S_a/target {low:.3f} to {high:.3f}); try another seed or a narrower range")
+                        f"(S_a/target {low:.3f} to {high:.3f}); try another seed")
+
+
+def check_generation(target_spectrum, period_range: tuple[float, float], dt: float, source: str) -> None:
+    """InputError, before any work, for what generation cannot do: a target that does not cover
+    the period range, a step too coarse for its lower period, a target with a zero ordinate
+    where the records are matched."""
+    check_target(target_spectrum, period_range, source, "period_range")
+    if not 0.0 < dt <= period_range[0] / SAMPLES_PER_PERIOD:
+        raise InputError(source, "dt", f"a time step > 0 and <= {period_range[0] / SAMPLES_PER_PERIOD:.4g} s "
+                         f"(the lower period {period_range[0]:.4g} s / {SAMPLES_PER_PERIOD}), got {dt:g} s")
+    match_range = generation_range(target_spectrum, period_range, dt)
+    periods = np.geomspace(*match_range, 200)
+    zero = periods[target_spectrum.sa(periods, 0.05) <= 0.0]
+    if zero.size:
+        raise InputError(source, "target", f"a target spectrum > 0 over {match_range[0]:.3g}-{match_range[1]:.3g} s, "
+                         f"where the records are matched ({target_spectrum.name} is 0 at {zero[0]:.3g} s)")
 
 
 def suite_envelope(period_range: tuple[float, float], rule: CodeRule, envelope: Envelope = Envelope()) -> Envelope:
@@ -158,7 +256,7 @@ def generate_suite(target_spectrum, period_range: tuple[float, float], rule: Cod
     """`count` artificial records (indices 0..count-1 of `seed`) for the target over period_range [s],
     as a matched Suite (amplitude factors by scaling.matched_factors) and the records' details.
     The stationary part is at least rule.stationary_duration and long enough for MIN_CYCLES."""
-    check_target(target_spectrum, period_range, "record generate", "period_range")
+    check_generation(target_spectrum, period_range, dt, "record generate")
     settings = settings or settings_for(rule)
     envelope = suite_envelope(period_range, rule, envelope)
     items = [generate(target_spectrum, period_range, seed, k, dt, envelope, settings) for k in range(count)]
@@ -166,5 +264,5 @@ def generate_suite(target_spectrum, period_range: tuple[float, float], rule: Cod
                            source=f"artificial {seed}-{k + 1:02d}", units="g") for k, item in enumerate(items))
     provenance = tuple(f"artificial record, seed {seed}, index {item.index}, draw {item.attempt}" for item in items)
     suite = Suite(records, (1.0,) * count, target_spectrum, tuple(period_range), rule, "match", period_note, (),
-                  provenance, settings.damping, items[0].result.periods)
+                  provenance, settings.damping, items[0].result.periods, ("artificial",) * count)
     return with_matched_factors(suite, [item.result.ratios for item in items], settings), items

@@ -17,6 +17,8 @@ import numpy as np
 
 from ..units import STANDARD_GRAVITY
 from .matching import MatchSettings
+from .measures import measures
+from .origins import COMMAND_ORIGINS
 from .suites import Suite
 
 
@@ -48,14 +50,27 @@ def record_checks(suite: Suite, settings: MatchSettings) -> list[dict[str, Any]]
     return rows
 
 
+def measure_row(motion) -> dict[str, float]:
+    """What a record looks like (measures.py): zero crossings [1/s], Fourier ratio 15-40 / 1-3 Hz,
+    D5-95 [s], the larger end sample / PGA."""
+    m = measures(motion.acceleration, motion.dt)
+    return {"zero_crossings_per_s": round(m.zero_crossings, 3), "fourier_ratio_15_40_hz": round(m.fourier_ratio, 4),
+            "d5_95_s": round(m.d5_95, 3), "end_offset": round(m.end_offset, 5)}
+
+
+def model_row(parameters) -> dict[str, float]:
+    """The filter of an artificial record (generate.FilterParameters), rounded."""
+    return {key: round(float(value), 5) for key, value in vars(parameters).items()}
+
+
 def manifest_text(suite: Suite, settings: MatchSettings, command: str, deck: str, records: list[dict[str, Any]],
                   extra: dict[str, Any] | None = None) -> str:
     """The manifest of a written suite (JSON): `records` are per-record rows (file, name, factor,
     ... merged with record_checks)."""
     mean = suite.mean_ratio()
-    minimum = suite.rule.mean_minimum(suite.scaling)
+    minimum = suite.mean_minimum
     document = {
-        "tool": "uplift", "command": command, "deck": deck,
+        "tool": "uplift", "command": command, "made": COMMAND_ORIGINS[command], "deck": deck,
         "target": suite.target.name, "damping": suite.damping,
         "statistics": suite.rule.name, "rule": suite.rule.label, "statistic": suite.statistic,
         "period_range_s": [round(value, 6) for value in suite.period_range], "period_range_note": suite.period_note,

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from ..errors import InputError
 from ..fields import Field, check_mapping, gather, raise_all, raiser, suggestion
+from .levels import LEVELS
 
 #: the keys of a design_spectrum table (docs/deck.md), checked by the one field checker
 #: (fields.check_mapping: type, unit, the 1e-30..1e30 limits, range) wherever they are given
@@ -29,6 +30,8 @@ SPECTRUM_FIELDS: dict[str, Field] = {
     "file": Field("string", "-", "a file of two columns T [s], S_a (relative to the deck)"),
     "damping_correction": Field("string", "-", "damping correction of a table: asce or ec8 (any case)"),
     "name": Field("string", "-", "a label for reports and figures"),
+    "level": Field("string", "-", "ASCE 7-22: the level of the ordinates given, design (S_DS, S_D1) or mce_r "
+                   "(S_MS, S_M1 under the keys sds, sd1)", "", "design", LEVELS),
 }
 
 

