@@ -1,5 +1,6 @@
 """The analysis runner: dispatch over engines x supports, the checks before running."""
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -12,6 +13,7 @@ from upliftcli.errors import InputError
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "inputs" / "ten_story_elcentro.toml"
+WINKLER = ROOT / "inputs" / "ten_story_winkler.toml"
 
 
 @pytest.fixture(scope="module")
@@ -86,6 +88,82 @@ def test_steps_x_states_are_estimated_before_the_exact_engine_allocates(monkeypa
     deck = load_deck(EXAMPLE, ["analysis.exact.time_step=1e-7", 'analysis.engine="approximate"'])
     with pytest.raises(InputError, match=r"^--set: analysis.exact.time_step: at most 50,000,000"):
         run(deck)
+
+
+def _engine_must_not_start(monkeypatch):
+    from upliftcli.engines.exact import engine as exact
+
+    def fail(*args, **kwargs):
+        raise AssertionError("the engine must not start")
+
+    monkeypatch.setattr(exact, "iter_batch", fail)
+
+
+def test_a_stiff_undamped_foundation_is_refused_by_its_steps_before_the_engine_starts(monkeypatch):
+    """Issue 29: w_v/w_1 = 1000 with no damping made the mat chatter at every internal step and
+    the peak search ran 11 s (11 us a step) inside the steps x states limit. The steps of one
+    run are bounded (limits.MAX_STEPS), estimated as the engine does: the vertical period is
+    T_1 / 1000 = 0.5 ms (w_v = 1000 w_1), 6 steps a period: ceil(0.02 s x 6 / 0.5 ms) = 240
+    sub-steps of each of the 1,559 record intervals (31.18 s at 0.02 s)."""
+    from upliftcli import limits
+
+    _engine_must_not_start(monkeypatch)
+    deck = load_deck(EXAMPLE, ["foundation.frequency_ratio=1000", "foundation.c_f=1e-12", 'analysis.engine="exact"'])
+    expected_steps = math.ceil(0.02 * 6 / (0.5 / 1000) - 1e-9) * (deck.ground_motion.npts - 1)
+    assert expected_steps == 374_160 > limits.MAX_STEPS
+    with pytest.raises(InputError) as info:
+        run(deck)
+    assert (info.value.source, info.value.location) == ("--set", "foundation.frequency_ratio")  # not c_f
+    assert info.value.expected.startswith(f"at most {limits.MAX_STEPS:,} internal steps of one run")
+    assert f"got {expected_steps:,}: the shortest governing period is 0.0005 s (a foundation this stiff" \
+        in info.value.expected
+    # the Winkler deck likewise, named by its stiffness
+    deck = load_deck(WINKLER, ["foundation.k_w=6e14", "foundation.c_w=1e-12", 'analysis.engine="exact"'])
+    with pytest.raises(InputError, match=r"^--set: foundation.k_w: at most 250,000 internal steps"):
+        run(deck)
+
+
+def test_a_plausible_stiff_foundation_stays_within_the_step_limit():
+    """The far end of building practice (w_v/w_1 = 100 on a 0.1 s building, El Centro: 187,080
+    steps) is not refused: the limit sits between it and the issue's deck."""
+    from upliftcli import limits
+    from upliftcli.engines.exact import engine as exact
+
+    deck = load_deck(EXAMPLE, ["foundation.frequency_ratio=100", "building.period=0.1"])
+    _, samples, steps = exact.size_estimate(deck.system, deck.ground_motion.dt, deck.ground_motion.npts, "uplift",
+                                            deck.analysis.exact)
+    assert steps == math.ceil(0.02 * 6 / (0.1 / 100) - 1e-9) * (samples - 1) == 187_080 < limits.MAX_STEPS
+
+
+def test_the_steps_of_a_long_record_are_blamed_on_the_record(monkeypatch):
+    """One internal step a record sample (2 steps a period: the record's dt governs): a run too
+    long is the record's, and the line names ground_motion.record."""
+    from upliftcli import limits
+
+    _engine_must_not_start(monkeypatch)
+    monkeypatch.setattr(limits, "MAX_STEPS", 1000)
+    deck = load_deck(EXAMPLE, ['analysis.engine="exact"', "analysis.exact.steps_per_period=2"])
+    with pytest.raises(InputError, match=r"ten_story_elcentro.toml: ground_motion.record: at most 1,000 internal "
+                                         r"steps of one run .*, got 1,559:"):
+        run(deck)
+
+
+def test_the_state_size_squared_is_bounded_and_blamed_on_the_stories(monkeypatch):
+    """The stepping and the peak search cost the square of the state size a step (500 stories:
+    19 s): steps x (states + 2)^2 is bounded too, and the line names building.stories."""
+    from upliftcli import limits
+    from upliftcli.engines.exact import engine as exact
+
+    _engine_must_not_start(monkeypatch)
+    deck = load_deck(EXAMPLE, ['analysis.engine="exact"', "building.stories=20"])
+    space, _, steps = exact.size_estimate(deck.system, deck.ground_motion.dt, deck.ground_motion.npts, "rigid",
+                                          deck.analysis.exact)
+    work = steps * (space.layout.n_aug + 2) ** 2
+    assert limits.steps_problem(steps, space.layout.n_aug) is None
+    monkeypatch.setattr(limits, "MAX_STEP_STATES_SQUARED", work - 1)
+    with pytest.raises(InputError, match=rf"^--set: building.stories: at most {work - 1:,} internal steps x "
+                                         rf"states\^2 of one run .*, got {steps:,} steps x"):
+        run(deck, supports="rigid")
 
 
 def test_an_overflow_inside_an_engine_is_an_analysis_error(monkeypatch, deck):

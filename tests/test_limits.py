@@ -48,6 +48,17 @@ def test_step_states_problem():
                             "got 3,741,600 steps x 30")
 
 
+def test_steps_problem():
+    assert limits.steps_problem(limits.MAX_STEPS, 28) is None
+    assert limits.steps_problem(374_160, 28).startswith("at most 250,000 internal steps of one run (about 3 s of "
+                                                        "peak search when the mat chatters at every step), got 374,160")
+    # steps x (states + 2)^2: 500 stories under El Centro (4,677 steps, 1,008 states) fit, ten times the record not
+    assert limits.steps_problem(4_677, 1_008) is None
+    assert limits.steps_problem(46_770, 1_008) == ("at most 5,000,000,000 internal steps x states^2 of one run "
+                                                   "(about 20 s on 2 cores), got 46,770 steps x 1010^2 = "
+                                                   "47,710,077,000")
+
+
 def test_cases_problem_is_computed_without_expanding():
     assert limits.cases_problem([10, 10], 3) is None
     assert limits.cases_problem([30, 30, 30, 30], 3) == "at most 100,000 cases, got 2,430,000 (30 x 30 x 30 x 30 x 3)"

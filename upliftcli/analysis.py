@@ -52,6 +52,12 @@ def _foundation_paths(deck: Deck) -> list[str]:
         ["foundation.b", "foundation.slenderness", "foundation.mat_mass", "foundation.mat_rotary_inertia"]
 
 
+def _stiffness_paths(deck: Deck) -> list[str]:
+    """The foundation fields that set its periods (stiffness, size, mass): not its damping or capacity."""
+    return [path for path in _foundation_paths(deck) if path not in CAPACITY_PATHS and not path.endswith(
+        ("damping_ratio", ".c_f", ".c_w", "impedance_frequency"))]
+
+
 #: the deck fields that give a foundation its bearing capacity (model/bearing.py)
 CAPACITY_PATHS = ("foundation.element_capacity", "foundation.line_capacity", "foundation.bearing_pressure",
                   "foundation.safety_factor")
@@ -99,8 +105,10 @@ def check_resources(deck: Deck, engine: Engine, support: str, motion: Any) -> No
 
 
 def _check_step_states(deck: Deck, engine: Engine, support: str, record: Record) -> None:
-    """Internal steps x state size of the exact engine (or the approximate one), estimated
-    from the deck with the engine's own step rule, against limits.MAX_STEP_STATES."""
+    """Internal steps x state size of the exact engine (or the approximate one), and the steps
+    alone, estimated from the deck with the engine's own step rule (the shortest governing
+    period, docs/exact-engine.md), against limits.MAX_STEP_STATES, MAX_STEPS and
+    MAX_STEP_STATES_SQUARED."""
     from .engines.approximate import approximate_model
     from .engines.exact import engine as exact
     from .engines.exact.statespace import exact_model
@@ -111,21 +119,28 @@ def _check_step_states(deck: Deck, engine: Engine, support: str, record: Record)
         space, samples, steps = exact.size_estimate(deck.system, record.dt, record.npts, support, options, build)
     except ValueError as error:
         raise InputError(deck.source, "analysis.exact.n_modes", str(error)) from None
-    problem = limits.step_states_problem(steps, space.layout.n_aug)
+    states = space.layout.n_aug
+    problem = limits.step_states_problem(steps, states) or limits.steps_problem(steps, states)
     if problem is None:
         return
     governing = space.governing_period
     by_foundation = governing < 0.999 * float(np.min(2.0 * math.pi / space.model.omega))  # vertical or rocking
-    cause = (_foundation_paths(deck) if by_foundation else []) + list(BUILDING_PATHS)
     knobs = ["analysis.exact.steps_per_period", "analysis.exact.free_vibration", "ground_motion.window",
              "ground_motion.dt"]
     if options.time_step:
-        source, path = deck.blame("analysis.exact.time_step", *knobs)
+        cause = ["analysis.exact.time_step"]
+    elif "states^2" in problem:  # the state size: modes kept, stories, contact elements
+        cause = ["analysis.exact.n_modes", "building.stories", "building.masses", "foundation.elements"]
+    elif steps <= samples - 1:  # one step a record sample: the record's own length, whatever the knobs
+        cause, knobs = ["ground_motion.window", "ground_motion.record", "ground_motion.dt"], []
     else:
-        source, path = deck.blame(*cause, *knobs)
-    raise InputError(source, path, f"{problem}: the shortest governing period is {governing:.3g} s and the record "
-                     f"has {samples:,} samples at dt = {record.dt:g} s; raise analysis.exact.time_step, lower "
-                     "analysis.exact.steps_per_period or shorten the record (ground_motion.window)")
+        cause = (_stiffness_paths(deck) if by_foundation else []) + list(BUILDING_PATHS)
+    stiff = (" (a foundation this stiff against the building: check its units)"
+             if by_foundation and governing < 0.01 * 2.0 * math.pi / space.model.omega[0] else "")
+    raise InputError(*deck.blame(*cause, *knobs), f"{problem}: the shortest governing period is {governing:.3g} s"
+                     f"{stiff} and the record has {samples:,} samples at dt = {record.dt:g} s; set a longer "
+                     "analysis.exact.time_step, lower analysis.exact.steps_per_period, keep fewer modes "
+                     "(analysis.exact.n_modes) or shorten the record (ground_motion.window)")
 
 
 def _spectrum_range_error(deck: Deck, result):

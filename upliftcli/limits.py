@@ -36,6 +36,23 @@ MAX_SPECTRUM_STEPS = 100_000_000
 #: on its run time (the memory is bounded anyway: the post-processing streams); measured 52
 #: million steps x states, fifty stories, in 20 s on this project's 2-core machine
 MAX_STEP_STATES = 50_000_000
+#: exact and approximate engines: internal steps of one run, whatever the state size. The peak
+#: search between samples works on every interval that ends at a contact transition, and a mat
+#: that chatters (a stiff, almost undamped foundation) makes that every step: measured 11 us a
+#: step for ten stories (`--set foundation.frequency_ratio=1000 --set foundation.c_f=1e-12` on
+#: the El Centro deck: 374,160 steps of a 0.5 ms vertical period, 4 s a run, 11 s with the
+#: step refinement that cannot help it); 250,000 steps keep such a run to about 3 s. The example
+#: decks take 3,118 steps; a 0.1 s building on a foundation 100 times stiffer (w_v/w_1 = 100)
+#: under El Centro 187,000
+MAX_STEPS = 250_000
+#: exact and approximate engines: internal steps x (state size + 2)^2 of one run. The stepping
+#: (a matrix of the state size a step) and the post-processing (every response of every story
+#: from the state at every step: responses grow with the states) cost the square of the state
+#: size a step, which MAX_STEP_STATES does not see for a tall building: measured 500 stories
+#: (1,008 states) under El Centro, 4,677 steps: 4.8e9, 19 s of CPU (11 s peak search, 7 s
+#: matrix exponentials, 3 s stepping); ten times that record (4.8e7 steps x states, within
+#: MAX_STEP_STATES) would have run for minutes
+MAX_STEP_STATES_SQUARED = 5_000_000_000
 #: response spectra of one command (`record spectrum`, `record info`): periods, and oscillator
 #: sub-steps over all periods and dampings (about 150 ns each: 100 million take about 15 s)
 MAX_SPECTRUM_PERIODS = 10_000
@@ -117,6 +134,19 @@ def step_states_problem(steps: int, states: int) -> str | None:
         return None
     return (f"at most {MAX_STEP_STATES:,} internal steps x states (about 20 s of stepping on 2 cores), got "
             f"{steps:,} steps x {states + 2} = {product:,}")
+
+
+def steps_problem(steps: int, states: int) -> str | None:
+    """The words of the exact engine's limits on one run if exceeded: its internal steps
+    (MAX_STEPS), and steps x (states + 2)^2 (MAX_STEP_STATES_SQUARED)."""
+    if steps > MAX_STEPS:
+        return (f"at most {MAX_STEPS:,} internal steps of one run (about 3 s of peak search when the mat chatters "
+                f"at every step), got {steps:,}")
+    product = steps * (states + 2) ** 2
+    if product > MAX_STEP_STATES_SQUARED:
+        return (f"at most {MAX_STEP_STATES_SQUARED:,} internal steps x states^2 of one run (about 20 s on 2 cores), "
+                f"got {steps:,} steps x {states + 2}^2 = {product:,}")
+    return None
 
 
 def cases_problem(counts, per_combination: int) -> str | None:
