@@ -186,7 +186,8 @@ def suite_case(rng: random.Random) -> Case:
 
 RECORD_OPTIONS = {
     "--dt": ["0.02", "0.01", "0", "-1", "1e-300", "nan", "inf", "x", "20"],
-    "--units": ["g", "m/s2", "cm/s2", "furlong", ""],
+    "--record-units": ["g", "m/s2", "cm/s2", "furlong", ""],
+    "--units": ["si", "us", "g", "furlong", ""],  # display units; an acceleration unit: the old --record-units
     "--scale": ["1", "2", "0", "-1", "nan", "1e300", "x"],
     "--window": ["0:5", "1:3", "5:1", "0:0", "x", "0:1e300", "100:200"],
     "--damping": ["0.05", "0.02,0.05", "5%", "0", "1", "-0.1", "x", ""],

@@ -65,11 +65,20 @@ def test_modes_plot(tmp_path):
 
 
 def test_record_spectrum_plot_has_three_panels(tmp_path):
-    result = invoke("record", "spectrum", RECORD, "--units", "g", "--periods", "0.1:3:12", "--plot",
+    result = invoke("record", "spectrum", RECORD, "--record-units", "g", "--periods", "0.1:3:12", "--plot",
                     tmp_path / "s.svg", "--out", tmp_path / "s.csv")
     assert result.exit_code == 0, result.output
     svg = (tmp_path / "s.svg").read_text()
-    assert all(words in svg for words in ("S_d [cm]", "S_v [cm/s]", "S_a [g]", "Response spectra"))
+    assert all(words in svg for words in ("S_d [mm]", "S_v [mm/s]", "S_a [g]", "Response spectra"))
+    # --units us: the figure in in and in/s, the CSV in SI all the same
+    result = invoke("record", "spectrum", RECORD, "--units", "us", "--periods", "0.1:3:12", "--plot",
+                    tmp_path / "us.svg", "--out", tmp_path / "us.csv")
+    assert result.exit_code == 0, result.output
+    svg = (tmp_path / "us.svg").read_text()
+    assert all(words in svg for words in ("S_d [in]", "S_v [in/s]", "S_a [g]")) and "[mm]" not in svg
+    rows = [[line for line in (tmp_path / name).read_text().splitlines() if not line.startswith("#")]
+            for name in ("us.csv", "s.csv")]
+    assert rows[0] == rows[1] and len(rows[0]) == 13
 
 
 def test_figures_never_replace_an_input_and_an_existing_figure_needs_overwrite(tmp_path):

@@ -26,9 +26,30 @@ def test_info_prints_the_measures():
     assert result.exit_code == 0, result.output
     text = result.stdout
     for expected in ("dt               0.02 s", "points           1560", "duration         31.18 s",
-                     "PGA              0.3188 g", "PGV              36.08 cm/s", "no baseline correction",
-                     "Arias intensity", "0.9187"):  # 5 % S_a at 0.5 s
+                     "PGA              0.3188 g = 3.1266 m/s^2", "PGV              360.8 mm/s",
+                     "PGD              211.89 mm", "no baseline correction", "Arias intensity  1.724 m/s",
+                     "S_a [g] 5 %", "S_d [mm] 5 %", "0.9187", "57.05"):  # 5 %: S_a, S_d at 0.5 s
         assert expected in text, text
+
+
+def test_info_in_us_display_units_is_the_same_record():
+    """--units us (as every command): the values of the SI run in in, in/s, in/s^2 and ft/s
+    (1 in = 25.4 mm exactly), g unchanged; S_d of the spectrum table in in."""
+    result = invoke("record", "info", RECORD, "--units", "us")
+    assert result.exit_code == 0 and result.stderr == "", result.output
+    text = result.stdout
+    a = read_record(RECORD).acceleration  # Arias: pi/(2 g) times the integral of the piecewise-linear a^2
+    arias = np.pi / (2 * STANDARD_GRAVITY) * np.sum(0.02 / 3 * (a[:-1] ** 2 + a[:-1] * a[1:] + a[1:] ** 2))
+    assert f"Arias intensity  {arias:.4g} m/s" in invoke("record", "info", RECORD).stdout
+    for expected in ("PGA              0.3188 g = 123.09 in/s^2",  # 3.1266 m/s^2 / 0.0254
+                     f"PGV              {360.8 / 25.4:.2f} in/s", f"PGD              {211.89 / 25.4:.3f} in",
+                     f"Arias intensity  {arias / 0.3048:.4g} ft/s", "S_a [g] 5 %", "S_d [in] 5 %", "0.9187",
+                     f"{57.05 / 25.4:.3f}"):
+        assert expected in text, text
+    refused = invoke("record", "info", RECORD, "--units", "imperial")
+    assert refused.exit_code == 2
+    assert refused.stderr == ("error: --units: imperial: si or us (display units; the record file's acceleration "
+                              "units are --record-units)\n")
 
 
 def test_spectrum_csv_and_plot(tmp_path):
@@ -71,9 +92,8 @@ def test_spectrum_to_stdout_with_period_list():
 def test_bad_input_one_line_exit_2(tmp_path, content, name, message):
     path = tmp_path / name
     path.write_text(content)
-    extra = ["--units", "furlongs"] if name == "unit.txt" else []
     for command in ("info", "spectrum"):
-        result = invoke("record", command, path, *extra)
+        result = invoke("record", command, path)
         assert result.exit_code == 2, (command, result.output)
         assert result.stdout == ""
         lines = result.stderr.strip().splitlines()
@@ -142,11 +162,28 @@ def test_info_of_a_one_sample_record_is_one_line(tmp_path):
 
 
 def test_units_contradicting_the_header_need_the_override_option():
-    refused = invoke("record", "info", RECORD, "--units", "gal")
+    refused = invoke("record", "info", RECORD, "--record-units", "gal")
     assert refused.exit_code == 2 and refused.stderr.count("\n") == 1
     assert "declares, g, got 'gal'" in refused.stderr and "--override-header-units" in refused.stderr
-    meant = invoke("record", "info", RECORD, "--units", "gal", "--override-header-units")
+    meant = invoke("record", "info", RECORD, "--record-units", "gal", "--override-header-units")
     assert meant.exit_code == 0 and "units cm/s2" in meant.stdout
+    bad = invoke("record", "info", RECORD, "--record-units", "furlongs")
+    assert bad.exit_code == 2 and bad.stderr.startswith("error: --record-units: furlongs: acceleration units g, ")
+
+
+def test_the_old_units_spelling_of_the_file_units_still_works_with_a_warning():
+    """--units named the record file's units; it is the display units now (si, us), as in every
+    command. The two sets of values do not overlap: an acceleration unit is still read as
+    --record-units, with one warning line naming it, and gives the same output."""
+    for command in (["record", "info", RECORD], ["record", "spectrum", RECORD, "--periods", "0.5,1"]):
+        new = invoke(*command, "--record-units", "gal", "--override-header-units")
+        old = invoke(*command, "--units", "gal", "--override-header-units")
+        assert new.exit_code == old.exit_code == 0 and old.stdout == new.stdout
+        assert new.stderr == ""
+        assert old.stderr == ("warning: --units gal: the record file's units are --record-units now (--units is the "
+                              "display units, si or us, as in the other commands); read as --record-units gal\n")
+    both = invoke("record", "info", RECORD, "--units", "g", "--record-units", "g")
+    assert both.exit_code == 2 and both.stderr.startswith("error: --units: g: si or us with --record-units g")
 
 
 def test_spectrum_out_and_plot_replace_a_file_only_with_overwrite(tmp_path):

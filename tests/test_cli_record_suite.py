@@ -159,7 +159,7 @@ def test_scale_prints_the_factors_of_the_deck_suite():
     # 0.5 % above 0.9 at the check periods, raised where it dips below 0.9 on the 4x denser grid
     lowest = float(result.stdout.split("mean S_a/target over the range: min ")[1].split(",")[0])
     assert 0.904 <= lowest < 0.91  # 0.9045 printed to 3 digits: 0.905 on the compiled loops, 0.904 on the twins
-    one = invoke("record", "scale", ROOT / "inputs" / "ten_story_ec8_suite.toml", RECORD, "--units", "g",
+    one = invoke("record", "scale", ROOT / "inputs" / "ten_story_ec8_suite.toml", RECORD, "--record-units", "g",
                  "--suite-factor")
     assert one.exit_code == 0 and "EN 1998-1 3.2.3.1.2" not in one.stderr
     assert "fewer than 7 records the design value is the maximum" in one.stderr
@@ -180,10 +180,16 @@ def test_analyze_runs_the_suite_with_the_factors_record_scale_prints():
 
 def test_scale_refuses_units_contradicting_a_records_header_unless_overridden():
     deck = ROOT / "inputs" / "ten_story_ec8_suite.toml"
-    refused = invoke("record", "scale", deck, RECORD, "--units", "gal")
+    refused = invoke("record", "scale", deck, RECORD, "--record-units", "gal")
     assert refused.exit_code == 2 and "declares, g, got 'gal'" in refused.stderr
-    meant = invoke("record", "scale", deck, RECORD, "--units", "gal", "--override-header-units")
+    meant = invoke("record", "scale", deck, RECORD, "--record-units", "gal", "--override-header-units")
     assert meant.exit_code == 0, meant.output
+    # the old spelling of the file's units: the same, with a warning naming --record-units
+    old = invoke("record", "scale", deck, RECORD, "--units", "gal", "--override-header-units")
+    assert old.exit_code == 0 and old.stdout == meant.stdout
+    assert old.stderr.startswith("warning: --units gal: the record file's units are --record-units now")
+    assert invoke("record", "scale", deck, RECORD, "--units", "us").stdout == invoke("record", "scale", deck,
+                                                                                      RECORD).stdout  # g, s: alike
 
 
 def test_a_full_disk_leaves_no_record_and_no_manifest(tmp_path, monkeypatch):

@@ -24,18 +24,45 @@ def test_record_spectrum_panels_sd_sv_sa():
     spec = fs.record_spectrum_figure(spectrum, record.name, periods_marked=[("T_1", 0.5)])
     assert spec.xlog and record.name in spec.title
     sd, sv, sa = spec.panels
-    assert (sd.ylabel, sv.ylabel, sa.ylabel) == ("deformation S_d [cm]", "pseudo-velocity S_v [cm/s]",
+    assert (sd.ylabel, sv.ylabel, sa.ylabel) == ("deformation S_d [mm]", "pseudo-velocity S_v [mm/s]",
                                                  "pseudo-acceleration S_a [g]")
     assert [s.label for s in sa.series] == ["damping 2 %", "damping 5 %"]
     for k in range(2):
-        np.testing.assert_allclose(sd.series[k].y, 100 * spectrum.displacement[k])
+        np.testing.assert_allclose(sd.series[k].y, 1000 * spectrum.displacement[k])
         # the panels are one spectrum: S_v = w S_d, S_a = w^2 S_d (in the plotted units)
         w = 2 * np.pi / periods
         np.testing.assert_allclose(sv.series[k].y, w * sd.series[k].y, rtol=1e-12)
-        np.testing.assert_allclose(sa.series[k].y, w**2 * sd.series[k].y / 100 / STANDARD_GRAVITY, rtol=1e-12)
+        np.testing.assert_allclose(sa.series[k].y, w**2 * sd.series[k].y / 1000 / STANDARD_GRAVITY, rtol=1e-12)
         np.testing.assert_array_equal(sa.series[k].x, periods)
     assert all(p.lines[0].value == 0.5 and p.lines[0].axis == "x" for p in spec.panels)
     assert len({s.color for s in sa.series}) == 2
+
+
+def test_record_spectra_in_us_units_and_laid_out_for_a4_portrait():
+    """The display units' table (display.py) gives the US panels: in and in/s (1 in = 25.4 mm
+    exactly), S_a in g. The three panels are stacked over one period axis, each as wide as the
+    histories' panels (the report's widest), so that the figure printed across the A4 page's
+    width fills its height as the histories do; before, two a row left a quarter of the grid
+    empty and 33 % of the printed page."""
+    from upliftcli import plots
+    from upliftcli.figures.histories import history_figure  # noqa: F401 (the widest report figure)
+
+    record = read_record(ELCENTRO)
+    periods = np.geomspace(0.05, 5.0, 30)
+    spectrum = spectra.response_spectrum(record.acceleration, record.dt, periods, [0.05])
+    si, us = fs.record_spectrum_figure(spectrum), fs.record_spectrum_figure(spectrum, units="us")
+    assert [p.ylabel for p in us.panels] == ["deformation S_d [in]", "pseudo-velocity S_v [in/s]",
+                                             "pseudo-acceleration S_a [g]"]
+    for a, b, factor in zip(si.panels, us.panels, (1 / 25.4, 1 / 25.4, 1.0), strict=True):
+        np.testing.assert_allclose(b.series[0].y, a.series[0].y * factor, rtol=1e-12)
+    assert si.columns == 1 and si.sharex and si.panel_size[0] == 7.2  # as the histories (figures/histories.py)
+    figure = plots.line_figure(si)
+    width, height = figure.get_figwidth(), figure.get_figheight()
+    printable = (210 - 24) / 25.4, (297 - 32) / 25.4  # A4 less the report's margins [in]
+    printed_height = height * printable[0] / width
+    assert 0.85 * printable[1] < printed_height < printable[1]  # fills the page, and fits it
+    panels = sum(axes.get_position().width * axes.get_position().height for axes in figure.axes)
+    assert panels > 0.6  # of the figure's area: no empty slot in a grid
 
 
 def test_suite_records_thin_statistic_thick_target_dashed():

@@ -55,8 +55,13 @@ def colours(png: bytes) -> tuple[np.ndarray, int]:
     from PIL import Image
 
     pixels = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).reshape(-1, 3)
+    return pixels, colours_of(pixels)
+
+
+def colours_of(pixels: np.ndarray) -> int:
+    """The number of distinct colours of (n, 3) RGB pixels."""
     codes = (pixels[:, 0].astype(np.int32) << 16) | (pixels[:, 1].astype(np.int32) << 8) | pixels[:, 2]
-    return pixels, int(np.unique(codes).size)
+    return int(np.unique(codes).size)
 
 
 def share_near(pixels: np.ndarray, hex_colour: str, tolerance: int = 40) -> float:
@@ -79,8 +84,11 @@ def test_screenshot_shows_the_figures(browser, report_file):
     path, _ = report_file
     browser.open(path.as_uri())
     figures = rect(browser, "#figures")
-    shot = browser.screenshot({**figures, "height": min(figures["height"], 3000)})
-    pixels, distinct = colours(shot)
+    parts = [colours(browser.screenshot({**figures, "y": figures["y"] + top,
+                                         "height": min(figures["height"] - top, 3000)}))[0]
+             for top in range(0, int(figures["height"]), 3000)]  # every figure, 3000 px a screenshot
+    pixels = np.concatenate(parts)
+    distinct = colours_of(pixels)
     tables = colours(browser.screenshot(rect(browser, "#table-modes")))[1]
     assert distinct > 2000 and distinct > 10 * tables  # anti-aliased lines and shading, not a blank page
     assert share_near(pixels, BLUE) > 1e-3 and share_near(pixels, VERMILLION) > 1e-3  # the supports' lines
@@ -230,3 +238,22 @@ def test_pdf_no_page_with_one_small_figure(pdf_report):
         area = sum(int(row[3]) / float(row[12]) * int(row[4]) / float(row[13]) for row in mine)
         words = len(boxes[page - 1])
         assert len(mine) > 1 or area > 0.4 * printable or words > 150, f"page {page}: one small figure"
+
+
+@needs_poppler
+def test_pdf_record_spectra_fill_their_page(pdf_report):
+    """The record's spectra (S_d, S_v, S_a) are laid out for A4 portrait like the histories:
+    printed across the page's printable width and over most of its height (two panels a row
+    filled 67 % of the page, a quarter of their grid empty)."""
+    from upliftcli.figures.sets import analysis_figures
+
+    names = list(analysis_figures(*small_run()))
+    listed = [line.split() for line in poppler("pdfimages", "-list", str(pdf_report)).splitlines()[2:]]
+    images = [row for row in listed if row[2] == "image"]
+    assert len(images) == len(names)
+    page, _, _, width, height, *_, x_ppi, y_ppi = images[names.index("spectrum")][:14]
+    printable = (210 - 24) / 25.4, (297 - 32) / 25.4  # in
+    printed = int(width) / float(x_ppi), int(height) / float(y_ppi)
+    assert printed[0] > 0.98 * printable[0]
+    assert printed[0] * printed[1] > 0.85 * printable[0] * printable[1], f"page {page}: {printed}"
+    assert sum(int(row[0]) == int(page) for row in images) == 1

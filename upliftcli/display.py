@@ -3,7 +3,8 @@
 Every human output (terminal tables, the report, the figures, the sweep and spectra
 summaries) converts its SI values here; the machine outputs (JSON, CSV) stay SI with their
 units stated. A value is shown by its *kind*: an SI unit ("N", "N m", "N/m", "kg" ...) or
-one of the display choices "mm" (a small length: displacements, drifts, uplift), "%" (a ratio
+one of the display choices "mm" (a small length: displacements, drifts, uplift, spectral
+displacements), "mm/s" (a ground or spectral velocity), "%" (a ratio
 in percent: drift ratios), "g" (an acceleration in g), "mrad" (a small angle: the mat's
 rotation), "coefficient" (a ratio to 4 decimals).
 `--units si` (the default) shows kN, kN m, mm, m and g; `--units us` kip, kip ft, in, ft and g.
@@ -74,6 +75,7 @@ DISPLAY: dict[str, tuple[Unit, Unit]] = {
     "N": (Unit("kN", 1e-3, ".1f"), Unit("kip", 1 / KIP, ".1f")),
     "N m": (Unit("kN m", 1e-3, ".1f"), Unit("kip ft", 1 / (KIP * FOOT), ".1f")),
     "mm": (Unit("mm", 1e3, ".2f"), Unit("in", 1 / INCH, ".3f")),
+    "mm/s": (Unit("mm/s", 1e3, ".1f"), Unit("in/s", 1 / INCH, ".2f")),
     "m": (Unit("m"), Unit("ft", 1 / FOOT)),
     "g": (Unit("g", 1 / STANDARD_GRAVITY, ".4f"),) * 2,
     "%": (Unit("%", 100.0, ".3f"),) * 2,

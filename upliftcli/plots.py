@@ -201,11 +201,13 @@ def figure_bytes(spec: FigureSpec, file_format: str = "png", dpi: int = 110) -> 
     return buffer.getvalue()
 
 
-def plot_spectrum(spectrum, path: str | os.PathLike, title: str = "", option: str = "--plot") -> Path:
-    """Plot a spectra.Spectrum: S_d, S_v and S_a panels, one line per damping, log period axis."""
+def plot_spectrum(spectrum, path: str | os.PathLike, title: str = "", option: str = "--plot",
+                  units: str = "si") -> Path:
+    """Plot a spectra.Spectrum: S_d, S_v and S_a panels, one line per damping, log period axis,
+    in the display units (display.py)."""
     from .figures.spectra import record_spectrum_figure
 
-    return plot_figure(record_spectrum_figure(spectrum, title), path, option)
+    return plot_figure(record_spectrum_figure(spectrum, title, units=units), path, option)
 
 
 # ----------------------------------------------------------------------------- layout
@@ -256,10 +258,10 @@ def line_figure(spec: FigureSpec):
                                **share)
         _draw_panel(axes, spec, panel, titles[index])
         if spec.sharey and column > 0:
-            axes.tick_params(labelleft=False)
+            axes.tick_params(which="both", labelleft=False)
             axes.set_ylabel("")
         if spec.sharex and row < rows - 1 and index + columns < count:
-            axes.tick_params(labelbottom=False)
+            axes.tick_params(which="both", labelbottom=False)
             axes.set_xlabel("")
         axes_list.append(axes)
     if suptitle:

@@ -24,9 +24,13 @@ if TYPE_CHECKING:
 INFO_PERIODS = (0.1, 0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0)  # s
 
 FORMAT_HELP = "The record file's format: at2, text, csv or shared (default: detected from the extension and header)."
-UNITS_HELP = ("Acceleration units of the file: g, m/s2, cm/s2, in/s2 or an alias (docs/deck.md; default: from the "
-              "header; units that contradict the header's are refused unless --override-header-units).")
-OVERRIDE_HELP = "Read the file in --units even where its header declares other units."
+RECORD_UNITS_HELP = ("Acceleration units of the record file: g, m/s2, cm/s2, in/s2 or an alias (docs/deck.md; "
+                     "default: from the header; units that contradict the header's are refused unless "
+                     "--override-header-units).")
+DISPLAY_HELP = ("Display units of the printed values and the figure, as in the other commands: si (mm, mm/s, "
+                "m/s^2, g) or us (in, in/s, in/s^2, g); CSV stays SI. (--units named the record file's units "
+                "before: an acceleration unit given here is still read as --record-units, with a warning.)")
+OVERRIDE_HELP = "Read the file in --record-units even where its header declares other units."
 DT_HELP = "Time step [s] of a plain-text file without a 'dt = ...' header line."
 SCALE_HELP = "Scale factor applied to the acceleration [-]."
 WINDOW_HELP = "Keep only this time window, START:END in s (time restarts at 0)."
@@ -43,6 +47,33 @@ def _moved_format(value: str | None) -> None:
 #: the record's file format, and the old spelling refused with the new one named
 INPUT_FORMAT = typer.Option(None, "--input-format", help=FORMAT_HELP)
 MOVED_FORMAT = typer.Option(None, "--format", hidden=True, expose_value=False, callback=_moved_format)
+#: the record file's acceleration units, and the display units (--units, as every command)
+RECORD_UNITS = typer.Option(None, "--record-units", help=RECORD_UNITS_HELP)
+DISPLAY_UNITS = typer.Option("si", "--units", metavar="[si|us]", help=DISPLAY_HELP)
+
+
+def units_of(units: str, record_units: str | None) -> tuple[str, str | None]:
+    """(display units, the record file's units) from --units and --record-units. --units named
+    the file's units before it named the display units (si, us) of every command; the two sets of
+    values do not overlap, so an acceleration unit given to --units is still read as the file's,
+    with a warning that names --record-units (docs/deck.md, "Acceleration units")."""
+    from ..display import SYSTEMS
+    from ..units import acceleration_unit
+
+    if record_units is not None and acceleration_unit(record_units) is None:
+        raise InputError("--record-units", record_units, "acceleration units g, m/s2, cm/s2 or in/s2 (or an alias, "
+                         "docs/deck.md)")
+    if units in SYSTEMS:
+        return units, record_units
+    if acceleration_unit(units) is None:
+        raise InputError("--units", units, "si or us (display units; the record file's acceleration units are "
+                         "--record-units)")
+    if record_units is not None:
+        raise InputError("--units", units, f"si or us with --record-units {record_units} (--units is the display "
+                         "units)")
+    typer.echo(f"warning: --units {units}: the record file's units are --record-units now (--units is the display "
+               f"units, si or us, as in the other commands); read as --record-units {units}", err=True)
+    return "si", units
 
 
 def parse_window(text: str | None) -> tuple[float, float] | None:
@@ -120,27 +151,30 @@ def info(
     file: Path = typer.Argument(..., help="Record file."),
     file_format: str | None = INPUT_FORMAT,
     moved_format: str | None = MOVED_FORMAT,
-    units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
+    record_units: str | None = RECORD_UNITS,
     override: bool = typer.Option(False, "--override-header-units", help=OVERRIDE_HELP),
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
     scale: float = typer.Option(1.0, "--scale", help=SCALE_HELP),
     window: str | None = typer.Option(None, "--window", help=WINDOW_HELP),
-    damping: str = typer.Option("0.05", "--damping", help="Damping ratio(s) of the spectrum table."),
+    damping: str = typer.Option("0.05", "--damping", help="Damping ratio(s) [-] of the spectrum table, comma "
+                                "separated: 0.02,0.05 (or 2%,5%)."),
+    units: str = DISPLAY_UNITS,
 ) -> None:
     """dt, duration, points, PGA, PGV, PGD, Arias intensity and a small response-spectrum table."""
     import numpy as np
     from rich.markup import escape
     from rich.table import Table
 
+    from ..display import heading, show
     from ..motion import records, spectra
     from . import render
 
+    system, record_units = units_of(units, record_units)
     dampings = parse_dampings(damping)
-    record = _read(file, file_format, units, dt, scale, window, override)
+    record = _read(file, file_format, record_units, dt, scale, window, override)
     a = record.acceleration
     velocity = records.ground_velocity(a, record.dt)
     displacement = records.ground_displacement(a, record.dt)
-    g = STANDARD_GRAVITY
     i_a, i_v, i_d = (int(np.argmax(np.abs(x))) for x in (a, velocity, displacement))
     shortest = limits.shortest_period(record.dt, record.npts)
     periods = np.array([t for t in INFO_PERIODS if t >= shortest])  # a record with a long dt: fewer rows
@@ -155,11 +189,12 @@ def info(
         ("dt", f"{record.dt:g} s"),
         ("points", f"{record.npts}"),
         ("duration", f"{record.duration:.4g} s"),
-        ("PGA", f"{record.pga / g:.4f} g = {record.pga:.4f} m/s2 at t = {record.time[i_a]:.4g} s"),
-        ("PGV", f"{100 * abs(velocity[i_v]):.2f} cm/s at t = {record.time[i_v]:.4g} s"),
-        ("PGD", f"{100 * abs(displacement[i_d]):.2f} cm at t = {record.time[i_d]:.4g} s"),
+        ("PGA", f"{show(record.pga, 'g', system)} g = {stated(record.pga, 'm/s^2', system)} at t = "
+                f"{record.time[i_a]:.4g} s"),
+        ("PGV", f"{stated(abs(velocity[i_v]), 'mm/s', system)} at t = {record.time[i_v]:.4g} s"),
+        ("PGD", f"{stated(abs(displacement[i_d]), 'mm', system)} at t = {record.time[i_d]:.4g} s"),
         ("", "(PGV, PGD: exact integration of the piecewise-linear record, no baseline correction)"),
-        ("Arias intensity", f"{records.arias_intensity(a, record.dt):.4g} m/s"),
+        ("Arias intensity", stated(records.arias_intensity(a, record.dt), "m/s", system, ".4g")),
     ]
     for key, value in lines:
         out.print(f"{key:<16} {escape(value)}" if key else f"{'':<16} {escape(value)}")
@@ -168,14 +203,24 @@ def info(
     table.add_column(escape("T [s]"), justify="right")
     for xi in dampings:
         pct = f"{100 * xi:g} %"
-        table.add_column(escape(f"S_a [g] {pct}"), justify="right")
-        table.add_column(escape(f"S_d [cm] {pct}"), justify="right")
+        table.add_column(escape(f"{heading('S_a', 'g', system)} {pct}"), justify="right")
+        table.add_column(escape(f"{heading('S_d', 'mm', system)} {pct}"), justify="right")
     for j, period in enumerate(periods):
         row = [f"{period:g}"]
         for k in range(dampings.size):
-            row += [f"{spectrum.pseudo_acceleration[k, j] / g:.4f}", f"{100 * spectrum.displacement[k, j]:.3f}"]
+            row += [show(spectrum.pseudo_acceleration[k, j], "g", system), show(spectrum.displacement[k, j], "mm",
+                                                                                system)]
         table.add_row(*row)
     out.print(table)
+
+
+def stated(value: float, kind: str, system: str, spec: str = "") -> str:
+    """'36.08 cm/s': an SI value in its display unit (display.py) with the unit; spec: a format
+    (default: the unit's own)."""
+    from ..display import unit
+
+    shown = unit(kind, system)
+    return f"{format(value * shown.factor, spec) if spec else shown.show(value)} {shown.label}"
 
 
 def spectrum_csv(spectrum: spectra.Spectrum, record: dict | None = None) -> str:
@@ -199,7 +244,7 @@ def spectrum_csv(spectrum: spectra.Spectrum, record: dict | None = None) -> str:
 
 def spectrum(
     file: Path = typer.Argument(..., help="Record file."),
-    damping: str = typer.Option("0.05", "--damping", help="Damping ratios, comma separated: 0.02,0.05 (or 2%,5%)."),
+    damping: str = typer.Option("0.05", "--damping", help="Damping ratios [-], comma separated: 0.02,0.05 (or 2%,5%)."),
     periods: str = typer.Option("0.05:5:100", "--periods",
                                 help="START:STOP:N log-spaced periods [s], or a comma list of periods [s]."),
     out: Path | None = typer.Option(None, "--out", "-o", help="Write the spectrum as CSV here (default: stdout)."),
@@ -207,24 +252,26 @@ def spectrum(
                                      help="Plot S_d, S_v and S_a against log T into this .png/.pdf/.svg file."),
     file_format: str | None = INPUT_FORMAT,
     moved_format: str | None = MOVED_FORMAT,
-    units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
+    record_units: str | None = RECORD_UNITS,
     override: bool = typer.Option(False, "--override-header-units", help=OVERRIDE_HELP),
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
     scale: float = typer.Option(1.0, "--scale", help=SCALE_HELP),
     window: str | None = typer.Option(None, "--window", help=WINDOW_HELP),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing --out and --plot files."),
+    units: str = DISPLAY_UNITS,
 ) -> None:
     """Exact linear response spectra (S_d, pseudo S_v and S_a, absolute acceleration) of a record."""
     from .. import plots
     from ..motion import spectra
 
+    system, record_units = units_of(units, record_units)
     dampings = parse_dampings(damping)
     period_values = parse_periods(periods)
     if plot is not None:
         plots.check_figure_path(plot)
     if out is not None and out.is_dir():
         raise InputError("--out", str(out), "a file name (a directory of that name exists)")
-    record = _read(file, file_format, units, dt, scale, window, override)
+    record = _read(file, file_format, record_units, dt, scale, window, override)
     problem = limits.period_problem(period_values, record.dt, record.npts)
     if problem:
         raise InputError("--periods", periods, problem)
@@ -246,7 +293,7 @@ def spectrum(
             write_text(out, text)
             typer.echo(f"wrote {out}", err=True)
         if plot is not None:
-            plots.plot_spectrum(result, plot, title=f"{record.name}")
+            plots.plot_spectrum(result, plot, title=f"{record.name}", units=system)
             typer.echo(f"wrote {plot}", err=True)
     except OSError as error:
         raise InputError("--out/--plot", str(out or plot), f"a writable path ({error.strerror or error})") from None

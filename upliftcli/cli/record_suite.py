@@ -14,13 +14,17 @@ from .. import limits
 from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
 from ..units import STANDARD_GRAVITY
-from .record import DT_HELP, INPUT_FORMAT, MOVED_FORMAT, OVERRIDE_HELP, UNITS_HELP
+from .record import DT_HELP, INPUT_FORMAT, MOVED_FORMAT, OVERRIDE_HELP, RECORD_UNITS, units_of
 
 if TYPE_CHECKING:  # imported by the commands that use them (numpy, scipy, rich, the suites: see analyze.py)
     from ..motion import records
     from ..motion.matching import MatchSettings
     from ..motion.suites import Suite
 
+#: --units of match and scale: the display units of every command, and the record file's units as before
+SUITE_UNITS = typer.Option("si", "--units", metavar="[si|us]", help=(
+    "Display units, as in the other commands: si or us (this command prints accelerations in g and periods in s, "
+    "the same in both). An acceleration unit here (its meaning before) is read as --record-units, with a warning."))
 SET_HELP = "Override a deck field by dotted path, e.g. --set ground_motion.period_range=[0.1,3] (repeatable)."
 DEFAULT_DT = 0.01  # s, the step of generated records
 OUT_HELP = "Directory for the records and manifest.json (created; existing files are kept unless --overwrite)."
@@ -194,11 +198,12 @@ def match(
     out: Path = typer.Option(..., "--out", "-o", help=OUT_HELP),
     file_format: str | None = INPUT_FORMAT,
     moved_format: str | None = MOVED_FORMAT,
-    units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
+    record_units: str | None = RECORD_UNITS,
     override: bool = typer.Option(False, "--override-header-units", help=OVERRIDE_HELP),
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing files in --out."),
+    units: str = SUITE_UNITS,
 ) -> None:
     """Spectrally match records to the deck's design spectrum; writes them with their provenance."""
     from ..deck import load_deck
@@ -207,9 +212,10 @@ def match(
     from ..motion.record_files import manifest_text, measure_row, record_checks, record_text, sha256
     from ..motion.suites import build_suite
 
+    _, record_units = units_of(units, record_units)
     loaded = load_deck(deck, settings, load_ground_motion=False)
     plan = plan_from_deck(loaded)
-    seeds, _ = _records(deck, loaded, files, file_format, units, dt, override)
+    seeds, _ = _records(deck, loaded, files, file_format, record_units, dt, override)
     problem = limits.suite_samples_problem([r.npts for r in seeds], f"{len(seeds):,} records of "
                                            f"{sum(r.npts for r in seeds):,} samples")
     if problem:
@@ -248,19 +254,21 @@ def scale(
     suite_factor: bool = typer.Option(False, "--suite-factor", help="One factor for the whole suite."),
     file_format: str | None = INPUT_FORMAT,
     moved_format: str | None = MOVED_FORMAT,
-    units: str | None = typer.Option(None, "--units", help=UNITS_HELP),
+    record_units: str | None = RECORD_UNITS,
     override: bool = typer.Option(False, "--override-header-units", help=OVERRIDE_HELP),
     dt: float | None = typer.Option(None, "--dt", help=DT_HELP),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
+    units: str = SUITE_UNITS,
 ) -> None:
     """Amplitude factors that bring the suite's mean spectrum to the code's criterion (printed)."""
     from ..deck import load_deck
     from ..deck_suite import plan_from_deck
     from ..motion.suites import build_suite
 
+    _, record_units = units_of(units, record_units)
     loaded = load_deck(deck, settings, load_ground_motion=False)
     plan = plan_from_deck(loaded)
-    seeds, made = _records(deck, loaded, files, file_format, units, dt, override)
+    seeds, made = _records(deck, loaded, files, file_format, record_units, dt, override)
     suite = build_suite(seeds, plan.target, plan.period_range, plan.rule, "amplitude", suite_factor,
                         plan.period_note, source=str(deck), made=made)
     _print_suite(suite, [Path(r.source).name for r in seeds], "Amplitude factors")

@@ -12,7 +12,7 @@ from .analysis import profile_figure, suite_profile_figure
 from .histories import energy_figure, history_figure, moment_rotation_figure, with_histories
 from .modes import mode_shape_figure
 from .spec import FigureSpec, Panel, Series
-from .spectra import PERIOD_LABEL, SPECTRUM_PANELS, period_marks, record_spectrum_figure, suite_figure
+from .spectra import PERIOD_LABEL, period_marks, record_spectrum_figure, spectrum_panel, suite_figure
 from .style import MOTION_COLOR
 
 SPECTRUM_PERIODS = np.geomspace(0.05, 5.0, 90)  # s
@@ -70,7 +70,7 @@ def spectrum_figure(deck, results: Sequence[AnalysisResult] = (), units: str = "
     grid = SPECTRUM_PERIODS
     low, high = getattr(motion, "period_range", (grid[0], grid[-1]))
     periods = grid[(grid >= low) & (grid <= high)]
-    _, heading, label, factor = SPECTRUM_PANELS["pseudo_acceleration"]
+    _, heading, label, factor = spectrum_panel("pseudo_acceleration", units)
     line = Series(f"{motion.name}, damping {100 * xi:g} %", periods, factor * np.asarray(motion.sa(periods, xi)),
                   "-", MOTION_COLOR)
     lines = period_marks(marks)

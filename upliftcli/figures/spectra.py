@@ -8,31 +8,30 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..display import INCH
+from .. import display
 from ..units import STANDARD_GRAVITY
 from .ensemble import ensemble, target_series
 from .spec import FigureSpec, Line, Panel, Series, Span
 from .style import DARK_GREY, GREY, LIGHT_GREY, MOTION_COLOR, cycle
 
 PERIOD_LABEL = "period T [s]"
-#: spectrum quantity -> (attribute of spectra.Spectrum, panel title, axis label, factor from SI)
+#: a panel of the stacked record spectra [in]: three fill an A4 page across its width
+A4_PANEL = (7.2, 2.8)
+#: spectrum quantity -> (attribute of spectra.Spectrum, panel title, axis label, display kind:
+#: display.py gives its unit, mm and mm/s or in and in/s; S_a in g)
 SPECTRUM_PANELS = {
-    "displacement": ("displacement", "deformation", "deformation S_d [cm]", 100.0),
-    "pseudo_velocity": ("pseudo_velocity", "pseudo-velocity", "pseudo-velocity S_v [cm/s]", 100.0),
-    "pseudo_acceleration": ("pseudo_acceleration", "pseudo-acceleration", "pseudo-acceleration S_a [g]",
-                            1.0 / STANDARD_GRAVITY),
-}
-#: the same in US units (S_d [in], S_v [in/s]; S_a in g)
-US_SPECTRUM_PANELS = {
-    **SPECTRUM_PANELS,
-    "displacement": ("displacement", "deformation", "deformation S_d [in]", 1.0 / INCH),
-    "pseudo_velocity": ("pseudo_velocity", "pseudo-velocity", "pseudo-velocity S_v [in/s]", 1.0 / INCH),
+    "displacement": ("displacement", "deformation", "deformation S_d", "mm"),
+    "pseudo_velocity": ("pseudo_velocity", "pseudo-velocity", "pseudo-velocity S_v", "mm/s"),
+    "pseudo_acceleration": ("pseudo_acceleration", "pseudo-acceleration", "pseudo-acceleration S_a", "g"),
 }
 
 
-def spectrum_panels(units: str = "si") -> dict:
-    """SPECTRUM_PANELS in the display units (display.py): cm and cm/s, or in and in/s."""
-    return US_SPECTRUM_PANELS if units == "us" else SPECTRUM_PANELS
+def spectrum_panel(name: str, units: str = "si") -> tuple[str, str, str, float]:
+    """(attribute, panel title, axis label with its display unit, factor from SI) of a
+    SPECTRUM_PANELS quantity in the display units (display.py)."""
+    attribute, title, label, kind = SPECTRUM_PANELS[name]
+    unit = display.unit(kind, units)
+    return attribute, title, f"{label} [{unit.label}]", unit.factor
 
 
 def period_marks(marks: Sequence[tuple[str, float]]) -> list[Line]:
@@ -45,20 +44,21 @@ def period_marks(marks: Sequence[tuple[str, float]]) -> list[Line]:
 
 def record_spectrum_figure(spectrum, title: str = "", quantities: Sequence[str] = tuple(SPECTRUM_PANELS),
                            periods_marked: Sequence[tuple[str, float]] = (), units: str = "si") -> FigureSpec:
-    """Panels S_d [cm], S_v [cm/s] (in, in/s in US units), S_a [g] of a spectra.Spectrum against
-    log T, one line per damping (T = 0 left out of the log axis), two panels a row (A4);
-    periods_marked: (label, T [s]) drawn as vertical lines (e.g. T_1 and T1bar of the deck's
-    building)."""
+    """Panels S_d, S_v, S_a of a spectra.Spectrum against log T in the display units (mm, mm/s,
+    g; in, in/s, g: display.py), one line per damping (T = 0 left out of the log axis), stacked
+    over one shared period axis across the width of an A4 page (as the histories: the
+    report prints it on a page of its own, filled); periods_marked: (label, T [s]) drawn as
+    vertical lines (e.g. T_1 and T1bar of the deck's building)."""
     periods = np.asarray(spectrum.periods, dtype=float)
     marks = period_marks(periods_marked)
     panels = []
     for name in quantities:
-        attribute, heading, label, factor = spectrum_panels(units)[name]
+        attribute, heading, label, factor = spectrum_panel(name, units)
         values = np.asarray(getattr(spectrum, attribute)) * factor
         series = [Series(f"damping {100 * xi:g} %", periods, values[k]) for k, xi in enumerate(spectrum.dampings)]
         panels.append(Panel(heading, label, cycle(series), list(marks), ymin=0.0))
     return FigureSpec(f"Response spectra: {title}" if title else "Response spectra", PERIOD_LABEL, panels,
-                      xlog=True, columns=2, panel_size=(3.2, 2.6))
+                      xlog=True, columns=1, panel_size=A4_PANEL, sharex=True)
 
 
 def suite_spectrum_figure(periods: np.ndarray, spectra: np.ndarray, statistic: str, target: np.ndarray | None = None,
@@ -75,7 +75,7 @@ def suite_spectrum_figure(periods: np.ndarray, spectra: np.ndarray, statistic: s
     if period_range is not None:
         spans.append(Span(f"period range {period_range[0]:.3g}-{period_range[1]:.3g} s",
                           np.array([period_range], dtype=float), LIGHT_GREY, 0.3))
-    panel = Panel(f"pseudo-acceleration, damping {100 * damping:g} %", SPECTRUM_PANELS["pseudo_acceleration"][2],
+    panel = Panel(f"pseudo-acceleration, damping {100 * damping:g} %", spectrum_panel("pseudo_acceleration")[2],
                   series, spans=spans, ymin=0.0)
     return FigureSpec(title or "Response spectra of the suite", PERIOD_LABEL, [panel], xlog=True, columns=1,
                       panel_size=(7.0, 4.2))
