@@ -48,3 +48,30 @@ def test_record_spectrum_help_shows_the_period_units():
     text = " ".join(result.output.split())
     assert "log-spaced periods [s], or a comma list of periods [s]" in text
     assert "Time step [s] of a plain-text file" in text
+
+
+#: options that take a quantity as text, and the unit their help must state
+TEXT_QUANTITIES = {"--periods": "[s]", "--window": "[s]", "--damping": "[-]"}
+
+
+@pytest.mark.parametrize(("path", "command"), ALL, ids=[" ".join(p) for p, _ in ALL])
+def test_every_option_with_units_states_them(path, command):
+    """Issue 27: units in every help text. A number option states its unit in brackets ([s],
+    [-]); the options that take quantities as text (periods, a time window, damping ratios) state
+    theirs; --set and --vary say their values are in the deck's units; --units names both
+    systems; the file-writing options of results say they are SI."""
+    for param in command.params:
+        if getattr(param, "hidden", False) or not getattr(param, "opts", None):
+            continue
+        help_text, opts = " ".join((getattr(param, "help", None) or "").split()), set(param.opts)
+        if getattr(param.type, "name", "") == "float":
+            assert re.search(r"\[[^\]]+\]", help_text), (path, param.opts, help_text)
+        for option in opts & set(TEXT_QUANTITIES):
+            assert TEXT_QUANTITIES[option] in help_text, (path, option, help_text)
+        if opts & {"--set", "--vary"}:
+            assert "in the deck's units" in help_text, (path, param.opts)
+        if "--units" in opts:
+            assert re.search(r"\bsi\b.*\bus\b", help_text), (path, help_text)
+    if path in (("analyze",), ("sweep",), ("spectra",)):
+        outputs = [param.help for param in command.params if "--out" in getattr(param, "opts", ())]
+        assert outputs and "SI" in outputs[0], (path, outputs)

@@ -29,7 +29,9 @@ if TYPE_CHECKING:
 
 #: what an existing result file is, in the message that refuses it
 EARLIER = ": the results of an earlier run"
-SET_HELP = "Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values)."
+SET_HELP = ("Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values in the "
+            "deck's units: SI, US customary under units = \"us\", or with their unit, "
+            "building.story_height='\"11.5 ft\"'; docs/deck.md).")
 
 
 class OutputFormat(StrEnum):
@@ -108,12 +110,14 @@ def analyze(
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f",
                                                help="table (terminal) or json (one document on stdout, SI units)."),
     out: Path | None = typer.Option(None, "--out", "-o",
-                                    help="Also write <deck>.json, .csv (and .elements.csv) results and "
+                                    help="Also write <deck>.json, .csv (and .elements.csv) results (SI, units "
+                                         "stated: the JSON's units entry, the CSV column names) and "
                                          "<deck>.deck.toml (the resolved deck, which repeats the run) into this "
                                          "directory."),
     histories: Path | None = typer.Option(
         None, "--histories",
-        help="Exact/approximate engines: write the response histories to this file (.csv or .npz); with "
+        help="Exact/approximate engines: write the response histories to this file in SI (.csv, the unit "
+             "in each column name, or .npz); with "
              "several analyses, one file each, named <stem>_<engine>_<support><suffix>. An existing file "
              "is refused unless --overwrite."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing output files (of --out, --plot and "

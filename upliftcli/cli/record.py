@@ -33,7 +33,7 @@ DISPLAY_HELP = ("Display units of the printed values and the figure, as in the o
 OVERRIDE_HELP = "Read the file in --record-units even where its header declares other units."
 DT_HELP = "Time step [s] of a plain-text file without a 'dt = ...' header line."
 SCALE_HELP = "Scale factor applied to the acceleration [-]."
-WINDOW_HELP = "Keep only this time window, START:END in s (time restarts at 0)."
+WINDOW_HELP = "Keep only this time window, START:END [s] (time restarts at 0)."
 
 
 def _moved_format(value: str | None) -> None:

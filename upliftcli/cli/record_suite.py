@@ -25,7 +25,8 @@ if TYPE_CHECKING:  # imported by the commands that use them (numpy, scipy, rich,
 SUITE_UNITS = typer.Option("si", "--units", metavar="[si|us]", help=(
     "Display units, as in the other commands: si or us (this command prints accelerations in g and periods in s, "
     "the same in both). An acceleration unit here (its meaning before) is read as --record-units, with a warning."))
-SET_HELP = "Override a deck field by dotted path, e.g. --set ground_motion.period_range=[0.1,3] (repeatable)."
+SET_HELP = ("Override a deck field by dotted path, e.g. --set ground_motion.period_range=[0.1,3] (repeatable; "
+            "TOML values in the deck's units, as in uplift analyze; docs/deck.md).")
 DEFAULT_DT = 0.01  # s, the step of generated records
 OUT_HELP = "Directory for the records and manifest.json (created; existing files are kept unless --overwrite)."
 

@@ -25,9 +25,11 @@ if TYPE_CHECKING:
 
 EXIT_CRITERIA, EXIT_ANALYSIS, EXIT_INTERRUPTED = 3, 4, 130  # interrupted: 128 + the signal (SIGINT 130)
 VARY_HELP = ("Vary a deck field (same dotted paths as --set): PATH=START:STOP:N (linear), PATH=START:STOP:N:log, "
-             "PATH=a,b,c or PATH=\\[a, b]; repeatable, cases are the cartesian product.")
+             "PATH=a,b,c or PATH=\\[a, b], values in the deck's units (as --set); repeatable, cases are the "
+             "cartesian product.")
 ENGINE_HELP = "Engine(s): simplified, approximate, exact or all; repeatable or comma separated (default: the deck's)."
 SUPPORT_HELP = "Support condition(s): rigid, bonded, uplift; repeatable or comma separated (default: the deck's)."
+OUT_HELP = "Directory of the output files (tables in SI, the unit in each column name)."
 SCHEDULER_HELP = "Run the cases on a Dask cluster at this address (tcp://host:8786), or 'local' for a local one."
 DASK_HELP = "'local': run on a Dask LocalCluster of --workers processes on this machine (same as --scheduler local)."
 CHECK_HELP = ("Also run the exact engine (record decks) and add to the tables the ratios simplified / exact of V_b, "
@@ -215,7 +217,7 @@ def sweep(
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     engine: list[str] = typer.Option([], "--engine", "-e", help=ENGINE_HELP),
     support: list[str] = typer.Option([], "--support", help=SUPPORT_HELP),
-    out: Path = typer.Option(Path("."), "--out", "-o", help="Directory of the output files."),
+    out: Path = typer.Option(Path("."), "--out", "-o", help=OUT_HELP),
     name: str | None = typer.Option(None, "--name", help="Stem of the output files (default: <deck>.sweep)."),
     table: TableFormat = typer.Option(TableFormat.json, "--table",
                                       help="Besides <stem>.csv: <stem>.json (rows, summary), .parquet or none (csv)."),
@@ -301,7 +303,7 @@ def spectra(
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     engine: list[str] = typer.Option([], "--engine", "-e", help=ENGINE_HELP),
     support: list[str] = typer.Option([], "--support", help=SUPPORT_HELP),
-    out: Path = typer.Option(Path("."), "--out", "-o", help="Directory of the output files."),
+    out: Path = typer.Option(Path("."), "--out", "-o", help=OUT_HELP),
     name: str | None = typer.Option(None, "--name", help="Stem of the output files (default: <deck>.spectra)."),
     table: TableFormat = typer.Option(TableFormat.json, "--table", help="Besides <stem>.csv: json, parquet or csv."),
     plot_format: list[str] = typer.Option(["png"], "--plot-format",
