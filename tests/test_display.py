@@ -8,6 +8,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from upliftcli import display
 from upliftcli.display import DISPLAY, SUMMARY, SYSTEMS, check_system, heading, intermediate_kind, label, number, show
 from upliftcli.engines.quantities import COMPARED, INTERMEDIATES, QUANTITIES, ROCKING, display_kind
 from upliftcli.errors import InputError
@@ -35,6 +36,7 @@ ONE_US_UNIT = {
     "J": KIP * FOOT,
     "m/s": FOOT,
     "m/s^2": INCH,
+    "mm/s": INCH,                          # in/s: PGV, S_v
 }
 
 
@@ -59,6 +61,9 @@ def test_si_is_kilo_newtons_millimetres_and_g():
     assert show(26861.4e3, "N") == "26861.4" and show(9.80665, "g") == "1.0000" and show(0.0031, "%") == "0.310"
     assert show(2.686e7, "N/m") == "26860"  # a stiffness, plain (it was 2.686e+07 N/m)
     assert label("s") == "s" and show(0.5, "s") == "0.5"  # a kind without a display unit: as it is
+    # a velocity (PGV, S_v) in mm/s, or in/s; stated with its unit
+    assert display.stated(0.3608, "mm/s") == "360.8 mm/s" and display.stated(0.3608, "mm/s", "us") == "14.20 in/s"
+    assert display.stated(1.724, "m/s", "us", ".4g") == f"{1.724 / FOOT:.4g} ft/s"
 
 
 def test_every_quantity_and_intermediate_has_a_display_unit():

@@ -121,6 +121,14 @@ def show(value, kind: str, system: str = "si") -> str:
     return unit(kind, system).show(value)
 
 
+def stated(value, kind: str, system: str = "si", spec: str = "") -> str:
+    """'360.8 mm/s': an SI value in its kind's display unit, followed by the unit; spec: a format
+    of the converted value (default: the unit's own)."""
+    shown = unit(kind, system)
+    text = format(float(value) * shown.factor, spec) if spec else shown.show(value)
+    return f"{text} {shown.label}"
+
+
 def label(kind: str, system: str = "si") -> str:
     """The unit label of a kind in a system ('kN', 'kip', '-', 's' ...)."""
     return unit(kind, system).label

@@ -165,7 +165,7 @@ def info(
     from rich.markup import escape
     from rich.table import Table
 
-    from ..display import heading, show
+    from ..display import heading, show, stated
     from ..motion import records, spectra
     from . import render
 
@@ -212,15 +212,6 @@ def info(
                                                                                 system)]
         table.add_row(*row)
     out.print(table)
-
-
-def stated(value: float, kind: str, system: str, spec: str = "") -> str:
-    """'36.08 cm/s': an SI value in its display unit (display.py) with the unit; spec: a format
-    (default: the unit's own)."""
-    from ..display import unit
-
-    shown = unit(kind, system)
-    return f"{format(value * shown.factor, spec) if spec else shown.show(value)} {shown.label}"
 
 
 def spectrum_csv(spectrum: spectra.Spectrum, record: dict | None = None) -> str:
