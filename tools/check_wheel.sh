@@ -29,15 +29,31 @@ mkdir "$scratch/bin" "$scratch/work"
 ln -s "$scratch/venv/bin/python" "$scratch/bin/python"
 no_compiler=(env -i HOME="$scratch" PATH="$scratch/venv/bin:$scratch/bin" CC=/bin/false CXX=/bin/false
              LANG=C.UTF-8 MPLBACKEND=Agg)
-"${no_compiler[@]}" sh -c 'command -v gcc cc clang' >/dev/null 2>&1 && fail "a C compiler is on the check's PATH"
+"${no_compiler[@]}" /bin/sh -c 'for c in gcc cc clang; do command -v $c && exit 0; done; exit 1' >/dev/null 2>&1 && fail "a C compiler is on the check's PATH"
 # binary only: pip may not build anything (nothing could be, without a compiler)
 PIP_CACHE_DIR="$("$python" -m pip cache dir)" CC=/bin/false CXX=/bin/false \
     "$python" -m pip --python "$scratch/venv/bin/python" install -q --only-binary=:all: "$wheel"
 
-mkdir "$scratch/work/inputs" "$scratch/work/records"
-cp "$root/inputs/ten_story_elcentro.toml" "$scratch/work/inputs/"
-cp "$root/records/elcentro_1940_ns_chopra.txt" "$scratch/work/records/"
+# cibuildwheel's test of the wheel ([tool.cibuildwheel] in pyproject.toml), as it runs it: its
+# test-requires installed, its test-sources copied, its test-command run with its test-environment
+"$python" - "$root/pyproject.toml" "$scratch" <<'PY'
+import shlex, sys, tomllib
+config = tomllib.load(open(sys.argv[1], "rb"))["tool"]["cibuildwheel"]
+with open(f"{sys.argv[2]}/cibuildwheel.sh", "w") as script:
+    script.write(f"sources=({' '.join(map(shlex.quote, config['test-sources']))})\n")
+    script.write(f"requires=({' '.join(map(shlex.quote, config['test-requires']))})\n")
+    environment = " ".join(f"{name}={shlex.quote(value)}" for name, value in config["test-environment"].items())
+    script.write(f"environment=({environment})\n")
+    script.write(f"command={shlex.quote(' && '.join(config['test-command']))}\n")
+PY
+source "$scratch/cibuildwheel.sh"
+PIP_CACHE_DIR="$("$python" -m pip cache dir)" \
+    "$python" -m pip --python "$scratch/venv/bin/python" install -q --only-binary=:all: "${requires[@]}"
+for source in "${sources[@]}"; do cp -r "$root/$source" "$scratch/work/"; done
 cd "$scratch/work"
+"${no_compiler[@]}" "${environment[@]}" /bin/sh -c "$command" >cibuildwheel.log 2>&1 \
+    || { cat cibuildwheel.log >&2; fail "cibuildwheel's test-command failed on the installed wheel"; }
+tail -n 1 cibuildwheel.log
 version="$("${no_compiler[@]}" uplift --version)"
 echo "$version"
 grep -q "loops: compiled" <<<"$version" || fail "the installed wheel does not run its compiled loops: $version"
