@@ -7,8 +7,8 @@ depends only on the case (sweep.run_chunk), never on which worker ran it.
 
 Local workers are forked from a server process that imported the engines and loaded their
 compiled code once (multiprocessing's forkserver preloading sweep/warm.py), so each starts in
-milliseconds with everything in memory; where there is no forkserver, they are spawned. Sweeps
-need a POSIX system (Linux, macOS): the rows file is locked with fcntl and SIGHUP is handled.
+milliseconds with everything in memory; where there is no forkserver (Windows), they are spawned
+and each imports the engines itself (docs/platforms.md).
 
 Parent death: a local worker process exits when the sweep's process dies (SIGKILL included): a
 thread of every worker waits on the sweep's process sentinel (_exit_when_ready). A forked
@@ -132,7 +132,8 @@ def _init_worker(queue, runner, parent_pid: int | None = None, environment=None,
     keep_freed_memory()
     warnings.simplefilter("ignore", RuntimeWarning)  # as in the uplift process: numpy's never reach the terminal
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
-    signal.signal(signal.SIGHUP, signal.SIG_IGN)  # so is a hang-up of the terminal
+    if hasattr(signal, "SIGHUP"):  # so is a hang-up of the terminal (POSIX)
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)
     if parent_pid is not None:
         exit_with_parent(parent_pid)
     sweep = multiprocessing.parent_process()  # the sweep's process, also when the warm server forked us
@@ -173,7 +174,7 @@ def _context(start_method: str):
 
 class ProcessExecutor:
     """Chunks on `workers` local processes, forked from a fresh warm server (forkserver) or
-    spawned: either is safe whatever threads the parent has.
+    spawned (where there is no forkserver: Windows): either is safe whatever threads the parent has.
 
     runner: the chunk runner, a module-level function like sweep.run_chunk(chunk, emit);
     start_method: "forkserver" (default where available) or "spawn"; stall_seconds: a worker
