@@ -365,6 +365,18 @@ def test_spawned_workers_give_the_same_rows(small_plan, serial_rows, tmp_path):
     assert [{k: v for k, v in row.items() if k != "warm"} for row in rows] == serial_rows
 
 
+def test_without_a_forkserver_workers_are_spawned_and_give_the_same_rows(small_plan, serial_rows, tmp_path,
+                                                                         monkeypatch):
+    """Where multiprocessing has no forkserver (Windows: spawn only), the default is spawn."""
+    monkeypatch.setattr(multiprocessing, "get_all_start_methods", lambda: ["spawn"])
+    executor = ProcessExecutor(2, runner=_reports_warm_state)
+    assert executor.start_method == "spawn" and executor._parent_pid() == os.getpid()
+    executor.prestart()  # nothing to start
+    rows = run_sweep(small_plan, executor, RowStore(tmp_path / "rows.jsonl"), size=4).rows
+    assert not any(row["warm"]["loops"] for row in rows)  # spawned: each worker loads the engines itself
+    assert [{k: v for k, v in row.items() if k != "warm"} for row in rows] == serial_rows
+
+
 def test_workers_see_the_parents_environment_and_directory_of_now(small_plan, tmp_path, monkeypatch):
     """The warm server started earlier; a worker still gets the environment and the working
     directory of the sweep's start (relative deck and record paths)."""
