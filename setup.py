@@ -2,7 +2,9 @@
 "Compiled loops"). Without a working compiler the package installs without them and runs their
 numpy twins (upliftcli/backend.py). Everything else about the package is in pyproject.toml."""
 
+import importlib.machinery
 import os
+from pathlib import Path
 
 from setuptools import Extension, setup
 from setuptools.command.bdist_wheel import bdist_wheel
@@ -49,6 +51,20 @@ class OptionalBuildExt(build_ext):
         if failed:
             names = ", ".join(name.rsplit(".", 1)[1] for name, _ in failed)
             self.without(f"{names}: {self.reason(failed[0][1])}")
+
+    def copy_extensions_to_source(self) -> None:
+        """An in-place build (pip install -e .) also removes an earlier build's module beside each
+        new one (`_stepping.cpython-311-x86_64-linux-gnu.so` beside `_stepping.abi3.so`), which
+        Python would import first."""
+        super().copy_extensions_to_source()
+        build_py = self.get_finalized_command("build_py")
+        for extension in self.extensions:
+            package, _, stem = extension.name.rpartition(".")
+            built = Path(build_py.get_package_dir(package)) / Path(self.get_ext_filename(extension.name)).name
+            for suffix in importlib.machinery.EXTENSION_SUFFIXES if built.is_file() else ():
+                old = built.with_name(stem + suffix)
+                if old != built and old.is_file():
+                    old.unlink()
 
     def reason(self, error: Exception) -> str:
         """Why a build failed, in a few words: a compiler's command line is too long for that (a
