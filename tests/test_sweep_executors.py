@@ -259,15 +259,19 @@ def test_a_full_disk_stops_local_workers_at_once_and_keeps_the_rows(tmp_path):
     assert len(RowStore(store.path).read()) == 5
 
 
-def test_workers_exit_with_their_parent(tmp_path):
-    """exit_with_parent: a process whose parent dies (here: exits at once) ends too."""
+@pytest.mark.parametrize("kernel", [True, False], ids=["prctl", "watchdog"])
+def test_workers_exit_with_their_parent(tmp_path, kernel):
+    """exit_with_parent: a process whose parent dies (here: exits at once) ends too, by the
+    kernel's signal (Linux) or by the watchdog thread (elsewhere, forced here)."""
     import subprocess
     import sys
     import time
 
     script = (
         "import os, sys, time\n"
+        "from upliftcli.sweep import executors\n"
         "from upliftcli.sweep.executors import exit_with_parent\n"
+        f"executors.PARENT_DEATH_SIGNAL = {kernel}\n"
         "parent = os.getpid()\n"
         "child = os.fork()\n"
         "if child == 0:\n"

@@ -100,12 +100,14 @@ _RUNNER = run_chunk  # per worker process: the chunk runner
 
 
 PR_SET_PDEATHSIG = 1  # linux/prctl.h
+#: whether the kernel can kill a process when its parent dies (Linux's prctl; elsewhere a watchdog)
+PARENT_DEATH_SIGNAL = sys.platform.startswith("linux")
 
 
 def exit_with_parent(parent_pid: int, poll_seconds: float = 1.0) -> None:
     """Make this process end when `parent_pid` (its parent) dies: SIGKILL from the kernel
-    on Linux (prctl PR_SET_PDEATHSIG), else a daemon thread polling os.getppid()."""
-    if sys.platform.startswith("linux"):
+    on Linux (prctl PR_SET_PDEATHSIG, PARENT_DEATH_SIGNAL), else a daemon thread polling os.getppid()."""
+    if PARENT_DEATH_SIGNAL:
         with contextlib.suppress(OSError, AttributeError):
             libc = ctypes.CDLL(None, use_errno=True)
             if libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0:
