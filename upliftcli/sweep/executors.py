@@ -35,7 +35,6 @@ import contextlib
 import ctypes
 import multiprocessing
 import multiprocessing.connection
-import multiprocessing.forkserver
 import os
 import signal
 import sys
@@ -197,12 +196,16 @@ class ProcessExecutor:
         if self.start_method != "forkserver":
             return os.getpid()
         self.prestart()
+        import multiprocessing.forkserver  # POSIX's: imported where it is used
+
         return getattr(getattr(multiprocessing.forkserver, "_forkserver", None), "_forkserver_pid", None)
 
     def prestart(self) -> None:
         """Start the warm server now: it imports and loads the engines while the caller goes on."""
         if self.start_method == "forkserver":
             _context(self.start_method)
+            import multiprocessing.forkserver
+
             with worker_environment(), sigint_ignored():
                 multiprocessing.forkserver.ensure_running()
 
