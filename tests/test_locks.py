@@ -17,6 +17,19 @@ from upliftcli.sweep.store import stem_lock
 
 KINDS = ["flock", "exclusive"] if locks.fcntl is not None else ["exclusive"]
 
+
+class FlockAsMsvcrt:
+    """msvcrt's locking() emulated by flock, for the order of the calls of the "msvcrt" path (a
+    lock of the whole file per open file, refused at once when held, as Windows' byte lock of
+    LK_NBLCK); Windows itself is not run here."""
+
+    LK_NBLCK, LK_UNLCK = 2, 0
+
+    @staticmethod
+    def locking(fd: int, mode: int, nbytes: int) -> None:
+        assert nbytes == 1 and os.lseek(fd, 0, os.SEEK_CUR) == 0  # the first byte
+        locks.fcntl.flock(fd, locks.fcntl.LOCK_EX | locks.fcntl.LOCK_NB if mode else locks.fcntl.LOCK_UN)
+
 HOLDER = """
 import sys, time
 from upliftcli import locks
@@ -31,6 +44,34 @@ time.sleep(60)
 def kind(request, monkeypatch):
     monkeypatch.setattr(locks, "KIND", request.param)
     return request.param
+
+
+@pytest.mark.skipif(locks.fcntl is None, reason="the emulation uses flock")
+def test_the_msvcrt_path_locks_the_first_byte_and_closes_before_removing(tmp_path, monkeypatch):
+    monkeypatch.setattr(locks, "KIND", "msvcrt")
+    monkeypatch.setattr(locks, "msvcrt", FlockAsMsvcrt)
+    closed_before_unlink = []
+    unlink = os.unlink
+
+    def checked_unlink(path, *args, **kwargs):
+        closed_before_unlink.append(_closed(fd))
+        return unlink(path, *args, **kwargs)
+
+    path = tmp_path / ".deck.lock"
+    fd = locks.acquire(path)
+    assert fd is not None and path.read_text().strip() == str(os.getpid())
+    assert locks.acquire(path) is None
+    monkeypatch.setattr(os, "unlink", checked_unlink)
+    locks.release(path, fd)
+    assert closed_before_unlink == [True] and not path.exists()
+
+
+def _closed(fd: int) -> bool:
+    try:
+        os.fstat(fd)
+    except OSError:
+        return True
+    return False
 
 
 def _holder(path, kind) -> subprocess.Popen:
