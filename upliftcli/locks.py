@@ -6,7 +6,8 @@ output stem, sweep/store.py). How, chosen at run time (KIND; docs/platforms.md):
   both are released by the system with the process however it ends (a SIGKILL included);
 - "exclusive": the file created with O_EXCL, holding its owner's pid (any system; where neither
   of the others exists, and in tests): a file left by a process that is gone is taken over
-  (portable.process_alive).
+  (portable.process_alive); two processes taking over the same stale file at one instant are
+  not told apart, which the system's locks above never leave to chance.
 
 acquire(path) returns the open descriptor of the locked file, or None where another process
 holds it; release(path, fd) removes the file and closes it.

@@ -34,7 +34,7 @@ TRIM_THRESHOLD = 256 * 2**20
 def keep_freed_memory() -> bool:
     """Serve blocks below MMAP_THRESHOLD from the heap and keep up to TRIM_THRESHOLD of freed
     memory; False (nothing changed) where the C library is not glibc (macOS, Windows, musl:
-    their allocators are left as they are; the results are the same, tests/test_portable.py)."""
+    their allocators are left as they are; the results are the same, tests/test_process.py)."""
     if platform.libc_ver()[0] != "glibc":
         return False
     try:
