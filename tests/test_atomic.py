@@ -33,6 +33,20 @@ def test_new_files_follow_the_umask(tmp_path, umask):
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary file left
 
 
+def test_the_umask_is_read_the_same_without_proc(umask, monkeypatch):
+    """Off Linux (no /proc/self/status) the umask is set and restored to be read: the same mask,
+    left as it was."""
+    from upliftcli import atomic
+
+    for mask in (0o022, 0o027, 0o077):
+        umask(mask)
+        from_proc = current_umask()
+        with monkeypatch.context() as without_proc:
+            without_proc.setattr(atomic, "PROC_STATUS", str(Path("/nonexistent") / "self" / "status"))
+            assert current_umask() == from_proc == mask
+        assert os.umask(mask) == mask  # restored
+
+
 def test_a_replaced_file_keeps_its_permissions(tmp_path, umask):
     umask(0o022)
     path = tmp_path / "table.csv"

@@ -169,6 +169,23 @@ def test_plot_figures_shares_the_work_and_writes_what_plot_figure_writes(tmp_pat
         assert alone.read_bytes() == (tmp_path / "shared" / f"{name}.png").read_bytes()
 
 
+def test_plot_figures_without_fork_draws_every_figure_here_and_writes_the_same_files(tmp_path, monkeypatch):
+    """Where the figures are not shared out (FORK_FIGURES off: Windows, macOS), this process
+    draws them all, one after the other: the same files, byte for byte, as the shared-out path
+    (or plot_figure alone, where that path is not taken)."""
+    monkeypatch.setattr("upliftcli.process.available_cores", lambda: 2)
+    specs = dict(list(_paper_specs().items())[:3])  # three figures: two groups on two cores
+    for folder in ("default", "serial"):
+        (tmp_path / folder).mkdir()
+    plots.plot_figures([(spec, tmp_path / "default" / f"{name}.png") for name, spec in specs.items()])
+    monkeypatch.setattr(plots, "FORK_FIGURES", False)
+    drawn_by = _record_drawing(monkeypatch)
+    plots.plot_figures([(spec, tmp_path / "serial" / f"{name}.png") for name, spec in specs.items()])
+    assert drawn_by == [os.getpid()] * len(specs)
+    for name in specs:
+        assert (tmp_path / "serial" / f"{name}.png").read_bytes() == (tmp_path / "default" / f"{name}.png").read_bytes()
+
+
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="figures are shared out on Linux only")
 def test_plot_figures_waits_for_a_background_preload_and_still_shares_the_work(tmp_path, monkeypatch):
     """preload(background=True) imports matplotlib in a thread (uplift spectra, while the workers

@@ -3,10 +3,12 @@ page-faulted) again; the cores a process may use."""
 
 from __future__ import annotations
 
+import json
 import os
 import platform
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -71,3 +73,33 @@ def test_exit_now_ends_as_a_normal_exit_would(code, expected):
     assert lines[-2:] == ["thread done", "handler ran"]  # threads waited for, then the atexit handlers
     assert ("failed" in lines) == (code == "'failed'")
     assert "not reached" not in done.stderr
+
+
+ANALYZE = """
+import json, platform, sys
+if sys.argv[1] == "not-glibc":  # as on macOS, Windows or musl
+    platform.libc_ver = lambda *args, **kwargs: ("", "")
+from upliftcli.cli import main
+from upliftcli.process import keep_freed_memory
+print(json.dumps({"kept": keep_freed_memory()}))
+sys.argv = ["uplift", "analyze", sys.argv[2], "--engine", "exact", "--support", "uplift", "--format", "json"]
+main()
+"""
+
+
+def _analysis(libc: str) -> tuple[bool, dict]:
+    deck = str(Path(__file__).resolve().parents[1] / "inputs" / "ten_story_elcentro.toml")
+    done = subprocess.run([sys.executable, "-c", ANALYZE, libc, deck], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    first, _, rest = done.stdout.partition("\n")
+    return json.loads(first)["kept"], json.loads(rest)
+
+
+def test_without_glibc_the_allocator_is_left_alone_and_the_results_are_the_same():
+    """keep_freed_memory changes nothing where the C library is not glibc (no mallopt call); the
+    exact engine's uplift response of the README deck is the same to the bit either way."""
+    kept, default = _analysis("default")
+    skipped, elsewhere = _analysis("not-glibc")
+    assert kept == (platform.libc_ver()[0] == "glibc") and not skipped
+    for field in ("base_shear", "base_moment", "stories", "elements", "uplift"):
+        assert elsewhere[field] == default[field], field

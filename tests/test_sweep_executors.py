@@ -259,15 +259,19 @@ def test_a_full_disk_stops_local_workers_at_once_and_keeps_the_rows(tmp_path):
     assert len(RowStore(store.path).read()) == 5
 
 
-def test_workers_exit_with_their_parent(tmp_path):
-    """exit_with_parent: a process whose parent dies (here: exits at once) ends too."""
+@pytest.mark.parametrize("kernel", [True, False], ids=["prctl", "watchdog"])
+def test_workers_exit_with_their_parent(tmp_path, kernel):
+    """exit_with_parent: a process whose parent dies (here: exits at once) ends too, by the
+    kernel's signal (Linux) or by the watchdog thread (elsewhere, forced here)."""
     import subprocess
     import sys
     import time
 
     script = (
         "import os, sys, time\n"
+        "from upliftcli.sweep import executors\n"
         "from upliftcli.sweep.executors import exit_with_parent\n"
+        f"executors.PARENT_DEATH_SIGNAL = {kernel}\n"
         "parent = os.getpid()\n"
         "child = os.fork()\n"
         "if child == 0:\n"
@@ -362,6 +366,18 @@ def test_spawned_workers_give_the_same_rows(small_plan, serial_rows, tmp_path):
     executor = ProcessExecutor(2, runner=_reports_warm_state, start_method="spawn")
     rows = run_sweep(small_plan, executor, RowStore(tmp_path / "rows.jsonl"), size=4).rows
     assert not any(row["warm"]["loops"] for row in rows)  # a spawned worker starts empty
+    assert [{k: v for k, v in row.items() if k != "warm"} for row in rows] == serial_rows
+
+
+def test_without_a_forkserver_workers_are_spawned_and_give_the_same_rows(small_plan, serial_rows, tmp_path,
+                                                                         monkeypatch):
+    """Where multiprocessing has no forkserver (Windows: spawn only), the default is spawn."""
+    monkeypatch.setattr(multiprocessing, "get_all_start_methods", lambda: ["spawn"])
+    executor = ProcessExecutor(2, runner=_reports_warm_state)
+    assert executor.start_method == "spawn" and executor._parent_pid() == os.getpid()
+    executor.prestart()  # nothing to start
+    rows = run_sweep(small_plan, executor, RowStore(tmp_path / "rows.jsonl"), size=4).rows
+    assert not any(row["warm"]["loops"] for row in rows)  # spawned: each worker loads the engines itself
     assert [{k: v for k, v in row.items() if k != "warm"} for row in rows] == serial_rows
 
 

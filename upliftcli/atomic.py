@@ -22,10 +22,13 @@ from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 
 from .errors import InputError
+from .portable import process_alive
 
 #: what marks a temporary file of this tool; the pid of the process that writes it follows
 TEMP_MARK = ".uplift-tmp-"
 _TEMP_NAME = re.compile(r"^\..+" + re.escape(TEMP_MARK) + r"(?P<pid>\d+)-[A-Za-z0-9_]+")
+#: where Linux tells a process its umask (elsewhere it is set and restored to be read)
+PROC_STATUS = "/proc/self/status"
 #: folders whose stale temporary files this process has removed already
 _SWEPT: set[str] = set()
 
@@ -33,7 +36,7 @@ _SWEPT: set[str] = set()
 def current_umask() -> int:
     """The process's umask (read from /proc on Linux, else set and restored)."""
     try:
-        with open("/proc/self/status", encoding="ascii") as handle:
+        with open(PROC_STATUS, encoding="ascii") as handle:
             for line in handle:
                 if line.startswith("Umask:"):
                     return int(line.split()[1], 8)
@@ -52,18 +55,6 @@ def file_mode(target: Path) -> int:
         return 0o666 & ~current_umask()
 
 
-def _alive(pid: int) -> bool:
-    if pid == os.getpid():
-        return True
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except OSError:  # another user's process: alive
-        return True
-    return True
-
-
 def remove_stale(directory: str | os.PathLike) -> list[Path]:
     """Remove the temporary files of this tool in `directory` whose writing process is gone (a
     SIGKILL leaves them); return them. Files of a running process are left alone."""
@@ -74,7 +65,7 @@ def remove_stale(directory: str | os.PathLike) -> list[Path]:
         return removed
     for name in names:
         match = _TEMP_NAME.match(name)
-        if match and not _alive(int(match.group("pid"))):
+        if match and not process_alive(int(match.group("pid"))):
             path = Path(directory) / name
             with contextlib.suppress(OSError):
                 path.unlink()

@@ -29,6 +29,9 @@ from .figures.spec import Bars, FigureSpec, Line, Panel, Series, Span  # noqa: F
 
 FIGURE_FORMATS = (".png", ".pdf", ".svg")
 DPI = 150
+#: whether plot_figures shares figures out to forked copies of this process: on Linux only (no
+#: fork on Windows; macOS's system libraries may not survive one); elsewhere one after the other
+FORK_FIGURES = hasattr(os, "fork") and sys.platform.startswith("linux")
 
 #: layout [in]: one line of a 10-pt title, tick and axis labels below a panel, right margin,
 #: gap between panels sharing an axis, padding, one row of the legend
@@ -105,15 +108,14 @@ def plot_figures(figures: Sequence[tuple[FigureSpec, str | os.PathLike]], option
     Drawing is Python (threads would not help), so on Linux, when this process runs no other
     thread, the figures are shared out between it and forked copies of it, one per core, that
     start with matplotlib imported and the figure data in memory (the three figures of `uplift
-    spectra` in 0.45 s instead of 0.85 s on two cores; elsewhere, e.g. macOS, where system
-    libraries may not survive a fork, one after the other). An error in any figure is raised
-    here, after every copy has ended."""
+    spectra` in 0.45 s instead of 0.85 s on two cores; elsewhere, FORK_FIGURES, one after the
+    other). An error in any figure is raised here, after every copy has ended."""
     paths = [check_figure_path(path, option) for _, path in figures]
     _wait_for_preload()
     from .process import available_cores
 
     groups = _shares(figures, min(available_cores(), len(figures)))
-    if len(groups) < 2 or not sys.platform.startswith("linux") or threading.active_count() > 1:
+    if len(groups) < 2 or not FORK_FIGURES or threading.active_count() > 1:
         for spec, path in figures:
             _draw(spec, path, option)
         return paths

@@ -21,6 +21,8 @@ import signal
 import sys
 import threading
 
+from .portable import STOP_SIGNALS
+
 #: glibc's mallopt parameters
 _M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
 #: blocks below this come from the heap (glibc's largest allowed on 64-bit systems) [bytes]
@@ -31,7 +33,8 @@ TRIM_THRESHOLD = 256 * 2**20
 
 def keep_freed_memory() -> bool:
     """Serve blocks below MMAP_THRESHOLD from the heap and keep up to TRIM_THRESHOLD of freed
-    memory; False (nothing changed) where the C library is not glibc."""
+    memory; False (nothing changed) where the C library is not glibc (macOS, Windows, musl:
+    their allocators are left as they are; the results are the same, tests/test_process.py)."""
     if platform.libc_ver()[0] != "glibc":
         return False
     try:
@@ -47,17 +50,18 @@ class Stopped(SystemExit):
 
 
 def _stop(signum, frame) -> None:
-    for each in (signal.SIGTERM, signal.SIGHUP):
+    for each in STOP_SIGNALS:
         signal.signal(each, signal.SIG_IGN)  # the clean-up is not cut short by a second one
     raise Stopped(128 + signum)
 
 
 def exit_on_stop_signals() -> None:
-    """SIGTERM and SIGHUP end the command as an exception (Stopped), not at once, so that its
-    clean-up runs; sweeps install their own handlers while they run (sweep/signals.py).
-    Main thread only; set by the `uplift` command, never on import."""
+    """SIGTERM and SIGHUP (where the system has it: portable.STOP_SIGNALS) end the command as an
+    exception (Stopped), not at once, so that its clean-up runs; sweeps install their own
+    handlers while they run (sweep/signals.py). Main thread only; set by the `uplift` command,
+    never on import."""
     if threading.current_thread() is threading.main_thread():
-        for each in (signal.SIGTERM, signal.SIGHUP):
+        for each in STOP_SIGNALS:
             signal.signal(each, _stop)
 
 

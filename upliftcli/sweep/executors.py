@@ -7,8 +7,8 @@ depends only on the case (sweep.run_chunk), never on which worker ran it.
 
 Local workers are forked from a server process that imported the engines and loaded their
 compiled code once (multiprocessing's forkserver preloading sweep/warm.py), so each starts in
-milliseconds with everything in memory; where there is no forkserver, they are spawned. Sweeps
-need a POSIX system (Linux, macOS): the rows file is locked with fcntl and SIGHUP is handled.
+milliseconds with everything in memory; where there is no forkserver (Windows), they are spawned
+and each imports the engines itself (docs/platforms.md).
 
 Parent death: a local worker process exits when the sweep's process dies (SIGKILL included): a
 thread of every worker waits on the sweep's process sentinel (_exit_when_ready). A forked
@@ -35,7 +35,6 @@ import contextlib
 import ctypes
 import multiprocessing
 import multiprocessing.connection
-import multiprocessing.forkserver
 import os
 import signal
 import sys
@@ -100,12 +99,14 @@ _RUNNER = run_chunk  # per worker process: the chunk runner
 
 
 PR_SET_PDEATHSIG = 1  # linux/prctl.h
+#: whether the kernel can kill a process when its parent dies (Linux's prctl; elsewhere a watchdog)
+PARENT_DEATH_SIGNAL = sys.platform.startswith("linux")
 
 
 def exit_with_parent(parent_pid: int, poll_seconds: float = 1.0) -> None:
     """Make this process end when `parent_pid` (its parent) dies: SIGKILL from the kernel
-    on Linux (prctl PR_SET_PDEATHSIG), else a daemon thread polling os.getppid()."""
-    if sys.platform.startswith("linux"):
+    on Linux (prctl PR_SET_PDEATHSIG, PARENT_DEATH_SIGNAL), else a daemon thread polling os.getppid()."""
+    if PARENT_DEATH_SIGNAL:
         with contextlib.suppress(OSError, AttributeError):
             libc = ctypes.CDLL(None, use_errno=True)
             if libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0:
@@ -132,7 +133,8 @@ def _init_worker(queue, runner, parent_pid: int | None = None, environment=None,
     keep_freed_memory()
     warnings.simplefilter("ignore", RuntimeWarning)  # as in the uplift process: numpy's never reach the terminal
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
-    signal.signal(signal.SIGHUP, signal.SIG_IGN)  # so is a hang-up of the terminal
+    if hasattr(signal, "SIGHUP"):  # so is a hang-up of the terminal (POSIX)
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)
     if parent_pid is not None:
         exit_with_parent(parent_pid)
     sweep = multiprocessing.parent_process()  # the sweep's process, also when the warm server forked us
@@ -173,7 +175,7 @@ def _context(start_method: str):
 
 class ProcessExecutor:
     """Chunks on `workers` local processes, forked from a fresh warm server (forkserver) or
-    spawned: either is safe whatever threads the parent has.
+    spawned (where there is no forkserver: Windows): either is safe whatever threads the parent has.
 
     runner: the chunk runner, a module-level function like sweep.run_chunk(chunk, emit);
     start_method: "forkserver" (default where available) or "spawn"; stall_seconds: a worker
@@ -194,12 +196,16 @@ class ProcessExecutor:
         if self.start_method != "forkserver":
             return os.getpid()
         self.prestart()
+        import multiprocessing.forkserver  # POSIX's: imported where it is used
+
         return getattr(getattr(multiprocessing.forkserver, "_forkserver", None), "_forkserver_pid", None)
 
     def prestart(self) -> None:
         """Start the warm server now: it imports and loads the engines while the caller goes on."""
         if self.start_method == "forkserver":
             _context(self.start_method)
+            import multiprocessing.forkserver
+
             with worker_environment(), sigint_ignored():
                 multiprocessing.forkserver.ensure_running()
 

@@ -12,8 +12,10 @@ import signal
 import threading
 from collections.abc import Iterator
 
-#: signals that stop a sweep as Ctrl-C does
-STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+from .. import portable
+
+#: signals that stop a sweep as Ctrl-C does (SIGHUP where the system has it)
+STOP_SIGNALS = (signal.SIGINT, *portable.STOP_SIGNALS)
 
 _deferring = 0  # depth of deferred() blocks (main thread)
 _pending: int | None = None  # a signal that arrived inside one

@@ -14,13 +14,13 @@ output stem is locked while a sweep writes it (stem_lock): a second sweep with t
 from __future__ import annotations
 
 import contextlib
-import fcntl
 import json
 import os
 import time
 from collections.abc import Iterator
 from pathlib import Path
 
+from .. import locks
 from ..errors import InputError
 from .plan import STATUSES
 
@@ -110,7 +110,8 @@ class RowStore:
 def stem_lock(out: Path, stem: str) -> Iterator[None]:
     """Hold an exclusive lock on <out>/.<stem>.lock while a sweep writes <out>/<stem>.*;
     InputError naming --out if another sweep holds it. The lock file is removed afterwards
-    (a lock left by a killed sweep is free again: the kernel releases it with the process).
+    (a lock left by a killed sweep is free again: the system releases it with the process, or
+    the pid in it names a process that is gone; locks.py).
     A directory created here and left empty is removed too."""
     created = not out.exists()
     try:
@@ -118,31 +119,18 @@ def stem_lock(out: Path, stem: str) -> Iterator[None]:
     except OSError as error:
         raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
     path = out / f".{stem}.lock"
-    while True:
-        try:
-            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
-        except OSError as error:
-            raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            os.close(fd)
-            raise InputError("--out", str(out / stem), "an output stem no other sweep is writing (another "
-                             "`uplift sweep` with the same --out and --name is running: wait for it to end or "
-                             "choose another --name)") from None
-        try:  # the file may have been removed by the sweep that held it: lock the one at the path
-            if os.fstat(fd).st_ino == os.stat(path).st_ino:
-                break
-        except FileNotFoundError:
-            pass
-        os.close(fd)
     try:
-        os.write(fd, f"{os.getpid()}\n".encode())
+        fd = locks.acquire(path)
+    except OSError as error:
+        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+    if fd is None:
+        raise InputError("--out", str(out / stem), "an output stem no other sweep is writing (another "
+                         "`uplift sweep` with the same --out and --name is running: wait for it to end or "
+                         "choose another --name)")
+    try:
         yield
     finally:
-        with contextlib.suppress(OSError):
-            os.unlink(path)
-        os.close(fd)
+        locks.release(path, fd)
         if created:
             with contextlib.suppress(OSError):
                 out.rmdir()  # only if empty
