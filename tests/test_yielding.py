@@ -330,3 +330,25 @@ def test_a_batch_of_yielding_systems_gives_each_its_result_alone():
         for name, values in alone.peaks.items():
             np.testing.assert_array_equal(batched.peaks[name], values, err_msg=name)
         assert batched.details["yielding"] == alone.details["yielding"]
+
+
+def test_the_histories_give_the_edges_and_their_settled_end():
+    """--histories with a capacity: the edge displacements are the edges' own v_i = v -+ b theta
+    (not the springs' v_i - s_i), and each edge ends at its static level plus its plastic
+    settlement (a residual settlement that stays)."""
+    from upliftcli.engines.exact import engine as exact
+
+    loaded = load_deck(TWO, ["foundation.safety_factor=1.5"])
+    system = loaded.system
+    result = exact.analyze(system, loaded.ground_motion, "uplift", ExactOptions(histories=True))
+    h = result.histories
+    b = system.half_width
+    np.testing.assert_allclose(h["left_edge_displacement"], h["v"] + b * h["theta"], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(h["right_edge_displacement"], h["v"] - b * h["theta"], rtol=0, atol=1e-15)
+    settled = np.array(result.details["yielding"]["plastic_settlement"])
+    rest = -system.weight / (2.0 * system.foundation.stiffness)  # each edge's static level
+    ends = np.array([h["left_edge_displacement"][-1], h["right_edge_displacement"][-1]])
+    # sunk by its plastic settlement (48 and 53 mm, 50 times the static level): the rest, 9 % of the
+    # static level, is the springs' share of the moment the structure still carries at the end
+    np.testing.assert_allclose(ends, rest + settled, rtol=0, atol=0.1 * abs(rest))
+    assert np.all(settled < 40.0 * rest)
