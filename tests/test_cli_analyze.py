@@ -423,20 +423,17 @@ def test_a_second_run_into_the_same_out_folder_needs_overwrite(tmp_path):
 
 
 @pytest.mark.parametrize("engine", ["exact", "approximate"])
-def test_a_bearing_capacity_is_refused_by_the_history_engines(engine, tmp_path):
-    """Until they model yielding soil (docs/theory.md section 14, issue 28): one line naming the
-    capacity field, exit 2, nothing written."""
-    out = tmp_path / "results"
-    result = invoke("analyze", EXAMPLE, "--engine", engine, "--set", "foundation.safety_factor=1.5", "--out", out)
-    assert result.exit_code == 2, result.output
-    assert result.stdout == "" and not out.exists()
-    lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1
-    assert lines[0].startswith(f"error: --set: foundation.safety_factor: no bearing capacity for the {engine} engine")
-    simplified = invoke("analyze", EXAMPLE, "--set", "foundation.safety_factor=1.5", "--support", "uplift",
-                        "--no-check", "--format", "json")
-    assert simplified.exit_code == 0, simplified.output
-    assert json.loads(simplified.stdout)["intermediates"]["FS_v"] == pytest.approx(1.5)
+def test_a_bearing_capacity_runs_on_the_history_engines(engine):
+    """They model yielding soil (docs/theory.md section 14, tests/test_yielding.py): the uplift
+    result carries each element's plastic settlement and the plastic work."""
+    result = invoke("analyze", EXAMPLE, "--engine", engine, "--set", "foundation.safety_factor=1.5", "--support",
+                    "uplift", "--no-check", "--format", "json")
+    assert result.exit_code == 0, result.output
+    document = json.loads(result.stdout)
+    (uplift,) = [r for r in document.get("results", [document]) if r.get("support") == "uplift"]
+    yielding = uplift["details"]["yielding"]
+    assert yielding["plastic_work"] > 0.0 and min(yielding["plastic_settlement"]) < 0.0
+    assert uplift["details"]["energy"]["plastic_work"] == yielding["plastic_work"]
 
 
 def test_several_decks_print_every_warning_once_naming_the_deck():

@@ -68,6 +68,8 @@ class Digest:
         self.first = self.last = None
         self.samples = self.transitions = self.chunks = 0
         self.uplifted = False
+        self.yielded = np.zeros(space.layout.n_settlements, dtype=bool)  # per element with a capacity
+        self.final_state: np.ndarray | None = None
         self.time_step = 0.0
         self.pieces: list[dict[str, np.ndarray]] = []
 
@@ -100,6 +102,9 @@ class Digest:
         self.last = stored(chunk, sig, -1)
         if self.space.layout.n_elements:
             self.uplifted |= bool(chunk.lifted.any())
+        if chunk.yielding is not None:
+            self.yielded |= chunk.yielding.any(axis=0)
+            self.final_state = chunk.states[-1].copy()
         self.samples += chunk.times.size - (1 if self.chunks else 0)
         self.transitions += sig.end_values.shape[0]  # one left limit per interval that ends at a transition
         self.time_step = chunk.time_step
@@ -107,6 +112,14 @@ class Digest:
             piece = histories(chunk, self.rows, sig)
             self.pieces.append({k: np.array(v[1:] if self.chunks else v) for k, v in piece.items()})
         self.chunks += 1
+
+    def yielding(self, energy: dict) -> dict:
+        """What a run on yielding soil leaves (docs/theory.md 14.7): the plastic settlement s_i of
+        each element at the end [m] (<= 0, left edge first), whether each element yielded, the
+        plastic work W_p [J] and the capacities Q_i [N]."""
+        settlement = self.final_state[self.space.layout.settlement_indices]
+        return {"plastic_settlement": settlement.tolist(), "yielded": self.yielded.tolist(),
+                "plastic_work": energy["plastic_work"], "capacity": self.space.element_capacity.tolist()}
 
     def result(self, support: str, engine: str) -> AnalysisResult:
         """The run's AnalysisResult (after its last chunk)."""
@@ -136,6 +149,8 @@ class Digest:
             "uplift_summary": summary,
             "energy": energy,
         }
+        if space.layout.n_settlements:
+            details["yielding"] = self.yielding(energy)
         histories = ({k: np.concatenate([piece[k] for piece in self.pieces]) for k in self.pieces[0]}
                      if options.histories else {})
         intermediates = {
