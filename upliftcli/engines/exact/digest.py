@@ -19,6 +19,7 @@ from ...model.system import System
 from ..options import ExactOptions
 from ..result import AnalysisResult
 from .energy import balance, stored, work
+from .mat_motion import MatMotion
 from .response import (
     _STORY_AND_FLOOR,
     contact_response,
@@ -70,6 +71,8 @@ class Digest:
         self.uplifted = False
         self.time_step = 0.0
         self.pieces: list[dict[str, np.ndarray]] = []
+        self.mat = MatMotion(space, system.half_width) if model.flexible else None
+        self.end_time = 0.0
 
     def _keep(self, name: str, values: np.ndarray, instants: np.ndarray) -> None:
         if name not in self.peaks:
@@ -100,6 +103,9 @@ class Digest:
         self.last = stored(chunk, sig, -1)
         if self.space.layout.n_elements:
             self.uplifted |= bool(chunk.lifted.any())
+        if self.mat is not None:
+            self.mat.add(chunk, sig)
+        self.end_time = float(chunk.times[-1])
         self.samples += chunk.times.size - (1 if self.chunks else 0)
         self.transitions += sig.end_values.shape[0]  # one left limit per interval that ends at a transition
         self.time_step = chunk.time_step
@@ -120,6 +126,10 @@ class Digest:
         instants["drift_ratio"] = instants["drift"]
         for name, (peak, when) in self.peaks.items():
             values[name], instants[name] = peak, when
+        if self.mat is not None and support == "uplift" and engine == "exact":
+            rocking, rocking_times = self.mat.quantities(self.end_time)  # quantities.ROCKING
+            values.update(rocking)
+            instants.update(rocking_times)
         energy = balance(space, self.works, self.first, self.last)
         summary = self.summary
         warnings = []
