@@ -93,7 +93,7 @@ def result_paths(out: Path, stem: str) -> list[Path]:
     """The files --out may receive for one deck (output.write_results)."""
     from ..output import result_paths as paths
 
-    return paths(out, stem)
+    return paths(out, stem, rocking=True)
 
 
 def analyze(

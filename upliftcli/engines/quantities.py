@@ -97,6 +97,33 @@ ROCKING: dict[str, Quantity] = {q.name: q for q in (
 )}
 
 
+#: the places of a MAT_POINTS quantity, left to right: (key in files, label in human outputs)
+MAT_PLACES = (("left_edge", "left edge (x = -b)"), ("centre", "centre"), ("right_edge", "right edge (x = +b)"))
+
+
+def rocking_entries(result) -> list[tuple[Quantity, str, str, float, float | None]]:
+    """The rocking quantities a result carries that live on the mat (quantities.ROCKING, MAT and
+    MAT_POINTS), one entry per value: (quantity, place key, place label, value [SI], instant [s]
+    or None), in ROCKING's order; [] for a result without them (the elements' plastic settlement
+    is in the foundation tables: element_quantities)."""
+    entries = []
+    for q in ROCKING.values():
+        if q.where == ELEMENT or q.name not in result.peaks:
+            continue
+        places = MAT_PLACES if q.where == MAT_POINTS else (("mat", "mat"),)
+        times = result.times.get(q.name)
+        for k, (key, label) in enumerate(places):
+            entries.append((q, key, label, float(result.peaks[q.name][k]),
+                            None if times is None else float(times[k])))
+    return entries
+
+
+def element_quantities() -> list[Quantity]:
+    """The per-element quantities of the foundation tables: QUANTITIES', then ROCKING's (the
+    plastic settlement), each shown where a result carries it."""
+    return [*quantities(ELEMENT), *(q for q in ROCKING.values() if q.where == ELEMENT)]
+
+
 @dataclass(frozen=True)
 class Scalar:
     """A single-valued result: name, SI unit, meaning (the value is a property of AnalysisResult)."""

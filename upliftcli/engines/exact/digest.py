@@ -19,7 +19,7 @@ from ...model.system import System
 from ..options import ExactOptions
 from ..result import AnalysisResult
 from .energy import balance, stored, work
-from .mat_motion import MatMotion
+from .mat_motion import MatMotion, plastic_quantities
 from .response import (
     _STORY_AND_FLOOR,
     contact_response,
@@ -146,6 +146,8 @@ class Digest:
             "uplift_summary": summary,
             "energy": energy,
         }
+        if "rotation" in values and "yielding" in details:  # the exact engine's uplift run on yielding soil
+            values.update(plastic_quantities(details["yielding"]))
         histories = ({k: np.concatenate([piece[k] for piece in self.pieces]) for k in self.pieces[0]}
                      if options.histories else {})
         intermediates = {
@@ -162,6 +164,8 @@ class Digest:
         }
         if model.flexible:
             intermediates.update(model.impedance)  # the foundation model of every engine, as built
+        if model.flexible and getattr(system.foundation, "capacity", None) is not None:
+            intermediates["M_tip"] = system.weight * system.half_width  # M_c is the capacity's (theory 14.4)
         for name in ("uplift_time", "episodes", "max_rotation", "max_uplift_left", "max_uplift_right",
                      "min_reaction"):
             if name in summary:

@@ -24,9 +24,6 @@ from .response import Signals, time_at
 from .statespace import StateSpace
 from .stepping import History
 
-#: the three points of the mat whose settlement is reported, left to right
-PLACES = ("left edge", "centre", "right edge")
-
 
 def _geometry(space: StateSpace, half_width: float) -> tuple[np.ndarray, np.ndarray]:
     """(weights (4, 2) on (theta, v), offsets (4,)): the series theta and the settlement of the
@@ -106,7 +103,8 @@ class MatMotion:
 
     def quantities(self, end_time: float) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
         """(values, instants [s]) of quantities.ROCKING's rotation, residual_rotation, settlement
-        (left edge, centre, right edge) and residual_settlement (instants: the end of the run)."""
+        (left edge, centre, right edge: quantities.MAT_PLACES) and residual_settlement (instants:
+        the end of the run)."""
         settlement = np.maximum(self.peaks[1:], 0.0)
         values = {"rotation": self.peaks[:1].copy(), "residual_rotation": np.abs(self.last[:1]),
                   "settlement": settlement, "residual_settlement": self.last[1:].copy()}
@@ -114,3 +112,13 @@ class MatMotion:
                     "settlement": np.where(self.peaks[1:] > 0.0, self.instants[1:], 0.0),
                     "residual_settlement": np.full(3, end_time)}
         return values, instants
+
+
+def plastic_quantities(yielding: dict) -> dict[str, np.ndarray]:
+    """quantities.ROCKING's plastic_settlement -s_i of each element [m] (>= 0, left to right),
+    yielded_elements (how many yielded) and plastic_work W_p [J] (docs/theory.md 14.5), from what
+    the engine reports of a run on yielding soil (the result's details["yielding"]: the final
+    s_i <= 0, the yielded flags, W_p)."""
+    return {"plastic_settlement": -np.asarray(yielding["plastic_settlement"], dtype=float) + 0.0,
+            "yielded_elements": np.array([float(np.count_nonzero(yielding["yielded"]))]),
+            "plastic_work": np.array([float(yielding["plastic_work"])])}
