@@ -7,6 +7,7 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -40,3 +41,32 @@ def test_opensees_agrees_with_the_exact_engine_on_uplift():
         difference = om.relative_history_difference(histories["time"], histories[name], exact_histories["time"],
                                                     exact_histories[name])
         assert difference < 2e-3, name
+
+
+@pytest.mark.parametrize(("foundation", "safety_factor"), [("two-element", 1.5), ("two-element", 3.0),
+                                                           ("winkler", 1.5)])
+def test_a_slow_push_in_opensees_gives_the_closed_form_backbone(foundation, safety_factor):
+    """The yielding model built in OpenSees (elastic-perfectly-plastic springs that cannot pull,
+    opensees_model.build) pushed slowly to 20 times the rotation of first yield or lift-off: the
+    moment of the reactions follows the closed-form backbone of two elements (docs/theory.md 14.4,
+    model/rocking_capacity.py) to 2e-4 of M_c (the contact penalty's compliance, 1/k_pen = 1e-4 of
+    the element's) and reaches M_c: W b min(1, FS_v - 1) for two elements, the discrete elements'
+    value (midpoint_moment_capacity, the strip's limit) for Winkler; measured 1e-9 of M_c."""
+    from upliftcli.model import rocking_capacity as rc
+
+    system = example_system(1.0, foundation, safety_factor)
+    elements = system.foundation.contact_elements(system.half_width)
+    weight, b = system.weight, system.half_width
+    thetas = np.linspace(0.0, 20.0 * weight / (elements.stiffness.sum() * b), 101)[1:]
+    theta, moment, reactions = om.push(system, thetas)
+    np.testing.assert_allclose(theta, thetas, rtol=1e-5)
+    assert np.all(reactions >= -1e-6 * weight)  # no element pulls
+    np.testing.assert_allclose(reactions.sum(axis=1), weight, rtol=1e-6)  # the weight is carried
+    if foundation == "two-element":
+        capacity = rc.two_element_moment_capacity(b, elements.capacity[0], weight)
+        backbone = rc.two_element_backbone(theta, b, elements.stiffness[0], elements.capacity[0], weight)
+        assert np.max(np.abs(moment - backbone)) < 2e-4 * capacity
+    else:
+        capacity = rc.midpoint_moment_capacity(elements.positions, elements.capacity, weight)
+        assert np.all(np.diff(moment) > -1e-6 * capacity)  # it rises towards M_c
+    assert moment[-1] == pytest.approx(capacity, rel=1e-6)
