@@ -105,6 +105,7 @@ def main() -> None:
     parser.add_argument("--foundation", default="two-element", choices=("two-element", "winkler"))
     parser.add_argument("--dt", type=float, default=0.0005, help="OpenSees fixed step [s]")
     parser.add_argument("--cache", default="/tmp/uplift-opensees", help="folder of cached OpenSees histories")
+    parser.add_argument("--opensees-only", action="store_true", help="only fill the cache of OpenSees histories")
     args = parser.parse_args()
     cache = Path(args.cache)
     cache.mkdir(parents=True, exist_ok=True)
@@ -116,6 +117,9 @@ def main() -> None:
                 key = (f"cap-{args.foundation}-{record.name.split()[0]}-T{period:g}-fs{safety:g}-dt{args.dt:g}-"
                        f"n{record.acceleration.size}")
                 ops = opensees_values(system, record, args.dt, cache, key)
+                if args.opensees_only:
+                    print(key, f"{ops['seconds']:.1f} s", flush=True)
+                    continue
                 ref = exact_values(system, record)
                 row = {"record": record.name.split()[0], "T_1": period, "FS_v": safety, "yielded": ref["yielded"],
                        "W_p/E_in": ref["plastic_work"] / ref["energy_input"],

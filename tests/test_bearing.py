@@ -1,6 +1,6 @@
 """The bearing capacity of the two-element and Winkler foundations (model/bearing.py, docs/deck.md,
 docs/theory.md section 14): the three ways to give it, Q_y of each element, M_c and V_c of the
-system, the refusals (half-space, FS_v <= 1, the engines that do not model it yet)."""
+system, the refusals (half-space, FS_v <= 1), the engines that model it."""
 
 import math
 import re
@@ -106,25 +106,25 @@ def test_a_set_capacity_replaces_the_other_way():
 
 
 @pytest.mark.parametrize("engine", ["exact", "approximate"])
-def test_history_engines_refuse_an_uplift_analysis_with_a_capacity(engine):
-    """Until they model yielding (docs/theory.md section 14): exit 2 naming the capacity field; the
-    linear references (rigid, bonded) run as without a capacity."""
+def test_history_engines_model_a_capacity(engine):
+    """The history engines model yielding in the uplift analysis (docs/theory.md section 14,
+    tests/test_yielding.py); the linear references (rigid, bonded) run as without a capacity."""
     loaded = load_deck(TWO, ["foundation.safety_factor=1.5"])
-    with pytest.raises(InputError, match=f"no bearing capacity for the {engine} engine") as info:
-        analysis.run_one(loaded, engine, "uplift")
-    assert (info.value.source, info.value.location) == ("--set", "foundation.safety_factor")
+    result = analysis.run_one(loaded, engine, "uplift")
+    assert any(result.details["yielding"]["yielded"]) and result.details["yielding"]["plastic_work"] > 0.0
     elastic = load_deck(TWO)
     bonded = analysis.run_one(loaded, engine, "bonded")
     assert bonded.base_shear == analysis.run_one(elastic, engine, "bonded").base_shear
+    assert "yielding" not in bonded.details
 
 
-def test_history_engines_refuse_a_system_built_in_code():
+def test_history_engines_take_a_system_built_in_code():
     system = deck(TWO).system
     yielding = type(system)(system.building, TwoElement(system.foundation.stiffness, system.foundation.damping,
                                                         0.8 * system.weight), system.half_width)
     record = read_record(ROOT / "records" / "elcentro_1940_ns_chopra.txt", units="g")
-    with pytest.raises(InputError, match="no bearing capacity for the exact engine"):
-        analyze(yielding, record, "uplift", engine="exact")
+    result = analyze(yielding, record, "uplift", engine="exact")
+    assert min(result.details["yielding"]["plastic_settlement"]) < 0.0
     assert analyze(yielding, record, "uplift", engine="simplified").critical_base_moment == pytest.approx(
         0.6 * system.weight * system.half_width)
 

@@ -42,6 +42,8 @@ MAX_SPECTRUM_PERIODS = 10_000
 MAX_SPECTRUM_WORK = 100_000_000
 #: exact engine: contact elements of a foundation (one bit each in a 64-bit contact pattern)
 MAX_CONTACT_ELEMENTS = 62
+#: exact engine: contact elements with a bearing capacity (two bits each: lifted, yielding)
+MAX_YIELDING_ELEMENTS = 31
 #: record suites: records generated, and samples generated or matched in all (the spectral
 #: iteration costs about 0.2 ms per sample: 500,000 samples take about 100 s on 2 cores)
 MAX_SUITE_RECORDS = 1_000

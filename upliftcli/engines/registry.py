@@ -72,7 +72,7 @@ ENGINES: dict[str, Engine] = {
 #: the engines that model a bearing capacity of the foundation (docs/theory.md section 14); the
 #: others refuse an uplift analysis of a foundation that has one (rigid and bonded supports are
 #: linear references, which a capacity does not change)
-CAPACITY_ENGINES = ("simplified",)
+CAPACITY_ENGINES = ("simplified", "approximate", "exact")
 
 
 def capacity_refusal(name: str, system: Any, support: str) -> str | None:

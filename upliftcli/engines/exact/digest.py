@@ -69,6 +69,8 @@ class Digest:
         self.first = self.last = None
         self.samples = self.transitions = self.chunks = 0
         self.uplifted = False
+        self.yielded = np.zeros(space.layout.n_settlements, dtype=bool)  # per element with a capacity
+        self.final_state: np.ndarray | None = None
         self.time_step = 0.0
         self.pieces: list[dict[str, np.ndarray]] = []
         self.mat = MatMotion(space, system.half_width) if model.flexible else None
@@ -103,6 +105,9 @@ class Digest:
         self.last = stored(chunk, sig, -1)
         if self.space.layout.n_elements:
             self.uplifted |= bool(chunk.lifted.any())
+        if chunk.yielding is not None:
+            self.yielded |= chunk.yielding.any(axis=0)
+            self.final_state = chunk.states[-1].copy()
         if self.mat is not None:
             self.mat.add(chunk, sig)
         self.end_time = float(chunk.times[-1])
@@ -113,6 +118,14 @@ class Digest:
             piece = histories(chunk, self.rows, sig)
             self.pieces.append({k: np.array(v[1:] if self.chunks else v) for k, v in piece.items()})
         self.chunks += 1
+
+    def yielding(self, energy: dict) -> dict:
+        """What a run on yielding soil leaves (docs/theory.md 14.7): the plastic settlement s_i of
+        each element at the end [m] (<= 0, left edge first), whether each element yielded, the
+        plastic work W_p [J] and the capacities Q_i [N]."""
+        settlement = self.final_state[self.space.layout.settlement_indices]
+        return {"plastic_settlement": settlement.tolist(), "yielded": self.yielded.tolist(),
+                "plastic_work": energy["plastic_work"], "capacity": self.space.element_capacity.tolist()}
 
     def result(self, support: str, engine: str) -> AnalysisResult:
         """The run's AnalysisResult (after its last chunk)."""
@@ -146,6 +159,8 @@ class Digest:
             "uplift_summary": summary,
             "energy": energy,
         }
+        if space.layout.n_settlements:
+            details["yielding"] = self.yielding(energy)
         if "rotation" in values and "yielding" in details:  # the exact engine's uplift run on yielding soil
             values.update(plastic_quantities(details["yielding"]))
         histories = ({k: np.concatenate([piece[k] for piece in self.pieces]) for k in self.pieces[0]}

@@ -1,6 +1,6 @@
 """Energy balance of a simulated history (docs/theory.md, the exact engine's checks):
 input work = change of kinetic, strain, foundation elastic and gravity energy + structural
-and foundation damping.
+and foundation damping (+ the plastic work of yielding soil, docs/theory.md 14.5).
 
 Work integrals: 3-point Gauss quadrature on the cubic Hermite interpolants of the signals
 (O(h^4), response_kernels.work_integrals); stored energies exact at the first and last
@@ -35,8 +35,10 @@ def work(history: History, sig: Signals) -> tuple[float, float, float]:
     return float(work_in), float(damp_struct), float(damp_found)
 
 
-def stored(history: History, sig: Signals, index: int) -> tuple[float, float, float, float]:
-    """Kinetic, strain, foundation elastic and gravity energy [J] at one sample."""
+def stored(history: History, sig: Signals, index: int) -> tuple[float, ...]:
+    """Kinetic, strain, foundation elastic and gravity energy [J] at one sample; with a bearing
+    capacity also -sum_i Q_i s_i [J], whose change is the plastic work W_p (docs/theory.md 14.5:
+    the foundation elastic energy then uses the springs' deformations v_i - s_i, z_i - s_i)."""
     space = history.space
     model = space.model
     x = history.states[index]
@@ -50,6 +52,9 @@ def stored(history: History, sig: Signals, index: int) -> tuple[float, float, fl
         deformation = np.where(contact.lifted, z, sig["element_displacement"][index])
         foundation = 0.5 * np.sum(k_el * deformation**2)
         gravity = model.total_mass * model.gravity * sig["v"][index, 0]
+    if space.layout.n_settlements:
+        plastic = -float(np.sum(space.element_capacity * x[space.layout.settlement_indices]))
+        return float(kinetic), float(strain), float(foundation), float(gravity), plastic
     return float(kinetic), float(strain), float(foundation), float(gravity)
 
 
@@ -58,7 +63,7 @@ def balance(space: StateSpace, works: tuple[float, float, float], first: tuple, 
     first and the last sample; residual and relative residual."""
     work_in, damp_struct, damp_found = works
     terms = {"input": work_in}
-    for k, name in enumerate(("kinetic", "strain", "foundation_elastic", "gravity")):
+    for k, name in enumerate(("kinetic", "strain", "foundation_elastic", "gravity", "plastic_work")[:len(first)]):
         terms[name] = float(last[k] - first[k])
     terms["structural_damping"] = damp_struct
     terms["foundation_damping"] = damp_found

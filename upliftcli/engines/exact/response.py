@@ -126,6 +126,10 @@ def signals(history: History) -> Signals:
         rows[names["element_velocity"]] = space.directions @ contact.velocity
         rows[names["element_displacement"]] = space.displacement_rows
         rows[np.arange(names["z"].start, names["z"].stop), lay.z_indices] = 1.0
+        if lay.n_settlements:  # with a capacity, deformations of the springs: v_i - s_i, z_i - s_i (theory 14.5)
+            rows[np.arange(names["element_displacement"].start, names["element_displacement"].stop),
+                 lay.settlement_indices] -= 1.0
+            rows[np.arange(names["z"].start, names["z"].stop), lay.settlement_indices] -= 1.0
         rows_by_state.append(np.vstack((rows, rows[:n_slopes] @ contact.matrix)).T)
     states, ids = history.states, history.state_ids
     at = np.nonzero(ids[1:] != ids[:-1])[0]
@@ -247,8 +251,11 @@ def histories(history: History, rows: ResponseRows, sig: Signals) -> dict[str, n
     if history.space.model.flexible:
         out["theta"] = sig["theta"][:, 0]
         out["v"] = sig["v"][:, 0]
-        out["left_edge_displacement"] = sig["element_displacement"][:, 0]
-        out["right_edge_displacement"] = sig["element_displacement"][:, -1]
+        edges = sig["element_displacement"][:, [0, -1]]
+        if history.space.layout.n_settlements:  # the signal is the spring's v_i - s_i: the edges themselves
+            edges = history.states @ history.space.displacement_rows[[0, -1]].T
+        out["left_edge_displacement"] = edges[:, 0]
+        out["right_edge_displacement"] = edges[:, 1]
         patterns = np.array([sum(int(f) << i for i, f in enumerate(c.lifted)) for c in history.contact])
         out["contact_state"] = patterns[history.state_ids]
     places = {"drift": y @ rows.drift.T,

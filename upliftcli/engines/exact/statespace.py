@@ -24,7 +24,7 @@ acceleration and gravity make the system autonomous: X' = A X, X(t + tau) = expm
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -94,6 +94,9 @@ def modal_model(system: System, support: str, n_modes: int, coupled_modes: int |
     foundation = impedance(system) if flexible else None
     elements = system.foundation.contact_elements(system.half_width, foundation["omega_impedance"]) if flexible \
         else None
+    if support == "bonded" and elements is not None and elements.capacity is not None:
+        # the bonded support is the linear reference: its elements neither lift nor yield (theory 14)
+        elements = replace(elements, capacity=None)
     return ModalModel(modes.omega, modes.damping, modes.effective_mass, modes.effective_height, coupled,
                       theta_inertia, first_moment_residual, system.total_mass, system.gravity, elements, foundation)
 
@@ -121,6 +124,7 @@ class Layout:
     massless: np.ndarray     # indices into p without mass (theta when I_theta = 0)
     n_x: int                 # state size without the 3 forcing entries
     n_elements: int
+    n_settlements: int = 0   # plastic settlements s_i: n_elements with a bearing capacity, else 0
 
     @property
     def n_aug(self) -> int:
@@ -141,7 +145,14 @@ class Layout:
     @property
     def z_indices(self) -> np.ndarray:
         """State indices of the element tops z_i (int64, one per element)."""
-        return np.arange(self.n_x - self.n_elements, self.n_x, dtype=np.int64)
+        end = self.n_x - self.n_settlements
+        return np.arange(end - self.n_elements, end, dtype=np.int64)
+
+    @property
+    def settlement_indices(self) -> np.ndarray:
+        """State indices of the plastic settlements s_i [m] (int64, one per element with a bearing
+        capacity; empty without one: docs/theory.md 14.3)."""
+        return np.arange(self.n_x - self.n_settlements, self.n_x, dtype=np.int64)
 
 
 def layout(model: ModalModel) -> Layout:
@@ -154,8 +165,9 @@ def layout(model: ModalModel) -> Layout:
     massless = np.array([theta]) if masses[theta] == 0.0 else np.array([], dtype=int)
     massive = np.array([i for i in range(n_p) if i not in set(massless.tolist())])
     n_e = model.elements.count
-    n_x = 2 * massive.size + massless.size + n_e
-    return Layout(n_p, massive, massless, n_x, n_e)
+    n_s = n_e if model.elements.capacity is not None else 0
+    n_x = 2 * massive.size + massless.size + n_e + n_s
+    return Layout(n_p, massive, massless, n_x, n_e, n_s)
 
 
 def coordinate_masses(model: ModalModel) -> np.ndarray:
@@ -203,7 +215,8 @@ def structure_matrices(model: ModalModel, k_modal: np.ndarray, c_modal: np.ndarr
 
 @dataclass(frozen=True)
 class ContactState:
-    """Linear system of one contact state: lifted[i] is True where element i is off the mat.
+    """Linear system of one contact state: lifted[i] is True where element i is off the mat
+    (and, with a bearing capacity, yielding[i] where it yields: docs/theory.md 14.2).
 
     matrix: A of X' = A X (n_aug, n_aug).
     velocity: map X -> p' (n_p, n_aug).
@@ -215,6 +228,7 @@ class ContactState:
     matrix: np.ndarray
     velocity: np.ndarray
     events: np.ndarray
+    yielding: np.ndarray | None = None  # True where element i yields (a foundation with a capacity)
 
 
 @dataclass(frozen=True)
@@ -229,7 +243,8 @@ class StateSpace:
     element_stiffness k_i [N/m], element_damping c_i [N s/m], displacement_rows (n_e, n_aug):
     X -> v_i; weight m_t g [N]; settlement: static settlement m_t g / sum k_i [m];
     governing_period: the shortest period the sampling must resolve [s]; rest: the augmented
-    state at rest under gravity, all elements in contact.
+    state at rest under gravity, all elements in contact; element_capacity: the bearing
+    capacity Q_i [N] of each element (None: elastic, docs/theory.md 14.1).
     """
 
     model: ModalModel
@@ -251,6 +266,7 @@ class StateSpace:
     settlement: float
     governing_period: float
     rest: np.ndarray
+    element_capacity: np.ndarray | None = None
 
 
 def state_space(model: ModalModel) -> StateSpace:
@@ -272,20 +288,31 @@ def state_space(model: ModalModel) -> StateSpace:
     to_modal = modal_map(model, lay)
     return StateSpace(model, lay, stiffness, damping, forcing, coordinate_masses(model), position, to_modal,
                       to_modal @ position, k_modal, c_modal, directions, k_el, c_el, directions @ position,
-                      weight, settlement, governing_period(model), static_state(model, lay))
+                      weight, settlement, governing_period(model), static_state(model, lay),
+                      model.elements.capacity if lay.n_settlements else None)
 
 
-def contact_states(terms: list[StateSpace], lifted: np.ndarray, criterion: str) -> list[ContactState]:
+def stacked(terms: list[StateSpace], name: str) -> np.ndarray:
+    """The attribute `name` of every item of terms, stacked along a first (batch) axis."""
+    return getattr(terms[0], name)[None] if len(terms) == 1 else np.stack([getattr(t, name) for t in terms])
+
+
+def contact_states(terms: list[StateSpace], lifted: np.ndarray, criterion: str,
+                   yielding: np.ndarray | None = None) -> list[ContactState]:
     """Assemble A, the velocity map and the event rows of contact patterns: item r is the
-    model of terms[r] (all with one layout) in the contact pattern lifted[r] (R, n_e). The
-    assembly is vectorised over the batch axis; every item gets the same bits as alone
-    (products are per item, sums along contiguous rows). Raises ZeroDivisionError if a
-    massless rotation has no damping in some item."""
+    model of terms[r] (all with one layout) in the contact pattern lifted[r] (R, n_e) (and
+    yielding[r] with a bearing capacity: yielding.yielding_states). The assembly is
+    vectorised over the batch axis; every item gets the same bits as alone (products are per
+    item, sums along contiguous rows). Raises ZeroDivisionError if a massless rotation has no
+    damping in some item."""
     count = len(terms)
     lay = terms[0].layout
-    n_aug, n_p, n_e = lay.n_aug, lay.n_p, lay.n_elements
+    if lay.n_settlements:
+        from .yielding import yielding_states
+        return yielding_states(terms, lifted, yielding, criterion)
+    n_e = lay.n_elements
     def stack(name: str) -> np.ndarray:
-        return getattr(terms[0], name)[None] if count == 1 else np.stack([getattr(t, name) for t in terms])
+        return stacked(terms, name)
 
     stiffness, damping, forcing, masses = stack("stiffness"), stack("damping"), stack("forcing"), stack("masses")
     position = terms[0].position  # the same for one layout
@@ -294,24 +321,8 @@ def contact_states(terms: list[StateSpace], lifted: np.ndarray, criterion: str) 
         e_t = np.swapaxes(e, 1, 2)
         stiffness = stiffness + (e_t * np.where(lifted, 0.0, k_el)[:, None, :]) @ e
         damping = damping + (e_t * np.where(lifted, 0.0, c_el)[:, None, :]) @ e
-    a_idx, b_idx = lay.massive, lay.massless
-    n_a, n_b = a_idx.size, b_idx.size
-    # maps from X to p' (p' of massless coordinates from the first-order equation)
-    velocity = np.zeros((count, n_p, n_aug))
-    velocity[:, a_idx, n_a + np.arange(n_a)] = 1.0
-    if n_b:
-        c_bb = damping[:, b_idx][:, :, b_idx]
-        if np.any(np.linalg.eigvalsh(c_bb) <= 0.0):
-            raise ZeroDivisionError("massless rotation with no damping")
-        rhs = forcing[:, b_idx] - damping[:, b_idx][:, :, a_idx] @ velocity[:, a_idx] - stiffness[:, b_idx] @ position
-        velocity[:, b_idx] = np.linalg.solve(c_bb, rhs)
-    matrix = np.zeros((count, n_aug, n_aug))
-    matrix[:, :n_a] = velocity[:, a_idx]
-    accel = forcing[:, a_idx] - damping[:, a_idx] @ velocity - stiffness[:, a_idx] @ position
-    matrix[:, n_a:2 * n_a] = accel / masses[:, a_idx, None]
-    if n_b:
-        matrix[:, 2 * n_a:2 * n_a + n_b] = velocity[:, b_idx]
-    events = np.zeros((count, n_e, n_aug))
+    velocity, matrix = dynamics(lay, stiffness, damping, forcing, masses, position)
+    events = np.zeros((count, n_e, lay.n_aug))
     if n_e:
         weight = np.array([t.weight for t in terms])[:, None, None]
         settlement = np.array([t.settlement for t in terms])[:, None, None]
@@ -329,8 +340,35 @@ def contact_states(terms: list[StateSpace], lifted: np.ndarray, criterion: str) 
             # in contact: edge above the unstressed position v_i > 0 [4b]
             separation = disp_rows / settlement
         events = np.where(lifted[:, :, None], recontact, separation)
-    matrix[:, lay.index_acceleration, lay.index_slope] = 1.0
     return [ContactState(lifted[r].copy(), matrix[r], velocity[r], events[r]) for r in range(count)]
+
+
+def dynamics(lay: Layout, stiffness: np.ndarray, damping: np.ndarray, forcing: np.ndarray, masses: np.ndarray,
+             position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The velocity map X -> p' and the matrix A (without the rows of z and s that the caller
+    adds) of a batch of contact states from their stiffness, damping (R, n_p, n_p), forcing
+    (R, n_p, n_aug), masses (R, n_p) and the map X -> p. Raises ZeroDivisionError if a massless
+    rotation has no damping in some item."""
+    count, n_p, n_aug = stiffness.shape[0], lay.n_p, lay.n_aug
+    a_idx, b_idx = lay.massive, lay.massless
+    n_a, n_b = a_idx.size, b_idx.size
+    # maps from X to p' (p' of massless coordinates from the first-order equation)
+    velocity = np.zeros((count, n_p, n_aug))
+    velocity[:, a_idx, n_a + np.arange(n_a)] = 1.0
+    if n_b:
+        c_bb = damping[:, b_idx][:, :, b_idx]
+        if np.any(np.linalg.eigvalsh(c_bb) <= 0.0):
+            raise ZeroDivisionError("massless rotation with no damping")
+        rhs = forcing[:, b_idx] - damping[:, b_idx][:, :, a_idx] @ velocity[:, a_idx] - stiffness[:, b_idx] @ position
+        velocity[:, b_idx] = np.linalg.solve(c_bb, rhs)
+    matrix = np.zeros((count, n_aug, n_aug))
+    matrix[:, :n_a] = velocity[:, a_idx]
+    accel = forcing[:, a_idx] - damping[:, a_idx] @ velocity - stiffness[:, a_idx] @ position
+    matrix[:, n_a:2 * n_a] = accel / masses[:, a_idx, None]
+    if n_b:
+        matrix[:, 2 * n_a:2 * n_a + n_b] = velocity[:, b_idx]
+    matrix[:, lay.index_acceleration, lay.index_slope] = 1.0
+    return velocity, matrix
 
 
 def position_map(model: ModalModel, lay: Layout) -> np.ndarray:

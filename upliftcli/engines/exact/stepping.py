@@ -15,10 +15,11 @@ from functools import cached_property
 import numpy as np
 
 from ...errors import AnalysisError
-from ...limits import MAX_CONTACT_ELEMENTS
+from ...limits import MAX_CONTACT_ELEMENTS, MAX_YIELDING_ELEMENTS
 from . import stepping_kernels as kernel
 from .expm import expm
 from .statespace import ContactState, StateSpace, contact_states
+from .yielding import event_resets, pattern_bits, valid_pattern
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
 LEVELS = 12
@@ -31,7 +32,8 @@ class History:
     space: the state-space model integrated (its maps serve the responses and the energy);
     times [s] (n,), states X (n, n_aug), state_ids (n,): the contact state valid from
     each sample to the next; contact: the ContactState list indexed by state id; lifted
-    (n, n_e): True where the element is lifted (valid from the sample on).
+    (n, n_e): True where the element is lifted (valid from the sample on); yielding (n, n_e):
+    True where it yields (a foundation with a bearing capacity, docs/theory.md 14; else None).
     """
 
     space: StateSpace
@@ -42,6 +44,7 @@ class History:
     time_step: float
     criterion: str
     lifted: np.ndarray
+    yielding: np.ndarray | None = None
 
 
     @cached_property
@@ -57,6 +60,7 @@ class _Operators:
     def __init__(self, space: StateSpace, h: float, criterion: str):
         self.space, self.layout, self.h, self.criterion = space, space.layout, h, criterion
         n_aug, n_e = self.layout.n_aug, max(self.layout.n_elements, 0)
+        n_e += self.layout.n_settlements  # two event rows per element with a bearing capacity
         self.capacity = 4
         self.ops = np.zeros((self.capacity, LEVELS + 1, n_aug, n_aug))
         self.events = np.zeros((self.capacity, n_e, n_aug))
@@ -67,6 +71,10 @@ class _Operators:
 
     def lifted(self, pattern: int) -> np.ndarray:
         return np.array([(pattern >> i) & 1 for i in range(self.layout.n_elements)], dtype=bool)
+
+    def yielding(self, pattern: int) -> np.ndarray | None:
+        """Where the elements yield in the pattern (None without a bearing capacity)."""
+        return pattern_bits(pattern, self.layout.n_elements)[1] if self.layout.n_settlements else None
 
     def store(self, pattern: int, state: ContactState, ops: np.ndarray, events: bool) -> int:
         """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS."""
@@ -91,6 +99,10 @@ _NO_INERTIA = ("the mat rotation has neither inertia nor damping in this contact
                "(all damping ratios 0 and no element damping): give the mat a rotary inertia I_0 > 0")
 
 
+_LIFTED_AND_YIELDING = ("a contact element started to lift off and to yield at the same instant (its dashpot "
+                        "force balanced its capacity exactly): reduce the time step (analysis.exact.time_step)")
+
+
 def add_states(requests: list[tuple[_Operators, int, bool]]) -> list[int | AnalysisError]:
     """Build and store the contact states asked for, (operators, pattern, with event rows)
     each, vectorised over the requests that share a layout: one batched assembly
@@ -98,8 +110,11 @@ def add_states(requests: list[tuple[_Operators, int, bool]]) -> list[int | Analy
     same bits as built alone. Returns the new state index, or the error, per request."""
     out: list[int | AnalysisError] = [AnalysisError(_NO_INERTIA)] * len(requests)
     groups: dict[tuple, list[int]] = {}
-    for k, (operators, _, _) in enumerate(requests):
+    for k, (operators, pattern, _) in enumerate(requests):
         lay = operators.layout
+        if lay.n_settlements and not valid_pattern(pattern, lay.n_elements):
+            out[k] = AnalysisError(_LIFTED_AND_YIELDING)
+            continue
         key = (lay.n_p, tuple(lay.massive), tuple(lay.massless), lay.n_x, lay.n_elements, operators.criterion)
         groups.setdefault(key, []).append(k)
     for members in groups.values():
@@ -127,15 +142,29 @@ def add_states(requests: list[tuple[_Operators, int, bool]]) -> list[int | Analy
         ops[:, 0] = expm(a_t * h)
         for r, (k, state) in enumerate(built):
             operators, pattern, events = requests[k]
+            if state.yielding is not None:
+                _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
             out[k] = operators.store(pattern, state, ops[r], events)
     return out
+
+
+def _hold_settlements(ops: np.ndarray, constant: np.ndarray) -> None:
+    """Make the settlements s_i of elements that do not yield exactly constant in the step
+    operators (ops: E^T per level, in place): their rows of A are zero, so the rows of E = expm(A h)
+    are unit rows, which the computed exponentials hold only to a few units in the last place (a
+    drift of 4e-13 of s_i per step, measured)."""
+    ops[:, :, constant] = 0.0
+    ops[:, constant, constant] = 1.0
 
 
 def _states(requests: list[tuple[_Operators, int, bool]]) -> list[ContactState]:
     first = requests[0][0]
     lifted = np.array([operators.lifted(pattern) for operators, pattern, _ in requests], dtype=bool)
     lifted = lifted.reshape(len(requests), first.layout.n_elements)
-    return contact_states([operators.space for operators, _, _ in requests], lifted, first.criterion)
+    yielding = None
+    if first.layout.n_settlements:
+        yielding = np.array([operators.yielding(pattern) for operators, pattern, _ in requests], dtype=bool)
+    return contact_states([operators.space for operators, _, _ in requests], lifted, first.criterion, yielding)
 
 
 class Run:
@@ -155,11 +184,14 @@ class Run:
         if n_e > MAX_CONTACT_ELEMENTS:  # the deck's field is checked against it (a model built in code is not)
             raise AnalysisError(f"at most {MAX_CONTACT_ELEMENTS} contact elements are supported (got {n_e}): lower "
                                 "foundation.elements")
+        if lay.n_settlements > MAX_YIELDING_ELEMENTS:
+            raise AnalysisError(f"at most {MAX_YIELDING_ELEMENTS} contact elements with a bearing capacity are "
+                                f"supported (got {n_e}): lower foundation.elements")
         self.space, self.layout, self.h, self.criterion = space, lay, h, criterion
         self.uplift = uplift
         self.operators = _Operators(space, h, criterion)
-        self.elements = kernel.Elements(lay.z_indices, space.displacement_rows, space.element_damping > 0.0,
-                                        np.int64((1 << n_e) - 1) if n_e else np.int64(-2), bool(allow_flight))
+        self.elements = kernel.Elements(*event_resets(space), np.int64((1 << n_e) - 1) if n_e else np.int64(-2),
+                                        bool(allow_flight))
         self.grid = kernel.Grid(ground, slopes, float(h), LEVELS, lay.index_acceleration, lay.index_slope)
         # a long run is stepped in chunks: a full buffer goes to on_chunk (post-processed and
         # dropped) and stepping goes on from its last sample; without on_chunk the buffer grows
@@ -240,9 +272,13 @@ class Run:
         n = self.n_out
         contact = self.operators.contact
         table = np.array([c.lifted for c in contact], dtype=bool).reshape(len(contact), -1)
+        yielding = None
+        if self.layout.n_settlements:
+            yield_table = np.array([c.yielding for c in contact], dtype=bool).reshape(len(contact), -1)
+            yielding = np.take(yield_table, self.out_s[:n], axis=0)
         # np.take, not table[ids]: the same rows, 15x faster for a table this narrow
         return History(self.space, self.out_t[:n], self.out_x[:n], self.out_s[:n], contact, self.h, self.criterion,
-                       np.take(table, self.out_s[:n], axis=0))
+                       np.take(table, self.out_s[:n], axis=0), yielding)
 
 
 def ground_grid(acceleration: np.ndarray, substeps: int, dt: float) -> tuple[np.ndarray, np.ndarray]:

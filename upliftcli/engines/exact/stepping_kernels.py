@@ -38,8 +38,11 @@ REFINE_LEVELS = 5
 #: the contact states built so far: step operators ops[s, j] = expm(A_s h / 2^j)^T, event rows
 #: G_s, their rates G_s A_s, A_s^T, the contact pattern of each and how many there are
 States = namedtuple("States", "ops events event_rates matrices patterns count")
-#: the elements: state index of each element top z_i, rows of its displacement v_i, whether it
-#: has a dashpot, the pattern with every element lifted, and whether flight is allowed
+#: the elements, per event row r (one per element; two with a bearing capacity, yielding.py):
+#: the state index set when a crossing of row r turns bit r of the pattern on, the row it is set
+#: from (X[z_index[r]] := lift_rows[r] . X where damped[r], else 0: the top z_i of a lifting
+#: element, the settlement s_i at the onset of yield), the pattern with every element lifted,
+#: and whether flight is allowed
 Elements = namedtuple("Elements", "z_index lift_rows damped all_lifted allow_flight")
 #: the ground acceleration at every internal step [m/s^2], its slope in each step [m/s^3], the
 #: step h [s], the bisection levels L and where a_g and its slope sit in the augmented state

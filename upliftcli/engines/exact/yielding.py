@@ -1,0 +1,119 @@
+"""Contact states of a foundation whose elements yield (docs/theory.md section 14).
+
+Each contact element with a bearing capacity Q_i is in one of three states: C (elastic contact),
+Y (yielding) or L (lifted) (theory 14.1). The augmented state gains the plastic settlements s_i
+(Layout.settlement_indices), and every state stays linear (theory 14.3):
+
+- C: stiffness + k_i e_i^T e_i, damping + c_i e_i^T e_i, forcing + k_i e_i^T in the column of s_i
+  (the spring acts on v_i - s_i);
+- Y: damping + c_i e_i^T e_i, forcing + Q_i e_i^T in the column of the constant 1, and the row of
+  s_i in A is the velocity row of v_i (s_i' = v_i');
+- L: nothing on the mat; z_i' = -(k_i/c_i)(z_i - s_i) (c_i > 0; z_i = s_i when c_i = 0).
+
+Two event rows per element (theory 14.2): row i the lift-off (C) or the recontact at the settled
+level (L), row n_e + i the onset of yield (C) or the elastic unloading (Y); a row that cannot
+cross in a state is the constant -1. A crossing of row r flips bit r of the contact pattern
+(bit i: lifted, bit n_e + i: yielding) and, when the bit turns on, sets one state entry from
+event_resets (the top of a lifting element, z_i := v_i; the settlement at the onset of yield,
+s_i := v_i + Q_i/k_i, the spring exactly at its capacity).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .statespace import ContactState, Layout, StateSpace, dynamics, stacked
+
+
+def pattern_bits(pattern: int, n_elements: int) -> tuple[np.ndarray, np.ndarray]:
+    """(lifted, yielding) of each element in a contact pattern with a capacity (bits i and n_e + i)."""
+    bits = np.array([(pattern >> i) & 1 for i in range(2 * n_elements)], dtype=bool)
+    return bits[:n_elements], bits[n_elements:]
+
+
+def valid_pattern(pattern: int, n_elements: int) -> bool:
+    """False where some element would be lifted and yielding at once (no such state: theory 14.2)."""
+    lifted, yielding = pattern_bits(pattern, n_elements)
+    return not np.any(lifted & yielding)
+
+
+def yielding_states(terms: list[StateSpace], lifted: np.ndarray, yielding: np.ndarray | None,
+                    criterion: str) -> list[ContactState]:
+    """statespace.contact_states for models with a bearing capacity: item r is terms[r] in the
+    pattern (lifted[r], yielding[r]) (R, n_e) each (docs/theory.md 14.2-14.3)."""
+    count = len(terms)
+    lay = terms[0].layout
+    yielding = np.zeros_like(lifted) if yielding is None else np.asarray(yielding, dtype=bool)
+    contact = ~lifted & ~yielding
+    touching = ~lifted
+    stiffness, damping, masses = stacked(terms, "stiffness"), stacked(terms, "damping"), stacked(terms, "masses")
+    forcing = stacked(terms, "forcing").copy()
+    e, k_el, c_el = stacked(terms, "directions"), stacked(terms, "element_stiffness"), stacked(terms, "element_damping")
+    q_el = stacked(terms, "element_capacity")
+    e_t = np.swapaxes(e, 1, 2)
+    k_contact = np.where(contact, k_el, 0.0)
+    stiffness = stiffness + (e_t * k_contact[:, None, :]) @ e
+    damping = damping + (e_t * np.where(touching, c_el, 0.0)[:, None, :]) @ e
+    s_idx, z_idx, one = lay.settlement_indices, lay.z_indices, lay.index_one
+    forcing[:, :, s_idx] += e_t * k_contact[:, None, :]
+    forcing[:, :, one] += (e_t * np.where(yielding, q_el, 0.0)[:, None, :]).sum(axis=2)
+    velocity, matrix = dynamics(lay, stiffness, damping, forcing, masses, terms[0].position)
+    edge_velocity = e @ velocity  # (R, n_e, n_aug): X -> v_i'
+    rows, cols = np.nonzero(yielding)
+    matrix[rows, s_idx[cols]] = edge_velocity[rows, cols]
+    rows, cols = np.nonzero(lifted & (c_el > 0.0))  # lifted tops relaxing: k (z - s) + c z' = 0
+    rate = k_el[rows, cols] / c_el[rows, cols]
+    matrix[rows, z_idx[cols], z_idx[cols]] = -rate
+    matrix[rows, z_idx[cols], s_idx[cols]] = rate
+    events = _events(terms, lay, lifted, yielding, contact, edge_velocity, criterion)
+    return [ContactState(lifted[r].copy(), matrix[r], velocity[r], events[r], yielding[r].copy())
+            for r in range(count)]
+
+
+def _events(terms: list[StateSpace], lay: Layout, lifted: np.ndarray, yielding: np.ndarray, contact: np.ndarray,
+            edge_velocity: np.ndarray, criterion: str) -> np.ndarray:
+    """The 2 n_e event rows of each item (theory 14.2; > 0: the element switches), dimensionless:
+    forces by W, displacements by the static settlement delta_st, velocities by g / w_v."""
+    n_aug = lay.n_aug
+    unit = np.eye(n_aug)
+    s_rows, z_rows, one = unit[lay.settlement_indices], unit[lay.z_indices], unit[lay.index_one]
+    weight = np.array([t.weight for t in terms])[:, None, None]
+    settlement = np.array([t.settlement for t in terms])[:, None, None]
+    # delta_st w_v = g / w_v, w_v = sqrt(sum k_i / m_t) the bonded vertical frequency
+    vertical = np.array([np.sqrt(t.element_stiffness.sum() / t.model.total_mass) for t in terms])[:, None, None]
+    k_el, c_el = stacked(terms, "element_stiffness")[:, :, None], stacked(terms, "element_damping")[:, :, None]
+    q_el = stacked(terms, "element_capacity")[:, :, None]
+    spring = stacked(terms, "displacement_rows") - s_rows  # v_i - s_i
+    # lift-off: F_i > 0 [4a] or v_i - s_i > 0 [4b]
+    separation = (k_el * spring + c_el * edge_velocity) / weight if criterion == "reaction" else spring / settlement
+    top = np.where(c_el > 0.0, z_rows, s_rows)  # where a lifted element's top is
+    recontact = (top - stacked(terms, "displacement_rows")) / settlement
+    onset = -(k_el * spring + q_el * one) / weight
+    unloading = edge_velocity / (settlement * vertical)
+    never = np.broadcast_to(-one, spring.shape)
+    first = np.where(lifted[:, :, None], recontact, np.where(yielding[:, :, None], never, separation))
+    second = np.where(contact[:, :, None], onset, np.where(yielding[:, :, None], unloading, never))
+    return np.concatenate((first, second), axis=1)
+
+
+def event_resets(space: StateSpace) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(index, rows, with_row) per event row: when a crossing of row r turns its pattern bit on,
+    X[index[r]] := rows[r] . X where with_row[r], else 0 (stepping_kernels.Elements). Elastic
+    elements: the top of a lifting element, z_i := v_i (c_i > 0; 0 without a dashpot); with a
+    capacity also z_i := s_i without a dashpot, and s_i := v_i + Q_i/k_i at the onset of yield."""
+    lay = space.layout
+    damped = space.element_damping > 0.0
+    if not lay.n_settlements:
+        return lay.z_indices, space.displacement_rows, damped
+    unit = np.eye(lay.n_aug)
+    lift = np.where(damped[:, None], space.displacement_rows, unit[lay.settlement_indices])
+    onset = space.displacement_rows + (space.element_capacity / space.element_stiffness)[:, None] \
+        * unit[lay.index_one]
+    return (np.concatenate((lay.z_indices, lay.settlement_indices)), np.vstack((lift, onset)),
+            np.ones(2 * lay.n_elements, dtype=bool))
+
+
+def plastic_work(space: StateSpace, first: np.ndarray, last: np.ndarray) -> float:
+    """W_p = sum_i Q_i (s_i(first) - s_i(last)) [J] between two augmented states (theory 14.5)."""
+    s = space.layout.settlement_indices
+    return float(np.sum(space.element_capacity * (first[s] - last[s])))
