@@ -55,6 +55,11 @@ def values(result) -> dict[str, float]:
     return {name: np.nan if found.get(name) is None else float(found[name]) for name in COMPARED}
 
 
+def ratio(simplified: float, exact: float) -> float:
+    """simplified / exact, NaN where the exact value is 0 or missing (a mat that does not lift)."""
+    return simplified / exact if np.isfinite(exact) and exact > 0.0 else np.nan
+
+
 def exact_values(system, record, cache: Path, key: str) -> dict:
     path = cache / (hashlib.sha256(f"{CACHE_VERSION}-{key}".encode()).hexdigest()[:24] + ".pkl")
     if path.exists():
@@ -90,7 +95,7 @@ def main() -> None:
                     rows.append({"record": record.name.split()[0], "foundation": foundation, "T_1": period,
                                  "FS_v": safety, "lifting": reference["uplift"] or reference["yielded"] > 0,
                                  "yielded": reference["yielded"],
-                                 **{name: simplified[name] / reference["values"][name] for name in COMPARED}})
+                                 **{name: ratio(simplified[name], reference["values"][name]) for name in COMPARED}})
     print(f"{len(rows)} cases ({args.procedure} procedure); simplified / exact over the lifting cases: "
           "median, > 20 % low, > 20 % high")
     for foundation in args.foundations.split(","):

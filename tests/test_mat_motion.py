@@ -112,3 +112,24 @@ def test_only_the_uplift_runs_of_the_exact_engine_report_them(support):
     assert not set(MOTION) & set(result.peaks)
     approximate = exact.analyze(paper_system(0.5), _record(3.0), "uplift", ExactOptions(), name="approximate")
     assert not set(MOTION) & set(approximate.peaks)
+
+
+def test_at_rest_the_edges_have_settled_by_the_plastic_settlement():
+    """On yielding soil (two elements, FS_v = 1.5: both yield under El Centro's first 8 s), once
+    the mat has come to rest (10 s of free vibration) each element carries W/2 again, so its
+    spring is back at the static deformation and the edge has settled by exactly the element's
+    plastic settlement -s_i (docs/theory.md 14.1); the centre by their mean, the mat rotated by
+    their difference over 2b. Measured 1.7e-5 of the settlement after 10 s (2e-3 after 2 s)."""
+    system = paper_system(0.5)
+    system = replace(system, foundation=replace(system.foundation, capacity=1.5 * system.weight / 2))
+    result = exact.analyze(system, _record(8.0), "uplift", ExactOptions(free_vibration=10.0))
+    plastic = result.peaks["plastic_settlement"]
+    assert result.peaks["yielded_elements"][0] == 2 and plastic.min() > 0.01
+    residual = result.peaks["residual_settlement"]
+    np.testing.assert_allclose(residual[[0, 2]], plastic, rtol=1e-4)
+    assert residual[1] == pytest.approx(plastic.mean(), rel=1e-4)
+    rotation = abs(plastic[0] - plastic[1]) / (2.0 * system.half_width)
+    assert result.peaks["residual_rotation"][0] == pytest.approx(rotation, rel=1e-3)
+    assert np.all(result.peaks["settlement"] >= residual)
+    # W_p = sum Q_i |s_i| (docs/theory.md 14.5)
+    assert result.peaks["plastic_work"][0] == pytest.approx(1.5 * system.weight / 2 * plastic.sum(), rel=1e-12)
