@@ -112,6 +112,13 @@ def main() -> None:
             yielded = np.mean([r["yielded"] > 0 for r in chosen])
             label = "elastic" if safety is None else f"FS_v = {safety:g}"
             print(f"{foundation}, {label}: {len(chosen)} cases, yielded in {yielded:.0%}; " + "; ".join(cells))
+            by_period = []
+            for period in sorted({r["T_1"] for r in chosen}):
+                here = [r for r in chosen if r["T_1"] == period]
+                medians = [np.nanmedian([r[name] for r in here]) for name in ("base_shear", "base_moment",
+                                                                              "max_rotation")]
+                by_period.append(f"T_1 = {period:g} s ({len(here)}): " + "/".join(f"{m:.2f}" for m in medians))
+            print("    median V_b/M_b/theta by period: " + "; ".join(by_period))
 
 
 if __name__ == "__main__":
