@@ -133,3 +133,19 @@ def test_at_rest_the_edges_have_settled_by_the_plastic_settlement():
     assert np.all(result.peaks["settlement"] >= residual)
     # W_p = sum Q_i |s_i| (docs/theory.md 14.5)
     assert result.peaks["plastic_work"][0] == pytest.approx(1.5 * system.weight / 2 * plastic.sum(), rel=1e-12)
+
+
+def test_both_backends_give_the_same_rocking_quantities():
+    """The compiled loops and their numpy twins (tests/backends.py) on a yielding run: the same
+    rotation, settlements and plastic quantities to 1e-9 (the post-processing of mat_motion.py is
+    numpy on the signals, which agree to round-off)."""
+    from backends import on_both
+
+    system = paper_system(0.5)
+    system = replace(system, foundation=replace(system.foundation, capacity=1.5 * system.weight / 2))
+    compiled, twin = on_both(lambda: exact.analyze(system, _record(8.0), "uplift", ExactOptions()))
+    for name in (*MOTION, "plastic_settlement", "yielded_elements", "plastic_work"):
+        scale = np.abs(compiled.peaks[name.removeprefix("residual_")]).max()
+        np.testing.assert_allclose(twin.peaks[name], compiled.peaks[name], rtol=0, atol=1e-9 * scale, err_msg=name)
+        if name in compiled.times:
+            np.testing.assert_allclose(twin.times[name], compiled.times[name], rtol=0, atol=1e-9, err_msg=name)
