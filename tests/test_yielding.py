@@ -297,3 +297,26 @@ def test_a_settled_element_comes_back_to_its_settled_level():
     # s_i only decreases (yielding), never recovers (but for the last-place drift of the step operators)
     assert np.all(np.diff(settlement, axis=0) <= 1e-12 * space.settlement)
     assert settlement[-1].min() < 0.0
+
+
+@pytest.mark.parametrize("path", [TWO, WINKLER])
+def test_the_displacement_criterion_yields_too(path):
+    """Lift-off by the displacement criterion [4b] on the settled level, v_i - s_i > 0: the run
+    yields, settles and closes its energy balance as with the reaction criterion."""
+    result = run(path, "exact", "uplift", "foundation.safety_factor=1.5", "analysis.exact.criterion=\"displacement\"")
+    assert result.intermediates["criterion"] == "displacement"
+    assert any(result.details["yielding"]["yielded"]) and result.details["yielding"]["plastic_work"] > 0.0
+    assert result.details["energy"]["relative_residual"] < 1e-4
+
+
+def test_more_elements_with_a_capacity_than_the_pattern_holds_are_refused():
+    """Two bits per element with a capacity: at most limits.MAX_YIELDING_ELEMENTS = 31 (one
+    line naming the field to lower; without a capacity 32 elements run)."""
+    from upliftcli.errors import AnalysisError
+    from upliftcli.limits import MAX_YIELDING_ELEMENTS
+
+    assert MAX_YIELDING_ELEMENTS == 31
+    elastic = run(WINKLER, "exact", "uplift", "foundation.elements=32")
+    assert elastic.element_positions.size == 32
+    with pytest.raises(AnalysisError, match=r"at most 31 contact elements with a bearing capacity.*elements"):
+        run(WINKLER, "exact", "uplift", "foundation.elements=32", "foundation.safety_factor=2")

@@ -1,0 +1,97 @@
+"""Benchmark (issue 28, item 6): an exact analysis on soil that yields against the same analysis on
+elastic soil, as the ratio of their wall times measured interleaved in the same run (the machine
+is shared: medians of --repeats calls each). Target: every ratio at most 1.5.
+
+Cases: the paper's ten-story example (w_v/w_1 = 8, xi_v = 0.4, h_1*/b = 10) under El Centro 1940
+N-S with T_1 = 0.5 s and 1 s on two elements, and T_1 = 0.5 s on a 20-element Winkler mat of the
+same vertical stiffness and damping; each with FS_v = 1.5, 2 and 3 (Q_i = FS_v W tributary / 2b)
+against no capacity. The yielding run's transitions and plastic work are shown beside its ratio.
+
+    python benchmarks/bench_yielding.py [--repeats 7]
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import argparse
+import statistics
+import time
+from dataclasses import replace
+from pathlib import Path
+
+from upliftcli.engines.exact import engine as exact
+from upliftcli.model.building import modal_analysis, uniform_building
+from upliftcli.model.foundations import Winkler, two_element_from_ratios
+from upliftcli.model.system import System
+from upliftcli.motion.records import read_record
+
+RECORD = Path(__file__).resolve().parents[1] / "records" / "elcentro_1940_ns_chopra.txt"
+FACTORS = (1.5, 2.0, 3.0)
+TARGET = 1.5
+
+
+def paper_system(period: float, foundation: str) -> System:
+    """The paper's ten-story example on two elements, or on a 20-element Winkler mat with the
+    same total vertical stiffness and damping."""
+    building = uniform_building(10, 350e3, 3.5, period=period)
+    modes = modal_analysis(building)
+    two = two_element_from_ratios(building.masses.sum(), modes.omega[0], 8.0, 0.4)
+    half_width = modes.effective_height[0] / 10.0
+    if foundation == "winkler":
+        width = 2.0 * half_width
+        return System(building, Winkler(2.0 * two.stiffness / width, 2.0 * two.damping / width, 20), half_width)
+    return System(building, two, half_width)
+
+
+def with_capacity(system: System, factor: float) -> System:
+    """The system with Q_i = FS_v W tributary / (2b): Q per edge element, q_w per unit length."""
+    weight, half_width = system.weight, system.half_width
+    per_length = factor * weight / (2.0 * half_width)
+    capacity = per_length if isinstance(system.foundation, Winkler) else factor * weight / 2.0
+    return replace(system, foundation=replace(system.foundation, capacity=capacity))
+
+
+def median_time(system: System, record, repeats: int) -> float:
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        exact.analyze(system, record, "uplift")
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=7)
+    options = parser.parse_args()
+    record = read_record(RECORD, units="g")
+    print(f"{'case':28} {'elastic [ms]':>13} {'yielding [ms]':>14} {'ratio':>6} {'target':>7} "
+          f"{'transitions':>12} {'W_p/input':>10}")
+    worst = 0.0
+    for period, foundation in ((0.5, "two-element"), (1.0, "two-element"), (0.5, "winkler")):
+        elastic = paper_system(period, foundation)
+        exact.analyze(elastic, record, "uplift")  # untimed: imports, caches
+        for factor in FACTORS:
+            yielding = with_capacity(elastic, factor)
+            result = exact.analyze(yielding, record, "uplift")
+            base = run = 0.0
+            samples = []
+            for _ in range(3):  # interleaved: each pair of medians sees the same load
+                base = median_time(elastic, record, options.repeats)
+                run = median_time(yielding, record, options.repeats)
+                samples.append(run / base)
+            ratio = statistics.median(samples)
+            worst = max(worst, ratio)
+            energy = result.details["energy"]
+            print(f"{foundation + f' T1={period:g} s FS_v={factor:g}':28} {1e3 * base:13.2f} {1e3 * run:14.2f} "
+                  f"{ratio:6.2f} {TARGET:7.1f} {result.intermediates['transitions']:12d} "
+                  f"{energy['plastic_work'] / energy['input']:10.3f}")
+    print(f"largest ratio {worst:.2f} (target {TARGET}): {'met' if worst <= TARGET else 'NOT met'}; "
+          f"load average {os.getloadavg()[0]:.1f}")
+
+
+if __name__ == "__main__":
+    main()
