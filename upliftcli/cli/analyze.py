@@ -108,7 +108,7 @@ def analyze(
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f",
                                                help="table (terminal) or json (one document on stdout, SI units)."),
     out: Path | None = typer.Option(None, "--out", "-o",
-                                    help="Also write <deck>.json, .csv (and .elements.csv) results and "
+                                    help="Also write <deck>.json, .csv (and .elements.csv, .rocking.csv) results and "
                                          "<deck>.deck.toml (the resolved deck, which repeats the run) into this "
                                          "directory."),
     histories: Path | None = typer.Option(
