@@ -441,6 +441,20 @@ def test_a_bearing_capacity_runs_on_every_engine(engine, tmp_path):
         assert document["intermediates"]["FS_v"] == pytest.approx(1.5)
 
 
+@pytest.mark.parametrize("engine", ["exact", "approximate"])
+def test_a_bearing_capacity_runs_on_the_history_engines(engine):
+    """They model yielding soil (docs/theory.md section 14, tests/test_yielding.py): the uplift
+    result carries each element's plastic settlement and the plastic work."""
+    result = invoke("analyze", EXAMPLE, "--engine", engine, "--set", "foundation.safety_factor=1.5", "--support",
+                    "uplift", "--no-check", "--format", "json")
+    assert result.exit_code == 0, result.output
+    document = json.loads(result.stdout)
+    (uplift,) = [r for r in document.get("results", [document]) if r.get("support") == "uplift"]
+    yielding = uplift["details"]["yielding"]
+    assert yielding["plastic_work"] > 0.0 and min(yielding["plastic_settlement"]) < 0.0
+    assert uplift["details"]["energy"]["plastic_work"] == yielding["plastic_work"]
+
+
 def test_several_decks_print_every_warning_once_naming_the_deck():
     """Each per-analysis warning on stderr once, naming its deck and the analyses that gave it:
     the ASCE 7-22 11.4.5 warning of the two-period spectrum included (only --format json had them),
