@@ -164,3 +164,28 @@ def test_the_moment_rotation_loop_shows_the_capacity():
     elastic = fh.moment_rotation_figure([exact_uplift()]).panels[0].lines
     assert len(elastic) == 2 and "M_c = m_t g b" in elastic[0].label
     assert np.isfinite(values).all()
+
+
+def test_a_yielding_run_draws_its_capacity_and_tipping_moment():
+    """The exact engine on yielding soil (the small run with FS_v = 1.5 on two elements): the
+    moment-rotation loop's lines are +-M_c = W b (FS_v - 1) (docs/theory.md 14.4) and
+    +-M_tip = W b, and the loop's base moment passes M_c (the capacity bounds the springs, not
+    the dashpots, docs/theory.md 14.1)."""
+    from figure_cases import EXAMPLE_DECK, SMALL
+
+    from upliftcli import analysis
+    from upliftcli.cli.plotting import keep_histories
+    from upliftcli.deck import load_deck
+
+    deck = keep_histories(load_deck(EXAMPLE_DECK, [*SMALL, "foundation.safety_factor=1.5",
+                                                   'analysis.engine="exact"', 'analysis.supports=["uplift"]']))
+    (result,) = analysis.run(deck)
+    assert result.peaks["yielded_elements"][0] == 2
+    weight_b = deck.system.weight * deck.system.half_width
+    assert result.critical_base_moment == pytest.approx(0.5 * weight_b, rel=1e-12)
+    assert result.intermediates["M_tip"] == pytest.approx(weight_b, rel=1e-12)
+    panel = fh.moment_rotation_figure([result]).panels[0]
+    factor = {"kN m": 1e-3, "MN m": 1e-6}[panel.ylabel[panel.ylabel.rindex("[") + 1:-1]]
+    assert [line.value for line in panel.lines] == pytest.approx(
+        [factor * 0.5 * weight_b, -factor * 0.5 * weight_b, factor * weight_b, -factor * weight_b])
+    assert np.abs(panel.series[0].y).max() > factor * 0.5 * weight_b
