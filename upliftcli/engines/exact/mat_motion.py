@@ -63,6 +63,10 @@ def cubic_extrema(p0: np.ndarray, p1: np.ndarray, m0: np.ndarray, m1: np.ndarray
     return high, high_s, low, low_s
 
 
+#: the four series of MatMotion: |theta|, the settlement of the left edge, the centre, the right edge
+_SIGNALS = np.arange(4)
+
+
 class MatMotion:
     """Peaks (with their instants) and the last values of the mat rotation and of the
     settlement of its edges and centre, over the chunks of one run."""
@@ -74,31 +78,41 @@ class MatMotion:
         self.last = np.zeros(4)  # theta (signed), the three settlements at the last sample
 
     def add(self, chunk: History, sig: Signals) -> None:
-        """Fold in one chunk (its first sample is the previous chunk's last)."""
+        """Fold in one chunk (its first sample is the previous chunk's last). The sampled peaks
+        first; then only the intervals whose cubic can exceed them are searched: on [0, 1] a
+        cubic Hermite lies within max(|p0|, |p1|) + 4/27 (|m0| + |m1|) (the largest |value| of
+        its slope basis functions is 4/27), the others cannot hold the peak."""
         columns = (sig.rows["theta"].start, sig.rows["v"].start)
         values = sig.values[:, columns] @ self.weights.T + self.offsets  # (n, 4)
-        rates = sig.slopes[:, columns] @ self.weights.T
-        ends = sig.end_slopes[:, columns] @ self.weights.T
-        lengths = chunk.lengths[:, None]
-        at_end = sig.switch >= 0
-        end_rates = rates[1:].copy()
-        end_rates[at_end] = ends[sig.switch[at_end]]
+        magnitudes = values.copy()
+        magnitudes[:, 0] = np.abs(values[:, 0])  # |theta|; a settlement: its (signed) value
+        at = np.argmax(magnitudes, axis=0)
+        best, where = magnitudes[at, _SIGNALS], at.astype(float)
         if values.shape[0] > 1:
-            high, high_s, low, low_s = cubic_extrema(values[:-1], values[1:], rates[:-1] * lengths,
-                                                     end_rates * lengths)
-            where = high_s + np.arange(high.shape[0])[:, None]
-            # |theta|: the larger of its largest and minus its smallest; a settlement: its largest
-            flip = -low[:, 0] > high[:, 0]
-            high[flip, 0], where[flip, 0] = -low[flip, 0], low_s[flip, 0] + np.nonzero(flip)[0]
-        else:  # a single sample
-            high, where = values.copy(), np.zeros((1, 4))
-            high[:, 0] = np.abs(high[:, 0])
-        largest = high
-        best = np.argmax(largest, axis=0)
-        candidates = largest[best, np.arange(4)]
-        better = candidates > self.peaks
-        self.peaks[better] = candidates[better]
-        self.instants[better] = time_at(chunk, where[best, np.arange(4)])[better]
+            rates = sig.slopes[:, columns] @ self.weights.T
+            lengths = chunk.lengths[:, None]
+            start_rates = rates[:-1] * lengths
+            end_rates = rates[1:]
+            at_end = sig.switch >= 0
+            if at_end.any():  # an interval that ends at a transition: its left limit
+                end_rates = end_rates.copy()
+                end_rates[at_end] = sig.end_slopes[sig.switch[at_end]][:, columns] @ self.weights.T
+            end_rates = end_rates * lengths
+            bound = np.maximum(magnitudes[:-1], magnitudes[1:]) + (4.0 / 27.0) * (np.abs(start_rates)
+                                                                                  + np.abs(end_rates))
+            rows = np.nonzero((bound > np.maximum(best, self.peaks)).any(axis=1))[0]
+            if rows.size:
+                high, high_s, low, low_s = cubic_extrema(values[rows], values[rows + 1], start_rates[rows],
+                                                         end_rates[rows])
+                flip = -low[:, 0] > high[:, 0]  # |theta|: the larger of its largest and minus its smallest
+                high[flip, 0], high_s[flip, 0] = -low[flip, 0], low_s[flip, 0]
+                k = np.argmax(high, axis=0)
+                found = high[k, _SIGNALS]
+                better = found > best
+                best[better], where[better] = found[better], (rows[k] + high_s[k, _SIGNALS])[better]
+        better = best > self.peaks
+        self.peaks[better] = best[better]
+        self.instants[better] = time_at(chunk, where)[better]
         self.last = values[-1].copy()
 
     def quantities(self, end_time: float) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
