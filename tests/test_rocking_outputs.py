@@ -189,3 +189,29 @@ def test_a_yielding_run_draws_its_capacity_and_tipping_moment():
     assert [line.value for line in panel.lines] == pytest.approx(
         [factor * 0.5 * weight_b, -factor * 0.5 * weight_b, factor * weight_b, -factor * weight_b])
     assert np.abs(panel.series[0].y).max() > factor * 0.5 * weight_b
+
+
+def test_a_sweep_of_the_exact_engine_carries_the_rocking_columns(tmp_path):
+    """sweep/table.ROCKING_COLUMNS: a sweep that runs the exact engine on the uplift support has
+    the rocking columns (the largest settlement downward, as [criteria] judges it), filled on its
+    exact uplift rows with the single analysis's values; a sweep without that analysis has none."""
+    import upliftcli
+
+    overrides = ["ground_motion.window=[0.0, 6.0]", "building.stories=4", "foundation.safety_factor=1.5"]
+    sweep = upliftcli.run_sweep(DECK, ["building.period=0.4,0.8"], overrides, engines=["exact"],
+                                supports=["bonded", "uplift"], rows_file=tmp_path / "rows.jsonl")
+    assert {"rotation_rad", "max_settlement_m", "plastic_work_J", "yielded_elements"} <= set(sweep.columns)
+    assert sweep.units["max_residual_settlement_m"] == "m" and sweep.units["plastic_work_J"] == "J"
+    for row in sweep.rows:
+        if row["support"] == "bonded":
+            assert "rotation_rad" not in row
+            continue
+        deck = upliftcli.load_deck(DECK, [*overrides, f"building.period={row['building.period']}"])
+        (single,) = upliftcli.run(deck, engine="exact", supports="uplift")
+        assert row["rotation_rad"] == single.peaks["rotation"][0]
+        assert row["max_settlement_m"] == max(single.peaks["settlement"].max(), 0.0)
+        assert row["yielded_elements"] == single.peaks["yielded_elements"][0] == 2
+        assert row["plastic_work_J"] == single.peaks["plastic_work"][0] > 0.0
+    simplified = upliftcli.run_sweep(DECK, ["building.period=0.4,0.8"], overrides, supports=["uplift"],
+                                     rows_file=tmp_path / "simplified.jsonl")
+    assert "rotation_rad" not in simplified.columns

@@ -20,7 +20,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
-from .engines.quantities import ROCKING, unit_of
+from .engines.quantities import ROCKING, rocking_value, unit_of
 from .engines.result import AnalysisResult
 from .engines.suite_result import SuiteResult
 
@@ -94,10 +94,9 @@ def outcomes(results: Sequence[AnalysisResult], criteria: Mapping, checks: Seque
 
 
 def _value(result: AnalysisResult, name: str) -> float:
-    """The value a limit bounds: a settlement's largest downward value (>= 0), else the largest |value|."""
-    if name in ROCKING and ROCKING[name].unit == "m":
-        return max(float(result.peaks[name].max()), 0.0)
-    return abs(result.value(name))
+    """The value a limit bounds: a rocking quantity's (quantities.rocking_value: a settlement's
+    largest downward value), else the largest |value|."""
+    return rocking_value(result, name) if name in ROCKING else abs(result.value(name))
 
 
 def _simplified_error(result: AnalysisResult, check, limit: float) -> Outcome:
