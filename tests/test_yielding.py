@@ -320,3 +320,18 @@ def test_more_elements_with_a_capacity_than_the_pattern_holds_are_refused():
     assert elastic.element_positions.size == 32
     with pytest.raises(AnalysisError, match=r"at most 31 contact elements with a bearing capacity.*elements"):
         run(WINKLER, "exact", "uplift", "foundation.elements=32", "foundation.safety_factor=2")
+
+
+def test_a_batch_of_yielding_systems_gives_each_its_result_alone():
+    """Systems analysed together (their contact states built in one vectorised batch,
+    stepping.add_states) get the same results, bit for bit, as each alone."""
+    from upliftcli.engines.exact import engine as exact
+
+    decks = [load_deck(TWO, [f"foundation.safety_factor={factor}"]) for factor in (1.5, 2.0, 3.0)]
+    record = decks[0].ground_motion
+    together = exact.analyze_batch([deck.system for deck in decks], record, "uplift")
+    for deck, batched in zip(decks, together, strict=True):
+        alone = exact.analyze(deck.system, record, "uplift")
+        for name, values in alone.peaks.items():
+            np.testing.assert_array_equal(batched.peaks[name], values, err_msg=name)
+        assert batched.details["yielding"] == alone.details["yielding"]

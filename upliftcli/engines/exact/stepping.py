@@ -214,8 +214,15 @@ class Run:
 
     @property
     def buffer_bytes(self) -> int:
-        """Memory of the sample buffers at their initial size [bytes]."""
-        return self.capacity * (self.layout.n_aug + 2) * 8
+        """Memory of the sample buffers at their initial size [bytes]; with more than two elements
+        with a bearing capacity also of the operators of about n_e^2 contact states (a yielding
+        Winkler mat of 20 elements met 380 under El Centro, 170 MB: docs/theory.md 14.3), so that
+        few such runs are stepped together."""
+        lay = self.layout
+        size = self.capacity * (lay.n_aug + 2) * 8
+        if lay.n_settlements and lay.n_elements > 2:
+            size += lay.n_elements**2 * (LEVELS + 1) * lay.n_aug**2 * 8
+        return size
 
     def first_request(self) -> tuple[_Operators, int, bool]:
         """Allocate the sample buffers; the request for the initial state (all elements in contact)."""
