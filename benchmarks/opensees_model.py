@@ -217,3 +217,41 @@ def relative_history_difference(time: np.ndarray, values: np.ndarray, reference_
     """max |values - reference| / max |reference| with the reference interpolated linearly to `time`."""
     interpolated = np.interp(time, reference_time, reference)
     return float(np.max(np.abs(values - interpolated)) / max(np.max(np.abs(reference)), 1e-300))
+
+
+def push(system, thetas: np.ndarray, penalty: float = PENALTY) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A slow (static) push of the mat through the rotations `thetas` [rad] (a path from 0: a
+    monotonic push or cycles, the project's sign: theta > 0 lifts the left edge), after gravity:
+    the mat's rotation imposed (a penalty single-point constraint scaled by the load factor; the
+    displacement-control integrator did not converge with the penalty ties), its vertical motion
+    free, the floors following the mat (no horizontal load: the stories stay undeformed). Returns
+    (theta [rad], M = sum x_i R_i [N m], the moment of the element reactions about the centre, and
+    the reactions R_i [N] (n, n_e)) at every point of the path: the moment-rotation backbone of
+    docs/theory.md 14.4 (model/rocking_capacity.py)."""
+    import openseespy.opensees as ops
+
+    ops.logFile("/dev/null", "-noEcho")
+    tags = build(ops, system, "uplift", penalty)
+    _gravity(ops, system, tags)
+    ops.timeSeries("Linear", 3)
+    ops.pattern("Plain", 3, 3)
+    ops.sp(tags["mat"], 3, -1.0)  # the mat's rotation = -load factor (OpenSees' sign)
+    ops.wipeAnalysis()
+    # a static step: the unbalanced force, as for gravity (the displacement increment of the stiff
+    # penalty contacts stays at round-off)
+    _solver(ops, ("NormUnbalance", 1e-6 * system.weight))
+    n_e = tags["positions"].size
+    out_theta, out_moment, out_reaction = [], [], []
+    factor = 0.0
+    for target in np.asarray(thetas, dtype=float):
+        ops.integrator("LoadControl", float(target) - factor)
+        ops.analysis("Static")
+        if ops.analyze(1) != 0:
+            raise RuntimeError(f"OpenSees: the push did not converge at theta = {target:.6g} rad")
+        factor = float(target)
+        reaction = np.array([ops.eleResponse(2001 + 2 * i, "force")[1] for i in range(n_e)])
+        out_theta.append(-ops.nodeDisp(tags["mat"], 3))
+        out_moment.append(float(tags["positions"] @ reaction))
+        out_reaction.append(reaction)
+    ops.wipe()
+    return np.array(out_theta), np.array(out_moment), np.array(out_reaction)

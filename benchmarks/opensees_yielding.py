@@ -9,8 +9,8 @@ h_1*/b = 10; xi_n = 0.05 w_n/w_1, stiffness-proportional, in both models) the pe
 theta, the roof displacement and the rise of each edge, and the largest difference of the
 histories over the largest value, are compared for each step of a halving sequence; the step's
 own convergence is the change from one step to the next. With `--capacity FS_v` each element
-gets Q_y = FS_v W/2 (the exact engine refuses it until it models yielding: then only OpenSees
-runs and its peaks, plastic settlement and convergence are printed).
+gets Q_y = FS_v W/2 (Winkler: q_w = FS_v W/2b), in both engines (the comparison over several
+records and FS_v: benchmarks/opensees_capacity.py).
 
     python benchmarks/opensees_yielding.py                         # T_1 = 0.3, 0.5, 1, 2 s
     python benchmarks/opensees_yielding.py --periods 1 --steps 0.002,0.001 --foundation winkler
@@ -117,7 +117,7 @@ def main() -> None:
     report = []
     for period in (float(p) for p in args.periods.split(",")):
         system = example_system(period, args.foundation, args.capacity)
-        reference = None if args.capacity else exact_run(system, record)
+        reference = exact_run(system, record)
         previous = None
         for dt in steps:
             key = (f"{args.foundation}-T{period:g}-dt{dt:g}-p{args.penalty:g}-fs{args.capacity}-"

@@ -56,6 +56,10 @@ def _scale(path, value, result) -> float:
         return 1.0
     if isinstance(name, str) and name.startswith("min_reaction"):
         return max(abs(element["reaction"]) for element in result["elements"])
+    if "rocking" in path and "settlement" in path[path.index("rocking") + 1] and "time" not in path[-2]:
+        # a settlement is v - v_st (and x theta): the largest settlement of the result is its scale
+        return max(abs(v) for k, values in result["rocking"].items() if "settlement" in k and "time" not in k
+                   for v in values.values())
     return abs(value)
 
 

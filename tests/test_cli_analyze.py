@@ -422,6 +422,25 @@ def test_a_second_run_into_the_same_out_folder_needs_overwrite(tmp_path):
     assert (out / "ten_story_asce7.json").read_bytes() != before["ten_story_asce7.json"]
 
 
+@pytest.mark.parametrize("engine", ["exact", "approximate", "simplified"])
+def test_a_bearing_capacity_runs_on_every_engine(engine, tmp_path):
+    """Every engine models yielding soil (docs/theory.md section 14, issue 28): FS_v = 1.5 on the
+    example runs; the exact engine's uplift results carry the rocking of the mat, the plastic
+    settlement of each element and the plastic work (<deck>.rocking.csv, docs/deck.md)."""
+    out = tmp_path / "results"
+    result = invoke("analyze", EXAMPLE, "--engine", engine, "--support", "uplift", "--set",
+                    "foundation.safety_factor=1.5", "--set", "ground_motion.window=[0.0, 8.0]", "--no-check",
+                    "--format", "json", "--out", out)
+    assert result.exit_code == 0, result.output
+    document = json.loads(result.stdout)
+    assert (out / "ten_story_elcentro.rocking.csv").exists() == (engine == "exact")
+    if engine == "exact":
+        assert document["rocking"]["yielded_elements"] == 2 and document["rocking"]["plastic_work"] > 0.0
+        assert all(element["plastic_settlement"] > 0.0 for element in document["elements"])
+    elif engine == "simplified":
+        assert document["intermediates"]["FS_v"] == pytest.approx(1.5)
+
+
 @pytest.mark.parametrize("engine", ["exact", "approximate"])
 def test_a_bearing_capacity_runs_on_the_history_engines(engine):
     """They model yielding soil (docs/theory.md section 14, tests/test_yielding.py): the uplift

@@ -70,12 +70,48 @@ def test_rocking_limits_judge_the_results_that_report_them(example_deck):
 
 
 def test_a_rocking_limit_needs_the_analysis_that_reports_it(example_deck):
-    with pytest.raises(InputError, match=r"the exact engine in analysis\.engine, a bearing capacity") as info:
+    """The exact engine's uplift runs report the mat's rotation and settlement, with or without a
+    bearing capacity (docs/theory.md 14.7): a rocking limit needs that analysis only."""
+    with pytest.raises(InputError, match=r"the exact engine in analysis\.engine") as info:
         load_deck(example_deck.source, ["criteria.rotation=0.01"])
     assert (info.value.source, info.value.location) == ("--set", "criteria.rotation")
-    deck = load_deck(example_deck.source, ["criteria.rotation=0.01", "analysis.engine=exact",
-                                           "foundation.safety_factor=2"])
+    deck = load_deck(example_deck.source, ["criteria.rotation=0.01", "analysis.engine=exact"])
     assert deck.criteria["rotation"] == 0.01
+    with pytest.raises(InputError, match=r"the uplift support in analysis\.supports"):
+        load_deck(example_deck.source, ["criteria.settlement=0.01", "analysis.engine=exact",
+                                        'analysis.supports=["bonded"]'])
+
+
+def test_a_limit_carries_its_source_into_the_verdict(example_deck):
+    """[criteria.sources]: the user's reference of each limit, repeated in its violation message
+    (and the report's criteria table); a source of a limit the deck does not set is refused."""
+    results = run(example_deck)
+    drift = max(r.value("drift_ratio") for r in results)
+    deck = load_deck(example_deck.source, [f"criteria.drift_ratio={drift * 0.999}",
+                                           'criteria.sources.drift_ratio="ASCE 7-22 Table 12.12-1, risk category II"'])
+    assert deck.criteria.sources == {"drift_ratio": "ASCE 7-22 Table 12.12-1, risk category II"}
+    messages = check_criteria(results, deck.criteria)
+    assert messages and all(m.split(" [-]")[1].startswith(" (source: ASCE 7-22 Table 12.12-1, risk category II)")
+                            for m in messages)
+    assert all(o.source == "ASCE 7-22 Table 12.12-1, risk category II" for o in outcomes(results, deck.criteria))
+    with pytest.raises(InputError, match=r"criteria\.rotation is not set") as info:
+        load_deck(example_deck.source, ['criteria.sources.rotation="ASCE 41-17"'])
+    assert info.value.location == "criteria.sources.rotation"
+    deck = load_deck(example_deck.source, ["criteria.uplift=false", 'criteria.sources.uplift="owner\'s brief"'])
+    assert check_criteria(results, deck.criteria)[0].endswith("(criteria.uplift = false) (source: owner's brief)")
+
+
+def test_a_settlement_limit_bounds_the_downward_value(example_deck):
+    """A settlement limit judges the largest settlement (downward), not a rise: a mat that ends
+    above its rest position passes any residual settlement limit."""
+    results = run(example_deck)
+    rocking = results[-1]
+    rocking.peaks["residual_settlement"] = np.array([-0.03, 0.0, 0.002])
+    (found,) = outcomes(results, {"residual_settlement": 0.001})
+    assert (found.value, found.ok) == (0.002, False)
+    rocking.peaks["residual_settlement"] = np.array([-0.03, -0.001, -0.002])
+    (found,) = outcomes(results, {"residual_settlement": 0.001})
+    assert (found.value, found.ok) == (0.0, True)
 
 
 def test_every_rocking_limit_is_a_deck_field_with_its_unit():

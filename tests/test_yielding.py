@@ -50,9 +50,14 @@ def test_a_capacity_no_force_reaches_gives_the_elastic_result(path, engine):
     strong = run(path, engine, "uplift", "foundation.safety_factor=1e15")
     assert strong.details["yielding"]["yielded"] == [False] * len(strong.element_positions)
     assert strong.details["yielding"]["plastic_work"] == 0.0
-    assert set(strong.peaks) == set(elastic.peaks)
+    plastic = {"plastic_settlement", "yielded_elements", "plastic_work"} if engine == "exact" else set()
+    assert set(strong.peaks) == set(elastic.peaks) | plastic  # the rocking quantities on yielding soil
+    assert all(not strong.peaks[name].any() for name in plastic)
     for name, values in elastic.peaks.items():
-        tolerance = (1e-11 if name == "impact" else 1e-12) * np.abs(values).max()
+        scale = np.abs(elastic.peaks[name.removeprefix("residual_")]).max()  # a residual: against its peak
+        # impacts amplify a last-place change; a settlement is v - v_st, the difference of two values
+        # larger than it (the static settlement): both to 1e-11
+        tolerance = (1e-11 if name == "impact" or "settlement" in name else 1e-12) * scale
         np.testing.assert_allclose(strong.peaks[name], values, rtol=0, atol=tolerance, err_msg=name)
         np.testing.assert_allclose(strong.times[name], elastic.times[name], rtol=0, atol=1e-12, err_msg=name)
     assert strong.intermediates["transitions"] == elastic.intermediates["transitions"]

@@ -7,20 +7,36 @@ A criterion is a limit on the largest |value| of a response quantity or a scalar
 exact of the accuracy check (accuracy.py) within [1/(1 + e), 1 + e] (applied to the checks given;
 none without a record or with --no-check). On a suite (SuiteResult) the limits apply to the
 design statistic (the mean, or EC8's maximum below 7 records) and uplift = false to every record.
-A limit on a rocking quantity (quantities.ROCKING: rotation, residual rotation, settlement; the
-values of ASCE 41-17 section 8.4 for the chosen performance level, given by the user) applies to
-the results that report it: the exact engine's uplift analyses of a foundation with a bearing
-capacity (the deck asks for one: deck.py).
+A limit on a rocking quantity (quantities.ROCKING: rotation, residual rotation, settlement and
+residual settlement; the values of ASCE 41-17 section 8.4 for the chosen performance level, given
+by the user) applies to the results that report it: the exact engine's uplift analyses (deck.py
+asks for one). A settlement limit bounds the largest downward value (a mat that rose is not
+judged by it), a rotation limit |theta|. Each limit may carry its source as the user states it
+(`[criteria.sources]`, Criteria.sources), repeated with its verdict.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
-from .engines.quantities import ROCKING, unit_of
+from .engines.quantities import ROCKING, rocking_value, unit_of
 from .engines.result import AnalysisResult
 from .engines.suite_result import SuiteResult
+
+
+class Criteria(dict):
+    """The deck's acceptance limits {name: limit} (a dict) with `sources` {name: text}: where each
+    limit comes from, as the deck states it ([criteria.sources]; a mapping without it has none)."""
+
+    def __init__(self, limits=(), sources: Mapping[str, str] | None = None):
+        super().__init__(limits)
+        self.sources = dict(sources or {})
+
+
+def source_of(criteria: Mapping, name: str) -> str:
+    """The source the deck gives for the limit `name` ("" when none)."""
+    return getattr(criteria, "sources", {}).get(name, "")
 
 
 @dataclass(frozen=True)
@@ -34,6 +50,7 @@ class Outcome:
     limit: float | bool
     unit: str
     detail: str = ""
+    source: str = ""
 
     @property
     def ok(self) -> bool:
@@ -47,11 +64,13 @@ class Outcome:
         label = f"{result.engine}/{result.support}"
         if isinstance(result, SuiteResult):
             label += f" ({result.statistic} of {result.count} records)"
+        source = f" (source: {self.source})" if self.source else ""
         if self.name == "uplift":
             under = f" under {result.uplift_count} records" if isinstance(result, SuiteResult) else ""
-            return f"{label}: the mat lifts off{under} (criteria.uplift = false)"
+            return f"{label}: the mat lifts off{under} (criteria.uplift = false){source}"
         detail = f" ({self.detail})" if self.detail else ""
-        return f"{label}: {self.name} = {self.value:.4g} exceeds the limit {self.limit:.4g} [{self.unit}]{detail}"
+        return (f"{label}: {self.name} = {self.value:.4g} exceeds the limit {self.limit:.4g} [{self.unit}]"
+                f"{source}{detail}")
 
 
 def outcomes(results: Sequence[AnalysisResult], criteria: Mapping, checks: Sequence = ()) -> list[Outcome]:
@@ -61,15 +80,23 @@ def outcomes(results: Sequence[AnalysisResult], criteria: Mapping, checks: Seque
     for result in results:
         for name, limit in criteria.items():
             if name == "uplift":
-                found.append(Outcome(result, name, bool(result.uplift), bool(limit), "-"))
+                found.append(Outcome(result, name, bool(result.uplift), bool(limit), "-",
+                                     source=source_of(criteria, name)))
             elif name in ROCKING and name not in result.peaks:
                 continue  # not reported by this engine or support (the deck has the one that reports it)
             elif name == "simplified_error":
-                found += [_simplified_error(result, check, limit) for check in checks
-                          if result.engine == "simplified" and check.support == result.support]
+                found += [replace(_simplified_error(result, check, limit), source=source_of(criteria, name))
+                          for check in checks if result.engine == "simplified" and check.support == result.support]
             else:
-                found.append(Outcome(result, name, abs(result.value(name)), limit, unit_of(name)))
+                found.append(Outcome(result, name, _value(result, name), limit, unit_of(name),
+                                     source=source_of(criteria, name)))
     return found
+
+
+def _value(result: AnalysisResult, name: str) -> float:
+    """The value a limit bounds: a rocking quantity's (quantities.rocking_value: a settlement's
+    largest downward value), else the largest |value|."""
+    return rocking_value(result, name) if name in ROCKING else abs(result.value(name))
 
 
 def _simplified_error(result: AnalysisResult, check, limit: float) -> Outcome:

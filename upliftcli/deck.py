@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from . import deck_schema as schema
+from .criteria import Criteria
 from .deck_overrides import ALTERNATIVES, FOUNDATION_FIELDS, apply_overrides, parse_override, set_by_override
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from .engines.quantities import ROCKING
@@ -55,7 +56,8 @@ class Deck:
     ground_motion: a records.Record, a design spectrum, a motion.suites.Suite (whose target is
         the design spectrum), or None (not loaded / not given);
     spectrum: object with .sa(periods [s], damping [-]) -> S_a [m/s^2] for the simplified engine;
-    analysis: AnalysisSettings; criteria: acceptance limits {name: value} (deck_schema "criteria");
+    analysis: AnalysisSettings; criteria: acceptance limits {name: value} (deck_schema "criteria"), with
+        their sources (criteria.Criteria.sources, [criteria.sources]);
     raw: the TOML mapping after the overrides; values: validated {table: {field: value}} (SI);
     overridden: the dotted paths set by `--set` (errors about them name "--set");
     warnings: one line per value far outside building practice (deck_schema.plausibility);
@@ -158,25 +160,28 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     if load_ground_motion:
         ground_motion, spectrum = _ground_motion(values["ground_motion"], source, error, system,
                                                  analysis.simplified.effective_properties)
-    _check_rocking_criteria(values["criteria"], analysis, system, error)
+    _check_rocking_criteria(values["criteria"], analysis, error)
+    for name in values["criteria.sources"]:
+        if name not in values["criteria"]:
+            raise error(f"criteria.sources.{name}", f"the source of a limit the deck sets (criteria.{name} is not set)")
+    criteria = Criteria(values["criteria"], values["criteria.sources"])
     return Deck(source, values[""].get("title", Path(source).stem), system, ground_motion, spectrum,
-                analysis, dict(values["criteria"]), raw, values, overridden,
+                analysis, criteria, raw, values, overridden,
                 tuple(schema.plausibility(values, source, overridden)), schema.si_mapping(raw, values))
 
 
-def _check_rocking_criteria(criteria: dict, analysis: AnalysisSettings, system: System, error) -> None:
+def _check_rocking_criteria(criteria: dict, analysis: AnalysisSettings, error) -> None:
     """A limit on a rocking quantity (engines/quantities.ROCKING) needs the analysis that reports
-    it: the exact engine, the uplift support and a foundation with a bearing capacity."""
+    it: the exact engine and the uplift support (with or without a bearing capacity)."""
     for name in criteria:
         if name not in ROCKING:
             continue
         missing = [what for what, ok in (("the exact engine in analysis.engine", "exact" in analysis.engines),
-                                         ("the uplift support in analysis.supports", "uplift" in analysis.supports),
-                                         ("a bearing capacity in [foundation]",
-                                          getattr(system.foundation, "capacity", None) is not None)) if not ok]
+                                         ("the uplift support in analysis.supports", "uplift" in analysis.supports))
+                   if not ok]
         if missing:
-            raise error(f"criteria.{name}", f"a limit the exact engine reports for the uplift analysis of a foundation "
-                        f"with a bearing capacity (docs/theory.md 14.7); the deck has not {', '.join(missing)}")
+            raise error(f"criteria.{name}", f"a limit the exact engine reports for an uplift analysis (docs/theory.md "
+                        f"14.7); the deck has not {' and '.join(missing)}")
 
 
 def _default(table: str, name: str) -> Any:

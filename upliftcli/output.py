@@ -25,15 +25,17 @@ import numpy as np
 from .atomic import atomic_path, write_set, write_text
 from .engines.quantities import (
     COMPARED,
-    ELEMENT,
     FLOOR,
     INTERMEDIATES,
     QUANTITIES,
+    ROCKING,
     SCALARS,
     STORY,
     column_name,
+    element_quantities,
     history_unit,
     quantities,
+    rocking_entries,
 )
 from .engines.result import AnalysisResult
 from .engines.suite_result import STATISTICS, SuiteResult, simplified_ratios
@@ -42,6 +44,7 @@ from .provenance import csv_comments, deck_toml, number_text, of_deck, to_text_n
 #: units of the result fields in the written files (SI)
 UNITS = {
     "elevation": "m", "position": "m", **{q.name: q.unit for q in QUANTITIES.values()},
+    **{q.name: q.unit for q in ROCKING.values()},
     **{s.name: s.unit for s in SCALARS.values()}, "critical_base_shear": "N", "critical_base_moment": "N m",
     "weight": "N", "effective_height": "m", "periods": "s", "critical_coefficient": "-", "times": "s",
     "factor": "-", "period_range": "s", **{c.name: c.unit for c in COMPARED.values()},
@@ -90,7 +93,7 @@ def result_to_dict(result: AnalysisResult, check=None) -> dict[str, Any]:
     stories = [{"story": j + 1, "elevation": result.elevations[j], **row}
                for j, row in enumerate(_rows(result, _STORY_QUANTITIES, result.elevations.size))]
     elements = [{"element": i + 1, "position": result.element_positions[i], **row}
-                for i, row in enumerate(_rows(result, quantities(ELEMENT), result.element_positions.size))]
+                for i, row in enumerate(_rows(result, element_quantities(), result.element_positions.size))]
     return to_jsonable({
         "engine": result.engine,
         "support": result.support,
@@ -104,12 +107,30 @@ def result_to_dict(result: AnalysisResult, check=None) -> dict[str, Any]:
         "periods": result.periods,
         "stories": stories,
         "elements": elements,
+        **({"rocking": rocking} if (rocking := rocking_to_dict(result)) else {}),
         "intermediates": result.intermediates,
         "warnings": [*result.details.get("warnings", []), *(check.warnings() if check is not None else [])],
         **({"accuracy": check.to_dict()} if check is not None else {}),
         "details": {k: v for k, v in result.details.items() if k != "warnings"},
         **({"suite": suite_to_dict(result)} if isinstance(result, SuiteResult) else {}),
     })
+
+
+def rocking_to_dict(result: AnalysisResult) -> dict[str, Any]:
+    """The `rocking` object of a result that carries the rocking quantities (quantities.ROCKING:
+    the exact engine's uplift runs): each mat quantity's value and `<name>_time` [s]; a quantity
+    of the left edge, the centre and the right edge as {"left_edge", "centre", "right_edge"}
+    (SI units, see UNITS). {} without them."""
+    out: dict[str, Any] = {}
+    for q, key, _, value, instant in rocking_entries(result):
+        for name, number in ((q.name, value), (f"{q.name}_time", instant)):
+            if number is None:
+                continue
+            if key == "mat":
+                out[name] = number
+            else:
+                out.setdefault(name, {})[key] = number
+    return out
 
 
 def suite_to_dict(result: SuiteResult) -> dict[str, Any]:
@@ -212,7 +233,7 @@ def story_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[Any
 def elements_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[Any]]]:
     """(header, rows) of the foundation tables: one row per (engine, support, contact element),
     left to right (a suite's records after its statistic, as story_table)."""
-    return _table(results, quantities(ELEMENT), "element", "position_m", lambda r: r.element_positions)
+    return _table(results, element_quantities(), "element", "position_m", lambda r: r.element_positions)
 
 
 def _texts(rows: list[list[Any]]) -> list[list[Any]]:
@@ -231,17 +252,47 @@ def elements_csv(results: list[AnalysisResult], provenance: dict | None = None) 
     return _csv(header, _texts(rows), provenance)
 
 
-def result_paths(directory, stem: str, elements: bool = True, deck: bool = True) -> list[Path]:
+def rocking_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[Any]]]:
+    """(header, rows) of the rocking tables: one row per result that carries the rocking
+    quantities (quantities.ROCKING: the exact engine's uplift runs), a column per value and its
+    instant, units in the headers (rotation_rad, settlement_left_edge_m, settlement_left_edge_time_s,
+    plastic_work_J); ([], []) when no result carries them."""
+    lead, labelled = _labelled(results)
+    columns: dict[str, None] = {}
+    rows = []
+    for labels, r in labelled:
+        values: dict[str, float] = {}
+        for q, key, _, value, instant in rocking_entries(r):
+            name = q.name if key == "mat" else f"{q.name}_{key}"
+            values[column_name(name, q.unit)] = value
+            if instant is not None and not q.name.startswith("residual"):  # a residual's instant: the end
+                values[column_name(f"{name}_time", "s")] = instant
+        if values:
+            columns.update(dict.fromkeys(values))
+            rows.append((labels, values))
+    if not rows:
+        return [], []
+    return [*lead, *columns], [[*labels, *(values.get(c, np.nan) for c in columns)] for labels, values in rows]
+
+
+def rocking_csv(results: list[AnalysisResult], provenance: dict | None = None) -> str:
+    """The rocking tables (rocking_table) as CSV, after the provenance's '#' lines if given."""
+    header, rows = rocking_table(results)
+    return _csv(header, _texts(rows), provenance)
+
+
+def result_paths(directory, stem: str, elements: bool = True, deck: bool = True, rocking: bool = False) -> list[Path]:
     """The files write_results writes into directory for `stem`."""
     directory = Path(directory)
-    names = [".json", ".csv"] + [".elements.csv"] * elements + [".deck.toml"] * deck
+    names = [".json", ".csv"] + [".elements.csv"] * elements + [".rocking.csv"] * rocking + [".deck.toml"] * deck
     return [directory / f"{stem}{suffix}" for suffix in names]
 
 
 def write_results(results: list[AnalysisResult], directory, stem: str, source: str | None = None,
                   title: str | None = None, *, deck=None, provenance: dict | None = None, checks=()) -> list:
     """Write <stem>.json, <stem>.csv (stories), <stem>.elements.csv (foundation elements, when
-    a flexible support was analysed) and, given the deck.Deck, <stem>.deck.toml (the resolved
+    a flexible support was analysed), <stem>.rocking.csv (the mat's rotation and settlement, when
+    a result carries them: rocking_table) and, given the deck.Deck, <stem>.deck.toml (the resolved
     deck: `uplift analyze` on it repeats the run) into directory, each atomically; return the
     paths. The provenance (default: provenance.of_deck of the deck) goes into every file. All
     texts are built before the first file is written, and the files are written all or none
@@ -252,10 +303,13 @@ def write_results(results: list[AnalysisResult], directory, stem: str, source: s
         source = deck.source if source is None else source
         title = deck.title if title is None else title
     elements = any(r.element_positions.size for r in results)
-    paths = result_paths(directory, stem, elements, deck is not None)
+    rocking = any(rocking_entries(r) for r in results)
+    paths = result_paths(directory, stem, elements, deck is not None, rocking)
     texts = [to_json(results, source, title, provenance, checks), to_csv(results, provenance)]
     if elements:
         texts.append(elements_csv(results, provenance))
+    if rocking:
+        texts.append(rocking_csv(results, provenance))
     if deck is not None:
         texts.append(deck_toml(deck, provenance, directory))
     write_set(dict(zip(paths, texts, strict=True)))  # all or none: a full disk leaves no file of the set

@@ -95,7 +95,7 @@ def result_paths(out: Path, stem: str) -> list[Path]:
     """The files --out may receive for one deck (output.write_results)."""
     from ..output import result_paths as paths
 
-    return paths(out, stem)
+    return paths(out, stem, rocking=True)
 
 
 def analyze(
@@ -110,8 +110,8 @@ def analyze(
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f",
                                                help="table (terminal) or json (one document on stdout, SI units)."),
     out: Path | None = typer.Option(None, "--out", "-o",
-                                    help="Also write <deck>.json, .csv (and .elements.csv) results (SI, units "
-                                         "stated: the JSON's units entry, the CSV column names) and "
+                                    help="Also write <deck>.json, .csv (and .elements.csv, .rocking.csv) results "
+                                         "(SI, units stated: the JSON's units entry, the CSV column names) and "
                                          "<deck>.deck.toml (the resolved deck, which repeats the run) into this "
                                          "directory."),
     histories: Path | None = typer.Option(

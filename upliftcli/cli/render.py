@@ -21,7 +21,7 @@ from rich.table import Table
 from rich.text import Text
 
 from ..display import WEIGHT_LEGEND, intermediate_kind, label, show, summary_columns
-from ..engines.quantities import COMPARED, ELEMENT, FLOOR, INTERMEDIATES, STORY, quantities
+from ..engines.quantities import COMPARED, FLOOR, INTERMEDIATES, STORY, element_quantities, quantities
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
 from ..model.system import System, fixed_base_mode_rows
@@ -234,11 +234,13 @@ def story_table(result: AnalysisResult, units: str = "si") -> Table:
 
 
 def elements_table(result: AnalysisResult, units: str = "si") -> Table | None:
-    """Per foundation contact element (left to right): position and its peak reactions."""
-    shown = [q for q in quantities(ELEMENT) if q.name in result.peaks and result.peaks[q.name].size]
+    """Per foundation contact element (left to right): position, its peak reactions and, on
+    yielding soil, its plastic settlement."""
+    shown = [q for q in element_quantities() if q.name in result.peaks and result.peaks[q.name].size]
     if not shown:
         return None
-    table = Table(title=escape(f"Foundation elements ({engine_label(result)}, {result.support}): largest compression"))
+    what = "largest compression" + (", plastic settlement" if "plastic_settlement" in result.peaks else "")
+    table = Table(title=escape(f"Foundation elements ({engine_label(result)}, {result.support}): {what}"))
     for header in ["element", f"position x [{label('m', units)}]"] + [q.heading(units) for q in shown]:
         table.add_column(escape(header), justify="right")
     for i, x in enumerate(result.element_positions):
@@ -334,7 +336,7 @@ def print_results(out: Console, results: list[AnalysisResult], title: str | None
     """Every table of every result, then the summary (a suite's result: its statistics and its
     records too, and the simplified engine beside it: cli/render_suite.py) and the accuracy checks
     (accuracy.Check) given."""
-    from . import render_suite
+    from . import render_rocking, render_suite
 
     if title:
         out.print(f"[bold]{escape(title)}[/bold]")
@@ -343,6 +345,9 @@ def print_results(out: Console, results: list[AnalysisResult], title: str | None
         elements = elements_table(result, units)
         if elements is not None:
             out.print(elements)
+        rocking = render_rocking.rocking_table(result, units)
+        if rocking is not None:
+            out.print(rocking)
         if all(name in result.intermediates for name in MODAL_LISTS):
             out.print(modal_table(result, units))
         if result.intermediates:

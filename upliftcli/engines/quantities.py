@@ -80,21 +80,57 @@ MAT, MAT_POINTS = "mat", "mat-points"
 #: by the user: docs/deck.md).
 ROCKING: dict[str, Quantity] = {q.name: q for q in (
     Quantity("rotation", MAT, "rad", "mat rotation |theta| (ASCE 41-17 section 8.4: the rotation of a rocking "
-             "shallow foundation)", "mrad", engines=("exact",)),
+             "shallow foundation)", "mrad", engines=("exact",), column="rotation_rad"),
     Quantity("residual_rotation", MAT, "rad", "mat rotation |theta| at the end of the analysis (the record and "
-             "analysis.exact.free_vibration)", "mrad", engines=("exact",)),
+             "analysis.exact.free_vibration)", "mrad", engines=("exact",), column="residual_rotation_rad"),
     Quantity("settlement", MAT_POINTS, "m", "settlement (downward displacement from the rest position under "
              "gravity) of the left edge, the centre and the right edge of the mat", "mm",
-             engines=("exact",)),
+             engines=("exact",), column="max_settlement_m"),
     Quantity("residual_settlement", MAT_POINTS, "m", "settlement of the left edge, the centre and the right edge "
-             "at the end of the analysis", "mm", engines=("exact",)),
+             "at the end of the analysis", "mm", engines=("exact",), column="max_residual_settlement_m"),
     Quantity("plastic_settlement", ELEMENT, "m", "plastic settlement -s_i of the contact element at the end "
-             "(> 0: the element yielded)", "mm", engines=("exact",), criterion=False),
+             "(> 0: the element yielded)", "mm", engines=("exact",), column="max_plastic_settlement_m",
+             criterion=False),
     Quantity("yielded_elements", MAT, "-", "number of contact elements that yielded", "-",
-             engines=("exact",), criterion=False),
+             engines=("exact",), column="yielded_elements", criterion=False),
     Quantity("plastic_work", MAT, "J", "energy dissipated by the yielding soil, sum Q_y,i |s_i| (docs/theory.md "
-             "14.5)", "J", engines=("exact",), criterion=False),
+             "14.5)", "J", engines=("exact",), column="plastic_work_J", criterion=False),
 )}
+
+
+#: the places of a MAT_POINTS quantity, left to right: (key in files, label in human outputs)
+MAT_PLACES = (("left_edge", "left edge (x = -b)"), ("centre", "centre"), ("right_edge", "right edge (x = +b)"))
+
+
+def rocking_entries(result) -> list[tuple[Quantity, str, str, float, float | None]]:
+    """The rocking quantities a result carries that live on the mat (quantities.ROCKING, MAT and
+    MAT_POINTS), one entry per value: (quantity, place key, place label, value [SI], instant [s]
+    or None), in ROCKING's order; [] for a result without them (the elements' plastic settlement
+    is in the foundation tables: element_quantities)."""
+    entries = []
+    for q in ROCKING.values():
+        if q.where == ELEMENT or q.name not in result.peaks:
+            continue
+        places = MAT_PLACES if q.where == MAT_POINTS else (("mat", "mat"),)
+        times = result.times.get(q.name)
+        for k, (key, label) in enumerate(places):
+            entries.append((q, key, label, float(result.peaks[q.name][k]),
+                            None if times is None else float(times[k])))
+    return entries
+
+
+def rocking_value(result, name: str) -> float:
+    """The value of a rocking quantity that [criteria] limits and sweep rows carry: a settlement's
+    largest downward value (>= 0: a mat that rose has not settled), else the largest |value|."""
+    if ROCKING[name].unit == "m":
+        return max(float(result.peaks[name].max()), 0.0)
+    return result.value(name)
+
+
+def element_quantities() -> list[Quantity]:
+    """The per-element quantities of the foundation tables: QUANTITIES', then ROCKING's (the
+    plastic settlement), each shown where a result carries it."""
+    return [*quantities(ELEMENT), *(q for q in ROCKING.values() if q.where == ELEMENT)]
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,8 @@ engines/quantities.HISTORY_SIGNALS) and from their energy balance (details["ener
   shear V_b [14a], the base moment M_b [14b] with +-M_c = m_t g b [16b], the mat rotation
   theta and the vertical displacement of the mat edges (uplift +), with the intervals in
   which an edge is lifted shaded (contact_state);
-- moment_rotation_figure: M_b against theta, with +-M_c;
+- moment_rotation_figure: M_b against theta, with +-M_c (on yielding soil the capacity's, and
+  +-M_tip = m_t g b);
 - energy_figure: the terms of the energy balance (docs/theory.md section 11.6) as bars.
 """
 
@@ -118,12 +119,21 @@ def _line(result: AnalysisResult, results, name: str, suffix: str = "", style: s
 
 
 def critical_lines(results: Sequence[AnalysisResult], units: str = "si") -> list[Line]:
-    """+-M_c = m_t g b [16b] in the unit of the base moment axis."""
+    """+-M_c = m_t g b [16b] in the unit of the base moment axis; on a foundation with a bearing
+    capacity (a result that states the elastic tipping moment M_tip) M_c is the capacity's
+    (docs/theory.md 14.4: the moment the yielding toe caps) and +-M_tip = m_t g b is drawn too."""
     if not results:
         return []
     factor, unit = unit_of(results, "base_moment", units)
     m_c = factor * results[0].critical_base_moment
-    return [Line(m_c, f"\u00b1M_c = m_t g b = {m_c:.4g} {unit} [16b]"), Line(-m_c)]
+    tip = next((r.intermediates["M_tip"] for r in results if "M_tip" in r.intermediates), None)
+    if tip is None:
+        return [Line(m_c, f"\u00b1M_c = m_t g b = {m_c:.4g} {unit} [16b]"), Line(-m_c)]
+    tip *= factor
+    return [Line(m_c, f"\u00b1M_c = {m_c:.4g} {unit}, the moment capacity on yielding soil (ASCE 41-17 8.4, "
+                 "docs/theory.md 14.4)", color="#b22222"), Line(-m_c, color="#b22222"),
+            Line(tip, f"\u00b1M_tip = m_t g b = {tip:.4g} {unit} [16b]", style="--", color="#777777"),
+            Line(-tip, style="--", color="#777777")]
 
 
 def history_figure(results: Sequence[AnalysisResult], title: str = "", units: str = "si") -> FigureSpec:

@@ -10,7 +10,17 @@ import numpy as np
 
 from ..criteria import outcomes
 from ..display import SUMMARY, WEIGHT_LEGEND, heading, intermediate_kind, label, show
-from ..engines.quantities import COMPARED, ELEMENT, FLOOR, INTERMEDIATES, STORY, display_kind, quantities
+from ..engines.quantities import (
+    COMPARED,
+    FLOOR,
+    INTERMEDIATES,
+    ROCKING,
+    STORY,
+    display_kind,
+    element_quantities,
+    quantities,
+    rocking_entries,
+)
 from ..engines.result import AnalysisResult
 from .document import Section, Table, Text, number
 
@@ -70,13 +80,18 @@ def result_tables(result: AnalysisResult, units: str = "si") -> list[Table]:
     tables = [Table(f"table-{_slug(result)}-stories", f"Peak response per story, {what} (top story first)",
                     ["story", heading("elevation", "m", units)] + [q.heading(units) for q in shown], rows,
                     "Floor quantities are those of the floor at the top of the story.")]
-    elements = [q for q in quantities(ELEMENT) if q.name in result.peaks and result.peaks[q.name].size]
+    elements = [q for q in element_quantities() if q.name in result.peaks and result.peaks[q.name].size]
     if elements:
         rows = [[str(i + 1), show(x, "m", units)] + [show(result.peaks[q.name][i], q.display, units) for q in elements]
                 for i, x in enumerate(result.element_positions)]
-        tables.append(Table(f"table-{_slug(result)}-elements", f"Foundation elements, {what}: largest compression",
+        plastic = ", plastic settlement" if "plastic_settlement" in result.peaks else ""
+        tables.append(Table(f"table-{_slug(result)}-elements",
+                            f"Foundation elements, {what}: largest compression{plastic}",
                             ["element", heading("position x", "m", units), *(q.heading(units) for q in elements)],
                             rows))
+    rocking = rocking_table(result, units)
+    if rocking is not None:
+        tables.append(rocking)
     if result.intermediates:
         rows = []
         for name, value in result.intermediates.items():
@@ -96,6 +111,23 @@ def result_tables(result: AnalysisResult, units: str = "si") -> list[Table]:
     if getattr(result, "record_results", ()):
         tables.append(records_table(result, units))
     return tables
+
+
+def rocking_table(result: AnalysisResult, units: str = "si") -> Table | None:
+    """The mat's peak and residual rotation and settlement and, on yielding soil, the yielded
+    elements and the plastic work (quantities.ROCKING: the exact engine's uplift runs), or None."""
+    entries = rocking_entries(result)
+    if not entries:
+        return None
+    rows = [[q.name.replace("_", " "), place, show(value, q.display, units), label(q.display, units),
+             "end" if q.name.startswith("residual") else "-" if instant is None else number(instant, 4)]
+            for q, _, place, value, instant in entries]
+    return Table(f"table-{_slug(result)}-rocking", f"Rocking of the mat, {result.engine} engine, {result.support} "
+                 "support: rotation and settlement (ASCE 41-17 section 8.4)", ["quantity", "where", "value", "unit",
+                                                                               "time [s]"], rows,
+                 "Rotation |theta|; settlement: downward displacement from the rest position under gravity (< 0: "
+                 "above it); residual: at the end of the analysis (docs/theory.md 14.7). With a bearing capacity, "
+                 "the plastic work is the energy the yielding soil dissipated (14.5).")
 
 
 def results_section(results: Sequence[AnalysisResult], units: str = "si") -> Section:
@@ -184,10 +216,13 @@ def warnings_section(results: Sequence[AnalysisResult], deck=None, checks: Seque
 
 def criteria_rows(results: Sequence[AnalysisResult], criteria: Mapping, units: str = "si", checks: Sequence = ()
                   ) -> tuple[list[list[str]], int]:
-    """One row per result and criterion (value, limit in the display units, verdict) and the
-    number violated (the tests of criteria.py; checks: the accuracy checks, for simplified_error)."""
+    """One row per result and criterion (value, limit in the display units, verdict, and the
+    limit's source when the deck gives any: [criteria.sources]) and the number violated (the tests
+    of criteria.py; checks: the accuracy checks, for simplified_error)."""
     rows, violated = [], 0
-    for outcome in outcomes(results, criteria, checks):
+    found = outcomes(results, criteria, checks)
+    sourced = any(outcome.source for outcome in found)
+    for outcome in found:
         result = outcome.result
         if outcome.name == "uplift":
             value, limit, unit = number(outcome.value), "allowed" if outcome.limit else "not allowed", "-"
@@ -195,7 +230,7 @@ def criteria_rows(results: Sequence[AnalysisResult], criteria: Mapping, units: s
             kind = "coefficient" if outcome.name == "simplified_error" else display_kind(outcome.name)
             value, limit, unit = show(outcome.value, kind, units), show(outcome.limit, kind, units), label(kind, units)
         rows.append([result.engine, result.support, outcome.name, value, limit, unit,
-                     "ok" if outcome.ok else "VIOLATED"])
+                     "ok" if outcome.ok else "VIOLATED", *([outcome.source or "-"] if sourced else [])])
         violated += not outcome.ok
     return rows, violated
 
@@ -211,6 +246,11 @@ def criteria_section(results: Sequence[AnalysisResult], criteria: Mapping, units
     verdict = (f"{violated} acceptance limit{'s' if violated > 1 else ''} of the deck's [criteria] exceeded: "
                f"`uplift analyze` exits with code {code}." if violated else
                f"Every acceptance limit of the deck's [criteria] holds: `uplift analyze` exits with code {code}.")
+    sourced = any(len(row) > 7 for row in rows)
     table = Table("table-criteria", "Acceptance criteria: the largest |value| of each quantity against its limit",
-                  ["engine", "support", "criterion", "value", "limit", "unit", "verdict"], rows)
+                  ["engine", "support", "criterion", "value", "limit", "unit", "verdict",
+                   *(["source"] if sourced else [])], rows,
+                  "A settlement limit judges the largest settlement (downward) of the left edge, the centre and the "
+                  "right edge of the mat; source: as the deck gives it ([criteria.sources])." if sourced or any(
+                      row[2] in ROCKING for row in rows) else "")
     return Section("criteria", "Acceptance criteria", [Text([verdict]), table]), verdict, code

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from ..atomic import write_set
-from ..engines.quantities import ALL_ENGINES, COMPARED, QUANTITIES, SCALARS
+from ..engines.quantities import ALL_ENGINES, COMPARED, QUANTITIES, ROCKING, SCALARS
 from ..errors import InputError
 from ..output import to_jsonable
 from ..provenance import csv_comments, number_text, to_text_numbers
@@ -46,6 +46,11 @@ OUTPUT_COLUMNS: dict[str, tuple[str, str]] = {
     "status": ("", "ok, failed (the analysis raised; see message) or crashed (its worker died)"),
     "message": ("", "error message of a failed or crashed case"),
 }
+#: columns of the rocking quantities (engines/quantities.ROCKING, docs/theory.md 14.7), in a sweep
+#: that runs the exact engine on the uplift support (empty on the other rows)
+ROCKING_COLUMNS: dict[str, tuple[str, str]] = {
+    q.column: (q.unit, ("largest " if q.where != "mat" or q.name == "plastic_settlement" else "") + q.meaning
+               + " (exact engine, uplift; empty otherwise)") for q in ROCKING.values() if q.column}
 #: columns of a sweep of a record suite: statistic and record after the support, the others at the end
 SUITE_COLUMNS: dict[str, tuple[str, str]] = {
     "statistic": ("", "the design value of the case's row over the records: mean or max (the code's rule, "
@@ -71,15 +76,21 @@ CHECK_COLUMNS: dict[str, tuple[str, str]] = {
 def columns(plan: SweepPlan) -> list[str]:
     lead, tail = (["statistic", "record"], ["records", "factor"]) if plan.suite_records else ([], [])
     checks = list(CHECK_COLUMNS) if plan.check else []
-    return (["case", "engine", "support"] + lead + [v.path for v in plan.varies] + list(OUTPUT_COLUMNS) + checks
-            + tail + ["key"])
+    return (["case", "engine", "support"] + lead + [v.path for v in plan.varies] + list(OUTPUT_COLUMNS)
+            + list(rocking_columns(plan)) + checks + tail + ["key"])
+
+
+def rocking_columns(plan: SweepPlan) -> dict[str, tuple[str, str]]:
+    """ROCKING_COLUMNS when the sweep runs the exact engine on the uplift support, else none."""
+    return ROCKING_COLUMNS if "exact" in plan.engines and "uplift" in plan.supports else {}
 
 
 def units(plan: SweepPlan) -> dict[str, str]:
     suite = SUITE_COLUMNS if plan.suite_records else {}
     checks = CHECK_COLUMNS if plan.check else {}
     return {**{v.path: v.unit for v in plan.varies},
-            **{name: unit for name, (unit, _) in {**OUTPUT_COLUMNS, **suite, **checks}.items()}}
+            **{name: unit for name, (unit, _) in {**OUTPUT_COLUMNS, **rocking_columns(plan), **suite,
+                                                  **checks}.items()}}
 
 
 def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:

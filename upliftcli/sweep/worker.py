@@ -15,7 +15,7 @@ import numpy as np
 from ..analysis import run_batch
 from ..criteria import check_criteria
 from ..deck import Deck, build_deck
-from ..engines.quantities import QUANTITIES, SCALARS, compared_values
+from ..engines.quantities import QUANTITIES, ROCKING, SCALARS, compared_values, rocking_value
 from ..engines.simplified import effective_properties
 from ..engines.suite_result import SuiteResult
 from ..errors import AnalysisError, InputError
@@ -114,6 +114,7 @@ def _outputs(deck: Deck, result, t1bar: float | None, xi1bar: float | None) -> d
         "mode1_base_shear_coefficient": None if mode1 is None else float(mode1) / result.weight,
         "two_mode_base_shear_coefficient": None if two is None else two / result.weight,
         **{q.column: result.value(name) for name, q in QUANTITIES.items() if q.column and name in result.peaks},
+        **{q.column: rocking_value(result, name) for name, q in ROCKING.items() if q.column and name in result.peaks},
         "max_drift_story": story + 1,
         "uplift": bool(result.uplift), "V_c_N": result.critical_base_shear,
         "critical_coefficient": result.critical_coefficient,

@@ -19,6 +19,7 @@ from ...model.system import System
 from ..options import ExactOptions
 from ..result import AnalysisResult
 from .energy import balance, stored, work
+from .mat_motion import MatMotion, plastic_quantities
 from .response import (
     _STORY_AND_FLOOR,
     contact_response,
@@ -72,6 +73,8 @@ class Digest:
         self.final_state: np.ndarray | None = None
         self.time_step = 0.0
         self.pieces: list[dict[str, np.ndarray]] = []
+        self.mat = MatMotion(space, system.half_width) if model.flexible else None
+        self.end_time = 0.0
 
     def _keep(self, name: str, values: np.ndarray, instants: np.ndarray) -> None:
         if name not in self.peaks:
@@ -105,6 +108,9 @@ class Digest:
         if chunk.yielding is not None:
             self.yielded |= chunk.yielding.any(axis=0)
             self.final_state = chunk.states[-1].copy()
+        if self.mat is not None:
+            self.mat.add(chunk, sig)
+        self.end_time = float(chunk.times[-1])
         self.samples += chunk.times.size - (1 if self.chunks else 0)
         self.transitions += sig.end_values.shape[0]  # one left limit per interval that ends at a transition
         self.time_step = chunk.time_step
@@ -133,6 +139,10 @@ class Digest:
         instants["drift_ratio"] = instants["drift"]
         for name, (peak, when) in self.peaks.items():
             values[name], instants[name] = peak, when
+        if self.mat is not None and support == "uplift" and engine == "exact":
+            rocking, rocking_times = self.mat.quantities(self.end_time)  # quantities.ROCKING
+            values.update(rocking)
+            instants.update(rocking_times)
         energy = balance(space, self.works, self.first, self.last)
         summary = self.summary
         warnings = []
@@ -151,6 +161,8 @@ class Digest:
         }
         if space.layout.n_settlements:
             details["yielding"] = self.yielding(energy)
+        if "rotation" in values and "yielding" in details:  # the exact engine's uplift run on yielding soil
+            values.update(plastic_quantities(details["yielding"]))
         histories = ({k: np.concatenate([piece[k] for piece in self.pieces]) for k in self.pieces[0]}
                      if options.histories else {})
         intermediates = {
@@ -167,6 +179,8 @@ class Digest:
         }
         if model.flexible:
             intermediates.update(model.impedance)  # the foundation model of every engine, as built
+        if model.flexible and getattr(system.foundation, "capacity", None) is not None:
+            intermediates["M_tip"] = system.weight * system.half_width  # M_c is the capacity's (theory 14.4)
         for name in ("uplift_time", "episodes", "max_rotation", "max_uplift_left", "max_uplift_right",
                      "min_reaction"):
             if name in summary:

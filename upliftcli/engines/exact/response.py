@@ -84,9 +84,10 @@ class Signals:
         return self.values[:, self.rows[name]]
 
 
-#: signals with rates: those the work integrals use first (energy.py), then Y*''
-WITH_RATES = ("Ydot", "a", "input", "element_velocity", "z", "Yddot")
-VALUES_ONLY = ("Y", "theta", "v", "element_displacement")
+#: signals with rates: those the work integrals use first (energy.py), then Y*'' and the mat's
+#: rotation and vertical displacement (the rocking peaks between samples, mat_motion.py)
+WITH_RATES = ("Ydot", "a", "input", "element_velocity", "z", "Yddot", "theta", "v")
+VALUES_ONLY = ("Y", "element_displacement")
 
 
 @functools.cache
@@ -109,7 +110,7 @@ def signals(history: History) -> Signals:
     n_m = model.n_modes
     names = signal_layout(n_m, lay.n_elements)
     start = names["element_displacement"].stop
-    n_slopes = names["Yddot"].stop
+    n_slopes = names[WITH_RATES[-1]].stop
     forcing_ground = space.forcing[:, lay.index_acceleration]
     rows_by_state = []
     for contact in history.contact:
