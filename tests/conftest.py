@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 from pathlib import Path
 
@@ -16,9 +17,19 @@ ELCENTRO = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
 @pytest.fixture(scope="session", autouse=True)
 def _cache_home(tmp_path_factory):
     """The user's cache folder (XDG_CACHE_HOME: the check suites of suite_check.py) in a temporary
-    folder of the session: the tests never write the real one, and generate each check suite once."""
+    folder of the session: the tests never write the real one, and generate each check suite once.
+    The workers of pytest-xdist share it (the folder of the run, above each worker's own): a check
+    suite is written atomically, so two workers that generate the same one at once both read a
+    whole file. $COLUMNS and $LINES are removed: the commands' tables are as wide in xdist's workers
+    (given COLUMNS=80) as in one process, the width they have without a terminal (cli/render.py;
+    tests/test_cli_render.py sets the variable where it tests it)."""
+    base = tmp_path_factory.getbasetemp()
+    cache = base.parent / "cache" if os.environ.get("PYTEST_XDIST_WORKER") else base / "cache"
+    cache.mkdir(exist_ok=True)
     with pytest.MonkeyPatch.context() as patch:
-        patch.setenv("XDG_CACHE_HOME", str(tmp_path_factory.mktemp("cache")))
+        patch.setenv("XDG_CACHE_HOME", str(cache))
+        patch.delenv("COLUMNS", raising=False)
+        patch.delenv("LINES", raising=False)
         yield
 
 
