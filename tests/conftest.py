@@ -14,6 +14,12 @@ EXAMPLE_DECK = ROOT / "inputs" / "ten_story_elcentro.toml"
 ELCENTRO = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
 
 
+def pytest_collection_modifyitems(items):
+    """The tests marked slow first (pyproject.toml's markers), the others in their order: a test
+    of half a minute started last leaves the other workers of pytest-xdist idle till it ends."""
+    items.sort(key=lambda item: item.get_closest_marker("slow") is None)
+
+
 @pytest.fixture(scope="session", autouse=True)
 def _cache_home(tmp_path_factory):
     """The user's cache folder (XDG_CACHE_HOME: the check suites of suite_check.py) in a temporary
