@@ -2,7 +2,6 @@
 
 import io
 import os
-import time
 
 import numpy as np
 import pytest
@@ -31,13 +30,13 @@ def test_period_problem_names_the_limit_and_the_period():
 
 
 def test_spectrum_at_the_shortest_period_is_quick_and_follows_the_ground():
-    """At the limit the ordinate is still computed exactly (and quickly): S_a -> PGA as T -> 0."""
+    """At the limit the ordinate is still computed exactly (and quickly: within the sub-steps of
+    the spectrum limit, counted rather than timed on a shared machine): S_a -> PGA as T -> 0."""
     rng = np.random.default_rng(1)
     a = rng.normal(size=200)
     t = limits.shortest_period(0.02, a.size)
-    start = time.perf_counter()
+    assert limits.spectrum_work([t], 1, 0.02, a.size) <= limits.MAX_SPECTRUM_WORK
     spectrum = response_spectrum(a, 0.02, [t], [0.05])
-    assert time.perf_counter() - start < 10.0
     assert spectrum.pseudo_acceleration[0, 0] == pytest.approx(np.max(np.abs(a)), rel=1e-3)
 
 
@@ -70,10 +69,8 @@ def test_read_limited_stops_at_the_limit(tmp_path):
     assert limits.read_limited(path, 100) == b"x" * 100
     with pytest.raises(ValueError, match="at most"):
         limits.read_limited(path, 99)
-    start = time.perf_counter()
     with pytest.raises(limits.NotRegularFile, match="a device"):
-        limits.read_limited("/dev/zero", 2**20)  # endless: refused before it is opened
-    assert time.perf_counter() - start < 5.0
+        limits.read_limited("/dev/zero", 2**20)  # endless: refused before it is opened (else "at most")
     assert isinstance(io.BytesIO(limits.read_limited(path, 1000)).read(), bytes)
 
 

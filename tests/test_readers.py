@@ -144,12 +144,8 @@ def test_a_decimal_comma_is_refused_not_split_in_two(tmp_path):
 
 
 def test_devices_directories_and_binary_files_are_refused_quickly(tmp_path):
-    import time
-
-    start = time.perf_counter()
     with pytest.raises(InputError, match=r"^/dev/zero: a regular record file \(this is a device\)"):
-        read_record("/dev/zero", units="g", dt=0.01)
-    assert time.perf_counter() - start < 10.0
+        read_record("/dev/zero", units="g", dt=0.01)  # refused before it is read: it never ends
     with pytest.raises(InputError, match="this is a directory"):
         read_record(tmp_path, units="g", dt=0.01)
     binary = tmp_path / "b.txt"

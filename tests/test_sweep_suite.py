@@ -155,6 +155,7 @@ def test_a_case_the_suite_cannot_serve_fails_alone(tmp_path):
     assert result.stderr.count("failed: ") == 3  # each failed case named
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("deck", ["ten_story_asce7_suite.toml", "ten_story_ec8_suite.toml"])
 def test_the_example_suite_decks_run_under_spectra(deck, tmp_path):
     """The example suite decks under `uplift spectra`: the default periods (0.05-5 s, 100) plan
