@@ -1,6 +1,7 @@
 """sweep/executors.py: local processes and Dask give the serial rows; dead workers, full disks,
 parents that die; local workers forked from the warm server start with the engines loaded."""
 
+import dataclasses
 import multiprocessing
 import os
 import sys
@@ -70,7 +71,7 @@ def test_a_stalled_worker_is_killed_and_its_case_retried(small_plan, serial_rows
     stall_seconds it is killed and its cases run elsewhere; the rows are the serial ones."""
     monkeypatch.setenv("UPLIFT_TEST_MARKER", str(tmp_path / "marker"))
     simplified = [c for c in small_plan.cases if c.engine == "simplified"]
-    plan = type(small_plan)(**{**small_plan.__dict__, "cases": simplified})
+    plan = dataclasses.replace(small_plan, cases=simplified)
     expected = [row for row in serial_rows if row["engine"] == "simplified"]
     start = time.monotonic()
     outcome = run_sweep(plan, ProcessExecutor(2, runner=_stops_once_then_runs, stall_seconds=3.0),
@@ -82,7 +83,7 @@ def test_a_stalled_worker_is_killed_and_its_case_retried(small_plan, serial_rows
 def test_a_dead_worker_is_retried_and_a_killer_case_reported(small_plan, serial_rows, tmp_path, monkeypatch):
     monkeypatch.setenv("UPLIFT_TEST_MARKER", str(tmp_path / "marker"))
     simplified = [c for c in small_plan.cases if c.engine == "simplified"]
-    plan = type(small_plan)(**{**small_plan.__dict__, "cases": simplified})
+    plan = dataclasses.replace(small_plan, cases=simplified)
     expected = [row for row in serial_rows if row["engine"] == "simplified"]
     outcome = run_sweep(plan, ProcessExecutor(2, runner=_dies_once_then_runs), RowStore(tmp_path / "a.jsonl"), size=4)
     assert (tmp_path / "marker").exists()
@@ -141,7 +142,7 @@ def test_dask_dead_worker_keeps_streamed_rows_and_reports_only_the_killer(small_
     import dask
 
     simplified = [c for c in small_plan.cases if c.engine == "simplified"]
-    plan = type(small_plan)(**{**small_plan.__dict__, "cases": simplified})
+    plan = dataclasses.replace(small_plan, cases=simplified)
     expected = [row for row in serial_rows if row["engine"] == "simplified"]
     killer = next(c for c in make_chunks(plan, simplified, 12)[0].cases[4:]
                   if c.support == "rigid")  # not the first of its chunk
