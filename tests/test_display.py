@@ -105,6 +105,16 @@ def test_number_is_plain_without_exponent_for_ordinary_magnitudes():
     assert show([1e3, 2e3], "N") == "1.0, 2.0" and show(None, "N") == "-" and show(math.inf, "N") == "-"
 
 
+def test_a_value_of_round_off_size_below_zero_is_shown_as_zero():
+    """A residual settlement of -1e-19 m is 0 to the display's decimals: '0.00 mm', never
+    '-0.00' (display.unsigned_zero); a value that shows a digit keeps its sign."""
+    assert show(-1e-19, "mm") == "0.00" and show(-1e-19, "mm", "us") == "0.000"
+    assert show(-0.0, "mrad") == "0.000" and show(-4e-6, "mm") == "0.00" and show(-6e-6, "mm") == "-0.01"
+    assert show(-2.5e-3, "mm") == "-2.50" and number(-0.0) == "0" and number(-1e-20) == "-1e-20"
+    assert display.stated(-1e-19, "mm") == "0.00 mm" and display.stated(-1e-19, "mm", spec=".1f") == "0.0 mm"
+    assert display.unsigned_zero("-0.000%") == "0.000%" and display.unsigned_zero("-") == "-"
+
+
 def test_the_display_record_of_the_scalar_results():
     result = SimpleNamespace(base_shear=7293.9e3, base_shear_coefficient=0.21254, base_moment=100592.4e3,
                              base_moment_coefficient=0.1252, critical_base_shear=3432.3e3,

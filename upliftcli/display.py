@@ -29,6 +29,16 @@ KIP = 4448.2216152605  # N (1000 lbf)
 POUND_MASS = 0.45359237  # kg
 
 
+def unsigned_zero(text: str) -> str:
+    """A formatted number that rounds to zero shown without a sign: '-0.00' -> '0.00' (a value
+    of round-off size below zero, such as a residual settlement at rest, is displayed as 0; the
+    value itself is not changed)."""
+    if text.startswith("-") and any(c.isdigit() for c in text) and not any(c in "123456789" for c in
+                                                                          text.split("e")[0]):
+        return text[1:]
+    return text
+
+
 def number(value, digits: int = 5) -> str:
     """A value as text: numbers to `digits` significant digits (plain between 1e-4 and 1e12,
     at least their integer digits, no trailing zeros), lists joined, booleans yes/no, non-finite as '-'."""
@@ -43,7 +53,7 @@ def number(value, digits: int = 5) -> str:
         if not math.isfinite(value):
             return "-"
         if value == 0.0 or not 1e-4 <= abs(value) < 1e12:
-            return f"{value:.{digits}g}"
+            return unsigned_zero(f"{value:.{digits}g}")
         decimals = max(0, digits - 1 - math.floor(math.log10(abs(value))))
         text = f"{value:.{decimals}f}"  # `digits` significant digits, no exponent
         return text.rstrip("0").rstrip(".") if "." in text else text
@@ -67,7 +77,7 @@ class Unit:
         value = float(value) * self.factor
         if not math.isfinite(value):
             return "-"
-        return format(value, self.format) if self.format else number(value)
+        return unsigned_zero(format(value, self.format)) if self.format else number(value)
 
 
 #: kind -> (SI display unit, US display unit)
@@ -125,7 +135,7 @@ def stated(value, kind: str, system: str = "si", spec: str = "") -> str:
     """'360.8 mm/s': an SI value in its kind's display unit, followed by the unit; spec: a format
     of the converted value (default: the unit's own)."""
     shown = unit(kind, system)
-    text = format(float(value) * shown.factor, spec) if spec else shown.show(value)
+    text = unsigned_zero(format(float(value) * shown.factor, spec)) if spec else shown.show(value)
     return f"{text} {shown.label}"
 
 
