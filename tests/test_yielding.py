@@ -310,16 +310,35 @@ def test_the_displacement_criterion_yields_too(path):
 
 
 def test_more_elements_with_a_capacity_than_the_pattern_holds_are_refused():
-    """Two bits per element with a capacity: at most limits.MAX_YIELDING_ELEMENTS = 31 (one
-    line naming the field to lower; without a capacity 32 elements run)."""
-    from upliftcli.errors import AnalysisError
+    """Two bits per element with a capacity: at most limits.MAX_YIELDING_ELEMENTS = 31. The deck
+    refuses more up front when a history engine runs the uplift support (one line naming
+    foundation.elements and the bound); without a capacity 32 elements run, and so does the
+    simplified engine alone (the closed-form M_c, no contact pattern) or the bonded support.
+    A model built in code (no deck) is still refused by the engine."""
+    from upliftcli.errors import AnalysisError, InputError
     from upliftcli.limits import MAX_YIELDING_ELEMENTS
 
     assert MAX_YIELDING_ELEMENTS == 31
     elastic = run(WINKLER, "exact", "uplift", "foundation.elements=32")
     assert elastic.element_positions.size == 32
+    for engine in ("exact", "approximate"):
+        with pytest.raises(InputError, match=r"foundation\.elements: at most 31 contact elements with a bearing "
+                                             rf"capacity for the {engine} engine.*got 32"):
+            load_deck(WINKLER, ["foundation.elements=32", "foundation.safety_factor=2",
+                                f'analysis.engine=["{engine}"]'])
+    assert run(WINKLER, "exact", "uplift", "foundation.elements=31", "foundation.safety_factor=2").uplift
+    alone = load_deck(WINKLER, ["foundation.elements=32", "foundation.safety_factor=2",
+                                'analysis.engine=["simplified"]'])
+    assert analysis.run_one(alone, "simplified", "uplift").intermediates["FS_v"] == pytest.approx(2.0)
+    bonded = load_deck(WINKLER, ["foundation.elements=32", "foundation.safety_factor=2",
+                                 'analysis.supports=["bonded"]'])
+    assert analysis.run_one(bonded, "exact", "bonded").element_positions.size == 32
+    with pytest.raises(InputError, match=r"foundation\.elements: at most 31"):  # the deck's engines checked first
+        analysis.run_one(alone, "exact", "uplift")
+    from upliftcli.engines.exact import engine as exact
+
     with pytest.raises(AnalysisError, match=r"at most 31 contact elements with a bearing capacity.*elements"):
-        run(WINKLER, "exact", "uplift", "foundation.elements=32", "foundation.safety_factor=2")
+        exact.analyze(alone.system, alone.ground_motion, "uplift")
 
 
 def test_a_batch_of_yielding_systems_gives_each_its_result_alone():
