@@ -10,7 +10,8 @@ rotation), "coefficient" (a ratio to 4 decimals).
 `--units si` (the default) shows kN, kN m, mm, m and g; `--units us` kip, kip ft, in, ft and g.
 
 SUMMARY is the display record of the scalar results (V_b, M_b, their coefficients, V_c, M_c,
-b/h_1*, uplift): every summary table takes its columns from it.
+b/h_1*, uplift, yielded): every summary table takes its columns from it; `yielded` only where a
+result tells (verdicts).
 """
 
 from __future__ import annotations
@@ -181,7 +182,7 @@ class Column:
     def cell(self, result, system: str = "si") -> str:
         value = self.value(result)
         if self.kind == "yes/no":
-            return "yes" if value else "no"
+            return "-" if value is None else "yes" if value else "no"
         return show(value, self.kind, system)
 
     def stated(self, result, system: str = "si") -> str:
@@ -200,7 +201,13 @@ SUMMARY: dict[str, Column] = {c.name: c for c in (
     Column("critical_base_moment", "M_c", "N m", "critical base moment m_t g b [16b]"),
     Column("critical_coefficient", "b/h_1*", "coefficient", "critical value of both coefficients [16a, 16b]"),
     Column("uplift", "uplift", "yes/no", "whether the mat lifts off"),
+    Column("yielded", "yielded", "yes/no", "whether the soil under a contact element yields (a bearing capacity; "
+           "'-': the engine does not tell, docs/theory.md 14.6)"),
 )}
+#: what the summary tables' verdict columns mean, when they show `yielded`
+VERDICT_LEGEND = ("uplift: the mat lifts off; yielded: the soil under an element yields (bearing capacity); '-': "
+                  "not modelled (rigid, bonded: linear references) or not told (the simplified engine, whose uplift "
+                  "then means V_c passed, by lifting or yielding)")
 #: what the summary tables' W means
 WEIGHT_LEGEND = "W = m_t g"
 
@@ -208,3 +215,12 @@ WEIGHT_LEGEND = "W = m_t g"
 def summary_columns(names: Sequence[str]) -> list[Column]:
     """The display record's columns of these names, in the order given."""
     return [SUMMARY[name] for name in names]
+
+
+def verdicts(results: Sequence) -> tuple[str, ...]:
+    """The verdict columns of a summary of these results: uplift, and yielded when a result is
+    on a foundation with a bearing capacity (AnalysisResult.yielded tells, or the simplified
+    engine's intermediate Q_y says there is one: its yielded is '-', VERDICT_LEGEND)."""
+    capacity = any(getattr(r, "yielded", None) is not None or "Q_y" in getattr(r, "intermediates", {})
+                   for r in results)
+    return ("uplift", *(("yielded",) if capacity else ()))

@@ -20,7 +20,7 @@ from rich.measure import Measurement
 from rich.table import Table
 from rich.text import Text
 
-from ..display import WEIGHT_LEGEND, intermediate_kind, label, show, summary_columns
+from ..display import VERDICT_LEGEND, WEIGHT_LEGEND, intermediate_kind, label, show, summary_columns, verdicts
 from ..engines.quantities import COMPARED, FLOOR, INTERMEDIATES, STORY, element_quantities, quantities
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
@@ -262,7 +262,7 @@ def summary_table(results: list[AnalysisResult], units: str = "si") -> Table:
     critical = summary_columns(CRITICAL_COLUMNS)
     values = [tuple(column.cell(r, units) for column in critical) for r in results]
     shared = len(set(values)) == 1
-    columns = summary_columns(SUMMARY_COLUMNS + (() if shared else CRITICAL_COLUMNS) + ("uplift",))
+    columns = summary_columns(SUMMARY_COLUMNS + (() if shared else CRITICAL_COLUMNS) + verdicts(results))
     table = Table(title="Summary")
     for header in ("engine", "support"):
         table.add_column(header, justify="left")
@@ -270,7 +270,7 @@ def summary_table(results: list[AnalysisResult], units: str = "si") -> Table:
         table.add_column(escape(column.heading(units)), justify="right")
     for r in results:
         table.add_row(escape(engine_label(r)), r.support, *[column.cell(r, units) for column in columns])
-    legend = WEIGHT_LEGEND
+    legend = WEIGHT_LEGEND + (f"; {VERDICT_LEGEND}" if "yielded" in verdicts(results) else "")
     if shared and results:
         legend += (f"; every row: {', '.join(column.stated(results[0], units) for column in critical)} [16a, 16b] "
                    "(b/h_1*: the critical value of both coefficients)")
