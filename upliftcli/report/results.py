@@ -177,9 +177,12 @@ def accuracy_section(results: Sequence[AnalysisResult], units: str = "si", check
                          show(c.simplified, quantity.display, units), show(c.exact, quantity.display, units),
                          number(np.nan if c.ratio is None else c.ratio, 4),
                          "no (warning)" if c.outside(check.band_of(c.name)) else "yes"])
+        rows += [[check.support, heading(COMPARED[name].meaning, COMPARED[name].display, units), "-", "-", "-",
+                  "left out"] for name in check.left_out]
     if not rows:
         return None
-    note = f"Exact values: {'; '.join(dict.fromkeys(c.reference for c in checks))}. {note}"
+    reasons = dict.fromkeys(f"{COMPARED[n].meaning} left out: {why}." for c in checks for n, why in c.left_out.items())
+    note = f"Exact values: {'; '.join(dict.fromkeys(c.reference for c in checks))}. {note} {' '.join(reasons)}".rstrip()
     table = Table("table-accuracy", "Accuracy of the simplified procedure: simplified / exact",
                   ["support", "quantity [unit]", "simplified", "exact", "simplified/exact [-]", "in band"], rows,
                   note)
