@@ -328,7 +328,11 @@ HISTORY_SIGNALS: dict[str, str] = {
     "time": "s", "ground_acceleration": "m/s^2", "base_shear": "N", "base_moment": "N m",
     "roof_displacement": "m", "theta": "rad", "v": "m", "left_edge_displacement": "m",
     "right_edge_displacement": "m", "contact_state": "bitmask: bit i set = element i lifted",
+    "left_edge_settlement": "m", "centre_settlement": "m", "right_edge_settlement": "m",
 }
+#: the meaning of the settlement histories (the flexible supports): down +, from the rest position
+#: under gravity, as quantities.ROCKING's settlement; with a bearing capacity also one column
+#: plastic_settlement_<element> per element, its -s_i >= 0 (ROCKING's plastic_settlement)
 #: quantities written as histories, one column "<name>_<floor, story or element number>"
 HISTORY_QUANTITIES = ("drift", "floor_acceleration", "reaction")
 
@@ -337,4 +341,5 @@ def history_unit(column: str) -> str:
     """Unit of a --histories column ('drift_3' -> 'm')."""
     if column in HISTORY_SIGNALS:
         return HISTORY_SIGNALS[column]
-    return QUANTITIES[column.rsplit("_", 1)[0]].unit
+    name = column.rsplit("_", 1)[0]
+    return (QUANTITIES.get(name) or ROCKING[name]).unit
