@@ -3,14 +3,15 @@ benchmarks/opensees_model.py (an independent build of the project's model: zeroL
 elements, compression-only penalty contacts, Kelvin units, stiffness-proportional damping) at a
 fine fixed step (Newmark, average acceleration), under El Centro 1940 N-S.
 
-Without a bearing capacity (the elastic case, which the exact engine solves today) it checks the
-harness itself: for each period T_1 of the paper's ten-story example (w_v/w_1 = 8, xi_v = 0.4,
-h_1*/b = 10; xi_n = 0.05 w_n/w_1, stiffness-proportional, in both models) the peaks of V_b, M_b,
-theta, the roof displacement and the rise of each edge, and the largest difference of the
-histories over the largest value, are compared for each step of a halving sequence; the step's
+Without a bearing capacity (the elastic foundation of the paper) it checks the harness itself:
+for each period T_1 of the paper's ten-story example (w_v/w_1 = 8, xi_v = 0.4, h_1*/b = 10;
+xi_n = 0.05 w_n/w_1, stiffness-proportional, in both models) the peaks of V_b, M_b, theta, the
+roof displacement and the rise of each edge, and the largest difference of the histories over
+the largest value, are compared for each step of a halving sequence; the step's
 own convergence is the change from one step to the next. With `--capacity FS_v` each element
-gets Q_y = FS_v W/2 (Winkler: q_w = FS_v W/2b), in both engines (the comparison over several
-records and FS_v: benchmarks/opensees_capacity.py).
+gets Q_y = FS_v W/2 (Winkler: q_w = FS_v W/2b), in both engines: the exact engine models the
+yielding elements too (docs/theory.md section 14), so the same comparison checks it on yielding
+soil (the comparison over several records and FS_v: benchmarks/opensees_capacity.py).
 
     python benchmarks/opensees_yielding.py                         # T_1 = 0.3, 0.5, 1, 2 s
     python benchmarks/opensees_yielding.py --periods 1 --steps 0.002,0.001 --foundation winkler

@@ -173,3 +173,57 @@ def test_sweep_check_needs_a_record_and_says_so():
                                 env={"CI": "true"})
     assert result.exit_code == 2
     assert result.stderr.startswith("error: --check: ") and "a deck with a record or a record suite" in result.stderr
+
+
+def test_the_edge_uplift_is_left_out_where_the_soil_yielded():
+    """FS_v = 1.5 on the Winkler example: the toes yield and the mat lifts. The exact engine's edge
+    uplift is then the gap above the settled level, which is not the rise of the edge above its
+    rest position (measured here from the histories: 3.4 and 0.70 times it at the two edges), the
+    quantity the simplified procedure estimates: it is left out of the check, with the reason, and
+    of compared_values (sweep --check, simplified_error); the mat rotation stays compared. With
+    FS_v = 3 on two elements no element yields: the edge uplift is compared as without a capacity."""
+    from upliftcli.engines.quantities import compared_values
+
+    deck = load_deck(WINKLER, [*SHORT, "foundation.safety_factor=1.5"])
+    with_histories = replace(deck, analysis=replace(deck.analysis, exact=replace(deck.analysis.exact,
+                                                                                   histories=True)))
+    exact = run_one(with_histories, "exact", "uplift")
+    assert exact.uplift and exact.yielded
+    for side in ("left", "right"):
+        edge = exact.histories[f"{side}_edge_displacement"]
+        rise, gap = float(np.max(edge - edge[0])), exact.intermediates[f"max_uplift_{side}"]
+        assert rise > 0.0 and gap > 0.0 and abs(gap / rise - 1.0) > 0.25
+    simplified = run_one(deck, "simplified", "uplift")
+    check = compare(simplified, exact)
+    assert "max_uplift" not in check.ratios and "max_rotation" in check.ratios
+    assert "gap above the settled level" in check.left_out["max_uplift"]
+    assert check.to_dict()["left_out"] == {"max_uplift": check.left_out["max_uplift"]}
+    assert compared_values(exact)["max_uplift"] is None and compared_values(simplified)["max_uplift"] > 0.0
+    assert not any("edge uplift" in line for line in check.warnings())
+
+    elastic_soil = load_deck(EXAMPLE, [*SHORT, "foundation.safety_factor=3"])
+    exact = run_one(elastic_soil, "exact", "uplift")
+    assert exact.uplift and exact.yielded is False
+    check = compare(run_one(elastic_soil, "simplified", "uplift"), exact)
+    assert check.left_out == {} and check.ratios["max_uplift"] > 0.0
+    assert "left_out" not in check.to_dict()
+
+
+def test_the_cli_says_why_the_edge_uplift_is_left_out():
+    result = CliRunner().invoke(app, ["analyze", str(EXAMPLE), "--engine", "simplified", "--support", "uplift",
+                                      "--set", "ground_motion.window=[0, 8]", "--set", "foundation.safety_factor=2"])
+    assert result.exit_code == 0, result.output
+    table = result.stdout[result.stdout.index("Accuracy check"):]
+    row = next(line for line in table.splitlines() if "edge uplift" in line)
+    assert row.split("│")[-2].strip() == "left out"
+    assert "edge uplift left out: the soil yielded" in " ".join(table.split())
+
+
+def test_the_report_lists_a_left_out_value_with_its_reason():
+    from upliftcli.report.results import accuracy_section
+
+    check = Check("uplift", "exact engine, all 10 modes", comparisons=(Comparison("base_shear", 2.0e6, 2.5e6),),
+                  left_out={"max_uplift": "the soil yielded"})
+    (table,) = accuracy_section([], checks=[check]).blocks
+    assert table.rows[-1][1:] == ["largest gap under an edge of the mat (uplift) [mm]", "-", "-", "-", "left out"]
+    assert table.note.endswith("largest gap under an edge of the mat (uplift) left out: the soil yielded.")

@@ -511,3 +511,23 @@ def test_units_us_in_every_table():
     assert "h_n* [ft]" in modes and "kip s^2/in" in modes  # m_t in the title
     bad = invoke("analyze", EXAMPLE, "--units", "imperial")
     assert bad.exit_code == 2 and "--units" in bad.stderr
+
+
+def test_a_capacity_on_more_elements_than_the_history_engines_step_is_refused_up_front(tmp_path):
+    """More than limits.MAX_YIELDING_ELEMENTS = 31 elements with a capacity and the exact engine on
+    the uplift support: one line naming foundation.elements and the bound, exit 2, nothing written
+    (before any engine runs). The simplified engine alone runs the same foundation (no such bound);
+    its accuracy check, which needs the exact engine, says why it could not run."""
+    winkler = ROOT / "inputs" / "ten_story_winkler.toml"
+    capacity = ("--set", "foundation.elements=40", "--set", "foundation.safety_factor=2")
+    out = tmp_path / "results"
+    refused = invoke("analyze", winkler, *capacity, "--engine", "exact", "--support", "uplift", "--out", out)
+    assert refused.exit_code == 2 and refused.stdout == "" and not out.exists()
+    (line,) = refused.stderr.strip().splitlines()
+    assert line.startswith("error: --set: foundation.elements: at most 31 contact elements with a bearing capacity")
+    assert "got 40" in line and "Traceback" not in refused.output
+    alone = invoke("analyze", winkler, *capacity, "--engine", "simplified", "--support", "uplift", "--format", "json")
+    assert alone.exit_code == 0, alone.output
+    document = json.loads(alone.stdout)
+    assert document["intermediates"]["FS_v"] == pytest.approx(2.0)
+    assert "foundation.elements: at most 31" in document["accuracy"]["error"]

@@ -105,14 +105,33 @@ def test_number_is_plain_without_exponent_for_ordinary_magnitudes():
     assert show([1e3, 2e3], "N") == "1.0, 2.0" and show(None, "N") == "-" and show(math.inf, "N") == "-"
 
 
+def test_a_value_of_round_off_size_below_zero_is_shown_as_zero():
+    """A residual settlement of -1e-19 m is 0 to the display's decimals: '0.00 mm', never
+    '-0.00' (display.unsigned_zero); a value that shows a digit keeps its sign."""
+    assert show(-1e-19, "mm") == "0.00" and show(-1e-19, "mm", "us") == "0.000"
+    assert show(-0.0, "mrad") == "0.000" and show(-4e-6, "mm") == "0.00" and show(-6e-6, "mm") == "-0.01"
+    assert show(-2.5e-3, "mm") == "-2.50" and number(-0.0) == "0" and number(-1e-20) == "-1e-20"
+    assert display.stated(-1e-19, "mm") == "0.00 mm" and display.stated(-1e-19, "mm", spec=".1f") == "0.0 mm"
+    assert display.unsigned_zero("-0.000%") == "0.000%" and display.unsigned_zero("-") == "-"
+
+
+def replace_yielded(result, yielded):
+    return SimpleNamespace(**{**vars(result), "yielded": yielded})
+
+
 def test_the_display_record_of_the_scalar_results():
     result = SimpleNamespace(base_shear=7293.9e3, base_shear_coefficient=0.21254, base_moment=100592.4e3,
                              base_moment_coefficient=0.1252, critical_base_shear=3432.3e3,
                              critical_base_moment=80376.9e3, critical_coefficient=0.1, uplift=True)
     assert [column.heading() for column in SUMMARY.values()] == [
-        "V_b [kN]", "V_b/W", "M_b [kN m]", "M_b/(W h_1*)", "V_c [kN]", "M_c [kN m]", "b/h_1*", "uplift"]
-    assert [column.cell(result) for column in SUMMARY.values()] == [
-        "7293.9", "0.2125", "100592.4", "0.1252", "3432.3", "80376.9", "0.1000", "yes"]
+        "V_b [kN]", "V_b/W", "M_b [kN m]", "M_b/(W h_1*)", "V_c [kN]", "M_c [kN m]", "b/h_1*", "uplift", "yielded"]
+    assert [column.cell(replace_yielded(result, None)) for column in SUMMARY.values()] == [
+        "7293.9", "0.2125", "100592.4", "0.1252", "3432.3", "80376.9", "0.1000", "yes", "-"]
+    assert SUMMARY["yielded"].cell(replace_yielded(result, True)) == "yes"
+    assert SUMMARY["yielded"].cell(replace_yielded(result, False)) == "no"
+    assert display.verdicts([result]) == ("uplift",)  # no capacity: no yielded column
+    assert display.verdicts([result, replace_yielded(result, False)]) == ("uplift", "yielded")
+    assert display.verdicts([SimpleNamespace(intermediates={"Q_y": 1e6})]) == ("uplift", "yielded")
     assert SUMMARY["base_shear"].heading("us") == "V_b [kip]"
     assert SUMMARY["base_shear"].cell(result, "us") == f"{7293.9e3 / KIP:.1f}"
     assert SUMMARY["critical_base_shear"].stated(result) == "V_c = 3432.3 kN"

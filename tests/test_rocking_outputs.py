@@ -215,3 +215,40 @@ def test_a_sweep_of_the_exact_engine_carries_the_rocking_columns(tmp_path):
     simplified = upliftcli.run_sweep(DECK, ["building.period=0.4,0.8"], overrides, supports=["uplift"],
                                      rows_file=tmp_path / "simplified.jsonl")
     assert "rotation_rad" not in simplified.columns
+
+
+def test_a_run_that_yields_without_lifting_says_so_beside_uplift():
+    """FS_v = 1.5 on the two-element example for 8 s: the toes yield (both elements settle for
+    good: the residual settlement of each edge is its plastic settlement) and the mat never
+    lifts (uplift = no, its meaning unchanged). The summary and the JSON say yielded = yes beside
+    it; the simplified engine, which does not tell, shows '-'; an elastic deck has no such column."""
+    capacity = ["--support", "uplift", "--set", "foundation.safety_factor=1.5", "--set",
+                "ground_motion.window=[0.0, 8.0]", "--no-check"]
+    document = json.loads(runner.invoke(app, ["analyze", str(DECK), "--engine", "exact", *capacity,
+                                              "--format", "json"]).stdout)
+    assert document["uplift"] is False and document["yielded"] is True
+    assert document["intermediates"]["uplift_time"] == 0.0 and document["intermediates"]["episodes"] == 0
+    assert min(element["plastic_settlement"] for element in document["elements"]) > 1e-3
+    assert document["rocking"]["residual_settlement"]["left_edge"] > 1e-3
+    shown = runner.invoke(app, ["analyze", str(DECK), "--engine", "exact,simplified", *capacity])
+    assert shown.exit_code == 0, shown.output
+    summary = shown.stdout[shown.stdout.index("Summary"):]
+    assert "uplift" in summary and "yielded" in summary and "V_c passed" in summary
+    rows = {line.split("│")[1].strip(): [cell.strip() for cell in line.split("│")[-3:-1]]
+            for line in summary.splitlines() if line.startswith("│")}
+    assert rows == {"exact": ["no", "yes"], "simplified": ["yes", "-"]}
+    elastic = runner.invoke(app, ["analyze", str(DECK), *EXACT_UPLIFT, "--format", "json"])
+    assert "yielded" not in json.loads(elastic.stdout)
+    plain = runner.invoke(app, ["analyze", str(DECK), *EXACT_UPLIFT])
+    assert "yielded" not in plain.stdout[plain.stdout.index("Summary"):]
+
+
+def test_the_report_summary_has_the_yielded_column_where_a_result_tells():
+    from upliftcli.display import SUMMARY
+    from upliftcli.report.results import summary_table
+
+    result = exact_uplift()
+    assert result.yielded is None and "yielded" not in summary_table([result]).headers
+    table = summary_table([yielding(result)])
+    assert table.headers[-2:] == ["uplift", "yielded"] and table.rows[0][-1] == "yes"
+    assert SUMMARY["yielded"].cell(replace(result, details={})) == "-"

@@ -310,16 +310,35 @@ def test_the_displacement_criterion_yields_too(path):
 
 
 def test_more_elements_with_a_capacity_than_the_pattern_holds_are_refused():
-    """Two bits per element with a capacity: at most limits.MAX_YIELDING_ELEMENTS = 31 (one
-    line naming the field to lower; without a capacity 32 elements run)."""
-    from upliftcli.errors import AnalysisError
+    """Two bits per element with a capacity: at most limits.MAX_YIELDING_ELEMENTS = 31. The deck
+    refuses more up front when a history engine runs the uplift support (one line naming
+    foundation.elements and the bound); without a capacity 32 elements run, and so does the
+    simplified engine alone (the closed-form M_c, no contact pattern) or the bonded support.
+    A model built in code (no deck) is still refused by the engine."""
+    from upliftcli.errors import AnalysisError, InputError
     from upliftcli.limits import MAX_YIELDING_ELEMENTS
 
     assert MAX_YIELDING_ELEMENTS == 31
     elastic = run(WINKLER, "exact", "uplift", "foundation.elements=32")
     assert elastic.element_positions.size == 32
+    for engine in ("exact", "approximate"):
+        with pytest.raises(InputError, match=r"foundation\.elements: at most 31 contact elements with a bearing "
+                                             rf"capacity for the {engine} engine.*got 32"):
+            load_deck(WINKLER, ["foundation.elements=32", "foundation.safety_factor=2",
+                                f'analysis.engine=["{engine}"]'])
+    assert run(WINKLER, "exact", "uplift", "foundation.elements=31", "foundation.safety_factor=2").uplift
+    alone = load_deck(WINKLER, ["foundation.elements=32", "foundation.safety_factor=2",
+                                'analysis.engine=["simplified"]'])
+    assert analysis.run_one(alone, "simplified", "uplift").intermediates["FS_v"] == pytest.approx(2.0)
+    bonded = load_deck(WINKLER, ["foundation.elements=32", "foundation.safety_factor=2",
+                                 'analysis.supports=["bonded"]'])
+    assert analysis.run_one(bonded, "exact", "bonded").element_positions.size == 32
+    with pytest.raises(InputError, match=r"foundation\.elements: at most 31"):  # the deck's engines checked first
+        analysis.run_one(alone, "exact", "uplift")
+    from upliftcli.engines.exact import engine as exact
+
     with pytest.raises(AnalysisError, match=r"at most 31 contact elements with a bearing capacity.*elements"):
-        run(WINKLER, "exact", "uplift", "foundation.elements=32", "foundation.safety_factor=2")
+        exact.analyze(alone.system, alone.ground_motion, "uplift")
 
 
 def test_a_batch_of_yielding_systems_gives_each_its_result_alone():
@@ -357,3 +376,57 @@ def test_the_histories_give_the_edges_and_their_settled_end():
     # static level, is the springs' share of the moment the structure still carries at the end
     np.testing.assert_allclose(ends, rest + settled, rtol=0, atol=0.1 * abs(rest))
     assert np.all(settled < 40.0 * rest)
+
+
+def test_the_settlement_histories_are_the_edges_from_rest_and_the_settled_levels():
+    """--histories of the flexible supports give the settlement of the left edge, the centre and
+    the right edge (down +, from the rest position, which is the first sample: the two-element
+    edges are the elements, so -(v_i - v_i(0)) of their displacement histories), whose sampled
+    largest value is at most the peak found between samples and within 1e-3 of it and whose last
+    sample is the residual settlement; with a capacity also each element's plastic settlement
+    -s_i: 0 at rest, never decreasing, ending at the engine's final -s_i. Without a capacity no
+    plastic column; the unit of every new column is m (quantities.history_unit)."""
+    from upliftcli.engines.exact import engine as exact
+    from upliftcli.engines.quantities import column_name, history_unit
+
+    loaded = load_deck(TWO, ["foundation.safety_factor=1.5", "ground_motion.window=[0, 8]"])
+    result = exact.analyze(loaded.system, loaded.ground_motion, "uplift", ExactOptions(histories=True))
+    h = result.histories
+    for k, (edge, element) in enumerate((("left_edge", "left_edge_displacement"), ("centre", None),
+                                         ("right_edge", "right_edge_displacement"))):
+        settlement = h[f"{edge}_settlement"]
+        if element is not None:
+            np.testing.assert_allclose(settlement, -(h[element] - h[element][0]), rtol=0, atol=1e-15)
+        assert abs(settlement[0]) < 1e-15
+        peak = result.peaks["settlement"][k]
+        assert peak * (1 - 1e-3) <= settlement.max() <= peak * (1 + 1e-12)
+        assert settlement[-1] == result.peaks["residual_settlement"][k]
+    final = -np.asarray(result.details["yielding"]["plastic_settlement"])
+    for i in range(2):
+        plastic = h[f"plastic_settlement_{i + 1}"]
+        assert plastic[0] == 0.0 and np.all(np.diff(plastic) >= 0.0) and plastic[-1] == final[i] > 1e-3
+    assert column_name("plastic_settlement_2", history_unit("plastic_settlement_2")) == "plastic_settlement_2_m"
+    assert history_unit("centre_settlement") == "m"
+    elastic = exact.analyze(load_deck(TWO, ["ground_motion.window=[0, 8]"]).system, loaded.ground_motion, "uplift",
+                            ExactOptions(histories=True))
+    assert "left_edge_settlement" in elastic.histories and "plastic_settlement_1" not in elastic.histories
+
+
+def test_the_history_figure_shows_the_settlement_on_yielding_soil():
+    """A yielding run's history figure adds a panel of the edges' settlement and the edge
+    elements' plastic settlement (the histories, in mm); an elastic run's figure has no such panel."""
+    from upliftcli.engines.exact import engine as exact
+    from upliftcli.figures import histories as fh
+
+    loaded = load_deck(TWO, ["foundation.safety_factor=1.5", "ground_motion.window=[0, 8]"])
+    result = exact.analyze(loaded.system, loaded.ground_motion, "uplift", ExactOptions(histories=True))
+    panel = fh.history_figure([result]).panels[-1]
+    assert panel.title == "settlement of the mat edges (yielding soil)" and panel.ylabel == "settlement, down + [mm]"
+    assert [s.label for s in panel.series] == ["uplift, left edge", "uplift, right edge",
+                                               "uplift, left element, plastic", "uplift, right element, plastic"]
+    for series, key in zip(panel.series, ("left_edge_settlement", "right_edge_settlement", "plastic_settlement_1",
+                                          "plastic_settlement_2"), strict=True):
+        np.testing.assert_allclose(series.y, 1e3 * result.histories[key], rtol=1e-15)
+    elastic = exact.analyze(load_deck(TWO, ["ground_motion.window=[0, 8]"]).system, loaded.ground_motion, "uplift",
+                            ExactOptions(histories=True))
+    assert "settlement" not in fh.history_figure([elastic]).panels[-1].title

@@ -4,7 +4,10 @@ When the deck has a record, every simplified result is compared with the exact e
 of the same support, run with all the building's modes (a truncation of the deck, `analysis.modes`
 or `analysis.exact.n_modes`, is not inherited: the check says which modes it used), for every
 value of engines/quantities.COMPARED (V_b, M_b, the largest drift ratio, the roof displacement,
-the largest floor acceleration and, with uplift, the edge uplift and the mat rotation).
+the largest floor acceleration and, with uplift, the edge uplift and the mat rotation). A value
+whose exact counterpart is another quantity is left out with the reason (Check.left_out,
+engines/quantities.Compared.left_out): the edge uplift when the soil yielded, where the exact
+engine's gap is measured from the settled level.
 
     checks = check_accuracy(deck, results)          # one Check per simplified result, beside them
     check = compare(simplified, exact, band=(0.8, 1.25), reference="exact engine, all 10 modes")
@@ -94,11 +97,12 @@ class Check:
     ratios that raise no warning; motion_band: the same for the edge uplift and the mat rotation
     (MOTION); comparisons: one per COMPARED value both results give;
     reference_warnings: the reference run's own warnings; error: why the reference could not run
-    (then there are no comparisons). A check on a record suite (suite_check.py: the exact answer
-    for a design spectrum) also has suite: what the suite was (source, count, seed, generator,
-    period range, target, statistic); spectrum_ratio, procedure_ratio: each ratio's two factors,
-    the records' standing against the target and the procedure's own error
-    (engines/suite_result.simplified_ratios), empty when they are not known."""
+    (then there are no comparisons); left_out: compared value -> why it is not compared here
+    (Compared.left_out: the edge uplift on soil that yielded). A check on a record suite
+    (suite_check.py: the exact answer for a design spectrum) also has suite: what the suite was
+    (source, count, seed, generator, period range, target, statistic); spectrum_ratio,
+    procedure_ratio: each ratio's two factors, the records' standing against the target and the
+    procedure's own error (engines/suite_result.simplified_ratios), empty when they are not known."""
 
     support: str
     reference: str
@@ -110,6 +114,7 @@ class Check:
     suite: Mapping[str, Any] | None = None
     spectrum_ratio: Mapping[str, float | None] = field(default_factory=dict)
     procedure_ratio: Mapping[str, float | None] = field(default_factory=dict)
+    left_out: Mapping[str, str] = field(default_factory=dict)
 
     @property
     def ratios(self) -> dict[str, float | None]:
@@ -142,7 +147,8 @@ class Check:
     def to_dict(self) -> dict:
         """The JSON `accuracy` object: {support, reference, band, motion_band, simplified, exact,
         ratio, out_of_band, warnings} (SI values), or {support, reference, error, warnings}; on a
-        suite also `suite` and, when known, spectrum_ratio and procedure_ratio."""
+        suite also `suite` and, when known, spectrum_ratio and procedure_ratio; `left_out` {name:
+        reason} when a value is not compared."""
         head = {"support": self.support, "reference": self.reference,
                 **({"suite": dict(self.suite)} if self.suite is not None else {})}
         if self.error is not None:
@@ -152,18 +158,24 @@ class Check:
         return {**head, "band": list(self.band), "motion_band": list(self.motion_band),
                 "simplified": {c.name: c.simplified for c in self.comparisons},
                 "exact": {c.name: c.exact for c in self.comparisons},
-                "ratio": self.ratios, **split, "out_of_band": [c.name for c in self.out_of_band],
+                "ratio": self.ratios, **split, **({"left_out": dict(self.left_out)} if self.left_out else {}),
+                "out_of_band": [c.name for c in self.out_of_band],
                 "warnings": self.warnings()}
 
 
 def compare(simplified: AnalysisResult, reference: AnalysisResult, band: tuple[float, float] = DEFAULT_BAND,
             label: str = "exact engine", motion_band: tuple[float, float] = DEFAULT_MOTION_BAND) -> Check:
     """The Check of a simplified result against a reference result of the same support: every
-    COMPARED value both give; the reference's warnings but those the simplified result carries too
-    (the deck's own, analysis.run_batch)."""
-    comparisons = []
+    COMPARED value both give, but those left out with their reason (Compared.left_out of either
+    result); the reference's warnings but those the simplified result carries too (the deck's own,
+    analysis.run_batch)."""
+    comparisons, left_out = [], {}
     for quantity in COMPARED.values():
         if simplified.support not in quantity.supports:
+            continue
+        reason = quantity.left_out(reference) or quantity.left_out(simplified)
+        if reason:
+            left_out[quantity.name] = reason
             continue
         mine, theirs = quantity.value(simplified), quantity.value(reference)
         if mine is None or theirs is None:
@@ -172,7 +184,7 @@ def compare(simplified: AnalysisResult, reference: AnalysisResult, band: tuple[f
     own = simplified.details.get("warnings", ())  # the deck's own warnings are in both: said once
     passed_on = tuple(w for w in reference.details.get("warnings", ()) if w not in own)
     return Check(simplified.support, label, tuple(band), tuple(comparisons), passed_on,
-                 motion_band=tuple(motion_band))
+                 motion_band=tuple(motion_band), left_out=left_out)
 
 
 def all_modes(deck: Deck) -> Deck:

@@ -64,13 +64,12 @@ CAPACITY_PATHS = ("foundation.element_capacity", "foundation.line_capacity", "fo
 
 
 def check_before_running(deck: Deck, engine: Engine, support: str, motion: Any) -> None:
-    """A bearing capacity the engine does not model (registry.capacity_refusal), check_resources,
+    """More contact elements with a capacity than the engine steps (registry.capacity_refusal), check_resources,
     then the derived quantities: with the simplified engine and a flexible support, an
     effective damping xi1bar < 1 [23] (InputError naming the deck field)."""
     refusal = capacity_refusal(engine.name, deck.system, support)
     if refusal is not None:
-        given = [path for path in CAPACITY_PATHS if path.rpartition(".")[2] in deck.values["foundation"]]
-        raise InputError(*deck.blame(*given, *CAPACITY_PATHS), refusal)
+        raise InputError(*deck.blame("foundation.elements"), refusal)
     check_resources(deck, engine, support, motion)
     if not engine.needs_record and support != "rigid":
         from .engines.simplified import effective_properties

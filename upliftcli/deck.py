@@ -153,6 +153,8 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
                                                   values["analysis"], error)
     analysis = None if system is None else gather(gathered, _analysis, values["analysis"], values["analysis.exact"],
                                                   system, error)
+    if analysis is not None:
+        gather(gathered, _check_yielding_elements, system, analysis, error)
     if analysis is None and load_ground_motion:
         gather(gathered, _motion_fields, values["ground_motion"], source, error)
     raise_all(gathered)
@@ -168,6 +170,20 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     return Deck(source, values[""].get("title", Path(source).stem), system, ground_motion, spectrum,
                 analysis, criteria, raw, values, overridden,
                 tuple(schema.plausibility(values, source, overridden)), schema.si_mapping(raw, values))
+
+
+def _check_yielding_elements(system: System, analysis: AnalysisSettings, error) -> None:
+    """A capacity on more contact elements than the deck's history engines step in an uplift
+    analysis (limits.MAX_YIELDING_ELEMENTS, registry.capacity_refusal), refused up front; the
+    simplified engine alone has no such bound (docs/deck.md, bearing capacity)."""
+    from .engines.registry import capacity_refusal
+
+    if "uplift" not in analysis.supports:
+        return
+    for name in analysis.engines:
+        refusal = capacity_refusal(name, system, "uplift")
+        if refusal is not None:
+            raise error("foundation.elements", refusal)
 
 
 def _check_rocking_criteria(criteria: dict, analysis: AnalysisSettings, error) -> None:

@@ -10,7 +10,8 @@ rotation), "coefficient" (a ratio to 4 decimals).
 `--units si` (the default) shows kN, kN m, mm, m and g; `--units us` kip, kip ft, in, ft and g.
 
 SUMMARY is the display record of the scalar results (V_b, M_b, their coefficients, V_c, M_c,
-b/h_1*, uplift): every summary table takes its columns from it.
+b/h_1*, uplift, yielded): every summary table takes its columns from it; `yielded` only where a
+result tells (verdicts).
 """
 
 from __future__ import annotations
@@ -29,6 +30,16 @@ KIP = 4448.2216152605  # N (1000 lbf)
 POUND_MASS = 0.45359237  # kg
 
 
+def unsigned_zero(text: str) -> str:
+    """A formatted number that rounds to zero shown without a sign: '-0.00' -> '0.00' (a value
+    of round-off size below zero, such as a residual settlement at rest, is displayed as 0; the
+    value itself is not changed)."""
+    if text.startswith("-") and any(c.isdigit() for c in text) and not any(c in "123456789" for c in
+                                                                          text.split("e")[0]):
+        return text[1:]
+    return text
+
+
 def number(value, digits: int = 5) -> str:
     """A value as text: numbers to `digits` significant digits (plain between 1e-4 and 1e12,
     at least their integer digits, no trailing zeros), lists joined, booleans yes/no, non-finite as '-'."""
@@ -43,7 +54,7 @@ def number(value, digits: int = 5) -> str:
         if not math.isfinite(value):
             return "-"
         if value == 0.0 or not 1e-4 <= abs(value) < 1e12:
-            return f"{value:.{digits}g}"
+            return unsigned_zero(f"{value:.{digits}g}")
         decimals = max(0, digits - 1 - math.floor(math.log10(abs(value))))
         text = f"{value:.{decimals}f}"  # `digits` significant digits, no exponent
         return text.rstrip("0").rstrip(".") if "." in text else text
@@ -67,7 +78,7 @@ class Unit:
         value = float(value) * self.factor
         if not math.isfinite(value):
             return "-"
-        return format(value, self.format) if self.format else number(value)
+        return unsigned_zero(format(value, self.format)) if self.format else number(value)
 
 
 #: kind -> (SI display unit, US display unit)
@@ -125,7 +136,7 @@ def stated(value, kind: str, system: str = "si", spec: str = "") -> str:
     """'360.8 mm/s': an SI value in its kind's display unit, followed by the unit; spec: a format
     of the converted value (default: the unit's own)."""
     shown = unit(kind, system)
-    text = format(float(value) * shown.factor, spec) if spec else shown.show(value)
+    text = unsigned_zero(format(float(value) * shown.factor, spec)) if spec else shown.show(value)
     return f"{text} {shown.label}"
 
 
@@ -171,7 +182,7 @@ class Column:
     def cell(self, result, system: str = "si") -> str:
         value = self.value(result)
         if self.kind == "yes/no":
-            return "yes" if value else "no"
+            return "-" if value is None else "yes" if value else "no"
         return show(value, self.kind, system)
 
     def stated(self, result, system: str = "si") -> str:
@@ -190,7 +201,13 @@ SUMMARY: dict[str, Column] = {c.name: c for c in (
     Column("critical_base_moment", "M_c", "N m", "critical base moment m_t g b [16b]"),
     Column("critical_coefficient", "b/h_1*", "coefficient", "critical value of both coefficients [16a, 16b]"),
     Column("uplift", "uplift", "yes/no", "whether the mat lifts off"),
+    Column("yielded", "yielded", "yes/no", "whether the soil under a contact element yields (a bearing capacity; "
+           "'-': the engine does not tell, docs/theory.md 14.6)"),
 )}
+#: what the summary tables' verdict columns mean, when they show `yielded`
+VERDICT_LEGEND = ("uplift: the mat lifts off; yielded: the soil under an element yields (bearing capacity); '-': "
+                  "not modelled (rigid, bonded: linear references) or not told (the simplified engine, whose uplift "
+                  "then means V_c passed, by lifting or yielding)")
 #: what the summary tables' W means
 WEIGHT_LEGEND = "W = m_t g"
 
@@ -198,3 +215,12 @@ WEIGHT_LEGEND = "W = m_t g"
 def summary_columns(names: Sequence[str]) -> list[Column]:
     """The display record's columns of these names, in the order given."""
     return [SUMMARY[name] for name in names]
+
+
+def verdicts(results: Sequence) -> tuple[str, ...]:
+    """The verdict columns of a summary of these results: uplift, and yielded when a result is
+    on a foundation with a bearing capacity (AnalysisResult.yielded tells, or the simplified
+    engine's intermediate Q_y says there is one: its yielded is '-', VERDICT_LEGEND)."""
+    capacity = any(getattr(r, "yielded", None) is not None or "Q_y" in getattr(r, "intermediates", {})
+                   for r in results)
+    return ("uplift", *(("yielded",) if capacity else ()))

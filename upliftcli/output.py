@@ -104,6 +104,7 @@ def result_to_dict(result: AnalysisResult, check=None) -> dict[str, Any]:
         "weight": result.weight,
         "effective_height": result.effective_height,
         "uplift": result.uplift,
+        **({"yielded": result.yielded} if result.yielded is not None else {}),
         "periods": result.periods,
         "stories": stories,
         "elements": elements,

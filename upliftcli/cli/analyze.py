@@ -354,7 +354,7 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
 
 #: the columns of the several decks' summary (display.SUMMARY)
 BATCH_COLUMNS = ("base_shear", "base_shear_coefficient", "base_moment", "base_moment_coefficient",
-                 "critical_coefficient", "uplift")
+                 "critical_coefficient")
 
 
 def _batch_table(runs, units: str = "si", checks=None) -> Table:
@@ -364,14 +364,16 @@ def _batch_table(runs, units: str = "si", checks=None) -> Table:
     from rich.table import Table
 
     from ..criteria import check_criteria
-    from ..display import WEIGHT_LEGEND, summary_columns
+    from ..display import VERDICT_LEGEND, WEIGHT_LEGEND, summary_columns, verdicts
     from . import render
 
     table = Table(title=f"Summary of {len(runs)} decks")
     names = [deck.name for deck, _, _ in runs]
     label = (lambda deck: deck.name) if len(set(names)) == len(names) else str
-    table.caption = escape(f"{WEIGHT_LEGEND}; criteria: the deck's [criteria] limits")
-    columns = summary_columns(BATCH_COLUMNS)
+    shown = verdicts([r for _, _, results in runs for r in results])
+    legend = f"; {VERDICT_LEGEND}" if "yielded" in shown else ""
+    table.caption = escape(f"{WEIGHT_LEGEND}{legend}; criteria: the deck's [criteria] limits")
+    columns = summary_columns(BATCH_COLUMNS + shown)
     table.add_column("deck", justify="left", no_wrap=True)
     for header in ("engine", "support", *(column.heading(units) for column in columns), "criteria"):
         table.add_column(escape(header), justify="right")

@@ -20,8 +20,8 @@ from rich.measure import Measurement
 from rich.table import Table
 from rich.text import Text
 
-from ..display import WEIGHT_LEGEND, intermediate_kind, label, show, summary_columns
-from ..engines.quantities import COMPARED, FLOOR, INTERMEDIATES, STORY, element_quantities, quantities
+from ..display import VERDICT_LEGEND, WEIGHT_LEGEND, intermediate_kind, label, show, summary_columns, verdicts
+from ..engines.quantities import COMPARED, FLOOR, INTERMEDIATES, STORY, quantities
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
 from ..model.system import System, fixed_base_mode_rows
@@ -233,22 +233,6 @@ def story_table(result: AnalysisResult, units: str = "si") -> Table:
     return table
 
 
-def elements_table(result: AnalysisResult, units: str = "si") -> Table | None:
-    """Per foundation contact element (left to right): position, its peak reactions and, on
-    yielding soil, its plastic settlement."""
-    shown = [q for q in element_quantities() if q.name in result.peaks and result.peaks[q.name].size]
-    if not shown:
-        return None
-    what = "largest compression" + (", plastic settlement" if "plastic_settlement" in result.peaks else "")
-    table = Table(title=escape(f"Foundation elements ({engine_label(result)}, {result.support}): {what}"))
-    for header in ["element", f"position x [{label('m', units)}]"] + [q.heading(units) for q in shown]:
-        table.add_column(escape(header), justify="right")
-    for i, x in enumerate(result.element_positions):
-        table.add_row(str(i + 1), show(x, "m", units), *[show(result.peaks[q.name][i], q.display, units)
-                                                         for q in shown])
-    return table
-
-
 #: the columns of the summary table (display.SUMMARY); the critical ones go into the caption
 #: when every row has the same (one building)
 SUMMARY_COLUMNS = ("base_shear", "base_shear_coefficient", "base_moment", "base_moment_coefficient")
@@ -262,7 +246,7 @@ def summary_table(results: list[AnalysisResult], units: str = "si") -> Table:
     critical = summary_columns(CRITICAL_COLUMNS)
     values = [tuple(column.cell(r, units) for column in critical) for r in results]
     shared = len(set(values)) == 1
-    columns = summary_columns(SUMMARY_COLUMNS + (() if shared else CRITICAL_COLUMNS) + ("uplift",))
+    columns = summary_columns(SUMMARY_COLUMNS + (() if shared else CRITICAL_COLUMNS) + verdicts(results))
     table = Table(title="Summary")
     for header in ("engine", "support"):
         table.add_column(header, justify="left")
@@ -270,7 +254,7 @@ def summary_table(results: list[AnalysisResult], units: str = "si") -> Table:
         table.add_column(escape(column.heading(units)), justify="right")
     for r in results:
         table.add_row(escape(engine_label(r)), r.support, *[column.cell(r, units) for column in columns])
-    legend = WEIGHT_LEGEND
+    legend = WEIGHT_LEGEND + (f"; {VERDICT_LEGEND}" if "yielded" in verdicts(results) else "")
     if shared and results:
         legend += (f"; every row: {', '.join(column.stated(results[0], units) for column in critical)} [16a, 16b] "
                    "(b/h_1*: the critical value of both coefficients)")
@@ -342,12 +326,8 @@ def print_results(out: Console, results: list[AnalysisResult], title: str | None
         out.print(f"[bold]{escape(title)}[/bold]")
     for result in results:
         out.print(story_table(result, units))
-        elements = elements_table(result, units)
-        if elements is not None:
-            out.print(elements)
-        rocking = render_rocking.rocking_table(result, units)
-        if rocking is not None:
-            out.print(rocking)
+        for table in render_rocking.foundation_tables(result, units):
+            out.print(table)
         if all(name in result.intermediates for name in MODAL_LISTS):
             out.print(modal_table(result, units))
         if result.intermediates:
@@ -395,4 +375,8 @@ def accuracy_table(checks=(), units: str = "si") -> Table | None:
             ratio = "-" if c.ratio is None else f"{c.ratio:.3f}" + (" !" if c.outside(check.band_of(c.name)) else "")
             table.add_row(*lead, escape(compared.heading(units)), show(c.simplified, compared.display, units),
                           show(c.exact, compared.display, units), ratio)
+        for name in check.left_out:
+            table.add_row(*lead, escape(COMPARED[name].heading(units)), "-", "-", "left out")
+    reasons = {f"{COMPARED[n].symbol} left out: {why}" for check in checks for n, why in check.left_out.items()}
+    table.caption += escape("".join(f"; {reason}" for reason in sorted(reasons)))
     return table

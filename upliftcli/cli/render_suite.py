@@ -9,7 +9,7 @@ from collections.abc import Sequence
 from rich.markup import escape
 from rich.table import Table
 
-from ..display import SUMMARY, WEIGHT_LEGEND, show
+from ..display import SUMMARY, WEIGHT_LEGEND, show, summary_columns, verdicts
 from ..engines.quantities import COMPARED, QUANTITIES, SCALARS
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import STATISTICS, SuiteResult, simplified_ratios
@@ -60,7 +60,8 @@ def records_table(result: SuiteResult, units: str = "si") -> Table:
     scalars = ("base_shear_coefficient", "base_moment_coefficient")
     headings = [text for text, _, _ in _rows(result.record_results[0], units, scalars)]
     widest = min(20, max(len(info.name) for info in result.records))
-    for text in ["#", "record", "factor [-]", *headings, "uplift"]:
+    verdict = summary_columns(verdicts(result.record_results))
+    for text in ["#", "record", "factor [-]", *headings, *(column.symbol for column in verdict)]:
         if text == "record":
             table.add_column(text, justify="left", min_width=widest, max_width=20, no_wrap=True,
                              overflow="ellipsis")
@@ -69,7 +70,7 @@ def records_table(result: SuiteResult, units: str = "si") -> Table:
     for k, (info, record) in enumerate(zip(result.records, result.record_results, strict=True)):
         values = {text: show(value, kind, units) for text, value, kind in _rows(record, units, scalars)}
         table.add_row(str(k + 1), escape(info.name), f"{info.factor:.4f}", *[values.get(h, "-") for h in headings],
-                      "yes" if record.uplift else "no")
+                      *(column.cell(record) for column in verdict))
     table.caption = escape(CAPTION)
     return table
 

@@ -164,8 +164,10 @@ class Compared:
     the exact one, a suite's statistic against the simplified engine, sweep --check, the report,
     the accuracy study): name (one name everywhere: JSON keys, check_<name> sweep columns), SI
     unit, symbol (short label), meaning, value: the value of an AnalysisResult (None when the
-    result does not give it: the uplift of a bonded result), the supports it applies to, and its
-    display kind (display.py), which sets its unit in every human output."""
+    result does not give it: the uplift of a bonded result), the supports it applies to, its
+    display kind (display.py), which sets its unit in every human output, and left_out: why a
+    result's value is not the quantity the other engine gives (None when it is), which leaves the
+    value out of every comparison (compared_values gives None, the accuracy check states the reason)."""
 
     name: str
     unit: str
@@ -174,10 +176,21 @@ class Compared:
     value: Callable[[Any], float | None]
     supports: tuple[str, ...] = ("rigid", "bonded", "uplift")
     display: str = "coefficient"
+    left_out: Callable[[Any], str | None] = lambda result: None
 
     def heading(self, system: str = "si") -> str:
         """'V_b [kN]', 'largest drift ratio [%]', 'edge uplift [mm]': a table heading in the display units."""
         return display_heading(("largest " if self.name in QUANTITIES else "") + self.symbol, self.display, system)
+
+
+def _settled_gap(result) -> str | None:
+    """Why the edge uplift of a result on soil that yielded is not compared: the exact engine's
+    max_uplift is then the gap above the settled level of the element (docs/theory.md 14.3), ratios
+    2-68 to the simplified estimate of a gap above the rest level (docs/accuracy.md)."""
+    if getattr(result, "yielded", None):
+        return ("the soil yielded: the exact engine's edge uplift is then the gap above the settled level "
+                "(docs/theory.md 14.3), not the lift above the rest position that the simplified procedure estimates")
+    return None
 
 
 #: the compared values, in the order of every table that shows them
@@ -191,15 +204,18 @@ COMPARED: dict[str, Compared] = {c.name: c for c in (
     Compared("floor_acceleration", "m/s^2", "floor acceleration", "largest absolute floor acceleration",
              lambda r: r.value("floor_acceleration"), display="g"),
     Compared("max_uplift", "m", "edge uplift", "largest gap under an edge of the mat (uplift)",
-             lambda r: _largest(r, "max_uplift", "max_uplift_left", "max_uplift_right"), ("uplift",), "mm"),
+             lambda r: _largest(r, "max_uplift", "max_uplift_left", "max_uplift_right"), ("uplift",), "mm",
+             _settled_gap),
     Compared("max_rotation", "rad", "mat rotation", "largest mat rotation |theta| (uplift)",
              lambda r: _largest(r, "max_rotation"), ("uplift",), "mrad"),
 )}
 
 
 def compared_values(result) -> dict[str, float | None]:
-    """Every COMPARED value of a result that applies to its support (None: not given)."""
-    return {c.name: c.value(result) for c in COMPARED.values() if result.support in c.supports}
+    """Every COMPARED value of a result that applies to its support (None: not given, or left out:
+    Compared.left_out)."""
+    return {c.name: None if c.left_out(result) else c.value(result) for c in COMPARED.values()
+            if result.support in c.supports}
 
 
 def unit_of(name: str) -> str:
@@ -312,7 +328,11 @@ HISTORY_SIGNALS: dict[str, str] = {
     "time": "s", "ground_acceleration": "m/s^2", "base_shear": "N", "base_moment": "N m",
     "roof_displacement": "m", "theta": "rad", "v": "m", "left_edge_displacement": "m",
     "right_edge_displacement": "m", "contact_state": "bitmask: bit i set = element i lifted",
+    "left_edge_settlement": "m", "centre_settlement": "m", "right_edge_settlement": "m",
 }
+#: the meaning of the settlement histories (the flexible supports): down +, from the rest position
+#: under gravity, as quantities.ROCKING's settlement; with a bearing capacity also one column
+#: plastic_settlement_<element> per element, its -s_i >= 0 (ROCKING's plastic_settlement)
 #: quantities written as histories, one column "<name>_<floor, story or element number>"
 HISTORY_QUANTITIES = ("drift", "floor_acceleration", "reaction")
 
@@ -321,4 +341,5 @@ def history_unit(column: str) -> str:
     """Unit of a --histories column ('drift_3' -> 'm')."""
     if column in HISTORY_SIGNALS:
         return HISTORY_SIGNALS[column]
-    return QUANTITIES[column.rsplit("_", 1)[0]].unit
+    name = column.rsplit("_", 1)[0]
+    return (QUANTITIES.get(name) or ROCKING[name]).unit

@@ -40,7 +40,7 @@ class Engine:
     def iter_batch(self, systems: Sequence[Any], ground_motion: Any, support: str, options: Any
                    ) -> Iterator[tuple[int, AnalysisResult | InputError | AnalysisError]]:
         """Analyse several systems under one ground motion and support (see the module docstring);
-        a system this engine cannot model (capacity_refusal) gets an InputError."""
+        a system this engine cannot analyse on yielding soil (capacity_refusal) gets an InputError."""
         module = importlib.import_module(self.module, __package__)
         systems = list(systems)
         kept = []
@@ -49,7 +49,7 @@ class Engine:
             if refusal is None:
                 kept.append(k)
             else:
-                yield k, InputError("foundation", "capacity", refusal)
+                yield k, InputError("foundation", "elements", refusal)
         for j, result in module.iter_batch([systems[k] for k in kept], ground_motion, support, options):
             yield kept[j], result
 
@@ -69,19 +69,23 @@ ENGINES: dict[str, Engine] = {
 }
 
 
-#: the engines that model a bearing capacity of the foundation (docs/theory.md section 14); the
-#: others refuse an uplift analysis of a foundation that has one (rigid and bonded supports are
-#: linear references, which a capacity does not change)
-CAPACITY_ENGINES = ("simplified", "approximate", "exact")
-
-
 def capacity_refusal(name: str, system: Any, support: str) -> str | None:
-    """Why the engine `name` cannot analyse `system` with `support`: a bearing capacity it does
-    not model, in words (what is expected); None when it can."""
-    if name in CAPACITY_ENGINES or support != "uplift" or getattr(system.foundation, "capacity", None) is None:
+    """Why the engine `name` cannot analyse `system` with `support` on yielding soil, in words
+    (what is expected); None when it can. Every engine models a bearing capacity (docs/theory.md
+    section 14); the history engines (exact, approximate) step a contact pattern of two bits per
+    element with a capacity, so they take at most limits.MAX_YIELDING_ELEMENTS of them in an
+    uplift analysis (14.3). The simplified engine (the closed-form M_c of 14.4) and the rigid and
+    bonded supports (linear references, built without the capacity) have no such bound."""
+    from ..limits import MAX_YIELDING_ELEMENTS
+
+    if name == "simplified" or support != "uplift" or getattr(system.foundation, "capacity", None) is None:
         return None
-    return (f"no bearing capacity for the {name} engine, which does not model yielding soil yet (docs/theory.md "
-            "section 14; the simplified engine does): remove the capacity or run the simplified engine")
+    count = int(getattr(system.foundation, "elements", 2))
+    if count <= MAX_YIELDING_ELEMENTS:
+        return None
+    return (f"at most {MAX_YIELDING_ELEMENTS} contact elements with a bearing capacity for the {name} engine's "
+            f"uplift analysis (two bits each of its contact pattern, docs/theory.md 14.3), got {count}: lower "
+            "foundation.elements (the simplified engine alone has no such bound)")
 
 
 def engine(name: str) -> Engine:

@@ -27,7 +27,8 @@ class AnalysisResult:
     times: quantity name -> instants of the peaks [s] (the response-history engines).
     critical_base_shear, critical_base_moment: V_c, M_c [N], [N m] [16a, 16b].
     weight: m_t g [N]; effective_height: h_1* [m].
-    uplift: whether the mat lifts off (always False for rigid and bonded).
+    uplift: whether the mat lifts off (always False for rigid and bonded); on soil that yields,
+        whether it also yielded is `yielded`.
     periods: fixed-base periods T_n [s] of the modes used.
     element_positions: x_i [m] of the foundation's contact elements (empty for a rigid base).
     intermediates: named scalar or list values an engineer checks by hand
@@ -99,6 +100,18 @@ class AnalysisResult:
     def critical_coefficient(self) -> float:
         """b / h_1* [-], the critical value of both coefficients."""
         return self.critical_base_shear / self.weight
+
+    @property
+    def yielded(self) -> bool | None:
+        """Whether the soil under a contact element yielded (docs/theory.md 14.7), beside `uplift`
+        (the mat lifted): from the history engines' details["yielding"] or the rocking quantity
+        yielded_elements (a suite's statistic); None when the result does not tell (no bearing
+        capacity, or the simplified engine, whose `uplift` then means V_c passed: 14.6)."""
+        yielding = self.details.get("yielding")
+        if isinstance(yielding, dict) and "yielded" in yielding:
+            return bool(any(yielding["yielded"]))
+        count = self.peaks.get("yielded_elements")
+        return None if count is None else bool(np.any(np.asarray(count) > 0.0))
 
     def value(self, name: str) -> float:
         """A scalar (engines/quantities.SCALARS) or the largest |value| of a quantity."""

@@ -85,6 +85,13 @@ class SuiteResult(AnalysisResult):
         return sum(bool(r.uplift) for r in self.record_results)
 
     @property
+    def yielded(self) -> bool | None:
+        """Whether the soil yielded under at least one record (None when no record's result tells:
+        AnalysisResult.yielded), as `uplift` is whether the mat lifts under at least one."""
+        told = [r.yielded for r in self.record_results if r.yielded is not None]
+        return any(told) if told else None
+
+    @property
     def label(self) -> str:
         """'exact (mean of 11)': the engine and the design statistic over the records."""
         return f"{self.engine} ({self.statistic} of {self.count})"

@@ -5,7 +5,9 @@ engines/quantities.HISTORY_SIGNALS) and from their energy balance (details["ener
 - history_figure: in the style of the paper's Fig. 5, stacked on one time axis, the base
   shear V_b [14a], the base moment M_b [14b] with +-M_c = m_t g b [16b], the mat rotation
   theta and the vertical displacement of the mat edges (uplift +), with the intervals in
-  which an edge is lifted shaded (contact_state);
+  which an edge is lifted shaded (contact_state); on a foundation with a bearing capacity also
+  the settlement of the mat edges (down +, from the rest position under gravity) with the
+  plastic settlement of the edge elements (the level each edge comes back to);
 - moment_rotation_figure: M_b against theta, with +-M_c (on yielding soil the capacity's, and
   +-M_tip = m_t g b);
 - energy_figure: the terms of the energy balance (docs/theory.md section 11.6) as bars.
@@ -31,6 +33,8 @@ SIGNALS = {
     "theta": ("theta", "rad", "mat rotation theta [{unit}]"),
     "left_edge": ("left_edge_displacement", "m", "edge displacement, up + [{unit}]"),
     "right_edge": ("right_edge_displacement", "m", "edge displacement, up + [{unit}]"),
+    "left_settlement": ("left_edge_settlement", "m", "settlement, down + [{unit}]"),
+    "right_settlement": ("right_edge_settlement", "m", "settlement, down + [{unit}]"),
 }
 _MRAD = (1e3, "mrad")
 #: energy terms (energy.energy_balance) in the order of the bars, with their labels
@@ -118,6 +122,25 @@ def _line(result: AnalysisResult, results, name: str, suffix: str = "", style: s
                   SUPPORT_COLORS.get(result.support), 1.0)
 
 
+def _settlements(result: AnalysisResult, results, units: str = "si") -> list[Series]:
+    """The settlement of the left and right edge of the mat (down +) and the plastic settlement
+    -s_i of its first and last element (histories plastic_settlement_<element>), the level to
+    which each edge comes back (docs/theory.md 14.1)."""
+    factor = unit_of(results, "left_settlement", units)[0]
+    time = np.asarray(result.histories["time"], dtype=float)
+    count = result.element_positions.size
+    out = [s for name, suffix, style in (("left_settlement", ", left edge", "-"), ("right_settlement", ", right edge",
+                                                                                    "--"))
+           if (s := _line(result, results, name, suffix, style, units)) is not None]
+    for key, suffix, style in (("plastic_settlement_1", ", left element, plastic", ":"),
+                               (f"plastic_settlement_{count}", ", right element, plastic", "-.")):
+        if key in result.histories:
+            out.append(Series(_label(result, results) + suffix, time,
+                              np.asarray(result.histories[key], dtype=float) * factor, style,
+                              SUPPORT_COLORS.get(result.support), 1.0))
+    return out
+
+
 def critical_lines(results: Sequence[AnalysisResult], units: str = "si") -> list[Line]:
     """+-M_c = m_t g b [16b] in the unit of the base moment axis; on a foundation with a bearing
     capacity (a result that states the elastic tipping moment M_tip) M_c is the capacity's
@@ -155,6 +178,11 @@ def history_figure(results: Sequence[AnalysisResult], title: str = "", units: st
     if edges:
         panels.append(Panel("vertical displacement of the mat edges (uplift)", axis_label(results, "left_edge", units),
                             cycle(edges), [Line(0.0, "", "y", "-", "#999999")], spans))
+    settling = [s for r in results if "plastic_settlement_1" in r.histories for s in _settlements(r, results, units)]
+    if settling:
+        panels.append(Panel("settlement of the mat edges (yielding soil)",
+                            axis_label(results, "left_settlement", units), cycle(settling),
+                            [Line(0.0, "", "y", "-", "#999999")], spans))
     return FigureSpec(title or "Response histories", TIME_LABEL, panels, columns=1, panel_size=(7.2, 1.8),
                       sharex=True)
 

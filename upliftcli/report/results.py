@@ -9,7 +9,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from ..criteria import outcomes
-from ..display import SUMMARY, WEIGHT_LEGEND, heading, intermediate_kind, label, show
+from ..display import SUMMARY, VERDICT_LEGEND, WEIGHT_LEGEND, heading, intermediate_kind, label, show, verdicts
 from ..engines.quantities import (
     COMPARED,
     FLOOR,
@@ -33,12 +33,14 @@ def _slug(result: AnalysisResult) -> str:
 
 
 def summary_table(results: Sequence[AnalysisResult], units: str = "si") -> Table:
-    """One row per analysis, every column of the display record of the scalar results (display.SUMMARY)."""
-    columns = list(SUMMARY.values())
+    """One row per analysis, every column of the display record of the scalar results (display.SUMMARY;
+    `yielded` where a result tells it: display.verdicts)."""
+    columns = [c for name, c in SUMMARY.items() if name != "yielded" or "yielded" in verdicts(results)]
     rows = [[getattr(r, "label", r.engine), r.support, *(column.cell(r, units) for column in columns)] for r in results]
     return Table("table-summary", "Summary: base shear V_b [14a] and base moment M_b [14b] of every analysis",
                  ["engine", "support", *(column.heading(units) for column in columns)], rows,
-                 f"{WEIGHT_LEGEND}; the critical value of both coefficients is b/h_1* [16a, 16b].")
+                 f"{WEIGHT_LEGEND}; the critical value of both coefficients is b/h_1* [16a, 16b]"
+                 + (f"; {VERDICT_LEGEND}." if "yielded" in verdicts(results) else "."))
 
 
 def detail_unit(table: str, name: str) -> str:
@@ -59,14 +61,17 @@ def records_table(result, units: str = "si") -> Table:
     def peaks(r) -> list[str]:
         return [shear.cell(r, units), moment.cell(r, units), show(r.value("drift_ratio"), drift, units)]
 
-    rows = [[str(k + 1), record.name, number(record.factor, 4), *peaks(r), number(r.uplift)]
+    told = "yielded" in verdicts(result.record_results)
+    rows = [[str(k + 1), record.name, number(record.factor, 4), *peaks(r), number(r.uplift),
+             *([SUMMARY["yielded"].cell(r)] if told else [])]
             for k, (record, r) in enumerate(zip(result.records, result.record_results, strict=True))]
+    yielded = sum(bool(r.yielded) for r in result.record_results)
     rows.append(["", f"{result.statistic} (design value)", "", *peaks(result),
-                 f"{result.uplift_count} of {result.count}"])
+                 f"{result.uplift_count} of {result.count}", *([f"{yielded} of {result.count}"] if told else [])])
     return Table(f"table-{_slug(result)}-records", f"Each record of the suite, {result.engine} engine, "
                  f"{result.support} support ({result.rule_label or result.rule}: the {result.statistic})",
                  ["record", "name", "factor [-]", shear.heading(units), moment.heading(units),
-                  heading("largest drift ratio", drift, units), "uplift"], rows)
+                  heading("largest drift ratio", drift, units), "uplift", *(["yielded"] if told else [])], rows)
 
 
 def result_tables(result: AnalysisResult, units: str = "si") -> list[Table]:
@@ -172,9 +177,12 @@ def accuracy_section(results: Sequence[AnalysisResult], units: str = "si", check
                          show(c.simplified, quantity.display, units), show(c.exact, quantity.display, units),
                          number(np.nan if c.ratio is None else c.ratio, 4),
                          "no (warning)" if c.outside(check.band_of(c.name)) else "yes"])
+        rows += [[check.support, heading(COMPARED[name].meaning, COMPARED[name].display, units), "-", "-", "-",
+                  "left out"] for name in check.left_out]
     if not rows:
         return None
-    note = f"Exact values: {'; '.join(dict.fromkeys(c.reference for c in checks))}. {note}"
+    reasons = dict.fromkeys(f"{COMPARED[n].meaning} left out: {why}." for c in checks for n, why in c.left_out.items())
+    note = f"Exact values: {'; '.join(dict.fromkeys(c.reference for c in checks))}. {note} {' '.join(reasons)}".rstrip()
     table = Table("table-accuracy", "Accuracy of the simplified procedure: simplified / exact",
                   ["support", "quantity [unit]", "simplified", "exact", "simplified/exact [-]", "in band"], rows,
                   note)

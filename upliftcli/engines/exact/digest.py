@@ -115,7 +115,7 @@ class Digest:
         self.transitions += sig.end_values.shape[0]  # one left limit per interval that ends at a transition
         self.time_step = chunk.time_step
         if self.options.histories:
-            piece = histories(chunk, self.rows, sig)
+            piece = histories(chunk, self.rows, sig, None if self.mat is None else self.mat.histories(sig))
             self.pieces.append({k: np.array(v[1:] if self.chunks else v) for k, v in piece.items()})
         self.chunks += 1
 

@@ -115,6 +115,15 @@ class MatMotion:
         self.instants[better] = time_at(chunk, where)[better]
         self.last = values[-1].copy()
 
+    def histories(self, sig: Signals) -> dict[str, np.ndarray]:
+        """The settlement [m] of the left edge, the centre and the right edge at every sample of a
+        chunk (quantities.HISTORY_SIGNALS: left_edge_settlement, ...; down +, from the rest
+        position under gravity), the series whose peaks and last values `add` folds."""
+        columns = (sig.rows["theta"].start, sig.rows["v"].start)
+        values = sig.values[:, columns] @ self.weights[1:].T + self.offsets[1:]
+        return {f"{key}_settlement": values[:, k].copy() for k, key in enumerate(("left_edge", "centre",
+                                                                                  "right_edge"))}
+
     def quantities(self, end_time: float) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
         """(values, instants [s]) of quantities.ROCKING's rotation, residual_rotation, settlement
         (left edge, centre, right edge: quantities.MAT_PLACES) and residual_settlement (instants:

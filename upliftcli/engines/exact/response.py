@@ -236,10 +236,13 @@ def contact_response(history: History, sig: Signals) -> tuple[dict[str, tuple[np
     return {"reaction": (peak, peak_time), "impact": (impact, impact_time)}, summary
 
 
-def histories(history: History, rows: ResponseRows, sig: Signals) -> dict[str, np.ndarray]:
+def histories(history: History, rows: ResponseRows, sig: Signals, settlements: dict[str, np.ndarray] | None = None
+              ) -> dict[str, np.ndarray]:
     """Time histories at every sample (SI units) for --histories: the signals of
     quantities.HISTORY_SIGNALS, then one column per story or element of each quantity of
-    quantities.HISTORY_QUANTITIES."""
+    quantities.HISTORY_QUANTITIES, and with a capacity each element's plastic settlement -s_i
+    (plastic_settlement_<element>, >= 0). settlements: the mat's settlement series of the
+    flexible supports (mat_motion.MatMotion.histories), placed after the signals."""
     y, ydot = sig["Y"], sig["Ydot"]
     out = {
         "time": history.times,
@@ -258,11 +261,14 @@ def histories(history: History, rows: ResponseRows, sig: Signals) -> dict[str, n
         out["right_edge_displacement"] = edges[:, 1]
         patterns = np.array([sum(int(f) << i for i, f in enumerate(c.lifted)) for c in history.contact])
         out["contact_state"] = patterns[history.state_ids]
+        out.update(settlements or {})
     places = {"drift": y @ rows.drift.T,
               "floor_acceleration": y @ rows.acceleration.T + ydot @ rows.acceleration_rate.T}
     if history.space.layout.n_elements:
         places["reaction"] = element_reactions(history, sig)[0]
-    for name in HISTORY_QUANTITIES:
+    if history.space.layout.n_settlements:
+        places["plastic_settlement"] = -history.states[:, history.space.layout.settlement_indices] + 0.0
+    for name in (*HISTORY_QUANTITIES, "plastic_settlement"):
         for j in range(places[name].shape[1] if name in places else 0):
             out[f"{name}_{j + 1}"] = places[name][:, j]
     return out
