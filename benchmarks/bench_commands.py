@@ -70,7 +70,7 @@ keep_freed_memory()  # as the uplift command does
 workers = int(sys.argv[1])
 plan = plan_sweep(sys.argv[2], (), (), ["exact"], (), varies=[period_vary("0.05:5:100")])
 executor = SerialExecutor() if workers == 1 else ProcessExecutor(workers)
-from upliftcli.cli.sweep import head_start
+from upliftcli.cli.sweep_execute import head_start
 # as uplift spectra: the warm server started (and ready: a two-case run first, untimed, as the
 # command's start-up and planning give it time to be); the matplotlib import that the command
 # runs in a thread while the workers run is left out: this times the analysis alone

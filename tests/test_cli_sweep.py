@@ -238,7 +238,7 @@ def test_spectra_writes_data_and_paper_figures(tmp_path):
     (None, "tcp://127.0.0.1:1", 4, False)])
 def test_spectra_starts_the_warm_server_early_when_local_workers_are_likely(monkeypatch, workers, scheduler,
                                                                             cores, started):
-    from upliftcli.cli import sweep as cli_sweep
+    from upliftcli.cli import sweep_execute as cli_sweep
     from upliftcli.sweep.executors import ProcessExecutor
 
     calls = []

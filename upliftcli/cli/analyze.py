@@ -9,8 +9,6 @@ properties, record matching and generation), never by the README's analysis.
 from __future__ import annotations
 
 import json
-from dataclasses import replace
-from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -19,50 +17,15 @@ import typer
 from .. import provenance
 from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
-from ..fields import parse_choices
 from . import plotting, stdout
+from .histories import check_histories, write_histories
+from .options import ENGINE_HELP, SET_HELP, UNITS_HELP, DisplayUnits, OutputFormat, overrides
 
 if TYPE_CHECKING:
-    from rich.table import Table
-
     from ..deck import Deck
 
 #: what an existing result file is, in the message that refuses it
 EARLIER = ": the results of an earlier run"
-SET_HELP = ("Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values in the "
-            "deck's units: SI, US customary under units = \"us\", or with their unit, "
-            "building.story_height='\"11.5 ft\"'; docs/deck.md).")
-
-
-class OutputFormat(StrEnum):
-    table = "table"
-    json = "json"
-
-
-class DisplayUnits(StrEnum):
-    """The display units of the human outputs (upliftcli/display.py); files and JSON stay SI."""
-
-    si = "si"
-    us = "us"
-
-
-UNITS_HELP = ("Display units of the tables and figures: si (kN, kN m, mm, m, g) or us (kip, kip ft, in, ft, g); "
-              "JSON and CSV stay SI.")
-
-
-def _overrides(settings: list[str], engines: list[str], supports: list[str]) -> list[str]:
-    """The --set texts, then --engine and --support (checked here, so that a bad name is
-    reported as the option's, not as a --set of analysis.engine)."""
-    from ..engines.registry import ENGINES, SUPPORTS
-
-    overrides = list(settings)
-    engines = parse_choices(engines, tuple(ENGINES), "--engine")
-    supports = parse_choices(supports, SUPPORTS, "--support")
-    if engines:
-        overrides.append("analysis.engine=" + json.dumps(engines))
-    if supports:
-        overrides.append("analysis.supports=" + json.dumps(supports))
-    return overrides
 
 
 def input_files(deck: Deck) -> list[str]:
@@ -101,9 +64,7 @@ def result_paths(out: Path, stem: str) -> list[Path]:
 def analyze(
     decks: list[Path] = typer.Argument(..., help="Deck file(s) (TOML), see docs/deck.md; several: one summary table."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
-    engine: list[str] = typer.Option([], "--engine", "-e",
-                                     help="Engine(s): simplified, approximate, exact or all; repeatable or comma "
-                                          "separated (default: the deck's)."),
+    engine: list[str] = typer.Option([], "--engine", "-e", help=ENGINE_HELP),
     support: list[str] = typer.Option([], "--support",
                                       help="Support condition(s): rigid, bonded, uplift or all; repeatable or comma "
                                            "separated (default: the deck's)."),
@@ -151,11 +112,11 @@ def analyze(
     if plot is not None and len(decks) > 1:
         raise InputError("--plot", str(plot), f"a single deck ({len(decks)} decks given)")
     if len(decks) > 1:
-        _analyze_batch(decks, _overrides(settings, engine, support), output_format, out, overwrite, units.value,
+        _analyze_batch(decks, overrides(settings, engine, support), output_format, out, overwrite, units.value,
                        check)
         return
     deck = decks[0]
-    loaded = load_deck(deck, _overrides(settings, engine, support))
+    loaded = load_deck(deck, overrides(settings, engine, support))
     if out is not None:
         refuse_inputs(result_paths(out, deck.stem), input_files(loaded), "--out")
         refuse_existing(result_paths(out, deck.stem), "--out", overwrite, EARLIER)
@@ -163,10 +124,8 @@ def analyze(
         plotting.check_outputs(plotting.figure_paths(loaded, plot, deck.stem, formats), input_files(loaded),
                                overwrite)
     if histories is not None:
-        _check_histories(histories, loaded, overwrite)
-        loaded = replace(loaded, analysis=replace(loaded.analysis, exact=replace(loaded.analysis.exact,
-                                                                                  histories=True)))
-    if plot is not None:
+        check_histories(histories, loaded, input_files(loaded), overwrite)
+    if histories is not None or plot is not None:
         loaded = plotting.keep_histories(loaded)
     warn_deck(loaded)
     results = analysis.run(loaded)
@@ -180,7 +139,7 @@ def analyze(
     record = provenance.of_deck(loaded) if histories is not None or out is not None or \
         output_format is OutputFormat.json else None
     if histories is not None:
-        _write_histories(histories, results, input_files(loaded), record)
+        write_histories(histories, results, input_files(loaded), record)
     if output_format is OutputFormat.json:
         stdout.echo(to_json(results, loaded.source, loaded.title, record, checks), nl=False)
     else:
@@ -192,37 +151,6 @@ def analyze(
         for message in violations:
             typer.echo(f"criterion violated: {message}", err=True)
         raise typer.Exit(3)
-
-
-def _history_paths(path: Path, names: list[tuple[str, str, str]]) -> list[Path]:
-    """One file per (engine, support, record suffix) with histories: `path` alone, else
-    <stem>_<engine>_<support><suffix><ext> (a suite's records '_r01', '_r02' ...)."""
-    if len(names) == 1:
-        return [path]
-    return [path.with_name(f"{path.stem}_{engine}_{support}{suffix}{path.suffix}") for engine, support, suffix in names]
-
-
-def _record_suffixes(loaded: Deck) -> list[str]:
-    """'' for one record; '_r01', '_r02' ... for the records of a suite (as _with_histories names them)."""
-    records = getattr(loaded.ground_motion, "records", None)
-    if not records:
-        return [""]
-    width = max(2, len(str(len(records))))
-    return [f"_r{k + 1:0{width}d}" for k in range(len(records))]
-
-
-def _check_histories(path: Path, loaded: Deck, overwrite: bool) -> None:
-    if path.suffix.lower() not in (".csv", ".npz"):
-        raise InputError("--histories", str(path), "a file name ending in .csv or .npz")
-    if not set(loaded.analysis.engines) & {"exact", "approximate"}:
-        raise InputError("--histories", str(path), "an exact or approximate engine (--engine exact)")
-    if path.parent.exists() and not path.parent.is_dir():
-        raise InputError("--histories", str(path), "a file in an existing directory")
-    names = [(e, s, suffix) for e in loaded.analysis.engines if e in ("exact", "approximate")
-             for s in loaded.analysis.supports for suffix in _record_suffixes(loaded)]
-    targets = _history_paths(path, names)
-    refuse_inputs(targets, input_files(loaded), "--histories")
-    refuse_existing(targets, "--histories", overwrite)
 
 
 def _warn_suite(results, prefix: str = "") -> None:
@@ -265,34 +193,6 @@ def warn_deck(deck: Deck) -> None:
         typer.echo(f"warning: {message}", err=True)
 
 
-def _with_histories(results) -> list[tuple[str, object]]:
-    """(file-name suffix, result) of each analysis that holds histories: a suite's records each
-    ('_r01', '_r02' ...)."""
-    pairs = []
-    for result in results:
-        records = getattr(result, "record_results", ())
-        width = len(str(len(records)))
-        pairs += [(f"_r{k + 1:0{max(2, width)}d}", record) for k, record in enumerate(records)]
-        pairs.append(("", result))
-    return [(suffix, result) for suffix, result in pairs if result.histories]
-
-
-def _write_histories(path: Path, results, inputs: list[str], record: dict | None = None) -> None:
-    """Write each analysis's histories with the provenance `record` (the results documents never
-    hold them: AnalysisResult.histories); a suite's records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
-    from ..output import write_histories
-
-    with_histories = _with_histories(results)
-    targets = _history_paths(path, [(result.engine, result.support, suffix) for suffix, result in with_histories])
-    refuse_inputs(targets, inputs, "--histories")  # as checked before the run (the names are the same)
-    for (_, result), target in zip(with_histories, targets, strict=True):
-        try:
-            write_histories(target, result.histories, record)
-        except OSError as error:
-            raise InputError("--histories", str(target), f"a writable file ({error.strerror or error})") from None
-        typer.echo(f"wrote {target}", err=True)
-
-
 def _write(results, out: Path, stem: str, loaded, record: dict | None = None, checks=()) -> None:
     from ..output import write_results
 
@@ -316,6 +216,7 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
     from ..output import dumps, results_document
     from ..suite_check import check_deck
     from . import render
+    from .render_batch import batch_table
 
     stems = [deck.stem for deck in decks]
     if out is not None and len(set(stems)) != len(stems):
@@ -342,7 +243,7 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
                               for (_, item, results), record, checked in zip(runs, records, checks, strict=True)]}
         stdout.echo(dumps(document), nl=False)
     else:
-        render.console().print(_batch_table(runs, units, checks))
+        render.console().print(batch_table(runs, units, checks))
     if out is not None:
         for (deck, item, results), record, checked in zip(runs, records, checks, strict=True):
             _write(results, out, deck.stem, item, record, checked)
@@ -350,40 +251,6 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
         typer.echo(f"criterion violated: {deck}: {message}", err=True)
     if violations:
         raise typer.Exit(3)
-
-
-#: the columns of the several decks' summary (display.SUMMARY)
-BATCH_COLUMNS = ("base_shear", "base_shear_coefficient", "base_moment", "base_moment_coefficient",
-                 "critical_coefficient")
-
-
-def _batch_table(runs, units: str = "si", checks=None) -> Table:
-    """One row per deck, engine and support: V_b, coefficients, b/h_1*, uplift, criteria (checks:
-    each deck's accuracy checks, for [criteria] simplified_error)."""
-    from rich.markup import escape
-    from rich.table import Table
-
-    from ..criteria import check_criteria
-    from ..display import VERDICT_LEGEND, WEIGHT_LEGEND, summary_columns, verdicts
-    from . import render
-
-    table = Table(title=f"Summary of {len(runs)} decks")
-    names = [deck.name for deck, _, _ in runs]
-    label = (lambda deck: deck.name) if len(set(names)) == len(names) else str
-    shown = verdicts([r for _, _, results in runs for r in results])
-    legend = f"; {VERDICT_LEGEND}" if "yielded" in shown else ""
-    table.caption = escape(f"{WEIGHT_LEGEND}{legend}; criteria: the deck's [criteria] limits")
-    columns = summary_columns(BATCH_COLUMNS + shown)
-    table.add_column("deck", justify="left", no_wrap=True)
-    for header in ("engine", "support", *(column.heading(units) for column in columns), "criteria"):
-        table.add_column(escape(header), justify="right")
-    for (deck, item, results), checked in zip(runs, checks or [()] * len(runs), strict=True):
-        for r in results:
-            failed = check_criteria([r], item.criteria, checked)
-            verdict = "-" if not item.criteria else ("violated" if failed else "ok")
-            table.add_row(escape(label(deck)), escape(render.engine_label(r)), r.support,
-                          *(column.cell(r, units) for column in columns), verdict)
-    return table
 
 
 def modes(

@@ -10,7 +10,8 @@ from pathlib import Path
 import typer
 
 from ..errors import InputError
-from .analyze import SET_HELP, UNITS_HELP, DisplayUnits, _overrides
+from . import options
+from .options import SET_HELP, UNITS_HELP, DisplayUnits
 
 #: figures of the report are drawn at this resolution [dots per inch]
 REPORT_DPI = 150
@@ -66,7 +67,7 @@ def report(
     executable = check_browser("--out", str(out)) if suffix == ".pdf" else None
     given = {"project": project, "job_number": job_number, "engineer": engineer, "checker": checker,
              "revision": revision}
-    overrides = _overrides(settings, engine, support)
+    overrides = options.overrides(settings, engine, support)
     loaded = keep_histories(load_deck(deck, overrides))
     refuse_inputs([out], [path for _, path in input_files(loaded)], "--out")
     refuse_existing([out], "--out", overwrite)

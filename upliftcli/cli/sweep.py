@@ -5,175 +5,39 @@ table, figures); this module parses options, shows progress and writes the files
 from __future__ import annotations
 
 import json
-import signal
-from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import typer
 
 from .. import limits
-from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
-from ..sweep.signals import ignore_stop_signals
 from . import plotting, stdout
-from .analyze import SET_HELP, UNITS_HELP, DisplayUnits
-from .sweep_options import OVERSUBSCRIBE_HELP, WORKERS_HELP, check_name, figure_errors, local_workers, table_paths
+from .options import ENGINE_HELP, SET_HELP, UNITS_HELP, DisplayUnits, OutputFormat
+from .sweep_execute import check_out, execute, warm_workers_early
+from .sweep_options import (
+    CHECK_HELP,
+    DASK_HELP,
+    OUT_HELP,
+    OVERSUBSCRIBE_HELP,
+    PER_RECORD_HELP,
+    SCHEDULER_HELP,
+    SUPPORT_HELP,
+    VARY_HELP,
+    WORKERS_HELP,
+    TableFormat,
+    check_name,
+    figure_errors,
+    local_workers,
+    table_paths,
+)
 
 if TYPE_CHECKING:
     from ..sweep.plan import SweepPlan, Vary
 
 EXIT_CRITERIA, EXIT_ANALYSIS, EXIT_INTERRUPTED = 3, 4, 130  # interrupted: 128 + the signal (SIGINT 130)
-VARY_HELP = ("Vary a deck field (same dotted paths as --set): PATH=START:STOP:N (linear), PATH=START:STOP:N:log, "
-             "PATH=a,b,c or PATH=\\[a, b], values in the deck's units (as --set); repeatable, cases are the "
-             "cartesian product.")
-ENGINE_HELP = "Engine(s): simplified, approximate, exact or all; repeatable or comma separated (default: the deck's)."
-SUPPORT_HELP = "Support condition(s): rigid, bonded, uplift; repeatable or comma separated (default: the deck's)."
-OUT_HELP = "Directory of the output files (tables in SI, the unit in each column name)."
-SCHEDULER_HELP = "Run the cases on a Dask cluster at this address (tcp://host:8786), or 'local' for a local one."
-DASK_HELP = "'local': run on a Dask LocalCluster of --workers processes on this machine (same as --scheduler local)."
-CHECK_HELP = ("Also run the exact engine (record decks) and add to the tables the ratios simplified / exact of V_b, "
-              "M_b, the largest drift ratio and the largest floor displacement of each simplified case "
-              "(columns check_*).")
-PER_RECORD_HELP = ("Record suite decks: after each case's row (the design statistic over the records) one row per "
-                   "record in the tables (columns record and factor).")
 #: suite warnings printed before a sweep; the JSON document of a case has them all
 MAX_WARNINGS = 5
-
-
-class OutputFormat(StrEnum):
-    table = "table"
-    json = "json"
-
-
-class TableFormat(StrEnum):
-    json = "json"
-    parquet = "parquet"
-    csv = "csv"
-
-
-#: rough cost of one case [s], to decide whether worker processes pay for their start-up (about 1 s of one
-#: core for the warm server, sweep/warm.py, and their chunks' transfer)
-CASE_SECONDS = {"simplified": 0.002, "approximate": 0.04, "exact": 0.04}
-
-
-def choose_executor(plan: SweepPlan, workers: int | None, scheduler: str | None, dask: str | None):
-    from ..process import available_cores
-    from ..sweep.dask_executor import DaskExecutor, check_reachable, import_distributed
-    from ..sweep.executors import ProcessExecutor, SerialExecutor
-
-    if dask is not None and dask != "local":
-        raise InputError("--dask", dask, "'local' (or give --scheduler tcp://host:port)")
-    if scheduler is not None or dask is not None:
-        import_distributed()  # the extra is installed, before anything runs
-        address = None if (scheduler in (None, "local")) else scheduler
-        if address is not None:
-            check_reachable(address)  # at once, before any file is written
-        return DaskExecutor(address, workers or min(available_cores(), 4))
-    if workers is not None:
-        if workers < 1:
-            raise InputError("--workers", str(workers), "an integer >= 1")
-        return SerialExecutor() if workers == 1 else ProcessExecutor(workers)
-    cores = available_cores()
-    seconds = len(plan.cases) * max(CASE_SECONDS.get(engine, 0.04) for engine in plan.engines)
-    seconds *= max(1, plan.suite_records)  # a suite case runs every record
-    return ProcessExecutor(cores) if cores > 1 and seconds > 4.0 else SerialExecutor()
-
-
-def progress_for(quiet: bool, label: str):
-    from ..sweep.run import NoProgress
-    from . import render
-    from .sweep_render import PlainProgress, RichProgress, use_rich_progress
-
-    if quiet:
-        return NoProgress()
-    console = render.console(stderr=True)
-    return RichProgress(console, label) if use_rich_progress(console) else PlainProgress(label)
-
-
-def _check_out(out: Path) -> None:
-    if out.exists() and not out.is_dir():
-        raise InputError("--out", str(out), "a directory (a file of that name exists)")
-
-
-def _prepare_out(out: Path, rows_path: Path, resume: bool, overwrite: bool) -> None:
-    _check_out(out)
-    if rows_path.exists() and rows_path.stat().st_size > 0 and not (resume or overwrite):
-        from ..sweep.store import RowStore
-
-        rows = len(RowStore(rows_path).read())
-        raise InputError("--out", str(rows_path), f"holds the rows of an earlier run of this sweep ({rows} cases): "
-                         "pass --resume to continue that run, or --overwrite to discard them and start again")
-
-
-def output_paths(out: Path, stem: str, extra=()) -> list[Path]:
-    """The files a sweep writes under --out (rows, tables and any figures)."""
-    return [out / f"{stem}{suffix}" for suffix in (".rows.jsonl", ".csv", ".json", ".parquet")] + list(extra)
-
-
-def warm_workers_early(workers: int | None, scheduler: str | None, dask: str | None) -> None:
-    """Start the warm server of local worker processes now, before the deck is read and the cases
-    planned, when they are likely (more than one core, neither --workers 1 nor Dask; `uplift
-    sweep` asks only with --workers N): it imports the engines on another core meanwhile. A sweep
-    that then runs in this process leaves it unused (it ends with this process)."""
-    if scheduler is not None or dask is not None or (workers is not None and workers <= 1):
-        return
-    from ..process import available_cores
-    from ..sweep.executors import ProcessExecutor
-
-    if workers is None and available_cores() < 2:
-        return
-    ProcessExecutor(workers or 2).prestart()
-
-
-def head_start(executor, figures: bool) -> None:
-    """Local worker processes: start their warm server (it imports and loads the engines, about
-    0.25 s of one core) if warm_workers_early did not, and import matplotlib in a thread of this
-    process when figures follow the run (this process only waits on the workers meanwhile).
-    Measured on the Fig. 3 spectrum with warm_workers_early, 10 runs of each on 2 cores: 2.07 ->
-    1.94 s end to end (median)."""
-    prestart = getattr(executor, "prestart", None)
-    if prestart is None:
-        return
-    prestart()
-    if figures:
-        from .. import plots
-
-        plots.preload(background=True)
-
-
-def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, resume, retry_failed,
-            overwrite, quiet, label, rerun_stale=False, figures_written=(), tables=()):
-    """Run the plan with progress (the caller holds stem_lock); exit 128 + the signal (130 for
-    Ctrl-C, 143 for SIGTERM, 129 for SIGHUP) keeping the rows when interrupted. figures_written:
-    the figures that follow the run (their paths); tables: the tables it writes (both refused if
-    they exist, unless overwrite or resume)."""
-    from ..sweep.run import run_sweep
-    from ..sweep.store import RowStore
-
-    rows_path = out / f"{stem}.rows.jsonl"
-    refuse_inputs(output_paths(out, stem, figures_written), plan.input_files, "--out")
-    _prepare_out(out, rows_path, resume, overwrite)
-    if not resume:  # --resume finishes an earlier run: its tables and figures are written again
-        refuse_existing([*tables, *figures_written], "--out", overwrite, ": written by an earlier run; --resume "
-                        "continues that run")
-    executor = choose_executor(plan, workers, scheduler, dask)
-    head_start(executor, bool(figures_written))
-    try:
-        outcome = run_sweep(plan, executor, RowStore(rows_path), resume=resume, retry_failed=retry_failed,
-                            rerun_stale=rerun_stale, progress=progress_for(quiet, label), exit_on_stop=True)
-    except OSError as error:  # a full disk: the rows written so far are kept
-        kept = len(RowStore(rows_path).read())
-        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error}); {kept} finished "
-                         f"rows are kept in {rows_path}: run the same command with --resume once there is room"
-                         ) from None
-    if outcome.interrupted:
-        ignore_stop_signals()  # a second Ctrl-C while exiting changes nothing
-        name = signal.Signals(outcome.signal).name if outcome.signal else "SIGINT"
-        typer.echo(f"interrupted ({name}): {len(outcome.rows)} of {outcome.total} cases are kept in {rows_path}; "
-                   "run the same command with --resume to finish", err=True)
-        raise typer.Exit(128 + (outcome.signal or signal.SIGINT))
-    return outcome
 
 
 def warn_suites(plan: SweepPlan) -> None:
@@ -271,7 +135,7 @@ def sweep(
     if plot_path is not None:
         figures.sweep_figure(plan, [])  # a numeric varied field to plot against, checked before running
     stem = name or f"{deck.stem}.sweep"
-    _check_out(out)
+    check_out(out)
     with stem_lock(out, stem):
         outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
                           retry_failed=retry_failed, overwrite=overwrite, quiet=quiet, label="sweep",
@@ -335,6 +199,8 @@ def spectra(
     from ..sweep import table as sweep_table
     from ..sweep.plan import parse_choices, plan_sweep
     from ..sweep.store import stem_lock
+    from . import render
+    from .sweep_render import print_spectra_summary
 
     check_name(name)
     formats = parse_choices(plot_format, plotting.FORMATS, "--plot-format")
@@ -356,7 +222,7 @@ def spectra(
     stem = name or f"{deck.stem}.spectra"
     figure_specs = figures.paper_figures([], plan.engines, plan.supports, "")
     figure_paths = [out / f"{stem}.{figure}.{extension}" for figure in figure_specs for extension in formats]
-    _check_out(out)
+    check_out(out)
     with stem_lock(out, stem):
         outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
                           retry_failed=False, overwrite=overwrite, quiet=quiet, label="spectra",
@@ -370,36 +236,10 @@ def spectra(
                                            for figure_name, spec in specs.items() for extension in formats],
                                           "--plot-format")
     if not quiet:
-        _print_spectra_summary(plan, outcome.rows)
+        print_spectra_summary(render.console(), plan, outcome.rows)
     for path in written:
         typer.echo(f"wrote {path}", err=True)
     _finish(outcome.rows, criteria=False)
-
-
-def _print_spectra_summary(plan: SweepPlan, rows: list[dict]) -> None:
-    from rich.markup import escape
-    from rich.table import Table
-
-    from ..sweep import figures
-    from . import render
-
-    table = Table(title=escape(f"{plan.title}: spectra over T_1 = {plan.varies[0].values[0]:g} .. "
-                               f"{plan.varies[0].values[-1]:g} s ({len(plan.varies[0].values)} periods)"))
-    for header in ("engine", "support", "max V_b/(m_t g)", "at T_1 [s]", "max M_b/(m_t g h_1*)", "b/h_1*",
-                   "uplift for T_1 [s]"):
-        table.add_column(escape(header), justify="right")
-    for engine in plan.engines:
-        for support in plan.supports:
-            mine = [r for r in rows if r["engine"] == engine and r["support"] == support and r["status"] == "ok"]
-            if not mine:
-                continue
-            top = max(mine, key=lambda r: r["base_shear_coefficient"])
-            lifted = [r[figures.PERIOD_PATH] for r in mine if r["uplift"]]
-            table.add_row(engine, support, f"{top['base_shear_coefficient']:.4g}", f"{top[figures.PERIOD_PATH]:.4g}",
-                          f"{max(r['base_moment_coefficient'] for r in mine):.4g}",
-                          f"{top['critical_coefficient']:.4g}",
-                          f"{min(lifted):.3g} .. {max(lifted):.3g}" if lifted else "none")
-    render.console().print(table)
 
 
 def register(app: typer.Typer) -> None:

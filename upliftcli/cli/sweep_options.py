@@ -1,10 +1,12 @@
-"""Options of `uplift sweep` and `uplift spectra` checked before anything starts: --name (a plain
-file stem) and --workers (capped at the cores unless --oversubscribe, docs/sweep.md#limits); the
-tables they write, and an error writing their figures as one line."""
+"""Options of `uplift sweep` and `uplift spectra`: their help texts and --table choices; those
+checked before anything starts: --name (a plain file stem) and --workers (capped at the cores
+unless --oversubscribe, docs/sweep.md#limits); the tables they write, and an error writing their
+figures as one line."""
 
 from __future__ import annotations
 
 import contextlib
+from enum import StrEnum
 from pathlib import Path
 
 import typer
@@ -16,6 +18,24 @@ WORKERS_HELP = ("Local worker processes (default: all cores when the sweep is lo
                 "else 1 = in this process); capped at the cores unless --oversubscribe.")
 OVERSUBSCRIBE_HELP = ("Start --workers N local processes even when N exceeds the cores (at most 256); without it "
                       "N is capped at the cores.")
+VARY_HELP = ("Vary a deck field (same dotted paths as --set): PATH=START:STOP:N (linear), PATH=START:STOP:N:log, "
+             "PATH=a,b,c or PATH=\\[a, b], values in the deck's units (as --set); repeatable, cases are the "
+             "cartesian product.")
+SUPPORT_HELP = "Support condition(s): rigid, bonded, uplift; repeatable or comma separated (default: the deck's)."
+OUT_HELP = "Directory of the output files (tables in SI, the unit in each column name)."
+SCHEDULER_HELP = "Run the cases on a Dask cluster at this address (tcp://host:8786), or 'local' for a local one."
+DASK_HELP = "'local': run on a Dask LocalCluster of --workers processes on this machine (same as --scheduler local)."
+CHECK_HELP = ("Also run the exact engine (record decks) and add to the tables the ratios simplified / exact of V_b, "
+              "M_b, the largest drift ratio and the largest floor displacement of each simplified case "
+              "(columns check_*).")
+PER_RECORD_HELP = ("Record suite decks: after each case's row (the design statistic over the records) one row per "
+                   "record in the tables (columns record and factor).")
+
+
+class TableFormat(StrEnum):
+    json = "json"
+    parquet = "parquet"
+    csv = "csv"
 
 
 def check_name(name: str | None) -> None:

@@ -205,3 +205,27 @@ def print_summary(out: Console, plan: SweepPlan, summary: dict, units: str = "si
     table = envelope_table(summary, units, plan)
     if table is not None:
         out.print(table)
+
+
+def print_spectra_summary(console: Console, plan: SweepPlan, rows: list[dict]) -> None:
+    """`uplift spectra`: per engine and support, the largest V_b/(m_t g) and the T_1 [s] it is at,
+    the largest M_b/(m_t g h_1*), b/h_1* and the range of T_1 [s] that uplifts."""
+    from ..sweep import figures
+
+    table = Table(title=escape(f"{plan.title}: spectra over T_1 = {plan.varies[0].values[0]:g} .. "
+                               f"{plan.varies[0].values[-1]:g} s ({len(plan.varies[0].values)} periods)"))
+    for header in ("engine", "support", "max V_b/(m_t g)", "at T_1 [s]", "max M_b/(m_t g h_1*)", "b/h_1*",
+                   "uplift for T_1 [s]"):
+        table.add_column(escape(header), justify="right")
+    for engine in plan.engines:
+        for support in plan.supports:
+            mine = [r for r in rows if r["engine"] == engine and r["support"] == support and r["status"] == "ok"]
+            if not mine:
+                continue
+            top = max(mine, key=lambda r: r["base_shear_coefficient"])
+            lifted = [r[figures.PERIOD_PATH] for r in mine if r["uplift"]]
+            table.add_row(engine, support, f"{top['base_shear_coefficient']:.4g}", f"{top[figures.PERIOD_PATH]:.4g}",
+                          f"{max(r['base_moment_coefficient'] for r in mine):.4g}",
+                          f"{top['critical_coefficient']:.4g}",
+                          f"{min(lifted):.3g} .. {max(lifted):.3g}" if lifted else "none")
+    console.print(table)
