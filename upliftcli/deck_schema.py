@@ -3,12 +3,14 @@
 The fields of each foundation type come from its class (model/foundations.py), the engine
 options from engines/options.py, the engine and support names from engines/registry.py and
 the record formats from motion/records.py. docs/deck.md documents the same fields (a test
-keeps the two in step). Validation here is purely about types and ranges of single fields;
-how fields combine (which alternatives are given) is decided in deck.py.
+keeps the two in step). Validation here is purely about types and ranges of single fields
+(and exactly_one: at most one of a table's alternative fields); how fields combine is decided
+in deck.py, deck_building.py and deck_motion.py.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
@@ -156,6 +158,21 @@ def set_by_override(path: str, overridden) -> bool:
     in (ground_motion.design_spectrum.sds, ground_motion.suite[1].file) was overridden."""
     return bool(overridden) and (path in overridden or any(path[:i] in overridden for i, ch in enumerate(path)
                                                            if ch in ".["))
+
+
+def default(table: str, name: str) -> Any:
+    """The default of the deck field table.name."""
+    return TABLES[table][name].default
+
+
+def exactly_one(fields: dict, names: Sequence[str], table: str, error) -> str | None:
+    """The one of the alternative fields `names` of `table` that is given (None if none is); two
+    given: error(path, expected) raised."""
+    given = [name for name in names if name in fields]
+    if len(given) > 1:
+        raise error(f"{table}.{given[1]}", f"only one of {', '.join(f'{table}.{n}' for n in names)} "
+                    f"(both {given[0]} and {given[1]} given)")
+    return given[0] if given else None
 
 
 def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -> dict[str, dict[str, Any]]:
