@@ -125,7 +125,7 @@ def test_range_sizes_are_refused_before_expanding():
 
 
 def test_plan_fingerprints_the_records_and_the_version():
-    from upliftcli.provenance import sha256 as file_sha256
+    from upliftcli.provenance_files import sha256 as file_sha256
 
     plan = plan_sweep(EXAMPLE, SHORT, ["building.period=0.5,1"], ["simplified"], ["rigid"])
     (record,) = plan.records

@@ -19,7 +19,7 @@ from .engines.result import AnalysisResult
 from .engines.suite_result import SuiteRecord, SuiteResult, suite_result
 from .errors import AnalysisError, InputError
 from .motion.suites import Suite
-from .provenance import record_sha256
+from .provenance_files import record_sha256
 
 
 def motion_key(suite: Suite) -> tuple:

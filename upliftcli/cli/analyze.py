@@ -17,6 +17,7 @@ import typer
 from .. import provenance
 from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
+from ..provenance_files import motion_files
 from . import plotting, stdout
 from .histories import check_histories, write_histories
 from .options import ENGINE_HELP, SET_HELP, UNITS_HELP, DisplayUnits, OutputFormat, overrides
@@ -31,7 +32,7 @@ EARLIER = ": the results of an earlier run"
 def input_files(deck: Deck) -> list[str]:
     """The files a run reads: the deck, its record(s) (a suite: each record) and a design-spectrum
     table file (outputs must not replace them)."""
-    motion = [] if deck.ground_motion is None else provenance.motion_files(deck.ground_motion)
+    motion = [] if deck.ground_motion is None else motion_files(deck.ground_motion)
     return [deck.source, *(entry["path"] for entry in motion if entry["path"])]
 
 

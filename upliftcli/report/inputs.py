@@ -14,7 +14,7 @@ from ..display import heading, label, show
 from ..engines.quantities import INTERMEDIATES
 from ..model.system import fixed_base_mode_rows
 from ..motion.design_spectra import KEY_UNITS
-from ..provenance import record_sha256
+from ..provenance_files import record_sha256
 from ..units import STANDARD_GRAVITY
 from .document import Pre, Section, Table, Text, number
 from .provenance import relative_path
@@ -54,11 +54,11 @@ def inputs_section(deck, deck_text: str, overrides: Sequence[str]) -> Section:
 
 
 def _foundation_rows(system, units: str = "si") -> list[list[str]]:
-    """The foundation as the engines use it (provenance.foundation_entry): its own parameters,
+    """The foundation as the engines use it (provenance_model.foundation_entry): its own parameters,
     K_theta, C_theta, k_v, c_v and the contact elements at the frequency omega_impedance every
     engine evaluates them at (model/interaction.py), in the display units."""
     from ..model.interaction import impedance
-    from ..provenance import MODEL_UNITS, foundation_entry, foundation_units
+    from ..provenance_model import MODEL_UNITS, foundation_entry, foundation_units
 
     entry = foundation_entry(system)
     si_units = {**foundation_units(system), **MODEL_UNITS}

@@ -10,17 +10,18 @@ from datetime import datetime
 from typing import Any
 
 from .. import provenance as record
+from .. import provenance_files
 
 
 def sha256(path) -> str:
     """SHA-256 of a file's bytes (hex), '' if it cannot be read."""
-    return record.sha256(path) or ""
+    return provenance_files.sha256(path) or ""
 
 
 def input_files(deck) -> list[tuple[str, str]]:
     """(role, path) of every file the deck's analysis read: the deck, its record or the records
     of its suite, a design-spectrum table file."""
-    motion = [] if deck.ground_motion is None else record.motion_files(deck.ground_motion)
+    motion = [] if deck.ground_motion is None else provenance_files.motion_files(deck.ground_motion)
     return [("deck", str(deck.source)), *((entry["role"], entry["path"]) for entry in motion if entry["path"])]
 
 

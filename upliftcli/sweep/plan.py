@@ -42,7 +42,7 @@ from ..installed import tool_version
 from ..limits import MAX_VARY_VALUES, cases_problem
 from ..motion.records import Record
 from ..motion.suites import Suite
-from ..provenance import motion_files
+from ..provenance_files import motion_files
 
 #: deck fields that are case dimensions of their own, not --vary paths
 NOT_VARIED = {"analysis.engine": "--engine", "analysis.supports": "--support"}
@@ -202,7 +202,7 @@ class SweepPlan:
     table), by absolute path -> its SHA-256; version: of the tool; fingerprint: run_fingerprint
     of both and the resolved deck (checked by --resume; the workers' ground-motion cache is keyed
     by it); record_steps: every record file -> (dt [s], samples); inputs: the provenance entries of every
-    record (and spectrum table) file any case reads (provenance.motion_files). The limits of each
+    record (and spectrum table) file any case reads (provenance_files.motion_files). The limits of each
     case (engine memory, spectrum periods: analysis.check_resources) are checked by the worker: a
     case beyond them is a 'failed' row naming the field."""
 

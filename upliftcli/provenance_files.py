@@ -1,0 +1,76 @@
+"""The input files of a provenance record (provenance.py): each file's SHA-256 (cached on its
+path, size and modification time) and size, a record's entry (the digest of the bytes it was
+read from, its format, units, dt [s], samples, scale) and the entries of a ground motion (a
+record, each record of a suite with its factor, a design-spectrum table file).
+docs/provenance.md describes the keys.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+
+@lru_cache(maxsize=512)
+def _digest(path: str, size: int, mtime_ns: int) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def sha256(path: str | os.PathLike) -> str | None:
+    """SHA-256 (hex) of a file's bytes, None when it cannot be read."""
+    try:
+        status = os.stat(path)
+        return _digest(os.path.abspath(path), status.st_size, status.st_mtime_ns)
+    except OSError:
+        return None
+
+
+def file_entry(role: str, path: str | os.PathLike, **extra: Any) -> dict[str, Any]:
+    """{role, path (absolute), sha256, bytes, **extra} of an input file."""
+    try:
+        size = os.stat(path).st_size
+    except OSError:
+        size = None
+    return {"role": role, "path": os.path.abspath(path), "sha256": sha256(path), "bytes": size, **extra}
+
+
+def record_sha256(record) -> str | None:
+    """The SHA-256 of the bytes a records.Record was parsed from (read once: a file replaced
+    since does not change it); for a record made in code without one, its file's now, or None."""
+    return getattr(record, "sha256", "") or (sha256(record.source) if record.source else None)
+
+
+def record_entry(record, role: str = "record", **extra: Any) -> dict[str, Any]:
+    """An input-file entry of a records.Record: the SHA-256 of the bytes it was read from
+    (record_sha256) and its file's size, the format it was read as, units of the file, name,
+    time step dt [s], samples, the scale applied [-]."""
+    entry = {**file_entry(role, record.source), "sha256": record_sha256(record)} if record.source else \
+        {"role": role, "path": None, "sha256": None, "bytes": None}
+    return {**entry, "format": getattr(record, "format", ""), "units": record.units, "name": record.name,
+            "dt": float(record.dt), "npts": record.npts, "scale": float(record.scale), **extra}
+
+
+def motion_files(motion) -> list[dict[str, Any]]:
+    """Input-file entries of a ground motion: a record, each record of a suite (with its
+    amplitude factor), or a design spectrum read from a table file."""
+    from .motion.records import Record
+
+    if isinstance(motion, Record):
+        return [record_entry(motion)]
+    records = getattr(motion, "records", None)
+    if records is not None:  # a motion.suites.Suite
+        notes = tuple(motion.provenance) + ("",) * (len(records) - len(motion.provenance))
+        entries = [record_entry(record, f"suite record {k + 1}", factor=float(factor), note=note)
+                   for k, (record, factor, note) in enumerate(zip(records, motion.factors, notes, strict=True))]
+        return entries + motion_files(motion.target)
+    source = getattr(motion, "source", "")
+    if source and Path(str(source)).is_file():
+        return [file_entry("design spectrum table", source)]
+    return []
