@@ -1,4 +1,6 @@
-"""`uplift analyze` and `uplift modes`.
+"""`uplift analyze` and `uplift modes`. Their helpers: options.py (the options shared with other
+commands), plotting.py (--plot), histories.py (--histories), render.py and render_batch.py (the
+terminal tables).
 
 Only typer and the light modules are imported at module level: the analysis modules, numpy and
 rich are imported by the commands that use them, so that `uplift --help` starts in about the time

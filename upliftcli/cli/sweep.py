@@ -1,6 +1,8 @@
 """`uplift sweep` and `uplift spectra`: a deck over ranges of its fields, and the paper's
 response spectra over T_1. The work is in upliftcli.sweep (plan, run, store, executors,
-table, figures); this module parses options, shows progress and writes the files."""
+table, figures); this module parses options and writes the files. Running the plan (executor,
+progress, interruption) is sweep_execute.py; the options' help texts and checks sweep_options.py
+(those shared with `analyze`: options.py); the terminal tables sweep_render.py."""
 
 from __future__ import annotations
 
