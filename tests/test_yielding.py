@@ -357,3 +357,32 @@ def test_the_histories_give_the_edges_and_their_settled_end():
     # static level, is the springs' share of the moment the structure still carries at the end
     np.testing.assert_allclose(ends, rest + settled, rtol=0, atol=0.1 * abs(rest))
     assert np.all(settled < 40.0 * rest)
+
+
+@pytest.mark.parametrize("path", [TWO, WINKLER])
+def test_the_yield_states_built_ahead_change_nothing(path, monkeypatch):
+    """stepping.Run.first_lifts builds the states of an edge yielding (the others in contact or the
+    opposite edge lifted) with the initial state: the results are bit for bit those of a run that
+    builds each state when it reaches it, and on two elements every state is built in that first
+    round (one stacked exponentiation instead of five rounds: the cost bench_yielding.py measures)."""
+    from upliftcli.engines.exact import engine as exact
+    from upliftcli.engines.exact import stepping
+
+    deck = load_deck(path, ["foundation.safety_factor=2"])
+    rounds = []
+    build = stepping.add_states
+    monkeypatch.setattr(stepping, "add_states", lambda requests: rounds.append(len(requests)) or build(requests))
+    ahead = exact.analyze(deck.system, deck.ground_motion, "uplift")
+    if path == TWO:
+        assert rounds == [7]  # all in contact, an edge lifted (2), an edge yielding (2), one yields, one lifted (2)
+    elastic_lifts = lambda run: sorted({1, 1 << (run.layout.n_elements - 1)})  # noqa: E731
+    monkeypatch.setattr(stepping.Run, "first_lifts", elastic_lifts)
+    when_reached = exact.analyze(deck.system, deck.ground_motion, "uplift")
+    for name, values in when_reached.peaks.items():
+        np.testing.assert_array_equal(ahead.peaks[name], values, err_msg=name)
+    for name, values in when_reached.times.items():
+        np.testing.assert_array_equal(ahead.times[name], values, err_msg=name)
+    assert ahead.details["yielding"] == when_reached.details["yielding"]
+    for name, value in when_reached.details["energy"].items():
+        np.testing.assert_array_equal(ahead.details["energy"][name], value, err_msg=name)
+    assert ahead.intermediates["transitions"] == when_reached.intermediates["transitions"]

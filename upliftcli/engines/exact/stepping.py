@@ -61,7 +61,8 @@ class _Operators:
         self.space, self.layout, self.h, self.criterion = space, space.layout, h, criterion
         n_aug, n_e = self.layout.n_aug, max(self.layout.n_elements, 0)
         n_e += self.layout.n_settlements  # two event rows per element with a bearing capacity
-        self.capacity = 4
+        self.capacity = reserved_states(self.layout)
+        # np.zeros of a large reserve maps pages only as states are stored (no copy when it suffices)
         self.ops = np.zeros((self.capacity, LEVELS + 1, n_aug, n_aug))
         self.events = np.zeros((self.capacity, n_e, n_aug))
         self.event_rates = np.zeros((self.capacity, n_e, n_aug))
@@ -95,6 +96,22 @@ class _Operators:
         self.patterns[index] = pattern
         self.contact.append(state)
         return index
+
+
+#: the most memory reserved up front for the operators of one run [bytes] (virtual: untouched
+#: pages cost nothing); beyond it the arrays double as states are added
+RESERVE_BYTES = 2**30
+
+
+def reserved_states(lay) -> int:
+    """How many contact states a run's operator arrays hold before they first grow: 4, or with more
+    than two elements with a bearing capacity 2 n_e^2 (a yielding Winkler mat of 20 elements met
+    about 440 under El Centro: docs/theory.md 14.3), so that the 450 kB per state of such a run
+    are not copied at every doubling (a fifth of its run time, measured)."""
+    if not (lay.n_settlements and lay.n_elements > 2):
+        return 4
+    per_state = (LEVELS + 1) * lay.n_aug**2 * 8
+    return max(4, min(2 * lay.n_elements**2, RESERVE_BYTES // per_state))
 
 
 def _doubled(array: np.ndarray) -> np.ndarray:
@@ -234,13 +251,21 @@ class Run:
     def first_lifts(self) -> list[int]:
         """The contact patterns a run that lifts off reaches first: an edge element lifted (the
         others in contact); built with the initial state, in one stacked exponentiation, instead
-        of one round each when the run reaches them (about 0.6 ms of an uplift analysis). (Not the
-        states of an element yielding: built ahead they cost 0.3 ms, a third of the stepping, of
-        the many runs that never yield.)"""
+        of one round each when the run reaches them (about 0.6 ms of an uplift analysis). With a
+        bearing capacity also an edge element yielding, the others in contact or the opposite edge
+        lifted (the states a rocking mat yields in first: on two elements every state a run meets,
+        built in the first round for 0.1-0.2 ms instead of four more rounds of 0.5 ms each,
+        measured; docs/theory.md 14.3)."""
         n_e = self.layout.n_elements
         if not (self.uplift and n_e):
             return []
-        return sorted({1, 1 << (n_e - 1)})
+        patterns = {1, 1 << (n_e - 1)}
+        if self.layout.n_settlements:
+            for edge, opposite in ((0, n_e - 1), (n_e - 1, 0)):
+                patterns.add(1 << (n_e + edge))
+                if opposite != edge:
+                    patterns.add((1 << (n_e + edge)) | (1 << opposite))
+        return sorted(patterns)
 
     def enter(self, index: int) -> None:
         """Switch to state `index` (just added) and store the sample where it starts."""
