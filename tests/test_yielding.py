@@ -41,11 +41,16 @@ def run(path, engine="exact", support="uplift", *overrides):
 @pytest.mark.parametrize("engine", ["exact", "approximate"])
 def test_a_capacity_no_force_reaches_gives_the_elastic_result(path, engine):
     """FS_v = 1e15: every element stays in C, and every peak, instant and energy term is the
-    elastic one to 1e-12 of the quantity's largest value. Not always bit for bit (two of these
-    four runs are): the state gains the (zero) settlements s_i, so the exponentials of the larger
-    matrices and the products with them round differently in the last place; the contact
-    transitions are the same ones. The impacts (the reaction right after a recontact) amplify a
-    last-place change (test_backend_agreement.py): measured 3.6e-12 of the largest, checked to 1e-11."""
+    elastic one to 1e-9 of the quantity's largest value (instants to 1e-9 s), with the same
+    transitions. Not bit for bit: the state gains the (zero) settlements s_i, and the step
+    operators of a state with a capacity come from the exponential of its coupled block only
+    (yielding.step_operators), as accurate as the elastic ones (1e-13 of expm(A h / 2^j),
+    test_the_step_operators_are_the_exponentials) but rounded differently; a bisection bracket
+    that flips on such a change moves the located transition within its last sliver h/2^12, and
+    an impact or a residual amplifies it. Measured: 4.3e-10 (the residual settlement of the
+    two-element deck, against its peak), 2.6e-10 (impact), 1.5e-10 s, energy 1e-10 of the input;
+    the Winkler deck and the approximate engine 3.5e-11 at most (docs/exact-engine.md: a change of
+    the exponential's implementation moved the peaks by up to 1e-7)."""
     elastic = run(path, engine)
     strong = run(path, engine, "uplift", "foundation.safety_factor=1e15")
     assert strong.details["yielding"]["yielded"] == [False] * len(strong.element_positions)
@@ -55,15 +60,12 @@ def test_a_capacity_no_force_reaches_gives_the_elastic_result(path, engine):
     assert all(not strong.peaks[name].any() for name in plastic)
     for name, values in elastic.peaks.items():
         scale = np.abs(elastic.peaks[name.removeprefix("residual_")]).max()  # a residual: against its peak
-        # impacts amplify a last-place change; a settlement is v - v_st, the difference of two values
-        # larger than it (the static settlement): both to 1e-11
-        tolerance = (1e-11 if name == "impact" or "settlement" in name else 1e-12) * scale
-        np.testing.assert_allclose(strong.peaks[name], values, rtol=0, atol=tolerance, err_msg=name)
-        np.testing.assert_allclose(strong.times[name], elastic.times[name], rtol=0, atol=1e-12, err_msg=name)
+        np.testing.assert_allclose(strong.peaks[name], values, rtol=0, atol=1e-9 * scale, err_msg=name)
+        np.testing.assert_allclose(strong.times[name], elastic.times[name], rtol=0, atol=1e-9, err_msg=name)
     assert strong.intermediates["transitions"] == elastic.intermediates["transitions"]
     scale = elastic.details["energy"]["input"]
     for name, value in elastic.details["energy"].items():
-        assert strong.details["energy"][name] == pytest.approx(value, abs=1e-12 * scale), name
+        assert strong.details["energy"][name] == pytest.approx(value, abs=1e-9 * scale), name
 
 
 def test_without_a_capacity_the_state_is_the_elastic_one():
@@ -79,6 +81,36 @@ def test_without_a_capacity_the_state_is_the_elastic_one():
     np.testing.assert_array_equal(with_capacity.z_indices, space.layout.z_indices)
     bonded = exact_model(yielding, "bonded", ExactOptions())
     assert bonded.layout.n_x == space.layout.n_x and bonded.element_capacity is None
+
+
+@pytest.mark.parametrize("path", [TWO, WINKLER])
+def test_the_step_operators_are_the_exponentials(path):
+    """yielding.step_operators (the exponential of the coupled block, the other rows in closed form)
+    gives expm(A h / 2^j)^T at every bisection level, against scipy.linalg.expm of the whole A, to
+    1e-12 of its largest entry (measured 6e-13 at level 1, the most squared), in contact states with
+    every element in C, Y or L; and the rows it leaves out are indeed read by no coupled row of A."""
+    from scipy.linalg import expm as scipy_expm
+
+    from upliftcli.engines.exact.statespace import contact_states
+    from upliftcli.engines.exact.stepping import LEVELS
+    from upliftcli.engines.exact.yielding import step_operators
+
+    space = exact_model(load_deck(path, ["foundation.safety_factor=1.5"]).system, "uplift", ExactOptions())
+    lay = space.layout
+    n_e = lay.n_elements
+    rng = np.random.default_rng(28)
+    # element states 0 C, 1 Y, 2 L: every combination on two elements, random ones on the strip
+    kinds = np.array(np.meshgrid(*[range(3)] * n_e)).reshape(n_e, -1).T if n_e == 2 else rng.integers(0, 3, (8, n_e))
+    states = contact_states([space] * len(kinds), kinds == 2, "reaction", kinds == 1)
+    for state in states:
+        passive = np.concatenate((lay.z_indices, lay.settlement_indices[state.lifted | state.yielding]))
+        coupled = np.setdiff1d(np.arange(lay.n_aug), passive)
+        assert not state.matrix[np.ix_(coupled, passive)].any()
+        for h in (0.02 / 8, 0.02):
+            ops = step_operators(space, state, h, LEVELS)
+            for j in range(LEVELS + 1):
+                reference = scipy_expm(state.matrix * (h / 2.0**j)).T
+                assert np.abs(ops[j] - reference).max() <= 1e-12 * np.abs(reference).max(), (j, h)
 
 
 # ---------------------------------------------------------------- slow cyclic push: the backbones

@@ -19,7 +19,7 @@ from ...limits import MAX_CONTACT_ELEMENTS, MAX_YIELDING_ELEMENTS
 from . import stepping_kernels as kernel
 from .expm import expm
 from .statespace import ContactState, StateSpace, contact_states
-from .yielding import event_resets, pattern_bits, valid_pattern
+from .yielding import event_resets, pattern_bits, step_operators, valid_pattern
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
 LEVELS = 12
@@ -158,20 +158,30 @@ def add_states(requests: list[tuple[_Operators, int, bool]]) -> list[int | Analy
         built = [(k, state) for k, state in zip(members, states, strict=False) if state is not None]
         if not built:
             continue
-        # transposed (the kernel's matvec runs down columns); (E^T)^2 = (E^2)^T
-        a_t = np.stack([state.matrix.T for _, state in built])
-        h = np.array([requests[k][0].h for k, _ in built])[:, None, None]
-        ops = np.empty((len(built), LEVELS + 1, *a_t.shape[1:]))
-        ops[:, LEVELS] = expm(a_t * (h / 2.0**LEVELS))
-        for j in range(LEVELS - 1, 0, -1):
-            ops[:, j] = ops[:, j + 1] @ ops[:, j + 1]
-        ops[:, 0] = expm(a_t * h)
+        if built[0][1].yielding is not None:  # with a capacity: the exponential of the coupled block only
+            ops = np.stack([step_operators(requests[k][0].space, state, requests[k][0].h, LEVELS)
+                            for k, state in built])
+        else:
+            ops = _elastic_operators(np.stack([state.matrix.T for _, state in built]),
+                                     np.array([requests[k][0].h for k, _ in built])[:, None, None])
         for r, (k, state) in enumerate(built):
             operators, pattern, events = requests[k]
             if state.yielding is not None:
                 _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
             out[k] = operators.store(pattern, state, ops[r], events)
     return out
+
+
+def _elastic_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """E_j^T = expm(A h / 2^j)^T, j = 0..LEVELS, of a stack of A^T (R, n, n) with steps h (R, 1, 1):
+    the finest level by expm, the coarser ones by squaring it, level 0 by its own expm. Transposed
+    (the kernel's matvec runs down columns): (E^T)^2 = (E^2)^T."""
+    ops = np.empty((a_t.shape[0], LEVELS + 1, *a_t.shape[1:]))
+    ops[:, LEVELS] = expm(a_t * (h / 2.0**LEVELS))
+    for j in range(LEVELS - 1, 0, -1):
+        ops[:, j] = ops[:, j + 1] @ ops[:, j + 1]
+    ops[:, 0] = expm(a_t * h)
+    return ops
 
 
 def _hold_settlements(ops: np.ndarray, constant: np.ndarray) -> None:
