@@ -114,8 +114,9 @@ def test_integrate_refuses_every_wrong_argument_with_an_exception():
     from paper_example import paper_system
 
     from upliftcli.engines.exact.modal import modal_model
+    from upliftcli.engines.exact.operators import add_states
     from upliftcli.engines.exact.statespace import state_space
-    from upliftcli.engines.exact.stepping import Run, add_states
+    from upliftcli.engines.exact.stepping import Run
 
     compiled_or_skip()
     from upliftcli.engines.exact import _stepping

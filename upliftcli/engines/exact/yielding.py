@@ -129,7 +129,7 @@ def step_operators(space: StateSpace, state: ContactState, h: float, levels: int
     - s_i of a lifted element (s_i' = 0) and of a yielding one (s_i' = v_i', so s_i - v_i stays
       constant: the row of E is that of v_i, d_i E, plus the unit row of s_i, minus d_i);
     no other row reads them. The others (the motion, the s_i of the elements in contact, which
-    load it, and the forcing entries) are exponentiated as in stepping.add_states (the finest
+    load it, and the forcing entries) are exponentiated as in operators.add_states (the finest
     level, squarings, level 0 on its own): 23 + n_C + 3 of 66 on the 20-element mat of
     benchmarks/bench_yielding.py. tests/test_yielding.py compares every level with expm(A h/2^j)."""
     lay = space.layout
