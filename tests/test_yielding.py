@@ -392,11 +392,11 @@ def test_the_histories_give_the_edges_and_their_settled_end():
 
 
 @pytest.mark.parametrize("path", [TWO, WINKLER])
-def test_the_yield_states_built_ahead_change_nothing(path, monkeypatch):
-    """stepping.Run.first_yields builds the states of an edge yielding (the others in contact or the
-    opposite edge lifted) with the first yielding state a run asks for: the results are bit for bit
-    those of a run that builds each state when it reaches it, and on two elements every state is
-    built in two rounds (instead of five: the cost bench_yielding.py measures)."""
+def test_the_mirrored_states_built_ahead_change_nothing(path, monkeypatch):
+    """stepping.Run.mirrored builds the mirror image of each yielding state a run asks for with it:
+    the results are bit for bit those of a run that builds each state when it reaches it, and on
+    two elements the four yielding states take two rounds instead of four (the cost
+    bench_yielding.py measures)."""
     from upliftcli.engines.exact import engine as exact
     from upliftcli.engines.exact import stepping
 
@@ -406,9 +406,9 @@ def test_the_yield_states_built_ahead_change_nothing(path, monkeypatch):
     monkeypatch.setattr(stepping, "add_states", lambda requests: rounds.append(len(requests)) or build(requests))
     ahead = exact.analyze(deck.system, deck.ground_motion, "uplift")
     if path == TWO:
-        # all in contact and an edge lifted (3); the first yielding state and the three others (4)
-        assert rounds == [3, 4]
-    monkeypatch.setattr(stepping.Run, "first_yields", lambda run, pattern: [])
+        # all in contact and an edge lifted (3); a yielding state and its mirror, twice
+        assert rounds == [3, 2, 2]
+    monkeypatch.setattr(stepping.Run, "mirrored", lambda run, pattern: [])
     when_reached = exact.analyze(deck.system, deck.ground_motion, "uplift")
     for name, values in when_reached.peaks.items():
         np.testing.assert_array_equal(ahead.peaks[name], values, err_msg=name)

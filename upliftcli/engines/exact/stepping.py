@@ -19,7 +19,7 @@ from ...limits import MAX_CONTACT_ELEMENTS, MAX_YIELDING_ELEMENTS
 from . import stepping_kernels as kernel
 from .operators import LEVELS, Operators, add_states
 from .statespace import ContactState, StateSpace
-from .yielding import event_resets
+from .yielding import event_resets, pattern_bits
 
 
 @dataclass
@@ -85,7 +85,6 @@ class Run:
         self.x[lay.index_acceleration] = ground[0]
         self.x[lay.index_slope] = slopes[0]
         self.state, self.n_out, self.step, self.offset = -1, 0, 0, 0.0
-        self.yield_ahead = False  # whether first_yields has been asked for its states
 
     @property
     def buffer_bytes(self) -> int:
@@ -111,29 +110,26 @@ class Run:
         others in contact); built with the initial state, in one stacked exponentiation, instead
         of one round each when the run reaches them (about 0.6 ms of an uplift analysis). (Not the
         states of an element yielding: built ahead they cost 0.3 ms, a third of the stepping, of
-        the many runs that never yield; see first_yields.)"""
+        the many runs that never yield; see mirrored.)"""
         n_e = self.layout.n_elements
         if not (self.uplift and n_e):
             return []
         return sorted({1, 1 << (n_e - 1)})
 
-    def first_yields(self, pattern: int) -> list[int]:
-        """With a bearing capacity, when the run first asks for a pattern in which an element yields:
-        the other states a rocking mat yields in first (an edge element yielding, the others in
-        contact or the opposite edge lifted) not built yet, to be built with it in one round. On
-        two elements these are all the states a yielding run meets: two rounds instead of five
-        (about 0.5 ms each, measured; docs/theory.md 14.3). Empty otherwise."""
+    def mirrored(self, pattern: int) -> list[int]:
+        """With a bearing capacity, for a pattern in which an element yields: its mirror image (the
+        elements in reverse order, as when the mat rocks the other way), if not built yet, to be
+        built with it in one round. Every yielding state of a two-element run has its mirror met
+        too, and it halves the rounds after the first (0.5 ms each, measured; docs/theory.md 14.3).
+        Empty otherwise, and on more than MIRRORED_ELEMENTS elements."""
         n_e = self.layout.n_elements
-        if self.yield_ahead or not (self.layout.n_settlements and pattern >> n_e):
+        if not (self.layout.n_settlements and pattern >> n_e and n_e <= MIRRORED_ELEMENTS):
             return []
-        self.yield_ahead = True
-        patterns = set()
-        for edge, opposite in ((0, n_e - 1), (n_e - 1, 0)):
-            patterns.add(1 << (n_e + edge))
-            if opposite != edge:
-                patterns.add((1 << (n_e + edge)) | (1 << opposite))
-        built = set(self.operators.patterns[:len(self.operators.contact)].tolist())
-        return sorted(patterns - built - {pattern})
+        lifted, yielding = pattern_bits(pattern, n_e)
+        bits = np.concatenate((lifted[::-1], yielding[::-1]))
+        mirror = int(np.sum(bits.astype(np.int64) << np.arange(2 * n_e, dtype=np.int64)))
+        built = self.operators.patterns[:len(self.operators.contact)]
+        return [] if mirror == pattern or np.any(built == mirror) else [mirror]
 
     def enter(self, index: int) -> None:
         """Switch to state `index` (just added) and store the sample where it starts."""
@@ -201,6 +197,10 @@ def ground_grid(acceleration: np.ndarray, substeps: int, dt: float) -> tuple[np.
     return ground, slopes
 
 
+#: mirror images are built ahead on at most this many elements with a capacity (Run.mirrored): on the
+#: 20-element Winkler mat of benchmarks/bench_yielding.py only about 68 % of them are met, and
+#: building them cost 130 ms more CPU time than it saved (El Centro, FS_v = 1.5, measured)
+MIRRORED_ELEMENTS = 2
 #: memory allowed for the sample buffers of the runs stepped together [bytes]
 BATCH_MEMORY = 256 * 2**20
 #: samples of a run held at once when it is stepped in chunks (about 30 MB of states and
@@ -244,8 +244,8 @@ def simulate(spaces: list[StateSpace], substeps: list[int], acceleration: np.nda
 def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisError]]:
     """Drive several runs in rounds: each advances until it finishes or needs a new contact
     state; the states asked for in a round are built together (add_states), in the first round
-    with those each run reaches first when it lifts off (Run.first_lifts), and with the first
-    state a run yields in those it yields in next (Run.first_yields). Yields
+    with those each run reaches first when it lifts off (Run.first_lifts), and with a state in
+    which an element yields its mirror image (Run.mirrored). Yields
     (index, History or the AnalysisError that stopped it) as each run ends."""
     runs = list(runs)  # a finished run is dropped from here, so its buffers go with its history
     active = list(range(len(runs)))
@@ -275,4 +275,4 @@ def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisErro
                 going.append((k, pattern))
         active = [k for k, _ in going]
         requests = [(runs[k].operators, pattern, True) for k, pattern in going]
-        ahead = [(runs[k].operators, more, True) for k, pattern in going for more in runs[k].first_yields(pattern)]
+        ahead = [(runs[k].operators, more, True) for k, pattern in going for more in runs[k].mirrored(pattern)]
