@@ -41,16 +41,16 @@ def run(path, engine="exact", support="uplift", *overrides):
 @pytest.mark.parametrize("engine", ["exact", "approximate"])
 def test_a_capacity_no_force_reaches_gives_the_elastic_result(path, engine):
     """FS_v = 1e15: every element stays in C, and every peak, instant and energy term is the
-    elastic one to 1e-9 of the quantity's largest value (instants to 1e-9 s), with the same
-    transitions. Not bit for bit: the state gains the (zero) settlements s_i, and the step
-    operators of a state with a capacity come from the exponential of its coupled block only
-    (yielding.step_operators), as accurate as the elastic ones (1e-13 of expm(A h / 2^j),
-    test_the_step_operators_are_the_exponentials) but rounded differently; a bisection bracket
-    that flips on such a change moves the located transition within its last sliver h/2^12, and
-    an impact or a residual amplifies it. Measured: 4.3e-10 (the residual settlement of the
-    two-element deck, against its peak), 2.6e-10 (impact), 1.5e-10 s, energy 1e-10 of the input;
-    the Winkler deck and the approximate engine 3.5e-11 at most (docs/exact-engine.md: a change of
-    the exponential's implementation moved the peaks by up to 1e-7)."""
+    elastic one to 1e-11 of the quantity's largest value (instants to 1e-10 s), with the same
+    transitions. Not always bit for bit: the state gains the (zero)
+    settlements s_i, so the exponentials of the larger matrices round differently in the last
+    place, and on the Winkler mat the operators come from the exponential of the coupled block
+    only (yielding.step_operators, test_the_step_operators_are_the_exponentials), which rounds
+    differently again; a bisection bracket that flips on such a change moves a located transition
+    within its last sliver h/2^12. The impacts (the reaction right after a recontact) and the
+    settlements (v - v_st, a difference of larger values) amplify it: checked to 1e-10. Measured:
+    impacts 3.5e-11, residual settlement 4.0e-12, reaction 2.0e-12, instants 1.4e-11 s, energy
+    2.6e-12 of the input (the approximate engine on the Winkler mat)."""
     elastic = run(path, engine)
     strong = run(path, engine, "uplift", "foundation.safety_factor=1e15")
     assert strong.details["yielding"]["yielded"] == [False] * len(strong.element_positions)
@@ -60,12 +60,13 @@ def test_a_capacity_no_force_reaches_gives_the_elastic_result(path, engine):
     assert all(not strong.peaks[name].any() for name in plastic)
     for name, values in elastic.peaks.items():
         scale = np.abs(elastic.peaks[name.removeprefix("residual_")]).max()  # a residual: against its peak
-        np.testing.assert_allclose(strong.peaks[name], values, rtol=0, atol=1e-9 * scale, err_msg=name)
-        np.testing.assert_allclose(strong.times[name], elastic.times[name], rtol=0, atol=1e-9, err_msg=name)
+        tolerance = (1e-10 if name == "impact" or "settlement" in name else 1e-11) * scale
+        np.testing.assert_allclose(strong.peaks[name], values, rtol=0, atol=tolerance, err_msg=name)
+        np.testing.assert_allclose(strong.times[name], elastic.times[name], rtol=0, atol=1e-10, err_msg=name)
     assert strong.intermediates["transitions"] == elastic.intermediates["transitions"]
     scale = elastic.details["energy"]["input"]
     for name, value in elastic.details["energy"].items():
-        assert strong.details["energy"][name] == pytest.approx(value, abs=1e-9 * scale), name
+        assert strong.details["energy"][name] == pytest.approx(value, abs=1e-11 * scale), name
 
 
 def test_without_a_capacity_the_state_is_the_elastic_one():
@@ -391,25 +392,25 @@ def test_the_histories_give_the_edges_and_their_settled_end():
     assert np.all(settled < 40.0 * rest)
 
 
-@pytest.mark.parametrize("path", [TWO, WINKLER])
-def test_the_mirrored_states_built_ahead_change_nothing(path, monkeypatch):
-    """stepping.Run.mirrored builds the mirror image of each yielding state a run asks for with it:
-    the results are bit for bit those of a run that builds each state when it reaches it, and on
-    two elements the four yielding states take two rounds instead of four (the cost
-    bench_yielding.py measures)."""
+def test_the_yielding_states_built_ahead_change_nothing(monkeypatch):
+    """On two elements with a capacity, stepping.Run.first_lifts builds the states of an edge
+    yielding (the other in contact or lifted) with the initial state: every state the run meets
+    comes in that one round (instead of five: the cost bench_yielding.py measures), and the results
+    are bit for bit those of a run that builds each state when it reaches it."""
     from upliftcli.engines.exact import engine as exact
     from upliftcli.engines.exact import stepping
 
-    deck = load_deck(path, ["foundation.safety_factor=2"])
+    deck = load_deck(TWO, ["foundation.safety_factor=2"])
     rounds = []
     build = stepping.add_states
     monkeypatch.setattr(stepping, "add_states", lambda requests: rounds.append(len(requests)) or build(requests))
     ahead = exact.analyze(deck.system, deck.ground_motion, "uplift")
-    if path == TWO:
-        # all in contact and an edge lifted (3); a yielding state and its mirror, twice
-        assert rounds == [3, 2, 2]
-    monkeypatch.setattr(stepping.Run, "mirrored", lambda run, pattern: [])
+    # all in contact, an edge lifted (2), an edge yielding (2), one yielding and the other lifted (2)
+    assert rounds == [7]
+    monkeypatch.setattr(stepping.Run, "first_lifts", lambda run: [1, 2])
+    rounds.clear()
     when_reached = exact.analyze(deck.system, deck.ground_motion, "uplift")
+    assert rounds == [3, 1, 1, 1, 1]
     for name, values in when_reached.peaks.items():
         np.testing.assert_array_equal(ahead.peaks[name], values, err_msg=name)
     for name, values in when_reached.times.items():

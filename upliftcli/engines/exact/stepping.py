@@ -19,7 +19,7 @@ from ...limits import MAX_CONTACT_ELEMENTS, MAX_YIELDING_ELEMENTS
 from . import stepping_kernels as kernel
 from .operators import LEVELS, Operators, add_states
 from .statespace import ContactState, StateSpace
-from .yielding import event_resets, pattern_bits
+from .yielding import event_resets
 
 
 @dataclass
@@ -108,28 +108,22 @@ class Run:
     def first_lifts(self) -> list[int]:
         """The contact patterns a run that lifts off reaches first: an edge element lifted (the
         others in contact); built with the initial state, in one stacked exponentiation, instead
-        of one round each when the run reaches them (about 0.6 ms of an uplift analysis). (Not the
-        states of an element yielding: built ahead they cost 0.3 ms, a third of the stepping, of
-        the many runs that never yield; see mirrored.)"""
+        of one round each when the run reaches them (about 0.6 ms of an uplift analysis). On two
+        elements with a bearing capacity also the states of an edge yielding, the other in contact
+        or lifted: every state a yielding run meets, in one round instead of up to five (0.5 ms
+        each); a run that never yields pays 0.3-0.8 ms for them (CPU time, benchmarks/
+        bench_yielding.py, measured; docs/theory.md 14.3). Not on more elements: a Winkler mat
+        meets hundreds of yielding states, and a run that never yields would pay for them."""
         n_e = self.layout.n_elements
         if not (self.uplift and n_e):
             return []
-        return sorted({1, 1 << (n_e - 1)})
-
-    def mirrored(self, pattern: int) -> list[int]:
-        """With a bearing capacity, for a pattern in which an element yields: its mirror image (the
-        elements in reverse order, as when the mat rocks the other way), if not built yet, to be
-        built with it in one round. Every yielding state of a two-element run has its mirror met
-        too, and it halves the rounds after the first (0.5 ms each, measured; docs/theory.md 14.3).
-        Empty otherwise, and on more than MIRRORED_ELEMENTS elements."""
-        n_e = self.layout.n_elements
-        if not (self.layout.n_settlements and pattern >> n_e and n_e <= MIRRORED_ELEMENTS):
-            return []
-        lifted, yielding = pattern_bits(pattern, n_e)
-        bits = np.concatenate((lifted[::-1], yielding[::-1]))
-        mirror = int(np.sum(bits.astype(np.int64) << np.arange(2 * n_e, dtype=np.int64)))
-        built = self.operators.patterns[:len(self.operators.contact)]
-        return [] if mirror == pattern or np.any(built == mirror) else [mirror]
+        patterns = {1, 1 << (n_e - 1)}
+        if self.layout.n_settlements and n_e <= AHEAD_ELEMENTS:
+            for edge, opposite in ((0, n_e - 1), (n_e - 1, 0)):
+                patterns.add(1 << (n_e + edge))
+                if opposite != edge:
+                    patterns.add((1 << (n_e + edge)) | (1 << opposite))
+        return sorted(patterns)
 
     def enter(self, index: int) -> None:
         """Switch to state `index` (just added) and store the sample where it starts."""
@@ -197,10 +191,9 @@ def ground_grid(acceleration: np.ndarray, substeps: int, dt: float) -> tuple[np.
     return ground, slopes
 
 
-#: mirror images are built ahead on at most this many elements with a capacity (Run.mirrored): on the
-#: 20-element Winkler mat of benchmarks/bench_yielding.py only about 68 % of them are met, and
-#: building them cost 130 ms more CPU time than it saved (El Centro, FS_v = 1.5, measured)
-MIRRORED_ELEMENTS = 2
+#: on at most this many elements with a bearing capacity, the yielding states are built with the
+#: initial state (Run.first_lifts)
+AHEAD_ELEMENTS = 2
 #: memory allowed for the sample buffers of the runs stepped together [bytes]
 BATCH_MEMORY = 256 * 2**20
 #: samples of a run held at once when it is stepped in chunks (about 30 MB of states and
@@ -244,8 +237,7 @@ def simulate(spaces: list[StateSpace], substeps: list[int], acceleration: np.nda
 def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisError]]:
     """Drive several runs in rounds: each advances until it finishes or needs a new contact
     state; the states asked for in a round are built together (add_states), in the first round
-    with those each run reaches first when it lifts off (Run.first_lifts), and with a state in
-    which an element yields its mirror image (Run.mirrored). Yields
+    with those each run reaches first when it lifts off or yields (Run.first_lifts). Yields
     (index, History or the AnalysisError that stopped it) as each run ends."""
     runs = list(runs)  # a finished run is dropped from here, so its buffers go with its history
     active = list(range(len(runs)))
@@ -275,4 +267,3 @@ def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisErro
                 going.append((k, pattern))
         active = [k for k, _ in going]
         requests = [(runs[k].operators, pattern, True) for k, pattern in going]
-        ahead = [(runs[k].operators, more, True) for k, pattern in going for more in runs[k].mirrored(pattern)]
