@@ -45,7 +45,7 @@ def test_a_capacity_no_force_reaches_gives_the_elastic_result(path, engine):
     transitions. Not always bit for bit: the state gains the (zero)
     settlements s_i, so the exponentials of the larger matrices round differently in the last
     place, and on the Winkler mat the operators come from the exponential of the coupled block
-    only (yielding.step_operators, test_the_step_operators_are_the_exponentials), which rounds
+    only (yielding.step_operators, tested in test_operators.py), which rounds
     differently again; a bisection bracket that flips on such a change moves a located transition
     within its last sliver h/2^12. The impacts (the reaction right after a recontact) and the
     settlements (v - v_st, a difference of larger values) amplify it: checked to 1e-10. Measured:
@@ -82,36 +82,6 @@ def test_without_a_capacity_the_state_is_the_elastic_one():
     np.testing.assert_array_equal(with_capacity.z_indices, space.layout.z_indices)
     bonded = exact_model(yielding, "bonded", ExactOptions())
     assert bonded.layout.n_x == space.layout.n_x and bonded.element_capacity is None
-
-
-@pytest.mark.parametrize("path", [TWO, WINKLER])
-def test_the_step_operators_are_the_exponentials(path):
-    """yielding.step_operators (the exponential of the coupled block, the other rows in closed form)
-    gives expm(A h / 2^j)^T at every bisection level, against scipy.linalg.expm of the whole A, to
-    1e-12 of its largest entry (measured 6e-13 at level 1, the most squared), in contact states with
-    every element in C, Y or L; and the rows it leaves out are indeed read by no coupled row of A."""
-    from scipy.linalg import expm as scipy_expm
-
-    from upliftcli.engines.exact.operators import LEVELS
-    from upliftcli.engines.exact.statespace import contact_states
-    from upliftcli.engines.exact.yielding import step_operators
-
-    space = exact_model(load_deck(path, ["foundation.safety_factor=1.5"]).system, "uplift", ExactOptions())
-    lay = space.layout
-    n_e = lay.n_elements
-    rng = np.random.default_rng(28)
-    # element states 0 C, 1 Y, 2 L: every combination on two elements, random ones on the strip
-    kinds = np.array(np.meshgrid(*[range(3)] * n_e)).reshape(n_e, -1).T if n_e == 2 else rng.integers(0, 3, (8, n_e))
-    states = contact_states([space] * len(kinds), kinds == 2, "reaction", kinds == 1)
-    for state in states:
-        passive = np.concatenate((lay.z_indices, lay.settlement_indices[state.lifted | state.yielding]))
-        coupled = np.setdiff1d(np.arange(lay.n_aug), passive)
-        assert not state.matrix[np.ix_(coupled, passive)].any()
-        for h in (0.02 / 8, 0.02):
-            ops = step_operators(space, state, h, LEVELS)
-            for j in range(LEVELS + 1):
-                reference = scipy_expm(state.matrix * (h / 2.0**j)).T
-                assert np.abs(ops[j] - reference).max() <= 1e-12 * np.abs(reference).max(), (j, h)
 
 
 # ---------------------------------------------------------------- slow cyclic push: the backbones
@@ -390,32 +360,3 @@ def test_the_histories_give_the_edges_and_their_settled_end():
     # static level, is the springs' share of the moment the structure still carries at the end
     np.testing.assert_allclose(ends, rest + settled, rtol=0, atol=0.1 * abs(rest))
     assert np.all(settled < 40.0 * rest)
-
-
-def test_the_yielding_states_built_ahead_change_nothing(monkeypatch):
-    """On two elements with a capacity, stepping.Run.first_lifts builds the states of an edge
-    yielding (the other in contact or lifted) with the initial state: every state the run meets
-    comes in that one round (instead of five: the cost bench_yielding.py measures), and the results
-    are bit for bit those of a run that builds each state when it reaches it."""
-    from upliftcli.engines.exact import engine as exact
-    from upliftcli.engines.exact import stepping
-
-    deck = load_deck(TWO, ["foundation.safety_factor=2"])
-    rounds = []
-    build = stepping.add_states
-    monkeypatch.setattr(stepping, "add_states", lambda requests: rounds.append(len(requests)) or build(requests))
-    ahead = exact.analyze(deck.system, deck.ground_motion, "uplift")
-    # all in contact, an edge lifted (2), an edge yielding (2), one yielding and the other lifted (2)
-    assert rounds == [7]
-    monkeypatch.setattr(stepping.Run, "first_lifts", lambda run: [1, 2])
-    rounds.clear()
-    when_reached = exact.analyze(deck.system, deck.ground_motion, "uplift")
-    assert rounds == [3, 1, 1, 1, 1]
-    for name, values in when_reached.peaks.items():
-        np.testing.assert_array_equal(ahead.peaks[name], values, err_msg=name)
-    for name, values in when_reached.times.items():
-        np.testing.assert_array_equal(ahead.times[name], values, err_msg=name)
-    assert ahead.details["yielding"] == when_reached.details["yielding"]
-    for name, value in when_reached.details["energy"].items():
-        np.testing.assert_array_equal(ahead.details["energy"][name], value, err_msg=name)
-    assert ahead.intermediates["transitions"] == when_reached.intermediates["transitions"]

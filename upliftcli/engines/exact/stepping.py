@@ -111,8 +111,8 @@ class Run:
         of one round each when the run reaches them (about 0.6 ms of an uplift analysis). On two
         elements with a bearing capacity also the states of an edge yielding, the other in contact
         or lifted: every state a yielding run meets, in one round instead of up to five (0.5 ms
-        each); a run that never yields pays 0.3-0.8 ms for them (CPU time, benchmarks/
-        bench_yielding.py, measured; docs/theory.md 14.3). Not on more elements: a Winkler mat
+        each); a run that never yields pays about 0.6 ms for them (CPU time, measured;
+        benchmarks/bench_yielding.py, docs/theory.md 14.3). Not on more elements: a Winkler mat
         meets hundreds of yielding states, and a run that never yields would pay for them."""
         n_e = self.layout.n_elements
         if not (self.uplift and n_e):

@@ -131,7 +131,7 @@ def step_operators(space: StateSpace, state: ContactState, h: float, levels: int
     no other row reads them. The others (the motion, the s_i of the elements in contact, which
     load it, and the forcing entries) are exponentiated as in operators.add_states (the finest
     level, squarings, level 0 on its own): 23 + n_C + 3 of 66 on the 20-element mat of
-    benchmarks/bench_yielding.py. tests/test_yielding.py compares every level with expm(A h/2^j)."""
+    benchmarks/bench_yielding.py. tests/test_operators.py compares every level with expm(A h/2^j)."""
     lay = space.layout
     n, s_idx, z_idx = lay.n_aug, lay.settlement_indices, lay.z_indices
     contact = ~state.lifted & ~state.yielding
