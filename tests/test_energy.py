@@ -11,8 +11,9 @@ import pytest
 from scipy.integrate import quad
 
 from upliftcli.engines.exact.energy import energy_balance
+from upliftcli.engines.exact.modal import modal_model
 from upliftcli.engines.exact.response import signals
-from upliftcli.engines.exact.statespace import contact_states, modal_model, state_space
+from upliftcli.engines.exact.statespace import contact_states, state_space
 from upliftcli.engines.exact.stepping import History
 from upliftcli.model.building import uniform_building
 from upliftcli.model.foundations import TwoElement

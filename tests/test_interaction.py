@@ -12,7 +12,7 @@ from paper_example import paper_system
 from upliftcli.deck import load_deck
 from upliftcli.engines import simplified
 from upliftcli.engines.exact import engine as exact
-from upliftcli.engines.exact.statespace import modal_model
+from upliftcli.engines.exact.modal import modal_model
 from upliftcli.engines.options import ExactOptions
 from upliftcli.model.foundations import TwoElement
 from upliftcli.model.interaction import effective_properties, effective_properties_formula

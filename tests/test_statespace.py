@@ -9,7 +9,8 @@ import pytest
 from paper_example import paper_system
 from scipy.linalg import eig
 
-from upliftcli.engines.exact.statespace import contact_states, modal_model, state_space
+from upliftcli.engines.exact.modal import modal_model
+from upliftcli.engines.exact.statespace import contact_states, state_space
 
 
 def physical_matrices(system, lifted=(False, False)):

@@ -85,7 +85,8 @@ def _integrate_twin(space, ground, slopes, h, criterion="reaction", probes=8):
 def test_integrate_equals_its_numpy_twin_through_lift_offs_and_recontacts():
     from paper_example import paper_system
 
-    from upliftcli.engines.exact.statespace import modal_model, state_space
+    from upliftcli.engines.exact.modal import modal_model
+    from upliftcli.engines.exact.statespace import state_space
     from upliftcli.engines.exact.stepping import ground_grid, simulate
     from upliftcli.motion.records import bundled_records_dir, read_record
 
@@ -112,8 +113,10 @@ def test_integrate_refuses_every_wrong_argument_with_an_exception():
     from backends import compiled_or_skip
     from paper_example import paper_system
 
-    from upliftcli.engines.exact.statespace import modal_model, state_space
-    from upliftcli.engines.exact.stepping import Run, add_states
+    from upliftcli.engines.exact.modal import modal_model
+    from upliftcli.engines.exact.operators import add_states
+    from upliftcli.engines.exact.statespace import state_space
+    from upliftcli.engines.exact.stepping import Run
 
     compiled_or_skip()
     from upliftcli.engines.exact import _stepping

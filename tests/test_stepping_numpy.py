@@ -11,7 +11,8 @@ from paper_example import paper_system
 
 from upliftcli.engines.exact import stepping, stepping_numpy
 from upliftcli.engines.exact import stepping_kernels as kernel
-from upliftcli.engines.exact.statespace import modal_model, state_space
+from upliftcli.engines.exact.modal import modal_model
+from upliftcli.engines.exact.statespace import state_space
 from upliftcli.errors import AnalysisError
 
 

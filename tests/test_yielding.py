@@ -41,11 +41,16 @@ def run(path, engine="exact", support="uplift", *overrides):
 @pytest.mark.parametrize("engine", ["exact", "approximate"])
 def test_a_capacity_no_force_reaches_gives_the_elastic_result(path, engine):
     """FS_v = 1e15: every element stays in C, and every peak, instant and energy term is the
-    elastic one to 1e-12 of the quantity's largest value. Not always bit for bit (two of these
-    four runs are): the state gains the (zero) settlements s_i, so the exponentials of the larger
-    matrices and the products with them round differently in the last place; the contact
-    transitions are the same ones. The impacts (the reaction right after a recontact) amplify a
-    last-place change (test_backend_agreement.py): measured 3.6e-12 of the largest, checked to 1e-11."""
+    elastic one to 1e-11 of the quantity's largest value (instants to 1e-10 s), with the same
+    transitions. Not always bit for bit: the state gains the (zero)
+    settlements s_i, so the exponentials of the larger matrices round differently in the last
+    place, and on the Winkler mat the operators come from the exponential of the coupled block
+    only (yielding.step_operators, tested in test_operators.py), which rounds
+    differently again; a bisection bracket that flips on such a change moves a located transition
+    within its last sliver h/2^12. The impacts (the reaction right after a recontact) and the
+    settlements (v - v_st, a difference of larger values) amplify it: checked to 1e-10. Measured:
+    impacts 3.5e-11, residual settlement 4.0e-12, reaction 2.0e-12, instants 1.4e-11 s, energy
+    2.6e-12 of the input (the approximate engine on the Winkler mat)."""
     elastic = run(path, engine)
     strong = run(path, engine, "uplift", "foundation.safety_factor=1e15")
     assert strong.details["yielding"]["yielded"] == [False] * len(strong.element_positions)
@@ -55,15 +60,13 @@ def test_a_capacity_no_force_reaches_gives_the_elastic_result(path, engine):
     assert all(not strong.peaks[name].any() for name in plastic)
     for name, values in elastic.peaks.items():
         scale = np.abs(elastic.peaks[name.removeprefix("residual_")]).max()  # a residual: against its peak
-        # impacts amplify a last-place change; a settlement is v - v_st, the difference of two values
-        # larger than it (the static settlement): both to 1e-11
-        tolerance = (1e-11 if name == "impact" or "settlement" in name else 1e-12) * scale
+        tolerance = (1e-10 if name == "impact" or "settlement" in name else 1e-11) * scale
         np.testing.assert_allclose(strong.peaks[name], values, rtol=0, atol=tolerance, err_msg=name)
-        np.testing.assert_allclose(strong.times[name], elastic.times[name], rtol=0, atol=1e-12, err_msg=name)
+        np.testing.assert_allclose(strong.times[name], elastic.times[name], rtol=0, atol=1e-10, err_msg=name)
     assert strong.intermediates["transitions"] == elastic.intermediates["transitions"]
     scale = elastic.details["energy"]["input"]
     for name, value in elastic.details["energy"].items():
-        assert strong.details["energy"][name] == pytest.approx(value, abs=1e-12 * scale), name
+        assert strong.details["energy"][name] == pytest.approx(value, abs=1e-11 * scale), name
 
 
 def test_without_a_capacity_the_state_is_the_elastic_one():
@@ -343,7 +346,7 @@ def test_more_elements_with_a_capacity_than_the_pattern_holds_are_refused():
 
 def test_a_batch_of_yielding_systems_gives_each_its_result_alone():
     """Systems analysed together (their contact states built in one vectorised batch,
-    stepping.add_states) get the same results, bit for bit, as each alone."""
+    operators.add_states) get the same results, bit for bit, as each alone."""
     from upliftcli.engines.exact import engine as exact
 
     decks = [load_deck(TWO, [f"foundation.safety_factor={factor}"]) for factor in (1.5, 2.0, 3.0)]

@@ -14,7 +14,8 @@ from collections.abc import Iterator
 from ..errors import AnalysisError, InputError
 from ..model.system import System
 from .exact import engine as exact
-from .exact.statespace import StateSpace, modal_model, resolve_modes, state_space
+from .exact.modal import modal_model, resolve_modes
+from .exact.statespace import StateSpace, state_space
 from .options import ExactOptions
 from .result import AnalysisResult
 

@@ -125,8 +125,8 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
         const double *events = m->events + s * m->n_events * n, *rates = m->rates + s * m->n_events * n;
         active[s] = 0;
         int values_free = 1, rates_free = 1;
-        for (int64_t i = 0; i < m->n_events * n; i++) {
-            active[s] |= events[i] != 0.0;
+        for (int64_t i = 0; i < m->n_events * n && !active[s]; i++) { /* stops at the first nonzero entry: */
+            active[s] = events[i] != 0.0; /* a run meets hundreds of states and this runs at every call */
         }
         for (int64_t i = 0; i < m->n_events; i++) {
             const int64_t a = i * n + index_acceleration, b = i * n + index_slope;

@@ -126,7 +126,7 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
     - rigid base: one analysis per distinct building (and m_t, g, I_0), whatever the foundation;
     - the fine ground-motion grid per step size;
     - the runs are stepped together in rounds and the contact states they reach in a round
-      are assembled and exponentiated vectorised over the batch (stepping.add_states).
+      are assembled and exponentiated vectorised over the batch (operators.add_states).
     model: the state-space model of a system (exact_model; the approximate engine couples
     mode 1 only); name: the engine named in the results; refine: halve the step where the
     energy balance does not close (_refined)."""

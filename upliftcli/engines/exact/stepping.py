@@ -17,12 +17,9 @@ import numpy as np
 from ...errors import AnalysisError
 from ...limits import MAX_CONTACT_ELEMENTS, MAX_YIELDING_ELEMENTS
 from . import stepping_kernels as kernel
-from .expm import expm
-from .statespace import ContactState, StateSpace, contact_states
-from .yielding import event_resets, pattern_bits, valid_pattern
-
-#: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
-LEVELS = 12
+from .operators import LEVELS, Operators, add_states
+from .statespace import ContactState, StateSpace
+from .yielding import event_resets
 
 
 @dataclass
@@ -53,129 +50,6 @@ class History:
         return np.diff(self.times)
 
 
-class _Operators:
-    """Exact step operators of the contact states met so far, grown on demand (stored
-    transposed, as kernel.integrate takes them). States are built by add_states."""
-
-    def __init__(self, space: StateSpace, h: float, criterion: str):
-        self.space, self.layout, self.h, self.criterion = space, space.layout, h, criterion
-        n_aug, n_e = self.layout.n_aug, max(self.layout.n_elements, 0)
-        n_e += self.layout.n_settlements  # two event rows per element with a bearing capacity
-        self.capacity = 4
-        self.ops = np.zeros((self.capacity, LEVELS + 1, n_aug, n_aug))
-        self.events = np.zeros((self.capacity, n_e, n_aug))
-        self.event_rates = np.zeros((self.capacity, n_e, n_aug))
-        self.matrices = np.zeros((self.capacity, n_aug, n_aug))
-        self.patterns = np.full(self.capacity, -1, dtype=np.int64)
-        self.contact: list[ContactState] = []
-
-    def lifted(self, pattern: int) -> np.ndarray:
-        return np.array([(pattern >> i) & 1 for i in range(self.layout.n_elements)], dtype=bool)
-
-    def yielding(self, pattern: int) -> np.ndarray | None:
-        """Where the elements yield in the pattern (None without a bearing capacity)."""
-        return pattern_bits(pattern, self.layout.n_elements)[1] if self.layout.n_settlements else None
-
-    def store(self, pattern: int, state: ContactState, ops: np.ndarray, events: bool) -> int:
-        """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS."""
-        index = len(self.contact)
-        if index == self.capacity:
-            self.capacity *= 2
-            # the operators and matrices of the states not yet built are never read: not filled
-            # (the operators are most of the memory: a yielding Winkler mat meets hundreds of states)
-            grow = lambda a, fill=0.0: np.concatenate((a, np.full_like(a, fill)))  # noqa: E731
-            self.ops, self.matrices = _doubled(self.ops), _doubled(self.matrices)
-            self.events, self.event_rates = grow(self.events), grow(self.event_rates)
-            self.patterns = grow(self.patterns, -1)
-        self.ops[index] = ops
-        if events:
-            self.events[index] = state.events
-            self.event_rates[index] = state.events @ state.matrix
-        self.matrices[index] = state.matrix.T
-        self.patterns[index] = pattern
-        self.contact.append(state)
-        return index
-
-
-def _doubled(array: np.ndarray) -> np.ndarray:
-    """The array with as many rows again after its own, those left unset."""
-    out = np.empty((2 * array.shape[0], *array.shape[1:]))
-    out[:array.shape[0]] = array
-    return out
-
-
-_NO_INERTIA = ("the mat rotation has neither inertia nor damping in this contact state "
-               "(all damping ratios 0 and no element damping): give the mat a rotary inertia I_0 > 0")
-
-
-_LIFTED_AND_YIELDING = ("a contact element started to lift off and to yield at the same instant (its dashpot "
-                        "force balanced its capacity exactly): reduce the time step (analysis.exact.time_step)")
-
-
-def add_states(requests: list[tuple[_Operators, int, bool]]) -> list[int | AnalysisError]:
-    """Build and store the contact states asked for, (operators, pattern, with event rows)
-    each, vectorised over the requests that share a layout: one batched assembly
-    (statespace.contact_states), one stacked expm and stacked squarings. Each item gets the
-    same bits as built alone. Returns the new state index, or the error, per request."""
-    out: list[int | AnalysisError] = [AnalysisError(_NO_INERTIA)] * len(requests)
-    groups: dict[tuple, list[int]] = {}
-    for k, (operators, pattern, _) in enumerate(requests):
-        lay = operators.layout
-        if lay.n_settlements and not valid_pattern(pattern, lay.n_elements):
-            out[k] = AnalysisError(_LIFTED_AND_YIELDING)
-            continue
-        key = (lay.n_p, tuple(lay.massive), tuple(lay.massless), lay.n_x, lay.n_elements, operators.criterion)
-        groups.setdefault(key, []).append(k)
-    for members in groups.values():
-        try:
-            states = _states([requests[k] for k in members])
-        except ZeroDivisionError:
-            if len(members) == 1:
-                continue
-            states = []
-            for k in members:  # find the item(s) at fault; the others go on
-                try:
-                    states.append(_states([requests[k]])[0])
-                except ZeroDivisionError:
-                    states.append(None)
-        built = [(k, state) for k, state in zip(members, states, strict=False) if state is not None]
-        if not built:
-            continue
-        # transposed (the kernel's matvec runs down columns); (E^T)^2 = (E^2)^T
-        a_t = np.stack([state.matrix.T for _, state in built])
-        h = np.array([requests[k][0].h for k, _ in built])[:, None, None]
-        ops = np.empty((len(built), LEVELS + 1, *a_t.shape[1:]))
-        ops[:, LEVELS] = expm(a_t * (h / 2.0**LEVELS))
-        for j in range(LEVELS - 1, 0, -1):
-            ops[:, j] = ops[:, j + 1] @ ops[:, j + 1]
-        ops[:, 0] = expm(a_t * h)
-        for r, (k, state) in enumerate(built):
-            operators, pattern, events = requests[k]
-            if state.yielding is not None:
-                _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
-            out[k] = operators.store(pattern, state, ops[r], events)
-    return out
-
-
-def _hold_settlements(ops: np.ndarray, constant: np.ndarray) -> None:
-    """Make the settlements s_i of elements that do not yield exactly constant in the step
-    operators (ops: E^T per level, in place): their rows of A are zero, so the rows of E = expm(A h)
-    are unit rows, which the computed exponentials hold only to a few units in the last place (a
-    drift of 4e-13 of s_i per step, measured)."""
-    ops[:, :, constant] = 0.0
-    ops[:, constant, constant] = 1.0
-
-
-def _states(requests: list[tuple[_Operators, int, bool]]) -> list[ContactState]:
-    first = requests[0][0]
-    lifted = np.array([operators.lifted(pattern) for operators, pattern, _ in requests], dtype=bool)
-    lifted = lifted.reshape(len(requests), first.layout.n_elements)
-    yielding = None
-    if first.layout.n_settlements:
-        yielding = np.array([operators.yielding(pattern) for operators, pattern, _ in requests], dtype=bool)
-    return contact_states([operators.space for operators, _, _ in requests], lifted, first.criterion, yielding)
-
-
 class Run:
     """One simulation from rest (static under gravity) through the ground acceleration
     ground [m/s^2] at every internal step h [s] (ground_grid), slopes [m/s^3] in each step.
@@ -198,7 +72,7 @@ class Run:
                                 f"supported (got {n_e}): lower foundation.elements")
         self.space, self.layout, self.h, self.criterion = space, lay, h, criterion
         self.uplift = uplift
-        self.operators = _Operators(space, h, criterion)
+        self.operators = Operators(space, h, criterion)
         self.elements = kernel.Elements(*event_resets(space), np.int64((1 << n_e) - 1) if n_e else np.int64(-2),
                                         bool(allow_flight))
         self.grid = kernel.Grid(ground, slopes, float(h), LEVELS, lay.index_acceleration, lay.index_slope)
@@ -224,7 +98,7 @@ class Run:
             size += lay.n_elements**2 * (LEVELS + 1) * lay.n_aug**2 * 8
         return size
 
-    def first_request(self) -> tuple[_Operators, int, bool]:
+    def first_request(self) -> tuple[Operators, int, bool]:
         """Allocate the sample buffers; the request for the initial state (all elements in contact)."""
         self.out_x = np.empty((self.capacity, self.layout.n_aug))
         self.out_t = np.empty(self.capacity)
@@ -234,13 +108,22 @@ class Run:
     def first_lifts(self) -> list[int]:
         """The contact patterns a run that lifts off reaches first: an edge element lifted (the
         others in contact); built with the initial state, in one stacked exponentiation, instead
-        of one round each when the run reaches them (about 0.6 ms of an uplift analysis). (Not the
-        states of an element yielding: built ahead they cost 0.3 ms, a third of the stepping, of
-        the many runs that never yield.)"""
+        of one round each when the run reaches them (about 0.6 ms of an uplift analysis). On two
+        elements with a bearing capacity also the states of an edge yielding, the other in contact
+        or lifted: every state a yielding run meets, in one round instead of up to five (0.5 ms
+        each); a run that never yields pays about 0.6 ms for them (CPU time, measured;
+        benchmarks/bench_yielding.py, docs/theory.md 14.3). Not on more elements: a Winkler mat
+        meets hundreds of yielding states, and a run that never yields would pay for them."""
         n_e = self.layout.n_elements
         if not (self.uplift and n_e):
             return []
-        return sorted({1, 1 << (n_e - 1)})
+        patterns = {1, 1 << (n_e - 1)}
+        if self.layout.n_settlements and n_e <= AHEAD_ELEMENTS:
+            for edge, opposite in ((0, n_e - 1), (n_e - 1, 0)):
+                patterns.add(1 << (n_e + edge))
+                if opposite != edge:
+                    patterns.add((1 << (n_e + edge)) | (1 << opposite))
+        return sorted(patterns)
 
     def enter(self, index: int) -> None:
         """Switch to state `index` (just added) and store the sample where it starts."""
@@ -308,6 +191,9 @@ def ground_grid(acceleration: np.ndarray, substeps: int, dt: float) -> tuple[np.
     return ground, slopes
 
 
+#: on at most this many elements with a bearing capacity, the yielding states are built with the
+#: initial state (Run.first_lifts)
+AHEAD_ELEMENTS = 2
 #: memory allowed for the sample buffers of the runs stepped together [bytes]
 BATCH_MEMORY = 256 * 2**20
 #: samples of a run held at once when it is stepped in chunks (about 30 MB of states and
@@ -351,7 +237,7 @@ def simulate(spaces: list[StateSpace], substeps: list[int], acceleration: np.nda
 def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisError]]:
     """Drive several runs in rounds: each advances until it finishes or needs a new contact
     state; the states asked for in a round are built together (add_states), in the first round
-    with those each run reaches first when it lifts off (Run.first_lifts). Yields
+    with those each run reaches first when it lifts off or yields (Run.first_lifts). Yields
     (index, History or the AnalysisError that stopped it) as each run ends."""
     runs = list(runs)  # a finished run is dropped from here, so its buffers go with its history
     active = list(range(len(runs)))

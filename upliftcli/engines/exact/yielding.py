@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .expm import expm
 from .statespace import ContactState, Layout, StateSpace, dynamics, stacked
 
 
@@ -117,3 +118,43 @@ def plastic_work(space: StateSpace, first: np.ndarray, last: np.ndarray) -> floa
     """W_p = sum_i Q_i (s_i(first) - s_i(last)) [J] between two augmented states (theory 14.5)."""
     s = space.layout.settlement_indices
     return float(np.sum(space.element_capacity * (first[s] - last[s])))
+
+
+def step_operators(space: StateSpace, state: ContactState, h: float, levels: int) -> np.ndarray:
+    """E_j^T = expm(A h / 2^j)^T, j = 0..levels, of a contact state with a bearing capacity, from the
+    exponential of its coupled block only (docs/theory.md 14.3). Of the augmented state, the rows
+    of A that are not coupled back into the motion are
+    - z_i: k_i (z_i - s_i) + c_i z_i' = 0 while lifted (c_i > 0), else z_i' = 0: in closed form,
+      z_i(t) = e^(-r t) z_i + (1 - e^(-r t)) s_i with r = k_i / c_i;
+    - s_i of a lifted element (s_i' = 0) and of a yielding one (s_i' = v_i', so s_i - v_i stays
+      constant: the row of E is that of v_i, d_i E, plus the unit row of s_i, minus d_i);
+    no other row reads them. The others (the motion, the s_i of the elements in contact, which
+    load it, and the forcing entries) are exponentiated as in operators.add_states (the finest
+    level, squarings, level 0 on its own): 23 + n_C + 3 of 66 on the 20-element mat of
+    benchmarks/bench_yielding.py. tests/test_operators.py compares every level with expm(A h/2^j)."""
+    lay = space.layout
+    n, s_idx, z_idx = lay.n_aug, lay.settlement_indices, lay.z_indices
+    contact = ~state.lifted & ~state.yielding
+    coupled = np.ones(n, dtype=bool)
+    coupled[z_idx] = False
+    coupled[s_idx[~contact]] = False
+    core = np.flatnonzero(coupled)
+    a_core = state.matrix[np.ix_(core, core)]
+    lengths = h / 2.0 ** np.arange(levels + 1)
+    ops = np.zeros((levels + 1, n, n))
+    block = np.empty((levels + 1, core.size, core.size))
+    block[levels] = expm(a_core * lengths[levels])
+    for j in range(levels - 1, 0, -1):
+        block[j] = block[j + 1] @ block[j + 1]
+    block[0] = expm(a_core * h)
+    ops[:, core[:, None], core[None, :]] = block
+    passive_s = s_idx[~contact]
+    ops[:, passive_s, passive_s] = 1.0
+    relaxing = state.lifted & (space.element_damping > 0.0)
+    ops[:, z_idx[~relaxing], z_idx[~relaxing]] = 1.0
+    rate = space.element_stiffness[relaxing] / space.element_damping[relaxing]
+    ops[:, z_idx[relaxing], z_idx[relaxing]] = np.exp(-np.outer(lengths, rate))
+    ops[:, z_idx[relaxing], s_idx[relaxing]] = -np.expm1(-np.outer(lengths, rate))
+    rows = space.displacement_rows[state.yielding]  # v_i = d_i X, on the coupled entries only
+    ops[:, s_idx[state.yielding]] = rows @ ops - rows + ops[:, s_idx[state.yielding]]
+    return np.ascontiguousarray(np.swapaxes(ops, 1, 2))

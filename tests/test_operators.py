@@ -1,0 +1,77 @@
+"""The step operators of contact states with a bearing capacity (engines/exact/operators.py,
+yielding.step_operators; docs/theory.md 14.3): against scipy's exponential of the whole matrix,
+and the states built ahead against the states built when a run reaches them."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from upliftcli.deck import load_deck
+from upliftcli.engines.exact.statespace import exact_model
+from upliftcli.engines.options import ExactOptions
+
+ROOT = Path(__file__).resolve().parent.parent
+TWO = ROOT / "inputs" / "ten_story_elcentro.toml"
+WINKLER = ROOT / "inputs" / "ten_story_winkler.toml"
+
+
+@pytest.mark.parametrize("path", [TWO, WINKLER])
+def test_the_step_operators_are_the_exponentials(path):
+    """yielding.step_operators (the exponential of the coupled block, the other rows in closed form)
+    gives expm(A h / 2^j)^T at every bisection level, against scipy.linalg.expm of the whole A, to
+    1e-12 of its largest entry (measured 6e-13 at level 1, the most squared), in contact states with
+    every element in C, Y or L; and the rows it leaves out are indeed read by no coupled row of A."""
+    from scipy.linalg import expm as scipy_expm
+
+    from upliftcli.engines.exact.operators import LEVELS
+    from upliftcli.engines.exact.statespace import contact_states
+    from upliftcli.engines.exact.yielding import step_operators
+
+    space = exact_model(load_deck(path, ["foundation.safety_factor=1.5"]).system, "uplift", ExactOptions())
+    lay = space.layout
+    n_e = lay.n_elements
+    rng = np.random.default_rng(28)
+    # element states 0 C, 1 Y, 2 L: every combination on two elements, random ones on the strip
+    kinds = np.array(np.meshgrid(*[range(3)] * n_e)).reshape(n_e, -1).T if n_e == 2 else rng.integers(0, 3, (8, n_e))
+    states = contact_states([space] * len(kinds), kinds == 2, "reaction", kinds == 1)
+    for state in states:
+        passive = np.concatenate((lay.z_indices, lay.settlement_indices[state.lifted | state.yielding]))
+        coupled = np.setdiff1d(np.arange(lay.n_aug), passive)
+        assert not state.matrix[np.ix_(coupled, passive)].any()
+        for h in (0.02 / 8, 0.02):
+            ops = step_operators(space, state, h, LEVELS)
+            for j in range(LEVELS + 1):
+                reference = scipy_expm(state.matrix * (h / 2.0**j)).T
+                assert np.abs(ops[j] - reference).max() <= 1e-12 * np.abs(reference).max(), (j, h)
+
+
+def test_the_yielding_states_built_ahead_change_nothing(monkeypatch):
+    """On two elements with a capacity, stepping.Run.first_lifts builds the states of an edge
+    yielding (the other in contact or lifted) with the initial state: every state the run meets
+    comes in that one round (instead of five: the cost bench_yielding.py measures), and the results
+    are bit for bit those of a run that builds each state when it reaches it."""
+    from upliftcli.engines.exact import engine as exact
+    from upliftcli.engines.exact import stepping
+
+    deck = load_deck(TWO, ["foundation.safety_factor=2"])
+    rounds = []
+    build = stepping.add_states
+    monkeypatch.setattr(stepping, "add_states", lambda requests: rounds.append(len(requests)) or build(requests))
+    ahead = exact.analyze(deck.system, deck.ground_motion, "uplift")
+    # all in contact, an edge lifted (2), an edge yielding (2), one yielding and the other lifted (2)
+    assert rounds == [7]
+    monkeypatch.setattr(stepping.Run, "first_lifts", lambda run: [1, 2])
+    rounds.clear()
+    when_reached = exact.analyze(deck.system, deck.ground_motion, "uplift")
+    assert rounds == [3, 1, 1, 1, 1]
+    for name, values in when_reached.peaks.items():
+        np.testing.assert_array_equal(ahead.peaks[name], values, err_msg=name)
+    for name, values in when_reached.times.items():
+        np.testing.assert_array_equal(ahead.times[name], values, err_msg=name)
+    assert ahead.details["yielding"] == when_reached.details["yielding"]
+    for name, value in when_reached.details["energy"].items():
+        np.testing.assert_array_equal(ahead.details["energy"][name], value, err_msg=name)
+    assert ahead.intermediates["transitions"] == when_reached.intermediates["transitions"]

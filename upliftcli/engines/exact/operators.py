@@ -1,0 +1,175 @@
+"""The exact step operators of the contact states a run meets, built on demand (docs/theory.md
+sections 4 and 14.3): per state E_j = expm(A h / 2^j), j = 0..LEVELS (level 0 steps, the finer
+ones bisect a crossing), its event rows and their rates, kept in arrays that the stepping loop
+(stepping_kernels.integrate) reads. add_states builds the states several runs ask for in one
+vectorised batch.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...errors import AnalysisError
+from .expm import expm
+from .statespace import ContactState, Layout, StateSpace, contact_states
+from .yielding import pattern_bits, step_operators, valid_pattern
+
+#: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
+LEVELS = 12
+#: with a bearing capacity on more contact elements than this, the step operators come from the
+#: coupled block of each state (yielding.step_operators: 23 + n_C + 3 of the 66 entries of the
+#: 20-element mat of benchmarks/bench_yielding.py: 180 ms instead of 311 ms for its 441 states); on
+#: two elements the passive rows are 4 of 30 and one stacked exponentiation of all the states asked
+#: for is faster (1.7 ms instead of 2.9 ms for the 7 states of the first round, measured)
+BLOCK_ELEMENTS = 2
+
+
+class Operators:
+    """Exact step operators of the contact states met so far, grown on demand (stored
+    transposed, as kernel.integrate takes them). States are built by add_states."""
+
+    def __init__(self, space: StateSpace, h: float, criterion: str):
+        self.space, self.layout, self.h, self.criterion = space, space.layout, h, criterion
+        n_aug, n_e = self.layout.n_aug, max(self.layout.n_elements, 0)
+        n_e += self.layout.n_settlements  # two event rows per element with a bearing capacity
+        self.capacity = reserved_states(self.layout)
+        # np.zeros of a large reserve maps pages only as states are stored (no copy when it suffices)
+        self.ops = np.zeros((self.capacity, LEVELS + 1, n_aug, n_aug))
+        self.events = np.zeros((self.capacity, n_e, n_aug))
+        self.event_rates = np.zeros((self.capacity, n_e, n_aug))
+        self.matrices = np.zeros((self.capacity, n_aug, n_aug))
+        self.patterns = np.full(self.capacity, -1, dtype=np.int64)
+        self.contact: list[ContactState] = []
+
+    def lifted(self, pattern: int) -> np.ndarray:
+        return np.array([(pattern >> i) & 1 for i in range(self.layout.n_elements)], dtype=bool)
+
+    def yielding(self, pattern: int) -> np.ndarray | None:
+        """Where the elements yield in the pattern (None without a bearing capacity)."""
+        return pattern_bits(pattern, self.layout.n_elements)[1] if self.layout.n_settlements else None
+
+    def store(self, pattern: int, state: ContactState, ops: np.ndarray, events: bool) -> int:
+        """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS."""
+        index = len(self.contact)
+        if index == self.capacity:
+            self.capacity *= 2
+            # the operators and matrices of the states not yet built are never read: not filled
+            # (the operators are most of the memory: a yielding Winkler mat meets hundreds of states)
+            grow = lambda a, fill=0.0: np.concatenate((a, np.full_like(a, fill)))  # noqa: E731
+            self.ops, self.matrices = _doubled(self.ops), _doubled(self.matrices)
+            self.events, self.event_rates = grow(self.events), grow(self.event_rates)
+            self.patterns = grow(self.patterns, -1)
+        self.ops[index] = ops
+        if events:
+            self.events[index] = state.events
+            self.event_rates[index] = state.events @ state.matrix
+        self.matrices[index] = state.matrix.T
+        self.patterns[index] = pattern
+        self.contact.append(state)
+        return index
+
+
+#: the most memory reserved up front for the operators of one run [bytes] (virtual: untouched
+#: pages cost nothing); beyond it the arrays double as states are added
+RESERVE_BYTES = 2**30
+
+
+def reserved_states(lay: Layout) -> int:
+    """How many contact states a run's operator arrays hold before they first grow: 4, or with more
+    than two elements with a bearing capacity 2 n_e^2 (a yielding Winkler mat of 20 elements met
+    about 440 under El Centro: docs/theory.md 14.3), so that the 450 kB per state of such a run
+    are not copied at every doubling (a fifth of its run time, measured)."""
+    if not (lay.n_settlements and lay.n_elements > 2):
+        return 4
+    per_state = (LEVELS + 1) * lay.n_aug**2 * 8
+    return max(4, min(2 * lay.n_elements**2, RESERVE_BYTES // per_state))
+
+
+def _doubled(array: np.ndarray) -> np.ndarray:
+    """The array with as many rows again after its own, those left unset."""
+    out = np.empty((2 * array.shape[0], *array.shape[1:]))
+    out[:array.shape[0]] = array
+    return out
+
+
+_NO_INERTIA = ("the mat rotation has neither inertia nor damping in this contact state "
+               "(all damping ratios 0 and no element damping): give the mat a rotary inertia I_0 > 0")
+
+
+_LIFTED_AND_YIELDING = ("a contact element started to lift off and to yield at the same instant (its dashpot "
+                        "force balanced its capacity exactly): reduce the time step (analysis.exact.time_step)")
+
+
+def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | AnalysisError]:
+    """Build and store the contact states asked for, (operators, pattern, with event rows)
+    each, vectorised over the requests that share a layout: one batched assembly
+    (statespace.contact_states), one stacked expm and stacked squarings. Each item gets the
+    same bits as built alone. Returns the new state index, or the error, per request."""
+    out: list[int | AnalysisError] = [AnalysisError(_NO_INERTIA)] * len(requests)
+    groups: dict[tuple, list[int]] = {}
+    for k, (operators, pattern, _) in enumerate(requests):
+        lay = operators.layout
+        if lay.n_settlements and not valid_pattern(pattern, lay.n_elements):
+            out[k] = AnalysisError(_LIFTED_AND_YIELDING)
+            continue
+        key = (lay.n_p, tuple(lay.massive), tuple(lay.massless), lay.n_x, lay.n_elements, operators.criterion)
+        groups.setdefault(key, []).append(k)
+    for members in groups.values():
+        try:
+            states = _states([requests[k] for k in members])
+        except ZeroDivisionError:
+            if len(members) == 1:
+                continue
+            states = []
+            for k in members:  # find the item(s) at fault; the others go on
+                try:
+                    states.append(_states([requests[k]])[0])
+                except ZeroDivisionError:
+                    states.append(None)
+        built = [(k, state) for k, state in zip(members, states, strict=False) if state is not None]
+        if not built:
+            continue
+        if built[0][1].yielding is not None and built[0][1].lifted.size > BLOCK_ELEMENTS:
+            # a yielding mat of many elements: the exponential of each state's coupled block only
+            ops = np.stack([step_operators(requests[k][0].space, state, requests[k][0].h, LEVELS)
+                            for k, state in built])
+        else:
+            ops = _stacked_operators(np.stack([state.matrix.T for _, state in built]),
+                                     np.array([requests[k][0].h for k, _ in built])[:, None, None])
+        for r, (k, state) in enumerate(built):
+            operators, pattern, events = requests[k]
+            if state.yielding is not None:
+                _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
+            out[k] = operators.store(pattern, state, ops[r], events)
+    return out
+
+
+def _stacked_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """E_j^T = expm(A h / 2^j)^T, j = 0..LEVELS, of a stack of A^T (R, n, n) with steps h (R, 1, 1):
+    the finest level by expm, the coarser ones by squaring it, level 0 by its own expm. Transposed
+    (the kernel's matvec runs down columns): (E^T)^2 = (E^2)^T."""
+    ops = np.empty((a_t.shape[0], LEVELS + 1, *a_t.shape[1:]))
+    ops[:, LEVELS] = expm(a_t * (h / 2.0**LEVELS))
+    for j in range(LEVELS - 1, 0, -1):
+        ops[:, j] = ops[:, j + 1] @ ops[:, j + 1]
+    ops[:, 0] = expm(a_t * h)
+    return ops
+
+
+def _hold_settlements(ops: np.ndarray, constant: np.ndarray) -> None:
+    """Make the settlements s_i of elements that do not yield exactly constant in the step
+    operators (ops: E^T per level, in place): their rows of A are zero, so the rows of E = expm(A h)
+    are unit rows, which the computed exponentials hold only to a few units in the last place (a
+    drift of 4e-13 of s_i per step, measured)."""
+    ops[:, :, constant] = 0.0
+    ops[:, constant, constant] = 1.0
+
+
+def _states(requests: list[tuple[Operators, int, bool]]) -> list[ContactState]:
+    first = requests[0][0]
+    lifted = np.array([operators.lifted(pattern) for operators, pattern, _ in requests], dtype=bool)
+    lifted = lifted.reshape(len(requests), first.layout.n_elements)
+    yielding = None
+    if first.layout.n_settlements:
+        yielding = np.array([operators.yielding(pattern) for operators, pattern, _ in requests], dtype=bool)
+    return contact_states([operators.space for operators, _, _ in requests], lifted, first.criterion, yielding)
