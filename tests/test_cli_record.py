@@ -171,10 +171,12 @@ def test_units_contradicting_the_header_need_the_override_option():
     assert bad.exit_code == 2 and bad.stderr.startswith("error: --record-units: furlongs: acceleration units g, ")
 
 
-def test_the_old_units_spelling_of_the_file_units_still_works_with_a_warning():
+def test_the_old_units_spelling_of_the_file_units_still_works_with_a_warning(monkeypatch):
     """--units named the record file's units; it is the display units now (si, us), as in every
     command. The two sets of values do not overlap: an acceleration unit is still read as
-    --record-units, with one warning line naming it, and gives the same output."""
+    --record-units, with one warning line naming it, and gives the same output (the clock of the
+    provenance lines held, so that a second boundary between the two runs changes nothing)."""
+    monkeypatch.setattr("upliftcli.provenance.utc_now", lambda now=None: "2026-01-02T03:04:05Z")
     for command in (["record", "info", RECORD], ["record", "spectrum", RECORD, "--periods", "0.5,1"]):
         new = invoke(*command, "--record-units", "gal", "--override-header-units")
         old = invoke(*command, "--units", "gal", "--override-header-units")
