@@ -224,3 +224,16 @@ def verdicts(results: Sequence) -> tuple[str, ...]:
     capacity = any(getattr(r, "yielded", None) is not None or "Q_y" in getattr(r, "intermediates", {})
                    for r in results)
     return ("uplift", *(("yielded",) if capacity else ()))
+
+
+#: the columns of the rocking tables (the terminal's and the report's: rocking_rows)
+ROCKING_HEADINGS = ("quantity", "where", "value", "unit", "time [s]")
+
+
+def rocking_rows(entries: Sequence, system: str = "si") -> list[list[str]]:
+    """The rows of the rocking tables (ROCKING_HEADINGS) from quantities.rocking_entries of a
+    result: each value in its kind's display unit, its unit, and the instant of a peak [s]
+    ('end' for a residual, '-' where none is known)."""
+    return [[q.name.replace("_", " "), place, show(value, q.display, system), label(q.display, system),
+             "end" if q.name.startswith("residual") else "-" if instant is None else f"{instant:.3f}"]
+            for q, _, place, value, instant in entries]

@@ -9,7 +9,7 @@ from __future__ import annotations
 from rich.markup import escape
 from rich.table import Table
 
-from ..display import label, show
+from ..display import ROCKING_HEADINGS, label, rocking_rows, show
 from ..engines.quantities import element_quantities, rocking_entries
 from ..engines.result import AnalysisResult
 
@@ -46,13 +46,10 @@ def rocking_table(result: AnalysisResult, units: str = "si") -> Table | None:
     from .render import engine_label
 
     table = Table(title=escape(f"Rocking of the mat ({engine_label(result)}, {result.support}): ASCE 41-17 8.4"))
-    for header, justify in (("quantity", "left"), ("where", "left"), ("value", "right"), ("unit", "left"),
-                            ("time [s]", "right")):
-        table.add_column(escape(header), justify=justify)
-    for q, _, place, value, instant in entries:
-        when = "end" if q.name.startswith("residual") else "-" if instant is None else f"{instant:.3f}"
-        table.add_row(escape(q.name.replace("_", " ")), escape(place), show(value, q.display, units),
-                      escape(label(q.display, units)), when)
+    for header in ROCKING_HEADINGS:
+        table.add_column(escape(header), justify="right" if header in ("value", "time [s]") else "left")
+    for row in rocking_rows(entries, units):
+        table.add_row(*(escape(cell) for cell in row))
     table.caption = escape("rotation |theta|; settlement: downward from the rest position under gravity (< 0: "
                            "above it); residual: at the end of the analysis; docs/theory.md 14.7")
     return table

@@ -9,7 +9,18 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from ..criteria import outcomes
-from ..display import SUMMARY, VERDICT_LEGEND, WEIGHT_LEGEND, heading, intermediate_kind, label, show, verdicts
+from ..display import (
+    ROCKING_HEADINGS,
+    SUMMARY,
+    VERDICT_LEGEND,
+    WEIGHT_LEGEND,
+    heading,
+    intermediate_kind,
+    label,
+    rocking_rows,
+    show,
+    verdicts,
+)
 from ..engines.quantities import (
     COMPARED,
     FLOOR,
@@ -124,12 +135,9 @@ def rocking_table(result: AnalysisResult, units: str = "si") -> Table | None:
     entries = rocking_entries(result)
     if not entries:
         return None
-    rows = [[q.name.replace("_", " "), place, show(value, q.display, units), label(q.display, units),
-             "end" if q.name.startswith("residual") else "-" if instant is None else number(instant, 4)]
-            for q, _, place, value, instant in entries]
     return Table(f"table-{_slug(result)}-rocking", f"Rocking of the mat, {result.engine} engine, {result.support} "
-                 "support: rotation and settlement (ASCE 41-17 section 8.4)", ["quantity", "where", "value", "unit",
-                                                                               "time [s]"], rows,
+                 "support: rotation and settlement (ASCE 41-17 section 8.4)", list(ROCKING_HEADINGS),
+                 rocking_rows(entries, units),
                  "Rotation |theta|; settlement: downward displacement from the rest position under gravity (< 0: "
                  "above it); residual: at the end of the analysis (docs/theory.md 14.7). With a bearing capacity, "
                  "the plastic work is the energy the yielding soil dissipated (14.5).")
