@@ -55,10 +55,9 @@ class Operators:
             self.capacity *= 2
             # the operators and matrices of the states not yet built are never read: not filled
             # (the operators are most of the memory: a yielding Winkler mat meets hundreds of states)
-            grow = lambda a, fill=0.0: np.concatenate((a, np.full_like(a, fill)))  # noqa: E731
             self.ops, self.matrices = _doubled(self.ops), _doubled(self.matrices)
-            self.events, self.event_rates = grow(self.events), grow(self.event_rates)
-            self.patterns = grow(self.patterns, -1)
+            self.events, self.event_rates = _doubled(self.events, 0.0), _doubled(self.event_rates, 0.0)
+            self.patterns = _doubled(self.patterns, -1)
         self.ops[index] = ops
         if events:
             self.events[index] = state.events
@@ -85,9 +84,10 @@ def reserved_states(lay: Layout) -> int:
     return max(4, min(2 * lay.n_elements**2, RESERVE_BYTES // per_state))
 
 
-def _doubled(array: np.ndarray) -> np.ndarray:
-    """The array with as many rows again after its own, those left unset."""
-    out = np.empty((2 * array.shape[0], *array.shape[1:]))
+def _doubled(array: np.ndarray, fill: float | None = None) -> np.ndarray:
+    """The array with as many rows again after its own, those set to `fill` (None: left unset)."""
+    shape = (2 * array.shape[0], *array.shape[1:])
+    out = np.empty(shape, dtype=array.dtype) if fill is None else np.full(shape, fill, dtype=array.dtype)
     out[:array.shape[0]] = array
     return out
 
