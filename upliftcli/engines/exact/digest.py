@@ -180,7 +180,7 @@ class Digest:
         if model.flexible:
             intermediates.update(model.impedance)  # the foundation model of every engine, as built
         if model.flexible and getattr(system.foundation, "capacity", None) is not None:
-            intermediates["M_tip"] = system.weight * system.half_width  # M_c is the capacity's (theory 14.4)
+            intermediates["M_tip"] = system.tipping_moment  # M_c is the capacity's (theory 14.4)
         for name in ("uplift_time", "episodes", "max_rotation", "max_uplift_left", "max_uplift_right",
                      "min_reaction"):
             if name in summary:
