@@ -25,29 +25,16 @@ import pickle
 from pathlib import Path
 
 import numpy as np
-from accuracy_cases import p695_records
-from opensees_yielding import RECORD, example_system
+from accuracy_cases import named_records
+from opensees_yielding import example_system
 
 from upliftcli import api
 from upliftcli.engines.options import ExactOptions, SimplifiedOptions
 from upliftcli.engines.quantities import COMPARED, compared_values
-from upliftcli.motion.records import read_record
 
 #: FEMA P695 far-field records used beside El Centro (first component), by number
 P695 = (1, 3, 5, 7, 9, 11, 13, 15, 17, 19)
 CACHE_VERSION = 2  # 2: the edge uplift left out where the soil yielded (Compared.left_out)
-
-
-def records(names: list[str]):
-    chosen = []
-    table = None
-    for name in names:
-        if name == "elcentro":
-            chosen.append(read_record(RECORD, units="g"))
-            continue
-        table = table or p695_records("farfield")
-        chosen += [r for r in table if r.name.startswith(f"{name}a ")]
-    return chosen
 
 
 def values(result) -> dict[str, float]:
@@ -84,7 +71,7 @@ def main() -> None:
     cache.mkdir(parents=True, exist_ok=True)
     options = SimplifiedOptions(procedure=args.procedure)
     rows = []
-    for record in records(args.records.split(",")):
+    for record in named_records(args.records.split(",")):
         for foundation in args.foundations.split(","):
             for period in (float(p) for p in args.periods.split(",")):
                 for safety in [None, *(float(f) for f in args.safety_factors.split(","))]:

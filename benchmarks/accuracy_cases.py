@@ -130,6 +130,19 @@ def records(which: str, components: str = COMPONENTS) -> list[Record]:
             or r.name.split()[0][-1] in components]
 
 
+def named_records(names: list[str]) -> list[Record]:
+    """El Centro ("elcentro") and FEMA P695 far-field records ("farfield-NN", first component),
+    in the order named (benchmarks/accuracy_capacity.py, opensees_capacity.py)."""
+    chosen, table = [], None
+    for name in names:
+        if name == "elcentro":
+            chosen.append(read_record(ELCENTRO, units="g"))
+            continue
+        table = table or p695_records("farfield")
+        chosen += [r for r in table if r.name.startswith(f"{name}a ")]
+    return chosen
+
+
 def peaks(result) -> dict[str, float]:
     """The compared values of a result (engines/quantities.COMPARED, SI units; NaN where the
     result does not give one)."""

@@ -27,28 +27,16 @@ from pathlib import Path
 
 import numpy as np
 import opensees_model as om
-from opensees_yielding import RECORD, example_system
+from accuracy_cases import named_records
+from opensees_yielding import example_system
 
 from upliftcli.engines.exact import engine as exact
 from upliftcli.engines.options import ExactOptions
-from upliftcli.motion.records import Record, read_record
+from upliftcli.motion.records import Record
 
 FREE_VIBRATION = 5.0  # s
 #: the FEMA P695 far-field records used beside El Centro (first component), by their number
 P695 = (1, 5, 12)
-
-
-def records(names: list[str]) -> list[Record]:
-    """El Centro ("elcentro") and FEMA P695 far-field records ("farfield-NN", first component)."""
-    chosen = []
-    for name in names:
-        if name == "elcentro":
-            chosen.append(read_record(RECORD, units="g"))
-            continue
-        from accuracy_cases import p695_records
-
-        chosen += [r for r in p695_records("farfield") if r.name.startswith(f"{name}a ")]
-    return chosen
 
 
 def settlements(theta: np.ndarray, v: np.ndarray, half_width: float) -> np.ndarray:
@@ -110,7 +98,7 @@ def main() -> None:
     cache = Path(args.cache)
     cache.mkdir(parents=True, exist_ok=True)
     rows = []
-    for record in records(args.records.split(",")):
+    for record in named_records(args.records.split(",")):
         for period in (float(p) for p in args.periods.split(",")):
             for safety in (float(f) for f in args.safety_factors.split(",")):
                 system = example_system(period, args.foundation, safety)
