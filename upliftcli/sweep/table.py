@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from ..atomic import write_set
-from ..engines.quantities import ALL_ENGINES, COMPARED, QUANTITIES, ROCKING, SCALARS
+from ..engines.quantities import ALL_ENGINES, COMPARED, MAT, QUANTITIES, ROCKING, SCALARS
 from ..errors import InputError
 from ..output import to_jsonable
 from ..provenance import csv_comments, number_text, to_text_numbers
@@ -49,7 +49,7 @@ OUTPUT_COLUMNS: dict[str, tuple[str, str]] = {
 #: columns of the rocking quantities (engines/quantities.ROCKING, docs/theory.md 14.7), in a sweep
 #: that runs the exact engine on the uplift support (empty on the other rows)
 ROCKING_COLUMNS: dict[str, tuple[str, str]] = {
-    q.column: (q.unit, ("largest " if q.where != "mat" or q.name == "plastic_settlement" else "") + q.meaning
+    q.column: (q.unit, ("largest " if q.where != MAT or q.name == "plastic_settlement" else "") + q.meaning
                + " (exact engine, uplift; empty otherwise)") for q in ROCKING.values() if q.column}
 #: columns of a sweep of a record suite: statistic and record after the support, the others at the end
 SUITE_COLUMNS: dict[str, tuple[str, str]] = {
