@@ -114,12 +114,6 @@ def event_resets(space: StateSpace) -> tuple[np.ndarray, np.ndarray, np.ndarray]
             np.ones(2 * lay.n_elements, dtype=bool))
 
 
-def plastic_work(space: StateSpace, first: np.ndarray, last: np.ndarray) -> float:
-    """W_p = sum_i Q_i (s_i(first) - s_i(last)) [J] between two augmented states (theory 14.5)."""
-    s = space.layout.settlement_indices
-    return float(np.sum(space.element_capacity * (first[s] - last[s])))
-
-
 def step_operators(space: StateSpace, state: ContactState, h: float, levels: int) -> np.ndarray:
     """E_j^T = expm(A h / 2^j)^T, j = 0..levels, of a contact state with a bearing capacity, from the
     exponential of its coupled block only (docs/theory.md 14.3). Of the augmented state, the rows
