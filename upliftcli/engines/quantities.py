@@ -298,7 +298,8 @@ INTERMEDIATES: dict[str, tuple[str, str]] = {
     "criterion": ("-", "uplift criterion [4a] reaction or [4b] displacement"),
     "rotation_inertia": ("kg m^2", "inertia of the mat rotation (0: first-order rocking constraint)"),
     "samples": ("-", "history samples: every step plus every contact transition"),
-    "transitions": ("-", "contact transitions (lift-off and recontact of elements)"),
+    "transitions": ("-", "contact transitions (lift-off and recontact of elements; with a bearing "
+                    "capacity also onset of yield and elastic unloading)"),
     "base_shear_time": ("s", "time of the peak base shear"),
     "base_moment_time": ("s", "time of the peak base moment"),
     "uplift_time": ("s", "total time with at least one element lifted"),
