@@ -42,7 +42,8 @@ class Operators:
         self.contact: list[ContactState] = []
 
     def lifted(self, pattern: int) -> np.ndarray:
-        return np.array([(pattern >> i) & 1 for i in range(self.layout.n_elements)], dtype=bool)
+        """Where the elements are lifted in the pattern (bits 0 .. n_e - 1: yielding.pattern_bits)."""
+        return pattern_bits(pattern, self.layout.n_elements)[0]
 
     def yielding(self, pattern: int) -> np.ndarray | None:
         """Where the elements yield in the pattern (None without a bearing capacity)."""
