@@ -22,9 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .units import STANDARD_GRAVITY
+from .units import STANDARD_GRAVITY, SYSTEMS
 
-SYSTEMS = ("si", "us")
 INCH, FOOT = 0.0254, 0.3048  # m
 KIP = 4448.2216152605  # N (1000 lbf)
 POUND_MASS = 0.45359237  # kg
