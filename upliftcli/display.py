@@ -108,15 +108,6 @@ DISPLAY: dict[str, tuple[Unit, Unit]] = {
 }
 
 
-def check_system(system: str) -> str:
-    """The system name, or InputError naming --units."""
-    if system not in SYSTEMS:
-        from .errors import InputError
-
-        raise InputError("--units", system, "si or us")
-    return system
-
-
 def unit(kind: str, system: str = "si") -> Unit:
     """The display unit of a kind (module docstring) in a system; an unknown kind (s, rad, -)
     is shown as it is."""
