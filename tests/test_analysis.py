@@ -123,6 +123,22 @@ def test_a_stiff_undamped_foundation_is_refused_by_its_steps_before_the_engine_s
         run(deck)
 
 
+def test_a_stiff_foundation_is_named_by_its_stiffness_not_by_a_capacity_field(monkeypatch, tmp_path):
+    """The fields that only give the mat its bearing capacity (model/bearing.py, mat_length with
+    bearing_pressure) set no period: a stiff Winkler mat is blamed on its k_w in the deck file,
+    not on the capacity fields given by --set."""
+    _engine_must_not_start(monkeypatch)
+    text = WINKLER.read_text().replace("k_w = 6.0e8", "k_w = 6.0e14").replace("c_w = 1.5e7", "c_w = 1e-12")
+    text = text.replace("../records/", f"{(ROOT / 'records').as_posix()}/")
+    path = tmp_path / "stiff.toml"
+    path.write_text(text)
+    deck = load_deck(path, ['analysis.engine="exact"', "foundation.bearing_pressure=2e5", "foundation.mat_length=30"])
+    with pytest.raises(InputError) as info:
+        run(deck)
+    assert (info.value.source, info.value.location) == (str(path), "foundation.k_w")
+    assert "internal steps" in info.value.expected
+
+
 def test_a_plausible_stiff_foundation_stays_within_the_step_limit():
     """The far end of building practice (w_v/w_1 = 100 on a 0.1 s building, El Centro: 187,080
     steps) is not refused: the limit sits between it and the issue's deck."""

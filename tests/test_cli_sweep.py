@@ -80,6 +80,9 @@ def test_sweep_summary_in_the_display_units(tmp_path):
     largest = max(r["max_drift_ratio"] for r in rows)
     governing = next(line for line in text.splitlines() if "drift ratio [%]" in line)
     assert f"{100 * largest:.3f}" in governing
+    smallest = min(r["max_drift_ratio"] for r in rows)
+    envelope = next(line for line in text.splitlines() if "simplified" in line and "some" in line)
+    assert re.search(rf"{bar}{100 * smallest:.3g}{bar}{100 * largest:.3g}{bar}some", envelope)  # drift [%] min, max
 
 
 def test_sweep_json_on_stdout_and_quiet(tmp_path):

@@ -9,9 +9,8 @@ import numpy as np
 import pytest
 
 from upliftcli import display
-from upliftcli.display import DISPLAY, SUMMARY, SYSTEMS, check_system, heading, intermediate_kind, label, number, show
+from upliftcli.display import DISPLAY, SUMMARY, heading, intermediate_kind, label, number, show
 from upliftcli.engines.quantities import COMPARED, INTERMEDIATES, QUANTITIES, ROCKING, display_kind
-from upliftcli.errors import InputError
 
 LBF = 0.45359237 * 9.80665  # N
 KIP, INCH, FOOT = 1000 * LBF, 0.0254, 0.3048
@@ -137,9 +136,3 @@ def test_the_display_record_of_the_scalar_results():
     assert SUMMARY["critical_base_shear"].stated(result) == "V_c = 3432.3 kN"
     assert SUMMARY["critical_coefficient"].stated(result) == "b/h_1* = 0.1000"
     assert heading("elevation", "m", "us") == "elevation [ft]" and heading("V_b/W", "coefficient") == "V_b/W"
-
-
-def test_the_systems():
-    assert SYSTEMS == ("si", "us") and check_system("us") == "us"
-    with pytest.raises(InputError, match="--units"):
-        check_system("imperial")

@@ -20,6 +20,7 @@ from .deck import Deck
 from .engines.registry import ENGINES, Engine, capacity_refusal
 from .engines.result import AnalysisResult
 from .errors import AnalysisError, InputError
+from .model.bearing import CAPACITY_NAMES
 from .motion.records import Record
 from .motion.suites import Suite
 
@@ -59,8 +60,7 @@ def _stiffness_paths(deck: Deck) -> list[str]:
 
 
 #: the deck fields that give a foundation its bearing capacity (model/bearing.py)
-CAPACITY_PATHS = ("foundation.element_capacity", "foundation.line_capacity", "foundation.bearing_pressure",
-                  "foundation.safety_factor")
+CAPACITY_PATHS = tuple(f"foundation.{name}" for name in CAPACITY_NAMES)
 
 
 def check_before_running(deck: Deck, engine: Engine, support: str, motion: Any) -> None:

@@ -14,7 +14,7 @@ import numpy as np
 from . import deck_schema as schema
 from .deck_overrides import ALTERNATIVES, FOUNDATION_FIELDS
 from .limits import MAX_STORIES
-from .model.bearing import CAPACITY_FIELDS
+from .model.bearing import CAPACITY_NAMES
 from .model.building import Building, modal_analysis, scale_to_period, shear_building
 from .model.foundations import FOUNDATIONS, DeckContext
 from .model.system import System
@@ -95,7 +95,7 @@ def system_from_fields(building: Building, fields: dict, analysis: dict, error) 
     """Mat half-width, mat mass and inertia, and the foundation."""
     kind = fields.get("type", schema.default("foundation", "type"))
     if kind == "halfspace":
-        for name in ("element_capacity", "line_capacity", *CAPACITY_FIELDS):
+        for name in CAPACITY_NAMES:
             if name in fields:
                 raise error(f"foundation.{name}", "no bearing capacity for the half-space foundation: the "
                             "yielding-soil model (docs/theory.md section 14) is for type \"two-element\" or "

@@ -22,9 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .units import STANDARD_GRAVITY
+from .units import STANDARD_GRAVITY, SYSTEMS
 
-SYSTEMS = ("si", "us")
 INCH, FOOT = 0.0254, 0.3048  # m
 KIP = 4448.2216152605  # N (1000 lbf)
 POUND_MASS = 0.45359237  # kg
@@ -107,15 +106,6 @@ DISPLAY: dict[str, tuple[Unit, Unit]] = {
     "Pa": (Unit("MPa", 1e-6), Unit("ksi", INCH**2 / KIP)),
     "J": (Unit("kJ", 1e-3), Unit("kip ft", 1 / (KIP * FOOT))),
 }
-
-
-def check_system(system: str) -> str:
-    """The system name, or InputError naming --units."""
-    if system not in SYSTEMS:
-        from .errors import InputError
-
-        raise InputError("--units", system, "si or us")
-    return system
 
 
 def unit(kind: str, system: str = "si") -> Unit:

@@ -1,12 +1,20 @@
-"""What differs between the systems the tool runs on, decided at run time in one place
-(docs/platforms.md): POSIX (Linux, macOS) or Windows, the stop signals the system has, whether
-another process is alive. Each switch is read when it is used, so that the tests take the other
-path on Linux by setting it (tests/test_portable.py).
+"""What differs between the systems the tool runs on (docs/platforms.md): POSIX (Linux, macOS) or
+Windows, the stop signals the system has, whether another process is alive. Each switch is read
+when it is used, so that the tests take the other path on Linux by setting it
+(tests/test_portable.py). Here are the two that several modules use:
 
 - POSIX: whether this is a POSIX system (os.name); process_alive asks os.kill(pid, 0) there and
   the Windows API elsewhere (on Windows os.kill(pid, 0) would send a Ctrl-C event, not a probe).
 - STOP_SIGNALS: the signals besides SIGINT that end a command through its clean-up (SIGTERM,
   and SIGHUP where it exists: Windows has none).
+
+Each of the others sits beside the one code that reads it (docs/platforms.md lists them all):
+sweep/executors.ProcessExecutor's start method (forkserver where there is one, else spawn),
+executors.PARENT_DEATH_SIGNAL (Linux's prctl, else a watchdog thread) and the worker's SIGHUP
+(ignored where it exists), plots.FORK_FIGURES (figures drawn in forked copies on Linux only),
+locks.KIND (flock, msvcrt or a lock file), process.keep_freed_memory (glibc's mallopt only),
+process.available_cores (the CPU affinity where the system tells it) and atomic.PROC_STATUS
+(the umask read from /proc where it exists).
 """
 
 from __future__ import annotations

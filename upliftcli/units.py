@@ -141,7 +141,7 @@ KIND_OF_UNIT: dict[str, str] = {}
 for _kind, (_si, _) in QUANTITY_KINDS.items():
     KIND_OF_UNIT.setdefault(_si, _kind)
 
-#: unit systems of a deck's bare numbers
+#: unit systems of a deck's bare numbers and of the display (display.py, --units)
 SYSTEMS = ("si", "us")
 
 

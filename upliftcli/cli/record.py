@@ -57,8 +57,7 @@ def units_of(units: str, record_units: str | None) -> tuple[str, str | None]:
     the file's units before it named the display units (si, us) of every command; the two sets of
     values do not overlap, so an acceleration unit given to --units is still read as the file's,
     with a warning that names --record-units (docs/deck.md, "Acceleration units")."""
-    from ..display import SYSTEMS
-    from ..units import acceleration_unit
+    from ..units import SYSTEMS, acceleration_unit
 
     if record_units is not None and acceleration_unit(record_units) is None:
         raise InputError("--record-units", record_units, "acceleration units g, m/s2, cm/s2 or in/s2 (or an alias, "

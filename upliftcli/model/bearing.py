@@ -25,6 +25,10 @@ CAPACITY_FIELDS: dict[str, Field] = {
     "safety_factor": Field("number", "-", "two-element, winkler: FS_v = q_c/q, factor of safety against vertical "
                            "bearing failure under the static load (ASCE 41-17 section 8.4)", "greater-than-one"),
 }
+#: each foundation's own capacity field (declared with it, model/foundations.py)
+OWN_CAPACITY_FIELDS = ("element_capacity", "line_capacity")
+#: every deck field that gives a foundation its bearing capacity or scales it (mat_length)
+CAPACITY_NAMES = (*OWN_CAPACITY_FIELDS, *CAPACITY_FIELDS)
 
 
 def bearing_capacity(fields: dict[str, Any], context: DeckContext, own: str, tributary: float) -> float | None:

@@ -42,7 +42,8 @@ class Operators:
         self.contact: list[ContactState] = []
 
     def lifted(self, pattern: int) -> np.ndarray:
-        return np.array([(pattern >> i) & 1 for i in range(self.layout.n_elements)], dtype=bool)
+        """Where the elements are lifted in the pattern (bits 0 .. n_e - 1: yielding.pattern_bits)."""
+        return pattern_bits(pattern, self.layout.n_elements)[0]
 
     def yielding(self, pattern: int) -> np.ndarray | None:
         """Where the elements yield in the pattern (None without a bearing capacity)."""
@@ -73,15 +74,27 @@ class Operators:
 RESERVE_BYTES = 2**30
 
 
+def expected_states(lay: Layout) -> int:
+    """About how many contact states a run meets, when that is many: n_e^2 with more than two
+    elements with a bearing capacity (a yielding Winkler mat of 20 elements met 441 under El Centro
+    with FS_v = 1.5: docs/theory.md 14.3), else 0 (the elastic one met 31: they are not counted)."""
+    return lay.n_elements**2 if lay.n_settlements and lay.n_elements > 2 else 0
+
+
+def state_bytes(lay: Layout) -> int:
+    """Memory of the step operators of one contact state [bytes] (LEVELS + 1 matrices n_aug x n_aug:
+    450 kB for the 20-element mat)."""
+    return (LEVELS + 1) * lay.n_aug**2 * 8
+
+
 def reserved_states(lay: Layout) -> int:
-    """How many contact states a run's operator arrays hold before they first grow: 4, or with more
-    than two elements with a bearing capacity 2 n_e^2 (a yielding Winkler mat of 20 elements met
-    about 440 under El Centro: docs/theory.md 14.3), so that the 450 kB per state of such a run
-    are not copied at every doubling (a fifth of its run time, measured)."""
-    if not (lay.n_settlements and lay.n_elements > 2):
+    """How many contact states a run's operator arrays hold before they first grow: 4, or twice
+    expected_states (2 n_e^2) where that is many, so that the 450 kB per state of such a run are
+    not copied at every doubling (a fifth of its run time, measured)."""
+    expected = expected_states(lay)
+    if not expected:
         return 4
-    per_state = (LEVELS + 1) * lay.n_aug**2 * 8
-    return max(4, min(2 * lay.n_elements**2, RESERVE_BYTES // per_state))
+    return max(4, min(2 * expected, RESERVE_BYTES // state_bytes(lay)))
 
 
 def _doubled(array: np.ndarray, fill: float | None = None) -> np.ndarray:

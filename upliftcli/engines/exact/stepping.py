@@ -17,7 +17,7 @@ import numpy as np
 from ...errors import AnalysisError
 from ...limits import MAX_CONTACT_ELEMENTS, MAX_YIELDING_ELEMENTS
 from . import stepping_kernels as kernel
-from .operators import LEVELS, Operators, add_states
+from .operators import LEVELS, Operators, add_states, expected_states, state_bytes
 from .statespace import ContactState, StateSpace
 from .yielding import event_resets
 
@@ -88,15 +88,12 @@ class Run:
 
     @property
     def buffer_bytes(self) -> int:
-        """Memory of the sample buffers at their initial size [bytes]; with more than two elements
-        with a bearing capacity also of the operators of about n_e^2 contact states (a yielding
-        Winkler mat of 20 elements met 380 under El Centro, 170 MB: docs/theory.md 14.3), so that
-        few such runs are stepped together."""
+        """Memory of the sample buffers at their initial size [bytes], and of the operators of the
+        contact states the run is expected to meet (operators.expected_states: with more than two
+        elements with a bearing capacity n_e^2; a yielding Winkler mat of 20 elements met 441 under
+        El Centro, 200 MB: docs/theory.md 14.3), so that few such runs are stepped together."""
         lay = self.layout
-        size = self.capacity * (lay.n_aug + 2) * 8
-        if lay.n_settlements and lay.n_elements > 2:
-            size += lay.n_elements**2 * (LEVELS + 1) * lay.n_aug**2 * 8
-        return size
+        return self.capacity * (lay.n_aug + 2) * 8 + expected_states(lay) * state_bytes(lay)
 
     def first_request(self) -> tuple[Operators, int, bool]:
         """Allocate the sample buffers; the request for the initial state (all elements in contact)."""
