@@ -215,3 +215,19 @@ def test_the_resolved_deck_is_in_bare_si():
     assert deck.raw["foundation"]["b"] == "7.5 ft"  # the deck as given (and the --set shown) are kept
     text = provenance.deck_toml(load_deck(root / "inputs" / "ten_story_elcentro_us.toml"))
     assert "Every number is bare SI" in text and tomllib.loads(text)["building"]["floor_mass"] == pytest.approx(350e3)
+
+
+def test_the_loops_in_use_are_recorded():
+    """The backend that ran the loops is part of the record (the two agree to round-off only):
+    the numpy twins when asked for, else compiled where every C extension is on disk."""
+    from upliftcli import backend
+
+    with backend.use("numpy"):
+        assert provenance.base("uplift analyze x.toml")["loops"] == "numpy"
+    with backend.use("auto"):
+        expected = "compiled" if len(backend.built()) == len(backend.EXTENSIONS) else None
+        loops = provenance.base("uplift analyze x.toml")["loops"]
+        if expected is None:
+            assert loops.startswith("numpy") or loops.startswith("compiled, numpy for ")
+        else:
+            assert loops == expected

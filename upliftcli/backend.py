@@ -80,6 +80,16 @@ def built() -> list[str]:
             if any((root / (name.replace(".", os.sep) + suffix)).is_file() for suffix in suffixes)]
 
 
+def in_use() -> str:
+    """The loops a run uses now, in one word for the provenance record: "compiled" (every C
+    extension), "numpy" (the twins) or "compiled, numpy for <modules>" (some not built)."""
+    present = built()
+    if choice() == "numpy" or not present:
+        return "numpy"
+    missing = [name.rsplit(".", 1)[1] for name in EXTENSIONS if name not in present]
+    return "compiled" if not missing else f"compiled, numpy for {', '.join(missing)}"
+
+
 def describe() -> str:
     """One line for `uplift --version`: the backend in use and why."""
     wanted = choice()

@@ -33,6 +33,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
+from . import backend
 from .installed import TOOL, package_version, platform_name, tool_version
 from .provenance_files import file_entry, motion_files, record_entry
 
@@ -140,9 +141,11 @@ def overrides(deck) -> dict[str, Any]:
 # ----------------------------------------------------------------------------- records
 
 def base(command: str | None = None, now: datetime | None = None) -> dict[str, Any]:
-    """Tool, version, Python, platform, libraries, command and UTC time."""
+    """Tool, version, Python, platform, libraries, the loops in use (backend.in_use), command and
+    UTC time."""
     return {"tool": TOOL, "version": tool_version(), "python": platform.python_version(),
             "platform": platform_name(), "libraries": {name: package_version(name) for name in LIBRARIES},
+            "loops": backend.in_use(),
             "command": command_line() if command is None else command, "time_utc": utc_now(now)}
 
 
