@@ -11,7 +11,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from ..display import label, show, unit
+from ..display import label, show
 from ..sweep.plan import SweepPlan
 from ..sweep.table import SUMMARY_OUTPUTS
 
@@ -184,8 +184,7 @@ def envelope_table(summary: dict, units: str = "si", plan: SweepPlan | None = No
         cells = [escape(_value(entry["group"][p], field_units[p], units)) for p in group_paths]
         for _, name, key in columns:
             value = entry["outputs"].get(name, {}).get(key)
-            factor = unit(KINDS.get(name, ""), units).factor  # display.py's (drift ratios: 100, in %)
-            cells.append("-" if value is None else f"{factor * value:.3g}")
+            cells.append(_value(value, KINDS.get(name, ""), units))  # as in the governing table
         cells.append("some" if entry["uplift"] else "no")
         table.add_row(*cells)
     if len(groups) > MAX_ROWS:
