@@ -12,15 +12,12 @@ dotted field and what was expected; nothing here prints or exits.
 
 from __future__ import annotations
 
-import os
 import re
 import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from . import deck_schema as schema
 from .criteria import Criteria
@@ -34,6 +31,7 @@ from .fields import gather, raise_all
 from .limits import MAX_DECK_BYTES, read_input
 from .model.building import modes_for_mass_target
 from .model.system import System
+from .provenance import plain
 
 
 @dataclass
@@ -119,22 +117,6 @@ def load_deck(path: str | Path, overrides: Sequence[str] = (), *, load_ground_mo
     parsed = [parse_override(text) for text in overrides]
     raw = read_toml(path)
     return build_deck(raw, str(path), parsed, load_ground_motion=load_ground_motion)
-
-
-def plain(value: Any) -> Any:
-    """A deck mapping built in code as TOML would give it: numpy arrays and tuples as lists,
-    numpy scalars as Python numbers, paths as strings."""
-    if isinstance(value, dict):
-        return {key: plain(item) for key, item in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [plain(item) for item in value]
-    if isinstance(value, np.ndarray):
-        return plain(value.tolist())
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, os.PathLike):
-        return os.fspath(value)
-    return value
 
 
 def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[str, Any]] = (), *,

@@ -72,7 +72,8 @@ def command_line(argv: Sequence[str] | None = None) -> str:
 
 
 def plain(value: Any) -> Any:
-    """numpy arrays and scalars, tuples and paths as plain Python lists, numbers and strings."""
+    """numpy arrays and scalars, tuples and paths as plain Python lists, numbers and strings (the
+    deck's mapping built in code, as TOML would give it, and every provenance entry)."""
     if isinstance(value, dict):
         return {str(k): plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):

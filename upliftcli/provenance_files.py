@@ -74,3 +74,10 @@ def motion_files(motion) -> list[dict[str, Any]]:
     if source and Path(str(source)).is_file():
         return [file_entry("design spectrum table", source)]
     return []
+
+
+def input_files(deck) -> list[str]:
+    """The files a deck's run reads: the deck, its record or each record of its suite, and a
+    design-spectrum table file (outputs must never replace them)."""
+    motion = [] if deck.ground_motion is None else motion_files(deck.ground_motion)
+    return [str(deck.source), *(entry["path"] for entry in motion if entry["path"])]

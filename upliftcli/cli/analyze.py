@@ -19,7 +19,7 @@ import typer
 from .. import provenance
 from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
-from ..provenance_files import motion_files
+from ..provenance_files import input_files
 from . import plotting, stdout
 from .histories import check_histories, write_histories
 from .options import ENGINE_HELP, SET_HELP, UNITS_HELP, DisplayUnits, OutputFormat, overrides
@@ -29,13 +29,6 @@ if TYPE_CHECKING:
 
 #: what an existing result file is, in the message that refuses it
 EARLIER = ": the results of an earlier run"
-
-
-def input_files(deck: Deck) -> list[str]:
-    """The files a run reads: the deck, its record(s) (a suite: each record) and a design-spectrum
-    table file (outputs must not replace them)."""
-    motion = [] if deck.ground_motion is None else motion_files(deck.ground_motion)
-    return [deck.source, *(entry["path"] for entry in motion if entry["path"])]
 
 
 def named_files(loaded: Deck) -> list[str]:

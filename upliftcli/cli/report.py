@@ -53,10 +53,11 @@ def report(
     from ..atomic import refuse_existing, refuse_inputs, write_text
     from ..criteria import check_criteria
     from ..deck import load_deck
+    from ..provenance_files import input_files
     from ..report.build import build_report
     from ..report.html import render
     from ..report.pdf import check_browser, print_pdf
-    from ..report.provenance import input_files, provenance
+    from ..report.provenance import provenance
     from .plotting import keep_histories
 
     suffix = out.suffix.lower()
@@ -69,7 +70,7 @@ def report(
              "revision": revision}
     overrides = options.overrides(settings, engine, support)
     loaded = keep_histories(load_deck(deck, overrides))
-    refuse_inputs([out], [path for _, path in input_files(loaded)], "--out")
+    refuse_inputs([out], input_files(loaded), "--out")
     refuse_existing([out], "--out", overwrite)
     deck_text = deck.read_text(encoding="utf-8")
     results = analysis.run(loaded)

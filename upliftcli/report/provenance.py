@@ -18,13 +18,6 @@ def sha256(path) -> str:
     return provenance_files.sha256(path) or ""
 
 
-def input_files(deck) -> list[tuple[str, str]]:
-    """(role, path) of every file the deck's analysis read: the deck, its record or the records
-    of its suite, a design-spectrum table file."""
-    motion = [] if deck.ground_motion is None else provenance_files.motion_files(deck.ground_motion)
-    return [("deck", str(deck.source)), *((entry["role"], entry["path"]) for entry in motion if entry["path"])]
-
-
 def provenance(deck, argv: Sequence[str] | None = None, now: datetime | None = None) -> dict[str, Any]:
     """The provenance record of a run of `deck` (provenance.of_deck), its command from argv."""
     return record.of_deck(deck, record.command_line(argv), now)
