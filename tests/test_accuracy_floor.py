@@ -68,3 +68,19 @@ def test_record_families():
     assert floor.family_of("nearfield-15a X") == "near-field no pulse"
     assert floor.family_of("farfield-03a X") == "far field"
     assert floor.family_of("El Centro 1940") == "El Centro"
+
+
+def test_the_factors_that_meet_the_goals():
+    """Log-ratios with the quantiles of a normal distribution. s = 0.10 about the median 1: the
+    median bounds the factor to 0.95-1.10 (the low tail alone allows 0.8 e^(1.645 s) = 0.943, the high
+    tail 1.2 e^(-0.842 s) = 1.103). s = 0.15 about the median 1.3: the tails bind, 0.8 e^(1.645 s)/1.3
+    to 1.2 e^(-0.842 s)/1.3. s = 0.25: none (1.645 s + 0.842 s > ln 1.5)."""
+    from scipy.stats import norm
+
+    grid = norm.ppf((np.arange(20000) + 0.5) / 20000)
+    low, high = floor.factors(0.10 * grid)
+    assert low == pytest.approx(0.95, rel=1e-6) and high == pytest.approx(1.10, rel=1e-6)
+    low, high = floor.factors(np.log(1.3) + 0.15 * grid)
+    assert low == pytest.approx(0.8 * np.exp(0.15 * norm.ppf(0.95)) / 1.3, rel=1e-3)
+    assert high == pytest.approx(1.2 * np.exp(-0.15 * norm.ppf(0.80)) / 1.3, rel=1e-3)
+    assert floor.factors(0.25 * grid) is None
