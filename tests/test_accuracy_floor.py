@@ -40,6 +40,19 @@ def test_out_of_fold_leaves_the_whole_group_out():
         assert np.allclose(out[groups == g], others)
 
 
+def test_out_of_fold_by_record_and_system_sees_neither():
+    """Target = record level + system level, an intercept only: a cell (record r, system i) is
+    predicted by the mean of the cases whose record is not r and whose system is not i."""
+    rng = np.random.default_rng(3)
+    records, systems = np.repeat(np.arange(5), 12), np.tile(np.repeat(np.arange(4), 3), 5)
+    target = rng.normal(size=5)[records] + rng.normal(size=4)[systems]
+    out = floor.grouped_oof(np.ones((target.size, 1)), target, records, systems)
+    for r in range(5):
+        for i in range(4):
+            cell = (records == r) & (systems == i)
+            assert np.allclose(out[cell], target[(records != r) & (systems != i)].mean())
+
+
 def test_summary_counts_the_tails_and_the_quantile_width():
     ratios = np.array([0.5, 0.79, 0.81, 1.0, 1.0, 1.19, 1.21, 2.0])
     stats = floor.summary(np.log(ratios))
