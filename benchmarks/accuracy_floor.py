@@ -55,6 +55,8 @@ S_LIMIT = float(np.log(1.5) / (1.6449 + 0.8416))
 #: the multiples k of T1bar at which the spectral shape ln S_a(k T1bar)/S_a(T1bar) is read
 SHAPE = (0.5, 0.75, 1.5, 2.0, 3.0)
 BANDS = ((0.2, 0.5), (0.5, 1.0), (1.0, 3.01))
+#: bands of the simplified estimate's x = V_1/V_c (how far past the onset of uplift)
+SEVERITY = ((0.0, 1.5), (1.5, 3.0), (3.0, 6.0), (6.0, np.inf))
 #: the FEMA P695 near-field records 1-14 are the pulse subset, 15-28 the no-pulse one
 PULSE_RECORDS = 14
 FAMILIES = ("far field", "near-field pulse", "near-field no pulse", "El Centro")
@@ -264,7 +266,7 @@ def oracle_tables(data: dict, calibration: dict | None) -> tuple[list[str], dict
 
 def group_table(sets: list[tuple[dict, dict]]) -> list[str]:
     """s of the current procedure and of the spectral oracle out of fold (fitted on the same set of
-    records) per T_1 band and record family; sets: (data, best of oracle_tables) of each set."""
+    records) per T_1 band, record family and band of x = V_1/V_c; sets: (data, best of oracle_tables) of each set."""
     lines = ["| value | cases | n | s current | s oracle (out of fold) | > 20 % low, current -> oracle | "
              "> 20 % high, current -> oracle |", "|---|---|---|---|---|---|---|"]
     for name in FORCES:
@@ -275,6 +277,8 @@ def group_table(sets: list[tuple[dict, dict]]) -> list[str]:
             prefix = FAMILIES[0] + ", " if family[0] == 0 else ""
             groups = [(f"{prefix}{lo:g}-{min(hi, 3.0):g} s", (t1 >= lo) & (t1 < hi)) for lo, hi in BANDS]
             groups += [(f, family == k) for k, f in enumerate(FAMILIES) if np.any(family == k)]
+            x = data["x"][where]
+            groups += [(f"{prefix}x = V_1/V_c {lo:g}-{hi:g}", (x >= lo) & (x < hi)) for lo, hi in SEVERITY]
             for text, mask in groups:
                 a, b = summary(y[mask]), summary(oof[mask])
                 lines.append(f"| {SYMBOL[name]} | {text} | {a['n']} | {a['s']:.3f} | {b['s']:.3f} | "
