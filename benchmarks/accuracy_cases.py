@@ -150,31 +150,36 @@ def peaks(result) -> dict[str, float]:
     return {name: np.nan if values.get(name) is None else float(values[name]) for name in COMPARED}
 
 
-def _key(record: Record, specs: list[Spec], periods: np.ndarray) -> str:
+def _key(record: Record, specs: list[Spec], periods: np.ndarray, supports: tuple[str, ...] = SUPPORTS) -> str:
     digest = hashlib.sha1()
     digest.update(repr((CACHE_VERSION, record.name, record.dt, [asdict(s) for s in specs],
                         np.round(periods, 12).tolist())).encode())
+    if tuple(supports) != SUPPORTS:  # the key of the full study's files is unchanged
+        digest.update(repr(tuple(supports)).encode())
     digest.update(np.ascontiguousarray(record.acceleration).tobytes())
     return digest.hexdigest()[:16]
 
 
-def cached(record: Record, specs: list[Spec], periods: np.ndarray, cache: Path) -> bool:
+def cached(record: Record, specs: list[Spec], periods: np.ndarray, cache: Path,
+           supports: tuple[str, ...] = SUPPORTS) -> bool:
     """Whether the exact peaks of this record are in the cache."""
-    return (cache / f"exact-{_key(record, specs, periods)}.pkl").exists()
+    return (cache / f"exact-{_key(record, specs, periods, supports)}.pkl").exists()
 
 
-def exact_peaks(record: Record, specs: list[Spec], periods: np.ndarray, cache: Path) -> dict:
+def exact_peaks(record: Record, specs: list[Spec], periods: np.ndarray, cache: Path,
+                supports: tuple[str, ...] = SUPPORTS) -> dict:
     """Exact peaks {support: {compared value: array (systems, periods)}}, plus the exact modal
     base shears of modes 1-3 ('modal', (systems, periods, 3)), the time both edges were off the
-    foundation ('flight' [s]) and whether the mat lifted; from the cache file when it exists."""
-    path = cache / f"exact-{_key(record, specs, periods)}.pkl"
+    foundation ('flight' [s]) and whether the mat lifted; from the cache file when it exists.
+    supports: those analysed (a subset, e.g. ("uplift",), is cached under its own key)."""
+    path = cache / f"exact-{_key(record, specs, periods, supports)}.pkl"
     if path.exists():
         with open(path, "rb") as handle:
             return pickle.load(handle)
     shape = (len(specs), periods.size)
     systems = [build(spec, period) for spec in specs for period in periods]
     out: dict = {}
-    for support in SUPPORTS:
+    for support in supports:
         table = {name: np.full(shape, np.nan) for name in (*COMPARED, "flight")}
         table["modal"] = np.full((*shape, 3), np.nan)
         table["lifted"] = np.zeros(shape, dtype=bool)
