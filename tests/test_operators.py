@@ -42,7 +42,7 @@ def test_the_step_operators_are_the_exponentials(path):
         coupled = np.setdiff1d(np.arange(lay.n_aug), passive)
         assert not state.matrix[np.ix_(coupled, passive)].any()
         for h in (0.02 / 8, 0.02):
-            ops = step_operators(space, state, h, LEVELS)
+            (ops,) = step_operators(space, [state], h, LEVELS)
             for j in range(LEVELS + 1):
                 reference = scipy_expm(state.matrix * (h / 2.0**j)).T
                 assert np.abs(ops[j] - reference).max() <= 1e-12 * np.abs(reference).max(), (j, h)
