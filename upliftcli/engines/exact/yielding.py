@@ -166,19 +166,28 @@ def step_operators(space: StateSpace, states: list[ContactState], h: float, leve
 def _assemble(space: StateSpace, state: ContactState, block: np.ndarray, core: np.ndarray, loads: np.ndarray,
               lengths: np.ndarray, out: np.ndarray) -> None:
     """out (levels + 1, n_aug, n_aug), zeros, := E_j^T of one state from the exponentials of its
-    block (step_operators), the rows left out in closed form (only the nonzero entries are written:
-    a fill of the 450 kB of each state of the 20-element mat cost a tenth of its run, measured)."""
+    block (step_operators), the rows left out in closed form. Only the nonzero entries are written
+    (a fill of the 450 kB of each state of the 20-element mat cost a tenth of its run, measured),
+    by slices: the coupled entries are the motion X[:n_m] and the forcing X[n_x:] (core)."""
     lay = space.layout
-    s_idx, z_idx, n_c = lay.settlement_indices, lay.z_indices, core.size
-    ops = out.transpose(0, 2, 1)  # E_j, written through the view into E_j^T
+    s_idx, z_idx, n_c, n_x = lay.settlement_indices, lay.z_indices, core.size, lay.n_x
+    n_m = n_c - (lay.n_aug - n_x)
+    block_t = block.transpose(0, 2, 1)  # exp(B l)^T: out[j, b, a] = E_j[a, b]
+    out[:, :n_m, :n_m] = block_t[:, :n_m, :n_m]
+    out[:, :n_m, n_x:] = block_t[:, :n_m, n_m:n_c]
+    out[:, n_x:, :n_m] = block_t[:, n_m:n_c, :n_m]
+    out[:, n_x:, n_x:] = block_t[:, n_m:n_c, n_m:n_c]
     contact = ~state.lifted & ~state.yielding
-    ops[:, core[:, None], core[None, :]] = block[:, :n_c, :n_c]
-    ops[:, core[:, None], s_idx[contact][None, :]] = block[:, :n_c, n_c:] @ loads[:, contact]
-    ops[:, s_idx, s_idx] = 1.0
+    settled = loads[:, contact].T @ block_t[:, n_c:, :n_c]  # the rows s_i (in contact) of E^T
+    out[:, s_idx[contact], :n_m] = settled[:, :, :n_m]
+    out[:, s_idx[contact], n_x:] = settled[:, :, n_m:]
+    out[:, s_idx, s_idx] = 1.0
     relaxing = state.lifted & (space.element_damping > 0.0)
-    ops[:, z_idx[~relaxing], z_idx[~relaxing]] = 1.0
+    out[:, z_idx[~relaxing], z_idx[~relaxing]] = 1.0
     rate = space.element_stiffness[relaxing] / space.element_damping[relaxing]
-    ops[:, z_idx[relaxing], z_idx[relaxing]] = np.exp(-np.outer(lengths, rate))
-    ops[:, z_idx[relaxing], s_idx[relaxing]] = -np.expm1(-np.outer(lengths, rate))
-    rows = space.displacement_rows[state.yielding]  # v_i = d_i X, on the coupled entries only
-    ops[:, s_idx[state.yielding]] = rows @ ops - rows + ops[:, s_idx[state.yielding]]
+    out[:, z_idx[relaxing], z_idx[relaxing]] = np.exp(-np.outer(lengths, rate))
+    out[:, s_idx[relaxing], z_idx[relaxing]] = -np.expm1(-np.outer(lengths, rate))
+    # a yielding s_i: its row of E is d_i E - d_i + the unit row, with v_i = d_i X reading the mat's
+    # coordinates only (within X[:n_m])
+    rows = space.displacement_rows[state.yielding]
+    out[:, :, s_idx[state.yielding]] += out[:, :, :n_m] @ rows[:, :n_m].T - rows.T
