@@ -116,7 +116,7 @@ def signals(history: History) -> Signals:
     ids = ids.reshape(-1).astype(np.int64)
     velocity = np.stack([history.contact[s].velocity for s in used])  # (S, n_p, n_aug)
     matrix = np.stack([history.contact[s].matrix for s in used])
-    rows = np.zeros((used.size, start, lay.n_aug))
+    rows = np.zeros((used.size, start + n_slopes, lay.n_aug))  # the values' rows, then the slopes'
     rows[:, names["Y"]] = space.modal
     rows[:, names["Ydot"]] = space.to_modal @ velocity
     rows[:, names["Yddot"]] = rows[:, names["Ydot"]] @ matrix
@@ -133,7 +133,8 @@ def signals(history: History) -> Signals:
         rows[:, np.arange(names["element_displacement"].start, names["element_displacement"].stop),
              lay.settlement_indices] -= 1.0
         rows[:, z_rows, lay.settlement_indices] -= 1.0
-    rows_t = np.ascontiguousarray(np.concatenate((rows, rows[:, :n_slopes] @ matrix), axis=1).transpose(0, 2, 1))
+    rows[:, start:] = rows[:, :n_slopes] @ matrix
+    rows_t = np.ascontiguousarray(rows.transpose(0, 2, 1))
     at = np.nonzero(ids[1:] != ids[:-1])[0]
     switch = np.full(max(ids.size - 1, 0), -1, dtype=np.int64)
     switch[at] = np.arange(at.size)
