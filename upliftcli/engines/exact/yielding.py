@@ -146,10 +146,8 @@ def step_operators(space: StateSpace, states: list[ContactState], h: float, leve
     for r, state in enumerate(states):
         blocks[r, :n_c, :n_c] = state.matrix[np.ix_(core, core)]
         contact = np.flatnonzero(~state.lifted & ~state.yielding)
-        if contact.size:  # G from the columns of the two elements in contact furthest apart (or the one)
-            ends = contact[[0, -1]] if contact.size > 1 else contact[:1]
-            columns = state.matrix[np.ix_(core, s_idx[ends])]
-            blocks[r, :n_c, n_c:] = np.linalg.lstsq(loads[:, ends].T, columns.T, rcond=None)[0].T
+        if contact.size:
+            blocks[r, :n_c, n_c:] = _load_columns(state.matrix[core], s_idx, loads, contact)
     lengths = h / 2.0 ** np.arange(levels + 1)
     count = len(states)
     ends_of = expm(np.concatenate((blocks * lengths[levels], blocks * h)))
@@ -161,6 +159,19 @@ def step_operators(space: StateSpace, states: list[ContactState], h: float, leve
     for r, state in enumerate(states):
         _assemble(space, state, block[r], core, loads, lengths, out[r])
     return out
+
+
+def _load_columns(rows: np.ndarray, s_idx: np.ndarray, loads: np.ndarray, contact: np.ndarray) -> np.ndarray:
+    """G (n_core, 2), the columns of the mat's two forces in A, from the columns of s_i in the core
+    rows of A (rows[:, s_i] = G loads[:, i]): from the two elements in contact furthest apart
+    (G = [a_i a_j] [l_i l_j]^-1, the 2 x 2 inverse written out), or from the one (the least-norm
+    G = a_i l_i^T / |l_i|^2, exact for it and no other column needed)."""
+    i, j = contact[0], contact[-1]
+    if i == j:
+        return np.outer(rows[:, s_idx[i]], loads[:, i]) / (loads[:, i] @ loads[:, i])
+    (a, b), (c, d) = loads[:, i], loads[:, j]  # the 2 x 2 [l_i l_j] = [[a, c], [b, d]]
+    det = a * d - b * c
+    return np.outer(rows[:, s_idx[i]], [d / det, -c / det]) + np.outer(rows[:, s_idx[j]], [-b / det, a / det])
 
 
 def _assemble(space: StateSpace, state: ContactState, block: np.ndarray, core: np.ndarray, loads: np.ndarray,
