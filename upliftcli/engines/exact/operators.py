@@ -16,11 +16,12 @@ from .yielding import pattern_bits, step_operators, valid_pattern
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
 LEVELS = 12
-#: with a bearing capacity on more contact elements than this, the step operators come from the
-#: coupled block of each state (yielding.step_operators: 23 + n_C + 3 of the 66 entries of the
-#: 20-element mat of benchmarks/bench_yielding.py: 180 ms instead of 311 ms for its 441 states); on
-#: two elements the passive rows are 4 of 30 and one stacked exponentiation of all the states asked
-#: for is faster (1.7 ms instead of 2.9 ms for the 7 states of the first round, measured)
+#: with a bearing capacity on more contact elements than this, the step operators come from a
+#: small block of each state, written straight into Operators.ops (yielding.step_operators: 28 x 28
+#: instead of 66 x 66 on the 20-element mat of benchmarks/bench_yielding.py, whatever the contact
+#: pattern); on two elements the block is n_aug - 2 of n_aug and one stacked exponentiation of all
+#: the states asked for is faster (1.7 ms instead of 2.9 ms for the 7 states of the first round,
+#: measured)
 BLOCK_ELEMENTS = 2
 
 
