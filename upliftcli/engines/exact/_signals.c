@@ -202,8 +202,11 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
         PyErr_NoMemory();
         goto done;
     }
-    for (int64_t i = 0; i < n; i++) {
-        uses[INT64S(ids)[i]] += 1 + (i > 0 && INT64S(ids)[i] != INT64S(ids)[i - 1]);
+    for (int64_t i = 0; i < n; i++) { /* a sample, and the left limit of the state before a transition */
+        uses[INT64S(ids)[i]]++;
+        if (i > 0 && INT64S(ids)[i] != INT64S(ids)[i - 1]) {
+            uses[INT64S(ids)[i - 1]]++;
+        }
     }
     int64_t n_split = 0;
     for (int64_t s = 0; s < n_states; s++) {
