@@ -60,6 +60,35 @@ def test_evaluate_signals_uses_each_samples_state_and_left_limits():
         np.testing.assert_allclose(ends[n], rows[ids[i]] @ states[i + 1])
 
 
+def test_evaluate_signals_gives_the_same_bits_with_rows_split_or_whole():
+    """A state used at least 32 times has its rows split (copies, sparse sums, a dense product);
+    one used fewer times is multiplied whole (_signals.c, SPLIT_USES): the same rows give the same
+    bits either way, and those of the dense product R x. Rows with a copy, sparse ones and dense
+    ones; state 0 (40 samples) and state 1 (3 samples) have the same rows. The compiled loop's (the
+    twin's BLAS products sum in another order)."""
+    from backends import compiled_or_skip
+
+    compiled_or_skip()
+    from upliftcli.engines.exact import _signals
+
+    rng = np.random.default_rng(28)
+    n_aug = 12
+    rows = rng.normal(size=(7, n_aug))
+    rows[1] = rows[0]  # a copy
+    rows[2, 2:] = rows[3, :9] = 0.0  # sparse
+    rows = np.stack([rows, rows])
+    states = rng.normal(size=(43, n_aug))
+    states[:, 5] = 0.0  # an input that is zero
+    ids = np.array([0] * 20 + [1] * 3 + [0] * 20)
+    states[20:23] = states[:3]  # the samples of state 1 repeat samples of state 0
+    values, slopes, ends = np.empty((43, 4)), np.empty((43, 3)), np.empty((2, 7))
+    _signals.evaluate_signals(states, ids, np.ascontiguousarray(rows.transpose(0, 2, 1)), values, slopes, ends)
+    np.testing.assert_array_equal(values[20:23], values[:3])
+    np.testing.assert_array_equal(slopes[20:23], slopes[:3])
+    dense = np.array([[sum(row[q] * x[q] for q in range(n_aug) if x[q] != 0.0) for row in rows[0]] for x in states])
+    np.testing.assert_array_equal(np.hstack((values, slopes)), dense)
+
+
 # ----------------------------------------------------------------------------- an independent reference
 
 def _hermite_peaks_dense(values, slopes, end_values, end_slopes, switch, value_cols, rate_cols, curvature_cols,

@@ -7,12 +7,17 @@
 #include "product.h"
 #include <stdlib.h>
 
+/* a state's rows are split (split_rows) when they serve at least this many products */
+#define SPLIT_USES 32
+
 /* The rows of one contact state, each output computed the cheapest way that gives the bits of the
  * dense product R x (transposed_product): an output equal to an earlier one is copied; one with few
  * nonzero coefficients sums them alone (the terms left out are zero and the others are added in
  * the same order, so the sum is the same); the others come from one dense product over their
  * columns. Each list holds output indices (and where from), in increasing order. */
 typedef struct {
+    const double *whole;   /* R^T (n_aug, width) of a state not split (NULL: split), used as it is */
+    int64_t width;
     int64_t n_dense, n_sparse, n_copies, n_entries;
     int64_t dense_width;   /* n_dense rounded up to whole PRODUCT_LANES */
     double *dense;         /* (n_aug, dense_width): the rows computed densely, transposed (zeros past n_dense) */
@@ -26,23 +31,38 @@ typedef struct {
 
 /* Split R^T (n_aug, width) into `split`, whose arrays have room for the worst case: dense
  * n_aug padded_width(width) doubles, entry_value n_aug width, dense_output and sparse width,
- * copies 2 width, entry_input and entry_output n_aug width integers each. */
-static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, SplitRows *split)
+ * copies 2 width, entry_input and entry_output n_aug width integers each; nonzeros and sums: work space
+ * of width each. */
+static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, SplitRows *split, int64_t *nonzeros,
+                       double *sums)
 {
     split->n_dense = split->n_sparse = split->n_copies = split->n_entries = 0;
+    /* each row's count of nonzero coefficients and their sum: equal rows agree in both, so only
+     * such pairs are compared entry by entry (comparing every pair cost a yielding run with
+     * hundreds of states a sixth of its time, measured) */
+    for (int64_t r = 0; r < width; r++) {
+        nonzeros[r] = 0;
+        sums[r] = 0.0;
+    }
+    for (int64_t q = 0; q < n_aug; q++) {
+        for (int64_t r = 0; r < width; r++) {
+            nonzeros[r] += rows_t[q * width + r] != 0.0;
+            sums[r] += rows_t[q * width + r];
+        }
+    }
     for (int64_t r = 0; r < width; r++) {
         int64_t same = -1;
         for (int64_t earlier = 0; earlier < r && same < 0; earlier++) {
+            if (nonzeros[earlier] != nonzeros[r] || sums[earlier] != sums[r]) {
+                continue;
+            }
             int equal = 1;
             for (int64_t q = 0; q < n_aug && equal; q++) {
                 equal = rows_t[q * width + r] == rows_t[q * width + earlier];
             }
             same = equal ? earlier : -1;
         }
-        int64_t nonzero = 0;
-        for (int64_t q = 0; q < n_aug; q++) {
-            nonzero += rows_t[q * width + r] != 0.0;
-        }
+        const int64_t nonzero = nonzeros[r];
         if (same >= 0) {
             int64_t *copy = split->copies + 2 * split->n_copies++;
             copy[0] = r;
@@ -91,16 +111,21 @@ static inline void split_rest(const SplitRows *split, const double *restrict x, 
     }
 }
 
-/* out = R x with the rows split by split_rows; dense_out: dense_width doubles of work space */
+/* out = R x with the rows split by split_rows, or by the whole rows of a state not split;
+ * dense_out: dense_width doubles of work space */
 static inline void split_product(const SplitRows *split, const double *restrict x, int64_t n_aug,
                                  double *restrict dense_out, double *restrict out)
 {
+    if (split->whole) {
+        transposed_product(split->whole, x, n_aug, split->width, out);
+        return;
+    }
     transposed_product(split->dense, x, n_aug, split->dense_width, dense_out);
     split_rest(split, x, dense_out, out);
 }
 
 /* Signal values and slopes at every sample, each sample with its own contact state's rows
- * (split[s]); the left limits at the end of every interval that ends at a transition, in order.
+ * (split[s], or its whole rows); the left limits at the end of every interval that ends at a transition, in order.
  * PRODUCT_SAMPLES samples in the same state have their dense rows computed together
  * (product_samples). acc: width + (PRODUCT_SAMPLES + 1) padded_width(width) doubles of work space. */
 HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n_aug, const int64_t *ids,
@@ -112,7 +137,7 @@ HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n
     int64_t n_switch = 0;
     for (int64_t i0 = 0; i0 < n; i0 += PRODUCT_SAMPLES) {
         const int64_t count = n - i0 < PRODUCT_SAMPLES ? n - i0 : PRODUCT_SAMPLES;
-        int same = count == PRODUCT_SAMPLES;
+        int same = count == PRODUCT_SAMPLES && !split[ids[i0]].whole;
         for (int64_t i = i0 + 1; i < i0 + count; i++) {
             same &= ids[i] == ids[i0];
         }
@@ -169,12 +194,31 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
         goto done;
     }
     const int64_t width = k + k_s, n_states = rows_t->shape[0], per_state = n_aug * width;
-    /* work space: the products (evaluate_signals) and, per state, its split rows (split_rows) */
+    /* the states used at least SPLIT_USES times (samples and left limits) are split (split_rows);
+     * the others' rows are used whole (a yielding run meets hundreds of states, most at a few
+     * samples, and splitting each cost it more than the products it saves: measured) */
+    int64_t *uses = calloc(n_states + 1, sizeof(int64_t));
+    if (!uses) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    for (int64_t i = 0; i < n; i++) { /* a sample, and the left limit of the state before a transition */
+        uses[INT64S(ids)[i]]++;
+        if (i > 0 && INT64S(ids)[i] != INT64S(ids)[i - 1]) {
+            uses[INT64S(ids)[i - 1]]++;
+        }
+    }
+    int64_t n_split = 0;
+    for (int64_t s = 0; s < n_states; s++) {
+        n_split += uses[s] >= SPLIT_USES;
+    }
+    /* work space: the products (evaluate_signals) and, per state split, its split rows (split_rows) */
     const int64_t n_acc = width + (PRODUCT_SAMPLES + 1) * padded_width(width), n_dense = n_aug * padded_width(width);
-    double *doubles = malloc((n_acc + n_states * (n_dense + per_state) + 1) * sizeof(double));
-    int64_t *integers = malloc((7 * n_states * width + 2 * n_states * per_state + 1) * sizeof(int64_t));
+    double *doubles = malloc((n_acc + n_split * (n_dense + per_state) + width + 1) * sizeof(double));
+    int64_t *integers = malloc((7 * n_split * width + 2 * n_split * per_state + width + 1) * sizeof(int64_t));
     SplitRows *split = malloc((n_states + 1) * sizeof(SplitRows));
     if (!doubles || !integers || !split) {
+        free(uses);
         free(doubles);
         free(integers);
         free(split);
@@ -182,20 +226,28 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
         goto done;
     }
     Py_BEGIN_ALLOW_THREADS
-    for (int64_t s = 0; s < n_states; s++) {
+    for (int64_t s = 0, j = 0; s < n_states; s++) {
         SplitRows *rows = split + s;
-        rows->dense = doubles + n_acc + s * n_dense;
-        rows->entry_value = doubles + n_acc + n_states * n_dense + s * per_state;
-        rows->dense_output = integers + 7 * s * width;
+        rows->width = width;
+        rows->whole = uses[s] >= SPLIT_USES ? NULL : DOUBLES(rows_t) + s * per_state;
+        if (rows->whole) {
+            continue;
+        }
+        rows->dense = doubles + n_acc + j * n_dense;
+        rows->entry_value = doubles + n_acc + n_split * n_dense + j * per_state;
+        rows->dense_output = integers + 7 * j * width;
         rows->sparse = rows->dense_output + width;
         rows->copies = rows->sparse + 3 * width;
-        rows->entry_input = integers + 7 * n_states * width + 2 * s * per_state;
+        rows->entry_input = integers + 7 * n_split * width + 2 * j * per_state;
         rows->entry_output = rows->entry_input + per_state;
-        split_rows(DOUBLES(rows_t) + s * per_state, n_aug, width, rows);
+        split_rows(DOUBLES(rows_t) + s * per_state, n_aug, width, rows, integers + n_split * (7 * width + 2 * per_state),
+                   doubles + n_acc + n_split * (n_dense + per_state));
+        j++;
     }
     evaluate_signals(DOUBLES(states), n, n_aug, INT64S(ids), split, k, k_s, DOUBLES(values), DOUBLES(slopes),
                      DOUBLES(ends), doubles);
     Py_END_ALLOW_THREADS
+    free(uses);
     free(doubles);
     free(integers);
     free(split);

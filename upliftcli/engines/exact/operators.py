@@ -16,11 +16,12 @@ from .yielding import pattern_bits, step_operators, valid_pattern
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
 LEVELS = 12
-#: with a bearing capacity on more contact elements than this, the step operators come from the
-#: coupled block of each state (yielding.step_operators: 23 + n_C + 3 of the 66 entries of the
-#: 20-element mat of benchmarks/bench_yielding.py: 180 ms instead of 311 ms for its 441 states); on
-#: two elements the passive rows are 4 of 30 and one stacked exponentiation of all the states asked
-#: for is faster (1.7 ms instead of 2.9 ms for the 7 states of the first round, measured)
+#: with a bearing capacity on more contact elements than this, the step operators come from a
+#: small block of each state, written straight into Operators.ops (yielding.step_operators: 28 x 28
+#: instead of 66 x 66 on the 20-element mat of benchmarks/bench_yielding.py, whatever the contact
+#: pattern); on two elements the block is n_aug - 2 of n_aug and one stacked exponentiation of all
+#: the states asked for is faster (1.7 ms instead of 2.9 ms for the 7 states of the first round,
+#: measured)
 BLOCK_ELEMENTS = 2
 
 
@@ -49,17 +50,20 @@ class Operators:
         """Where the elements yield in the pattern (None without a bearing capacity)."""
         return pattern_bits(pattern, self.layout.n_elements)[1] if self.layout.n_settlements else None
 
-    def store(self, pattern: int, state: ContactState, ops: np.ndarray, events: bool) -> int:
-        """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS."""
+    def store(self, pattern: int, state: ContactState, ops: np.ndarray | None, events: bool) -> int:
+        """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS (None: the caller
+        writes them into self.ops[index] itself, with no copy between: it holds zeros until then)."""
         index = len(self.contact)
         if index == self.capacity:
             self.capacity *= 2
-            # the operators and matrices of the states not yet built are never read: not filled
-            # (the operators are most of the memory: a yielding Winkler mat meets hundreds of states)
-            self.ops, self.matrices = _doubled(self.ops), _doubled(self.matrices)
+            # the matrices of the states not yet built are never read: not filled; the operators
+            # (most of the memory: a yielding Winkler mat meets hundreds of states) are zeros, mapped
+            # only as states are stored, which yielding.step_operators writes into without a fill
+            self.ops, self.matrices = _doubled(self.ops, 0.0), _doubled(self.matrices)
             self.events, self.event_rates = _doubled(self.events, 0.0), _doubled(self.event_rates, 0.0)
             self.patterns = _doubled(self.patterns, -1)
-        self.ops[index] = ops
+        if ops is not None:
+            self.ops[index] = ops
         if events:
             self.events[index] = state.events
             self.event_rates[index] = state.events @ state.matrix
@@ -98,9 +102,13 @@ def reserved_states(lay: Layout) -> int:
 
 
 def _doubled(array: np.ndarray, fill: float | None = None) -> np.ndarray:
-    """The array with as many rows again after its own, those set to `fill` (None: left unset)."""
+    """The array with as many rows again after its own, those set to `fill` (None: left unset; 0:
+    zeros, whose pages are mapped only as they are written)."""
     shape = (2 * array.shape[0], *array.shape[1:])
-    out = np.empty(shape, dtype=array.dtype) if fill is None else np.full(shape, fill, dtype=array.dtype)
+    if fill is None:
+        out = np.empty(shape, dtype=array.dtype)
+    else:
+        out = np.zeros(shape, dtype=array.dtype) if fill == 0.0 else np.full(shape, fill, dtype=array.dtype)
     out[:array.shape[0]] = array
     return out
 
@@ -143,18 +151,35 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
         if not built:
             continue
         if built[0][1].yielding is not None and built[0][1].lifted.size > BLOCK_ELEMENTS:
-            # a yielding mat of many elements: the exponential of each state's coupled block only
-            ops = np.stack([step_operators(requests[k][0].space, state, requests[k][0].h, LEVELS)
-                            for k, state in built])
-        else:
-            ops = _stacked_operators(np.stack([state.matrix.T for _, state in built]),
-                                     np.array([requests[k][0].h for k, _ in built])[:, None, None])
+            _block_operators(requests, built, out)  # a yielding mat of many elements
+            continue
+        ops = _stacked_operators(np.stack([state.matrix.T for _, state in built]),
+                                 np.array([requests[k][0].h for k, _ in built])[:, None, None])
         for r, (k, state) in enumerate(built):
             operators, pattern, events = requests[k]
             if state.yielding is not None:
                 _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
             out[k] = operators.store(pattern, state, ops[r], events)
     return out
+
+
+def _block_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]],
+                     out: list[int | AnalysisError]) -> None:
+    """Store states of a yielding mat of many elements, their operators from the exponential of a
+    small block each (yielding.step_operators), written straight into Operators.ops; the states of
+    one model (the same space and step) in one stacked call."""
+    slots = []
+    for k, state in built:
+        operators, pattern, events = requests[k]
+        out[k] = operators.store(pattern, state, None, events)
+        slots.append((operators, out[k], state))
+    by_model: dict[int, list[tuple[Operators, int, ContactState]]] = {}
+    for slot in slots:
+        by_model.setdefault(id(slot[0]), []).append(slot)
+    for group in by_model.values():
+        operators = group[0][0]
+        step_operators(operators.space, [state for _, _, state in group], operators.h, LEVELS,
+                       [operators.ops[index] for _, index, _ in group])
 
 
 def _stacked_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:

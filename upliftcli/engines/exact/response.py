@@ -104,41 +104,44 @@ def signal_layout(n_modes: int, n_elements: int) -> dict[str, slice]:
 
 def signals(history: History) -> Signals:
     """Evaluate the signal rows of every contact state at its samples
-    (response_kernels.evaluate_signals)."""
+    (response_kernels.evaluate_signals), the rows built for the states the samples use only, all
+    at once (a yielding run meets hundreds of states: docs/theory.md 14.3)."""
     space = history.space
     model, lay = space.model, space.layout
     n_m = model.n_modes
     names = signal_layout(n_m, lay.n_elements)
     start = names["element_displacement"].stop
     n_slopes = names[WITH_RATES[-1]].stop
-    forcing_ground = space.forcing[:, lay.index_acceleration]
-    rows_by_state = []
-    for contact in history.contact:
-        rows = np.zeros((start, lay.n_aug))
-        rows[names["Y"]] = space.modal
-        rows[names["Ydot"]] = space.to_modal @ contact.velocity
-        rows[names["Yddot"]] = rows[names["Ydot"]] @ contact.matrix
-        if model.flexible:
-            rows[names["theta"]] = space.position[n_m]
-            rows[names["v"]] = space.position[n_m + 1]
-        rows[names["a"].start, lay.index_acceleration] = 1.0
-        rows[names["input"]] = forcing_ground @ contact.velocity
-        rows[names["element_velocity"]] = space.directions @ contact.velocity
-        rows[names["element_displacement"]] = space.displacement_rows
-        rows[np.arange(names["z"].start, names["z"].stop), lay.z_indices] = 1.0
-        if lay.n_settlements:  # with a capacity, deformations of the springs: v_i - s_i, z_i - s_i (theory 14.5)
-            rows[np.arange(names["element_displacement"].start, names["element_displacement"].stop),
-                 lay.settlement_indices] -= 1.0
-            rows[np.arange(names["z"].start, names["z"].stop), lay.settlement_indices] -= 1.0
-        rows_by_state.append(np.vstack((rows, rows[:n_slopes] @ contact.matrix)).T)
-    states, ids = history.states, history.state_ids
+    used, ids = np.unique(history.state_ids, return_inverse=True)
+    ids = ids.reshape(-1).astype(np.int64)
+    velocity = np.stack([history.contact[s].velocity for s in used])  # (S, n_p, n_aug)
+    matrix = np.stack([history.contact[s].matrix for s in used])
+    rows = np.zeros((used.size, start + n_slopes, lay.n_aug))  # the values' rows, then the slopes'
+    rows[:, names["Y"]] = space.modal
+    rows[:, names["Ydot"]] = space.to_modal @ velocity
+    rows[:, names["Yddot"]] = rows[:, names["Ydot"]] @ matrix
+    if model.flexible:
+        rows[:, names["theta"]] = space.position[n_m]
+        rows[:, names["v"]] = space.position[n_m + 1]
+    rows[:, names["a"].start, lay.index_acceleration] = 1.0
+    rows[:, names["input"]] = (space.forcing[:, lay.index_acceleration] @ velocity)[:, None, :]
+    rows[:, names["element_velocity"]] = space.directions @ velocity
+    rows[:, names["element_displacement"]] = space.displacement_rows
+    z_rows = np.arange(names["z"].start, names["z"].stop)
+    rows[:, z_rows, lay.z_indices] = 1.0
+    if lay.n_settlements:  # with a capacity, deformations of the springs: v_i - s_i, z_i - s_i (theory 14.5)
+        rows[:, np.arange(names["element_displacement"].start, names["element_displacement"].stop),
+             lay.settlement_indices] -= 1.0
+        rows[:, z_rows, lay.settlement_indices] -= 1.0
+    rows[:, start:] = rows[:, :n_slopes] @ matrix
+    rows_t = np.ascontiguousarray(rows.transpose(0, 2, 1))
     at = np.nonzero(ids[1:] != ids[:-1])[0]
     switch = np.full(max(ids.size - 1, 0), -1, dtype=np.int64)
     switch[at] = np.arange(at.size)
     values = np.empty((ids.size, start))
     slopes = np.empty((ids.size, n_slopes))
     ends = np.empty((at.size, start + n_slopes))
-    response_kernels.evaluate_signals(states, ids, np.ascontiguousarray(rows_by_state), values, slopes, ends)
+    response_kernels.evaluate_signals(history.states, ids, rows_t, values, slopes, ends)
     return Signals(values, slopes, switch, np.ascontiguousarray(ends[:, :start]),
                    np.ascontiguousarray(ends[:, start:]), names)
 

@@ -114,41 +114,91 @@ def event_resets(space: StateSpace) -> tuple[np.ndarray, np.ndarray, np.ndarray]
             np.ones(2 * lay.n_elements, dtype=bool))
 
 
-def step_operators(space: StateSpace, state: ContactState, h: float, levels: int) -> np.ndarray:
-    """E_j^T = expm(A h / 2^j)^T, j = 0..levels, of a contact state with a bearing capacity, from the
-    exponential of its coupled block only (docs/theory.md 14.3). Of the augmented state, the rows
-    of A that are not coupled back into the motion are
+def step_operators(space: StateSpace, states: list[ContactState], h: float, levels: int,
+                   out: list[np.ndarray] | None = None) -> list[np.ndarray]:
+    """E_j^T = expm(A h / 2^j)^T, j = 0..levels, of contact states with a bearing capacity, from the
+    exponential of a small block of each (docs/theory.md 14.3), written into out[r] (levels + 1,
+    n_aug, n_aug) each, which hold zeros (new arrays if None), and returned. Of the augmented state, the rows of A
+    that are not coupled back into the motion are
     - z_i: k_i (z_i - s_i) + c_i z_i' = 0 while lifted (c_i > 0), else z_i' = 0: in closed form,
       z_i(t) = e^(-r t) z_i + (1 - e^(-r t)) s_i with r = k_i / c_i;
-    - s_i of a lifted element (s_i' = 0) and of a yielding one (s_i' = v_i', so s_i - v_i stays
-      constant: the row of E is that of v_i, d_i E, plus the unit row of s_i, minus d_i);
-    no other row reads them. The others (the motion, the s_i of the elements in contact, which
-    load it, and the forcing entries) are exponentiated as in operators.add_states (the finest
-    level, squarings, level 0 on its own): 23 + n_C + 3 of 66 on the 20-element mat of
-    benchmarks/bench_yielding.py. tests/test_operators.py compares every level with expm(A h/2^j)."""
+    - s_i, constant unless the element yields (s_i' = v_i': s_i - v_i stays constant, so the row
+      of E is that of v_i, d_i E, plus the unit row of s_i, minus d_i);
+    no other row reads them but the motion, which the s_i of the elements in contact load only
+    through the mat's two forces (vertical force and moment: the column of s_i in A is k_i e_i
+    applied to the columns G of those two forces, e_i the mat's row of v_i). So the block
+    exponentiated is the motion and the forcing entries (a_g, a_g', 1) with the two columns G:
+    23 + 3 + 2 = 28 of the 66 entries of the 20-element mat of benchmarks/bench_yielding.py,
+    whatever the contact pattern; the columns of s_i in E are those of the two forces times k_i e_i.
+    The finest level by expm, the coarser ones by squaring it, level 0 by its own expm (as
+    operators.add_states), all the states' blocks in one stacked call. tests/test_operators.py
+    compares every level with expm(A h/2^j)."""
     lay = space.layout
     n, s_idx, z_idx = lay.n_aug, lay.settlement_indices, lay.z_indices
-    contact = ~state.lifted & ~state.yielding
-    coupled = np.ones(n, dtype=bool)
-    coupled[z_idx] = False
-    coupled[s_idx[~contact]] = False
-    core = np.flatnonzero(coupled)
-    a_core = state.matrix[np.ix_(core, core)]
+    passive = np.zeros(n, dtype=bool)
+    passive[z_idx] = passive[s_idx] = True
+    core = np.flatnonzero(~passive)
+    mat = np.flatnonzero(np.any(space.directions != 0.0, axis=0))  # the mat's coordinates (theta, v)
+    n_c, n_f = core.size, mat.size
+    k_el = space.element_stiffness
+    loads = (k_el[:, None] * space.directions[:, mat]).T  # (n_f, n_e): the mat's forces per unit s_i
+    blocks = np.zeros((len(states), n_c + n_f, n_c + n_f))
+    for r, state in enumerate(states):
+        blocks[r, :n_c, :n_c] = state.matrix[np.ix_(core, core)]
+        contact = np.flatnonzero(~state.lifted & ~state.yielding)
+        if contact.size:
+            blocks[r, :n_c, n_c:] = _load_columns(state.matrix[core], s_idx, loads, contact)
     lengths = h / 2.0 ** np.arange(levels + 1)
-    ops = np.zeros((levels + 1, n, n))
-    block = np.empty((levels + 1, core.size, core.size))
-    block[levels] = expm(a_core * lengths[levels])
+    count = len(states)
+    ends_of = expm(np.concatenate((blocks * lengths[levels], blocks * h)))
+    block = np.empty((count, levels + 1, n_c + n_f, n_c + n_f))
+    block[:, levels], block[:, 0] = ends_of[:count], ends_of[count:]
     for j in range(levels - 1, 0, -1):
-        block[j] = block[j + 1] @ block[j + 1]
-    block[0] = expm(a_core * h)
-    ops[:, core[:, None], core[None, :]] = block
-    passive_s = s_idx[~contact]
-    ops[:, passive_s, passive_s] = 1.0
+        block[:, j] = block[:, j + 1] @ block[:, j + 1]
+    out = [np.zeros((levels + 1, n, n)) for _ in states] if out is None else out
+    for r, state in enumerate(states):
+        _assemble(space, state, block[r], core, loads, lengths, out[r])
+    return out
+
+
+def _load_columns(rows: np.ndarray, s_idx: np.ndarray, loads: np.ndarray, contact: np.ndarray) -> np.ndarray:
+    """G (n_core, 2), the columns of the mat's two forces in A, from the columns of s_i in the core
+    rows of A (rows[:, s_i] = G loads[:, i]): from the two elements in contact furthest apart
+    (G = [a_i a_j] [l_i l_j]^-1, the 2 x 2 inverse written out), or from the one (the least-norm
+    G = a_i l_i^T / |l_i|^2, exact for it and no other column needed)."""
+    i, j = contact[0], contact[-1]
+    if i == j:
+        return np.outer(rows[:, s_idx[i]], loads[:, i]) / (loads[:, i] @ loads[:, i])
+    (a, b), (c, d) = loads[:, i], loads[:, j]  # the 2 x 2 [l_i l_j] = [[a, c], [b, d]]
+    det = a * d - b * c
+    return np.outer(rows[:, s_idx[i]], [d / det, -c / det]) + np.outer(rows[:, s_idx[j]], [-b / det, a / det])
+
+
+def _assemble(space: StateSpace, state: ContactState, block: np.ndarray, core: np.ndarray, loads: np.ndarray,
+              lengths: np.ndarray, out: np.ndarray) -> None:
+    """out (levels + 1, n_aug, n_aug), zeros, := E_j^T of one state from the exponentials of its
+    block (step_operators), the rows left out in closed form. Only the nonzero entries are written
+    (a fill of the 450 kB of each state of the 20-element mat cost a tenth of its run, measured),
+    by slices: the coupled entries are the motion X[:n_m] and the forcing X[n_x:] (core)."""
+    lay = space.layout
+    s_idx, z_idx, n_c, n_x = lay.settlement_indices, lay.z_indices, core.size, lay.n_x
+    n_m = n_c - (lay.n_aug - n_x)
+    block_t = block.transpose(0, 2, 1)  # exp(B l)^T: out[j, b, a] = E_j[a, b]
+    out[:, :n_m, :n_m] = block_t[:, :n_m, :n_m]
+    out[:, :n_m, n_x:] = block_t[:, :n_m, n_m:n_c]
+    out[:, n_x:, :n_m] = block_t[:, n_m:n_c, :n_m]
+    out[:, n_x:, n_x:] = block_t[:, n_m:n_c, n_m:n_c]
+    contact = ~state.lifted & ~state.yielding
+    settled = loads[:, contact].T @ block_t[:, n_c:, :n_c]  # the rows s_i (in contact) of E^T
+    out[:, s_idx[contact], :n_m] = settled[:, :, :n_m]
+    out[:, s_idx[contact], n_x:] = settled[:, :, n_m:]
+    out[:, s_idx, s_idx] = 1.0
     relaxing = state.lifted & (space.element_damping > 0.0)
-    ops[:, z_idx[~relaxing], z_idx[~relaxing]] = 1.0
+    out[:, z_idx[~relaxing], z_idx[~relaxing]] = 1.0
     rate = space.element_stiffness[relaxing] / space.element_damping[relaxing]
-    ops[:, z_idx[relaxing], z_idx[relaxing]] = np.exp(-np.outer(lengths, rate))
-    ops[:, z_idx[relaxing], s_idx[relaxing]] = -np.expm1(-np.outer(lengths, rate))
-    rows = space.displacement_rows[state.yielding]  # v_i = d_i X, on the coupled entries only
-    ops[:, s_idx[state.yielding]] = rows @ ops - rows + ops[:, s_idx[state.yielding]]
-    return np.ascontiguousarray(np.swapaxes(ops, 1, 2))
+    out[:, z_idx[relaxing], z_idx[relaxing]] = np.exp(-np.outer(lengths, rate))
+    out[:, s_idx[relaxing], z_idx[relaxing]] = -np.expm1(-np.outer(lengths, rate))
+    # a yielding s_i: its row of E is d_i E - d_i + the unit row, with v_i = d_i X reading the mat's
+    # coordinates only (within X[:n_m])
+    rows = space.displacement_rows[state.yielding]
+    out[:, :, s_idx[state.yielding]] += out[:, :, :n_m] @ rows[:, :n_m].T - rows.T
