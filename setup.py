@@ -108,7 +108,7 @@ def module(name: str, source: str, depends: tuple[str, ...] = ()) -> Extension:
 setup(cmdclass={"build_ext": OptionalBuildExt, "bdist_wheel": StableWheel},
       options={"bdist_wheel": {"py_limited_api": "cp311"}}, ext_modules=[
     module("upliftcli.engines.exact._stepping", "upliftcli/engines/exact/_stepping.c",
-           ("upliftcli/engines/exact/events.h",)),
+           ("upliftcli/engines/exact/events.h", "upliftcli/engines/exact/transitions.h")),
     module("upliftcli.engines.exact._signals", "upliftcli/engines/exact/_signals.c"),
     module("upliftcli.engines.exact._peaks", "upliftcli/engines/exact/_peaks.c"),
     module("upliftcli.engines.exact._contact", "upliftcli/engines/exact/_contact.c"),

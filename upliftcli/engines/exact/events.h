@@ -1,6 +1,6 @@
 /* The event functions of the exact engine's stepping loop (_stepping.c): their values G x and
  * rates G A x at a state, and the test for an excursion above zero inside a chunk that its ends
- * miss (docs/exact-engine.md, "Integration"). Included by _stepping.c alone. */
+ * miss (docs/exact-engine.md, "Integration"). Included by _stepping.c and transitions.h. */
 
 #ifndef UPLIFT_EVENTS_H
 #define UPLIFT_EVENTS_H
