@@ -173,7 +173,10 @@ def _load_columns(rows: np.ndarray, s_idx: np.ndarray, loads: np.ndarray, contac
     """G (n_core, 2), the columns of the mat's two forces in A, from the columns of s_i in the core
     rows of A (rows[:, s_i] = G loads[:, i]): from the two elements in contact furthest apart
     (G = [a_i a_j] [l_i l_j]^-1, the 2 x 2 inverse written out), or from the one (the least-norm
-    G = a_i l_i^T / |l_i|^2, exact for it and no other column needed)."""
+    G = a_i l_i^T / |l_i|^2, exact for it and no other column needed). The first and last in
+    contact are the furthest apart, and [l_i l_j] = [[-k_i x_i, -k_j x_j], [k_i, k_j]] is singular
+    only if x_i = x_j: the positions of foundations.Winkler, the only foundation with more than two
+    elements, increase strictly (tests/test_operators.py: the closest pair too)."""
     i, j = contact[0], contact[-1]
     if i == j:
         return np.outer(rows[:, s_idx[i]], loads[:, i]) / (loads[:, i] @ loads[:, i])
