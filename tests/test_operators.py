@@ -121,3 +121,26 @@ def test_the_yielding_states_built_ahead_change_nothing(monkeypatch):
     for name, value in when_reached.details["energy"].items():
         np.testing.assert_array_equal(ahead.details["energy"][name], value, err_msg=name)
     assert ahead.intermediates["transitions"] == when_reached.intermediates["transitions"]
+
+
+def test_operator_arrays_that_grow_keep_the_states_written_in_place(monkeypatch):
+    """A yielding Winkler mat (hundreds of states, their operators written in place into
+    Operators.ops by yielding.step_operators) whose operator arrays start at 4 states and double
+    six times (operators._doubled: the states written are copied, the new ones zeros) gives the
+    results of the run whose arrays are reserved for all of them up front, bit for bit."""
+    from upliftcli.engines.exact import engine as exact
+    from upliftcli.engines.exact import operators
+
+    deck = load_deck(WINKLER, ["foundation.safety_factor=1.5"])
+    reserved = exact.analyze(deck.system, deck.ground_motion, "uplift")
+    sizes = []
+    monkeypatch.setattr(operators, "reserved_states", lambda lay: 4)
+    doubled = operators._doubled
+    monkeypatch.setattr(operators, "_doubled", lambda array, fill=None: sizes.append(array.shape[0]) or
+                        doubled(array, fill))
+    grown = exact.analyze(deck.system, deck.ground_motion, "uplift")
+    assert max(sizes) == 128  # grown from 4 to 256 states (this run meets 129 to 256)
+    for name, values in reserved.peaks.items():
+        np.testing.assert_array_equal(grown.peaks[name], values, err_msg=name)
+    assert grown.details["yielding"] == reserved.details["yielding"]
+    assert grown.intermediates["transitions"] == reserved.intermediates["transitions"]
