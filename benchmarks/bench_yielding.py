@@ -14,7 +14,7 @@ same vertical stiffness and damping; each with FS_v = 1.5, 2 and 3 (Q_i = FS_v W
 against no capacity. The yielding run's transitions and plastic work are shown beside its ratio.
 
 The floor of the method: the CPU time of the exponentials alone of the states the yielding run
-meets, at the smallest size that gives them exactly (coupled_block: 28 x 28 on the mat) in one
+meets, at the smallest size that gives them exactly (yielding.coupled_blocks: 28 x 28 on the mat) in one
 stacked call, with the squarings for the bisection levels (floor_time), as a ratio to the whole
 elastic run measured beside it. The yielding run also steps the same record and post-processes
 it, as the elastic run does, so its time ratio cannot come much below 1 + that floor ratio.
@@ -41,6 +41,7 @@ from upliftcli.engines.exact import stepping
 from upliftcli.engines.exact.expm import expm
 from upliftcli.engines.exact.operators import LEVELS
 from upliftcli.engines.exact.statespace import ContactState, StateSpace
+from upliftcli.engines.exact.yielding import coupled_blocks
 from upliftcli.model.building import modal_analysis, uniform_building
 from upliftcli.model.foundations import Winkler, two_element_from_ratios
 from upliftcli.model.system import System
@@ -101,36 +102,15 @@ def built_states(system: System, record) -> list[tuple[StateSpace, ContactState,
     return built
 
 
-def coupled_block(space: StateSpace, state: ContactState) -> np.ndarray:
-    """The smallest block of A whose exponential gives a yielding state's step operators exactly
-    (docs/theory.md 14.3): the motion and the forcing entries (a_g, a_g', 1), and two columns for
-    the settlements s_i of the elements in contact. Of the rest, the tops z_i and the settlements
-    of lifted and yielding elements are read by no other row (yielding.step_operators: closed
-    forms), and the s_i of the elements in contact, constant in the state, load the motion only
-    through the mat's vertical force sum k_i s_i and moment -sum k_i x_i s_i (the column of s_i
-    is k_i times that of the vertical force plus -k_i x_i times that of the moment): two columns
-    whatever the number of elements. 23 + 3 + 2 = 28 of the 66 entries of the 20-element mat."""
-    lay = space.layout
-    passive = np.zeros(lay.n_aug, dtype=bool)
-    passive[lay.z_indices] = passive[lay.settlement_indices] = True
-    core = np.flatnonzero(~passive)
-    contact = ~state.lifted & ~state.yielding
-    block = np.zeros((core.size + 2, core.size + 2))
-    block[:core.size, :core.size] = state.matrix[np.ix_(core, core)]
-    mat = np.flatnonzero(np.any(space.directions != 0.0, axis=0))  # theta and v
-    loads = (space.element_stiffness[contact, None] * space.directions[np.ix_(contact, mat)]).T  # (2, n_C)
-    columns = state.matrix[np.ix_(core, lay.settlement_indices[contact])]
-    if columns.size:
-        block[:core.size, core.size:] = np.linalg.lstsq(loads.T, columns.T, rcond=None)[0].T
-    return block
-
-
 def floor_time(states: list[tuple[StateSpace, ContactState, float]], repeats: int) -> tuple[float, int]:
     """CPU time [s] of the exponentials a run that meets these states cannot avoid: every state's
-    coupled block (coupled_block) exponentiated at the finest bisection step h / 2^L in one
-    stacked call, then squared L times for the coarser levels down to the step itself (the
-    fewest products that give the L + 1 operators); and the size of the block."""
-    blocks = np.stack([coupled_block(space, state) * (h / 2.0**LEVELS) for space, state, h in states])
+    block of the smallest size that gives its operators exactly (yielding.coupled_blocks: the
+    motion and the forcing entries, and two columns for the settlements of the elements in
+    contact, which load the mat only through its vertical force and moment; docs/theory.md 14.3)
+    exponentiated at the finest bisection step h / 2^L in one stacked call, then squared L times
+    for the coarser levels down to the step itself (the fewest products that give the L + 1
+    operators); and the size of the block."""
+    blocks = np.stack([coupled_blocks(space, [state])[0][0] * (h / 2.0**LEVELS) for space, state, h in states])
     times = []
     for _ in range(repeats):
         start = time.process_time()
@@ -183,7 +163,7 @@ def main() -> None:
     print(f"largest ratio {worst:.2f} (target {TARGET}): {verdict(worst)}; largest time ratio per states ratio "
           f"(over max(1, states ratio)) {worst_per_state:.2f}: {verdict(worst_per_state)}; "
           f"load average {os.getloadavg()[0]:.1f}")
-    print(f"floor: the exponentials alone of every state a yielding run meets (coupled_block, {size} x {size} on the "
+    print(f"floor: the exponentials alone of every state a yielding run meets (coupled_blocks, {size} x {size} on the "
           f"mat), one stacked expm and {LEVELS} squarings, as a ratio to the whole elastic run; the largest "
           f"{worst_floor:.2f}: the yielding run costs at least the elastic run's stepping and post-processing plus "
           f"this, so a time ratio much below 1 + {worst_floor:.2f} is out of reach of the method "

@@ -64,8 +64,8 @@ def test_evaluate_signals_gives_the_same_bits_with_rows_split_or_whole():
     """A state used at least 32 times has its rows split (copies, sparse sums, a dense product);
     one used fewer times is multiplied whole (_signals.c, SPLIT_USES): the same rows give the same
     bits either way, and those of the dense product R x. Rows with a copy, sparse ones and dense
-    ones; state 0 (40 samples) and state 1 (3 samples) have the same rows. The compiled loop's (the
-    twin's BLAS products sum in another order)."""
+    ones; state 0 (40 samples) and state 1 (3 samples) have the same rows; the samples and the left
+    limits at both transitions. The compiled loop's (the twin's BLAS products sum in another order)."""
     from backends import compiled_or_skip
 
     compiled_or_skip()
@@ -87,6 +87,8 @@ def test_evaluate_signals_gives_the_same_bits_with_rows_split_or_whole():
     np.testing.assert_array_equal(slopes[20:23], slopes[:3])
     dense = np.array([[sum(row[q] * x[q] for q in range(n_aug) if x[q] != 0.0) for row in rows[0]] for x in states])
     np.testing.assert_array_equal(np.hstack((values, slopes)), dense)
+    # the left limits: state 0's rows (split) at sample 20, state 1's (whole) at sample 23
+    np.testing.assert_array_equal(ends, dense[[20, 23]])
 
 
 # ----------------------------------------------------------------------------- an independent reference

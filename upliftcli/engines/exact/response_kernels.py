@@ -34,9 +34,11 @@ def evaluate_signals(states: np.ndarray, ids: np.ndarray, rows_t: np.ndarray, va
     rows_t (S, n_aug, k + k_s): transposed rows of every state (k value rows, then the slope
     rows of the first k_s signals); values (n, k), slopes (n, k_s) filled in place; ends
     (n_switch, k + k_s): the left limits at the end of every interval that ends at a
-    transition, in order. Each state's rows are split once per call: a row equal to an earlier
-    one is copied (the slopes of Y*' are the values of Y*''), one with few nonzero coefficients
-    sums them alone, the rest is one dense product; every way gives the bits of the dense
+    transition, in order. The rows of each state used at least 32 times (its samples and left
+    limits: _signals.c, SPLIT_USES) are split once per call: a row equal to an earlier one is
+    copied (the slopes of Y*' are the values of Y*''), one with few nonzero coefficients sums them
+    alone, the rest is one dense product; the other states' rows are multiplied whole (a yielding
+    run meets hundreds of states, most at a few samples). Every way gives the bits of the dense
     product R x.
     """
     _loops("_signals").evaluate_signals(states, ids, rows_t, values, slopes, ends)

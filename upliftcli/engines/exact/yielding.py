@@ -133,39 +133,50 @@ def step_operators(space: StateSpace, states: list[ContactState], h: float, leve
     The finest level by expm, the coarser ones by squaring it, level 0 by its own expm (as
     operators.add_states), all the states' blocks in one stacked call. tests/test_operators.py
     compares every level with expm(A h/2^j)."""
-    lay = space.layout
-    n, s_idx, z_idx = lay.n_aug, lay.settlement_indices, lay.z_indices
-    passive = np.zeros(n, dtype=bool)
-    passive[z_idx] = passive[s_idx] = True
-    core = np.flatnonzero(~passive)
-    mat = np.flatnonzero(np.any(space.directions != 0.0, axis=0))  # the mat's coordinates (theta, v)
-    n_c, n_f = core.size, mat.size
-    k_el = space.element_stiffness
-    loads = (k_el[:, None] * space.directions[:, mat]).T  # (n_f, n_e): the mat's forces per unit s_i
-    blocks = np.zeros((len(states), n_c + n_f, n_c + n_f))
-    for r, state in enumerate(states):
-        blocks[r, :n_c, :n_c] = state.matrix[np.ix_(core, core)]
-        contact = np.flatnonzero(~state.lifted & ~state.yielding)
-        if contact.size:
-            blocks[r, :n_c, n_c:] = _load_columns(state.matrix[core], s_idx, loads, contact)
+    blocks, core, loads = coupled_blocks(space, states)
     lengths = h / 2.0 ** np.arange(levels + 1)
-    count = len(states)
+    count, size = blocks.shape[:2]
     ends_of = expm(np.concatenate((blocks * lengths[levels], blocks * h)))
-    block = np.empty((count, levels + 1, n_c + n_f, n_c + n_f))
+    block = np.empty((count, levels + 1, size, size))
     block[:, levels], block[:, 0] = ends_of[:count], ends_of[count:]
     for j in range(levels - 1, 0, -1):
         block[:, j] = block[:, j + 1] @ block[:, j + 1]
+    n = space.layout.n_aug
     out = [np.zeros((levels + 1, n, n)) for _ in states] if out is None else out
     for r, state in enumerate(states):
         _assemble(space, state, block[r], core, loads, lengths, out[r])
     return out
 
 
+def coupled_blocks(space: StateSpace, states: list[ContactState]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The blocks B (R, n_c + 2, n_c + 2) whose exponentials give the states' step operators
+    (step_operators): the rows and columns of A of the motion and the forcing entries (core: their
+    n_c indices in X), and the two columns G of the mat's forces (_load_columns); with core and
+    loads (2, n_e), the mat's vertical force and moment per unit s_i (k_i e_i on (theta, v))."""
+    lay = space.layout
+    passive = np.zeros(lay.n_aug, dtype=bool)
+    passive[lay.z_indices] = passive[lay.settlement_indices] = True
+    core = np.flatnonzero(~passive)
+    mat = np.flatnonzero(np.any(space.directions != 0.0, axis=0))  # the mat's coordinates (theta, v)
+    n_c, n_f = core.size, mat.size
+    loads = (space.element_stiffness[:, None] * space.directions[:, mat]).T  # (n_f, n_e)
+    blocks = np.zeros((len(states), n_c + n_f, n_c + n_f))
+    for r, state in enumerate(states):
+        blocks[r, :n_c, :n_c] = state.matrix[np.ix_(core, core)]
+        contact = np.flatnonzero(~state.lifted & ~state.yielding)
+        if contact.size:
+            blocks[r, :n_c, n_c:] = _load_columns(state.matrix[core], lay.settlement_indices, loads, contact)
+    return blocks, core, loads
+
+
 def _load_columns(rows: np.ndarray, s_idx: np.ndarray, loads: np.ndarray, contact: np.ndarray) -> np.ndarray:
     """G (n_core, 2), the columns of the mat's two forces in A, from the columns of s_i in the core
     rows of A (rows[:, s_i] = G loads[:, i]): from the two elements in contact furthest apart
     (G = [a_i a_j] [l_i l_j]^-1, the 2 x 2 inverse written out), or from the one (the least-norm
-    G = a_i l_i^T / |l_i|^2, exact for it and no other column needed)."""
+    G = a_i l_i^T / |l_i|^2, exact for it and no other column needed). The first and last in
+    contact are the furthest apart, and [l_i l_j] = [[-k_i x_i, -k_j x_j], [k_i, k_j]] is singular
+    only if x_i = x_j: the positions of foundations.Winkler, the only foundation with more than two
+    elements, increase strictly (tests/test_operators.py: the closest pair too)."""
     i, j = contact[0], contact[-1]
     if i == j:
         return np.outer(rows[:, s_idx[i]], loads[:, i]) / (loads[:, i] @ loads[:, i])
