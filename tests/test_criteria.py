@@ -123,3 +123,16 @@ def test_every_rocking_limit_is_a_deck_field_with_its_unit():
     for name in limited:
         assert deck_schema.TABLES["criteria"][name].unit == unit_of(name) == ROCKING[name].unit
         assert "ASCE 41-17 section 8.4" in deck_schema.TABLES["criteria"][name].doc
+
+
+def test_a_simplified_error_limit_needs_the_simplified_engine(example_deck):
+    """criteria.simplified_error judges the simplified engine's accuracy check: a deck that runs only
+    the exact engine would pass it unchecked (exit 0), so it is refused, as a rocking limit without
+    the exact engine is."""
+    with pytest.raises(InputError) as info:
+        load_deck(example_deck.source, ["criteria.simplified_error=0.25", "analysis.engine=exact"])
+    assert str(info.value) == ("--set: criteria.simplified_error: a limit on the accuracy check of the simplified "
+                               "engine against the exact engine (docs/accuracy.md); the deck has not the simplified "
+                               "engine in analysis.engine")
+    deck = load_deck(example_deck.source, ["criteria.simplified_error=0.25", 'analysis.engine=["simplified", "exact"]'])
+    assert deck.criteria["simplified_error"] == 0.25
