@@ -1,6 +1,8 @@
 """The deck's acceptance criteria applied to results (upliftcli/criteria.py): the same outcomes
 for the exit code of `uplift analyze`, the sweep's violations column and the report's table."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -136,3 +138,18 @@ def test_a_simplified_error_limit_needs_the_simplified_engine(example_deck):
                                "engine in analysis.engine")
     deck = load_deck(example_deck.source, ["criteria.simplified_error=0.25", 'analysis.engine=["simplified", "exact"]'])
     assert deck.criteria["simplified_error"] == 0.25
+
+
+@pytest.mark.parametrize("source", ["line one\\nline two", "red \\u001b[31m", "", "  "])
+def test_a_source_is_one_line_of_text(example_deck, tmp_path, source):
+    """A source is repeated in the one-line violation message: a line break (or a terminal escape)
+    split it over two lines and reached the terminal raw; an empty one said nothing."""
+    deck = Path(example_deck.source)
+    text = deck.read_text().replace("../records/", f"{(deck.parent.parent / 'records').as_posix()}/")
+    path = tmp_path / "deck.toml"
+    path.write_text(text + f'\n[criteria.sources]\ndrift_ratio = "{source}"\n')
+    with pytest.raises(InputError) as info:
+        load_deck(path)
+    assert (info.value.source, info.value.location) == (str(path), "criteria.sources.drift_ratio")
+    assert info.value.expected.startswith("a non-empty text on one line (without line breaks or control characters)")
+    assert "\n" not in str(info.value) and "\x1b" not in str(info.value)
