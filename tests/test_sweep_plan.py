@@ -147,7 +147,7 @@ def test_base_deck_is_the_deck_with_its_overrides_before_vary_built_once():
 
 
 def test_the_plan_carries_the_decks_warnings_once_each():
-    plan = plan_sweep(EXAMPLE, ["building.floor_mass=300"], ["building.story_height=3,3200,3200"])
+    plan = plan_sweep(EXAMPLE, ["building.floor_mass=300"], ["building.story_height=3,3200", "building.period=0.4,0.5"])
     assert [w.split(": ")[1] for w in plan.warnings] == ["building.floor_mass", "building.story_height"]
     assert plan_sweep(EXAMPLE, [], ["building.period=0.5,1"]).warnings == ()
 
@@ -185,3 +185,17 @@ def test_the_engine_option_is_every_cases_analysis_engine():
     with pytest.raises(InputError, match=r"^--vary: foundation\.elements: at most 31 contact elements"):
         plan_sweep(ROOT / "inputs" / "ten_story_winkler.toml", ["foundation.safety_factor=2"],
                    ["foundation.elements=20,40"], ["exact"])
+
+
+@pytest.mark.parametrize(("text", "line"), [
+    ("0.5,1,0.5", "--vary building.period: 0.5,1,0.5: each value once (0.5 is given 2 times)"),
+    ("1:1:3", "--vary building.period: 1:1:3: each value once (1 is given 3 times)"),
+    ("1:1.0000000000001:3", "--vary building.period: 1:1.0000000000001:3: each value once (1.0 is given 3 times)"),
+])
+def test_a_value_given_twice_is_refused(text, line):
+    """Two cases with one value had one case key: the table listed cases 0-2 twice and never 3-5
+    (`--vary building.period=0.5,0.5`)."""
+    with pytest.raises(InputError) as info:
+        parse_vary(f"building.period={text}")
+    assert str(info.value) == line
+    assert parse_vary("building.period=1:1:1").values == (1,)

@@ -61,7 +61,21 @@ def _too_many(option: str, text: str, count: int) -> InputError:
 
 def parse_values(text: str, option: str, default_spacing: str = "linear") -> tuple[list[Any], str]:
     """'START:STOP:N[:log|lin]' -> N values (linear or geometric), '[a, b]' (TOML array) or
-    'a,b,c' -> explicit list. Returns (values, spacing: "linear" | "log" | "list")."""
+    'a,b,c' -> explicit list. Returns (values, spacing: "linear" | "log" | "list"); a value given
+    twice (after the rounding of a range) is refused: two cases with one key (sweep/store.py)."""
+    values, spacing = _parse_values(text, option, default_spacing)
+    seen: dict[str, int] = {}
+    for value in values:
+        key = json.dumps(value, sort_keys=True, default=str)
+        seen[key] = seen.get(key, 0) + 1
+    repeated = [key for key, count in seen.items() if count > 1]
+    if repeated:
+        raise InputError(option, text if len(text) <= 80 else text[:75] + "...",
+                         f"each value once ({repeated[0]} is given {seen[repeated[0]]} times)")
+    return values, spacing
+
+
+def _parse_values(text: str, option: str, default_spacing: str) -> tuple[list[Any], str]:
     text = text.strip()
     if any(not (ch.isprintable() or ch == "\t") for ch in text):
         raise InputError(option, None, "values on one line (without line breaks or control characters)")
