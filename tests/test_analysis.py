@@ -212,3 +212,16 @@ def test_a_design_spectrum_not_covering_the_periods_names_the_deck_field():
     with pytest.raises(InputError, match=r"^--set: ground_motion.design_spectrum: periods within 0.5 to 4 s .*got "
                                          r"0.335834 s \(a period of the building's modes"):
         run_one(load_deck(deck, [table]), "simplified", "rigid")
+
+
+def test_a_step_rate_beyond_the_limits_is_named_by_steps_per_period(monkeypatch):
+    """--set analysis.exact.steps_per_period=100000 beside --set foundation.elements=31 was blamed on
+    foundation.elements (the first foundation field given by --set); within the limits at the
+    default rate, the rate is what to change."""
+    _engine_must_not_start(monkeypatch)
+    deck = load_deck(WINKLER, ["foundation.safety_factor=1.5", "foundation.elements=31", 'analysis.engine="exact"',
+                               "analysis.exact.steps_per_period=100000"])
+    with pytest.raises(InputError) as info:
+        run(deck)
+    assert (info.value.source, info.value.location) == ("--set", "analysis.exact.steps_per_period")
+    assert info.value.expected.startswith("at most 50,000,000 internal steps x states")

@@ -135,3 +135,29 @@ def test_winkler_capacity_of_the_dataclass():
     assert np.allclose(foundation.contact_elements(6.0).capacity, 2.0e6 * 1.2)
     assert foundation.moment_capacity(6.0, 1.2e7) == pytest.approx(1.2e7 * 6.0 * (1 - 1.2e7 / 2.4e7))
     assert math.isclose(Winkler(6e8, 1.5e7).moment_capacity(6.0, 1.2e7), 1.2e7 * 6.0)
+
+
+@pytest.mark.parametrize("overrides", [["foundation.mat_length=30"],
+                                       ["foundation.safety_factor=3", "foundation.mat_length=30"]])
+def test_a_mat_length_without_bearing_pressure_is_refused(overrides):
+    """mat_length only scales bearing_pressure (q_c L): alone, or beside a safety factor, nothing
+    reads it, and it was ignored without a word."""
+    with pytest.raises(InputError) as info:
+        deck(TWO, *overrides)
+    assert str(info.value) == ("--set: foundation.mat_length: only with foundation.bearing_pressure, which it scales "
+                               "(q_c L); without it the mat length is not used (a capacity from safety_factor or the "
+                               "foundation's own field needs no length)")
+
+
+def test_a_set_capacity_replaces_a_pressure_with_its_mat_length(tmp_path):
+    """--set safety_factor (or the foundation's own field) on a deck giving bearing_pressure and
+    mat_length removes both: the length goes with the pressure it scales."""
+    text = TWO.read_text().replace("[foundation]\n", "[foundation]\nbearing_pressure = 3e6\nmat_length = 30\n")
+    path = tmp_path / "deck.toml"
+    path.write_text(text)
+    for override, capacity in (("foundation.safety_factor=3", None), ("foundation.element_capacity=3e7", 3e7)):
+        loaded = load_deck(path, [override], load_ground_motion=False)
+        assert "bearing_pressure" not in loaded.raw["foundation"] and "mat_length" not in loaded.raw["foundation"]
+        assert loaded.system.foundation.capacity == pytest.approx(capacity or 1.5 * loaded.system.weight)
+    kept = load_deck(path, ["foundation.mat_length=20"], load_ground_motion=False)
+    assert kept.system.foundation.capacity == pytest.approx(3e6 * 20 * kept.system.half_width)

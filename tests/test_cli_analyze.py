@@ -531,3 +531,16 @@ def test_a_capacity_on_more_elements_than_the_history_engines_step_is_refused_up
     document = json.loads(alone.stdout)
     assert document["intermediates"]["FS_v"] == pytest.approx(2.0)
     assert "foundation.elements: at most 31" in document["accuracy"]["error"]
+
+
+def test_no_check_with_a_simplified_error_limit_is_refused(tmp_path):
+    """[criteria] simplified_error is judged on the accuracy check: --no-check would pass it unchecked
+    (exit 0); analyze (one deck or several) and report refuse the pair before anything runs."""
+    line = ("error: --no-check: criteria.simplified_error: the accuracy check that this limit of the deck judges: "
+            "drop --no-check or the limit\n")
+    limit = ["--set", "criteria.simplified_error=0.25", "--no-check"]
+    for args in (["analyze", EXAMPLE, "--out", tmp_path / "out"], ["analyze", EXAMPLE, EXAMPLE],
+                 ["report", EXAMPLE, "--out", tmp_path / "r.html"]):
+        result = invoke(*args, *limit)
+        assert (result.exit_code, result.stderr, result.stdout) == (2, line, "")
+    assert sorted(tmp_path.iterdir()) == []

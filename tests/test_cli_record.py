@@ -219,3 +219,38 @@ def test_every_csv_file_names_its_columns_quantity_unit(tmp_path):
     text = invoke("record", "spectrum", RECORD, "--periods", "0.5,1").stdout
     header = next(line for line in text.splitlines() if not line.startswith("#"))
     assert header == "damping_ratio,period_s,sd_m,psv_m_s,psa_m_s2,psa_g,abs_acc_m_s2"
+
+
+@pytest.mark.parametrize(("options", "line"), [
+    (["--dt", "0"], "--dt: {r}: a time step dt: a number > 0 and at most 10 [s], got 0.0"),
+    (["--dt", "0.01"], "--dt: {r}: dt = 0.02 s as in the file, got 0.01 s"),
+    (["--scale", "nan"], "--scale: {r}: a finite non-zero scale factor, got nan"),
+    (["--window", "5:2"], "--window: {r}: 0 <= start < end [s], got (5, 2)"),
+    (["--window", "100:200"], "--window: {r}: a start time within the record (0 to 31.18 s), got 100"),
+    (["--input-format", "xx"], "--input-format: {r}: one of at2, text, csv, shared, got 'xx'"),
+])
+def test_an_option_that_does_not_suit_the_record_names_the_option(options, line):
+    """A value of --dt, --scale, --window or --input-format that does not suit the record is the
+    option's mistake, named with the file (it named the file alone: `{file}: dt: ...`)."""
+    for command in ("info", "spectrum"):
+        result = invoke("record", command, RECORD, *options)
+        assert result.exit_code == 2 and result.stdout == ""
+        assert result.stderr == f"error: {line.format(r=RECORD)}\n"
+
+
+def test_record_units_that_contradict_the_header_name_the_option():
+    """--record-units (or the old --units g spelling) that contradict the header: the option is named."""
+    result = invoke("record", "info", RECORD, "--record-units", "m/s2")
+    assert result.exit_code == 2
+    assert result.stderr.startswith(f"error: --record-units: {RECORD}: the units that the header of ")
+    old = invoke("record", "info", RECORD, "--units", "m/s2")
+    assert old.exit_code == 2 and old.stderr.splitlines()[1].startswith(f"error: --record-units: {RECORD}: ")
+
+
+def test_a_record_without_dt_still_names_the_file(tmp_path):
+    """Without --dt the missing time step is the file's (no option was given)."""
+    path = tmp_path / "plain.txt"
+    path.write_text("0.1\n0.2\n-0.1\n")
+    result = invoke("record", "info", path)
+    assert result.exit_code == 2
+    assert result.stderr == f"error: {path}: dt: a time step dt [s] (give dt, or a 'dt = ...' header line)\n"

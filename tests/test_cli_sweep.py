@@ -523,3 +523,15 @@ def test_tables_of_an_earlier_run_are_replaced_only_with_resume_or_overwrite(tmp
                              "it)\n")
     assert not (tmp_path / "ten_story_elcentro.sweep.rows.jsonl").exists()
     assert invoke(*args, "--overwrite").exit_code == 0
+
+
+def test_a_simplified_error_limit_needs_check(tmp_path):
+    """A sweep judges [criteria] simplified_error on the ratios --check adds: without --check (the
+    limit in the deck, by --set or varied) every case passed it unchecked; refused before any run."""
+    line = ("error: --check: criteria.simplified_error: needed by this limit of the deck (a sweep judges it on the "
+            "ratios simplified / exact that --check adds): add --check or drop the limit\n")
+    for limit in (["--set", "criteria.simplified_error=0.25"], ["--vary", "criteria.simplified_error=0.01,1"]):
+        result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1.0", *limit, "--out", tmp_path,
+                        "--workers", "1", "-q")
+        assert (result.exit_code, result.stderr) == (2, line)
+    assert sorted(tmp_path.iterdir()) == []

@@ -1,6 +1,8 @@
 """The deck's acceptance criteria applied to results (upliftcli/criteria.py): the same outcomes
 for the exit code of `uplift analyze`, the sweep's violations column and the report's table."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -123,3 +125,31 @@ def test_every_rocking_limit_is_a_deck_field_with_its_unit():
     for name in limited:
         assert deck_schema.TABLES["criteria"][name].unit == unit_of(name) == ROCKING[name].unit
         assert "ASCE 41-17 section 8.4" in deck_schema.TABLES["criteria"][name].doc
+
+
+def test_a_simplified_error_limit_needs_the_simplified_engine(example_deck):
+    """criteria.simplified_error judges the simplified engine's accuracy check: a deck that runs only
+    the exact engine would pass it unchecked (exit 0), so it is refused, as a rocking limit without
+    the exact engine is."""
+    with pytest.raises(InputError) as info:
+        load_deck(example_deck.source, ["criteria.simplified_error=0.25", "analysis.engine=exact"])
+    assert str(info.value) == ("--set: criteria.simplified_error: a limit on the accuracy check of the simplified "
+                               "engine against the exact engine (docs/accuracy.md); the deck has not the simplified "
+                               "engine in analysis.engine")
+    deck = load_deck(example_deck.source, ["criteria.simplified_error=0.25", 'analysis.engine=["simplified", "exact"]'])
+    assert deck.criteria["simplified_error"] == 0.25
+
+
+@pytest.mark.parametrize("source", ["line one\\nline two", "red \\u001b[31m", "", "  "])
+def test_a_source_is_one_line_of_text(example_deck, tmp_path, source):
+    """A source is repeated in the one-line violation message: a line break (or a terminal escape)
+    split it over two lines and reached the terminal raw; an empty one said nothing."""
+    deck = Path(example_deck.source)
+    text = deck.read_text().replace("../records/", f"{(deck.parent.parent / 'records').as_posix()}/")
+    path = tmp_path / "deck.toml"
+    path.write_text(text + f'\n[criteria.sources]\ndrift_ratio = "{source}"\n')
+    with pytest.raises(InputError) as info:
+        load_deck(path)
+    assert (info.value.source, info.value.location) == (str(path), "criteria.sources.drift_ratio")
+    assert info.value.expected.startswith("a non-empty text on one line (without line breaks or control characters)")
+    assert "\n" not in str(info.value) and "\x1b" not in str(info.value)

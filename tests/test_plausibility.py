@@ -63,6 +63,21 @@ def test_base_moment_above_the_limit_is_reported():
     assert result.base_moment > MOMENT_LIMIT * short.critical_base_moment and not matching(result, "M_c")
 
 
+def test_base_moment_above_a_capacitys_limit_at_the_boundary_period_is_reported():
+    """The example deck's T_1 = 0.5 s (MOMENT_PERIOD) is solved as 0.499999999999995 s: it missed the
+    warning, so a safety factor of 1.0000001 (M_c = W b (FS_v - 1) = 8 N m, docs/theory.md 14.4) gave
+    M_b = 5e6 M_c, a mat rotation of 1e4 rad and 391 g floor accelerations with --no-check and no
+    warning. The line names the capacity's M_c, not m_t g b."""
+    deck = load_deck(ROOT / "inputs" / "ten_story_elcentro.toml", ["foundation.safety_factor=1.0000001"])
+    assert deck.system.modes.periods[0] < 0.5
+    result = analyze(deck.system, deck.spectrum, "uplift", deck.analysis.simplified)
+    ratio = result.base_moment / deck.system.critical_base_moment
+    assert ratio > 1e6
+    (line,) = matching(result, "M_c")
+    assert line.startswith(f"uplift M_b = {ratio:.3g} M_c is above 2 M_c (M_c = the bearing capacity's, "
+                           f"docs/theory.md 14.4 = {deck.system.critical_base_moment:.4g} N m)")
+
+
 def test_effective_damping_below_fixed_base_damping_is_an_intermediate_not_a_warning():
     """The paper's example: xi1bar = 0.0328 < xi_1 = 0.05 (docs/theory.md); the value is kept. It
     happens on most decks and breaks no code bound (ASCE 7-22 19.3 bounds xi1bar above): the

@@ -147,6 +147,55 @@ def test_base_deck_is_the_deck_with_its_overrides_before_vary_built_once():
 
 
 def test_the_plan_carries_the_decks_warnings_once_each():
-    plan = plan_sweep(EXAMPLE, ["building.floor_mass=300"], ["building.story_height=3,3200,3200"])
+    plan = plan_sweep(EXAMPLE, ["building.floor_mass=300"], ["building.story_height=3,3200", "building.period=0.4,0.5"])
     assert [w.split(": ")[1] for w in plan.warnings] == ["building.floor_mass", "building.story_height"]
     assert plan_sweep(EXAMPLE, [], ["building.period=0.5,1"]).warnings == ()
+
+
+def test_a_varied_field_may_complete_the_deck():
+    """A deck that a varied field completes is not refused for lacking it: --set bearing_pressure
+    with --vary mat_length was 'foundation.mat_length: ... (missing)', naming the deck; a --set value
+    that every case replaces is not checked on its own. The provenance's deck is the first case's."""
+    plan = plan_sweep(EXAMPLE, ["foundation.bearing_pressure=3e6"], ["foundation.mat_length=10,30"])
+    assert len(plan.cases) == 6 and plan.base_deck.system.foundation.capacity == pytest.approx(
+        3e6 * 10 * plan.base_deck.system.half_width)
+    assert len(plan_sweep(EXAMPLE, ["foundation.safety_factor=0.5"], ["foundation.safety_factor=2,3"]).cases) == 6
+    with pytest.raises(InputError) as info:  # a deck the first values do not complete is refused as before
+        plan_sweep(EXAMPLE, [], ["foundation.mat_length=10,30"])
+    assert str(info.value).startswith("--vary: foundation.mat_length: only with foundation.bearing_pressure")
+
+
+def test_the_engine_option_is_every_cases_analysis_engine():
+    """--engine exact on a deck whose analysis.engine is simplified: a rocking limit (which needs the
+    exact engine) was refused, the deck's engine checked instead of the one that runs; the workers
+    build the cases with it too."""
+    from upliftcli.sweep.plan import make_chunks
+    from upliftcli.sweep.worker import run_chunk
+
+    settings = [*SHORT, "criteria.rotation=1e-6"]
+    with pytest.raises(InputError, match=r"^--set: criteria\.rotation: .*has not the exact engine"):
+        plan_sweep(EXAMPLE, settings, ["foundation.safety_factor=2,3"])
+    plan = plan_sweep(EXAMPLE, settings, ["foundation.safety_factor=2,3"], ["exact"], ["uplift"])
+    assert plan.base_deck.analysis.engines == ["exact"]
+    assert plan.base_overrides == (("ground_motion.window", [0, 6]), ("criteria.rotation", 1e-6))  # the --set only
+    (chunk,) = make_chunks(plan, plan.cases, 16)
+    rows = run_chunk(chunk)
+    assert [row["status"] for row in rows] == ["ok", "ok"]
+    assert all(row["violations"].startswith("exact/uplift: rotation = ") for row in rows)
+    with pytest.raises(InputError, match=r"^--vary: foundation\.elements: at most 31 contact elements"):
+        plan_sweep(ROOT / "inputs" / "ten_story_winkler.toml", ["foundation.safety_factor=2"],
+                   ["foundation.elements=20,40"], ["exact"])
+
+
+@pytest.mark.parametrize(("text", "line"), [
+    ("0.5,1,0.5", "--vary building.period: 0.5,1,0.5: each value once (0.5 is given 2 times)"),
+    ("1:1:3", "--vary building.period: 1:1:3: each value once (1 is given 3 times)"),
+    ("1:1.0000000000001:3", "--vary building.period: 1:1.0000000000001:3: each value once (1.0 is given 3 times)"),
+])
+def test_a_value_given_twice_is_refused(text, line):
+    """Two cases with one value had one case key: the table listed cases 0-2 twice and never 3-5
+    (`--vary building.period=0.5,0.5`)."""
+    with pytest.raises(InputError) as info:
+        parse_vary(f"building.period={text}")
+    assert str(info.value) == line
+    assert parse_vary("building.period=1:1:1").values == (1,)

@@ -42,7 +42,7 @@ def test_envelope_over_foundation_stiffness():
 
 def test_tables_carry_the_sweep_provenance(small_plan, serial_rows, tmp_path):
     """CSV ('#' lines), JSON and Parquet hold the same provenance: the record's SHA-256 computed
-    here, the varied values, and the deck's model with the --set overrides."""
+    here, the varied values, and the deck's model with the --set overrides (and --engine, --support)."""
     import hashlib
     import json
 
@@ -61,8 +61,31 @@ def test_tables_carry_the_sweep_provenance(small_plan, serial_rows, tmp_path):
     assert json_record["sweep"]["varied"] == [{"path": v.path, "unit": v.unit, "spacing": v.spacing,
                                                "values": list(v.values)} for v in small_plan.varies]
     assert json_record["sweep"]["cases"] == len(small_plan.cases) == 14
-    assert json_record["deck"]["set"] == {"ground_motion.window": [0, 6]}
+    # --engine and --support are the deck's analysis.engine and analysis.supports of every case
+    assert json_record["deck"]["set"] == {"ground_motion.window": [0, 6], "analysis.engine": ["simplified", "exact"],
+                                          "analysis.supports": ["rigid", "bonded", "uplift"]}
     pq = pytest.importorskip("pyarrow.parquet")
     parquet = sweep_table.write_tables(small_plan, serial_rows, tmp_path, "q", "parquet")[1]
     metadata = pq.read_schema(parquet).metadata
     assert json.loads(metadata[b"provenance"])["files"] == json_record["files"]
+
+
+def test_a_varied_simplified_error_limit_is_each_cases_own():
+    """add_checks judges each simplified row by its own criteria.simplified_error when it is varied
+    (it used the deck's, so --vary criteria.simplified_error=0.01,1 found no violation at all)."""
+    from types import SimpleNamespace
+
+    from upliftcli.engines.quantities import COMPARED
+
+    name = next(iter(COMPARED))
+    path = "criteria.simplified_error"
+    plan = SimpleNamespace(varies=[SimpleNamespace(path=path)], criteria={})
+    rows = [{"engine": engine, "support": "uplift", "status": "ok", path: limit, "violations": "",
+             "compared": {name: value}}
+            for limit in (0.01, 1.0) for engine, value in (("simplified", 1.2), ("exact", 1.0))]
+    checked = sweep_table.add_checks(plan, rows)
+    simplified = [row for row in checked if row["engine"] == "simplified"]
+    assert [row[f"check_{name}"] for row in simplified] == pytest.approx([1.2, 1.2])
+    assert simplified[0]["violations"].startswith(f"simplified_error: {COMPARED[name].symbol} simplified / exact = "
+                                                  "1.2 outside [0.99, 1.01]")
+    assert simplified[1]["violations"] == ""  # 1.2 is within [0.5, 2]

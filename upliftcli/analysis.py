@@ -119,15 +119,19 @@ def _check_step_states(deck: Deck, engine: Engine, support: str, record: Record)
     except ValueError as error:
         raise InputError(deck.source, "analysis.exact.n_modes", str(error)) from None
     states = space.layout.n_aug
-    problem = limits.step_states_problem(steps, states) or limits.steps_problem(steps, states)
+    problem = _step_problem(steps, states)
     if problem is None:
         return
     governing = space.governing_period
     by_foundation = governing < 0.999 * float(np.min(2.0 * math.pi / space.model.omega))  # vertical or rocking
     knobs = ["analysis.exact.steps_per_period", "analysis.exact.free_vibration", "ground_motion.window",
              "ground_motion.dt"]
+    default_rate = type(options)().steps_per_period
     if options.time_step:
         cause = ["analysis.exact.time_step"]
+    elif options.steps_per_period > default_rate and not _step_problem(steps * default_rate // options.steps_per_period,
+                                                                      states):
+        cause = ["analysis.exact.steps_per_period"]  # within the limits at the default rate
     elif "states^2" in problem:  # the state size: modes kept, stories, contact elements
         cause = ["analysis.exact.n_modes", "building.stories", "building.masses", "foundation.elements"]
     elif steps <= samples - 1:  # one step a record sample: the record's own length, whatever the knobs
@@ -140,6 +144,12 @@ def _check_step_states(deck: Deck, engine: Engine, support: str, record: Record)
                      f"{stiff} and the record has {samples:,} samples at dt = {record.dt:g} s; set a longer "
                      "analysis.exact.time_step, lower analysis.exact.steps_per_period, keep fewer modes "
                      "(analysis.exact.n_modes) or shorten the record (ground_motion.window)")
+
+
+def _step_problem(steps: int, states: int) -> str | None:
+    """The words of the first limit of the exact engine that `steps` internal steps of a state of
+    `states` exceed (None: within them)."""
+    return limits.step_states_problem(steps, states) or limits.steps_problem(steps, states)
 
 
 def _spectrum_range_error(deck: Deck, result):

@@ -4,9 +4,10 @@ into its criteria table.
 
 A criterion is a limit on the largest |value| of a response quantity or a scalar
 (engines/quantities.py), `uplift = false`, or `simplified_error = e`: every ratio simplified /
-exact of the accuracy check (accuracy.py) within [1/(1 + e), 1 + e] (applied to the checks given;
-none without a record or with --no-check). On a suite (SuiteResult) the limits apply to the
-design statistic (the mean, or EC8's maximum below 7 records) and uplift = false to every record.
+exact of the accuracy check (accuracy.py) within [1/(1 + e), 1 + e] (applied to the checks given:
+a deck without the simplified engine is refused by deck.py, --no-check by cli/options.py). On a
+suite (SuiteResult) the limits apply to the design statistic (the mean, or EC8's maximum below 7
+records) and uplift = false to every record.
 A limit on a rocking quantity (quantities.ROCKING: rotation, residual rotation, settlement and
 residual settlement; the values of ASCE 41-17 section 8.4 for the chosen performance level, given
 by the user) applies to the results that report it: the exact engine's uplift analyses (deck.py

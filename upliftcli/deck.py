@@ -171,7 +171,12 @@ def _check_yielding_elements(system: System, analysis: AnalysisSettings, error) 
 
 def _check_rocking_criteria(criteria: dict, analysis: AnalysisSettings, error) -> None:
     """A limit on a rocking quantity (engines/quantities.ROCKING) needs the analysis that reports
-    it: the exact engine and the uplift support (with or without a bearing capacity)."""
+    it: the exact engine and the uplift support (with or without a bearing capacity); a limit on
+    the simplified engine's accuracy (simplified_error) needs the simplified engine, else it would
+    pass unchecked."""
+    if "simplified_error" in criteria and "simplified" not in analysis.engines:
+        raise error("criteria.simplified_error", "a limit on the accuracy check of the simplified engine against the "
+                    "exact engine (docs/accuracy.md); the deck has not the simplified engine in analysis.engine")
     for name in criteria:
         if name not in ROCKING:
             continue

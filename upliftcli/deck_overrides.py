@@ -14,6 +14,7 @@ from typing import Any
 from . import deck_schema as schema
 from .deck_schema import set_by_override  # noqa: F401 - part of this module's interface
 from .errors import InputError
+from .model.bearing import COMPANIONS
 from .model.foundations import FOUNDATIONS
 
 #: groups of mutually exclusive fields: a `--set` of one member removes the others
@@ -77,6 +78,8 @@ def apply_overrides(raw: dict, overrides: Iterable[tuple[str, Any]]) -> tuple[di
                     if name not in group:
                         for other in group:
                             table.pop(other, None)
+                            for companion in COMPANIONS.get(other, ()) if group_table == "foundation" else ():
+                                table.pop(companion, None)
         if path == "foundation.type" and isinstance(value, str) and value in FOUNDATION_FIELDS:
             for kind, names in FOUNDATION_FIELDS.items():  # fields of the replaced type go
                 if kind != value:

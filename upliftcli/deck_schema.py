@@ -126,8 +126,10 @@ TABLES: dict[str, dict[str, Field]] = {
 }
 #: where each limit of [criteria] comes from, as the user states it (a standard's table and row, a
 #: performance objective): reported with the limit's verdict (criteria.py)
+#: (one line: it is repeated in the one-line violation message)
 TABLES["criteria.sources"] = {name: Field("string", "-", f"the source of the limit criteria.{name}, as the user "
-                                          "states it (e.g. \"ASCE 41-17 Table 8-4, life safety, A_c/A = 0.2\")")
+                                          "states it (e.g. \"ASCE 41-17 Table 8-4, life safety, A_c/A = 0.2\")",
+                                          "one-line")
                               for name in TABLES["criteria"]}
 
 #: tables that may appear inside others (dotted name -> parent)

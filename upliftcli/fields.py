@@ -77,6 +77,8 @@ CHECKS: dict[str, tuple[Callable[[Any], bool], str]] = {
     "acceleration-units": (lambda v: acceleration_unit(v) is not None,
                            "acceleration units g, m/s2, cm/s2 or in/s2 (or an alias of docs/deck.md)"),
     "contact-elements": (lambda v: 2 <= v <= MAX_CONTACT_ELEMENTS, f"from 2 to {MAX_CONTACT_ELEMENTS}"),
+    "one-line": (lambda v: bool(v.strip()) and all(ch.isprintable() for ch in v),
+                 "a non-empty text on one line (without line breaks or control characters)"),
     "": (lambda v: True, ""),
 }
 

@@ -22,7 +22,7 @@ from ..errors import InputError
 from ..provenance_files import input_files
 from . import plotting, stdout
 from .histories import check_histories, write_histories
-from .options import ENGINE_HELP, SET_HELP, UNITS_HELP, DisplayUnits, OutputFormat, overrides
+from .options import ENGINE_HELP, SET_HELP, UNITS_HELP, DisplayUnits, OutputFormat, overrides, refuse_unchecked
 
 if TYPE_CHECKING:
     from ..deck import Deck
@@ -113,6 +113,7 @@ def analyze(
         return
     deck = decks[0]
     loaded = load_deck(deck, overrides(settings, engine, support))
+    refuse_unchecked(loaded.criteria, check)
     if out is not None:
         refuse_inputs(result_paths(out, deck.stem), input_files(loaded), "--out")
         refuse_existing(result_paths(out, deck.stem), "--out", overwrite, EARLIER)
@@ -219,6 +220,8 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
         twice = next(stem for stem in stems if stems.count(stem) > 1)
         raise InputError("--out", str(out), f"decks with different file names ({twice}.toml is given twice)")
     loaded = [load_deck(deck, overrides) for deck in decks]
+    for item in loaded:
+        refuse_unchecked(item.criteria, check)
     for item in loaded:
         warn_deck(item)
     if out is not None:

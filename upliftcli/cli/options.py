@@ -42,3 +42,17 @@ def overrides(settings: list[str], engines: list[str], supports: list[str]) -> l
     if supports:
         given.append("analysis.supports=" + json.dumps(supports))
     return given
+
+
+def refuse_unchecked(criteria, check: bool, option: str = "--no-check") -> None:
+    """[criteria] simplified_error is judged on the accuracy check (criteria.py): a run without the
+    check (--no-check; a sweep without --check) would pass the limit unchecked, so it is refused."""
+    from ..errors import InputError
+
+    if check or "simplified_error" not in criteria:
+        return
+    if option == "--check":
+        raise InputError("--check", "criteria.simplified_error", "needed by this limit of the deck (a sweep judges it "
+                         "on the ratios simplified / exact that --check adds): add --check or drop the limit")
+    raise InputError(option, "criteria.simplified_error", "the accuracy check that this limit of the deck judges: "
+                     "drop --no-check or the limit")

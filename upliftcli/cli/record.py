@@ -138,12 +138,32 @@ def parse_dampings(text: str) -> np.ndarray:
     return np.array(values)
 
 
-def _read(file: Path, file_format: str | None, units: str | None, dt: float | None, scale: float,
-          window: str | None, override: bool = False) -> records.Record:
+#: read_record's options -> the command-line options that give them
+RECORD_OPTIONS = {"format": "--input-format", "units": "--record-units", "dt": "--dt", "scale": "--scale",
+                  "window": "--window"}
+
+
+def read_with_options(file: Path, **options) -> records.Record:
+    """records.read_record with the options of the command line; a value that does not suit the
+    file (--dt 0, --scale nan, a --window past its end, --record-units that contradict its header)
+    is the option's mistake, named with the file, not the file's (deck_motion.py does the same for
+    the deck's fields)."""
     from ..motion import records
 
-    return records.read_record(file, format=file_format, units=units, dt=dt, scale=scale, window=parse_window(window),
-                               override_header_units=override)
+    try:
+        return records.read_record(file, **options)
+    except InputError as bad:
+        given = options.get(bad.location or "")
+        if bad.source == str(file) and bad.location in RECORD_OPTIONS and given is not None \
+                and not (bad.location == "scale" and given == 1.0):
+            raise InputError(RECORD_OPTIONS[bad.location], str(file), bad.expected) from None
+        raise
+
+
+def _read(file: Path, file_format: str | None, units: str | None, dt: float | None, scale: float,
+          window: str | None, override: bool = False) -> records.Record:
+    return read_with_options(file, format=file_format, units=units, dt=dt, scale=scale, window=parse_window(window),
+                             override_header_units=override)
 
 
 def info(

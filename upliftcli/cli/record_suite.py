@@ -14,7 +14,7 @@ from .. import limits
 from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
 from ..units import STANDARD_GRAVITY
-from .record import DT_HELP, INPUT_FORMAT, MOVED_FORMAT, OVERRIDE_HELP, RECORD_UNITS, units_of
+from .record import DT_HELP, INPUT_FORMAT, MOVED_FORMAT, OVERRIDE_HELP, RECORD_UNITS, read_with_options, units_of
 
 if TYPE_CHECKING:  # imported by the commands that use them (numpy, scipy, rich, the suites: see analyze.py)
     from ..motion import records
@@ -40,12 +40,11 @@ def _records(deck_path: Path, loaded, files: list[Path] | None, file_format: str
              dt: float | None, override: bool = False) -> tuple[list[records.Record], tuple[str, ...]]:
     """The records named on the command line, else those of the deck's ground_motion.suite, and
     how each was made (motion/origins.py: their folder's manifest)."""
-    from ..motion import records
     from ..motion.origins import origin_of
     from ..motion.suites import entry_origins, read_records, suite_entries
 
     if files:
-        return ([records.read_record(f, format=file_format, units=units, dt=dt, override_header_units=override)
+        return ([read_with_options(f, format=file_format, units=units, dt=dt, override_header_units=override)
                  for f in files], tuple(origin_of(f) for f in files))
     suite = loaded.values.get("ground_motion", {}).get("suite")
     if suite is None:

@@ -70,6 +70,7 @@ def report(
              "revision": revision}
     overrides = options.overrides(settings, engine, support)
     loaded = keep_histories(load_deck(deck, overrides))
+    options.refuse_unchecked(loaded.criteria, check)
     refuse_inputs([out], input_files(loaded), "--out")
     refuse_existing([out], "--out", overwrite)
     deck_text = deck.read_text(encoding="utf-8")

@@ -15,7 +15,7 @@ import typer
 from .. import limits
 from ..errors import InputError
 from . import plotting, stdout
-from .options import ENGINE_HELP, SET_HELP, UNITS_HELP, DisplayUnits, OutputFormat
+from .options import ENGINE_HELP, SET_HELP, UNITS_HELP, DisplayUnits, OutputFormat, refuse_unchecked
 from .sweep_execute import check_out, execute, warm_workers_early
 from .sweep_options import (
     CHECK_HELP,
@@ -133,6 +133,7 @@ def sweep(
     engines = parse_choices(engine, ENGINES, "--engine")
     plan = plan_sweep(deck, settings, vary, engines, parse_choices(support, SUPPORTS, "--support"),
                       per_record=per_record, check=check)  # --check: the exact engine's cases batched as usual
+    refuse_unchecked([*plan.criteria, *(v.path.removeprefix("criteria.") for v in plan.varies)], check, "--check")
     warn_suites(plan)
     if plot_path is not None:
         figures.sweep_figure(plan, [])  # a numeric varied field to plot against, checked before running

@@ -27,6 +27,9 @@ CAPACITY_FIELDS: dict[str, Field] = {
 }
 #: each foundation's own capacity field (declared with it, model/foundations.py)
 OWN_CAPACITY_FIELDS = ("element_capacity", "line_capacity")
+#: the fields that go with another (mat_length scales bearing_pressure): a --set that replaces the
+#: latter by another way to the capacity (deck_overrides.ALTERNATIVES) removes them too
+COMPANIONS = {"bearing_pressure": ("mat_length",)}
 #: every deck field that gives a foundation its bearing capacity or scales it (mat_length)
 CAPACITY_NAMES = (*OWN_CAPACITY_FIELDS, *CAPACITY_FIELDS)
 
@@ -35,7 +38,12 @@ def bearing_capacity(fields: dict[str, Any], context: DeckContext, own: str, tri
     """The capacity of a strip of width `tributary` [m] of the mat (None: no capacity given): the
     foundation's own field `own` as given, q_c L tributary from bearing_pressure [Pa] and
     mat_length [m], or FS_v W tributary / (2 b) from safety_factor (W = m_t g: the static
-    pressure q = W / (2 b L) times FS_v)."""
+    pressure q = W / (2 b L) times FS_v). mat_length without bearing_pressure, which it scales, is
+    refused: nothing would read it."""
+    if "mat_length" in fields and "bearing_pressure" not in fields:
+        context.missing("mat_length", "only with foundation.bearing_pressure, which it scales (q_c L); without it "
+                        "the mat length is not used (a capacity from safety_factor or the foundation's own field "
+                        "needs no length)")
     if own in fields:
         return float(fields[own])
     if "bearing_pressure" in fields:

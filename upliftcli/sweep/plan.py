@@ -61,7 +61,21 @@ def _too_many(option: str, text: str, count: int) -> InputError:
 
 def parse_values(text: str, option: str, default_spacing: str = "linear") -> tuple[list[Any], str]:
     """'START:STOP:N[:log|lin]' -> N values (linear or geometric), '[a, b]' (TOML array) or
-    'a,b,c' -> explicit list. Returns (values, spacing: "linear" | "log" | "list")."""
+    'a,b,c' -> explicit list. Returns (values, spacing: "linear" | "log" | "list"); a value given
+    twice (after the rounding of a range) is refused: two cases with one key (sweep/store.py)."""
+    values, spacing = _parse_values(text, option, default_spacing)
+    seen: dict[str, int] = {}
+    for value in values:
+        key = json.dumps(value, sort_keys=True, default=str)
+        seen[key] = seen.get(key, 0) + 1
+    repeated = [key for key, count in seen.items() if count > 1]
+    if repeated:
+        raise InputError(option, text if len(text) <= 80 else text[:75] + "...",
+                         f"each value once ({repeated[0]} is given {seen[repeated[0]]} times)")
+    return values, spacing
+
+
+def _parse_values(text: str, option: str, default_spacing: str) -> tuple[list[Any], str]:
     text = text.strip()
     if any(not (ch.isprintable() or ch == "\t") for ch in text):
         raise InputError(option, None, "values on one line (without line breaks or control characters)")
@@ -224,6 +238,9 @@ class SweepPlan:
     fingerprint: str = ""
     record_steps: dict = field(default_factory=dict)
     inputs: tuple = ()
+    #: --engine and --support as overrides of analysis.engine and analysis.supports, applied after --set
+    #: (not in the fingerprint: a sweep resumed with more engines keeps the rows of the others)
+    chosen: tuple = ()
 
     @property
     def input_files(self) -> list[str]:
@@ -232,15 +249,32 @@ class SweepPlan:
 
     @functools.cached_property
     def base_deck(self) -> Deck:
-        """The deck after its --set overrides, before --vary, without its ground motion (built
-        once: the provenance and the figures' nominal values read it); InputError if invalid."""
-        return build_deck(self.raw, self.source, list(self.base_overrides), load_ground_motion=False)
+        """The deck after its --set overrides (and --engine, --support), before --vary (base_deck),
+        without its ground motion (built once: the provenance and the figures' nominal values read
+        it); InputError if invalid."""
+        return base_deck(self.raw, self.source, [*self.base_overrides, *self.chosen], self.varies,
+                         load_ground_motion=False)
 
 
 def _vary_error(error: InputError, varied: set[str]) -> InputError:
     if error.source == "--set" and error.location in varied:
         return InputError("--vary", error.location, error.expected)
     return error
+
+
+def base_deck(raw: dict, source: str, base: list, varies: Sequence[Vary], *, load_ground_motion: bool = True) -> Deck:
+    """The deck after its --set overrides; one that a varied field completes (a bearing_pressure
+    whose mat_length is varied) with the first value of each --vary (every case is checked too)."""
+    try:
+        return build_deck(raw, source, base, load_ground_motion=load_ground_motion)
+    except InputError:
+        if not varies:
+            raise
+    first = [(v.path, v.values[0]) for v in varies]
+    try:
+        return build_deck(raw, source, base + first, load_ground_motion=load_ground_motion)
+    except InputError as error:
+        raise _vary_error(error, {v.path for v in varies}) from None
 
 
 class CaseUnsupported(InputError):
@@ -277,7 +311,11 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
         raise InputError("--vary", next(p for p in paths if paths.count(p) > 1), "each field varied once")
     source = str(deck_path)
     raw = read_toml(deck_path)
-    deck = build_deck(raw, source, base)
+    # --engine and --support are every case's analysis.engine and analysis.supports: the deck's checks
+    # that depend on them (a rocking limit needs the exact engine) see the engines that run
+    chosen = tuple((path, list(given)) for path, given in (("analysis.engine", engines),
+                                                           ("analysis.supports", supports)) if given)
+    deck = base_deck(raw, source, base + list(chosen), varies)
     engines = list(engines) or deck.analysis.engines
     supports = list(supports) or deck.analysis.supports
     if check:
@@ -295,11 +333,11 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     unsupported: list[str] = []
     for combo in itertools.product(*[[(v.path, value) for value in v.values] for v in varies]):
         try:
-            case_deck = build_deck(raw, source, base + list(combo), load_ground_motion=False)
+            case_deck = build_deck(raw, source, base + list(chosen) + list(combo), load_ground_motion=False)
             deck_warnings += case_deck.warnings
             motion_key = ground_motion_key(case_deck)
             if motion_key not in grounds:
-                grounds[motion_key] = _with_suite(raw, source, base, combo, case_deck)
+                grounds[motion_key] = _with_suite(raw, source, base + list(chosen), combo, case_deck)
         except CaseUnsupported as error:
             unsupported.append(str(error))  # its cases fail alone, the message in their rows (sweep/worker.py)
             continue
@@ -327,7 +365,7 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     return SweepPlan(raw, source, deck.title, tuple(base), varies, engines, supports, cases, deck.criteria,
                      max((suite.count for suite in suites), default=0), per_record, warnings, records=records,
                      version=version, fingerprint=run_fingerprint(deck_fingerprint, records, version),
-                     record_steps=samples, inputs=tuple(inputs.values()), check=check)
+                     record_steps=samples, inputs=tuple(inputs.values()), check=check, chosen=chosen)
 
 
 # ----------------------------------------------------------------------------- chunks
@@ -359,8 +397,8 @@ def make_chunks(plan: SweepPlan, cases: Sequence[Case], size: int) -> list[Chunk
     stable, so otherwise in case order)."""
     size = max(1, int(size))
     ordered = sorted(cases, key=_structure_order)
-    return [Chunk(plan.raw, plan.source, plan.base_overrides, ordered[i:i + size], plan.fingerprint, plan.records)
-            for i in range(0, len(ordered), size)]
+    return [Chunk(plan.raw, plan.source, (*plan.base_overrides, *plan.chosen), ordered[i:i + size],
+                  plan.fingerprint, plan.records) for i in range(0, len(ordered), size)]
 
 
 def chunk_size(n_cases: int, workers: int) -> int:

@@ -97,9 +97,9 @@ def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
     """The rows, each finished simplified case with the ratios simplified / exact of the exact
     case of the same varied values and support (CHECK_COLUMNS; empty where there is none); with
     [criteria] simplified_error = e, a ratio outside [1/(1 + e), 1 + e] is a violation of the
-    simplified case (criteria.py)."""
+    simplified case (criteria.py); a varied criteria.simplified_error is each case's own."""
     paths = [v.path for v in plan.varies]
-    limit = plan.criteria.get("simplified_error")
+    deck_limit = plan.criteria.get("simplified_error")
 
     def key(row: dict) -> str:
         return json.dumps([row.get("support"), *(row.get(p) for p in paths)], default=str)
@@ -112,6 +112,7 @@ def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
             row = dict(row)
             mine, theirs = row.get("compared") or {}, reference.get("compared") or {}
             failed = []
+            limit = row.get("criteria.simplified_error", deck_limit)
             for name in COMPARED:
                 value, base = _number(mine.get(name)), _number(theirs.get(name))
                 ratio = row[f"check_{name}"] = value / base if value is not None and base else None
