@@ -119,9 +119,10 @@ def sweep(
         warm_workers_early(workers, scheduler, dask)
     from .. import plots
     from ..engines.registry import ENGINES, SUPPORTS
+    from ..fields import parse_choices
     from ..sweep import figures
     from ..sweep import table as sweep_table
-    from ..sweep.plan import parse_choices, plan_sweep
+    from ..sweep.plan import plan_sweep
     from ..sweep.store import stem_lock
     from . import render
     from .sweep_render import print_summary
@@ -198,9 +199,10 @@ def spectra(
     warm_workers_early(workers, scheduler, dask)
     from .. import plots
     from ..engines.registry import ENGINES, SUPPORTS
+    from ..fields import parse_choices
     from ..sweep import figures
     from ..sweep import table as sweep_table
-    from ..sweep.plan import parse_choices, plan_sweep
+    from ..sweep.plan import plan_sweep
     from ..sweep.store import stem_lock
     from . import render
     from .sweep_render import print_spectra_summary

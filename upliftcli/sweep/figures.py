@@ -27,8 +27,9 @@ from ..engines.registry import ENGINES, SUPPORT_LABELS
 from ..errors import InputError
 from ..figures.spec import FigureSpec, Line, Panel, Series
 from ..figures.style import ENGINE_LINES, ENGINE_STYLES, MARKERS, SUPPORT_COLORS, SUPPORT_STYLES, shades
-from .plan import SweepPlan, Vary, parse_values
+from .plan import SweepPlan
 from .table import OUTPUT_COLUMNS
+from .values import Vary, parse_values
 
 PERIOD_PATH = "building.period"
 PERIOD_LABEL = "fixed-base fundamental period T_1 [s]"

@@ -1,0 +1,117 @@
+"""The values of a sweep: `--vary PATH=VALUES` and `--periods` parsed into the values of one deck
+field (a range START:STOP:N[:log|lin], a comma list or a TOML array; docs/sweep.md), each
+checked once against the deck's schema. Nothing here prints or exits (sweep/plan.py plans the
+cases from them).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .. import deck_schema as schema
+from ..deck_overrides import toml_value
+from ..errors import InputError
+from ..limits import MAX_VARY_VALUES
+
+#: deck fields that are case dimensions of their own, not --vary paths
+NOT_VARIED = {"analysis.engine": "--engine", "analysis.supports": "--support"}
+
+
+def _too_many(option: str, text: str, count: int) -> InputError:
+    return InputError(option, text if len(text) <= 80 else text[:75] + "...",
+                      f"at most {MAX_VARY_VALUES:,} values in one range (limit of the tool), got {count:,}")
+
+
+def parse_values(text: str, option: str, default_spacing: str = "linear") -> tuple[list[Any], str]:
+    """'START:STOP:N[:log|lin]' -> N values (linear or geometric), '[a, b]' (TOML array) or
+    'a,b,c' -> explicit list. Returns (values, spacing: "linear" | "log" | "list"); a value given
+    twice (after the rounding of a range) is refused: two cases with one key (sweep/store.py)."""
+    values, spacing = _parse_values(text, option, default_spacing)
+    seen: dict[str, int] = {}
+    for value in values:
+        key = json.dumps(value, sort_keys=True, default=str)
+        seen[key] = seen.get(key, 0) + 1
+    repeated = [key for key, count in seen.items() if count > 1]
+    if repeated:
+        raise InputError(option, text if len(text) <= 80 else text[:75] + "...",
+                         f"each value once ({repeated[0]} is given {seen[repeated[0]]} times)")
+    return values, spacing
+
+
+def _parse_values(text: str, option: str, default_spacing: str) -> tuple[list[Any], str]:
+    text = text.strip()
+    if any(not (ch.isprintable() or ch == "\t") for ch in text):
+        raise InputError(option, None, "values on one line (without line breaks or control characters)")
+    if text.count(",") >= MAX_VARY_VALUES:  # counted before anything is parsed
+        raise _too_many(option, text, text.count(",") + 1)
+    if text.startswith("["):
+        value = toml_value(text)
+        if not isinstance(value, list) or not value:
+            raise InputError(option, text, "a non-empty TOML array of values, e.g. [0.5, 1.0]")
+        return value, "list"
+    parts = text.split(":")
+    if len(parts) in (3, 4):
+        suffix = parts[3].strip().lower() if len(parts) == 4 else default_spacing
+        spacing = {"log": "log", "lin": "linear", "linear": "linear"}.get(suffix)
+        try:
+            start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+        except ValueError:
+            start, stop, count = math.nan, math.nan, 0
+        if spacing is None or not (math.isfinite(start) and math.isfinite(stop) and count >= 1):
+            raise InputError(option, text, "START:STOP:N[:log|lin] with finite numbers and N >= 1, "
+                             "e.g. 1e7:1e10:25:log")
+        if spacing == "log" and not (start > 0.0 and stop > 0.0):
+            raise InputError(option, text, "START > 0 and STOP > 0 for a log range")
+        if count > MAX_VARY_VALUES:
+            raise _too_many(option, text, count)
+        grid = np.geomspace(start, stop, count) if spacing == "log" else np.linspace(start, stop, count)
+        values: list[Any] = [float(f"{v:.12g}") for v in grid]  # 0.4, not 0.39999999999999997
+        if spacing == "linear" and all(p.strip().lstrip("+-").isdigit() for p in parts[:2]) \
+                and all(v == int(v) for v in values):
+            values = [int(v) for v in values]  # integer fields (analysis.modes=1:5:5)
+        return values, spacing
+    if len(parts) != 1:
+        raise InputError(option, text, "START:STOP:N[:log|lin], a comma list or a TOML array")
+    values = [toml_value(part.strip()) for part in text.split(",") if part.strip()]
+    if not values:
+        raise InputError(option, text, "at least one value")
+    return values, "list"
+
+
+@dataclass(frozen=True)
+class Vary:
+    """One varied deck field: dotted path, its values and how they were spaced."""
+
+    path: str
+    values: tuple
+    spacing: str  # "linear", "log" or "list"
+
+    @property
+    def unit(self) -> str:
+        table, _, name = self.path.rpartition(".")
+        found = schema.TABLES.get(table, {}).get(name)
+        return found.unit if found else ""
+
+
+def parse_vary(text: str, option: str = "--vary") -> Vary:
+    """'path=RANGE' (see parse_values); the path is any deck field, as for --set."""
+    path, sep, values_text = text.partition("=")
+    path = path.strip()
+    if any(not ch.isprintable() for ch in path):
+        raise InputError(option, None, "PATH=VALUES on one line (without line breaks or control characters)")
+    if not sep or not path or not values_text.strip():
+        raise InputError(option, text, "PATH=START:STOP:N[:log] or PATH=a,b,c, e.g. foundation.k_f=1e7:1e10:25:log")
+    if path in NOT_VARIED:
+        raise InputError(option, path, f"a deck field other than {path} (use {NOT_VARIED[path]})")
+    if not schema.known_path(path):
+        raise InputError(option, path, f"a known deck field{schema.suggestion(path, schema.all_paths())}")
+    values, spacing = parse_values(values_text, f"{option} {path}")
+    return Vary(path, tuple(values), spacing)
+
+
+# ----------------------------------------------------------------------------- cases
