@@ -53,6 +53,14 @@ MAX_STEPS = 250_000
 #: matrix exponentials, 3 s stepping); ten times that record (4.8e7 steps x states, within
 #: MAX_STEP_STATES) would have run for minutes
 MAX_STEP_STATES_SQUARED = 5_000_000_000
+#: exact and approximate engines: memory of the step operators of the distinct contact states one run
+#: meets [bytes] (13 matrices of the state size each: 450 kB on a 20-element Winkler mat with a bearing
+#: capacity, 570 kB on 31). An elastic mat meets tens of states and a yielding one hundreds (441 for the
+#: 20-element mat of benchmarks/bench_yielding.py, FS_v = 1.5); a yielding mat that chatters meets
+#: thousands, each built in about 1 ms and kept: 3,368 states, 1.9 GB and 53 s of one run on the
+#: Winkler deck with 31 elements, k_w = 6e12 N/m^2 and no damping. 1 GiB stops that run after
+#: 1,885 states, in 16 s (about what MAX_STEP_STATES intends)
+MAX_OPERATOR_BYTES = 2**30
 #: response spectra of one command (`record spectrum`, `record info`): periods, and oscillator
 #: sub-steps over all periods and dampings (about 150 ns each: 100 million take about 15 s)
 MAX_SPECTRUM_PERIODS = 10_000

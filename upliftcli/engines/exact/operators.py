@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import AnalysisError
+from ...limits import MAX_OPERATOR_BYTES
 from .expm import expm
 from .statespace import ContactState, Layout, StateSpace, contact_states
 from .yielding import pattern_bits, step_operators, valid_pattern
@@ -101,6 +102,18 @@ def reserved_states(lay: Layout) -> int:
     return max(4, min(2 * expected, RESERVE_BYTES // state_bytes(lay)))
 
 
+def max_states(lay: Layout) -> int:
+    """The most distinct contact states one run may build: their operators within
+    limits.MAX_OPERATOR_BYTES (1,885 on a 31-element mat with a bearing capacity)."""
+    return max(64, MAX_OPERATOR_BYTES // state_bytes(lay))
+
+
+def _too_many_states(lay: Layout) -> str:
+    return (f"the run met more than {max_states(lay):,} distinct contact states, whose step operators would exceed "
+            f"{MAX_OPERATOR_BYTES / 2**30:g} GiB: the contact chatters; give the foundation more damping, fewer "
+            "elements (foundation.elements) or a lower stiffness")
+
+
 def _doubled(array: np.ndarray, fill: float | None = None) -> np.ndarray:
     """The array with as many rows again after its own, those set to `fill` (None: left unset; 0:
     zeros, whose pages are mapped only as they are written)."""
@@ -128,10 +141,15 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
     same bits as built alone. Returns the new state index, or the error, per request."""
     out: list[int | AnalysisError] = [AnalysisError(_NO_INERTIA)] * len(requests)
     groups: dict[tuple, list[int]] = {}
+    asked: dict[int, int] = {}  # id(operators) -> states asked for in this call
     for k, (operators, pattern, _) in enumerate(requests):
         lay = operators.layout
         if lay.n_settlements and not valid_pattern(pattern, lay.n_elements):
             out[k] = AnalysisError(_LIFTED_AND_YIELDING)
+            continue
+        asked[id(operators)] = asked.get(id(operators), 0) + 1
+        if len(operators.contact) + asked[id(operators)] > max_states(lay):
+            out[k] = AnalysisError(_too_many_states(lay))
             continue
         key = (lay.n_p, tuple(lay.massive), tuple(lay.massless), lay.n_x, lay.n_elements, operators.criterion)
         groups.setdefault(key, []).append(k)
