@@ -161,3 +161,13 @@ def test_a_set_capacity_replaces_a_pressure_with_its_mat_length(tmp_path):
         assert loaded.system.foundation.capacity == pytest.approx(capacity or 1.5 * loaded.system.weight)
     kept = load_deck(path, ["foundation.mat_length=20"], load_ground_motion=False)
     assert kept.system.foundation.capacity == pytest.approx(3e6 * 20 * kept.system.half_width)
+
+
+def test_a_safety_factor_near_one_warns():
+    """FS_v just above 1 (the soil at its capacity under gravity alone) is accepted but outside
+    practice: a warning naming the field and the range (fuzzing found FS_v = 1.0000001 giving
+    M_b = 5e6 M_c in the simplified engine with no word under --no-check); FS_v = 1.5 is quiet."""
+    near = load_deck(TWO, ["foundation.safety_factor=1.05"])
+    assert any("foundation.safety_factor: 1.05 is far outside building practice (1.2 to 100)" in w
+               for w in near.warnings), near.warnings
+    assert not [w for w in load_deck(TWO, ["foundation.safety_factor=1.5"]).warnings if "safety_factor" in w]

@@ -23,7 +23,8 @@ CAPACITY_FIELDS: dict[str, Field] = {
     "mat_length": Field("number", "m", "two-element, winkler: length L of the mat normal to the plane of motion "
                         "(used with bearing_pressure)", "positive"),
     "safety_factor": Field("number", "-", "two-element, winkler: FS_v = q_c/q, factor of safety against vertical "
-                           "bearing failure under the static load (ASCE 41-17 section 8.4)", "greater-than-one"),
+                           "bearing failure under the static load (ASCE 41-17 section 8.4)", "greater-than-one",
+                           plausible=(1.2, 100.0)),
 }
 #: each foundation's own capacity field (declared with it, model/foundations.py)
 OWN_CAPACITY_FIELDS = ("element_capacity", "line_capacity")
