@@ -32,7 +32,7 @@ DISPLAY_HELP = ("Display units of the printed values and the figure, as in the o
                 "before: an acceleration unit given here is still read as --record-units, with a warning.)")
 OVERRIDE_HELP = "Read the file in --record-units even where its header declares other units."
 DT_HELP = "Time step [s] of a plain-text file without a 'dt = ...' header line."
-SCALE_HELP = "Scale factor applied to the acceleration [-]."
+SCALE_HELP = "Scale factor applied to the acceleration [-], > 0."
 WINDOW_HELP = "Keep only this time window, START:END [s] (time restarts at 0)."
 
 
@@ -162,6 +162,15 @@ def read_with_options(file: Path, **options) -> records.Record:
 
 def _read(file: Path, file_format: str | None, units: str | None, dt: float | None, scale: float,
           window: str | None, override: bool = False) -> records.Record:
+    """The record as the options read it; --scale is checked first by the rule of the deck's
+    ground_motion.scale (records.RECORD_FIELDS: > 0; read_record alone also takes a negative one)."""
+    from ..fields import check_value
+    from ..motion.records import RECORD_FIELDS
+
+    def error(expected: str):
+        raise InputError("--scale", None, expected)
+
+    check_value(RECORD_FIELDS["scale"], scale, error)
     return read_with_options(file, format=file_format, units=units, dt=dt, scale=scale, window=parse_window(window),
                              override_header_units=override)
 
