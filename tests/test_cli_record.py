@@ -255,6 +255,18 @@ def test_a_scale_is_refused_by_the_rule_of_the_decks_ground_motion_scale(value, 
         assert result.stderr == f"error: {line}\n"
 
 
+@pytest.mark.parametrize("value", ["5%,", ",", "5%,,2%"])
+def test_a_damping_list_with_an_empty_item_is_refused(value):
+    """Fuzzing found `--damping 5%,` accepted (the empty item dropped): one line naming the option."""
+    for command in ("info", "spectrum"):
+        result = invoke("record", command, RECORD, "--damping", value)
+        assert result.exit_code == 2 and result.stdout == ""
+        assert result.stderr == (f"error: --damping: {value}: damping ratios separated by single commas, e.g. "
+                                 "0.02,0.05 (or 2%,5%), without an empty item\n")
+    blank = invoke("record", "spectrum", RECORD, "--damping", " ")
+    assert blank.exit_code == 2 and blank.stderr == "error: --damping:  : at least one damping ratio, e.g. 0.05\n"
+
+
 def test_record_units_that_contradict_the_header_name_the_option():
     """--record-units (or the old --units g spelling) that contradict the header: the option is named."""
     result = invoke("record", "info", RECORD, "--record-units", "m/s2")

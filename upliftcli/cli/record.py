@@ -121,11 +121,14 @@ def parse_dampings(text: str) -> np.ndarray:
     """Comma list of damping ratios (0.05) or percentages (5%)."""
     import numpy as np
 
+    if not text.strip():
+        raise InputError("--damping", text, "at least one damping ratio, e.g. 0.05")
     values = []
     for part in text.split(","):
         part = part.strip()
         if not part:
-            continue
+            raise InputError("--damping", text, "damping ratios separated by single commas, e.g. 0.02,0.05 (or "
+                             "2%,5%), without an empty item")
         try:
             value = float(part[:-1]) / 100.0 if part.endswith("%") else float(part)
         except ValueError:
@@ -133,8 +136,6 @@ def parse_dampings(text: str) -> np.ndarray:
         if not (0.0 <= value < 1.0):
             raise InputError("--damping", part, "damping ratios in [0, 1), e.g. 0.02,0.05 (or 2%,5%)")
         values.append(value)
-    if not values:
-        raise InputError("--damping", text, "at least one damping ratio, e.g. 0.05")
     return np.array(values)
 
 
