@@ -224,7 +224,6 @@ def test_every_csv_file_names_its_columns_quantity_unit(tmp_path):
 @pytest.mark.parametrize(("options", "line"), [
     (["--dt", "0"], "--dt: {r}: a time step dt: a number > 0 and at most 10 [s], got 0.0"),
     (["--dt", "0.01"], "--dt: {r}: dt = 0.02 s as in the file, got 0.01 s"),
-    (["--scale", "nan"], "--scale: {r}: a finite non-zero scale factor, got nan"),
     (["--window", "5:2"], "--window: {r}: 0 <= start < end [s], got (5, 2)"),
     (["--window", "100:200"], "--window: {r}: a start time within the record (0 to 31.18 s), got 100"),
     (["--input-format", "xx"], "--input-format: {r}: one of at2, text, csv, shared, got 'xx'"),
@@ -236,6 +235,36 @@ def test_an_option_that_does_not_suit_the_record_names_the_option(options, line)
         result = invoke("record", command, RECORD, *options)
         assert result.exit_code == 2 and result.stdout == ""
         assert result.stderr == f"error: {line.format(r=RECORD)}\n"
+
+
+@pytest.mark.parametrize(("value", "line"), [
+    ("-1", "--scale: a number > 0, got -1.0"),
+    ("0", "--scale: a number > 0, got 0.0"),
+    ("nan", "--scale: a number > 0, got nan"),
+    ("1e300", "--scale: a number > 0 of magnitude 1e-30 to 1e+30, got 1e+300"),
+])
+def test_a_scale_is_refused_by_the_rule_of_the_decks_ground_motion_scale(value, line):
+    """Fuzzing found `--scale -1` accepted where a deck refuses ground_motion.scale <= 0: the
+    option is checked by that field (records.RECORD_FIELDS), on info and spectrum alike."""
+    deck = invoke("analyze", RECORD.parents[1] / "inputs" / "ten_story_elcentro.toml",
+                  "--set", "ground_motion.scale=-1")
+    assert deck.exit_code == 2 and deck.stderr == "error: --set: ground_motion.scale: a number > 0, got -1\n"
+    for command in ("info", "spectrum"):
+        result = invoke("record", command, RECORD, "--scale", value)
+        assert result.exit_code == 2 and result.stdout == ""
+        assert result.stderr == f"error: {line}\n"
+
+
+@pytest.mark.parametrize("value", ["5%,", ",", "5%,,2%"])
+def test_a_damping_list_with_an_empty_item_is_refused(value):
+    """Fuzzing found `--damping 5%,` accepted (the empty item dropped): one line naming the option."""
+    for command in ("info", "spectrum"):
+        result = invoke("record", command, RECORD, "--damping", value)
+        assert result.exit_code == 2 and result.stdout == ""
+        assert result.stderr == (f"error: --damping: {value}: damping ratios separated by single commas, e.g. "
+                                 "0.02,0.05 (or 2%,5%), without an empty item\n")
+    blank = invoke("record", "spectrum", RECORD, "--damping", " ")
+    assert blank.exit_code == 2 and blank.stderr == "error: --damping:  : at least one damping ratio, e.g. 0.05\n"
 
 
 def test_record_units_that_contradict_the_header_name_the_option():

@@ -31,6 +31,20 @@ def test_every_error_is_found_in_one_pass():
     assert text[4].endswith("of magnitude 1e-30 to 1e+30 [g], got 1e+300")
 
 
+def test_check_bands_that_do_not_hold_1_are_refused_in_one_pass():
+    """A check band bounds the ratio simplified / exact, so it holds 1: [1.1, 1.5] was refused by
+    deck.py after the schema, as the first of the two only, and [1.5, 1.1] in the generic words
+    of a pair; both fields are now checked by their declared check (fields.py band-around-one)."""
+    raw = {"analysis": {"check_band": [1.1, 1.5], "check_band_motion": [2.0, 0.5]}}
+    with pytest.raises(InputErrors) as info:
+        validate(raw, "deck.toml")
+    assert str(info.value).splitlines() == [
+        "deck.toml: analysis.check_band: [low, high] with 0 <= low < 1 < high (ratios simplified / exact), got "
+        "[1.1, 1.5]",
+        "deck.toml: analysis.check_band_motion: [low, high] with 0 <= low < 1 < high (ratios simplified / exact), "
+        "got [2.0, 0.5]"]
+
+
 def test_errors_of_nested_values_name_set_when_they_came_from_it():
     raw = {"ground_motion": {"suite": [{"file": "a.txt", "dt": True}, {"file": "b.txt", "dt": "x", "scale": False}],
                              "design_spectrum": {"type": "asce7", "sds": True, "sd1": 0.6, "tl": 8.0}}}

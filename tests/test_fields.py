@@ -30,6 +30,17 @@ def test_numbers_outside_the_supported_magnitudes_are_refused():
     assert checked(Field("matrix", "N/m", "K"), [[1e40]]).startswith("a square array of arrays of numbers of magn")
 
 
+def test_a_pair_takes_the_check_of_its_field():
+    """band-around-one (analysis.check_band: the ratio simplified / exact is 1 for an exact
+    estimate): [low, high] with low < 1 < high, said in those words, as a plain pair's order is."""
+    band = Field("pair", "-", "a band of ratios", "band-around-one")
+    assert checked(band, [0.8, 1.25]) == (0.8, 1.25) and checked(band, [0, 2]) == (0.0, 2.0)
+    for bad in ([1.1, 1.5], [0.5, 0.9], [0.5, 1], [1.25, 0.8], [0.9], 0.9):
+        assert checked(band, bad) == f"[low, high] with 0 <= low < 1 < high (ratios simplified / exact), got {bad}"
+    assert checked(Field("pair", "s", "window"), [1.1, 1.5]) == (1.1, 1.5)  # a plain pair: any order-true pair
+    assert checked(Field("pair", "s", "window"), [2, 1]) == "[start, end] with 0 <= start < end [s], got [2, 1]"
+
+
 def test_integers_are_bounded():
     assert checked(Field("integer", "-", "stories", "stories"), 500) == 500
     assert checked(Field("integer", "-", "stories", "stories"), 2**63 - 1) == \

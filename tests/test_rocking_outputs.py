@@ -88,6 +88,23 @@ def test_yielding_adds_the_plastic_settlement_yielded_elements_and_plastic_work(
     assert json.loads(paths[0].read_text())["units"]["plastic_work"] == "J"
 
 
+def test_a_count_of_yielded_elements_is_written_as_an_integer():
+    """Fuzzing found yielded_elements written 2.0 in the rocking CSV, the JSON and the sweep table
+    (quantities.Quantity.count): a count is written 1, not 1.0; a suite's mean of counts (a
+    statistic, not a count) keeps its fraction."""
+    from upliftcli.engines.quantities import rocking_value
+    from upliftcli.output import to_json
+    from upliftcli.sweep.table import to_csv as sweep_csv
+
+    result = yielding(exact_uplift())
+    assert next(csv.DictReader(io.StringIO(rocking_csv([result]))))["yielded_elements"] == "1"
+    assert '"yielded_elements": 1,' in to_json([result])
+    row = {"yielded_elements": rocking_value(result, "yielded_elements")}  # as sweep/worker.py fills it
+    assert sweep_csv([row], ["yielded_elements"]) == "yielded_elements\n1\n"
+    mean = replace(result, peaks={**result.peaks, "yielded_elements": np.array([1.5])}, details={})
+    assert next(csv.DictReader(io.StringIO(rocking_csv([mean]))))["yielded_elements"] == "1.5"
+
+
 def test_terminal_table_in_si_and_us_units():
     result = yielding(exact_uplift())
     for units, length, digit, energy in (("si", 1e3, 5e-3, 1e-3), ("us", 1 / INCH, 5e-4, 1 / (KIP * FOOT))):

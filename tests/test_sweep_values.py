@@ -51,3 +51,22 @@ def test_a_value_given_twice_is_refused(text, line):
         parse_vary(f"building.period={text}")
     assert str(info.value) == line
     assert parse_vary("building.period=1:1:1").values == (1,)
+
+
+def test_a_field_whose_value_is_an_array_is_varied_as_an_array_of_arrays():
+    """Fuzzing found `--vary analysis.check_band=[0.9,1.1]` read as two cases, 0.9 and 1.1, and
+    refused as 'got 0.9': a field whose value is an array (a pair, numbers, a matrix) takes one
+    array per case, and the error says so, naming the field and showing the form."""
+    vary = parse_vary("analysis.check_band=[[0.9, 1.1], [0.8, 1.25]]")
+    assert vary.values == ([0.9, 1.1], [0.8, 1.25]) and vary.spacing == "list"
+    assert parse_vary("ground_motion.window=[[0, 10], [0, 20]]").values == ([0, 10], [0, 20])
+    for text, single in (("[0.9,1.1]", "0.9"), ("0.9,1.1", "0.9"), ("[[0.9,1.1],0.8]", "0.8")):
+        with pytest.raises(InputError) as raised:
+            parse_vary(f"analysis.check_band={text}")
+        assert str(raised.value) == (
+            "--vary: analysis.check_band: a TOML array of arrays, one array per case (the field's value is itself an "
+            f"array), e.g. analysis.check_band=[[0.9, 1.1], [0.8, 1.25]]; got '{text}', whose case {single} is not an "
+            "array")
+    with pytest.raises(InputError, match=r"building\.masses: a TOML array of arrays"):
+        parse_vary("building.masses=1e5,2e5")
+    assert parse_vary("building.damping=0.02,0.05").values == (0.02, 0.05)  # one value or an array: scalars vary

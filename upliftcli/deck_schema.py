@@ -102,9 +102,9 @@ TABLES: dict[str, dict[str, Field]] = {
         "gravity": Field("number", "m/s^2", "acceleration of gravity g", "positive", STANDARD_GRAVITY,
                          plausible=(9.7, 9.9)),
         "check_band": Field("pair", "-", "[low, high]: a ratio simplified / exact of the accuracy check outside "
-                            "it is a warning (uplift analyze with a record)", "", [0.8, 1.25]),
+                            "it is a warning (uplift analyze with a record)", "band-around-one", [0.8, 1.25]),
         "check_band_motion": Field("pair", "-", "[low, high]: the same for the edge uplift and the mat rotation",
-                                   "", [0.5, 2.0]),
+                                   "band-around-one", [0.5, 2.0]),
     },
     "analysis.exact": deck_fields(ExactOptions),
     "criteria": {

@@ -79,6 +79,7 @@ CHECKS: dict[str, tuple[Callable[[Any], bool], str]] = {
     "contact-elements": (lambda v: 2 <= v <= MAX_CONTACT_ELEMENTS, f"from 2 to {MAX_CONTACT_ELEMENTS}"),
     "one-line": (lambda v: bool(v.strip()) and all(ch.isprintable() for ch in v),
                  "a non-empty text on one line (without line breaks or control characters)"),
+    "band-around-one": (lambda v: v[0] < 1 < v[1], "0 <= low < 1 < high (ratios simplified / exact)"),
     "": (lambda v: True, ""),
 }
 
@@ -216,11 +217,15 @@ def _number_or_numbers(field: Field, value: Any, error: Error, system: str = "si
 
 
 def _pair(field: Field, value: Any, error: Error, system: str = "si") -> tuple[float, float]:
+    """[start, end] with 0 <= start < end, and the field's check of the pair (band-around-one:
+    [low, high] with low < 1 < high), named in its words."""
     pair = [in_field_unit(field, v, system) for v in value] if isinstance(value, list) and len(value) == 2 else None
-    if not (pair and all(v is not None and math.isfinite(v) for v in pair) and 0 <= pair[0] < pair[1]):
-        error(f"[start, end] with 0 <= start < end{unit_words(field, system)}, got {shown(value)}")
+    what = f"[low, high] with {CHECKS[field.check][1]}" if field.check else "[start, end] with 0 <= start < end"
+    if not (pair and all(v is not None and math.isfinite(v) for v in pair) and 0 <= pair[0] < pair[1]
+            and CHECKS[field.check][0](pair)):
+        error(f"{what}{unit_words(field, system)}, got {shown(value)}")
     if not all(in_magnitude(v) for v in pair):
-        error(f"[start, end] {MAGNITUDE_WORDS}{unit_suffix(field)}, got {shown(value)}")
+        error(f"{what.split(' with ')[0]} {MAGNITUDE_WORDS}{unit_suffix(field)}, got {shown(value)}")
     return (float(pair[0]), float(pair[1]))
 
 

@@ -32,7 +32,7 @@ DISPLAY_HELP = ("Display units of the printed values and the figure, as in the o
                 "before: an acceleration unit given here is still read as --record-units, with a warning.)")
 OVERRIDE_HELP = "Read the file in --record-units even where its header declares other units."
 DT_HELP = "Time step [s] of a plain-text file without a 'dt = ...' header line."
-SCALE_HELP = "Scale factor applied to the acceleration [-]."
+SCALE_HELP = "Scale factor applied to the acceleration [-], > 0."
 WINDOW_HELP = "Keep only this time window, START:END [s] (time restarts at 0)."
 
 
@@ -121,11 +121,14 @@ def parse_dampings(text: str) -> np.ndarray:
     """Comma list of damping ratios (0.05) or percentages (5%)."""
     import numpy as np
 
+    if not text.strip():
+        raise InputError("--damping", text, "at least one damping ratio, e.g. 0.05")
     values = []
     for part in text.split(","):
         part = part.strip()
         if not part:
-            continue
+            raise InputError("--damping", text, "damping ratios separated by single commas, e.g. 0.02,0.05 (or "
+                             "2%,5%), without an empty item")
         try:
             value = float(part[:-1]) / 100.0 if part.endswith("%") else float(part)
         except ValueError:
@@ -133,8 +136,6 @@ def parse_dampings(text: str) -> np.ndarray:
         if not (0.0 <= value < 1.0):
             raise InputError("--damping", part, "damping ratios in [0, 1), e.g. 0.02,0.05 (or 2%,5%)")
         values.append(value)
-    if not values:
-        raise InputError("--damping", text, "at least one damping ratio, e.g. 0.05")
     return np.array(values)
 
 
@@ -162,6 +163,15 @@ def read_with_options(file: Path, **options) -> records.Record:
 
 def _read(file: Path, file_format: str | None, units: str | None, dt: float | None, scale: float,
           window: str | None, override: bool = False) -> records.Record:
+    """The record as the options read it; --scale is checked first by the rule of the deck's
+    ground_motion.scale (records.RECORD_FIELDS: > 0; read_record alone also takes a negative one)."""
+    from ..fields import check_value
+    from ..motion.records import RECORD_FIELDS
+
+    def error(expected: str):
+        raise InputError("--scale", None, expected)
+
+    check_value(RECORD_FIELDS["scale"], scale, error)
     return read_with_options(file, format=file_format, units=units, dt=dt, scale=scale, window=parse_window(window),
                              override_header_units=override)
 

@@ -31,7 +31,8 @@ class Quantity:
     meaning: what it is, in words (its peak is reported); display: its display kind ("mm", "%",
     "N", "N m", "g": display.py), which sets its unit in every human output; engines: the
     engines that give it; column: sweep-row column of its largest value (with its unit), or ""
-    if the sweep rows do not carry it; criterion: whether [criteria] may limit its largest value.
+    if the sweep rows do not carry it; criterion: whether [criteria] may limit its largest value;
+    count: its values are counts, written as integers (typed).
     """
 
     name: str
@@ -42,6 +43,12 @@ class Quantity:
     engines: tuple[str, ...] = ALL_ENGINES
     column: str = ""
     criterion: bool = True
+    count: bool = False
+
+    def typed(self, value: float) -> float | int:
+        """A value as the files write it: a count's whole value as an int (20, not 20.0); any
+        other value, and a count's fractional statistic (a suite's mean), as it is."""
+        return int(value) if self.count and float(value).is_integer() else value
 
     def heading(self, system: str = "si") -> str:
         """Column heading with the display unit ('shear [kN]'; display.py)."""
@@ -92,7 +99,7 @@ ROCKING: dict[str, Quantity] = {q.name: q for q in (
              "(> 0: the element yielded)", "mm", engines=("exact",), column="max_plastic_settlement_m",
              criterion=False),
     Quantity("yielded_elements", MAT, "-", "number of contact elements that yielded", "-",
-             engines=("exact",), column="yielded_elements", criterion=False),
+             engines=("exact",), column="yielded_elements", criterion=False, count=True),
     Quantity("plastic_work", MAT, "J", "energy dissipated by the yielding soil, sum Q_y,i |s_i| (docs/theory.md "
              "14.5)", "J", engines=("exact",), column="plastic_work_J", criterion=False),
 )}
@@ -104,9 +111,9 @@ MAT_PLACES = (("left_edge", "left edge (x = -b)"), ("centre", "centre"), ("right
 
 def rocking_entries(result) -> list[tuple[Quantity, str, str, float, float | None]]:
     """The rocking quantities a result carries that live on the mat (quantities.ROCKING, MAT and
-    MAT_POINTS), one entry per value: (quantity, place key, place label, value [SI], instant [s]
-    or None), in ROCKING's order; [] for a result without them (the elements' plastic settlement
-    is in the foundation tables: element_quantities)."""
+    MAT_POINTS), one entry per value: (quantity, place key, place label, value [SI; a count as
+    Quantity.typed], instant [s] or None), in ROCKING's order; [] for a result without them (the
+    elements' plastic settlement is in the foundation tables: element_quantities)."""
     entries = []
     for q in ROCKING.values():
         if q.where == ELEMENT or q.name not in result.peaks:
@@ -114,17 +121,18 @@ def rocking_entries(result) -> list[tuple[Quantity, str, str, float, float | Non
         places = MAT_PLACES if q.where == MAT_POINTS else (("mat", "mat"),)
         times = result.times.get(q.name)
         for k, (key, label) in enumerate(places):
-            entries.append((q, key, label, float(result.peaks[q.name][k]),
+            entries.append((q, key, label, q.typed(float(result.peaks[q.name][k])),
                             None if times is None else float(times[k])))
     return entries
 
 
 def rocking_value(result, name: str) -> float:
     """The value of a rocking quantity that [criteria] limits and sweep rows carry: a settlement's
-    largest downward value (>= 0: a mat that rose has not settled), else the largest |value|."""
+    largest downward value (>= 0: a mat that rose has not settled), else the largest |value| (a
+    count as Quantity.typed)."""
     if ROCKING[name].unit == "m":
         return max(float(result.peaks[name].max()), 0.0)
-    return result.value(name)
+    return ROCKING[name].typed(result.value(name))
 
 
 def element_quantities() -> list[Quantity]:

@@ -16,6 +16,7 @@ import numpy as np
 from .. import deck_schema as schema
 from ..deck_overrides import toml_value
 from ..errors import InputError
+from ..fields import shown
 from ..limits import MAX_VARY_VALUES
 
 #: deck fields that are case dimensions of their own, not --vary paths
@@ -93,9 +94,18 @@ class Vary:
 
     @property
     def unit(self) -> str:
-        table, _, name = self.path.rpartition(".")
-        found = schema.TABLES.get(table, {}).get(name)
+        found = _field(self.path)
         return found.unit if found else ""
+
+
+#: field kinds whose value is itself an array: varied as a TOML array of arrays, one per case
+ARRAY_KINDS = ("numbers", "pair", "matrix")
+
+
+def _field(path: str):
+    """The declared field of a dotted deck path (fields.Field), or None."""
+    table, _, name = path.rpartition(".")
+    return schema.TABLES.get(table, {}).get(name)
 
 
 def parse_vary(text: str, option: str = "--vary") -> Vary:
@@ -111,6 +121,13 @@ def parse_vary(text: str, option: str = "--vary") -> Vary:
     if not schema.known_path(path):
         raise InputError(option, path, f"a known deck field{schema.suggestion(path, schema.all_paths())}")
     values, spacing = parse_values(values_text, f"{option} {path}")
+    field = _field(path)
+    single = next((v for v in values if not isinstance(v, list)), None) if field and field.kind in ARRAY_KINDS \
+        else None
+    if single is not None:  # `check_band=[0.9,1.1]` is two cases of one number each, not one band
+        raise InputError(option, path, "a TOML array of arrays, one array per case (the field's value is itself an "
+                         f"array), e.g. {path}=[[0.9, 1.1], [0.8, 1.25]]; got {shown(values_text.strip(), 40)}, "
+                         f"whose case {shown(single)} is not an array")
     return Vary(path, tuple(values), spacing)
 
 
