@@ -283,3 +283,13 @@ def test_a_record_without_dt_still_names_the_file(tmp_path):
     result = invoke("record", "info", path)
     assert result.exit_code == 2
     assert result.stderr == f"error: {path}: dt: a time step dt [s] (give dt, or a 'dt = ...' header line)\n"
+
+
+@pytest.mark.parametrize("value", ["0.5,,1", "0.5,1,", ",0.5"])
+def test_a_period_list_with_an_empty_item_is_refused(value):
+    """`record spectrum --periods "0.5,,1,"` was accepted, its empty items dropped (as --damping
+    was): one line naming the option."""
+    result = invoke("record", "spectrum", RECORD, "--periods", value)
+    assert result.exit_code == 2 and result.stdout == ""
+    assert result.stderr == (f"error: --periods: {value}: START:STOP:N with 0 < START < STOP and N >= 2 "
+                             "(log-spaced, s) or a comma list of periods >= 0 s without an empty item\n")

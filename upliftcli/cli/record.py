@@ -108,13 +108,13 @@ def parse_periods(text: str) -> np.ndarray:
         if text.count(",") >= limits.MAX_SPECTRUM_PERIODS:
             raise InputError("--periods", text[:40] + "...", f"at most {limits.MAX_SPECTRUM_PERIODS:,} periods (limit "
                              f"of the tool), got {text.count(',') + 1:,}")
-        values = np.array([float(part) for part in text.split(",") if part.strip()])
+        values = np.array([float(part) for part in text.split(",")])  # an empty item is refused (float(""))
         if values.size == 0 or not np.all(np.isfinite(values)) or np.any(values < 0.0):
             raise ValueError
         return values
     except ValueError:
         raise InputError("--periods", text, "START:STOP:N with 0 < START < STOP and N >= 2 "
-                         "(log-spaced, s) or a comma list of periods >= 0 s") from None
+                         "(log-spaced, s) or a comma list of periods >= 0 s without an empty item") from None
 
 
 def parse_dampings(text: str) -> np.ndarray:
