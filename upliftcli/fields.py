@@ -220,12 +220,12 @@ def _pair(field: Field, value: Any, error: Error, system: str = "si") -> tuple[f
     """[start, end] with 0 <= start < end, and the field's check of the pair (band-around-one:
     [low, high] with low < 1 < high), named in its words."""
     pair = [in_field_unit(field, v, system) for v in value] if isinstance(value, list) and len(value) == 2 else None
-    what = f"[low, high] with {CHECKS[field.check][1]}" if field.check else "[start, end] with 0 <= start < end"
+    shape, rule = ("[low, high]", CHECKS[field.check][1]) if field.check else ("[start, end]", "0 <= start < end")
     if not (pair and all(v is not None and math.isfinite(v) for v in pair) and 0 <= pair[0] < pair[1]
             and CHECKS[field.check][0](pair)):
-        error(f"{what}{unit_words(field, system)}, got {shown(value)}")
+        error(f"{shape} with {rule}{unit_words(field, system)}, got {shown(value)}")
     if not all(in_magnitude(v) for v in pair):
-        error(f"{what.split(' with ')[0]} {MAGNITUDE_WORDS}{unit_suffix(field)}, got {shown(value)}")
+        error(f"{shape} {MAGNITUDE_WORDS}{unit_suffix(field)}, got {shown(value)}")
     return (float(pair[0]), float(pair[1]))
 
 
