@@ -23,8 +23,13 @@ from ..limits import MAX_VARY_VALUES
 NOT_VARIED = {"analysis.engine": "--engine", "analysis.supports": "--support"}
 
 
+def _shortened(text: str) -> str:
+    """The values as an error message shows them: at most 80 characters."""
+    return text if len(text) <= 80 else text[:75] + "..."
+
+
 def _too_many(option: str, text: str, count: int) -> InputError:
-    return InputError(option, text if len(text) <= 80 else text[:75] + "...",
+    return InputError(option, _shortened(text),
                       f"at most {MAX_VARY_VALUES:,} values in one range (limit of the tool), got {count:,}")
 
 
@@ -39,7 +44,7 @@ def parse_values(text: str, option: str, default_spacing: str = "linear") -> tup
         seen[key] = seen.get(key, 0) + 1
     repeated = [key for key, count in seen.items() if count > 1]
     if repeated:
-        raise InputError(option, text if len(text) <= 80 else text[:75] + "...",
+        raise InputError(option, _shortened(text),
                          f"each value once ({repeated[0]} is given {seen[repeated[0]]} times)")
     return values, spacing
 
