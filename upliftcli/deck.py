@@ -145,7 +145,7 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     if load_ground_motion:
         ground_motion, spectrum = read_ground_motion(values["ground_motion"], source, error, system,
                                                      analysis.simplified.effective_properties)
-    _check_rocking_criteria(values["criteria"], analysis, error)
+    _check_criteria_have_their_analysis(values["criteria"], analysis, error)
     for name in values["criteria.sources"]:
         if name not in values["criteria"]:
             raise error(f"criteria.sources.{name}", f"the source of a limit the deck sets (criteria.{name} is not set)")
@@ -169,7 +169,7 @@ def _check_yielding_elements(system: System, analysis: AnalysisSettings, error) 
             raise error("foundation.elements", refusal)
 
 
-def _check_rocking_criteria(criteria: dict, analysis: AnalysisSettings, error) -> None:
+def _check_criteria_have_their_analysis(criteria: dict, analysis: AnalysisSettings, error) -> None:
     """A limit on a rocking quantity (engines/quantities.ROCKING) needs the analysis that reports
     it: the exact engine and the uplift support (with or without a bearing capacity); a limit on
     the simplified engine's accuracy (simplified_error) needs the simplified engine, else it would
