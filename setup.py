@@ -1,6 +1,6 @@
 """The compiled loops (C, built at install where a C compiler works; docs/exact-engine.md,
 "Compiled loops"). Without a working compiler the package installs without them and runs their
-numpy twins (upliftcli/backend.py). Everything else about the package is in pyproject.toml."""
+numpy twins (upliftcli/runtime/backend.py). Everything else about the package is in pyproject.toml."""
 
 import importlib.machinery
 import os

@@ -12,8 +12,8 @@ from __future__ import annotations
 import accuracy_cases as cases
 import numpy as np
 
-from upliftcli.accuracy import DEFAULT_BAND, DEFAULT_MOTION_BAND
-from upliftcli.accuracy import MOTION as CHECK_MOTION
+from upliftcli.analysis.accuracy import DEFAULT_BAND, DEFAULT_MOTION_BAND
+from upliftcli.analysis.accuracy import MOTION as CHECK_MOTION
 from upliftcli.engines.quantities import COMPARED
 
 #: T_1 bands [s]; the goals of issue 25 apply from 0.2 s up

@@ -1,4 +1,4 @@
-"""Benchmark: the numpy twins of the compiled loops against the loops (issue 26; upliftcli.backend),
+"""Benchmark: the numpy twins of the compiled loops against the loops (issue 26; upliftcli.runtime.backend),
 as the ratio of wall times numpy / compiled of the same command in fresh processes, run
 interleaved in the same run (the machine is shared: medians and ranges). Targets: the README's
 analysis with its exact check within 2x, the Fig. 3 spectrum within 8x; one exact analysis of the

@@ -20,9 +20,10 @@ from pathlib import Path
 
 from timing import timed
 
-from upliftcli import analysis, plots
+from upliftcli.analysis import run as analysis
 from upliftcli.cli.plotting import keep_histories
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
+from upliftcli.figures import draw as plots
 from upliftcli.figures.sets import analysis_figures
 from upliftcli.sweep import figures as sweep_figures
 

@@ -23,11 +23,11 @@ TARGET_MB = 300.0
 
 CHILD = r"""
 import resource, sys, time
-from upliftcli import analysis
-from upliftcli.process import keep_freed_memory
+from upliftcli.analysis import run as analysis
+from upliftcli.runtime.process import keep_freed_memory
 if sys.argv[3] == "command":
     keep_freed_memory()
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
 deck = load_deck(sys.argv[1], ["building.stories=50", "building.period=0.05", f'ground_motion.record="{sys.argv[2]}"',
                                'ground_motion.format="text"', 'analysis.engine="exact"', 'analysis.supports="uplift"',
                                "ground_motion.window=[0, 450]"])

@@ -26,9 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
-from upliftcli import analysis
-from upliftcli.deck import load_deck
-from upliftcli.deck_suite import plan_from_deck
+from upliftcli.analysis import run as analysis
+from upliftcli.deck.load import load_deck
+from upliftcli.deck.suite import plan_from_deck
 from upliftcli.engines.registry import ENGINES
 from upliftcli.motion.generate import generate_suite
 from upliftcli.motion.matching import control_periods, settings_for

@@ -17,7 +17,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from upliftcli.process import available_cores, keep_freed_memory
+from upliftcli.runtime.process import available_cores, keep_freed_memory
 from upliftcli.sweep.dask_executor import DaskExecutor
 from upliftcli.sweep.executors import ProcessExecutor, SerialExecutor
 from upliftcli.sweep.plan import plan_sweep

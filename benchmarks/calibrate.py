@@ -18,7 +18,7 @@ benchmarks/accuracy.py, uplift support, the cases where the exact engine lifts t
 4. the fitted values and the residuals by quantity and band are printed (the engine gives the
    vectorised prediction to rounding: tests/test_improved.py).
 
-    nice -n 19 python benchmarks/calibrate.py          # after accuracy.py --exact-only has run
+    nice -n 19 python benchmarks/calibrate.py          # after analysis/accuracy.py --exact-only has run
 """
 
 from __future__ import annotations
@@ -69,7 +69,7 @@ def gather(cache: Path) -> dict[str, np.ndarray]:
     done = [r for r in chosen if cases.cached(r, specs, periods, cache)]
     if len(done) < len(chosen):
         print(f"  only {len(done)} of {len(chosen)} records have exact results: a partial calibration "
-              "(run accuracy.py --exact-only first)", file=sys.stderr)
+              "(run analysis/accuracy.py --exact-only first)", file=sys.stderr)
     for k, record in enumerate(done):
         exact = cases.exact_peaks(record, specs, periods, cache)
         spectrum = RecordSpectrum(record)

@@ -25,8 +25,8 @@ import sys
 from pathlib import Path
 
 import upliftcli
-from upliftcli import analysis
-from upliftcli.deck import load_deck
+from upliftcli.analysis import run as analysis
+from upliftcli.deck.load import load_deck
 
 ROOT = str(Path(upliftcli.__file__).parent)
 

@@ -1,10 +1,10 @@
-"""Run a call on both backends of the loops (upliftcli.backend) in one process."""
+"""Run a call on both backends of the loops (upliftcli.runtime.backend) in one process."""
 
 from __future__ import annotations
 
 import pytest
 
-from upliftcli import backend
+from upliftcli.runtime import backend
 
 
 def compiled_or_skip() -> None:

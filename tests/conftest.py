@@ -22,7 +22,7 @@ def pytest_collection_modifyitems(items):
 
 @pytest.fixture(scope="session", autouse=True)
 def _cache_home(tmp_path_factory):
-    """The user's cache folder (XDG_CACHE_HOME: the check suites of suite_check.py) in a temporary
+    """The user's cache folder (XDG_CACHE_HOME: the check suites of analysis/suite_check.py) in a temporary
     folder of the session: the tests never write the real one, and generate each check suite once.
     The workers of pytest-xdist share it (the folder of the run, above each worker's own): a check
     suite is written atomically, so two workers that generate the same one at once both read a
@@ -47,7 +47,7 @@ def _cache_home(tmp_path_factory):
 @pytest.fixture(scope="module")
 def example_deck():
     """The bundled example deck (inputs/ten_story_elcentro.toml), loaded once per test module."""
-    from upliftcli.deck import load_deck
+    from upliftcli.deck.load import load_deck
 
     return load_deck(EXAMPLE_DECK)
 

@@ -7,9 +7,9 @@ from __future__ import annotations
 import functools
 from pathlib import Path
 
-from upliftcli import analysis
+from upliftcli.analysis import run as analysis
 from upliftcli.cli.plotting import keep_histories
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
 
 EXAMPLE_DECK = Path(__file__).resolve().parents[1] / "inputs" / "ten_story_elcentro.toml"
 

@@ -1,4 +1,4 @@
-"""accuracy.py: the simplified engine checked against the exact engine on the same deck."""
+"""analysis/accuracy.py: the simplified engine checked against the exact engine on the same deck."""
 
 from __future__ import annotations
 
@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from upliftcli.accuracy import DEFAULT_BAND, Check, Comparison, all_modes, check_accuracy, compare
-from upliftcli.analysis import run, run_one
+from upliftcli.analysis.accuracy import DEFAULT_BAND, Check, Comparison, all_modes, check_accuracy, compare
+from upliftcli.analysis.run import run, run_one
 from upliftcli.cli import app
-from upliftcli.criteria import check_criteria
-from upliftcli.deck import load_deck
+from upliftcli.deck.criteria import check_criteria
+from upliftcli.deck.load import load_deck
 from upliftcli.engines.quantities import COMPARED
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -125,7 +125,7 @@ def test_cli_reports_the_check_unless_told_not_to(tmp_path):
     assert "Accuracy check" in table and "simplified / exact" in table
     spectrum = json.loads(runner.invoke(app, ["analyze", str(ROOT / "inputs" / "ten_story_asce7.toml"),
                                               "--support", "uplift", "--format", "json"]).stdout)
-    # a design spectrum: checked on a suite generated for it (suite_check.py, tests/test_suite_check.py)
+    # a design spectrum: checked on a suite generated for it (analysis/suite_check.py, tests/test_suite_check.py)
     assert spectrum["accuracy"]["reference"].startswith("exact engine on a spectrum-compatible suite (11 artificial")
 
 

@@ -6,8 +6,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from upliftcli.analysis import run, run_one
-from upliftcli.deck import load_deck
+from upliftcli.analysis.run import run, run_one
+from upliftcli.deck.load import load_deck
 from upliftcli.engines.simplified import analyze as simplified_analyze
 from upliftcli.errors import InputError
 
@@ -105,7 +105,7 @@ def test_a_stiff_undamped_foundation_is_refused_by_its_steps_before_the_engine_s
     run are bounded (limits.MAX_STEPS), estimated as the engine does: the vertical period is
     T_1 / 1000 = 0.5 ms (w_v = 1000 w_1), 6 steps a period: ceil(0.02 s x 6 / 0.5 ms) = 240
     sub-steps of each of the 1,559 record intervals (31.18 s at 0.02 s)."""
-    from upliftcli import limits
+    from upliftcli.runtime import limits
 
     _engine_must_not_start(monkeypatch)
     deck = load_deck(EXAMPLE, ["foundation.frequency_ratio=1000", "foundation.c_f=1e-12", 'analysis.engine="exact"'])
@@ -142,8 +142,8 @@ def test_a_stiff_foundation_is_named_by_its_stiffness_not_by_a_capacity_field(mo
 def test_a_plausible_stiff_foundation_stays_within_the_step_limit():
     """The far end of building practice (w_v/w_1 = 100 on a 0.1 s building, El Centro: 187,080
     steps) is not refused: the limit sits between it and the issue's deck."""
-    from upliftcli import limits
     from upliftcli.engines.exact import engine as exact
+    from upliftcli.runtime import limits
 
     deck = load_deck(EXAMPLE, ["foundation.frequency_ratio=100", "building.period=0.1"])
     _, samples, steps = exact.size_estimate(deck.system, deck.ground_motion.dt, deck.ground_motion.npts, "uplift",
@@ -154,7 +154,7 @@ def test_a_plausible_stiff_foundation_stays_within_the_step_limit():
 def test_the_steps_of_a_long_record_are_blamed_on_the_record(monkeypatch):
     """One internal step a record sample (2 steps a period: the record's dt governs): a run too
     long is the record's, and the line names ground_motion.record."""
-    from upliftcli import limits
+    from upliftcli.runtime import limits
 
     _engine_must_not_start(monkeypatch)
     monkeypatch.setattr(limits, "MAX_STEPS", 1000)
@@ -167,8 +167,8 @@ def test_the_steps_of_a_long_record_are_blamed_on_the_record(monkeypatch):
 def test_the_state_size_squared_is_bounded_and_blamed_on_the_stories(monkeypatch):
     """The stepping and the peak search cost the square of the state size a step (500 stories:
     19 s): steps x (states + 2)^2 is bounded too, and the line names building.stories."""
-    from upliftcli import limits
     from upliftcli.engines.exact import engine as exact
+    from upliftcli.runtime import limits
 
     _engine_must_not_start(monkeypatch)
     deck = load_deck(EXAMPLE, ['analysis.engine="exact"', "building.stories=20"])

@@ -1,4 +1,4 @@
-"""The response-history engines on a record suite (analysis_suite.py through analysis.run): the
+"""The response-history engines on a record suite (analysis/suite.py through analysis.run): the
 suite's statistics against the records run one by one as decks of their own, EC8's rule switch
 at 7 records, criteria on the design statistic, batching, and a record that fails."""
 
@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from upliftcli import analysis
-from upliftcli.analysis import run, run_batch
-from upliftcli.criteria import check_criteria
-from upliftcli.deck import load_deck
+from upliftcli.analysis import run as analysis
+from upliftcli.analysis.run import run, run_batch
+from upliftcli.deck.criteria import check_criteria
+from upliftcli.deck.load import load_deck
 from upliftcli.engines.suite_result import SuiteResult, simplified_ratios
 from upliftcli.errors import AnalysisError
 

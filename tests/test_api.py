@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import upliftcli
-from upliftcli import analysis
+from upliftcli.analysis import run as analysis
 from upliftcli.output import result_to_dict, to_csv
 
 ROOT = Path(__file__).resolve().parents[1]

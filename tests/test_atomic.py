@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from upliftcli.atomic import current_umask, refuse_inputs, write_text
 from upliftcli.errors import InputError
+from upliftcli.runtime.atomic import current_umask, refuse_inputs, write_text
 
 
 def mode(path):
@@ -36,7 +36,7 @@ def test_new_files_follow_the_umask(tmp_path, umask):
 def test_the_umask_is_read_the_same_without_proc(umask, monkeypatch):
     """Off Linux (no /proc/self/status) the umask is set and restored to be read: the same mask,
     left as it was."""
-    from upliftcli import atomic
+    from upliftcli.runtime import atomic
 
     for mask in (0o022, 0o027, 0o077):
         umask(mask)
@@ -70,7 +70,7 @@ def test_outputs_may_not_replace_inputs(tmp_path):
 
 
 def test_temporary_files_are_named_by_the_tool_and_its_pid(tmp_path, monkeypatch):
-    from upliftcli import atomic
+    from upliftcli.runtime import atomic
 
     seen = []
     original = atomic._finish
@@ -105,9 +105,9 @@ def test_stale_temporary_files_of_dead_processes_are_removed(tmp_path):
     import subprocess
     import sys
 
-    from upliftcli import atomic
+    from upliftcli.runtime import atomic
 
-    script = ("import sys, time; from upliftcli.atomic import atomic_path\n"
+    script = ("import sys, time; from upliftcli.runtime.atomic import atomic_path\n"
               "with atomic_path(sys.argv[1]) as tmp:\n"
               "    tmp.write_text('half'); print(tmp, flush=True); time.sleep(60)\n")
     child = subprocess.Popen([sys.executable, "-c", script, str(tmp_path / "fig.png")], stdout=subprocess.PIPE,
@@ -131,8 +131,8 @@ def test_sigterm_removes_the_temporary_file(tmp_path):
     import subprocess
     import sys
 
-    script = ("import os, signal, sys, time; from upliftcli.atomic import atomic_path\n"
-              "from upliftcli.process import exit_on_stop_signals\n"
+    script = ("import os, signal, sys, time; from upliftcli.runtime.atomic import atomic_path\n"
+              "from upliftcli.runtime.process import exit_on_stop_signals\n"
               "exit_on_stop_signals()\n"
               "with atomic_path(sys.argv[1]) as tmp:\n"
               "    tmp.write_text('half'); os.kill(os.getpid(), signal.SIGTERM); time.sleep(60)\n")
@@ -146,8 +146,8 @@ def test_a_set_is_written_all_or_none(tmp_path, monkeypatch):
     file and no folder it created; the files it would replace are unchanged."""
     import errno
 
-    from upliftcli import atomic
-    from upliftcli.atomic import write_set
+    from upliftcli.runtime import atomic
+    from upliftcli.runtime.atomic import write_set
 
     out = tmp_path / "new" / "records"
     files = {out / f"r{k}.txt": f"record {k}" for k in range(4)}

@@ -1,4 +1,4 @@
-"""The choice of the loops (upliftcli.backend): compiled where built, else the numpy twins, as
+"""The choice of the loops (upliftcli.runtime.backend): compiled where built, else the numpy twins, as
 UPLIFT_BACKEND asks; a source tree without built extensions runs on the twins."""
 
 from __future__ import annotations
@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from upliftcli import backend
 from upliftcli.errors import InputError
+from upliftcli.runtime import backend
 
 ROOT = Path(__file__).resolve().parents[1]
 MISSING = "upliftcli.engines.exact._never_built"

@@ -1,4 +1,4 @@
-"""Both backends of the loops (upliftcli.backend) on every example deck, in one process: the same
+"""Both backends of the loops (upliftcli.runtime.backend) on every example deck, in one process: the same
 results to round-off (tests/backends.py; skipped where the C extensions were not built; the
 loops themselves, case by case: test_stepping_numpy.py, test_response_numpy.py,
 test_spectra_numpy.py)."""

@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from upliftcli import analysis
+from upliftcli.analysis import run as analysis
 from upliftcli.api import analyze
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
 from upliftcli.errors import InputError
 from upliftcli.model.foundations import TwoElement, Winkler
 from upliftcli.model.rocking_capacity import winkler_moment_capacity

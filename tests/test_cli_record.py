@@ -14,7 +14,7 @@ from cli_helpers import invoke, runner
 from upliftcli.cli import record as record_cli
 from upliftcli.motion.records import read_record
 from upliftcli.motion.spectra import response_spectrum
-from upliftcli.provenance import read_csv_provenance
+from upliftcli.provenance.record import read_csv_provenance
 from upliftcli.units import STANDARD_GRAVITY
 
 RECORD = Path(__file__).resolve().parent.parent / "records" / "elcentro_1940_ns_chopra.txt"
@@ -176,7 +176,7 @@ def test_the_old_units_spelling_of_the_file_units_still_works_with_a_warning(mon
     command. The two sets of values do not overlap: an acceleration unit is still read as
     --record-units, with one warning line naming it, and gives the same output (the clock of the
     provenance lines held, so that a second boundary between the two runs changes nothing)."""
-    monkeypatch.setattr("upliftcli.provenance.utc_now", lambda now=None: "2026-01-02T03:04:05Z")
+    monkeypatch.setattr("upliftcli.provenance.record.utc_now", lambda now=None: "2026-01-02T03:04:05Z")
     for command in (["record", "info", RECORD], ["record", "spectrum", RECORD, "--periods", "0.5,1"]):
         new = invoke(*command, "--record-units", "gal", "--override-header-units")
         old = invoke(*command, "--units", "gal", "--override-header-units")

@@ -197,7 +197,7 @@ def test_a_full_disk_leaves_no_record_and_no_manifest(tmp_path, monkeypatch):
     writing left 7 of 11 records and no manifest."""
     import errno
 
-    from upliftcli import atomic
+    from upliftcli.runtime import atomic
 
     original, calls = atomic._finish, []
 

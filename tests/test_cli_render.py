@@ -16,9 +16,9 @@ from rich.table import Table
 from rich.text import Text
 from typer.testing import CliRunner
 
-from upliftcli import analysis
+from upliftcli.analysis import run as analysis
 from upliftcli.cli import app, render
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
 from upliftcli.units import STANDARD_GRAVITY
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -14,9 +14,9 @@ from pathlib import Path
 import pytest
 from cli_helpers import invoke
 
-from upliftcli.analysis import run_one
-from upliftcli.deck import load_deck
-from upliftcli.provenance import rounded
+from upliftcli.analysis.run import run_one
+from upliftcli.deck.load import load_deck
+from upliftcli.provenance.record import rounded
 from upliftcli.sweep.store import RowStore
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -247,7 +247,7 @@ def test_spectra_starts_the_warm_server_early_when_local_workers_are_likely(monk
 
     calls = []
     monkeypatch.setattr(ProcessExecutor, "prestart", lambda self: calls.append(self.workers))
-    monkeypatch.setattr("upliftcli.process.available_cores", lambda: cores)
+    monkeypatch.setattr("upliftcli.runtime.process.available_cores", lambda: cores)
     cli_sweep.warm_workers_early(workers, scheduler, None)
     assert calls == ([workers or 2] if started else [])
 
@@ -490,7 +490,7 @@ def test_a_full_disk_under_the_figures_of_spectra_is_one_line(tmp_path, monkeypa
     written, exit 2; --resume then writes the tables and figures again."""
     import errno
 
-    from upliftcli import plots
+    from upliftcli.figures import draw as plots
 
     def full_disk(figures, option="--plot"):
         raise OSError(errno.ENOSPC, "No space left on device", str(figures[0][1]))

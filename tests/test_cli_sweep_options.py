@@ -10,7 +10,7 @@ from upliftcli.errors import InputError
 
 
 def test_workers_are_capped_at_the_cores_unless_oversubscribed(monkeypatch, capsys):
-    monkeypatch.setattr("upliftcli.process.available_cores", lambda: 2)
+    monkeypatch.setattr("upliftcli.runtime.process.available_cores", lambda: 2)
     assert sweep_options.local_workers(None, False, None) is None
     assert sweep_options.local_workers(2, False, None) == 2
     assert sweep_options.local_workers(1000 // 10, False, None) == 2

@@ -1,4 +1,4 @@
-"""The deck's acceptance criteria applied to results (upliftcli/criteria.py): the same outcomes
+"""The deck's acceptance criteria applied to results (upliftcli/deck/criteria.py): the same outcomes
 for the exit code of `uplift analyze`, the sweep's violations column and the report's table."""
 
 from pathlib import Path
@@ -6,9 +6,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from upliftcli.analysis import run
-from upliftcli.criteria import check_criteria, outcomes
-from upliftcli.deck import load_deck
+from upliftcli.analysis.run import run
+from upliftcli.deck.criteria import check_criteria, outcomes
+from upliftcli.deck.load import load_deck
 from upliftcli.errors import InputError
 from upliftcli.report.results import criteria_rows
 
@@ -117,7 +117,7 @@ def test_a_settlement_limit_bounds_the_downward_value(example_deck):
 
 
 def test_every_rocking_limit_is_a_deck_field_with_its_unit():
-    from upliftcli import deck_schema
+    from upliftcli.deck import schema as deck_schema
     from upliftcli.engines.quantities import ROCKING, unit_of
 
     limited = {name for name, q in ROCKING.items() if q.criterion}

@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from upliftcli import deck_schema
-from upliftcli.deck import build_deck, load_deck
+from upliftcli.deck import schema as deck_schema
+from upliftcli.deck.load import build_deck, load_deck
 from upliftcli.errors import InputError
 from upliftcli.model.foundations import HalfSpace, TwoElement, Winkler
 

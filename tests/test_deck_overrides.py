@@ -1,9 +1,9 @@
-"""--set overrides (deck_overrides.py): values read as TOML, paths checked against the schema,
+"""--set overrides (deck/overrides.py): values read as TOML, paths checked against the schema,
 alternatives replaced."""
 
 import pytest
 
-from upliftcli.deck_overrides import apply_overrides, parse_override
+from upliftcli.deck.overrides import apply_overrides, parse_override
 from upliftcli.errors import InputError
 
 
@@ -43,7 +43,7 @@ def test_an_override_replaces_its_alternatives():
 
 
 def test_a_key_of_an_overridden_table_is_named_as_set():
-    from upliftcli.deck_overrides import set_by_override
+    from upliftcli.deck.overrides import set_by_override
 
     overridden = frozenset({"ground_motion.design_spectrum", "ground_motion.suite"})
     assert set_by_override("ground_motion.design_spectrum.sds", overridden)
@@ -55,7 +55,7 @@ def test_a_key_of_an_overridden_table_is_named_as_set():
 def test_a_bad_design_spectrum_given_by_set_names_set():
     from pathlib import Path
 
-    from upliftcli.deck import load_deck
+    from upliftcli.deck.load import load_deck
 
     deck = Path(__file__).resolve().parents[1] / "inputs" / "ten_story_asce7.toml"
     with pytest.raises(InputError, match=r"^--set: ground_motion\.design_spectrum\.sds: a number > 0 \[g\]"):
@@ -63,7 +63,7 @@ def test_a_bad_design_spectrum_given_by_set_names_set():
 
 
 def test_override_header_units_goes_with_the_record_fields():
-    from upliftcli.deck_overrides import apply_overrides
+    from upliftcli.deck.overrides import apply_overrides
 
     raw = {"ground_motion": {"record": "r.txt", "units": "gal", "override_header_units": True}}
     result, _ = apply_overrides(raw, [("ground_motion.design_spectrum", {"type": "asce7"})])

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from upliftcli import deck_schema
-from upliftcli.deck_schema import plausibility, si_mapping, validate
+from upliftcli.deck import schema as deck_schema
+from upliftcli.deck.schema import plausibility, si_mapping, validate
 from upliftcli.errors import InputError, InputErrors
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -33,8 +33,8 @@ def test_every_error_is_found_in_one_pass():
 
 def test_check_bands_that_do_not_hold_1_are_refused_in_one_pass():
     """A check band bounds the ratio simplified / exact, so it holds 1: [1.1, 1.5] was refused by
-    deck.py after the schema, as the first of the two only, and [1.5, 1.1] in the generic words
-    of a pair; both fields are now checked by their declared check (fields.py band-around-one)."""
+    deck/load.py after the schema, as the first of the two only, and [1.5, 1.1] in the generic words
+    of a pair; both fields are now checked by their declared check (deck/fields.py band-around-one)."""
     raw = {"analysis": {"check_band": [1.1, 1.5], "check_band_motion": [2.0, 0.5]}}
     with pytest.raises(InputErrors) as info:
         validate(raw, "deck.toml")
@@ -90,7 +90,7 @@ def test_plausibility_names_the_deck_and_the_field():
 
 
 def test_every_example_deck_is_plausible():
-    from upliftcli.deck import read_toml
+    from upliftcli.deck.load import read_toml
 
     for path in sorted((ROOT / "inputs").glob("*.toml")):
         assert plausibility(validate(read_toml(path), str(path)), str(path)) == [], path.name
@@ -128,7 +128,7 @@ def test_the_deck_in_bare_si():
 def test_every_numeric_field_has_a_quantity_or_none():
     """A unit without a quantity kind would be read as SI in a US deck: every number field of the
     deck is dimensionless or of a kind of units.QUANTITY_KINDS."""
-    from upliftcli.fields import NUMERIC
+    from upliftcli.deck.fields import NUMERIC
     from upliftcli.motion.spectrum_fields import SPECTRUM_FIELDS
 
     fields = [(deck_schema.dotted(table, name), field) for table, fields in deck_schema.TABLES.items()
@@ -141,7 +141,7 @@ def test_every_numeric_field_has_a_quantity_or_none():
 def test_the_units_table_of_the_docs_is_the_declared_one():
     """docs/deck.md, Units: each quantity's SI and US unit (units.QUANTITY_KINDS) and the fields
     of that quantity; every dimensional number field of the deck is listed once."""
-    from upliftcli.fields import NUMERIC
+    from upliftcli.deck.fields import NUMERIC
     from upliftcli.motion.spectrum_fields import SPECTRUM_FIELDS
     from upliftcli.units import QUANTITY_KINDS
 

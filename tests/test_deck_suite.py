@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from upliftcli import analysis
-from upliftcli.deck import load_deck
-from upliftcli.deck_suite import default_statistics, plan_from_deck, structure_period_range
+from upliftcli.analysis import run as analysis
+from upliftcli.deck.load import load_deck
+from upliftcli.deck.suite import default_statistics, plan_from_deck, structure_period_range
 from upliftcli.engines.registry import ENGINES
 from upliftcli.engines.simplified import effective_properties
 from upliftcli.errors import InputError

@@ -207,8 +207,8 @@ def test_deck_reference_documents_every_key_of_every_spectrum_type():
 
 
 def test_table_alone_takes_the_correction_of_the_statistics_it_names(tmp_path):
-    from upliftcli.deck import build_deck
-    from upliftcli.provenance import of_deck
+    from upliftcli.deck.load import build_deck
+    from upliftcli.provenance.record import of_deck
 
     table = {"type": "table", "periods": [0.0, 1.0, 4.0], "sa": [0.4, 1.0, 0.2], "damping": 0.05}
     raw = {"building": {"stories": 2, "floor_mass": 1e5, "story_height": 3.0, "period": 0.3},

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 from paper_example import paper_system
 
-from upliftcli import backend
 from upliftcli.engines.exact import engine as exact
 from upliftcli.engines.exact import stepping
 from upliftcli.engines.options import ExactOptions
 from upliftcli.motion.records import read_record
+from upliftcli.runtime import backend
 
 RECORD = Path(__file__).resolve().parents[1] / "records" / "elcentro_1940_ns_chopra.txt"
 

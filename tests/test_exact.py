@@ -149,8 +149,8 @@ INPUTS = Path(__file__).resolve().parents[1] / "inputs"
 @pytest.mark.parametrize("deck", sorted(p.name for p in INPUTS.glob("*.toml")))
 def test_energy_balance_closes_for_every_example_deck(deck):
     """Two-element, Winkler and half-space foundations, all three supports, default step."""
-    from upliftcli.analysis import run
-    from upliftcli.deck import load_deck
+    from upliftcli.analysis.run import run
+    from upliftcli.deck.load import load_deck
 
     loaded = load_deck(Path(__file__).resolve().parents[1] / "inputs" / deck)
     if not hasattr(loaded.ground_motion, "acceleration"):
@@ -169,7 +169,7 @@ def test_step_at_a_fifth_of_the_governing_period_finds_every_transition(elcentro
 
 
 def test_deck_default_step_is_the_engine_default():
-    from upliftcli.deck_schema import TABLES
+    from upliftcli.deck.schema import TABLES
 
     assert TABLES["analysis.exact"]["steps_per_period"].default == ExactOptions().steps_per_period
 
@@ -375,8 +375,8 @@ def test_energy_balance_closes_when_lifted_elements_relax_within_a_step(elcentro
 def test_the_size_check_and_the_analysis_build_one_model(monkeypatch):
     """analysis.run checks the steps x states of a deck before the engine runs it: both use the
     same model (engine.model_for), built once per system, support and options."""
-    from upliftcli import analysis
-    from upliftcli.deck import load_deck
+    from upliftcli.analysis import run as analysis
+    from upliftcli.deck.load import load_deck
     from upliftcli.engines.exact import statespace
 
     built = []

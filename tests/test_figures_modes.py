@@ -39,7 +39,7 @@ def test_six_mode_titles_never_run_into_each_other():
     """Drawn: each panel's title lies within its own column (they overlapped at six panels a row)."""
     from matplotlib.transforms import Bbox
 
-    from upliftcli.plots import line_figure
+    from upliftcli.figures.draw import line_figure
 
     figure = line_figure(mode_shape_figure(paper_system(period=1.234567, mat_mass=0.5 * 3.5e6)))
     renderer = figure.canvas.get_renderer()

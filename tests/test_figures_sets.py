@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from figure_cases import small_run
 
-from upliftcli import analysis
-from upliftcli.deck import load_deck
+from upliftcli.analysis import run as analysis
+from upliftcli.deck.load import load_deck
 from upliftcli.figures import sets
 from upliftcli.units import STANDARD_GRAVITY
 

@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
 from upliftcli.figures import spectra as fs
 from upliftcli.figures.ensemble import RECORD_WIDTH, STATISTIC_WIDTH
 from upliftcli.motion import spectra
@@ -44,7 +44,7 @@ def test_record_spectra_in_us_units_and_laid_out_for_a4_portrait():
     histories' panels (the report's widest), so that the figure printed across the A4 page's
     width fills its height as the histories do; before, two a row left a quarter of the grid
     empty and 33 % of the printed page."""
-    from upliftcli import plots
+    from upliftcli.figures import draw as plots
     from upliftcli.figures.histories import history_figure  # noqa: F401 (the widest report figure)
 
     record = read_record(ELCENTRO)

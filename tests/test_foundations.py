@@ -103,9 +103,9 @@ def test_winkler_elements_are_limited_before_anything_is_allocated():
     62-element check: the deck field is refused at the limit (limits.MAX_CONTACT_ELEMENTS)."""
     from pathlib import Path
 
-    from upliftcli.deck import load_deck
+    from upliftcli.deck.load import load_deck
     from upliftcli.errors import InputError
-    from upliftcli.limits import MAX_CONTACT_ELEMENTS
+    from upliftcli.runtime.limits import MAX_CONTACT_ELEMENTS
 
     deck = Path(__file__).resolve().parents[1] / "inputs" / "ten_story_winkler.toml"
     with pytest.raises(InputError, match=r"^--set: foundation.elements: an integer from 2 to 62, got 100000$"):

@@ -32,7 +32,7 @@ import pytest
 from cli_helpers import invoke
 from fuzz_cases import OUTPUTS, Case, cases, record_text, toml
 
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
 from upliftcli.errors import InputError
 from upliftcli.motion.suites import Suite
 

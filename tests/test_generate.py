@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from upliftcli.deck import load_deck
-from upliftcli.deck_suite import plan_from_deck
+from upliftcli.deck.load import load_deck
+from upliftcli.deck.suite import plan_from_deck
 from upliftcli.errors import AnalysisError, InputError
 from upliftcli.motion.code_rules import RULES
 from upliftcli.motion.design_spectra import ASCE7MultiPeriodSpectrum, EC8Spectrum, TabulatedSpectrum

@@ -1,4 +1,4 @@
-"""What is installed (upliftcli/installed.py): distribution versions as importlib.metadata reads
+"""What is installed (upliftcli/runtime/installed.py): distribution versions as importlib.metadata reads
 them, the platform as platform.platform() names it, the tool's version when it is not installed."""
 
 from __future__ import annotations
@@ -8,7 +8,8 @@ import sys
 
 import pytest
 
-from upliftcli import installed, provenance
+from upliftcli.provenance import record as provenance
+from upliftcli.runtime import installed
 
 
 def test_package_version_reads_what_importlib_metadata_reads(tmp_path, monkeypatch):

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from paper_example import paper_system
 
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
 from upliftcli.engines import simplified
 from upliftcli.engines.exact import engine as exact
 from upliftcli.engines.exact.modal import modal_model

@@ -6,9 +6,9 @@ import os
 import numpy as np
 import pytest
 
-from upliftcli import limits
 from upliftcli.errors import InputError
 from upliftcli.motion.spectra import response_spectrum, substeps
+from upliftcli.runtime import limits
 
 
 def test_shortest_period_follows_the_record_step_and_length():
@@ -78,8 +78,8 @@ def test_every_input_file_is_read_within_its_limit(tmp_path):
     """Decks, records and spectrum tables share one bounded read of regular files: a device such as
     /dev/zero or a FIFO is refused before it is opened (a FIFO blocked for ever), a directory or a
     missing file named as such."""
-    from upliftcli.limits import read_input
     from upliftcli.motion.design_spectra import from_mapping
+    from upliftcli.runtime.limits import read_input
 
     with pytest.raises(InputError, match=r"^/dev/zero: a regular deck file \(this is a device\)$"):
         read_input("/dev/zero", limits.MAX_DECK_BYTES, "/dev/zero", None, "deck file")

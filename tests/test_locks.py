@@ -1,4 +1,4 @@
-"""locks.py: an exclusive lock on a file, by each method this system has (flock here; the
+"""runtime/locks.py: an exclusive lock on a file, by each method this system has (flock here; the
 O_EXCL lock file forced; msvcrt.locking is Windows', not run here: docs/platforms.md); a sweep's
 output stem refused while another process holds it, free again once that process is gone."""
 
@@ -11,8 +11,8 @@ import sys
 
 import pytest
 
-from upliftcli import locks
 from upliftcli.errors import InputError
+from upliftcli.runtime import locks
 from upliftcli.sweep.store import stem_lock
 
 KINDS = ["flock", "exclusive"] if locks.fcntl is not None else ["exclusive"]
@@ -32,7 +32,7 @@ class FlockAsMsvcrt:
 
 HOLDER = """
 import sys, time
-from upliftcli import locks
+from upliftcli.runtime import locks
 locks.KIND = sys.argv[2]
 fd = locks.acquire(sys.argv[1])
 print("held" if fd is not None else "refused", flush=True)

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
 from upliftcli.engines.exact.statespace import exact_model
 from upliftcli.engines.options import ExactOptions
 

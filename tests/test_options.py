@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from upliftcli import deck_schema
-from upliftcli.deck import load_deck
+from upliftcli.deck import schema as deck_schema
+from upliftcli.deck.load import load_deck
 from upliftcli.engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from upliftcli.errors import InputError
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
 from upliftcli.errors import InputError
 from upliftcli.motion.origins import origin_of
 

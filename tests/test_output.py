@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 from upliftcli import output as results_module
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
 from upliftcli.engines.result import AnalysisResult
 from upliftcli.output import elements_csv, results_document, to_csv, to_json, write_results
-from upliftcli.provenance import of_deck, read_csv_provenance, to_text_numbers
+from upliftcli.provenance.record import of_deck, read_csv_provenance, to_text_numbers
 
 EXAMPLE_DECK = Path(__file__).resolve().parents[1] / "inputs" / "ten_story_elcentro.toml"
 
@@ -150,9 +150,9 @@ def test_results_are_written_all_or_none(tmp_path, monkeypatch, example_deck):
     """A full disk at the third file of --out left two new files beside two old ones: none now."""
     import errno
 
-    from upliftcli import atomic
-    from upliftcli.analysis import run_one
+    from upliftcli.analysis.run import run_one
     from upliftcli.output import write_results
+    from upliftcli.runtime import atomic
 
     result = run_one(example_deck, "simplified", "bonded")
     original, calls = atomic._finish, []
@@ -171,7 +171,7 @@ def test_results_are_written_all_or_none(tmp_path, monkeypatch, example_deck):
 
 def test_the_units_map_covers_every_intermediate_of_every_engine():
     """The JSON's units: every key, the intermediates' too (units.intermediates), for every engine."""
-    from upliftcli import analysis
+    from upliftcli.analysis import run as analysis
     from upliftcli.engines.quantities import INTERMEDIATES
 
     deck = load_deck(EXAMPLE_DECK, ["building.stories=3", "ground_motion.window=[0, 4]",

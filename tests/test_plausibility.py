@@ -9,7 +9,7 @@ from spectrum_stand_ins import ConstantSpectrum
 from typer.testing import CliRunner
 
 from upliftcli.cli import app
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
 from upliftcli.engines.options import SimplifiedOptions
 from upliftcli.engines.plausibility import CODE_DAMPING_MAX, MOMENT_LIMIT
 from upliftcli.engines.simplified import analyze

@@ -1,4 +1,4 @@
-"""Figure data (upliftcli.figures) and figure files (upliftcli.plots)."""
+"""Figure data (upliftcli.figures) and figure files (upliftcli.figures.draw)."""
 
 import os
 import subprocess
@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from upliftcli import plots
 from upliftcli.errors import InputError
+from upliftcli.figures import draw as plots
 from upliftcli.sweep import figures
 from upliftcli.sweep.plan import SweepPlan, Vary
 
@@ -172,7 +172,7 @@ def test_plot_figures_shares_the_work_and_writes_what_plot_figure_writes(tmp_pat
     as one plot_figure after another; the paths in the order given."""
     if _ran_alone(request):
         return
-    monkeypatch.setattr("upliftcli.process.available_cores", lambda: 2)
+    monkeypatch.setattr("upliftcli.runtime.process.available_cores", lambda: 2)
     specs = _paper_specs()
     items = [(spec, tmp_path / "shared" / f"{name}.png") for name, spec in specs.items()]
     (tmp_path / "shared").mkdir()
@@ -191,7 +191,7 @@ def test_plot_figures_without_fork_draws_every_figure_here_and_writes_the_same_f
     """Where the figures are not shared out (FORK_FIGURES off: Windows, macOS), this process
     draws them all, one after the other: the same files, byte for byte, as the shared-out path
     (or plot_figure alone, where that path is not taken)."""
-    monkeypatch.setattr("upliftcli.process.available_cores", lambda: 2)
+    monkeypatch.setattr("upliftcli.runtime.process.available_cores", lambda: 2)
     specs = dict(list(_paper_specs().items())[:3])  # three figures: two groups on two cores
     for folder in ("default", "serial"):
         (tmp_path / folder).mkdir()
@@ -210,7 +210,7 @@ def test_plot_figures_waits_for_a_background_preload_and_still_shares_the_work(t
     run); plot_figures waits for it, so the process has one thread again and forks its copies."""
     if _ran_alone(request):
         return
-    monkeypatch.setattr("upliftcli.process.available_cores", lambda: 2)
+    monkeypatch.setattr("upliftcli.runtime.process.available_cores", lambda: 2)
     imported = plots._import_matplotlib
 
     def slow_import():
@@ -231,7 +231,7 @@ def test_plot_figures_waits_for_a_background_preload_and_still_shares_the_work(t
 def test_plot_figures_raises_the_error_of_a_forked_copy(tmp_path, monkeypatch, request):
     if _ran_alone(request):
         return
-    monkeypatch.setattr("upliftcli.process.available_cores", lambda: 2)
+    monkeypatch.setattr("upliftcli.runtime.process.available_cores", lambda: 2)
     specs = list(_paper_specs().values())
     (tmp_path / "file").write_text("not a directory")
     items = [(specs[0], tmp_path / "a.png"), (specs[1], tmp_path / "file" / "b.png"),
@@ -255,7 +255,7 @@ def test_plot_figures_raises_the_error_of_a_forked_copy(tmp_path, monkeypatch, r
 
 def test_plot_figures_draws_in_this_process_while_another_thread_runs(tmp_path, monkeypatch):
     """Forking a process that runs threads is unsafe: then every figure is drawn here."""
-    monkeypatch.setattr("upliftcli.process.available_cores", lambda: 2)
+    monkeypatch.setattr("upliftcli.runtime.process.available_cores", lambda: 2)
     stop = threading.Event()
     worker = threading.Thread(target=stop.wait)
     worker.start()
@@ -276,7 +276,7 @@ EXAMPLE = Path(__file__).resolve().parents[1] / "inputs" / "ten_story_elcentro.t
 
 
 def test_sweep_marks_the_decks_value_of_the_varied_field():
-    from upliftcli.deck import load_deck
+    from upliftcli.deck.load import load_deck
     from upliftcli.sweep.plan import plan_sweep
 
     plan = plan_sweep(EXAMPLE, ["building.period=0.8"], ["building.period=0.2:2:4:log"], ["simplified"], ["uplift"])

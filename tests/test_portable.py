@@ -1,4 +1,4 @@
-"""portable.py: whether a process is alive, on both paths; the stop signals of a system without
+"""runtime/portable.py: whether a process is alive, on both paths; the stop signals of a system without
 SIGHUP (Windows), simulated here by importing the package after removing it."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import os
 import subprocess
 import sys
 
-from upliftcli import atomic, portable
+from upliftcli.runtime import atomic, portable
 
 
 def _gone_pid() -> int:
@@ -40,7 +40,7 @@ def test_without_the_posix_probe_nothing_of_a_process_that_may_run_is_removed(tm
 WITHOUT_SIGHUP = """
 import signal, sys
 del signal.SIGHUP  # as on Windows
-from upliftcli import portable, process
+from upliftcli.runtime import portable, process
 from upliftcli.sweep import executors, signals
 from upliftcli.sweep.run import run_sweep
 assert portable.STOP_SIGNALS == (signal.SIGTERM,), portable.STOP_SIGNALS

@@ -1,4 +1,4 @@
-"""process.py: freed blocks of a few megabytes are reused instead of being mapped (and
+"""runtime/process.py: freed blocks of a few megabytes are reused instead of being mapped (and
 page-faulted) again; the cores a process may use."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import pytest
 LOOP = """
 import resource, sys
 import numpy as np
-from upliftcli.process import keep_freed_memory
+from upliftcli.runtime.process import keep_freed_memory
 if sys.argv[1] == "keep":
     assert keep_freed_memory()
 if sys.argv[1] == "import":  # what a program using the Python API imports
@@ -45,14 +45,14 @@ def test_kept_memory_is_not_faulted_in_again_and_importing_keeps_the_default():
 
 
 def test_available_cores_are_those_the_process_may_run_on():
-    from upliftcli.process import available_cores
+    from upliftcli.runtime.process import available_cores
 
     assert 1 <= available_cores() <= (os.cpu_count() or 1)
 
 
 EXIT = """
 import atexit, sys, threading, time
-from upliftcli.process import exit_now
+from upliftcli.runtime.process import exit_now
 atexit.register(lambda: print("handler ran", file=sys.stderr))
 def late():
     time.sleep(0.2)
@@ -80,7 +80,7 @@ import json, platform, sys
 if sys.argv[1] == "not-glibc":  # as on macOS, Windows or musl
     platform.libc_ver = lambda *args, **kwargs: ("", "")
 from upliftcli.cli import main
-from upliftcli.process import keep_freed_memory
+from upliftcli.runtime.process import keep_freed_memory
 print(json.dumps({"kept": keep_freed_memory()}))
 sys.argv = ["uplift", "analyze", sys.argv[2], "--engine", "exact", "--support", "uplift", "--format", "json"]
 main()

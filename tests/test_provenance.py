@@ -1,4 +1,4 @@
-"""Provenance (provenance.py) against independent values: the SHA-256 of the files computed
+"""Provenance (provenance/record.py) against independent values: the SHA-256 of the files computed
 here, the derived stiffness against the deck's period by a modal analysis done here, the
 foundation against its closed forms, the resolved deck against a second run."""
 
@@ -16,9 +16,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from upliftcli import analysis, provenance
-from upliftcli.deck import build_deck, load_deck
+from upliftcli.analysis import run as analysis
+from upliftcli.deck.load import build_deck, load_deck
 from upliftcli.output import to_json
+from upliftcli.provenance import record as provenance
 
 DECK = """
 title = "provenance test"
@@ -220,7 +221,7 @@ def test_the_resolved_deck_is_in_bare_si():
 def test_the_loops_in_use_are_recorded():
     """The backend that ran the loops is part of the record (the two agree to round-off only):
     the numpy twins when asked for, else compiled where every C extension is on disk."""
-    from upliftcli import backend
+    from upliftcli.runtime import backend
 
     with backend.use("numpy"):
         assert provenance.base("uplift analyze x.toml")["loops"] == "numpy"

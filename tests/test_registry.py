@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from upliftcli import deck_schema
+from upliftcli.deck import schema as deck_schema
 from upliftcli.engines import registry
 from upliftcli.model.foundations import FOUNDATIONS
 from upliftcli.motion.records import FORMATS, READERS

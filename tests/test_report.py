@@ -15,8 +15,8 @@ import pytest
 from figure_cases import SMALL, small_run
 from typer.testing import CliRunner
 
-from upliftcli import criteria
 from upliftcli.cli import app
+from upliftcli.deck import criteria
 from upliftcli.engines.quantities import QUANTITIES
 from upliftcli.report.build import build_report
 from upliftcli.report.html import CSP, render
@@ -169,8 +169,8 @@ def test_accuracy_ratios_simplified_over_exact():
                                      lambda r: r.peaks["displacement"][-1], 1e3, 5e-3)}[label]
         assert (float(simplified), float(exact)) == pytest.approx((factor * value(s), factor * value(e)), abs=digits)
         assert float(ratio) == pytest.approx(value(s) / value(e), rel=1e-3)
-    # the checks uplift analyze makes (upliftcli/accuracy.py) are shown instead, as given
-    from upliftcli.accuracy import Check, compare
+    # the checks uplift analyze makes (upliftcli/analysis/accuracy.py) are shown instead, as given
+    from upliftcli.analysis.accuracy import Check, compare
 
     exact = {r.support: r for r in results if r.engine == "exact"}
     checks = [compare(r, exact[r.support]) for r in results if r.engine == "simplified"]
@@ -296,7 +296,7 @@ def test_suite_records_and_accuracy_from_the_suite_result():
 def test_the_foundation_table_is_the_one_the_engines_use():
     """A half-space: K_theta, C_theta and the elements at the frequency every engine uses
     (omega_impedance, the flexible-base w1bar), not at the fixed-base w_1; every row with a unit."""
-    from upliftcli.deck import load_deck
+    from upliftcli.deck.load import load_deck
     from upliftcli.model.interaction import impedance
     from upliftcli.report.inputs import _foundation_rows
 

@@ -18,8 +18,8 @@ from cdp import Browser, chromium
 from figure_cases import EXAMPLE_DECK, SMALL, small_run
 from typer.testing import CliRunner
 
-from upliftcli import plots
 from upliftcli.cli import app
+from upliftcli.figures import draw as plots
 from upliftcli.figures.style import BLUE, VERMILLION
 from upliftcli.report.build import build_report
 from upliftcli.report.html import render

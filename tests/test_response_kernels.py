@@ -1,4 +1,4 @@
-"""The post-processing loops (compiled or numpy, as upliftcli.backend chooses) against direct
+"""The post-processing loops (compiled or numpy, as upliftcli.runtime.backend chooses) against direct
 evaluation; the two implementations against each other: tests/test_response_numpy.py."""
 
 from __future__ import annotations

@@ -190,9 +190,9 @@ def test_a_yielding_run_draws_its_capacity_and_tipping_moment():
     the dashpots, docs/theory.md 14.1)."""
     from figure_cases import EXAMPLE_DECK, SMALL
 
-    from upliftcli import analysis
+    from upliftcli.analysis import run as analysis
     from upliftcli.cli.plotting import keep_histories
-    from upliftcli.deck import load_deck
+    from upliftcli.deck.load import load_deck
 
     deck = keep_histories(load_deck(EXAMPLE_DECK, [*SMALL, "foundation.safety_factor=1.5",
                                                    'analysis.engine="exact"', 'analysis.supports=["uplift"]']))

@@ -60,7 +60,7 @@ def test_each_loop_compiles_under_the_limited_api(name, source):
 def test_the_built_loops_are_stable_abi_modules():
     """The loops of this install (built in place by `pip install -e .`, or by a wheel) carry the
     stable ABI's suffix, which every CPython from 3.11 on imports."""
-    from upliftcli import backend
+    from upliftcli.runtime import backend
 
     built = backend.built()
     if not built:

@@ -7,7 +7,7 @@ code of that commit. Whole numbers and flags are compared exactly, every float t
 (1e-8 with the eigenvalue effective properties, EIGENVALUE): the numbers pass through a math
 library whose last bits differ between builds and machines (LAPACK's eigensolver for the modes,
 the C library's exp, sin, cos and pow in the spectra, numpy's own or the compiled loops' spectrum,
-upliftcli.backend), each within an ulp or two (2e-16 relative); the procedure combines them in a
+upliftcli.runtime.backend), each within an ulp or two (2e-16 relative); the procedure combines them in a
 few dozen operations without a cancellation that would amplify that beyond 1e3 (the measured
 difference between the spectrum's two implementations is at most 9.7e-14), so 1e-12 is reached on
 any machine and still catches a change of the method.
@@ -21,8 +21,8 @@ from pathlib import Path
 
 import pytest
 
-from upliftcli.analysis import run_one
-from upliftcli.deck import load_deck
+from upliftcli.analysis.run import run_one
+from upliftcli.deck.load import load_deck
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = Path(__file__).resolve().parent / "data" / "simplified_paper_regression.json"

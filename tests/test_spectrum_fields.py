@@ -3,8 +3,8 @@ checker (every type's keys declared, the type itself checked, all errors togethe
 
 import pytest
 
+from upliftcli.deck.fields import Field
 from upliftcli.errors import InputError, InputErrors
-from upliftcli.fields import Field
 from upliftcli.motion.design_spectra import _KEYS, KEY_UNITS
 from upliftcli.motion.spectrum_fields import SPECTRUM_FIELDS, check_spectrum
 

@@ -1,4 +1,4 @@
-"""The exact answer for a design spectrum (suite_check.py): the check suite cached by its key, the
+"""The exact answer for a design spectrum (analysis/suite_check.py): the check suite cached by its key, the
 exact suite mean beside the simplified value, and the ratio split into the suite's standing against
 the target and the procedure's own error."""
 
@@ -13,9 +13,10 @@ import numpy as np
 import pytest
 from cli_helpers import invoke
 
-from upliftcli import analysis, suite_check
-from upliftcli.accuracy import Check
-from upliftcli.deck import load_deck
+from upliftcli.analysis import run as analysis
+from upliftcli.analysis import suite_check
+from upliftcli.analysis.accuracy import Check
+from upliftcli.deck.load import load_deck
 from upliftcli.engines.quantities import COMPARED
 from upliftcli.motion.design_spectra import ASCE7Spectrum
 

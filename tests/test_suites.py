@@ -159,7 +159,7 @@ def test_suite_entries_go_through_the_field_checker(tmp_path):
     (path, options), = suite_entries([{"file": "a.txt", "dt": "10 ms", "units": "gal"}], deck)
     assert path == tmp_path / "a.txt" and options == {"dt": 0.01, "units": "gal"}
 def test_a_suite_holds_at_most_the_documented_number_of_records(tmp_path):
-    from upliftcli.limits import MAX_SUITE_RECORDS
+    from upliftcli.runtime.limits import MAX_SUITE_RECORDS
 
     deck = str(tmp_path / "deck.toml")
     with pytest.raises(InputError, match=r"ground_motion.suite: at most 1,000 records \(limit of the tool\), got 1,0"):

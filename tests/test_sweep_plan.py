@@ -5,7 +5,7 @@ from pathlib import Path
 import pytest
 from sweep_cases import ASCE7, EXAMPLE, ROOT, SHORT
 
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
 from upliftcli.errors import InputError
 from upliftcli.sweep.plan import (
     Case,
@@ -89,7 +89,7 @@ def test_range_sizes_are_refused_before_expanding():
 
 
 def test_plan_fingerprints_the_records_and_the_version():
-    from upliftcli.provenance_files import sha256 as file_sha256
+    from upliftcli.provenance.files import sha256 as file_sha256
 
     plan = plan_sweep(EXAMPLE, SHORT, ["building.period=0.5,1"], ["simplified"], ["rigid"])
     (record,) = plan.records

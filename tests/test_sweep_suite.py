@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from upliftcli.analysis import run_one
+from upliftcli.analysis.run import run_one
 from upliftcli.cli import app
-from upliftcli.deck import load_deck
+from upliftcli.deck.load import load_deck
 from upliftcli.errors import InputError
 from upliftcli.sweep import table as sweep_table
 from upliftcli.sweep.executors import SerialExecutor

@@ -48,7 +48,7 @@ def test_tables_carry_the_sweep_provenance(small_plan, serial_rows, tmp_path):
 
     from sweep_cases import ROOT
 
-    from upliftcli.provenance import read_csv_provenance
+    from upliftcli.provenance.record import read_csv_provenance
 
     record = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
     paths = sweep_table.write_tables(small_plan, serial_rows, tmp_path, "p", "json")

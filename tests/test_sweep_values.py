@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
+from upliftcli.deck.fields import parse_choices
 from upliftcli.errors import InputError
-from upliftcli.fields import parse_choices
 from upliftcli.sweep.values import parse_values, parse_vary
 
 

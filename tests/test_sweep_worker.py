@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from sweep_cases import EXAMPLE, SHORT
 
-from upliftcli.analysis import run_one
-from upliftcli.deck import load_deck
+from upliftcli.analysis.run import run_one
+from upliftcli.deck.load import load_deck
 from upliftcli.sweep.plan import (
     make_chunks,
     plan_sweep,

@@ -13,8 +13,8 @@ import pytest
 from backends import on_both
 from scipy.optimize import brentq
 
-from upliftcli import analysis
-from upliftcli.deck import load_deck
+from upliftcli.analysis import run as analysis
+from upliftcli.deck.load import load_deck
 from upliftcli.engines.exact.engine import substeps_for
 from upliftcli.engines.exact.statespace import exact_model
 from upliftcli.engines.exact.stepping import simulate
@@ -319,7 +319,7 @@ def test_more_elements_with_a_capacity_than_the_pattern_holds_are_refused():
     simplified engine alone (the closed-form M_c, no contact pattern) or the bonded support.
     A model built in code (no deck) is still refused by the engine."""
     from upliftcli.errors import AnalysisError, InputError
-    from upliftcli.limits import MAX_YIELDING_ELEMENTS
+    from upliftcli.runtime.limits import MAX_YIELDING_ELEMENTS
 
     assert MAX_YIELDING_ELEMENTS == 31
     elastic = run(WINKLER, "exact", "uplift", "foundation.elements=32")

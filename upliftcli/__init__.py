@@ -30,7 +30,7 @@ from typing import Any
 
 #: public name -> (module, attribute) it is re-exported from
 _EXPORTS: dict[str, tuple[str, str]] = {
-    "load_deck": ("deck", "load_deck"), "build_deck": ("deck", "build_deck"), "Deck": ("deck", "Deck"),
+    "load_deck": ("deck.load", "load_deck"), "build_deck": ("deck.load", "build_deck"), "Deck": ("deck.load", "Deck"),
     "Building": ("model.building", "Building"), "shear_building": ("model.building", "shear_building"),
     "uniform_building": ("model.building", "uniform_building"), "modal_analysis": ("model.building", "modal_analysis"),
     "System": ("model.system", "System"), "TwoElement": ("model.foundations", "TwoElement"),
@@ -38,13 +38,13 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "Winkler": ("model.foundations", "Winkler"), "HalfSpace": ("model.foundations", "HalfSpace"),
     "read_record": ("motion.records", "read_record"), "Record": ("motion.records", "Record"),
     "design_spectrum": ("api", "design_spectrum"), "response_spectrum": ("motion.spectra", "response_spectrum"),
-    "run": ("analysis", "run"), "analyze": ("api", "analyze"), "ENGINES": ("engines.registry", "ENGINES"),
+    "run": ("analysis.run", "run"), "analyze": ("api", "analyze"), "ENGINES": ("engines.registry", "ENGINES"),
     "SUPPORTS": ("engines.registry", "SUPPORTS"), "SimplifiedOptions": ("engines.options", "SimplifiedOptions"),
     "ExactOptions": ("engines.options", "ExactOptions"), "AnalysisResult": ("engines.result", "AnalysisResult"),
     "SuiteResult": ("engines.suite_result", "SuiteResult"), "run_sweep": ("api", "run_sweep"),
     "SweepTable": ("api", "SweepTable"), "to_dict": ("api", "to_dict"), "to_dataframe": ("api", "to_dataframe"),
     "elements_dataframe": ("api", "elements_dataframe"), "write_results": ("output", "write_results"),
-    "provenance_of": ("provenance", "of_deck"), "InputError": ("errors", "InputError"),
+    "provenance_of": ("provenance.record", "of_deck"), "InputError": ("errors", "InputError"),
     "AnalysisError": ("errors", "AnalysisError"),
     "draw": ("api", "draw"), "profile_figure": ("api", "profile_figure"),
     "mode_shape_figure": ("api", "mode_shape_figure"), "history_figure": ("api", "history_figure"),
@@ -58,7 +58,7 @@ __all__ = ["__version__", *_EXPORTS]
 def __getattr__(name: str) -> Any:
     """The public names, imported when first used; __version__ from the package metadata."""
     if name == "__version__":
-        from .installed import tool_version
+        from .runtime.installed import tool_version
 
         value = tool_version()
     elif name in _EXPORTS:

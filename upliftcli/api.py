@@ -59,7 +59,7 @@ def to_dict(results: AnalysisResult | Sequence[AnalysisResult], deck=None) -> di
     -> the document `uplift analyze --format json` prints, with the provenance of the run when
     the deck.Deck is given (docs/provenance.md)."""
     from .output import result_to_dict, results_document, to_jsonable
-    from .provenance import of_deck
+    from .provenance.record import of_deck
 
     if isinstance(results, AnalysisResult):
         return result_to_dict(results)
@@ -176,7 +176,7 @@ def run_sweep(deck: str | Path, vary: Sequence[str] = (), overrides: Sequence[st
 def draw(spec):
     """The matplotlib Figure (Agg canvas, no pyplot state) of a figure description
     (figures/spec.FigureSpec); show it in a notebook as it is, save it with figure.savefig."""
-    from .plots import line_figure
+    from .figures.draw import line_figure
 
     return line_figure(spec)
 

@@ -1,8 +1,8 @@
 """Every file an analysis writes: the results document (JSON), the story and foundation tables
 (CSV), the resolved deck (<stem>.deck.toml, a deck that repeats the run) and the response
-histories (CSV or NPZ). Each file is written atomically (upliftcli.atomic): never half-written.
+histories (CSV or NPZ). Each file is written atomically (upliftcli.runtime.atomic): never half-written.
 SI units in every file; the units are listed in it. Every result file carries the provenance of
-the run (provenance.py): the JSON under "provenance", each CSV table in two leading '#' lines
+the run (provenance/record.py): the JSON under "provenance", each CSV table in two leading '#' lines
 (pandas.read_csv(path, comment="#") reads the table). Numbers are written with at most 15
 significant digits (provenance.DIGITS), as the shortest text of that value: 15.3, not
 15.299999999999999. The quantities and their units: engines/quantities.py. A record suite's
@@ -22,7 +22,6 @@ from typing import Any
 
 import numpy as np
 
-from .atomic import atomic_path, write_set, write_text
 from .engines.quantities import (
     COMPARED,
     FLOOR,
@@ -39,7 +38,8 @@ from .engines.quantities import (
 )
 from .engines.result import AnalysisResult
 from .engines.suite_result import STATISTICS, SuiteResult, simplified_ratios
-from .provenance import csv_comments, deck_toml, number_text, of_deck, to_text_numbers
+from .provenance.record import csv_comments, deck_toml, number_text, of_deck, to_text_numbers
+from .runtime.atomic import atomic_path, write_set, write_text
 
 #: units of the result fields in the written files (SI)
 UNITS = {

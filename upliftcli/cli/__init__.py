@@ -18,7 +18,7 @@ import typer
 from typer.core import TyperGroup
 
 from ..errors import AnalysisError, InputError, lines, one_line
-from ..process import exit_now, exit_on_stop_signals, keep_freed_memory
+from ..runtime.process import exit_now, exit_on_stop_signals, keep_freed_memory
 
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
 
@@ -78,8 +78,8 @@ app = typer.Typer(
 
 def _version(value: bool) -> None:
     if value:
-        from ..backend import describe
-        from ..installed import TOOL, package_version
+        from ..runtime.backend import describe
+        from ..runtime.installed import TOOL, package_version
 
         found, loops = package_version(TOOL), describe()
         typer.echo(f"{TOOL} (not installed)" if found == "not installed" else found)

@@ -16,16 +16,16 @@ from typing import TYPE_CHECKING
 
 import typer
 
-from .. import provenance
-from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
-from ..provenance_files import input_files
+from ..provenance import record as provenance
+from ..provenance.files import input_files
+from ..runtime.atomic import refuse_existing, refuse_inputs
 from . import plotting, stdout
 from .histories import check_histories, write_histories
 from .options import ENGINE_HELP, SET_HELP, UNITS_HELP, DisplayUnits, OutputFormat, overrides, refuse_unchecked
 
 if TYPE_CHECKING:
-    from ..deck import Deck
+    from ..deck.load import Deck
 
 #: what an existing result file is, in the message that refuses it
 EARLIER = ": the results of an earlier run"
@@ -36,7 +36,7 @@ def named_files(loaded: Deck) -> list[str]:
     its record, its suite's files (or every file of its suite folder) and a spectrum table."""
     import os
 
-    from ..provenance import absolute_paths
+    from ..provenance.record import absolute_paths
 
     motion = absolute_paths({"ground_motion": loaded.values.get("ground_motion", {})}, loaded.source)["ground_motion"]
     spectrum = motion.get("design_spectrum")
@@ -95,11 +95,11 @@ def analyze(
     Exit codes: 0 ok, 2 bad input, 3 an acceptance limit (the deck's criteria table) is exceeded,
     4 analysis failure.
     """
-    from .. import analysis
-    from ..criteria import check_criteria
-    from ..deck import load_deck
+    from ..analysis import run as analysis
+    from ..analysis.suite_check import check_deck
+    from ..deck.criteria import check_criteria
+    from ..deck.load import load_deck
     from ..output import to_json
-    from ..suite_check import check_deck
     from . import render
 
     if out is not None and out.exists() and not out.is_dir():
@@ -207,11 +207,11 @@ def _analyze_batch(decks: list[Path], overrides: list[str], output_format: Outpu
     output); one summary table (or {"decks": [...]} in JSON); each analysis's warnings and those
     of its accuracy check (check: suite_check.check_deck of each deck) on stderr, once, naming its
     deck; exit 3 if any deck violates its criteria."""
-    from .. import analysis
-    from ..criteria import check_criteria
-    from ..deck import load_deck
+    from ..analysis import run as analysis
+    from ..analysis.suite_check import check_deck
+    from ..deck.criteria import check_criteria
+    from ..deck.load import load_deck
     from ..output import dumps, results_document
-    from ..suite_check import check_deck
     from . import render
     from .render_batch import batch_table
 
@@ -265,7 +265,7 @@ def modes(
     """Fixed-base modes: periods, w_n/w_1, effective masses m_n*/m_t (and cumulative), heights h_n*, h_n*/b."""
     from rich.markup import escape
 
-    from ..deck import load_deck
+    from ..deck.load import load_deck
     from ..model.system import MODE_ROW_UNITS, fixed_base_mode_rows
     from ..output import to_jsonable
     from . import render

@@ -9,12 +9,12 @@ from typing import TYPE_CHECKING
 
 import typer
 
-from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
+from ..runtime.atomic import refuse_existing, refuse_inputs
 from .plotting import HISTORY_ENGINES
 
 if TYPE_CHECKING:
-    from ..deck import Deck
+    from ..deck.load import Deck
 
 
 def history_paths(path: Path, names: list[tuple[str, str, str]]) -> list[Path]:

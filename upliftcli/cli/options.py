@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 from enum import StrEnum
 
-from ..fields import parse_choices
+from ..deck.fields import parse_choices
 
 SET_HELP = ("Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values in the "
             "deck's units: SI, US customary under units = \"us\", or with their unit, "
@@ -45,7 +45,7 @@ def overrides(settings: list[str], engines: list[str], supports: list[str]) -> l
 
 
 def refuse_unchecked(criteria, check: bool, option: str = "--no-check") -> None:
-    """[criteria] simplified_error is judged on the accuracy check (criteria.py): a run without the
+    """[criteria] simplified_error is judged on the accuracy check (deck/criteria.py): a run without the
     check (--no-check; a sweep without --check) would pass the limit unchecked, so it is refused."""
     from ..errors import InputError
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import typer
 
+from ..deck.fields import parse_choices
 from ..errors import InputError
-from ..fields import parse_choices
 
 PLOT_HELP = ("Also draw the figures into this directory, as <deck>.<figure>.png: story profiles, mode shapes, "
              "the ground motion's spectra and, for the exact/approximate engines, response histories (paper "
@@ -40,7 +40,7 @@ def figure_paths(loaded, directory: Path, stem: str, formats: list[str], modes_o
 
 def check_outputs(paths: list[Path], inputs: list[str], overwrite: bool) -> None:
     """--plot never replaces an input of the run, nor an existing file unless --overwrite."""
-    from ..atomic import refuse_existing, refuse_inputs
+    from ..runtime.atomic import refuse_existing, refuse_inputs
 
     refuse_inputs(paths, inputs, "--plot")
     refuse_existing(paths, "--plot", overwrite)
@@ -56,7 +56,7 @@ def keep_histories(loaded):
 
 def write_figures(specs: dict, directory: Path, stem: str, formats: list[str]) -> list[Path]:
     """Draw every figure and write it as directory/<stem>.<name>.<format>; report each file."""
-    from .. import plots
+    from ..figures import draw as plots
 
     figures = [(spec, directory / f"{stem}.{name}.{extension}") for name, spec in specs.items()
                for extension in formats]

@@ -10,9 +10,9 @@ from typing import TYPE_CHECKING
 
 import typer
 
-from .. import limits
-from ..atomic import refuse_existing, refuse_inputs, write_text
 from ..errors import InputError
+from ..runtime import limits
+from ..runtime.atomic import refuse_existing, refuse_inputs, write_text
 from ..units import STANDARD_GRAVITY
 from . import stdout
 
@@ -147,7 +147,7 @@ RECORD_OPTIONS = {"format": "--input-format", "units": "--record-units", "dt": "
 def read_with_options(file: Path, **options) -> records.Record:
     """records.read_record with the options of the command line; a value that does not suit the
     file (--dt 0, --scale nan, a --window past its end, --record-units that contradict its header)
-    is the option's mistake, named with the file, not the file's (deck_motion.py does the same for
+    is the option's mistake, named with the file, not the file's (deck/motion.py does the same for
     the deck's fields)."""
     from ..motion import records
 
@@ -165,7 +165,7 @@ def _read(file: Path, file_format: str | None, units: str | None, dt: float | No
           window: str | None, override: bool = False) -> records.Record:
     """The record as the options read it; --scale is checked first by the rule of the deck's
     ground_motion.scale (records.RECORD_FIELDS: > 0; read_record alone also takes a negative one)."""
-    from ..fields import check_value
+    from ..deck.fields import check_value
     from ..motion.records import RECORD_FIELDS
 
     def error(expected: str):
@@ -246,7 +246,7 @@ def info(
 def spectrum_csv(spectrum: spectra.Spectrum, record: dict | None = None) -> str:
     """Long-format CSV of a spectrum, one row per (damping, period), SI units and S_a in g,
     after the provenance's two '#' lines if given (docs/provenance.md)."""
-    from ..provenance import csv_comments, number_text
+    from ..provenance.record import csv_comments, number_text
 
     buffer = io.StringIO()
     if record is not None:
@@ -281,7 +281,7 @@ def spectrum(
     units: str = DISPLAY_UNITS,
 ) -> None:
     """Exact linear response spectra (S_d, pseudo S_v and S_a, absolute acceleration) of a record."""
-    from .. import plots
+    from ..figures import draw as plots
     from ..motion import spectra
 
     system, record_units = units_of(units, record_units)
@@ -302,7 +302,7 @@ def spectrum(
     for option, path in (("--out", out), ("--plot", plot)):
         refuse_existing([path] if path is not None else [], option, overwrite)
     result = spectra.response_spectrum(record.acceleration, record.dt, period_values, dampings)
-    from ..provenance import of_record
+    from ..provenance.record import of_record
 
     text = spectrum_csv(result, of_record(record, window=parse_window(window), periods=period_values,
                                           dampings=dampings))

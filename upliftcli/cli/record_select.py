@@ -10,8 +10,8 @@ from pathlib import Path
 
 import typer
 
-from .. import limits
 from ..errors import InputError
+from ..runtime import limits
 from .record_suite import OUT_HELP, SET_HELP, _check_out, _print_suite, _warn, _write
 
 FROM_HELP = ("Candidates: a folder of record files (.at2, .txt, .csv, .dat, .acc; units from their headers), or "
@@ -67,8 +67,8 @@ def select(
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing files in --out."),
 ) -> None:
     """Select and scale recorded motions for the deck's design spectrum; writes them with a manifest."""
-    from ..deck import load_deck
-    from ..deck_suite import plan_from_deck
+    from ..deck.load import load_deck
+    from ..deck.suite import plan_from_deck
     from ..motion.matching import MatchSettings
     from ..motion.record_files import manifest_text, measure_row, record_checks, record_text, sha256
     from ..motion.selection import check_factors

@@ -10,9 +10,9 @@ from typing import TYPE_CHECKING
 
 import typer
 
-from .. import limits
-from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
+from ..runtime import limits
+from ..runtime.atomic import refuse_existing, refuse_inputs
 from ..units import STANDARD_GRAVITY
 from .record import DT_HELP, INPUT_FORMAT, MOVED_FORMAT, OVERRIDE_HELP, RECORD_UNITS, read_with_options, units_of
 
@@ -64,7 +64,7 @@ def _check_out(out: Path, names: list[str], overwrite: bool, inputs: list[Path])
 def _write(out: Path, files: dict[str, str]) -> None:
     """The records and their manifest (last) all or none (atomic.write_set): a full disk or a
     stop leaves the folder as it was (it left 7 of 11 records and no manifest)."""
-    from ..atomic import write_set
+    from ..runtime.atomic import write_set
 
     try:
         write_set({out / name: text for name, text in files.items()})
@@ -113,9 +113,9 @@ def generate(
 ) -> None:
     """Artificial records for the deck's design spectrum (Rezaeian & Der Kiureghian stochastic model, matched by
     wavelets), with a manifest."""
-    from ..analysis import BUILDING_PATHS
-    from ..deck import load_deck
-    from ..deck_suite import plan_from_deck
+    from ..analysis.run import BUILDING_PATHS
+    from ..deck.load import load_deck
+    from ..deck.suite import plan_from_deck
     from ..motion.generate import GENERATOR_VERSION, Envelope, generate_suite, suite_envelope
     from ..motion.matching import settings_for
     from ..motion.record_files import manifest_text, measure_row, model_row, record_checks, record_text, sha256
@@ -206,8 +206,8 @@ def match(
     units: str = SUITE_UNITS,
 ) -> None:
     """Spectrally match records to the deck's design spectrum; writes them with their provenance."""
-    from ..deck import load_deck
-    from ..deck_suite import plan_from_deck
+    from ..deck.load import load_deck
+    from ..deck.suite import plan_from_deck
     from ..motion.matching import settings_for
     from ..motion.record_files import manifest_text, measure_row, record_checks, record_text, sha256
     from ..motion.suites import build_suite
@@ -261,8 +261,8 @@ def scale(
     units: str = SUITE_UNITS,
 ) -> None:
     """Amplitude factors that bring the suite's mean spectrum to the code's criterion (printed)."""
-    from ..deck import load_deck
-    from ..deck_suite import plan_from_deck
+    from ..deck.load import load_deck
+    from ..deck.suite import plan_from_deck
     from ..motion.suites import build_suite
 
     _, record_units = units_of(units, record_units)

@@ -6,7 +6,7 @@ from __future__ import annotations
 from rich.markup import escape
 from rich.table import Table
 
-from ..criteria import check_criteria
+from ..deck.criteria import check_criteria
 from ..display import VERDICT_LEGEND, WEIGHT_LEGEND, summary_columns, verdicts
 from .render import engine_label
 

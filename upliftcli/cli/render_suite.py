@@ -100,7 +100,7 @@ def comparison_table(results: Sequence[AnalysisResult], units: str = "si") -> Ta
 
 
 def suite_check_table(checks: Sequence, units: str = "si") -> Table | None:
-    """The accuracy check on a suite (suite_check.py: accuracy.Check with a suite and the split
+    """The accuracy check on a suite (analysis/suite_check.py: accuracy.Check with a suite and the split
     ratios) split into the records' standing against the target and the procedure's own error,
     per support and compared value (None without such a check)."""
     checks = [check for check in checks if check.suite is not None and check.procedure_ratio]

@@ -49,15 +49,16 @@ def report(
     Exit codes: 0 ok, 2 bad input, 3 an acceptance limit of the deck's criteria is exceeded (the
     report is written and says so), 4 analysis failure.
     """
-    from .. import analysis, plots
-    from ..atomic import refuse_existing, refuse_inputs, write_text
-    from ..criteria import check_criteria
-    from ..deck import load_deck
-    from ..provenance_files import input_files
+    from ..analysis import run as analysis
+    from ..deck.criteria import check_criteria
+    from ..deck.load import load_deck
+    from ..figures import draw as plots
+    from ..provenance.files import input_files
     from ..report.build import build_report
     from ..report.html import render
     from ..report.pdf import check_browser, print_pdf
     from ..report.provenance import provenance
+    from ..runtime.atomic import refuse_existing, refuse_inputs, write_text
     from .plotting import keep_histories
 
     suffix = out.suffix.lower()
@@ -77,7 +78,7 @@ def report(
     results = analysis.run(loaded)
     checks = []
     if check:
-        from ..suite_check import check_deck
+        from ..analysis.suite_check import check_deck
 
         checks = check_deck(loaded, results, lambda text: typer.echo(f"note: {text}", err=True))
     document, specs = build_report(loaded, results, deck_text, overrides, provenance(loaded, ["uplift", *sys.argv[1:]]),

@@ -12,8 +12,8 @@ from typing import TYPE_CHECKING
 
 import typer
 
-from .. import limits
 from ..errors import InputError
+from ..runtime import limits
 from . import plotting, stdout
 from .options import ENGINE_HELP, SET_HELP, UNITS_HELP, DisplayUnits, OutputFormat, refuse_unchecked
 from .sweep_execute import check_out, execute, warm_workers_early
@@ -117,9 +117,9 @@ def sweep(
     workers = local_workers(workers, oversubscribe, scheduler)
     if workers is not None:  # by default the plan's size decides whether local workers run
         warm_workers_early(workers, scheduler, dask)
-    from .. import plots
+    from ..deck.fields import parse_choices
     from ..engines.registry import ENGINES, SUPPORTS
-    from ..fields import parse_choices
+    from ..figures import draw as plots
     from ..sweep import figures
     from ..sweep import table as sweep_table
     from ..sweep.plan import plan_sweep
@@ -197,9 +197,9 @@ def spectra(
     """
     workers = local_workers(workers, oversubscribe, scheduler)
     warm_workers_early(workers, scheduler, dask)
-    from .. import plots
+    from ..deck.fields import parse_choices
     from ..engines.registry import ENGINES, SUPPORTS
-    from ..fields import parse_choices
+    from ..figures import draw as plots
     from ..sweep import figures
     from ..sweep import table as sweep_table
     from ..sweep.plan import plan_sweep

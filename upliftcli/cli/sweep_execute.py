@@ -11,8 +11,8 @@ from typing import TYPE_CHECKING
 
 import typer
 
-from ..atomic import refuse_existing, refuse_inputs
 from ..errors import InputError
+from ..runtime.atomic import refuse_existing, refuse_inputs
 from ..sweep.signals import ignore_stop_signals
 
 if TYPE_CHECKING:
@@ -24,7 +24,7 @@ CASE_SECONDS = {"simplified": 0.002, "approximate": 0.04, "exact": 0.04}
 
 
 def choose_executor(plan: SweepPlan, workers: int | None, scheduler: str | None, dask: str | None):
-    from ..process import available_cores
+    from ..runtime.process import available_cores
     from ..sweep.dask_executor import DaskExecutor, check_reachable, import_distributed
     from ..sweep.executors import ProcessExecutor, SerialExecutor
 
@@ -85,7 +85,7 @@ def warm_workers_early(workers: int | None, scheduler: str | None, dask: str | N
     that then runs in this process leaves it unused (it ends with this process)."""
     if scheduler is not None or dask is not None or (workers is not None and workers <= 1):
         return
-    from ..process import available_cores
+    from ..runtime.process import available_cores
     from ..sweep.executors import ProcessExecutor
 
     if workers is None and available_cores() < 2:
@@ -104,7 +104,7 @@ def head_start(executor, figures: bool) -> None:
         return
     prestart()
     if figures:
-        from .. import plots
+        from ..figures import draw as plots
 
         plots.preload(background=True)
 

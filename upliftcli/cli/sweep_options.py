@@ -11,8 +11,8 @@ from pathlib import Path
 
 import typer
 
-from .. import limits
 from ..errors import InputError
+from ..runtime import limits
 
 WORKERS_HELP = ("Local worker processes (default: all cores when the sweep is long enough to gain from them, "
                 "else 1 = in this process); capped at the cores unless --oversubscribe.")
@@ -56,7 +56,7 @@ def local_workers(workers: int | None, oversubscribe: bool, scheduler: str | Non
     """--workers checked before anything starts: an integer from 1 to limits.MAX_WORKERS, capped
     (with a warning) at the cores this process may use unless `oversubscribe` (--workers 1000
     started 127 processes and 4 GiB in 14 s); a remote Dask cluster's workers are its own."""
-    from ..process import available_cores
+    from ..runtime.process import available_cores
 
     if workers is None:
         return None

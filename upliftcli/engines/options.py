@@ -2,7 +2,7 @@
 default, choices) and the frozen dataclasses the engines take.
 
 The deck's `[analysis]` and `[analysis.exact]` tables are built from these declarations
-(deck_schema.py), and the dataclasses check themselves against the same fields, so an
+(deck/schema.py), and the dataclasses check themselves against the same fields, so an
 option is validated by one rule whether it comes from a deck, `--set` or Python code.
 Nothing here imports scipy.
 """
@@ -13,8 +13,8 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
+from ..deck.fields import Field, check_value
 from ..errors import InputError
-from ..fields import Field, check_value
 
 
 def option(deck_field: Field) -> Any:

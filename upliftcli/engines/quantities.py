@@ -3,7 +3,7 @@ shown, which engines give it and its column in sweep rows.
 
 Everything that reports a result reads this table: the JSON, CSV and history writers
 (output.py), the terminal tables (cli/render.py), sweep rows and figures (sweep/), and the
-deck's `[criteria]` (deck_schema.py, criteria.py). An engine produces a
+deck's `[criteria]` (deck/schema.py, deck/criteria.py). An engine produces a
 quantity by putting its peaks under the quantity's name in AnalysisResult.peaks (and, for
 the history engines, the instants under AnalysisResult.times).
 """

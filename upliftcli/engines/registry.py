@@ -76,7 +76,7 @@ def capacity_refusal(name: str, system: Any, support: str) -> str | None:
     element with a capacity, so they take at most limits.MAX_YIELDING_ELEMENTS of them in an
     uplift analysis (14.3). The simplified engine (the closed-form M_c of 14.4) and the rigid and
     bonded supports (linear references, built without the capacity) have no such bound."""
-    from ..limits import MAX_YIELDING_ELEMENTS
+    from ..runtime.limits import MAX_YIELDING_ELEMENTS
 
     if name == "simplified" or support != "uplift" or getattr(system.foundation, "capacity", None) is None:
         return None

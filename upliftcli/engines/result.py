@@ -39,7 +39,7 @@ class AnalysisResult:
         documents (output.write_histories writes them).
 
     A result is built once by its engine and not changed afterwards (frozen; what later stages
-    find about it, such as the accuracy check of accuracy.py, is kept beside it).
+    find about it, such as the accuracy check of analysis/accuracy.py, is kept beside it).
     """
 
     engine: str

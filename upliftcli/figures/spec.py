@@ -1,6 +1,6 @@
 """Figure data: what a figure shows, as plain arrays and labels (no matplotlib).
 
-The functions of upliftcli.figures and upliftcli.sweep.figures return a FigureSpec; plots.py
+The functions of upliftcli.figures and upliftcli.sweep.figures return a FigureSpec; figures/draw.py
 draws it. Values are in the plotted units (the axis labels say which), so a test can compare
 a figure's data with the results it shows.
 """

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from ..fields import Field
+from ..deck.fields import Field
 
 if TYPE_CHECKING:
     from .foundations import DeckContext

@@ -19,7 +19,7 @@ from typing import Any, ClassVar, NoReturn
 
 import numpy as np
 
-from ..fields import Field
+from ..deck.fields import Field
 from . import rocking_capacity
 from .bearing import CAPACITY_FIELDS, bearing_capacity, check_static_capacity
 

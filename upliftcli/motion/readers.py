@@ -15,9 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..deck.fields import Field, check_value
 from ..errors import InputError
-from ..fields import Field, check_value
-from ..limits import MAX_RECORD_BYTES, MAX_RECORD_SAMPLES, read_input
+from ..runtime.limits import MAX_RECORD_BYTES, MAX_RECORD_SAMPLES, read_input
 from ..units import ACCELERATION_ALIASES, acceleration_unit
 
 UNIT_CHOICES = "one of g, m/s2, cm/s2, in/s2"

@@ -14,9 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..deck.fields import Field
 from ..errors import InputError
-from ..fields import Field
-from ..limits import MAX_MAGNITUDE
+from ..runtime.limits import MAX_MAGNITUDE
 from ..units import ACCELERATION_UNITS, STANDARD_GRAVITY
 from .readers import (
     DT,

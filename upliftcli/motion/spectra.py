@@ -25,7 +25,7 @@ Peaks are exact, not sampled:
 Two implementations of these loops agree to rounding (about 1e-12 relative, the rounding of the
 step coefficients at long periods; tests/test_spectra.py): compiled (C, _spectra.c), one
 oscillator chunk after the other in one thread; vectorised in numpy (spectra_numpy.py), its twin.
-spectra_kernels.py runs the one upliftcli.backend chooses.
+spectra_kernels.py runs the one upliftcli.runtime.backend chooses.
 """
 
 from __future__ import annotations
@@ -35,12 +35,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import backend
 from ..errors import InputError
+from ..runtime import backend
 
 TWO_PI = 2.0 * math.pi
 CHUNK = 32  # oscillators integrated side by side
-#: "auto" (the loops upliftcli.backend chooses, the default), "compiled" (C), "numpy" (the vectorised
+#: "auto" (the loops upliftcli.runtime.backend chooses, the default), "compiled" (C), "numpy" (the vectorised
 #: twin: El Centro, 1560 samples, 1 ms for one oscillator, 16 ms for 16)
 METHODS = backend.CHOICES
 
@@ -103,7 +103,7 @@ def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *,
     dampings: ratios of critical in [0, 1). free_vibration: include the free vibration after the
     record end (default; see the module docstring). min_steps_per_period: sub-stepping of short
     periods. Peaks are exact between samples (analytic turning points). method: "auto" (the
-    loops of upliftcli.backend, the default), "compiled" (C) or "numpy" (the vectorised twin).
+    loops of upliftcli.runtime.backend, the default), "compiled" (C) or "numpy" (the vectorised twin).
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")

@@ -1,5 +1,5 @@
 """The loops of the response spectra, compiled (C: _spectra.c, built at install) or their numpy
-twin (spectra_numpy.py), as upliftcli.backend chooses: the exact
+twin (spectra_numpy.py), as upliftcli.runtime.backend chooses: the exact
 Nigam-Jennings step, the bound that finds the steps where a peak can lie between samples, and
 the exact turning points there (see spectra.py for the method). Each loop runs over many
 oscillators at once.
@@ -17,7 +17,7 @@ Arrays are C-contiguous float64 (int64 where said), the outputs written in place
 
 from __future__ import annotations
 
-from .. import backend
+from ..runtime import backend
 
 
 def _loops():

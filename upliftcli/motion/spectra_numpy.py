@@ -2,7 +2,7 @@
 spectrum_kernel and history_kernel with the same arguments (spectra_kernels.py), vectorised over
 the oscillators and over time instead of compiled.
 
-It runs them when upliftcli.backend chooses numpy, and for response_spectrum(method="numpy");
+It runs them when upliftcli.runtime.backend chooses numpy, and for response_spectrum(method="numpy");
 the tests compare it with the compiled loop (tests/test_spectra.py, tests/test_spectra_numpy.py):
 the results agree to rounding. Oscillators x sub-steps are taken NUMPY_BLOCK at a time (about
 50 MB of arrays): oscillators in groups, a record too long for one oscillator in segments of

@@ -14,9 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..deck.fields import MAGNITUDE_WORDS, in_magnitude, is_number
 from ..errors import InputError
-from ..fields import MAGNITUDE_WORDS, in_magnitude, is_number
-from ..limits import MAX_RECORD_BYTES, read_input
+from ..runtime.limits import MAX_RECORD_BYTES, read_input
 from ..units import ACCELERATION_UNITS
 from .readers import normalize_units, plain_number
 

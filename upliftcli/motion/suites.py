@@ -23,9 +23,9 @@ from typing import Any
 
 import numpy as np
 
-from .. import limits
+from ..deck.fields import Field, check_mapping, raiser
 from ..errors import InputError, deck_relative_path
-from ..fields import Field, check_mapping, raiser
+from ..runtime import limits
 from .code_rules import SCALINGS, CodeRule
 from .design_spectra import spectrum_warnings
 from .matching import MatchSettings, control_periods, match_record, settings_for

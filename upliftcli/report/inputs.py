@@ -9,12 +9,12 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .. import deck_schema as schema
+from ..deck import schema
 from ..display import heading, label, show
 from ..engines.quantities import INTERMEDIATES
 from ..model.system import fixed_base_mode_rows
 from ..motion.design_spectra import KEY_UNITS
-from ..provenance_files import record_sha256
+from ..provenance.files import record_sha256
 from ..units import STANDARD_GRAVITY
 from .document import Pre, Section, Table, Text, number
 from .provenance import relative_path
@@ -58,7 +58,7 @@ def _foundation_rows(system, units: str = "si") -> list[list[str]]:
     K_theta, C_theta, k_v, c_v and the contact elements at the frequency omega_impedance every
     engine evaluates them at (model/interaction.py), in the display units."""
     from ..model.interaction import impedance
-    from ..provenance_model import MODEL_UNITS, foundation_entry, foundation_units
+    from ..provenance.model import MODEL_UNITS, foundation_entry, foundation_units
 
     entry = foundation_entry(system)
     si_units = {**foundation_units(system), **MODEL_UNITS}

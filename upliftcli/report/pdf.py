@@ -12,8 +12,8 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-from ..atomic import write_bytes
 from ..errors import InputError
+from ..runtime.atomic import write_bytes
 
 #: executables tried, in order
 BROWSERS = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")

@@ -1,5 +1,5 @@
 """Where a report came from: the provenance record every result file carries
-(upliftcli.provenance, docs/provenance.md), under the keys the report reads: tool, version,
+(upliftcli.provenance.record, docs/provenance.md), under the keys the report reads: tool, version,
 python, platform, libraries, command, time_utc and files [{role, path, sha256, bytes}]."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ from collections.abc import Sequence
 from datetime import datetime
 from typing import Any
 
-from .. import provenance as record
-from .. import provenance_files
+from ..provenance import files as provenance_files
+from ..provenance import record
 
 
 def sha256(path) -> str:

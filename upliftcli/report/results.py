@@ -8,7 +8,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ..criteria import outcomes
+from ..deck.criteria import outcomes
 from ..display import (
     ROCKING_HEADINGS,
     SUMMARY,
@@ -163,11 +163,11 @@ def accuracy_pairs(results: Sequence[AnalysisResult]) -> list[tuple[AnalysisResu
 
 
 def accuracy_section(results: Sequence[AnalysisResult], units: str = "si", checks: Sequence = ()) -> Section | None:
-    """The accuracy check in the display units (display.py): the checks given (upliftcli/accuracy.py:
+    """The accuracy check in the display units (display.py): the checks given (upliftcli/analysis/accuracy.py:
     the simplified engine against the exact engine with all modes, per support) or else, for each
     support both engines ran (on a suite: the simplified engine on the target against the suite's
     design statistic), accuracy.compare of the two; None when neither is available."""
-    from ..accuracy import compare
+    from ..analysis.accuracy import compare
 
     checks = list(checks) or [compare(simplified, exact) for simplified, exact in accuracy_pairs(results)]
     note = ("The exact engine solves the same model without the simplified procedure's approximations "
@@ -199,7 +199,7 @@ def accuracy_section(results: Sequence[AnalysisResult], units: str = "si", check
 
 
 def split_table(checks: Sequence) -> Table | None:
-    """The accuracy check on a spectrum-compatible suite (suite_check.py) split into its two
+    """The accuracy check on a spectrum-compatible suite (analysis/suite_check.py) split into its two
     factors, per support and compared value (None without such a check)."""
     rows = [[check.support, COMPARED[c.name].meaning,
              *(number(np.nan if value is None else value, 4)
@@ -234,7 +234,7 @@ def criteria_rows(results: Sequence[AnalysisResult], criteria: Mapping, units: s
                   ) -> tuple[list[list[str]], int]:
     """One row per result and criterion (value, limit in the display units, verdict, and the
     limit's source when the deck gives any: [criteria.sources]) and the number violated (the tests
-    of criteria.py; checks: the accuracy checks, for simplified_error)."""
+    of deck/criteria.py; checks: the accuracy checks, for simplified_error)."""
     rows, violated = [], 0
     found = outcomes(results, criteria, checks)
     sourced = any(outcome.source for outcome in found)

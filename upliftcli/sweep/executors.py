@@ -46,7 +46,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import replace
 
-from ..process import keep_freed_memory
+from ..runtime.process import keep_freed_memory
 from .plan import Chunk
 from .signals import deferred
 from .worker import failed_row, run_chunk

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import deck_schema as schema
+from ..deck import schema
 from ..display import unit as display_unit
 from ..engines.registry import ENGINES, SUPPORT_LABELS
 from ..errors import InputError
@@ -46,7 +46,7 @@ def nominal_value(plan: SweepPlan, path: str) -> float | None:
     """The deck's own value of a field (after --set): as the deck gives it, else derived from
     its model (building.period: T_1; foundation.b, slenderness; the two-element k_f, c_f,
     frequency_ratio, damping_ratio), else the field's default; None if unknown or not a number."""
-    from ..deck_overrides import apply_overrides
+    from ..deck.overrides import apply_overrides
 
     raw, _ = apply_overrides(plan.raw, plan.base_overrides)
     value = raw
@@ -118,7 +118,7 @@ def motion_label(raw: dict, source: str) -> str:
 
 def plan_motion_label(plan: SweepPlan) -> str:
     """motion_label of the plan's deck after its --set overrides."""
-    from ..deck_overrides import apply_overrides
+    from ..deck.overrides import apply_overrides
 
     return motion_label(apply_overrides(plan.raw, plan.base_overrides)[0], plan.source)
 

@@ -29,16 +29,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..analysis import ground_motion_for
-from ..deck import Deck, build_deck, read_toml
-from ..deck_overrides import parse_override
+from ..analysis.run import ground_motion_for
+from ..deck.load import Deck, build_deck, read_toml
+from ..deck.overrides import parse_override
 from ..engines.registry import ENGINES
 from ..errors import InputError
-from ..installed import tool_version
-from ..limits import cases_problem
 from ..motion.records import Record
 from ..motion.suites import Suite
-from ..provenance_files import motion_files
+from ..provenance.files import motion_files
+from ..runtime.installed import tool_version
+from ..runtime.limits import cases_problem
 from .values import Vary, parse_vary
 
 #: status of a row: ok; failed (the analysis raised: deterministic, not retried within a run);
@@ -83,12 +83,12 @@ def expand_cases(varies: Sequence[Vary], engines: Sequence[str], supports: Seque
 
 def ground_motion_key(deck: Deck) -> str:
     """What a case's ground motion depends on (deck loaded without it): its [ground_motion] fields
-    and, for a suite whose period range comes from the structure (deck_suite.py), that range,
+    and, for a suite whose period range comes from the structure (deck/suite.py), that range,
     since the suite is scaled for it."""
     fields = deck.values["ground_motion"]
     key: dict[str, Any] = {"fields": fields}
     if "suite" in fields and "period_range" not in fields:
-        from ..deck_suite import plan_from_deck
+        from ..deck.suite import plan_from_deck
 
         with contextlib.suppress(InputError):  # building the deck with its ground motion names the error
             key["period_range"] = plan_from_deck(deck).period_range

@@ -12,7 +12,7 @@ import signal
 import threading
 from collections.abc import Iterator
 
-from .. import portable
+from ..runtime import portable
 
 #: signals that stop a sweep as Ctrl-C does (SIGHUP where the system has it)
 STOP_SIGNALS = (signal.SIGINT, *portable.STOP_SIGNALS)

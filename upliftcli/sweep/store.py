@@ -20,8 +20,8 @@ import time
 from collections.abc import Iterator
 from pathlib import Path
 
-from .. import locks
 from ..errors import InputError
+from ..runtime import locks
 from .plan import STATUSES
 
 FSYNC_SECONDS = 0.5  # [s]
@@ -111,7 +111,7 @@ def stem_lock(out: Path, stem: str) -> Iterator[None]:
     """Hold an exclusive lock on <out>/.<stem>.lock while a sweep writes <out>/<stem>.*;
     InputError naming --out if another sweep holds it. The lock file is removed afterwards
     (a lock left by a killed sweep is free again: the system releases it with the process, or
-    the pid in it names a process that is gone; locks.py).
+    the pid in it names a process that is gone; runtime/locks.py).
     A directory created here and left empty is removed too."""
     created = not out.exists()
     try:

@@ -19,11 +19,11 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from ..atomic import write_set
 from ..engines.quantities import ALL_ENGINES, COMPARED, MAT, QUANTITIES, ROCKING, SCALARS
 from ..errors import InputError
 from ..output import to_jsonable
-from ..provenance import csv_comments, number_text, to_text_numbers
+from ..provenance.record import csv_comments, number_text, to_text_numbers
+from ..runtime.atomic import write_set
 from .plan import STATUSES, SweepPlan
 
 #: output column -> (unit, meaning): the row's own columns, the scalars and the largest value
@@ -97,7 +97,7 @@ def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
     """The rows, each finished simplified case with the ratios simplified / exact of the exact
     case of the same varied values and support (CHECK_COLUMNS; empty where there is none); with
     [criteria] simplified_error = e, a ratio outside [1/(1 + e), 1 + e] is a violation of the
-    simplified case (criteria.py); a varied criteria.simplified_error is each case's own."""
+    simplified case (deck/criteria.py); a varied criteria.simplified_error is each case's own."""
     paths = [v.path for v in plan.varies]
     deck_limit = plan.criteria.get("simplified_error")
 
@@ -146,7 +146,7 @@ def sweep_provenance(plan: SweepPlan) -> dict:
     """The provenance of a sweep (docs/provenance.md): that of its deck with the --set overrides,
     before --vary, every record file a case reads, and `sweep`: the varied fields and their
     values, the engines, supports and the number of cases."""
-    from ..provenance import of_deck, plain
+    from ..provenance.record import of_deck, plain
 
     record = of_deck(plan.base_deck)
     record["files"] = [*record["files"], *plan.inputs]

@@ -13,11 +13,11 @@ from typing import Any
 
 import numpy as np
 
-from .. import deck_schema as schema
-from ..deck_overrides import toml_value
+from ..deck import schema
+from ..deck.fields import shown
+from ..deck.overrides import toml_value
 from ..errors import InputError
-from ..fields import shown
-from ..limits import MAX_VARY_VALUES
+from ..runtime.limits import MAX_VARY_VALUES
 
 #: deck fields that are case dimensions of their own, not --vary paths
 NOT_VARIED = {"analysis.engine": "--engine", "analysis.supports": "--support"}

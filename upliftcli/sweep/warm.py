@@ -12,8 +12,8 @@ import contextlib
 
 import numpy as np
 
-from ..analysis import run_batch
-from ..deck import build_deck
+from ..analysis.run import run_batch
+from ..deck.load import build_deck
 from ..engines.registry import ENGINES, SUPPORTS
 from ..motion.records import Record
 from ..motion.spectra import RecordSpectrum

@@ -12,9 +12,9 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis import run_batch
-from ..criteria import check_criteria
-from ..deck import Deck, build_deck
+from ..analysis.run import run_batch
+from ..deck.criteria import check_criteria
+from ..deck.load import Deck, build_deck
 from ..engines.quantities import QUANTITIES, ROCKING, SCALARS, compared_values, rocking_value
 from ..engines.simplified import effective_properties
 from ..engines.suite_result import SuiteResult

@@ -23,9 +23,9 @@ import numpy as np
 from threadpoolctl import ThreadpoolController
 
 from ...errors import AnalysisError, InputError
-from ...limits import MAX_STEP_STATES
 from ...model.building import building_key
 from ...model.system import System
+from ...runtime.limits import MAX_STEP_STATES
 from ..options import ExactOptions
 from ..registry import check_support
 from ..result import AnalysisResult

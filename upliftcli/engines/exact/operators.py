@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import AnalysisError
-from ...limits import MAX_OPERATOR_BYTES
+from ...runtime.limits import MAX_OPERATOR_BYTES
 from .expm import expm
 from .statespace import ContactState, Layout, StateSpace, contact_states
 from .yielding import pattern_bits, step_operators, valid_pattern

@@ -1,6 +1,6 @@
 """The loops of the post-processing: signals at the samples (_signals.c), peaks between samples
 (_peaks.c), element reactions and uplift statistics (_contact.c), work integrals (_energy.c),
-compiled (C, built at install) or their numpy twins (response_numpy.py), as upliftcli.backend
+compiled (C, built at install) or their numpy twins (response_numpy.py), as upliftcli.runtime.backend
 chooses.
 
 Each C loop walks the samples (or the intervals between them) once; the twins work on whole
@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ... import backend
+from ...runtime import backend
 
 
 def _loops(name: str):
     """The module that runs loop module `name` (_signals, _peaks, _contact, _energy): itself (C) or
-    response_numpy (upliftcli.backend)."""
+    response_numpy (upliftcli.runtime.backend)."""
     return backend.loops(f"{__package__}.{name}", f"{__package__}.response_numpy")
 
 

@@ -15,7 +15,7 @@ from functools import cached_property
 import numpy as np
 
 from ...errors import AnalysisError
-from ...limits import MAX_CONTACT_ELEMENTS, MAX_YIELDING_ELEMENTS
+from ...runtime.limits import MAX_CONTACT_ELEMENTS, MAX_YIELDING_ELEMENTS
 from . import stepping_kernels as kernel
 from .operators import LEVELS, Operators, add_states, expected_states, state_bytes
 from .statespace import ContactState, StateSpace

@@ -1,5 +1,5 @@
 """The stepping loop of the exact engine: compiled (C: _stepping.c, built at install) or its
-numpy twin (stepping_numpy.py), as upliftcli.backend chooses.
+numpy twin (stepping_numpy.py), as upliftcli.runtime.backend chooses.
 
 For each contact state s the caller supplies the exact step operators
 ops[s, j] = expm(A_s h / 2^j)^T, j = 0..L, of the augmented autonomous system (see
@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from collections import namedtuple
 
-from ... import backend
+from ...runtime import backend
 
 DONE, NEED_STATE, FULL, FLIGHT, NONFINITE, CHATTER = 0, 1, 2, 3, 4, 5
 #: samples kept free at the start of every step; more events than this inside one step is chatter
@@ -52,7 +52,7 @@ Samples = namedtuple("Samples", "x out_x out_t out_state")
 
 
 def _loops():
-    """The module that runs the loop: _stepping (C) or stepping_numpy (upliftcli.backend)."""
+    """The module that runs the loop: _stepping (C) or stepping_numpy (upliftcli.runtime.backend)."""
     return backend.loops(f"{__package__}._stepping", f"{__package__}.stepping_numpy")
 
 

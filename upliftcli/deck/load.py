@@ -4,8 +4,8 @@
     deck.system, deck.spectrum, deck.analysis ...
 
 Field names, units and defaults: deck_schema.TABLES and docs/deck.md. The [building] and
-[foundation] tables are built in deck_building.py, [ground_motion] in deck_motion.py (a suite:
-deck_suite.py), --set in deck_overrides.py; this module builds [analysis] and [criteria] and
+[foundation] tables are built in deck/building.py, [ground_motion] in deck/motion.py (a suite:
+deck/suite.py), --set in deck/overrides.py; this module builds [analysis] and [criteria] and
 assembles the Deck. Every bad input raises errors.InputError naming the file (or "--set"), the
 dotted field and what was expected; nothing here prints or exits.
 """
@@ -19,19 +19,19 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from . import deck_schema as schema
+from ..engines.options import ExactOptions, SimplifiedOptions, deck_fields
+from ..engines.quantities import ROCKING
+from ..errors import InputError
+from ..model.building import modes_for_mass_target
+from ..model.system import System
+from ..provenance.record import plain
+from ..runtime.limits import MAX_DECK_BYTES, read_input
+from . import schema
+from .building import building_from_fields, system_from_fields
 from .criteria import Criteria
-from .deck_building import building_from_fields, system_from_fields
-from .deck_motion import check_motion_fields, read_ground_motion
-from .deck_overrides import apply_overrides, parse_override, set_by_override
-from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
-from .engines.quantities import ROCKING
-from .errors import InputError
 from .fields import gather, raise_all
-from .limits import MAX_DECK_BYTES, read_input
-from .model.building import modes_for_mass_target
-from .model.system import System
-from .provenance import plain
+from .motion import check_motion_fields, read_ground_motion
+from .overrides import apply_overrides, parse_override, set_by_override
 
 
 @dataclass
@@ -159,7 +159,7 @@ def _check_yielding_elements(system: System, analysis: AnalysisSettings, error) 
     """A capacity on more contact elements than the deck's history engines step in an uplift
     analysis (limits.MAX_YIELDING_ELEMENTS, registry.capacity_refusal), refused up front; the
     simplified engine alone has no such bound (docs/deck.md, bearing capacity)."""
-    from .engines.registry import capacity_refusal
+    from ..engines.registry import capacity_refusal
 
     if "uplift" not in analysis.supports:
         return

@@ -19,12 +19,12 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from .errors import InputError, not_found
-from .model.building import modes_for_mass_target
-from .motion.code_rules import RULES, CodeRule
-from .motion.design_spectra import ASCE7MultiPeriodSpectrum, ASCE7Spectrum, EC8Spectrum
-from .motion.levels import suite_target
-from .motion.suites import Suite, build_suite, check_target, entry_origins, read_records, suite_entries
+from ..errors import InputError, not_found
+from ..model.building import modes_for_mass_target
+from ..motion.code_rules import RULES, CodeRule
+from ..motion.design_spectra import ASCE7MultiPeriodSpectrum, ASCE7Spectrum, EC8Spectrum
+from ..motion.levels import suite_target
+from ..motion.suites import Suite, build_suite, check_target, entry_origins, read_records, suite_entries
 
 #: ground_motion.statistics -> damping correction of a table spectrum that names none
 TABLE_CORRECTION = {"asce7-22": "asce", "ec8": "ec8", "mean": "ec8"}
@@ -53,7 +53,7 @@ def default_statistics(spectrum) -> str:
 def structure_period_range(rule: CodeRule, system, effective_properties: str = "formula"
                            ) -> tuple[tuple[float, float], str]:
     """The code's period range [s] for the structure (module docstring) and how it was found."""
-    from .engines.simplified import effective_properties as properties
+    from ..engines.simplified import effective_properties as properties
 
     modes = system.modes
     first = float(modes.periods[0])
@@ -122,7 +122,7 @@ def target_spectrum(fields: dict, source: str, error: Callable[[str, str], Input
     """The design spectrum of a [ground_motion] table (design_spectra.from_mapping, the table's
     damping correction by the suite's code rule); its errors through `error` (naming "--set"
     for a value that came from an override)."""
-    from .motion.design_spectra import from_mapping
+    from ..motion.design_spectra import from_mapping
 
     try:
         return from_mapping(fields["design_spectrum"], source, "ground_motion.design_spectrum",
@@ -136,7 +136,7 @@ def target_spectrum(fields: dict, source: str, error: Callable[[str, str], Input
 def plan_from_deck(deck) -> SuitePlan:
     """The SuitePlan of a deck loaded without its ground motion (load_deck(load_ground_motion=False)):
     its design spectrum, code rule and period range, whether or not its suite exists yet."""
-    from .deck_overrides import set_by_override
+    from .overrides import set_by_override
 
     fields = deck.values.get("ground_motion", {})
 

@@ -11,11 +11,11 @@ import tomllib
 from collections.abc import Iterable
 from typing import Any
 
-from . import deck_schema as schema
-from .deck_schema import set_by_override  # noqa: F401 - part of this module's interface
-from .errors import InputError
-from .model.bearing import COMPANIONS
-from .model.foundations import FOUNDATIONS
+from ..errors import InputError
+from ..model.bearing import COMPANIONS
+from ..model.foundations import FOUNDATIONS
+from . import schema
+from .schema import set_by_override  # noqa: F401 - part of this module's interface
 
 #: groups of mutually exclusive fields: a `--set` of one member removes the others
 ALTERNATIVES: list[tuple[str, list[set[str]]]] = [

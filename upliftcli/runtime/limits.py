@@ -207,7 +207,7 @@ def read_input(path, limit: int, source: str, location: str | None, what: str) -
     """The bytes of an input file (a deck, a record, a spectrum table) read with read_limited;
     InputError(source, location, ...) naming `what` was expected if it is missing, a
     directory, unreadable or longer than `limit` bytes."""
-    from .errors import InputError
+    from ..errors import InputError
 
     try:
         return read_limited(path, limit)

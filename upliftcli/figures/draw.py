@@ -5,7 +5,7 @@ pyplot state, matplotlib imported only when a figure is drawn.
 One look everywhere: the colour-blind-safe palette of figures/style.py, the legend below the
 panels (outside the data), plain tick labels on log axes (0.1, 0.2, 0.5, 1, 2 ...). The
 layout is computed from fixed margins [in] (a measured layout sizes every text several times:
-a third of the drawing time). Every file is written atomically (upliftcli.atomic); the format
+a third of the drawing time). Every file is written atomically (upliftcli.runtime.atomic); the format
 follows the file extension.
 """
 
@@ -23,9 +23,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .atomic import atomic_path
-from .errors import InputError
-from .figures.spec import Bars, FigureSpec, Line, Panel, Series, Span  # noqa: F401  (the figure data types)
+from ..errors import InputError
+from ..runtime.atomic import atomic_path
+from .spec import Bars, FigureSpec, Line, Panel, Series, Span  # noqa: F401  (the figure data types)
 
 FIGURE_FORMATS = (".png", ".pdf", ".svg")
 DPI = 150
@@ -112,7 +112,7 @@ def plot_figures(figures: Sequence[tuple[FigureSpec, str | os.PathLike]], option
     other). An error in any figure is raised here, after every copy has ended."""
     paths = [check_figure_path(path, option) for _, path in figures]
     _wait_for_preload()
-    from .process import available_cores
+    from ..runtime.process import available_cores
 
     groups = _shares(figures, min(available_cores(), len(figures)))
     if len(groups) < 2 or not FORK_FIGURES or threading.active_count() > 1:
@@ -207,7 +207,7 @@ def plot_spectrum(spectrum, path: str | os.PathLike, title: str = "", option: st
                   units: str = "si") -> Path:
     """Plot a spectra.Spectrum: S_d, S_v and S_a panels, one line per damping, log period axis,
     in the display units (display.py)."""
-    from .figures.spectra import record_spectrum_figure
+    from .spectra import record_spectrum_figure
 
     return plot_figure(record_spectrum_figure(spectrum, title, units=units), path, option)
 

@@ -1,4 +1,4 @@
-"""The model and options entries of a provenance record (provenance.py): what the engines
+"""The model and options entries of a provenance record (provenance/record.py): what the engines
 analyse, derived from the deck (story stiffnesses after the period scaling, the modes, m_t,
 h_1*, b, V_c and M_c [16a, 16b], the foundation's own parameters, its K_theta and C_theta at the
 frequency the engines use, T1bar and xi1bar [21-25]), with their SI units; the design spectrum;
@@ -10,7 +10,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
-from .provenance import plain
+from .record import plain
 
 #: the foundation's dataclass attributes under their deck names (foundation.<name>)
 FOUNDATION_NAMES = {"two-element": {"stiffness": "k_f", "damping": "c_f", "capacity": "element_capacity"},
@@ -33,7 +33,7 @@ def foundation_entry(system) -> dict[str, Any]:
     stiffness K_theta [N m/rad] and damping C_theta [N m s/rad] at the frequency omega_impedance
     [rad/s] every engine uses (model/interaction.py), the equivalent edge elements and the
     vertical stiffness [N/m] and damping [N s/m] at that frequency."""
-    from .model.interaction import impedance
+    from ..model.interaction import impedance
 
     foundation = system.foundation
     names = FOUNDATION_NAMES.get(foundation.kind, {})
@@ -71,8 +71,8 @@ def derived_model(system, effective_properties: str = "formula") -> dict[str, An
     stiffness matrix), modal damping, the fixed-base modes (T_n, m_n*, h_n*), m_t, h_1*, b,
     h_1*/b, V_c, M_c [16a, 16b], the foundation (foundation_entry) and T1bar, xi1bar of the
     bonded system [21-25] by the deck's analysis.effective_properties."""
-    from .errors import AnalysisError
-    from .model.interaction import effective_properties as properties
+    from ..errors import AnalysisError
+    from ..model.interaction import effective_properties as properties
 
     building, modes = system.building, system.modes
     model: dict[str, Any] = {
@@ -121,7 +121,7 @@ def spectrum_entry(spectrum) -> dict[str, Any] | None:
 def engine_options(analysis) -> dict[str, Any]:
     """The engines and supports of a deck and every option of the simplified and the
     response-history engines (engines/options.py), with the units of the options (their deck fields)."""
-    from .engines.options import deck_fields
+    from ..engines.options import deck_fields
 
     simplified = dataclasses.asdict(analysis.simplified)
     exact = {k: v for k, v in dataclasses.asdict(analysis.exact).items() if k != "histories"}

@@ -4,13 +4,13 @@ into its criteria table.
 
 A criterion is a limit on the largest |value| of a response quantity or a scalar
 (engines/quantities.py), `uplift = false`, or `simplified_error = e`: every ratio simplified /
-exact of the accuracy check (accuracy.py) within [1/(1 + e), 1 + e] (applied to the checks given:
-a deck without the simplified engine is refused by deck.py, --no-check by cli/options.py). On a
+exact of the accuracy check (analysis/accuracy.py) within [1/(1 + e), 1 + e] (applied to the checks given:
+a deck without the simplified engine is refused by deck/load.py, --no-check by cli/options.py). On a
 suite (SuiteResult) the limits apply to the design statistic (the mean, or EC8's maximum below 7
 records) and uplift = false to every record.
 A limit on a rocking quantity (quantities.ROCKING: rotation, residual rotation, settlement and
 residual settlement; the values of ASCE 41-17 section 8.4 for the chosen performance level, given
-by the user) applies to the results that report it: the exact engine's uplift analyses (deck.py
+by the user) applies to the results that report it: the exact engine's uplift analyses (deck/load.py
 asks for one). A settlement limit bounds the largest downward value (a mat that rose is not
 judged by it), a rotation limit |theta|. Each limit may carry its source as the user states it
 (`[criteria.sources]`, Criteria.sources), repeated with its verdict.
@@ -21,9 +21,9 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
-from .engines.quantities import ROCKING, rocking_value, unit_of
-from .engines.result import AnalysisResult
-from .engines.suite_result import SuiteResult
+from ..engines.quantities import ROCKING, rocking_value, unit_of
+from ..engines.result import AnalysisResult
+from ..engines.suite_result import SuiteResult
 
 
 class Criteria(dict):

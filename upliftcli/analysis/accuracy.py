@@ -21,11 +21,11 @@ A ratio outside the band (default DEFAULT_BAND, the deck's `analysis.check_band`
 uplift and the mat rotation, whose estimate scatters more, DEFAULT_MOTION_BAND,
 `analysis.check_band_motion`) is a warning naming the value, the ratio and the exact value;
 `[criteria] simplified_error = e` fails a run (exit code 3) when a ratio leaves [1/(1 + e), 1 + e]
-(criteria.py). Results are not changed: a Check is a separate object carried beside the results
+(deck/criteria.py). Results are not changed: a Check is a separate object carried beside the results
 (output.py, cli/render.py, report/). A suite deck has its own comparison (the simplified engine
 on the target spectrum beside the suite statistic, engines/suite_result.py); compare() serves
 any pair of results of one support (a suite's statistic among them): a deck with a design
-spectrum is checked on a spectrum-compatible suite (suite_check.py), a Check with the suite and
+spectrum is checked on a spectrum-compatible suite (analysis/suite_check.py), a Check with the suite and
 the ratio's two factors.
 docs/accuracy.md gives the measured spread of every ratio.
 """
@@ -37,12 +37,12 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from .deck import Deck
-from .display import label, show
-from .engines.quantities import COMPARED
-from .engines.result import AnalysisResult
-from .errors import AnalysisError, InputError
-from .motion.records import Record
+from ..deck.load import Deck
+from ..display import label, show
+from ..engines.quantities import COMPARED
+from ..engines.result import AnalysisResult
+from ..errors import AnalysisError, InputError
+from ..motion.records import Record
 
 #: ratios simplified / exact inside this band raise no warning (analysis.check_band)
 DEFAULT_BAND = (0.8, 1.25)
@@ -99,7 +99,7 @@ class Check:
     reference_warnings: the reference run's own warnings; error: why the reference could not run
     (then there are no comparisons); left_out: compared value -> why it is not compared here
     (Compared.left_out: the edge uplift on soil that yielded). A check on a record suite
-    (suite_check.py: the exact answer for a design spectrum) also has suite: what the suite was
+    (analysis/suite_check.py: the exact answer for a design spectrum) also has suite: what the suite was
     (source, count, seed, generator, period range, target, statistic); spectrum_ratio,
     procedure_ratio: each ratio's two factors, the records' standing against the target and the
     procedure's own error (engines/suite_result.simplified_ratios), empty when they are not known."""
@@ -200,7 +200,7 @@ def check_accuracy(deck: Deck, results: Sequence[AnalysisResult]) -> list[Check]
     here (about 10-100 ms each). The results are not changed."""
     if not isinstance(deck.ground_motion, Record):
         return []
-    from .analysis import run_one  # analysis imports nothing of this module
+    from .run import run_one  # analysis imports nothing of this module
 
     n_total = deck.system.building.n_stories
     label = f"exact engine, all {n_total} modes"

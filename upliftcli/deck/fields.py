@@ -1,7 +1,7 @@
 """Declared input fields: kind, unit, meaning, range check, default and choices, and the one
 checker of a value against its field.
 
-Deck tables (deck_schema.py), the options of the engines (engines/options.py), the fields of
+Deck tables (deck/schema.py), the options of the engines (engines/options.py), the fields of
 each foundation type (model/foundations.py), the keys of a design spectrum
 (motion/design_spectra.py) and of a suite's record entry (motion/records.py) are all declared
 with `Field`, so a value is checked by the same rule wherever it comes from (a deck, `--set`,
@@ -20,9 +20,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, NoReturn
 
-from .errors import InputError, InputErrors
-from .limits import MAX_CONTACT_ELEMENTS, MAX_INTEGER, MAX_MAGNITUDE, MAX_RECORD_DT, MAX_STORIES, MIN_MAGNITUDE
-from .units import KIND_OF_UNIT, acceleration_unit, conversion, split_quantity, system_unit
+from ..errors import InputError, InputErrors
+from ..runtime.limits import MAX_CONTACT_ELEMENTS, MAX_INTEGER, MAX_MAGNITUDE, MAX_RECORD_DT, MAX_STORIES, MIN_MAGNITUDE
+from ..units import KIND_OF_UNIT, acceleration_unit, conversion, split_quantity, system_unit
 
 
 @dataclass(frozen=True)
@@ -109,7 +109,7 @@ def is_number(value: Any) -> bool:
 
 
 def in_magnitude(value: float) -> bool:
-    """0, or MIN_MAGNITUDE <= |value| <= MAX_MAGNITUDE (limits.py)."""
+    """0, or MIN_MAGNITUDE <= |value| <= MAX_MAGNITUDE (runtime/limits.py)."""
     size = abs(value)
     return size == 0 or MIN_MAGNITUDE <= size <= MAX_MAGNITUDE
 

@@ -23,7 +23,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from types import ModuleType
 
-from .errors import InputError
+from ..errors import InputError
 
 VARIABLE = "UPLIFT_BACKEND"
 CHOICES = ("auto", "compiled", "numpy")

@@ -1,6 +1,6 @@
 """Analysis runner: a Deck in, one AnalysisResult per (engine, support) out, through the
 engine registry (engines/registry.py). On a record suite a response-history engine runs every
-record and gives a SuiteResult (analysis_suite.py, engines/suite_result.py): the AnalysisResult
+record and gives a SuiteResult (analysis/suite.py, engines/suite_result.py): the AnalysisResult
 of the statistic the code asks for, with each record's result and the other statistics.
 
 Used by `uplift analyze` and by sweeps; knows nothing of the terminal or files.
@@ -15,14 +15,15 @@ from typing import Any
 
 import numpy as np
 
-from . import analysis_suite, limits
-from .deck import Deck
-from .engines.registry import ENGINES, Engine, capacity_refusal
-from .engines.result import AnalysisResult
-from .errors import AnalysisError, InputError
-from .model.bearing import CAPACITY_NAMES
-from .motion.records import Record
-from .motion.suites import Suite
+from ..deck.load import Deck
+from ..engines.registry import ENGINES, Engine, capacity_refusal
+from ..engines.result import AnalysisResult
+from ..errors import AnalysisError, InputError
+from ..model.bearing import CAPACITY_NAMES
+from ..motion.records import Record
+from ..motion.suites import Suite
+from ..runtime import limits
+from . import suite as analysis_suite
 
 
 def ground_motion_for(deck: Deck, engine: Engine) -> Any:
@@ -72,7 +73,7 @@ def check_before_running(deck: Deck, engine: Engine, support: str, motion: Any) 
         raise InputError(*deck.blame("foundation.elements"), refusal)
     check_resources(deck, engine, support, motion)
     if not engine.needs_record and support != "rigid":
-        from .engines.simplified import effective_properties
+        from ..engines.simplified import effective_properties
 
         try:
             xi1bar = effective_properties(deck.system, deck.analysis.simplified.effective_properties)["xi1bar"]
@@ -94,7 +95,7 @@ def check_resources(deck: Deck, engine: Engine, support: str, motion: Any) -> No
         for record in (motion.records if isinstance(motion, Suite) else [motion]):  # a suite: every record
             _check_step_states(deck, engine, support, record)
         return
-    from .motion.spectra import RecordSpectrum
+    from ..motion.spectra import RecordSpectrum
 
     if isinstance(motion, RecordSpectrum):
         n_modes = int(deck.analysis.simplified.n_modes or deck.system.modes.n_modes)
@@ -108,9 +109,9 @@ def _check_step_states(deck: Deck, engine: Engine, support: str, record: Record)
     alone, estimated from the deck with the engine's own step rule (the shortest governing
     period, docs/exact-engine.md), against limits.MAX_STEP_STATES, MAX_STEPS and
     MAX_STEP_STATES_SQUARED."""
-    from .engines.approximate import approximate_model
-    from .engines.exact import engine as exact
-    from .engines.exact.statespace import exact_model
+    from ..engines.approximate import approximate_model
+    from ..engines.exact import engine as exact
+    from ..engines.exact.statespace import exact_model
 
     options = deck.analysis.exact
     build = approximate_model if engine.name == "approximate" else exact_model

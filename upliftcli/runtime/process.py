@@ -46,7 +46,7 @@ def keep_freed_memory() -> bool:
 
 class Stopped(SystemExit):
     """SIGTERM or SIGHUP ended the command (exit code 128 + the signal): raised where the process
-    is, so that the `finally` blocks run (atomic.py removes its temporary files)."""
+    is, so that the `finally` blocks run (runtime/atomic.py removes its temporary files)."""
 
 
 def _stop(signum, frame) -> None:

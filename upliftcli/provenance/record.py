@@ -15,8 +15,8 @@ use, T1bar and xi1bar [21-25]); the engines, supports and their options. Units: 
 under "units" of the model. docs/provenance.md describes every key.
 
 This module assembles the record and writes it as text; the input files' entries and their
-SHA-256 are provenance_files.py (which reads the files to hash them, cached on their path, size
-and modification time), the model and options entries provenance_model.py. Knows nothing of
+SHA-256 are provenance/files.py (which reads the files to hash them, cached on their path, size
+and modification time), the model and options entries provenance/model.py. Knows nothing of
 the terminal.
 """
 
@@ -33,9 +33,9 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from . import backend
-from .installed import TOOL, package_version, platform_name, tool_version
-from .provenance_files import file_entry, motion_files, record_entry
+from ..runtime import backend
+from ..runtime.installed import TOOL, package_version, platform_name, tool_version
+from .files import file_entry, motion_files, record_entry
 
 #: libraries whose versions are recorded (they decide the numbers)
 LIBRARIES = ("numpy", "scipy", "matplotlib")
@@ -91,7 +91,7 @@ def absolute_paths(raw: dict, source: str, relative_to: str | os.PathLike | None
     """A copy of a deck mapping with its file paths (ground_motion.record, the suite's folder or
     files, design_spectrum.file) absolute: relative paths joined to the deck's folder; with
     relative_to (a folder), relative to that folder instead (the folder of a resolved deck file)."""
-    from .errors import deck_relative_path
+    from ..errors import deck_relative_path
 
     raw = copy.deepcopy(raw)
     motion = raw.get("ground_motion")
@@ -153,7 +153,7 @@ def base(command: str | None = None, now: datetime | None = None) -> dict[str, A
 def of_deck(deck, command: str | None = None, now: datetime | None = None) -> dict[str, Any]:
     """The provenance of a run of a deck.Deck (module docstring): base(), files, deck
     {source, title, set, resolved}, model (derived_model) and options (engine_options)."""
-    from .provenance_model import derived_model, engine_options, spectrum_entry  # it imports plain from here
+    from .model import derived_model, engine_options, spectrum_entry  # it imports plain from here
 
     files = [file_entry("deck", deck.source)] if Path(deck.source).is_file() else []
     if deck.ground_motion is not None:

@@ -34,13 +34,13 @@ from typing import Any
 
 import numpy as np
 
+from ..deck.load import Deck
+from ..engines.result import AnalysisResult
+from ..engines.suite_result import SuiteResult, simplified_ratios
+from ..errors import AnalysisError, InputError
+from ..motion.records import Record
+from ..motion.suites import Suite
 from .accuracy import Check, check_accuracy, compare
-from .deck import Deck
-from .engines.result import AnalysisResult
-from .engines.suite_result import SuiteResult, simplified_ratios
-from .errors import AnalysisError, InputError
-from .motion.records import Record
-from .motion.suites import Suite
 
 CHECK_COUNT = 11
 CHECK_SEED = 2024
@@ -70,7 +70,7 @@ def check_range(spectrum) -> tuple[float, float]:
 def suite_key(spectrum, period_range: tuple[float, float]) -> str:
     """What a check suite depends on: the generator, seed, count, step, range and the target's
     5 % ordinates at 200 periods over the range."""
-    from .motion.generate import GENERATOR_VERSION
+    from ..motion.generate import GENERATOR_VERSION
 
     periods = np.geomspace(*period_range, 200)
     digest = hashlib.sha256(json.dumps([GENERATOR_VERSION, CHECK_SEED, CHECK_COUNT, CHECK_DT,
@@ -82,8 +82,8 @@ def suite_key(spectrum, period_range: tuple[float, float]) -> str:
 def check_suite(spectrum, note=None) -> tuple[Suite, dict[str, Any]]:
     """The check suite of a design spectrum (module docstring), from the cache or generated and
     cached; note(text) is told when it is generated. Returns the suite and what it is."""
-    from .motion.code_rules import RULES
-    from .motion.generate import GENERATOR_VERSION, generate_suite
+    from ..motion.code_rules import RULES
+    from ..motion.generate import GENERATOR_VERSION, generate_suite
 
     period_range = check_range(spectrum)
     rule = RULES["mean"]
@@ -111,7 +111,7 @@ def check_suite(spectrum, note=None) -> tuple[Suite, dict[str, Any]]:
 
 def _store(path: Path, accelerations: np.ndarray, factors: np.ndarray) -> None:
     """Write the suite's arrays atomically; a cache that cannot be written is only not kept."""
-    from .atomic import write_bytes
+    from ..runtime.atomic import write_bytes
 
     buffer = io.BytesIO()
     np.savez(buffer, acceleration=accelerations, factors=factors)
@@ -142,7 +142,7 @@ def check_suite_accuracy(deck: Deck, results: list[AnalysisResult], note=None) -
     """One accuracy.Check (module docstring) per simplified result of a deck whose ground motion
     is a design spectrum or a suite, running the exact engine on the suite (its results reused
     when the deck ran it); none for a deck with a record. The results are not changed."""
-    from .analysis import run_one
+    from .run import run_one
 
     if isinstance(deck.ground_motion, Record) or deck.spectrum is None:
         return []

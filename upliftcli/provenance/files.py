@@ -1,4 +1,4 @@
-"""The input files of a provenance record (provenance.py): each file's SHA-256 (cached on its
+"""The input files of a provenance record (provenance/record.py): each file's SHA-256 (cached on its
 path, size and modification time) and size, a record's entry (the digest of the bytes it was
 read from, its format, units, dt [s], samples, scale) and the entries of a ground motion (a
 record, each record of a suite with its factor, a design-spectrum table file).
@@ -60,7 +60,7 @@ def record_entry(record, role: str = "record", **extra: Any) -> dict[str, Any]:
 def motion_files(motion) -> list[dict[str, Any]]:
     """Input-file entries of a ground motion: a record, each record of a suite (with its
     amplitude factor), or a design spectrum read from a table file."""
-    from .motion.records import Record
+    from ..motion.records import Record
 
     if isinstance(motion, Record):
         return [record_entry(motion)]

@@ -1,5 +1,5 @@
 """The deck's [ground_motion] table -> the analysis's ground motion: a record file read
-(motion/records.py), a design spectrum, or a record suite scaled to it (deck_suite.py); and the
+(motion/records.py), a design spectrum, or a record suite scaled to it (deck/suite.py); and the
 spectrum the simplified engine uses. Every mistake is error(dotted field, expected): the deck's
 or --set's (deck.build_deck); a record option that does not suit the file is the deck's field.
 """
@@ -8,8 +8,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from .errors import InputError, deck_relative_path, not_found
-from .model.system import System
+from ..errors import InputError, deck_relative_path, not_found
+from ..model.system import System
 
 
 def check_motion_fields(fields: dict, source: str, error):
@@ -18,7 +18,7 @@ def check_motion_fields(fields: dict, source: str, error):
     path, or None for a design spectrum."""
     if not fields:
         raise error("ground_motion", "a [ground_motion] table with a record (path) or a design_spectrum")
-    from .deck_suite import SUITE_ONLY
+    from .suite import SUITE_ONLY
 
     suite_fields = {"suite", *SUITE_ONLY, "period_range", "statistics"}
     if "design_spectrum" in fields:
@@ -48,14 +48,14 @@ def read_ground_motion(fields: dict, source: str, error, system: System | None =
     """(record, design spectrum or suite, spectrum for the simplified engine)."""
     path = check_motion_fields(fields, source, error)
     if path is None:
-        from .deck_suite import load_suite, suite_plan, target_spectrum
+        from .suite import load_suite, suite_plan, target_spectrum
 
         spectrum = target_spectrum(fields, source, error)
         if "suite" not in fields:
             return spectrum, spectrum
         plan = suite_plan(fields, spectrum, system, effective_properties, source, error)
         return load_suite(fields, plan, source, error), plan.target  # the simplified engine on the suite's target
-    from .motion import records, spectra
+    from ..motion import records, spectra
 
     try:
         record = records.read_record(path, fields.get("format"), fields.get("units"), fields.get("dt"),

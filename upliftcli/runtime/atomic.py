@@ -21,7 +21,7 @@ import tempfile
 from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 
-from .errors import InputError
+from ..errors import InputError
 from .portable import process_alive
 
 #: what marks a temporary file of this tool; the pid of the process that writes it follows

@@ -11,13 +11,13 @@ import math
 
 import numpy as np
 
-from . import deck_schema as schema
-from .deck_overrides import ALTERNATIVES, FOUNDATION_FIELDS
-from .limits import MAX_STORIES
-from .model.bearing import CAPACITY_NAMES
-from .model.building import Building, modal_analysis, scale_to_period, shear_building
-from .model.foundations import FOUNDATIONS, DeckContext
-from .model.system import System
+from ..model.bearing import CAPACITY_NAMES
+from ..model.building import Building, modal_analysis, scale_to_period, shear_building
+from ..model.foundations import FOUNDATIONS, DeckContext
+from ..model.system import System
+from ..runtime.limits import MAX_STORIES
+from . import schema
+from .overrides import ALTERNATIVES, FOUNDATION_FIELDS
 
 
 def building_from_fields(fields: dict, error) -> Building:

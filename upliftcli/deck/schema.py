@@ -5,7 +5,7 @@ options from engines/options.py, the engine and support names from engines/regis
 the record formats from motion/records.py. docs/deck.md documents the same fields (a test
 keeps the two in step). Validation here is purely about types and ranges of single fields
 (and exactly_one: at most one of a table's alternative fields); how fields combine is decided
-in deck.py, deck_building.py and deck_motion.py.
+in deck/load.py, deck/building.py and deck/motion.py.
 """
 
 from __future__ import annotations
@@ -13,17 +13,17 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from .engines.options import ExactOptions, SimplifiedOptions, deck_fields
-from .engines.quantities import QUANTITIES, ROCKING, SCALARS
-from .engines.registry import ENGINES, SUPPORTS
-from .errors import InputError
+from ..engines.options import ExactOptions, SimplifiedOptions, deck_fields
+from ..engines.quantities import QUANTITIES, ROCKING, SCALARS
+from ..engines.registry import ENGINES, SUPPORTS
+from ..errors import InputError
+from ..model.foundations import FOUNDATIONS
+from ..motion.code_rules import RULES, SCALINGS
+from ..motion.design_spectra import check_keys
+from ..motion.records import RECORD_FIELDS
+from ..motion.suites import check_entry
+from ..units import STANDARD_GRAVITY, SYSTEMS
 from .fields import NUMERIC, Field, check_value, gather, implausible, raise_all, raiser, suggestion
-from .model.foundations import FOUNDATIONS
-from .motion.code_rules import RULES, SCALINGS
-from .motion.design_spectra import check_keys
-from .motion.records import RECORD_FIELDS
-from .motion.suites import check_entry
-from .units import STANDARD_GRAVITY, SYSTEMS
 
 #: the range of building practice of acceptance limits (a value outside: a warning)
 CRITERIA_PLAUSIBLE = {"drift_ratio": (1e-4, 0.1), "base_shear_coefficient": (1e-3, 3.0),
@@ -125,7 +125,7 @@ TABLES: dict[str, dict[str, Field]] = {
     },
 }
 #: where each limit of [criteria] comes from, as the user states it (a standard's table and row, a
-#: performance objective): reported with the limit's verdict (criteria.py)
+#: performance objective): reported with the limit's verdict (deck/criteria.py)
 #: (one line: it is repeated in the one-line violation message)
 TABLES["criteria.sources"] = {name: Field("string", "-", f"the source of the limit criteria.{name}, as the user "
                                           "states it (e.g. \"ASCE 41-17 Table 8-4, life safety, A_c/A = 0.2\")",
@@ -244,7 +244,7 @@ def plausibility(values: dict[str, dict[str, Any]], source: str, overridden=froz
     its declaration gives (Field.plausible; the design spectrum's keys too), naming the deck
     ('(--set)' after it for a value of --set) and the field: 'inputs/a.toml: building.floor_mass:
     300 kg is far outside ...'."""
-    from .motion.spectrum_fields import SPECTRUM_FIELDS
+    from ..motion.spectrum_fields import SPECTRUM_FIELDS
 
     found = [(dotted(table, name), TABLES[table][name], value) for table, fields in values.items()
              for name, value in fields.items()]

@@ -13,13 +13,13 @@ import hashlib
 from collections.abc import Iterator, Sequence
 from typing import Any
 
-from .deck import Deck
-from .engines.registry import ENGINES, Engine
-from .engines.result import AnalysisResult
-from .engines.suite_result import SuiteRecord, SuiteResult, suite_result
-from .errors import AnalysisError, InputError
-from .motion.suites import Suite
-from .provenance_files import record_sha256
+from ..deck.load import Deck
+from ..engines.registry import ENGINES, Engine
+from ..engines.result import AnalysisResult
+from ..engines.suite_result import SuiteRecord, SuiteResult, suite_result
+from ..errors import AnalysisError, InputError
+from ..motion.suites import Suite
+from ..provenance.files import record_sha256
 
 
 def motion_key(suite: Suite) -> tuple:
