@@ -53,6 +53,9 @@ def test_a_missing_extension_falls_back_to_its_twin_unless_compiled_is_asked_for
 def test_built_finds_the_extensions_on_disk_and_describe_says_what_runs(monkeypatch):
     present = backend.built()
     assert set(present) <= set(backend.EXTENSIONS)
+    # found on disk exactly where they import (a wrong package root found none after a move)
+    importable = [name for name in backend.EXTENSIONS if not isinstance(backend._module(name), ImportError)]
+    assert present == importable
     with backend.use("numpy"):
         assert backend.describe() == "loops: numpy twins (UPLIFT_BACKEND=numpy)"
     monkeypatch.setattr(backend, "built", lambda: list(backend.EXTENSIONS))

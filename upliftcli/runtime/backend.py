@@ -74,7 +74,7 @@ def loops(extension: str, twin: str) -> ModuleType:
 
 def built() -> list[str]:
     """The C extension modules present next to the package's sources (found on disk, not imported)."""
-    root = Path(__file__).resolve().parent.parent
+    root = Path(__file__).resolve().parents[2]
     suffixes = importlib.machinery.EXTENSION_SUFFIXES
     return [name for name in EXTENSIONS
             if any((root / (name.replace(".", os.sep) + suffix)).is_file() for suffix in suffixes)]
