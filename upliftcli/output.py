@@ -4,7 +4,7 @@ histories (CSV or NPZ). Each file is written atomically (upliftcli.runtime.atomi
 SI units in every file; the units are listed in it. Every result file carries the provenance of
 the run (provenance/record.py): the JSON under "provenance", each CSV table in two leading '#' lines
 (pandas.read_csv(path, comment="#") reads the table). Numbers are written with at most 15
-significant digits (provenance.DIGITS), as the shortest text of that value: 15.3, not
+significant digits (provenance/values.DIGITS), as the shortest text of that value: 15.3, not
 15.299999999999999. The quantities and their units: engines/quantities.py. A record suite's
 result (engines/suite_result.SuiteResult) is written as its design statistic, with a `suite`
 object in the JSON (records, factors, each record's result, the statistics, the simplified
@@ -16,7 +16,6 @@ from __future__ import annotations
 import csv
 import io
 import json
-import math
 from pathlib import Path
 from typing import Any
 
@@ -38,7 +37,8 @@ from .engines.quantities import (
 )
 from .engines.result import AnalysisResult
 from .engines.suite_result import STATISTICS, SuiteResult, simplified_ratios
-from .provenance.record import csv_comments, deck_toml, number_text, of_deck, to_text_numbers
+from .provenance.record import csv_comments, deck_toml, of_deck
+from .provenance.values import number_text, to_jsonable, to_text_numbers
 from .runtime.atomic import atomic_path, write_set, write_text
 
 #: units of the result fields in the written files (SI)
@@ -53,22 +53,6 @@ UNITS = {
 _STORY_QUANTITIES = quantities(FLOOR, STORY)
 
 
-def to_jsonable(value: Any) -> Any:
-    """numpy scalars/arrays -> floats/lists, non-finite floats -> None, recursively."""
-    if isinstance(value, dict):
-        return {str(k): to_jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [to_jsonable(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return to_jsonable(value.tolist())
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, np.integer)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        value = float(value)
-        return value if math.isfinite(value) else None
-    return value
 
 
 def _rows(result: AnalysisResult, where: list, count: int) -> list[dict[str, Any]]:
