@@ -164,9 +164,12 @@ def _first_input(files: list[dict[str, Any]]) -> dict[str, Any] | None:
     return files[0] if files else None
 
 
-def csv_comments(record: dict[str, Any]) -> str:
+def csv_comments(record: dict[str, Any] | None) -> str:
     """The two '#' lines that open every CSV result: a summary, then the whole provenance as
-    one line of JSON after '# provenance: '. pandas.read_csv(path, comment="#") skips them."""
+    one line of JSON after '# provenance: '. pandas.read_csv(path, comment="#") skips them.
+    No record: no lines."""
+    if record is None:
+        return ""
     text = json.dumps(to_text_numbers(record), separators=(",", ":"), allow_nan=False)
     return (f"# {summary(record)}; read with pandas.read_csv(path, comment='#'); provenance as JSON on the next "
             f"line\n# provenance: {text}\n")

@@ -25,6 +25,11 @@ def plain(value: Any, finite: bool = False) -> Any:
         return [plain(v, finite) for v in value]
     if hasattr(value, "tolist") and hasattr(value, "dtype"):  # numpy array or scalar
         return plain(value.tolist(), finite)
+    return _plain_leaf(value, finite)
+
+
+def _plain_leaf(value: Any, finite: bool) -> Any:
+    """A path as its text; with finite, a NaN or an infinity as None; any other value as it is."""
     if isinstance(value, os.PathLike):
         return os.fspath(value)
     if finite and isinstance(value, float) and not math.isfinite(value):
