@@ -53,8 +53,6 @@ UNITS = {
 _STORY_QUANTITIES = quantities(FLOOR, STORY)
 
 
-
-
 def _columns(result: AnalysisResult, where: list) -> list[tuple[str, Any]]:
     """(key, values per place) of each quantity of `where` the result has: its peaks, then its
     instants ('<name>_time') when known."""
