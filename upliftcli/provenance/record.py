@@ -16,8 +16,8 @@ under "units" of the model. docs/provenance.md describes every key.
 
 This module assembles the record and writes it as text; the input files' entries and their
 SHA-256 are provenance/files.py (which reads the files to hash them, cached on their path, size
-and modification time), the model and options entries provenance/model.py. Knows nothing of
-the terminal.
+and modification time), the model and options entries provenance/model.py, the plain values and
+the text of the numbers provenance/values.py. Knows nothing of the terminal.
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ from ..runtime import backend
 from ..runtime.installed import TOOL, package_version, platform_name, tool_version
 from .files import file_entry, motion_files, record_entry
 from .model import derived_model, engine_options, spectrum_entry
-from .values import DIGITS as DIGITS  # re-exported: the numbers' text is provenance/values.py
+from .values import DIGITS as DIGITS  # DIGITS, number_text, rounded: re-exported from their home, values.py
 from .values import number_text as number_text
 from .values import plain, to_text_numbers
 from .values import rounded as rounded
