@@ -14,7 +14,8 @@ from upliftcli import output as results_module
 from upliftcli.deck.load import load_deck
 from upliftcli.engines.result import AnalysisResult
 from upliftcli.output import elements_csv, results_document, to_csv, to_json, write_results
-from upliftcli.provenance.record import of_deck, read_csv_provenance, to_text_numbers
+from upliftcli.provenance.record import of_deck, read_csv_provenance
+from upliftcli.provenance.values import to_text_numbers
 
 EXAMPLE_DECK = Path(__file__).resolve().parents[1] / "inputs" / "ten_story_elcentro.toml"
 

@@ -232,3 +232,38 @@ def test_the_loops_in_use_are_recorded():
             assert loops.startswith("numpy") or loops.startswith("compiled, numpy for ")
         else:
             assert loops == expected
+
+
+def test_plain_and_to_jsonable_are_one_conversion():
+    """provenance/values.plain (the deck's mapping, provenance entries) and to_jsonable (results)
+    convert alike; only to_jsonable writes a NaN or an infinity as None, as JSON has them."""
+    from upliftcli.provenance.values import plain, to_jsonable
+
+    value = {1: (np.float64(1.5), np.array([np.nan, 2.0])), "path": Path("a") / "b", "verdict": np.bool_(True),
+             "count": np.int64(3), "ratio": float("inf"), "name": "x", "none": None}
+    converted = plain(value)
+    assert list(converted) == ["1", "path", "verdict", "count", "ratio", "name", "none"]
+    assert converted["1"][0] == 1.5 and type(converted["1"][0]) is float
+    assert math.isnan(converted["1"][1][0]) and converted["1"][1][1] == 2.0
+    assert converted["path"] == os.path.join("a", "b") and converted["verdict"] is True
+    assert type(converted["count"]) is int and converted["ratio"] == float("inf")
+    assert to_jsonable(value) == {**converted, "1": [1.5, [None, 2.0]], "ratio": None}
+    assert json.dumps(to_jsonable(value), allow_nan=False)
+
+
+def test_provenance_modules_import_one_way():
+    """No import circle: values <- files, model <- record; model imports nothing of record."""
+    import ast
+
+    import upliftcli.provenance as package
+
+    folder = Path(package.__file__).parent
+    imported = {}
+    for name in ("values", "files", "model", "record"):
+        tree = ast.parse((folder / f"{name}.py").read_text(encoding="utf-8"))
+        imported[name] = {node.module for node in ast.walk(tree)
+                          if isinstance(node, ast.ImportFrom) and node.level == 1}
+    assert imported["values"] == set()
+    assert imported["files"] == set()
+    assert imported["model"] == {"values"}
+    assert imported["record"] == {"files", "model", "values"}

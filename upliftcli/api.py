@@ -28,21 +28,32 @@ def analyze(system, ground_motion, support: str = "uplift", engine: str = "simpl
     for the simplified engine, ExactOptions for the exact and approximate ones (default: the
     defaults of docs/deck.md). Raises ValueError for an unknown name, InputError or
     AnalysisError as the engines do."""
-    from .engines.options import ExactOptions, SimplifiedOptions
-    from .motion.records import Record
-
     chosen = engine_named(engine)
     check_support(support)
     if options is None:
-        options = SimplifiedOptions() if chosen.options == "simplified" else ExactOptions()
-    motion = ground_motion
+        options = _default_options(chosen)
+    return chosen.analyze(system, _motion_for(chosen, engine, ground_motion), support, options)
+
+
+def _default_options(chosen):
+    """The default options of an engine (engines.registry): SimplifiedOptions or ExactOptions."""
+    from .engines.options import ExactOptions, SimplifiedOptions
+
+    return SimplifiedOptions() if chosen.options == "simplified" else ExactOptions()
+
+
+def _motion_for(chosen, engine: str, motion):
+    """The ground motion as an engine takes it: a Record for an engine that needs one (else
+    ValueError), a record's exact response spectrum (RecordSpectrum) for the simplified engine."""
+    from .motion.records import Record
+
     if chosen.needs_record and not isinstance(motion, Record):
         raise ValueError(f"the {engine} engine needs a record (motion.records.Record), got {type(motion).__name__}")
-    if not chosen.needs_record and isinstance(motion, Record):
+    if isinstance(motion, Record) and not chosen.needs_record:
         from .motion.spectra import RecordSpectrum
 
-        motion = RecordSpectrum(motion)
-    return chosen.analyze(system, motion, support, options)
+        return RecordSpectrum(motion)
+    return motion
 
 
 def design_spectrum(mapping: dict, source: str = "<mapping>"):
@@ -58,15 +69,15 @@ def to_dict(results: AnalysisResult | Sequence[AnalysisResult], deck=None) -> di
     """Plain, JSON-ready dicts (SI units): one result -> its dict (output.result_to_dict); a list
     -> the document `uplift analyze --format json` prints, with the provenance of the run when
     the deck.Deck is given (docs/provenance.md)."""
-    from .output import result_to_dict, results_document, to_jsonable
+    from .output import result_to_dict, results_document
     from .provenance.record import of_deck
+    from .provenance.values import to_jsonable
 
     if isinstance(results, AnalysisResult):
         return result_to_dict(results)
-    results = list(results)
-    record = of_deck(deck) if deck is not None else None
-    source, title = (deck.source, deck.title) if deck is not None else (None, None)
-    return to_jsonable(results_document(results, source, title, record))
+    if deck is None:
+        return to_jsonable(results_document(list(results)))
+    return to_jsonable(results_document(list(results), deck.source, deck.title, of_deck(deck)))
 
 
 def pandas():
@@ -91,7 +102,7 @@ def to_dataframe(results: AnalysisResult | Sequence[AnalysisResult]):
     where an engine gives no value."""
     from .output import story_table
 
-    header, rows = story_table([results] if isinstance(results, AnalysisResult) else list(results))
+    header, rows = story_table(_listed(results))
     return _frame(header, rows, _units(header))
 
 
@@ -99,8 +110,13 @@ def elements_dataframe(results: AnalysisResult | Sequence[AnalysisResult]):
     """The foundation table (one row per engine, support and contact element) as a DataFrame."""
     from .output import elements_table
 
-    header, rows = elements_table([results] if isinstance(results, AnalysisResult) else list(results))
+    header, rows = elements_table(_listed(results))
     return _frame(header, rows, _units(header))
+
+
+def _listed(results: AnalysisResult | Sequence[AnalysisResult]) -> list[AnalysisResult]:
+    """A result, or several, as a list."""
+    return [results] if isinstance(results, AnalysisResult) else list(results)
 
 
 def _units(header: list[str]) -> dict[str, str]:
@@ -187,7 +203,7 @@ def profile_figure(results: AnalysisResult | Sequence[AnalysisResult], criteria:
     deck's [criteria] limits drawn as lines."""
     from .figures.analysis import profile_figure as spec
 
-    return draw(spec([results] if isinstance(results, AnalysisResult) else list(results), criteria))
+    return draw(spec(_listed(results), criteria))
 
 
 def mode_shape_figure(system, n_modes: int | None = None):
@@ -202,14 +218,14 @@ def history_figure(results: AnalysisResult | Sequence[AnalysisResult]):
     response-history engine run with ExactOptions(histories=True)."""
     from .figures.histories import history_figure as spec
 
-    return draw(spec([results] if isinstance(results, AnalysisResult) else list(results)))
+    return draw(spec(_listed(results)))
 
 
 def moment_rotation_figure(results: AnalysisResult | Sequence[AnalysisResult]):
     """Base moment M_b against the mat rotation, with +-M_c, of results with histories."""
     from .figures.histories import moment_rotation_figure as spec
 
-    return draw(spec([results] if isinstance(results, AnalysisResult) else list(results)))
+    return draw(spec(_listed(results)))
 
 
 def spectrum_figure(record, periods=None, dampings: Sequence[float] = (0.05,)):

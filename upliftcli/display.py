@@ -39,25 +39,41 @@ def unsigned_zero(text: str) -> str:
     return text
 
 
+def _plain_digits(value: float, digits: int) -> str:
+    """A finite, nonzero value to `digits` significant digits without exponent: at least its
+    integer digits, no trailing zeros."""
+    decimals = max(0, digits - 1 - math.floor(math.log10(abs(value))))
+    text = f"{value:.{decimals}f}"
+    return text.rstrip("0").rstrip(".") if "." in text else text
+
+
+def _float_text(value: float, digits: int) -> str:
+    """A float to `digits` significant digits: plain between 1e-4 and 1e12 (_plain_digits), else
+    with an exponent; '-' when not finite."""
+    if not math.isfinite(value):
+        return "-"
+    if value == 0.0 or not 1e-4 <= abs(value) < 1e12:
+        return unsigned_zero(f"{value:.{digits}g}")
+    return _plain_digits(value, digits)
+
+
+def _other_text(value) -> str:
+    """A value that is not a float as text: a boolean yes/no, an integer, None as '-', else str(value)."""
+    if isinstance(value, (bool, np.bool_)):
+        return "yes" if value else "no"
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    return "-" if value is None else str(value)
+
+
 def number(value, digits: int = 5) -> str:
     """A value as text: numbers to `digits` significant digits (plain between 1e-4 and 1e12,
     at least their integer digits, no trailing zeros), lists joined, booleans yes/no, non-finite as '-'."""
-    if isinstance(value, (bool, np.bool_)):
-        return "yes" if value else "no"
     if isinstance(value, (list, tuple, np.ndarray)):
         return ", ".join(number(v, digits) for v in value)
-    if isinstance(value, (int, np.integer)):
-        return str(int(value))
     if isinstance(value, (float, np.floating)):
-        value = float(value)
-        if not math.isfinite(value):
-            return "-"
-        if value == 0.0 or not 1e-4 <= abs(value) < 1e12:
-            return unsigned_zero(f"{value:.{digits}g}")
-        decimals = max(0, digits - 1 - math.floor(math.log10(abs(value))))
-        text = f"{value:.{decimals}f}"  # `digits` significant digits, no exponent
-        return text.rstrip("0").rstrip(".") if "." in text else text
-    return "-" if value is None else str(value)
+        return _float_text(float(value), digits)
+    return _other_text(value)
 
 
 @dataclass(frozen=True)
@@ -74,10 +90,14 @@ class Unit:
             return ", ".join(self.show(v) for v in value)
         if value is None or isinstance(value, (bool, np.bool_, str)):
             return number(value)
-        value = float(value) * self.factor
-        if not math.isfinite(value):
-            return "-"
-        return unsigned_zero(format(value, self.format)) if self.format else number(value)
+        return self._converted(float(value) * self.factor)
+
+    def _converted(self, value: float) -> str:
+        """A value already converted to this unit, in its format (without one: `number`); '-' when
+        it is not finite."""
+        if self.format and math.isfinite(value):
+            return unsigned_zero(format(value, self.format))
+        return number(value)
 
 
 #: kind -> (SI display unit, US display unit)
@@ -225,5 +245,12 @@ def rocking_rows(entries: Sequence, system: str = "si") -> list[list[str]]:
     result: each value in its kind's display unit, its unit, and the instant of a peak [s]
     ('end' for a residual, '-' where none is known)."""
     return [[q.name.replace("_", " "), place, show(value, q.display, system), label(q.display, system),
-             "end" if q.name.startswith("residual") else "-" if instant is None else f"{instant:.3f}"]
-            for q, _, place, value, instant in entries]
+             _instant_text(q.name, instant)] for q, _, place, value, instant in entries]
+
+
+def _instant_text(name: str, instant: float | None) -> str:
+    """The instant of a peak [s] as the rocking tables show it: 'end' for a residual, '-' where
+    none is known."""
+    if name.startswith("residual"):
+        return "end"
+    return "-" if instant is None else f"{instant:.3f}"

@@ -4,7 +4,7 @@ histories (CSV or NPZ). Each file is written atomically (upliftcli.runtime.atomi
 SI units in every file; the units are listed in it. Every result file carries the provenance of
 the run (provenance/record.py): the JSON under "provenance", each CSV table in two leading '#' lines
 (pandas.read_csv(path, comment="#") reads the table). Numbers are written with at most 15
-significant digits (provenance.DIGITS), as the shortest text of that value: 15.3, not
+significant digits (provenance/values.DIGITS), as the shortest text of that value: 15.3, not
 15.299999999999999. The quantities and their units: engines/quantities.py. A record suite's
 result (engines/suite_result.SuiteResult) is written as its design statistic, with a `suite`
 object in the JSON (records, factors, each record's result, the statistics, the simplified
@@ -16,7 +16,6 @@ from __future__ import annotations
 import csv
 import io
 import json
-import math
 from pathlib import Path
 from typing import Any
 
@@ -38,7 +37,8 @@ from .engines.quantities import (
 )
 from .engines.result import AnalysisResult
 from .engines.suite_result import STATISTICS, SuiteResult, simplified_ratios
-from .provenance.record import csv_comments, deck_toml, number_text, of_deck, to_text_numbers
+from .provenance.record import csv_comments, deck_toml, of_deck
+from .provenance.values import number_text, to_jsonable, to_text_numbers
 from .runtime.atomic import atomic_path, write_set, write_text
 
 #: units of the result fields in the written files (SI)
@@ -53,48 +53,29 @@ UNITS = {
 _STORY_QUANTITIES = quantities(FLOOR, STORY)
 
 
-def to_jsonable(value: Any) -> Any:
-    """numpy scalars/arrays -> floats/lists, non-finite floats -> None, recursively."""
-    if isinstance(value, dict):
-        return {str(k): to_jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [to_jsonable(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return to_jsonable(value.tolist())
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, np.integer)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        value = float(value)
-        return value if math.isfinite(value) else None
-    return value
+def _columns(result: AnalysisResult, where: list) -> list[tuple[str, Any]]:
+    """(key, values per place) of each quantity of `where` the result has: its peaks, then its
+    instants ('<name>_time') when known."""
+    columns = []
+    for q in where:
+        if q.name in result.peaks:
+            columns.append((q.name, result.peaks[q.name]))
+            if q.name in result.times:
+                columns.append((f"{q.name}_time", result.times[q.name]))
+    return columns
 
 
-def _rows(result: AnalysisResult, where: list, count: int) -> list[dict[str, Any]]:
-    """One dict per floor/story or element: each quantity's peak (and instant, '<name>_time')."""
-    rows = []
-    for j in range(count):
-        row: dict[str, Any] = {}
-        for q in where:
-            if q.name in result.peaks:
-                row[q.name] = result.peaks[q.name][j]
-                if q.name in result.times:
-                    row[f"{q.name}_time"] = result.times[q.name][j]
-        rows.append(row)
-    return rows
+def _places(result: AnalysisResult, where: list, index: str, position: str, positions) -> list[dict[str, Any]]:
+    """One dict per story or element: its number (from 1), its position [m], then each quantity's
+    peak and instant (_columns)."""
+    columns = _columns(result, where)
+    return [{index: j + 1, position: x, **{key: values[j] for key, values in columns}} for j, x in enumerate(positions)]
 
 
-def result_to_dict(result: AnalysisResult, check=None) -> dict[str, Any]:
-    """JSON-ready summary, story table and foundation table of one result (SI units, see UNITS),
-    its warnings and, given its accuracy.Check (the simplified engine against the exact one), its
-    `accuracy` (the check's warnings joined to the result's); a suite's result also has `suite`
-    (suite_to_dict)."""
-    stories = [{"story": j + 1, "elevation": result.elevations[j], **row}
-               for j, row in enumerate(_rows(result, _STORY_QUANTITIES, result.elevations.size))]
-    elements = [{"element": i + 1, "position": result.element_positions[i], **row}
-                for i, row in enumerate(_rows(result, element_quantities(), result.element_positions.size))]
-    return to_jsonable({
+def _scalars(result: AnalysisResult) -> dict[str, Any]:
+    """Engine, support, the scalar results (SI units, see UNITS) and the verdicts (`yielded` only
+    where the result tells)."""
+    return {
         "engine": result.engine,
         "support": result.support,
         **{name: getattr(result, name) for name in SCALARS},
@@ -105,14 +86,32 @@ def result_to_dict(result: AnalysisResult, check=None) -> dict[str, Any]:
         "effective_height": result.effective_height,
         "uplift": result.uplift,
         **({"yielded": result.yielded} if result.yielded is not None else {}),
+    }
+
+
+def _notes(result: AnalysisResult, check) -> dict[str, Any]:
+    """The result's warnings (and, given its accuracy check, the check's warnings after them and
+    the check as `accuracy`), then the engine's other details."""
+    warnings = list(result.details.get("warnings", []))
+    details = {k: v for k, v in result.details.items() if k != "warnings"}
+    if check is None:
+        return {"warnings": warnings, "details": details}
+    return {"warnings": [*warnings, *check.warnings()], "accuracy": check.to_dict(), "details": details}
+
+
+def result_to_dict(result: AnalysisResult, check=None) -> dict[str, Any]:
+    """JSON-ready summary, story table and foundation table of one result (SI units, see UNITS),
+    its warnings and, given its accuracy.Check (the simplified engine against the exact one), its
+    `accuracy` (the check's warnings joined to the result's); a suite's result also has `suite`
+    (suite_to_dict)."""
+    return to_jsonable({
+        **_scalars(result),
         "periods": result.periods,
-        "stories": stories,
-        "elements": elements,
+        "stories": _places(result, _STORY_QUANTITIES, "story", "elevation", result.elevations),
+        "elements": _places(result, element_quantities(), "element", "position", result.element_positions),
         **({"rocking": rocking} if (rocking := rocking_to_dict(result)) else {}),
         "intermediates": result.intermediates,
-        "warnings": [*result.details.get("warnings", []), *(check.warnings() if check is not None else [])],
-        **({"accuracy": check.to_dict()} if check is not None else {}),
-        "details": {k: v for k, v in result.details.items() if k != "warnings"},
+        **_notes(result, check),
         **({"suite": suite_to_dict(result)} if isinstance(result, SuiteResult) else {}),
     })
 
@@ -134,27 +133,40 @@ def rocking_to_dict(result: AnalysisResult) -> dict[str, Any]:
     return out
 
 
+def _suite_statistics(result: SuiteResult) -> dict[str, Any]:
+    """Each statistic's uplift verdict, scalars, stories and elements (result_to_dict)."""
+    picked = ("uplift", *SCALARS, "stories", "elements")
+    return {name: {key: value for key, value in result_to_dict(stat).items() if key in picked}
+            for name, stat in result.statistics.items()}
+
+
+def _suite_simplified(result: SuiteResult) -> dict[str, Any] | None:
+    """The simplified engine on the target spectrum, with the ratios simplified / design statistic
+    (None without it)."""
+    if result.simplified is None:
+        return None
+    return {"engine": result.simplified.engine, "support": result.simplified.support,
+            "compared": simplified_ratios(result), "warnings": list(result.simplified.details.get("warnings", []))}
+
+
+def _suite_records(result: SuiteResult) -> list[dict[str, Any]]:
+    """Each record of a suite: name, source, provenance, SHA-256 of its file, amplitude factor, its result."""
+    return [{"record": k + 1, "name": info.name, "source": info.source, "provenance": info.provenance,
+             "sha256": info.sha256, "factor": info.factor, "result": result_to_dict(record)}
+            for k, (info, record) in enumerate(zip(result.records, result.record_results, strict=True))]
+
+
 def suite_to_dict(result: SuiteResult) -> dict[str, Any]:
     """The `suite` object of a suite's result: the rule and its design statistic, the count, what
     the suite was, every statistic (scalars, stories, elements), the simplified engine on the
     target spectrum with the ratios simplified / design statistic, and each record (name, source,
     provenance, SHA-256 of its file, amplitude factor, its result)."""
-    picked = ("uplift", *SCALARS, "stories", "elements")
-    statistics = {name: {key: value for key, value in result_to_dict(stat).items() if key in picked}
-                  for name, stat in result.statistics.items()}
-    simplified = None
-    if result.simplified is not None:
-        simplified = {"engine": result.simplified.engine, "support": result.simplified.support,
-                      "compared": simplified_ratios(result),
-                      "warnings": list(result.simplified.details.get("warnings", []))}
     return to_jsonable({
         "rule": result.rule, "rule_label": result.rule_label, "statistic": result.statistic, "count": result.count,
         "uplift_records": result.uplift_count, **result.suite, "warnings": list(result.warnings),
         "statistic_meanings": {name: meaning for name, (meaning, _) in STATISTICS.items()},
-        "statistics": statistics, "simplified": simplified,
-        "records": [{"record": k + 1, "name": info.name, "source": info.source, "provenance": info.provenance,
-                     "sha256": info.sha256, "factor": info.factor, "result": result_to_dict(record)}
-                    for k, (info, record) in enumerate(zip(result.records, result.record_results, strict=True))],
+        "statistics": _suite_statistics(result), "simplified": _suite_simplified(result),
+        "records": _suite_records(result),
     })
 
 
@@ -188,29 +200,37 @@ def to_json(results: list[AnalysisResult], source: str | None = None, title: str
 
 
 def _csv(header: list[str], rows: list[list[Any]], provenance: dict | None = None) -> str:
+    """A table as CSV text, after the provenance's '#' lines if given; floats as number_text."""
     buffer = io.StringIO()
-    if provenance is not None:
-        buffer.write(csv_comments(provenance))
+    buffer.write(csv_comments(provenance))
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(header)
-    writer.writerows(rows)
+    writer.writerows([number_text(v) if isinstance(v, float) else v for v in row] for row in rows)
     return buffer.getvalue()
 
 
 def _labelled(results: list[AnalysisResult]) -> tuple[list[str], list[tuple[list[str], AnalysisResult]]]:
     """(leading columns, [(their values, result)]): engine and support; with a suite's result
     also `statistic` (the design statistic on its rows, empty on a record's) and `record` (the
-    record's name on the rows of each record that follow the statistic's)."""
+    record's name on the rows of each record that follow the statistic's: _suite_labelled)."""
     if not any(isinstance(r, SuiteResult) for r in results):
         return ["engine", "support"], [([r.engine, r.support], r) for r in results]
-    labelled = []
-    for r in results:
-        statistic = r.statistic if isinstance(r, SuiteResult) else ""
-        labelled.append(([r.engine, r.support, statistic, ""], r))
-        if isinstance(r, SuiteResult):
-            labelled += [([r.engine, r.support, "", info.name], record)
-                         for info, record in zip(r.records, r.record_results, strict=True)]
-    return ["engine", "support", "statistic", "record"], labelled
+    return ["engine", "support", "statistic", "record"], [item for r in results for item in _suite_labelled(r)]
+
+
+def _suite_labelled(r: AnalysisResult) -> list[tuple[list[str], AnalysisResult]]:
+    """The labelled results of one result among a suite's: a suite's design statistic, then each
+    of its records; another result alone, with neither."""
+    if not isinstance(r, SuiteResult):
+        return [([r.engine, r.support, "", ""], r)]
+    return [([r.engine, r.support, r.statistic, ""], r),
+            *(([r.engine, r.support, "", info.name], record)
+              for info, record in zip(r.records, r.record_results, strict=True))]
+
+
+def _peaks_at(r: AnalysisResult, chosen: list, k: int) -> list[float]:
+    """The peaks of the quantities chosen at place k, NaN where the result has none."""
+    return [float(r.peaks[q.name][k]) if q.name in r.peaks else np.nan for q in chosen]
 
 
 def _table(results: list[AnalysisResult], chosen, index: str, position: str, positions) -> tuple[list[str], list]:
@@ -219,7 +239,7 @@ def _table(results: list[AnalysisResult], chosen, index: str, position: str, pos
     present = [q for q in chosen if any(q.name in r.peaks for r in results)]
     lead, labelled = _labelled(results)
     header = [*lead, index, position] + [column_name(q.name, q.unit) for q in present]
-    rows = [[*labels, k + 1, float(x)] + [float(r.peaks[q.name][k]) if q.name in r.peaks else np.nan for q in present]
+    rows = [[*labels, k + 1, float(x), *_peaks_at(r, present, k)]
             for labels, r in labelled for k, x in enumerate(positions(r))]
     return header, rows
 
@@ -237,20 +257,26 @@ def elements_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[
     return _table(results, element_quantities(), "element", "position_m", lambda r: r.element_positions)
 
 
-def _texts(rows: list[list[Any]]) -> list[list[Any]]:
-    return [[number_text(v) if isinstance(v, float) else v for v in row] for row in rows]
-
-
 def to_csv(results: list[AnalysisResult], provenance: dict | None = None) -> str:
     """The story tables (story_table) as CSV, after the provenance's '#' lines if given."""
-    header, rows = story_table(results)
-    return _csv(header, _texts(rows), provenance)
+    return _csv(*story_table(results), provenance)
 
 
 def elements_csv(results: list[AnalysisResult], provenance: dict | None = None) -> str:
     """The foundation tables (elements_table) as CSV, after the provenance's '#' lines if given."""
-    header, rows = elements_table(results)
-    return _csv(header, _texts(rows), provenance)
+    return _csv(*elements_table(results), provenance)
+
+
+def _rocking_values(r: AnalysisResult) -> dict[str, float]:
+    """A result's rocking columns (column name with unit -> value): each value and the instant of a
+    peak (a residual's instant is the end: none); {} when it carries no rocking quantity."""
+    values: dict[str, float] = {}
+    for q, key, _, value, instant in rocking_entries(r):
+        name = q.name if key == "mat" else f"{q.name}_{key}"
+        values[column_name(name, q.unit)] = value
+        if instant is not None and not q.name.startswith("residual"):
+            values[column_name(f"{name}_time", "s")] = instant
+    return values
 
 
 def rocking_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[Any]]]:
@@ -259,27 +285,16 @@ def rocking_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[A
     instant, units in the headers (rotation_rad, settlement_left_edge_m, settlement_left_edge_time_s,
     plastic_work_J); ([], []) when no result carries them."""
     lead, labelled = _labelled(results)
-    columns: dict[str, None] = {}
-    rows = []
-    for labels, r in labelled:
-        values: dict[str, float] = {}
-        for q, key, _, value, instant in rocking_entries(r):
-            name = q.name if key == "mat" else f"{q.name}_{key}"
-            values[column_name(name, q.unit)] = value
-            if instant is not None and not q.name.startswith("residual"):  # a residual's instant: the end
-                values[column_name(f"{name}_time", "s")] = instant
-        if values:
-            columns.update(dict.fromkeys(values))
-            rows.append((labels, values))
+    rows = [(labels, values) for labels, r in labelled if (values := _rocking_values(r))]
     if not rows:
         return [], []
+    columns = dict.fromkeys(name for _, values in rows for name in values)
     return [*lead, *columns], [[*labels, *(values.get(c, np.nan) for c in columns)] for labels, values in rows]
 
 
 def rocking_csv(results: list[AnalysisResult], provenance: dict | None = None) -> str:
     """The rocking tables (rocking_table) as CSV, after the provenance's '#' lines if given."""
-    header, rows = rocking_table(results)
-    return _csv(header, _texts(rows), provenance)
+    return _csv(*rocking_table(results), provenance)
 
 
 def result_paths(directory, stem: str, elements: bool = True, deck: bool = True, rocking: bool = False) -> list[Path]:
@@ -287,6 +302,25 @@ def result_paths(directory, stem: str, elements: bool = True, deck: bool = True,
     directory = Path(directory)
     names = [".json", ".csv"] + [".elements.csv"] * elements + [".rocking.csv"] * rocking + [".deck.toml"] * deck
     return [directory / f"{stem}{suffix}" for suffix in names]
+
+
+def _given_or_deck(deck, source: str | None, title: str | None, provenance: dict | None) -> tuple:
+    """(source, title, provenance) of write_results: those of the deck where not given."""
+    if deck is None:
+        return source, title, provenance
+    return (deck.source if source is None else source, deck.title if title is None else title,
+            of_deck(deck) if provenance is None else provenance)
+
+
+def _tables(results: list[AnalysisResult], provenance: dict | None, elements: bool, rocking: bool) -> list[str]:
+    """The CSV texts of write_results: the story tables, then the foundation and the rocking tables
+    when asked."""
+    texts = [to_csv(results, provenance)]
+    if elements:
+        texts.append(elements_csv(results, provenance))
+    if rocking:
+        texts.append(rocking_csv(results, provenance))
+    return texts
 
 
 def write_results(results: list[AnalysisResult], directory, stem: str, source: str | None = None,
@@ -298,23 +332,25 @@ def write_results(results: list[AnalysisResult], directory, stem: str, source: s
     paths. The provenance (default: provenance.of_deck of the deck) goes into every file. All
     texts are built before the first file is written, and the files are written all or none
     (atomic.write_set), so a failure (a full disk) leaves no file of the set."""
-    if provenance is None and deck is not None:
-        provenance = of_deck(deck)
-    if deck is not None:
-        source = deck.source if source is None else source
-        title = deck.title if title is None else title
+    source, title, provenance = _given_or_deck(deck, source, title, provenance)
     elements = any(r.element_positions.size for r in results)
     rocking = any(rocking_entries(r) for r in results)
     paths = result_paths(directory, stem, elements, deck is not None, rocking)
-    texts = [to_json(results, source, title, provenance, checks), to_csv(results, provenance)]
-    if elements:
-        texts.append(elements_csv(results, provenance))
-    if rocking:
-        texts.append(rocking_csv(results, provenance))
+    texts = [to_json(results, source, title, provenance, checks), *_tables(results, provenance, elements, rocking)]
     if deck is not None:
         texts.append(deck_toml(deck, provenance, directory))
     write_set(dict(zip(paths, texts, strict=True)))  # all or none: a full disk leaves no file of the set
     return paths
+
+
+def _histories_csv(histories: dict[str, np.ndarray], provenance: dict | None) -> str:
+    """Response histories as CSV text: the provenance's '#' lines, a header with units, values
+    with 10 significant digits (write_histories)."""
+    names = list(histories)
+    header = ",".join(column_name(name, history_unit(name)) for name in names)
+    table = np.column_stack([np.asarray(histories[name], dtype=float) for name in names])
+    lines = [header] + [",".join(f"{value:.10g}" for value in row) for row in table]
+    return csv_comments(provenance) + "\n".join(lines) + "\n"
 
 
 def write_histories(path, histories: dict[str, np.ndarray], provenance: dict | None = None) -> None:
@@ -325,14 +361,9 @@ def write_histories(path, histories: dict[str, np.ndarray], provenance: dict | N
     significant digits (the histories are sampled at the record's step: more digits would
     only lengthen the file)."""
     path = Path(path)
-    if path.suffix.lower() == ".npz":
-        extra = {} if provenance is None else {"provenance": np.array(json.dumps(to_text_numbers(provenance)))}
-        with atomic_path(path) as tmp, open(tmp, "wb") as handle:
-            np.savez_compressed(handle, **histories, **extra)
+    if path.suffix.lower() != ".npz":
+        write_text(path, _histories_csv(histories, provenance))
         return
-    names = list(histories)
-    header = ",".join(column_name(name, history_unit(name)) for name in names)
-    table = np.column_stack([np.asarray(histories[name], dtype=float) for name in names])
-    lines = [header] + [",".join(f"{value:.10g}" for value in row) for row in table]
-    head = csv_comments(provenance) if provenance is not None else ""
-    write_text(path, head + "\n".join(lines) + "\n")
+    extra = {} if provenance is None else {"provenance": np.array(json.dumps(to_text_numbers(provenance)))}
+    with atomic_path(path) as tmp, open(tmp, "wb") as handle:
+        np.savez_compressed(handle, **histories, **extra)

@@ -76,28 +76,40 @@ _SEPARATOR = re.compile(r"\s*(?:(?<!\*)\*(?!\*)|\u00b7)\s*|\s+|(?<=[A-Za-z0-9])-
 _QUANTITY = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)(?:\s*([A-Za-z].*?))?\s*")
 
 
+def _groups(text: str) -> list[str]:
+    """A unit's factor groups, split at '/' (the first multiplies, every other divides);
+    ValueError when the unit or one of its groups is empty."""
+    groups = text.split("/")
+    if not text.strip() or any(not group.strip() for group in groups):
+        raise ValueError(f"a unit such as m, kN, kip/in ({text!r} is not one)")
+    return groups
+
+
+def _symbol_power(token: str) -> tuple[float, Dimension, int]:
+    """(factor to SI, dimension, exponent) of one symbol of SYMBOLS with an optional exponent
+    ('s2', 's^2', 's**2'); ValueError naming an unknown symbol."""
+    match = _TOKEN.fullmatch(token)
+    if match is None or match.group(1) not in SYMBOLS:
+        name = match.group(1) if match else token
+        raise ValueError(f"a known unit symbol ({name!r} is not one; docs/deck.md lists them)")
+    size, dims = SYMBOLS[match.group(1)]
+    return size, dims, int(match.group(2) or 1)
+
+
 def parse_unit(text: str) -> tuple[float, Dimension]:
     """(factor to SI, dimension) of a unit such as 'kip s2/in', 'N s/m', 'm/s^2', 'kip-ft',
     'lb s2/ft4': symbols of SYMBOLS with optional exponents (s2, s^2, s**2), multiplied by
     blanks, '*' or '-', divided by '/' (every '/' starts a divisor: 'm/s/s' = m/s^2).
     ValueError naming the unknown symbol."""
-    factor, dimension = 1.0, [0, 0, 0]
-    groups = text.split("/")
-    if not text.strip() or any(not group.strip() for group in groups):
-        raise ValueError(f"a unit such as m, kN, kip/in ({text!r} is not one)")
-    for index, group in enumerate(groups):
+    factor, dimension = 1.0, (0, 0, 0)
+    for index, group in enumerate(_groups(text)):
         sign = 1 if index == 0 else -1
         for token in _SEPARATOR.split(group.strip()):
-            match = _TOKEN.fullmatch(token)
-            if match is None or match.group(1) not in SYMBOLS:
-                name = match.group(1) if match else token
-                raise ValueError(f"a known unit symbol ({name!r} is not one; docs/deck.md lists them)")
-            size, dims = SYMBOLS[match.group(1)]
-            power = sign * int(match.group(2) or 1)
+            size, dims, exponent = _symbol_power(token)
+            power = sign * exponent
             factor *= size**power
-            for axis in range(3):
-                dimension[axis] += dims[axis] * power
-    return factor, (dimension[0], dimension[1], dimension[2])
+            dimension = (dimension[0] + dims[0] * power, dimension[1] + dims[1] * power, dimension[2] + dims[2] * power)
+    return factor, dimension
 
 
 def split_quantity(text: str) -> tuple[float, str] | None:

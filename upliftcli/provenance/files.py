@@ -57,19 +57,25 @@ def record_entry(record, role: str = "record", **extra: Any) -> dict[str, Any]:
             "dt": float(record.dt), "npts": record.npts, "scale": float(record.scale), **extra}
 
 
+def _suite_files(suite) -> list[dict[str, Any]]:
+    """Input-file entries of a motion.suites.Suite: each record with its amplitude factor and
+    note, then its target spectrum's (motion_files)."""
+    records = suite.records
+    notes = tuple(suite.provenance) + ("",) * (len(records) - len(suite.provenance))
+    entries = [record_entry(record, f"suite record {k + 1}", factor=float(factor), note=note)
+               for k, (record, factor, note) in enumerate(zip(records, suite.factors, notes, strict=True))]
+    return entries + motion_files(suite.target)
+
+
 def motion_files(motion) -> list[dict[str, Any]]:
     """Input-file entries of a ground motion: a record, each record of a suite (with its
-    amplitude factor), or a design spectrum read from a table file."""
+    amplitude factor), or a design spectrum read from a table file; none for None."""
     from ..motion.records import Record
 
     if isinstance(motion, Record):
         return [record_entry(motion)]
-    records = getattr(motion, "records", None)
-    if records is not None:  # a motion.suites.Suite
-        notes = tuple(motion.provenance) + ("",) * (len(records) - len(motion.provenance))
-        entries = [record_entry(record, f"suite record {k + 1}", factor=float(factor), note=note)
-                   for k, (record, factor, note) in enumerate(zip(records, motion.factors, notes, strict=True))]
-        return entries + motion_files(motion.target)
+    if getattr(motion, "records", None) is not None:
+        return _suite_files(motion)
     source = getattr(motion, "source", "")
     if source and Path(str(source)).is_file():
         return [file_entry("design spectrum table", source)]
@@ -79,5 +85,4 @@ def motion_files(motion) -> list[dict[str, Any]]:
 def input_files(deck) -> list[str]:
     """The files a deck's run reads: the deck, its record or each record of its suite, and a
     design-spectrum table file (outputs must never replace them)."""
-    motion = [] if deck.ground_motion is None else motion_files(deck.ground_motion)
-    return [str(deck.source), *(entry["path"] for entry in motion if entry["path"])]
+    return [str(deck.source), *(entry["path"] for entry in motion_files(deck.ground_motion) if entry["path"])]

@@ -10,7 +10,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
-from .record import plain
+from .values import plain
 
 #: the foundation's dataclass attributes under their deck names (foundation.<name>)
 FOUNDATION_NAMES = {"two-element": {"stiffness": "k_f", "damping": "c_f", "capacity": "element_capacity"},
@@ -28,6 +28,24 @@ MODEL_UNITS = {
 }
 
 
+def _own_parameters(foundation) -> dict[str, Any]:
+    """The foundation's dataclass attributes that are set, under their deck names (FOUNDATION_NAMES);
+    no bearing capacity: not an entry."""
+    names = FOUNDATION_NAMES.get(foundation.kind, {})
+    return {names.get(item.name, item.name): getattr(foundation, item.name)
+            for item in dataclasses.fields(foundation) if getattr(foundation, item.name) is not None}
+
+
+def _capacity_entry(system) -> dict[str, Any]:
+    """Each contact element's Q_y [N] and the factor of safety FS_v [-] of a foundation with a
+    bearing capacity (docs/theory.md 14); {} without one."""
+    foundation = system.foundation
+    if getattr(foundation, "capacity", None) is None:
+        return {}
+    return {"Q_y": plain(foundation.contact_elements(system.half_width).capacity),
+            "FS_v": foundation.total_capacity(system.half_width) / system.weight}
+
+
 def foundation_entry(system) -> dict[str, Any]:
     """The foundation's type and own parameters under their deck names (SI), its rocking
     stiffness K_theta [N m/rad] and damping C_theta [N m s/rad] at the frequency omega_impedance
@@ -36,14 +54,7 @@ def foundation_entry(system) -> dict[str, Any]:
     from ..model.interaction import impedance
 
     foundation = system.foundation
-    names = FOUNDATION_NAMES.get(foundation.kind, {})
-    entry: dict[str, Any] = {"type": foundation.kind}
-    for item in dataclasses.fields(foundation):
-        if getattr(foundation, item.name) is not None:  # no bearing capacity: not an entry
-            entry[names.get(item.name, item.name)] = plain(getattr(foundation, item.name))
-    if getattr(foundation, "capacity", None) is not None:  # each element's Q_y and FS_v (docs/theory.md 14)
-        entry["Q_y"] = plain(foundation.contact_elements(system.half_width).capacity)
-        entry["FS_v"] = foundation.total_capacity(system.half_width) / system.weight
+    entry = {"type": foundation.kind, **plain(_own_parameters(foundation)), **_capacity_entry(system)}
     if hasattr(foundation, "shear_wave_velocity"):
         entry["shear_wave_velocity"] = float(foundation.shear_wave_velocity)
     rocking = impedance(system)
@@ -55,14 +66,40 @@ def foundation_entry(system) -> dict[str, Any]:
 
 def foundation_units(system) -> dict[str, str]:
     """Units of the foundation's own parameters (from its deck fields)."""
-    cls = type(system.foundation)
-    names = FOUNDATION_NAMES.get(cls.kind, {})
-    units = {names.get(item.name, item.name): cls.deck_fields[names.get(item.name, item.name)].unit
-             for item in dataclasses.fields(cls) if names.get(item.name, item.name) in cls.deck_fields
-             and getattr(system.foundation, item.name) is not None}
-    if "shear_wave_velocity" in cls.deck_fields:
+    fields = type(system.foundation).deck_fields
+    units = {name: fields[name].unit for name in _own_parameters(system.foundation) if name in fields}
+    if "shear_wave_velocity" in fields:
         units["shear_wave_velocity"] = "m/s"
     return units
+
+
+def _building_entry(building, modes) -> dict[str, Any]:
+    """Floors, story stiffnesses after the period scaling (a frame: its stiffness matrix), modal
+    damping and the fixed-base modes (T_n, m_n*, h_n*)."""
+    stiffness = ({"story_stiffnesses": plain(building.story_stiffness)} if building.story_stiffness is not None
+                 else {"stiffness_matrix": plain(building.stiffness)})
+    return {"stories": building.n_stories, "masses": plain(building.masses), "elevations": plain(building.heights),
+            "story_heights": plain(building.story_heights), **stiffness,
+            "damping": plain(building.damping), "periods": plain(modes.periods),
+            "effective_masses": plain(modes.effective_mass), "effective_heights": plain(modes.effective_height)}
+
+
+def _bonded_entry(system, effective_properties: str) -> dict[str, Any]:
+    """T1bar [s] and xi1bar [-] of the bonded system [21-25]; {} for an overdamped one, which has
+    no T1bar (the engines say so)."""
+    from ..errors import AnalysisError
+    from ..model.interaction import effective_properties as properties
+
+    try:
+        bonded = properties(system, effective_properties)
+    except AnalysisError:
+        return {}
+    return {"T1bar": float(bonded["T1bar"]), "xi1bar": float(bonded["xi1bar"])}
+
+
+def _units_of(entries: dict[str, Any]) -> dict[str, str]:
+    """The units (MODEL_UNITS) of the entries that have one."""
+    return {name: unit for name, unit in MODEL_UNITS.items() if name in entries}
 
 
 def derived_model(system, effective_properties: str = "formula") -> dict[str, Any]:
@@ -71,36 +108,15 @@ def derived_model(system, effective_properties: str = "formula") -> dict[str, An
     stiffness matrix), modal damping, the fixed-base modes (T_n, m_n*, h_n*), m_t, h_1*, b,
     h_1*/b, V_c, M_c [16a, 16b], the foundation (foundation_entry) and T1bar, xi1bar of the
     bonded system [21-25] by the deck's analysis.effective_properties."""
-    from ..errors import AnalysisError
-    from ..model.interaction import effective_properties as properties
-
-    building, modes = system.building, system.modes
     model: dict[str, Any] = {
-        "stories": building.n_stories, "masses": plain(building.masses), "elevations": plain(building.heights),
-        "story_heights": plain(building.story_heights),
-    }
-    if building.story_stiffness is not None:
-        model["story_stiffnesses"] = plain(building.story_stiffness)
-    else:
-        model["stiffness_matrix"] = plain(building.stiffness)
-    model.update({
-        "damping": plain(building.damping), "periods": plain(modes.periods),
-        "effective_masses": plain(modes.effective_mass), "effective_heights": plain(modes.effective_height),
+        **_building_entry(system.building, system.modes),
         "total_mass": system.total_mass, "mat_mass": system.mat_mass, "mat_rotary_inertia": system.mat_rotary_inertia,
         "half_width": system.half_width, "h1_star": system.effective_height,
         "slenderness": system.effective_height / system.half_width, "gravity": system.gravity, "weight": system.weight,
         "critical_base_shear": system.critical_base_shear, "critical_base_moment": system.critical_base_moment,
-        "foundation": foundation_entry(system),
-    })
-    try:
-        bonded = properties(system, effective_properties)
-        model.update(T1bar=float(bonded["T1bar"]), xi1bar=float(bonded["xi1bar"]))
-    except AnalysisError:  # an overdamped bonded system has no T1bar: the engines say so
-        pass
-    model["units"] = {**{name: unit for name, unit in MODEL_UNITS.items() if name in model},
-                      "foundation": {**foundation_units(system),
-                                     **{name: MODEL_UNITS[name] for name in MODEL_UNITS
-                                        if name in model["foundation"]}}}
+        "foundation": foundation_entry(system), **_bonded_entry(system, effective_properties),
+    }
+    model["units"] = {**_units_of(model), "foundation": {**foundation_units(system), **_units_of(model["foundation"])}}
     return model
 
 
@@ -110,23 +126,25 @@ def spectrum_entry(spectrum) -> dict[str, Any] | None:
     if spectrum is None or hasattr(spectrum, "record"):
         return None
     entry: dict[str, Any] = {"name": getattr(spectrum, "name", type(spectrum).__name__)}
-    for name in ("damping", "damping_correction", "units"):
+    for name in ("damping", "damping_correction", "units", "period_range"):
         if hasattr(spectrum, name):
             entry[name] = plain(getattr(spectrum, name))
-    if hasattr(spectrum, "period_range"):
-        entry["period_range"] = plain(spectrum.period_range)
     return entry
+
+
+def _option_units(options, given: dict[str, Any]) -> dict[str, str]:
+    """The units of the options given (from their deck fields: engines/options.py)."""
+    from ..engines.options import deck_fields
+
+    return {name: field.unit for name, field in deck_fields(type(options)).items() if name in given}
 
 
 def engine_options(analysis) -> dict[str, Any]:
     """The engines and supports of a deck and every option of the simplified and the
     response-history engines (engines/options.py), with the units of the options (their deck fields)."""
-    from ..engines.options import deck_fields
-
     simplified = dataclasses.asdict(analysis.simplified)
     exact = {k: v for k, v in dataclasses.asdict(analysis.exact).items() if k != "histories"}
-    units = {table: {name: field.unit for name, field in deck_fields(type(options)).items() if name in values}
-             for table, options, values in (("simplified", analysis.simplified, simplified),
-                                            ("exact", analysis.exact, exact))}
+    units = {"simplified": _option_units(analysis.simplified, simplified),
+             "exact": _option_units(analysis.exact, exact)}
     return {"engines": list(analysis.engines), "supports": list(analysis.supports), "n_modes": analysis.n_modes,
             "simplified": plain(simplified), "exact": plain(exact), "units": units}

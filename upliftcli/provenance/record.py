@@ -16,8 +16,8 @@ under "units" of the model. docs/provenance.md describes every key.
 
 This module assembles the record and writes it as text; the input files' entries and their
 SHA-256 are provenance/files.py (which reads the files to hash them, cached on their path, size
-and modification time), the model and options entries provenance/model.py. Knows nothing of
-the terminal.
+and modification time), the model and options entries provenance/model.py, the plain values and
+the text of the numbers provenance/values.py. Knows nothing of the terminal.
 """
 
 from __future__ import annotations
@@ -33,15 +33,18 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
+from ..errors import deck_relative_path
 from ..runtime import backend
 from ..runtime.installed import TOOL, package_version, platform_name, tool_version
 from .files import file_entry, motion_files, record_entry
+from .model import derived_model, engine_options, spectrum_entry
+from .values import DIGITS as DIGITS  # DIGITS, number_text, rounded: re-exported from their home, values.py
+from .values import number_text as number_text
+from .values import plain, to_text_numbers
+from .values import rounded as rounded
 
 #: libraries whose versions are recorded (they decide the numbers)
 LIBRARIES = ("numpy", "scipy", "matplotlib")
-#: significant digits of every number written to a result file (DBL_DIG: the digits a double
-#: keeps through decimal text; 15.299999999999999 is written 15.3)
-DIGITS = 15
 
 
 # ----------------------------------------------------------------------------- small pieces
@@ -49,18 +52,6 @@ DIGITS = 15
 def utc_now(now: datetime | None = None) -> str:
     """ISO 8601 UTC time to the second: 2026-12-01T10:00:00Z."""
     return (now or datetime.now(UTC)).astimezone(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
-
-
-def rounded(value: float) -> float:
-    """value rounded to DIGITS significant digits (its shortest text then has no noise digits)."""
-    return float(f"{float(value):.{DIGITS}g}")
-
-
-def number_text(value: float) -> str:
-    """The text of a number in a result file: the shortest text of `rounded(value)`; '' for NaN
-    and infinities (no value)."""
-    value = float(value)
-    return repr(rounded(value)) if value == value and abs(value) != float("inf") else ""
 
 
 def command_line(argv: Sequence[str] | None = None) -> str:
@@ -71,51 +62,41 @@ def command_line(argv: Sequence[str] | None = None) -> str:
     return shlex.join([Path(argv[0]).name, *argv[1:]])
 
 
-def plain(value: Any) -> Any:
-    """numpy arrays and scalars, tuples and paths as plain Python lists, numbers and strings (the
-    deck's mapping built in code, as TOML would give it, and every provenance entry)."""
-    if isinstance(value, dict):
-        return {str(k): plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [plain(v) for v in value]
-    if hasattr(value, "tolist") and hasattr(value, "dtype"):  # numpy array or scalar
-        return plain(value.tolist())
-    if isinstance(value, os.PathLike):
-        return os.fspath(value)
-    return value
-
-
 # ----------------------------------------------------------------------------- the deck
+
+def _absolute(path: Any, source: str, relative_to: str | os.PathLike | None) -> Any:
+    """A file path a deck gives, as errors.deck_relative_path resolves it: absolute, or relative to
+    the folder relative_to; anything but text as it is."""
+    if not isinstance(path, str):
+        return path
+    found = os.path.abspath(deck_relative_path(path, source))
+    return found if relative_to is None else os.path.relpath(found, os.path.abspath(relative_to))
+
+
+def _absolute_suite(suite: Any, source: str, relative_to: str | os.PathLike | None) -> Any:
+    """ground_motion.suite with its paths resolved (_absolute): the folder, or each file of its
+    list (text or a table whose `file` is resolved)."""
+    if not isinstance(suite, list):
+        return _absolute(suite, source, relative_to)
+    return [{**item, "file": _absolute(item.get("file"), source, relative_to)} if isinstance(item, dict)
+            else _absolute(item, source, relative_to) for item in suite]
+
 
 def absolute_paths(raw: dict, source: str, relative_to: str | os.PathLike | None = None) -> dict:
     """A copy of a deck mapping with its file paths (ground_motion.record, the suite's folder or
     files, design_spectrum.file) absolute: relative paths joined to the deck's folder; with
     relative_to (a folder), relative to that folder instead (the folder of a resolved deck file)."""
-    from ..errors import deck_relative_path
-
     raw = copy.deepcopy(raw)
     motion = raw.get("ground_motion")
     if not isinstance(motion, dict):
         return raw
-
-    def absolute(path: Any) -> Any:  # as errors.deck_relative_path resolves it
-        if not isinstance(path, str):
-            return path
-        found = os.path.abspath(deck_relative_path(path, source))
-        return found if relative_to is None else os.path.relpath(found, os.path.abspath(relative_to))
-
     if "record" in motion:
-        motion["record"] = absolute(motion["record"])
-    suite = motion.get("suite")
-    if isinstance(suite, str):
-        motion["suite"] = absolute(suite)
-    elif isinstance(suite, list):
-        motion["suite"] = [absolute(item) if isinstance(item, str)
-                           else {**item, "file": absolute(item.get("file"))} if isinstance(item, dict) else item
-                           for item in suite]
+        motion["record"] = _absolute(motion["record"], source, relative_to)
+    if "suite" in motion:
+        motion["suite"] = _absolute_suite(motion["suite"], source, relative_to)
     spectrum = motion.get("design_spectrum")
     if isinstance(spectrum, dict) and "file" in spectrum:
-        spectrum["file"] = absolute(spectrum["file"])
+        spectrum["file"] = _absolute(spectrum["file"], source, relative_to)
     return raw
 
 
@@ -128,15 +109,16 @@ def resolved_deck(deck, relative_to: str | os.PathLike | None = None) -> dict:
     return {"title": deck.title, **raw}
 
 
+def _field(table: Any, path: str) -> Any:
+    """The value at a dotted path of a deck mapping (None where there is none)."""
+    for part in path.split("."):
+        table = table.get(part) if isinstance(table, dict) else None
+    return table
+
+
 def overrides(deck) -> dict[str, Any]:
     """The fields `--set` (or --engine / --support) gave: dotted path -> value."""
-    values = {}
-    for path in sorted(deck.overridden):
-        table = deck.raw
-        for part in path.split("."):
-            table = table.get(part) if isinstance(table, dict) else None
-        values[path] = plain(table)
-    return values
+    return {path: plain(_field(deck.raw, path)) for path in sorted(deck.overridden)}
 
 
 # ----------------------------------------------------------------------------- records
@@ -153,11 +135,8 @@ def base(command: str | None = None, now: datetime | None = None) -> dict[str, A
 def of_deck(deck, command: str | None = None, now: datetime | None = None) -> dict[str, Any]:
     """The provenance of a run of a deck.Deck (module docstring): base(), files, deck
     {source, title, set, resolved}, model (derived_model) and options (engine_options)."""
-    from .model import derived_model, engine_options, spectrum_entry  # it imports plain from here
-
-    files = [file_entry("deck", deck.source)] if Path(deck.source).is_file() else []
-    if deck.ground_motion is not None:
-        files += motion_files(deck.ground_motion)
+    deck_file = [file_entry("deck", deck.source)] if Path(deck.source).is_file() else []
+    files = deck_file + motion_files(deck.ground_motion)
     described = {"source": deck.source, "title": deck.title, "set": overrides(deck), "resolved": resolved_deck(deck)}
     return {**base(command, now), "files": files, "deck": described,
             "model": derived_model(deck.system, deck.analysis.simplified.effective_properties),
@@ -172,15 +151,25 @@ def of_record(record, command: str | None = None, now: datetime | None = None, *
 
 def summary(record: dict[str, Any]) -> str:
     """One line: tool, version, UTC time, the deck (or first input) and its SHA-256."""
-    files = record.get("files", [])
-    first = next((f for f in files if f["role"] == "deck"), files[0] if files else None)
+    first = _first_input(record.get("files", []))
     where = f"; {first['role']} {first['path']} (sha256 {first['sha256']})" if first else ""
     return f"{record['tool']} {record['version']}, {record['time_utc']}{where}"
 
 
-def csv_comments(record: dict[str, Any]) -> str:
+def _first_input(files: list[dict[str, Any]]) -> dict[str, Any] | None:
+    """The deck's file entry, else the first input's (None without inputs)."""
+    for entry in files:
+        if entry["role"] == "deck":
+            return entry
+    return files[0] if files else None
+
+
+def csv_comments(record: dict[str, Any] | None) -> str:
     """The two '#' lines that open every CSV result: a summary, then the whole provenance as
-    one line of JSON after '# provenance: '. pandas.read_csv(path, comment="#") skips them."""
+    one line of JSON after '# provenance: '. pandas.read_csv(path, comment="#") skips them.
+    No record: no lines."""
+    if record is None:
+        return ""
     text = json.dumps(to_text_numbers(record), separators=(",", ":"), allow_nan=False)
     return (f"# {summary(record)}; read with pandas.read_csv(path, comment='#'); provenance as JSON on the next "
             f"line\n# provenance: {text}\n")
@@ -196,17 +185,6 @@ def read_csv_provenance(text: str) -> dict[str, Any] | None:
     return None
 
 
-def to_text_numbers(value: Any) -> Any:
-    """Every float rounded to DIGITS significant digits (non-finite -> None), recursively."""
-    if isinstance(value, dict):
-        return {k: to_text_numbers(v) for k, v in value.items()}
-    if isinstance(value, list):
-        return [to_text_numbers(v) for v in value]
-    if isinstance(value, float):
-        return rounded(value) if value == value and abs(value) != float("inf") else None
-    return value
-
-
 def deck_toml(deck, record: dict[str, Any] | None = None, directory: str | os.PathLike = ".") -> str:
     """<stem>.deck.toml: the resolved deck (resolved_deck) with '#' lines saying where it came
     from, its file paths (and the deck's) relative to `directory`, the folder it is written into
@@ -215,13 +193,18 @@ def deck_toml(deck, record: dict[str, Any] | None = None, directory: str | os.Pa
     import tomli_w
 
     record = record or of_deck(deck)
-    changed = record["deck"]["set"]
     source = os.path.relpath(os.path.abspath(deck.source), os.path.abspath(directory))
     lines = [f"# The deck of a run of {record['tool']} {record['version']} at {record['time_utc']}:",
-             f"# {source}" + (" with " + ", ".join(f"{k}={json.dumps(v)}" for k, v in changed.items())
-                              if changed else ""),
+             f"# {source}{_with_overrides(record['deck']['set'])}",
              "# after the overrides, file paths relative to this file. `uplift analyze` on this file repeats the run.",
              "# Every number is bare SI (kg, m, s, N; design-spectrum ordinates in g), whatever units the deck used.",
              f"# command: {record['command']}"]
     return ("".join(line.replace("\n", " ") + "\n" for line in lines) + "\n"
             + tomli_w.dumps(resolved_deck(deck, directory)))
+
+
+def _with_overrides(changed: dict[str, Any]) -> str:
+    """' with path=value, ...': the fields `--set` changed, as JSON values ('' when none)."""
+    if not changed:
+        return ""
+    return " with " + ", ".join(f"{k}={json.dumps(v)}" for k, v in changed.items())
