@@ -26,7 +26,8 @@ from ..motion.design_spectra import check_keys
 from ..motion.records import RECORD_FIELDS
 from ..motion.suites import check_entry
 from ..units import STANDARD_GRAVITY, SYSTEMS
-from .fields import NUMERIC, Field, check_value, gather, implausible, raise_all, suggestion
+from .fields import NUMERIC, Field, check_value, gather, raise_all, suggestion
+from .practice import implausible
 
 #: the range of building practice of acceptance limits (a value outside: a warning)
 CRITERIA_PLAUSIBLE = {"drift_ratio": (1e-4, 0.1), "base_shear_coefficient": (1e-3, 3.0),
