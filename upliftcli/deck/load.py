@@ -3,7 +3,7 @@
     deck = load_deck("inputs/ten_story_elcentro.toml", ["building.period=0.5"])
     deck.system, deck.spectrum, deck.analysis ...
 
-Field names, units and defaults: deck_schema.TABLES and docs/deck.md. The [building] and
+Field names, units and defaults: deck/schema.TABLES and docs/deck.md. The [building] and
 [foundation] tables are built in deck/building.py, [ground_motion] in deck/motion.py (a suite:
 deck/suite.py), --set in deck/overrides.py; this module builds [analysis] and [criteria] and
 assembles the Deck. Every bad input raises errors.InputError naming the file (or "--set"), the
@@ -32,6 +32,7 @@ from .criteria import Criteria
 from .fields import gather, raise_all
 from .motion import check_motion_fields, read_ground_motion
 from .overrides import apply_overrides, parse_override
+from .practice import plausibility
 
 
 @dataclass
@@ -55,12 +56,12 @@ class Deck:
     ground_motion: a records.Record, a design spectrum, a motion.suites.Suite (whose target is
         the design spectrum), or None (not loaded / not given);
     spectrum: object with .sa(periods [s], damping [-]) -> S_a [m/s^2] for the simplified engine;
-    analysis: AnalysisSettings; criteria: acceptance limits {name: value} (deck_schema "criteria"), with
+    analysis: AnalysisSettings; criteria: acceptance limits {name: value} (schema.TABLES["criteria"]), with
         their sources (criteria.Criteria.sources, [criteria.sources]);
     raw: the TOML mapping after the overrides; values: validated {table: {field: value}} (SI);
     overridden: the dotted paths set by `--set` (errors about them name "--set");
-    warnings: one line per value far outside building practice (deck_schema.plausibility);
-    resolved: `raw` with every number in bare SI (deck_schema.si_mapping: the resolved deck).
+    warnings: one line per value far outside building practice (practice.plausibility);
+    resolved: `raw` with every number in bare SI (schema.si_mapping: the resolved deck).
     """
 
     source: str
@@ -158,7 +159,7 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     criteria = Criteria(values["criteria"], values["criteria.sources"])
     return Deck(source, values[""].get("title", Path(source).stem), system, ground_motion, spectrum,
                 analysis, criteria, raw, values, overridden,
-                tuple(schema.plausibility(values, source, overridden)), schema.si_mapping(raw, values))
+                tuple(plausibility(values, source, overridden)), schema.si_mapping(raw, values))
 
 
 def _system_and_analysis(values: dict, source: str, error, load_ground_motion: bool

@@ -1,5 +1,5 @@
 """`--set PATH=VALUE` overrides of a deck: the value read as TOML, the path checked against the
-deck's schema (deck_schema.TABLES), and the raw deck with each override applied, a member of a
+deck's schema (deck/schema.TABLES), and the raw deck with each override applied, a member of a
 group of alternatives (foundation.b or foundation.slenderness ...) replacing the others.
 Pure functions of the parsed TOML; errors are InputError("--set", field, expected).
 """

@@ -1,5 +1,6 @@
 """The range of building practice of a field (Field.plausible): words for a checked value far
-outside it, a warning of a likely unit mistake and not an error (deck/schema.plausibility)."""
+outside it (implausible), and one warning per such field of a deck (plausibility): a likely unit
+mistake, not an error."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ from typing import Any
 
 from ..units import conversion, system_unit
 from .fields import NUMERIC, Field
+from .schema import TABLES, dotted, set_by_override
 
 
 def implausible(field: Field, value: Any, system: str = "si") -> str | None:
@@ -54,3 +56,32 @@ def _us_unit(field: Field, system: str) -> str | None:
         return None
     unit = system_unit(kind, "us")
     return None if unit == field.unit else unit
+
+
+def plausibility(values: dict[str, dict[str, Any]], source: str, overridden=frozenset()) -> list[str]:
+    """One warning per validated field whose value lies outside the range of building practice
+    its declaration gives (Field.plausible; the design spectrum's keys too), naming the deck
+    ('(--set)' after it for a value of --set) and the field: 'inputs/a.toml: building.floor_mass:
+    300 kg is far outside ...'."""
+    system = values[""].get("units", "si")
+    warnings = []
+    for path, field, value in _declared(values) + _spectrum_declared(values):
+        words = implausible(field, value, system)
+        if words:
+            warnings.append(f"{source}{' (--set)' if set_by_override(path, overridden) else ''}: {path}: {words}")
+    return warnings
+
+
+def _declared(values: dict[str, dict[str, Any]]) -> list[tuple[str, Field, Any]]:
+    """(dotted path, field, value) of every validated deck field."""
+    return [(dotted(table, name), TABLES[table][name], value) for table, fields in values.items()
+            for name, value in fields.items()]
+
+
+def _spectrum_declared(values: dict[str, dict[str, Any]]) -> list[tuple[str, Field, Any]]:
+    """(dotted path, field, value) of every declared key of the design spectrum."""
+    from ..motion.spectrum_fields import SPECTRUM_FIELDS
+
+    spectrum = values.get("ground_motion", {}).get("design_spectrum") or {}
+    return [(f"ground_motion.design_spectrum.{key}", SPECTRUM_FIELDS[key], value) for key, value in spectrum.items()
+            if key in SPECTRUM_FIELDS]

@@ -27,7 +27,6 @@ from ..motion.records import RECORD_FIELDS
 from ..motion.suites import check_entry
 from ..units import STANDARD_GRAVITY, SYSTEMS
 from .fields import NUMERIC, Field, check_value, gather, raise_all, suggestion
-from .practice import implausible
 
 #: the range of building practice of acceptance limits (a value outside: a warning)
 CRITERIA_PLAUSIBLE = {"drift_ratio": (1e-4, 0.1), "base_shear_coefficient": (1e-3, 3.0),
@@ -316,36 +315,7 @@ def _suite_entries(path: str, value: list, source: str, error_for) -> list:
     return entries
 
 
-# ----------------------------------------------------------------------------- plausibility, resolved deck
-
-def plausibility(values: dict[str, dict[str, Any]], source: str, overridden=frozenset()) -> list[str]:
-    """One warning per validated field whose value lies outside the range of building practice
-    its declaration gives (Field.plausible; the design spectrum's keys too), naming the deck
-    ('(--set)' after it for a value of --set) and the field: 'inputs/a.toml: building.floor_mass:
-    300 kg is far outside ...'."""
-    system = values[""].get("units", "si")
-    warnings = []
-    for path, field, value in _declared(values) + _spectrum_declared(values):
-        words = implausible(field, value, system)
-        if words:
-            warnings.append(f"{source}{' (--set)' if set_by_override(path, overridden) else ''}: {path}: {words}")
-    return warnings
-
-
-def _declared(values: dict[str, dict[str, Any]]) -> list[tuple[str, Field, Any]]:
-    """(dotted path, field, value) of every validated deck field."""
-    return [(dotted(table, name), TABLES[table][name], value) for table, fields in values.items()
-            for name, value in fields.items()]
-
-
-def _spectrum_declared(values: dict[str, dict[str, Any]]) -> list[tuple[str, Field, Any]]:
-    """(dotted path, field, value) of every declared key of the design spectrum."""
-    from ..motion.spectrum_fields import SPECTRUM_FIELDS
-
-    spectrum = values.get("ground_motion", {}).get("design_spectrum") or {}
-    return [(f"ground_motion.design_spectrum.{key}", SPECTRUM_FIELDS[key], value) for key, value in spectrum.items()
-            if key in SPECTRUM_FIELDS]
-
+# ----------------------------------------------------------------------------- the resolved deck
 
 def si_mapping(raw: dict, values: dict[str, dict[str, Any]]) -> dict:
     """The deck as a mapping whose numbers are all bare SI numbers: every value given with a
