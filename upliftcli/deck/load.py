@@ -83,9 +83,9 @@ class Deck:
         for path in paths:
             if path in self.overridden:
                 return "--set", path
-        return self.source, next((path for path in paths if self.given(path)), paths[0])
+        return self.source, next((path for path in paths if self._given(path)), paths[0])
 
-    def given(self, path: str) -> bool:
+    def _given(self, path: str) -> bool:
         """Whether the deck (or --set) gives the field at the dotted `path`."""
         table, _, name = path.rpartition(".")
         return name in self.values.get(table, {})

@@ -113,6 +113,7 @@ def _drop_alternatives(table: dict, parent: str, name: str) -> None:
 
 
 def _in_groups(name: str, groups: list[set[str]]) -> bool:
+    """Whether `name` is a member of one of the groups."""
     return any(name in group for group in groups)
 
 

@@ -235,6 +235,11 @@ def _unit_system(raw: dict) -> str:
     return system if system in SYSTEMS else "si"
 
 
+def _no_values() -> dict[str, dict[str, Any]]:
+    """{table: {}} for every table of the deck."""
+    return {table: {} for table in TABLES}
+
+
 @dataclass
 class _Validation:
     """One pass of `validate` over a deck: the checked values {table: {field: value}} and the
@@ -243,7 +248,7 @@ class _Validation:
     source: str
     system: str
     error_for: Callable[[str], Callable[[str], NoReturn]]
-    values: dict[str, dict[str, Any]] = dc_field(default_factory=lambda: {table: {} for table in TABLES})
+    values: dict[str, dict[str, Any]] = dc_field(default_factory=_no_values)
     gathered: list[InputError] = dc_field(default_factory=list)
 
     def table(self, table: str, mapping: dict) -> None:
@@ -259,23 +264,25 @@ class _Validation:
         elif key not in TABLES[table]:
             self.unknown(table, key, path)
         else:
-            self.field(TABLES[table][key], table, key, value)
+            self.field(table, key, value)
 
     def subtable(self, path: str, value: Any) -> None:
+        """A table inside a table (its keys in turn), else an error."""
         if isinstance(value, dict):
             self.table(path, value)
         else:
             gather(self.gathered, self.error_for(path), f"a table [{path}], got {value!r}")
 
     def unknown(self, table: str, key: str, path: str) -> None:
+        """An unknown key: the closest known name suggested."""
         where = f"[{table}]" if table else "the top level"
         gather(self.gathered, self.error_for(path), f"a known field of {where}{suggestion(key, _known_names(table))}; "
                f"unknown key {key!r}")
 
-    def field(self, field: Field, table: str, key: str, value: Any) -> None:
+    def field(self, table: str, key: str, value: Any) -> None:
         """The value checked (check_value) and, inside it, a design spectrum's keys or a suite's entries."""
         path = dotted(table, key)
-        checked = gather(self.gathered, check_value, field, value, self.error_for(path), self.system)
+        checked = gather(self.gathered, check_value, TABLES[table][key], value, self.error_for(path), self.system)
         if checked is not None:
             self.values[table][key] = gather(self.gathered, _nested, path, checked, self.source, self.error_for)
 
