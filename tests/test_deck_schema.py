@@ -7,7 +7,8 @@ from pathlib import Path
 import pytest
 
 from upliftcli.deck import schema as deck_schema
-from upliftcli.deck.schema import plausibility, si_mapping, validate
+from upliftcli.deck.practice import plausibility
+from upliftcli.deck.schema import si_mapping, validate
 from upliftcli.errors import InputError, InputErrors
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -137,7 +137,7 @@ def test_check_mapping_gathers_every_error():
 
 
 def test_implausible_values_are_named_with_the_range():
-    from upliftcli.deck.fields import implausible
+    from upliftcli.deck.practice import implausible
 
     assert implausible(MASS, 350e3) is None and implausible(HEIGHT, 1e9) is None  # no range declared
     assert implausible(MASS, 300.0) == ("300 kg is far outside building practice (1000 to 1e+08 kg): a unit "
@@ -147,7 +147,7 @@ def test_implausible_values_are_named_with_the_range():
 
 
 def test_implausible_values_of_a_us_deck_are_shown_in_its_units_too():
-    from upliftcli.deck.fields import implausible
+    from upliftcli.deck.practice import implausible
 
     height = Field("number", "m", "story height", "positive", plausible=(1.5, 30.0))
     assert implausible(height, 91.44, "us") == ("91.44 m = 300 ft is far outside building practice (1.5 to 30 m = "

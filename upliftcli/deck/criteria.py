@@ -61,17 +61,26 @@ class Outcome:
 
     def message(self) -> str:
         """The one line that reports a violation."""
-        result = self.result
-        label = f"{result.engine}/{result.support}"
-        if isinstance(result, SuiteResult):
-            label += f" ({result.statistic} of {result.count} records)"
+        label = _label(self.result)
         source = f" (source: {self.source})" if self.source else ""
         if self.name == "uplift":
-            under = f" under {result.uplift_count} records" if isinstance(result, SuiteResult) else ""
-            return f"{label}: the mat lifts off{under} (criteria.uplift = false){source}"
+            return f"{label}: the mat lifts off{_under(self.result)} (criteria.uplift = false){source}"
         detail = f" ({self.detail})" if self.detail else ""
         return (f"{label}: {self.name} = {self.value:.4g} exceeds the limit {self.limit:.4g} [{self.unit}]"
                 f"{source}{detail}")
+
+
+def _label(result: AnalysisResult) -> str:
+    """'engine/support', and for a suite the statistic and the number of records."""
+    label = f"{result.engine}/{result.support}"
+    if isinstance(result, SuiteResult):
+        label += f" ({result.statistic} of {result.count} records)"
+    return label
+
+
+def _under(result: AnalysisResult) -> str:
+    """' under k records' of a suite's uplift ('' for one analysis)."""
+    return f" under {result.uplift_count} records" if isinstance(result, SuiteResult) else ""
 
 
 def outcomes(results: Sequence[AnalysisResult], criteria: Mapping, checks: Sequence = ()) -> list[Outcome]:
@@ -80,18 +89,32 @@ def outcomes(results: Sequence[AnalysisResult], criteria: Mapping, checks: Seque
     found = []
     for result in results:
         for name, limit in criteria.items():
-            if name == "uplift":
-                found.append(Outcome(result, name, bool(result.uplift), bool(limit), "-",
-                                     source=source_of(criteria, name)))
-            elif name in ROCKING and name not in result.peaks:
-                continue  # not reported by this engine or support (the deck has the one that reports it)
-            elif name == "simplified_error":
-                found += [replace(_simplified_error(result, check, limit), source=source_of(criteria, name))
-                          for check in checks if result.engine == "simplified" and check.support == result.support]
-            else:
-                found.append(Outcome(result, name, _value(result, name), limit, unit_of(name),
-                                     source=source_of(criteria, name)))
+            found += _outcomes(result, name, limit, source_of(criteria, name), checks)
     return found
+
+
+def _outcomes(result: AnalysisResult, name: str, limit, source: str, checks: Sequence) -> list[Outcome]:
+    """One criterion applied to one result: none for a rocking limit the result does not report (the
+    deck has the engine and support that report it), one per accuracy check for simplified_error."""
+    if name == "uplift":
+        return [Outcome(result, name, bool(result.uplift), bool(limit), "-", source=source)]
+    if name in ROCKING and name not in result.peaks:
+        return []
+    if name == "simplified_error":
+        return _simplified_errors(result, checks, limit, source)
+    return [Outcome(result, name, _value(result, name), limit, unit_of(name), source=source)]
+
+
+def _simplified_errors(result: AnalysisResult, checks: Sequence, limit: float, source: str) -> list[Outcome]:
+    """simplified_error applied to each accuracy check of a simplified result."""
+    return [replace(_simplified_error(result, check, limit), source=source) for check in _checks_of(result, checks)]
+
+
+def _checks_of(result: AnalysisResult, checks: Sequence) -> list:
+    """The accuracy checks of a simplified result (those of its support)."""
+    if result.engine != "simplified":
+        return []
+    return [check for check in checks if check.support == result.support]
 
 
 def _value(result: AnalysisResult, name: str) -> float:

@@ -8,21 +8,23 @@ with `Field`, so a value is checked by the same rule wherever it comes from (a d
 `--vary`, a table read from a file or the Python API): its type, its unit (a number may carry
 one, "11.5 ft"; a bare number is in the deck's unit system, units.py), converted to the
 field's unit, the 1e-30..1e30 limits and the field's range. `check_mapping` checks a table of
-fields and gathers every error; `implausible` compares a value with the range of building
-practice a field declares (a warning, not an error).
+fields and gathers every error; deck/practice.implausible compares a value with the range of
+building practice a field declares (a warning, not an error); deck/choices.py suggests the
+closest name and reads the names of a command-line option (parse_choices).
 """
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from itertools import chain
 from typing import Any, NoReturn
 
 from ..errors import InputError, InputErrors
 from ..runtime.limits import MAX_CONTACT_ELEMENTS, MAX_INTEGER, MAX_MAGNITUDE, MAX_RECORD_DT, MAX_STORIES, MIN_MAGNITUDE
 from ..units import KIND_OF_UNIT, acceleration_unit, conversion, split_quantity, system_unit
+from .choices import parse_choices, suggestion  # noqa: F401 - part of this module's interface
 
 
 @dataclass(frozen=True)
@@ -86,12 +88,6 @@ CHECKS: dict[str, tuple[Callable[[Any], bool], str]] = {
 Error = Callable[[str], NoReturn]
 
 
-def suggestion(name: str, candidates) -> str:
-    """' (did you mean 'x'?)' for the closest candidate, or ''."""
-    close = difflib.get_close_matches(name, list(candidates), n=1, cutoff=0.6)
-    return f" (did you mean '{close[0]}'?)" if close else ""
-
-
 def unit_suffix(field: Field) -> str:
     """' [unit]', or '' for a dimensionless field."""
     return "" if field.unit == "-" else f" [{field.unit}]"
@@ -122,6 +118,11 @@ def _qualifier(field: Field) -> str:
     return f" {words}" if words else ""
 
 
+def _meets_check(field: Field, value: Any) -> bool:
+    """Whether `value` passes the field's range check (CHECKS[field.check])."""
+    return CHECKS[field.check][0](value)
+
+
 def in_field_unit(field: Field, value: Any, system: str = "si") -> float | None:
     """A number of `field` in its own unit: a bare number (in the deck's unit system `system`:
     units.system_unit of the field's quantity) or a text 'number unit' ('11.5 ft') of the
@@ -130,22 +131,33 @@ def in_field_unit(field: Field, value: Any, system: str = "si") -> float | None:
     unit on a dimensionless field)."""
     if system == "si" and is_number(value):
         return value  # a bare SI number: every field's unit is the SI unit of its quantity
-    kind = field.quantity_kind
     if isinstance(value, str):
-        parsed = split_quantity(value)
-        if parsed is None or kind is None:
-            return None
-        number, unit = parsed
-        try:  # a text is a number with its unit ('1.0' alone is a text, not a number)
-            return number * conversion(unit, field.unit) if unit else None
-        except ValueError:
-            return None
+        return _text_in_unit(field, value)
     if not is_number(value):
         return None
-    return _bare(value, field, kind, system) if kind is not None else value
+    return _bare(value, field, system)
 
 
-def _bare(number: float, field: Field, kind: str, system: str) -> float:
+def _text_in_unit(field: Field, text: str) -> float | None:
+    """A text 'number unit' of the field's dimension converted to its unit ('1.0' alone is a text,
+    not a number: None), None for a unit on a dimensionless field or of another dimension."""
+    parsed = split_quantity(text)
+    if parsed is None or field.quantity_kind is None:
+        return None
+    number, unit = parsed
+    if not unit:
+        return None
+    try:
+        return number * conversion(unit, field.unit)
+    except ValueError:
+        return None
+
+
+def _bare(number: float, field: Field, system: str) -> float:
+    """A bare number in the deck's unit system, in the field's unit (a dimensionless one as it is)."""
+    kind = field.quantity_kind
+    if kind is None:
+        return number
     unit = system_unit(kind, system)
     return number if unit == field.unit else number * conversion(unit, field.unit)
 
@@ -162,9 +174,29 @@ def unit_words(field: Field, system: str = "si", value: Any = None) -> str:
     return f" [{unit}]"
 
 
+def _finite(number: float | None) -> bool:
+    """A finite number (None: a value that was not a number of the field)."""
+    return number is not None and math.isfinite(number)
+
+
+def _all_finite(numbers) -> bool:
+    """Every entry a finite number."""
+    return all(_finite(v) for v in numbers)
+
+
+def _all_in_magnitude(numbers) -> bool:
+    """Every entry 0 or of a magnitude the tool takes (in_magnitude)."""
+    return all(in_magnitude(v) for v in numbers)
+
+
+def _list_of(value: Any, types) -> bool:
+    """A non-empty list whose items are all of `types`."""
+    return isinstance(value, list) and bool(value) and all(isinstance(item, types) for item in value)
+
+
 def _number(field: Field, value: Any, error: Error, what: str = "a number", system: str = "si") -> float:
     number = in_field_unit(field, value, system)
-    if number is None or not math.isfinite(number) or not CHECKS[field.check][0](number):
+    if not (_finite(number) and _meets_check(field, number)):
         error(f"{what}{_qualifier(field)}{unit_words(field, system, value)}, got {shown(value)}")
     if not in_magnitude(number):
         error(f"{what}{_qualifier(field)} {MAGNITUDE_WORDS}{unit_suffix(field)}, got {shown(value)}")
@@ -172,11 +204,16 @@ def _number(field: Field, value: Any, error: Error, what: str = "a number", syst
 
 
 def _integer(field: Field, value: Any, error: Error) -> int:
-    if not isinstance(value, int) or isinstance(value, bool) or not CHECKS[field.check][0](value):
+    if not (_is_integer(value) and _meets_check(field, value)):
         error(f"an integer{_qualifier(field)}, got {shown(value)}")
     if value > MAX_INTEGER:
         error(f"an integer{_qualifier(field)} and at most {MAX_INTEGER:,}, got {shown(value)}")
     return int(value)
+
+
+def _is_integer(value: Any) -> bool:
+    """An int (not a bool)."""
+    return isinstance(value, int) and not isinstance(value, bool)
 
 
 def _bool(field: Field, value: Any, error: Error) -> bool:
@@ -188,25 +225,29 @@ def _bool(field: Field, value: Any, error: Error) -> bool:
 def _string(field: Field, value: Any, error: Error) -> str:
     if not isinstance(value, str):
         error(f"a string, got {shown(value)}")
-    if field.check and not CHECKS[field.check][0](value):
+    if not _meets_check(field, value):
         error(f"{CHECKS[field.check][1]}, got {shown(value)}")
-    if field.choices and value not in field.choices:
-        error(f"one of {', '.join(field.choices)}, got {shown(value)}{suggestion(value, field.choices)}")
+    _check_choice(field, value, error, "one of", shown(value))
     return value
+
+
+def _check_choice(field: Field, name: str, error: Error, words: str, got: str) -> None:
+    """`name` one of the field's choices, if it has any (the closest named otherwise)."""
+    if field.choices and name not in field.choices:
+        error(f"{words} {', '.join(field.choices)}, got {got}{suggestion(name, field.choices)}")
 
 
 def _strings(field: Field, value: Any, error: Error) -> list[str]:
     items = [value] if isinstance(value, str) else value
-    if not isinstance(items, list) or not items or not all(isinstance(i, str) for i in items):
+    if not _list_of(items, str):
         error(f"a string or a non-empty array of strings, got {shown(value)}")
     for item in items:
-        if field.choices and item not in field.choices:
-            error(f"one or more of {', '.join(field.choices)}, got {item!r}{suggestion(item, field.choices)}")
+        _check_choice(field, item, error, "one or more of", repr(item))
     return list(dict.fromkeys(items))
 
 
 def _numbers(field: Field, value: Any, error: Error, system: str = "si") -> list[float]:
-    if not isinstance(value, list) or not value:
+    if not (isinstance(value, list) and value):
         error(f"a non-empty array of numbers{_qualifier(field)}{unit_words(field, system)}, got {shown(value)}")
     return [_number(field, v, error, "every entry a number", system) for v in value]
 
@@ -216,34 +257,60 @@ def _number_or_numbers(field: Field, value: Any, error: Error, system: str = "si
         _number(field, value, error, system=system)
 
 
+def _in_unit(field: Field, values: list, system: str) -> list[float | None]:
+    """Each value in the field's unit (in_field_unit: None for one that is not a number of the field)."""
+    return [in_field_unit(field, v, system) for v in values]
+
+
 def _pair(field: Field, value: Any, error: Error, system: str = "si") -> tuple[float, float]:
     """[start, end] with 0 <= start < end, and the field's check of the pair (band-around-one:
     [low, high] with low < 1 < high), named in its words."""
-    pair = [in_field_unit(field, v, system) for v in value] if isinstance(value, list) and len(value) == 2 else None
-    shape, rule = ("[low, high]", CHECKS[field.check][1]) if field.check else ("[start, end]", "0 <= start < end")
-    if not (pair and all(v is not None and math.isfinite(v) for v in pair) and 0 <= pair[0] < pair[1]
-            and CHECKS[field.check][0](pair)):
+    pair = _in_unit(field, value, system) if isinstance(value, list) and len(value) == 2 else None
+    shape, rule = _pair_words(field)
+    if not (pair and _ordered_pair(field, pair)):
         error(f"{shape} with {rule}{unit_words(field, system)}, got {shown(value)}")
-    if not all(in_magnitude(v) for v in pair):
+    if not _all_in_magnitude(pair):
         error(f"{shape} {MAGNITUDE_WORDS}{unit_suffix(field)}, got {shown(value)}")
     return (float(pair[0]), float(pair[1]))
 
 
+def _pair_words(field: Field) -> tuple[str, str]:
+    """(the pair's shape, its rule) in words: those of the field's check, else [start, end]."""
+    if field.check:
+        return "[low, high]", CHECKS[field.check][1]
+    return "[start, end]", "0 <= start < end"
+
+
+def _ordered_pair(field: Field, pair: list[float | None]) -> bool:
+    """Finite numbers with 0 <= start < end that pass the field's check."""
+    return _all_finite(pair) and 0 <= pair[0] < pair[1] and _meets_check(field, pair)
+
+
 def _matrix(field: Field, value: Any, error: Error, system: str = "si") -> list[list[float]]:
-    square = isinstance(value, list) and value and all(isinstance(row, list) for row in value) \
-        and all(len(row) == len(value) for row in value)
-    rows = [[in_field_unit(field, v, system) for v in row] for row in value] if square else None
-    if not (rows and all(v is not None and math.isfinite(v) for row in rows for v in row)):
+    rows = _matrix_rows(field, value, system)
+    if not (rows and _all_finite(chain.from_iterable(rows))):
         error(f"a square array of arrays of numbers{unit_words(field, system)}, got {shown(value)}")
-    if not all(in_magnitude(v) for row in rows for v in row):
+    if not _all_in_magnitude(chain.from_iterable(rows)):
         error(f"a square array of arrays of numbers {MAGNITUDE_WORDS}{unit_suffix(field)}, got {shown(value)}")
     return [[float(v) for v in row] for row in rows]
+
+
+def _matrix_rows(field: Field, value: Any, system: str) -> list[list[float | None]] | None:
+    """The rows of a square array of arrays in the field's unit (_in_unit), None if not square."""
+    if not _is_square(value):
+        return None
+    return [_in_unit(field, row, system) for row in value]
+
+
+def _is_square(value: Any) -> bool:
+    """A non-empty array of arrays, each as long as the array."""
+    return _list_of(value, list) and all(len(row) == len(value) for row in value)
 
 
 def _files(field: Field, value: Any, error: Error) -> str | list:
     if isinstance(value, str) and value:
         return value
-    if not (isinstance(value, list) and value and all(isinstance(v, (str, dict)) for v in value)):
+    if not _list_of(value, (str, dict)):
         error(f"a folder (string) or a non-empty array of file paths or tables {{file = ...}}, got {shown(value)}")
     return list(value)
 
@@ -271,26 +338,6 @@ CHECKERS: dict[str, Callable[..., Any]] = {
 }
 
 
-def parse_choices(texts, choices, option: str) -> list[str]:
-    """Repeated and/or comma-separated names of a command-line option ('all' = every
-    choice), in the order given; names are matched exactly, as in a deck (InputError naming
-    `option` otherwise)."""
-    names: list[str] = []
-    for text in texts:
-        for name in (part.strip() for part in text.split(",")):
-            if not name:
-                continue
-            if name == "all":
-                names.extend(choices)
-            elif name in choices:
-                names.append(name)
-            else:
-                hint = f" (names are lower case: {name.lower()!r})" if name.lower() in choices \
-                    else suggestion(name, choices)
-                raise InputError(option, name, f"one of {', '.join(choices)} or all{hint}")
-    return list(dict.fromkeys(names))
-
-
 #: field kinds whose values are numbers (with a unit, converted)
 NUMERIC = ("number", "numbers", "number-or-numbers", "pair", "matrix")
 
@@ -313,16 +360,20 @@ def check_mapping(fields: dict[str, Field], mapping: dict, path: str, error_for:
     gathered: list[InputError] = []
     checked: dict[str, Any] = {}
     for key, value in mapping.items():
-        where = f"{path}.{key}" if path else str(key)
-        if key not in fields:
-            gather(gathered, error_for(where), f"{what or 'a known key'}: {', '.join(fields)}"
-                   f"{suggestion(str(key), fields)}; unknown key {key!r}")
-            continue
-        result = gather(gathered, check_value, fields[key], value, error_for(where), system)
+        result = gather(gathered, _check_key, fields, key, value, path, error_for, system, what)
         if result is not None:
             checked[key] = result
     raise_all(gathered)
     return checked
+
+
+def _check_key(fields: dict[str, Field], key: str, value: Any, path: str, error_for: Callable[[str], Error],
+               system: str, what: str) -> Any:
+    """One key of check_mapping: known (else the error names the known keys) and its value checked."""
+    error = error_for(f"{path}.{key}" if path else str(key))
+    if key not in fields:
+        error(f"{what or 'a known key'}: {', '.join(fields)}{suggestion(str(key), fields)}; unknown key {key!r}")
+    return check_value(fields[key], value, error, system)
 
 
 def raiser(source: str) -> Callable[[str], Error]:
@@ -349,26 +400,3 @@ def raise_all(errors: list[InputError]) -> None:
         raise errors[0]
     if errors:
         raise InputErrors(errors)
-
-
-def implausible(field: Field, value: Any, system: str = "si") -> str | None:
-    """Words for a checked value (a number or an array of numbers, in the field's unit) outside
-    the range of building practice the field declares (Field.plausible), or None; in a deck of
-    units `system` "us", the value and the range in its US unit too."""
-    if field.plausible is None or field.kind not in NUMERIC:
-        return None
-    low, high = field.plausible
-    values = value if isinstance(value, (list, tuple)) else [value]
-    flat = [v for item in values for v in (item if isinstance(item, (list, tuple)) else [item])]
-    outside = [v for v in flat if not low <= v <= high]
-    if not outside:
-        return None
-    unit = "" if field.unit == "-" else f" {field.unit}"
-    shown_value, shown_range = f"{outside[0]:.4g}{unit}", f"{low:g} to {high:g}{unit}"
-    kind = field.quantity_kind
-    if system == "us" and kind is not None and system_unit(kind, "us") != field.unit:
-        us = system_unit(kind, "us")
-        factor = conversion(field.unit, us)
-        shown_value += f" = {outside[0] * factor:.4g} {us}"
-        shown_range += f" = {low * factor:.4g} to {high * factor:.4g} {us}"
-    return f"{shown_value} is far outside building practice ({shown_range}): a unit mistake? (the analysis goes on)"

@@ -3,7 +3,7 @@
     deck = load_deck("inputs/ten_story_elcentro.toml", ["building.period=0.5"])
     deck.system, deck.spectrum, deck.analysis ...
 
-Field names, units and defaults: deck_schema.TABLES and docs/deck.md. The [building] and
+Field names, units and defaults: deck/schema.TABLES and docs/deck.md. The [building] and
 [foundation] tables are built in deck/building.py, [ground_motion] in deck/motion.py (a suite:
 deck/suite.py), --set in deck/overrides.py; this module builds [analysis] and [criteria] and
 assembles the Deck. Every bad input raises errors.InputError naming the file (or "--set"), the
@@ -31,7 +31,8 @@ from .building import building_from_fields, system_from_fields
 from .criteria import Criteria
 from .fields import gather, raise_all
 from .motion import check_motion_fields, read_ground_motion
-from .overrides import apply_overrides, parse_override, set_by_override
+from .overrides import apply_overrides, parse_override
+from .practice import plausibility
 
 
 @dataclass
@@ -55,12 +56,12 @@ class Deck:
     ground_motion: a records.Record, a design spectrum, a motion.suites.Suite (whose target is
         the design spectrum), or None (not loaded / not given);
     spectrum: object with .sa(periods [s], damping [-]) -> S_a [m/s^2] for the simplified engine;
-    analysis: AnalysisSettings; criteria: acceptance limits {name: value} (deck_schema "criteria"), with
+    analysis: AnalysisSettings; criteria: acceptance limits {name: value} (schema.TABLES["criteria"]), with
         their sources (criteria.Criteria.sources, [criteria.sources]);
     raw: the TOML mapping after the overrides; values: validated {table: {field: value}} (SI);
     overridden: the dotted paths set by `--set` (errors about them name "--set");
-    warnings: one line per value far outside building practice (deck_schema.plausibility);
-    resolved: `raw` with every number in bare SI (deck_schema.si_mapping: the resolved deck).
+    warnings: one line per value far outside building practice (practice.plausibility);
+    resolved: `raw` with every number in bare SI (schema.si_mapping: the resolved deck).
     """
 
     source: str
@@ -82,11 +83,12 @@ class Deck:
         for path in paths:
             if path in self.overridden:
                 return "--set", path
-        for path in paths:
-            table, _, name = path.rpartition(".")
-            if name in self.values.get(table, {}):
-                return self.source, path
-        return self.source, paths[0]
+        return self.source, next((path for path in paths if self._given(path)), paths[0])
+
+    def _given(self, path: str) -> bool:
+        """Whether the deck (or --set) gives the field at the dotted `path`."""
+        table, _, name = path.rpartition(".")
+        return name in self.values.get(table, {})
 
 
 # ----------------------------------------------------------------------------- loading
@@ -95,21 +97,41 @@ def read_toml(path: str | Path) -> dict:
     """Parse a TOML file; InputError with the line on malformed TOML."""
     source = str(path)
     data = read_input(path, MAX_DECK_BYTES, source, None, "deck file")
+    return _parse_toml(_decoded(data, source), source)
+
+
+def _decoded(data: bytes, source: str) -> str:
+    """The deck's text: UTF-8, a byte-order mark accepted."""
     try:
-        text = data.decode("utf-8-sig")  # a byte-order mark is accepted
+        return data.decode("utf-8-sig")
     except UnicodeDecodeError as error:
         raise InputError(source, None, f"a readable UTF-8 TOML file ({error})") from None
+
+
+def _parse_toml(text: str, source: str) -> dict:
     try:
         return tomllib.loads(text)
     except RecursionError:
         raise InputError(source, None, "valid TOML (arrays or tables nested too deeply)") from None
     except tomllib.TOMLDecodeError as error:
-        message = str(error)
-        match = re.search(r"\(at line (\d+), column \d+\)", message)
-        line = getattr(error, "lineno", None) or (int(match.group(1)) if match else None)
-        location = f"line {line}" if line else None
-        reason = message[: match.start()].strip() if match else message
-        raise InputError(source, location, f"valid TOML ({reason})") from None
+        raise _toml_error(error, source) from None
+
+
+def _toml_error(error: tomllib.TOMLDecodeError, source: str) -> InputError:
+    """The error of malformed TOML: the line, and the parser's reason without its position."""
+    message = str(error)
+    match = re.search(r"\(at line (\d+), column \d+\)", message)
+    line = _error_line(error, match)
+    reason = message[: match.start()].strip() if match else message
+    return InputError(source, f"line {line}" if line else None, f"valid TOML ({reason})")
+
+
+def _error_line(error: tomllib.TOMLDecodeError, match: re.Match | None) -> int | None:
+    """The line of a TOML error: its lineno (Python 3.14 on), else the one its message names."""
+    lineno = getattr(error, "lineno", None)
+    if lineno:
+        return lineno
+    return int(match.group(1)) if match else None
 
 
 def load_deck(path: str | Path, overrides: Sequence[str] = (), *, load_ground_motion: bool = True) -> Deck:
@@ -126,33 +148,46 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     which relative paths are relative to (default "<mapping>": the working directory)."""
     raw, overridden = apply_overrides(plain(raw), [(path, plain(value)) for path, value in overrides])
     values = schema.validate(raw, source, overridden)
-
-    def error(path: str, expected: str):  # ground_motion.suite[1].file came from --set ground_motion.suite
-        return InputError("--set" if set_by_override(path, overridden) else source, path, expected)
-
-    gathered: list[InputError] = []  # the mistakes of the building, the foundation and the ground motion at once
-    building = gather(gathered, building_from_fields, values["building"], error)
-    system = None if building is None else gather(gathered, system_from_fields, building, values["foundation"],
-                                                  values["analysis"], error)
-    analysis = None if system is None else gather(gathered, _analysis, values["analysis"], values["analysis.exact"],
-                                                  system, error)
-    if analysis is not None:
-        gather(gathered, _check_yielding_elements, system, analysis, error)
-    if analysis is None and load_ground_motion:
-        gather(gathered, check_motion_fields, values["ground_motion"], source, error)
-    raise_all(gathered)
+    error = schema.FieldErrors(source, overridden)  # ground_motion.suite[1].file came from --set ground_motion.suite
+    system, analysis = _system_and_analysis(values, source, error, load_ground_motion)
     ground_motion = spectrum = None
     if load_ground_motion:
         ground_motion, spectrum = read_ground_motion(values["ground_motion"], source, error, system,
                                                      analysis.simplified.effective_properties)
     _check_criteria_have_their_analysis(values["criteria"], analysis, error)
-    for name in values["criteria.sources"]:
-        if name not in values["criteria"]:
-            raise error(f"criteria.sources.{name}", f"the source of a limit the deck sets (criteria.{name} is not set)")
+    _check_sources_have_their_limits(values["criteria"], values["criteria.sources"], error)
     criteria = Criteria(values["criteria"], values["criteria.sources"])
     return Deck(source, values[""].get("title", Path(source).stem), system, ground_motion, spectrum,
                 analysis, criteria, raw, values, overridden,
-                tuple(schema.plausibility(values, source, overridden)), schema.si_mapping(raw, values))
+                tuple(plausibility(values, source, overridden)), schema.si_mapping(raw, values))
+
+
+def _system_and_analysis(values: dict, source: str, error, load_ground_motion: bool
+                         ) -> tuple[System, AnalysisSettings]:
+    """The system and the analysis settings, with the mistakes of the building, the foundation, the
+    analysis and (when these are not all built) the ground motion reported at once."""
+    gathered: list[InputError] = []
+    system, analysis = _gather_structure(gathered, values, error)
+    if analysis is None and load_ground_motion:
+        gather(gathered, check_motion_fields, values["ground_motion"], source, error)
+    raise_all(gathered)
+    return system, analysis
+
+
+def _gather_structure(gathered: list[InputError], values: dict, error
+                      ) -> tuple[System | None, AnalysisSettings | None]:
+    """Building, system and analysis settings, each built when what it rests on was (None
+    otherwise); their mistakes appended to `gathered`."""
+    building = gather(gathered, building_from_fields, values["building"], error)
+    if building is None:
+        return None, None
+    system = gather(gathered, system_from_fields, building, values["foundation"], values["analysis"], error)
+    if system is None:
+        return None, None
+    analysis = gather(gathered, _analysis, values["analysis"], values["analysis.exact"], system, error)
+    if analysis is not None:
+        gather(gathered, _check_yielding_elements, system, analysis, error)
+    return system, analysis
 
 
 def _check_yielding_elements(system: System, analysis: AnalysisSettings, error) -> None:
@@ -174,48 +209,92 @@ def _check_criteria_have_their_analysis(criteria: dict, analysis: AnalysisSettin
     it: the exact engine and the uplift support (with or without a bearing capacity); a limit on
     the simplified engine's accuracy (simplified_error) needs the simplified engine, else it would
     pass unchecked."""
+    _check_accuracy_limit_has_its_engine(criteria, analysis, error)
+    _check_rocking_limits_have_their_analysis(criteria, analysis, error)
+
+
+def _check_accuracy_limit_has_its_engine(criteria: dict, analysis: AnalysisSettings, error) -> None:
+    """criteria.simplified_error needs the simplified engine."""
     if "simplified_error" in criteria and "simplified" not in analysis.engines:
         raise error("criteria.simplified_error", "a limit on the accuracy check of the simplified engine against the "
                     "exact engine (docs/accuracy.md); the deck has not the simplified engine in analysis.engine")
+
+
+def _check_rocking_limits_have_their_analysis(criteria: dict, analysis: AnalysisSettings, error) -> None:
+    """A limit on a rocking quantity needs the exact engine and the uplift support."""
+    missing = _missing_for_rocking(analysis)
+    if not missing:
+        return
     for name in criteria:
-        if name not in ROCKING:
-            continue
-        missing = [what for what, ok in (("the exact engine in analysis.engine", "exact" in analysis.engines),
-                                         ("the uplift support in analysis.supports", "uplift" in analysis.supports))
-                   if not ok]
-        if missing:
+        if name in ROCKING:
             raise error(f"criteria.{name}", f"a limit the exact engine reports for an uplift analysis (docs/theory.md "
                         f"14.7); the deck has not {' and '.join(missing)}")
 
 
+def _missing_for_rocking(analysis: AnalysisSettings) -> list[str]:
+    """What the analysis lacks to report the rocking quantities (the exact engine, the uplift support)."""
+    missing = []
+    if "exact" not in analysis.engines:
+        missing.append("the exact engine in analysis.engine")
+    if "uplift" not in analysis.supports:
+        missing.append("the uplift support in analysis.supports")
+    return missing
+
+
+def _check_sources_have_their_limits(criteria: dict, sources: dict, error) -> None:
+    """A source in [criteria.sources] only for a limit the deck sets."""
+    for name in sources:
+        if name not in criteria:
+            raise error(f"criteria.sources.{name}", f"the source of a limit the deck sets (criteria.{name} is not set)")
+
+
 def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSettings:
-    n_total = system.building.n_stories
+    """The [analysis] and [analysis.exact] settings: engines, supports, modes and options."""
     which = schema.exactly_one(fields, ["modes", "mass_participation"], "analysis", error)
-    if which == "modes":
-        if fields["modes"] > n_total:
-            raise error("analysis.modes", f"at most {n_total} modes (the building has {n_total} stories), "
-                        f"got {fields['modes']}")
-        n_modes = fields["modes"]
-    elif which == "mass_participation":
-        n_modes = modes_for_mass_target(system.modes, float(system.building.masses.sum()),
-                                        fields["mass_participation"])
-    else:
-        n_modes = n_total
-    if exact.get("n_modes", 0) > n_total:
-        raise error("analysis.exact.n_modes", f"at most {n_total} modes, got {exact['n_modes']}")
-    simplified = SimplifiedOptions(n_modes=n_modes, **{name: fields[name] for name in deck_fields(SimplifiedOptions)
-                                                       if name in fields})
-    exact_values = dict(exact)
-    exact_values.setdefault("n_modes", n_modes if which else None)
+    n_modes = _mode_count(fields, which, system, error)
+    _check_exact_modes(exact, system.building.n_stories, error)
     return AnalysisSettings(
         engines=list(fields.get("engine", schema.default("analysis", "engine"))),
         supports=list(fields.get("supports", schema.default("analysis", "supports"))),
         n_modes=n_modes,
-        simplified=simplified,
-        exact=ExactOptions(**exact_values),
+        simplified=_simplified_options(fields, n_modes),
+        exact=_exact_options(exact, n_modes if which else None),
         check_band=_band(fields, "check_band"),
         check_band_motion=_band(fields, "check_band_motion"),
     )
+
+
+def _mode_count(fields: dict, which: str | None, system: System, error) -> int:
+    """The number of modes: analysis.modes (at most N), the fewest reaching analysis.mass_participation,
+    or all N."""
+    n_total = system.building.n_stories
+    if which == "modes":
+        if fields["modes"] > n_total:
+            raise error("analysis.modes", f"at most {n_total} modes (the building has {n_total} stories), "
+                        f"got {fields['modes']}")
+        return fields["modes"]
+    if which == "mass_participation":
+        return modes_for_mass_target(system.modes, float(system.building.masses.sum()), fields["mass_participation"])
+    return n_total
+
+
+def _check_exact_modes(exact: dict, n_total: int, error) -> None:
+    """analysis.exact.n_modes at most N."""
+    if exact.get("n_modes", 0) > n_total:
+        raise error("analysis.exact.n_modes", f"at most {n_total} modes, got {exact['n_modes']}")
+
+
+def _simplified_options(fields: dict, n_modes: int) -> SimplifiedOptions:
+    """The simplified engine's options of [analysis]."""
+    return SimplifiedOptions(n_modes=n_modes, **{name: fields[name] for name in deck_fields(SimplifiedOptions)
+                                                 if name in fields})
+
+
+def _exact_options(exact: dict, n_modes: int | None) -> ExactOptions:
+    """The exact engine's options of [analysis.exact], n_modes those of [analysis] unless it sets its own."""
+    values = dict(exact)
+    values.setdefault("n_modes", n_modes)
+    return ExactOptions(**values)
 
 
 def _band(fields: dict, name: str) -> tuple[float, float]:

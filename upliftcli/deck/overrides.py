@@ -1,5 +1,5 @@
 """`--set PATH=VALUE` overrides of a deck: the value read as TOML, the path checked against the
-deck's schema (deck_schema.TABLES), and the raw deck with each override applied, a member of a
+deck's schema (deck/schema.TABLES), and the raw deck with each override applied, a member of a
 group of alternatives (foundation.b or foundation.slenderness ...) replacing the others.
 Pure functions of the parsed TOML; errors are InputError("--set", field, expected).
 """
@@ -36,17 +36,32 @@ FOUNDATION_FIELDS = {kind: set(cls.deck_fields) for kind, cls in FOUNDATIONS.ite
 
 def parse_override(text: str) -> tuple[str, Any]:
     """'a.b=value' -> ('a.b', value); the value is read as a TOML value, else as a bare string."""
+    path, value_text = _split_override(text)
+    _check_known_path(path)
+    if not _one_line(value_text):
+        raise InputError("--set", path, "a value on one line (without line breaks or control characters)")
+    return path, toml_value(value_text)
+
+
+def _split_override(text: str) -> tuple[str, str]:
+    """'a.b = value' -> ('a.b', 'value')."""
     path, sep, value_text = text.partition("=")
     path = path.strip()
     if not sep or not path:
         raise InputError("--set", text, "PATH=VALUE, e.g. building.period=0.5")
+    return path, value_text.strip()
+
+
+def _check_known_path(path: str) -> None:
+    """A dotted path of a deck field (schema.known_path), else the closest one suggested."""
     if not schema.known_path(path):
         candidates = schema.all_paths()
         raise InputError("--set", path, f"a known deck field{schema.suggestion(path, candidates)}")
-    value_text = value_text.strip()
-    if any(not (ch.isprintable() or ch == "\t") for ch in value_text):
-        raise InputError("--set", path, "a value on one line (without line breaks or control characters)")
-    return path, toml_value(value_text)
+
+
+def _one_line(text: str) -> bool:
+    """No line break or control character (a tab is allowed)."""
+    return all(ch.isprintable() or ch == "\t" for ch in text)
 
 
 def toml_value(text: str) -> Any:
@@ -65,26 +80,70 @@ def apply_overrides(raw: dict, overrides: Iterable[tuple[str, Any]]) -> tuple[di
     result = copy.deepcopy(raw)
     paths = []
     for path, value in overrides:
-        parts = path.split(".")
-        table = result
-        for part in parts[:-1]:
-            if not isinstance(table.get(part), dict):
-                table[part] = {}
-            table = table[part]
-        parent, name = ".".join(parts[:-1]), parts[-1]
-        for group_table, groups in ALTERNATIVES:
-            if group_table == parent and any(name in group for group in groups):
-                for group in groups:
-                    if name not in group:
-                        for other in group:
-                            table.pop(other, None)
-                            for companion in COMPANIONS.get(other, ()) if group_table == "foundation" else ():
-                                table.pop(companion, None)
-        if path == "foundation.type" and isinstance(value, str) and value in FOUNDATION_FIELDS:
-            for kind, names in FOUNDATION_FIELDS.items():  # fields of the replaced type go
-                if kind != value:
-                    for other in names:
-                        table.pop(other, None)
-        table[name] = value
+        _apply(result, path, value)
         paths.append(path)
     return result, frozenset(paths)
+
+
+def _apply(result: dict, path: str, value: Any) -> None:
+    """One override set in `result`, after the fields it replaces are removed."""
+    table = _table_of(result, path)
+    parent, _, name = path.rpartition(".")
+    _drop_alternatives(table, parent, name)
+    if _is_foundation_type(path, value):
+        _drop_other_types(table, value)
+    table[name] = value
+
+
+def _table_of(result: dict, path: str) -> dict:
+    """The table that holds the field at `path` (created, or replacing a value that is not a table, on the way)."""
+    table = result
+    for part in path.split(".")[:-1]:
+        if not isinstance(table.get(part), dict):
+            table[part] = {}
+        table = table[part]
+    return table
+
+
+def _drop_alternatives(table: dict, parent: str, name: str) -> None:
+    """Remove the other members of each group of alternatives of `parent` that `name` is in."""
+    for group_table, groups in ALTERNATIVES:
+        if group_table == parent and _in_groups(name, groups):
+            _drop_other_groups(table, group_table, groups, name)
+
+
+def _in_groups(name: str, groups: list[set[str]]) -> bool:
+    """Whether `name` is a member of one of the groups."""
+    return any(name in group for group in groups)
+
+
+def _drop_other_groups(table: dict, group_table: str, groups: list[set[str]], name: str) -> None:
+    """Remove the members of the groups `name` is not in; of [foundation], with their companions (a bearing
+    capacity's, model/bearing.COMPANIONS)."""
+    for other in _other_members(groups, name):
+        table.pop(other, None)
+        for companion in _companions(group_table, other):
+            table.pop(companion, None)
+
+
+def _other_members(groups: list[set[str]], name: str) -> list[str]:
+    """The members of the groups `name` is not in."""
+    return [other for group in groups if name not in group for other in group]
+
+
+def _companions(group_table: str, name: str) -> tuple[str, ...]:
+    """The fields that go with the foundation field `name` (none elsewhere)."""
+    return COMPANIONS.get(name, ()) if group_table == "foundation" else ()
+
+
+def _is_foundation_type(path: str, value: Any) -> bool:
+    """A --set of foundation.type to a known type."""
+    return path == "foundation.type" and isinstance(value, str) and value in FOUNDATION_FIELDS
+
+
+def _drop_other_types(table: dict, kind: str) -> None:
+    """Remove the fields of the foundation types other than `kind`."""
+    for other, names in FOUNDATION_FIELDS.items():
+        if other != kind:
+            for name in names:
+                table.pop(name, None)

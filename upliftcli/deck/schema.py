@@ -10,8 +10,11 @@ in deck/load.py, deck/building.py and deck/motion.py.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from typing import Any
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from dataclasses import field as dc_field
+from functools import partial
+from typing import Any, NoReturn
 
 from ..engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from ..engines.quantities import QUANTITIES, ROCKING, SCALARS
@@ -23,7 +26,7 @@ from ..motion.design_spectra import check_keys
 from ..motion.records import RECORD_FIELDS
 from ..motion.suites import check_entry
 from ..units import STANDARD_GRAVITY, SYSTEMS
-from .fields import NUMERIC, Field, check_value, gather, implausible, raise_all, raiser, suggestion
+from .fields import NUMERIC, Field, check_value, gather, raise_all, suggestion
 
 #: the range of building practice of acceptance limits (a value outside: a warning)
 CRITERIA_PLAUSIBLE = {"drift_ratio": (1e-4, 0.1), "base_shear_coefficient": (1e-3, 3.0),
@@ -144,10 +147,9 @@ def known_path(path: str) -> bool:
     """Whether a dotted path names a deck field (or lies inside a pass-through table)."""
     parts = path.split(".")
     for depth in range(len(parts) - 1, -1, -1):
-        table, rest = ".".join(parts[:depth]), parts[depth:]
-        if table in TABLES and rest and rest[0] in TABLES[table]:
-            field = TABLES[table][rest[0]]
-            return len(rest) == 1 or field.kind == "table"
+        field = TABLES.get(".".join(parts[:depth]), {}).get(parts[depth])
+        if field is not None:
+            return depth == len(parts) - 1 or field.kind == "table"
     return False
 
 
@@ -158,8 +160,35 @@ def all_paths() -> list[str]:
 def set_by_override(path: str, overridden) -> bool:
     """Whether the field at `path` came from a --set: the path itself or a table or array it is
     in (ground_motion.design_spectrum.sds, ground_motion.suite[1].file) was overridden."""
-    return bool(overridden) and (path in overridden or any(path[:i] in overridden for i, ch in enumerate(path)
-                                                           if ch in ".["))
+    if not overridden:
+        return False
+    return any(container in overridden for container in _containers(path))
+
+
+def _containers(path: str) -> list[str]:
+    """The path and the tables and arrays it lies in: 'a.b[1].c' -> a.b[1].c, a, a.b, a.b[1]."""
+    return [path, *(path[:i] for i, ch in enumerate(path) if ch in ".[")]
+
+
+@dataclass(frozen=True)
+class FieldErrors:
+    """The errors of the deck `source`'s fields: each names "--set" for a value that came from an
+    override (or lies inside one, set_by_override), else the deck."""
+
+    source: str
+    overridden: frozenset[str] = frozenset()
+
+    def __call__(self, path: str, expected: str) -> InputError:
+        """The InputError of the field at `path` (to raise)."""
+        return InputError("--set" if set_by_override(path, self.overridden) else self.source, path, expected)
+
+    def raise_at(self, path: str, expected: str) -> NoReturn:
+        """Raise the InputError of the field at `path`."""
+        raise self(path, expected)
+
+    def raiser(self, path: str) -> Callable[[str], NoReturn]:
+        """error(expected) that raises the field's InputError (the error_for of fields.check_mapping)."""
+        return partial(self.raise_at, path)
 
 
 def default(table: str, name: str) -> Any:
@@ -172,10 +201,17 @@ def exactly_one(fields: dict, names: Sequence[str], table: str, error) -> str | 
     given: error(path, expected) raised."""
     given = [name for name in names if name in fields]
     if len(given) > 1:
-        raise error(f"{table}.{given[1]}", f"only one of {', '.join(f'{table}.{n}' for n in names)} "
-                    f"(both {given[0]} and {given[1]} given)")
-    return given[0] if given else None
+        raise error(f"{table}.{given[1]}", f"only one of {_listed(table, names)} (both {given[0]} and {given[1]} "
+                    "given)")
+    return next(iter(given), None)
 
+
+def _listed(table: str, names: Sequence[str]) -> str:
+    """'table.a, table.b'."""
+    return ", ".join(f"{table}.{name}" for name in names)
+
+
+# ----------------------------------------------------------------------------- validation
 
 def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -> dict[str, dict[str, Any]]:
     """Check every key, type, unit and range; return {table: {field: value}} with only the given
@@ -187,42 +223,84 @@ def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -
     errors.InputErrors (one line each). Values that came from `--set` are reported with source
     "--set".
     """
-    values: dict[str, dict[str, Any]] = {table: {} for table in TABLES}
-    gathered: list[InputError] = []
+    walk = _Validation(source, _unit_system(raw), FieldErrors(source, overridden).raiser)
+    walk.table("", raw)
+    raise_all(walk.gathered)
+    return walk.values
 
-    def error_for(path: str):  # a value that came from a --set (or inside one) names "--set"
-        def error(expected: str):
-            raiser("--set" if set_by_override(path, overridden) else source)(path)(expected)
-        return error
 
-    system = raw.get("units", "si") if raw.get("units", "si") in SYSTEMS else "si"
+def _unit_system(raw: dict) -> str:
+    """The deck's unit system (an unknown one is reported by its field: read as SI meanwhile)."""
+    system = raw.get("units", "si")
+    return system if system in SYSTEMS else "si"
 
-    def walk(table: str, mapping: dict) -> None:
-        fields = TABLES[table]
+
+def _no_values() -> dict[str, dict[str, Any]]:
+    """{table: {}} for every table of the deck."""
+    return {table: {} for table in TABLES}
+
+
+@dataclass
+class _Validation:
+    """One pass of `validate` over a deck: the checked values {table: {field: value}} and the
+    errors gathered. error_for(path) -> error(expected) naming the deck or "--set"."""
+
+    source: str
+    system: str
+    error_for: Callable[[str], Callable[[str], NoReturn]]
+    values: dict[str, dict[str, Any]] = dc_field(default_factory=_no_values)
+    gathered: list[InputError] = dc_field(default_factory=list)
+
+    def table(self, table: str, mapping: dict) -> None:
+        """Every key of the table `table` (a subtable in turn)."""
         for key, value in mapping.items():
-            path = dotted(table, key)
-            if path in TABLES and SUBTABLES.get(path, "") == table:
-                if isinstance(value, dict):
-                    walk(path, value)
-                else:
-                    gather(gathered, error_for(path), f"a table [{path}], got {value!r}")
-                continue
-            if key not in fields:
-                names = list(fields) + [name.rsplit(".", 1)[-1] for name, parent in SUBTABLES.items()
-                                        if parent == table]
-                if table == "":
-                    names += [name for name in TABLES if name and "." not in name]
-                where = f"[{table}]" if table else "the top level"
-                gather(gathered, error_for(path), f"a known field of {where}{suggestion(key, names)}; unknown key "
-                       f"{key!r}")
-                continue
-            checked = gather(gathered, check_value, fields[key], value, error_for(path), system)
-            if checked is not None:
-                values[table][key] = gather(gathered, _nested, path, checked, source, error_for)
+            self.entry(table, key, value)
 
-    walk("", raw)
-    raise_all(gathered)
-    return values
+    def entry(self, table: str, key: str, value: Any) -> None:
+        """One key of `table`: a subtable, an unknown key or a field."""
+        path = dotted(table, key)
+        if _is_subtable(path, table):
+            self.subtable(path, value)
+        elif key not in TABLES[table]:
+            self.unknown(table, key, path)
+        else:
+            self.field(table, key, value)
+
+    def subtable(self, path: str, value: Any) -> None:
+        """A table inside a table (its keys in turn), else an error."""
+        if isinstance(value, dict):
+            self.table(path, value)
+        else:
+            gather(self.gathered, self.error_for(path), f"a table [{path}], got {value!r}")
+
+    def unknown(self, table: str, key: str, path: str) -> None:
+        """An unknown key: the closest known name suggested."""
+        where = f"[{table}]" if table else "the top level"
+        gather(self.gathered, self.error_for(path), f"a known field of {where}{suggestion(key, _known_names(table))}; "
+               f"unknown key {key!r}")
+
+    def field(self, table: str, key: str, value: Any) -> None:
+        """The value checked (check_value) and, inside it, a design spectrum's keys or a suite's entries."""
+        path = dotted(table, key)
+        checked = gather(self.gathered, check_value, TABLES[table][key], value, self.error_for(path), self.system)
+        if checked is not None:
+            self.values[table][key] = gather(self.gathered, _nested, path, checked, self.source, self.error_for)
+
+
+def _is_subtable(path: str, table: str) -> bool:
+    """Whether `path` names a table inside `table` (a top-level table inside the top level "")."""
+    return path in TABLES and SUBTABLES.get(path, "") == table
+
+
+def _known_names(table: str) -> list[str]:
+    """The names a key of `table` may take (its fields, its subtables; at the top level, the tables)."""
+    names = list(TABLES[table]) + [name.rsplit(".", 1)[-1] for name, parent in SUBTABLES.items() if parent == table]
+    return names + _top_tables() if table == "" else names
+
+
+def _top_tables() -> list[str]:
+    """The tables of the top level ([building], [foundation] ...)."""
+    return [name for name in TABLES if name and "." not in name]
 
 
 def _nested(path: str, value: Any, source: str, error_for) -> Any:
@@ -231,57 +309,78 @@ def _nested(path: str, value: Any, source: str, error_for) -> Any:
     if path == "ground_motion.design_spectrum":
         return check_keys(value, source, path, error_for)
     if path == "ground_motion.suite" and isinstance(value, list):
-        gathered: list[InputError] = []
-        entries = [item if isinstance(item, str) else gather(gathered, check_entry, item, source, f"{path}[{k}]",
-                                                             error_for) for k, item in enumerate(value)]
-        raise_all(gathered)
-        return entries
+        return _suite_entries(path, value, source, error_for)
     return value
 
 
-def plausibility(values: dict[str, dict[str, Any]], source: str, overridden=frozenset()) -> list[str]:
-    """One warning per validated field whose value lies outside the range of building practice
-    its declaration gives (Field.plausible; the design spectrum's keys too), naming the deck
-    ('(--set)' after it for a value of --set) and the field: 'inputs/a.toml: building.floor_mass:
-    300 kg is far outside ...'."""
-    from ..motion.spectrum_fields import SPECTRUM_FIELDS
+def _suite_entries(path: str, value: list, source: str, error_for) -> list:
+    """The entries of a suite: a path as it is, a table checked (suites.check_entry); every error gathered."""
+    gathered: list[InputError] = []
+    entries = [item if isinstance(item, str) else gather(gathered, check_entry, item, source, f"{path}[{k}]",
+                                                         error_for) for k, item in enumerate(value)]
+    raise_all(gathered)
+    return entries
 
-    found = [(dotted(table, name), TABLES[table][name], value) for table, fields in values.items()
-             for name, value in fields.items()]
-    spectrum = values.get("ground_motion", {}).get("design_spectrum") or {}
-    found += [(f"ground_motion.design_spectrum.{key}", SPECTRUM_FIELDS[key], value) for key, value in spectrum.items()
-              if key in SPECTRUM_FIELDS]
-    system = values[""].get("units", "si")
-    warnings = []
-    for path, field, value in found:
-        words = implausible(field, value, system)
-        if words:
-            warnings.append(f"{source}{' (--set)' if set_by_override(path, overridden) else ''}: {path}: {words}")
-    return warnings
 
+# ----------------------------------------------------------------------------- the resolved deck
 
 def si_mapping(raw: dict, values: dict[str, dict[str, Any]]) -> dict:
     """The deck as a mapping whose numbers are all bare SI numbers: every value given with a
     unit, or under `units = "us"`, replaced by its checked SI value, and `units` dropped (the
     resolved deck, docs/provenance.md). A deck written in SI with bare numbers is `raw` itself
     (not copied: sweeps build a deck per case)."""
-    changed = []
-    for table, fields in values.items():
-        given = raw
-        for part in table.split(".") if table else []:
-            given = given.get(part, {})
-        for name, value in fields.items():
-            value = list(value) if isinstance(value, tuple) else value
-            if (TABLES[table][name].kind in NUMERIC or name in ("design_spectrum", "suite")) \
-                    and given.get(name) != value:
-                changed.append((table, name, value))
+    changed = _all_changed(raw, values)
     if not changed and "units" not in raw:
         return raw
+    return _resolved(raw, changed)
+
+
+def _all_changed(raw: dict, values: dict[str, dict[str, Any]]) -> list[tuple[str, str, Any]]:
+    """(table, name, checked value) of every field to replace, table by table."""
+    return [item for table, fields in values.items() for item in _changed(table, fields, _given(raw, table))]
+
+
+def _resolved(raw: dict, changed: list[tuple[str, str, Any]]) -> dict:
+    """A copy of `raw` without `units`, with the changed values (the tables on their way copied)."""
     result = {key: value for key, value in raw.items() if key != "units"}
     for table, name, value in changed:
-        target = result
-        for part in table.split(".") if table else []:
-            target[part] = dict(target[part])  # copied on the way down: raw is left as it was
-            target = target[part]
-        target[name] = value
+        _copied_table(result, table)[name] = value
     return result
+
+
+def _changed(table: str, fields: dict[str, Any], given: dict) -> list[tuple[str, str, Any]]:
+    """(table, name, checked value) of the numeric fields (and the design spectrum and suite) whose
+    checked value differs from the one given."""
+    changed = []
+    for name, value in fields.items():
+        value = list(value) if isinstance(value, tuple) else value
+        if _resolved_field(table, name) and given.get(name) != value:
+            changed.append((table, name, value))
+    return changed
+
+
+def _resolved_field(table: str, name: str) -> bool:
+    """Whether the resolved deck carries the checked value of the field (numbers, the design spectrum, the suite)."""
+    return TABLES[table][name].kind in NUMERIC or name in ("design_spectrum", "suite")
+
+
+def _parts(table: str) -> list[str]:
+    """The names on the way down to a (dotted) table; none for the top level."""
+    return table.split(".") if table else []
+
+
+def _given(raw: dict, table: str) -> dict:
+    """The table as the deck gives it ({} if it does not)."""
+    given = raw
+    for part in _parts(table):
+        given = given.get(part, {})
+    return given
+
+
+def _copied_table(result: dict, table: str) -> dict:
+    """The table in `result`, copied on the way down (raw is left as it was)."""
+    target = result
+    for part in _parts(table):
+        target[part] = dict(target[part])
+        target = target[part]
+    return target

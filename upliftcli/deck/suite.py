@@ -25,6 +25,7 @@ from ..motion.code_rules import RULES, CodeRule
 from ..motion.design_spectra import ASCE7MultiPeriodSpectrum, ASCE7Spectrum, EC8Spectrum
 from ..motion.levels import suite_target
 from ..motion.suites import Suite, build_suite, check_target, entry_origins, read_records, suite_entries
+from .schema import FieldErrors
 
 #: ground_motion.statistics -> damping correction of a table spectrum that names none
 TABLE_CORRECTION = {"asce7-22": "asce", "ec8": "ec8", "mean": "ec8"}
@@ -71,49 +72,90 @@ def suite_plan(fields: dict, target, system, effective_properties: str, source: 
     rule = RULES[fields.get("statistics") or default_statistics(target)]
     target = suite_target(target, rule.name)
     if "period_range" in fields:
-        period_range = tuple(float(v) for v in fields["period_range"])
-        if period_range[0] <= 0.0:
-            raise error("ground_motion.period_range", f"[lower, upper] with 0 < lower < upper [s], got "
-                        f"{list(period_range)}")
-        note = f"ground_motion.period_range = {period_range[0]:.4g}-{period_range[1]:.4g} s"
+        period_range, note = _deck_period_range(fields, error)
     else:
         period_range, note = structure_period_range(rule, system, effective_properties)
+    _check_target(target, period_range, source, error)
+    return SuitePlan(target, rule, period_range, note)
+
+
+def _deck_period_range(fields: dict, error) -> tuple[tuple[float, float], str]:
+    """ground_motion.period_range [s] (0 < lower) and how it was found."""
+    period_range = tuple(float(v) for v in fields["period_range"])
+    if period_range[0] <= 0.0:
+        raise error("ground_motion.period_range", f"[lower, upper] with 0 < lower < upper [s], got "
+                    f"{list(period_range)}")
+    return period_range, f"ground_motion.period_range = {period_range[0]:.4g}-{period_range[1]:.4g} s"
+
+
+def _check_target(target, period_range: tuple[float, float], source: str, error) -> None:
+    """The target spectrum defined over the period range (suites.check_target), else the range's error."""
     try:
         check_target(target, period_range, source, "ground_motion.period_range")
     except InputError as bad:
         raise error("ground_motion.period_range", bad.expected) from None
-    return SuitePlan(target, rule, period_range, note)
 
 
 def load_suite(fields: dict, plan: SuitePlan, source: str, error: Callable[[str, str], InputError]) -> Suite:
     """Read the deck's suite and scale or match it as `ground_motion.scaling` says; a listed
     record that does not exist names its entry, ground_motion.suite[k], and the folder."""
-    try:
-        entries = suite_entries(fields["suite"], source)
-    except InputError as bad:
-        if bad.source == source and bad.location:
-            raise error(bad.location, bad.expected) from None
-        raise
+    entries = _entries(fields, source, error)
     if isinstance(fields["suite"], list):
-        for k, ((path, _), item) in enumerate(zip(entries, fields["suite"], strict=True)):
-            if not path.exists():
-                given = item if isinstance(item, str) else item["file"]
-                where = f"ground_motion.suite[{k}]" + ("" if isinstance(item, str) else ".file")
-                raise error(where, not_found(path, given, source))
+        _check_listed_files(entries, fields["suite"], source, error)
     records = []
     for k, entry in enumerate(entries):
-        try:
-            records += read_records([entry])
-        except InputError as bad:  # an option the entry gives that does not suit its file: the deck's mistake
-            if bad.source == str(entry[0]) and bad.location in entry[1]:
-                raise error(f"ground_motion.suite[{k}].{bad.location}", bad.expected) from None
-            raise
+        records += _read_entry(k, entry, error)
+    return _scaled(records, entries, fields, plan, source, error)
+
+
+def _in_deck(bad: InputError, source: str) -> bool:
+    """An error located at a field of the deck file itself (to report through the deck's error)."""
+    return bad.source == source and bool(bad.location)
+
+
+def _entries(fields: dict, source: str, error) -> list:
+    """The suite's entries (suites.suite_entries): (path, options) of each record."""
+    try:
+        return suite_entries(fields["suite"], source)
+    except InputError as bad:
+        if _in_deck(bad, source):
+            raise error(bad.location, bad.expected) from None
+        raise
+
+
+def _check_listed_files(entries: list, listed: list, source: str, error) -> None:
+    """Every record file the deck lists exists (the error names its entry)."""
+    for k, ((path, _), item) in enumerate(zip(entries, listed, strict=True)):
+        if not path.exists():
+            where, given = _listed_file(k, item)
+            raise error(where, not_found(path, given, source))
+
+
+def _listed_file(k: int, item: str | dict) -> tuple[str, str]:
+    """(deck field, path as written) of the suite's entry k: a path, or a table's file."""
+    if isinstance(item, str):
+        return f"ground_motion.suite[{k}]", item
+    return f"ground_motion.suite[{k}].file", item["file"]
+
+
+def _read_entry(k: int, entry, error) -> list:
+    """The records of entry k; an option the entry gives that does not suit its file is the deck's mistake."""
+    try:
+        return read_records([entry])
+    except InputError as bad:
+        if bad.source == str(entry[0]) and bad.location in entry[1]:
+            raise error(f"ground_motion.suite[{k}].{bad.location}", bad.expected) from None
+        raise
+
+
+def _scaled(records: list, entries: list, fields: dict, plan: SuitePlan, source: str, error) -> Suite:
+    """The suite scaled or matched to the plan's target (suites.build_suite)."""
     try:
         return build_suite(records, plan.target, plan.period_range, plan.rule, fields.get("scaling", "none"),
                            bool(fields.get("suite_factor", False)), plan.period_note, source=source,
                            made=entry_origins(entries))
     except InputError as bad:
-        if bad.source == source and bad.location and not bad.location.startswith("ground_motion."):
+        if _in_deck(bad, source) and not bad.location.startswith("ground_motion."):
             raise error(f"ground_motion.{bad.location}", bad.expected) from None
         raise
 
@@ -128,7 +170,7 @@ def target_spectrum(fields: dict, source: str, error: Callable[[str, str], Input
         return from_mapping(fields["design_spectrum"], source, "ground_motion.design_spectrum",
                             default_correction=TABLE_CORRECTION[fields.get("statistics", "mean")])
     except InputError as bad:
-        if bad.source == source and bad.location:
+        if _in_deck(bad, source):
             raise error(bad.location, bad.expected) from None
         raise
 
@@ -136,13 +178,8 @@ def target_spectrum(fields: dict, source: str, error: Callable[[str, str], Input
 def plan_from_deck(deck) -> SuitePlan:
     """The SuitePlan of a deck loaded without its ground motion (load_deck(load_ground_motion=False)):
     its design spectrum, code rule and period range, whether or not its suite exists yet."""
-    from .overrides import set_by_override
-
     fields = deck.values.get("ground_motion", {})
-
-    def error(path: str, expected: str) -> InputError:
-        return InputError("--set" if set_by_override(path, deck.overridden) else deck.source, path, expected)
-
+    error = FieldErrors(deck.source, deck.overridden)
     if "design_spectrum" not in fields:
         raise error("ground_motion.design_spectrum", "a design spectrum (the target of the records)")
     target = target_spectrum(fields, deck.source, error)
