@@ -113,3 +113,9 @@ def not_writable(option: str, path, error: OSError, expected: str = "a writable 
     """The InputError of an output that could not be written (a full disk, no permission): the
     option, the path and '<expected> (<the system's reason>)<more>'."""
     return InputError(option, str(path), f"{expected} ({error.strerror or error}){more}")
+
+
+def refuse_directory(out: Path | None) -> None:
+    """--out names a file to write: not an existing directory."""
+    if out is not None and out.is_dir():
+        raise InputError("--out", str(out), "a file name (a directory of that name exists)")
