@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 import typer
 
 from ..runtime.atomic import refuse_existing, refuse_inputs
-from .options import echo_warnings, not_writable
+from .options import echo_warnings, echo_written, not_writable
 
 if TYPE_CHECKING:
     from ..deck.load import Deck
@@ -39,8 +39,7 @@ def write_results(results, out: Path, stem: str, loaded, record: dict | None = N
         written = write(results, out, stem, deck=loaded, provenance=record, checks=checks)
     except OSError as error:
         raise not_writable("--out", out, error) from None
-    for path in written:
-        typer.echo(f"wrote {path}", err=True)
+    echo_written(written)
 
 
 def warn_deck(deck: Deck) -> None:

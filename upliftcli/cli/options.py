@@ -119,3 +119,9 @@ def refuse_directory(out: Path | None) -> None:
     """--out names a file to write: not an existing directory."""
     if out is not None and out.is_dir():
         raise InputError("--out", str(out), "a file name (a directory of that name exists)")
+
+
+def echo_written(paths) -> None:
+    """Each file written, named on stderr."""
+    for path in paths:
+        typer.echo(f"wrote {path}", err=True)
