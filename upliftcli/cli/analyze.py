@@ -22,7 +22,7 @@ from ..errors import InputError
 from ..provenance import record as provenance
 from ..provenance.files import input_files
 from . import plotting, stdout
-from .analyze_steps import EARLIER, refuse_results, result_paths, warn, warn_deck, warn_suite, write_results
+from .analyze_steps import refuse_results, result_paths, warn, warn_deck, warn_suite, write_results
 from .histories import check_histories, write_histories
 from .options import (
     ENGINE_HELP,
@@ -39,9 +39,6 @@ from .options import (
 
 if TYPE_CHECKING:
     from ..deck.load import Deck
-
-__all__ = ["EARLIER", "analyze", "modes", "named_files", "register", "result_paths", "warn_deck"]
-
 
 def named_files(loaded: Deck) -> list[str]:
     """The files a deck names, whether this run reads them or not (`modes` loads no ground motion):
