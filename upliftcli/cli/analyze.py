@@ -172,14 +172,13 @@ def _prepare_deck(deck: Path, loaded: Deck, outputs: _Outputs, check: bool) -> D
 
 def _refuse_outputs(deck: Path, loaded: Deck, outputs: _Outputs) -> None:
     """The files of --out, --plot and --histories: none may be an input, none may exist unless --overwrite."""
-    inputs = input_files(loaded)
     if outputs.out is not None:
-        refuse_results(result_paths(outputs.out, deck.stem), inputs, outputs.overwrite)
+        refuse_results(result_paths(outputs.out, deck.stem), input_files(loaded), outputs.overwrite)
     if outputs.plot is not None:
-        plotting.check_outputs(plotting.figure_paths(loaded, outputs.plot, deck.stem, outputs.formats), inputs,
-                               outputs.overwrite)
+        plotting.check_outputs(plotting.figure_paths(loaded, outputs.plot, deck.stem, outputs.formats),
+                               input_files(loaded), outputs.overwrite)
     if outputs.histories is not None:
-        check_histories(outputs.histories, loaded, inputs, outputs.overwrite)
+        check_histories(outputs.histories, loaded, input_files(loaded), outputs.overwrite)
 
 
 def _write_outputs(deck: Path, loaded: Deck, results, checks: list, outputs: _Outputs) -> None:
