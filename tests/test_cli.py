@@ -126,3 +126,37 @@ def test_numpy_runtime_warnings_never_reach_the_terminal():
         result = CliRunner().invoke(app, ["noisy"])
     assert result.exit_code == 0 and "done" in result.stderr
     assert [type(w.message) for w in shown if issubclass(w.category, Warning)] == [UserWarning]
+
+
+#: the command modules of the CLI whose imports must run one way (the record commands' circle, issue 34)
+ONE_WAY = ("analyze", "analyze_batch", "analyze_steps", "options", "record", "record_options", "record_output",
+           "record_select", "record_suite", "report", "sweep", "sweep_execute", "sweep_options")
+
+
+def cli_imports() -> dict[str, set[str]]:
+    """Module of upliftcli/cli -> the modules of upliftcli/cli it imports (at module level or in a function)."""
+    import ast
+
+    folder = Path(__file__).resolve().parent.parent / "upliftcli" / "cli"
+    names = {path.stem for path in folder.glob("*.py")}
+    graph = {}
+    for name in names:
+        found = set()
+        for node in ast.walk(ast.parse((folder / f"{name}.py").read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and node.level == 1:
+                found |= {node.module} if node.module else {alias.name for alias in node.names}
+        graph[name] = found & names - {name}
+    return graph
+
+
+def test_command_modules_import_one_way():
+    """No import circle passes through the command modules (record <-> record_select <-> record_suite was one)."""
+    graph = cli_imports()
+
+    def reaches(start: str, goal: str, seen: set[str]) -> bool:
+        return any(step == goal or (step not in seen and reaches(step, goal, seen | {step}))
+                   for step in graph[start])
+
+    assert [name for name in ONE_WAY if reaches(name, name, set())] == []
+    assert not graph["record_options"] & {"record", "record_select", "record_suite"}
+    assert not graph["record_output"] & {"record", "record_select", "record_suite"}

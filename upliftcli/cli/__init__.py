@@ -39,13 +39,18 @@ class UpliftGroup(TyperGroup):
                 raise
             typer.echo(f"error: {usage_line(error)}", err=True)
             raise typer.Exit(EXIT_INPUT) from None
-        except InputError as error:
-            for line in lines(error):
-                typer.echo(f"error: {line}", err=True)
-            raise typer.Exit(EXIT_INPUT) from None
-        except AnalysisError as error:
-            typer.echo(f"analysis failed: {error}", err=True)
-            raise typer.Exit(EXIT_ANALYSIS) from None
+        except (InputError, AnalysisError) as error:
+            raise typer.Exit(echo_error(error)) from None
+
+
+def echo_error(error: InputError | AnalysisError) -> int:
+    """An InputError as 'error: ...' lines, an AnalysisError as 'analysis failed: ...', on stderr; the exit code."""
+    if isinstance(error, AnalysisError):
+        typer.echo(f"analysis failed: {error}", err=True)
+        return EXIT_ANALYSIS
+    for line in lines(error):
+        typer.echo(f"error: {line}", err=True)
+    return EXIT_INPUT
 
 
 #: click's UsageError as typer ships it (the base of typer.BadParameter)
@@ -54,14 +59,21 @@ USAGE_ERROR = next(cls for cls in typer.BadParameter.__mro__ if cls.__name__ == 
 
 def usage_line(error: Exception) -> str:
     """'--format: 'xml' is not one of 'table', 'json'.' for click's error of a command-line value."""
+    if type(error).__name__ == "MissingParameter":
+        return one_line(error.format_message())
     message = error.message.removeprefix("Value error, ").strip()
     param = getattr(error, "param", None)
-    if type(error).__name__ == "MissingParameter":
-        message = error.format_message()
-    elif param is not None:
-        names = [name for name in param.opts if name.startswith("--")] or param.opts or [param.name or ""]
-        return one_line(f"{names[0] if param.param_type_name == 'option' else param.human_readable_name}: {message}")
-    return one_line(message)
+    if param is None:
+        return one_line(message)
+    return one_line(f"{_param_name(param)}: {message}")
+
+
+def _param_name(param) -> str:
+    """An option's first long name (--format; else its first name), an argument's name (DECK)."""
+    if param.param_type_name != "option":
+        return param.human_readable_name
+    names = [name for name in param.opts if name.startswith("--")] or param.opts or [param.name or ""]
+    return names[0]
 
 
 app = typer.Typer(
@@ -119,13 +131,8 @@ def main() -> None:
     exit_on_stop_signals()
     try:
         app()
-    except InputError as error:  # raised outside a command (e.g. while parsing)
-        for line in lines(error):
-            typer.echo(f"error: {line}", err=True)
-        raise SystemExit(EXIT_INPUT) from None
-    except AnalysisError as error:
-        typer.echo(f"analysis failed: {error}", err=True)
-        raise SystemExit(EXIT_ANALYSIS) from None
+    except (InputError, AnalysisError) as error:  # raised outside a command (e.g. while parsing)
+        raise SystemExit(echo_error(error)) from None
 
 
 def console() -> None:

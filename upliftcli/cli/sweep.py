@@ -15,8 +15,21 @@ import typer
 from ..errors import InputError
 from ..runtime import limits
 from . import plotting, stdout
-from .options import ENGINE_HELP, SET_HELP, UNITS_HELP, DisplayUnits, OutputFormat, refuse_unchecked
-from .sweep_execute import check_out, execute, warm_workers_early
+from .options import (
+    ENGINE_HELP,
+    EXIT_CRITERIA,
+    SET_HELP,
+    UNITS_HELP,
+    DisplayUnits,
+    OutputFormat,
+    check_out_directory,
+    echo_violations,
+    echo_warnings,
+    echo_written,
+    not_writable,
+    refuse_unchecked,
+)
+from .sweep_execute import execute, warm_workers_early
 from .sweep_options import (
     CHECK_HELP,
     DASK_HELP,
@@ -37,7 +50,7 @@ from .sweep_options import (
 if TYPE_CHECKING:
     from ..sweep.plan import SweepPlan, Vary
 
-EXIT_CRITERIA, EXIT_ANALYSIS, EXIT_INTERRUPTED = 3, 4, 130  # interrupted: 128 + the signal (SIGINT 130)
+EXIT_ANALYSIS, EXIT_INTERRUPTED = 4, 130  # interrupted: 128 + the signal (SIGINT 130)
 #: suite warnings printed before a sweep; the JSON document of a case has them all
 MAX_WARNINGS = 5
 
@@ -45,36 +58,59 @@ MAX_WARNINGS = 5
 def warn_suites(plan: SweepPlan) -> None:
     """The plan's warnings (values of the deck or of a case far outside building practice, the
     suites' too few records for the rule ...), each once, at most MAX_WARNINGS."""
-    for message in plan.warnings[:MAX_WARNINGS]:
-        typer.echo(f"warning: {message}", err=True)
+    echo_warnings(plan.warnings[:MAX_WARNINGS])
     if len(plan.warnings) > MAX_WARNINGS:
         typer.echo(f"warning: and {len(plan.warnings) - MAX_WARNINGS} more about the cases "
                    "(uplift analyze on a case's deck shows them)", err=True)
 
 
 def _write(plan, rows, out, stem, table, summary, record) -> list[Path]:
+    """The tables of the sweep (sweep_table.write_tables); an OSError as one line naming --out."""
     from ..sweep import table as sweep_table
 
     try:
         return sweep_table.write_tables(plan, rows, out, stem, table.value, summary, record)
     except OSError as error:
-        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+        raise not_writable("--out", out, error) from None
 
 
 def _finish(rows: list[dict], criteria: bool) -> None:
     """Failures: exit 4; else criteria violations: exit 3 (each case named on stderr)."""
-    failed = [row for row in rows if row.get("status") != "ok"]
-    for row in failed:
-        typer.echo(f"case {row['case']} ({row['engine']}/{row['support']}) {row['status']}: {row['message']}", err=True)
-    violating = [row for row in rows if row.get("violations")] if criteria else []
-    for row in violating:
-        inputs = ", ".join(f"{k}={v}" for k, v in row.items() if "." in k)
-        typer.echo(f"criterion violated: case {row['case']}{f' ({inputs})' if inputs else ''}: {row['violations']}",
-                   err=True)
+    failed = _echo_failures(rows)
+    violating = _echo_violating(rows) if criteria else []
     if failed:
         raise typer.Exit(EXIT_ANALYSIS)
     if violating:
         raise typer.Exit(EXIT_CRITERIA)
+
+
+def _echo_failures(rows: list[dict]) -> list[dict]:
+    """The cases that failed, each named on stderr with its message."""
+    failed = [row for row in rows if row.get("status") != "ok"]
+    for row in failed:
+        typer.echo(f"case {row['case']} ({row['engine']}/{row['support']}) {row['status']}: {row['message']}", err=True)
+    return failed
+
+
+def _echo_violating(rows: list[dict]) -> list[dict]:
+    """The cases that violate a criterion, each named on stderr with its varied inputs."""
+    violating = [row for row in rows if row.get("violations")]
+    echo_violations([f"case {row['case']}{_case_inputs(row)}: {row['violations']}" for row in violating])
+    return violating
+
+
+def _case_inputs(row: dict) -> str:
+    """' (building.period=0.5, ...)': the varied fields of a case (the dotted columns), or nothing."""
+    inputs = ", ".join(f"{k}={v}" for k, v in row.items() if "." in k)
+    return f" ({inputs})" if inputs else ""
+
+
+def _choices(engine: list[str], support: list[str]) -> tuple[list[str], list[str]]:
+    """The engines of --engine and the supports of --support (checked names)."""
+    from ..deck.fields import parse_choices
+    from ..engines.registry import ENGINES, SUPPORTS
+
+    return parse_choices(engine, ENGINES, "--engine"), parse_choices(support, SUPPORTS, "--support")
 
 
 def sweep(
@@ -117,50 +153,84 @@ def sweep(
     workers = local_workers(workers, oversubscribe, scheduler)
     if workers is not None:  # by default the plan's size decides whether local workers run
         warm_workers_early(workers, scheduler, dask)
-    from ..deck.fields import parse_choices
-    from ..engines.registry import ENGINES, SUPPORTS
-    from ..figures import draw as plots
-    from ..sweep import figures
     from ..sweep import table as sweep_table
     from ..sweep.plan import plan_sweep
     from ..sweep.store import stem_lock
-    from . import render
-    from .sweep_render import print_summary
 
     check_name(name)
-    plot_path = plots.check_figure_path(out / f"{name or deck.stem + '.sweep'}.{plot_format}", "--plot-format") \
-        if plot else None
-    sweep_table.check_table_format(table.value)
-    engines = parse_choices(engine, ENGINES, "--engine")
-    plan = plan_sweep(deck, settings, vary, engines, parse_choices(support, SUPPORTS, "--support"),
-                      per_record=per_record, check=check)  # --check: the exact engine's cases batched as usual
-    refuse_unchecked([*plan.criteria, *(v.path.removeprefix("criteria.") for v in plan.varies)], check, "--check")
-    warn_suites(plan)
-    if plot_path is not None:
-        figures.sweep_figure(plan, [])  # a numeric varied field to plot against, checked before running
     stem = name or f"{deck.stem}.sweep"
-    check_out(out)
+    plot_path = _plot_path(out, stem, plot_format) if plot else None
+    sweep_table.check_table_format(table.value)
+    engines, supports = _choices(engine, support)
+    plan = plan_sweep(deck, settings, vary, engines, supports, per_record=per_record,
+                      check=check)  # --check: the exact engine's cases batched as usual
+    _check_plan(plan, check, plot_path)
+    check_out_directory(out)
     with stem_lock(out, stem):
         outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
                           retry_failed=retry_failed, overwrite=overwrite, quiet=quiet, label="sweep",
                           rerun_stale=rerun_stale, figures_written=[plot_path] if plot_path else [],
                           tables=table_paths(out, stem, table.value))
-        rows = sweep_table.add_checks(plan, outcome.rows) if plan.check else outcome.rows
-        summary = sweep_table.summarize(plan, rows)
-        record = sweep_table.sweep_provenance(plan)
-        written = _write(plan, rows, out, stem, table, summary, record)
-        if plot_path is not None:
-            with figure_errors(out, written):
-                written.append(plots.plot_figure(figures.sweep_figure(plan, rows, figures.plan_motion_label(plan),
-                                                                      units.value),
-                                                 plot_path, "--plot-format"))
+        rows, summary, record, written = _sweep_tables(plan, outcome.rows, out, stem, table)
+        _sweep_figure(plan, rows, plot_path, out, written, units.value)
+    _print_sweep(plan, rows, summary, record, output_format, quiet, units.value)
+    echo_written(written)
+    _finish(rows, criteria=True)
+
+
+def _plot_path(out: Path, stem: str, plot_format: str) -> Path:
+    """The figure of --plot, <out>/<stem>.<plot format> (a format the figures know)."""
+    from ..figures import draw as plots
+
+    return plots.check_figure_path(out / f"{stem}.{plot_format}", "--plot-format")
+
+
+def _check_plan(plan: SweepPlan, check: bool, plot_path: Path | None) -> None:
+    """Before running: [criteria] simplified_error needs --check, the plan's warnings, and a numeric
+    varied field to plot against (--plot)."""
+    from ..sweep import figures
+
+    refuse_unchecked([*plan.criteria, *(v.path.removeprefix("criteria.") for v in plan.varies)], check, "--check")
+    warn_suites(plan)
+    if plot_path is not None:
+        figures.sweep_figure(plan, [])
+
+
+def _sweep_tables(plan: SweepPlan, rows: list[dict], out: Path, stem: str, table: TableFormat) -> tuple:
+    """(rows with the accuracy ratios under --check, summary, provenance, the tables written)."""
+    from ..sweep import table as sweep_table
+
+    rows = sweep_table.add_checks(plan, rows) if plan.check else rows
+    summary = sweep_table.summarize(plan, rows)
+    record = sweep_table.sweep_provenance(plan)
+    return rows, summary, record, _write(plan, rows, out, stem, table, summary, record)
+
+
+def _sweep_figure(plan: SweepPlan, rows: list[dict], plot_path: Path | None, out: Path, written: list[Path],
+                  units: str) -> None:
+    """The --plot figure (added to `written`, the tables before it)."""
+    from ..figures import draw as plots
+    from ..sweep import figures
+
+    if plot_path is None:
+        return
+    with figure_errors(out, written):
+        written.append(plots.plot_figure(figures.sweep_figure(plan, rows, figures.plan_motion_label(plan), units),
+                                         plot_path, "--plot-format"))
+
+
+def _print_sweep(plan: SweepPlan, rows: list[dict], summary, record: dict, output_format: OutputFormat, quiet: bool,
+                 units: str) -> None:
+    """The sweep's JSON document on stdout, or its summary tables (none under --quiet)."""
+    from ..sweep import table as sweep_table
+    from . import render
+    from .sweep_render import print_summary
+
     if output_format is OutputFormat.json:
         stdout.echo(json.dumps(sweep_table.document(plan, rows, summary, record), indent=1))
-    elif not quiet:
-        print_summary(render.console(), plan, summary, units.value)
-    for path in written:
-        typer.echo(f"wrote {path}", err=True)
-    _finish(rows, criteria=True)
+        return
+    if not quiet:
+        print_summary(render.console(), plan, summary, units)
 
 
 def spectra(
@@ -198,11 +268,8 @@ def spectra(
     workers = local_workers(workers, oversubscribe, scheduler)
     warm_workers_early(workers, scheduler, dask)
     from ..deck.fields import parse_choices
-    from ..engines.registry import ENGINES, SUPPORTS
-    from ..figures import draw as plots
     from ..sweep import figures
     from ..sweep import table as sweep_table
-    from ..sweep.plan import plan_sweep
     from ..sweep.store import stem_lock
     from . import render
     from .sweep_render import print_spectra_summary
@@ -211,43 +278,71 @@ def spectra(
     formats = parse_choices(plot_format, plotting.FORMATS, "--plot-format")
     sweep_table.check_table_format(table.value)
     period_vary: Vary = figures.period_vary(periods)
-    engines = parse_choices(engine, ENGINES, "--engine")
+    plan = _plan_spectra(deck, settings, _choices(engine, support), period_vary, per_record, periods)
+    warn_suites(plan)
+    stem = name or f"{deck.stem}.spectra"
+    figure_paths = _figure_paths(plan, out, stem, formats)
+    check_out_directory(out)
+    with stem_lock(out, stem):
+        outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
+                          retry_failed=False, overwrite=overwrite, quiet=quiet, label="spectra",
+                          figures_written=figure_paths,
+                          tables=table_paths(out, stem, table.value))
+        summary = sweep_table.summarize(plan, outcome.rows)
+        written = _write(plan, outcome.rows, out, stem, table, summary, sweep_table.sweep_provenance(plan))
+        written += _spectra_figures(plan, outcome.rows, out, stem, formats, written)
+    if not quiet:
+        print_spectra_summary(render.console(), plan, outcome.rows)
+    echo_written(written)
+    _finish(outcome.rows, criteria=False)
+
+
+def _plan_spectra(deck: Path, settings: list[str], choices: tuple[list[str], list[str]], period_vary: Vary,
+                  per_record: bool, periods: str) -> SweepPlan:
+    """The plan over the periods of --periods (its mistakes named as --periods, not as a --vary), each
+    period within the records' spectrum range, before running."""
+    from ..sweep import figures
+    from ..sweep.plan import plan_sweep
+
     try:
-        plan = plan_sweep(deck, settings, (), engines, parse_choices(support, SUPPORTS, "--support"),
-                          varies=[period_vary], per_record=per_record)
+        plan = plan_sweep(deck, settings, (), *choices, varies=[period_vary], per_record=per_record)
     except InputError as error:  # the periods come from --periods, not from a --vary
         if error.source == "--vary" and error.location == figures.PERIOD_PATH:
             raise InputError("--periods", periods, error.expected) from None
         raise
-    for dt, samples in plan.record_steps.values():  # T_1 within the records' spectrum range, before running
+    _check_periods(plan, period_vary, periods)
+    return plan
+
+
+def _check_periods(plan: SweepPlan, period_vary: Vary, periods: str) -> None:
+    """T_1 within the spectrum range of each record step of the plan."""
+    for dt, samples in plan.record_steps.values():
         problem = limits.period_problem(period_vary.values, dt, samples)
         if problem:
             raise InputError("--periods", periods, problem)
-    warn_suites(plan)
-    stem = name or f"{deck.stem}.spectra"
-    figure_specs = figures.paper_figures([], plan.engines, plan.supports, "")
-    figure_paths = [out / f"{stem}.{figure}.{extension}" for figure in figure_specs for extension in formats]
-    check_out(out)
-    with stem_lock(out, stem):
-        outcome = execute(plan, out, stem, workers=workers, scheduler=scheduler, dask=dask, resume=resume,
-                          retry_failed=False, overwrite=overwrite, quiet=quiet, label="spectra",
-                          figures_written=figure_paths, tables=table_paths(out, stem, table.value))
-        summary = sweep_table.summarize(plan, outcome.rows)
-        written = _write(plan, outcome.rows, out, stem, table, summary, sweep_table.sweep_provenance(plan))
-        specs = figures.paper_figures(outcome.rows, plan.engines, plan.supports, figures.plan_motion_label(plan),
-                                      figures.nominal_value(plan, figures.PERIOD_PATH))
-        with figure_errors(out, written):
-            written += plots.plot_figures([(spec, out / f"{stem}.{figure_name}.{extension}")
-                                           for figure_name, spec in specs.items() for extension in formats],
-                                          "--plot-format")
-    if not quiet:
-        print_spectra_summary(render.console(), plan, outcome.rows)
-    for path in written:
-        typer.echo(f"wrote {path}", err=True)
-    _finish(outcome.rows, criteria=False)
+
+
+def _figure_paths(plan: SweepPlan, out: Path, stem: str, formats: list[str]) -> list[Path]:
+    """The files of the paper's figures the run will draw, <stem>.<figure>.<format> each."""
+    from ..sweep import figures
+
+    specs = figures.paper_figures([], plan.engines, plan.supports, "")
+    return [out / f"{stem}.{figure}.{extension}" for figure in specs for extension in formats]
+
+
+def _spectra_figures(plan: SweepPlan, rows: list[dict], out: Path, stem: str, formats: list[str],
+                     tables: list[Path]) -> list[Path]:
+    """The paper's figures of the rows, in each format (an OSError names the tables written before)."""
+    from ..figures import draw as plots
+    from ..sweep import figures
+
+    specs = figures.paper_figures(rows, plan.engines, plan.supports, figures.plan_motion_label(plan),
+                                  figures.nominal_value(plan, figures.PERIOD_PATH))
+    with figure_errors(out, tables):
+        return plots.plot_figures([(spec, out / f"{stem}.{figure_name}.{extension}")
+                                   for figure_name, spec in specs.items() for extension in formats], "--plot-format")
 
 
 def register(app: typer.Typer) -> None:
     app.command("sweep")(sweep)
     app.command("spectra")(spectra)
-

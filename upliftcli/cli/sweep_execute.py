@@ -14,6 +14,8 @@ import typer
 from ..errors import InputError
 from ..runtime.atomic import refuse_existing, refuse_inputs
 from ..sweep.signals import ignore_stop_signals
+from .options import check_out_directory, not_writable
+from .sweep_options import check_workers
 
 if TYPE_CHECKING:
     from ..sweep.plan import SweepPlan
@@ -24,26 +26,50 @@ CASE_SECONDS = {"simplified": 0.002, "approximate": 0.04, "exact": 0.04}
 
 
 def choose_executor(plan: SweepPlan, workers: int | None, scheduler: str | None, dask: str | None):
-    from ..runtime.process import available_cores
-    from ..sweep.dask_executor import DaskExecutor, check_reachable, import_distributed
-    from ..sweep.executors import ProcessExecutor, SerialExecutor
-
-    if dask is not None and dask != "local":
+    """The executor --dask, --scheduler or --workers ask for; without them the plan's size decides."""
+    if dask not in (None, "local"):
         raise InputError("--dask", dask, "'local' (or give --scheduler tcp://host:port)")
     if scheduler is not None or dask is not None:
-        import_distributed()  # the extra is installed, before anything runs
-        address = None if (scheduler in (None, "local")) else scheduler
-        if address is not None:
-            check_reachable(address)  # at once, before any file is written
-        return DaskExecutor(address, workers or min(available_cores(), 4))
+        return _dask_executor(scheduler, workers)
     if workers is not None:
-        if workers < 1:
-            raise InputError("--workers", str(workers), "an integer >= 1")
-        return SerialExecutor() if workers == 1 else ProcessExecutor(workers)
+        return _local_executor(workers)
+    return _executor_for_size(plan)
+
+
+def _dask_executor(scheduler: str | None, workers: int | None):
+    """A Dask cluster: the one at --scheduler (reachable at once, before any file is written), or a
+    local one of --workers processes (default: the cores, at most 4)."""
+    from ..runtime.process import available_cores
+    from ..sweep.dask_executor import DaskExecutor, check_reachable, import_distributed
+
+    import_distributed()  # the extra is installed, before anything runs
+    address = None if scheduler in (None, "local") else scheduler
+    if address is not None:
+        check_reachable(address)
+    return DaskExecutor(address, workers or min(available_cores(), 4))
+
+
+def _local_executor(workers: int):
+    """--workers N: this process for N = 1, else N local worker processes."""
+    from ..sweep.executors import ProcessExecutor, SerialExecutor
+
+    check_workers(workers)
+    return SerialExecutor() if workers == 1 else ProcessExecutor(workers)
+
+
+def _executor_for_size(plan: SweepPlan):
+    """Local worker processes on all cores when the sweep is long enough to gain from them, else this process."""
+    from ..runtime.process import available_cores
+    from ..sweep.executors import ProcessExecutor, SerialExecutor
+
     cores = available_cores()
+    return ProcessExecutor(cores) if cores > 1 and _estimated_seconds(plan) > 4.0 else SerialExecutor()
+
+
+def _estimated_seconds(plan: SweepPlan) -> float:
+    """The rough cost of the plan in this process [s] (CASE_SECONDS; a suite case runs every record)."""
     seconds = len(plan.cases) * max(CASE_SECONDS.get(engine, 0.04) for engine in plan.engines)
-    seconds *= max(1, plan.suite_records)  # a suite case runs every record
-    return ProcessExecutor(cores) if cores > 1 and seconds > 4.0 else SerialExecutor()
+    return seconds * max(1, plan.suite_records)
 
 
 def progress_for(quiet: bool, label: str):
@@ -57,14 +83,9 @@ def progress_for(quiet: bool, label: str):
     return RichProgress(console, label) if use_rich_progress(console) else PlainProgress(label)
 
 
-def check_out(out: Path) -> None:
-    """--out is a directory, or a name for one (it is created)."""
-    if out.exists() and not out.is_dir():
-        raise InputError("--out", str(out), "a directory (a file of that name exists)")
-
-
 def _prepare_out(out: Path, rows_path: Path, resume: bool, overwrite: bool) -> None:
-    check_out(out)
+    """--out a directory; the rows of an earlier run of this sweep need --resume or --overwrite."""
+    check_out_directory(out)
     if rows_path.exists() and rows_path.stat().st_size > 0 and not (resume or overwrite):
         from ..sweep.store import RowStore
 
@@ -83,14 +104,22 @@ def warm_workers_early(workers: int | None, scheduler: str | None, dask: str | N
     planned, when they are likely (more than one core, neither --workers 1 nor Dask; `uplift
     sweep` asks only with --workers N): it imports the engines on another core meanwhile. A sweep
     that then runs in this process leaves it unused (it ends with this process)."""
-    if scheduler is not None or dask is not None or (workers is not None and workers <= 1):
+    if not _workers_likely(workers, scheduler, dask):
         return
-    from ..runtime.process import available_cores
     from ..sweep.executors import ProcessExecutor
 
-    if workers is None and available_cores() < 2:
-        return
     ProcessExecutor(workers or 2).prestart()
+
+
+def _workers_likely(workers: int | None, scheduler: str | None, dask: str | None) -> bool:
+    """Local worker processes are likely to run: no Dask, and --workers N > 1 or (not given) more than one core."""
+    if scheduler is not None or dask is not None:
+        return False
+    if workers is not None:
+        return workers > 1
+    from ..runtime.process import available_cores
+
+    return available_cores() >= 2
 
 
 def head_start(executor, figures: bool) -> None:
@@ -119,11 +148,7 @@ def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, 
     from ..sweep.store import RowStore
 
     rows_path = out / f"{stem}.rows.jsonl"
-    refuse_inputs(output_paths(out, stem, figures_written), plan.input_files, "--out")
-    _prepare_out(out, rows_path, resume, overwrite)
-    if not resume:  # --resume finishes an earlier run: its tables and figures are written again
-        refuse_existing([*tables, *figures_written], "--out", overwrite, ": written by an earlier run; --resume "
-                        "continues that run")
+    _refuse_outputs(plan, out, stem, rows_path, resume, overwrite, figures_written, tables)
     executor = choose_executor(plan, workers, scheduler, dask)
     head_start(executor, bool(figures_written))
     try:
@@ -131,13 +156,27 @@ def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, 
                             rerun_stale=rerun_stale, progress=progress_for(quiet, label), exit_on_stop=True)
     except OSError as error:  # a full disk: the rows written so far are kept
         kept = len(RowStore(rows_path).read())
-        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error}); {kept} finished "
-                         f"rows are kept in {rows_path}: run the same command with --resume once there is room"
-                         ) from None
+        raise not_writable("--out", out, error, more=f"; {kept} finished rows are kept in {rows_path}: run the "
+                           "same command with --resume once there is room") from None
     if outcome.interrupted:
-        ignore_stop_signals()  # a second Ctrl-C while exiting changes nothing
-        name = signal.Signals(outcome.signal).name if outcome.signal else "SIGINT"
-        typer.echo(f"interrupted ({name}): {len(outcome.rows)} of {outcome.total} cases are kept in {rows_path}; "
-                   "run the same command with --resume to finish", err=True)
-        raise typer.Exit(128 + (outcome.signal or signal.SIGINT))
+        _exit_interrupted(outcome, rows_path)
     return outcome
+
+
+def _refuse_outputs(plan: SweepPlan, out: Path, stem: str, rows_path: Path, resume: bool, overwrite: bool,
+                    figures_written, tables) -> None:
+    """No output may be an input of the plan; earlier rows, tables and figures need --resume or --overwrite."""
+    refuse_inputs(output_paths(out, stem, figures_written), plan.input_files, "--out")
+    _prepare_out(out, rows_path, resume, overwrite)
+    if not resume:  # --resume finishes an earlier run: its tables and figures are written again
+        refuse_existing([*tables, *figures_written], "--out", overwrite, ": written by an earlier run; --resume "
+                        "continues that run")
+
+
+def _exit_interrupted(outcome, rows_path: Path) -> None:
+    """An interrupted run: the rows kept named on stderr, exit 128 + the signal."""
+    ignore_stop_signals()  # a second Ctrl-C while exiting changes nothing
+    name = signal.Signals(outcome.signal).name if outcome.signal else "SIGINT"
+    typer.echo(f"interrupted ({name}): {len(outcome.rows)} of {outcome.total} cases are kept in {rows_path}; "
+               "run the same command with --resume to finish", err=True)
+    raise typer.Exit(128 + (outcome.signal or signal.SIGINT))

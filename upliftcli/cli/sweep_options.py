@@ -13,6 +13,7 @@ import typer
 
 from ..errors import InputError
 from ..runtime import limits
+from .options import not_writable
 
 WORKERS_HELP = ("Local worker processes (default: all cores when the sweep is long enough to gain from them, "
                 "else 1 = in this process); capped at the cores unless --oversubscribe.")
@@ -41,29 +42,47 @@ class TableFormat(StrEnum):
 def check_name(name: str | None) -> None:
     """--name must be a plain file stem: not empty, no folder separator, no control character, not
     hidden (a leading '.': `--name .` wrote '..csv'), at most 200 characters."""
-    if name is None:
-        return
-    problem = ("it is empty" if not name.strip() else "it starts with '.' (a hidden file)" if name.startswith(".")
-               else "it holds a folder separator" if "/" in name or "\\" in name
-               else "it holds a control character" if not name.isprintable()
-               else f"it has {len(name)} characters" if len(name) > 200 else "")
+    problem = _name_problem(name) if name is not None else ""
     if problem:
         raise InputError("--name", name, f"a plain file stem such as 'tall_frames' (letters, digits, '_', '-', '.' "
                          f"inside; {problem}), at most 200 characters")
+
+
+def _name_problem(name: str) -> str:
+    """Why --name is no plain file stem, or "" if it is one."""
+    if not name.strip():
+        return "it is empty"
+    if name.startswith("."):
+        return "it starts with '.' (a hidden file)"
+    if "/" in name or "\\" in name:
+        return "it holds a folder separator"
+    if not name.isprintable():
+        return "it holds a control character"
+    return f"it has {len(name)} characters" if len(name) > 200 else ""
+
+
+def check_workers(workers: int) -> None:
+    """--workers is a positive integer."""
+    if workers < 1:
+        raise InputError("--workers", str(workers), "an integer >= 1")
 
 
 def local_workers(workers: int | None, oversubscribe: bool, scheduler: str | None) -> int | None:
     """--workers checked before anything starts: an integer from 1 to limits.MAX_WORKERS, capped
     (with a warning) at the cores this process may use unless `oversubscribe` (--workers 1000
     started 127 processes and 4 GiB in 14 s); a remote Dask cluster's workers are its own."""
-    from ..runtime.process import available_cores
-
     if workers is None:
         return None
-    if workers < 1:
-        raise InputError("--workers", str(workers), "an integer >= 1")
+    check_workers(workers)
     if scheduler not in (None, "local"):
         return workers
+    return _capped_at_cores(workers, oversubscribe)
+
+
+def _capped_at_cores(workers: int, oversubscribe: bool) -> int:
+    """Local --workers: at most limits.MAX_WORKERS, and at most the cores unless `oversubscribe` (with a warning)."""
+    from ..runtime.process import available_cores
+
     if workers > limits.MAX_WORKERS:
         raise InputError("--workers", str(workers), f"at most {limits.MAX_WORKERS} worker processes (limit of the "
                          "tool)")
@@ -87,6 +106,6 @@ def figure_errors(out: Path, tables: list[Path]):
     try:
         yield
     except OSError as error:
-        raise InputError("--out", str(error.filename or out), f"a writable directory ({error.strerror or error}); "
-                         f"the figures were not all written, the tables were ({', '.join(p.name for p in tables)}): "
-                         "run the same command with --resume once there is room") from None
+        raise not_writable("--out", error.filename or out, error, more="; the figures were not all written, the "
+                           f"tables were ({', '.join(p.name for p in tables)}): run the same command with --resume "
+                           "once there is room") from None
