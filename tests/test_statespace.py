@@ -10,7 +10,8 @@ from paper_example import paper_system
 from scipy.linalg import eig
 
 from upliftcli.engines.exact.modal import modal_model
-from upliftcli.engines.exact.statespace import contact_states, state_space
+from upliftcli.engines.exact.patterns import contact_states
+from upliftcli.engines.exact.statespace import state_space
 
 
 def physical_matrices(system, lifted=(False, False)):

@@ -93,11 +93,17 @@ def governing_period(model: ModalModel) -> float:
     heavy = model.effective_mass >= 0.01 * model.total_mass
     periods.extend((2.0 * math.pi / model.omega[heavy]).tolist())
     if model.flexible:
-        periods.append(2.0 * math.pi * math.sqrt(model.total_mass / model.elements.stiffness.sum()))
+        periods.append(vertical_period(model))
         if model.theta_inertia > 0.0:
             rocking = float(np.sum(model.elements.stiffness * model.elements.positions**2))
             periods.append(2.0 * math.pi * math.sqrt(model.theta_inertia / rocking))
     return min(periods)
+
+
+def vertical_period(model: ModalModel) -> float:
+    """The bonded vertical period T_v = 2 pi sqrt(m_t / sum k_i) [s] of a flexible base: every element in
+    contact, elastic."""
+    return 2.0 * math.pi * math.sqrt(model.total_mass / model.elements.stiffness.sum())
 
 
 def resolve_modes(system: System, n_modes: int | None) -> int:

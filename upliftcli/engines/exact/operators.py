@@ -12,7 +12,8 @@ import numpy as np
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_OPERATOR_BYTES
 from .expm import expm
-from .statespace import ContactState, Layout, StateSpace, contact_states
+from .patterns import contact_states
+from .statespace import ContactState, Layout, StateSpace
 from .yielding import pattern_bits, step_operators, valid_pattern
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
@@ -137,7 +138,7 @@ _LIFTED_AND_YIELDING = ("a contact element started to lift off and to yield at t
 def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | AnalysisError]:
     """Build and store the contact states asked for, (operators, pattern, with event rows)
     each, vectorised over the requests that share a layout: one batched assembly
-    (statespace.contact_states), one stacked expm and stacked squarings. Each item gets the
+    (patterns.contact_states), one stacked expm and stacked squarings. Each item gets the
     same bits as built alone. Returns the new state index, or the error, per request."""
     out: list[int | AnalysisError] = [AnalysisError(_NO_INERTIA)] * len(requests)
     groups: dict[tuple, list[int]] = {}
