@@ -16,6 +16,7 @@ import numpy as np
 
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_CONTACT_ELEMENTS, MAX_YIELDING_ELEMENTS
+from ..registry import too_many_yielding
 from . import stepping_kernels as kernel
 from .operators import LEVELS, Operators, add_states, expected_states, state_bytes
 from .statespace import ContactState, StateSpace
@@ -67,7 +68,7 @@ class Run:
         if n_e > MAX_CONTACT_ELEMENTS:  # the deck's field is checked against it (a model built in code is not)
             raise AnalysisError(f"at most {MAX_CONTACT_ELEMENTS} contact elements are supported (got {n_e}): lower "
                                 "foundation.elements")
-        if lay.n_settlements > MAX_YIELDING_ELEMENTS:
+        if too_many_yielding(lay.n_settlements):  # the rule of registry.capacity_refusal, for a model built in code
             raise AnalysisError(f"at most {MAX_YIELDING_ELEMENTS} contact elements with a bearing capacity are "
                                 f"supported (got {n_e}): lower foundation.elements")
         self.space, self.layout, self.h, self.criterion = space, lay, h, criterion
