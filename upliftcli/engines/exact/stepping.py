@@ -221,10 +221,7 @@ def simulate(spaces: list[StateSpace], substeps: list[int], acceleration: np.nda
             continue
         pending.append((k, run))
     while pending:
-        size, used = 1, pending[0][1].buffer_bytes
-        while size < len(pending) and used + pending[size][1].buffer_bytes <= BATCH_MEMORY:
-            used += pending[size][1].buffer_bytes
-            size += 1
+        size = _fitting(pending)
         order = [k for k, _ in pending[:size]]
         group = [run for _, run in pending[:size]]
         del pending[:size]  # the runs live in simulate_many only: each one's buffers go when it ends
@@ -247,21 +244,34 @@ def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisErro
         ahead = []
         going = []
         for k, index in zip(active, built, strict=False):
-            if isinstance(index, AnalysisError):
+            outcome = _advanced(runs[k], index)
+            if isinstance(outcome, (History, AnalysisError)):
                 runs[k] = None
-                yield k, index
-                continue
-            runs[k].enter(index)
-            try:
-                pattern = runs[k].advance()
-            except AnalysisError as error:
-                runs[k] = None
-                yield k, error
-                continue
-            if pattern is None:
-                history, runs[k] = runs[k].history(), None
-                yield k, history
+                yield k, outcome
             else:
-                going.append((k, pattern))
+                going.append((k, outcome))
         active = [k for k, _ in going]
         requests = [(runs[k].operators, pattern, True) for k, pattern in going]
+
+
+def _fitting(pending: list[tuple[int, Run]]) -> int:
+    """How many of the pending runs, from the first, are stepped together: at least one, and as many as
+    have their sample buffers within BATCH_MEMORY."""
+    size, used = 1, pending[0][1].buffer_bytes
+    while size < len(pending) and used + pending[size][1].buffer_bytes <= BATCH_MEMORY:
+        used += pending[size][1].buffer_bytes
+        size += 1
+    return size
+
+
+def _advanced(run: Run, index: int | AnalysisError) -> int | History | AnalysisError:
+    """Run `run` from its new state `index` (or the error that kept that state from being built) until
+    it ends or needs another state: the pattern it needs, its History, or the AnalysisError that stopped it."""
+    if isinstance(index, AnalysisError):
+        return index
+    run.enter(index)
+    try:
+        pattern = run.advance()
+    except AnalysisError as error:
+        return error
+    return run.history() if pattern is None else pattern
