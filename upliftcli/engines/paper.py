@@ -23,6 +23,7 @@ from dataclasses import asdict
 import numpy as np
 
 from ..errors import AnalysisError
+from ..model.foundations import ContactElements
 from ..model.interaction import effective_properties, frequency_warning
 from ..model.system import System
 from .options import SimplifiedOptions
@@ -214,7 +215,7 @@ def _combine(modal_peaks: np.ndarray, combination: str, omega: np.ndarray, dampi
     return cqc(modal_peaks, omega, damping) if combination == "cqc" else srss(modal_peaks)
 
 
-def _reactions(system: System, support: str, elements, moment: float) -> np.ndarray:
+def _reactions(system: System, support: str, elements: ContactElements | None, moment: float) -> np.ndarray:
     """Quasi-static reactions [N] under W and the peak M_b [N m] either way (no vertical inertia: impacts
     are the history engines'); the uplifting mat's elements cannot pull; none on a rigid base."""
     if elements is None:
