@@ -131,7 +131,10 @@ class Run:
         self.n_out += 1
 
     def advance(self) -> int | None:
-        ops, lay, h = self.operators, self.layout, self.h
+        """Step on (stepping_kernels.integrate) until the end of the record (None) or a contact pattern
+        without operators (returned); a full sample buffer goes to on_chunk or grows (_buffer_full); a
+        run that cannot go on raises the AnalysisError saying why (_stopped)."""
+        ops = self.operators
         while True:
             status, self.step, self.offset, self.state, self.n_out, pattern = kernel.integrate(
                 kernel.States(ops.ops, ops.events, ops.event_rates, ops.matrices, ops.patterns, len(ops.contact)),
@@ -142,29 +145,38 @@ class Run:
                 return None
             if status == kernel.NEED_STATE:
                 return int(pattern)
-            if status == kernel.FULL and self.on_chunk is not None:
-                self.on_chunk(self.history())
-                self.out_x[0], self.out_t[0], self.out_s[0] = self.out_x[self.n_out - 1], self.out_t[self.n_out - 1], \
-                    self.out_s[self.n_out - 1]
-                self.n_out = 1
-            elif status == kernel.FULL:
-                extra = max(self.capacity // 2, 4096)
-                self.out_x = np.concatenate((self.out_x, np.empty((extra, lay.n_aug))))
-                self.out_t = np.concatenate((self.out_t, np.empty(extra)))
-                self.out_s = np.concatenate((self.out_s, np.empty(extra, dtype=np.int64)))
-                self.capacity += extra
-            elif status == kernel.FLIGHT:
-                raise AnalysisError(
-                    f"both edges of the mat left the foundation (flight) at t = {self.step * h + self.offset:.4f} s "
-                    "and flight = \"error\" was asked for"
-                )
-            elif status == kernel.NONFINITE:
-                raise AnalysisError(f"the state became non-finite at t = {self.step * h:.4f} s")
-            elif status == kernel.CHATTER:
-                raise AnalysisError(
-                    f"contact chatter: more than {kernel.MAX_EVENTS_PER_STEP} transitions inside one step "
-                    f"at t = {self.step * h:.4f} s; reduce the time step"
-                )
+            if status != kernel.FULL:
+                raise self._stopped(status)
+            self._buffer_full()
+
+    def _buffer_full(self) -> None:
+        """A full sample buffer: passed to on_chunk and restarted from its last sample, or grown."""
+        if self.on_chunk is not None:
+            self.on_chunk(self.history())
+            self.out_x[0], self.out_t[0], self.out_s[0] = self.out_x[self.n_out - 1], self.out_t[self.n_out - 1], \
+                self.out_s[self.n_out - 1]
+            self.n_out = 1
+            return
+        extra = max(self.capacity // 2, 4096)
+        self.out_x = np.concatenate((self.out_x, np.empty((extra, self.layout.n_aug))))
+        self.out_t = np.concatenate((self.out_t, np.empty(extra)))
+        self.out_s = np.concatenate((self.out_s, np.empty(extra, dtype=np.int64)))
+        self.capacity += extra
+
+    def _stopped(self, status: int) -> AnalysisError:
+        """Why the run stopped (kernel.FLIGHT, NONFINITE or CHATTER), in words."""
+        h = self.h
+        if status == kernel.FLIGHT:
+            return AnalysisError(
+                f"both edges of the mat left the foundation (flight) at t = {self.step * h + self.offset:.4f} s "
+                "and flight = \"error\" was asked for"
+            )
+        if status == kernel.NONFINITE:
+            return AnalysisError(f"the state became non-finite at t = {self.step * h:.4f} s")
+        return AnalysisError(
+            f"contact chatter: more than {kernel.MAX_EVENTS_PER_STEP} transitions inside one step "
+            f"at t = {self.step * h:.4f} s; reduce the time step"
+        )
 
     def history(self) -> History:
         """The samples in the buffer (views of it: use them before stepping on)."""
