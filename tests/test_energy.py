@@ -12,8 +12,9 @@ from scipy.integrate import quad
 
 from upliftcli.engines.exact.energy import energy_balance
 from upliftcli.engines.exact.modal import modal_model
+from upliftcli.engines.exact.patterns import contact_states
 from upliftcli.engines.exact.response import signals
-from upliftcli.engines.exact.statespace import contact_states, state_space
+from upliftcli.engines.exact.statespace import state_space
 from upliftcli.engines.exact.stepping import History
 from upliftcli.model.building import uniform_building
 from upliftcli.model.foundations import TwoElement

@@ -13,7 +13,8 @@ from spectrum_stand_ins import ConstantSpectrum
 from upliftcli.engines import improved
 from upliftcli.engines.improved import COEFFICIENTS, Coefficients, analyze_uplift, combine_peaks
 from upliftcli.engines.options import SimplifiedOptions
-from upliftcli.engines.simplified import analyze, paper_analyze, uplift_base_shear
+from upliftcli.engines.paper import paper_analyze, uplift_base_shear
+from upliftcli.engines.simplified import analyze
 from upliftcli.model.building import uniform_building
 
 G = 9.80665

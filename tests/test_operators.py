@@ -30,7 +30,7 @@ def test_the_step_operators_are_the_exponentials(path):
     from scipy.linalg import expm as scipy_expm
 
     from upliftcli.engines.exact.operators import LEVELS
-    from upliftcli.engines.exact.statespace import contact_states
+    from upliftcli.engines.exact.patterns import contact_states
     from upliftcli.engines.exact.yielding import step_operators
 
     space = exact_model(load_deck(path, ["foundation.safety_factor=1.5"]).system, "uplift", ExactOptions())
@@ -80,7 +80,7 @@ def test_the_step_operators_with_few_elements_in_contact(overrides):
     from scipy.linalg import expm as scipy_expm
 
     from upliftcli.engines.exact.operators import LEVELS
-    from upliftcli.engines.exact.statespace import contact_states
+    from upliftcli.engines.exact.patterns import contact_states
     from upliftcli.engines.exact.yielding import step_operators
 
     space = exact_model(load_deck(WINKLER, ["foundation.safety_factor=1.5", *overrides]).system, "uplift",

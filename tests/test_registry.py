@@ -33,3 +33,21 @@ def test_engines_know_whether_they_need_a_record():
         registry.engine("fancy")
     with pytest.raises(ValueError, match="support must be one of rigid, bonded, uplift"):
         registry.check_support("pinned")
+
+
+def test_the_limit_on_elements_with_a_capacity_is_one_rule():
+    """registry.too_many_yielding (limits.MAX_YIELDING_ELEMENTS) decides for capacity_refusal, which the
+    deck and the analysis ask, and for the stepping of a model built in code."""
+    from types import SimpleNamespace
+
+    from upliftcli.runtime.limits import MAX_YIELDING_ELEMENTS
+
+    assert not registry.too_many_yielding(MAX_YIELDING_ELEMENTS)
+    assert registry.too_many_yielding(MAX_YIELDING_ELEMENTS + 1)
+    many = SimpleNamespace(foundation=SimpleNamespace(capacity=1e6, elements=MAX_YIELDING_ELEMENTS + 1))
+    assert registry.capacity_refusal("exact", many, "uplift").startswith(
+        f"at most {MAX_YIELDING_ELEMENTS} contact elements with a bearing capacity for the exact engine's")
+    assert registry.capacity_refusal("simplified", many, "uplift") is None
+    assert registry.capacity_refusal("approximate", many, "bonded") is None
+    few = SimpleNamespace(foundation=SimpleNamespace(capacity=1e6, elements=MAX_YIELDING_ELEMENTS))
+    assert registry.capacity_refusal("exact", few, "uplift") is None

@@ -10,7 +10,8 @@ from scipy.integrate import solve_ivp
 from spectrum_stand_ins import ConstantSpectrum
 
 from upliftcli.engines.options import SimplifiedOptions
-from upliftcli.engines.simplified import analyze, cqc, cqc_correlation, effective_properties, srss, uplift_base_shear
+from upliftcli.engines.paper import cqc, cqc_correlation, srss, uplift_base_shear
+from upliftcli.engines.simplified import analyze, effective_properties
 from upliftcli.model.building import shear_building, uniform_building
 from upliftcli.model.foundations import HalfSpace, TwoElement, Winkler
 from upliftcli.model.system import System

@@ -10,7 +10,8 @@ from paper_example import paper_system
 from scipy.linalg import eig
 
 from upliftcli.engines.exact.modal import modal_model
-from upliftcli.engines.exact.statespace import contact_states, state_space
+from upliftcli.engines.exact.patterns import contact_states
+from upliftcli.engines.exact.statespace import state_space
 
 
 def physical_matrices(system, lifted=(False, False)):
@@ -113,3 +114,38 @@ def test_event_rows_are_the_scaled_element_forces():
     lift = np.zeros(space.layout.n_p)
     lift[n] = 1e-3  # theta > 0 alone
     assert (space.directions @ lift)[0] > 0 > (space.directions @ lift)[1]
+
+
+def test_the_bonded_vertical_period_has_one_home():
+    """modal.vertical_period, 2 pi sqrt(m_t / sum k_i), is the period of the vertical mode of the bonded
+    mat, and the sampling resolves it (governing_period)."""
+    from upliftcli.engines.exact.modal import governing_period, vertical_period
+
+    system = paper_system(frequency_ratio=3.0)
+    model = modal_model(system, "bonded", system.building.n_stories)
+    period = vertical_period(model)
+    assert period == 2.0 * np.pi * np.sqrt(system.total_mass / model.elements.stiffness.sum())
+    assert governing_period(model) <= period
+    eigenvalues = finite_eigenvalues(*physical_matrices(system))
+    undamped = np.abs(eigenvalues)
+    assert np.min(np.abs(undamped - 2.0 * np.pi / period)) < 0.1 * 2.0 * np.pi / period  # a root near w_v
+
+
+@pytest.mark.parametrize("lifted", [(False, False), (True, False), (False, True)])
+def test_a_capacity_that_does_not_yield_assembles_the_elastic_state(lifted):
+    """patterns.contact_states is one assembly for both foundations: with a bearing capacity and no
+    element yielding, A, the velocity map and the lift-off/recontact rows on the state without the
+    settlements s_i are those of the elastic foundation."""
+    system = paper_system()
+    capacity = 3.0 * system.weight
+    yielding_system = replace(system, foundation=replace(system.foundation, capacity=capacity))
+    n = system.building.n_stories
+    elastic = state_space(modal_model(system, "uplift", n))
+    plastic = state_space(modal_model(yielding_system, "uplift", n))
+    (a,) = contact_states([elastic], np.array([lifted]), "reaction")
+    (b,) = contact_states([plastic], np.array([lifted]), "reaction", np.zeros((1, 2), dtype=bool))
+    keep = np.setdiff1d(np.arange(plastic.layout.n_aug), plastic.layout.settlement_indices)
+    assert b.yielding is not None and not b.yielding.any() and a.yielding is None
+    np.testing.assert_allclose(b.matrix[np.ix_(keep, keep)], a.matrix, rtol=1e-12, atol=1e-12 * np.abs(a.matrix).max())
+    np.testing.assert_allclose(b.velocity[:, keep], a.velocity, rtol=1e-12, atol=1e-12 * np.abs(a.velocity).max())
+    np.testing.assert_allclose(b.events[:2, keep], a.events, rtol=1e-12, atol=1e-12)

@@ -38,7 +38,7 @@ def _integrate_twin(space, ground, slopes, h, criterion="reaction", probes=8):
     from scipy.linalg import expm
     from scipy.optimize import brentq
 
-    from upliftcli.engines.exact.statespace import contact_states
+    from upliftcli.engines.exact.patterns import contact_states
 
     lay = space.layout
     built = {}

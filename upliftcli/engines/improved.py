@@ -1,6 +1,6 @@
 """Improved simplified procedure for the uplift support (analysis.procedure = "improved").
 
-The paper's procedure (engines/simplified.py, docs/theory.md) with these changes; the fitted
+The paper's procedure (engines/paper.py, docs/theory.md) with these changes; the fitted
 coefficients (COEFFICIENTS, FITTED) are calibrated against the exact engine on the FEMA P695
 far-field records only and validated on other records (benchmarks/calibrate.py,
 benchmarks/accuracy.py; data, fit and both tables in docs/accuracy.md):
@@ -38,6 +38,7 @@ import numpy as np
 from ..model.system import System
 from . import rocking
 from .options import SimplifiedOptions
+from .paper import cqc_correlation, modal_static_response, paper_analyze
 from .result import AnalysisResult
 from .statics import largest_compression
 
@@ -45,7 +46,7 @@ from .statics import largest_compression
 TERMS_VERSION = 3
 #: exponent of short(T) = 1/(1 + (T/short_period)^SHARPNESS) (fixed, not fitted)
 SHARPNESS = 4.0
-#: the peak quantities combined mode by mode (engines/simplified.modal_static_response)
+#: the peak quantities combined mode by mode (engines/paper.modal_static_response)
 COMBINED = ("displacement", "drift", "drift_ratio", "shear", "moment", "floor_acceleration")
 
 
@@ -119,8 +120,6 @@ def uplift_terms(system: System, spectrum, options: SimplifiedOptions, size: int
     """The terms of one case as arrays (modes and floors padded with zeros to `size`, default the
     larger of the two counts): what combine_arrays takes (stack the dicts of many cases for the
     calibration)."""
-    from .simplified import modal_static_response, paper_analyze
-
     bonded = paper_analyze(system, spectrum, "bonded", replace(options, procedure="paper"))
     inter = bonded.intermediates
     n = len(inter["V_n"])
@@ -231,8 +230,6 @@ def analyze_uplift(system: System, spectrum, options: SimplifiedOptions,
     """The improved procedure's uplift result (module docstring): intermediates as the paper's
     plus V1_uplift, the band T_u and x_u, the modal factors, the correlation used, the mat rotation
     max_rotation [rad], the edge uplift max_uplift [m] and the impact floor acceleration."""
-    from .simplified import cqc_correlation, modal_static_response, paper_analyze
-
     paper = paper_analyze(system, spectrum, "uplift", replace(options, procedure="paper"))
     details = {**paper.details, "warnings": list(paper.details["warnings"]),
                "options": {**paper.details["options"], "procedure": "improved"}}
@@ -241,19 +238,36 @@ def analyze_uplift(system: System, spectrum, options: SimplifiedOptions,
         inter = {**paper.intermediates, "max_rotation": paper.base_moment / paper.intermediates["K_theta"],
                  "max_uplift": 0.0}
         return replace(paper, intermediates=inter, details=details)
-    inter = {k: v for k, v in paper.intermediates.items() if k not in ("X0", "X_factor")}
     if terms["capacity"] < 1.0:  # partial uplift is modelled by the capacity: the paper's caveat does not apply
         details["warnings"] = [w for w in details["warnings"] if "kern" not in w]
     n, floors = terms["n_modes"], system.building.n_stories
-    base = np.eye(terms["modal_shears"].size)
-    if options.combination == "cqc":
-        base[:n, :n] = cqc_correlation(terms["omega"][:n], terms["damping"][:n])
-    out = combine_arrays(stacked([terms]), coefficients, base[None])
+    out = combine_arrays(stacked([terms]), coefficients, _deck_correlation(terms, options.combination)[None])
     peaks = {name: out[name][0, :floors] for name in COMBINED}
     elements = system.foundation.contact_elements(system.half_width)
     peaks["reaction"] = largest_compression(elements.positions, elements.stiffness, system.weight,
                                             float(peaks["moment"][0]), False, elements.capacity)
+    inter = _uplift_intermediates(system, paper.intermediates, terms, out, coefficients)
+    details["modal_forces"] = modal_static_response(system, out["V_n"][0, :n], n)["forces"].tolist()
+    return AnalysisResult.of(system, "simplified", "uplift", peaks, uplift=True, periods=paper.periods,
+                             elements=elements, intermediates=inter, details=details)
+
+
+def _deck_correlation(terms: dict, combination: str) -> np.ndarray:
+    """The deck's modal correlation of one case (uplift_terms; padded size): CQC with T1bar, xi1bar in
+    mode 1, or the identity (SRSS)."""
+    n = terms["n_modes"]
+    base = np.eye(terms["modal_shears"].size)
+    if combination == "cqc":
+        base[:n, :n] = cqc_correlation(terms["omega"][:n], terms["damping"][:n])
+    return base
+
+
+def _uplift_intermediates(system: System, paper: dict, terms: dict, out: dict, coefficients: Coefficients) -> dict:
+    """The paper's intermediates (paper; without X0 and X_factor, which the improved X does not use)
+    updated with the improved procedure's of one case (terms: uplift_terms, out: combine_arrays)."""
+    n = terms["n_modes"]
     shears, rho = out["V_n"][0, :n], out["rho"][0, :n, :n]
+    inter = {k: v for k, v in paper.items() if k not in ("X0", "X_factor")}
     inter.update({"capacity": terms["capacity"], "zeta": terms["zeta"],
                   "r": math.hypot(system.effective_height, system.half_width), "X": float(out["X"][0]),
                   "phi": float(out["phi"][0]), "T_u": float(out["T_u"][0]), "x_u": float(out["x_u"][0]),
@@ -265,7 +279,4 @@ def analyze_uplift(system: System, spectrum, options: SimplifiedOptions,
                   "impact_acceleration": float(out["impact_acceleration"][0])})
     if n >= 2:
         inter["V_1+2"] = float(combine_peaks(shears[None, :2, None], rho[None, :2, :2])[0, 0])
-    details["modal_forces"] = modal_static_response(system, shears, n)["forces"].tolist()
-    return AnalysisResult.of(system, "simplified", "uplift", peaks, uplift=True, periods=paper.periods,
-                             elements=elements, intermediates=inter, details=details)
-
+    return inter

@@ -74,18 +74,28 @@ def capacity_refusal(name: str, system: Any, support: str) -> str | None:
     (what is expected); None when it can. Every engine models a bearing capacity (docs/theory.md
     section 14); the history engines (exact, approximate) step a contact pattern of two bits per
     element with a capacity, so they take at most limits.MAX_YIELDING_ELEMENTS of them in an
-    uplift analysis (14.3). The simplified engine (the closed-form M_c of 14.4) and the rigid and
-    bonded supports (linear references, built without the capacity) have no such bound."""
+    uplift analysis (14.3: too_many_yielding). The simplified engine (the closed-form M_c of 14.4)
+    and the rigid and bonded supports (linear references, built without the capacity) have no such
+    bound. The one rule: the deck, the analysis and Engine.iter_batch ask it."""
     from ..runtime.limits import MAX_YIELDING_ELEMENTS
 
     if name == "simplified" or support != "uplift" or getattr(system.foundation, "capacity", None) is None:
         return None
     count = int(getattr(system.foundation, "elements", 2))
-    if count <= MAX_YIELDING_ELEMENTS:
+    if not too_many_yielding(count):
         return None
     return (f"at most {MAX_YIELDING_ELEMENTS} contact elements with a bearing capacity for the {name} engine's "
             f"uplift analysis (two bits each of its contact pattern, docs/theory.md 14.3), got {count}: lower "
             "foundation.elements (the simplified engine alone has no such bound)")
+
+
+def too_many_yielding(count: int) -> bool:
+    """Whether `count` contact elements with a bearing capacity are more than a history engine steps:
+    two bits each of its 64-bit contact pattern (limits.MAX_YIELDING_ELEMENTS, docs/theory.md 14.3).
+    capacity_refusal asks it of a system, the stepping (exact/stepping.Run) of a model built in code."""
+    from ..runtime.limits import MAX_YIELDING_ELEMENTS
+
+    return count > MAX_YIELDING_ELEMENTS
 
 
 def engine(name: str) -> Engine:

@@ -53,29 +53,54 @@ def static_reactions(positions: np.ndarray, stiffness: np.ndarray, weight: float
     k = np.asarray(stiffness, dtype=float)
     active = np.ones(x.size, dtype=bool)
     yielded = np.zeros(x.size, dtype=bool)
-    cap = np.zeros(x.size) if capacity is None else np.asarray(capacity, dtype=float)
+    limit = None if capacity is None else np.asarray(capacity, dtype=float)
+    cap = np.zeros(x.size) if limit is None else limit
     while True:
         carried = np.where(yielded, cap, 0.0)
         load, turning = weight - carried.sum(), moment - (x * carried).sum()
-        ka, xa = k[active], x[active]
-        if ka.size == 0 or np.ptp(xa) == 0.0:  # one element (or several at one point) left: it takes the weight
-            share = np.where(active, load * k / ka.sum(), 0.0) if ka.size else 0.0
-            reactions = carried + share
-            return reactions if capacity is None else np.minimum(reactions, cap)
-        matrix = np.array([[ka.sum(), (ka * xa).sum()], [(ka * xa).sum(), (ka * xa**2).sum()]])
-        d, phi = np.linalg.solve(matrix, [load, turning])
-        reactions = np.where(active, k * (d + x * phi), 0.0)
-        holding = not tension and reactions.min() >= -1e-12 * weight  # none pulls
-        over = active & (reactions > cap) if capacity is not None else np.zeros(x.size, dtype=bool)
-        if (tension or holding) and not over.any():
-            if capacity is not None:
-                reactions = reactions + carried
-            return np.maximum(reactions, 0.0) if not tension else reactions
+        if not active.any() or np.ptp(x[active]) == 0.0:  # one element (or several at one point) left
+            return _at_one_point(k, active, load, carried, limit)
+        reactions = _rigid_mat(k, x, active, load, turning)
+        over = _over_capacity(reactions, active, limit)
+        if not over.any() and (tension or reactions.min() >= -1e-12 * weight):  # none pulls, none yields
+            return _settled(reactions, carried, limit, tension)
         if over.any():  # the most loaded elements yield first: carry Q_y, solve the rest again
             yielded |= over
             active &= ~over
         else:  # drop the pulling elements on the far side of the moment and solve again
             active &= reactions > 0.0
+
+
+def _over_capacity(reactions: np.ndarray, active: np.ndarray, capacity: np.ndarray | None) -> np.ndarray:
+    """Where an active element carries more than its capacity [N] (nowhere without one)."""
+    if capacity is None:
+        return np.zeros(reactions.size, dtype=bool)
+    return active & (reactions > capacity)
+
+
+def _settled(reactions: np.ndarray, carried: np.ndarray, capacity: np.ndarray | None, tension: bool) -> np.ndarray:
+    """The reactions [N] of a solution where none pulls and none yields, with those the yielded elements
+    carry (carried, with a capacity); an element that cannot pull reports no negative round-off."""
+    reactions = reactions if capacity is None else reactions + carried
+    return reactions if tension else np.maximum(reactions, 0.0)
+
+
+def _at_one_point(k: np.ndarray, active: np.ndarray, load: float, carried: np.ndarray,
+                  capacity: np.ndarray | None) -> np.ndarray:
+    """Reactions [N] when the elements left (active) stand at one point, or none is left: they share the
+    load [N] by stiffness, the yielded ones carry theirs (carried), none more than its capacity."""
+    share = np.where(active, load * k / k[active].sum(), 0.0) if active.any() else 0.0
+    reactions = carried + share
+    return reactions if capacity is None else np.minimum(reactions, capacity)
+
+
+def _rigid_mat(k: np.ndarray, x: np.ndarray, active: np.ndarray, load: float, turning: float) -> np.ndarray:
+    """Reactions R_i = k_i (d + x_i phi) [N] of the active elements (0 for the others) under a rigid mat
+    carrying the vertical load [N] and the moment `turning` [N m]."""
+    ka, xa = k[active], x[active]
+    matrix = np.array([[ka.sum(), (ka * xa).sum()], [(ka * xa).sum(), (ka * xa**2).sum()]])
+    d, phi = np.linalg.solve(matrix, [load, turning])
+    return np.where(active, k * (d + x * phi), 0.0)
 
 
 def largest_compression(positions: np.ndarray, stiffness: np.ndarray, weight: float, moment: float,

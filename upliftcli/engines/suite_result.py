@@ -17,7 +17,7 @@ scalars. Pure numpy; knows nothing of decks or files.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
@@ -27,6 +27,8 @@ from .quantities import COMPARED, compared_values
 from .result import AnalysisResult
 
 #: statistic name -> (meaning, function of an array (records, values) along axis 0)
+#: a statistic over the records: the values of every record stacked on the first axis -> the statistic
+Statistic = Callable[[np.ndarray], Any]
 STATISTICS: dict[str, tuple[str, Any]] = {
     "mean": ("mean over the records", lambda a: np.mean(a, axis=0)),
     "median": ("median over the records", lambda a: np.median(a, axis=0)),
@@ -109,18 +111,35 @@ def statistic_of(results: Sequence[AnalysisResult], name: str, common: dict[str,
         raise ValueError("a suite statistic needs at least one result")
     function = STATISTICS[name][1]
     first = results[0]
-    peaks = {key: np.asarray(function(np.stack([np.asarray(r.peaks[key], dtype=float) for r in results])), dtype=float)
-             for key in first.peaks if all(key in r.peaks for r in results)}
     intermediates = dict(common_intermediates(results) if common is None else common)
+    intermediates.update(_statistic_intermediates(results, function))
+    return replace(first, elevations=first.elevations.copy(), peaks=_statistic_peaks(results, function),
+                   uplift=any(r.uplift for r in results), times={}, intermediates=intermediates,
+                   details=_statistic_details(results, function), histories={})
+
+
+def _statistic_peaks(results: Sequence[AnalysisResult], function: Statistic) -> dict[str, np.ndarray]:
+    """The statistic (function over the first axis) of every peak all the results have, value by value."""
+    first = results[0]
+    return {key: np.asarray(function(np.stack([np.asarray(r.peaks[key], dtype=float) for r in results])), dtype=float)
+            for key in first.peaks if all(key in r.peaks for r in results)}
+
+
+def _statistic_intermediates(results: Sequence[AnalysisResult], function: Statistic) -> dict[str, float]:
+    """The statistic of each STATISTIC_INTERMEDIATES that every result gives as a number."""
+    out = {}
     for key in STATISTIC_INTERMEDIATES:
         values = [r.intermediates.get(key) for r in results]
         if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values):
-            intermediates[key] = float(function(np.array(values, dtype=float)))
-    details = {key: function(np.array([r.details[key] for r in results], dtype=float)).tolist()
-               for key in STATISTIC_DETAILS
-               if all(key in r.details for r in results) and len({len(r.details[key]) for r in results}) == 1}
-    return replace(first, elevations=first.elevations.copy(), peaks=peaks, uplift=any(r.uplift for r in results),
-                   times={}, intermediates=intermediates, details=details, histories={})
+            out[key] = float(function(np.array(values, dtype=float)))
+    return out
+
+
+def _statistic_details(results: Sequence[AnalysisResult], function: Statistic) -> dict[str, list]:
+    """The statistic of each STATISTIC_DETAILS that every result gives, with one length."""
+    return {key: function(np.array([r.details[key] for r in results], dtype=float)).tolist()
+            for key in STATISTIC_DETAILS
+            if all(key in r.details for r in results) and len({len(r.details[key]) for r in results}) == 1}
 
 
 def common_intermediates(results: Sequence[AnalysisResult]) -> dict[str, Any]:
@@ -176,13 +195,19 @@ def simplified_ratios(result: SuiteResult) -> dict[str, dict[str, float]]:
     out = {name: {"simplified": theirs[name], "statistic": mine[name], "ratio": _ratio(theirs[name], mine[name])}
            for name in COMPARED if mine.get(name) is not None and theirs.get(name) is not None}
     if len(result.record_simplified) == result.count and result.count:
-        function = STATISTICS[result.statistic][1]
-        each = [compared_values(r) for r in result.record_simplified]
-        for name, item in out.items():
-            values = [value.get(name) for value in each]
-            if any(value is None for value in values):
-                continue
-            records = float(function(np.array(values)))
-            item.update(records=records, spectrum_ratio=_ratio(item["simplified"], records),
-                        procedure_ratio=_ratio(records, item["statistic"]))
+        _split_ratios(out, result)
     return out
+
+
+def _split_ratios(out: dict[str, dict[str, float]], result: SuiteResult) -> None:
+    """Add records, spectrum_ratio and procedure_ratio (simplified_ratios) to each item of out that every
+    record's simplified result gives."""
+    function = STATISTICS[result.statistic][1]
+    each = [compared_values(r) for r in result.record_simplified]
+    for name, item in out.items():
+        values = [value.get(name) for value in each]
+        if any(value is None for value in values):
+            continue
+        records = float(function(np.array(values)))
+        item.update(records=records, spectrum_ratio=_ratio(item["simplified"], records),
+                    procedure_ratio=_ratio(records, item["statistic"]))

@@ -7,13 +7,10 @@ elements.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from ..deck.fields import Field
-
-if TYPE_CHECKING:
-    from .foundations import DeckContext
-
+from .deck_context import DeckContext
 
 #: the bearing-capacity fields the two-element and Winkler foundations share (docs/deck.md);
 #: each also has its own capacity field (element_capacity, line_capacity): exactly one of the three

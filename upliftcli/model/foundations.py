@@ -13,15 +13,15 @@ Each foundation gives
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, ClassVar, NoReturn
+from typing import Any, ClassVar
 
 import numpy as np
 
 from ..deck.fields import Field
 from . import rocking_capacity
 from .bearing import CAPACITY_FIELDS, bearing_capacity, check_static_capacity
+from .deck_context import DeckContext
 
 
 @dataclass(frozen=True)
@@ -38,20 +38,6 @@ class ContactElements:
     @property
     def count(self) -> int:
         return int(self.positions.size)
-
-
-@dataclass(frozen=True)
-class DeckContext:
-    """What a foundation needs from the rest of the deck to build itself: the mat half-width
-    b [m], the total mass m_t [kg], the fixed-base w_1 [rad/s] and gravity g [m/s^2];
-    missing(field, expected) raises the deck error naming foundation.<field> (a required field
-    not given, or values that do not fit together)."""
-
-    half_width: float
-    total_mass: float
-    omega_1: float
-    missing: Callable[[str, str], NoReturn]
-    gravity: float = 9.80665
 
 
 @dataclass(frozen=True)

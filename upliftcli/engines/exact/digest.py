@@ -22,6 +22,7 @@ from .energy import balance, stored, work
 from .mat_motion import MatMotion, plastic_quantities
 from .response import (
     _STORY_AND_FLOOR,
+    Signals,
     contact_response,
     histories,
     peak_search,
@@ -38,6 +39,9 @@ _FOLDS = {"uplift_time": "sum", "episodes": "sum", "flight_time": "sum", "episod
           "episodes_right": "sum", "max_rotation": "max", "max_uplift_left": "max", "max_uplift_right": "max",
           "max_edge_displacement_left": "max", "max_edge_displacement_right": "max", "min_reaction_left": "min",
           "min_reaction_right": "min", "min_reaction": "min"}
+#: the uplift statistics also given as intermediates of the result
+_SUMMARY_INTERMEDIATES = ("uplift_time", "episodes", "max_rotation", "max_uplift_left", "max_uplift_right",
+                          "min_reaction")
 
 
 class Digest:
@@ -87,27 +91,12 @@ class Digest:
     def add(self, chunk: History) -> None:
         """Fold in one chunk (its first sample is the previous chunk's last)."""
         sig = signals(chunk)
-        lengths = chunk.lengths
-        for name, search in zip(("stacked", "floor_acceleration"), self.searches, strict=True):
-            peaks, where = search.run(sig, lengths)
-            self._keep(name, peaks, time_at(chunk, where))
-        reactions, summary = contact_response(chunk, sig)
-        for name, (peak, when) in reactions.items():
-            self._keep(name, peak, when)
-        for name, value in summary.items():
-            fold = _FOLDS[name]
-            old = self.summary.get(name)
-            self.summary[name] = value if old is None else {"sum": old + value, "max": max(old, value),
-                                                            "min": min(old, value)}[fold]
+        self._fold_responses(chunk, sig)
         self.works = tuple(a + b for a, b in zip(self.works, work(chunk, sig), strict=True))
         if self.first is None:
             self.first = stored(chunk, sig, 0)
         self.last = stored(chunk, sig, -1)
-        if self.space.layout.n_elements:
-            self.uplifted |= bool(chunk.lifted.any())
-        if chunk.yielding is not None:
-            self.yielded |= chunk.yielding.any(axis=0)
-            self.final_state = chunk.states[-1].copy()
+        self._fold_contact(chunk)
         if self.mat is not None:
             self.mat.add(chunk, sig)
         self.end_time = float(chunk.times[-1])
@@ -115,9 +104,39 @@ class Digest:
         self.transitions += sig.end_values.shape[0]  # one left limit per interval that ends at a transition
         self.time_step = chunk.time_step
         if self.options.histories:
-            piece = histories(chunk, self.rows, sig, None if self.mat is None else self.mat.histories(sig))
-            self.pieces.append({k: np.array(v[1:] if self.chunks else v) for k, v in piece.items()})
+            self._keep_histories(chunk, sig)
         self.chunks += 1
+
+    def _fold_responses(self, chunk: History, sig: Signals) -> None:
+        """Fold a chunk's peaks (searched between samples), reactions and uplift statistics into the run's."""
+        for name, search in zip(("stacked", "floor_acceleration"), self.searches, strict=True):
+            peaks, where = search.run(sig, chunk.lengths)
+            self._keep(name, peaks, time_at(chunk, where))
+        reactions, summary = contact_response(chunk, sig)
+        for name, (peak, when) in reactions.items():
+            self._keep(name, peak, when)
+        self._fold_summary(summary)
+
+    def _keep_histories(self, chunk: History, sig: Signals) -> None:
+        """Keep a chunk's response histories (its first sample dropped but in the first chunk)."""
+        piece = histories(chunk, self.rows, sig, None if self.mat is None else self.mat.histories(sig))
+        self.pieces.append({k: np.array(v[1:] if self.chunks else v) for k, v in piece.items()})
+
+    def _fold_summary(self, summary: dict) -> None:
+        """Fold a chunk's uplift statistics into the run's (_FOLDS: sums, maxima, minima)."""
+        for name, value in summary.items():
+            fold = _FOLDS[name]
+            old = self.summary.get(name)
+            self.summary[name] = value if old is None else {"sum": old + value, "max": max(old, value),
+                                                            "min": min(old, value)}[fold]
+
+    def _fold_contact(self, chunk: History) -> None:
+        """Whether the mat lifted, which elements yielded, and the last state (for the settlements)."""
+        if self.space.layout.n_elements:
+            self.uplifted |= bool(chunk.lifted.any())
+        if chunk.yielding is not None:
+            self.yielded |= chunk.yielding.any(axis=0)
+            self.final_state = chunk.states[-1].copy()
 
     def yielding(self, energy: dict) -> dict:
         """What a run on yielding soil leaves (docs/theory.md 14.7): the plastic settlement s_i of
@@ -129,13 +148,28 @@ class Digest:
 
     def result(self, support: str, engine: str) -> AnalysisResult:
         """The run's AnalysisResult (after its last chunk)."""
-        system, space, options = self.system, self.space, self.options
-        model = space.model
-        n = system.building.n_stories
+        system, model = self.system, self.space.model
+        values, instants, stacked = self._peaks(support, engine)
+        energy = balance(self.space, self.works, self.first, self.last)
+        details = self._details(stacked, energy)
+        if "rotation" in values and "yielding" in details:  # the exact engine's uplift run on yielding soil
+            values.update(plastic_quantities(details["yielding"]))
+        histories = ({k: np.concatenate([piece[k] for piece in self.pieces]) for k in self.pieces[0]}
+                     if self.options.histories else {})
+        return AnalysisResult.of(system, engine, support, values, uplift=self.uplifted,
+                                 periods=system.modes.periods[:model.n_modes], elements=model.elements,
+                                 times=instants, intermediates=self._intermediates(instants, energy),
+                                 details=details, histories=histories)
+
+    def _peaks(self, support: str, engine: str) -> tuple[dict, dict, np.ndarray]:
+        """(values, instants [s]) of every peak of the run by name, and the stacked story and floor peaks
+        with the modal base shears and their cumulative sums (Digest.__init__); the mat's rocking
+        quantities for the exact engine's uplift run."""
+        n = self.system.building.n_stories
         stacked, stacked_times = self.peaks.pop("stacked")
         values = {name: stacked[k * n:(k + 1) * n] for k, name in enumerate(_STORY_AND_FLOOR)}
         instants = {name: stacked_times[k * n:(k + 1) * n] for k, name in enumerate(_STORY_AND_FLOOR)}
-        values["drift_ratio"] = values["drift"] / system.building.story_heights
+        values["drift_ratio"] = values["drift"] / self.system.building.story_heights
         instants["drift_ratio"] = instants["drift"]
         for name, (peak, when) in self.peaks.items():
             values[name], instants[name] = peak, when
@@ -143,33 +177,32 @@ class Digest:
             rocking, rocking_times = self.mat.quantities(self.end_time)  # quantities.ROCKING
             values.update(rocking)
             instants.update(rocking_times)
-        energy = balance(space, self.works, self.first, self.last)
-        summary = self.summary
-        warnings = []
-        if summary.get("flight_time", 0.0) > 0.0:
-            warnings.append(
-                f"both edges of the mat were off the foundation for {summary['flight_time']:.3g} s (flight): the "
-                "impacts of the massless mat on the elements then drive the peaks, which can exceed the bonded "
-                "ones several times over; this is a property of the model (the step is converged), see "
-                "docs/exact-engine.md")
+        return values, instants, stacked
+
+    def _details(self, stacked: np.ndarray, energy: dict) -> dict:
+        """The result's details: the flight warning, the modal base shears (and their cumulative sums),
+        the uplift summary, the energy balance and, on yielding soil, what the run leaves (yielding)."""
+        n, n_modes = self.system.building.n_stories, self.space.model.n_modes
         details = {
-            "warnings": warnings,
-            "modal_base_shear": stacked[4 * n:4 * n + model.n_modes].tolist(),
-            "cumulative_modal_base_shear": stacked[4 * n + model.n_modes:].tolist(),
-            "uplift_summary": summary,
+            "warnings": _flight_warnings(self.summary),
+            "modal_base_shear": stacked[4 * n:4 * n + n_modes].tolist(),
+            "cumulative_modal_base_shear": stacked[4 * n + n_modes:].tolist(),
+            "uplift_summary": self.summary,
             "energy": energy,
         }
-        if space.layout.n_settlements:
+        if self.space.layout.n_settlements:
             details["yielding"] = self.yielding(energy)
-        if "rotation" in values and "yielding" in details:  # the exact engine's uplift run on yielding soil
-            values.update(plastic_quantities(details["yielding"]))
-        histories = ({k: np.concatenate([piece[k] for piece in self.pieces]) for k in self.pieces[0]}
-                     if options.histories else {})
+        return details
+
+    def _intermediates(self, instants: dict, energy: dict) -> dict:
+        """The run's intermediates: T_1, the modes, the step, the criterion, I_theta, samples and transitions,
+        when V_b and M_b peak, the energy residual, the foundation model and the uplift statistics."""
+        system, model, summary = self.system, self.space.model, self.summary
         intermediates = {
             "T1": float(system.modes.periods[0]),
             "n_modes": model.n_modes,
             "time_step": self.time_step,
-            "criterion": options.criterion,
+            "criterion": self.options.criterion,
             "rotation_inertia": model.theta_inertia,
             "samples": self.samples,
             "transitions": self.transitions,
@@ -181,11 +214,15 @@ class Digest:
             intermediates.update(model.impedance)  # the foundation model of every engine, as built
         if model.flexible and getattr(system.foundation, "capacity", None) is not None:
             intermediates["M_tip"] = system.tipping_moment  # M_c is the capacity's (theory 14.4)
-        for name in ("uplift_time", "episodes", "max_rotation", "max_uplift_left", "max_uplift_right",
-                     "min_reaction"):
-            if name in summary:
-                intermediates[name] = summary[name]
-        return AnalysisResult.of(system, engine, support, values, uplift=self.uplifted,
-                                 periods=system.modes.periods[:model.n_modes], elements=model.elements,
-                                 times=instants, intermediates=intermediates, details=details,
-                                 histories=histories)
+        intermediates.update({name: summary[name] for name in _SUMMARY_INTERMEDIATES if name in summary})
+        return intermediates
+
+
+def _flight_warnings(summary: dict) -> list[str]:
+    """The warning of a run whose mat flew (both edges off the foundation), or none."""
+    if not summary.get("flight_time", 0.0) > 0.0:
+        return []
+    return [f"both edges of the mat were off the foundation for {summary['flight_time']:.3g} s (flight): the "
+            "impacts of the massless mat on the elements then drive the peaks, which can exceed the bonded "
+            "ones several times over; this is a property of the model (the step is converged), see "
+            "docs/exact-engine.md"]

@@ -133,18 +133,7 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
     options = options or ExactOptions()
     check_support(support)
     acceleration = _checked_acceleration(record.acceleration, record.dt, options)
-    shared: dict[int, list[int]] = {k: [] for k in range(len(systems))}  # representative -> the same analysis
-    if support == "rigid":
-        groups: dict[tuple, list[int]] = {}
-        for k, system in enumerate(systems):
-            groups.setdefault(_rigid_key(system), []).append(k)
-        shared = {members[0]: members[1:] for members in groups.values()}
-
-    def outcomes(k: int, outcome) -> Iterator[tuple[int, Any]]:
-        yield k, outcome
-        for other in shared[k]:
-            yield other, outcome.for_system(systems[other]) if isinstance(outcome, AnalysisResult) else outcome
-
+    shared = _shared_analyses(systems, support)
     with one_blas_thread():
         runs: list[tuple[int, StateSpace, int]] = []  # (system, its model, sub-steps per record step)
         for k in shared:
@@ -152,20 +141,48 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
                 space = model_for(systems[k], support, options, model)
                 runs.append((k, space, _checked_substeps(space, acceleration.size, record.dt, options)))
             except (AnalysisError, InputError) as error:
-                yield from outcomes(k, error)
+                yield from _outcomes(systems, shared, k, error)
         digests = [Digest(systems[k], space, options) for k, space, _ in runs]
         histories = simulate([space for _, space, _ in runs], [substeps for _, _, substeps in runs], acceleration,
                              record.dt, options.criterion, uplift=support == "uplift",
                              allow_flight=options.flight == "allow", on_chunk=[d.add for d in digests])
         for j, history in histories:
             k = runs[j][0]
-            if not isinstance(history, AnalysisError):
-                digests[j].add(history)  # the last chunk
-                history = digests[j].result(support, name)
-                if refine and history.intermediates["energy_residual"] > ENERGY_TOLERANCE:
-                    history = _refined(systems[k], record, support, options, model, name, history)
+            outcome = _finished(systems[k], digests[j], history, record, support, options, model, name, refine)
             digests[j] = None  # its histories go with its result
-            yield from outcomes(k, history)
+            yield from _outcomes(systems, shared, k, outcome)
+
+
+def _finished(system: System, digest: Digest, history: Any, record, support: str, options: ExactOptions,
+              model: ModelBuilder, name: str, refine: bool) -> AnalysisResult | AnalysisError:
+    """The result of a run from its digest and its last chunk `history` (iter_batch), with the step refined
+    (_refined) if asked and the energy balance does not close; the error that stopped the run as it is."""
+    if isinstance(history, AnalysisError):
+        return history
+    digest.add(history)  # the last chunk
+    result = digest.result(support, name)
+    if refine and result.intermediates["energy_residual"] > ENERGY_TOLERANCE:
+        return _refined(system, record, support, options, model, name, result)
+    return result
+
+
+def _shared_analyses(systems: list[System], support: str) -> dict[int, list[int]]:
+    """Representative system -> the others that share its analysis: on a rigid base every system of one
+    building (and m_t, g, I_0: _rigid_key), whatever the foundation; none on a flexible one."""
+    if support != "rigid":
+        return {k: [] for k in range(len(systems))}
+    groups: dict[tuple, list[int]] = {}
+    for k, system in enumerate(systems):
+        groups.setdefault(_rigid_key(system), []).append(k)
+    return {members[0]: members[1:] for members in groups.values()}
+
+
+def _outcomes(systems: list[System], shared: dict[int, list[int]], k: int, outcome: Any
+              ) -> Iterator[tuple[int, Any]]:
+    """(index, outcome) of system k and of the systems that share its analysis (a result made theirs)."""
+    yield k, outcome
+    for other in shared[k]:
+        yield other, outcome.for_system(systems[other]) if isinstance(outcome, AnalysisResult) else outcome
 
 
 #: the energy balance must close to this fraction of the input work; beyond, the step is refined

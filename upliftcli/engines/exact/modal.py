@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ...model.building import Modes
 from ...model.foundations import ContactElements
 from ...model.interaction import impedance
 from ...model.system import System
@@ -63,27 +64,44 @@ def modal_model(system: System, support: str, n_modes: int, coupled_modes: int |
     coupled = np.zeros(n_modes, dtype=bool)
     if flexible:
         coupled[: (n_modes if coupled_modes is None else coupled_modes)] = True
+    residual = flexible and not approximate and residual_inertia == "include"
+    theta_inertia, first_moment_residual = _rotation_inertia(system, modes, residual)
+    # the impedance at the flexible-base frequency, as in every engine (model/interaction.py)
+    foundation = impedance(system) if flexible else None
+    return ModalModel(modes.omega, modes.damping, modes.effective_mass, modes.effective_height, coupled,
+                      theta_inertia, first_moment_residual, system.total_mass, system.gravity,
+                      _contact_elements(system, support, foundation), foundation)
+
+
+def _rotation_inertia(system: System, modes: Modes, residual: bool) -> tuple[float, float]:
+    """(I_theta [kg m^2], L_0 - sum m_n* h_n* [kg m]) of the rotation coordinate: the mat's rotary inertia
+    I_0, plus with `residual` the rotary inertia of the truncated modes and their share of the
+    excitation; each 0 when below 1e-12 of the structure's (docs/theory.md section 9)."""
     mh = modes.effective_mass * modes.effective_height
     b = system.building
     structure_inertia = float(np.sum(b.masses * b.heights**2))
     theta_inertia = system.mat_rotary_inertia
     first_moment_residual = 0.0
-    if flexible and not approximate and residual_inertia == "include":
+    if residual:
         theta_inertia += max(structure_inertia - float(np.sum(mh * modes.effective_height)), 0.0)
         first_moment_residual = system.first_moment - float(np.sum(mh))
     if theta_inertia < 1e-12 * structure_inertia:
         theta_inertia = 0.0
     if abs(first_moment_residual) < 1e-12 * system.first_moment:
         first_moment_residual = 0.0
-    # the impedance at the flexible-base frequency, as in every engine (model/interaction.py)
-    foundation = impedance(system) if flexible else None
-    elements = system.foundation.contact_elements(system.half_width, foundation["omega_impedance"]) if flexible \
-        else None
-    if support == "bonded" and elements is not None and elements.capacity is not None:
-        # the bonded support is the linear reference: its elements neither lift nor yield (theory 14)
+    return theta_inertia, first_moment_residual
+
+
+def _contact_elements(system: System, support: str, foundation: dict[str, float] | None) -> ContactElements | None:
+    """The foundation's contact elements built with the impedance `foundation` (None: a rigid base, no
+    elements); the bonded support's without a capacity: the linear reference, its elements neither
+    lift nor yield (theory 14)."""
+    if foundation is None:
+        return None
+    elements = system.foundation.contact_elements(system.half_width, foundation["omega_impedance"])
+    if support == "bonded" and elements.capacity is not None:
         elements = replace(elements, capacity=None)
-    return ModalModel(modes.omega, modes.damping, modes.effective_mass, modes.effective_height, coupled,
-                      theta_inertia, first_moment_residual, system.total_mass, system.gravity, elements, foundation)
+    return elements
 
 
 def governing_period(model: ModalModel) -> float:
@@ -93,11 +111,17 @@ def governing_period(model: ModalModel) -> float:
     heavy = model.effective_mass >= 0.01 * model.total_mass
     periods.extend((2.0 * math.pi / model.omega[heavy]).tolist())
     if model.flexible:
-        periods.append(2.0 * math.pi * math.sqrt(model.total_mass / model.elements.stiffness.sum()))
+        periods.append(vertical_period(model))
         if model.theta_inertia > 0.0:
             rocking = float(np.sum(model.elements.stiffness * model.elements.positions**2))
             periods.append(2.0 * math.pi * math.sqrt(model.theta_inertia / rocking))
     return min(periods)
+
+
+def vertical_period(model: ModalModel) -> float:
+    """The bonded vertical period T_v = 2 pi sqrt(m_t / sum k_i) [s] of a flexible base: every element in
+    contact, elastic."""
+    return 2.0 * math.pi * math.sqrt(model.total_mass / model.elements.stiffness.sum())
 
 
 def resolve_modes(system: System, n_modes: int | None) -> int:

@@ -12,7 +12,8 @@ import numpy as np
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_OPERATOR_BYTES
 from .expm import expm
-from .statespace import ContactState, Layout, StateSpace, contact_states
+from .patterns import contact_states
+from .statespace import ContactState, Layout, StateSpace
 from .yielding import pattern_bits, step_operators, valid_pattern
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
@@ -137,35 +138,11 @@ _LIFTED_AND_YIELDING = ("a contact element started to lift off and to yield at t
 def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | AnalysisError]:
     """Build and store the contact states asked for, (operators, pattern, with event rows)
     each, vectorised over the requests that share a layout: one batched assembly
-    (statespace.contact_states), one stacked expm and stacked squarings. Each item gets the
+    (patterns.contact_states), one stacked expm and stacked squarings. Each item gets the
     same bits as built alone. Returns the new state index, or the error, per request."""
     out: list[int | AnalysisError] = [AnalysisError(_NO_INERTIA)] * len(requests)
-    groups: dict[tuple, list[int]] = {}
-    asked: dict[int, int] = {}  # id(operators) -> states asked for in this call
-    for k, (operators, pattern, _) in enumerate(requests):
-        lay = operators.layout
-        if lay.n_settlements and not valid_pattern(pattern, lay.n_elements):
-            out[k] = AnalysisError(_LIFTED_AND_YIELDING)
-            continue
-        asked[id(operators)] = asked.get(id(operators), 0) + 1
-        if len(operators.contact) + asked[id(operators)] > max_states(lay):
-            out[k] = AnalysisError(_too_many_states(lay))
-            continue
-        key = (lay.n_p, tuple(lay.massive), tuple(lay.massless), lay.n_x, lay.n_elements, operators.criterion)
-        groups.setdefault(key, []).append(k)
-    for members in groups.values():
-        try:
-            states = _states([requests[k] for k in members])
-        except ZeroDivisionError:
-            if len(members) == 1:
-                continue
-            states = []
-            for k in members:  # find the item(s) at fault; the others go on
-                try:
-                    states.append(_states([requests[k]])[0])
-                except ZeroDivisionError:
-                    states.append(None)
-        built = [(k, state) for k, state in zip(members, states, strict=False) if state is not None]
+    for members in _groups(requests, out).values():
+        built = _built_states(requests, members)
         if not built:
             continue
         if built[0][1].yielding is not None and built[0][1].lifted.size > BLOCK_ELEMENTS:
@@ -179,6 +156,43 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
                 _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
             out[k] = operators.store(pattern, state, ops[r], events)
     return out
+
+
+def _groups(requests: list[tuple[Operators, int, bool]], out: list[int | AnalysisError]) -> dict[tuple, list[int]]:
+    """The requests that can be built, grouped by layout and criterion (indices into requests); the others
+    get their error in out: a pattern with an element lifted and yielding, or more states than
+    max_states for their run."""
+    groups: dict[tuple, list[int]] = {}
+    asked: dict[int, int] = {}  # id(operators) -> states asked for in this call
+    for k, (operators, pattern, _) in enumerate(requests):
+        lay = operators.layout
+        if lay.n_settlements and not valid_pattern(pattern, lay.n_elements):
+            out[k] = AnalysisError(_LIFTED_AND_YIELDING)
+            continue
+        asked[id(operators)] = asked.get(id(operators), 0) + 1
+        if len(operators.contact) + asked[id(operators)] > max_states(lay):
+            out[k] = AnalysisError(_too_many_states(lay))
+            continue
+        key = (lay.n_p, tuple(lay.massive), tuple(lay.massless), lay.n_x, lay.n_elements, operators.criterion)
+        groups.setdefault(key, []).append(k)
+    return groups
+
+
+def _built_states(requests: list[tuple[Operators, int, bool]], members: list[int]) -> list[tuple[int, ContactState]]:
+    """(index, state) of the requests `members` (one layout) whose state could be built: all in one batch,
+    or, when some item's massless rotation has no damping (ZeroDivisionError), each alone to find it."""
+    try:
+        return list(zip(members, _states([requests[k] for k in members]), strict=False))
+    except ZeroDivisionError:
+        if len(members) == 1:
+            return []
+    built = []
+    for k in members:  # find the item(s) at fault; the others go on
+        try:
+            built.append((k, _states([requests[k]])[0]))
+        except ZeroDivisionError:
+            continue
+    return built
 
 
 def _block_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]],

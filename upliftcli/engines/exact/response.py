@@ -246,7 +246,7 @@ def histories(history: History, rows: ResponseRows, sig: Signals, settlements: d
     quantities.HISTORY_QUANTITIES, and with a capacity each element's plastic settlement -s_i
     (plastic_settlement_<element>, >= 0). settlements: the mat's settlement series of the
     flexible supports (mat_motion.MatMotion.histories), placed after the signals."""
-    y, ydot = sig["Y"], sig["Ydot"]
+    y = sig["Y"]
     out = {
         "time": history.times,
         "ground_acceleration": sig["a"][:, 0],
@@ -255,23 +255,34 @@ def histories(history: History, rows: ResponseRows, sig: Signals, settlements: d
         "roof_displacement": y @ rows.displacement[-1],
     }
     if history.space.model.flexible:
-        out["theta"] = sig["theta"][:, 0]
-        out["v"] = sig["v"][:, 0]
-        edges = sig["element_displacement"][:, [0, -1]]
-        if history.space.layout.n_settlements:  # the signal is the spring's v_i - s_i: the edges themselves
-            edges = history.states @ history.space.displacement_rows[[0, -1]].T
-        out["left_edge_displacement"] = edges[:, 0]
-        out["right_edge_displacement"] = edges[:, 1]
-        patterns = np.array([sum(int(f) << i for i, f in enumerate(c.lifted)) for c in history.contact])
-        out["contact_state"] = patterns[history.state_ids]
+        out.update(_mat_histories(history, sig))
         out.update(settlements or {})
+    places = _places(history, rows, sig)
+    for name in (*HISTORY_QUANTITIES, "plastic_settlement"):
+        for j in range(places[name].shape[1] if name in places else 0):
+            out[f"{name}_{j + 1}"] = places[name][:, j]
+    return out
+
+
+def _mat_histories(history: History, sig: Signals) -> dict[str, np.ndarray]:
+    """The mat's histories on a flexible support: theta, v, the edge displacements (the edges themselves
+    with a capacity, where the signal is the spring's v_i - s_i) and the contact pattern."""
+    edges = sig["element_displacement"][:, [0, -1]]
+    if history.space.layout.n_settlements:
+        edges = history.states @ history.space.displacement_rows[[0, -1]].T
+    patterns = np.array([sum(int(f) << i for i, f in enumerate(c.lifted)) for c in history.contact])
+    return {"theta": sig["theta"][:, 0], "v": sig["v"][:, 0], "left_edge_displacement": edges[:, 0],
+            "right_edge_displacement": edges[:, 1], "contact_state": patterns[history.state_ids]}
+
+
+def _places(history: History, rows: ResponseRows, sig: Signals) -> dict[str, np.ndarray]:
+    """Quantities with one column per story, floor or element: drifts, floor accelerations, element
+    reactions and, with a capacity, plastic settlements -s_i (>= 0)."""
+    y, ydot = sig["Y"], sig["Ydot"]
     places = {"drift": y @ rows.drift.T,
               "floor_acceleration": y @ rows.acceleration.T + ydot @ rows.acceleration_rate.T}
     if history.space.layout.n_elements:
         places["reaction"] = element_reactions(history, sig)[0]
     if history.space.layout.n_settlements:
         places["plastic_settlement"] = -history.states[:, history.space.layout.settlement_indices] + 0.0
-    for name in (*HISTORY_QUANTITIES, "plastic_settlement"):
-        for j in range(places[name].shape[1] if name in places else 0):
-            out[f"{name}_{j + 1}"] = places[name][:, j]
-    return out
+    return places

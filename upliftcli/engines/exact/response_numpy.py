@@ -181,47 +181,74 @@ def contact_response(values, slopes, end_values, end_slopes, switch, lifted, len
     """Element reactions between samples, impacts and the uplift statistics into peak, peak_time,
     impact, impact_time, summary (response_kernels.contact_response), with the loop's arithmetic."""
     disp, vel, z, theta = (int(r) for r in rows)
-    n_e = lifted.shape[1]
-    columns = np.arange(n_e)
-    k, c = stiffness, damping
-
-    def reaction(v, s):
-        return -(v[:, disp:disp + n_e] * k + v[:, vel:vel + n_e] * c), -(v[:, vel:vel + n_e] * k
-                                                                         + s[:, vel:vel + n_e] * c)
-
-    in_contact, rate = reaction(values, slopes)
+    elements = (disp, vel, lifted.shape[1], stiffness, damping)
+    in_contact, rate = _reactions(values, slopes, elements)
     r, d = np.where(lifted, 0.0, in_contact), np.where(lifted, 0.0, rate)
+    _peak_reactions(r, d, end_values, end_slopes, switch, lifted, lengths, times, elements, peak, peak_time)
+    _impacts(r, lifted, times, impact, impact_time)
+    summary[:] = _uplift_summary(values, lifted, lengths, in_contact, disp, z, theta, damping)
+
+
+def _reactions(v, s, elements) -> tuple[np.ndarray, np.ndarray]:
+    """The reactions of the elements in contact and their rates at the samples v with slopes s; elements:
+    (row of the first element displacement, of the first element velocity, n_e, k_i, c_i)."""
+    disp, vel, n_e, k, c = elements
+    return -(v[:, disp:disp + n_e] * k + v[:, vel:vel + n_e] * c), -(v[:, vel:vel + n_e] * k
+                                                                     + s[:, vel:vel + n_e] * c)
+
+
+def _peak_reactions(r, d, end_values, end_slopes, switch, lifted, lengths, times, elements, peak, peak_time) -> None:
+    """The largest reaction of each element between samples (cubic through the values r and rates d of the
+    interval's ends, the left limit where it ends at a transition) and its instant, into peak, peak_time."""
+    n_e = lifted.shape[1]
     r1, d1 = r[1:].copy(), d[1:].copy()
     ends = switch[:len(r1)] >= 0
     if ends.any():
-        r1[ends], d1[ends] = reaction(end_values[switch[:len(r1)][ends]], end_slopes[switch[:len(r1)][ends]])
+        r1[ends], d1[ends] = _reactions(end_values[switch[:len(r1)][ends]], end_slopes[switch[:len(r1)][ends]],
+                                        elements)
     contact = ~lifted[:-1]
     r1, d1 = np.where(contact, r1, 0.0), np.where(contact, d1, 0.0)
     value, fraction = cubic_maximum(r[:-1], r1, d[:-1] * lengths[:len(r1), None], d1 * lengths[:len(r1), None])
     value = np.where(contact, value, 0.0)
-    if len(r1):
-        interval = np.argmax(value, axis=0)
-        peak[:] = np.maximum(value[interval, columns], 0.0)
-        peak_time[:] = times[interval] + fraction[interval, columns] * lengths[interval]
-    else:
+    if not len(r1):
         peak[:], peak_time[:] = 0.0, 0.0
+        return
+    interval = np.argmax(value, axis=0)
+    columns = np.arange(n_e)
+    peak[:] = np.maximum(value[interval, columns], 0.0)
+    peak_time[:] = times[interval] + fraction[interval, columns] * lengths[interval]
+
+
+def _impacts(r, lifted, times, impact, impact_time) -> None:
+    """The largest reaction of each element at a recontact (the sample after it) and its instant (NaN
+    without one), into impact, impact_time."""
+    n_e = lifted.shape[1]
     recontact = lifted[:-1] & ~lifted[1:]
     at_impact = np.where(recontact, r[1:], -np.inf)
     hit = recontact.any(axis=0)
-    sample = np.argmax(at_impact, axis=0) if len(r1) else np.zeros(n_e, dtype=np.int64)
-    impact[:] = np.where(hit, np.maximum(at_impact[sample, columns] if len(r1) else 0.0, 0.0), 0.0)
+    if len(r[1:]):
+        sample = np.argmax(at_impact, axis=0)
+        largest = at_impact[sample, np.arange(n_e)]
+    else:
+        sample, largest = np.zeros(n_e, dtype=np.int64), 0.0
+    impact[:] = np.where(hit, np.maximum(largest, 0.0), 0.0)
     impact_time[:] = np.where(hit, times[np.minimum(sample + 1, times.size - 1)], np.nan)
+
+
+def _uplift_summary(values, lifted, lengths, in_contact, disp, z, theta, damping) -> list:
+    """The uplift statistics in the order of response_kernels.SUMMARY."""
+    n_e = lifted.shape[1]
     displacement = values[:, disp:disp + n_e]
-    gap = np.where(lifted, displacement - np.where(c > 0.0, values[:, z:z + n_e], 0.0), 0.0)
+    gap = np.where(lifted, displacement - np.where(damping > 0.0, values[:, z:z + n_e], 0.0), 0.0)
     any_lifted = lifted.any(axis=1)
     in_contact = np.where(lifted, np.inf, in_contact)
-    interval_lengths = lengths[:len(r1)]
-    summary[:] = [np.abs(values[:, theta]).max() if theta >= 0 else 0.0,
-                  interval_lengths[any_lifted[:-1]].sum(), np.count_nonzero(any_lifted[1:] & ~any_lifted[:-1]),
-                  interval_lengths[lifted.all(axis=1)[:-1]].sum() if n_e > 1 else 0.0,
-                  *(np.count_nonzero(lifted[1:, i] & ~lifted[:-1, i]) for i in (0, -1)),
-                  *(max(gap[:, i].max(), 0.0) for i in (0, -1)), *(displacement[:, i].max() for i in (0, -1)),
-                  in_contact[:, 0].min(), in_contact[:, -1].min(), in_contact.min()]
+    interval_lengths = lengths[:max(len(values) - 1, 0)]
+    return [np.abs(values[:, theta]).max() if theta >= 0 else 0.0,
+            interval_lengths[any_lifted[:-1]].sum(), np.count_nonzero(any_lifted[1:] & ~any_lifted[:-1]),
+            interval_lengths[lifted.all(axis=1)[:-1]].sum() if n_e > 1 else 0.0,
+            *(np.count_nonzero(lifted[1:, i] & ~lifted[:-1, i]) for i in (0, -1)),
+            *(max(gap[:, i].max(), 0.0) for i in (0, -1)), *(displacement[:, i].max() for i in (0, -1)),
+            in_contact[:, 0].min(), in_contact[:, -1].min(), in_contact.min()]
 
 
 # ----------------------------------------------------------------------------- work integrals (_energy.c)

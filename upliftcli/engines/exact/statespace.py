@@ -214,52 +214,6 @@ def stacked(terms: list[StateSpace], name: str) -> np.ndarray:
     return getattr(terms[0], name)[None] if len(terms) == 1 else np.stack([getattr(t, name) for t in terms])
 
 
-def contact_states(terms: list[StateSpace], lifted: np.ndarray, criterion: str,
-                   yielding: np.ndarray | None = None) -> list[ContactState]:
-    """Assemble A, the velocity map and the event rows of contact patterns: item r is the
-    model of terms[r] (all with one layout) in the contact pattern lifted[r] (R, n_e) (and
-    yielding[r] with a bearing capacity: yielding.yielding_states). The assembly is
-    vectorised over the batch axis; every item gets the same bits as alone (products are per
-    item, sums along contiguous rows). Raises ZeroDivisionError if a massless rotation has no
-    damping in some item."""
-    count = len(terms)
-    lay = terms[0].layout
-    if lay.n_settlements:
-        from .yielding import yielding_states
-        return yielding_states(terms, lifted, yielding, criterion)
-    n_e = lay.n_elements
-    def stack(name: str) -> np.ndarray:
-        return stacked(terms, name)
-
-    stiffness, damping, forcing, masses = stack("stiffness"), stack("damping"), stack("forcing"), stack("masses")
-    position = terms[0].position  # the same for one layout
-    if n_e:
-        e, k_el, c_el = stack("directions"), stack("element_stiffness"), stack("element_damping")
-        e_t = np.swapaxes(e, 1, 2)
-        stiffness = stiffness + (e_t * np.where(lifted, 0.0, k_el)[:, None, :]) @ e
-        damping = damping + (e_t * np.where(lifted, 0.0, c_el)[:, None, :]) @ e
-    velocity, matrix = dynamics(lay, stiffness, damping, forcing, masses, position)
-    events = np.zeros((count, n_e, lay.n_aug))
-    if n_e:
-        weight = np.array([t.weight for t in terms])[:, None, None]
-        settlement = np.array([t.settlement for t in terms])[:, None, None]
-        z = lay.z_indices
-        disp_rows = stack("displacement_rows")  # (R, n_e, n_aug): element displacement v_i
-        rows, cols = np.nonzero(lifted & (c_el > 0.0))  # lifted elements relaxing: k z + c z' = 0
-        matrix[rows, z[cols], z[cols]] = -k_el[rows, cols] / c_el[rows, cols]
-        # lifted: recontact when the edge comes down to the element top, z_i - v_i > 0
-        recontact = -disp_rows / settlement
-        recontact[rows, cols, z[cols]] += 1.0 / settlement[rows, 0, 0]
-        if criterion == "reaction":
-            # in contact: tensile element force F_i = k v_i + c v_i' > 0 [4a]
-            separation = (k_el[:, :, None] * disp_rows + c_el[:, :, None] * (e @ velocity)) / weight
-        else:
-            # in contact: edge above the unstressed position v_i > 0 [4b]
-            separation = disp_rows / settlement
-        events = np.where(lifted[:, :, None], recontact, separation)
-    return [ContactState(lifted[r].copy(), matrix[r], velocity[r], events[r]) for r in range(count)]
-
-
 def dynamics(lay: Layout, stiffness: np.ndarray, damping: np.ndarray, forcing: np.ndarray, masses: np.ndarray,
              position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The velocity map X -> p' and the matrix A (without the rows of z and s that the caller

@@ -16,6 +16,7 @@ import numpy as np
 
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_CONTACT_ELEMENTS, MAX_YIELDING_ELEMENTS
+from ..registry import too_many_yielding
 from . import stepping_kernels as kernel
 from .operators import LEVELS, Operators, add_states, expected_states, state_bytes
 from .statespace import ContactState, StateSpace
@@ -67,7 +68,7 @@ class Run:
         if n_e > MAX_CONTACT_ELEMENTS:  # the deck's field is checked against it (a model built in code is not)
             raise AnalysisError(f"at most {MAX_CONTACT_ELEMENTS} contact elements are supported (got {n_e}): lower "
                                 "foundation.elements")
-        if lay.n_settlements > MAX_YIELDING_ELEMENTS:
+        if too_many_yielding(lay.n_settlements):  # the rule of registry.capacity_refusal, for a model built in code
             raise AnalysisError(f"at most {MAX_YIELDING_ELEMENTS} contact elements with a bearing capacity are "
                                 f"supported (got {n_e}): lower foundation.elements")
         self.space, self.layout, self.h, self.criterion = space, lay, h, criterion
@@ -130,7 +131,10 @@ class Run:
         self.n_out += 1
 
     def advance(self) -> int | None:
-        ops, lay, h = self.operators, self.layout, self.h
+        """Step on (stepping_kernels.integrate) until the end of the record (None) or a contact pattern
+        without operators (returned); a full sample buffer goes to on_chunk or grows (_buffer_full); a
+        run that cannot go on raises the AnalysisError saying why (_stopped)."""
+        ops = self.operators
         while True:
             status, self.step, self.offset, self.state, self.n_out, pattern = kernel.integrate(
                 kernel.States(ops.ops, ops.events, ops.event_rates, ops.matrices, ops.patterns, len(ops.contact)),
@@ -141,29 +145,38 @@ class Run:
                 return None
             if status == kernel.NEED_STATE:
                 return int(pattern)
-            if status == kernel.FULL and self.on_chunk is not None:
-                self.on_chunk(self.history())
-                self.out_x[0], self.out_t[0], self.out_s[0] = self.out_x[self.n_out - 1], self.out_t[self.n_out - 1], \
-                    self.out_s[self.n_out - 1]
-                self.n_out = 1
-            elif status == kernel.FULL:
-                extra = max(self.capacity // 2, 4096)
-                self.out_x = np.concatenate((self.out_x, np.empty((extra, lay.n_aug))))
-                self.out_t = np.concatenate((self.out_t, np.empty(extra)))
-                self.out_s = np.concatenate((self.out_s, np.empty(extra, dtype=np.int64)))
-                self.capacity += extra
-            elif status == kernel.FLIGHT:
-                raise AnalysisError(
-                    f"both edges of the mat left the foundation (flight) at t = {self.step * h + self.offset:.4f} s "
-                    "and flight = \"error\" was asked for"
-                )
-            elif status == kernel.NONFINITE:
-                raise AnalysisError(f"the state became non-finite at t = {self.step * h:.4f} s")
-            elif status == kernel.CHATTER:
-                raise AnalysisError(
-                    f"contact chatter: more than {kernel.MAX_EVENTS_PER_STEP} transitions inside one step "
-                    f"at t = {self.step * h:.4f} s; reduce the time step"
-                )
+            if status != kernel.FULL:
+                raise self._stopped(status)
+            self._buffer_full()
+
+    def _buffer_full(self) -> None:
+        """A full sample buffer: passed to on_chunk and restarted from its last sample, or grown."""
+        if self.on_chunk is not None:
+            self.on_chunk(self.history())
+            self.out_x[0], self.out_t[0], self.out_s[0] = self.out_x[self.n_out - 1], self.out_t[self.n_out - 1], \
+                self.out_s[self.n_out - 1]
+            self.n_out = 1
+            return
+        extra = max(self.capacity // 2, 4096)
+        self.out_x = np.concatenate((self.out_x, np.empty((extra, self.layout.n_aug))))
+        self.out_t = np.concatenate((self.out_t, np.empty(extra)))
+        self.out_s = np.concatenate((self.out_s, np.empty(extra, dtype=np.int64)))
+        self.capacity += extra
+
+    def _stopped(self, status: int) -> AnalysisError:
+        """Why the run stopped (kernel.FLIGHT, NONFINITE or CHATTER), in words."""
+        h = self.h
+        if status == kernel.FLIGHT:
+            return AnalysisError(
+                f"both edges of the mat left the foundation (flight) at t = {self.step * h + self.offset:.4f} s "
+                "and flight = \"error\" was asked for"
+            )
+        if status == kernel.NONFINITE:
+            return AnalysisError(f"the state became non-finite at t = {self.step * h:.4f} s")
+        return AnalysisError(
+            f"contact chatter: more than {kernel.MAX_EVENTS_PER_STEP} transitions inside one step "
+            f"at t = {self.step * h:.4f} s; reduce the time step"
+        )
 
     def history(self) -> History:
         """The samples in the buffer (views of it: use them before stepping on)."""
@@ -220,10 +233,7 @@ def simulate(spaces: list[StateSpace], substeps: list[int], acceleration: np.nda
             continue
         pending.append((k, run))
     while pending:
-        size, used = 1, pending[0][1].buffer_bytes
-        while size < len(pending) and used + pending[size][1].buffer_bytes <= BATCH_MEMORY:
-            used += pending[size][1].buffer_bytes
-            size += 1
+        size = _fitting(pending)
         order = [k for k, _ in pending[:size]]
         group = [run for _, run in pending[:size]]
         del pending[:size]  # the runs live in simulate_many only: each one's buffers go when it ends
@@ -246,21 +256,34 @@ def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisErro
         ahead = []
         going = []
         for k, index in zip(active, built, strict=False):
-            if isinstance(index, AnalysisError):
+            outcome = _advanced(runs[k], index)
+            if isinstance(outcome, (History, AnalysisError)):
                 runs[k] = None
-                yield k, index
-                continue
-            runs[k].enter(index)
-            try:
-                pattern = runs[k].advance()
-            except AnalysisError as error:
-                runs[k] = None
-                yield k, error
-                continue
-            if pattern is None:
-                history, runs[k] = runs[k].history(), None
-                yield k, history
+                yield k, outcome
             else:
-                going.append((k, pattern))
+                going.append((k, outcome))
         active = [k for k, _ in going]
         requests = [(runs[k].operators, pattern, True) for k, pattern in going]
+
+
+def _fitting(pending: list[tuple[int, Run]]) -> int:
+    """How many of the pending runs, from the first, are stepped together: at least one, and as many as
+    have their sample buffers within BATCH_MEMORY."""
+    size, used = 1, pending[0][1].buffer_bytes
+    while size < len(pending) and used + pending[size][1].buffer_bytes <= BATCH_MEMORY:
+        used += pending[size][1].buffer_bytes
+        size += 1
+    return size
+
+
+def _advanced(run: Run, index: int | AnalysisError) -> int | History | AnalysisError:
+    """Run `run` from its new state `index` (or the error that kept that state from being built) until
+    it ends or needs another state: the pattern it needs, its History, or the AnalysisError that stopped it."""
+    if isinstance(index, AnalysisError):
+        return index
+    run.enter(index)
+    try:
+        pattern = run.advance()
+    except AnalysisError as error:
+        return error
+    return run.history() if pattern is None else pattern

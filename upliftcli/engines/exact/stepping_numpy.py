@@ -177,25 +177,10 @@ class _Loop:
         while True:
             remaining = h - offset
             if remaining < self.smallest * (1.0 - 1e-9):
-                if remaining > 0.0:  # sub-sliver close: second-order Taylor step
-                    matrix_t = self.matrices[state]
-                    tmp = x @ matrix_t
-                    x += remaining * tmp + 0.5 * remaining * remaining * (tmp @ matrix_t)
+                if remaining > 0.0:  # sub-sliver close
+                    self.taylor_step(state, remaining)
                 return None, state, offset, n_out, 0
-            level = 0
-            while level < self.levels and self.chunk[level] > remaining * (1.0 + 1e-12):
-                level += 1
-            events, rates = self.state_events(state)
-            g_x, d_x = events @ x, rates @ x
-            trial = self.step_with(state, level, x)
-            g_t = events @ trial
-            crossed = g_t.size > 0 and g_t.max() > EVENT_TOLERANCE
-            while not crossed and level < REFINE_LEVELS and excursion_between(g_x, d_x, g_t, rates @ trial,
-                                                                             self.chunk[level]):
-                level += 1
-                trial = self.step_with(state, level, x)
-                g_t = events @ trial
-                crossed = g_t.max() > EVENT_TOLERANCE
+            level, trial, crossed, events = self.trial_step(state, remaining)
             if not crossed:
                 x[:] = trial
                 offset += self.chunk[level]
@@ -204,17 +189,52 @@ class _Loop:
             x[:] = left + fraction * (right - left)
             offset += start + fraction * self.smallest
             pattern = self.switch_pattern(state, int(self.patterns[state]), x, right)
-            if pattern == self.all_lifted and not self.allow_flight:
-                return FLIGHT, state, offset, n_out, pattern
-            found = np.flatnonzero(self.patterns[:self.count] == pattern)
-            if found.size == 0:
-                return NEED_STATE, state, offset, n_out, pattern
-            state = int(found[0])
             events_in_step += 1
-            if events_in_step >= MAX_EVENTS_PER_STEP:
-                return CHATTER, state, offset, n_out, pattern
+            status, state = self.enter(state, pattern, events_in_step)
+            if status is not None:
+                return status, state, offset, n_out, pattern
             self.store(n_out, step * h + offset, x, state)
             n_out += 1
+
+    def taylor_step(self, state: int, remaining: float) -> None:
+        """Close a step shorter than the finest level by a second-order Taylor step (self.x in place)."""
+        matrix_t = self.matrices[state]
+        x = self.x
+        tmp = x @ matrix_t
+        x += remaining * tmp + 0.5 * remaining * remaining * (tmp @ matrix_t)
+
+    def trial_step(self, state: int, remaining: float):
+        """The chunk the C loop tries from self.x: the longest level within `remaining`, halved while an
+        event function may cross and come back inside it (excursion_between): (level, the state at its
+        end, whether an event row crossed, the state's event rows)."""
+        level = 0
+        while level < self.levels and self.chunk[level] > remaining * (1.0 + 1e-12):
+            level += 1
+        x = self.x
+        events, rates = self.state_events(state)
+        g_x, d_x = events @ x, rates @ x
+        trial = self.step_with(state, level, x)
+        g_t = events @ trial
+        crossed = g_t.size > 0 and g_t.max() > EVENT_TOLERANCE
+        while not crossed and level < REFINE_LEVELS and excursion_between(g_x, d_x, g_t, rates @ trial,
+                                                                         self.chunk[level]):
+            level += 1
+            trial = self.step_with(state, level, x)
+            g_t = events @ trial
+            crossed = g_t.max() > EVENT_TOLERANCE
+        return level, trial, crossed, events
+
+    def enter(self, state: int, pattern: int, events_in_step: int) -> tuple[int | None, int]:
+        """(status or None, state) after a transition to `pattern`, the events_in_step-th of the step:
+        FLIGHT if flight is not allowed, NEED_STATE if the pattern has no state yet, CHATTER (in the new
+        state) at MAX_EVENTS_PER_STEP."""
+        if pattern == self.all_lifted and not self.allow_flight:
+            return FLIGHT, state
+        found = np.flatnonzero(self.patterns[:self.count] == pattern)
+        if found.size == 0:
+            return NEED_STATE, state
+        state = int(found[0])
+        return (CHATTER if events_in_step >= MAX_EVENTS_PER_STEP else None), state
 
     def store(self, n_out: int, time: float, x: np.ndarray, state: int) -> None:
         self.out_t[n_out], self.out_x[n_out], self.out_state[n_out] = time, x, state

@@ -1,4 +1,5 @@
-"""Contact states of a foundation whose elements yield (docs/theory.md section 14).
+"""Contact states of a foundation whose elements yield (docs/theory.md section 14): their pattern bits,
+event rows, event resets and step operators (patterns.contact_states assembles their A).
 
 Each contact element with a bearing capacity Q_i is in one of three states: C (elastic contact),
 Y (yielding) or L (lifted) (theory 14.1). The augmented state gains the plastic settlements s_i
@@ -23,7 +24,8 @@ from __future__ import annotations
 import numpy as np
 
 from .expm import expm
-from .statespace import ContactState, Layout, StateSpace, dynamics, stacked
+from .modal import vertical_period
+from .statespace import ContactState, Layout, StateSpace, stacked
 
 
 def pattern_bits(pattern: int, n_elements: int) -> tuple[np.ndarray, np.ndarray]:
@@ -38,50 +40,19 @@ def valid_pattern(pattern: int, n_elements: int) -> bool:
     return not np.any(lifted & yielding)
 
 
-def yielding_states(terms: list[StateSpace], lifted: np.ndarray, yielding: np.ndarray | None,
-                    criterion: str) -> list[ContactState]:
-    """statespace.contact_states for models with a bearing capacity: item r is terms[r] in the
-    pattern (lifted[r], yielding[r]) (R, n_e) each (docs/theory.md 14.2-14.3)."""
-    count = len(terms)
-    lay = terms[0].layout
-    yielding = np.zeros_like(lifted) if yielding is None else np.asarray(yielding, dtype=bool)
+def event_rows(terms: list[StateSpace], lay: Layout, lifted: np.ndarray, yielding: np.ndarray,
+               edge_velocity: np.ndarray, criterion: str) -> np.ndarray:
+    """The 2 n_e event rows of each item of a batch of patterns (lifted, yielding) (R, n_e) with a
+    bearing capacity (theory 14.2; > 0: the element switches), edge_velocity (R, n_e, n_aug): X -> v_i';
+    dimensionless: forces by W, displacements by the static settlement delta_st, velocities by g / w_v."""
     contact = ~lifted & ~yielding
-    touching = ~lifted
-    stiffness, damping, masses = stacked(terms, "stiffness"), stacked(terms, "damping"), stacked(terms, "masses")
-    forcing = stacked(terms, "forcing").copy()
-    e, k_el, c_el = stacked(terms, "directions"), stacked(terms, "element_stiffness"), stacked(terms, "element_damping")
-    q_el = stacked(terms, "element_capacity")
-    e_t = np.swapaxes(e, 1, 2)
-    k_contact = np.where(contact, k_el, 0.0)
-    stiffness = stiffness + (e_t * k_contact[:, None, :]) @ e
-    damping = damping + (e_t * np.where(touching, c_el, 0.0)[:, None, :]) @ e
-    s_idx, z_idx, one = lay.settlement_indices, lay.z_indices, lay.index_one
-    forcing[:, :, s_idx] += e_t * k_contact[:, None, :]
-    forcing[:, :, one] += (e_t * np.where(yielding, q_el, 0.0)[:, None, :]).sum(axis=2)
-    velocity, matrix = dynamics(lay, stiffness, damping, forcing, masses, terms[0].position)
-    edge_velocity = e @ velocity  # (R, n_e, n_aug): X -> v_i'
-    rows, cols = np.nonzero(yielding)
-    matrix[rows, s_idx[cols]] = edge_velocity[rows, cols]
-    rows, cols = np.nonzero(lifted & (c_el > 0.0))  # lifted tops relaxing: k (z - s) + c z' = 0
-    rate = k_el[rows, cols] / c_el[rows, cols]
-    matrix[rows, z_idx[cols], z_idx[cols]] = -rate
-    matrix[rows, z_idx[cols], s_idx[cols]] = rate
-    events = _events(terms, lay, lifted, yielding, contact, edge_velocity, criterion)
-    return [ContactState(lifted[r].copy(), matrix[r], velocity[r], events[r], yielding[r].copy())
-            for r in range(count)]
-
-
-def _events(terms: list[StateSpace], lay: Layout, lifted: np.ndarray, yielding: np.ndarray, contact: np.ndarray,
-            edge_velocity: np.ndarray, criterion: str) -> np.ndarray:
-    """The 2 n_e event rows of each item (theory 14.2; > 0: the element switches), dimensionless:
-    forces by W, displacements by the static settlement delta_st, velocities by g / w_v."""
     n_aug = lay.n_aug
     unit = np.eye(n_aug)
     s_rows, z_rows, one = unit[lay.settlement_indices], unit[lay.z_indices], unit[lay.index_one]
     weight = np.array([t.weight for t in terms])[:, None, None]
     settlement = np.array([t.settlement for t in terms])[:, None, None]
-    # delta_st w_v = g / w_v, w_v = sqrt(sum k_i / m_t) the bonded vertical frequency
-    vertical = np.array([np.sqrt(t.element_stiffness.sum() / t.model.total_mass) for t in terms])[:, None, None]
+    # delta_st w_v = g / w_v, w_v = 2 pi / T_v the bonded vertical frequency
+    vertical = np.array([2.0 * np.pi / vertical_period(t.model) for t in terms])[:, None, None]
     k_el, c_el = stacked(terms, "element_stiffness")[:, :, None], stacked(terms, "element_damping")[:, :, None]
     q_el = stacked(terms, "element_capacity")[:, :, None]
     spring = stacked(terms, "displacement_rows") - s_rows  # v_i - s_i

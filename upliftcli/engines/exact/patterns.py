@@ -1,0 +1,104 @@
+"""The linear system of each contact pattern: A of X' = A X, the velocity map and the event rows of
+a batch of contact states (docs/theory.md sections 3-5; with a bearing capacity 14.2-14.3).
+
+An elastic element is in contact or lifted; with a bearing capacity it is in elastic contact (C),
+yields (Y) or is lifted (L) (yielding.py). Both are assembled here, by one vectorised function
+over the batch axis: the structure plus the springs and dashpots of the elements on the mat, the
+motion from statespace.dynamics, then the rows of the element tops z_i (and settlements s_i) and
+the event rows (elastic: _elastic_events here; with a capacity: yielding.event_rows).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .statespace import ContactState, Layout, StateSpace, dynamics, stacked
+from .yielding import event_rows
+
+
+def contact_states(terms: list[StateSpace], lifted: np.ndarray, criterion: str,
+                   yielding: np.ndarray | None = None) -> list[ContactState]:
+    """Assemble A, the velocity map and the event rows of contact patterns: item r is the
+    model of terms[r] (all with one layout) in the contact pattern lifted[r] (R, n_e) (and
+    yielding[r] with a bearing capacity, all False if None; ignored without one). The assembly is
+    vectorised over the batch axis; every item gets the same bits as alone (products are per
+    item, sums along contiguous rows). Raises ZeroDivisionError if a massless rotation has no
+    damping in some item."""
+    lay = terms[0].layout
+    if lay.n_settlements:
+        yielding = np.zeros_like(lifted) if yielding is None else np.asarray(yielding, dtype=bool)
+    else:
+        yielding = None
+    stiffness, damping, forcing = _on_the_mat(terms, lifted, yielding)
+    velocity, matrix = dynamics(lay, stiffness, damping, forcing, stacked(terms, "masses"), terms[0].position)
+    if not lay.n_elements:
+        events = np.zeros((len(terms), 0, lay.n_aug))
+    elif yielding is None:
+        _relaxing_tops(lay, matrix, lifted, terms)
+        events = _elastic_events(terms, lay, lifted, velocity, criterion)
+    else:
+        edge_velocity = stacked(terms, "directions") @ velocity  # (R, n_e, n_aug): X -> v_i'
+        rows, cols = np.nonzero(yielding)  # s_i' = v_i' while yielding
+        matrix[rows, lay.settlement_indices[cols]] = edge_velocity[rows, cols]
+        _relaxing_tops(lay, matrix, lifted, terms)
+        events = event_rows(terms, lay, lifted, yielding, edge_velocity, criterion)
+    return [ContactState(lifted[r].copy(), matrix[r], velocity[r], events[r],
+                         None if yielding is None else yielding[r].copy()) for r in range(len(terms))]
+
+
+def _on_the_mat(terms: list[StateSpace], lifted: np.ndarray, yielding: np.ndarray | None
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Stiffness, damping (R, n_p, n_p) and forcing (R, n_p, n_aug) of the structure with the elements on
+    the mat: k_i e_i^T e_i in elastic contact, c_i e_i^T e_i in contact or yielding; with a capacity
+    also k_i e_i^T in the column of s_i (the spring acts on v_i - s_i) and Q_i e_i^T in the column of
+    the constant 1 while yielding (yielding.py)."""
+    stiffness, damping, forcing = stacked(terms, "stiffness"), stacked(terms, "damping"), stacked(terms, "forcing")
+    if not terms[0].layout.n_elements:
+        return stiffness, damping, forcing
+    e, k_el, c_el = stacked(terms, "directions"), stacked(terms, "element_stiffness"), stacked(terms, "element_damping")
+    e_t = np.swapaxes(e, 1, 2)
+    contact = ~lifted if yielding is None else ~lifted & ~yielding
+    k_contact = np.where(contact, k_el, 0.0)
+    stiffness = stiffness + (e_t * k_contact[:, None, :]) @ e
+    damping = damping + (e_t * np.where(lifted, 0.0, c_el)[:, None, :]) @ e
+    if yielding is None:
+        return stiffness, damping, forcing
+    lay = terms[0].layout
+    forcing = forcing.copy()
+    forcing[:, :, lay.settlement_indices] += e_t * k_contact[:, None, :]
+    q_el = stacked(terms, "element_capacity")
+    forcing[:, :, lay.index_one] += (e_t * np.where(yielding, q_el, 0.0)[:, None, :]).sum(axis=2)
+    return stiffness, damping, forcing
+
+
+def _relaxing_tops(lay: Layout, matrix: np.ndarray, lifted: np.ndarray, terms: list[StateSpace]) -> None:
+    """The rows of the lifted element tops with a dashpot in A (in place): k_i (z_i - s_i) + c_i z_i' = 0
+    (s_i = 0 without a capacity: docs/theory.md section 4, 14.3); the other tops stay (z_i' = 0)."""
+    k_el, c_el = stacked(terms, "element_stiffness"), stacked(terms, "element_damping")
+    rows, cols = np.nonzero(lifted & (c_el > 0.0))
+    rate = k_el[rows, cols] / c_el[rows, cols]
+    z = lay.z_indices[cols]
+    matrix[rows, z, z] = -rate
+    if lay.n_settlements:
+        matrix[rows, z, lay.settlement_indices[cols]] = rate
+
+
+def _elastic_events(terms: list[StateSpace], lay: Layout, lifted: np.ndarray, velocity: np.ndarray,
+                    criterion: str) -> np.ndarray:
+    """The n_e event rows of elastic elements (> 0: the element switches), dimensionless (forces by
+    m_t g, displacements by the static settlement): a lifted element recontacts when the edge comes
+    down to its top, z_i - v_i > 0; one in contact lifts off at a tensile force F_i = k v_i + c v_i' > 0
+    [4a] ("reaction") or with the edge above its unstressed position, v_i > 0 [4b]."""
+    weight = np.array([t.weight for t in terms])[:, None, None]
+    settlement = np.array([t.settlement for t in terms])[:, None, None]
+    k_el, c_el = stacked(terms, "element_stiffness"), stacked(terms, "element_damping")
+    disp_rows = stacked(terms, "displacement_rows")  # (R, n_e, n_aug): element displacement v_i
+    rows, cols = np.nonzero(lifted & (c_el > 0.0))  # the tops that relax: z_i is a state entry
+    recontact = -disp_rows / settlement
+    recontact[rows, cols, lay.z_indices[cols]] += 1.0 / settlement[rows, 0, 0]
+    if criterion == "reaction":
+        e = stacked(terms, "directions")
+        separation = (k_el[:, :, None] * disp_rows + c_el[:, :, None] * (e @ velocity)) / weight
+    else:
+        separation = disp_rows / settlement
+    return np.where(lifted[:, :, None], recontact, separation)
