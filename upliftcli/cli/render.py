@@ -202,10 +202,11 @@ def print_results(out: Console, results: list[AnalysisResult], title: str | None
     print_tables(out, _closing_tables(results, units, checks))
 
 
-def _result_tables(result: AnalysisResult, units: str) -> Iterator[Table]:
-    """The tables of one result, in order, each made when it is printed."""
+def _result_tables(result: AnalysisResult, units: str) -> Iterator[Table | None]:
+    """The tables of one result, in order, each made when it is printed (None: a table it has not)."""
     yield story_table(result, units)
-    yield from render_rocking.foundation_tables(result, units)
+    yield render_rocking.elements_table(result, units)
+    yield render_rocking.rocking_table(result, units)
     if all(name in result.intermediates for name in MODAL_LISTS):
         yield modal_table(result, units)
     if result.intermediates:
@@ -232,8 +233,7 @@ def accuracy_table(checks=(), units: str = "si") -> Table | None:
     shared = len(references) == 1  # named in the title, else in a column
     table = Table(title=escape(_accuracy_title(checks[0], references)))
     table.caption = escape(_band_caption(checks[0]))
-    add_columns(table, ("support", *(() if shared else ("reference",)), "quantity", "simplified", "exact", "ratio"),
-                left=("support", "reference", "quantity"))
+    add_columns(table, _accuracy_headings(shared), left=("support", "reference", "quantity"))
     for check in checks:
         add_rows(table, _check_rows(check, shared, units))
     table.caption += escape(_left_out_reasons(checks))
@@ -245,6 +245,11 @@ def _accuracy_title(first, references: list[str]) -> str:
     reference = references[0] if len(references) == 1 else "exact engine"
     same = ", same deck and record" if first.suite is None else ""
     return "Accuracy check: the simplified engine against the " + reference + same
+
+
+def _accuracy_headings(shared: bool) -> tuple[str, ...]:
+    """The columns; a column of the reference engine when the checks have several."""
+    return ("support", *(() if shared else ("reference",)), "quantity", "simplified", "exact", "ratio")
 
 
 def _band_caption(first) -> str:

@@ -29,9 +29,15 @@ def batch_table(runs, units: str = "si", checks=None) -> Table:
     table.add_column("deck", justify="left", no_wrap=True)
     add_columns(table, ("engine", "support", *(column.heading(units) for column in columns), "criteria"))
     for name, (_, item, results), checked in zip(_deck_names(runs), runs, checks or [()] * len(runs), strict=True):
-        add_rows(table, ([escape(name), escape(engine_label(r)), r.support, *summary_cells(r, columns, units),
-                          _criteria_verdict(r, item.criteria, checked)] for r in results))
+        add_rows(table, (_result_cells(name, r, columns, units, item.criteria, checked) for r in results))
     return table
+
+
+def _result_cells(name: str, result: AnalysisResult, columns: list, units: str, criteria: Mapping,
+                  checks) -> list[str]:
+    """A deck's result: deck, engine, support, the summary columns and the criteria verdict."""
+    return [escape(name), escape(engine_label(result)), result.support, *summary_cells(result, columns, units),
+            _criteria_verdict(result, criteria, checks)]
 
 
 def _deck_names(runs) -> list[str]:

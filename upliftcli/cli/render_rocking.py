@@ -2,7 +2,8 @@
 display.py: per contact element its peak reactions and, on yielding soil, its plastic settlement
 (elements_table); the rocking quantities (engines/quantities.ROCKING, docs/theory.md 14.7), the
 mat's peak and residual rotation and settlement, and with a bearing capacity the number of
-elements that yielded and the plastic work (rocking_table)."""
+elements that yielded and the plastic work (rocking_table); None for a result without them
+(cli/render.print_results prints those it has)."""
 
 from __future__ import annotations
 
@@ -13,11 +14,6 @@ from ..display import ROCKING_HEADINGS, label, rocking_rows, show
 from ..engines.quantities import element_quantities, rocking_entries
 from ..engines.result import AnalysisResult
 from .tables import add_columns, add_rows, engine_label, has_peak
-
-
-def foundation_tables(result: AnalysisResult, units: str = "si") -> list[Table]:
-    """The foundation table and the rocking table of a result, those it has (cli/render.print_results)."""
-    return [table for table in (elements_table(result, units), rocking_table(result, units)) if table is not None]
 
 
 def elements_table(result: AnalysisResult, units: str = "si") -> Table | None:

@@ -103,9 +103,14 @@ def comparison_table(results: Sequence[AnalysisResult], units: str = "si") -> Ta
                         *(("target / records", "procedure") if split else ())], left=("engine", "quantity"))
     add_rows(table, (_comparison_cells(r, name, item, split, units) for r in suites
                      for name, item in simplified_ratios(r).items()))
-    table.caption = escape("suite: the design statistic of the records' peaks (the code's rule); a ratio below 1: "
-                           "the simplified procedure gives less" + (f"; {SPLIT_CAPTION}" if split else ""))
+    table.caption = escape(_comparison_caption(split))
     return table
+
+
+def _comparison_caption(split: bool) -> str:
+    """What 'suite' is, what a ratio below 1 means and, split, what its two factors are (SPLIT_CAPTION)."""
+    return ("suite: the design statistic of the records' peaks (the code's rule); a ratio below 1: "
+            "the simplified procedure gives less" + (f"; {SPLIT_CAPTION}" if split else ""))
 
 
 def _compared_suite(result: AnalysisResult) -> bool:

@@ -281,4 +281,9 @@ def _spectra_cells(mine: list[dict]) -> list[str]:
     lifted = [r[figures.PERIOD_PATH] for r in mine if r["uplift"]]
     return [f"{top['base_shear_coefficient']:.4g}", f"{top[figures.PERIOD_PATH]:.4g}",
             f"{max(r['base_moment_coefficient'] for r in mine):.4g}", f"{top['critical_coefficient']:.4g}",
-            f"{min(lifted):.3g} .. {max(lifted):.3g}" if lifted else "none"]
+            _period_range(lifted)]
+
+
+def _period_range(periods: list[float]) -> str:
+    """'0.2 .. 1.1' (the smallest and largest of the periods) or 'none'."""
+    return f"{min(periods):.3g} .. {max(periods):.3g}" if periods else "none"
