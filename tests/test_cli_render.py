@@ -191,3 +191,32 @@ def test_the_uplift_ratio_states_the_criterion_of_each_foundation():
     winkler = load_deck(Path(__file__).resolve().parents[1] / "inputs" / "ten_story_winkler.toml")
     (result,) = analysis.run(winkler, "simplified", "uplift")
     assert 1 / 3 < result.intermediates["V1_bonded/V_c"] < 1 and result.uplift  # the case the issue saw
+
+
+def test_the_table_modules_import_in_one_direction():
+    """No import circle among the terminal-table modules (issue 34): an AST walk of their imports,
+    those inside functions too (cli/tables.py and cli/fitting.py are what they share)."""
+    import ast
+
+    modules = ("render", "render_suite", "render_rocking", "render_batch", "sweep_render", "histories", "plotting",
+               "stdout", "fitting", "tables")
+    folder = ROOT / "upliftcli" / "cli"
+    imports = {}
+    for name in modules:
+        tree = ast.parse((folder / f"{name}.py").read_text())
+        found = set()
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.level == 1:
+                found |= {node.module} if node.module else {alias.name for alias in node.names}
+        imports[name] = found & set(modules)
+    done: set[str] = set()
+
+    def visit(name, path):
+        assert name not in path, f"import circle: {' -> '.join([*path, name])}"
+        if name not in done:
+            for other in imports[name]:
+                visit(other, [*path, name])
+            done.add(name)
+
+    for name in modules:
+        visit(name, [])

@@ -80,12 +80,18 @@ def fit_table(table: Table, width: int) -> list[Table]:
     every = list(range(len(table.columns)))
     # rich draws a table as wide as its columns' minimums plus its frame (_frame_width): each
     # column is measured once, alone, instead of every candidate part
-    columns = [_column_width(_part(table, [index], compact=True)) - _frame_width(table, 1) for index in every]
+    columns = _column_widths(table)
     if _drawn_width(table, columns, every) <= width or len(every) < 2:
         return [_part(table, every, compact=True)]
     keys = every[:_labels(table)]
     groups = _groups(table, columns, keys, width)
     return [_part(table, keys + group, k, len(groups), compact=True) for k, group in enumerate(groups)]
+
+
+def _column_widths(table: Table) -> list[int]:
+    """The width of each column drawn alone and compact, without the frame (_frame_width)."""
+    return [_column_width(_part(table, [index], compact=True)) - _frame_width(table, 1)
+            for index in range(len(table.columns))]
 
 
 def _fits(table: Table, width: int) -> bool:
@@ -122,8 +128,12 @@ def _labels(table: Table) -> int:
 
 def _is_number_column(column: Column) -> bool:
     """Not left-justified, and every cell that is not blank a number (or '-')."""
-    texts = [_text(cell).strip() for cell in column.cells]
-    return column.justify != "left" and all(_NUMBER.fullmatch(text) for text in texts if text)
+    return column.justify != "left" and all(_blank_or_number(_text(cell)) for cell in column.cells)
+
+
+def _blank_or_number(text: str) -> bool:
+    text = text.strip()
+    return not text or _NUMBER.fullmatch(text) is not None
 
 
 def _text(cell) -> str:
@@ -165,9 +175,14 @@ def _part(table: Table, indices: list[int], number: int = 0, parts: int = 1, com
                  title_justify=table.title_justify, caption_justify=table.caption_justify, padding=table.padding)
     for index in indices:
         _copy_column(part, table.columns[index], compact)
-    for row in zip(*[list(table.columns[index].cells) for index in indices], strict=True):
-        part.add_row(*row)
+    _copy_rows(part, [table.columns[index] for index in indices])
     return part
+
+
+def _copy_rows(part: Table, columns: list[Column]) -> None:
+    """Add to the part the rows of these columns."""
+    for row in zip(*[list(column.cells) for column in columns], strict=True):
+        part.add_row(*row)
 
 
 def _part_title(title, number: int, parts: int):

@@ -70,8 +70,7 @@ def _history_names(loaded: Deck) -> list[tuple[str, str, str]]:
 def _with_histories(results) -> list[tuple[str, object]]:
     """(file-name suffix, result) of each analysis that holds histories: a suite's records each
     ('_r01', '_r02' ...)."""
-    pairs = [pair for result in results for pair in _analyses(result)]
-    return [(suffix, result) for suffix, result in pairs if result.histories]
+    return [(suffix, analysis) for result in results for suffix, analysis in _analyses(result) if analysis.histories]
 
 
 def _analyses(result) -> list[tuple[str, object]]:

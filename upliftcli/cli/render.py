@@ -263,11 +263,16 @@ def _band_caption(first) -> str:
 
 def _check_rows(check, shared: bool, units: str) -> list[tuple[str, ...]]:
     """The rows of one check: a failed check in one row, else one per compared and left-out value."""
-    lead = (check.support,) if shared else (check.support, escape(check.reference))
+    lead = _check_lead(check, shared)
     if check.error is not None:
         return [(*lead, "-", "-", "-", escape(f"failed: {check.error}"))]
     compared = [(*lead, *_compared_cells(check, c, units)) for c in check.comparisons]
     return compared + [(*lead, escape(COMPARED[name].heading(units)), "-", "-", "left out") for name in check.left_out]
+
+
+def _check_lead(check, shared: bool) -> tuple[str, ...]:
+    """The leading cells of a check's rows: its support, and its reference when they are not shared."""
+    return (check.support,) if shared else (check.support, escape(check.reference))
 
 
 def _compared_cells(check, comparison, units: str) -> tuple[str, ...]:

@@ -3,7 +3,7 @@ support (V_b, the coefficients, b/h_1*, uplift and the deck's criteria verdict).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 
 from rich.markup import escape
 from rich.table import Table
@@ -28,9 +28,14 @@ def batch_table(runs, units: str = "si", checks=None) -> Table:
     columns = summary_columns(BATCH_COLUMNS + shown)
     table.add_column("deck", justify="left", no_wrap=True)
     add_columns(table, ("engine", "support", *(column.heading(units) for column in columns), "criteria"))
-    for name, (_, item, results), checked in zip(_deck_names(runs), runs, checks or [()] * len(runs), strict=True):
-        add_rows(table, (_result_cells(name, r, columns, units, item.criteria, checked) for r in results))
-    return table
+    return add_rows(table, _batch_rows(runs, checks or [()] * len(runs), columns, units))
+
+
+def _batch_rows(runs, checks, columns: list, units: str) -> Iterator[list[str]]:
+    """A row per deck and result, each deck's verdict by its criteria and accuracy checks."""
+    for name, (_, item, results), checked in zip(_deck_names(runs), runs, checks, strict=True):
+        for r in results:
+            yield _result_cells(name, r, columns, units, item.criteria, checked)
 
 
 def _result_cells(name: str, result: AnalysisResult, columns: list, units: str, criteria: Mapping,

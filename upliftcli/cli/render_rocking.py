@@ -19,13 +19,18 @@ from .tables import add_columns, add_rows, engine_label, has_peak
 def elements_table(result: AnalysisResult, units: str = "si") -> Table | None:
     """Per foundation contact element (left to right): position, its peak reactions and, on
     yielding soil, its plastic settlement."""
-    shown = [q for q in element_quantities() if has_peak(result, q.name)]
+    shown = _element_quantities(result)
     if not shown:
         return None
     table = Table(title=escape(f"Foundation elements ({engine_label(result)}, {result.support}): "
                                f"{_elements_shown(result)}"))
     add_columns(table, ["element", f"position x [{label('m', units)}]", *(q.heading(units) for q in shown)])
     return add_rows(table, (_element_cells(result, i, x, shown, units) for i, x in enumerate(result.element_positions)))
+
+
+def _element_quantities(result: AnalysisResult) -> list:
+    """The element quantities (engines/quantities.element_quantities) the result holds."""
+    return [q for q in element_quantities() if has_peak(result, q.name)]
 
 
 def _elements_shown(result: AnalysisResult) -> str:

@@ -4,7 +4,7 @@ target spectrum beside the design statistic. Table-driven from engines/quantitie
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 
 from rich.markup import escape
 from rich.table import Table
@@ -19,6 +19,9 @@ from .tables import add_columns, add_rows, has_peak, ratio_cell
 SCALAR_COLUMNS = ("base_shear", "base_shear_coefficient", "base_moment", "base_moment_coefficient")
 #: the scalars of each record's row (records_table)
 RECORD_SCALARS = ("base_shear_coefficient", "base_moment_coefficient")
+#: the columns of the comparison table; split: the ratio's two factors too
+COMPARISON_HEADINGS = ("engine", "support", "quantity", "simplified", "suite", "simplified / suite")
+SPLIT_HEADINGS = ("target / records", "procedure")
 STATISTIC_HEADINGS = {"mean": "mean", "median": "median", "p84": "84th percentile", "max": "maximum"}
 CAPTION = (f"{WEIGHT_LEGEND}; the quantities: their largest value over the floors, stories or "
            "elements (all of them in the JSON and CSV files)")
@@ -32,10 +35,20 @@ SPLIT_CAPTION = ("simplified / suite = (target / records) x procedure: target / 
 def _rows(result: AnalysisResult, units: str = "si", scalars=SCALAR_COLUMNS) -> list[tuple[str, float, str]]:
     """(heading, SI value, display kind) of the scalars (display.SUMMARY) and of the largest value
     of each quantity that the summaries carry (those with a sweep column, engines/quantities.py)."""
-    rows = [(SUMMARY[name].heading(units), result.value(name), SUMMARY[name].kind) for name in scalars
+    return _scalar_rows(result, units, scalars) + _quantity_rows(result, units)
+
+
+def _scalar_rows(result: AnalysisResult, units: str, scalars) -> list[tuple[str, float, str]]:
+    """(heading, SI value, display kind) of each of the `scalars` that is a result's scalar (SCALARS)."""
+    return [(SUMMARY[name].heading(units), result.value(name), SUMMARY[name].kind) for name in scalars
             if name in SCALARS]
-    return rows + [(q.heading(units), result.value(q.name), q.display) for q in QUANTITIES.values()
-                   if q.column and has_peak(result, q.name)]
+
+
+def _quantity_rows(result: AnalysisResult, units: str) -> list[tuple[str, float, str]]:
+    """(heading, SI value, display kind) of the largest value of each quantity with a sweep column
+    that the result holds."""
+    return [(q.heading(units), result.value(q.name), q.display) for q in QUANTITIES.values()
+            if q.column and has_peak(result, q.name)]
 
 
 def statistics_table(result: SuiteResult, units: str = "si") -> Table:
@@ -99,10 +112,8 @@ def comparison_table(results: Sequence[AnalysisResult], units: str = "si") -> Ta
         return None
     split = _split_known(suites)
     table = Table(title="Simplified engine on the target spectrum against the suite")
-    add_columns(table, ["engine", "support", "quantity", "simplified", "suite", "simplified / suite",
-                        *(("target / records", "procedure") if split else ())], left=("engine", "quantity"))
-    add_rows(table, (_comparison_cells(r, name, item, split, units) for r in suites
-                     for name, item in simplified_ratios(r).items()))
+    add_columns(table, COMPARISON_HEADINGS + (SPLIT_HEADINGS if split else ()), left=("engine", "quantity"))
+    add_rows(table, _comparison_rows(suites, split, units))
     table.caption = escape(_comparison_caption(split))
     return table
 
@@ -123,6 +134,13 @@ def _split_known(suites: list[SuiteResult]) -> bool:
     return all("procedure_ratio" in item for r in suites for item in simplified_ratios(r).values())
 
 
+def _comparison_rows(suites: list[SuiteResult], split: bool, units: str) -> Iterator[list[str]]:
+    """A row per suite and compared value (engines/suite_result.simplified_ratios)."""
+    for r in suites:
+        for name, item in simplified_ratios(r).items():
+            yield _comparison_cells(r, name, item, split, units)
+
+
 def _comparison_cells(result: SuiteResult, name: str, item: dict, split: bool, units: str) -> list[str]:
     """One compared value: the simplified one, the suite's, their ratio and, split, its two factors."""
     kind = COMPARED[name].display
@@ -136,7 +154,7 @@ def suite_check_table(checks: Sequence, units: str = "si") -> Table | None:
     """The accuracy check on a suite (analysis/suite_check.py: accuracy.Check with a suite and the split
     ratios) split into the records' standing against the target and the procedure's own error,
     per support and compared value (None without such a check)."""
-    checks = [check for check in checks if _split_check(check)]
+    checks = _split_checks(checks)
     if not checks:
         return None
     table = Table(title=escape(_suite_check_title(checks[0].suite)))
@@ -147,9 +165,9 @@ def suite_check_table(checks: Sequence, units: str = "si") -> Table | None:
     return table
 
 
-def _split_check(check) -> bool:
-    """An accuracy check on a suite, with its ratios split."""
-    return check.suite is not None and bool(check.procedure_ratio)
+def _split_checks(checks: Sequence) -> list:
+    """The accuracy checks on a suite, with their ratios split."""
+    return [check for check in checks if check.suite is not None and check.procedure_ratio]
 
 
 def _suite_check_title(suite: dict) -> str:
