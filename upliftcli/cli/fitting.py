@@ -132,6 +132,7 @@ def _is_number_column(column: Column) -> bool:
 
 
 def _blank_or_number(text: str) -> bool:
+    """A cell that is blank or a number (_NUMBER: '-', '12.5', '1e-3', '0.7%' ...)."""
     text = text.strip()
     return not text or _NUMBER.fullmatch(text) is not None
 

@@ -52,6 +52,7 @@ def _mat_mass_caption(system: System, units: str) -> str | None:
 
 
 def _mode_cells(row: dict, units: str) -> tuple[str, ...]:
+    """A mode's row (model/system.fixed_base_mode_rows) in the display units."""
     return (str(row["mode"]), f"{row['period']:.4f}", f"{row['frequency_ratio']:.3f}",
             f"{row['effective_mass_ratio']:.4f}", f"{row['cumulative_mass_ratio']:.4f}",
             show(row["effective_height"], "m", units), f"{row['effective_height_over_b']:.3f}")
@@ -112,10 +113,7 @@ def summary_table(results: list[AnalysisResult], units: str = "si") -> Table:
     add_columns(table, ("engine", "support", *(column.heading(units) for column in columns)),
                 left=("engine", "support"))
     add_rows(table, ((escape(engine_label(r)), r.support, *summary_cells(r, columns, units)) for r in results))
-    legend = WEIGHT_LEGEND + verdict_legend(verdicts(results))
-    if shared:
-        legend += _shared_note(results[0], critical, units)
-    table.caption = escape(legend)
+    table.caption = escape(_summary_legend(results, critical, shared, units))
     return table
 
 
@@ -124,9 +122,12 @@ def _same_cells(results: list[AnalysisResult], columns: list, units: str) -> boo
     return len({tuple(summary_cells(r, columns, units)) for r in results}) == 1
 
 
-def _shared_note(result: AnalysisResult, critical: list, units: str) -> str:
-    """The critical values every row shares, stated once in the caption."""
-    return (f"; every row: {', '.join(column.stated(result, units) for column in critical)} [16a, 16b] "
+def _summary_legend(results: list[AnalysisResult], critical: list, shared: bool, units: str) -> str:
+    """W = m_t g, the verdicts and, when every row shares them, the critical values, stated once."""
+    legend = WEIGHT_LEGEND + verdict_legend(verdicts(results))
+    if not shared:
+        return legend
+    return (legend + f"; every row: {', '.join(column.stated(results[0], units) for column in critical)} [16a, 16b] "
             "(b/h_1*: the critical value of both coefficients)")
 
 
@@ -283,6 +284,7 @@ def _compared_cells(check, comparison, units: str) -> tuple[str, ...]:
 
 
 def _flagged_ratio(check, comparison) -> str:
+    """The ratio simplified / exact, ' !' when outside the check's band ('-' without one)."""
     if comparison.ratio is None:
         return "-"
     return f"{comparison.ratio:.3f}" + (" !" if comparison.outside(check.band_of(comparison.name)) else "")

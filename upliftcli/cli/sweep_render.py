@@ -117,6 +117,11 @@ def _value(value, kind: str = "", units: str = "si") -> str:
         return "yes" if value else "no"
     if isinstance(value, (int, float)) and _has_unit(kind):
         return show(value, kind, units)
+    return _plain(value)
+
+
+def _plain(value) -> str:
+    """A float to 4 significant digits, anything else as it prints."""
     return f"{value:.4g}" if isinstance(value, float) else str(value)
 
 
@@ -133,6 +138,7 @@ def _unit(plan: SweepPlan | None, path: str) -> str:
 
 
 def _heading(path: str, unit: str, units: str) -> str:
+    """A varied field's heading: its path, and its display unit in brackets when it has one."""
     return f"{path} [{label(unit, units)}]" if _has_unit(unit) else path
 
 
@@ -184,12 +190,16 @@ def envelope_table(summary: dict, units: str = "si", plan: SweepPlan | None = No
     table = Table(title=escape(_envelope_title(groups[0]["over"], bounds)))
     field_units = {path: _unit(plan, path) for path in groups[0]["group"]}
     # labels: a table split to fit the terminal repeats them (fitting.fit_table)
-    add_columns(table, [_heading(path, unit, units) for path, unit in field_units.items()], justify="left",
-                no_wrap=True)
+    add_columns(table, _field_headings(field_units, units), justify="left", no_wrap=True)
     columns = _envelope_columns(bounds)
     add_columns(table, [c[0] for c in columns] + ["uplift"], no_wrap=True)
     table.caption = escape(_envelope_caption(bounds)) + _rows_left_out(len(groups))
     return add_rows(table, (_envelope_cells(entry, field_units, columns, units) for entry in groups[:MAX_ROWS]))
+
+
+def _field_headings(field_units: dict[str, str], units: str) -> list[str]:
+    """The headings of the fields that group the cases (path and display unit)."""
+    return [_heading(path, unit, units) for path, unit in field_units.items()]
 
 
 def _has_bounds(groups: list[dict]) -> bool:
@@ -198,6 +208,7 @@ def _has_bounds(groups: list[dict]) -> bool:
 
 
 def _envelope_title(over: list[str], bounds: bool) -> str:
+    """Over the enveloped fields: at their bounds (ASCE 7-22 19.1.1) or smallest / largest; no field: 'Results'."""
     if bounds:
         return (f"Envelope over {', '.join(over)} (ASCE 7-22 19.1.1: lower and upper bound, the greater "
                 "response governs)")
@@ -219,6 +230,7 @@ def _keys(name: str, bounds: bool) -> tuple[tuple[str, str], ...]:
 
 
 def _envelope_caption(bounds: bool) -> str:
+    """The short headings, and what lo, up, min and max mean."""
     return ("V/W = V_b/(m_t g), M/Wh = M_b/(m_t g h_1*), drift = largest story drift ratio [%]; "
             + ("lo, up: at the lower and upper bound, max: largest over the range" if bounds
                else "min, max over the range"))
