@@ -30,12 +30,15 @@ def record_suffix(k: int, count: int) -> str:
     return f"_r{k + 1:0{max(2, len(str(count)))}d}"
 
 
+def _suffixes(count: int) -> list[str]:
+    """The record suffixes of a suite of `count` records (record_suffix)."""
+    return [record_suffix(k, count) for k in range(count)]
+
+
 def _record_suffixes(loaded: Deck) -> list[str]:
     """'' for one record; '_r01', '_r02' ... for the records of a suite (as _with_histories names them)."""
     records = getattr(loaded.ground_motion, "records", None)
-    if not records:
-        return [""]
-    return [record_suffix(k, len(records)) for k in range(len(records))]
+    return _suffixes(len(records)) if records else [""]
 
 
 def check_histories(path: Path, loaded: Deck, inputs: list[str], overwrite: bool) -> None:
@@ -76,7 +79,7 @@ def _with_histories(results) -> list[tuple[str, object]]:
 def _analyses(result) -> list[tuple[str, object]]:
     """(file-name suffix, analysis) of a result: a suite's records ('_r01', '_r02' ...), then the result."""
     records = getattr(result, "record_results", ())
-    return [*((record_suffix(k, len(records)), record) for k, record in enumerate(records)), ("", result)]
+    return [*zip(_suffixes(len(records)), records, strict=True), ("", result)]
 
 
 def write_histories(path: Path, results, inputs: list[str], record: dict | None = None) -> None:

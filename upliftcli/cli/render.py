@@ -180,8 +180,8 @@ def intermediates_table(result: AnalysisResult, units: str = "si") -> Table:
     """Scalar intermediates in their display units, with meaning (engines/quantities.INTERMEDIATES)."""
     table = Table(title=escape(f"Intermediate values ({engine_label(result)}, {result.support})"))
     add_columns(table, ("quantity", "value", "unit", "meaning"), justify="left")
-    scalars = (item for item in result.intermediates.items() if item[0] not in MODAL_LISTS)
-    return add_rows(table, (_intermediate_cells(name, value, units) for name, value in scalars))
+    scalars = {name: value for name, value in result.intermediates.items() if name not in MODAL_LISTS}
+    return add_rows(table, (_intermediate_cells(name, value, units) for name, value in scalars.items()))
 
 
 def _intermediate_cells(name: str, value, units: str) -> tuple[str, ...]:
