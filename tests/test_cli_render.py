@@ -1,4 +1,4 @@
-"""Terminal tables (cli/render.py): readable at 80 and 100 columns (no cell cut, no line too
+"""Terminal tables (cli/render.py, cli/fitting.py): readable at 80 and 100 columns (no cell cut, no line too
 long, every number whole), $COLUMNS honoured without a terminal, tables too wide split in
 parts that keep the label columns, and the modal table showing what the engine used."""
 
@@ -17,7 +17,7 @@ from rich.text import Text
 from typer.testing import CliRunner
 
 from upliftcli.analysis import run as analysis
-from upliftcli.cli import app, render
+from upliftcli.cli import app, fitting, render
 from upliftcli.deck.load import load_deck
 from upliftcli.units import STANDARD_GRAVITY
 
@@ -60,9 +60,9 @@ def test_columns_sets_the_width_without_a_terminal(monkeypatch):
     monkeypatch.setenv("COLUMNS", "137")
     assert render.console().width == 137
     monkeypatch.setenv("COLUMNS", "wide")
-    assert render.console().width == render.PIPE_WIDTH
+    assert render.console().width == fitting.PIPE_WIDTH
     monkeypatch.delenv("COLUMNS")
-    assert render.console().width == render.PIPE_WIDTH
+    assert render.console().width == fitting.PIPE_WIDTH
 
 
 def test_a_table_too_wide_is_split_keeping_its_label_columns():
@@ -72,15 +72,15 @@ def test_a_table_too_wide_is_split_keeping_its_label_columns():
         table.add_column(f"quantity {k} [kN m]", justify="right")
     for row in range(3):
         table.add_row(f"case {row}", *[f"{1e6 * (row + 1) + k:.1f}" for k in range(12)])
-    parts = render.fit_table(table, 60)
+    parts = fitting.fit_table(table, 60)
     assert len(parts) > 1
-    assert all(render.minimum_width(part) <= 60 for part in parts)
+    assert all(fitting.minimum_width(part) <= 60 for part in parts)
     assert all(part.columns[0].header == "case" and list(part.columns[0].cells) == ["case 0", "case 1", "case 2"]
                for part in parts)
     cells = [cell for part in parts for column in part.columns[1:] for cell in column.cells]
     assert sorted(cells) == sorted(f"{1e6 * (row + 1) + k:.1f}" for row in range(3) for k in range(12))
     assert [part.title for part in parts] == [f"wide ({k + 1}/{len(parts)})" for k in range(len(parts))]
-    assert render.fit_table(table, 1000) == [table]
+    assert fitting.fit_table(table, 1000) == [table]
 
 
 @pytest.mark.parametrize("box", [rich_box.HEAVY_HEAD, rich_box.SIMPLE, None])
@@ -93,15 +93,15 @@ def test_each_part_takes_as_many_columns_as_fit(box, width):
     for k in range(9):
         table.add_column(f"quantity {k} {'x' * k} [kN m]", justify="right")
     table.add_row("case 0", *[f"{10.0**k:.1f}" for k in range(9)])
-    parts = render.fit_table(table, width)
+    parts = fitting.fit_table(table, width)
     assert len(parts) > 1
     start = 1  # the parts take the number columns in order, each after the label column
     for part in parts:
         count = len(part.columns) - 1
-        assert render.minimum_width(part) <= width
+        assert fitting.minimum_width(part) <= width
         if start + count < len(table.columns):
-            grown = render._part(table, [0, *range(start, start + count + 1)], compact=True)
-            assert render.minimum_width(grown) > width
+            grown = fitting._part(table, [0, *range(start, start + count + 1)], compact=True)
+            assert fitting.minimum_width(grown) > width
         start += count
     assert start == len(table.columns)
 
@@ -115,9 +115,9 @@ def test_the_quick_width_bound_is_never_below_what_rich_measures():
     table.add_row("[bold]2.0[/bold]", "x\ny", "")
     for box in (rich_box.HEAVY_HEAD, rich_box.SIMPLE, None):
         table.box = box
-        assert render._widest(table) >= render._measure(table).maximum
+        assert fitting._widest(table) >= fitting._measure(table).maximum
     table.add_row("1", Table(), "2")
-    assert render._widest(table) == float("inf")
+    assert fitting._widest(table) == float("inf")
 
 
 def table_rows(text: str) -> list[list[str]]:
@@ -134,7 +134,7 @@ def test_modal_table_shows_the_mode_1_the_engine_used():
     assert k_theta == pytest.approx(2 * system.foundation.stiffness * system.half_width**2)
     t1 = float(modes.periods[0])
     t1bar = t1 * math.sqrt(1 + modes.omega[0] ** 2 * modes.effective_mass[0] * modes.effective_height[0] ** 2 / k_theta)
-    out = render.FittedConsole(width=100, highlight=False, force_terminal=False)
+    out = fitting.FittedConsole(width=100, highlight=False, force_terminal=False)
     for support in ("rigid", "bonded"):
         (result,) = analysis.run(deck, "simplified", support)
         with out.capture() as captured:
@@ -184,10 +184,39 @@ def test_the_uplift_ratio_states_the_criterion_of_each_foundation():
         (result,) = analysis.run(deck, "simplified", support)
         ratio = result.intermediates["V1_bonded/V_c"]
         assert result.uplift == (ratio > deck.system.foundation.contact_loss_moment_ratio)
-        out = render.FittedConsole(width=200, highlight=False, force_terminal=False)
+        out = fitting.FittedConsole(width=200, highlight=False, force_terminal=False)
         with out.capture() as captured:
             out.print(render.intermediates_table(result))
         assert "Winkler mat (its kern" in " ".join(captured.get().split())
     winkler = load_deck(Path(__file__).resolve().parents[1] / "inputs" / "ten_story_winkler.toml")
     (result,) = analysis.run(winkler, "simplified", "uplift")
     assert 1 / 3 < result.intermediates["V1_bonded/V_c"] < 1 and result.uplift  # the case the issue saw
+
+
+def test_the_table_modules_import_in_one_direction():
+    """No import circle among the terminal-table modules (issue 34): an AST walk of their imports,
+    those inside functions too (cli/tables.py and cli/fitting.py are what they share)."""
+    import ast
+
+    modules = ("render", "render_suite", "render_rocking", "render_batch", "sweep_render", "histories", "plotting",
+               "stdout", "fitting", "tables")
+    folder = ROOT / "upliftcli" / "cli"
+    imports = {}
+    for name in modules:
+        tree = ast.parse((folder / f"{name}.py").read_text())
+        found = set()
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.level == 1:
+                found |= {node.module} if node.module else {alias.name for alias in node.names}
+        imports[name] = found & set(modules)
+    done: set[str] = set()
+
+    def visit(name, path):
+        assert name not in path, f"import circle: {' -> '.join([*path, name])}"
+        if name not in done:
+            for other in imports[name]:
+                visit(other, [*path, name])
+            done.add(name)
+
+    for name in modules:
+        visit(name, [])

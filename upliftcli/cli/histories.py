@@ -11,7 +11,7 @@ import typer
 
 from ..errors import InputError
 from ..runtime.atomic import refuse_existing, refuse_inputs
-from .plotting import HISTORY_ENGINES
+from .plotting import error_reason, history_engines, not_a_directory
 
 if TYPE_CHECKING:
     from ..deck.load import Deck
@@ -30,52 +30,74 @@ def record_suffix(k: int, count: int) -> str:
     return f"_r{k + 1:0{max(2, len(str(count)))}d}"
 
 
+def _suffixes(count: int) -> list[str]:
+    """The record suffixes of a suite of `count` records (record_suffix)."""
+    return [record_suffix(k, count) for k in range(count)]
+
+
 def _record_suffixes(loaded: Deck) -> list[str]:
     """'' for one record; '_r01', '_r02' ... for the records of a suite (as _with_histories names them)."""
     records = getattr(loaded.ground_motion, "records", None)
-    if not records:
-        return [""]
-    return [record_suffix(k, len(records)) for k in range(len(records))]
+    return _suffixes(len(records)) if records else [""]
 
 
 def check_histories(path: Path, loaded: Deck, inputs: list[str], overwrite: bool) -> None:
     """--histories before the run: a .csv or .npz file in a directory, a history engine, no
     input of the run (`inputs`) replaced, no existing file unless `overwrite`."""
-    if path.suffix.lower() not in (".csv", ".npz"):
-        raise InputError("--histories", str(path), "a file name ending in .csv or .npz")
-    if not set(loaded.analysis.engines) & set(HISTORY_ENGINES):
-        raise InputError("--histories", str(path), "an exact or approximate engine (--engine exact)")
-    if path.parent.exists() and not path.parent.is_dir():
-        raise InputError("--histories", str(path), "a file in an existing directory")
-    names = [(e, s, suffix) for e in loaded.analysis.engines if e in HISTORY_ENGINES
-             for s in loaded.analysis.supports for suffix in _record_suffixes(loaded)]
-    targets = history_paths(path, names)
+    expected = _history_file_problem(path, loaded)
+    if expected is not None:
+        raise InputError("--histories", str(path), expected)
+    targets = history_paths(path, _history_names(loaded))
     refuse_inputs(targets, inputs, "--histories")
     refuse_existing(targets, "--histories", overwrite)
+
+
+def _history_file_problem(path: Path, loaded: Deck) -> str | None:
+    """What --histories expects and the run does not give (None: nothing): the file's extension,
+    a history engine, an existing directory."""
+    if path.suffix.lower() not in (".csv", ".npz"):
+        return "a file name ending in .csv or .npz"
+    if not history_engines(loaded):
+        return "an exact or approximate engine (--engine exact)"
+    if not_a_directory(path.parent):
+        return "a file in an existing directory"
+    return None
+
+
+def _history_names(loaded: Deck) -> list[tuple[str, str, str]]:
+    """(engine, support, record suffix) of every analysis of the deck that writes histories."""
+    suffixes = _record_suffixes(loaded)
+    return [(e, s, suffix) for e in history_engines(loaded) for s in loaded.analysis.supports for suffix in suffixes]
 
 
 def _with_histories(results) -> list[tuple[str, object]]:
     """(file-name suffix, result) of each analysis that holds histories: a suite's records each
     ('_r01', '_r02' ...)."""
-    pairs = []
-    for result in results:
-        records = getattr(result, "record_results", ())
-        pairs += [(record_suffix(k, len(records)), record) for k, record in enumerate(records)]
-        pairs.append(("", result))
-    return [(suffix, result) for suffix, result in pairs if result.histories]
+    return [(suffix, analysis) for result in results for suffix, analysis in _analyses(result) if analysis.histories]
+
+
+def _analyses(result) -> list[tuple[str, object]]:
+    """(file-name suffix, analysis) of a result: a suite's records ('_r01', '_r02' ...), then the result."""
+    records = getattr(result, "record_results", ())
+    return [*zip(_suffixes(len(records)), records, strict=True), ("", result)]
 
 
 def write_histories(path: Path, results, inputs: list[str], record: dict | None = None) -> None:
     """Write each analysis's histories with the provenance `record` (the results documents never
     hold them: AnalysisResult.histories); a suite's records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
-    from ..output import write_histories as write
-
     with_histories = _with_histories(results)
     targets = history_paths(path, [(result.engine, result.support, suffix) for suffix, result in with_histories])
     refuse_inputs(targets, inputs, "--histories")  # as checked before the run (the names are the same)
     for (_, result), target in zip(with_histories, targets, strict=True):
-        try:
-            write(target, result.histories, record)
-        except OSError as error:
-            raise InputError("--histories", str(target), f"a writable file ({error.strerror or error})") from None
+        _write(target, result.histories, record)
         typer.echo(f"wrote {target}", err=True)
+
+
+def _write(target: Path, histories, record: dict | None) -> None:
+    """Write one file of histories (output.write_histories); a file not written: InputError."""
+    from ..output import write_histories as write
+
+    try:
+        write(target, histories, record)
+    except OSError as error:
+        raise InputError("--histories", str(target), f"a writable file ({error_reason(error)})") from None

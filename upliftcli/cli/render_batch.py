@@ -3,12 +3,15 @@ support (V_b, the coefficients, b/h_1*, uplift and the deck's criteria verdict).
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping
+
 from rich.markup import escape
 from rich.table import Table
 
 from ..deck.criteria import check_criteria
-from ..display import VERDICT_LEGEND, WEIGHT_LEGEND, summary_columns, verdicts
-from .render import engine_label
+from ..display import WEIGHT_LEGEND, summary_columns, verdicts
+from ..engines.result import AnalysisResult
+from .tables import add_columns, add_rows, engine_label, summary_cells, verdict_legend
 
 #: the columns of the several decks' summary (display.SUMMARY)
 BATCH_COLUMNS = ("base_shear", "base_shear_coefficient", "base_moment", "base_moment_coefficient",
@@ -20,19 +23,38 @@ def batch_table(runs, units: str = "si", checks=None) -> Table:
     (deck path, Deck, results) of each deck; checks: each deck's accuracy checks, for [criteria]
     simplified_error)."""
     table = Table(title=f"Summary of {len(runs)} decks")
-    names = [deck.name for deck, _, _ in runs]
-    label = (lambda deck: deck.name) if len(set(names)) == len(names) else str
     shown = verdicts([r for _, _, results in runs for r in results])
-    legend = f"; {VERDICT_LEGEND}" if "yielded" in shown else ""
-    table.caption = escape(f"{WEIGHT_LEGEND}{legend}; criteria: the deck's [criteria] limits")
+    table.caption = escape(f"{WEIGHT_LEGEND}{verdict_legend(shown)}; criteria: the deck's [criteria] limits")
     columns = summary_columns(BATCH_COLUMNS + shown)
     table.add_column("deck", justify="left", no_wrap=True)
-    for header in ("engine", "support", *(column.heading(units) for column in columns), "criteria"):
-        table.add_column(escape(header), justify="right")
-    for (deck, item, results), checked in zip(runs, checks or [()] * len(runs), strict=True):
+    add_columns(table, ("engine", "support", *(column.heading(units) for column in columns), "criteria"))
+    return add_rows(table, _batch_rows(runs, checks or [()] * len(runs), columns, units))
+
+
+def _batch_rows(runs, checks, columns: list, units: str) -> Iterator[list[str]]:
+    """A row per deck and result, each deck's verdict by its criteria and accuracy checks."""
+    for name, (_, item, results), checked in zip(_deck_names(runs), runs, checks, strict=True):
         for r in results:
-            failed = check_criteria([r], item.criteria, checked)
-            verdict = "-" if not item.criteria else ("violated" if failed else "ok")
-            table.add_row(escape(label(deck)), escape(engine_label(r)), r.support,
-                          *(column.cell(r, units) for column in columns), verdict)
-    return table
+            yield _result_cells(name, r, columns, units, item.criteria, checked)
+
+
+def _result_cells(name: str, result: AnalysisResult, columns: list, units: str, criteria: Mapping,
+                  checks) -> list[str]:
+    """A deck's result: deck, engine, support, the summary columns and the criteria verdict."""
+    return [escape(name), escape(engine_label(result)), result.support, *summary_cells(result, columns, units),
+            _criteria_verdict(result, criteria, checks)]
+
+
+def _deck_names(runs) -> list[str]:
+    """Each deck's name, or its path when two decks have the same name."""
+    names = [deck.name for deck, _, _ in runs]
+    if len(set(names)) == len(names):
+        return names
+    return [str(deck) for deck, _, _ in runs]
+
+
+def _criteria_verdict(result: AnalysisResult, criteria: Mapping, checks) -> str:
+    """'-' without criteria; else 'violated' or 'ok' (deck/criteria.check_criteria)."""
+    if not criteria:
+        return "-"
+    return "violated" if check_criteria([result], criteria, checks) else "ok"

@@ -1,0 +1,243 @@
+"""The console of the terminal tables, and every table fitted to its width (80 columns and up).
+
+A table that is too wide is drawn with the headings of its number columns stacked, and if that is
+still too wide, split in parts that repeat its leading label columns (fit_table; the console of
+console() does it for every table it prints). A number is never cut. Without a terminal the width
+is $COLUMNS, else 120.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+
+from rich.cells import cell_len
+from rich.console import Console
+from rich.measure import Measurement
+from rich.table import Column, Table
+from rich.text import Text
+
+#: width of the output when it is not a terminal and $COLUMNS does not say
+PIPE_WIDTH = 120
+
+_NUMBER = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?%?|-")
+#: a word of a heading; a unit in brackets, "[kN m]", is one word
+_WORD = re.compile(r"\[[^\]]*\]|[^\s\[]+")
+
+
+def console_width(environ=os.environ) -> int | None:
+    """$COLUMNS when it is a positive integer, else None."""
+    text = environ.get("COLUMNS", "").strip()
+    return int(text) if text.isdigit() and int(text) > 0 else None
+
+
+class FittedConsole(Console):
+    """A Console that draws every table within its width (fit_table); a reader that closes the
+    pipe early (`| head`) silences it and the command goes on (cli/stdout.py; rich would exit 1)."""
+
+    def print(self, *objects, **kwargs) -> None:
+        super().print(*[part for item in objects for part in _fitted(item, self.width)], **kwargs)
+
+    def on_broken_pipe(self) -> None:
+        from .stdout import silence
+
+        silence()
+        self.quiet = True
+
+
+def _fitted(item, width: int) -> list:
+    """A table in the parts that fit `width` (fit_table); anything else as it is."""
+    return fit_table(item, width) if isinstance(item, Table) else [item]
+
+
+def console(stderr: bool = False) -> Console:
+    """A console that never needs a terminal: on a terminal its width, else $COLUMNS or
+    PIPE_WIDTH; tables too wide for it are split (FittedConsole). Texts are printed as they
+    are: no ":name:" emoji codes replaced (a deck title "Block B :warning:" stays that)."""
+    probe = Console(stderr=stderr)
+    width = None if probe.is_terminal else console_width() or PIPE_WIDTH
+    return FittedConsole(stderr=stderr, width=width, highlight=False, emoji=False)
+
+
+def _measure(table: Table) -> Measurement:
+    probe = Console(width=100_000, emoji=False)
+    return Measurement.get(probe, probe.options, table)
+
+
+def minimum_width(table: Table) -> int:
+    """The fewest columns the table can be drawn in without cutting a cell (headings and
+    texts wrapped at their blanks, numbers whole)."""
+    return _measure(table).minimum
+
+
+def fit_table(table: Table, width: int) -> list[Table]:
+    """The table, if it fits `width` as it is; else with the headings of its number columns
+    stacked (_part compact), and if that is still too wide, in parts, each with the leading
+    label columns (_labels) and as many of the others, in order, as fit (one at least),
+    titled "(1/2)" ... A number is never cut."""
+    if _fits(table, width):
+        return [table]
+    every = list(range(len(table.columns)))
+    # rich draws a table as wide as its columns' minimums plus its frame (_frame_width): each
+    # column is measured once, alone, instead of every candidate part
+    columns = _column_widths(table)
+    if _drawn_width(table, columns, every) <= width or len(every) < 2:
+        return [_part(table, every, compact=True)]
+    keys = every[:_labels(table)]
+    groups = _groups(table, columns, keys, width)
+    return [_part(table, keys + group, k, len(groups), compact=True) for k, group in enumerate(groups)]
+
+
+def _column_widths(table: Table) -> list[int]:
+    """The width of each column drawn alone and compact, without the frame (_frame_width)."""
+    return [_column_width(_part(table, [index], compact=True)) - _frame_width(table, 1)
+            for index in range(len(table.columns))]
+
+
+def _fits(table: Table, width: int) -> bool:
+    """The table as it is fits `width` (the cheap bound _widest first, then rich's measure)."""
+    return _widest(table) <= width or _measure(table).maximum <= width
+
+
+def _groups(table: Table, columns: list[int], keys: list[int], width: int) -> list[list[int]]:
+    """The columns after the labels `keys`, in order, in groups that fit `width` beside them (one
+    column at least each); `columns`: the width of each column alone."""
+    groups: list[list[int]] = [[]]
+    for index in range(len(keys), len(columns)):
+        if groups[-1] and _drawn_width(table, columns, keys + groups[-1] + [index]) > width:
+            groups.append([])
+        groups[-1].append(index)
+    return groups
+
+
+def _drawn_width(table: Table, columns: list[int], indices: list[int]) -> int:
+    """The width of the part of the table with the columns `indices` (widths `columns`) and its frame."""
+    return sum(columns[c] for c in indices) + _frame_width(table, len(indices))
+
+
+def _labels(table: Table) -> int:
+    """Leading label columns that every part of a split table repeats: the first, and after it
+    those that are left-justified or hold a text that is not a number (engine, support ...)."""
+    count = 1
+    for column in table.columns[1:-1]:
+        if _is_number_column(column):
+            break
+        count += 1
+    return count
+
+
+def _is_number_column(column: Column) -> bool:
+    """Not left-justified, and every cell that is not blank a number (or '-')."""
+    return column.justify != "left" and all(_blank_or_number(_text(cell)) for cell in column.cells)
+
+
+def _blank_or_number(text: str) -> bool:
+    """A cell that is blank or a number (_NUMBER: '-', '12.5', '1e-3', '0.7%' ...)."""
+    text = text.strip()
+    return not text or _NUMBER.fullmatch(text) is not None
+
+
+def _text(cell) -> str:
+    return cell.plain if isinstance(cell, Text) else str(cell)
+
+
+def _stacked_header(column: Column) -> str | Text:
+    """A number column's heading in lines no wider than its widest cell (or its longest word; a
+    unit in brackets, "[kN m]", is one word)."""
+    header = column.header
+    if not isinstance(header, str):
+        return header
+    words = _WORD.findall(Text.from_markup(header).plain)
+    limit = max([_widest_cell(column), *(len(word) for word in words)])
+    return Text("\n".join(_stack(words, limit)))
+
+
+def _widest_cell(column: Column) -> int:
+    """The length of the longest line of the column's cells (0 without cells)."""
+    return max((len(line) for cell in column.cells for line in _text(cell).splitlines()), default=0)
+
+
+def _stack(words: list[str], limit: int) -> list[str]:
+    """The words in lines of at most `limit` characters (a longer word alone on its line)."""
+    lines: list[str] = []
+    for word in words:
+        if lines and len(lines[-1]) + 1 + len(word) <= limit:
+            lines[-1] += " " + word
+        else:
+            lines.append(word)
+    return lines
+
+
+def _part(table: Table, indices: list[int], number: int = 0, parts: int = 1, compact: bool = False) -> Table:
+    """The table with the columns `indices`; compact: the number (right-justified) columns with
+    their headings stacked to the width of their cells and never wrapped (_stacked_header)."""
+    part = Table(title=_part_title(table.title, number, parts), caption=table.caption if number == parts - 1 else None,
+                 box=table.box, show_header=table.show_header, show_lines=table.show_lines,
+                 title_justify=table.title_justify, caption_justify=table.caption_justify, padding=table.padding)
+    for index in indices:
+        _copy_column(part, table.columns[index], compact)
+    _copy_rows(part, [table.columns[index] for index in indices])
+    return part
+
+
+def _copy_rows(part: Table, columns: list[Column]) -> None:
+    """Add to the part the rows of these columns."""
+    for row in zip(*[list(column.cells) for column in columns], strict=True):
+        part.add_row(*row)
+
+
+def _part_title(title, number: int, parts: int):
+    """The title of part `number` (from 0) of `parts`: with " (1/2)" ... when there are several."""
+    if parts <= 1 or title is None:
+        return title
+    suffix = f" ({number + 1}/{parts})"
+    return title + suffix if isinstance(title, str) else Text.assemble(title, suffix)
+
+
+def _copy_column(part: Table, column: Column, compact: bool) -> None:
+    """Add the column to the part; compact: a number column with its heading stacked, unwrapped."""
+    number_column = compact and column.justify == "right"
+    part.add_column(_stacked_header(column) if number_column else column.header, justify=column.justify,
+                    no_wrap=column.no_wrap or number_column, overflow=column.overflow,
+                    min_width=column.min_width, style=column.style, header_style=column.header_style)
+
+
+def _column_width(part: Table) -> int:
+    """The narrowest a one-column table is drawn: its minimum, or for a column that may not wrap
+    (no_wrap: rich never narrows it below its widest line, though it measures it by its longest
+    word) its maximum."""
+    measured = _measure(part)
+    return measured.maximum if part.columns[0].no_wrap else measured.minimum
+
+
+def _widest(table: Table) -> float:
+    """An upper bound of the table's natural width, from the lengths of its texts as given
+    (markup and escapes only shorten them): most tables fit, and rich measures a table by
+    rendering every cell. Infinite when a cell is not text."""
+    _, right, _, left = table.padding
+    total = _frame_width(table, len(table.columns)) + len(table.columns) * (left + right)
+    return total + sum(_column_widest(column) for column in table.columns)
+
+
+def _column_widest(column: Column) -> float:
+    """The natural width of a column from the lengths of its texts (its width when it is set);
+    infinite when a cell is not text."""
+    texts = [column.header, *column.cells]
+    if not all(isinstance(text, (str, Text)) for text in texts):
+        return float("inf")
+    if column.width is not None:
+        return column.width
+    return max(_longest_line(texts), column.min_width or 0)
+
+
+def _longest_line(texts: list) -> int:
+    """The cells of the longest line of the texts (an empty text: one empty line)."""
+    return max(cell_len(line) for text in texts for line in (_text(text).splitlines() or [""]))
+
+
+def _frame_width(table: Table, count: int) -> int:
+    """Columns a table of `count` columns adds to its cells (padding included): its outer
+    edges and the rules between the columns (as rich.table.Table lays it out)."""
+    if table.box is None:
+        return 0
+    return (2 if table.show_edge else 0) + count - 1
