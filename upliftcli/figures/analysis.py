@@ -146,15 +146,20 @@ def _group_series(name: str, group, factor: float, level: float, statistic: str)
     """A group's profile of a quantity: one line for one result, an ensemble (each thin, the
     statistic thick) for several; none when no member gives the quantity."""
     label, support, engine, members = group
-    members = [r for r in members if name in r.peaks]
-    if not members:
+    profiles = _profiles(name, members, factor, level)
+    if not profiles:
         return []
     color, style = SUPPORT_COLORS.get(support), ENGINE_LINES.get(engine, "-")
-    if len(members) == 1:
-        x, y = profile_xy(name, members[0].peaks[name], members[0].elevations, factor, level)
+    if len(profiles) == 1:
+        x, y = profiles[0]
         return [Series(label, x, y, style, color)]
-    profiles = [profile_xy(name, r.peaks[name], r.elevations, factor, level) for r in members]
     return ensemble(label, profiles[0][1], np.array([x for x, _ in profiles]), statistic, color, style, profile=True)
+
+
+def _profiles(name: str, members: Sequence[AnalysisResult], factor: float, level: float
+              ) -> list[tuple[np.ndarray, np.ndarray]]:
+    """profile_xy of a quantity of each result that gives it."""
+    return [profile_xy(name, r.peaks[name], r.elevations, factor, level) for r in members if name in r.peaks]
 
 
 def _target_line(name: str, result: AnalysisResult, engines: set[str], factor: float, level: float) -> Series:

@@ -105,8 +105,13 @@ def _bit(state: np.ndarray, i: int) -> np.ndarray:
 
 def lift_spans(results: Sequence[AnalysisResult]) -> list[Span]:
     """Shaded intervals in which the left or the right edge of the mat is lifted."""
-    lifting = [r for r in results if any(mask.any() for mask in lifted(r).values())]
+    lifting = [r for r in results if _lifts(r)]
     return [span for result in lifting for span in _result_spans(result, results, len(lifting) > 1)]
+
+
+def _lifts(result: AnalysisResult) -> bool:
+    """Whether an edge of the mat lifts at some sample."""
+    return any(mask.any() for mask in lifted(result).values())
 
 
 def _result_spans(result: AnalysisResult, results: Sequence[AnalysisResult], named: bool) -> list[Span]:
@@ -257,11 +262,15 @@ def energy_figure(results: Sequence[AnalysisResult], title: str = "", units: str
     largest = max((abs(float(r.details["energy"].get("input", 0.0))) for r in results), default=0.0)
     factor, unit = scaled_unit(largest, "J", units)
     bars = [_energy_bars(result, results, factor) for result in results]
-    residuals = ", ".join(f"{_label(r, results)} {r.details['energy'].get('relative_residual', np.nan):.1e}"
-                          for r in results)
-    panel = Panel(f"residual / input: {residuals}", "", bars=bars, xlabel=f"energy [{unit}]",
+    panel = Panel(f"residual / input: {_residuals(results)}", "", bars=bars, xlabel=f"energy [{unit}]",
                   lines=[Line(0.0, "", "x", "-", "#999999")])
     return FigureSpec(title or "Energy balance", "", [panel], columns=1, panel_size=(5.0, 2.6), left=2.3)
+
+
+def _residuals(results: Sequence[AnalysisResult]) -> str:
+    """Each result's residual of its energy balance relative to the input work."""
+    return ", ".join(f"{_label(r, results)} {r.details['energy'].get('relative_residual', np.nan):.1e}"
+                     for r in results)
 
 
 def _energy_bars(result: AnalysisResult, results: Sequence[AnalysisResult], factor: float) -> Bars:

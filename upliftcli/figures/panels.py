@@ -74,7 +74,7 @@ def _draw_lines(axes, lines: list[Line], xlog: bool, ylog: bool) -> None:
 
 def draw_bars(axes, bars: list[Bars]) -> None:
     """Grouped horizontal bars: one group per category (top to bottom), one bar per member."""
-    categories = list(dict.fromkeys(c for member in bars for c in member.categories))
+    categories = _categories(bars)
     where = {c: i for i, c in enumerate(categories)}
     height = 0.8 / len(bars)
     for k, member in enumerate(bars):
@@ -82,6 +82,11 @@ def draw_bars(axes, bars: list[Bars]) -> None:
         axes.barh(y, member.values, height, color=member.color)
     axes.set_yticks(np.arange(len(categories)), categories)
     axes.set_ylim(len(categories) - 0.5, -0.5)
+
+
+def _categories(bars: list[Bars]) -> list[str]:
+    """Every member's categories, each once, in the order first met."""
+    return list(dict.fromkeys(c for member in bars for c in member.categories))
 
 
 def _set_log_axes(axes, xlog: bool, ylog: bool) -> None:

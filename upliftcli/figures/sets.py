@@ -116,8 +116,12 @@ def _targets(results: Sequence[AnalysisResult], suites: list) -> list[AnalysisRe
     engine's each suite result carries for a support the run has none of."""
     target = [r for r in results if not getattr(r, "record_results", ())]
     supports = {r.support for r in target}
-    return target + [r.simplified for r in suites if getattr(r, "simplified", None) is not None
-                     and r.simplified.support not in supports]
+    return target + [simplified for simplified in _carried_simplified(suites) if simplified.support not in supports]
+
+
+def _carried_simplified(suites: list) -> list[AnalysisResult]:
+    """The simplified engine's results on the target spectrum the suite results carry."""
+    return [r.simplified for r in suites if getattr(r, "simplified", None) is not None]
 
 
 def analysis_figures(deck, results: Sequence[AnalysisResult], units: str = "si") -> dict[str, FigureSpec]:

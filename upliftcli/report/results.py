@@ -47,12 +47,21 @@ def summary_table(results: Sequence[AnalysisResult], units: str = "si") -> Table
     """One row per analysis, every column of the display record of the scalar results (display.SUMMARY;
     `yielded` where a result tells it: display.verdicts)."""
     told = "yielded" in verdicts(results)
-    columns = [c for name, c in SUMMARY.items() if name != "yielded" or told]
-    rows = [[getattr(r, "label", r.engine), r.support, *(column.cell(r, units) for column in columns)] for r in results]
+    columns = _summary_columns(told)
+    rows = [[getattr(r, "label", r.engine), r.support, *_cells(r, columns, units)] for r in results]
     return Table("table-summary", "Summary: base shear V_b [14a] and base moment M_b [14b] of every analysis",
                  ["engine", "support", *(column.heading(units) for column in columns)], rows,
                  f"{WEIGHT_LEGEND}; the critical value of both coefficients is b/h_1* [16a, 16b]"
                  + (f"; {VERDICT_LEGEND}." if told else "."))
+
+
+def _summary_columns(told: bool) -> list:
+    """The columns of display.SUMMARY; `yielded` only when a result tells it."""
+    return [c for name, c in SUMMARY.items() if name != "yielded" or told]
+
+
+def _cells(result: AnalysisResult, columns: list, units: str) -> list[str]:
+    return [column.cell(result, units) for column in columns]
 
 
 def detail_unit(table: str, name: str) -> str:
@@ -116,24 +125,37 @@ def result_tables(result: AnalysisResult, units: str = "si") -> list[Table]:
 def story_table(result: AnalysisResult, what: str, units: str = "si") -> Table:
     """Peak response per story, top story first; what: the analysis in words."""
     shown = [q for q in STORY_QUANTITIES if q.name in result.peaks]
-    rows = [[str(j + 1), show(result.elevations[j], "m", units)]
-            + [show(result.peaks[q.name][j], q.display, units) for q in shown]
-            for j in range(result.elevations.size - 1, -1, -1)]
+    rows = [_story_row(result, j, shown, units) for j in range(result.elevations.size - 1, -1, -1)]
     return Table(f"table-{_slug(result)}-stories", f"Peak response per story, {what} (top story first)",
                  ["story", heading("elevation", "m", units)] + [q.heading(units) for q in shown], rows,
                  "Floor quantities are those of the floor at the top of the story.")
 
 
+def _story_row(result: AnalysisResult, j: int, shown: list, units: str) -> list[str]:
+    """Story j + 1: its elevation and the peak of each quantity shown."""
+    peaks = [show(result.peaks[q.name][j], q.display, units) for q in shown]
+    return [str(j + 1), show(result.elevations[j], "m", units), *peaks]
+
+
 def elements_table(result: AnalysisResult, what: str, units: str = "si") -> Table | None:
     """The peaks of each foundation element (largest compression, plastic settlement), or None."""
-    elements = [q for q in element_quantities() if q.name in result.peaks and result.peaks[q.name].size]
+    elements = _element_quantities(result)
     if not elements:
         return None
-    rows = [[str(i + 1), show(x, "m", units)] + [show(result.peaks[q.name][i], q.display, units) for q in elements]
-            for i, x in enumerate(result.element_positions)]
+    rows = [_element_row(result, i, x, elements, units) for i, x in enumerate(result.element_positions)]
     plastic = ", plastic settlement" if "plastic_settlement" in result.peaks else ""
     return Table(f"table-{_slug(result)}-elements", f"Foundation elements, {what}: largest compression{plastic}",
                  ["element", heading("position x", "m", units), *(q.heading(units) for q in elements)], rows)
+
+
+def _element_quantities(result: AnalysisResult) -> list:
+    """The quantities of the foundation elements the result gives a value for."""
+    return [q for q in element_quantities() if q.name in result.peaks and result.peaks[q.name].size]
+
+
+def _element_row(result: AnalysisResult, i: int, x: float, elements: list, units: str) -> list[str]:
+    """Element i at position x: its peak of each quantity."""
+    return [str(i + 1), show(x, "m", units)] + [show(result.peaks[q.name][i], q.display, units) for q in elements]
 
 
 def _intermediate_row(name: str, value, units: str) -> list[str]:
@@ -200,7 +222,13 @@ def accuracy_pairs(results: Sequence[AnalysisResult]) -> list[tuple[AnalysisResu
     exact = {r.support: r for r in results if r.engine == "exact"}
     pairs = [(r, exact[r.support]) for r in results if r.engine == "simplified" and r.support in exact]
     done = {e.support for _, e in pairs}
-    return pairs + [(e.simplified, e) for e in exact.values() if e.support not in done and _carries_simplified(e)]
+    return pairs + _carried_pairs(exact.values(), done)
+
+
+def _carried_pairs(exact, done: set[str]) -> list[tuple[AnalysisResult, AnalysisResult]]:
+    """(simplified, exact) of the exact results of the supports not yet paired that carry the
+    simplified engine's result (a suite's, on the target spectrum)."""
+    return [(e.simplified, e) for e in exact if e.support not in done and _carries_simplified(e)]
 
 
 def _carries_simplified(result: AnalysisResult) -> bool:
@@ -268,8 +296,7 @@ def _accuracy_note(checks: Sequence) -> str:
 def split_table(checks: Sequence) -> Table | None:
     """The accuracy check on a spectrum-compatible suite (analysis/suite_check.py) split into its two
     factors, per support and compared value (None without such a check)."""
-    rows = [_split_row(check, c) for check in checks if check.suite is not None and check.procedure_ratio
-            for c in check.comparisons]
+    rows = [_split_row(check, c) for check in _split_checks(checks) for c in check.comparisons]
     if not rows:
         return None
     return Table("table-accuracy-split", "The ratio on the suite split: records against the target, and the "
@@ -279,6 +306,11 @@ def split_table(checks: Sequence) -> Table | None:
                  "target spectrum against it on each record's own spectrum (the suite's statistic; below 1: the "
                  "records stand above the target); procedure: it on each record's own spectrum against the exact "
                  "engine on that record (the procedure's own error). docs/suites.md, \"The exact answer by default\".")
+
+
+def _split_checks(checks: Sequence) -> list:
+    """The checks on a suite that split their ratio (a procedure ratio per value)."""
+    return [check for check in checks if check.suite is not None and check.procedure_ratio]
 
 
 def _split_row(check, c) -> list[str]:
@@ -308,9 +340,13 @@ def _check_warnings(results: Sequence[AnalysisResult], checks: Sequence) -> list
 
 def _suite_warnings(results: Sequence[AnalysisResult], deck) -> list[list[str]]:
     """The warnings of the suites of the results and of the deck's ground motion, each once."""
-    suite = [str(w) for r in results for w in getattr(r, "warnings", ())]
-    suite += [str(w) for w in getattr(getattr(deck, "ground_motion", None), "warnings", ()) or ()]
+    suite = [str(w) for r in results for w in getattr(r, "warnings", ())] + _motion_warnings(deck)
     return [["suite", "-", w] for w in dict.fromkeys(suite)]
+
+
+def _motion_warnings(deck) -> list[str]:
+    """The warnings of the deck's ground motion (a suite's), none without a deck."""
+    return [str(w) for w in getattr(getattr(deck, "ground_motion", None), "warnings", ()) or ()]
 
 
 def criteria_rows(results: Sequence[AnalysisResult], criteria: Mapping, units: str = "si", checks: Sequence = ()
