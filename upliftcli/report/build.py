@@ -8,11 +8,12 @@ from collections.abc import Mapping, Sequence
 
 from ..engines.result import AnalysisResult
 from ..figures.sets import analysis_figures, motion_label
+from .checks import accuracy_section, criteria_section, warnings_section
 from .document import PROJECT_FIELDS, Figure, Report, Section, SignOff, Table, Text
 from .inputs import inputs_section, model_section, modes_section, motion_section
 from .method import method_section
 from .provenance import relative_path
-from .results import accuracy_section, criteria_section, results_section, summary_table, warnings_section
+from .results import results_section, summary_table
 
 #: --units -> the words of the report's subtitle
 UNIT_NAMES = {"si": "SI (kN, kN m, mm, m, g)", "us": "US (kip, kip ft, in, ft, g)"}
