@@ -107,7 +107,7 @@ def plot_figures(figures: Sequence[tuple[FigureSpec, str | os.PathLike]], option
     from ..runtime.process import available_cores
 
     groups = _shares(figures, min(available_cores(), len(figures)))
-    if len(groups) < 2 or not FORK_FIGURES or threading.active_count() > 1:
+    if not _can_share(groups):
         _draw_all(figures, option)
         return paths
     preload()
@@ -115,6 +115,12 @@ def plot_figures(figures: Sequence[tuple[FigureSpec, str | os.PathLike]], option
         stream.flush()
     _draw_shared(groups, option)
     return paths
+
+
+def _can_share(groups: list[list]) -> bool:
+    """Whether forked copies may draw the groups: more than one, on Linux (FORK_FIGURES), and
+    this process runs no other thread (forking one that does is unsafe)."""
+    return len(groups) >= 2 and FORK_FIGURES and threading.active_count() <= 1
 
 
 def _draw_all(figures, option: str) -> None:

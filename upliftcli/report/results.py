@@ -42,7 +42,7 @@ def summary_table(results: Sequence[AnalysisResult], units: str = "si") -> Table
     `yielded` where a result tells it: display.verdicts)."""
     told = "yielded" in verdicts(results)
     columns = _summary_columns(told)
-    rows = [[getattr(r, "label", r.engine), r.support, *_cells(r, columns, units)] for r in results]
+    rows = [_summary_row(r, columns, units) for r in results]
     return Table("table-summary", "Summary: base shear V_b [14a] and base moment M_b [14b] of every analysis",
                  ["engine", "support", *(column.heading(units) for column in columns)], rows,
                  f"{WEIGHT_LEGEND}; the critical value of both coefficients is b/h_1* [16a, 16b]"
@@ -54,8 +54,10 @@ def _summary_columns(told: bool) -> list:
     return [c for name, c in SUMMARY.items() if name != "yielded" or told]
 
 
-def _cells(result: AnalysisResult, columns: list, units: str) -> list[str]:
-    return [column.cell(result, units) for column in columns]
+def _summary_row(result: AnalysisResult, columns: list, units: str) -> list[str]:
+    """Engine (its label), support and every column of one analysis."""
+    return [getattr(result, "label", result.engine), result.support,
+            *(column.cell(result, units) for column in columns)]
 
 
 def detail_unit(table: str, name: str) -> str:
@@ -95,10 +97,13 @@ def records_table(result, units: str = "si") -> Table:
     rows = [*_record_rows(result, told, units), _design_row(result, told, units)]
     return Table(f"table-{_slug(result)}-records", f"Each record of the suite, {result.engine} engine, "
                  f"{result.support} support ({result.rule_label or result.rule}: the {result.statistic})",
-                 ["record", "name", "factor [-]", SUMMARY["base_shear"].heading(units),
-                  SUMMARY["base_moment"].heading(units), heading("largest drift ratio", display_kind("drift_ratio"),
-                                                                 units),
-                  "uplift", *(["yielded"] if told else [])], rows)
+                 _records_headers(told, units), rows)
+
+
+def _records_headers(told: bool, units: str) -> list[str]:
+    drift = heading("largest drift ratio", display_kind("drift_ratio"), units)
+    return ["record", "name", "factor [-]", SUMMARY["base_shear"].heading(units), SUMMARY["base_moment"].heading(units),
+            drift, "uplift", *(["yielded"] if told else [])]
 
 
 #: the detail tables of the history engines: key of result.details -> caption
