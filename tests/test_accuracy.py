@@ -220,7 +220,7 @@ def test_the_cli_says_why_the_edge_uplift_is_left_out():
 
 
 def test_the_report_lists_a_left_out_value_with_its_reason():
-    from upliftcli.report.results import accuracy_section
+    from upliftcli.report.checks import accuracy_section
 
     check = Check("uplift", "exact engine, all 10 modes", comparisons=(Comparison("base_shear", 2.0e6, 2.5e6),),
                   left_out={"max_uplift": "the soil yielded"})

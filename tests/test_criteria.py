@@ -10,7 +10,7 @@ from upliftcli.analysis.run import run
 from upliftcli.deck.criteria import check_criteria, outcomes
 from upliftcli.deck.load import load_deck
 from upliftcli.errors import InputError
-from upliftcli.report.results import criteria_rows
+from upliftcli.report.checks import criteria_rows
 
 
 def test_criteria(example_deck):

@@ -1,5 +1,6 @@
 """Figure data: pure functions of results (engines/result.AnalysisResult), modes, spectra and
-suites returning spec.FigureSpec (arrays and labels, no matplotlib), drawn by upliftcli.figures.draw.
+suites returning spec.FigureSpec (arrays and labels, no matplotlib), drawn by upliftcli.figures.draw
+(the layout: layout.py; each panel: panels.py).
 
     analysis.profile_figure(results, criteria)    story profiles of peak response
     modes.mode_shape_figure(system)               fixed-base mode shapes, T_n, m_n*/m_t

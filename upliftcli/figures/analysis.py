@@ -63,11 +63,15 @@ def plotted_unit(name: str, results: Sequence[AnalysisResult], units: str = "si"
     and moments in SI, in kN or MN (kN m or MN m) by the size of the largest peak."""
     quantity = QUANTITIES[name]
     if quantity.unit in ("N", "N m"):
-        largest = max((float(np.max(np.abs(r.peaks[name]))) for r in results if r.peaks.get(name) is not None
-                       and r.peaks[name].size), default=0.0)
-        return scaled_unit(largest, quantity.unit, units)
+        return scaled_unit(_largest_peak(name, results), quantity.unit, units)
     shown = display_unit(quantity.display, units)
     return shown.factor, shown.label
+
+
+def _largest_peak(name: str, results: Sequence[AnalysisResult]) -> float:
+    """The largest |peak| of a quantity over the results (0 without one)."""
+    return max((float(np.max(np.abs(r.peaks[name]))) for r in results if r.peaks.get(name) is not None
+                and r.peaks[name].size), default=0.0)
 
 
 def limit_lines(name: str, criteria: Mapping[str, float] | None, factor: float, unit: str) -> list[Line]:
@@ -97,44 +101,69 @@ def suite_profile_figure(records: Sequence[AnalysisResult], statistic: str = "me
     statistic ("mean", "max", "median" per floor or story) thick, the results on the target
     spectrum (e.g. the simplified engine's) dashed."""
     engines = {r.engine for r in [*records, *target]}
+    groups = [(_label(members[0], engines), support, engine, members)
+              for (engine, support), members in _by_analysis(records).items()]
+    return _figure(groups, list(target), criteria, title, statistic, units)
+
+
+def _by_analysis(records: Sequence[AnalysisResult]) -> dict[tuple[str, str], list[AnalysisResult]]:
+    """The results grouped by (engine, support), in the order first met."""
     grouped: dict[tuple[str, str], list[AnalysisResult]] = {}
     for result in records:
         grouped.setdefault((result.engine, result.support), []).append(result)
-    groups = [(_label(members[0], engines), support, engine, members)
-              for (engine, support), members in grouped.items()]
-    return _figure(groups, list(target), criteria, title, statistic, units)
+    return grouped
 
 
 def _figure(groups, target: list[AnalysisResult], criteria, title: str, statistic: str, units: str = "si"
             ) -> FigureSpec:
-    everything = [r for *_, members in groups for r in members] + target
-    engines = {r.engine for r in everything}
-    level = display_unit("m", units).factor
-    panels = []
-    for name in PROFILES:
-        if not any(name in r.peaks for r in everything):
-            continue
-        factor, unit = plotted_unit(name, everything, units)
-        series: list[Series] = []
-        for label, support, engine, members in groups:
-            members = [r for r in members if name in r.peaks]
-            if not members:
-                continue
-            color, style = SUPPORT_COLORS.get(support), ENGINE_LINES.get(engine, "-")
-            if len(members) == 1:
-                x, y = profile_xy(name, members[0].peaks[name], members[0].elevations, factor, level)
-                series.append(Series(label, x, y, style, color))
-                continue
-            profiles = [profile_xy(name, r.peaks[name], r.elevations, factor, level) for r in members]
-            series += ensemble(label, profiles[0][1], np.array([x for x, _ in profiles]), statistic, color,
-                               style, profile=True)
-        for result in target:
-            if name in result.peaks:
-                x, y = profile_xy(name, result.peaks[name], result.elevations, factor, level)
-                series.append(target_series(f"{_label(result, engines)}: target spectrum", x, y,
-                                            SUPPORT_COLORS.get(result.support, "black")))
-        panels.append(Panel(PROFILES[name], elevation_label(units), cycle(series),
-                            limit_lines(name, criteria, factor, unit), xlabel=f"{PROFILES[name]} [{unit}]", xmin=0.0,
-                            ymin=0.0))
+    """The profile figure of groups (label, support, engine, members: one result, or a suite's
+    records drawn as an ensemble) and the results on the target spectrum."""
+    everything = _everything(groups, target)
+    panels = [_profile_panel(name, groups, target, criteria, statistic, units)
+              for name in PROFILES if any(name in r.peaks for r in everything)]
     return FigureSpec(title or "Peak response over the height", "", panels, columns=min(len(panels), COLUMNS) or 1,
                       panel_size=(2.3, 3.0), sharey=True)
+
+
+def _everything(groups, target: list[AnalysisResult]) -> list[AnalysisResult]:
+    """Every result of the groups, then those on the target spectrum."""
+    return [r for *_, members in groups for r in members] + target
+
+
+def _profile_panel(name: str, groups, target: list[AnalysisResult], criteria, statistic: str, units: str) -> Panel:
+    """The panel of one quantity: each group's line (or ensemble), the target's lines, the [criteria] limit."""
+    everything = _everything(groups, target)
+    factor, unit = plotted_unit(name, everything, units)
+    level = display_unit("m", units).factor
+    series = [s for group in groups for s in _group_series(name, group, factor, level, statistic)]
+    series += [_target_line(name, r, {r.engine for r in everything}, factor, level) for r in target
+               if name in r.peaks]
+    return Panel(PROFILES[name], elevation_label(units), cycle(series), limit_lines(name, criteria, factor, unit),
+                 xlabel=f"{PROFILES[name]} [{unit}]", xmin=0.0, ymin=0.0)
+
+
+def _group_series(name: str, group, factor: float, level: float, statistic: str) -> list[Series]:
+    """A group's profile of a quantity: one line for one result, an ensemble (each thin, the
+    statistic thick) for several; none when no member gives the quantity."""
+    label, support, engine, members = group
+    profiles = _profiles(name, members, factor, level)
+    if not profiles:
+        return []
+    color, style = SUPPORT_COLORS.get(support), ENGINE_LINES.get(engine, "-")
+    if len(profiles) == 1:
+        x, y = profiles[0]
+        return [Series(label, x, y, style, color)]
+    return ensemble(label, profiles[0][1], np.array([x for x, _ in profiles]), statistic, color, style, profile=True)
+
+
+def _profiles(name: str, members: Sequence[AnalysisResult], factor: float, level: float
+              ) -> list[tuple[np.ndarray, np.ndarray]]:
+    """profile_xy of a quantity of each result that gives it."""
+    return [profile_xy(name, r.peaks[name], r.elevations, factor, level) for r in members if name in r.peaks]
+
+
+def _target_line(name: str, result: AnalysisResult, engines: set[str], factor: float, level: float) -> Series:
+    """A result on the target spectrum, dashed."""
+    x, y = profile_xy(name, result.peaks[name], result.elevations, factor, level)
+    return target_series(f"{_label(result, engines)}: target spectrum", x, y,
+                         SUPPORT_COLORS.get(result.support, "black"))

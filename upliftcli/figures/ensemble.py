@@ -25,15 +25,18 @@ def ensemble(label: str, position: np.ndarray, values: np.ndarray, statistic: st
     values = np.asarray(values, dtype=float)
     position = np.asarray(position, dtype=float)
     count = values.shape[0]
-
-    def line(text: str, y: np.ndarray, width: float, alpha: float = 1.0) -> Series:
-        x, y = (y, position) if profile else (position, y)
-        return Series(text, x, y, style, color, width, alpha=alpha)
-
-    lines = [line(f"{label}: each of {count} records" if k == 0 else "", values[k], RECORD_WIDTH, 0.55)
-             for k in range(count)]
-    lines.append(line(f"{label}: {statistic} of {count} records", statistic_of(values, statistic), STATISTIC_WIDTH))
+    lines = [_member(f"{label}: each of {count} records" if k == 0 else "", position, values[k], style, color,
+                     RECORD_WIDTH, profile, 0.55) for k in range(count)]
+    lines.append(_member(f"{label}: {statistic} of {count} records", position, statistic_of(values, statistic), style,
+                         color, STATISTIC_WIDTH, profile))
     return lines
+
+
+def _member(text: str, position: np.ndarray, values: np.ndarray, style: str, color: str, width: float,
+            profile: bool, alpha: float = 1.0) -> Series:
+    """A line of an ensemble: values at the positions (profile: the values on the x axis)."""
+    x, y = (values, position) if profile else (position, values)
+    return Series(text, x, y, style, color, width, alpha=alpha)
 
 
 def target_series(label: str, x: np.ndarray, y: np.ndarray, color: str) -> Series:

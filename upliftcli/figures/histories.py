@@ -64,9 +64,13 @@ def unit_of(results: Sequence[AnalysisResult], name: str, units: str = "si") -> 
     if si == "m":
         shown = display_unit("mm", units)
         return shown.factor, shown.label
-    largest = max((float(np.max(np.abs(r.histories[key]))) for r in results
-                   if key in r.histories and len(r.histories[key])), default=0.0)
-    return scaled_unit(largest, si, units)
+    return scaled_unit(_largest(results, key), si, units)
+
+
+def _largest(results: Sequence[AnalysisResult], key: str) -> float:
+    """The largest |value| of a history over the results (0 where none records it)."""
+    return max((float(np.max(np.abs(r.histories[key]))) for r in results
+                if key in r.histories and len(r.histories[key])), default=0.0)
 
 
 def axis_label(results: Sequence[AnalysisResult], name: str, units: str = "si") -> str:
@@ -85,28 +89,37 @@ def signal(result: AnalysisResult, name: str, factor: float = 1.0) -> tuple[np.n
 def lifted(result: AnalysisResult) -> dict[str, np.ndarray]:
     """Per edge ("left", "right"), whether it is lifted at each sample: bit i of
     contact_state is element i lifted (element 0 at the left edge, the last at the right)."""
-    histories = result.histories
     count = result.element_positions.size
-    if "contact_state" not in histories or count == 0:
+    if "contact_state" not in result.histories or count == 0:
         return {}
-    state = np.asarray(histories["contact_state"])
-    if state.dtype == object:  # more elements than an int64 holds
-        bits = [np.array([(int(s) >> i) & 1 for s in state], dtype=bool) for i in (0, count - 1)]
-    else:
-        bits = [((state.astype(np.int64) >> i) & 1).astype(bool) for i in (0, count - 1)]
-    return dict(zip(("left", "right"), bits, strict=True))
+    state = np.asarray(result.histories["contact_state"])
+    return {"left": _bit(state, 0), "right": _bit(state, count - 1)}
+
+
+def _bit(state: np.ndarray, i: int) -> np.ndarray:
+    """Bit i of each contact state (a Python int where more elements than an int64 holds)."""
+    if state.dtype == object:
+        return np.array([(int(s) >> i) & 1 for s in state], dtype=bool)
+    return ((state.astype(np.int64) >> i) & 1).astype(bool)
 
 
 def lift_spans(results: Sequence[AnalysisResult]) -> list[Span]:
     """Shaded intervals in which the left or the right edge of the mat is lifted."""
-    lifting = [r for r in results if any(mask.any() for mask in lifted(r).values())]
-    spans = []
-    for result in lifting:
-        times = np.asarray(result.histories["time"], dtype=float)
-        for edge, mask in lifted(result).items():
-            prefix = f"{_label(result, results)}: " if len(lifting) > 1 else ""
-            spans.append(Span(f"{prefix}{edge} edge lifted", spans_of(times, mask), LIFT_COLORS[edge]))
-    return spans
+    lifting = [r for r in results if _lifts(r)]
+    return [span for result in lifting for span in _result_spans(result, results, len(lifting) > 1)]
+
+
+def _lifts(result: AnalysisResult) -> bool:
+    """Whether an edge of the mat lifts at some sample."""
+    return any(mask.any() for mask in lifted(result).values())
+
+
+def _result_spans(result: AnalysisResult, results: Sequence[AnalysisResult], named: bool) -> list[Span]:
+    """The lifted intervals of each edge of one result (named: labelled with the result)."""
+    times = np.asarray(result.histories["time"], dtype=float)
+    prefix = f"{_label(result, results)}: " if named else ""
+    return [Span(f"{prefix}{edge} edge lifted", spans_of(times, mask), LIFT_COLORS[edge])
+            for edge, mask in lifted(result).items()]
 
 
 def _label(result: AnalysisResult, results: Sequence[AnalysisResult]) -> str:
@@ -122,23 +135,34 @@ def _line(result: AnalysisResult, results, name: str, suffix: str = "", style: s
                   SUPPORT_COLORS.get(result.support), 1.0)
 
 
+def _signal_lines(result: AnalysisResult, results: Sequence[AnalysisResult],
+                  names: Sequence[tuple[str, str, str | None]], units: str) -> list[Series]:
+    """The recorded signals of a result: names (signal, label suffix, line style) in turn."""
+    return [s for name, suffix, style in names if (s := _line(result, results, name, suffix, style, units)) is not None]
+
+
+#: the edge displacements and settlements: (signal, label suffix, line style)
+EDGES = (("left_edge", ", left edge", "-"), ("right_edge", ", right edge", "--"))
+SETTLEMENTS = (("left_settlement", ", left edge", "-"), ("right_settlement", ", right edge", "--"))
+
+
 def _settlements(result: AnalysisResult, results, units: str = "si") -> list[Series]:
     """The settlement of the left and right edge of the mat (down +) and the plastic settlement
     -s_i of its first and last element (histories plastic_settlement_<element>), the level to
     which each edge comes back (docs/theory.md 14.1)."""
+    return _signal_lines(result, results, SETTLEMENTS, units) + _plastic_settlements(result, results, units)
+
+
+def _plastic_settlements(result: AnalysisResult, results, units: str) -> list[Series]:
+    """The plastic settlement of the first and last element of the mat (down +)."""
     factor = unit_of(results, "left_settlement", units)[0]
     time = np.asarray(result.histories["time"], dtype=float)
     count = result.element_positions.size
-    out = [s for name, suffix, style in (("left_settlement", ", left edge", "-"), ("right_settlement", ", right edge",
-                                                                                    "--"))
-           if (s := _line(result, results, name, suffix, style, units)) is not None]
-    for key, suffix, style in (("plastic_settlement_1", ", left element, plastic", ":"),
-                               (f"plastic_settlement_{count}", ", right element, plastic", "-.")):
-        if key in result.histories:
-            out.append(Series(_label(result, results) + suffix, time,
-                              np.asarray(result.histories[key], dtype=float) * factor, style,
-                              SUPPORT_COLORS.get(result.support), 1.0))
-    return out
+    return [Series(_label(result, results) + suffix, time, np.asarray(result.histories[key], dtype=float) * factor,
+                   style, SUPPORT_COLORS.get(result.support), 1.0)
+            for key, suffix, style in (("plastic_settlement_1", ", left element, plastic", ":"),
+                                       (f"plastic_settlement_{count}", ", right element, plastic", "-."))
+            if key in result.histories]
 
 
 def critical_lines(results: Sequence[AnalysisResult], units: str = "si") -> list[Line]:
@@ -149,14 +173,28 @@ def critical_lines(results: Sequence[AnalysisResult], units: str = "si") -> list
         return []
     factor, unit = unit_of(results, "base_moment", units)
     m_c = factor * results[0].critical_base_moment
-    tip = next((r.intermediates["M_tip"] for r in results if "M_tip" in r.intermediates), None)
+    tip = _tipping_moment(results)
     if tip is None:
         return [Line(m_c, f"\u00b1M_c = m_t g b = {m_c:.4g} {unit} [16b]"), Line(-m_c)]
-    tip *= factor
+    return _capacity_lines(m_c, tip * factor, unit)
+
+
+def _tipping_moment(results: Sequence[AnalysisResult]) -> float | None:
+    """The elastic tipping moment M_tip [N m] of the first result that states it (yielding soil), or None."""
+    return next((r.intermediates["M_tip"] for r in results if "M_tip" in r.intermediates), None)
+
+
+def _capacity_lines(m_c: float, tip: float, unit: str) -> list[Line]:
+    """+-M_c, the moment capacity on yielding soil, and +-M_tip = m_t g b (plotted units)."""
     return [Line(m_c, f"\u00b1M_c = {m_c:.4g} {unit}, the moment capacity on yielding soil (ASCE 41-17 8.4, "
                  "docs/theory.md 14.4)", color="#b22222"), Line(-m_c, color="#b22222"),
             Line(tip, f"\u00b1M_tip = m_t g b = {tip:.4g} {unit} [16b]", style="--", color="#777777"),
             Line(-tip, style="--", color="#777777")]
+
+
+#: the signal panels of the histories: (signal, panel title)
+SIGNAL_PANELS = (("base_shear", "base shear"), ("base_moment", "base overturning moment"),
+                 ("theta", "rotation of the mat"))
 
 
 def history_figure(results: Sequence[AnalysisResult], title: str = "", units: str = "si") -> FigureSpec:
@@ -165,41 +203,56 @@ def history_figure(results: Sequence[AnalysisResult], title: str = "", units: st
     with an edge lifted shaded in every panel."""
     results = with_histories(results)
     spans = lift_spans(results)
-    panels = []
-    for name, heading in (("base_shear", "base shear"), ("base_moment", "base overturning moment"),
-                          ("theta", "rotation of the mat")):
-        series = [s for r in results if (s := _line(r, results, name, units=units)) is not None]
-        if series:
-            lines = critical_lines(results, units) if name == "base_moment" else []
-            panels.append(Panel(heading, axis_label(results, name, units), cycle(series), lines, spans))
-    edges = [s for r in results for name, suffix, style in (("left_edge", ", left edge", "-"),
-                                                              ("right_edge", ", right edge", "--"))
-             if (s := _line(r, results, name, suffix, style, units)) is not None]
-    if edges:
-        panels.append(Panel("vertical displacement of the mat edges (uplift)", axis_label(results, "left_edge", units),
-                            cycle(edges), [Line(0.0, "", "y", "-", "#999999")], spans))
+    panels = [_signal_panel(results, name, heading, spans, units) for name, heading in SIGNAL_PANELS]
+    panels += [_edge_panel(results, spans, units), _settlement_panel(results, spans, units)]
+    return FigureSpec(title or "Response histories", TIME_LABEL, [p for p in panels if p is not None], columns=1,
+                      panel_size=(7.2, 1.8), sharex=True)
+
+
+def _signal_panel(results: Sequence[AnalysisResult], name: str, heading: str, spans: list[Span], units: str
+                  ) -> Panel | None:
+    """A signal of every result (the base moment with +-M_c), or None where none records it."""
+    series = [s for r in results if (s := _line(r, results, name, units=units)) is not None]
+    if not series:
+        return None
+    lines = critical_lines(results, units) if name == "base_moment" else []
+    return Panel(heading, axis_label(results, name, units), cycle(series), lines, spans)
+
+
+def _edge_panel(results: Sequence[AnalysisResult], spans: list[Span], units: str) -> Panel | None:
+    """The vertical displacement of the mat edges (uplift +), or None where none records it."""
+    edges = [s for r in results for s in _signal_lines(r, results, EDGES, units)]
+    if not edges:
+        return None
+    return Panel("vertical displacement of the mat edges (uplift)", axis_label(results, "left_edge", units),
+                 cycle(edges), [Line(0.0, "", "y", "-", "#999999")], spans)
+
+
+def _settlement_panel(results: Sequence[AnalysisResult], spans: list[Span], units: str) -> Panel | None:
+    """The settlement of the mat edges and their elements' plastic settlement on yielding soil, or None."""
     settling = [s for r in results if "plastic_settlement_1" in r.histories for s in _settlements(r, results, units)]
-    if settling:
-        panels.append(Panel("settlement of the mat edges (yielding soil)",
-                            axis_label(results, "left_settlement", units), cycle(settling),
-                            [Line(0.0, "", "y", "-", "#999999")], spans))
-    return FigureSpec(title or "Response histories", TIME_LABEL, panels, columns=1, panel_size=(7.2, 1.8),
-                      sharex=True)
+    if not settling:
+        return None
+    return Panel("settlement of the mat edges (yielding soil)", axis_label(results, "left_settlement", units),
+                 cycle(settling), [Line(0.0, "", "y", "-", "#999999")], spans)
 
 
 def moment_rotation_figure(results: Sequence[AnalysisResult], title: str = "", units: str = "si") -> FigureSpec:
     """Base moment M_b against the mat rotation theta of the flexible supports, with +-M_c."""
     results = [r for r in with_histories(results) if "theta" in r.histories]
     moment_factor, _ = unit_of(results, "base_moment", units)
-    series = []
-    for result in results:
-        _, theta = signal(result, "theta", _MRAD[0])
-        _, moment = signal(result, "base_moment", moment_factor)
-        series.append(Series(_label(result, results), theta, moment, ENGINE_LINES.get(result.engine, "-"),
-                             SUPPORT_COLORS.get(result.support), 0.8))
+    series = [_moment_rotation(result, results, moment_factor) for result in results]
     panel = Panel("", axis_label(results, "base_moment", units), cycle(series), critical_lines(results, units),
                   xlabel=axis_label(results, "theta"))
     return FigureSpec(title or "Base moment against mat rotation", "", [panel], columns=1, panel_size=(5.0, 3.0))
+
+
+def _moment_rotation(result: AnalysisResult, results: Sequence[AnalysisResult], moment_factor: float) -> Series:
+    """Base moment against mat rotation [mrad] of one result."""
+    _, theta = signal(result, "theta", _MRAD[0])
+    _, moment = signal(result, "base_moment", moment_factor)
+    return Series(_label(result, results), theta, moment, ENGINE_LINES.get(result.engine, "-"),
+                  SUPPORT_COLORS.get(result.support), 0.8)
 
 
 def energy_figure(results: Sequence[AnalysisResult], title: str = "", units: str = "si") -> FigureSpec:
@@ -208,14 +261,21 @@ def energy_figure(results: Sequence[AnalysisResult], title: str = "", units: str
     results = [r for r in results if "energy" in r.details]
     largest = max((abs(float(r.details["energy"].get("input", 0.0))) for r in results), default=0.0)
     factor, unit = scaled_unit(largest, "J", units)
-    bars = []
-    for result in results:
-        energy = result.details["energy"]
-        terms = [k for k in ENERGY_TERMS if k in energy]
-        bars.append(Bars(_label(result, results), [ENERGY_TERMS[k] for k in terms],
-                         np.array([factor * energy[k] for k in terms]), SUPPORT_COLORS.get(result.support)))
-    residuals = ", ".join(f"{_label(r, results)} {r.details['energy'].get('relative_residual', np.nan):.1e}"
-                          for r in results)
-    panel = Panel(f"residual / input: {residuals}", "", bars=bars, xlabel=f"energy [{unit}]",
+    bars = [_energy_bars(result, results, factor) for result in results]
+    panel = Panel(f"residual / input: {_residuals(results)}", "", bars=bars, xlabel=f"energy [{unit}]",
                   lines=[Line(0.0, "", "x", "-", "#999999")])
     return FigureSpec(title or "Energy balance", "", [panel], columns=1, panel_size=(5.0, 2.6), left=2.3)
+
+
+def _residuals(results: Sequence[AnalysisResult]) -> str:
+    """Each result's residual of its energy balance relative to the input work."""
+    return ", ".join(f"{_label(r, results)} {r.details['energy'].get('relative_residual', np.nan):.1e}"
+                     for r in results)
+
+
+def _energy_bars(result: AnalysisResult, results: Sequence[AnalysisResult], factor: float) -> Bars:
+    """The terms of one result's energy balance it gives (ENERGY_TERMS), times factor."""
+    energy = result.details["energy"]
+    terms = [k for k in ENERGY_TERMS if k in energy]
+    values = np.array([factor * energy[k] for k in terms])
+    return Bars(_label(result, results), [ENERGY_TERMS[k] for k in terms], values, SUPPORT_COLORS.get(result.support))

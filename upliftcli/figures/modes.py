@@ -31,15 +31,16 @@ def mode_shape_figure(system: System, n_modes: int | None = None, title: str = "
     modes = system.modes
     count = min(n_modes or modes.n_modes, modes.n_modes, MAX_MODES)
     levels = np.concatenate(([0.0], system.building.heights)) * unit("m", units).factor
-    m_t = system.total_mass
-    panels = []
-    for n in range(count):
-        phi = np.concatenate(([0.0], normalized_shape(modes.shapes, n)))
-        ratio = modes.effective_mass[n] / m_t
-        panels.append(Panel(f"mode {n + 1}: T_{n + 1} = {modes.periods[n]:.4g} s\nm_{n + 1}*/m_t = {ratio:.3f}",
-                            elevation_label(units), [Series(f"mode {n + 1}", phi, levels, "-",
-                                                            SUPPORT_COLORS["rigid"], 1.8, "o")],
-                            [Line(0.0, "", "x", "-", "#999999")], xlabel="phi_jn / max |phi_jn| [-]",
-                            legend=False, ymin=0.0))
+    panels = [_mode_panel(system, n, levels, units) for n in range(count)]
     return FigureSpec(title or "Fixed-base mode shapes", "", panels, columns=min(count, COLUMNS) or 1,
                       panel_size=(2.3, 3.0), sharey=True)
+
+
+def _mode_panel(system: System, n: int, levels: np.ndarray, units: str) -> Panel:
+    """Mode n + 1 against the levels (plotted units), titled with T_n and m_n*/m_t."""
+    modes = system.modes
+    phi = np.concatenate(([0.0], normalized_shape(modes.shapes, n)))
+    ratio = modes.effective_mass[n] / system.total_mass
+    return Panel(f"mode {n + 1}: T_{n + 1} = {modes.periods[n]:.4g} s\nm_{n + 1}*/m_t = {ratio:.3f}",
+                 elevation_label(units), [Series(f"mode {n + 1}", phi, levels, "-", SUPPORT_COLORS["rigid"], 1.8, "o")],
+                 [Line(0.0, "", "x", "-", "#999999")], xlabel="phi_jn / max |phi_jn| [-]", legend=False, ymin=0.0)

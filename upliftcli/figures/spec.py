@@ -104,13 +104,15 @@ class FigureSpec:
 
     def labels(self) -> list[str]:
         """The legend entries, in order, each once (series, lines, spans and bars with a label)."""
-        seen: dict[str, None] = {}
-        for panel in self.panels:
-            if panel.legend:
-                for item in (*panel.series, *panel.lines, *panel.spans, *panel.bars):
-                    if item.label:
-                        seen.setdefault(item.label, None)
-        return list(seen)
+        return list(dict.fromkeys(item.label for panel in self.panels for item in legend_items(panel)))
+
+
+def legend_items(panel: Panel) -> list[Series | Line | Span | Bars]:
+    """The items of a panel that go into the figure's legend: its series, lines, spans and bars
+    with a label, in that order (none when the panel keeps out of the legend)."""
+    if not panel.legend:
+        return []
+    return [item for item in (*panel.series, *panel.lines, *panel.spans, *panel.bars) if item.label]
 
 
 def spans_of(times: np.ndarray, mask: np.ndarray) -> np.ndarray:

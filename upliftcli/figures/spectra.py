@@ -71,14 +71,18 @@ def suite_spectrum_figure(periods: np.ndarray, spectra: np.ndarray, statistic: s
     series = ensemble("scaled records", periods, np.asarray(spectra) / g, statistic, DARK_GREY)
     if target is not None:
         series.append(target_series(f"target: {target_name}", periods, np.asarray(target) / g, MOTION_COLOR))
-    spans = []
-    if period_range is not None:
-        spans.append(Span(f"period range {period_range[0]:.3g}-{period_range[1]:.3g} s",
-                          np.array([period_range], dtype=float), LIGHT_GREY, 0.3))
     panel = Panel(f"pseudo-acceleration, damping {100 * damping:g} %", spectrum_panel("pseudo_acceleration")[2],
-                  series, spans=spans, ymin=0.0)
+                  series, spans=_range_spans(period_range), ymin=0.0)
     return FigureSpec(title or "Response spectra of the suite", PERIOD_LABEL, [panel], xlog=True, columns=1,
                       panel_size=(7.0, 4.2))
+
+
+def _range_spans(period_range: tuple[float, float] | None) -> list[Span]:
+    """The period range of the code check, shaded (none without one)."""
+    if period_range is None:
+        return []
+    return [Span(f"period range {period_range[0]:.3g}-{period_range[1]:.3g} s", np.array([period_range], dtype=float),
+                 LIGHT_GREY, 0.3)]
 
 
 def suite_figure(suite, periods: np.ndarray | None = None, title: str = "") -> FigureSpec:

@@ -46,23 +46,32 @@ def cycle(series: Sequence[Series]) -> list[Series]:
     free = [k for k, s in enumerate(series) if s.color is None]
     many = len(free) > MANY_LINES
     out = list(series)
-    combinations = len(PALETTE) * len(STYLES)
     for position, k in enumerate(free):
-        style = STYLES[position % len(STYLES)] if many else out[k].style
-        marker = MARKERS[(position // combinations) % len(MARKERS)] if many else out[k].marker
-        out[k] = replace(out[k], color=PALETTE[position % len(PALETTE)], style=style, marker=marker)
+        out[k] = _cycled(out[k], position, many)
     return out
+
+
+def _cycled(series: Series, position: int, many: bool) -> Series:
+    """The series in the PALETTE colour of its position among the uncoloured ones; with many,
+    also the style and marker of its position."""
+    color = PALETTE[position % len(PALETTE)]
+    if not many:
+        return replace(series, color=color)
+    combinations = len(PALETTE) * len(STYLES)
+    return replace(series, color=color, style=STYLES[position % len(STYLES)],
+                   marker=MARKERS[(position // combinations) % len(MARKERS)])
 
 
 def shades(color: str, count: int) -> list[str]:
     """`count` shades of a colour, from itself towards white (at most 65 % of the way): the
     values of a field drawn in one support's colour."""
     rgb = [int(color[i:i + 2], 16) for i in (1, 3, 5)]
-    out = []
-    for k in range(count):
-        t = 0.65 * k / max(count - 1, 1)
-        out.append("#" + "".join(f"{round(c + (255 - c) * t):02X}" for c in rgb))
-    return out
+    return [_towards_white(rgb, 0.65 * k / max(count - 1, 1)) for k in range(count)]
+
+
+def _towards_white(rgb: list[int], t: float) -> str:
+    """The colour a fraction t of the way from rgb to white, as #RRGGBB."""
+    return "#" + "".join(f"{round(c + (255 - c) * t):02X}" for c in rgb)
 
 
 def scaled_unit(largest: float, unit: str, units: str = "si") -> tuple[float, str]:
@@ -70,13 +79,18 @@ def scaled_unit(largest: float, unit: str, units: str = "si") -> tuple[float, st
     or mega (or giga), whichever keeps its tick labels below 10 000; in US units kip, kip ft
     (display.py), or thousands of them."""
     if units != "si":
-        from ..display import unit as display_unit
-
-        shown = display_unit(unit, units)
-        if abs(largest) * shown.factor < 1e4:
-            return shown.factor, shown.label
-        return shown.factor * 1e-3, f"1000 {shown.label}"
+        return _scaled_us(largest, unit, units)
     for factor, prefix in ((1e-3, "k"), (1e-6, "M")):
         if abs(largest) * factor < 1e4:
             return factor, prefix + unit
     return 1e-9, "G" + unit
+
+
+def _scaled_us(largest: float, unit: str, units: str) -> tuple[float, str]:
+    """The display unit (kip, kip ft), or thousands of it where the labels would pass 10 000."""
+    from ..display import unit as display_unit
+
+    shown = display_unit(unit, units)
+    if abs(largest) * shown.factor < 1e4:
+        return shown.factor, shown.label
+    return shown.factor * 1e-3, f"1000 {shown.label}"

@@ -8,11 +8,12 @@ from collections.abc import Mapping, Sequence
 
 from ..engines.result import AnalysisResult
 from ..figures.sets import analysis_figures, motion_label
+from .checks import accuracy_section, criteria_section, warnings_section
 from .document import PROJECT_FIELDS, Figure, Report, Section, SignOff, Table, Text
 from .inputs import inputs_section, model_section, modes_section, motion_section
 from .method import method_section
 from .provenance import relative_path
-from .results import accuracy_section, criteria_section, results_section, summary_table, warnings_section
+from .results import results_section, summary_table
 
 #: --units -> the words of the report's subtitle
 UNIT_NAMES = {"si": "SI (kN, kN m, mm, m, g)", "us": "US (kip, kip ft, in, ft, g)"}
@@ -49,8 +50,7 @@ def provenance_section(info: dict, folder: str | None = None) -> Section:
     rows = [["tool", f"{info['tool']} {info['version']}"], ["python", info["python"]], ["platform", info["platform"]],
             ["libraries", ", ".join(f"{k} {v}" for k, v in info["libraries"].items())], ["command", info["command"]],
             ["time (UTC)", info["time_utc"]]]
-    files = [[f["role"], relative_path(f["path"], folder), f["sha256"] or "-",
-              "-" if f["bytes"] is None else str(f["bytes"])] for f in info["files"]]
+    files = [_file_row(f, folder) for f in info["files"]]
     return Section("provenance", "Provenance", [
         Table("table-provenance", "Tool and run", ["item", "value"], rows),
         Table("table-files", "Input files" + (" (paths relative to the deck's folder)" if folder else ""),
@@ -58,11 +58,22 @@ def provenance_section(info: dict, folder: str | None = None) -> Section:
     ])
 
 
+def _file_row(entry: dict, folder: str | None) -> list[str]:
+    """Role, path, SHA-256 and size of an input file ("-" where unknown)."""
+    return [entry["role"], relative_path(entry["path"], folder), entry["sha256"] or "-",
+            "-" if entry["bytes"] is None else str(entry["bytes"])]
+
+
 def project_fields(deck, given: Mapping[str, str] | None = None) -> dict[str, str]:
     """The deck's [project] fields, replaced by those given (uplift report --project ...), in
     the order of document.PROJECT_FIELDS; empty ones left out."""
-    found = {**getattr(deck, "values", {}).get("project", {}), **{k: v for k, v in (given or {}).items() if v}}
+    found = {**getattr(deck, "values", {}).get("project", {}), **_given_fields(given)}
     return {name: str(found[name]) for name in PROJECT_FIELDS if found.get(name)}
+
+
+def _given_fields(given: Mapping[str, str] | None) -> dict[str, str]:
+    """The fields given with a value."""
+    return {k: v for k, v in (given or {}).items() if v}
 
 
 def build_report(deck, results: Sequence[AnalysisResult], deck_text: str, overrides: Sequence[str],
@@ -73,26 +84,34 @@ def build_report(deck, results: Sequence[AnalysisResult], deck_text: str, overri
     accuracy checks (accuracy.check_accuracy)."""
     specs = analysis_figures(deck, results, units)
     criteria, verdict, code = criteria_section(results, deck.criteria, units, checks)
-    motion = motion_label(deck)
     fields = project_fields(deck, project)
+    sections = [summary_section(results, verdict, fields, units), inputs_section(deck, deck_text, overrides),
+                model_section(deck, results, units), motion_section(deck), modes_section(deck, units),
+                results_section(results, units), accuracy_section(results, units, checks),
+                warnings_section(results, deck, checks), criteria, figures_section(list(specs)),
+                method_section([r.engine for r in results], getattr(deck.analysis.simplified, "procedure", "paper")),
+                provenance_section(info, os.path.dirname(os.path.abspath(deck.source)))]
+    return Report(f"Calculation report: {deck.title}", subtitle(deck, results, info, units),
+                  [section for section in sections if section is not None], verdict, code, fields, deck.title,
+                  info["time_utc"][:10], f"uplift {info['version']}"), specs
+
+
+def summary_section(results: Sequence[AnalysisResult], verdict: str, fields: Mapping[str, str],
+                    units: str = "si") -> Section:
+    """The verdict, the summary table and the sign-off block (prepared and checked by)."""
     signoff = SignOff([("Prepared by", fields.get("engineer", "")), ("Checked by", fields.get("checker", ""))])
-    head = Section("summary", "Summary", [Text([verdict]), _copy(summary_table(results, units), "table-summary-head"),
+    return Section("summary", "Summary", [Text([verdict]), _copy(summary_table(results, units), "table-summary-head"),
                                           signoff])
-    sections = [head, inputs_section(deck, deck_text, overrides), model_section(deck, results, units),
-                motion_section(deck), modes_section(deck, units), results_section(results, units)]
-    accuracy = accuracy_section(results, units, checks)
-    if accuracy is not None:
-        sections.append(accuracy)
-    sections += [warnings_section(results, deck, checks), criteria, figures_section(list(specs)),
-                 method_section([r.engine for r in results], getattr(deck.analysis.simplified, "procedure", "paper")),
-                 provenance_section(info, os.path.dirname(os.path.abspath(deck.source)))]
+
+
+def subtitle(deck, results: Sequence[AnalysisResult], info: dict, units: str = "si") -> list[str]:
+    """The lines under the title: the deck and its ground motion; engines, supports and units; the tool and time."""
+    motion = motion_label(deck)
     engines = ", ".join(dict.fromkeys(r.engine for r in results))
     supports = ", ".join(dict.fromkeys(r.support for r in results))
-    subtitle = [f"Deck {os.path.basename(deck.source)}" + (f"; ground motion: {motion}" if motion else ""),
-                f"Engines: {engines}; supports: {supports}; units: {UNIT_NAMES[units]}",
-                f"uplift {info['version']}, {info['time_utc']}"]
-    return Report(f"Calculation report: {deck.title}", subtitle, sections, verdict, code, fields, deck.title,
-                  info["time_utc"][:10], f"uplift {info['version']}"), specs
+    return [f"Deck {os.path.basename(deck.source)}" + (f"; ground motion: {motion}" if motion else ""),
+            f"Engines: {engines}; supports: {supports}; units: {UNIT_NAMES[units]}",
+            f"uplift {info['version']}, {info['time_utc']}"]
 
 
 def _copy(table: Table, new_id: str) -> Table:

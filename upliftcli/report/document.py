@@ -84,7 +84,12 @@ class Report:
     footer: str = ""
 
     def tables(self) -> list[Table]:
-        return [b for s in self.sections for b in s.blocks if isinstance(b, Table)]
+        return blocks_of(self, Table)
 
     def figures(self) -> list[Figure]:
-        return [b for s in self.sections for b in s.blocks if isinstance(b, Figure)]
+        return blocks_of(self, Figure)
+
+
+def blocks_of(report: Report, kind: type) -> list:
+    """The blocks of a kind (Table, Figure ...) in every section, in order."""
+    return [b for s in report.sections for b in s.blocks if isinstance(b, kind)]

@@ -13,7 +13,7 @@ import re
 import struct
 from html import escape
 
-from .document import PROJECT_FIELDS, Figure, Pre, Report, SignOff, Table, Text
+from .document import PROJECT_FIELDS, Figure, Pre, Report, Section, SignOff, Table, Text
 
 #: nothing may be fetched: images only from data: URLs, styles only inline
 CSP = "default-src 'none'; img-src data:; style-src 'unsafe-inline'"
@@ -89,28 +89,48 @@ def page_css(report: Report) -> str:
     """CSS with the running header and footer of this report: top left the project, job number
     and revision (or the title), top right the subject; bottom left the tool and the date,
     bottom right "page N of M"."""
-    project = report.project
-    left = " \u2014 ".join(part for part in (project.get("project", ""),
-                                              f"job {project['job_number']}" if project.get("job_number") else "",
-                                              f"rev. {project['revision']}" if project.get("revision") else "")
-                            if part) or report.title
     foot = ", ".join(part for part in (report.footer, report.date) if part)
-    return (CSS.replace("RUNNING_LEFT", css_string(left)).replace("RUNNING_RIGHT", css_string(report.subject))
-            .replace("FOOT_LEFT", css_string(foot)))
+    return (CSS.replace("RUNNING_LEFT", css_string(_running_left(report)))
+            .replace("RUNNING_RIGHT", css_string(report.subject)).replace("FOOT_LEFT", css_string(foot)))
+
+
+def _running_left(report: Report) -> str:
+    """The project, job number and revision given, joined by dashes; else the report's title."""
+    project = report.project
+    parts = (project.get("project", ""), _labelled("job", project.get("job_number")),
+             _labelled("rev.", project.get("revision")))
+    return " \u2014 ".join(part for part in parts if part) or report.title
+
+
+def _labelled(prefix: str, value: str | None) -> str:
+    """'prefix value', '' when no value is given."""
+    return f"{prefix} {value}" if value else ""
+
+
+def _is_number(text: str) -> bool:
+    """Whether a cell holds a number (right-aligned)."""
+    return bool(_NUMBER.match(text.strip() or "x"))
 
 
 def _cell(text: str, header: bool = False) -> str:
     tag = "th" if header else "td"
-    kind = ' class="num"' if not header and _NUMBER.match(text.strip() or "x") else ""
+    kind = ' class="num"' if not header and _is_number(text) else ""
     return f"<{tag}{kind}>{escape(text)}</{tag}>"
+
+
+def _row_html(row: list[str]) -> str:
+    return "<tr>" + "".join(_cell(c) for c in row) + "</tr>"
+
+
+def _note_html(note: str) -> str:
+    return f'<p class="note">{escape(note)}</p>' if note else ""
 
 
 def table_html(table: Table) -> str:
     head = "".join(_cell(h, True) for h in table.headers)
-    body = "\n".join("<tr>" + "".join(_cell(c) for c in row) + "</tr>" for row in table.rows)
-    note = f'<p class="note">{escape(table.note)}</p>' if table.note else ""
+    body = "\n".join(_row_html(row) for row in table.rows)
     return (f'<div class="wide"><table id="{escape(table.id)}"><caption>{escape(table.caption)}</caption>\n'
-            f"<thead><tr>{head}</tr></thead>\n<tbody>\n{body}\n</tbody></table></div>{note}")
+            f"<thead><tr>{head}</tr></thead>\n<tbody>\n{body}\n</tbody></table></div>{_note_html(table.note)}")
 
 
 def png_size(png: bytes) -> tuple[int, int]:
@@ -131,8 +151,17 @@ def figure_html(figure: Figure, png: bytes, dpi: float | None = None) -> str:
 
 def text_html(text: Text) -> str:
     paragraphs = "".join(f"<p>{escape(p)}</p>" for p in text.paragraphs)
-    items = "".join(f"<li>{escape(i)}</li>" for i in text.items)
-    return paragraphs + (f"<ul>{items}</ul>" if items else "")
+    return paragraphs + _items_html(text.items)
+
+
+def _items_html(items: list[str]) -> str:
+    """A bulleted list, '' without items."""
+    return f"<ul>{''.join(f'<li>{escape(i)}</li>' for i in items)}</ul>" if items else ""
+
+
+def pre_html(block: Pre) -> str:
+    """Preformatted text under its caption."""
+    return f'<p class="note">{escape(block.caption)}</p><pre id="{escape(block.id)}">{escape(block.text)}</pre>'
 
 
 def signoff_html(block: SignOff) -> str:
@@ -143,45 +172,57 @@ def signoff_html(block: SignOff) -> str:
             f"<th>signature</th><th>date</th></tr></thead><tbody>{rows}</tbody></table>")
 
 
+def _field(report: Report, name: str) -> str:
+    """A [project] field of the report, escaped ('' when not given)."""
+    return escape(report.project.get(name, ""))
+
+
 def title_block_html(report: Report) -> str:
     """Project, job number, subject, revision, prepared by, checked by, date and the tool: the
     fields not given are left blank (to be filled in by hand)."""
-    project = report.project
-
-    def cell(name: str) -> str:
-        return escape(project.get(name, ""))
-
-    rows = [(PROJECT_FIELDS["project"], cell("project"), PROJECT_FIELDS["job_number"], cell("job_number")),
-            ("Subject", escape(report.subject), PROJECT_FIELDS["revision"], cell("revision")),
-            (PROJECT_FIELDS["engineer"], cell("engineer"), PROJECT_FIELDS["checker"], cell("checker")),
+    rows = [(PROJECT_FIELDS["project"], _field(report, "project"), PROJECT_FIELDS["job_number"],
+             _field(report, "job_number")),
+            ("Subject", escape(report.subject), PROJECT_FIELDS["revision"], _field(report, "revision")),
+            (PROJECT_FIELDS["engineer"], _field(report, "engineer"), PROJECT_FIELDS["checker"],
+             _field(report, "checker")),
             ("Date (UTC)", escape(report.date), "Program", escape(report.footer))]
     body = "".join(f"<tr><th>{a}</th><td>{b}</td><th>{c}</th><td>{d}</td></tr>" for a, b, c, d in rows)
     return f'<table class="title-block" id="title-block"><tbody>{body}</tbody></table>'
 
 
+def block_html(block, images: dict[str, bytes], dpi: float | None = None) -> str:
+    """A block of a section (document.py) as HTML; a Figure with its image from `images`."""
+    if isinstance(block, Table):
+        return table_html(block)
+    if isinstance(block, Figure):
+        return figure_html(block, images[block.name], dpi)
+    if isinstance(block, Pre):
+        return pre_html(block)
+    if isinstance(block, Text):
+        return text_html(block)
+    return signoff_html(block)
+
+
+def verdict_html(report: Report) -> str:
+    """The criteria verdict, marked as failed when `uplift analyze` would exit with an error."""
+    kind = "verdict" if report.exit_code == 0 else "verdict fail"
+    return f'<p class="{kind}" id="verdict">{escape(report.verdict)}</p>'
+
+
+def section_html(number: int, section: Section, report: Report, images: dict[str, bytes],
+                 dpi: float | None = None) -> str:
+    """A numbered section; the summary's first block is the verdict."""
+    blocks = [block_html(block, images, dpi) for block in section.blocks]
+    if section.id == "summary":
+        blocks[0] = verdict_html(report)
+    return (f'<section id="{escape(section.id)}"><h2>{number}. {escape(section.title)}</h2>\n'
+            + "\n".join(blocks) + "</section>")
+
+
 def render(report: Report, images: dict[str, bytes], dpi: float | None = None) -> str:
     """The HTML document; images: figure name -> PNG bytes (every Figure of the report needs
     one), drawn at `dpi` (then each <img> is as wide as its figure)."""
-    parts = []
-    for number, section in enumerate(report.sections, 1):
-        blocks = []
-        for block in section.blocks:
-            if isinstance(block, Table):
-                blocks.append(table_html(block))
-            elif isinstance(block, Figure):
-                blocks.append(figure_html(block, images[block.name], dpi))
-            elif isinstance(block, Pre):
-                blocks.append(f'<p class="note">{escape(block.caption)}</p><pre id="{escape(block.id)}">'
-                              f"{escape(block.text)}</pre>")
-            elif isinstance(block, Text):
-                blocks.append(text_html(block))
-            elif isinstance(block, SignOff):
-                blocks.append(signoff_html(block))
-        if section.id == "summary":
-            kind = "verdict" if report.exit_code == 0 else "verdict fail"
-            blocks[0] = f'<p class="{kind}" id="verdict">{escape(report.verdict)}</p>'
-        parts.append(f'<section id="{escape(section.id)}"><h2>{number}. {escape(section.title)}</h2>\n'
-                     + "\n".join(blocks) + "</section>")
+    parts = [section_html(number, section, report, images, dpi) for number, section in enumerate(report.sections, 1)]
     toc = "".join(f'<li><a href="#{escape(s.id)}">{escape(s.title)}</a></li>' for s in report.sections)
     subtitle = "".join(f'<p class="sub">{escape(line)}</p>' for line in report.subtitle)
     return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"

@@ -55,10 +55,16 @@ IMPROVED = (
 def method_section(engines: Sequence[str], procedure: str = "paper") -> Section:
     """The model and the engines that were run, citing the paper's equations; procedure: the
     simplified engine's (analysis.procedure)."""
-    paragraphs = [MODEL] + [ENGINES[name] for name in dict.fromkeys(engines) if name in ENGINES]
-    if "simplified" in engines and procedure == "improved":
-        paragraphs.insert(paragraphs.index(ENGINES["simplified"]) + 1, IMPROVED)
+    paragraphs = [MODEL, *_engine_paragraphs(engines, procedure)]
     paragraphs.append("Reference: Yim and Chopra, \"Simplified earthquake analysis of multistory structures with "
                       "foundation uplift\", Journal of Structural Engineering (ASCE). Equation numbers in brackets are "
                       "the paper's.")
     return Section("method", "Method", [Text(paragraphs)])
+
+
+def _engine_paragraphs(engines: Sequence[str], procedure: str) -> list[str]:
+    """A paragraph per engine run (in the order run); the improved procedure after the simplified engine's."""
+    paragraphs = [ENGINES[name] for name in dict.fromkeys(engines) if name in ENGINES]
+    if "simplified" in engines and procedure == "improved":
+        paragraphs.insert(paragraphs.index(ENGINES["simplified"]) + 1, IMPROVED)
+    return paragraphs

@@ -47,11 +47,21 @@ def print_pdf(html: str, out: Path, executable: str, option: str = "--out") -> N
         page.write_text(html, encoding="utf-8")
         command = [executable, *FLAGS, f"--user-data-dir={Path(folder) / 'profile'}", f"--print-to-pdf={pdf}",
                    page.as_uri()]
-        try:
-            done = subprocess.run(command, capture_output=True, text=True, timeout=TIMEOUT, check=False)
-        except (OSError, subprocess.TimeoutExpired) as error:
-            raise InputError(option, str(out), f"a PDF printed by {executable} ({error})") from None
-        if not pdf.is_file() or pdf.stat().st_size == 0 or not pdf.read_bytes().startswith(b"%PDF"):
+        done = _run(command, executable, option, out)
+        if not _is_pdf(pdf):
             last = (done.stderr.strip().splitlines() or ["no message"])[-1]
             raise InputError(option, str(out), f"a PDF printed by {executable} (exit {done.returncode}: {last})")
         write_bytes(out, pdf.read_bytes())  # atomically, with the user's permissions
+
+
+def _run(command: list[str], executable: str, option: str, out: Path) -> subprocess.CompletedProcess:
+    """The browser run (TIMEOUT); InputError when it cannot start or takes too long."""
+    try:
+        return subprocess.run(command, capture_output=True, text=True, timeout=TIMEOUT, check=False)
+    except (OSError, subprocess.TimeoutExpired) as error:
+        raise InputError(option, str(out), f"a PDF printed by {executable} ({error})") from None
+
+
+def _is_pdf(path: Path) -> bool:
+    """Whether the browser wrote a PDF there (a file, not empty, starting %PDF)."""
+    return path.is_file() and path.stat().st_size > 0 and path.read_bytes().startswith(b"%PDF")
