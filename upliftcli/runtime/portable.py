@@ -11,7 +11,7 @@ when it is used, so that the tests take the other path on Linux by setting it
 Each of the others sits beside the one code that reads it (docs/platforms.md lists them all):
 sweep/executors.ProcessExecutor's start method (forkserver where there is one, else spawn),
 executors.PARENT_DEATH_SIGNAL (Linux's prctl, else a watchdog thread) and the worker's SIGHUP
-(ignored where it exists), plots.FORK_FIGURES (figures drawn in forked copies on Linux only),
+(ignored where it exists), figures/draw.FORK_FIGURES (figures drawn in forked copies on Linux only),
 locks.KIND (flock, msvcrt or a lock file), process.keep_freed_memory (glibc's mallopt only),
 process.available_cores (the CPU affinity where the system tells it) and atomic.PROC_STATUS
 (the umask read from /proc where it exists).
