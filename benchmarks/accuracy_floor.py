@@ -39,6 +39,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import accuracy_cases as cases
 from accuracy import CACHE, FULL, PERIODS, simplified_peaks
+from accuracy_tables import spread
 
 from upliftcli.engines import improved
 from upliftcli.engines.options import SimplifiedOptions
@@ -180,10 +181,9 @@ def summary(log_ratio: np.ndarray) -> dict[str, float]:
     """n, median, shares more than 20 % low and high, log std s, and the width between the 5 % and
     80 % quantiles of ln(simplified/exact) (both tails can be met by a constant factor only if it is
     at most ln 1.5 = 0.405)."""
-    q05, q80 = np.quantile(log_ratio, [0.05, 0.8])
-    return {"n": log_ratio.size, "median": float(np.exp(np.median(log_ratio))),
-            "low": float(np.mean(log_ratio < np.log(0.8))), "high": float(np.mean(log_ratio > np.log(1.2))),
-            "s": float(np.std(log_ratio)), "width": float(q80 - q05)}
+    stats = spread(log_ratio, np.log(0.8), np.log(1.2), (0.05, 0.8))  # one home: accuracy_tables.spread
+    q05, q80 = stats.pop("quantiles")
+    return {**stats, "median": float(np.exp(stats["median"])), "s": float(np.std(log_ratio)), "width": q80 - q05}
 
 
 def factors(log_ratio: np.ndarray) -> tuple[float, float] | None:
