@@ -160,8 +160,13 @@ def check_suite_accuracy(deck: Deck, results: list[AnalysisResult], note=None) -
     statistic = checked.ground_motion.statistic
     info = {**info, "statistic": statistic}
     label = suite_label(info, statistic)
-    exact = {r.support: r for r in results if isinstance(r, SuiteResult) and r.engine == "exact"}
+    exact = _exact_suite_results(results)
     return [_suite_check(result, exact.get(result.support), checked, label, info) for result in simplified]
+
+
+def _exact_suite_results(results: list[AnalysisResult]) -> dict[str, SuiteResult]:
+    """The exact engine's suite results the deck ran, by support (reused as the check's reference)."""
+    return {r.support: r for r in results if isinstance(r, SuiteResult) and r.engine == "exact"}
 
 
 def _checked_deck(deck: Deck, note=None) -> tuple[Deck, dict[str, Any]]:

@@ -146,12 +146,16 @@ def _head_bytes(path: Path) -> bytes:
         return b""
 
 
+def _first_line(lines: list[str]) -> str:
+    """The first line that is not blank, stripped ("" when there is none)."""
+    return next((line for line in lines if line.strip()), "").strip()
+
+
 def _format_from_head(data: bytes) -> str:
     """'at2' for a PEER title line, 'shared' for the comments of the records/ folder (time_s,
     accel_g), else 'text'; from the first 40 lines of the first 64 KiB."""
     head = data[:65536].decode("utf-8-sig", errors="replace").splitlines()[:40]
-    first = next((line for line in head if line.strip()), "")
-    if first.strip().upper().startswith(("PEER", "PACIFIC ENGINEERING")):
+    if _first_line(head).upper().startswith(("PEER", "PACIFIC ENGINEERING")):
         return "at2"
     comments = " ".join(line.lower() for line in head if _is_comment(line))
     if "time_s" in comments and "accel_g" in comments:
@@ -229,13 +233,18 @@ def _check_sample_count(count: int, source: str, line_no: int) -> None:
 _INTEGER_RE = re.compile(r"[-+]?\d+")
 
 
+def _integers(pieces: list[str]) -> bool:
+    """Whether a word split at its commas is two or more integers ('0,05': a decimal comma?)."""
+    return len(pieces) > 1 and all(_INTEGER_RE.fullmatch(piece) for piece in pieces)
+
+
 def _tokens(line: str, source: str, line_no: int) -> list[str]:
     """The numbers of a row, separated by blanks and/or commas; a comma between digits
     alone ('0,05') is refused: it may be a decimal comma, which would split one value in two."""
     tokens = []
     for word in line.split():
         pieces = [piece for piece in word.split(",") if piece]
-        if len(pieces) > 1 and all(_INTEGER_RE.fullmatch(piece) for piece in pieces):
+        if _integers(pieces):
             raise InputError(source, f"line {line_no}", f"numbers with a decimal point, got {word!r} (a decimal "
                              "comma? write 0.05, and separate values by blanks)")
         tokens.extend(pieces)
@@ -340,12 +349,17 @@ def _column_rows(lines: list[str], delimiter: str | None) -> tuple[list[str], li
         if _is_comment(line):
             header_text.append(stripped)
             continue
-        tokens = [token.strip() for token in stripped.split(delimiter)]
+        tokens = _row_tokens(stripped, delimiter)
         if not rows and _is_word(tokens[0], _LETTER_OR_QUOTE):
             header_text.append(stripped)  # column names
             continue
         rows.append((index + 1, tokens))
     return header_text, rows
+
+
+def _row_tokens(row: str, delimiter: str | None) -> list[str]:
+    """The fields of a row of a column file, stripped (delimiter None: runs of blanks)."""
+    return [token.strip() for token in row.split(delimiter)]
 
 
 def _column_values(rows: list[tuple[int, list[str]]], source: str, time_column: int, accel_column: int

@@ -183,13 +183,20 @@ def _in_si(values: np.ndarray, unit: str, scale: float, source: str) -> np.ndarr
     return acceleration
 
 
-def _apply_window(acceleration: np.ndarray, dt: float, window: tuple[float, float], source: str) -> np.ndarray:
-    start, end = (float(value) for value in window)
-    duration = (acceleration.size - 1) * dt
+def _check_window(start: float, end: float, duration: float, source: str) -> None:
+    """InputError unless 0 <= start < end [s] (finite) and the start is within the record's duration [s]."""
     if not (math.isfinite(start) and math.isfinite(end) and 0.0 <= start < end):
         raise InputError(source, "window", f"0 <= start < end [s], got ({start:g}, {end:g})")
     if start > duration:
         raise InputError(source, "window", f"a start time within the record (0 to {duration:g} s), got {start:g}")
+
+
+def _apply_window(acceleration: np.ndarray, dt: float, window: tuple[float, float], source: str) -> np.ndarray:
+    """The samples within the time window (start, end) [s] (an end past the record keeps the rest
+    of it); InputError for a window that holds fewer than two samples."""
+    start, end = (float(value) for value in window)
+    duration = (acceleration.size - 1) * dt
+    _check_window(start, end, duration, source)
     end = min(end, duration)  # an end past the record keeps the rest of it
     first = math.ceil(start / dt - 1e-9)
     last = min(math.floor(end / dt + 1e-9), acceleration.size - 1)

@@ -167,14 +167,20 @@ def check_work(records, period_range: tuple[float, float], matching: bool, sourc
     period range): its lower period within every record's spectrum range (limits.period_problem),
     the oscillator sub-steps of the records' spectra at the check periods (limits.spectrum_work:
     [1e-6, 2e-6] s ran past 300 s), and for matching the samples (limits.suite_samples_problem)."""
-    for record in records:
-        problem = limits.period_problem([period_range[0]], record.dt, record.npts)
-        if problem:
-            raise InputError(source, "period_range", f"{problem} (record {record.source or record.name})")
+    _check_lower_period(records, period_range[0], source)
     _check_spectrum_work(records, period_range, source)
     problem = limits.suite_samples_problem([r.npts for r in records], f"{len(records)} records") if matching else None
     if problem:
         raise InputError(source, "suite", f"{problem} to be matched")
+
+
+def _check_lower_period(records, lower: float, source: str) -> None:
+    """InputError naming the period range when its lower period [s] is outside a record's spectrum
+    range (limits.period_problem)."""
+    for record in records:
+        problem = limits.period_problem([lower], record.dt, record.npts)
+        if problem:
+            raise InputError(source, "period_range", f"{problem} (record {record.source or record.name})")
 
 
 def _check_spectrum_work(records, period_range: tuple[float, float], source: str) -> None:

@@ -185,13 +185,18 @@ def write_set(files: Mapping[str | os.PathLike, str | bytes]) -> list[Path]:
         for tmp, target in zip(temporaries, targets, strict=True):
             os.replace(tmp, target)
         renamed = True
-        for folder in {t.parent for t in targets}:
-            _fsync(folder, directory=True)
+        _fsync_folders(targets)
     finally:
         _remove_all(temporaries)
         if not renamed:
             _remove_folders(created)
     return targets
+
+
+def _fsync_folders(targets: list[Path]) -> None:
+    """Flush the entries of the targets' folders to the disk (each folder once)."""
+    for folder in {t.parent for t in targets}:
+        _fsync(folder, directory=True)
 
 
 def _missing_folders(targets: list[Path]) -> set[Path]:
@@ -225,13 +230,18 @@ def _same_path(a: Path, b: Path) -> bool:
     return _same_file(a, b) or a.resolve() == b.resolve()
 
 
+def _replaced_input(output: Path, inputs: list[Path]) -> Path | None:
+    """The first input that the output is, or would replace (_same_path); None when there is none."""
+    return next((source for source in inputs if _same_path(output, source)), None)
+
+
 def refuse_inputs(outputs: Iterable[str | os.PathLike], inputs: Iterable[str | os.PathLike], option: str,
                   what: str = "an input of the run") -> None:
     """InputError naming `option` if an output path is (or would replace) one of the inputs
     (the deck, a record): the same file by inode, or the same resolved path."""
     inputs = [Path(p) for p in inputs if p]
     for output in (Path(p) for p in outputs):
-        source = next((source for source in inputs if _same_path(output, source)), None)
+        source = _replaced_input(output, inputs)
         if source is not None:
             raise InputError(option, str(output), f"a path that does not replace {what} ({source} is read by "
                              "this run); choose another output directory or name")
