@@ -115,15 +115,19 @@ def goal_table(data: dict, procedure: str, title: str) -> list[str]:
         bands = (ABOVE, *BANDS[1:]) if name in FORCES else ((0.0, 3.01),)
         for band in bands:
             stats = statistics(ratio[lifted & (periods >= band[0]) & (periods < band[1])])
-            if not stats["n"]:
-                continue
-            checks = goal_checks(name, stats)
-            met = "yes" if all(ok for _, ok in checks) else "no (" + ", ".join(g for g, ok in checks if not ok) + ")"
-            text = "all T_1" if band[0] == 0.0 else label(band)
-            lines.append(f"| {COMPARED[name].symbol}, {text} | {stats['n']} | {stats['median']:.3f} | "
-                         f"{100 * stats['low']:.1f} % | {100 * stats['high']:.1f} % | "
-                         f"{'; '.join(g for g, _ in checks)} | {met} |")
+            if stats["n"]:
+                lines.append(goal_row(name, band, stats))
     return [*lines, ""]
+
+
+def goal_row(name: str, band: tuple[float, float], stats: dict) -> str:
+    """A row of goal_table: the statistics of a value in a T_1 band, its goals and whether they are met."""
+    checks = goal_checks(name, stats)
+    met = "yes" if all(ok for _, ok in checks) else "no (" + ", ".join(g for g, ok in checks if not ok) + ")"
+    text = "all T_1" if band[0] == 0.0 else label(band)
+    return (f"| {COMPARED[name].symbol}, {text} | {stats['n']} | {stats['median']:.3f} | "
+            f"{100 * stats['low']:.1f} % | {100 * stats['high']:.1f} % | "
+            f"{'; '.join(g for g, _ in checks)} | {met} |")
 
 
 def exceedance_table(data: dict) -> list[str]:

@@ -169,9 +169,8 @@ def check_work(records, period_range: tuple[float, float], matching: bool, sourc
     [1e-6, 2e-6] s ran past 300 s), and for matching the samples (limits.suite_samples_problem)."""
     _check_lower_period(records, period_range[0], source)
     _check_spectrum_work(records, period_range, source)
-    problem = limits.suite_samples_problem([r.npts for r in records], f"{len(records)} records") if matching else None
-    if problem:
-        raise InputError(source, "suite", f"{problem} to be matched")
+    if matching:
+        _check_match_samples(records, source)
 
 
 def _check_lower_period(records, lower: float, source: str) -> None:
@@ -181,6 +180,13 @@ def _check_lower_period(records, lower: float, source: str) -> None:
         problem = limits.period_problem([lower], record.dt, record.npts)
         if problem:
             raise InputError(source, "period_range", f"{problem} (record {record.source or record.name})")
+
+
+def _check_match_samples(records, source: str) -> None:
+    """InputError when the records hold too many samples to be matched (limits.suite_samples_problem)."""
+    problem = limits.suite_samples_problem([r.npts for r in records], f"{len(records)} records")
+    if problem:
+        raise InputError(source, "suite", f"{problem} to be matched")
 
 
 def _check_spectrum_work(records, period_range: tuple[float, float], source: str) -> None:
