@@ -31,10 +31,7 @@ def ground_motion_for(deck: Deck, engine: Engine) -> Any:
     the simplified engine; InputError naming the deck field when the deck has not what the
     engine needs."""
     if not engine.needs_record:
-        if deck.spectrum is None:
-            raise InputError(deck.source, "ground_motion",
-                             f"a record or a design spectrum for the {engine.name} engine")
-        return deck.spectrum
+        return _spectrum_for(deck, engine)
     if isinstance(deck.ground_motion, Suite):
         return deck.ground_motion
     if not isinstance(deck.ground_motion, Record):
@@ -42,6 +39,13 @@ def ground_motion_for(deck: Deck, engine: Engine) -> Any:
         raise InputError(deck.source, "ground_motion.record", f"a record for the {engine.name} engine ({asked}a design "
                          "spectrum serves only the simplified engine)")
     return deck.ground_motion
+
+
+def _spectrum_for(deck: Deck, engine: Engine) -> Any:
+    """The deck's spectrum (a design spectrum, or a record's); InputError when it has none."""
+    if deck.spectrum is None:
+        raise InputError(deck.source, "ground_motion", f"a record or a design spectrum for the {engine.name} engine")
+    return deck.spectrum
 
 
 #: deck fields that set the building's frequencies (named for a period out of range)
