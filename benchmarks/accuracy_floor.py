@@ -141,18 +141,32 @@ def design(data: dict, level: int) -> np.ndarray:
     columns = [np.ones(data["T1"].size), *log.values(), data["damping_ratio"], data["mat"], data["xi1bar"],
                data["kind"] == 1, data["kind"] == 2]
     if level >= 1:
-        columns += [np.log(data[f"shape_{k:g}"]) for k in SHAPE] + [np.log(data["sa_T2"])]
+        columns += shape_terms(data)
     if level >= 2:
         columns += [np.log(data["pga"]), np.log(data["pgv"])]
     main = columns[1:]
     if level == 3:
-        columns += [c**2 for c in main[:5]] + [log["x"] * log["T1bar"]]
-        columns += [np.log(data[f"shape_{k:g}"]) ** 2 for k in SHAPE]
+        columns += square_terms(data, main, log)
     if level >= 4:
-        columns += [a * b for i, a in enumerate(main) for b in main[i:]]
+        columns += product_terms(main)
     if level >= 5:
         columns += [data["family"] == 1]
     return np.column_stack(columns).astype(float)
+
+
+def shape_terms(data: dict) -> list[np.ndarray]:
+    """ln of the spectral shape S_a(k T_1bar)/S_a(T_1bar) for k in SHAPE, and ln S_a(T_2)/S_a(T_1bar)."""
+    return [np.log(data[f"shape_{k:g}"]) for k in SHAPE] + [np.log(data["sa_T2"])]
+
+
+def square_terms(data: dict, main: list[np.ndarray], log: dict) -> list[np.ndarray]:
+    """The squares of the first five terms, ln x ln T_1bar and the squares of the shape terms."""
+    return [c**2 for c in main[:5]] + [log["x"] * log["T1bar"]] + [np.log(data[f"shape_{k:g}"]) ** 2 for k in SHAPE]
+
+
+def product_terms(main: list[np.ndarray]) -> list[np.ndarray]:
+    """Every product of two terms (squares included)."""
+    return [a * b for i, a in enumerate(main) for b in main[i:]]
 
 
 def fit(features: np.ndarray, target: np.ndarray) -> np.ndarray:
