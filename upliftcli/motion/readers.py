@@ -1,8 +1,9 @@
-"""Ground-motion record formats, one reader per format (the READERS table): PEER .AT2, plain
-text (one or more values per line, optional '#' header with dt and units), CSV with a time
-column, and the headered files of records/ ('#' lines, then time and acceleration). Each reader
-takes the file's lines and returns (values in the file's units, dt [s] or None, units or None,
-name); records.read_record converts them to SI.
+"""Ground-motion record formats, one reader per format (records.READERS): PEER .AT2 and plain
+text (one or more values per line, optional '#' header with dt and units) here, CSV with a time
+column and the headered files of records/ in column_readers.py; and what every reader reads
+(numbers as data files write them, comments, unit hints, the sample limit). Each reader takes
+the file's lines and returns (values in the file's units, dt [s] or None, units or None, name);
+records.read_record converts them to SI.
 
 Every bad input raises `errors.InputError(file, "line N" or field, expected)`.
 """
@@ -59,7 +60,7 @@ def plain_number(token: str) -> float | None:
     return float(token.replace("D", "E").replace("d", "e"))
 
 
-def _float(token: str, source: str, line_no: int) -> float:
+def parse_number(token: str, source: str, line_no: int) -> float:
     """Parse one finite number (plain_number)."""
     value = plain_number(token)
     if value is None:
@@ -67,13 +68,6 @@ def _float(token: str, source: str, line_no: int) -> float:
     if not math.isfinite(value):
         raise InputError(source, f"line {line_no}", f"a finite number, got {token!r}")
     return value
-
-
-def _resolution(token: str) -> float:
-    """Rounding step of a printed number: 0.005 for '1.235' (0 when it has an exponent)."""
-    if "e" in token.lower() or "." not in token:
-        return 0.0
-    return 10.0 ** -len(token.split(".", 1)[1])
 
 
 def _unit_hint(text: str) -> str | None:
@@ -115,7 +109,8 @@ def check_dt(dt: float, source: str, location: str) -> float:
     return check_value(DT, dt, error)
 
 
-def _is_comment(line: str) -> bool:
+def is_comment(line: str) -> bool:
+    """Whether a line is a comment: '#', '%', '!' or '//' first."""
     return line.lstrip().startswith(("#", "%", "!", "//"))
 
 
@@ -157,7 +152,7 @@ def _format_from_head(data: bytes) -> str:
     head = data[:65536].decode("utf-8-sig", errors="replace").splitlines()[:40]
     if _first_line(head).upper().startswith(("PEER", "PACIFIC ENGINEERING")):
         return "at2"
-    comments = " ".join(line.lower() for line in head if _is_comment(line))
+    comments = " ".join(line.lower() for line in head if is_comment(line))
     if "time_s" in comments and "accel_g" in comments:
         return "shared"
     return "text"
@@ -189,7 +184,7 @@ def _peer_quantity(line: str, source: str) -> None:
                              f"({extension}, {line.strip()!r}): give the record's .AT2 file")
 
 
-def _parse_at2(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
+def parse_at2(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
     """PEER NGA .AT2: 4 header lines (title, event, units, NPTS/DT), then values row by row
     (columns that touch are separated: separated); a velocity (.VT2) or displacement (.DT2)
     history is refused, naming what it is."""
@@ -198,7 +193,7 @@ def _parse_at2(lines: list[str], source: str) -> tuple[np.ndarray, float, str | 
     _peer_quantity(lines[2], source)
     npts_text, dt_text = _at2_counts(lines[3], source)
     npts = int(float(npts_text))
-    dt = check_dt(_float(dt_text, source, 4), source, "line 4")
+    dt = check_dt(parse_number(dt_text, source, 4), source, "line 4")
     units = _unit_hint(lines[2])
     values = _values_row_by_row([separated(line) for line in lines], 4, source)
     _check_npts(values, npts, "line 4", source, "NPTS")
@@ -224,7 +219,7 @@ def _check_npts(values: np.ndarray, npts: int | None, location: str, source: str
         raise InputError(source, location, f"{word} = {npts} values as the header says, found {values.size}")
 
 
-def _check_sample_count(count: int, source: str, line_no: int) -> None:
+def check_sample_count(count: int, source: str, line_no: int) -> None:
     """InputError once a record holds more than limits.MAX_RECORD_SAMPLES values."""
     if count > MAX_RECORD_SAMPLES:
         raise InputError(source, f"line {line_no}", f"at most {MAX_RECORD_SAMPLES:,} samples (limit of the tool)")
@@ -255,17 +250,17 @@ def _values_row_by_row(lines: list[str], start: int, source: str) -> np.ndarray:
     values: list[float] = []
     for index in range(start, len(lines)):
         line = lines[index]
-        if not line.strip() or _is_comment(line):
+        if not line.strip() or is_comment(line):
             continue
         for token in _tokens(line, source, index + 1):
-            values.append(_float(token, source, index + 1))
-        _check_sample_count(len(values), source, index + 1)
+            values.append(parse_number(token, source, index + 1))
+        check_sample_count(len(values), source, index + 1)
     if not values:
         raise InputError(source, None, "acceleration values after the header (none found)")
     return np.asarray(values, dtype=float)
 
 
-def _parse_text(lines: list[str], source: str) -> tuple[np.ndarray, float | None, str | None, str]:
+def parse_text(lines: list[str], source: str) -> tuple[np.ndarray, float | None, str | None, str]:
     """Plain text: optional '#' header lines (may give 'dt = ...', 'units: g', 'npts = n'),
     then values row by row (one or more columns; columns that touch are separated: separated)."""
     header = _text_header(lines)
@@ -276,7 +271,7 @@ def _parse_text(lines: list[str], source: str) -> tuple[np.ndarray, float | None
     _check_npts(values, npts, f"line {npts_line}", source)
     header_text = [text for _, text in header]
     name = header_text[0].lstrip("#%!/ ").strip() if header_text else ""
-    return values, dt, _header_units(header_text), name
+    return values, dt, header_units(header_text), name
 
 
 def _text_header(lines: list[str]) -> list[tuple[int, str]]:
@@ -287,7 +282,7 @@ def _text_header(lines: list[str]) -> list[tuple[int, str]]:
         stripped = line.strip()
         if not stripped:
             continue
-        if not (_is_comment(line) or _is_word(stripped, _LETTER)):
+        if not (is_comment(line) or starts_as_word(stripped, _LETTER)):
             break
         header.append((index + 1, stripped))
     return header
@@ -298,7 +293,7 @@ def _header_dt(header: list[tuple[int, str]], source: str) -> float | None:
     for line_no, text in header:
         match = _DT_RE.search(text)
         if match:
-            return check_dt(_float(match.group(1), source, line_no), source, f"line {line_no}")
+            return check_dt(parse_number(match.group(1), source, line_no), source, f"line {line_no}")
     return None
 
 
@@ -311,106 +306,16 @@ def _header_npts(header: list[tuple[int, str]]) -> tuple[int | None, int]:
     return None, 0
 
 
-def _header_units(header_text: list[str]) -> str | None:
+def header_units(header_text: list[str]) -> str | None:
     """The units of the first header line that names some (_unit_hint), or None."""
     return next((units for units in map(_unit_hint, header_text) if units), None)
 
 
-#: how a header line of words starts (a letter; a column name may also be quoted), unlike nan or inf
+#: how a header line of words starts (a letter), unlike nan or inf
 _LETTER = re.compile(r"[A-Za-z]")
-_LETTER_OR_QUOTE = re.compile(r"[A-Za-z\"']")
 _NAN_OR_INF = re.compile(r"[-+]?(nan|inf)", re.I)
 
 
-def _is_word(text: str, start: re.Pattern[str]) -> bool:
+def starts_as_word(text: str, start: re.Pattern[str]) -> bool:
     """True when text starts as a word does (start), not as the number nan or inf."""
     return bool(start.match(text)) and not _NAN_OR_INF.match(text)
-
-
-def _parse_columns(lines: list[str], source: str, delimiter: str | None, time_column: int, accel_column: int
-                   ) -> tuple[np.ndarray, float, str | None, str]:
-    """Time column + acceleration column; the time step must be uniform."""
-    header_text, rows = _column_rows(lines, delimiter)
-    times, values, time_resolution = _column_values(rows, source, time_column, accel_column)
-    dt = _uniform_step(np.asarray(times), [line_no for line_no, _ in rows], time_resolution, source)
-    name = next((text.lstrip("#%!/ ") for text in header_text if not text.startswith(("time", "t,", "t "))), "")
-    return np.asarray(values, dtype=float), dt, _header_units(header_text), name
-
-
-def _column_rows(lines: list[str], delimiter: str | None) -> tuple[list[str], list[tuple[int, list[str]]]]:
-    """The header lines of a column file (comments anywhere, and a row of column names before the
-    data) and its data rows: (line number, stripped tokens)."""
-    header_text: list[str] = []
-    rows: list[tuple[int, list[str]]] = []
-    for index, line in enumerate(lines):
-        stripped = line.strip()
-        if not stripped:
-            continue
-        if _is_comment(line):
-            header_text.append(stripped)
-            continue
-        tokens = _row_tokens(stripped, delimiter)
-        if not rows and _is_word(tokens[0], _LETTER_OR_QUOTE):
-            header_text.append(stripped)  # column names
-            continue
-        rows.append((index + 1, tokens))
-    return header_text, rows
-
-
-def _row_tokens(row: str, delimiter: str | None) -> list[str]:
-    """The fields of a row of a column file, stripped (delimiter None: runs of blanks)."""
-    return [token.strip() for token in row.split(delimiter)]
-
-
-def _column_values(rows: list[tuple[int, list[str]]], source: str, time_column: int, accel_column: int
-                   ) -> tuple[list[float], list[float], float]:
-    """The times and accelerations of the data rows, and the rounding step of the printed times
-    (_resolution); InputError for a short row, a bad number, too many or fewer than two rows."""
-    columns = max(time_column, accel_column) + 1
-    times: list[float] = []
-    values: list[float] = []
-    time_resolution = 0.0
-    for line_no, tokens in rows:
-        if len(tokens) < columns:
-            raise InputError(source, f"line {line_no}", f"at least {columns} columns (time, acceleration)")
-        times.append(_float(tokens[time_column], source, line_no))
-        time_resolution = max(time_resolution, _resolution(tokens[time_column]))
-        values.append(_float(tokens[accel_column], source, line_no))
-        _check_sample_count(len(values), source, line_no)
-    if len(values) < 2:
-        raise InputError(source, None, "at least two (time, acceleration) rows")
-    return times, values, time_resolution
-
-
-def _uniform_step(time: np.ndarray, line_numbers: list[int], time_resolution: float, source: str) -> float:
-    """The time step [s] of a time column, (last - first) / (n - 1); InputError unless the times
-    increase and every step equals the first one, within 0.1 % or the rounding of the printed
-    times (< dt / 2)."""
-    steps = np.diff(time)
-    if not steps[0] > 0.0:
-        raise InputError(source, f"line {line_numbers[1]}",
-                         f"increasing times (time step dt > 0 s), got {steps[0]:g} s")
-    tolerance = min(max(1e-3 * steps[0], 1.01 * time_resolution), 0.5 * steps[0])
-    bad = np.flatnonzero(np.abs(steps - steps[0]) > tolerance)
-    if bad.size:
-        i = int(bad[0])
-        raise InputError(source, f"line {line_numbers[i + 1]}",
-                         f"a uniform time step of {steps[0]:g} s (as in the first rows), got {steps[i]:g} s")
-    return float((time[-1] - time[0]) / (time.size - 1))
-
-
-def _parse_csv(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
-    """CSV: a time column and an acceleration column (an optional header row of names)."""
-    return _parse_columns(lines, source, ",", 0, 1)
-
-
-def _parse_shared(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
-    """The headered files of the project's records/ folder: '#' lines, then time_s accel_g."""
-    values, dt, units, name = _parse_columns(lines, source, None, 0, 1)
-    return values, dt, units or "g", name
-
-
-#: record format -> reader(lines, source) -> (values, dt [s] or None, units or None, name)
-READERS = {"at2": _parse_at2, "text": _parse_text, "csv": _parse_csv, "shared": _parse_shared}
-FORMATS = tuple(READERS)
-

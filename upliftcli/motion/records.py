@@ -1,4 +1,4 @@
-"""Ground-motion records: a Record (SI), read_record (any format of readers.READERS, unit
+"""Ground-motion records: a Record (SI), read_record (any format of READERS, unit
 conversion to SI, scale, time window) and record measures (PGA, PGV, PGD, Arias intensity).
 
 Every bad input raises `errors.InputError(file, "line N" or field, expected)`.
@@ -18,17 +18,22 @@ from ..deck.fields import Field
 from ..errors import InputError
 from ..runtime.limits import MAX_MAGNITUDE
 from ..units import ACCELERATION_UNITS, STANDARD_GRAVITY
+from .column_readers import parse_csv, parse_shared
 from .readers import (
     DT,
-    FORMATS,
-    READERS,
     UNIT_CHOICES,
     check_dt,
     decode_lines,
     detect_format,
     normalize_units,
+    parse_at2,
+    parse_text,
     read_bytes,
 )
+
+#: record format -> reader(lines, source) -> (values, dt [s] or None, units or None, name)
+READERS = {"at2": parse_at2, "text": parse_text, "csv": parse_csv, "shared": parse_shared}
+FORMATS = tuple(READERS)
 
 __all__ = ["FORMATS", "READERS", "RECORD_FIELDS", "Record", "arias_intensity", "bundled_records_dir",
            "ground_displacement", "ground_velocity", "normalize_units", "read_record"]
