@@ -278,6 +278,16 @@ def oracle_tables(data: dict, calibration: dict | None) -> tuple[list[str], dict
     return [*lines, ""], best
 
 
+def case_groups(data: dict, where: np.ndarray) -> list[tuple[str, np.ndarray]]:
+    """(label, mask) of the kept cases (where) per T_1 band, record family and band of x = V_1/V_c;
+    the labels of a far-field set start with its family."""
+    t1, family, x = data["T1"][where], data["family"][where], data["x"][where]
+    prefix = FAMILIES[0] + ", " if family[0] == 0 else ""
+    groups = [(f"{prefix}{lo:g}-{min(hi, 3.0):g} s", (t1 >= lo) & (t1 < hi)) for lo, hi in BANDS]
+    groups += [(f, family == k) for k, f in enumerate(FAMILIES) if np.any(family == k)]
+    return groups + [(f"{prefix}x = V_1/V_c {lo:g}-{hi:g}", (x >= lo) & (x < hi)) for lo, hi in SEVERITY]
+
+
 def group_table(sets: list[tuple[dict, dict]]) -> list[str]:
     """s of the current procedure and of the spectral oracle out of fold (fitted on the same set of
     records) per T_1 band, record family and band of x = V_1/V_c; sets: (data, best of oracle_tables) of each set."""
@@ -287,13 +297,7 @@ def group_table(sets: list[tuple[dict, dict]]) -> list[str]:
         for data, best in sets:
             where, oof = best[(name, False)]
             y = log_ratio(data, name)[where]
-            t1, family = data["T1"][where], data["family"][where]
-            prefix = FAMILIES[0] + ", " if family[0] == 0 else ""
-            groups = [(f"{prefix}{lo:g}-{min(hi, 3.0):g} s", (t1 >= lo) & (t1 < hi)) for lo, hi in BANDS]
-            groups += [(f, family == k) for k, f in enumerate(FAMILIES) if np.any(family == k)]
-            x = data["x"][where]
-            groups += [(f"{prefix}x = V_1/V_c {lo:g}-{hi:g}", (x >= lo) & (x < hi)) for lo, hi in SEVERITY]
-            for text, mask in groups:
+            for text, mask in case_groups(data, where):
                 a, b = summary(y[mask]), summary(oof[mask])
                 lines.append(f"| {SYMBOL[name]} | {text} | {a['n']} | {a['s']:.3f} | {b['s']:.3f} | "
                              f"{100 * a['low']:.0f} -> {100 * b['low']:.0f} % | {100 * a['high']:.0f} -> "
