@@ -39,6 +39,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import accuracy_cases as cases
 from accuracy import CACHE, FULL, PERIODS, simplified_peaks
+from accuracy_tables import spread
 
 from upliftcli.engines import improved
 from upliftcli.engines.options import SimplifiedOptions
@@ -140,18 +141,32 @@ def design(data: dict, level: int) -> np.ndarray:
     columns = [np.ones(data["T1"].size), *log.values(), data["damping_ratio"], data["mat"], data["xi1bar"],
                data["kind"] == 1, data["kind"] == 2]
     if level >= 1:
-        columns += [np.log(data[f"shape_{k:g}"]) for k in SHAPE] + [np.log(data["sa_T2"])]
+        columns += shape_terms(data)
     if level >= 2:
         columns += [np.log(data["pga"]), np.log(data["pgv"])]
     main = columns[1:]
     if level == 3:
-        columns += [c**2 for c in main[:5]] + [log["x"] * log["T1bar"]]
-        columns += [np.log(data[f"shape_{k:g}"]) ** 2 for k in SHAPE]
+        columns += square_terms(data, main, log)
     if level >= 4:
-        columns += [a * b for i, a in enumerate(main) for b in main[i:]]
+        columns += product_terms(main)
     if level >= 5:
         columns += [data["family"] == 1]
     return np.column_stack(columns).astype(float)
+
+
+def shape_terms(data: dict) -> list[np.ndarray]:
+    """ln of the spectral shape S_a(k T_1bar)/S_a(T_1bar) for k in SHAPE, and ln S_a(T_2)/S_a(T_1bar)."""
+    return [np.log(data[f"shape_{k:g}"]) for k in SHAPE] + [np.log(data["sa_T2"])]
+
+
+def square_terms(data: dict, main: list[np.ndarray], log: dict) -> list[np.ndarray]:
+    """The squares of the first five terms, ln x ln T_1bar and the squares of the shape terms."""
+    return [c**2 for c in main[:5]] + [log["x"] * log["T1bar"]] + [np.log(data[f"shape_{k:g}"]) ** 2 for k in SHAPE]
+
+
+def product_terms(main: list[np.ndarray]) -> list[np.ndarray]:
+    """Every product of two terms (squares included)."""
+    return [a * b for i, a in enumerate(main) for b in main[i:]]
 
 
 def fit(features: np.ndarray, target: np.ndarray) -> np.ndarray:
@@ -180,10 +195,9 @@ def summary(log_ratio: np.ndarray) -> dict[str, float]:
     """n, median, shares more than 20 % low and high, log std s, and the width between the 5 % and
     80 % quantiles of ln(simplified/exact) (both tails can be met by a constant factor only if it is
     at most ln 1.5 = 0.405)."""
-    q05, q80 = np.quantile(log_ratio, [0.05, 0.8])
-    return {"n": log_ratio.size, "median": float(np.exp(np.median(log_ratio))),
-            "low": float(np.mean(log_ratio < np.log(0.8))), "high": float(np.mean(log_ratio > np.log(1.2))),
-            "s": float(np.std(log_ratio)), "width": float(q80 - q05)}
+    stats = spread(log_ratio, np.log(0.8), np.log(1.2), (0.05, 0.8))  # one home: accuracy_tables.spread
+    q05, q80 = stats.pop("quantiles")
+    return {**stats, "median": float(np.exp(stats["median"])), "s": float(np.std(log_ratio)), "width": q80 - q05}
 
 
 def factors(log_ratio: np.ndarray) -> tuple[float, float] | None:
@@ -264,6 +278,16 @@ def oracle_tables(data: dict, calibration: dict | None) -> tuple[list[str], dict
     return [*lines, ""], best
 
 
+def case_groups(data: dict, where: np.ndarray) -> list[tuple[str, np.ndarray]]:
+    """(label, mask) of the kept cases (where) per T_1 band, record family and band of x = V_1/V_c;
+    the labels of a far-field set start with its family."""
+    t1, family, x = data["T1"][where], data["family"][where], data["x"][where]
+    prefix = FAMILIES[0] + ", " if family[0] == 0 else ""
+    groups = [(f"{prefix}{lo:g}-{min(hi, 3.0):g} s", (t1 >= lo) & (t1 < hi)) for lo, hi in BANDS]
+    groups += [(f, family == k) for k, f in enumerate(FAMILIES) if np.any(family == k)]
+    return groups + [(f"{prefix}x = V_1/V_c {lo:g}-{hi:g}", (x >= lo) & (x < hi)) for lo, hi in SEVERITY]
+
+
 def group_table(sets: list[tuple[dict, dict]]) -> list[str]:
     """s of the current procedure and of the spectral oracle out of fold (fitted on the same set of
     records) per T_1 band, record family and band of x = V_1/V_c; sets: (data, best of oracle_tables) of each set."""
@@ -273,13 +297,7 @@ def group_table(sets: list[tuple[dict, dict]]) -> list[str]:
         for data, best in sets:
             where, oof = best[(name, False)]
             y = log_ratio(data, name)[where]
-            t1, family = data["T1"][where], data["family"][where]
-            prefix = FAMILIES[0] + ", " if family[0] == 0 else ""
-            groups = [(f"{prefix}{lo:g}-{min(hi, 3.0):g} s", (t1 >= lo) & (t1 < hi)) for lo, hi in BANDS]
-            groups += [(f, family == k) for k, f in enumerate(FAMILIES) if np.any(family == k)]
-            x = data["x"][where]
-            groups += [(f"{prefix}x = V_1/V_c {lo:g}-{hi:g}", (x >= lo) & (x < hi)) for lo, hi in SEVERITY]
-            for text, mask in groups:
+            for text, mask in case_groups(data, where):
                 a, b = summary(y[mask]), summary(oof[mask])
                 lines.append(f"| {SYMBOL[name]} | {text} | {a['n']} | {a['s']:.3f} | {b['s']:.3f} | "
                              f"{100 * a['low']:.0f} -> {100 * b['low']:.0f} % | {100 * a['high']:.0f} -> "

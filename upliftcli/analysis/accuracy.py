@@ -153,14 +153,18 @@ class Check:
                 **({"suite": dict(self.suite)} if self.suite is not None else {})}
         if self.error is not None:
             return {**head, "error": self.error, "warnings": self.warnings()}
-        split = {key: dict(value) for key, value in (("spectrum_ratio", self.spectrum_ratio),
-                                                     ("procedure_ratio", self.procedure_ratio)) if value}
         return {**head, "band": list(self.band), "motion_band": list(self.motion_band),
                 "simplified": {c.name: c.simplified for c in self.comparisons},
                 "exact": {c.name: c.exact for c in self.comparisons},
-                "ratio": self.ratios, **split, **({"left_out": dict(self.left_out)} if self.left_out else {}),
+                "ratio": self.ratios, **_non_empty(spectrum_ratio=self.spectrum_ratio,
+                                                   procedure_ratio=self.procedure_ratio, left_out=self.left_out),
                 "out_of_band": [c.name for c in self.out_of_band],
                 "warnings": self.warnings()}
+
+
+def _non_empty(**mappings: Mapping) -> dict[str, dict]:
+    """The mappings that hold something, as dicts, in the order given (optional keys of Check.to_dict)."""
+    return {key: dict(value) for key, value in mappings.items() if value}
 
 
 def compare(simplified: AnalysisResult, reference: AnalysisResult, band: tuple[float, float] = DEFAULT_BAND,
@@ -169,6 +173,16 @@ def compare(simplified: AnalysisResult, reference: AnalysisResult, band: tuple[f
     COMPARED value both give, but those left out with their reason (Compared.left_out of either
     result); the reference's warnings but those the simplified result carries too (the deck's own,
     analysis.run_batch)."""
+    comparisons, left_out = _comparisons(simplified, reference)
+    own = simplified.details.get("warnings", ())  # the deck's own warnings are in both: said once
+    passed_on = tuple(w for w in reference.details.get("warnings", ()) if w not in own)
+    return Check(simplified.support, label, tuple(band), tuple(comparisons), passed_on,
+                 motion_band=tuple(motion_band), left_out=left_out)
+
+
+def _comparisons(simplified: AnalysisResult, reference: AnalysisResult) -> tuple[list[Comparison], dict[str, str]]:
+    """The Comparison of every COMPARED value of the support that both results give, and the
+    values left out, with the reason (Compared.left_out of the reference, else of the simplified)."""
     comparisons, left_out = [], {}
     for quantity in COMPARED.values():
         if simplified.support not in quantity.supports:
@@ -177,14 +191,18 @@ def compare(simplified: AnalysisResult, reference: AnalysisResult, band: tuple[f
         if reason:
             left_out[quantity.name] = reason
             continue
-        mine, theirs = quantity.value(simplified), quantity.value(reference)
-        if mine is None or theirs is None:
-            continue
-        comparisons.append(Comparison(quantity.name, float(mine), float(theirs)))
-    own = simplified.details.get("warnings", ())  # the deck's own warnings are in both: said once
-    passed_on = tuple(w for w in reference.details.get("warnings", ()) if w not in own)
-    return Check(simplified.support, label, tuple(band), tuple(comparisons), passed_on,
-                 motion_band=tuple(motion_band), left_out=left_out)
+        comparison = _comparison(quantity, simplified, reference)
+        if comparison is not None:
+            comparisons.append(comparison)
+    return comparisons, left_out
+
+
+def _comparison(quantity: Any, simplified: AnalysisResult, reference: AnalysisResult) -> Comparison | None:
+    """The Comparison of one compared value (engines/quantities.Compared), None when either result lacks it."""
+    mine, theirs = quantity.value(simplified), quantity.value(reference)
+    if mine is None or theirs is None:
+        return None
+    return Comparison(quantity.name, float(mine), float(theirs))
 
 
 def all_modes(deck: Deck) -> Deck:
@@ -200,25 +218,32 @@ def check_accuracy(deck: Deck, results: Sequence[AnalysisResult]) -> list[Check]
     here (about 10-100 ms each). The results are not changed."""
     if not isinstance(deck.ground_motion, Record):
         return []
-    from .run import run_one  # analysis imports nothing of this module
-
     n_total = deck.system.building.n_stories
     label = f"exact engine, all {n_total} modes"
     band, motion_band = deck.analysis.check_band, deck.analysis.check_band_motion
     exact: dict[str, AnalysisResult | Exception] = {
         r.support: r for r in results if r.engine == "exact" and r.periods.size == n_total}
-    checks = []
-    for result in results:
-        if result.engine != "simplified":
-            continue
-        if result.support not in exact:
-            try:
-                exact[result.support] = run_one(all_modes(deck), "exact", result.support)
-            except (AnalysisError, InputError) as error:
-                exact[result.support] = error
-        reference = exact[result.support]
-        if isinstance(reference, Exception):
-            checks.append(Check(result.support, label, band, error=str(reference), motion_band=motion_band))
-        else:
-            checks.append(compare(result, reference, band, label, motion_band))
-    return checks
+    return [_check_one(deck, result, exact, label, band, motion_band) for result in results
+            if result.engine == "simplified"]
+
+
+def _check_one(deck: Deck, result: AnalysisResult, exact: dict[str, AnalysisResult | Exception], label: str,
+               band: tuple[float, float], motion_band: tuple[float, float]) -> Check:
+    """The Check of one simplified result against the exact result of its support (exact: by
+    support, run here and kept when missing), or a Check with the error that stopped it."""
+    if result.support not in exact:
+        exact[result.support] = _run_exact(deck, result.support)
+    reference = exact[result.support]
+    if isinstance(reference, Exception):
+        return Check(result.support, label, band, error=str(reference), motion_band=motion_band)
+    return compare(result, reference, band, label, motion_band)
+
+
+def _run_exact(deck: Deck, support: str) -> AnalysisResult | Exception:
+    """The exact engine's result on the deck with all modes (all_modes), or the error that stopped it."""
+    from .run import run_one  # analysis imports nothing of this module
+
+    try:
+        return run_one(all_modes(deck), "exact", support)
+    except (AnalysisError, InputError) as error:
+        return error

@@ -31,10 +31,7 @@ def ground_motion_for(deck: Deck, engine: Engine) -> Any:
     the simplified engine; InputError naming the deck field when the deck has not what the
     engine needs."""
     if not engine.needs_record:
-        if deck.spectrum is None:
-            raise InputError(deck.source, "ground_motion",
-                             f"a record or a design spectrum for the {engine.name} engine")
-        return deck.spectrum
+        return _spectrum_for(deck, engine)
     if isinstance(deck.ground_motion, Suite):
         return deck.ground_motion
     if not isinstance(deck.ground_motion, Record):
@@ -42,6 +39,13 @@ def ground_motion_for(deck: Deck, engine: Engine) -> Any:
         raise InputError(deck.source, "ground_motion.record", f"a record for the {engine.name} engine ({asked}a design "
                          "spectrum serves only the simplified engine)")
     return deck.ground_motion
+
+
+def _spectrum_for(deck: Deck, engine: Engine) -> Any:
+    """The deck's spectrum (a design spectrum, or a record's); InputError when it has none."""
+    if deck.spectrum is None:
+        raise InputError(deck.source, "ground_motion", f"a record or a design spectrum for the {engine.name} engine")
+    return deck.spectrum
 
 
 #: deck fields that set the building's frequencies (named for a period out of range)
@@ -73,16 +77,22 @@ def check_before_running(deck: Deck, engine: Engine, support: str, motion: Any) 
         raise InputError(*deck.blame("foundation.elements"), refusal)
     check_resources(deck, engine, support, motion)
     if not engine.needs_record and support != "rigid":
-        from ..engines.simplified import effective_properties
+        _check_effective_damping(deck, support)
 
-        try:
-            xi1bar = effective_properties(deck.system, deck.analysis.simplified.effective_properties)["xi1bar"]
-        except (AnalysisError, ArithmeticError, ValueError):
-            return  # the engine reports it
-        if not (math.isfinite(xi1bar) and 0.0 <= xi1bar < 1.0):
-            raise InputError(*deck.blame(*_foundation_paths(deck), "building.damping"),
-                             f"a foundation giving an effective damping ratio xi1bar in [0, 1) [23] (simplified "
-                             f"engine, {support} support), got xi1bar = {xi1bar:.6g}")
+
+def _check_effective_damping(deck: Deck, support: str) -> None:
+    """The simplified engine on a flexible support: an effective damping ratio xi1bar in [0, 1) [23]
+    (InputError naming the foundation fields and building.damping; the engine reports a failure)."""
+    from ..engines.simplified import effective_properties
+
+    try:
+        xi1bar = effective_properties(deck.system, deck.analysis.simplified.effective_properties)["xi1bar"]
+    except (AnalysisError, ArithmeticError, ValueError):
+        return  # the engine reports it
+    if not (math.isfinite(xi1bar) and 0.0 <= xi1bar < 1.0):
+        raise InputError(*deck.blame(*_foundation_paths(deck), "building.damping"),
+                         f"a foundation giving an effective damping ratio xi1bar in [0, 1) [23] (simplified "
+                         f"engine, {support} support), got xi1bar = {xi1bar:.6g}")
 
 
 def check_resources(deck: Deck, engine: Engine, support: str, motion: Any) -> None:
@@ -98,10 +108,16 @@ def check_resources(deck: Deck, engine: Engine, support: str, motion: Any) -> No
     from ..motion.spectra import RecordSpectrum
 
     if isinstance(motion, RecordSpectrum):
-        n_modes = int(deck.analysis.simplified.n_modes or deck.system.modes.n_modes)
-        problem = limits.period_problem(deck.system.modes.periods[:n_modes], motion.record.dt, motion.record.npts)
-        if problem:
-            raise InputError(*deck.blame(*BUILDING_PATHS, "ground_motion.dt"), f"{problem} (modal periods)")
+        _check_modal_periods(deck, motion.record)
+
+
+def _check_modal_periods(deck: Deck, record: Record) -> None:
+    """The simplified engine on a record: the periods of the modes it keeps within the record's
+    spectrum range (limits.period_problem)."""
+    n_modes = int(deck.analysis.simplified.n_modes or deck.system.modes.n_modes)
+    problem = limits.period_problem(deck.system.modes.periods[:n_modes], record.dt, record.npts)
+    if problem:
+        raise InputError(*deck.blame(*BUILDING_PATHS, "ground_motion.dt"), f"{problem} (modal periods)")
 
 
 def _check_step_states(deck: Deck, engine: Engine, support: str, record: Record) -> None:
@@ -125,26 +141,37 @@ def _check_step_states(deck: Deck, engine: Engine, support: str, record: Record)
         return
     governing = space.governing_period
     by_foundation = governing < 0.999 * float(np.min(2.0 * math.pi / space.model.omega))  # vertical or rocking
-    knobs = ["analysis.exact.steps_per_period", "analysis.exact.free_vibration", "ground_motion.window",
-             "ground_motion.dt"]
-    default_rate = type(options)().steps_per_period
-    if options.time_step:
-        cause = ["analysis.exact.time_step"]
-    elif options.steps_per_period > default_rate and not _step_problem(steps * default_rate // options.steps_per_period,
-                                                                      states):
-        cause = ["analysis.exact.steps_per_period"]  # within the limits at the default rate
-    elif "states^2" in problem:  # the state size: modes kept, stories, contact elements
-        cause = ["analysis.exact.n_modes", "building.stories", "building.masses", "foundation.elements"]
-    elif steps <= samples - 1:  # one step a record sample: the record's own length, whatever the knobs
-        cause, knobs = ["ground_motion.window", "ground_motion.record", "ground_motion.dt"], []
-    else:
-        cause = (_stiffness_paths(deck) if by_foundation else []) + list(BUILDING_PATHS)
+    cause, knobs = _step_cause(deck, problem, steps, states, samples, by_foundation)
     stiff = (" (a foundation this stiff against the building: check its units)"
              if by_foundation and governing < 0.01 * 2.0 * math.pi / space.model.omega[0] else "")
     raise InputError(*deck.blame(*cause, *knobs), f"{problem}: the shortest governing period is {governing:.3g} s"
                      f"{stiff} and the record has {samples:,} samples at dt = {record.dt:g} s; set a longer "
                      "analysis.exact.time_step, lower analysis.exact.steps_per_period, keep fewer modes "
                      "(analysis.exact.n_modes) or shorten the record (ground_motion.window)")
+
+
+#: the deck fields that set the number of internal steps of the exact engine, named with its cause
+_STEP_KNOBS = ["analysis.exact.steps_per_period", "analysis.exact.free_vibration", "ground_motion.window",
+               "ground_motion.dt"]
+
+
+def _step_cause(deck: Deck, problem: str, steps: int, states: int, samples: int, by_foundation: bool
+                ) -> tuple[list[str], list[str]]:
+    """The deck fields that cause too many internal steps x states (the cause, then the knobs that
+    also set them): an explicit time step, a raised step rate, the state size, the record's own
+    length, or the periods of the building (and of the foundation when it governs)."""
+    options = deck.analysis.exact
+    default_rate = type(options)().steps_per_period
+    if options.time_step:
+        return ["analysis.exact.time_step"], _STEP_KNOBS
+    if options.steps_per_period > default_rate and not _step_problem(steps * default_rate // options.steps_per_period,
+                                                                     states):
+        return ["analysis.exact.steps_per_period"], _STEP_KNOBS  # within the limits at the default rate
+    if "states^2" in problem:  # the state size: modes kept, stories, contact elements
+        return ["analysis.exact.n_modes", "building.stories", "building.masses", "foundation.elements"], _STEP_KNOBS
+    if steps <= samples - 1:  # one step a record sample: the record's own length, whatever the knobs
+        return ["ground_motion.window", "ground_motion.record", "ground_motion.dt"], []
+    return (_stiffness_paths(deck) if by_foundation else []) + list(BUILDING_PATHS), _STEP_KNOBS
 
 
 def _step_problem(steps: int, states: int) -> str | None:
@@ -187,16 +214,38 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
         raise InputError(decks[0].source if decks else "engine", "analysis.engine",
                          f"one of {', '.join(ENGINES)}, got {engine!r}")
     chosen = ENGINES[engine]
-    out: list[AnalysisResult | Exception] = [None] * len(decks)  # type: ignore[list-item]
+    results = _Results(decks, on_result)
+    groups, motions = _groups(decks, chosen, support, results)
+    for (_, options), members in groups.items():
+        _run_group(chosen, members, motions[members[0]], support, options, results)
+    return results.out
 
-    def keep(k: int, result: AnalysisResult | Exception) -> None:
-        result = _spectrum_range_error(decks[k], result)
-        if isinstance(result, AnalysisResult) and decks[k].warnings:  # the deck's own, first (deck_schema.plausibility)
-            result = with_warnings(result, decks[k].warnings)
-        out[k] = result
-        if on_result:
-            on_result(k, result)
 
+class _Results:
+    """The result (or the error) of each deck of a batch, in the decks' order, each passed to
+    on_result(index, result) as soon as it is known."""
+
+    def __init__(self, decks: Sequence[Deck], on_result: Callable[[int, AnalysisResult | Exception], None] | None):
+        self.decks = decks
+        self.on_result = on_result
+        self.out: list[AnalysisResult | Exception] = [None] * len(decks)  # type: ignore[list-item]
+
+    def keep(self, k: int, result: AnalysisResult | Exception) -> None:
+        """Keep the result of deck k: a spectrum's period error named as a deck field, the deck's own
+        warnings first (deck_schema.plausibility)."""
+        deck = self.decks[k]
+        result = _spectrum_range_error(deck, result)
+        if isinstance(result, AnalysisResult) and deck.warnings:
+            result = with_warnings(result, deck.warnings)
+        self.out[k] = result
+        if self.on_result:
+            self.on_result(k, result)
+
+
+def _groups(decks: Sequence[Deck], chosen: Engine, support: str, results: _Results
+            ) -> tuple[dict[tuple, list[int]], dict[int, Any]]:
+    """The decks that can run, grouped by (ground motion, engine options), and the ground motion of
+    each; a deck that cannot (ground_motion_for, check_before_running) has its error kept."""
     groups: dict[tuple, list[int]] = {}
     motions: dict[int, Any] = {}
     for k, deck in enumerate(decks):
@@ -204,25 +253,34 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
             motions[k] = ground_motion_for(deck, chosen)
             check_before_running(deck, chosen, support, motions[k])
         except InputError as error:
-            keep(k, error)
+            results.keep(k, error)
             continue
         motion = motions[k]
         key = analysis_suite.motion_key(motion) if isinstance(motion, Suite) else id(motion)
         groups.setdefault((key, getattr(deck.analysis, chosen.options)), []).append(k)
-    for (_, options), members in groups.items():
-        motion = motions[members[0]]
-        try:
-            if isinstance(motion, Suite):
-                batch = analysis_suite.iter_suite_batch(chosen, [decks[k] for k in members], motion, support, options)
-            else:
-                batch = chosen.iter_batch([decks[k].system for k in members], motion, support, options)
-            for j, result in batch:
-                keep(members[j], result)
-        except (ArithmeticError, MemoryError) as error:  # the last guard: magnitudes the checks let through
-            raise AnalysisError(f"{decks[members[0]].source}: the {engine} analysis ({support}) failed with "
-                                f"{type(error).__name__} ({error}); check the magnitudes of the deck's fields"
-                                ) from None
-    return out
+    return groups, motions
+
+
+def _run_group(chosen: Engine, members: list[int], motion: Any, support: str, options: Any, results: _Results
+               ) -> None:
+    """Run the decks `members` (indices into results.decks) that share a ground motion and engine
+    options, keeping each result; AnalysisError for an arithmetic or memory error on the way."""
+    decks = [results.decks[k] for k in members]
+    try:
+        for j, result in _group_batch(chosen, decks, motion, support, options):
+            results.keep(members[j], result)
+    except (ArithmeticError, MemoryError) as error:  # the last guard: magnitudes the checks let through
+        raise AnalysisError(f"{decks[0].source}: the {chosen.name} analysis ({support}) failed with "
+                            f"{type(error).__name__} ({error}); check the magnitudes of the deck's fields"
+                            ) from None
+
+
+def _group_batch(chosen: Engine, decks: list[Deck], motion: Any, support: str, options: Any):
+    """The (index in decks, result) pairs of one group: one batch per record of a suite
+    (analysis_suite.iter_suite_batch), else the engine's own batch."""
+    if isinstance(motion, Suite):
+        return analysis_suite.iter_suite_batch(chosen, decks, motion, support, options)
+    return chosen.iter_batch([deck.system for deck in decks], motion, support, options)
 
 
 def run_one(deck: Deck, engine: str, support: str) -> AnalysisResult:
@@ -236,6 +294,11 @@ def run_one(deck: Deck, engine: str, support: str) -> AnalysisResult:
 def run(deck: Deck, engine: str | Sequence[str] | None = None,
         supports: str | Sequence[str] | None = None) -> list[AnalysisResult]:
     """Every requested engine x support (default: those of the deck), engines outermost."""
-    engines = [engine] if isinstance(engine, str) else list(engine or deck.analysis.engines)
-    support_list = [supports] if isinstance(supports, str) else list(supports or deck.analysis.supports)
+    engines = _names(engine, deck.analysis.engines)
+    support_list = _names(supports, deck.analysis.supports)
     return [run_one(deck, name, support) for name in engines for support in support_list]
+
+
+def _names(asked: str | Sequence[str] | None, default: Sequence[str]) -> list[str]:
+    """One name or several as a list; the default when none is asked."""
+    return [asked] if isinstance(asked, str) else list(asked or default)

@@ -10,7 +10,7 @@ SHA-256 of each record's source file is read, when the file is there).
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Iterator, Sequence
+from collections.abc import Generator, Iterator, Sequence
 from typing import Any
 
 from ..deck.load import Deck
@@ -71,22 +71,37 @@ def iter_suite_batch(engine: Engine, decks: Sequence[Deck], suite: Suite, suppor
     alive = list(range(len(decks)))
     per_deck: dict[int, list[AnalysisResult]] = {k: [] for k in alive}
     for r, motion in enumerate(motions):
-        systems = [decks[k].system for k in alive]
-        failed = []
-        for j, outcome in engine.iter_batch(systems, motion, support, options):
-            k = alive[j]
-            if isinstance(outcome, AnalysisResult):
-                per_deck[k].append(outcome)
-                continue
-            failed.append(k)
-            if isinstance(outcome, AnalysisError):
-                outcome = AnalysisError(f"record {r + 1} of {len(motions)} ({motion.name}): {outcome}")
-            yield k, outcome
+        record = f"record {r + 1} of {len(motions)} ({motion.name})"
+        failed = yield from _record_batch(engine, decks, alive, per_deck, motion, record, support, options)
         alive = [k for k in alive if k not in failed]
         if not alive:
             return
     for k in alive:
         yield k, deck_suite_result(decks[k], per_deck[k], support)
+
+
+def _record_batch(engine: Engine, decks: Sequence[Deck], alive: list[int], per_deck: dict[int, list[AnalysisResult]],
+                  motion: Any, record: str, support: str, options: Any
+                  ) -> Generator[tuple[int, AnalysisError | InputError], None, list[int]]:
+    """One record (motion) through `engine` for the decks still alive (indices into decks): each
+    result added to per_deck, each error yielded (index, the error naming the record); returns
+    the decks that failed."""
+    failed = []
+    for j, outcome in engine.iter_batch([decks[k].system for k in alive], motion, support, options):
+        k = alive[j]
+        if isinstance(outcome, AnalysisResult):
+            per_deck[k].append(outcome)
+        else:
+            failed.append(k)
+            yield k, _named_error(outcome, record)
+    return failed
+
+
+def _named_error(error: Exception, record: str) -> Exception:
+    """An AnalysisError with the record it stopped on before its words; any other error as it is."""
+    if isinstance(error, AnalysisError):
+        return AnalysisError(f"{record}: {error}")
+    return error
 
 
 def deck_suite_result(deck: Deck, results: Sequence[AnalysisResult], support: str) -> SuiteResult:

@@ -83,7 +83,7 @@ def check_suite(spectrum, note=None) -> tuple[Suite, dict[str, Any]]:
     """The check suite of a design spectrum (module docstring), from the cache or generated and
     cached; note(text) is told when it is generated. Returns the suite and what it is."""
     from ..motion.code_rules import RULES
-    from ..motion.generate import GENERATOR_VERSION, generate_suite
+    from ..motion.generate import GENERATOR_VERSION
 
     period_range = check_range(spectrum)
     rule = RULES["mean"]
@@ -97,16 +97,25 @@ def check_suite(spectrum, note=None) -> tuple[Suite, dict[str, Any]]:
         if note is not None:
             note(f"generating the check suite ({CHECK_COUNT} records for {spectrum.name}, seed {CHECK_SEED}); "
                  f"cached in {path}")
-        suite, _ = generate_suite(spectrum, period_range, rule, CHECK_COUNT, CHECK_SEED, CHECK_DT)
-        accelerations = np.array([record.acceleration for record in suite.records])
-        factors = np.array(suite.factors)
-        _store(path, accelerations, factors)
+        accelerations, factors = _generated(spectrum, period_range, rule, path)
     records = tuple(Record(f"check {CHECK_SEED}-{k + 1:02d}", CHECK_DT, np.array(a), source="", units="g")
                     for k, a in enumerate(accelerations))
     suite = Suite(records, tuple(float(f) for f in factors), spectrum, period_range, rule, "match",
                   f"the check suite's range {period_range[0]:g}-{period_range[1]:g} s",
                   made=("artificial",) * len(records))
     return suite, info
+
+
+def _generated(spectrum, period_range: tuple[float, float], rule, path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """The accelerations [g] and factors of a newly generated check suite (generate.generate_suite),
+    stored at path (_store)."""
+    from ..motion.generate import generate_suite
+
+    suite, _ = generate_suite(spectrum, period_range, rule, CHECK_COUNT, CHECK_SEED, CHECK_DT)
+    accelerations = np.array([record.acceleration for record in suite.records])
+    factors = np.array(suite.factors)
+    _store(path, accelerations, factors)
+    return accelerations, factors
 
 
 def _store(path: Path, accelerations: np.ndarray, factors: np.ndarray) -> None:
@@ -142,34 +151,48 @@ def check_suite_accuracy(deck: Deck, results: list[AnalysisResult], note=None) -
     """One accuracy.Check (module docstring) per simplified result of a deck whose ground motion
     is a design spectrum or a suite, running the exact engine on the suite (its results reused
     when the deck ran it); none for a deck with a record. The results are not changed."""
-    from .run import run_one
-
     if isinstance(deck.ground_motion, Record) or deck.spectrum is None:
         return []
     simplified = [r for r in results if r.engine == "simplified"]
     if not simplified:
         return []
-    if isinstance(deck.ground_motion, Suite):
-        checked, info = deck, {"source": "deck", "count": deck.ground_motion.count, "target": deck.spectrum.name}
-    else:
-        suite, info = check_suite(deck.spectrum, note)
-        checked = replace(deck, ground_motion=suite)
+    checked, info = _checked_deck(deck, note)
     statistic = checked.ground_motion.statistic
     info = {**info, "statistic": statistic}
     label = suite_label(info, statistic)
-    band, motion_band = deck.analysis.check_band, deck.analysis.check_band_motion
-    exact = {r.support: r for r in results if isinstance(r, SuiteResult) and r.engine == "exact"}
-    checks = []
-    for result in simplified:
-        try:
-            reference = exact.get(result.support) or run_one(checked, "exact", result.support)
-        except (AnalysisError, InputError) as error:
-            checks.append(Check(result.support, label, band, error=str(error), motion_band=motion_band, suite=info))
-            continue
-        check = compare(result, reference, band, label, motion_band)
-        split = split_ratios(reference) if reference.record_simplified else {}
-        checks.append(replace(check, suite=info, **split))
-    return checks
+    exact = _exact_suite_results(results)
+    return [_suite_check(result, exact.get(result.support), checked, label, info) for result in simplified]
+
+
+def _exact_suite_results(results: list[AnalysisResult]) -> dict[str, SuiteResult]:
+    """The exact engine's suite results the deck ran, by support (reused as the check's reference)."""
+    return {r.support: r for r in results if isinstance(r, SuiteResult) and r.engine == "exact"}
+
+
+def _checked_deck(deck: Deck, note=None) -> tuple[Deck, dict[str, Any]]:
+    """The deck the exact engine runs for the check, and what its suite is: the deck itself on its
+    own suite, else the deck on the check suite of its design spectrum (check_suite)."""
+    if isinstance(deck.ground_motion, Suite):
+        return deck, {"source": "deck", "count": deck.ground_motion.count, "target": deck.spectrum.name}
+    suite, info = check_suite(deck.spectrum, note)
+    return replace(deck, ground_motion=suite), info
+
+
+def _suite_check(result: AnalysisResult, reference: SuiteResult | None, checked: Deck, label: str,
+                 info: dict[str, Any]) -> Check:
+    """accuracy.compare on the suite (reference: the deck's own exact result, else the exact engine
+    is run here on the checked deck), with what the suite is and, when the reference knows them,
+    each ratio's two factors (split_ratios); a Check with the error that stopped the exact engine."""
+    from .run import run_one
+
+    band, motion_band = checked.analysis.check_band, checked.analysis.check_band_motion
+    try:
+        reference = reference or run_one(checked, "exact", result.support)
+    except (AnalysisError, InputError) as error:
+        return Check(result.support, label, band, error=str(error), motion_band=motion_band, suite=info)
+    check = compare(result, reference, band, label, motion_band)
+    split = split_ratios(reference) if reference.record_simplified else {}
+    return replace(check, suite=info, **split)
 
 
 def check_deck(deck: Deck, results: list[AnalysisResult], note=None) -> list[Check]:

@@ -122,6 +122,15 @@ class ASCE7Spectrum:
         return sa * STANDARD_GRAVITY
 
 
+def _check_ordinates(values: np.ndarray, source: str) -> None:
+    """InputError unless there are 22 ordinates (USGS_PERIODS), finite and > 0 [g]."""
+    if values.size != len(USGS_PERIODS):
+        raise InputError(source, "sa", f"the {len(USGS_PERIODS)} ordinates [g] at T = "
+                         f"{', '.join(f'{t:g}' for t in USGS_PERIODS)} s, got {values.size} values")
+    if not (np.all(np.isfinite(values)) and np.all(values > 0.0)):
+        raise InputError(source, "sa", "finite spectral accelerations > 0 [g]")
+
+
 class ASCE7MultiPeriodSpectrum:
     """ASCE 7-22 11.4.5.1 multi-period design spectrum: sa, the 22 ordinates [g] at USGS_PERIODS
     (T = 0 to 10 s, 5 % damping) as the USGS design service gives them (multiPeriodDesignSpectrum).
@@ -139,11 +148,7 @@ class ASCE7MultiPeriodSpectrum:
         self.source = str(source)
         self.level = check_level(level, self.source)
         values = np.asarray(sa, dtype=float).ravel()
-        if values.size != len(USGS_PERIODS):
-            raise InputError(self.source, "sa", f"the {len(USGS_PERIODS)} ordinates [g] at T = "
-                             f"{', '.join(f'{t:g}' for t in USGS_PERIODS)} s, got {values.size} values")
-        if not (np.all(np.isfinite(values)) and np.all(values > 0.0)):
-            raise InputError(self.source, "sa", "finite spectral accelerations > 0 [g]")
+        _check_ordinates(values, self.source)
         self.periods = np.array(USGS_PERIODS)
         self.ordinates = values  # [g]
         self.label = label
@@ -294,11 +299,21 @@ def _table_values(mapping: dict, source: str, field: str) -> tuple[np.ndarray, n
     if has_file == has_values:
         raise InputError(source, f"{field}.file", "either 'file' or both 'periods' and 'sa'")
     if has_file:
-        path = deck_relative_path(str(mapping["file"]), source)
-        if not path.exists():
-            raise InputError(source, f"{field}.file", not_found(path, str(mapping["file"]), source, "spectrum table"))
-        periods, sa = read_spectrum_table(path, source)
-        return periods, sa, str(path)
+        return _table_file(str(mapping["file"]), source, field)
+    return _listed_values(mapping, source, field)
+
+
+def _table_file(name: str, source: str, field: str) -> tuple[np.ndarray, np.ndarray, str]:
+    """(periods [s], sa, path) of a spectrum table file (relative to the deck's folder)."""
+    path = deck_relative_path(name, source)
+    if not path.exists():
+        raise InputError(source, f"{field}.file", not_found(path, name, source, "spectrum table"))
+    periods, sa = read_spectrum_table(path, source)
+    return periods, sa, str(path)
+
+
+def _listed_values(mapping: dict, source: str, field: str) -> tuple[np.ndarray, np.ndarray, str]:
+    """(periods [s], sa, source) of a table given by the lists 'periods' and 'sa' of the deck."""
     for key in ("periods", "sa"):
         if key not in mapping:
             raise InputError(source, f"{field}.{key}", "a list of numbers")
@@ -309,23 +324,36 @@ def _table_values(mapping: dict, source: str, field: str) -> tuple[np.ndarray, n
 
 
 def _multiperiod(mapping: dict, source: str, field: str) -> ASCE7MultiPeriodSpectrum:
-    if "file" in mapping or "periods" in mapping:
-        periods, sa, table_source = _table_values(mapping, source, field)
-        if periods.shape != (len(USGS_PERIODS),) or not np.allclose(periods, USGS_PERIODS, rtol=0, atol=1e-9):
-            raise InputError(source, f"{field}.periods", "the 22 periods of the USGS multi-period spectrum "
-                             f"({', '.join(f'{t:g}' for t in USGS_PERIODS)} s)")
-    elif "sa" in mapping:
-        try:
-            sa, table_source = np.asarray(mapping["sa"], dtype=float), source
-        except (TypeError, ValueError):
-            raise InputError(source, f"{field}.sa", "a list of 22 numbers [g]") from None
-    else:
-        raise InputError(source, f"{field}.sa", "the 22 ordinates [g] at T = 0-10 s (or 'file')")
+    """The ASCE 7-22 multi-period spectrum of a deck table: its 22 ordinates [g] ('sa', or a table
+    at the USGS periods)."""
+    sa, table_source = _multiperiod_ordinates(mapping, source, field)
     units = str(mapping.get("units", "g"))
     if units != "g":
         raise InputError(source, f"{field}.units", f"'g' (the USGS service gives g), got {units!r}")
     return ASCE7MultiPeriodSpectrum(sa, mapping.get("sds"), mapping.get("sd1"), source=table_source,
                                     label=str(mapping.get("name", "")), level=mapping.get("level", "design"))
+
+
+def _multiperiod_ordinates(mapping: dict, source: str, field: str) -> tuple[np.ndarray, str]:
+    """(the ordinates, their source) of a multi-period spectrum: a table at the 22 USGS periods
+    ('file', or 'periods' and 'sa'), or the list 'sa' alone."""
+    if "file" in mapping or "periods" in mapping:
+        periods, sa, table_source = _table_values(mapping, source, field)
+        _check_usgs_periods(periods, source, field)
+        return sa, table_source
+    if "sa" not in mapping:
+        raise InputError(source, f"{field}.sa", "the 22 ordinates [g] at T = 0-10 s (or 'file')")
+    try:
+        return np.asarray(mapping["sa"], dtype=float), source
+    except (TypeError, ValueError):
+        raise InputError(source, f"{field}.sa", "a list of 22 numbers [g]") from None
+
+
+def _check_usgs_periods(periods: np.ndarray, source: str, field: str) -> None:
+    """InputError unless a table's periods are the 22 USGS_PERIODS [s]."""
+    if periods.shape != (len(USGS_PERIODS),) or not np.allclose(periods, USGS_PERIODS, rtol=0, atol=1e-9):
+        raise InputError(source, f"{field}.periods", "the 22 periods of the USGS multi-period spectrum "
+                         f"({', '.join(f'{t:g}' for t in USGS_PERIODS)} s)")
 
 
 def from_mapping(mapping: dict, source: str, field: str = "spectrum", default_correction: str = "ec8"):
@@ -336,27 +364,45 @@ def from_mapping(mapping: dict, source: str, field: str = "spectrum", default_co
     `field` is the deck path of the table, used in error messages; `default_correction` the
     damping correction of a table that names none ('asce' or 'ec8')."""
     mapping = check_keys(mapping, source, field)
-    kind = mapping["type"]
     try:
-        if kind == "asce7":
-            return ASCE7Spectrum(mapping["sds"], mapping["sd1"], mapping["tl"], source=source,
-                                 level=mapping.get("level", "design"))
-        if kind == "asce7-multiperiod":
-            return _multiperiod(mapping, source, field)
-        if kind == "ec8":
-            return EC8Spectrum(mapping["ag"], mapping["ground_type"], mapping.get("spectrum_type", 1),
-                               mapping.get("importance", 1.0), source=source)
-        periods, sa, table_source = _table_values(mapping, source, field)
-        return TabulatedSpectrum(periods, sa, mapping["damping"], units=mapping.get("units", "g"),
-                                 damping_correction=mapping.get("damping_correction", default_correction),
-                                 source=table_source, label=mapping.get("name", ""))
+        return _spectrum_of(mapping, source, field, default_correction)
     except InputError as error:
-        if error.source == source and error.location and not error.location.startswith(field + "."):
-            raise InputError(source, f"{field}.{error.location}", error.expected) from None
-        table = mapping.get("file")
-        if table and error.location and not error.location.startswith("line") and error.source != source:
-            # what the deck's table file holds (or a key checked with it) is blamed on the deck field, naming the file
-            key = error.location if error.location in mapping else "file"
-            raise InputError(source, f"{field}.{key}", f"{error.expected} (spectrum read from {table!r}: "
-                             f"{error.source!r})") from None
-        raise
+        blamed = _deck_location(error, source, field) or _table_location(error, mapping, source, field)
+        if blamed is None:
+            raise
+        raise blamed from None
+
+
+def _spectrum_of(mapping: dict, source: str, field: str, default_correction: str):
+    """The spectrum of a checked deck table, by its type."""
+    kind = mapping["type"]
+    if kind == "asce7":
+        return ASCE7Spectrum(mapping["sds"], mapping["sd1"], mapping["tl"], source=source,
+                             level=mapping.get("level", "design"))
+    if kind == "asce7-multiperiod":
+        return _multiperiod(mapping, source, field)
+    if kind == "ec8":
+        return EC8Spectrum(mapping["ag"], mapping["ground_type"], mapping.get("spectrum_type", 1),
+                           mapping.get("importance", 1.0), source=source)
+    periods, sa, table_source = _table_values(mapping, source, field)
+    return TabulatedSpectrum(periods, sa, mapping["damping"], units=mapping.get("units", "g"),
+                             damping_correction=mapping.get("damping_correction", default_correction),
+                             source=table_source, label=mapping.get("name", ""))
+
+
+def _deck_location(error: InputError, source: str, field: str) -> InputError | None:
+    """An error in the deck at a key of the table, named as the deck field `field`.<key> (None: another error)."""
+    if error.source == source and error.location and not error.location.startswith(field + "."):
+        return InputError(source, f"{field}.{error.location}", error.expected)
+    return None
+
+
+def _table_location(error: InputError, mapping: dict, source: str, field: str) -> InputError | None:
+    """What the deck's table file holds (or a key checked with it) blamed on the deck field, naming
+    the file (None: another error)."""
+    table = mapping.get("file")
+    if table and error.location and not error.location.startswith("line") and error.source != source:
+        key = error.location if error.location in mapping else "file"
+        return InputError(source, f"{field}.{key}", f"{error.expected} (spectrum read from {table!r}: "
+                          f"{error.source!r})")
+    return None

@@ -220,11 +220,18 @@ def generate(target_spectrum, period_range: tuple[float, float], seed: int, inde
         result = match_acceleration(seed_record, dt, target, match_range, periods, settings)
         if result.converged:
             return Artificial(result, int(seed), int(index), attempt, envelope, parameters, match_range)
-        best = result if best is None or np.ptp(np.log(result.ratios)) < np.ptp(np.log(best.ratios)) else best
+        best = _tighter(result, best)
     low, high = best.ratio_range
     raise AnalysisError(f"artificial record {index + 1} (seed {seed}): no draw of {MAX_ATTEMPTS} met the tolerance "
                         f"{settings.low:g}-{settings.high:g} over {period_range[0]:.3g}-{period_range[1]:.3g} s "
                         f"(S_a/target {low:.3f} to {high:.3f}); try another seed")
+
+
+def _tighter(result: MatchResult, best: MatchResult | None) -> MatchResult:
+    """Of two draws' match results, the one whose S_a/target spans less (in log); the earlier of equal ones."""
+    if best is None or np.ptp(np.log(result.ratios)) < np.ptp(np.log(best.ratios)):
+        return result
+    return best
 
 
 def check_generation(target_spectrum, period_range: tuple[float, float], dt: float, source: str) -> None:

@@ -27,13 +27,20 @@ def _manifest_files(folder: str, mtime: float) -> dict[str, str]:
         document = json.loads((Path(folder) / "manifest.json").read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return {}
-    if not isinstance(document, dict) or document.get("tool") != "uplift":
-        return {}
-    origin = document.get("made") if document.get("made") in ORIGINS else COMMAND_ORIGINS.get(document.get("command"))
-    records = document.get("records")
-    if origin is None or not isinstance(records, list):
+    origin = _manifest_origin(document)
+    records = document.get("records") if origin is not None else None
+    if not isinstance(records, list):
         return {}
     return {str(row["file"]): origin for row in records if isinstance(row, dict) and "file" in row}
+
+
+def _manifest_origin(document) -> str | None:
+    """How the records of a manifest were made: its `made`, else by its command (COMMAND_ORIGINS);
+    None for a document that is not a manifest of ours or says neither."""
+    if not isinstance(document, dict) or document.get("tool") != "uplift":
+        return None
+    made = document.get("made")
+    return made if made in ORIGINS else COMMAND_ORIGINS.get(document.get("command"))
 
 
 def origin_of(path: str | Path, given: str | None = None) -> str:

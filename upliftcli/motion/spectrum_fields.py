@@ -35,6 +35,18 @@ SPECTRUM_FIELDS: dict[str, Field] = {
 }
 
 
+def _spectrum_kind(mapping, kinds: dict[str, tuple[set[str], set[str]]], field: str, error_for) -> str:
+    """The type of a design_spectrum table (a key of `kinds`); error_for(path)(expected) for a value
+    that is not a table, or an unknown type (with the nearest type)."""
+    if not isinstance(mapping, dict):
+        error_for(field)(f"a table with a 'type' key ({', '.join(kinds)}), got {mapping!r}")
+    kind = mapping.get("type")
+    if not isinstance(kind, str) or kind not in kinds:
+        error_for(f"{field}.type")(f"one of {', '.join(kinds)}, got {kind!r}"
+                                   f"{suggestion(str(kind), kinds) if isinstance(kind, str) else ''}")
+    return kind
+
+
 def check_spectrum(mapping, kinds: dict[str, tuple[set[str], set[str]]], source: str, field: str,
                    error_for=None) -> dict:
     """The keys of a design_spectrum table checked by the field checker: its type (a key of
@@ -44,12 +56,7 @@ def check_spectrum(mapping, kinds: dict[str, tuple[set[str], set[str]]], source:
     file. error_for(path) gives the error function of a key (default: InputError(source, path, ...)).
     The checked values (numbers with a unit converted)."""
     error_for = error_for or raiser(source)
-    if not isinstance(mapping, dict):
-        error_for(field)(f"a table with a 'type' key ({', '.join(kinds)}), got {mapping!r}")
-    kind = mapping.get("type")
-    if not isinstance(kind, str) or kind not in kinds:
-        error_for(f"{field}.type")(f"one of {', '.join(kinds)}, got {kind!r}"
-                                   f"{suggestion(str(kind), kinds) if isinstance(kind, str) else ''}")
+    kind = _spectrum_kind(mapping, kinds, field, error_for)
     required, optional = kinds[kind]
     table = mapping.get("file")
     note = f" (spectrum read from {str(table)!r})" if isinstance(table, str) else ""

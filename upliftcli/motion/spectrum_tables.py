@@ -73,6 +73,17 @@ def positive(value, source: str, field: str, unit: str) -> float:
     return float(value)
 
 
+def _check_table(periods: np.ndarray, sa_values: np.ndarray, source: str) -> None:
+    """InputError unless a table has at least two pairs, finite periods >= 0 [s] in increasing
+    order and finite spectral accelerations >= 0."""
+    if periods.size < 2 or periods.size != sa_values.size:
+        raise InputError(source, "periods", "at least two (T, S_a) pairs, as many periods as values")
+    if not (np.all(np.isfinite(periods)) and periods[0] >= 0.0 and np.all(np.diff(periods) > 0)):
+        raise InputError(source, "periods", "finite periods >= 0 s in increasing order")
+    if not (np.all(np.isfinite(sa_values)) and np.all(sa_values >= 0.0)):
+        raise InputError(source, "sa", "finite spectral accelerations >= 0")
+
+
 class TabulatedSpectrum:
     """A user table: periods [s] (increasing, >= 0), sa in `units` ('g' by default, or m/s2,
     cm/s2, in/s2), at the stated damping ratio [-]. Linear interpolation in T; no extrapolation.
@@ -92,12 +103,7 @@ class TabulatedSpectrum:
         self.label = label
         if self.damping_correction not in DAMPING_CORRECTIONS:
             raise InputError(self.source, "damping_correction", f"'ec8' or 'asce', got {damping_correction!r}")
-        if self.periods.size < 2 or self.periods.size != self.sa_values.size:
-            raise InputError(self.source, "periods", "at least two (T, S_a) pairs, as many periods as values")
-        if not (np.all(np.isfinite(self.periods)) and self.periods[0] >= 0.0 and np.all(np.diff(self.periods) > 0)):
-            raise InputError(self.source, "periods", "finite periods >= 0 s in increasing order")
-        if not (np.all(np.isfinite(self.sa_values)) and np.all(self.sa_values >= 0.0)):
-            raise InputError(self.source, "sa", "finite spectral accelerations >= 0")
+        _check_table(self.periods, self.sa_values, self.source)
 
     @property
     def name(self) -> str:
@@ -122,18 +128,24 @@ def read_spectrum_table(path: str | Path, source: str) -> tuple[np.ndarray, np.n
     rows: list[tuple[float, float]] = []
     for number, line in enumerate(lines, start=1):
         text = line.split("#", 1)[0].strip()
-        if not text:
-            continue
-        tokens = text.replace(",", " ").split()
-        values = [plain_number(token) for token in tokens[:2]]
-        if None in values:
-            if not rows and values[0] is None:
-                continue  # a header row of names (a row that starts with a number is data)
-            raise InputError(str(path), f"line {number}", f"two numbers (period [s], S_a), got {text!r}")
-        if len(values) < 2 or not all(math.isfinite(value) for value in values):
-            raise InputError(str(path), f"line {number}", f"two finite numbers (period [s], S_a), got {text!r}")
-        rows.append((values[0], values[1]))
+        row = _table_row(text, str(path), number, not rows) if text else None
+        if row is not None:
+            rows.append(row)
     if len(rows) < 2:
         raise InputError(str(path), None, "at least two rows of (period [s], S_a)")
     array = np.array(rows)
     return array[:, 0], array[:, 1]
+
+
+def _table_row(text: str, where: str, number: int, first: bool) -> tuple[float, float] | None:
+    """The (period [s], S_a) of a row of a spectrum table (text: without its comment); None for a
+    header row of names before the data (first: no data row yet; a row that starts with a number
+    is data)."""
+    values = [plain_number(token) for token in text.replace(",", " ").split()[:2]]
+    if None in values:
+        if first and values[0] is None:
+            return None  # a header row of names (a row that starts with a number is data)
+        raise InputError(where, f"line {number}", f"two numbers (period [s], S_a), got {text!r}")
+    if len(values) < 2 or not all(math.isfinite(value) for value in values):
+        raise InputError(where, f"line {number}", f"two finite numbers (period [s], S_a), got {text!r}")
+    return values[0], values[1]

@@ -15,29 +15,28 @@ scaling = "none", a mean below the code's criterion.
 from __future__ import annotations
 
 import functools
-import json
-import os
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..deck.fields import Field, check_mapping, raiser
-from ..errors import InputError, deck_relative_path
+from ..errors import InputError
 from ..runtime import limits
 from .code_rules import SCALINGS, CodeRule
 from .design_spectra import spectrum_warnings
 from .matching import MatchSettings, control_periods, match_record, settings_for
-from .origins import ORIGINS, origin_of
-from .records import RECORD_FIELDS, Record, read_record
+from .records import Record
 from .scaling import amplitude_factors, factor_warnings, matched_factors, mean_ratio
 from .spectra import RecordSpectrum, response_spectrum
+from .suite_files import ENTRY_FIELDS as ENTRY_FIELDS
+from .suite_files import RECORD_SUFFIXES as RECORD_SUFFIXES
+from .suite_files import check_entry as check_entry
+from .suite_files import entry_origins as entry_origins
+from .suite_files import read_records as read_records
+from .suite_files import suite_entries as suite_entries
 
 MIN_CYCLES = 4  # a record lasts at least 4 x the upper period of the range
 SAMPLES_PER_PERIOD = 4  # a record to be matched has a step dt <= lower period / 4
-#: files of a suite folder that are read as records
-RECORD_SUFFIXES = (".at2", ".txt", ".csv", ".dat", ".acc")
 PERIODS_PER_OCTAVE = 96  # periods at which amplitude factors and the mean are checked
 SCALING_MARGIN = 0.005  # amplitude factors aim 0.5 % above the criterion at the check periods ...
 DENSE_FACTOR = 4  # ... and the mean is checked again on a grid this many times denser
@@ -147,13 +146,20 @@ def check_record(record: Record, period_range: tuple[float, float], matching: bo
         raise InputError(record.source or record.name, "duration",
                          f"a record of at least {MIN_CYCLES} x the upper period {period_range[1]:.4g} s = "
                          f"{need:.4g} s for the period range, got {record.duration:.4g} s")
-    if matching and record.pga == 0.0:
+    if matching:
+        _check_matchable(record, period_range[0])
+
+
+def _check_matchable(record: Record, lower: float) -> None:
+    """InputError naming the record when it has no motion to match or a time step above the lower
+    period [s] / SAMPLES_PER_PERIOD."""
+    if record.pga == 0.0:
         raise InputError(record.source or record.name, "acceleration", "a record with motion to match (every sample "
                          "is 0)")
-    if matching and record.dt > period_range[0] / SAMPLES_PER_PERIOD:
+    if record.dt > lower / SAMPLES_PER_PERIOD:
         raise InputError(record.source or record.name, "dt",
-                         f"a time step of at most {period_range[0] / SAMPLES_PER_PERIOD:.4g} s (the lower period "
-                         f"{period_range[0]:.4g} s / {SAMPLES_PER_PERIOD}) to be matched, got {record.dt:g} s")
+                         f"a time step of at most {lower / SAMPLES_PER_PERIOD:.4g} s (the lower period "
+                         f"{lower:.4g} s / {SAMPLES_PER_PERIOD}) to be matched, got {record.dt:g} s")
 
 
 def check_work(records, period_range: tuple[float, float], matching: bool, source: str) -> None:
@@ -161,19 +167,37 @@ def check_work(records, period_range: tuple[float, float], matching: bool, sourc
     period range): its lower period within every record's spectrum range (limits.period_problem),
     the oscillator sub-steps of the records' spectra at the check periods (limits.spectrum_work:
     [1e-6, 2e-6] s ran past 300 s), and for matching the samples (limits.suite_samples_problem)."""
-    periods = control_periods(period_range, PERIODS_PER_OCTAVE)
+    _check_lower_period(records, period_range[0], source)
+    _check_spectrum_work(records, period_range, source)
+    if matching:
+        _check_match_samples(records, source)
+
+
+def _check_lower_period(records, lower: float, source: str) -> None:
+    """InputError naming the period range when its lower period [s] is outside a record's spectrum
+    range (limits.period_problem)."""
     for record in records:
-        problem = limits.period_problem([period_range[0]], record.dt, record.npts)
+        problem = limits.period_problem([lower], record.dt, record.npts)
         if problem:
             raise InputError(source, "period_range", f"{problem} (record {record.source or record.name})")
+
+
+def _check_match_samples(records, source: str) -> None:
+    """InputError when the records hold too many samples to be matched (limits.suite_samples_problem)."""
+    problem = limits.suite_samples_problem([r.npts for r in records], f"{len(records)} records")
+    if problem:
+        raise InputError(source, "suite", f"{problem} to be matched")
+
+
+def _check_spectrum_work(records, period_range: tuple[float, float], source: str) -> None:
+    """InputError when the records' spectra at the check periods take more than
+    limits.MAX_SPECTRUM_WORK oscillator sub-steps."""
+    periods = control_periods(period_range, PERIODS_PER_OCTAVE)
     work = sum(limits.spectrum_work(periods, 1, record.dt, record.npts) for record in records)
     if work > limits.MAX_SPECTRUM_WORK:
         raise InputError(source, "period_range", f"at most {limits.MAX_SPECTRUM_WORK:,} oscillator sub-steps for the "
                          f"spectra of the suite (about 15 s), got {work:,} ({periods.size} check periods from "
                          f"{period_range[0]:.4g} s, {len(records)} records): a longer lower period")
-    problem = limits.suite_samples_problem([r.npts for r in records], f"{len(records)} records") if matching else None
-    if problem:
-        raise InputError(source, "suite", f"{problem} to be matched")
 
 
 def build_suite(records, target, period_range: tuple[float, float], rule: CodeRule, scaling: str = "none",
@@ -184,6 +208,24 @@ def build_suite(records, target, period_range: tuple[float, float], rule: CodeRu
     'match': every record matched, then amplitude factors within the tolerance); made: how each
     record was made (origins.py; default "recorded")."""
     records = tuple(records)
+    period_range = _checked_request(records, scaling, period_range, source)
+    check_target(target, period_range, source, "period_range")
+    _check_records(records, period_range, scaling)
+    check_work(records, period_range, scaling == "match", source)
+    if scaling == "match":
+        settings = settings or settings_for(rule, damping=damping)
+        return _matched_suite(records, target, period_range, rule, period_note, provenance, damping, settings)
+    suite = Suite(records, (1.0,) * len(records), target, period_range, rule, scaling, period_note, (),
+                  tuple(provenance) or tuple(r.source for r in records), damping, made=tuple(made))
+    if scaling == "amplitude":
+        suite = with_amplitude_factors(suite, suite_factor)
+    return with_warnings(suite)
+
+
+def _checked_request(records: tuple[Record, ...], scaling: str, period_range: tuple[float, float], source: str
+                     ) -> tuple[float, float]:
+    """The period range (lower, upper) [s] as floats; InputError for no records, an unknown
+    scaling or a range that is not 0 < lower < upper."""
     if not records:
         raise InputError(source, "suite", "at least one record")
     if scaling not in SCALINGS:
@@ -191,27 +233,29 @@ def build_suite(records, target, period_range: tuple[float, float], rule: CodeRu
     lower, upper = (float(value) for value in period_range)
     if not 0.0 < lower < upper:
         raise InputError(source, "period_range", f"0 < lower < upper [s], got {lower:g}-{upper:g}")
-    check_target(target, (lower, upper), source, "period_range")
+    return lower, upper
+
+
+def _check_records(records: tuple[Record, ...], period_range: tuple[float, float], scaling: str) -> None:
+    """check_record for each record; a record to be scaled must also have a non-zero sample."""
     for record in records:
-        check_record(record, (lower, upper), scaling == "match")
+        check_record(record, period_range, scaling == "match")
         if scaling != "none" and not np.any(record.acceleration):  # its factor would be nan (0/0)
             raise InputError(record.source or record.name, None, f"a record with non-zero accelerations to be "
                              f"scaled (scaling = \"{scaling}\"): every sample is 0")
-    check_work(records, (lower, upper), scaling == "match", source)
-    if scaling == "match":
-        settings = settings or settings_for(rule, damping=damping)
-        results = [match_record(record, target, (lower, upper), settings) for record in records]
-        matched = tuple(replace(record, acceleration=result.acceleration, name=f"{record.name} (matched)")
-                        for record, result in zip(records, results, strict=True))
-        suite = Suite(matched, (1.0,) * len(records), target, (lower, upper), rule, scaling, period_note, (),
-                      tuple(provenance) or tuple(f"matched from {r.source}" for r in records), damping,
-                      results[0].periods)
-        return with_matched_factors(suite, [result.ratios for result in results], settings)
-    suite = Suite(records, (1.0,) * len(records), target, (lower, upper), rule, scaling, period_note, (),
-                  tuple(provenance) or tuple(r.source for r in records), damping, made=tuple(made))
-    if scaling == "amplitude":
-        suite = with_amplitude_factors(suite, suite_factor)
-    return with_warnings(suite)
+
+
+def _matched_suite(records: tuple[Record, ...], target, period_range: tuple[float, float], rule: CodeRule,
+                   period_note: str, provenance, damping: float, settings: MatchSettings) -> Suite:
+    """The suite of the records each matched to the target (matching.match_record), with the
+    factors of with_matched_factors."""
+    results = [match_record(record, target, period_range, settings) for record in records]
+    matched = tuple(replace(record, acceleration=result.acceleration, name=f"{record.name} (matched)")
+                    for record, result in zip(records, results, strict=True))
+    suite = Suite(matched, (1.0,) * len(records), target, period_range, rule, "match", period_note, (),
+                  tuple(provenance) or tuple(f"matched from {r.source}" for r in records), damping,
+                  results[0].periods)
+    return with_matched_factors(suite, [result.ratios for result in results], settings)
 
 
 def with_amplitude_factors(suite: Suite, suite_factor: bool = False) -> Suite:
@@ -243,106 +287,42 @@ def with_warnings(suite: Suite) -> Suite:
     warnings for response-history analysis, factors outside 0.25-4, EN 1998-1's zero-period
     condition, artificial records under ASCE 7-22 (16.2.2), a mean below the code's criterion
     (110 % for matched or artificial records under ASCE 7-22, wherever they are loaded)."""
-    rule, (lower, upper) = suite.rule, suite.period_range
+    rule, upper = suite.rule, suite.period_range[1]
     warnings = [*rule.count_warnings(suite.count), *spectrum_warnings(suite.target, [upper], "response-history")]
     warnings += factor_warnings([r.source or r.name for r in suite.records], suite.factors)
-    zero_period = getattr(suite.target, "design_ground_acceleration", None)
-    if rule.name == "ec8" and zero_period is not None:
-        pga = float(np.mean([motion.pga for motion in suite.motions()]))
-        if pga < zero_period:
-            warnings.append(f"EN 1998-1 3.2.3.1.2(4)b: the mean PGA {pga / zero_period:.3f} a_g S is below a_g S")
-    artificial = sum(made == "artificial" for made in suite.made)
-    if rule.name == "asce7-22" and artificial:
-        warnings.append(f"ASCE 7-22 16.2.2 asks for recorded ground motions, simulated ones only to supplement them "
-                        f"where not enough appropriate recorded motions are available: {artificial} of {suite.count} "
-                        "records are artificial (uplift record select chooses recorded motions)")
-    minimum = float(np.min(suite.mean_ratio()))
-    if minimum < suite.mean_minimum * (1.0 - 1e-9):
-        how = "spectrally matched or artificial records" if suite.matched else f"scaling = \"{suite.scaling}\""
-        warnings.append(f"{rule.label}: the mean S_a/target is {minimum:.3f} somewhere in {lower:.4g}-{upper:.4g} s, "
-                        f"below {suite.mean_minimum:g} ({how})")
+    warnings += _zero_period_warnings(suite)
+    warnings += _artificial_warnings(suite)
+    warnings += _mean_warnings(suite)
     return replace(suite, warnings=tuple(warnings))
 
 
-def suite_entries(value, source: str, field: str = "ground_motion.suite") -> list[tuple[Path, dict]]:
-    """(path, reader options) of each record of a deck's suite: a folder (its record files, sorted
-    by name) or a list of paths and tables {file, format, units, dt, scale, override_header_units,
-    made} (check_entry); paths relative to the deck's folder."""
-    if isinstance(value, str):
-        folder = deck_relative_path(value, source)
-        if not folder.is_dir():
-            raise InputError(source, field, f"a folder of records (or a list of files), not found: {str(folder)!r}")
-        files = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in RECORD_SUFFIXES
-                       and not p.name.lower().startswith(("readme", "manifest")))
-        if not files:
-            raise InputError(source, field, f"record files ({', '.join(RECORD_SUFFIXES)}) in {str(folder)!r}")
-        if len(files) > limits.MAX_SUITE_RECORDS:
-            raise InputError(source, field, f"at most {limits.MAX_SUITE_RECORDS:,} records (limit of the tool), got "
-                             f"{len(files):,} in {str(folder)!r}")
-        return [(path, {}) for path in files]
-    if len(value) > limits.MAX_SUITE_RECORDS:
-        raise InputError(source, field, f"at most {limits.MAX_SUITE_RECORDS:,} records (limit of the tool), got "
-                         f"{len(value):,}")
-    entries = []
-    for k, item in enumerate(value):
-        where = f"{field}[{k}]"
-        checked = check_entry({"file": item} if isinstance(item, str) else item, source, where)
-        entries.append((deck_relative_path(checked["file"], source), {key: checked[key] for key in checked
-                                                                      if key != "file"}))
-    return entries
+def _zero_period_warnings(suite: Suite) -> list[str]:
+    """EN 1998-1 3.2.3.1.2(4)b: the mean PGA of the scaled records at least a_g S."""
+    zero_period = getattr(suite.target, "design_ground_acceleration", None)
+    if suite.rule.name != "ec8" or zero_period is None:
+        return []
+    pga = float(np.mean([motion.pga for motion in suite.motions()]))
+    if pga < zero_period:
+        return [f"EN 1998-1 3.2.3.1.2(4)b: the mean PGA {pga / zero_period:.3f} a_g S is below a_g S"]
+    return []
 
 
-#: the keys of a suite's record entry {file, format, units, dt, scale, override_header_units}
-ENTRY_FIELDS: dict[str, Field] = {"file": Field("string", "-", "path of the record file (relative to the deck)"),
-                                  **RECORD_FIELDS,
-                                  "made": Field("string", "-", "how the record was made (default: from the "
-                                                "manifest.json beside it, else recorded; motion/origins.py)",
-                                                "", None, ORIGINS)}
+def _artificial_warnings(suite: Suite) -> list[str]:
+    """ASCE 7-22 16.2.2: artificial records only to supplement recorded ones."""
+    artificial = sum(made == "artificial" for made in suite.made)
+    if suite.rule.name != "asce7-22" or not artificial:
+        return []
+    return [f"ASCE 7-22 16.2.2 asks for recorded ground motions, simulated ones only to supplement them "
+            f"where not enough appropriate recorded motions are available: {artificial} of {suite.count} "
+            "records are artificial (uplift record select chooses recorded motions)"]
 
 
-def check_entry(item, source: str, where: str, error_for=None) -> dict:
-    """A suite's record entry (a table) checked by the field checker (fields.check_mapping: every
-    key, its type, unit and range; all errors together), with its `file`; error_for(path) gives
-    the error function of a key (default: InputError(source, path, ...))."""
-    error_for = error_for or raiser(source)
-    if not isinstance(item, dict):
-        error_for(where)(f"a file path or a table {{file = ..., units = ..., dt = ...}}, got {item!r}")
-    checked = check_mapping(ENTRY_FIELDS, item, where, error_for, what="a key of a suite record")
-    if "file" not in checked:
-        error_for(f"{where}.file")("the path of a record file")
-    return checked
-
-
-#: the suites' records read in this process: (file, its size and time of change, options) -> Record
-_READ: dict[tuple, Record] = {}
-_READ_LIMIT = 64
-
-
-def read_records(entries: list[tuple[Path, dict]]) -> list[Record]:
-    """Read every record of suite_entries (format and units detected unless given); a file read
-    before in this process and unchanged since (same size and time of change) is not read again:
-    a sweep builds the suite of every case, whose records are the same (their scaling differs),
-    and reading them was 60 % of planning `uplift spectra` on a suite deck."""
-    records = []
-    for path, options in entries:
-        try:
-            status = os.stat(path)
-            key = (os.path.abspath(path), status.st_size, status.st_mtime_ns, json.dumps(options, sort_keys=True))
-        except (OSError, TypeError):
-            key = None
-        record = _READ.get(key) if key else None
-        if record is None:
-            record = read_record(path, options.get("format"), options.get("units"), options.get("dt"),
-                                 options.get("scale", 1.0),
-                                 override_header_units=options.get("override_header_units", False))
-            if key:
-                if len(_READ) >= _READ_LIMIT:
-                    _READ.clear()
-                _READ[key] = record
-        records.append(record)
-    return records
-
-
-def entry_origins(entries: list[tuple[Path, dict]]) -> tuple[str, ...]:
-    """How each record of suite_entries was made (its `made`, else its folder's manifest)."""
-    return tuple(origin_of(path, options.get("made")) for path, options in entries)
+def _mean_warnings(suite: Suite) -> list[str]:
+    """A mean S_a/target below the code's criterion at a check period."""
+    lower, upper = suite.period_range
+    minimum = float(np.min(suite.mean_ratio()))
+    if not minimum < suite.mean_minimum * (1.0 - 1e-9):
+        return []
+    how = "spectrally matched or artificial records" if suite.matched else f"scaling = \"{suite.scaling}\""
+    return [f"{suite.rule.label}: the mean S_a/target is {minimum:.3f} somewhere in {lower:.4g}-{upper:.4g} s, "
+            f"below {suite.mean_minimum:g} ({how})"]

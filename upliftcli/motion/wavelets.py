@@ -188,11 +188,9 @@ def _wavelet_match(acceleration, dt: float, periods, target, damping: float, tol
         misfit, rms = float(np.max(np.abs(log_ratio))), float(np.sqrt(np.mean(log_ratio**2)))
         if misfit < best[0]:
             best = (misfit, a, iteration)
-        if best[0] <= tolerance or iteration - best[2] >= PATIENCE or iteration == max_iterations:
+        if _finished(best, iteration, tolerance, max_iterations):
             break
-        # a step that made it worse overall: smaller steps from here; a better one: larger again
-        relax = max(0.25, 0.5 * relax) if rms > previous else min(1.0, 1.5 * relax)
-        previous = rms
+        relax, previous = _relaxed(relax, rms, previous), rms
         # a peak below the target is raised at the oscillator's largest response within the strong
         # motion (so the record keeps its duration), or, once that has stalled for two iterations
         # (a narrow valley of the spectrum that neighbouring oscillators hold down at the same
@@ -215,6 +213,18 @@ def _wavelet_match(acceleration, dt: float, periods, target, damping: float, tol
         a = a + relax * (wavelets @ amplitudes)
     misfit, a, iteration = best
     return WaveletResult(baseline_correct(a, dt), iteration, misfit)
+
+
+def _finished(best: tuple[float, np.ndarray, int], iteration: int, tolerance: float, max_iterations: int) -> bool:
+    """Whether the iteration ends: the best misfit (best: misfit, record, iteration) within the
+    tolerance, no better iterate for PATIENCE iterations, or the last iteration."""
+    return best[0] <= tolerance or iteration - best[2] >= PATIENCE or iteration == max_iterations
+
+
+def _relaxed(relax: float, rms: float, previous: float) -> float:
+    """The next step factor: a step that made it worse overall (rms above the previous one) halves
+    it, down to 0.25; a better one raises it by half again, up to 1."""
+    return max(0.25, 0.5 * relax) if rms > previous else min(1.0, 1.5 * relax)
 
 
 def onset_ramp(t: np.ndarray, begin: float, end: float) -> np.ndarray:

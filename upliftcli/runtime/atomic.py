@@ -35,6 +35,16 @@ _SWEPT: set[str] = set()
 
 def current_umask() -> int:
     """The process's umask (read from /proc on Linux, else set and restored)."""
+    mask = _proc_umask()
+    if mask is not None:
+        return mask
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+def _proc_umask() -> int | None:
+    """The umask that Linux gives in PROC_STATUS ('Umask:' line), or None where it gives none."""
     try:
         with open(PROC_STATUS, encoding="ascii") as handle:
             for line in handle:
@@ -42,9 +52,7 @@ def current_umask() -> int:
                     return int(line.split()[1], 8)
     except (OSError, ValueError):
         pass
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return mask
+    return None
 
 
 def file_mode(target: Path) -> int:
@@ -63,14 +71,17 @@ def remove_stale(directory: str | os.PathLike) -> list[Path]:
         names = os.listdir(directory)
     except OSError:
         return removed
-    for name in names:
-        match = _TEMP_NAME.match(name)
-        if match and not process_alive(int(match.group("pid"))):
-            path = Path(directory) / name
-            with contextlib.suppress(OSError):
-                path.unlink()
-                removed.append(path)
+    for path in (Path(directory) / name for name in names if _is_stale(name)):
+        with contextlib.suppress(OSError):
+            path.unlink()
+            removed.append(path)
     return removed
+
+
+def _is_stale(name: str) -> bool:
+    """Whether a file name is that of a temporary file of this tool whose writing process is gone."""
+    match = _TEMP_NAME.match(name)
+    return bool(match) and not process_alive(int(match.group("pid")))
 
 
 def _sweep_once(directory: Path) -> None:
@@ -140,13 +151,21 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
 def write_text(path: str | os.PathLike, text: str) -> None:
     """Write text atomically."""
     with atomic_path(path) as tmp:
-        tmp.write_text(text, encoding="utf-8")
+        _write(tmp, text)
 
 
 def write_bytes(path: str | os.PathLike, data: bytes) -> None:
     """Write bytes atomically."""
     with atomic_path(path) as tmp:
-        tmp.write_bytes(data)
+        _write(tmp, data)
+
+
+def _write(path: Path, content: str | bytes) -> None:
+    """Write bytes as they are, text as UTF-8."""
+    if isinstance(content, bytes):
+        path.write_bytes(content)
+    else:
+        path.write_text(content, encoding="utf-8")
 
 
 def write_set(files: Mapping[str | os.PathLike, str | bytes]) -> list[Path]:
@@ -155,32 +174,48 @@ def write_set(files: Mapping[str | os.PathLike, str | bytes]) -> list[Path]:
     a manifest last); a failure (a full disk) or a stop signal before that removes them all,
     and the folders this call created, and leaves the targets as they were."""
     targets = [Path(path) for path in files]
-    created = {folder for target in targets for folder in (target.parent, *target.parent.parents)
-               if not folder.exists()}
+    created = _missing_folders(targets)
     temporaries: list[Path] = []
     renamed = False
     try:
         for target, content in zip(targets, files.values(), strict=True):
             temporaries.append(_temporary(target))
-            if isinstance(content, bytes):
-                temporaries[-1].write_bytes(content)
-            else:
-                temporaries[-1].write_text(content, encoding="utf-8")
+            _write(temporaries[-1], content)
             _finish(temporaries[-1], target)
         for tmp, target in zip(temporaries, targets, strict=True):
             os.replace(tmp, target)
         renamed = True
-        for folder in {t.parent for t in targets}:
-            _fsync(folder, directory=True)
+        _fsync_folders(targets)
     finally:
-        for tmp in temporaries:
-            with contextlib.suppress(OSError):
-                tmp.unlink()
+        _remove_all(temporaries)
         if not renamed:
-            for folder in sorted(created, key=lambda p: len(p.parts), reverse=True):
-                with contextlib.suppress(OSError):
-                    folder.rmdir()
+            _remove_folders(created)
     return targets
+
+
+def _fsync_folders(targets: list[Path]) -> None:
+    """Flush the entries of the targets' folders to the disk (each folder once)."""
+    for folder in {t.parent for t in targets}:
+        _fsync(folder, directory=True)
+
+
+def _missing_folders(targets: list[Path]) -> set[Path]:
+    """The folders (and their parents) of the targets that do not exist yet."""
+    return {folder for target in targets for folder in (target.parent, *target.parent.parents) if not folder.exists()}
+
+
+def _remove_all(paths: list[Path]) -> None:
+    """Remove the files that are still there (a temporary file renamed into place is not)."""
+    for path in paths:
+        with contextlib.suppress(OSError):
+            path.unlink()
+
+
+def _remove_folders(folders: set[Path]) -> None:
+    """Remove the folders (those that are empty), the deepest first."""
+    for folder in sorted(folders, key=lambda p: len(p.parts), reverse=True):
+        with contextlib.suppress(OSError):
+            folder.rmdir()
 
 
 def _same_file(a: Path, b: Path) -> bool:
@@ -190,16 +225,26 @@ def _same_file(a: Path, b: Path) -> bool:
         return False
 
 
+def _same_path(a: Path, b: Path) -> bool:
+    """The same file by inode, or the same resolved path (a file that does not exist yet)."""
+    return _same_file(a, b) or a.resolve() == b.resolve()
+
+
+def _replaced_input(output: Path, inputs: list[Path]) -> Path | None:
+    """The first input that the output is, or would replace (_same_path); None when there is none."""
+    return next((source for source in inputs if _same_path(output, source)), None)
+
+
 def refuse_inputs(outputs: Iterable[str | os.PathLike], inputs: Iterable[str | os.PathLike], option: str,
                   what: str = "an input of the run") -> None:
     """InputError naming `option` if an output path is (or would replace) one of the inputs
     (the deck, a record): the same file by inode, or the same resolved path."""
     inputs = [Path(p) for p in inputs if p]
     for output in (Path(p) for p in outputs):
-        for source in inputs:
-            if _same_file(output, source) or output.resolve() == source.resolve():
-                raise InputError(option, str(output), f"a path that does not replace {what} ({source} is read by "
-                                 "this run); choose another output directory or name")
+        source = _replaced_input(output, inputs)
+        if source is not None:
+            raise InputError(option, str(output), f"a path that does not replace {what} ({source} is read by "
+                             "this run); choose another output directory or name")
 
 
 def refuse_existing(outputs: Iterable[str | os.PathLike], option: str, overwrite: bool, what: str = "") -> None:

@@ -86,8 +86,13 @@ def in_use() -> str:
     present = built()
     if choice() == "numpy" or not present:
         return "numpy"
-    missing = [name.rsplit(".", 1)[1] for name in EXTENSIONS if name not in present]
+    missing = _missing(present)
     return "compiled" if not missing else f"compiled, numpy for {', '.join(missing)}"
+
+
+def _missing(present: list[str]) -> list[str]:
+    """The short names of the C extensions that are not among those built (present)."""
+    return [name.rsplit(".", 1)[1] for name in EXTENSIONS if name not in present]
 
 
 def describe() -> str:
@@ -98,7 +103,7 @@ def describe() -> str:
         return f"loops: numpy twins ({VARIABLE}=numpy)"
     if len(present) == len(EXTENSIONS):
         return "loops: compiled (C extensions)"
-    missing = [name.rsplit(".", 1)[1] for name in EXTENSIONS if name not in present]
+    missing = _missing(present)
     if wanted == "compiled":
         return f"loops: compiled asked for, but not built: {', '.join(missing)}"
     which = "" if not present else f" for {', '.join(missing)}"

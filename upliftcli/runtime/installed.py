@@ -20,17 +20,9 @@ def package_version(name: str) -> str:
     (importing that module costs a command 20-25 ms); importlib.metadata itself for any other
     kind of installation (an .egg-info, a zip). "not installed" if it is not, "unknown" if its
     metadata has no version."""
-    wanted = _distribution_key(name)
-    for entry in sys.path:
-        try:
-            names = os.listdir(entry or ".")
-        except OSError:  # not a directory: a zip, an import hook
-            continue
-        for item in names:
-            if item.endswith(".dist-info") and _distribution_key(item.split("-", 1)[0]) == wanted:
-                found = _metadata_version(os.path.join(entry or ".", item, "METADATA"))
-                if found:
-                    return found
+    found = _dist_info_version(_distribution_key(name))
+    if found:
+        return found
     from importlib.metadata import PackageNotFoundError, version
 
     try:
@@ -39,6 +31,29 @@ def package_version(name: str) -> str:
         return "not installed"
     except (KeyError, OSError, ValueError):  # metadata without a version (an importlib_metadata backport raises)
         return "unknown"
+
+
+def _dist_info_version(wanted: str) -> str | None:
+    """The Version of the first <wanted>-<version>.dist-info on sys.path that gives one (None: none does)."""
+    for folder in (entry or "." for entry in sys.path):
+        for item in (item for item in _listing(folder) if _is_dist_info_of(item, wanted)):
+            found = _metadata_version(os.path.join(folder, item, "METADATA"))
+            if found:
+                return found
+    return None
+
+
+def _is_dist_info_of(item: str, wanted: str) -> bool:
+    """Whether a folder name is a <wanted>-<version>.dist-info (_distribution_key compares the names)."""
+    return item.endswith(".dist-info") and _distribution_key(item.split("-", 1)[0]) == wanted
+
+
+def _listing(folder: str) -> list[str]:
+    """The names in a folder; none for anything else on sys.path (a zip, an import hook)."""
+    try:
+        return os.listdir(folder)
+    except OSError:  # not a directory: a zip, an import hook
+        return []
 
 
 def _distribution_key(name: str) -> str:

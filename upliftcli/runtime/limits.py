@@ -186,6 +186,11 @@ def read_limited(path, limit: int) -> bytes:
     return data
 
 
+#: what a file that is not a regular file or a directory is, by the test of its mode
+_KINDS = ((stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a device"), (stat.S_ISBLK, "a device"),
+          (stat.S_ISSOCK, "a socket"))
+
+
 def _regular(mode: int, path) -> None:
     """NotRegularFile naming what `path` is unless its mode is a regular file's (a directory:
     IsADirectoryError, as open() raises it)."""
@@ -193,8 +198,7 @@ def _regular(mode: int, path) -> None:
         return
     if stat.S_ISDIR(mode):
         raise IsADirectoryError(errno.EISDIR, "Is a directory", str(path))
-    raise NotRegularFile("a FIFO" if stat.S_ISFIFO(mode) else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode)
-                         else "a socket" if stat.S_ISSOCK(mode) else "not a file")
+    raise NotRegularFile(next((name for test, name in _KINDS if test(mode)), "not a file"))
 
 
 def _nonblocking(path, flags: int) -> int:

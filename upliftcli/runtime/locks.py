@@ -45,16 +45,30 @@ def acquire(path: str | os.PathLike) -> int | None:
         if not _lock(fd):
             os.close(fd)
             return None
-        try:  # the file may have been removed by the process that held it: lock the one at the path
-            if os.fstat(fd).st_ino == os.stat(path).st_ino:
-                os.write(fd, f"{os.getpid()}\n".encode())
-                return fd
-        except FileNotFoundError:
-            pass
-        except OSError:  # a full disk
-            release(path, fd)
-            raise
+        if _is_file_at(path, fd):  # the file may have been removed by the process that held it
+            _write_pid(path, fd)
+            return fd
         os.close(fd)
+
+
+def _is_file_at(path: Path, fd: int) -> bool:
+    """Whether the open file is the one at `path` still (the lock to take is the one at the path)."""
+    try:
+        return os.fstat(fd).st_ino == os.stat(path).st_ino
+    except FileNotFoundError:
+        return False
+    except OSError:
+        release(path, fd)
+        raise
+
+
+def _write_pid(path: Path, fd: int) -> None:
+    """Write this process's pid into the lock file; on an error (a full disk) release it and raise."""
+    try:
+        os.write(fd, f"{os.getpid()}\n".encode())
+    except OSError:
+        release(path, fd)
+        raise
 
 
 def release(path: str | os.PathLike, fd: int) -> None:
@@ -88,24 +102,29 @@ def _create_exclusive(path: Path) -> int | None:
         try:
             fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o666)
         except FileExistsError:
-            try:
-                owner = _owner(path.read_text(encoding="ascii"))
-            except FileNotFoundError:  # released meanwhile: try again
-                continue
-            except (OSError, UnicodeDecodeError):  # not a lock file of ours: held
+            if not _free_again(path):
                 return None
-            if owner is None or portable.process_alive(owner):
-                return None
-            with contextlib.suppress(FileNotFoundError):
-                os.unlink(path)
             continue
-        try:
-            os.write(fd, f"{os.getpid()}\n".encode())
-        except OSError:
-            release(path, fd)
-            raise
+        _write_pid(path, fd)
         return fd
     return None
+
+
+def _free_again(path: Path) -> bool:
+    """Whether the lock file at `path` may be created again: released meanwhile, or left behind by
+    a process that is gone (then removed here); False while a process holds it, or for a file
+    that is not a lock file of ours."""
+    try:
+        owner = _owner(path.read_text(encoding="ascii"))
+    except FileNotFoundError:  # released meanwhile: try again
+        return True
+    except (OSError, UnicodeDecodeError):  # not a lock file of ours: held
+        return False
+    if owner is None or portable.process_alive(owner):
+        return False
+    with contextlib.suppress(FileNotFoundError):
+        os.unlink(path)
+    return True
 
 
 def _owner(text: str) -> int | None:

@@ -82,18 +82,32 @@ def exit_now(code: int | str | None) -> None:
     of a command: 0.13 s after the Fig. 3 spectrum with its figures (strace: from the last handler
     to exit_group). Files are all closed by then (the writers are atomic: written, closed and
     renamed). A failed flush of stdout exits 120, as Python does."""
-    if code is None:
-        code = 0
-    elif not isinstance(code, int):
-        print(code, file=sys.stderr)
-        code = 1
+    code = _exit_code(code)
     shutdown = getattr(threading, "_shutdown", None)  # what the interpreter calls first at exit
     if shutdown is not None:
         shutdown()
     atexit._run_exitfuncs()
+    if not _flushed():
+        code = code or 120
+    os._exit(code)
+
+
+def _exit_code(code: int | str | None) -> int:
+    """The exit status of SystemExit(code): 0 for None, the number, else 1 with the message on stderr."""
+    if code is None:
+        return 0
+    if not isinstance(code, int):
+        print(code, file=sys.stderr)
+        return 1
+    return code
+
+
+def _flushed() -> bool:
+    """Flush stdout and stderr; False when one cannot be (a closed pipe or a full disk: the output is not whole)."""
+    whole = True
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.flush()
         except (OSError, ValueError):  # a closed pipe or a full disk: the output is not whole
-            code = code or 120
-    os._exit(code)
+            whole = False
+    return whole
