@@ -24,7 +24,7 @@ from ..engines.quantities import ROCKING
 from ..errors import InputError
 from ..model.building import modes_for_mass_target
 from ..model.system import System
-from ..provenance.record import plain
+from ..provenance.values import plain
 from ..runtime.limits import MAX_DECK_BYTES, read_input
 from . import schema
 from .building import building_from_fields, system_from_fields
