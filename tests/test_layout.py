@@ -101,6 +101,23 @@ def test_no_import_circle():
     assert not found, "import circles: " + "; ".join(" <-> ".join(c) for c in found)
 
 
+#: the layers of docs/layout.md: a module imports only from its own layer and the layers before it
+LAYERS = {"errors": 1, "units": 1, "display": 1, "runtime": 1, "deck.fields": 1, "deck.choices": 1,
+          "provenance.values": 1, "model": 2, "motion": 2, "engines": 3, "deck": 4, "analysis": 5,
+          "provenance": 5, "output": 5, "figures": 6, "report": 6, "sweep": 6, "api": 7, "cli": 7, "": 7}
+
+
+def layer(module: str) -> int:
+    """The layer of a module of the package: of its own entry (deck.fields), else of its folder."""
+    parts = module.split(".")[1:]
+    return LAYERS.get(".".join(parts[:2]), LAYERS[parts[0] if parts else ""])
+
+
+def test_each_module_imports_only_from_its_layer_and_those_before():
+    upward = sorted(f"{a} -> {b}" for a, targets in import_graph().items() for b in targets if layer(b) > layer(a))
+    assert not upward, upward
+
+
 def test_few_modules_loose_at_the_top():
     loose = [path.name for path in PACKAGE.glob("*.py") if path.name not in ("__init__.py", "__main__.py")]
     assert len(loose) <= 12, loose

@@ -19,7 +19,6 @@ from typing import TYPE_CHECKING
 import typer
 
 from ..errors import InputError
-from ..provenance import record as provenance
 from ..provenance.files import input_files
 from . import plotting, stdout
 from .analyze_steps import refuse_results, result_paths, warn, warn_deck, warn_suite, write_results
@@ -198,7 +197,9 @@ def _provenance(loaded: Deck, outputs: _Outputs) -> dict | None:
     package-metadata look-ups)."""
     if outputs.histories is None and outputs.out is None and outputs.output_format is not OutputFormat.json:
         return None
-    return provenance.of_deck(loaded)
+    from ..provenance.record import of_deck
+
+    return of_deck(loaded)
 
 
 def _print_results(loaded: Deck, results, checks: list, record: dict | None, outputs: _Outputs) -> None:
@@ -247,12 +248,13 @@ def _modes_document(loaded: Deck) -> dict:
     """The JSON document of `modes` (SI, units stated)."""
     from ..model.system import MODE_ROW_UNITS, fixed_base_mode_rows
     from ..output import to_jsonable
+    from ..provenance.record import of_deck
 
     system = loaded.system
     return to_jsonable({
         "source": loaded.source, "total_mass": system.total_mass, "half_width": system.half_width,
         "units": {"total_mass": "kg", "half_width": "m", **MODE_ROW_UNITS},
-        "modes": fixed_base_mode_rows(system), "provenance": provenance.of_deck(loaded),
+        "modes": fixed_base_mode_rows(system), "provenance": of_deck(loaded),
     })
 
 

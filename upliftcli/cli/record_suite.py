@@ -3,7 +3,6 @@ deck's design spectrum (target, code rule and period range from the deck, docs/d
 
 from __future__ import annotations
 
-import hashlib
 import math
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -266,6 +265,8 @@ def _matched_files(deck: Path, plan: SuitePlan, suite: Suite, seeds: list[record
 
 def _matched_provenance(plan: SuitePlan, seed: records.Record, factor: float) -> list[str]:
     """The provenance lines of one matched record: its seed record (and its SHA-256), target and range."""
+    import hashlib
+
     digest = hashlib.sha256(Path(seed.source).read_bytes()).hexdigest()
     return [
         f"matched by `uplift record match` (wavelets, Al Atik & Abrahamson 2010) from {seed.source}",

@@ -7,7 +7,6 @@ docs/provenance.md describes the keys.
 
 from __future__ import annotations
 
-import hashlib
 import os
 from functools import lru_cache
 from pathlib import Path
@@ -16,6 +15,8 @@ from typing import Any
 
 @lru_cache(maxsize=512)
 def _digest(path: str, size: int, mtime_ns: int) -> str:
+    import hashlib  # here, not at start-up: 7 ms of OpenSSL for a command that hashes nothing
+
     digest = hashlib.sha256()
     with open(path, "rb") as handle:
         for block in iter(lambda: handle.read(1 << 20), b""):
