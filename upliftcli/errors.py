@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 
 def one_line(text: str) -> str:
     """`text` with line breaks (and other control characters) shown as escapes: a message
@@ -77,3 +80,20 @@ def not_found(path, given: str, source: str, what: str = "record file", folder=N
     folder = os.path.abspath(folder if folder is not None else deck_relative_path(".", source))
     return (f"an existing {what}, not found: {given!r} (relative to the deck's folder {folder!r}: "
             f"{os.path.abspath(path)!r})")
+
+
+def gather(errors: list[InputError], check: Callable[..., Any], *args: Any) -> Any:
+    """check(*args), or None with its InputError(s) appended to `errors` (to report them all)."""
+    try:
+        return check(*args)
+    except InputError as bad:
+        errors.extend(getattr(bad, "errors", [bad]))
+        return None
+
+
+def raise_all(errors: list[InputError]) -> None:
+    """Raise the gathered errors: one InputError as it is, several as one InputErrors."""
+    if len(errors) == 1:
+        raise errors[0]
+    if errors:
+        raise InputErrors(errors)

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from itertools import chain
 from typing import Any, NoReturn
 
-from ..errors import InputError, InputErrors
+from ..errors import InputError, gather, raise_all
 from ..runtime.limits import MAX_CONTACT_ELEMENTS, MAX_INTEGER, MAX_MAGNITUDE, MAX_RECORD_DT, MAX_STORIES, MIN_MAGNITUDE
 from ..units import KIND_OF_UNIT, acceleration_unit, conversion, split_quantity, system_unit
 from .choices import parse_choices, suggestion  # noqa: F401 - part of this module's interface
@@ -383,20 +383,3 @@ def raiser(source: str) -> Callable[[str], Error]:
             raise InputError(source, path, expected)
         return error
     return error_for
-
-
-def gather(errors: list[InputError], check: Callable[..., Any], *args: Any) -> Any:
-    """check(*args), or None with its InputError(s) appended to `errors` (to report them all)."""
-    try:
-        return check(*args)
-    except InputError as bad:
-        errors.extend(getattr(bad, "errors", [bad]))
-        return None
-
-
-def raise_all(errors: list[InputError]) -> None:
-    """Raise the gathered errors: one InputError as it is, several as one InputErrors."""
-    if len(errors) == 1:
-        raise errors[0]
-    if errors:
-        raise InputErrors(errors)

@@ -21,7 +21,7 @@ from typing import Any
 
 from ..engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from ..engines.quantities import ROCKING
-from ..errors import InputError
+from ..errors import InputError, gather, raise_all
 from ..model.building import modes_for_mass_target
 from ..model.system import System
 from ..provenance.values import plain
@@ -29,7 +29,6 @@ from ..runtime.limits import MAX_DECK_BYTES, read_input
 from . import schema
 from .building import building_from_fields, system_from_fields
 from .criteria import Criteria
-from .fields import gather, raise_all
 from .motion import check_motion_fields, read_ground_motion
 from .overrides import apply_overrides, parse_override
 from .practice import plausibility

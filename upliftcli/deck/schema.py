@@ -19,14 +19,14 @@ from typing import Any, NoReturn
 from ..engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from ..engines.quantities import QUANTITIES, ROCKING, SCALARS
 from ..engines.registry import ENGINES, SUPPORTS
-from ..errors import InputError
+from ..errors import InputError, gather, raise_all
 from ..model.foundations import FOUNDATIONS
 from ..motion.code_rules import RULES, SCALINGS
 from ..motion.design_spectra import check_keys
 from ..motion.records import RECORD_FIELDS
 from ..motion.suites import check_entry
 from ..units import STANDARD_GRAVITY, SYSTEMS
-from .fields import NUMERIC, Field, check_value, gather, raise_all, suggestion
+from .fields import NUMERIC, Field, check_value, suggestion
 
 #: the range of building practice of acceptance limits (a value outside: a warning)
 CRITERIA_PLAUSIBLE = {"drift_ratio": (1e-4, 0.1), "base_shear_coefficient": (1e-3, 3.0),

@@ -6,8 +6,8 @@ type of spectrum takes (its _KEYS) and builds the spectrum from the checked valu
 
 from __future__ import annotations
 
-from ..deck.fields import Field, check_mapping, gather, raise_all, raiser, suggestion
-from ..errors import InputError
+from ..deck.fields import Field, check_mapping, raiser, suggestion
+from ..errors import InputError, gather, raise_all
 from .levels import LEVELS
 
 #: the keys of a design_spectrum table (docs/deck.md), checked by the one field checker
