@@ -87,10 +87,10 @@ def test_without_a_compiler_the_wheel_is_pure_and_says_what_it_costs(tmp_path):
     said = [line for line in output if "uplift: the compiled loops were not built" in line]
     assert len(said) == 1 and "their numpy twins run instead" in said[0]
     wheels = list((tmp_path / "dist").glob("*.whl"))
-    assert [wheel.name for wheel in wheels] == ["uplift-0.1.0-py3-none-any.whl"]
+    assert [wheel.name for wheel in wheels] == ["upliftcli-0.1.0-py3-none-any.whl"]
     with zipfile.ZipFile(wheels[0]) as wheel:
         names = wheel.namelist()
-        metadata = wheel.read("uplift-0.1.0.dist-info/WHEEL").decode()
+        metadata = wheel.read("upliftcli-0.1.0.dist-info/WHEEL").decode()
     assert "Root-Is-Purelib: true" in metadata and "Tag: py3-none-any" in metadata
     assert not [name for name in names if name.endswith((".so", ".pyd"))]
     assert "upliftcli/engines/exact/stepping_numpy.py" in names and "upliftcli/cli/__init__.py" in names

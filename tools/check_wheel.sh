@@ -19,7 +19,7 @@ fail() { echo "check_wheel.sh: $*" >&2; exit 1; }
 
 wheel="${1:-$(PYTHON="$python" "$root/tools/build_wheel.sh" "$scratch/dist" | tail -n 1)}"
 case "$(basename "$wheel")" in
-    uplift-*-cp311-abi3-manylinux*_"$(uname -m)".whl) ;;
+    upliftcli-*-cp311-abi3-manylinux*_"$(uname -m)".whl) ;;
     *) fail "$wheel is not a cp311-abi3 manylinux wheel for $(uname -m)" ;;
 esac
 

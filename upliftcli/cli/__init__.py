@@ -91,9 +91,9 @@ app = typer.Typer(
 def _version(value: bool) -> None:
     if value:
         from ..runtime.backend import describe
-        from ..runtime.installed import TOOL, package_version
+        from ..runtime.installed import DISTRIBUTION, TOOL, package_version
 
-        found, loops = package_version(TOOL), describe()
+        found, loops = package_version(DISTRIBUTION), describe()
         typer.echo(f"{TOOL} (not installed)" if found == "not installed" else found)
         typer.echo(loops)
         raise typer.Exit()
