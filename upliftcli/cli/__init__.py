@@ -23,7 +23,7 @@ from ..runtime.process import exit_now, exit_on_stop_signals, keep_freed_memory
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
 
 #: command modules, registered in this order if present
-COMMAND_MODULES = ("analyze", "record", "sweep", "report")
+COMMAND_MODULES = ("analyze", "record", "sweep", "report", "examples")
 
 
 class UpliftGroup(TyperGroup):
