@@ -1,6 +1,7 @@
 """The compiled loops (C, built at install where a C compiler works; docs/exact-engine.md,
 "Compiled loops"). Without a working compiler the package installs without them and runs their
-numpy twins (upliftcli/runtime/backend.py). Everything else about the package is in pyproject.toml."""
+numpy twins (upliftcli/runtime/backend.py). And the example decks and records, copied into the
+built package (BuildWithExamples). Everything else about the package is in pyproject.toml."""
 
 import importlib.machinery
 import os
@@ -9,6 +10,7 @@ from pathlib import Path
 from setuptools import Extension, setup
 from setuptools.command.bdist_wheel import bdist_wheel
 from setuptools.command.build_ext import build_ext
+from setuptools.command.build_py import build_py
 from setuptools.errors import CCompilerError, CompileError, ExecError, LinkError, PlatformError
 
 # No fused multiply-adds, so a result does not depend on the machine's instruction set (the
@@ -22,6 +24,8 @@ FLAGS = {
 #: the stable ABI the loops are built against (Python 3.11's limited API, which has the buffer
 #: protocol they read arrays with): one wheel per platform serves every CPython from 3.11 on
 LIMITED_API = "0x030B0000"
+#: the repository's root (the example decks and records are in its inputs/ and records/)
+ROOT = os.path.dirname(os.path.abspath(__file__))
 #: what a failed build costs, said once
 WITHOUT = ("uplift: the compiled loops were not built ({reason}); installed without them: their numpy twins run "
            "instead, with the same results to round-off in 1.5-6x the time (the README analysis 1.5x, an exact "
@@ -99,13 +103,39 @@ class StableWheel(bdist_wheel):
         super().run()
 
 
+class BuildWithExamples(build_py):
+    """build_py, and the example decks and records copied into the built package as
+    upliftcli/examples/ (inputs/*.toml and every file under records/, in the repository's layout),
+    where `uplift examples DIR` finds them in a wheel (upliftcli/runtime/examples.py). The
+    repository keeps its one copy at its root, where the tests, docs and README use them (and
+    MANIFEST.in puts them in the sdist); an editable install reads them there."""
+
+    def run(self) -> None:
+        super().run()
+        if self.editable_mode:
+            return
+        for name in example_files():
+            target = os.path.join(self.build_lib, "upliftcli", "examples", name)
+            self.mkpath(os.path.dirname(target))
+            self.copy_file(os.path.join(ROOT, name), target)
+
+
+def example_files() -> list[str]:
+    """The files `uplift examples` writes, relative to the repository's root: inputs/*.toml, then
+    every file under records/ (upliftcli/runtime/examples.bundled_files lists the same)."""
+    root = Path(ROOT)
+    decks = sorted(root.glob("inputs/*.toml"))
+    records = sorted(path for path in root.glob("records/**/*") if path.is_file())
+    return [path.relative_to(root).as_posix() for path in (*decks, *records)]
+
+
 def module(name: str, source: str, depends: tuple[str, ...] = ()) -> Extension:
     return Extension(name, [source], include_dirs=["upliftcli/compiled"], optional=True, py_limited_api=True,
                      define_macros=[("Py_LIMITED_API", LIMITED_API)],
                      depends=["upliftcli/compiled/buffers.h", "upliftcli/compiled/product.h", *depends])
 
 
-setup(cmdclass={"build_ext": OptionalBuildExt, "bdist_wheel": StableWheel},
+setup(cmdclass={"build_ext": OptionalBuildExt, "bdist_wheel": StableWheel, "build_py": BuildWithExamples},
       options={"bdist_wheel": {"py_limited_api": "cp311"}}, ext_modules=[
     module("upliftcli.engines.exact._stepping", "upliftcli/engines/exact/_stepping.c",
            ("upliftcli/engines/exact/events.h", "upliftcli/engines/exact/transitions.h")),

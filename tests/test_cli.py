@@ -67,16 +67,32 @@ def test_probe_sees_what_a_command_loads(tmp_path):
     assert loaded == ["matplotlib"]
 
 
-def test_version_is_the_installed_distributions_and_names_the_loops_in_use():
-    from importlib.metadata import version
-
+def test_version_is_the_installed_distributions_and_names_the_loops_in_use(tmp_path):
+    """The version of the distribution upliftcli (here a stand-in's metadata, first on the path;
+    tools/check_wheel.sh checks a wheel's own), `python -m upliftcli` the same command."""
+    (tmp_path / "upliftcli-7.1.2.dist-info").mkdir()
+    (tmp_path / "upliftcli-7.1.2.dist-info" / "METADATA").write_text("Name: upliftcli\nVersion: 7.1.2\n")
+    path = os.pathsep.join([str(tmp_path), str(INPUTS.parent), os.environ.get("PYTHONPATH", "")])
+    for command in ([sys.executable, "-c", "from upliftcli.cli import main; main()", "--version"],
+                    [sys.executable, "-m", "upliftcli", "--version"]):
+        done = subprocess.run(command, capture_output=True, text=True, timeout=120,
+                              env={**os.environ, "PYTHONPATH": path})
+        assert done.returncode == 0 and done.stdout.splitlines()[0] == "7.1.2", done.stderr
     command = [sys.executable, "-c", "from upliftcli.cli import main; main()", "--version"]
-    done = subprocess.run(command, capture_output=True, text=True, timeout=120)
-    assert done.returncode == 0 and done.stdout.splitlines()[0] == version("uplift")
     assert done.stdout.splitlines()[1].startswith("loops: ") and len(done.stdout.splitlines()) == 2
     twins = subprocess.run(command, capture_output=True, text=True, timeout=120,
                            env=dict(os.environ, UPLIFT_BACKEND="numpy"))
     assert twins.stdout.splitlines()[1] == "loops: numpy twins (UPLIFT_BACKEND=numpy)"
+
+
+def test_python_m_upliftcli_is_the_command(tmp_path):
+    """`python -m upliftcli` runs the `uplift` command: its output and its exit codes."""
+    missing = subprocess.run([sys.executable, "-m", "upliftcli", "analyze", str(tmp_path / "none.toml")],
+                             capture_output=True, text=True, timeout=120)
+    assert missing.returncode == 2 and missing.stderr.count("\n") == 1 and "file not found" in missing.stderr
+    modes = subprocess.run([sys.executable, "-m", "upliftcli", "modes", str(INPUTS / "ten_story_elcentro.toml")],
+                           capture_output=True, text=True, timeout=120)
+    assert modes.returncode == 0 and "m_n*/m_t" in modes.stdout, modes.stderr
 
 
 def test_console_script_exits_with_the_command_code_and_its_whole_output(tmp_path):

@@ -158,10 +158,10 @@ def test_sweep_bad_input_exit_2_no_files(tmp_path, args, words):
 def test_missing_extras_are_named(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "pyarrow", None)
     result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--out", tmp_path, "--table", "parquet")
-    assert result.exit_code == 2 and "uplift[parquet]" in result.stderr
+    assert result.exit_code == 2 and "pip install 'upliftcli[parquet]'" in result.stderr
     monkeypatch.setitem(sys.modules, "distributed", None)
     result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--out", tmp_path, "--dask", "local")
-    assert result.exit_code == 2 and "uplift[dask]" in result.stderr
+    assert result.exit_code == 2 and "pip install 'upliftcli[dask]'" in result.stderr
     assert not list(tmp_path.iterdir())
 
 

@@ -15,7 +15,7 @@ from upliftcli.runtime import installed
 def test_package_version_reads_what_importlib_metadata_reads(tmp_path, monkeypatch):
     from importlib.metadata import version
 
-    for name in ("uplift", "numpy", "scipy", "matplotlib", "typer"):
+    for name in ("numpy", "scipy", "matplotlib", "typer"):
         assert installed.package_version(name) == version(name)
     assert installed.package_version("no-such-distribution-xyz") == "not installed"
     # a dist-info found by its folded name; one without a Version header: importlib.metadata, "unknown"
@@ -36,6 +36,19 @@ def test_platform_name_is_platform_platform():
         pytest.skip("platform.platform() names a processor other than the machine here")
     assert installed.platform_name() == platform.platform()
     assert provenance.base()["platform"] == platform.platform()
+
+
+def test_tool_version_is_the_distribution_upliftclis(tmp_path, monkeypatch):
+    """The version is read from the metadata of upliftcli (the distribution), never from PyPI's
+    unrelated `uplift` installed beside it; the command and the tool's name stay `uplift`."""
+    for name, number in (("uplift", "0.0.6"), ("upliftcli", "7.1.2")):
+        (tmp_path / f"{name}-{number}.dist-info").mkdir()
+        (tmp_path / f"{name}-{number}.dist-info" / "METADATA").write_text(
+            f"Metadata-Version: 2.1\nName: {name}\nVersion: {number}\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert (installed.DISTRIBUTION, installed.TOOL) == ("upliftcli", "uplift")
+    assert installed.tool_version() == "7.1.2"
+    assert provenance.base()["version"] == "7.1.2" and provenance.base()["tool"] == "uplift"
 
 
 def test_tool_version_when_not_installed(monkeypatch):

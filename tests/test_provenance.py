@@ -169,11 +169,11 @@ def test_suite_records_and_table_spectrum_files(deck_dir):
 
 
 def test_version_time_and_libraries():
-    from importlib.metadata import version
+    from upliftcli.runtime.installed import tool_version
 
     now = datetime(2026, 3, 4, 5, 6, 7, tzinfo=UTC)
     record = provenance.base("uplift analyze x.toml", now)
-    assert record["version"] == version("uplift") and record["time_utc"] == "2026-03-04T05:06:07Z"
+    assert record["version"] == tool_version() and record["time_utc"] == "2026-03-04T05:06:07Z"
     assert record["libraries"]["numpy"] == np.__version__ and record["command"] == "uplift analyze x.toml"
     stamp = datetime.strptime(provenance.utc_now(), "%Y-%m-%dT%H:%M:%SZ").replace(tzinfo=UTC)
     assert abs((datetime.now(UTC) - stamp).total_seconds()) < 60

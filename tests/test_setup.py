@@ -73,7 +73,8 @@ def test_the_built_loops_are_stable_abi_modules():
 def test_without_a_compiler_the_wheel_is_pure_and_says_what_it_costs(tmp_path):
     """CC=/bin/false: every extension fails, the build says so in one line, and the wheel is
     py3-none-any with every module at its root and no extension (it was a cp311-cp311-linux
-    wheel without them, claiming a platform and an ABI it does not need). 3-4 s with pip's cache."""
+    wheel without them, claiming a platform and an ABI it does not need), and with the example
+    decks and records (setup.py's BuildWithExamples). 3-4 s with pip's cache."""
     source = tmp_path / "source"
     shutil.copytree(ROOT, source, ignore=shutil.ignore_patterns(".venv", ".git", "build", "dist", "*.so", "*.pyd",
                                                                   "__pycache__", "*.egg-info", "tests", "benchmarks"))
@@ -87,11 +88,20 @@ def test_without_a_compiler_the_wheel_is_pure_and_says_what_it_costs(tmp_path):
     said = [line for line in output if "uplift: the compiled loops were not built" in line]
     assert len(said) == 1 and "their numpy twins run instead" in said[0]
     wheels = list((tmp_path / "dist").glob("*.whl"))
-    assert [wheel.name for wheel in wheels] == ["uplift-0.1.0-py3-none-any.whl"]
+    assert [wheel.name for wheel in wheels] == ["upliftcli-0.1.0-py3-none-any.whl"]
     with zipfile.ZipFile(wheels[0]) as wheel:
         names = wheel.namelist()
-        metadata = wheel.read("uplift-0.1.0.dist-info/WHEEL").decode()
+        metadata = wheel.read("upliftcli-0.1.0.dist-info/WHEEL").decode()
     assert "Root-Is-Purelib: true" in metadata and "Tag: py3-none-any" in metadata
     assert not [name for name in names if name.endswith((".so", ".pyd"))]
     assert "upliftcli/engines/exact/stepping_numpy.py" in names and "upliftcli/cli/__init__.py" in names
     assert not [name for name in names if ".data/" in name]
+    # the example decks and records, as `uplift examples` writes them from a source checkout
+    from upliftcli.runtime.examples import bundled_files
+
+    packaged = sorted(name.removeprefix("upliftcli/examples/") for name in names
+                      if name.startswith("upliftcli/examples/"))
+    assert packaged == sorted(bundled_files(ROOT)) and "records/README.md" in packaged
+    with zipfile.ZipFile(wheels[0]) as wheel:
+        assert wheel.read("upliftcli/examples/inputs/ten_story_elcentro.toml") == \
+            (ROOT / "inputs" / "ten_story_elcentro.toml").read_bytes()

@@ -27,7 +27,7 @@ export PATH="$(dirname "$python"):$PATH"
 tar -C "$root" --exclude=./.venv --exclude=./.git --exclude=./build --exclude=./dist --exclude='*.so' \
     --exclude='*.egg-info' --exclude=__pycache__ -cf - . | (mkdir "$scratch/src" && tar -C "$scratch/src" -xf -)
 "$python" -m pip wheel -q --no-deps -w "$scratch/raw" "$scratch/src"
-raw=("$scratch"/raw/uplift-*.whl)
+raw=("$scratch"/raw/upliftcli-*.whl)
 case "$(basename "${raw[0]}")" in
     *-cp311-abi3-linux_*.whl) ;;
     *) echo "build_wheel.sh: expected a cp311-abi3 wheel with the compiled loops, got $(basename "${raw[0]}")" >&2
@@ -39,7 +39,7 @@ if ! "$python" -m auditwheel repair -w "$scratch/repaired" "${raw[0]}" >"$scratc
     cat "$scratch/repair.log" >&2
     exit 1
 fi
-repaired=("$scratch"/repaired/uplift-*.whl)
+repaired=("$scratch"/repaired/upliftcli-*.whl)
 case "$(basename "${repaired[0]}")" in
     *-cp311-abi3-manylinux*.whl) ;;
     *) echo "build_wheel.sh: auditwheel gave $(basename "${repaired[0]}"), not a cp311-abi3 manylinux wheel" >&2

@@ -3,7 +3,9 @@
 # build and repair it (tools/build_wheel.sh), check its tags (cp311-abi3, manylinux), install it
 # into a fresh venv with CC=/bin/false and a PATH without gcc, and run `uplift --version` and a
 # short exact analysis of the bundled deck from outside the source tree, checking that the
-# compiled loops of the installed wheel run (not the numpy twins, not the source tree's).
+# compiled loops of the installed wheel run (not the numpy twins, not the source tree's); then
+# the README's first command, after its install, in an empty folder: the wheel alone writes the
+# examples (`uplift examples`, the repository's inputs/ and records/ byte for byte) and runs one.
 #
 #   tools/check_wheel.sh [WHEEL]        (default: build one with tools/build_wheel.sh)
 #
@@ -19,7 +21,7 @@ fail() { echo "check_wheel.sh: $*" >&2; exit 1; }
 
 wheel="${1:-$(PYTHON="$python" "$root/tools/build_wheel.sh" "$scratch/dist" | tail -n 1)}"
 case "$(basename "$wheel")" in
-    uplift-*-cp311-abi3-manylinux*_"$(uname -m)".whl) ;;
+    upliftcli-*-cp311-abi3-manylinux*_"$(uname -m)".whl) ;;
     *) fail "$wheel is not a cp311-abi3 manylinux wheel for $(uname -m)" ;;
 esac
 
@@ -57,6 +59,12 @@ tail -n 1 cibuildwheel.log
 version="$("${no_compiler[@]}" uplift --version)"
 echo "$version"
 grep -q "loops: compiled" <<<"$version" || fail "the installed wheel does not run its compiled loops: $version"
+# the version from the metadata of the distribution upliftcli (runtime/installed.py), as `python -m upliftcli` says
+declared="$("$python" -c 'import sys, tomllib; print(tomllib.load(open(sys.argv[1], "rb"))["project"]["version"])' \
+    "$root/pyproject.toml")"
+[ "$(head -n 1 <<<"$version")" = "$declared" ] || fail "uplift --version gave $(head -n 1 <<<"$version"), not $declared"
+[ "$("${no_compiler[@]}" python -m upliftcli --version | head -n 1)" = "$declared" ] \
+    || fail "python -m upliftcli --version does not give $declared"
 where="$("${no_compiler[@]}" python -c 'import upliftcli.engines.exact._stepping as m; print(m.__file__)')"
 case "$where" in
     "$scratch"/venv/lib/python3*/site-packages/upliftcli/engines/exact/_stepping.abi3.so) ;;
@@ -80,4 +88,26 @@ for field in ("base_shear", "base_moment"):  # the two backends agree to 1e-9 (i
 print(f"exact engine, uplift: base shear {wheel['base_shear'] / 1e3:.1f} kN (the source tree's: "
       f"{source['base_shear'] / 1e3:.1f} kN), uplift {wheel['uplift']}")
 PY
+
+# The README's first command (its first bash block), from the installed wheel in an empty folder:
+# the steps after its `pip install`, with the wheel's venv on PATH in place of .venv/bin/.
+readme_steps="$("$python" - "$root/README.md" <<'PY'
+import re, sys
+first = re.search(r"```bash\n(.*?)\n```", open(sys.argv[1], encoding="utf-8").read(), re.S).group(1).strip()
+steps = first.split(" && ")
+after = steps[next(i for i, step in enumerate(steps) if " install " in step) + 1:]
+print(" && ".join(step.removeprefix(".venv/bin/") for step in after))
+PY
+)"
+grep -q "uplift examples " <<<"$readme_steps" || fail "the README's first command writes no examples: $readme_steps"
+mkdir "$scratch/empty"
+cd "$scratch/empty"
+"${no_compiler[@]}" /bin/sh -c "$readme_steps" >"$scratch/readme.log" 2>&1 \
+    || { cat "$scratch/readme.log" >&2; fail "the README's first command failed from the installed wheel: $readme_steps"; }
+written="$(find . -mindepth 1 -maxdepth 1 -type d)"
+[ "$(wc -l <<<"$written")" -eq 1 ] || fail "the README's first command wrote other folders than the examples': $written"
+for folder in inputs records; do
+    diff -r "$root/$folder" "$written/$folder" >/dev/null || fail "uplift examples wrote a $folder/ that differs from the repository's"
+done
+echo "the README's first command from the wheel in an empty folder: $readme_steps"
 echo "check_wheel.sh: $(basename "$wheel") installs and runs without a C compiler"

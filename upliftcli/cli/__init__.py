@@ -23,7 +23,7 @@ from ..runtime.process import exit_now, exit_on_stop_signals, keep_freed_memory
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
 
 #: command modules, registered in this order if present
-COMMAND_MODULES = ("analyze", "record", "sweep", "report")
+COMMAND_MODULES = ("analyze", "record", "sweep", "report", "examples")
 
 
 class UpliftGroup(TyperGroup):
@@ -91,9 +91,9 @@ app = typer.Typer(
 def _version(value: bool) -> None:
     if value:
         from ..runtime.backend import describe
-        from ..runtime.installed import TOOL, package_version
+        from ..runtime.installed import DISTRIBUTION, TOOL, package_version
 
-        found, loops = package_version(TOOL), describe()
+        found, loops = package_version(DISTRIBUTION), describe()
         typer.echo(f"{TOOL} (not installed)" if found == "not installed" else found)
         typer.echo(loops)
         raise typer.Exit()

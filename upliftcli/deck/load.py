@@ -27,8 +27,9 @@ from ..model.system import System
 from ..provenance.values import plain
 from ..runtime.limits import MAX_DECK_BYTES, read_input
 from . import schema
-from .building import building_from_fields, system_from_fields
+from .building import building_from_fields, check_foundation_type_fields, system_from_fields
 from .criteria import Criteria
+from .failed import Failed
 from .motion import check_motion_fields, read_ground_motion
 from .overrides import apply_overrides, parse_override
 from .practice import plausibility
@@ -146,47 +147,88 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     mapping of the deck's tables, numpy arrays and scalars accepted). source: the deck's file,
     which relative paths are relative to (default "<mapping>": the working directory)."""
     raw, overridden = apply_overrides(plain(raw), [(path, plain(value)) for path, value in overrides])
-    values = schema.validate(raw, source, overridden)
-    error = schema.FieldErrors(source, overridden)  # ground_motion.suite[1].file came from --set ground_motion.suite
-    system, analysis = _system_and_analysis(values, source, error, load_ground_motion)
+    gathered: list[InputError] = []  # every mistake of the deck, reported at once (raise_all below)
+    values = schema.validate(raw, source, overridden, gathered)
+    checks = _Checks(gathered, Failed.of(gathered), schema.FieldErrors(source, overridden))
+    system, analysis = _gather_structure(checks, values)
     ground_motion = spectrum = None
     if load_ground_motion:
-        ground_motion, spectrum = read_ground_motion(values["ground_motion"], source, error, system,
-                                                     analysis.simplified.effective_properties)
-    _check_criteria_have_their_analysis(values["criteria"], analysis, error)
-    _check_sources_have_their_limits(values["criteria"], values["criteria.sources"], error)
+        ground_motion, spectrum = _gather_motion(checks, values, source, system, analysis)
+    _gather_criteria(checks, values)
+    raise_all(gathered)
     criteria = Criteria(values["criteria"], values["criteria.sources"])
     return Deck(source, values[""].get("title", Path(source).stem), system, ground_motion, spectrum,
                 analysis, criteria, raw, values, overridden,
                 tuple(plausibility(values, source, overridden)), schema.si_mapping(raw, values))
 
 
-def _system_and_analysis(values: dict, source: str, error, load_ground_motion: bool
-                         ) -> tuple[System, AnalysisSettings]:
-    """The system and the analysis settings, with the mistakes of the building, the foundation, the
-    analysis and (when these are not all built) the ground motion reported at once."""
-    gathered: list[InputError] = []
-    system, analysis = _gather_structure(gathered, values, error)
-    if analysis is None and load_ground_motion:
-        gather(gathered, check_motion_fields, values["ground_motion"], source, error)
-    raise_all(gathered)
-    return system, analysis
+@dataclass(frozen=True)
+class _Checks:
+    """The checks of a deck after the schema's: the mistakes gathered so far, the fields that failed
+    the schema's checks (what rests on them is not checked: failed.Failed) and the deck's errors
+    (schema.FieldErrors: a value that came from --set names it; ground_motion.suite[1].file came
+    from --set ground_motion.suite)."""
+
+    gathered: list[InputError]
+    failed: Failed
+    error: schema.FieldErrors
+
+    def run(self, rests_on: tuple[str, ...], check, *args):
+        """check(*args, error), its mistakes gathered (fields.gather), when no field it rests on failed
+        the schema's checks; None when it failed or did not run."""
+        if not self.failed.clear(*rests_on):
+            return None
+        return gather(self.gathered, check, *args, self.error)
 
 
-def _gather_structure(gathered: list[InputError], values: dict, error
-                      ) -> tuple[System | None, AnalysisSettings | None]:
+def _gather_structure(checks: _Checks, values: dict) -> tuple[System | None, AnalysisSettings | None]:
     """Building, system and analysis settings, each built when what it rests on was (None
-    otherwise); their mistakes appended to `gathered`."""
-    building = gather(gathered, building_from_fields, values["building"], error)
-    if building is None:
+    otherwise); the foundation's fields of another type checked whatever else failed."""
+    building = checks.run(("building",), building_from_fields, values["building"])
+    typed = _gather_typed_fields(checks, values["foundation"])
+    if building is None or not typed:
         return None, None
-    system = gather(gathered, system_from_fields, building, values["foundation"], values["analysis"], error)
+    system = checks.run(("foundation", "analysis.gravity"), system_from_fields, building, values["foundation"],
+                        values["analysis"])
     if system is None:
         return None, None
-    analysis = gather(gathered, _analysis, values["analysis"], values["analysis.exact"], system, error)
+    analysis = checks.run(("analysis",), _analysis, values["analysis"], values["analysis.exact"], system)
     if analysis is not None:
-        gather(gathered, _check_yielding_elements, system, analysis, error)
+        checks.run((), _check_yielding_elements, system, analysis)
     return system, analysis
+
+
+def _gather_typed_fields(checks: _Checks, foundation: dict) -> bool:
+    """The [foundation] fields its type does not have (building.check_foundation_type_fields),
+    checked when foundation.type passed the schema's checks; whether there were none."""
+    count = len(checks.gathered)
+    checks.run(("foundation.type",), check_foundation_type_fields, foundation)
+    return len(checks.gathered) == count and checks.failed.clear("foundation.type")
+
+
+def _gather_motion(checks: _Checks, values: dict, source: str, system: System | None,
+                   analysis: AnalysisSettings | None) -> tuple[Any, Any]:
+    """(ground motion, spectrum) read when the system and the analysis were built (a suite is
+    scaled to the structure); else its fields checked without reading it."""
+    if analysis is None:
+        checks.run(("ground_motion",), check_motion_fields, values["ground_motion"], source)
+        return None, None
+    read = checks.run(("ground_motion",), _motion, values["ground_motion"], source, system,
+                      analysis.simplified.effective_properties)
+    return read or (None, None)
+
+
+def _motion(fields: dict, source: str, system: System, effective_properties: str, error) -> tuple[Any, Any]:
+    """motion.read_ground_motion, the error last."""
+    return read_ground_motion(fields, source, error, system, effective_properties)
+
+
+def _gather_criteria(checks: _Checks, values: dict) -> None:
+    """The limits of [criteria] checked against the engines and supports of [analysis], and their
+    sources against the limits."""
+    checks.run(("analysis.engine", "analysis.supports", "criteria"), _check_criteria_have_their_analysis,
+               values["criteria"], _Chosen.of(values["analysis"]))
+    checks.run(("criteria",), _check_sources_have_their_limits, values["criteria"], values["criteria.sources"])
 
 
 def _check_yielding_elements(system: System, analysis: AnalysisSettings, error) -> None:
@@ -203,34 +245,46 @@ def _check_yielding_elements(system: System, analysis: AnalysisSettings, error) 
             raise error("foundation.elements", refusal)
 
 
-def _check_criteria_have_their_analysis(criteria: dict, analysis: AnalysisSettings, error) -> None:
+@dataclass(frozen=True)
+class _Chosen:
+    """The engines and supports that [analysis] chooses (the defaults where it does not)."""
+
+    engines: list[str]
+    supports: list[str]
+
+    @classmethod
+    def of(cls, fields: dict) -> _Chosen:
+        return cls(list(fields.get("engine", schema.default("analysis", "engine"))),
+                   list(fields.get("supports", schema.default("analysis", "supports"))))
+
+
+def _check_criteria_have_their_analysis(criteria: dict, analysis: _Chosen, error) -> None:
     """A limit on a rocking quantity (engines/quantities.ROCKING) needs the analysis that reports
     it: the exact engine and the uplift support (with or without a bearing capacity); a limit on
     the simplified engine's accuracy (simplified_error) needs the simplified engine, else it would
-    pass unchecked."""
-    _check_accuracy_limit_has_its_engine(criteria, analysis, error)
-    _check_rocking_limits_have_their_analysis(criteria, analysis, error)
+    pass unchecked. Every such limit named."""
+    gathered: list[InputError] = []
+    gather(gathered, _check_accuracy_limit_has_its_engine, criteria, analysis, error)
+    gather(gathered, _check_rocking_limits_have_their_analysis, criteria, analysis, error)
+    raise_all(gathered)
 
 
-def _check_accuracy_limit_has_its_engine(criteria: dict, analysis: AnalysisSettings, error) -> None:
+def _check_accuracy_limit_has_its_engine(criteria: dict, analysis: _Chosen, error) -> None:
     """criteria.simplified_error needs the simplified engine."""
     if "simplified_error" in criteria and "simplified" not in analysis.engines:
         raise error("criteria.simplified_error", "a limit on the accuracy check of the simplified engine against the "
                     "exact engine (docs/accuracy.md); the deck has not the simplified engine in analysis.engine")
 
 
-def _check_rocking_limits_have_their_analysis(criteria: dict, analysis: AnalysisSettings, error) -> None:
-    """A limit on a rocking quantity needs the exact engine and the uplift support."""
+def _check_rocking_limits_have_their_analysis(criteria: dict, analysis: _Chosen, error) -> None:
+    """A limit on a rocking quantity needs the exact engine and the uplift support (each limit named)."""
     missing = _missing_for_rocking(analysis)
-    if not missing:
-        return
-    for name in criteria:
-        if name in ROCKING:
-            raise error(f"criteria.{name}", f"a limit the exact engine reports for an uplift analysis (docs/theory.md "
-                        f"14.7); the deck has not {' and '.join(missing)}")
+    limits = [name for name in criteria if name in ROCKING] if missing else []
+    raise_all([error(f"criteria.{name}", f"a limit the exact engine reports for an uplift analysis (docs/theory.md "
+                     f"14.7); the deck has not {' and '.join(missing)}") for name in limits])
 
 
-def _missing_for_rocking(analysis: AnalysisSettings) -> list[str]:
+def _missing_for_rocking(analysis: _Chosen) -> list[str]:
     """What the analysis lacks to report the rocking quantities (the exact engine, the uplift support)."""
     missing = []
     if "exact" not in analysis.engines:
@@ -241,10 +295,9 @@ def _missing_for_rocking(analysis: AnalysisSettings) -> list[str]:
 
 
 def _check_sources_have_their_limits(criteria: dict, sources: dict, error) -> None:
-    """A source in [criteria.sources] only for a limit the deck sets."""
-    for name in sources:
-        if name not in criteria:
-            raise error(f"criteria.sources.{name}", f"the source of a limit the deck sets (criteria.{name} is not set)")
+    """A source in [criteria.sources] only for a limit the deck sets (each one named)."""
+    raise_all([error(f"criteria.sources.{name}", f"the source of a limit the deck sets (criteria.{name} is not set)")
+               for name in sources if name not in criteria])
 
 
 def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSettings:
@@ -252,9 +305,10 @@ def _analysis(fields: dict, exact: dict, system: System, error) -> AnalysisSetti
     which = schema.exactly_one(fields, ["modes", "mass_participation"], "analysis", error)
     n_modes = _mode_count(fields, which, system, error)
     _check_exact_modes(exact, system.building.n_stories, error)
+    chosen = _Chosen.of(fields)
     return AnalysisSettings(
-        engines=list(fields.get("engine", schema.default("analysis", "engine"))),
-        supports=list(fields.get("supports", schema.default("analysis", "supports"))),
+        engines=chosen.engines,
+        supports=chosen.supports,
         n_modes=n_modes,
         simplified=_simplified_options(fields, n_modes),
         exact=_exact_options(exact, n_modes if which else None),

@@ -213,7 +213,8 @@ def _listed(table: str, names: Sequence[str]) -> str:
 
 # ----------------------------------------------------------------------------- validation
 
-def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -> dict[str, dict[str, Any]]:
+def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset(),
+             gathered: list[InputError] | None = None) -> dict[str, dict[str, Any]]:
     """Check every key, type, unit and range; return {table: {field: value}} with only the given
     fields, numbers in the unit each field declares (SI: a number with a unit converted, a bare
     number read in the deck's `units` system). The keys of a design spectrum and the entries of
@@ -221,11 +222,15 @@ def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset()) -
 
     Every error is found before any is raised: one error as it is, several as one
     errors.InputErrors (one line each). Values that came from `--set` are reported with source
-    "--set".
+    "--set". With a list `gathered`, the errors are appended to it instead, and the values of the
+    fields that passed returned (deck/load.build_deck goes on with the checks they allow).
     """
     walk = _Validation(source, _unit_system(raw), FieldErrors(source, overridden).raiser)
     walk.table("", raw)
-    raise_all(walk.gathered)
+    if gathered is None:
+        raise_all(walk.gathered)
+    else:
+        gathered.extend(walk.gathered)
     return walk.values
 
 

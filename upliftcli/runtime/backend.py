@@ -65,7 +65,7 @@ def loops(extension: str, twin: str) -> ModuleType:
             return found
         if wanted == "compiled":
             raise InputError(VARIABLE, None, f"'compiled' needs the C extension {extension}, which was not built "
-                             f"({found}): reinstall uplift where a C compiler works, or unset {VARIABLE}")
+                             f"({found}): reinstall upliftcli where a C compiler works, or unset {VARIABLE}")
     twin_module = _module(twin)
     if isinstance(twin_module, ImportError):
         raise twin_module

@@ -11,7 +11,10 @@ import platform
 import re
 import sys
 
+#: the command and the tool's name (provenance records it)
 TOOL = "uplift"
+#: the distribution whose metadata holds the version (PyPI's `uplift` is an unrelated package)
+DISTRIBUTION = "upliftcli"
 
 
 def package_version(name: str) -> str:
@@ -91,6 +94,7 @@ def platform_name() -> str:
 
 
 def tool_version() -> str:
-    """The version of uplift (package metadata), "0+unknown" when it is not installed."""
-    found = package_version(TOOL)
+    """The version of uplift (the metadata of the distribution upliftcli), "0+unknown" when it is not
+    installed."""
+    found = package_version(DISTRIBUTION)
     return "0+unknown" if found == "not installed" else found

@@ -51,7 +51,7 @@ def import_distributed():
     try:
         import distributed
     except ImportError:
-        raise InputError("--scheduler", "dask", "the Dask extra installed: pip install 'uplift[dask]'") from None
+        raise InputError("--scheduler", "dask", "the Dask extra installed: pip install 'upliftcli[dask]'") from None
     return distributed
 
 

@@ -205,7 +205,7 @@ def _parquet_bytes(plan: SweepPlan, rows: Sequence[dict], provenance: dict) -> b
         import pyarrow as pa
         import pyarrow.parquet as pq
     except ImportError:
-        raise InputError("--table", "parquet", "pyarrow installed: pip install 'uplift[parquet]'") from None
+        raise InputError("--table", "parquet", "pyarrow installed: pip install 'upliftcli[parquet]'") from None
     arrays = {}
     rows = table_rows(plan, rows)
     for name in columns(plan):
@@ -227,7 +227,7 @@ def check_table_format(table_format: str) -> None:
         try:
             import pyarrow  # noqa: F401
         except ImportError:
-            raise InputError("--table", "parquet", "pyarrow installed: pip install 'uplift[parquet]'") from None
+            raise InputError("--table", "parquet", "pyarrow installed: pip install 'upliftcli[parquet]'") from None
 
 
 def write_tables(plan: SweepPlan, rows: Sequence[dict], directory: str | Path, stem: str,
