@@ -12,13 +12,13 @@ from itertools import chain
 
 import numpy as np
 
+from ..errors import gather, raise_all
 from ..model.bearing import CAPACITY_NAMES
 from ..model.building import Building, Modes, modal_analysis, scale_to_period, shear_building
 from ..model.foundations import FOUNDATIONS, DeckContext
 from ..model.system import System
 from ..runtime.limits import MAX_STORIES
 from . import schema
-from .fields import gather, raise_all
 from .overrides import ALTERNATIVES, FOUNDATION_FIELDS
 
 #: the per-story arrays of [building] whose lengths give the number of stories (damping too, when an array)
