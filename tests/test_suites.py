@@ -210,3 +210,23 @@ def test_a_suite_holds_at_most_the_documented_number_of_records(tmp_path):
     for k in range(3):
         (tmp_path / f"r{k}.txt").write_text("x")
     assert len(suite_entries(".", deck)) == 3
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "mkfifo"), reason="named pipes are POSIX")
+def test_a_fifo_among_the_records_of_a_suite_folder_is_refused_by_name(tmp_path):
+    """Issue 38: a FIFO named as a record in a suite folder was passed over without a word. It is
+    now one line naming it (never opened: it would block); other names are still passed over."""
+    import os
+    import shutil
+
+    folder = tmp_path / "suite"
+    folder.mkdir()
+    shutil.copy(ELCENTRO, folder / "a.txt")
+    os.mkfifo(folder / "notes.md")  # not named as a record: passed over, as before
+    assert [path.name for path, _ in suite_entries("suite", str(tmp_path / "deck.toml"))] == ["a.txt"]
+    os.mkfifo(folder / "b.txt")
+    with pytest.raises(InputError) as info:
+        suite_entries("suite", str(tmp_path / "deck.toml"))
+    assert str(info.value) == (f"{tmp_path / 'deck.toml'}: ground_motion.suite: regular record files in "
+                               f"'{folder}': 'b.txt' is a named pipe (FIFO) (move it out of the folder, or list "
+                               "the records in the deck)")
