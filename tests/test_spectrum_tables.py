@@ -43,5 +43,5 @@ def test_a_spectrum_table_with_two_header_rows_is_refused(tmp_path):
         read_spectrum_table(tmp_path / "t.csv", "deck.toml")
     (tmp_path / "s.csv").write_text("T, Sa\n1 x_secret\n")
     with pytest.raises(InputError, match=r"s\.csv: line 2: two numbers \(period \[s\], S_a\) \(the text is not "
-                                         r"quoted: nothing before it read as a record\)$"):
+                                         r"quoted: nothing before it read as a spectrum table\)$"):
         read_spectrum_table(tmp_path / "s.csv", "deck.toml")

@@ -71,13 +71,13 @@ def excerpt(text: str) -> str:
     return repr(kept + ("..." if len(text) > EXCERPT_CHARS else ""))
 
 
-def found(text: str, recognised: bool) -> str:
+def found(text: str, recognised: bool, what: str = "a record") -> str:
     """What an error message says of the text it refuses: ', got <excerpt>' in a file recognised
-    as a record (values or a record header read before it), else a note that it is not quoted:
+    as `what` (values or a record header read before it), else a note that it is not quoted:
     the lines of a file that is no record (a system file given as a record) are never shown."""
     if recognised:
         return f", got {excerpt(text)}"
-    return " (the text is not quoted: nothing before it read as a record)"
+    return f" (the text is not quoted: nothing before it read as {what})"
 
 
 def parse_number(token: str, source: str, line_no: int, recognised: bool) -> float:

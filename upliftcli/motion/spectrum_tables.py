@@ -120,6 +120,10 @@ class TabulatedSpectrum:
         return factor * np.interp(t, self.periods, self.sa_values)
 
 
+#: what a spectrum table file is, in an error message's words (readers.found)
+TABLE = "a spectrum table"
+
+
 def read_spectrum_table(path: str | Path, source: str) -> tuple[np.ndarray, np.ndarray]:
     """Two columns period [s], S_a (comma or blank separated; '#' comments, one optional header
     row of names before the data: a second one is refused, _table_row)."""
@@ -151,9 +155,10 @@ def _table_row(text: str, where: str, number: int, rows: list, names: int) -> tu
         if not rows and values[0] is None:
             _check_header(names, where, number)
             return None  # a header row of names (a row that starts with a number is data)
-        raise InputError(where, f"line {number}", f"two numbers (period [s], S_a){found(text, bool(rows))}")
+        raise InputError(where, f"line {number}", f"two numbers (period [s], S_a){found(text, bool(rows), TABLE)}")
     if len(values) < 2 or not all(math.isfinite(value) for value in values):
-        raise InputError(where, f"line {number}", f"two finite numbers (period [s], S_a){found(text, bool(rows))}")
+        raise InputError(where, f"line {number}",
+                         f"two finite numbers (period [s], S_a){found(text, bool(rows), TABLE)}")
     return values[0], values[1]
 
 
