@@ -7,7 +7,9 @@ files; scaled (scaling.py) or spectrally matched (matching.py) as asked.
 
 Checks (each an InputError naming the record or the field): a record shorter than MIN_CYCLES
 times the upper period of the range, a record too coarsely sampled to be matched at the lower
-period (fewer than SAMPLES_PER_PERIOD steps), a target that does not cover the range. Too few
+period (fewer than SAMPLES_PER_PERIOD steps), a record with no ground shaking to match or scale
+(usable.py: all zeros, constant, a single pulse, S_a = 0), a target that does not cover the
+range. Too few
 records for the code is a warning (Suite.warnings), as are factors outside 0.25-4 and, for
 scaling = "none", a mean below the code's criterion.
 """
