@@ -106,3 +106,33 @@ def test_figures_never_replace_an_input_and_an_existing_figure_needs_overwrite(t
     assert invoke("modes", EXAMPLE, "--plot", figures).exit_code == 2
     assert invoke("analyze", EXAMPLE, *SMALL, "--no-check", "--plot", figures, "--overwrite").exit_code == 0
     assert len(list(figures.iterdir())) == 3
+
+
+def test_a_full_disk_under_analyze_plot_leaves_no_figure_behind(tmp_path, monkeypatch):
+    """Issue 38: a full disk at the second figure of `analyze --plot` left the first one behind.
+    The figures of one command are written all or none (figures/draw.plot_figures, atomic.write_set)."""
+    import errno
+
+    from upliftcli.runtime import atomic
+
+    original, calls = atomic._finish, []
+
+    def full_disk(tmp, target):
+        calls.append(target.name)
+        if len(calls) == 2:
+            raise OSError(errno.ENOSPC, "No space left on device")
+        original(tmp, target)
+
+    monkeypatch.setattr(atomic, "_finish", full_disk)
+    figures = tmp_path / "figs"
+    result = invoke("analyze", EXAMPLE, *SMALL, "--plot", figures)
+    assert result.exit_code == 2, result.output
+    assert len(calls) == 2 and calls[0].endswith(".png") and calls[0] != calls[1]
+    lines = result.stderr.strip().splitlines()
+    assert lines[-1] == f"error: --plot: {figures}: a writable directory (No space left on device)"
+    assert "wrote" not in result.stderr and not figures.exists()  # the folder it made is gone too
+    (figures).mkdir()
+    (figures / "notes.txt").write_text("kept")
+    calls.clear()
+    assert invoke("analyze", EXAMPLE, *SMALL, "--plot", figures).exit_code == 2
+    assert sorted(p.name for p in figures.iterdir()) == ["notes.txt"]  # no figure, no temporary file

@@ -152,6 +152,20 @@ def test_match_errors(tmp_path):
     assert (folder / "e_matched.txt").read_bytes() == before
 
 
+def test_matching_a_constant_record_is_one_line_naming_it(tmp_path):
+    """Issue 38, T9 (its reproducer): a constant record ended in a LinAlgError traceback."""
+    constant = tmp_path / "c.txt"
+    constant.write_text("# dt = 0.01\n" + "0.01\n" * 100000)
+    out = tmp_path / "m"
+    result = invoke("record", "match", ROOT / "inputs" / "ten_story_asce7_suite.toml", constant,
+                    "--record-units", "g", "--out", out)
+    assert result.exit_code == 2, result.output
+    assert result.stderr.strip().splitlines() == [
+        f"error: {constant}: acceleration: a record with motion to match (every sample is 0.09807 m/s^2: a "
+        "constant acceleration is no ground shaking)"]
+    assert not out.exists()
+
+
 def test_scale_prints_the_factors_of_the_deck_suite():
     result = invoke("record", "scale", ROOT / "inputs" / "ten_story_ec8_suite.toml")
     assert result.exit_code == 0, result.output

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 from test_spectra import brute_force  # the independent SDOF integration
 
-from upliftcli.errors import AnalysisError
+from upliftcli.errors import AnalysisError, InputError
 from upliftcli.motion.code_rules import RULES
 from upliftcli.motion.design_spectra import ASCE7MultiPeriodSpectrum
-from upliftcli.motion.matching import control_periods, match_record, settings_for
+from upliftcli.motion.matching import control_periods, match_acceleration, match_record, settings_for
 from upliftcli.motion.records import ground_displacement, ground_velocity, read_record
 from upliftcli.motion.spectra import response_spectrum
 from upliftcli.motion.suites import build_suite
@@ -132,3 +132,13 @@ def test_matching_keeps_recorded_motions_other_than_el_centro():
         assert result.acceleration[0] == pytest.approx(scaled[0], abs=1e-9)
         assert result.acceleration[-1] == pytest.approx(scaled[-1], abs=1e-9)
         assert result.converged
+
+
+def test_a_seed_whose_spectrum_is_zero_is_refused_by_name():
+    """A seed whose S_a is 0 at a control period has no factor to the target (it was inf, then nan
+    through the wavelets): one line naming the record."""
+    seed = 5e-324 * (-1.0) ** np.arange(4000)
+    with pytest.raises(InputError, match=r"^tiny.txt: acceleration: a record with a response spectrum > 0 over the "
+                                         r"period range to be matched, got S_a = 0 m/s\^2 at 0\.2 s"):
+        match_acceleration(seed, 0.01, lambda periods: np.ones_like(periods), (0.2, 2.0),
+                           control_periods((0.2, 2.0)), name="tiny.txt")

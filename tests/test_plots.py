@@ -155,14 +155,14 @@ def _paper_specs():
 
 
 def _record_drawing(monkeypatch) -> list[int]:
-    """plot_figure wrapped: the list it returns gets the process id of each call made here."""
-    drawn_by, draw = [], plots.plot_figure
+    """figure_data wrapped: the list it returns gets the process id of each call made here."""
+    drawn_by, draw = [], plots.figure_data
 
     def recording(spec, path, option="--plot"):
         drawn_by.append(os.getpid())
         return draw(spec, path, option)
 
-    monkeypatch.setattr(plots, "plot_figure", recording)
+    monkeypatch.setattr(plots, "figure_data", recording)
     return drawn_by
 
 
@@ -239,18 +239,19 @@ def test_plot_figures_raises_the_error_of_a_forked_copy(tmp_path, monkeypatch, r
     with pytest.raises(OSError) as caught:
         plots.plot_figures(items)
     assert caught.value.filename == str(tmp_path / "file" / "b.png")
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.png", "c.png", "file"]
-    draw = plots.plot_figure
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]  # all or none (issue 38)
+    draw = plots.figure_data
 
     def refusing(spec, path, option="--plot"):  # an InputError raised in whichever process draws it
         if Path(path).name == "b.png":
             raise InputError("--plot", str(path), "a figure this test refuses")
         return draw(spec, path, option)
 
-    monkeypatch.setattr(plots, "plot_figure", refusing)
+    monkeypatch.setattr(plots, "figure_data", refusing)
     items[1] = (specs[1], tmp_path / "b.png")
     with pytest.raises(InputError, match="a figure this test refuses"):
         plots.plot_figures(items)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]
 
 
 def test_plot_figures_draws_in_this_process_while_another_thread_runs(tmp_path, monkeypatch):

@@ -238,3 +238,52 @@ def test_a_csv_record_headed_in_the_csv_style_of_the_tool(tmp_path, header, unit
     assert record.units == units and record.dt == pytest.approx(0.01)
     factor = {"m/s2": 1.0, "g": STANDARD_GRAVITY, "cm/s2": 0.01, "in/s2": 0.0254}[units]
     np.testing.assert_allclose(record.acceleration, factor * np.array([0, 0.5, -1, 0.25]))
+
+
+SYSTEM_LIKE = "root:x:0:0:root:/root:/bin/bash\ndaemon:x:1:1::/usr/sbin:/usr/sbin/nologin\n_apt:x:42:65534::/x:/no\n"
+
+
+@pytest.mark.parametrize(("name", "options", "location"), [
+    ("passwd", {"units": "g", "dt": 0.01}, "line 3"),  # text: the header is the lines of words, then '_apt...'
+    ("passwd", {"units": "g", "format": "csv"}, "line 2"),  # a second row of names
+    ("accounts.csv", {"units": "g"}, "line 1"),  # a first row that starts with a digit
+    ("list.txt", {"units": "g", "dt": 0.01}, "line 1"),
+])
+def test_a_file_that_is_no_record_is_never_quoted(tmp_path, name, options, location):
+    """Issue 38, I1: `--record /etc/passwd` quoted the line it could not read. Until the file
+    reads as a record (a value read, or a record header), the message names the line only."""
+    text = {"accounts.csv": "1secret,token_abc\n", "list.txt": "4,5,secret_token\n"}.get(name, SYSTEM_LIKE)
+    path = write(tmp_path, name, text)
+    with pytest.raises(InputError) as info:
+        read_record(path, **options)
+    message = str(info.value)
+    assert message.startswith(f"{path}: {location}: ") and "\n" not in message
+    said = message[len(str(path)):]
+    assert not any(word in said for word in ("x:42", "_apt", "secret", "token", "root")), said
+
+
+def test_a_record_quotes_a_short_printable_excerpt_of_a_bad_value(tmp_path):
+    """In a file read as a record (values read before), the bad value is quoted: at most 24
+    characters, any character that is not printable ASCII as '?' (no terminal escape)."""
+    bad = "\x1b[2J" + "A" * 100
+    path = write(tmp_path, "r.txt", f"0.1\n0.2\n{bad}\n")
+    with pytest.raises(InputError) as info:
+        read_record(path, units="g", dt=0.01)
+    assert str(info.value) == f"{path}: line 3: a number, got '?[2J{'A' * 20}...'"
+    headed = write(tmp_path, "h.txt", f"# dt = 0.01\n{bad}\n")  # a record header: recognised at once
+    with pytest.raises(InputError, match=r"h\.txt: line 2: a number, got '\?\[2JA+\.\.\.'$"):
+        read_record(headed, units="g")
+    csv = write(tmp_path, "c.csv", "time,acc\n0,0.1\n0.01,\u00e9t\u00e9\n")
+    with pytest.raises(InputError, match=r"c\.csv: line 3: a number, got '\?t\?'$"):
+        read_record(csv, units="g")
+
+
+@pytest.mark.parametrize(("text", "line"), [("time,acc\nt,a\n0,0.1\n0.01,0.2\n", 2),
+                                           ("# a comment\ntime,acc\n\n\"t\",\"a\"\n0,0.1\n", 4)])
+def test_a_csv_record_with_two_header_rows_is_refused(tmp_path, text, line):
+    """Issue 38: a CSV record with two rows of names was read silently (the second taken as a header too)."""
+    path = write(tmp_path, "two.csv", text)
+    with pytest.raises(InputError, match=rf"^{path}: line {line}: one row of column names before the data, found a "
+                                         r"second one \(a comment starts with '#'\)$"):
+        read_record(path, units="g")
+    assert read_record(write(tmp_path, "one.csv", "# t, a\ntime,acc\n0,0.1\n0.01,0.2\n"), units="g").npts == 2

@@ -81,6 +81,49 @@ def test_an_all_zero_record_is_not_scaled(record):
     assert build_suite([record, zero], TARGET, (0.2, 2.0), RULES["mean"], "none").factors == (1.0, 1.0)
 
 
+def _degenerate(record, values) -> object:
+    """The record with these accelerations [m/s^2] (its length and step kept), named degenerate.txt."""
+    return replace(record, acceleration=np.asarray(values, dtype=float), source="degenerate.txt")
+
+
+def _spike(n: int, at: int) -> np.ndarray:
+    values = np.zeros(n)
+    values[at] = 3.0
+    return values
+
+
+@pytest.mark.parametrize(("values", "expected"), [
+    (lambda n: np.full(n, 0.0981), r"every sample is 0\.0981 m/s\^2: a constant acceleration"),
+    (lambda n: _spike(n, 0), r"D5-95\) lasts 0\.0\d+ s from t = 0\.\d+ s, less than the lower period 0\.2 s"),
+    (lambda n: _spike(n, n // 2), r"lasts 0\.0\d+ s from t = [\d.]+ s, less than the lower period 0\.2 s: a single"),
+    (lambda n: _spike(n, n - 1), r"lasts 0\.0\d+ s .*: a single pulse, not a ground motion"),
+    (lambda n: 1e-300 * (-1.0) ** np.arange(n), r"its Arias intensity is 0 in double precision \(peak 1e-300"),
+], ids=["constant", "first sample", "one sample", "last sample", "1e-300"])
+def test_a_record_with_no_ground_shaking_is_refused_before_matching(record, monkeypatch, values, expected):
+    """Issue 38, T9: a constant record ended in a LinAlgError deep in the wavelet iteration; a
+    single non-zero sample in a singular system (or a record matched from nothing but wavelets);
+    values whose squares underflow in a factor of inf. Each is now one line naming the record,
+    before any spectrum is computed."""
+    from upliftcli.motion import suites
+
+    computed = []
+    monkeypatch.setattr(suites, "match_record", lambda *args, **kwargs: computed.append(args))
+    degenerate = _degenerate(record, values(record.npts))
+    with pytest.raises(InputError, match=r"^degenerate.txt: acceleration: a record with motion to match \(.*"
+                                         + expected):
+        build_suite([record, degenerate], TARGET, (0.2, 2.0), RULES["asce7-22"], "match")
+    assert computed == []
+
+
+def test_a_record_whose_spectrum_is_zero_is_not_scaled(record):
+    """Accelerations of 5e-324 m/s^2 (the smallest double) give S_a = 0: their amplitude factor
+    was 1/0 (a ZeroDivisionError under `record scale`); now one line naming the record."""
+    tiny = _degenerate(record, 5e-324 * (-1.0) ** np.arange(record.npts))
+    with pytest.raises(InputError, match=r"^degenerate.txt: acceleration: a record with a response spectrum > 0 "
+                                         r"over the period range to be scaled, got S_a = 0 m/s\^2 at 0\.2 s"):
+        build_suite([record, tiny], TARGET, (0.2, 2.0), RULES["mean"], "amplitude")
+
+
 def test_record_too_coarse_to_be_matched(record):
     with pytest.raises(InputError, match=r"dt: a time step of at most 0\.0125 s .* to be matched, got 0\.02 s"):
         build_suite([record], TARGET, (0.05, 2.0), RULES["asce7-22"], "match")
@@ -167,3 +210,23 @@ def test_a_suite_holds_at_most_the_documented_number_of_records(tmp_path):
     for k in range(3):
         (tmp_path / f"r{k}.txt").write_text("x")
     assert len(suite_entries(".", deck)) == 3
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "mkfifo"), reason="named pipes are POSIX")
+def test_a_fifo_among_the_records_of_a_suite_folder_is_refused_by_name(tmp_path):
+    """Issue 38: a FIFO named as a record in a suite folder was passed over without a word. It is
+    now one line naming it (never opened: it would block); other names are still passed over."""
+    import os
+    import shutil
+
+    folder = tmp_path / "suite"
+    folder.mkdir()
+    shutil.copy(ELCENTRO, folder / "a.txt")
+    os.mkfifo(folder / "notes.md")  # not named as a record: passed over, as before
+    assert [path.name for path, _ in suite_entries("suite", str(tmp_path / "deck.toml"))] == ["a.txt"]
+    os.mkfifo(folder / "b.txt")
+    with pytest.raises(InputError) as info:
+        suite_entries("suite", str(tmp_path / "deck.toml"))
+    assert str(info.value) == (f"{tmp_path / 'deck.toml'}: ground_motion.suite: regular record files in "
+                               f"'{folder}': 'b.txt' is a named pipe (FIFO) (move it out of the folder, or list "
+                               "the records in the deck)")

@@ -19,6 +19,7 @@ from upliftcli.motion.wavelets import (
     peak_responses,
     response_matrix,
     tapered_cosine,
+    wavelet_amplitudes,
     wavelet_columns,
     wavelet_match,
 )
@@ -105,3 +106,22 @@ def test_matched_record_keeps_its_onset_and_ends():
     assert max(end_offsets(result.acceleration)) < 0.01
     velocity, displacement = final_drift(result.acceleration, record.dt)
     assert abs(velocity) < 1e-12 and abs(displacement) < 1e-11
+
+
+def test_a_wavelet_that_moves_no_oscillator_gets_amplitude_zero():
+    """Issue 38, T9: a wavelet that is 0 wherever it would act (placed before the record's onset,
+    as the peaks of a constant record are) made a zero column of C and a singular system. It now
+    gets amplitude 0, and the others are those of the system without it."""
+    rng = np.random.default_rng(3)
+    matrix = rng.normal(size=(5, 4))
+    change = rng.normal(size=5)
+    full = wavelet_amplitudes(matrix, change)
+    normal = matrix.T @ matrix
+    normal[np.diag_indices_from(normal)] *= 1.02
+    np.testing.assert_array_equal(full, np.linalg.solve(normal, matrix.T @ change))  # unchanged when none is 0
+    dead = matrix.copy()
+    dead[:, 1] = 0.0
+    amplitudes = wavelet_amplitudes(dead, change)
+    assert amplitudes[1] == 0.0
+    np.testing.assert_allclose(amplitudes[[0, 2, 3]], wavelet_amplitudes(dead[:, [0, 2, 3]], change), rtol=1e-12)
+    np.testing.assert_array_equal(wavelet_amplitudes(np.zeros((5, 4)), change), np.zeros(4))

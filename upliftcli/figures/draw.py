@@ -20,7 +20,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ..errors import InputError
-from ..runtime.atomic import atomic_path
+from ..runtime.atomic import TEMP_MARK, atomic_path, write_bytes, write_set
 from .layout import PAD, Layout, layout
 from .panels import draw_panel, legend_handles
 from .spec import Bars, FigureSpec, Line, Panel, Series, Span  # noqa: F401  (the figure data types)
@@ -88,33 +88,71 @@ def save_figure(figure, path: str | os.PathLike, option: str = "--plot") -> Path
     return path
 
 
+def figure_data(spec: FigureSpec, path: str | os.PathLike, option: str = "--plot") -> bytes:
+    """A FigureSpec drawn into the bytes of the file `path` names (the format follows its extension)."""
+    path = check_figure_path(path, option)
+    buffer = io.BytesIO()
+    line_figure(spec).savefig(buffer, format=path.suffix.lower().lstrip("."), dpi=DPI)
+    return buffer.getvalue()
+
+
 def plot_figure(spec: FigureSpec, path: str | os.PathLike, option: str = "--plot") -> Path:
     """Draw a FigureSpec and write it atomically."""
-    check_figure_path(path, option)
-    return save_figure(line_figure(spec), path, option)
+    data = figure_data(spec, path, option)
+    write_bytes(path, data)
+    return Path(path)
 
 
 def plot_figures(figures: Sequence[tuple[FigureSpec, str | os.PathLike]], option: str = "--plot") -> list[Path]:
-    """Draw and write several figures (plot_figure each); their paths in the order given.
+    """Draw several figures (figure_data each) and write them all or none (atomic.write_set: a
+    full disk at the last one leaves none behind, issue 38); their paths in the order given.
 
     Drawing is Python (threads would not help), so on Linux, when this process runs no other
     thread, the figures are shared out between it and forked copies of it, one per core, that
-    start with matplotlib imported and the figure data in memory (the three figures of `uplift
-    spectra` in 0.45 s instead of 0.85 s on two cores; elsewhere, FORK_FIGURES, one after the
-    other). An error in any figure is raised here, after every copy has ended."""
+    start with matplotlib imported and the figure data in memory and send back the bytes of
+    their figures (the three figures of `uplift spectra` in 0.45 s instead of 0.85 s on two
+    cores; elsewhere, FORK_FIGURES, one after the other). An error in any figure is raised
+    here, after every copy has ended, and nothing is written."""
     paths = [check_figure_path(path, option) for _, path in figures]
     _wait_for_preload()
     from ..runtime.process import available_cores
 
     groups = _shares(figures, min(available_cores(), len(figures)))
-    if not _can_share(groups):
-        _draw_all(figures, option)
-        return paths
-    preload()
-    for stream in (sys.stdout, sys.stderr):  # nothing buffered is written twice
-        stream.flush()
-    _draw_shared(groups, option)
+    if _can_share(groups):
+        preload()
+        for stream in (sys.stdout, sys.stderr):  # nothing buffered is written twice
+            stream.flush()
+        drawn = _draw_shared(groups, option)
+    else:
+        drawn = _draw_all(figures, option)
+    _write_all(drawn, paths)
     return paths
+
+
+def _write_all(drawn: dict[str, bytes], paths: list[Path]) -> None:
+    """Write the figures' bytes (drawn: by path) all or none, in the order of paths; an OSError
+    names the figure it failed on (not its temporary file)."""
+    try:
+        write_set({path: drawn[str(path)] for path in paths})
+    except OSError as error:
+        if error.filename is None:  # a write to a full disk names no file: the caller names the folder
+            raise
+        raise OSError(error.errno, error.strerror or str(error), _figure_of(error.filename, paths)) from None
+
+
+def _figure_of(filename, paths: list[Path]) -> str:
+    """The figure path an OSError's file name stands for: the figure whose temporary file or
+    folder it is, else the file name itself."""
+    failed = Path(filename)
+    for path in paths:
+        if failed == path or failed in path.parents or _temporary_of(failed, path):
+            return str(path)
+    return str(filename)
+
+
+def _temporary_of(failed: Path, path: Path) -> bool:
+    """Whether `failed` is a temporary file of `path` (atomic.TEMP_MARK beside it)."""
+    return failed.parent == path.parent and failed.name.startswith(f".{path.name}{TEMP_MARK}")
 
 
 def _can_share(groups: list[list]) -> bool:
@@ -123,25 +161,26 @@ def _can_share(groups: list[list]) -> bool:
     return len(groups) >= 2 and FORK_FIGURES and threading.active_count() <= 1
 
 
-def _draw_all(figures, option: str) -> None:
-    """Draw figures here, one after the other."""
-    for spec, path in figures:
-        _draw(spec, path, option)
+def _draw_all(figures, option: str) -> dict[str, bytes]:
+    """Draw figures here, one after the other: their bytes by path."""
+    return {str(path): figure_data(spec, path, option) for spec, path in figures}
 
 
-def _draw_shared(groups: list[list], option: str) -> None:
-    """The first group drawn here, each other by a forked copy; the first error of a copy raised
-    once every copy has ended."""
+def _draw_shared(groups: list[list], option: str) -> dict[str, bytes]:
+    """The first group drawn here, each other by a forked copy: the bytes of every figure by
+    path; the first error of a copy raised once every copy has ended."""
     children: list[tuple[int, int]] = []
     try:
         for group in groups[1:]:
             children.append(_fork(group, option))
-        _draw_all(groups[0], option)
+        drawn = _draw_all(groups[0], option)
     finally:
-        failures = [_child_failure(pid, read) for pid, read in children]
-    for failure in failures:
-        if failure is not None:
-            raise failure
+        results = [_child_result(pid, read) for pid, read in children]
+    for result in results:
+        if isinstance(result, BaseException):
+            raise result
+        drawn.update(result)
+    return drawn
 
 
 def _fork(group: list, option: str) -> tuple[int, int]:
@@ -156,23 +195,28 @@ def _fork(group: list, option: str) -> tuple[int, int]:
 
 
 def _child_draws(group: list, option: str, write: int) -> None:
-    """The copy: draw its share, report an error through the pipe, never return."""
-    code = 0
+    """The copy: draw its share, send the figures' bytes (or its error) through the pipe, never return."""
+    code = 1
     try:
-        _draw_all(group, option)
-    except BaseException as error:  # every error, Ctrl-C included, goes to the parent
-        code = 1
-        os.write(write, _carried(error))
+        _send(write, _drawn_message(group, option))
+        code = 0
     finally:
         os._exit(code)
 
 
-def _draw(spec: FigureSpec, path, option: str) -> None:
-    """plot_figure; an OSError names the figure's path (not its temporary file)."""
+def _drawn_message(group: list, option: str) -> bytes:
+    """The pickled figures of a copy's share (their bytes by path), or its error (_carried)."""
     try:
-        plot_figure(spec, path, option)
-    except OSError as error:
-        raise OSError(error.errno, error.strerror or str(error), str(path)) from None
+        return pickle.dumps(("figures", _draw_all(group, option)))
+    except BaseException as error:  # every error, Ctrl-C included, goes to the parent
+        return _carried(error)
+
+
+def _send(write: int, data: bytes) -> None:
+    """Write all of `data` to a pipe (os.write may take part of it at a time)."""
+    view = memoryview(data)
+    while view:
+        view = view[os.write(write, view):]
 
 
 def _shares(figures: Sequence[tuple[FigureSpec, object]], count: int) -> list[list]:
@@ -196,13 +240,11 @@ def _carried(error: BaseException) -> bytes:
         return pickle.dumps(("text", f"{type(error).__name__}: {error}"))
 
 
-def _child_failure(pid: int, read: int) -> BaseException | None:
-    """Wait for a forked copy; the error it reported (or its death), None if it succeeded."""
+def _child_result(pid: int, read: int) -> dict[str, bytes] | BaseException:
+    """Wait for a forked copy: the bytes of its figures by path, or the error it reported (or its death)."""
     message = _read_all(read)
     _, status = os.waitpid(pid, 0)
-    if status == 0:
-        return None
-    if not message:
+    if status != 0 or not message:
         return RuntimeError(f"a process drawing figures ended with status {status}")
     return _uncarried(message)
 
@@ -216,12 +258,12 @@ def _read_all(read: int) -> bytes:
     return b"".join(chunks)
 
 
-def _uncarried(message: bytes) -> BaseException:
-    """The error a forked copy sent (_carried)."""
+def _uncarried(message: bytes) -> dict[str, bytes] | BaseException:
+    """What a forked copy sent: its figures (_drawn_message), or its error (_carried)."""
     kind, *fields = pickle.loads(message)
     if kind == "input":
         return InputError(*fields)
-    return fields[0] if kind == "error" else RuntimeError(fields[0])
+    return fields[0] if kind in ("figures", "error") else RuntimeError(fields[0])
 
 
 def figure_bytes(spec: FigureSpec, file_format: str = "png", dpi: int = 110) -> bytes:

@@ -26,34 +26,45 @@ def _resolution(token: str) -> float:
     return 10.0 ** -len(token.split(".", 1)[1])
 
 
-def _parse_columns(lines: list[str], source: str, delimiter: str | None, time_column: int, accel_column: int
+def _parse_columns(lines: list[str], source: str, delimiter: str | None, recognised: bool
                    ) -> tuple[np.ndarray, float, str | None, str]:
-    """Time column + acceleration column; the time step must be uniform."""
-    header_text, rows = _column_rows(lines, delimiter)
-    times, values, time_resolution = _column_values(rows, source, time_column, accel_column)
+    """Time column + acceleration column; the time step must be uniform. recognised: the file's
+    header says it is a record (else it is once a row is read: readers.found)."""
+    header_text, rows = _column_rows(lines, delimiter, source)
+    times, values, time_resolution = _column_values(rows, source, recognised)
     dt = _uniform_step(np.asarray(times), [line_no for line_no, _ in rows], time_resolution, source)
     name = next((text.lstrip("#%!/ ") for text in header_text if not text.startswith(("time", "t,", "t "))), "")
     return np.asarray(values, dtype=float), dt, header_units(header_text), name
 
 
-def _column_rows(lines: list[str], delimiter: str | None) -> tuple[list[str], list[tuple[int, list[str]]]]:
-    """The header lines of a column file (comments anywhere, and a row of column names before the
-    data) and its data rows: (line number, stripped tokens)."""
+def _column_rows(lines: list[str], delimiter: str | None, source: str
+                 ) -> tuple[list[str], list[tuple[int, list[str]]]]:
+    """The header lines of a column file (comments anywhere, and one row of column names before
+    the data) and its data rows: (line number, stripped tokens). A second row of names is
+    refused (_check_names): it was read silently, as a header row of another table would be."""
     header_text: list[str] = []
     rows: list[tuple[int, list[str]]] = []
+    names = 0
     for index, line in enumerate(lines):
         stripped = line.strip()
-        if not stripped:
-            continue
-        if is_comment(line):
-            header_text.append(stripped)
+        if not stripped or is_comment(line):
+            header_text += [stripped] if stripped else []
             continue
         tokens = _row_tokens(stripped, delimiter)
         if not rows and starts_as_word(tokens[0], _LETTER_OR_QUOTE):
+            names = _check_names(names, index + 1, source)
             header_text.append(stripped)  # column names
             continue
         rows.append((index + 1, tokens))
     return header_text, rows
+
+
+def _check_names(names: int, line_no: int, source: str) -> int:
+    """The count of rows of column names once this one is counted; InputError at the second."""
+    if names:
+        raise InputError(source, f"line {line_no}", "one row of column names before the data, found a second one "
+                         "(a comment starts with '#')")
+    return names + 1
 
 
 def _row_tokens(row: str, delimiter: str | None) -> list[str]:
@@ -61,20 +72,20 @@ def _row_tokens(row: str, delimiter: str | None) -> list[str]:
     return [token.strip() for token in row.split(delimiter)]
 
 
-def _column_values(rows: list[tuple[int, list[str]]], source: str, time_column: int, accel_column: int
+def _column_values(rows: list[tuple[int, list[str]]], source: str, recognised: bool
                    ) -> tuple[list[float], list[float], float]:
-    """The times and accelerations of the data rows, and the rounding step of the printed times
-    (_resolution); InputError for a short row, a bad number, too many or fewer than two rows."""
-    columns = max(time_column, accel_column) + 1
+    """The times (first column) and accelerations (second) of the data rows, and the rounding
+    step of the printed times (_resolution); InputError for a short row, a bad number, too many
+    or fewer than two rows (a bad number quoted once the file is recognised as a record)."""
     times: list[float] = []
     values: list[float] = []
     time_resolution = 0.0
     for line_no, tokens in rows:
-        if len(tokens) < columns:
-            raise InputError(source, f"line {line_no}", f"at least {columns} columns (time, acceleration)")
-        times.append(parse_number(tokens[time_column], source, line_no))
-        time_resolution = max(time_resolution, _resolution(tokens[time_column]))
-        values.append(parse_number(tokens[accel_column], source, line_no))
+        if len(tokens) < 2:
+            raise InputError(source, f"line {line_no}", "at least 2 columns (time, acceleration)")
+        times.append(parse_number(tokens[0], source, line_no, recognised or bool(values)))
+        time_resolution = max(time_resolution, _resolution(tokens[0]))
+        values.append(parse_number(tokens[1], source, line_no, recognised or bool(values)))
         check_sample_count(len(values), source, line_no)
     if len(values) < 2:
         raise InputError(source, None, "at least two (time, acceleration) rows")
@@ -100,10 +111,10 @@ def _uniform_step(time: np.ndarray, line_numbers: list[int], time_resolution: fl
 
 def parse_csv(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
     """CSV: a time column and an acceleration column (an optional header row of names)."""
-    return _parse_columns(lines, source, ",", 0, 1)
+    return _parse_columns(lines, source, ",", False)
 
 
 def parse_shared(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
     """The headered files of the project's records/ folder: '#' lines, then time_s accel_g."""
-    values, dt, units, name = _parse_columns(lines, source, None, 0, 1)
+    values, dt, units, name = _parse_columns(lines, source, None, True)
     return values, dt, units or "g", name

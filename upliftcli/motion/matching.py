@@ -122,12 +122,14 @@ def check_ratios(acceleration: np.ndarray, dt: float, periods: np.ndarray, targe
 
 def match_acceleration(acceleration, dt: float, target_sa: Callable[[np.ndarray], np.ndarray],
                        match_range: tuple[float, float], check_periods: np.ndarray,
-                       settings: MatchSettings = MatchSettings()) -> MatchResult:
+                       settings: MatchSettings = MatchSettings(), name: str = "record") -> MatchResult:
     """Match a ground acceleration [m/s^2] (step dt [s]) to the matching target target_sa(periods)
     [m/s^2] over match_range [s]: scaled to fit in log S_a, then adjusted by wavelets (module
     docstring); the ratios are those at the check periods [s]. Baseline-corrected, ends kept. When
     the check periods (between the control ones) miss the tolerance, the iteration goes on with
-    control periods twice as dense."""
+    control periods twice as dense. InputError naming the record (name) when its S_a is 0 at a
+    control period (no factor scales it to the target)."""
+    from .usable import check_spectra
     from .wavelets import control_periods as wavelet_periods  # here: loading a suite deck imports this module
     from .wavelets import wavelet_match
 
@@ -135,6 +137,7 @@ def match_acceleration(acceleration, dt: float, target_sa: Callable[[np.ndarray]
     aim = settings.level * target_sa(periods)
     seed = np.asarray(acceleration, dtype=float)
     start = response_spectrum(seed, dt, periods, [settings.damping]).pseudo_acceleration[0]
+    check_spectra([name], start[None, :], periods, "matched")
     scale = float(np.exp(np.mean(np.log(aim / start))))
     scaled = seed * scale
     adjusted = wavelet_match(scaled, dt, periods, aim, settings.damping, settings.wavelet_tolerance,
@@ -166,7 +169,7 @@ def match_record(record, target_spectrum, period_range: tuple[float, float],
     naming the record and the ratios reached, when it does not meet the tolerance."""
     periods = control_periods(period_range, settings.periods_per_octave)
     result = match_acceleration(record.acceleration, record.dt, matching_target(target_spectrum, settings),
-                                period_range, periods, settings)
+                                period_range, periods, settings, record.source or record.name)
     if not result.converged:
         low, high = result.ratio_range
         raise AnalysisError(

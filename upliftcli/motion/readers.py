@@ -60,13 +60,34 @@ def plain_number(token: str) -> float | None:
     return float(token.replace("D", "E").replace("d", "e"))
 
 
-def parse_number(token: str, source: str, line_no: int) -> float:
-    """Parse one finite number (plain_number)."""
+#: the most characters of a file's text that an error message quotes
+EXCERPT_CHARS = 24
+
+
+def excerpt(text: str) -> str:
+    """A short, printable excerpt of text read from a file, quoted for an error message: at most
+    EXCERPT_CHARS characters (then '...'), each one that is not printable ASCII shown as '?'."""
+    kept = "".join(char if " " <= char <= "~" else "?" for char in text[:EXCERPT_CHARS])
+    return repr(kept + ("..." if len(text) > EXCERPT_CHARS else ""))
+
+
+def found(text: str, recognised: bool, what: str = "a record") -> str:
+    """What an error message says of the text it refuses: ', got <excerpt>' in a file recognised
+    as `what` (values or a record header read before it), else a note that it is not quoted:
+    the lines of a file that is no record (a system file given as a record) are never shown."""
+    if recognised:
+        return f", got {excerpt(text)}"
+    return f" (the text is not quoted: nothing before it read as {what})"
+
+
+def parse_number(token: str, source: str, line_no: int, recognised: bool) -> float:
+    """Parse one finite number (plain_number); InputError naming the line, quoting the token
+    only in a file recognised as a record (found)."""
     value = plain_number(token)
     if value is None:
-        raise InputError(source, f"line {line_no}", f"a number, got {token!r}")
+        raise InputError(source, f"line {line_no}", f"a number{found(token, recognised)}")
     if not math.isfinite(value):
-        raise InputError(source, f"line {line_no}", f"a finite number, got {token!r}")
+        raise InputError(source, f"line {line_no}", f"a finite number, got {excerpt(token)}")
     return value
 
 
@@ -181,7 +202,7 @@ def _peer_quantity(line: str, source: str) -> None:
     for word, (what, extension) in _PEER_OTHER.items():
         if (word in words and "ACCELERATION" not in words) or suffix == extension:
             raise InputError(source, "line 3", f"an acceleration history (PEER .AT2); this is a {what} history "
-                             f"({extension}, {line.strip()!r}): give the record's .AT2 file")
+                             f"({extension}, {excerpt(line.strip())}): give the record's .AT2 file")
 
 
 def parse_at2(lines: list[str], source: str) -> tuple[np.ndarray, float, str | None, str]:
@@ -193,9 +214,9 @@ def parse_at2(lines: list[str], source: str) -> tuple[np.ndarray, float, str | N
     _peer_quantity(lines[2], source)
     npts_text, dt_text = _at2_counts(lines[3], source)
     npts = int(float(npts_text))
-    dt = check_dt(parse_number(dt_text, source, 4), source, "line 4")
+    dt = check_dt(parse_number(dt_text, source, 4, True), source, "line 4")
     units = _unit_hint(lines[2])
-    values = _values_row_by_row([separated(line) for line in lines], 4, source)
+    values = _values_row_by_row([separated(line) for line in lines], 4, source, True)
     _check_npts(values, npts, "line 4", source, "NPTS")
     return values, dt, units, lines[1].strip()
 
@@ -233,27 +254,30 @@ def _integers(pieces: list[str]) -> bool:
     return len(pieces) > 1 and all(_INTEGER_RE.fullmatch(piece) for piece in pieces)
 
 
-def _tokens(line: str, source: str, line_no: int) -> list[str]:
+def _tokens(line: str, source: str, line_no: int, recognised: bool) -> list[str]:
     """The numbers of a row, separated by blanks and/or commas; a comma between digits
     alone ('0,05') is refused: it may be a decimal comma, which would split one value in two."""
     tokens = []
     for word in line.split():
         pieces = [piece for piece in word.split(",") if piece]
         if _integers(pieces):
-            raise InputError(source, f"line {line_no}", f"numbers with a decimal point, got {word!r} (a decimal "
-                             "comma? write 0.05, and separate values by blanks)")
+            raise InputError(source, f"line {line_no}", f"numbers with a decimal point{found(word, recognised)} (a "
+                             "decimal comma? write 0.05, and separate values by blanks)")
         tokens.extend(pieces)
     return tokens
 
 
-def _values_row_by_row(lines: list[str], start: int, source: str) -> np.ndarray:
+def _values_row_by_row(lines: list[str], start: int, source: str, recognised: bool) -> np.ndarray:
+    """The values of the rows from index `start`; recognised: the header says the file is a
+    record (else it is recognised once a row of values is read; found)."""
     values: list[float] = []
     for index in range(start, len(lines)):
         line = lines[index]
         if not line.strip() or is_comment(line):
             continue
-        for token in _tokens(line, source, index + 1):
-            values.append(parse_number(token, source, index + 1))
+        known = recognised or bool(values)
+        for token in _tokens(line, source, index + 1, known):
+            values.append(parse_number(token, source, index + 1, known))
         check_sample_count(len(values), source, index + 1)
     if not values:
         raise InputError(source, None, "acceleration values after the header (none found)")
@@ -267,7 +291,7 @@ def parse_text(lines: list[str], source: str) -> tuple[np.ndarray, float | None,
     start = header[-1][0] if header else 0
     dt = _header_dt(header, source)
     npts, npts_line = _header_npts(header)
-    values = _values_row_by_row([separated(line) for line in lines], start, source)
+    values = _values_row_by_row([separated(line) for line in lines], start, source, dt is not None or npts is not None)
     _check_npts(values, npts, f"line {npts_line}", source)
     header_text = [text for _, text in header]
     name = header_text[0].lstrip("#%!/ ").strip() if header_text else ""
@@ -293,7 +317,7 @@ def _header_dt(header: list[tuple[int, str]], source: str) -> float | None:
     for line_no, text in header:
         match = _DT_RE.search(text)
         if match:
-            return check_dt(parse_number(match.group(1), source, line_no), source, f"line {line_no}")
+            return check_dt(parse_number(match.group(1), source, line_no, True), source, f"line {line_no}")
     return None
 
 

@@ -18,7 +18,7 @@ from ..deck.fields import MAGNITUDE_WORDS, in_magnitude, is_number
 from ..errors import InputError
 from ..runtime.limits import MAX_RECORD_BYTES, read_input
 from ..units import ACCELERATION_UNITS
-from .readers import normalize_units, plain_number
+from .readers import found, normalize_units, plain_number
 
 #: damping corrections a table may use: name -> what it is
 DAMPING_CORRECTIONS = {
@@ -120,16 +120,24 @@ class TabulatedSpectrum:
         return factor * np.interp(t, self.periods, self.sa_values)
 
 
+#: what a spectrum table file is, in an error message's words (readers.found)
+TABLE = "a spectrum table"
+
+
 def read_spectrum_table(path: str | Path, source: str) -> tuple[np.ndarray, np.ndarray]:
-    """Two columns period [s], S_a (comma or blank separated; '#' comments, an optional header row)."""
+    """Two columns period [s], S_a (comma or blank separated; '#' comments, one optional header
+    row of names before the data: a second one is refused, _table_row)."""
     path = Path(path)
     data = read_input(path, MAX_RECORD_BYTES, source, "file", f"spectrum table ({str(path)!r})")
     lines = data.decode("utf-8-sig", errors="replace").splitlines()
     rows: list[tuple[float, float]] = []
+    names = 0
     for number, line in enumerate(lines, start=1):
         text = line.split("#", 1)[0].strip()
-        row = _table_row(text, str(path), number, not rows) if text else None
-        if row is not None:
+        row = _table_row(text, str(path), number, rows, names) if text else None
+        if row is None:
+            names += bool(text)
+        else:
             rows.append(row)
     if len(rows) < 2:
         raise InputError(str(path), None, "at least two rows of (period [s], S_a)")
@@ -137,15 +145,25 @@ def read_spectrum_table(path: str | Path, source: str) -> tuple[np.ndarray, np.n
     return array[:, 0], array[:, 1]
 
 
-def _table_row(text: str, where: str, number: int, first: bool) -> tuple[float, float] | None:
-    """The (period [s], S_a) of a row of a spectrum table (text: without its comment); None for a
-    header row of names before the data (first: no data row yet; a row that starts with a number
-    is data)."""
+def _table_row(text: str, where: str, number: int, rows: list, names: int) -> tuple[float, float] | None:
+    """The (period [s], S_a) of a row of a spectrum table (text: without its comment); None for
+    the header row of names before the data (rows: the data rows read before; names: the header
+    rows; a row that starts with a number is data, a second header row is refused). The row is
+    quoted only once rows were read (readers.found: a file that is no table is never shown)."""
     values = [plain_number(token) for token in text.replace(",", " ").split()[:2]]
     if None in values:
-        if first and values[0] is None:
+        if not rows and values[0] is None:
+            _check_header(names, where, number)
             return None  # a header row of names (a row that starts with a number is data)
-        raise InputError(where, f"line {number}", f"two numbers (period [s], S_a), got {text!r}")
+        raise InputError(where, f"line {number}", f"two numbers (period [s], S_a){found(text, bool(rows), TABLE)}")
     if len(values) < 2 or not all(math.isfinite(value) for value in values):
-        raise InputError(where, f"line {number}", f"two finite numbers (period [s], S_a), got {text!r}")
+        raise InputError(where, f"line {number}",
+                         f"two finite numbers (period [s], S_a){found(text, bool(rows), TABLE)}")
     return values[0], values[1]
+
+
+def _check_header(names: int, where: str, number: int) -> None:
+    """InputError at a second header row of a spectrum table (it was read silently)."""
+    if names:
+        raise InputError(where, f"line {number}", "one header row of names before the (period [s], S_a) rows, "
+                         "found a second one (a comment starts with '#')")

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import os
+import stat
 from pathlib import Path
 
 from ..deck.fields import Field, check_mapping, raiser
@@ -36,20 +37,49 @@ def suite_entries(value, source: str, field: str = "ground_motion.suite") -> lis
 
 
 def _folder_entries(folder: Path, source: str, field: str) -> list[tuple[Path, dict]]:
-    """The record files of a suite folder (_is_record_file), sorted by name, with no options."""
+    """The record files of a suite folder (named_as_record), sorted by name, with no options;
+    InputError naming one that is not a regular file (check_regular)."""
     if not folder.is_dir():
         raise InputError(source, field, f"a folder of records (or a list of files), not found: {str(folder)!r}")
-    files = sorted(path for path in folder.iterdir() if _is_record_file(path))
+    files = sorted(path for path in folder.iterdir() if named_as_record(path))
+    check_regular(files, source, field)
     if not files:
         raise InputError(source, field, f"record files ({', '.join(RECORD_SUFFIXES)}) in {str(folder)!r}")
     _check_record_count(len(files), source, field, f" in {str(folder)!r}")
     return [(path, {}) for path in files]
 
 
-def _is_record_file(path: Path) -> bool:
-    """A file of a suite folder read as a record: a RECORD_SUFFIXES file, not a readme or manifest."""
-    return path.is_file() and path.suffix.lower() in RECORD_SUFFIXES \
-        and not path.name.lower().startswith(("readme", "manifest"))
+def named_as_record(path: Path) -> bool:
+    """A file of a suite folder read as a record: named with one of RECORD_SUFFIXES, not a readme or manifest."""
+    return path.suffix.lower() in RECORD_SUFFIXES and not path.name.lower().startswith(("readme", "manifest"))
+
+
+#: what an entry of a folder that is not a regular file is, by the test of its mode
+_KINDS = ((stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISDIR, "a folder"), (stat.S_ISSOCK, "a socket"),
+          (stat.S_ISCHR, "a device"), (stat.S_ISBLK, "a device"))
+
+
+def not_regular(path: Path) -> str | None:
+    """What a path is when it is not a regular file (after its links): 'a named pipe (FIFO)',
+    'a folder', ..., or why it cannot be seen (a broken link); None for a regular file. It is
+    never opened (a FIFO would block)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError as error:
+        return f"not readable ({error.strerror or error})"
+    if stat.S_ISREG(mode):
+        return None
+    return next((name for test, name in _KINDS if test(mode)), "not a regular file")
+
+
+def check_regular(paths: list[Path], source: str, field: str) -> None:
+    """InputError naming the first path (a suite folder's record file) that is not a regular
+    file: a FIFO among the records was passed over without a word (issue 38)."""
+    for path in paths:
+        kind = not_regular(path)
+        if kind:
+            raise InputError(source, field, f"regular record files in {str(path.parent)!r}: {path.name!r} is {kind} "
+                             "(move it out of the folder, or list the records in the deck)")
 
 
 def _check_record_count(count: int, source: str, field: str, where: str) -> None:

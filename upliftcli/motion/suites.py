@@ -7,7 +7,9 @@ files; scaled (scaling.py) or spectrally matched (matching.py) as asked.
 
 Checks (each an InputError naming the record or the field): a record shorter than MIN_CYCLES
 times the upper period of the range, a record too coarsely sampled to be matched at the lower
-period (fewer than SAMPLES_PER_PERIOD steps), a target that does not cover the range. Too few
+period (fewer than SAMPLES_PER_PERIOD steps), a record with no ground shaking to match or scale
+(usable.py: all zeros, constant, a single pulse, S_a = 0), a target that does not cover the
+range. Too few
 records for the code is a warning (Suite.warnings), as are factors outside 0.25-4 and, for
 scaling = "none", a mean below the code's criterion.
 """
@@ -34,6 +36,7 @@ from .suite_files import check_entry as check_entry
 from .suite_files import entry_origins as entry_origins
 from .suite_files import read_records as read_records
 from .suite_files import suite_entries as suite_entries
+from .usable import check_matchable_motion, check_spectra
 
 MIN_CYCLES = 4  # a record lasts at least 4 x the upper period of the range
 SAMPLES_PER_PERIOD = 4  # a record to be matched has a step dt <= lower period / 4
@@ -151,11 +154,9 @@ def check_record(record: Record, period_range: tuple[float, float], matching: bo
 
 
 def _check_matchable(record: Record, lower: float) -> None:
-    """InputError naming the record when it has no motion to match or a time step above the lower
-    period [s] / SAMPLES_PER_PERIOD."""
-    if record.pga == 0.0:
-        raise InputError(record.source or record.name, "acceleration", "a record with motion to match (every sample "
-                         "is 0)")
+    """InputError naming the record when it has no motion to match (usable.check_matchable_motion:
+    all zeros, constant, a single pulse) or a time step above the lower period [s] / SAMPLES_PER_PERIOD."""
+    check_matchable_motion(record, lower)
     if record.dt > lower / SAMPLES_PER_PERIOD:
         raise InputError(record.source or record.name, "dt",
                          f"a time step of at most {lower / SAMPLES_PER_PERIOD:.4g} s (the lower period "
@@ -263,6 +264,7 @@ def with_amplitude_factors(suite: Suite, suite_factor: bool = False) -> Suite:
     SCALING_MARGIN at the check periods, raised if the mean still dips below the criterion on
     the DENSE_FACTOR times denser grid (between the check periods)."""
     criterion = suite.mean_minimum
+    check_spectra([r.source or r.name for r in suite.records], suite.spectra(), suite.periods, "scaled")
     factors = amplitude_factors(suite.spectra(), suite.target.sa(suite.periods, suite.damping),
                                 criterion * (1.0 + SCALING_MARGIN), per_record=not suite_factor)
     suite = replace(suite, factors=tuple(float(f) for f in factors))

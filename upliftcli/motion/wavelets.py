@@ -207,12 +207,25 @@ def _wavelet_match(acceleration, dt: float, periods, target, damping: float, tol
         change = np.sign(values) * target - values
         wavelets = ends[:, None] * wavelet_columns(t, periods, damping, places)
         matrix = response_matrix(dt, periods, damping, rows, wavelets)
-        normal = matrix.T @ matrix
-        normal[np.diag_indices_from(normal)] *= 1.0 + DAMPING
-        amplitudes = np.linalg.solve(normal, matrix.T @ change)
-        a = a + relax * (wavelets @ amplitudes)
+        a = a + relax * (wavelets @ wavelet_amplitudes(matrix, change))
     misfit, a, iteration = best
     return WaveletResult(baseline_correct(a, dt), iteration, misfit)
+
+
+def wavelet_amplitudes(matrix: np.ndarray, change: np.ndarray) -> np.ndarray:
+    """The amplitudes b of the wavelets: C b = change in the least-squares sense, the normal
+    equations damped by DAMPING x their diagonal (Levenberg-Marquardt). A wavelet that moves no
+    oscillator (a zero column of C: it is 0 wherever it would act, before the record's onset or
+    within its end tapers) gets amplitude 0 and the others are solved without it: its diagonal
+    is 0 and the damped system would be singular (issue 38, T9: a constant record)."""
+    normal = matrix.T @ matrix
+    active = np.diag(normal) > 0.0
+    amplitudes = np.zeros(matrix.shape[1])
+    if np.any(active):
+        system = normal[np.ix_(active, active)]
+        system[np.diag_indices_from(system)] *= 1.0 + DAMPING
+        amplitudes[active] = np.linalg.solve(system, (matrix.T @ change)[active])
+    return amplitudes
 
 
 def _finished(best: tuple[float, np.ndarray, int], iteration: int, tolerance: float, max_iterations: int) -> bool:
