@@ -149,9 +149,10 @@ def word_boxes(pdf: Path) -> list[list[tuple[float, float, float, float, str]]]:
 
 @pytest.fixture(scope="module")
 def pdf_report(tmp_path_factory):
-    """`uplift report --out report.pdf` of the small run, with the [project] fields given as options."""
+    """`uplift report --out report.pdf --pdf-engine chromium` of the small run, with the [project]
+    fields given as options."""
     out = tmp_path_factory.mktemp("pdf") / "report.pdf"
-    settings = [item for setting in SMALL for item in ("--set", setting)]
+    settings = [*(item for setting in SMALL for item in ("--set", setting)), "--pdf-engine", "chromium"]
     result = CliRunner().invoke(app, ["report", str(EXAMPLE_DECK), "--out", str(out), *settings, *PROJECT],
                                 env={"CI": "true"})
     assert result.exit_code == 0, result.output
