@@ -52,16 +52,18 @@ def table_flowables(table: ReportTable) -> tuple[bool, list]:
     """(landscape, [caption, the table or its column groups, note])."""
     rows = [table.headers, *table.rows]
     layout = fit(rows, frame_size()[0], frame_size(True)[0], measure)
-    many = len(layout.groups) > 1
     parts = [text(table.caption, "caption", 9.0)]
     for number, (group, widths) in enumerate(zip(layout.groups, layout.widths, strict=True), 1):
-        if many:
-            parts.append(text(f"columns {number} of {len(layout.groups)}", "note", 8.0))
-        cells = [[cell(value, k == 0, layout.size) for value in row] for k, row in enumerate(pick(rows, group))]
-        parts += [grid(cells, widths), Spacer(1, 6)]
-    if table.note:
-        parts.append(text(table.note, "note", 8.0))
-    return layout.landscape, parts
+        parts += group_flowables(pick(rows, group), widths, layout.size, (number, len(layout.groups)))
+    return layout.landscape, parts + ([text(table.note, "note", 8.0)] if table.note else [])
+
+
+def group_flowables(rows: list[list[str]], widths, size: float, place: tuple[int, int]) -> list:
+    """A table (or its column group `place` = (number, of how many), labelled when there are
+    several) at `size` pt, its first row the header."""
+    label = [text(f"columns {place[0]} of {place[1]}", "note", 8.0)] if place[1] > 1 else []
+    cells = [[cell(value, k == 0, size) for value in row] for k, row in enumerate(rows)]
+    return [*label, grid(cells, widths), Spacer(1, 6)]
 
 
 def figure_flowables(figure: Figure, png: bytes, dpi: float) -> tuple[bool, list]:
