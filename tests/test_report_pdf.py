@@ -132,13 +132,14 @@ def test_no_word_broken_in_the_report(small_pdf):
 
 
 def wide_report(columns: int) -> Report:
-    """A report of one table with `columns` columns of long words, and a paragraph."""
+    """A report of one table with `columns` columns of long words, and paragraphs; markup
+    characters in its texts (printed as they read)."""
     headers = ["quantity", *(f"simplified/exact support{k}" for k in range(1, columns))]
     rows = [[f"supported quantity{r}", *(f"{1234.5678 * r:.4f}" for _ in range(1, columns))] for r in range(60)]
     table = Table("table-wide", "A wide table", headers, rows, "A note under it.")
-    return Report("Wide", ["a test"], [Section("s", "Tables", [Text(["Before the table."]), table,
-                                                                Text(["After the table."])])], "ok", 0,
-                  {"project": "Harbour St"}, "subject", "2024-05-01", "uplift test")
+    blocks = [Text(["Before the table."]), table, Text(["After the table."])]
+    return Report("Wide", ["a test"], [Section("s", "Tables & <notes>", blocks)], "ok", 0,
+                  {"project": "Harbour St & <Quay>"}, "subject", "2024-05-01", "uplift test")
 
 
 @needs_poppler
@@ -153,6 +154,7 @@ def test_wide_tables_on_landscape_pages(tmp_path, columns, groups):
     turned = [w > h for w, h in sizes]
     assert turned[0] is False and turned[-1] is False and any(turned)
     assert unbroken(report, out) == []
+    assert {"&", "<Quay>", "<notes>"} <= set(pages[0])  # the title block's and the heading's text as given
     for words, landscape in zip(pages, turned, strict=True):
         if landscape:
             assert "quantity" in words and any(re.fullmatch(r"support\d+", w) for w in words)  # header repeated
@@ -217,3 +219,4 @@ def test_uplift_report_pdf_without_a_browser(tmp_path):
                          ("Checked by", "B. Checker"), ("Revision", "A")):
         assert re.search(rf"{label}\s+{re.escape(value)}", pages[0]), label
     assert re.search(r"Sign-off\s+name\s+signature\s+date", pages[0]) and "V_b [kN]" in pages[0]
+    assert b"/Title (1. Summary)" in out.read_bytes()  # each section an entry of the PDF's outline

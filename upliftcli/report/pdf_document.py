@@ -10,6 +10,7 @@ from __future__ import annotations
 import functools
 import io
 from pathlib import Path
+from xml.sax.saxutils import escape
 
 from reportlab.pdfgen.canvas import Canvas
 from reportlab.platypus import (
@@ -101,7 +102,7 @@ def section_parts(number: int, section: Section, report: Report, images: dict[st
     a figure's KeepTogether: on its page)."""
     parts = [verdict_flowables(report) if section.id == "summary" and k == 0 else block_flowables(block, images, dpi)
              for k, block in enumerate(section.blocks)]
-    heading = Paragraph(f"{number}. {section.title}", style("h2", 12.5))
+    heading = Paragraph(escape(f"{number}. {section.title}"), style("h2", 12.5))
     heading.outline_key = section.id
     turned, first = parts[0] if parts else (False, [])
     return [(turned, with_heading(heading, first)), *parts[1:]]
