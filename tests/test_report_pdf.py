@@ -116,7 +116,23 @@ def test_table_layout_portrait_landscape_and_column_groups():
     assert layout.landscape and len(layout.groups) > 1 and layout.size == FONT_SIZES[-1]
     assert all(group[0] == 0 for group in layout.groups)  # the first column in every group
     assert sorted({c for group in layout.groups for c in group}) == list(range(30))
-    assert all(sum(widths) <= 800 + 1e-9 for widths in layout.widths)
+    assert all(sum(widths) <= 800 + 1e-9 for widths in layout.widths) and not layout.split_long
+
+
+@needs_poppler
+def test_a_word_wider_than_the_page_is_the_only_one_broken(tmp_path):
+    """A path of 300 characters (no space) cannot fit landscape whole: that table alone breaks
+    its long "words", which stay on the page (reportlab would draw them past its edge)."""
+    path = "/".join(["folder"] * 42) + "/r.txt"
+    layout = fit([["role", "path"], ["record", path]], 450, 800, width_of)
+    assert layout.split_long and all(sum(widths) <= 800 + 1e-9 for widths in layout.widths)
+    table = Table("table-files", "Input files", ["role", "path"], [["record", path]])
+    report = Report("Paths", [], [Section("s", "Files", [table])], "ok", 0)
+    write_pdf(report, {}, REPORT_DPI, tmp_path / "paths.pdf")
+    pages = poppler("pdftotext", "-bbox", tmp_path / "paths.pdf", "-").split("<page ")[1:]
+    overhang = [float(x) - float(re.match(r'width="([\d.]+)"', page).group(1))
+                for page in pages for x in re.findall(r'<word xMin="[\d.]+" yMin="[\d.]+" xMax="([\d.]+)"', page)]
+    assert len(overhang) > 5 and max(overhang) < -30  # every word inside the page's margin
 
 
 @needs_poppler

@@ -16,7 +16,7 @@ from .document import PROJECT_FIELDS, Figure, Pre, Report, SignOff, Text
 from .document import Table as ReportTable
 from .html import _is_number, png_size
 from .pdf_style import FAIL, OK, RULE, SHADE, frame_size, measure, style
-from .pdf_tables import fit, pick
+from .pdf_tables import Layout, fit, pick
 
 #: the width of a DejaVu Sans Mono character [em]
 MONO_ADVANCE = 0.602
@@ -31,10 +31,11 @@ def text(value: str, kind: str = "body", size: float = 10.0) -> Paragraph:
     return Paragraph(escape(value), style(kind, size))
 
 
-def cell(value: str, header: bool, size: float) -> Paragraph:
-    """A table cell: bold in the header row, right-aligned when it holds a number."""
+def cell(value: str, header: bool, size: float, split: bool = False) -> Paragraph:
+    """A table cell: bold in the header row, right-aligned when it holds a number; split: a word
+    wider than the cell may break (pdf_tables.Layout.split_long)."""
     kind = "head" if header else ("num" if _is_number(value) else "body")
-    return Paragraph(escape(value), style(kind, size))
+    return Paragraph(escape(value), style(kind, size, split))
 
 
 def grid(rows: list[list], widths, header_rows: int = 1, heights=None) -> Table:
@@ -54,15 +55,15 @@ def table_flowables(table: ReportTable) -> tuple[bool, list]:
     layout = fit(rows, frame_size()[0], frame_size(True)[0], measure)
     parts = [text(table.caption, "caption", 9.0)]
     for number, (group, widths) in enumerate(zip(layout.groups, layout.widths, strict=True), 1):
-        parts += group_flowables(pick(rows, group), widths, layout.size, (number, len(layout.groups)))
+        parts += group_flowables(pick(rows, group), widths, layout, (number, len(layout.groups)))
     return layout.landscape, parts + ([text(table.note, "note", 8.0)] if table.note else [])
 
 
-def group_flowables(rows: list[list[str]], widths, size: float, place: tuple[int, int]) -> list:
+def group_flowables(rows: list[list[str]], widths, layout: Layout, place: tuple[int, int]) -> list:
     """A table (or its column group `place` = (number, of how many), labelled when there are
-    several) at `size` pt, its first row the header."""
+    several) in the layout's type, its first row the header."""
     label = [text(f"columns {place[0]} of {place[1]}", "note", 8.0)] if place[1] > 1 else []
-    cells = [[cell(value, k == 0, size) for value in row] for k, row in enumerate(rows)]
+    cells = [[cell(value, k == 0, layout.size, layout.split_long) for value in row] for k, row in enumerate(rows)]
     return [*label, grid(cells, widths), Spacer(1, 6)]
 
 

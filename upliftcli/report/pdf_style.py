@@ -57,12 +57,13 @@ def measure(text: str, bold: bool, size: float) -> float:
 
 
 @functools.cache
-def style(kind: str, size: float = 10.0) -> ParagraphStyle:
+def style(kind: str, size: float = 10.0, split: bool = False) -> ParagraphStyle:
     """A paragraph style: body, head (bold table header), num (right-aligned), h1, h2, caption,
-    note, sub, pre (monospace); `size` in pt. Words are never split (splitLongWords=0)."""
+    note, sub, pre (monospace); `size` in pt. Words are never split unless `split` (a table
+    whose "words" are wider than a page, pdf_tables.Layout.split_long)."""
     fonts()
     base = ParagraphStyle(kind, fontName=SANS, fontSize=size, leading=1.25 * size, textColor=INK,
-                          splitLongWords=0)
+                          splitLongWords=int(split))
     extra = {"head": {"fontName": BOLD}, "num": {"alignment": TA_RIGHT},
              "h1": {"fontName": BOLD, "spaceAfter": 4}, "h2": {"fontName": BOLD, "spaceBefore": 12, "spaceAfter": 6,
                                                                "keepWithNext": 1},

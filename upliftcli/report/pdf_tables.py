@@ -21,12 +21,15 @@ Measure = Callable[[str, bool, float], float]
 @dataclass(frozen=True)
 class Layout:
     """A table's fit: the font size, the column widths [pt] of each column group (their column
-    indices in `groups`; one group: the whole table) and whether its pages are landscape."""
+    indices in `groups`; one group: the whole table) and whether its pages are landscape;
+    split_long: a "word" wider than the landscape page (a path of 200 characters) is broken, the
+    only case where any is."""
 
     size: float
     groups: tuple[tuple[int, ...], ...]
     widths: tuple[tuple[float, ...], ...]
     landscape: bool
+    split_long: bool = False
 
 
 def words(text: str) -> list[str]:
@@ -89,13 +92,19 @@ def pick(rows: Sequence[Sequence[str]], columns: Sequence[int]) -> list[list[str
 
 
 def grouped(rows: Sequence[Sequence[str]], width: float, measure: Measure) -> Layout:
-    """The table in column groups at the smallest size on `width` (landscape)."""
+    """The table in column groups at the smallest size on `width` (landscape); a group whose
+    words alone are wider than that, narrowed to it with its longest "words" broken."""
     size = FONT_SIZES[-1]
-    narrowest, _ = column_widths(rows, size, measure)
-    groups = column_groups(narrowest, width)
+    groups = column_groups(column_widths(rows, size, measure)[0], width)
     widths = [share(*column_widths(pick(rows, group), size, measure), width) for group in groups]
-    return Layout(size, tuple(groups), tuple(w or tuple(narrowest[c] for c in g) for w, g in zip(widths, groups,
-                                                                                                  strict=True)), True)
+    narrowed = tuple(found or squeezed(column_widths(pick(rows, g), size, measure)[0], width)
+                     for found, g in zip(widths, groups, strict=True))
+    return Layout(size, tuple(groups), narrowed, True, None in widths)
+
+
+def squeezed(narrowest: Sequence[float], width: float) -> tuple[float, ...]:
+    """Column widths scaled down in proportion to sum to `width`."""
+    return tuple(w * width / sum(narrowest) for w in narrowest)
 
 
 def fit(rows: Sequence[Sequence[str]], portrait: float, landscape: float, measure: Measure) -> Layout:
