@@ -379,7 +379,8 @@ def report_figure_names(report):
 
 def test_pdf_without_chromium_is_refused_in_one_line(tmp_path):
     out = tmp_path / "r.pdf"
-    result = runner.invoke(app, ["report", str(EXAMPLE), "--out", str(out)], env={"CI": "true", "PATH": ""})
+    result = runner.invoke(app, ["report", str(EXAMPLE), "--out", str(out), "--pdf-engine", "chromium"],
+                           env={"CI": "true", "PATH": ""})
     assert result.exit_code == 2
     (line,) = result.stderr.strip().splitlines()
     assert "--out" in line and "Chromium" in line and "apt-get install chromium" in line

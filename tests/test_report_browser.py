@@ -149,9 +149,10 @@ def word_boxes(pdf: Path) -> list[list[tuple[float, float, float, float, str]]]:
 
 @pytest.fixture(scope="module")
 def pdf_report(tmp_path_factory):
-    """`uplift report --out report.pdf` of the small run, with the [project] fields given as options."""
+    """`uplift report --out report.pdf --pdf-engine chromium` of the small run, with the [project]
+    fields given as options."""
     out = tmp_path_factory.mktemp("pdf") / "report.pdf"
-    settings = [item for setting in SMALL for item in ("--set", setting)]
+    settings = [*(item for setting in SMALL for item in ("--set", setting)), "--pdf-engine", "chromium"]
     result = CliRunner().invoke(app, ["report", str(EXAMPLE_DECK), "--out", str(out), *settings, *PROJECT],
                                 env={"CI": "true"})
     assert result.exit_code == 0, result.output
@@ -257,3 +258,18 @@ def test_pdf_record_spectra_fill_their_page(pdf_report):
     assert printed[0] > 0.98 * printable[0]
     assert printed[0] * printed[1] > 0.85 * printable[0] * printable[1], f"page {page}: {printed}"
     assert sum(int(row[0]) == int(page) for row in images) == 1
+
+
+@needs_poppler
+def test_pdf_of_a_firms_template_printed_by_chromium(tmp_path):
+    """--template frames the page Chromium prints: the firm's letterhead on page 1 of the PDF."""
+    template, out = tmp_path / "firm.html", tmp_path / "r.pdf"
+    template.write_text('<!DOCTYPE html><html><head><meta charset="utf-8"><style>{{ css }}</style></head><body>'
+                        '<p>Acme Structural Partners</p><h1>{{ report.title }}</h1>{{ sections }}</body></html>')
+    settings = [item for setting in SMALL for item in ("--set", setting)]
+    result = CliRunner().invoke(app, ["report", str(EXAMPLE_DECK), "--out", str(out), *settings, "--no-check",
+                                      "--pdf-engine", "chromium", "--template", str(template)], env={"CI": "true"})
+    assert result.exit_code == 0, result.output
+    first = poppler("pdftotext", "-f", "1", "-l", "1", "-layout", str(out), "-")
+    assert "Acme Structural Partners" in first and "Calculation report" in first
+    assert "Job number" not in first  # the built-in title block is not in this frame

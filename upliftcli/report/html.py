@@ -90,11 +90,11 @@ def page_css(report: Report) -> str:
     and revision (or the title), top right the subject; bottom left the tool and the date,
     bottom right "page N of M"."""
     foot = ", ".join(part for part in (report.footer, report.date) if part)
-    return (CSS.replace("RUNNING_LEFT", css_string(_running_left(report)))
+    return (CSS.replace("RUNNING_LEFT", css_string(running_left(report)))
             .replace("RUNNING_RIGHT", css_string(report.subject)).replace("FOOT_LEFT", css_string(foot)))
 
 
-def _running_left(report: Report) -> str:
+def running_left(report: Report) -> str:
     """The project, job number and revision given, joined by dashes; else the report's title."""
     project = report.project
     parts = (project.get("project", ""), _labelled("job", project.get("job_number")),
@@ -219,15 +219,16 @@ def section_html(number: int, section: Section, report: Report, images: dict[str
             + "\n".join(blocks) + "</section>")
 
 
-def render(report: Report, images: dict[str, bytes], dpi: float | None = None) -> str:
+def render(report: Report, images: dict[str, bytes], dpi: float | None = None, template=None) -> str:
     """The HTML document; images: figure name -> PNG bytes (every Figure of the report needs
-    one), drawn at `dpi` (then each <img> is as wide as its figure)."""
+    one), drawn at `dpi` (then each <img> is as wide as its figure); template: the page frame
+    (report/template.py: a loaded jinja2.Template; default templates/page.html)."""
+    from markupsafe import Markup
+
+    from .template import load, render_page
+
     parts = [section_html(number, section, report, images, dpi) for number, section in enumerate(report.sections, 1)]
-    toc = "".join(f'<li><a href="#{escape(s.id)}">{escape(s.title)}</a></li>' for s in report.sections)
-    subtitle = "".join(f'<p class="sub">{escape(line)}</p>' for line in report.subtitle)
-    return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-            f'<meta http-equiv="Content-Security-Policy" content="{CSP}">\n'
-            '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
-            f"<title>{escape(report.title)}</title>\n<style>{page_css(report)}</style>\n</head>\n<body>\n"
-            f"<header><h1>{escape(report.title)}</h1>{title_block_html(report)}{subtitle}</header>\n"
-            f"<nav><ol>{toc}</ol></nav>\n" + "\n".join(parts) + "\n</body>\n</html>\n")
+    context = {"report": report, "project": report.project, "csp": Markup(CSP), "css": Markup(page_css(report)),
+               "title_block": Markup(title_block_html(report)), "sections": Markup("\n".join(parts))}
+    template = template or load()
+    return render_page(template, context, template.filename)

@@ -1,9 +1,10 @@
-"""The report as a PDF: its HTML printed by a headless Chromium (the Debian package
-`chromium`), with the report's own print CSS (A4, running header, "page N of M") and without
-the browser's header and footer (--no-pdf-header-footer: no file URL, no date of its own).
+"""The report as a PDF printed from its HTML by a headless Chromium (`uplift report --pdf-engine
+chromium`; the default engine is reportlab, report/pdf_document.py): the Debian package
+`chromium`, with the report's own print CSS (A4, running header, "page N of M") and without the
+browser's header and footer (--no-pdf-header-footer: no file URL, no date of its own).
 
-Chromium is not a Python dependency: where it is not installed, `uplift report --out r.pdf`
-says so in one line (exit 2) and the HTML report still works."""
+Chromium is not a Python dependency: where it is not installed, `--pdf-engine chromium` is
+refused in one line (exit 2); the reportlab PDF and the HTML report still work."""
 
 from __future__ import annotations
 
@@ -33,8 +34,8 @@ def check_browser(option: str, value: str) -> str:
     """The Chromium executable, or InputError naming the option: a PDF needs it."""
     found = browser()
     if found is None:
-        raise InputError(option, value, "a .html file name: writing a PDF needs Chromium, which is not installed "
-                         "(apt-get install chromium; or write the HTML and print it from a browser)")
+        raise InputError(option, value, "a PDF of --pdf-engine reportlab (the default) or a .html file name: "
+                         "--pdf-engine chromium needs Chromium, which is not installed (apt-get install chromium)")
     return found
 
 
