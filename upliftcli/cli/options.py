@@ -13,6 +13,7 @@ import typer
 
 from ..deck.fields import parse_choices
 from ..errors import InputError
+from . import stdout
 
 SET_HELP = ("Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values in the "
             "deck's units: SI, US customary under units = \"us\", or with their unit, "
@@ -77,7 +78,7 @@ def check_out_directory(out: Path | None) -> None:
 
 def note(text: str) -> None:
     """A note on stderr (a check suite being generated: suite_check.check_suite)."""
-    typer.echo(f"note: {text}", err=True)
+    stdout.echo(f"note: {text}", err=True)
 
 
 def accuracy_checks(loaded, results, check: bool) -> list:
@@ -92,7 +93,7 @@ def accuracy_checks(loaded, results, check: bool) -> list:
 def echo_violations(messages) -> None:
     """Each violated criterion on stderr, one line each."""
     for message in messages:
-        typer.echo(f"criterion violated: {message}", err=True)
+        stdout.echo(f"criterion violated: {message}", err=True)
 
 
 def exit_on_violations(messages: list[str]) -> None:
@@ -105,7 +106,7 @@ def exit_on_violations(messages: list[str]) -> None:
 def echo_warnings(messages, prefix: str = "") -> None:
     """Each warning on stderr, one line each ('warning: <prefix><message>'); the exit code is unchanged."""
     for message in messages:
-        typer.echo(f"warning: {prefix}{message}", err=True)
+        stdout.echo(f"warning: {prefix}{message}", err=True)
 
 
 def not_writable(option: str, path, error: OSError, expected: str = "a writable directory",
@@ -124,4 +125,4 @@ def refuse_directory(out: Path | None) -> None:
 def echo_written(paths) -> None:
     """Each file written, named on stderr."""
     for path in paths:
-        typer.echo(f"wrote {path}", err=True)
+        stdout.echo(f"wrote {path}", err=True)

@@ -308,7 +308,7 @@ def _write_spectrum(text: str, result: spectra.Spectrum, record: records.Record,
         _write_csv(text, out)
         if plot is not None:
             plots.plot_spectrum(result, plot, title=f"{record.name}", units=system)
-            typer.echo(f"wrote {plot}", err=True)
+            stdout.echo(f"wrote {plot}", err=True)
     except OSError as error:
         raise not_writable("--out/--plot", out or plot, error, "a writable path") from None
 
@@ -319,7 +319,7 @@ def _write_csv(text: str, out: Path | None) -> None:
         stdout.echo(text, nl=False)
         return
     write_text(out, text)
-    typer.echo(f"wrote {out}", err=True)
+    stdout.echo(f"wrote {out}", err=True)
 
 
 def register(app: typer.Typer) -> None:

@@ -10,7 +10,7 @@ from pathlib import Path
 import typer
 
 from ..errors import InputError
-from . import options
+from . import options, stdout
 from .options import SET_HELP, UNITS_HELP, DisplayUnits
 
 #: figures of the report are drawn at this resolution [dots per inch]
@@ -71,7 +71,7 @@ def report(
     document, specs = build_report(loaded, results, deck_text, overrides, provenance(loaded, ["uplift", *sys.argv[1:]]),
                                    units.value, given, checks)
     _write_report(_html(document, specs), out, executable)
-    typer.echo(f"wrote {out}", err=True)
+    stdout.echo(f"wrote {out}", err=True)
     _exit_on_verdict(document, results, loaded, checks)
 
 

@@ -60,7 +60,7 @@ def warn_suites(plan: SweepPlan) -> None:
     suites' too few records for the rule ...), each once, at most MAX_WARNINGS."""
     echo_warnings(plan.warnings[:MAX_WARNINGS])
     if len(plan.warnings) > MAX_WARNINGS:
-        typer.echo(f"warning: and {len(plan.warnings) - MAX_WARNINGS} more about the cases "
+        stdout.echo(f"warning: and {len(plan.warnings) - MAX_WARNINGS} more about the cases "
                    "(uplift analyze on a case's deck shows them)", err=True)
 
 
@@ -88,7 +88,8 @@ def _echo_failures(rows: list[dict]) -> list[dict]:
     """The cases that failed, each named on stderr with its message."""
     failed = [row for row in rows if row.get("status") != "ok"]
     for row in failed:
-        typer.echo(f"case {row['case']} ({row['engine']}/{row['support']}) {row['status']}: {row['message']}", err=True)
+        stdout.echo(f"case {row['case']} ({row['engine']}/{row['support']}) {row['status']}: {row['message']}",
+                    err=True)
     return failed
 
 
