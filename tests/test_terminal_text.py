@@ -5,6 +5,7 @@ terminal as control characters; they are shown as visible escapes ('\\x1b[2J')."
 from __future__ import annotations
 
 import ast
+import os
 from pathlib import Path
 
 from cli_helpers import invoke
@@ -83,6 +84,29 @@ def test_a_record_header_with_an_escape_is_shown_safe(tmp_path):
     assert result.exit_code == 0, result.output
     assert "El Centro\\x1b[2J" in result.stdout
     assert_safe(result.stdout + result.stderr)
+
+
+def test_a_python_warning_is_shown_safe(capsys):
+    """matplotlib warns 'Glyph 27 (\\x1b) missing' for a title's ESC: the command shows Python's
+    warnings through the one place too (cli.main sets warnings.showwarning)."""
+    from upliftcli.cli.stdout import show_warning
+
+    show_warning(UserWarning(f"Glyph 27 ({CLEAR}) missing"), UserWarning, "draw.py", 95)
+    err = capsys.readouterr().err
+    assert "Glyph 27 (\\x1b[2J\\x1b[H) missing" in err
+    assert_safe(err)
+
+
+def test_the_command_shows_a_library_warning_about_the_title_safe(tmp_path):
+    import subprocess
+    import sys
+
+    path = deck(tmp_path, title="\\u001b[2J plotted")
+    done = subprocess.run([sys.executable, "-c", "from upliftcli.cli import main; main()", "modes", str(path),
+                           "--plot", str(tmp_path / "figures")], capture_output=True, text=True, timeout=300,
+                          env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert done.returncode == 0, done.stderr
+    assert_safe(done.stdout + done.stderr)  # matplotlib (3.11) warns 'Glyph 27 (\x1b) missing', shown safe
 
 
 def test_every_echo_of_the_commands_goes_through_the_one_place():

@@ -130,6 +130,7 @@ def main() -> None:
     """Run the command line in sys.argv; ends with SystemExit (the exit code)."""
     keep_freed_memory()
     exit_on_stop_signals()
+    warnings.showwarning = stdout.show_warning  # a library's warning made safe too
     try:
         app()
     except (InputError, AnalysisError) as error:  # raised outside a command (e.g. while parsing)

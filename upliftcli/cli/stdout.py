@@ -36,3 +36,12 @@ def echo(text: str, nl: bool = True, err: bool = False) -> None:
         sys.stdout.flush()
     except BrokenPipeError:
         silence()
+
+
+def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """warnings.showwarning of the `uplift` command (cli.main): a Python warning (a library's:
+    matplotlib's missing glyph quotes the character of a deck's title) on standard error through
+    echo, made safe for the terminal like every other line."""
+    import warnings
+
+    echo(warnings.formatwarning(message, category, filename, lineno, line).rstrip("\n"), err=True)

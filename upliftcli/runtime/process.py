@@ -21,6 +21,7 @@ import signal
 import sys
 import threading
 
+from ..errors import printable
 from .portable import STOP_SIGNALS
 
 #: glibc's mallopt parameters
@@ -85,7 +86,7 @@ def exit_now(code: int | str | None) -> None:
     if code is None:
         code = 0
     elif not isinstance(code, int):
-        print(code, file=sys.stderr)
+        print(printable(code, lines=True), file=sys.stderr)
         code = 1
     shutdown = getattr(threading, "_shutdown", None)  # what the interpreter calls first at exit
     if shutdown is not None:
