@@ -1,6 +1,7 @@
 """An empty path option (`--out ""`, `--from ""`, `--plot ""`, `--histories ""`) is refused with one
 line naming the option, on every command that takes one: Path("") is Path("."), so it named the
-current folder (a sweep wrote there, record select read it)."""
+current folder (a sweep wrote there, record select read it). So is an empty deck or record
+argument (it was reported as '.', a directory)."""
 
 from __future__ import annotations
 
@@ -56,3 +57,31 @@ def test_an_empty_path_option_is_one_line_naming_it(tmp_path, monkeypatch, words
         assert result.exit_code == 2, (form, result.output)
         assert result.stderr == f"error: {option}: a path, not empty (name the current folder as '.')\n", result.stderr
     assert list(tmp_path.iterdir()) == []  # nothing written in the current folder
+
+
+def argument_cases():
+    """(command words, its arguments with one of them empty, that argument's name)."""
+    found = []
+    for words, command in commands():
+        arguments = [param for param in command.params if param.param_type_name == "argument"]
+        others = [w for param in command.params if param.param_type_name == "option" and param.required
+                  for w in (param.opts[0], "1")]
+        for k, empty in enumerate(arguments):
+            given = ["" if arg is empty else "x" for arg in arguments[:k + 1]]
+            found.append(pytest.param(words, given + others, empty.name, id=" ".join((*words, empty.name))))
+    return found
+
+
+def test_every_command_with_a_path_argument_is_covered():
+    covered = {" ".join(c.values[0]) for c in argument_cases()}
+    assert {"analyze", "modes", "sweep", "spectra", "report", "record info", "record spectrum", "record select",
+            "record generate", "record match", "record scale"} <= covered, sorted(covered)
+
+
+@pytest.mark.parametrize(("words", "args", "name"), argument_cases())
+def test_an_empty_path_argument_is_one_line_naming_it(tmp_path, monkeypatch, words, args, name):
+    monkeypatch.chdir(tmp_path)
+    result = invoke(*words, *args)
+    assert result.exit_code == 2, result.output
+    assert result.stderr == f"error: {name}: a path, not empty (name the current folder as '.')\n", result.stderr
+    assert list(tmp_path.iterdir()) == []

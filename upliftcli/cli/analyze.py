@@ -89,7 +89,8 @@ class _Outputs:
 
 
 def analyze(
-    decks: list[Path] = typer.Argument(..., help="Deck file(s) (TOML), see docs/deck.md; several: one summary table."),
+    decks: list[Path] = typer.Argument(..., parser=given_path,
+                                       help="Deck file(s) (TOML), see docs/deck.md; several: one summary table."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     engine: list[str] = typer.Option([], "--engine", "-e", help=ENGINE_HELP),
     support: list[str] = typer.Option([], "--support",
@@ -214,7 +215,7 @@ def _print_results(loaded: Deck, results, checks: list, record: dict | None, out
 
 
 def modes(
-    deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
+    deck: Path = typer.Argument(..., parser=given_path, help="Deck file (TOML), see docs/deck.md."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f", help="table or json."),
     plot: Path | None = typer.Option(None, "--plot", parser=given_path,

@@ -106,7 +106,7 @@ def _ratio(part: str) -> float:
 
 
 def info(
-    file: Path = typer.Argument(..., help="Record file."),
+    file: Path = typer.Argument(..., parser=given_path, help="Record file."),
     file_format: str | None = INPUT_FORMAT,
     moved_format: str | None = MOVED_FORMAT,
     record_units: str | None = RECORD_UNITS,
@@ -241,7 +241,7 @@ def _csv_rows(spectrum: spectra.Spectrum):
 
 
 def spectrum(
-    file: Path = typer.Argument(..., help="Record file."),
+    file: Path = typer.Argument(..., parser=given_path, help="Record file."),
     damping: str = typer.Option("0.05", "--damping", help="Damping ratios [-], comma separated: 0.02,0.05 (or 2%,5%)."),
     periods: str = typer.Option("0.05:5:100", "--periods",
                                 help="START:STOP:N log-spaced periods [s], or a comma list of periods [s]."),

@@ -111,7 +111,8 @@ class _Selection:
 
 
 def select(
-    deck: Path = typer.Argument(..., help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
+    deck: Path = typer.Argument(..., parser=given_path,
+                                help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
     source: str = typer.Option(..., "--from", parser=given_text, help=FROM_HELP),
     count: int = typer.Option(11, "--count", "-n", help="Number of records (ASCE 7-22 asks >= 11, EN 1998-1 >= 3)."),
     out: Path = typer.Option(..., "--out", "-o", parser=given_path, help=SUITE_OUT_HELP),

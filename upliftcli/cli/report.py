@@ -18,7 +18,7 @@ REPORT_DPI = 150
 
 
 def report(
-    deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
+    deck: Path = typer.Argument(..., parser=given_path, help="Deck file (TOML), see docs/deck.md."),
     out: Path = typer.Option(..., "--out", "-o", parser=given_path,
                              help="The report file to write: .html (self-contained) or .pdf (printed by a headless "
                                   "Chromium, which must be installed)."),

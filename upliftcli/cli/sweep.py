@@ -116,7 +116,7 @@ def _choices(engine: list[str], support: list[str]) -> tuple[list[str], list[str
 
 
 def sweep(
-    deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
+    deck: Path = typer.Argument(..., parser=given_path, help="Deck file (TOML), see docs/deck.md."),
     vary: list[str] = typer.Option([], "--vary", "-v", help=VARY_HELP),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     engine: list[str] = typer.Option([], "--engine", "-e", help=ENGINE_HELP),
@@ -236,7 +236,7 @@ def _print_sweep(plan: SweepPlan, rows: list[dict], summary, record: dict, outpu
 
 
 def spectra(
-    deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
+    deck: Path = typer.Argument(..., parser=given_path, help="Deck file (TOML), see docs/deck.md."),
     periods: str = typer.Option("0.05:5:100", "--periods", "-p",
                                 help="Fixed-base periods T_1 [s]: START:STOP:N (log-spaced; add :lin for linear) "
                                      "or a comma list."),
