@@ -1,7 +1,8 @@
 """Options several commands share (`analyze`, `modes`, `report`, `sweep`, `spectra`): the output
 and display-unit choices, the help texts of --set, --units and --engine, and --set / --engine /
 --support turned into the deck's overrides (docs/deck.md); the steps they share: the --out
-directory check, the accuracy check run on request and the criteria verdict on stderr."""
+directory check, the accuracy check run on request and the criteria verdict on stderr; the parsers
+of every path option and argument (given_path: never empty)."""
 
 from __future__ import annotations
 
@@ -22,8 +23,10 @@ UNITS_HELP = ("Display units of the tables and figures: si (kN, kN m, mm, m, g) 
               "JSON and CSV stay SI.")
 ENGINE_HELP = "Engine(s): simplified, approximate, exact or all; repeatable or comma separated (default: the deck's)."
 
+
 def given_path(value) -> Path:
-    """The parser of the path options (--out, --plot, --histories): a Path, never empty (check_given)."""
+    """The parser of the path options (--out, --plot, --histories) and arguments (DECK, FILE): a
+    Path, never empty (check_given)."""
     return Path(check_given(value))
 
 
