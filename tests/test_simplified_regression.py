@@ -36,7 +36,16 @@ def compute(deck: str, overrides: list[str], support: str) -> dict:
             **{name: getattr(result, name).tolist() for name in ARRAYS}, "intermediates": result.intermediates}
 
 
+#: the stored numbers; missing, the comparison has no case and test_the_snapshot_is_there fails
+#: (it was skipped silently: an empty parameter set)
 CASES = json.loads(DATA.read_text()) if DATA.exists() else []
+#: how many cases the generator below stores (13 deck variants x 3 supports)
+STORED_CASES = 39
+
+
+def test_the_snapshot_is_there():
+    assert DATA.exists(), f"{DATA} is missing: the paper procedure would not be compared at all"
+    assert len(CASES) == STORED_CASES and {case["support"] for case in CASES} == {"rigid", "bonded", "uplift"}
 
 
 #: every float to this relative tolerance (the module's docstring says why)

@@ -6,11 +6,30 @@ from collections.abc import Callable
 from typing import Any
 
 
+def printable(text, lines: bool = False) -> str:
+    """The one place text is made safe for the terminal: every character a terminal could act on
+    (ESC and the other C0/C1 controls, DEL, a carriage return, bidirectional overrides, line and
+    paragraph separators: whatever str.isprintable refuses) shown as its visible
+    escape ('\\x1b', '\\r', '\\u202e'); `lines`: line breaks and tabs are kept. Every terminal output
+    of user-given text goes through it: error and warning lines (one_line), the rich console's
+    texts and segments (cli/fitting.py), and every echo (cli/stdout.py)."""
+    text = str(text)
+    kept = text.replace("\n", "").replace("\t", "") if lines else text
+    if kept.isprintable():
+        return text
+    keep = "\n\t" if lines else ""
+    return "".join(ch if ch.isprintable() or ch in keep else _escape(ch) for ch in text)
+
+
+def _escape(ch: str) -> str:
+    """A character as its Python escape: '\\x1b', '\\r', '\\u202e'."""
+    return ch.encode("unicode_escape").decode("ascii")
+
+
 def one_line(text: str) -> str:
-    """`text` with line breaks (and other control characters) shown as escapes: a message
-    naming a path or value that holds a newline stays on one line."""
-    return "".join(ch if ch.isprintable() or ch == " " else ch.encode("unicode_escape").decode("ascii")
-                   for ch in str(text))
+    """`text` with line breaks (and other control characters) shown as escapes (printable): a
+    message naming a path or value that holds a newline stays on one line."""
+    return printable(text)
 
 
 class InputError(Exception):

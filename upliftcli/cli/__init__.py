@@ -19,6 +19,7 @@ from typer.core import TyperGroup
 
 from ..errors import AnalysisError, InputError, lines, one_line
 from ..runtime.process import exit_now, exit_on_stop_signals, keep_freed_memory
+from . import stdout
 
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
 
@@ -37,7 +38,7 @@ class UpliftGroup(TyperGroup):
         except USAGE_ERROR as error:  # a bad option value: one line naming the option, not a usage box
             if type(error).__name__ == "NoArgsIsHelpError":
                 raise
-            typer.echo(f"error: {usage_line(error)}", err=True)
+            stdout.echo(f"error: {usage_line(error)}", err=True)
             raise typer.Exit(EXIT_INPUT) from None
         except (InputError, AnalysisError) as error:
             raise typer.Exit(echo_error(error)) from None
@@ -46,10 +47,10 @@ class UpliftGroup(TyperGroup):
 def echo_error(error: InputError | AnalysisError) -> int:
     """An InputError as 'error: ...' lines, an AnalysisError as 'analysis failed: ...', on stderr; the exit code."""
     if isinstance(error, AnalysisError):
-        typer.echo(f"analysis failed: {error}", err=True)
+        stdout.echo(f"analysis failed: {error}", err=True)
         return EXIT_ANALYSIS
     for line in lines(error):
-        typer.echo(f"error: {line}", err=True)
+        stdout.echo(f"error: {line}", err=True)
     return EXIT_INPUT
 
 
@@ -94,8 +95,8 @@ def _version(value: bool) -> None:
         from ..runtime.installed import DISTRIBUTION, TOOL, package_version
 
         found, loops = package_version(DISTRIBUTION), describe()
-        typer.echo(f"{TOOL} (not installed)" if found == "not installed" else found)
-        typer.echo(loops)
+        stdout.echo(f"{TOOL} (not installed)" if found == "not installed" else found)
+        stdout.echo(loops)
         raise typer.Exit()
 
 
@@ -129,6 +130,7 @@ def main() -> None:
     """Run the command line in sys.argv; ends with SystemExit (the exit code)."""
     keep_freed_memory()
     exit_on_stop_signals()
+    warnings.showwarning = stdout.show_warning  # a library's warning made safe too
     try:
         app()
     except (InputError, AnalysisError) as error:  # raised outside a command (e.g. while parsing)

@@ -32,6 +32,7 @@ from .options import (
     accuracy_checks,
     check_out_directory,
     exit_on_violations,
+    given_path,
     overrides,
     refuse_unchecked,
 )
@@ -87,7 +88,8 @@ class _Outputs:
 
 
 def analyze(
-    decks: list[Path] = typer.Argument(..., help="Deck file(s) (TOML), see docs/deck.md; several: one summary table."),
+    decks: list[Path] = typer.Argument(..., parser=given_path,
+                                       help="Deck file(s) (TOML), see docs/deck.md; several: one summary table."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     engine: list[str] = typer.Option([], "--engine", "-e", help=ENGINE_HELP),
     support: list[str] = typer.Option([], "--support",
@@ -95,13 +97,13 @@ def analyze(
                                            "separated (default: the deck's)."),
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f",
                                                help="table (terminal) or json (one document on stdout, SI units)."),
-    out: Path | None = typer.Option(None, "--out", "-o",
+    out: Path | None = typer.Option(None, "--out", "-o", parser=given_path,
                                     help="Also write <deck>.json, .csv (and .elements.csv, .rocking.csv) results "
                                          "(SI, units stated: the JSON's units entry, the CSV column names) and "
                                          "<deck>.deck.toml (the resolved deck, which repeats the run) into this "
                                          "directory."),
     histories: Path | None = typer.Option(
-        None, "--histories",
+        None, "--histories", parser=given_path,
         help="Exact/approximate engines: write the response histories to this file in SI (.csv, the unit "
              "in each column name, or .npz); with "
              "several analyses, one file each, named <stem>_<engine>_<support><suffix>. An existing file "
@@ -115,7 +117,7 @@ def analyze(
              "records generated for the spectrum (once, then cached); reports simplified/exact for V_b, M_b, the "
              "largest drift ratio, the roof displacement, the largest floor acceleration, the edge uplift and the "
              "mat rotation; a ratio outside analysis.check_band is a warning."),
-    plot: Path | None = typer.Option(None, "--plot", help=plotting.PLOT_HELP),
+    plot: Path | None = typer.Option(None, "--plot", parser=given_path, help=plotting.PLOT_HELP),
     plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
     units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
 ) -> None:
@@ -214,11 +216,12 @@ def _print_results(loaded: Deck, results, checks: list, record: dict | None, out
 
 
 def modes(
-    deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
+    deck: Path = typer.Argument(..., parser=given_path, help="Deck file (TOML), see docs/deck.md."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f", help="table or json."),
-    plot: Path | None = typer.Option(None, "--plot", help="Also draw the mode shapes (T_n, m_n*/m_t) into this "
-                                     "directory as <deck>.modes.png."),
+    plot: Path | None = typer.Option(None, "--plot", parser=given_path,
+                                     help="Also draw the mode shapes (T_n, m_n*/m_t) into this directory as "
+                                          "<deck>.modes.png."),
     plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing --plot figure."),
     units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),

@@ -6,9 +6,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import typer
-
 from ..runtime.atomic import refuse_existing, refuse_inputs
+from . import stdout
 from .options import echo_warnings, echo_written, not_writable
 
 if TYPE_CHECKING:
@@ -62,7 +61,7 @@ def warn(results, prefix: str = "", printed=(), checks=()) -> None:
     deck's warnings, printed once before (warn_deck), not again per result; checks: the accuracy
     checks (suite_check.check_deck)."""
     for message, analyses in _analyses_by_warning(results, printed, checks).items():
-        typer.echo(f"warning: {prefix}{', '.join(dict.fromkeys(analyses))}: {message}", err=True)
+        stdout.echo(f"warning: {prefix}{', '.join(dict.fromkeys(analyses))}: {message}", err=True)
 
 
 def _analyses_by_warning(results, printed, checks) -> dict[str, list[str]]:

@@ -14,8 +14,11 @@ import re
 from rich.cells import cell_len
 from rich.console import Console
 from rich.measure import Measurement
+from rich.segment import Segment
 from rich.table import Column, Table
 from rich.text import Text
+
+from ..errors import printable
 
 #: width of the output when it is not a terminal and $COLUMNS does not say
 PIPE_WIDTH = 120
@@ -31,7 +34,21 @@ def console_width(environ=os.environ) -> int | None:
     return int(text) if text.isdigit() and int(text) > 0 else None
 
 
-class FittedConsole(Console):
+class SafeConsole(Console):
+    """A Console whose every text is made safe for the terminal (errors.printable): a deck's
+    title, a record's header or a table cell holding ESC [2J is shown as '\\x1b[2J', not obeyed.
+    Its strings (titles, cells, headings) are made safe before they are laid out, so that the
+    widths are those shown, and every segment drawn once more (a rich Text, a progress label)."""
+
+    def render_str(self, text: str, **kwargs) -> Text:
+        return super().render_str(printable(text, lines=True), **kwargs)
+
+    def render(self, renderable, options=None):
+        for segment in super().render(renderable, options):
+            yield segment if segment.control else Segment(printable(segment.text, lines=True), segment.style)
+
+
+class FittedConsole(SafeConsole):
     """A Console that draws every table within its width (fit_table); a reader that closes the
     pipe early (`| head`) silences it and the command goes on (cli/stdout.py; rich would exit 1)."""
 
@@ -60,7 +77,7 @@ def console(stderr: bool = False) -> Console:
 
 
 def _measure(table: Table) -> Measurement:
-    probe = Console(width=100_000, emoji=False)
+    probe = SafeConsole(width=100_000, emoji=False)
     return Measurement.get(probe, probe.options, table)
 
 

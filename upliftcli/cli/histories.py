@@ -7,10 +7,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import typer
-
 from ..errors import InputError
 from ..runtime.atomic import refuse_existing, refuse_inputs
+from . import stdout
 from .plotting import error_reason, history_engines, not_a_directory
 
 if TYPE_CHECKING:
@@ -90,7 +89,7 @@ def write_histories(path: Path, results, inputs: list[str], record: dict | None 
     refuse_inputs(targets, inputs, "--histories")  # as checked before the run (the names are the same)
     for (_, result), target in zip(with_histories, targets, strict=True):
         _write(target, result.histories, record)
-        typer.echo(f"wrote {target}", err=True)
+        stdout.echo(f"wrote {target}", err=True)
 
 
 def _write(target: Path, histories, record: dict | None) -> None:

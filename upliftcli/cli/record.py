@@ -15,7 +15,7 @@ from ..runtime import limits
 from ..runtime.atomic import refuse_existing, refuse_inputs, write_text
 from ..units import STANDARD_GRAVITY
 from . import record_select, record_suite, stdout
-from .options import not_writable, refuse_directory
+from .options import given_path, not_writable, refuse_directory
 from .record_options import (
     DISPLAY_UNITS,
     DT_HELP,
@@ -106,7 +106,7 @@ def _ratio(part: str) -> float:
 
 
 def info(
-    file: Path = typer.Argument(..., help="Record file."),
+    file: Path = typer.Argument(..., parser=given_path, help="Record file."),
     file_format: str | None = INPUT_FORMAT,
     moved_format: str | None = MOVED_FORMAT,
     record_units: str | None = RECORD_UNITS,
@@ -241,12 +241,13 @@ def _csv_rows(spectrum: spectra.Spectrum):
 
 
 def spectrum(
-    file: Path = typer.Argument(..., help="Record file."),
+    file: Path = typer.Argument(..., parser=given_path, help="Record file."),
     damping: str = typer.Option("0.05", "--damping", help="Damping ratios [-], comma separated: 0.02,0.05 (or 2%,5%)."),
     periods: str = typer.Option("0.05:5:100", "--periods",
                                 help="START:STOP:N log-spaced periods [s], or a comma list of periods [s]."),
-    out: Path | None = typer.Option(None, "--out", "-o", help="Write the spectrum as CSV here (default: stdout)."),
-    plot: Path | None = typer.Option(None, "--plot",
+    out: Path | None = typer.Option(None, "--out", "-o", parser=given_path,
+                                    help="Write the spectrum as CSV here (default: stdout)."),
+    plot: Path | None = typer.Option(None, "--plot", parser=given_path,
                                      help="Plot S_d, S_v and S_a against log T into this .png/.pdf/.svg file."),
     file_format: str | None = INPUT_FORMAT,
     moved_format: str | None = MOVED_FORMAT,
@@ -308,7 +309,7 @@ def _write_spectrum(text: str, result: spectra.Spectrum, record: records.Record,
         _write_csv(text, out)
         if plot is not None:
             plots.plot_spectrum(result, plot, title=f"{record.name}", units=system)
-            typer.echo(f"wrote {plot}", err=True)
+            stdout.echo(f"wrote {plot}", err=True)
     except OSError as error:
         raise not_writable("--out/--plot", out or plot, error, "a writable path") from None
 
@@ -319,7 +320,7 @@ def _write_csv(text: str, out: Path | None) -> None:
         stdout.echo(text, nl=False)
         return
     write_text(out, text)
-    typer.echo(f"wrote {out}", err=True)
+    stdout.echo(f"wrote {out}", err=True)
 
 
 def register(app: typer.Typer) -> None:

@@ -11,6 +11,7 @@ import typer
 
 from ..errors import InputError
 from ..runtime import limits
+from . import stdout
 
 if TYPE_CHECKING:
     from ..motion import records
@@ -86,7 +87,7 @@ def _moved_units(units: str, record_units: str | None) -> str:
     if record_units is not None:
         raise InputError("--units", units, f"si or us with --record-units {record_units} (--units is the display "
                          "units)")
-    typer.echo(f"warning: --units {units}: the record file's units are --record-units now (--units is the display "
+    stdout.echo(f"warning: --units {units}: the record file's units are --record-units now (--units is the display "
                f"units, si or us, as in the other commands); read as --record-units {units}", err=True)
     return units
 

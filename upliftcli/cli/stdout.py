@@ -9,6 +9,8 @@ import sys
 
 import typer
 
+from ..errors import printable
+
 
 def silence() -> None:
     """Send the rest of standard output to the null device (the reader has gone: what is still
@@ -21,10 +23,25 @@ def silence() -> None:
         pass
 
 
-def echo(text: str, nl: bool = True) -> None:
-    """typer.echo to standard output; a closed pipe silences the rest (silence)."""
+def echo(text: str, nl: bool = True, err: bool = False) -> None:
+    """typer.echo of text made safe for the terminal (errors.printable: line breaks kept), to
+    standard output, or standard error with `err`: every line the commands print but the rich
+    tables' (cli/fitting.py) comes through here. On standard output a closed pipe silences the
+    rest (silence)."""
+    if err:
+        typer.echo(printable(text, lines=True), nl=nl, err=True)
+        return
     try:
-        typer.echo(text, nl=nl)
+        typer.echo(printable(text, lines=True), nl=nl)
         sys.stdout.flush()
     except BrokenPipeError:
         silence()
+
+
+def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """warnings.showwarning of the `uplift` command (cli.main): a Python warning (a library's:
+    matplotlib's missing glyph quotes the character of a deck's title) on standard error through
+    echo, made safe for the terminal like every other line."""
+    import warnings
+
+    echo(warnings.formatwarning(message, category, filename, lineno, line).rstrip("\n"), err=True)

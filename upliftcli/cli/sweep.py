@@ -26,6 +26,7 @@ from .options import (
     echo_violations,
     echo_warnings,
     echo_written,
+    given_path,
     not_writable,
     refuse_unchecked,
 )
@@ -60,7 +61,7 @@ def warn_suites(plan: SweepPlan) -> None:
     suites' too few records for the rule ...), each once, at most MAX_WARNINGS."""
     echo_warnings(plan.warnings[:MAX_WARNINGS])
     if len(plan.warnings) > MAX_WARNINGS:
-        typer.echo(f"warning: and {len(plan.warnings) - MAX_WARNINGS} more about the cases "
+        stdout.echo(f"warning: and {len(plan.warnings) - MAX_WARNINGS} more about the cases "
                    "(uplift analyze on a case's deck shows them)", err=True)
 
 
@@ -88,7 +89,8 @@ def _echo_failures(rows: list[dict]) -> list[dict]:
     """The cases that failed, each named on stderr with its message."""
     failed = [row for row in rows if row.get("status") != "ok"]
     for row in failed:
-        typer.echo(f"case {row['case']} ({row['engine']}/{row['support']}) {row['status']}: {row['message']}", err=True)
+        stdout.echo(f"case {row['case']} ({row['engine']}/{row['support']}) {row['status']}: {row['message']}",
+                    err=True)
     return failed
 
 
@@ -114,12 +116,12 @@ def _choices(engine: list[str], support: list[str]) -> tuple[list[str], list[str
 
 
 def sweep(
-    deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
+    deck: Path = typer.Argument(..., parser=given_path, help="Deck file (TOML), see docs/deck.md."),
     vary: list[str] = typer.Option([], "--vary", "-v", help=VARY_HELP),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     engine: list[str] = typer.Option([], "--engine", "-e", help=ENGINE_HELP),
     support: list[str] = typer.Option([], "--support", help=SUPPORT_HELP),
-    out: Path = typer.Option(Path("."), "--out", "-o", help=OUT_HELP),
+    out: Path = typer.Option(Path("."), "--out", "-o", parser=given_path, help=OUT_HELP),
     name: str | None = typer.Option(None, "--name", help="Stem of the output files (default: <deck>.sweep)."),
     table: TableFormat = typer.Option(TableFormat.json, "--table",
                                       help="Besides <stem>.csv: <stem>.json (rows, summary), .parquet or none (csv)."),
@@ -234,14 +236,14 @@ def _print_sweep(plan: SweepPlan, rows: list[dict], summary, record: dict, outpu
 
 
 def spectra(
-    deck: Path = typer.Argument(..., help="Deck file (TOML), see docs/deck.md."),
+    deck: Path = typer.Argument(..., parser=given_path, help="Deck file (TOML), see docs/deck.md."),
     periods: str = typer.Option("0.05:5:100", "--periods", "-p",
                                 help="Fixed-base periods T_1 [s]: START:STOP:N (log-spaced; add :lin for linear) "
                                      "or a comma list."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
     engine: list[str] = typer.Option([], "--engine", "-e", help=ENGINE_HELP),
     support: list[str] = typer.Option([], "--support", help=SUPPORT_HELP),
-    out: Path = typer.Option(Path("."), "--out", "-o", help=OUT_HELP),
+    out: Path = typer.Option(Path("."), "--out", "-o", parser=given_path, help=OUT_HELP),
     name: str | None = typer.Option(None, "--name", help="Stem of the output files (default: <deck>.spectra)."),
     table: TableFormat = typer.Option(TableFormat.json, "--table", help="Besides <stem>.csv: json, parquet or csv."),
     plot_format: list[str] = typer.Option(["png"], "--plot-format",

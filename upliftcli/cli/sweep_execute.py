@@ -14,6 +14,7 @@ import typer
 from ..errors import InputError
 from ..runtime.atomic import refuse_existing, refuse_inputs
 from ..sweep.signals import ignore_stop_signals
+from . import stdout
 from .options import check_out_directory, not_writable
 from .sweep_options import check_workers
 
@@ -177,6 +178,6 @@ def _exit_interrupted(outcome, rows_path: Path) -> None:
     """An interrupted run: the rows kept named on stderr, exit 128 + the signal."""
     ignore_stop_signals()  # a second Ctrl-C while exiting changes nothing
     name = signal.Signals(outcome.signal).name if outcome.signal else "SIGINT"
-    typer.echo(f"interrupted ({name}): {len(outcome.rows)} of {outcome.total} cases are kept in {rows_path}; "
+    stdout.echo(f"interrupted ({name}): {len(outcome.rows)} of {outcome.total} cases are kept in {rows_path}; "
                "run the same command with --resume to finish", err=True)
     raise typer.Exit(128 + (outcome.signal or signal.SIGINT))

@@ -9,10 +9,9 @@ import contextlib
 from enum import StrEnum
 from pathlib import Path
 
-import typer
-
 from ..errors import InputError
 from ..runtime import limits
+from . import stdout
 from .options import not_writable
 
 WORKERS_HELP = ("Local worker processes (default: all cores when the sweep is long enough to gain from them, "
@@ -88,7 +87,7 @@ def _capped_at_cores(workers: int, oversubscribe: bool) -> int:
                          "tool)")
     cores = available_cores()
     if workers > cores and not oversubscribe:
-        typer.echo(f"warning: --workers {workers} capped at the {cores} cores this process may use (--oversubscribe "
+        stdout.echo(f"warning: --workers {workers} capped at the {cores} cores this process may use (--oversubscribe "
                    f"starts {workers} processes)", err=True)
         return cores
     return workers

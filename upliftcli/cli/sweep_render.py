@@ -13,6 +13,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from ..display import label, show
+from ..errors import printable
 from ..sweep.plan import SweepPlan
 from ..sweep.table import SUMMARY_OUTPUTS
 from .tables import add_columns, add_rows, print_tables
@@ -74,7 +75,7 @@ class PlainProgress:
         return ""
 
     def _line(self, text: str) -> None:
-        print(f"{self.label}: {text}", file=self.stream, flush=True)
+        print(printable(f"{self.label}: {text}"), file=self.stream, flush=True)
 
 
 class RichProgress:

@@ -25,7 +25,7 @@ from ..errors import InputError, gather, raise_all
 from ..model.building import modes_for_mass_target
 from ..model.system import System
 from ..provenance.values import plain
-from ..runtime.limits import MAX_DECK_BYTES, read_input
+from ..runtime.limits import MAX_DECK_BYTES, MAX_NESTING, read_input, too_deeply_nested
 from . import schema
 from .building import building_from_fields, check_foundation_type_fields, system_from_fields
 from .criteria import Criteria
@@ -110,11 +110,23 @@ def _decoded(data: bytes, source: str) -> str:
 
 def _parse_toml(text: str, source: str) -> dict:
     try:
-        return tomllib.loads(text)
+        return check_nesting(tomllib.loads(text), source)
     except RecursionError:
-        raise InputError(source, None, "valid TOML (arrays or tables nested too deeply)") from None
+        raise InputError(source, None, NESTING) from None
     except tomllib.TOMLDecodeError as error:
         raise _toml_error(error, source) from None
+
+
+#: what a deck nested too deeply (the parser's recursion, or runtime/limits.MAX_NESTING) expected
+NESTING = f"valid TOML (arrays or tables nested too deeply: at most {MAX_NESTING} levels)"
+
+
+def check_nesting(raw, source: str):
+    """The parsed deck (or mapping) as it is, else InputError: nested more than MAX_NESTING
+    levels deep ([a.a.a...] 1,000 deep parses, then breaks every walk of the deck)."""
+    if too_deeply_nested(raw):
+        raise InputError(source, None, NESTING)
+    return raw
 
 
 def _toml_error(error: tomllib.TOMLDecodeError, source: str) -> InputError:
@@ -146,6 +158,7 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     """Build a Deck from a parsed mapping (used by load_deck and by sweeps; from Python, any
     mapping of the deck's tables, numpy arrays and scalars accepted). source: the deck's file,
     which relative paths are relative to (default "<mapping>": the working directory)."""
+    check_nesting(raw, source)
     raw, overridden = apply_overrides(plain(raw), [(path, plain(value)) for path, value in overrides])
     gathered: list[InputError] = []  # every mistake of the deck, reported at once (raise_all below)
     values = schema.validate(raw, source, overridden, gathered)

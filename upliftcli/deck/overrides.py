@@ -14,6 +14,7 @@ from typing import Any
 from ..errors import InputError
 from ..model.bearing import COMPANIONS
 from ..model.foundations import FOUNDATIONS
+from ..runtime.limits import too_deeply_nested
 from . import schema
 from .schema import set_by_override  # noqa: F401 - part of this module's interface
 
@@ -66,11 +67,13 @@ def _one_line(text: str) -> bool:
 
 def toml_value(text: str) -> Any:
     """A command-line value read as a TOML value, else the bare string; nesting too deep
-    for the parser (RecursionError) is kept as the string, which the field check refuses."""
+    for the parser (RecursionError) or for the deck (runtime/limits.MAX_NESTING) is kept as the
+    string, which the field check refuses."""
     try:
-        return tomllib.loads(f"value = {text}")["value"]
+        value = tomllib.loads(f"value = {text}")["value"]
     except (tomllib.TOMLDecodeError, RecursionError):
         return text
+    return text if too_deeply_nested(value) else value
 
 
 def apply_overrides(raw: dict, overrides: Iterable[tuple[str, Any]]) -> tuple[dict, frozenset[str]]:

@@ -40,13 +40,20 @@ def _practice_words(field: Field, value: float, system: str) -> tuple[str, str]:
     `units = "us"` when that differs."""
     low, high = field.plausible
     unit = "" if field.unit == "-" else f" {field.unit}"
-    shown_value, shown_range = f"{value:.4g}{unit}", f"{low:g} to {high:g}{unit}"
+    shown_value, shown_range = f"{given(value)}{unit}", f"{low:g} to {high:g}{unit}"
     us = _us_unit(field, system)
     if us is not None:
         factor = conversion(field.unit, us)
         shown_value += f" = {value * factor:.4g} {us}"
         shown_range += f" = {low * factor:.4g} to {high * factor:.4g} {us}"
     return shown_value, shown_range
+
+
+def given(value: float) -> str:
+    """A value as given: to 4 significant digits when that is the value itself, else its shortest
+    text that reads back as it (repr): a safety factor of 1.0000001 is not warned about as '1'."""
+    short = f"{value:.4g}"
+    return short if float(short) == value else repr(float(value))
 
 
 def _us_unit(field: Field, system: str) -> str | None:

@@ -23,6 +23,9 @@ MAX_INTEGER = 1_000_000
 MAX_STORIES = 500
 #: bytes of a deck file
 MAX_DECK_BYTES = 16 * 2**20
+#: levels of tables and arrays in a deck (its own need four: [ground_motion] suite = [{...}] with
+#: a list of pairs); 1,000 levels passed the TOML parser and then broke the deck's own walks
+MAX_NESTING = 32
 #: bytes of a record file and samples of a record
 MAX_RECORD_BYTES = 64 * 2**20
 MAX_RECORD_SAMPLES = 1_000_000
@@ -80,6 +83,24 @@ MAX_VARY_VALUES = 10_000
 MAX_CASES = 100_000
 #: sweeps: local worker processes beyond the cores (only with --oversubscribe)
 MAX_WORKERS = 256
+
+
+def too_deeply_nested(value, limit: int = MAX_NESTING) -> bool:
+    """A parsed deck (or value) with tables or arrays nested more than `limit` levels deep,
+    walked level by level (no recursion, whatever the depth)."""
+    level = [value]
+    for _ in range(limit + 1):
+        level = [child for item in level for child in _members(item)]
+        if not level:
+            return False
+    return True
+
+
+def _members(item) -> list:
+    """The values of a table, the items of an array; none of anything else."""
+    if isinstance(item, dict):
+        return list(item.values())
+    return list(item) if isinstance(item, (list, tuple)) else []
 
 
 def shortest_period(dt: float, samples: int) -> float:

@@ -21,6 +21,7 @@ import signal
 import sys
 import threading
 
+from ..errors import printable
 from .portable import STOP_SIGNALS
 
 #: glibc's mallopt parameters
@@ -97,7 +98,7 @@ def _exit_code(code: int | str | None) -> int:
     if code is None:
         return 0
     if not isinstance(code, int):
-        print(code, file=sys.stderr)
+        print(printable(code, lines=True), file=sys.stderr)
         return 1
     return code
 
