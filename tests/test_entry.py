@@ -54,7 +54,7 @@ def test_the_entry_point_imports_nothing_heavy():
 
 @pytest.mark.parametrize(("module", "args"), [
     ("typer", ["--help"]),  # the first heavy import
-    ("upliftcli.runtime.backend", ["--help"]),  # deep in the imports of the command line
+    ("upliftcli.runtime.atomic", ["--help"]),  # deep in the imports of the command line
     ("upliftcli.cli.sweep", ["--help"]),  # the commands registered
     ("numpy", ["analyze", str(ROOT / "inputs" / "ten_story_elcentro.toml")]),  # in a command: typer's Exit(130)
 ])

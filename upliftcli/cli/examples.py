@@ -8,6 +8,7 @@ from pathlib import Path
 import typer
 
 from ..errors import InputError
+from . import stdout
 from .options import not_writable
 
 #: the argument's name in messages
@@ -36,8 +37,8 @@ def examples(
         written = write_set(files)
     except OSError as error:
         raise not_writable(OPTION, folder, error, "a writable folder", "; nothing was written") from None
-    typer.echo(f"wrote {len(written)} files into {folder}: the decks in {folder / 'inputs'}, the records they read "
-               f"in {folder / 'records'}", err=True)
+    stdout.echo(f"wrote {len(written)} files into {folder}: the decks in {folder / 'inputs'}, the records they read "
+                f"in {folder / 'records'}", err=True)
 
 
 def register(app: typer.Typer) -> None:
