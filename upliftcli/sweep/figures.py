@@ -21,7 +21,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ..deck import schema
 from ..display import unit as display_unit
 from ..engines.registry import ENGINES, SUPPORT_LABELS
 from ..errors import InputError
@@ -29,7 +28,7 @@ from ..figures.spec import FigureSpec, Line, Panel, Series
 from ..figures.style import ENGINE_LINES, ENGINE_STYLES, MARKERS, SUPPORT_COLORS, SUPPORT_STYLES, shades
 from .plan import SweepPlan
 from .table import OUTPUT_COLUMNS
-from .values import Vary, parse_values
+from .values import Vary, deck_field, parse_values
 
 PERIOD_PATH = "building.period"
 PERIOD_LABEL = "fixed-base fundamental period T_1 [s]"
@@ -46,12 +45,7 @@ def nominal_value(plan: SweepPlan, path: str) -> float | None:
     """The deck's own value of a field (after --set): as the deck gives it, else derived from
     its model (building.period: T_1; foundation.b, slenderness; the two-element k_f, c_f,
     frequency_ratio, damping_ratio), else the field's default; None if unknown or not a number."""
-    from ..deck.overrides import apply_overrides
-
-    raw, _ = apply_overrides(plan.raw, plan.base_overrides)
-    value = raw
-    for part in path.split("."):
-        value = value.get(part) if isinstance(value, dict) else None
+    value = _given_value(plan, path)
     if value is None:
         try:
             system = plan.base_deck.system
@@ -59,31 +53,52 @@ def nominal_value(plan: SweepPlan, path: str) -> float | None:
             return None
         value = _derived(system, path)
     if value is None:
-        table, _, name = path.rpartition(".")
-        found = schema.TABLES.get(table, {}).get(name)
-        value = found.default if found else None
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return None
-    return float(value)
+        value = _default_value(path)
+    return float(value) if _is_number(value) else None
+
+
+def _is_number(value) -> bool:
+    """An int or a float, not a bool."""
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _given_value(plan: SweepPlan, path: str):
+    """The value the deck (after --set) gives a dotted path, or None."""
+    from ..deck.overrides import apply_overrides
+
+    value, _ = apply_overrides(plan.raw, plan.base_overrides)
+    for part in path.split("."):
+        value = value.get(part) if isinstance(value, dict) else None
+    return value
+
+
+def _default_value(path: str):
+    """The declared default of a deck field, or None."""
+    found = deck_field(path)
+    return found.default if found else None
 
 
 def _derived(system, path: str) -> float | None:
-    foundation = system.foundation
-    omega_1 = float(system.modes.omega[0])
-    m_t = system.total_mass
-    k_f, c_f = getattr(foundation, "stiffness", None), getattr(foundation, "damping", None)
-    two_element = getattr(foundation, "kind", "") == "two-element"
-    omega_v = np.sqrt(2.0 * k_f / m_t) if two_element else None
     values = {
         "building.period": float(system.modes.periods[0]),
         "foundation.b": system.half_width,
         "foundation.slenderness": system.effective_height / system.half_width,
-        "foundation.k_f": k_f if two_element else None,
-        "foundation.c_f": c_f if two_element else None,
-        "foundation.frequency_ratio": omega_v / omega_1 if two_element else None,
-        "foundation.damping_ratio": c_f / (m_t * omega_v) if two_element else None,
+        **_two_element_values(system),
     }
     return values.get(path)
+
+
+def _two_element_values(system) -> dict[str, float]:
+    """k_f, c_f, frequency_ratio and damping_ratio of a two-element foundation (none otherwise)."""
+    foundation = system.foundation
+    if getattr(foundation, "kind", "") != "two-element":
+        return {}
+    omega_1 = float(system.modes.omega[0])
+    m_t = system.total_mass
+    k_f, c_f = getattr(foundation, "stiffness", None), getattr(foundation, "damping", None)
+    omega_v = np.sqrt(2.0 * k_f / m_t)
+    return {"foundation.k_f": k_f, "foundation.c_f": c_f, "foundation.frequency_ratio": omega_v / omega_1,
+            "foundation.damping_ratio": c_f / (m_t * omega_v)}
 
 
 def nominal_line(value: float | None, name: str, unit: str = "") -> list[Line]:
@@ -104,16 +119,25 @@ def motion_label(raw: dict, source: str) -> str:
         return f"record {Path(str(motion['record'])).stem}"
     if "design_spectrum" not in motion:
         return ""
+    name = _spectrum_name(motion["design_spectrum"], source)
+    if "suite" in motion:
+        return f"suite {_suite_name(motion['suite'])}, target {name}"
+    return f"design spectrum {name}"
+
+
+def _spectrum_name(spectrum, source: str) -> str:
+    """The name of a deck's design spectrum; its type if it is not valid."""
     from ..motion.design_spectra import from_mapping
 
     try:
-        name = from_mapping(motion["design_spectrum"], source, "ground_motion.design_spectrum").name
+        return from_mapping(spectrum, source, "ground_motion.design_spectrum").name
     except InputError:
-        name = str(motion["design_spectrum"].get("type", "")) if isinstance(motion["design_spectrum"], dict) else ""
-    if "suite" in motion:
-        suite = motion["suite"]
-        return f"suite {Path(suite).name if isinstance(suite, str) else f'of {len(suite)} records'}, target {name}"
-    return f"design spectrum {name}"
+        return str(spectrum.get("type", "")) if isinstance(spectrum, dict) else ""
+
+
+def _suite_name(suite) -> str:
+    """A suite's folder name, or 'of N records' for a list of records."""
+    return Path(suite).name if isinstance(suite, str) else f"of {len(suite)} records"
 
 
 def plan_motion_label(plan: SweepPlan) -> str:

@@ -154,7 +154,7 @@ class Vary:
 
     @property
     def unit(self) -> str:
-        found = _field(self.path)
+        found = deck_field(self.path)
         return found.unit if found else ""
 
 
@@ -162,7 +162,7 @@ class Vary:
 ARRAY_KINDS = ("numbers", "pair", "matrix")
 
 
-def _field(path: str):
+def deck_field(path: str):
     """The declared field of a dotted deck path (fields.Field), or None."""
     table, _, name = path.rpartition(".")
     return schema.TABLES.get(table, {}).get(name)
@@ -198,7 +198,7 @@ def _check_vary_path(path: str, option: str) -> None:
 
 def _first_single(path: str, values: list[Any]) -> Any:
     """For a field whose value is an array (ARRAY_KINDS): the first case that is not an array."""
-    field = _field(path)
+    field = deck_field(path)
     if not field or field.kind not in ARRAY_KINDS:
         return None
     return next((v for v in values if not isinstance(v, list)), None)
