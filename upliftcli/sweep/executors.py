@@ -102,7 +102,7 @@ class SerialExecutor:
             run_chunk(chunk, emit)
 
 
-class _Delivered:
+class Delivered:
     """The rows handed on so far, each case's first only (a retried case may report twice), and
     the attempts charged to each case (its worker died while it ran alone)."""
 
@@ -271,7 +271,7 @@ class ProcessExecutor:
                 multiprocessing.forkserver.ensure_running()
 
     def run(self, chunks: Sequence[Chunk], on_row: OnRow) -> None:
-        delivered = _Delivered(on_row)
+        delivered = Delivered(on_row)
         pending, isolate = list(chunks), []  # isolate: one-case chunks of suspects, run on a single worker
         context = _context(self.start_method)
         with worker_environment():
@@ -288,7 +288,7 @@ class ProcessExecutor:
                     if others:
                         pending.append(replace(chunk, cases=others))
 
-    def _crashed(self, case: Case, started: set[str], isolated: bool, delivered: _Delivered) -> bool:
+    def _crashed(self, case: Case, started: set[str], isolated: bool, delivered: Delivered) -> bool:
         """Whether a suspect of a dead worker is done with: it ran alone on its worker (so it killed
         it) for the max_attempts-th time, and is delivered as 'crashed'."""
         if not (isolated and case.key in started):
