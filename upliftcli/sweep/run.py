@@ -19,7 +19,7 @@ import signal
 from dataclasses import dataclass
 
 from ..errors import InputError
-from .plan import SweepPlan, chunk_size, make_chunks
+from .plan import Case, SweepPlan, chunk_size, make_chunks
 from .signals import Interrupted, ignore_stop_signals, stop_signals_interrupt  # noqa: F401 - interface
 from .store import RowStore
 
@@ -64,25 +64,38 @@ def _changed_records(plan: SweepPlan, header: dict) -> list[str]:
     return [path for path, digest in plan.records.items() if recorded.get(path) not in (None, digest)]
 
 
-def _kept(row: dict, retry_failed: bool) -> bool:
-    """Whether --resume keeps a row of the plan's inputs: 'ok', or 'failed' unless retry_failed."""
+def _kept(plan: SweepPlan, row: dict, retry_failed: bool) -> bool:
+    """Whether --resume keeps a row: of the plan's inputs, and 'ok', or 'failed' unless retry_failed."""
+    if not _of_plan(plan, row):
+        return False
     return row["status"] == "ok" or (row["status"] == "failed" and not retry_failed)
+
+
+def _plan_rows(plan: SweepPlan, store: RowStore) -> dict[str, dict]:
+    """The rows of `store` whose case is in the plan."""
+    keys = {case.key for case in plan.cases}
+    return {key: row for key, row in store.read().items() if key in keys}
+
+
+def _of_plan(plan: SweepPlan, row: dict) -> bool:
+    """Whether a stored row was computed from the plan's inputs (its fingerprint)."""
+    return row.get("fingerprint") == plan.fingerprint
 
 
 def resumable_rows(plan: SweepPlan, store: RowStore, retry_failed: bool, rerun_stale: bool) -> dict[str, dict]:
     """The rows of `store` that --resume keeps (see the module docstring); InputError naming
     --resume if some of the plan's cases were computed from other inputs, unless rerun_stale."""
-    keys = {case.key for case in plan.cases}
-    rows = {key: row for key, row in store.read().items() if key in keys}
-    stale = [row for row in rows.values() if row.get("fingerprint") != plan.fingerprint]
-    if stale and not rerun_stale:
-        _refuse_stale(plan, store, stale)
-    return {key: _without_fingerprint(row) for key, row in rows.items()
-            if row.get("fingerprint") == plan.fingerprint and _kept(row, retry_failed)}
+    rows = _plan_rows(plan, store)
+    if not rerun_stale:
+        _refuse_stale(plan, store, rows)
+    return {key: _without_fingerprint(row) for key, row in rows.items() if _kept(plan, row, retry_failed)}
 
 
-def _refuse_stale(plan: SweepPlan, store: RowStore, stale: list[dict]) -> None:
-    """InputError naming --resume: rows computed from other inputs, and why (_stale_reason)."""
+def _refuse_stale(plan: SweepPlan, store: RowStore, rows: dict[str, dict]) -> None:
+    """InputError naming --resume if some rows were computed from other inputs, and why (_stale_reason)."""
+    stale = [row for row in rows.values() if not _of_plan(plan, row)]
+    if not stale:
+        return
     reason = _stale_reason(plan, store.runs().get(str(stale[0].get("fingerprint"))))
     raise InputError("--resume", str(store.path), f"rows computed from the inputs of this run; {len(stale)} "
                      f"rows were computed {reason}: pass --rerun-stale to run them again or --overwrite to "
@@ -111,9 +124,9 @@ class _Arrivals:
     def add_written(self) -> None:
         """Add the rows of the plan's inputs the store holds and the run has not recorded (Ctrl-C may
         land between writing a row and recording it: the file is the truth)."""
-        keys = {case.key for case in self.plan.cases}
-        self.rows.update({key: _without_fingerprint(row) for key, row in self.store.read().items()
-                          if key in keys and key not in self.rows and row.get("fingerprint") == self.plan.fingerprint})
+        written = _plan_rows(self.plan, self.store)
+        self.rows.update({key: _without_fingerprint(row) for key, row in written.items()
+                          if key not in self.rows and _of_plan(self.plan, row)})
 
 
 def _run_header(plan: SweepPlan) -> dict:
@@ -132,6 +145,16 @@ def _execute(plan: SweepPlan, executor, todo: list, size: int | None, exit_on_st
     return None
 
 
+def _todo(plan: SweepPlan, kept: dict[str, dict]) -> list[Case]:
+    """The plan's cases without a kept row."""
+    return [case for case in plan.cases if case.key not in kept]
+
+
+def _in_case_order(plan: SweepPlan, rows: dict[str, dict]) -> list[dict]:
+    """The rows of the plan's cases (key -> row), in case order."""
+    return [rows[case.key] for case in plan.cases if case.key in rows]
+
+
 def run_sweep(plan: SweepPlan, executor, store: RowStore, *, resume: bool = False, retry_failed: bool = False,
               rerun_stale: bool = False, progress=None, size: int | None = None,
               exit_on_stop: bool = False) -> SweepOutcome:
@@ -145,7 +168,7 @@ def run_sweep(plan: SweepPlan, executor, store: RowStore, *, resume: bool = Fals
     executor and is raised; the rows written before it are kept."""
     progress = progress or NoProgress()
     kept = resumable_rows(plan, store, retry_failed, rerun_stale) if resume else {}
-    todo = [case for case in plan.cases if case.key not in kept]
+    todo = _todo(plan, kept)
     arrivals = _Arrivals(plan, store, progress, kept)
     store.open(fresh=not resume, header=_run_header(plan))
     progress.start(len(plan.cases), len(kept))
@@ -158,5 +181,5 @@ def run_sweep(plan: SweepPlan, executor, store: RowStore, *, resume: bool = Fals
         progress.stop()
     if not finished:
         arrivals.add_written()
-    ordered = [arrivals.rows[case.key] for case in plan.cases if case.key in arrivals.rows]
-    return SweepOutcome(ordered, len(plan.cases), len(kept), not finished, stop_signal or 0)
+    return SweepOutcome(_in_case_order(plan, arrivals.rows), len(plan.cases), len(kept), not finished,
+                        stop_signal or 0)
