@@ -139,16 +139,30 @@ class DaskExecutor:
         killer is known for sure. Cases that had not started run again (together), at most
         `max_resubmits` times each. Returns the chunks to submit."""
         message = f"{type(error).__name__}: {error}"
-        alone, waiting = [], []
-        for case in [case for case in chunk.cases if case.key not in finished]:
-            if case.key in started and len(chunk.cases) == 1:
-                deliver(failed_row(case, "crashed", message))
-                continue
-            if _resubmitted(case, message, resubmits, max_resubmits, deliver):
-                (alone if case.key in started else waiting).append(case)
-            started.discard(case.key)  # from now on: whether it started in its new task
+        rest = chunk.unfinished(finished)
+        if _killed_alone(chunk, rest, started):
+            deliver(failed_row(rest[0], "crashed", message))
+            return []
+        alone, waiting = _resubmissions(rest, started, message, resubmits, max_resubmits, deliver)
         again = [replace(chunk, cases=[case]) for case in alone]
         return [*again, replace(chunk, cases=waiting)] if waiting else again
+
+
+def _killed_alone(chunk: Chunk, rest: list[Case], started: set[str]) -> bool:
+    """Whether a chunk of one case failed while that case ran (so the case killed its worker)."""
+    return len(chunk.cases) == 1 and bool(rest) and rest[0].key in started
+
+
+def _resubmissions(rest: list[Case], started: set[str], message: str, resubmits: dict[str, int],
+                   max_resubmits: int, deliver) -> tuple[list[Case], list[Case]]:
+    """The cases to submit again: (those that had started, each alone; those that had not,
+    together); a case past max_resubmits is delivered 'crashed' instead."""
+    alone, waiting = [], []
+    for case in rest:
+        if _resubmitted(case, message, resubmits, max_resubmits, deliver):
+            (alone if case.key in started else waiting).append(case)
+        started.discard(case.key)  # from now on: whether it started in its new task
+    return alone, waiting
 
 
 def _resubmitted(case: Case, message: str, resubmits: dict[str, int], max_resubmits: int, deliver) -> bool:

@@ -279,14 +279,24 @@ class ProcessExecutor:
                 isolated = bool(isolate)
                 batch, workers = (isolate, 1) if isolated else (pending, self.workers)
                 pending, isolate = (pending, []) if isolated else ([], isolate)
-                queue = context.SimpleQueue()  # a new one per pool: a killed writer may hold the old one's lock
-                started: set[str] = set()
-                for chunk in self._run_pool(batch, workers, context, queue, started, delivered.deliver):
-                    suspects, others = _after_death(chunk, started, delivered.done)
-                    isolate += [replace(chunk, cases=[case]) for case in suspects
-                                if not self._crashed(case, started, isolated, delivered)]
-                    if others:
-                        pending.append(replace(chunk, cases=others))
+                again, rest = self._run_round(batch, workers, context, isolated, delivered)
+                isolate += again
+                pending += rest
+
+    def _run_round(self, batch: list[Chunk], workers: int, context, isolated: bool,
+                   delivered: Delivered) -> tuple[list[Chunk], list[Chunk]]:
+        """Run chunks on a fresh pool; of the chunks lost to a dead worker: (the suspects, one per
+        chunk, to run alone; the chunks of the other cases, to run in parallel)."""
+        queue = context.SimpleQueue()  # a new one per pool: a killed writer may hold the old one's lock
+        started: set[str] = set()
+        isolate, pending = [], []
+        for chunk in self._run_pool(batch, workers, context, queue, started, delivered.deliver):
+            suspects, others = _after_death(chunk, started, delivered.done)
+            isolate += [replace(chunk, cases=[case]) for case in suspects
+                        if not self._crashed(case, started, isolated, delivered)]
+            if others:
+                pending.append(replace(chunk, cases=others))
+        return isolate, pending
 
     def _crashed(self, case: Case, started: set[str], isolated: bool, delivered: Delivered) -> bool:
         """Whether a suspect of a dead worker is done with: it ran alone on its worker (so it killed
@@ -342,7 +352,7 @@ class ProcessExecutor:
 def _after_death(chunk: Chunk, started: set[str], done: set[str]) -> tuple[list[Case], list[Case]]:
     """The cases of a chunk lost to a dead worker, still without a row: (suspects, the ones that
     were running, or all if none had started; the others)."""
-    rest = [case for case in chunk.cases if case.key not in done]
+    rest = chunk.unfinished(done)
     suspects = [case for case in rest if case.key in started or not started]
     return suspects, [case for case in rest if case not in suspects]
 

@@ -362,6 +362,10 @@ class Chunk:
     #: the SHA-256 of every record file as the plan read it (absolute path -> digest)
     records: dict = field(default_factory=dict)
 
+    def unfinished(self, done: set[str]) -> list[Case]:
+        """The chunk's cases whose key is not in `done`, in order."""
+        return [case for case in self.cases if case.key not in done]
+
 
 def _structure_order(case: Case) -> tuple:
     """Sort key putting together the cases that differ only in foundation fields (same
