@@ -117,11 +117,15 @@ def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
     paths = [v.path for v in plan.varies]
     deck_limit = plan.criteria.get("simplified_error")
     exact = {_check_key(row, paths): row for row in rows if _finished_by(row, "exact")}
-    out = []
-    for row in rows:
-        reference = exact.get(_check_key(row, paths)) if _finished_by(row, "simplified") else None
-        out.append(row if reference is None else _with_ratios(row, reference, deck_limit))
-    return out
+    return [_checked(row, exact.get(_check_key(row, paths)), deck_limit) for row in rows]
+
+
+def _checked(row: dict, reference: dict | None, deck_limit: float | None) -> dict:
+    """A finished simplified case's row with its ratios to the exact case's (`reference`, if any);
+    any other row as it is."""
+    if reference is None or not _finished_by(row, "simplified"):
+        return row
+    return _with_ratios(row, reference, deck_limit)
 
 
 def _finished_by(row: dict, engine: str) -> bool:
@@ -222,19 +226,29 @@ def to_csv(rows: Sequence[dict], names: Sequence[str], provenance: dict | None =
     return buffer.getvalue()
 
 
+def _set_texts(plan: SweepPlan) -> list[str]:
+    """The --set overrides as PATH=JSON texts."""
+    return [f"{path}={json.dumps(to_jsonable(value))}" for path, value in plan.base_overrides]
+
+
+def _column_rows(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
+    """The rows of the tables (table_rows), each with the plan's columns only, in their order."""
+    names = columns(plan)
+    return [{name: row.get(name) for name in names} for row in table_rows(plan, rows)]
+
+
 def document(plan: SweepPlan, rows: Sequence[dict], summary: dict | None = None,
              provenance: dict | None = None) -> dict:
     """The JSON document of a sweep: deck, varied fields, units, provenance, rows (and summary);
     numbers rounded to 15 significant digits (json.dumps then writes their shortest text)."""
-    names = columns(plan)
     doc = {
         "source": plan.source, "title": plan.title,
-        "set": [f"{path}={json.dumps(to_jsonable(value))}" for path, value in plan.base_overrides],
+        "set": _set_texts(plan),
         "varied": _varied(plan, list),
         "engines": plan.engines, "supports": plan.supports,
         "units": units(plan),
         "provenance": provenance if provenance is not None else sweep_provenance(plan),
-        "rows": [{name: row.get(name) for name in names} for row in table_rows(plan, rows)],
+        "rows": _column_rows(plan, rows),
     }
     if summary is not None:
         doc["summary"] = summary

@@ -109,12 +109,22 @@ def _range_numbers(parts: list[str]) -> tuple[float, float, int]:
         return math.nan, math.nan, 0
 
 
+def _finite_range(start: float, stop: float, count: int) -> bool:
+    """Finite ends and at least one value."""
+    return math.isfinite(start) and math.isfinite(stop) and count >= 1
+
+
+def _positive_ends(start: float, stop: float) -> bool:
+    """Both ends > 0 (a log range)."""
+    return start > 0.0 and stop > 0.0
+
+
 def _check_range(text: str, option: str, spacing: str | None, start: float, stop: float, count: int) -> None:
     """A known spacing, finite ends, 1 <= N <= MAX_VARY_VALUES, and ends > 0 for a log range."""
-    if spacing is None or not (math.isfinite(start) and math.isfinite(stop) and count >= 1):
+    if spacing is None or not _finite_range(start, stop, count):
         raise InputError(option, text, "START:STOP:N[:log|lin] with finite numbers and N >= 1, "
                          "e.g. 1e7:1e10:25:log")
-    if spacing == "log" and not (start > 0.0 and stop > 0.0):
+    if spacing == "log" and not _positive_ends(start, stop):
         raise InputError(option, text, "START > 0 and STOP > 0 for a log range")
     if count > MAX_VARY_VALUES:
         raise _too_many(option, text, count)
