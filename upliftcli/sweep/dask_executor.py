@@ -19,8 +19,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import replace
 
 from ..errors import InputError
-from .executors import WORKER_ENVIRONMENT, Delivered, OnRow, sigint_ignored
+from .executors import WORKER_ENVIRONMENT, OnRow, sigint_ignored
 from .plan import Case, Chunk
+from .pool import Delivered
 from .worker import failed_row, run_chunk
 
 

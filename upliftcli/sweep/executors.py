@@ -26,7 +26,7 @@ Stalled workers: a thread of every local worker sends a heartbeat every HEARTBEA
 compiled loops release the interpreter's lock, so it beats while they run); a worker silent
 for `stall_seconds` (STALL_SECONDS: stopped by SIGSTOP, or hung) is killed, and its cases are
 retried as after a death (a stopped worker blocked the sweep for ever).
-The Dask executor: sweep/dask_executor.py.
+The Dask executor: sweep/dask_executor.py; the rows and messages of a pool: sweep/pool.py.
 """
 
 from __future__ import annotations
@@ -44,19 +44,17 @@ import time
 import warnings
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import replace
-from typing import Any
 
 from ..runtime.process import keep_freed_memory
 from .plan import Case, Chunk
+from .pool import Delivered, Messages, OnRow, after_death, deliver_result, processes, stop_pool
 from .signals import deferred
 from .worker import failed_row, run_chunk
 
 #: environment of worker processes, set before they import numpy: one thread per worker
 WORKER_ENVIRONMENT = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
-OnRow = Callable[[dict], None]
 
 #: imported by the forkserver before it forks the local workers (the engines, warm)
 WARM_MODULE = f"{__package__}.warm"
@@ -100,26 +98,6 @@ class SerialExecutor:
         emit = functools.partial(_emit_row, on_row)
         for chunk in chunks:
             run_chunk(chunk, emit)
-
-
-class Delivered:
-    """The rows handed on so far, each case's first only (a retried case may report twice), and
-    the attempts charged to each case (its worker died while it ran alone)."""
-
-    def __init__(self, on_row: OnRow):
-        self.on_row = on_row
-        self.done: set[str] = set()
-        self.attempts: dict[str, int] = {}
-
-    def deliver(self, row: dict) -> None:
-        if row["key"] not in self.done:
-            self.done.add(row["key"])
-            self.on_row(row)
-
-    def charge(self, key: str) -> int:
-        """Charge a case one attempt; the attempts so far."""
-        self.attempts[key] = self.attempts.get(key, 0) + 1
-        return self.attempts[key]
 
 
 # ----------------------------------------------------------------------------- local processes
@@ -291,7 +269,7 @@ class ProcessExecutor:
         started: set[str] = set()
         isolate, pending = [], []
         for chunk in self._run_pool(batch, workers, context, queue, started, delivered.deliver):
-            suspects, others = _after_death(chunk, started, delivered.done)
+            suspects, others = after_death(chunk, started, delivered.done)
             isolate += [replace(chunk, cases=[case]) for case in suspects
                         if not self._crashed(case, started, isolated, delivered)]
             if others:
@@ -316,16 +294,16 @@ class ProcessExecutor:
                                    initargs=(queue, self.runner, self._parent_pid(), dict(os.environ), os.getcwd()))
         with sigint_ignored(), deferred():  # processes are started by submit; they ignore Ctrl-C from birth
             futures = {pool.submit(_worker_run_chunk, chunk): chunk for chunk in chunks}
-        messages = _Messages(queue, started, deliver)
+        messages = Messages(queue, started, deliver)
         try:
             leftovers = self._collect(pool, futures, messages)
         except BaseException:  # Ctrl-C, a full disk ...: keep what arrived, stop the workers now
-            _stop_pool(pool, messages)
+            stop_pool(pool, messages)
             raise
         pool.shutdown(wait=True)
         return leftovers
 
-    def _collect(self, pool, futures: dict, messages: _Messages) -> list[Chunk]:
+    def _collect(self, pool, futures: dict, messages: Messages) -> list[Chunk]:
         """Deliver the rows of the pool's chunks as they arrive; the chunks of a broken pool."""
         leftovers = []
         while futures:
@@ -335,7 +313,7 @@ class ProcessExecutor:
             self._kill_stalled(pool, messages.beats)
             for future in finished:
                 chunk = futures.pop(future)
-                if not _deliver_result(future, messages.deliver):
+                if not deliver_result(future, messages.deliver):
                     leftovers.append(chunk)
         messages.drain()
         return leftovers
@@ -344,73 +322,9 @@ class ProcessExecutor:
         """SIGKILL the workers silent for stall_seconds (the pool then breaks: their cases are
         retried as after a death)."""
         now = time.monotonic()
-        for pid, process in _processes(pool):
+        for pid, process in processes(pool):
             if now - beats.setdefault(pid, now) > self.stall_seconds and process.is_alive():
                 process.kill()  # a stopped process is killed too
-
-
-def _after_death(chunk: Chunk, started: set[str], done: set[str]) -> tuple[list[Case], list[Case]]:
-    """The cases of a chunk lost to a dead worker, still without a row: (suspects, the ones that
-    were running, or all if none had started; the others)."""
-    rest = chunk.unfinished(done)
-    suspects = [case for case in rest if case.key in started or not started]
-    return suspects, [case for case in rest if case not in suspects]
-
-
-class _Messages:
-    """The messages of a pool's workers: cases started, heartbeats (worker pid -> time of its last
-    heartbeat, or of its first sight) and rows."""
-
-    def __init__(self, queue, started: set[str], deliver: OnRow):
-        self.queue = queue
-        self.started = started
-        self.deliver = deliver
-        self.beats: dict[int, float] = {}
-
-    def drain(self) -> None:
-        """Handle every message waiting in the queue."""
-        while True:
-            with deferred():  # a stop signal never cuts a message read from the pipe in half
-                if self.queue.empty():
-                    return
-                self._handle(*self.queue.get())
-
-    def _handle(self, kind: str, value) -> None:
-        if kind == "start":
-            self.started.update(value)
-        elif kind == "beat":
-            self.beats[value] = time.monotonic()
-        else:
-            self.deliver(value)
-
-
-def _processes(pool) -> list[tuple[int, Any]]:
-    """(pid, process) of the pool's worker processes."""
-    return list(getattr(pool, "_processes", {}).items())
-
-
-def _deliver_result(future, deliver: OnRow) -> bool:
-    """Deliver the rows of a finished chunk; False if its pool broke (a worker died)."""
-    try:
-        rows = future.result()
-    except BrokenProcessPool:
-        return False
-    with deferred():
-        for row in rows:
-            deliver(row)
-    return True
-
-
-def _stop_pool(pool, messages: _Messages) -> None:
-    """Keep what arrived and stop the workers now (SIGKILL: they ignore SIGINT/SIGHUP, and a worker
-    blocked writing dies too); draining may fail again (the disk is still full): the workers are
-    stopped all the same."""
-    try:
-        messages.drain()
-    finally:
-        for _, process in _processes(pool):
-            process.kill()
-        pool.shutdown(wait=False, cancel_futures=True)
 
 
 @contextlib.contextmanager
