@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections import Counter
 from dataclasses import dataclass
 from typing import Any
 
@@ -44,10 +45,7 @@ def parse_values(text: str, option: str, default_spacing: str = "linear") -> tup
 
 def _check_each_once(values: list[Any], text: str, option: str) -> None:
     """InputError naming the first value given twice (compared as JSON)."""
-    seen: dict[str, int] = {}
-    for value in values:
-        key = json.dumps(value, sort_keys=True, default=str)
-        seen[key] = seen.get(key, 0) + 1
+    seen = Counter(json.dumps(value, sort_keys=True, default=str) for value in values)
     repeated = [key for key, count in seen.items() if count > 1]
     if repeated:
         raise InputError(option, _shortened(text),
