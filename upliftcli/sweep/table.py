@@ -1,4 +1,5 @@
-"""The tidy table of a sweep (one row per case) and its summary: ranges, governing cases, envelope.
+"""The tidy table of a sweep (one row per case) and its summary: ranges, governing cases, envelope
+(computed in sweep/summary.py, named here too).
 
 Pure functions of the plan and the rows, plus writers of CSV / JSON / Parquet files (atomic),
 each with the sweep's provenance (sweep_provenance, docs/provenance.md): the CSV's two leading
