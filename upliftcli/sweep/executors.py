@@ -55,7 +55,6 @@ from .worker import failed_row, run_chunk
 #: environment of worker processes, set before they import numpy: one thread per worker
 WORKER_ENVIRONMENT = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
-
 #: imported by the forkserver before it forks the local workers (the engines, warm)
 WARM_MODULE = f"{__package__}.warm"
 #: a local worker's heartbeat period [s], and the silence after which it is taken as stalled [s]
