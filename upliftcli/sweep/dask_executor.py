@@ -20,7 +20,8 @@ from dataclasses import replace
 
 from ..errors import InputError
 from .executors import WORKER_ENVIRONMENT, OnRow, sigint_ignored
-from .plan import Chunk
+from .plan import Case, Chunk
+from .pool import Delivered
 from .worker import failed_row, run_chunk
 
 
@@ -33,13 +34,21 @@ def check_reachable(address: str, timeout: float = 3.0) -> None:
     if scheme != "tcp":
         return  # tls://, ucx://, inproc://: left to the Dask client
     host, _, port = rest.rpartition(":")
-    host = host.strip("[]") or "127.0.0.1"
+    _connect(host.strip("[]") or "127.0.0.1", _port_number(port, address), timeout, address)
+
+
+def _port_number(port: str, address: str) -> int:
+    """The port of a tcp:// address (before any path); InputError naming --scheduler if not a number."""
     try:
-        port_number = int(port.split("/")[0])
+        return int(port.split("/")[0])
     except ValueError:
         raise InputError("--scheduler", address, "an address tcp://host:port, e.g. tcp://10.0.0.5:8786") from None
+
+
+def _connect(host: str, port: int, timeout: float, address: str) -> None:
+    """Open and close a connection to the scheduler; InputError naming --scheduler if refused."""
     try:
-        with socket.create_connection((host, port_number), timeout=timeout):
+        with socket.create_connection((host, port), timeout=timeout):
             pass
     except OSError as error:
         reason = error.strerror or str(error) or type(error).__name__
@@ -70,17 +79,8 @@ class DaskExecutor:
     @contextlib.contextmanager
     def client(self):
         distributed = import_distributed()
-        import logging
-
         with contextlib.ExitStack() as stack:
-            if self.address is None:
-                with sigint_ignored():  # the worker processes inherit it: Ctrl-C is ours to handle
-                    cluster = stack.enter_context(distributed.LocalCluster(
-                        n_workers=self.workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                        dashboard_address=":0", silence_logs=logging.ERROR, env=dict(WORKER_ENVIRONMENT)))
-                address = cluster.scheduler_address
-            else:
-                address = self.address
+            address = self.address if self.address is not None else self._local_cluster(stack, distributed)
             try:
                 client = stack.enter_context(distributed.Client(address, timeout=self.connect_timeout))
             except (OSError, TimeoutError) as error:
@@ -89,67 +89,45 @@ class DaskExecutor:
             self.workers = max(1, len(info.get("workers", {})) or self.workers)
             yield client
 
+    def _local_cluster(self, stack: contextlib.ExitStack, distributed) -> str:
+        """Start a LocalCluster of `workers` processes on loopback (closed with the stack); its address."""
+        import logging
+
+        with sigint_ignored():  # the worker processes inherit it: Ctrl-C is ours to handle
+            cluster = stack.enter_context(distributed.LocalCluster(
+                n_workers=self.workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                dashboard_address=":0", silence_logs=logging.ERROR, env=dict(WORKER_ENVIRONMENT)))
+        return cluster.scheduler_address
+
     def run(self, chunks: Sequence[Chunk], on_row: OnRow) -> None:
         distributed = import_distributed()
         with self.client() as client:
             queue = distributed.Queue(client=client)  # rows stream through it case by case
-            finished: set[str] = set()
-            started: set[str] = set()
-            resubmits: dict[str, int] = {}
-
-            def deliver(row: dict) -> None:
-                if row["key"] not in finished:
-                    finished.add(row["key"])
-                    on_row(row)
-
-            inbox: deque = deque()  # messages taken from the queue and not handled yet (kept over Ctrl-C)
-
-            def drain() -> None:
-                inbox.extend(message for messages in queue.get(batch=True) for message in messages)
-                while inbox:
-                    kind, value = inbox.popleft()
-                    if kind == "start":
-                        started.update(value)
-                    else:
-                        deliver(json.loads(value))
-
-            def submit(chunk: Chunk) -> None:
-                futures[client.submit(_dask_run_chunk, chunk, queue.name, self.runner, pure=False)] = chunk
-
-            futures: dict = {}
+            tasks = _Tasks(client, queue, self.runner, on_row)
             for chunk in chunks:
-                submit(chunk)
+                tasks.submit(chunk)
             try:
-                while futures:
-                    try:
-                        done, _ = distributed.wait(list(futures), timeout=self.poll_seconds,
-                                                   return_when="FIRST_COMPLETED")
-                    except TimeoutError:  # none finished within poll_seconds: collect the streamed rows
-                        done = []
-                    drain()
-                    for future in done:
-                        chunk = futures.pop(future)
-                        try:
-                            rows = future.result()
-                        except Exception as error:
-                            drain()
-                            for again in self._after_failure(chunk, error, finished, started, deliver, resubmits):
-                                submit(again)
-                            continue
-                        for row in rows:
-                            deliver(row)
-                drain()
+                self._collect(distributed, tasks)
             except BaseException:
-                try:
-                    drain()  # keep what the workers finished before Ctrl-C
-                except Exception:
-                    pass
-                finally:
-                    client.cancel(list(futures))
+                tasks.stop()
                 raise
             finally:
                 with contextlib.suppress(Exception):
                     queue.close()
+
+    def _collect(self, distributed, tasks: _Tasks) -> None:
+        """Wait for the tasks, handing on the streamed rows every poll_seconds and each task's
+        rows (or its failure) as it ends."""
+        while tasks.futures:
+            try:
+                done, _ = distributed.wait(list(tasks.futures), timeout=self.poll_seconds,
+                                           return_when="FIRST_COMPLETED")
+            except TimeoutError:  # none finished within poll_seconds: collect the streamed rows
+                done = []
+            tasks.drain()
+            for future in done:
+                tasks.finish(future)
+        tasks.drain()
 
     @staticmethod
     def _after_failure(chunk: Chunk, error: Exception, finished: set, started: set, deliver,
@@ -161,46 +139,128 @@ class DaskExecutor:
         larger chunk (a batch runs together) each started case runs again alone, so the
         killer is known for sure. Cases that had not started run again (together), at most
         `max_resubmits` times each. Returns the chunks to submit."""
-        rest = [case for case in chunk.cases if case.key not in finished]
         message = f"{type(error).__name__}: {error}"
-        again: list[Chunk] = []
-        waiting = []
-        for case in rest:
-            if case.key in started and len(chunk.cases) == 1:
-                deliver(failed_row(case, "crashed", message))
-                continue
-            resubmits[case.key] = resubmits.get(case.key, 0) + 1
-            if resubmits[case.key] > max_resubmits:
-                deliver(failed_row(case, "crashed", f"{message} (submitted {max_resubmits + 1} times)"))
-            elif case.key in started:
-                again.append(replace(chunk, cases=[case]))
+        rest = chunk.unfinished(finished)
+        if _killed_alone(chunk, rest, started):
+            deliver(failed_row(rest[0], "crashed", message))
+            return []
+        alone, waiting = _resubmissions(rest, started, message, resubmits, max_resubmits, deliver)
+        again = [replace(chunk, cases=[case]) for case in alone]
+        return [*again, replace(chunk, cases=waiting)] if waiting else again
+
+
+def _killed_alone(chunk: Chunk, rest: list[Case], started: set[str]) -> bool:
+    """Whether a chunk of one case failed while that case ran (so the case killed its worker)."""
+    return len(chunk.cases) == 1 and bool(rest) and rest[0].key in started
+
+
+def _resubmissions(rest: list[Case], started: set[str], message: str, resubmits: dict[str, int],
+                   max_resubmits: int, deliver) -> tuple[list[Case], list[Case]]:
+    """The cases to submit again: (those that had started, each alone; those that had not,
+    together); a case past max_resubmits is delivered 'crashed' instead."""
+    alone, waiting = [], []
+    for case in rest:
+        if _resubmitted(case, message, resubmits, max_resubmits, deliver):
+            (alone if case.key in started else waiting).append(case)
+        started.discard(case.key)  # from now on: whether it started in its new task
+    return alone, waiting
+
+
+def _resubmitted(case: Case, message: str, resubmits: dict[str, int], max_resubmits: int, deliver) -> bool:
+    """Charge a case one more submission: True if it may run again, else it is delivered 'crashed'."""
+    resubmits[case.key] = resubmits.get(case.key, 0) + 1
+    if resubmits[case.key] <= max_resubmits:
+        return True
+    deliver(failed_row(case, "crashed", f"{message} (submitted {max_resubmits + 1} times)"))
+    return False
+
+
+class _Tasks:
+    """The chunks' tasks on the cluster (future -> chunk), the rows handed on (Delivered), the
+    cases started, the resubmissions of each case, and the messages taken from the queue and
+    not handled yet (kept over Ctrl-C)."""
+
+    def __init__(self, client, queue, runner: Callable, on_row: OnRow):
+        self.client = client
+        self.queue = queue
+        self.runner = runner
+        self.delivered = Delivered(on_row)
+        self.started: set[str] = set()
+        self.resubmits: dict[str, int] = {}
+        self.inbox: deque = deque()
+        self.futures: dict = {}
+
+    def submit(self, chunk: Chunk) -> None:
+        self.futures[self.client.submit(_dask_run_chunk, chunk, self.queue.name, self.runner, pure=False)] = chunk
+
+    def drain(self) -> None:
+        """Handle every message the workers streamed: cases started, rows."""
+        self.inbox.extend(message for messages in self.queue.get(batch=True) for message in messages)
+        while self.inbox:
+            kind, value = self.inbox.popleft()
+            if kind == "start":
+                self.started.update(value)
             else:
-                waiting.append(case)
-            started.discard(case.key)  # from now on: whether it started in its new task
-        if waiting:
-            again.append(replace(chunk, cases=waiting))
-        return again
+                self.delivered.deliver(json.loads(value))
+
+    def finish(self, future) -> None:
+        """Hand on the rows of an ended task; after a failure, submit its unfinished cases again."""
+        chunk = self.futures.pop(future)
+        try:
+            rows = future.result()
+        except Exception as error:
+            self.drain()
+            for again in DaskExecutor._after_failure(chunk, error, self.delivered.done, self.started,
+                                                     self.delivered.deliver, self.resubmits):
+                self.submit(again)
+            return
+        for row in rows:
+            self.delivered.deliver(row)
+
+    def stop(self) -> None:
+        """Keep what the workers finished before Ctrl-C, then cancel the tasks."""
+        try:
+            self.drain()
+        except Exception:
+            pass
+        finally:
+            self.client.cancel(list(self.futures))
+
+
+class _Streamer:
+    """A Dask task's emit: each case's start and row to the client's queue (rows as JSON text:
+    the queue carries msgpack-able data only), one put per batch of cases."""
+
+    def __init__(self, queue):
+        self.queue = queue
+        self.waiting: list[list] = []
+
+    def emit(self, message: tuple) -> None:
+        kind, value = message
+        self.waiting.append([kind, value if kind == "start" else _json_row(value)])
+        if kind == "start":  # before its cases run, with the rows finished since: one put per batch
+            self.flush()
+
+    def flush(self) -> None:
+        """Put the waiting messages, if any."""
+        if self.waiting:
+            self.queue.put(list(self.waiting))
+            self.waiting.clear()
+
+
+def _json_row(row: dict) -> str:
+    from ..output import to_jsonable
+
+    return json.dumps(to_jsonable(row), allow_nan=False)
 
 
 def _dask_run_chunk(chunk: Chunk, queue_name: str, runner: Callable = run_chunk) -> list[dict]:
     """Dask task: the chunk runner (sweep.run_chunk), sending each case's start and row to the
-    client's queue as they happen (rows as JSON text: the queue carries msgpack-able data only)."""
+    client's queue as they happen (_Streamer)."""
     from distributed import Queue
 
-    from ..output import to_jsonable
-
-    queue = Queue(queue_name)  # by name: a Queue object among the task's arguments is unpickled by the scheduler
-    waiting: list[list] = []
-
-    def emit(message: tuple) -> None:
-        kind, value = message
-        waiting.append([kind, value if kind == "start" else json.dumps(to_jsonable(value), allow_nan=False)])
-        if kind == "start":  # before its cases run, with the rows finished since: one put per batch
-            queue.put(list(waiting))
-            waiting.clear()
-
+    streamer = _Streamer(Queue(queue_name))  # by name: a Queue among the task's arguments is unpickled by the scheduler
     try:
-        return runner(chunk, emit)
+        return runner(chunk, streamer.emit)
     finally:
-        if waiting:
-            queue.put(waiting)
+        streamer.flush()

@@ -26,13 +26,14 @@ Stalled workers: a thread of every local worker sends a heartbeat every HEARTBEA
 compiled loops release the interpreter's lock, so it beats while they run); a worker silent
 for `stall_seconds` (STALL_SECONDS: stopped by SIGSTOP, or hung) is killed, and its cases are
 retried as after a death (a stopped worker blocked the sweep for ever).
-The Dask executor: sweep/dask_executor.py.
+The Dask executor: sweep/dask_executor.py; the rows and messages of a pool: sweep/pool.py.
 """
 
 from __future__ import annotations
 
 import contextlib
 import ctypes
+import functools
 import multiprocessing
 import multiprocessing.connection
 import os
@@ -43,18 +44,16 @@ import time
 import warnings
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import replace
 
 from ..runtime.process import keep_freed_memory
-from .plan import Chunk
+from .plan import Case, Chunk
+from .pool import Delivered, Messages, OnRow, after_death, deliver_result, processes, stop_pool
 from .signals import deferred
 from .worker import failed_row, run_chunk
 
 #: environment of worker processes, set before they import numpy: one thread per worker
 WORKER_ENVIRONMENT = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
-
-OnRow = Callable[[dict], None]
 
 #: imported by the forkserver before it forks the local workers (the engines, warm)
 WARM_MODULE = f"{__package__}.warm"
@@ -71,11 +70,22 @@ def worker_environment() -> Iterator[None]:
     try:
         yield
     finally:
-        for name, value in saved.items():
-            if value is None:
-                os.environ.pop(name, None)
-            else:
-                os.environ[name] = value
+        _restore_environment(saved)
+
+
+def _restore_environment(saved: dict[str, str | None]) -> None:
+    """Put back the variables as saved (None: the variable was not set)."""
+    for name, value in saved.items():
+        if value is None:
+            os.environ.pop(name, None)
+        else:
+            os.environ[name] = value
+
+
+def _emit_row(on_row: OnRow, message: tuple) -> None:
+    """A chunk runner's emit that passes on the rows (and drops the starts)."""
+    if message[0] == "row":
+        on_row(message[1])
 
 
 class SerialExecutor:
@@ -84,10 +94,7 @@ class SerialExecutor:
     workers = 1
 
     def run(self, chunks: Sequence[Chunk], on_row: OnRow) -> None:
-        def emit(message: tuple) -> None:
-            if message[0] == "row":
-                on_row(message[1])
-
+        emit = functools.partial(_emit_row, on_row)
         for chunk in chunks:
             run_chunk(chunk, emit)
 
@@ -106,41 +113,72 @@ PARENT_DEATH_SIGNAL = sys.platform.startswith("linux")
 def exit_with_parent(parent_pid: int, poll_seconds: float = 1.0) -> None:
     """Make this process end when `parent_pid` (its parent) dies: SIGKILL from the kernel
     on Linux (prctl PR_SET_PDEATHSIG, PARENT_DEATH_SIGNAL), else a daemon thread polling os.getppid()."""
-    if PARENT_DEATH_SIGNAL:
-        with contextlib.suppress(OSError, AttributeError):
-            libc = ctypes.CDLL(None, use_errno=True)
-            if libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0:
-                if os.getppid() != parent_pid:  # it died before the request took effect
-                    os._exit(1)
-                return
+    if PARENT_DEATH_SIGNAL and _kernel_kills_with_parent(parent_pid):
+        return
+    threading.Thread(target=_watch_parent, args=(parent_pid, poll_seconds), name="exit-with-parent",
+                     daemon=True).start()
 
-    def watch() -> None:
-        while os.getppid() == parent_pid:
-            time.sleep(poll_seconds)
+
+def _kernel_kills_with_parent(parent_pid: int) -> bool:
+    """Ask the kernel for SIGKILL when the parent dies (prctl); whether it took the request
+    (exit now if the parent died before it took effect)."""
+    with contextlib.suppress(OSError, AttributeError):
+        libc = ctypes.CDLL(None, use_errno=True)
+        if libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0:
+            _exit_unless_parent(parent_pid)
+            return True
+    return False
+
+
+def _exit_unless_parent(parent_pid: int) -> None:
+    """Exit at once if this process's parent is no longer `parent_pid` (it died)."""
+    if os.getppid() != parent_pid:
         os._exit(1)
 
-    threading.Thread(target=watch, name="exit-with-parent", daemon=True).start()
+
+def _watch_parent(parent_pid: int, poll_seconds: float) -> None:
+    """Poll the parent's pid; exit when it changes (the parent died)."""
+    while os.getppid() == parent_pid:
+        time.sleep(poll_seconds)
+    os._exit(1)
 
 
 def _init_worker(queue, runner, parent_pid: int | None = None, environment=None, directory=None) -> None:
     global _QUEUE, _RUNNER
     _QUEUE, _RUNNER = queue, runner
-    if environment is not None:  # the parent's now, not the warm server's when it started
-        os.environ.clear()
-        os.environ.update(environment)
-    if directory is not None:  # relative deck and record paths as in the parent
-        os.chdir(directory)
+    _take_parent_state(environment, directory)
     keep_freed_memory()
     warnings.simplefilter("ignore", RuntimeWarning)  # as in the uplift process: numpy's never reach the terminal
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
-    if hasattr(signal, "SIGHUP"):  # so is a hang-up of the terminal (POSIX)
+    _ignore_terminal_signals()
+    _exit_with_the_sweep(parent_pid)
+    threading.Thread(target=_beat, args=(queue,), name="heartbeat", daemon=True).start()
+
+
+def _take_parent_state(environment: dict | None, directory: str | None) -> None:
+    """The parent's environment now (not the warm server's when it started) and its folder (relative
+    deck and record paths as in the parent), where given."""
+    if environment is not None:
+        os.environ.clear()
+        os.environ.update(environment)
+    if directory is not None:
+        os.chdir(directory)
+
+
+def _ignore_terminal_signals() -> None:
+    """Ctrl-C, and a hang-up of the terminal (POSIX), are the parent's to handle."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "SIGHUP"):
         signal.signal(signal.SIGHUP, signal.SIG_IGN)
+
+
+def _exit_with_the_sweep(parent_pid: int | None) -> None:
+    """End this worker with its parent (exit_with_parent) and with the sweep's process, also when
+    the warm server forked it (_exit_when_ready)."""
     if parent_pid is not None:
         exit_with_parent(parent_pid)
-    sweep = multiprocessing.parent_process()  # the sweep's process, also when the warm server forked us
+    sweep = multiprocessing.parent_process()
     if sweep is not None and sweep.sentinel is not None:
         threading.Thread(target=_exit_when_ready, args=(sweep.sentinel,), name="exit-with-sweep", daemon=True).start()
-    threading.Thread(target=_beat, args=(queue,), name="heartbeat", daemon=True).start()
 
 
 def _beat(queue) -> None:
@@ -210,40 +248,44 @@ class ProcessExecutor:
                 multiprocessing.forkserver.ensure_running()
 
     def run(self, chunks: Sequence[Chunk], on_row: OnRow) -> None:
-        attempts: dict[str, int] = {}
-        done: set[str] = set()
-
-        def deliver(row: dict) -> None:
-            if row["key"] not in done:
-                done.add(row["key"])
-                on_row(row)
-
+        delivered = Delivered(on_row)
         pending, isolate = list(chunks), []  # isolate: one-case chunks of suspects, run on a single worker
         context = _context(self.start_method)
         with worker_environment():
             while pending or isolate:
                 isolated = bool(isolate)
                 batch, workers = (isolate, 1) if isolated else (pending, self.workers)
-                if isolated:
-                    isolate = []
-                else:
-                    pending = []
-                queue = context.SimpleQueue()  # a new one per pool: a killed writer may hold the old one's lock
-                started: set[str] = set()
-                for chunk in self._run_pool(batch, workers, context, queue, started, deliver):
-                    rest = [case for case in chunk.cases if case.key not in done]
-                    suspects = [case for case in rest if case.key in started or not started]
-                    for case in suspects:
-                        if isolated and case.key in started:  # alone on its worker: this case killed it
-                            attempts[case.key] = attempts.get(case.key, 0) + 1
-                            if attempts[case.key] >= self.max_attempts:
-                                deliver(failed_row(case, "crashed", "the worker process died while running this "
-                                                   f"case ({attempts[case.key]} attempts)"))
-                                continue
-                        isolate.append(replace(chunk, cases=[case]))
-                    others = [case for case in rest if case not in suspects]
-                    if others:
-                        pending.append(replace(chunk, cases=others))
+                pending, isolate = (pending, []) if isolated else ([], isolate)
+                again, rest = self._run_round(batch, workers, context, isolated, delivered)
+                isolate += again
+                pending += rest
+
+    def _run_round(self, batch: list[Chunk], workers: int, context, isolated: bool,
+                   delivered: Delivered) -> tuple[list[Chunk], list[Chunk]]:
+        """Run chunks on a fresh pool; of the chunks lost to a dead worker: (the suspects, one per
+        chunk, to run alone; the chunks of the other cases, to run in parallel)."""
+        queue = context.SimpleQueue()  # a new one per pool: a killed writer may hold the old one's lock
+        started: set[str] = set()
+        isolate, pending = [], []
+        for chunk in self._run_pool(batch, workers, context, queue, started, delivered.deliver):
+            suspects, others = after_death(chunk, started, delivered.done)
+            isolate += [replace(chunk, cases=[case]) for case in suspects
+                        if not self._crashed(case, started, isolated, delivered)]
+            if others:
+                pending.append(replace(chunk, cases=others))
+        return isolate, pending
+
+    def _crashed(self, case: Case, started: set[str], isolated: bool, delivered: Delivered) -> bool:
+        """Whether a suspect of a dead worker is done with: it ran alone on its worker (so it killed
+        it) for the max_attempts-th time, and is delivered as 'crashed'."""
+        if not (isolated and case.key in started):
+            return False
+        attempts = delivered.charge(case.key)
+        if attempts < self.max_attempts:
+            return False
+        delivered.deliver(failed_row(case, "crashed", "the worker process died while running this "
+                                     f"case ({attempts} attempts)"))
+        return True
 
     def _run_pool(self, chunks, workers: int, context, queue, started: set, deliver) -> list[Chunk]:
         """Run the chunks on a fresh pool; return the chunks of a broken pool (a worker died)."""
@@ -251,56 +293,35 @@ class ProcessExecutor:
                                    initargs=(queue, self.runner, self._parent_pid(), dict(os.environ), os.getcwd()))
         with sigint_ignored(), deferred():  # processes are started by submit; they ignore Ctrl-C from birth
             futures = {pool.submit(_worker_run_chunk, chunk): chunk for chunk in chunks}
-        leftovers = []
-        beats: dict[int, float] = {}  # worker pid -> time of its last heartbeat (or of its first sight)
-
-        def drain() -> None:
-            while True:
-                with deferred():  # a stop signal never cuts a message read from the pipe in half
-                    if queue.empty():
-                        return
-                    kind, value = queue.get()
-                    if kind == "start":
-                        started.update(value)
-                    elif kind == "beat":
-                        beats[value] = time.monotonic()
-                    else:
-                        deliver(value)
-
+        messages = Messages(queue, started, deliver)
         try:
-            while futures:
-                with deferred():  # a signal inside wait() could leave futures' locks held: the pool would hang
-                    finished, _ = wait(futures, timeout=self.poll_seconds, return_when=FIRST_COMPLETED)
-                drain()
-                self._kill_stalled(pool, beats)
-                for future in finished:
-                    chunk = futures.pop(future)
-                    try:
-                        rows = future.result()
-                    except BrokenProcessPool:
-                        leftovers.append(chunk)
-                        continue
-                    with deferred():
-                        for row in rows:
-                            deliver(row)
-            drain()
+            leftovers = self._collect(pool, futures, messages)
         except BaseException:  # Ctrl-C, a full disk ...: keep what arrived, stop the workers now
-            try:
-                drain()  # may fail again (the disk is still full): the workers are stopped all the same
-            finally:
-                for process in list(getattr(pool, "_processes", {}).values()):
-                    process.kill()  # SIGKILL: they ignore SIGINT/SIGHUP, and a worker blocked writing dies too
-                pool.shutdown(wait=False, cancel_futures=True)
+            stop_pool(pool, messages)
             raise
         pool.shutdown(wait=True)
         return leftovers
 
+    def _collect(self, pool, futures: dict, messages: Messages) -> list[Chunk]:
+        """Deliver the rows of the pool's chunks as they arrive; the chunks of a broken pool."""
+        leftovers = []
+        while futures:
+            with deferred():  # a signal inside wait() could leave futures' locks held: the pool would hang
+                finished, _ = wait(futures, timeout=self.poll_seconds, return_when=FIRST_COMPLETED)
+            messages.drain()
+            self._kill_stalled(pool, messages.beats)
+            for future in finished:
+                chunk = futures.pop(future)
+                if not deliver_result(future, messages.deliver):
+                    leftovers.append(chunk)
+        messages.drain()
+        return leftovers
 
     def _kill_stalled(self, pool, beats: dict[int, float]) -> None:
         """SIGKILL the workers silent for stall_seconds (the pool then breaks: their cases are
         retried as after a death)."""
         now = time.monotonic()
-        for pid, process in list(getattr(pool, "_processes", {}).items()):
+        for pid, process in processes(pool):
             if now - beats.setdefault(pid, now) > self.stall_seconds and process.is_alive():
                 process.kill()  # a stopped process is killed too
 

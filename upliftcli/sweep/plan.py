@@ -24,7 +24,7 @@ import hashlib
 import itertools
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -73,9 +73,8 @@ def expand_cases(varies: Sequence[Vary], engines: Sequence[str], supports: Seque
                  deck_fingerprint: str) -> list[Case]:
     """Cartesian product of the varied values (first --vary outermost), then engine, then support,
     so that the cases sharing one deck are adjacent."""
-    combos = itertools.product(*[[(v.path, value) for value in v.values] for v in varies])
     cases = []
-    for overrides, engine, support in itertools.product(combos, engines, supports):
+    for overrides, engine, support in itertools.product(_combos(varies), engines, supports):
         cases.append(Case(len(cases), case_key(deck_fingerprint, overrides, engine, support),
                           tuple(overrides), engine, support))
     return cases
@@ -195,6 +194,16 @@ def _with_suite(raw: dict, source: str, base: list, combo: Sequence[tuple[str, A
                               f"{error.expected} (the suite of the case {case})") from None
 
 
+@dataclass
+class _GroundMotions:
+    """The distinct ground motions of a sweep's cases (ground_motion_key -> deck with it), the
+    warnings of the cases' decks and the messages of the combinations a suite cannot serve."""
+
+    decks: dict[str, Deck] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
+    unsupported: list[str] = field(default_factory=list)
+
+
 def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: Sequence[str] = (),
                engines: Sequence[str] = (), supports: Sequence[str] = (), *, varies: Sequence[Vary] = (),
                per_record: bool = False, check: bool = False) -> SweepPlan:
@@ -204,67 +213,138 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     check: the exact engine runs beside the others for the ratios simplified / exact (a deck
     with a record or a suite)."""
     base = [parse_override(text) for text in settings]
+    varies = _parse_varies(varies, vary_texts)
+    source = str(deck_path)
+    raw = read_toml(deck_path)
+    chosen = _chosen(engines, supports)
+    deck = base_deck(raw, source, base + list(chosen), varies)
+    engines = _engines(deck, engines, check, source)
+    supports = list(supports) or deck.analysis.supports
+    _check_case_count(varies, engines, supports)
+    deck_fingerprint = fingerprint(raw, base)
+    cases = expand_cases(varies, engines, supports, deck_fingerprint)
+    grounds = _ground_motions(raw, source, base + list(chosen), varies, engines)
+    grounds.warnings[:0] = deck.warnings  # values far outside building practice, the base deck's and the cases'
+    suites = _suites(grounds, engines)
+    _check_per_record(per_record, suites, source)
+    version = tool_version()
+    inputs = _motion_inputs(grounds)
+    records = _record_digests(inputs)
+    return SweepPlan(raw, source, deck.title, tuple(base), varies, engines, supports, cases, deck.criteria,
+                     max((suite.count for suite in suites), default=0), per_record,
+                     _plan_warnings(grounds, suites, varies), records=records,
+                     version=version, fingerprint=run_fingerprint(deck_fingerprint, records, version),
+                     record_steps=_record_steps(inputs), inputs=tuple(inputs.values()), check=check, chosen=chosen)
+
+
+def _parse_varies(varies: Sequence[Vary], vary_texts: Sequence[str]) -> list[Vary]:
+    """The given Vary objects, then the parsed --vary texts; InputError if a field is varied twice."""
     varies = list(varies) + [parse_vary(text) for text in vary_texts]
     paths = [v.path for v in varies]
     if len(set(paths)) != len(paths):
         raise InputError("--vary", next(p for p in paths if paths.count(p) > 1), "each field varied once")
-    source = str(deck_path)
-    raw = read_toml(deck_path)
-    # --engine and --support are every case's analysis.engine and analysis.supports: the deck's checks
-    # that depend on them (a rocking limit needs the exact engine) see the engines that run
-    chosen = tuple((path, list(given)) for path, given in (("analysis.engine", engines),
-                                                           ("analysis.supports", supports)) if given)
-    deck = base_deck(raw, source, base + list(chosen), varies)
+    return varies
+
+
+def _chosen(engines: Sequence[str], supports: Sequence[str]) -> tuple:
+    """--engine and --support as every case's analysis.engine and analysis.supports: the deck's checks
+    that depend on them (a rocking limit needs the exact engine) see the engines that run."""
+    return tuple((path, list(given)) for path, given in (("analysis.engine", engines),
+                                                         ("analysis.supports", supports)) if given)
+
+
+def _engines(deck: Deck, engines: Sequence[str], check: bool, source: str) -> list[str]:
+    """The engines that run (given, else the deck's), with the exact one for --check (a deck
+    with a record or a suite)."""
     engines = list(engines) or deck.analysis.engines
-    supports = list(supports) or deck.analysis.supports
-    if check:
-        if not isinstance(deck.ground_motion, (Record, Suite)):
-            raise InputError("--check", source, "a deck with a record or a record suite (the exact engine checks "
-                             "the simplified one on it; this deck gives only a design spectrum)")
-        engines = list(dict.fromkeys([*engines, "exact"]))
+    if not check:
+        return engines
+    if not isinstance(deck.ground_motion, (Record, Suite)):
+        raise InputError("--check", source, "a deck with a record or a record suite (the exact engine checks "
+                         "the simplified one on it; this deck gives only a design spectrum)")
+    return list(dict.fromkeys([*engines, "exact"]))
+
+
+def _check_case_count(varies: Sequence[Vary], engines: Sequence[str], supports: Sequence[str]) -> None:
+    """The number of cases within the tool's limits, before any case is expanded."""
     problem = cases_problem([len(v.values) for v in varies], len(engines) * len(supports))
-    if problem:  # before any case is expanded
+    if problem:
         raise InputError("--vary" if varies else "--engine/--support", None, problem)
-    deck_fingerprint = fingerprint(raw, base)
-    cases = expand_cases(varies, engines, supports, deck_fingerprint)
-    grounds: dict[str, Any] = {}
-    deck_warnings = list(deck.warnings)  # values far outside building practice, the base deck's and the cases'
-    unsupported: list[str] = []
-    for combo in itertools.product(*[[(v.path, value) for value in v.values] for v in varies]):
+
+
+def _combos(varies: Sequence[Vary]) -> Iterator[tuple]:
+    """The combinations of the varied values, ((path, value), ...), first --vary outermost."""
+    return itertools.product(*[[(v.path, value) for value in v.values] for v in varies])
+
+
+def _ground_motions(raw: dict, source: str, base: list, varies: Sequence[Vary],
+                    engines: Sequence[str]) -> _GroundMotions:
+    """Build every combination's deck (without its record) and read each distinct ground motion
+    once, prepared for every engine; a combination a suite cannot serve is noted (its cases
+    fail alone, the message in their rows: sweep/worker.py)."""
+    grounds = _GroundMotions()
+    varied = {v.path for v in varies}
+    for combo in _combos(varies):
         try:
-            case_deck = build_deck(raw, source, base + list(chosen) + list(combo), load_ground_motion=False)
-            deck_warnings += case_deck.warnings
-            motion_key = ground_motion_key(case_deck)
-            if motion_key not in grounds:
-                grounds[motion_key] = _with_suite(raw, source, base + list(chosen), combo, case_deck)
+            motion_key = _add_ground_motion(grounds, raw, source, base, combo)
         except CaseUnsupported as error:
-            unsupported.append(str(error))  # its cases fail alone, the message in their rows (sweep/worker.py)
+            grounds.unsupported.append(str(error))
             continue
         except InputError as error:
-            raise _vary_error(error, set(paths)) from None
+            raise _vary_error(error, varied) from None
         for engine in engines:
-            ground_motion_for(grounds[motion_key], ENGINES[engine])
-    suites = [g.ground_motion for g in grounds.values() if isinstance(g.ground_motion, Suite)]
+            ground_motion_for(grounds.decks[motion_key], ENGINES[engine])
+    return grounds
+
+
+def _add_ground_motion(grounds: _GroundMotions, raw: dict, source: str, base: list, combo: tuple) -> str:
+    """Build one combination's deck, keep its warnings and, if new, its ground motion; its ground_motion_key."""
+    case_deck = build_deck(raw, source, base + list(combo), load_ground_motion=False)
+    grounds.warnings += case_deck.warnings
+    motion_key = ground_motion_key(case_deck)
+    if motion_key not in grounds.decks:
+        grounds.decks[motion_key] = _with_suite(raw, source, base, combo, case_deck)
+    return motion_key
+
+
+def _suites(grounds: _GroundMotions, engines: Sequence[str]) -> list[Suite]:
+    """The record suites the cases read, if a response-history engine runs them (else none)."""
     if not any(ENGINES[engine].needs_record for engine in engines):
-        suites = []
+        return []
+    return [g.ground_motion for g in grounds.decks.values() if isinstance(g.ground_motion, Suite)]
+
+
+def _check_per_record(per_record: bool, suites: Sequence[Suite], source: str) -> None:
     if per_record and not suites:
         raise InputError("--per-record", source, "a deck whose ground_motion.suite a response-history engine runs "
                          "(--engine exact or approximate)")
-    warnings = tuple(dict.fromkeys([*deck_warnings, *(message for suite in suites for message in suite.warnings)]))
-    if unsupported:
-        total = math.prod(len(v.values) for v in varies)
-        warnings += (f"{len(unsupported)} of {total} combinations of the varied fields cannot be run with the "
-                     f"deck's ground motion and fail alone (exit code 4), e.g. {unsupported[0]}",)
-    version = tool_version()
-    inputs = {json.dumps(entry, sort_keys=True): entry
-              for ground in grounds.values() for entry in motion_files(ground.ground_motion)}
-    # every file the ground motions read (absolute paths: a run from another folder is the same run)
-    records = {entry["path"]: entry["sha256"] for entry in inputs.values() if entry["path"] and entry["sha256"]}
-    samples = {entry["path"]: (entry["dt"], entry["npts"]) for entry in inputs.values() if "dt" in entry}
-    return SweepPlan(raw, source, deck.title, tuple(base), varies, engines, supports, cases, deck.criteria,
-                     max((suite.count for suite in suites), default=0), per_record, warnings, records=records,
-                     version=version, fingerprint=run_fingerprint(deck_fingerprint, records, version),
-                     record_steps=samples, inputs=tuple(inputs.values()), check=check, chosen=chosen)
+
+
+def _plan_warnings(grounds: _GroundMotions, suites: Sequence[Suite], varies: Sequence[Vary]) -> tuple:
+    """The decks' and the suites' warnings, each once, and one for the combinations that fail alone."""
+    warnings = tuple(dict.fromkeys([*grounds.warnings, *(message for suite in suites for message in suite.warnings)]))
+    if not grounds.unsupported:
+        return warnings
+    total = math.prod(len(v.values) for v in varies)
+    return (*warnings, f"{len(grounds.unsupported)} of {total} combinations of the varied fields cannot be run with "
+                       f"the deck's ground motion and fail alone (exit code 4), e.g. {grounds.unsupported[0]}")
+
+
+def _motion_inputs(grounds: _GroundMotions) -> dict[str, dict]:
+    """The provenance entry of every file the ground motions read, each once (by its JSON text)."""
+    return {json.dumps(entry, sort_keys=True): entry
+            for ground in grounds.decks.values() for entry in motion_files(ground.ground_motion)}
+
+
+def _record_digests(inputs: dict[str, dict]) -> dict[str, str]:
+    """Every file the ground motions read -> its SHA-256 (absolute paths: a run from another folder
+    is the same run)."""
+    return {entry["path"]: entry["sha256"] for entry in inputs.values() if entry["path"] and entry["sha256"]}
+
+
+def _record_steps(inputs: dict[str, dict]) -> dict[str, tuple]:
+    """Every record file -> (dt [s], samples)."""
+    return {entry["path"]: (entry["dt"], entry["npts"]) for entry in inputs.values() if "dt" in entry}
 
 
 # ----------------------------------------------------------------------------- chunks
@@ -281,6 +361,10 @@ class Chunk:
     inputs: str = ""
     #: the SHA-256 of every record file as the plan read it (absolute path -> digest)
     records: dict = field(default_factory=dict)
+
+    def unfinished(self, done: set[str]) -> list[Case]:
+        """The chunk's cases whose key is not in `done`, in order."""
+        return [case for case in self.cases if case.key not in done]
 
 
 def _structure_order(case: Case) -> tuple:

@@ -67,8 +67,13 @@ def stop_signals_interrupt(stay_ignored: bool = False) -> Iterator[None]:
         raise
     finally:
         if not (stopped and stay_ignored):
-            for signum, action in previous.items():
-                signal.signal(signum, action)
+            _restore_handlers(previous)
+
+
+def _restore_handlers(previous: dict) -> None:
+    """Put back the handlers of the signals as they were (signal number -> handler)."""
+    for signum, action in previous.items():
+        signal.signal(signum, action)
 
 
 @contextlib.contextmanager

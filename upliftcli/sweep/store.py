@@ -14,11 +14,13 @@ output stem is locked while a sweep writes it (stem_lock): a second sweep with t
 from __future__ import annotations
 
 import contextlib
+import functools
 import json
 import os
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 from ..errors import InputError
 from ..runtime import locks
@@ -37,44 +39,45 @@ class RowStore:
         self._created = False
         self._synced = -float("inf")  # time.monotonic() of the last fsync
 
-    def read(self) -> dict[str, dict]:
-        """key -> last row (with its "fingerprint", if any); a torn last line (killed while writing) is ignored."""
-        rows: dict[str, dict] = {}
+    def _items(self) -> Iterator[Any]:
+        """The JSON value of each line of the file (none if there is no file); lines that are not
+        JSON (a torn last line: killed while writing) are skipped."""
         if not self.path.exists():
-            return rows
+            return
         for line in self.path.read_text(encoding="utf-8").splitlines():
             try:
-                row = json.loads(line)
+                yield json.loads(line)
             except json.JSONDecodeError:
                 continue
-            if isinstance(row, dict) and "key" in row and row.get("status") in STATUSES:
-                rows[row["key"]] = row
-        return rows
+
+    def read(self) -> dict[str, dict]:
+        """key -> last row (with its "fingerprint", if any); a torn last line (killed while writing) is ignored."""
+        return {row["key"]: row for row in self._items() if _is_row(row)}
 
     def runs(self) -> dict[str, dict]:
         """fingerprint -> the header of the run that wrote rows with it (what it read)."""
-        headers: dict[str, dict] = {}
-        if not self.path.exists():
-            return headers
-        for line in self.path.read_text(encoding="utf-8").splitlines():
-            with contextlib.suppress(json.JSONDecodeError):
-                item = json.loads(line)
-                if isinstance(item, dict) and isinstance(item.get("run"), dict):
-                    headers[str(item["run"].get("fingerprint"))] = item["run"]
-        return headers
+        return {str(item["run"].get("fingerprint")): item["run"] for item in self._items() if _is_header(item)}
 
     def open(self, fresh: bool, header: dict | None = None) -> None:
         """Open for appending (fresh: discard the previous rows), then write the run's header."""
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._created = fresh or not self.path.exists() or self.path.stat().st_size == 0
-        if not fresh and self.path.exists():
-            data = self.path.read_bytes()
-            if data and not data.endswith(b"\n"):  # drop a torn last line before appending
-                with open(self.path, "r+b") as handle:
-                    handle.truncate(data.rfind(b"\n") + 1)
+        self._created = fresh or self._empty()
+        if not fresh:
+            self._drop_torn_line()
         self._file = open(self.path, "w" if fresh else "a", encoding="utf-8")  # noqa: SIM115 - held until close
         if header is not None:
             self._write({"run": header})
+
+    def _empty(self) -> bool:
+        """Whether there is no file, or an empty one."""
+        return not self.path.exists() or self.path.stat().st_size == 0
+
+    def _drop_torn_line(self) -> None:
+        """Cut off a torn last line (no newline at the end) before appending."""
+        data = self.path.read_bytes() if self.path.exists() else b""
+        if data and not data.endswith(b"\n"):
+            with open(self.path, "r+b") as handle:
+                handle.truncate(data.rfind(b"\n") + 1)
 
     def _write(self, item: dict) -> None:
         from ..output import to_jsonable
@@ -95,15 +98,29 @@ class RowStore:
         again: the rows already written are flushed). discard_if_empty: remove a file this run
         created and wrote no row to (a sweep that stopped before its first case)."""
         if self._file is not None:
-            with contextlib.suppress(OSError):
-                self._file.flush()
-                os.fsync(self._file.fileno())
-            with contextlib.suppress(OSError):
-                self._file.close()
-            self._file = None
+            self._close_file()
         if discard_if_empty and self._created and self.appended == 0:
             with contextlib.suppress(OSError):
                 self.path.unlink()
+
+    def _close_file(self) -> None:
+        """Flush, fsync and close the file, each error of them ignored."""
+        with contextlib.suppress(OSError):
+            self._file.flush()
+            os.fsync(self._file.fileno())
+        with contextlib.suppress(OSError):
+            self._file.close()
+        self._file = None
+
+
+def _is_row(item: Any) -> bool:
+    """Whether a line of the file is a row: an object with a key and a known status."""
+    return isinstance(item, dict) and "key" in item and item.get("status") in STATUSES
+
+
+def _is_header(item: Any) -> bool:
+    """Whether a line of the file is a run's header: {"run": {...}}."""
+    return isinstance(item, dict) and isinstance(item.get("run"), dict)
 
 
 @contextlib.contextmanager
@@ -114,15 +131,9 @@ def stem_lock(out: Path, stem: str) -> Iterator[None]:
     the pid in it names a process that is gone; runtime/locks.py).
     A directory created here and left empty is removed too."""
     created = not out.exists()
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+    _writable(out, functools.partial(out.mkdir, parents=True, exist_ok=True))
     path = out / f".{stem}.lock"
-    try:
-        fd = locks.acquire(path)
-    except OSError as error:
-        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None
+    fd = _writable(out, functools.partial(locks.acquire, path))
     if fd is None:
         raise InputError("--out", str(out / stem), "an output stem no other sweep is writing (another "
                          "`uplift sweep` with the same --out and --name is running: wait for it to end or "
@@ -134,3 +145,11 @@ def stem_lock(out: Path, stem: str) -> Iterator[None]:
         if created:
             with contextlib.suppress(OSError):
                 out.rmdir()  # only if empty
+
+
+def _writable(out: Path, action: Callable[[], Any]) -> Any:
+    """action() on the output directory; its OSError as an InputError naming --out."""
+    try:
+        return action()
+    except OSError as error:
+        raise InputError("--out", str(out), f"a writable directory ({error.strerror or error})") from None

@@ -1,4 +1,5 @@
-"""The tidy table of a sweep (one row per case) and its summary: ranges, governing cases, envelope.
+"""The tidy table of a sweep (one row per case) and its summary: ranges, governing cases, envelope
+(computed in sweep/summary.py, named here too).
 
 Pure functions of the plan and the rows, plus writers of CSV / JSON / Parquet files (atomic),
 each with the sweep's provenance (sweep_provenance, docs/provenance.md): the CSV's two leading
@@ -12,10 +13,11 @@ one row per record (table_rows).
 from __future__ import annotations
 
 import csv
+import importlib
 import io
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +26,17 @@ from ..errors import InputError
 from ..output import to_jsonable
 from ..provenance.record import csv_comments, number_text, to_text_numbers
 from ..runtime.atomic import write_set
-from .plan import STATUSES, SweepPlan
+from .plan import SweepPlan
+from .summary import (  # noqa: F401 - table.summarize, envelope ...: the summary's names here too
+    SUMMARY_OUTPUTS,
+    envelope,
+    finite_number,
+    governing,
+    inputs_of,
+    ranges,
+    summarize,
+    violating,
+)
 
 #: output column -> (unit, meaning): the row's own columns, the scalars and the largest value
 #: of each response quantity (engines/quantities.py)
@@ -61,8 +73,6 @@ SUITE_COLUMNS: dict[str, tuple[str, str]] = {
 }
 #: the columns a per-record row takes from its case's row
 _CASE_HEAD = ("case", "key", "engine", "support", "status", "message", "violations")
-#: outputs summarised on the terminal: governing case and envelope
-SUMMARY_OUTPUTS = ("base_shear_coefficient", "base_moment_coefficient", "max_drift_ratio")
 
 
 #: sweep --check: check_<name> = the simplified case's value / the exact case's (same fields, same
@@ -75,9 +85,8 @@ CHECK_COLUMNS: dict[str, tuple[str, str]] = {
 
 def columns(plan: SweepPlan) -> list[str]:
     lead, tail = (["statistic", "record"], ["records", "factor"]) if plan.suite_records else ([], [])
-    checks = list(CHECK_COLUMNS) if plan.check else []
     return (["case", "engine", "support"] + lead + [v.path for v in plan.varies] + list(OUTPUT_COLUMNS)
-            + list(rocking_columns(plan)) + checks + tail + ["key"])
+            + list(rocking_columns(plan)) + list(_check_columns(plan)) + tail + ["key"])
 
 
 def rocking_columns(plan: SweepPlan) -> dict[str, tuple[str, str]]:
@@ -85,12 +94,20 @@ def rocking_columns(plan: SweepPlan) -> dict[str, tuple[str, str]]:
     return ROCKING_COLUMNS if "exact" in plan.engines and "uplift" in plan.supports else {}
 
 
+def _check_columns(plan: SweepPlan) -> dict[str, tuple[str, str]]:
+    """CHECK_COLUMNS for sweep --check, else none."""
+    return CHECK_COLUMNS if plan.check else {}
+
+
 def units(plan: SweepPlan) -> dict[str, str]:
     suite = SUITE_COLUMNS if plan.suite_records else {}
-    checks = CHECK_COLUMNS if plan.check else {}
-    return {**{v.path: v.unit for v in plan.varies},
-            **{name: unit for name, (unit, _) in {**OUTPUT_COLUMNS, **rocking_columns(plan), **suite,
-                                                  **checks}.items()}}
+    described = {**OUTPUT_COLUMNS, **rocking_columns(plan), **suite, **_check_columns(plan)}
+    return {**{v.path: v.unit for v in plan.varies}, **{name: unit for name, (unit, _) in described.items()}}
+
+
+def _check_key(row: dict, paths: Sequence[str]) -> str:
+    """What a simplified case and its exact reference share: support and varied values (as JSON)."""
+    return json.dumps([row.get("support"), *(row.get(p) for p in paths)], default=str)
 
 
 def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
@@ -100,29 +117,51 @@ def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
     simplified case (deck/criteria.py); a varied criteria.simplified_error is each case's own."""
     paths = [v.path for v in plan.varies]
     deck_limit = plan.criteria.get("simplified_error")
+    exact = {_check_key(row, paths): row for row in rows if _finished_by(row, "exact")}
+    return [_checked(row, exact.get(_check_key(row, paths)), deck_limit) for row in rows]
 
-    def key(row: dict) -> str:
-        return json.dumps([row.get("support"), *(row.get(p) for p in paths)], default=str)
 
-    exact = {key(row): row for row in rows if row.get("engine") == "exact" and row.get("status") == "ok"}
-    out = []
-    for row in rows:
-        reference = exact.get(key(row)) if row.get("engine") == "simplified" and row.get("status") == "ok" else None
-        if reference is not None:
-            row = dict(row)
-            mine, theirs = row.get("compared") or {}, reference.get("compared") or {}
-            failed = []
-            limit = row.get("criteria.simplified_error", deck_limit)
-            for name in COMPARED:
-                value, base = _number(mine.get(name)), _number(theirs.get(name))
-                ratio = row[f"check_{name}"] = value / base if value is not None and base else None
-                if limit is not None and ratio is not None and not 1.0 / (1.0 + limit) <= ratio <= 1.0 + limit:
-                    failed.append(f"simplified_error: {COMPARED[name].symbol} simplified / exact = {ratio:.3g} "
-                                  f"outside [{1.0 / (1.0 + limit):.3g}, {1.0 + limit:g}]")
-            if failed:
-                row["violations"] = "; ".join(filter(None, [row.get("violations"), *failed]))
-        out.append(row)
-    return out
+def _checked(row: dict, reference: dict | None, deck_limit: float | None) -> dict:
+    """A finished simplified case's row with its ratios to the exact case's (`reference`, if any);
+    any other row as it is."""
+    if reference is None or not _finished_by(row, "simplified"):
+        return row
+    return _with_ratios(row, reference, deck_limit)
+
+
+def _finished_by(row: dict, engine: str) -> bool:
+    """Whether a row is a finished case ('ok') of `engine`."""
+    return row.get("engine") == engine and row.get("status") == "ok"
+
+
+def _with_ratios(row: dict, reference: dict, deck_limit: float | None) -> dict:
+    """A copy of a simplified case's row with its check_<name> ratios to the exact case's, and the
+    ratios outside the simplified_error limit (the case's own, else the deck's) as violations."""
+    row = dict(row)
+    mine, theirs = row.get("compared") or {}, reference.get("compared") or {}
+    limit = row.get("criteria.simplified_error", deck_limit)
+    failed = []
+    for name in COMPARED:
+        ratio = row[f"check_{name}"] = _ratio(mine.get(name), theirs.get(name))
+        if _outside(ratio, limit):
+            failed.append(f"simplified_error: {COMPARED[name].symbol} simplified / exact = {ratio:.3g} "
+                          f"outside [{1.0 / (1.0 + limit):.3g}, {1.0 + limit:g}]")
+    if failed:
+        row["violations"] = "; ".join(filter(None, [row.get("violations"), *failed]))
+    return row
+
+
+def _ratio(value: Any, base: Any) -> float | None:
+    """value / base when both are finite numbers and base is not zero, else None."""
+    value, base = finite_number(value), finite_number(base)
+    return value / base if value is not None and base else None
+
+
+def _outside(ratio: float | None, limit: float | None) -> bool:
+    """Whether a ratio lies outside [1/(1 + limit), 1 + limit] (never without both)."""
+    if limit is None or ratio is None:
+        return False
+    return not 1.0 / (1.0 + limit) <= ratio <= 1.0 + limit
 
 
 def table_rows(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
@@ -134,13 +173,23 @@ def table_rows(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
     out = []
     for row in rows:
         out.append(row)
-        for record in row.get("record_rows") or ():
-            head = {name: row.get(name) for name in _CASE_HEAD}
-            out.append({**head, **{v.path: row.get(v.path) for v in plan.varies}, "violations": "", **record})
+        out.extend(_record_rows(plan, row))
     return out
 
 
+def _record_rows(plan: SweepPlan, row: dict) -> list[dict]:
+    """The rows of a suite case's records: the case's head and varied values, each record's outputs."""
+    head = {name: row.get(name) for name in _CASE_HEAD}
+    varied = {v.path: row.get(v.path) for v in plan.varies}
+    return [{**head, **varied, "violations": "", **record} for record in row.get("record_rows") or ()]
+
+
 # ----------------------------------------------------------------------------- writers
+
+def _varied(plan: SweepPlan, values: Callable[[tuple], Any]) -> list[dict]:
+    """Each varied field: path, unit, spacing and its values (as `values` gives them)."""
+    return [{"path": v.path, "unit": v.unit, "spacing": v.spacing, "values": values(v.values)} for v in plan.varies]
+
 
 def sweep_provenance(plan: SweepPlan) -> dict:
     """The provenance of a sweep (docs/provenance.md): that of its deck with the --set overrides,
@@ -150,8 +199,7 @@ def sweep_provenance(plan: SweepPlan) -> dict:
 
     record = of_deck(plan.base_deck)
     record["files"] = [*record["files"], *plan.inputs]
-    record["sweep"] = {"varied": [{"path": v.path, "unit": v.unit, "spacing": v.spacing, "values": plain(v.values)}
-                                  for v in plan.varies],
+    record["sweep"] = {"varied": _varied(plan, plain),
                        "engines": list(plan.engines), "supports": list(plan.supports), "cases": len(plan.cases),
                        "per_record": plan.per_record, "check": plan.check}
     return record
@@ -175,45 +223,60 @@ def to_csv(rows: Sequence[dict], names: Sequence[str], provenance: dict | None =
         buffer.write(csv_comments(provenance))
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(names)
-    for row in rows:
-        writer.writerow([_cell(row.get(name)) for name in names])
+    writer.writerows([_cell(row.get(name)) for name in names] for row in rows)
     return buffer.getvalue()
+
+
+def _set_texts(plan: SweepPlan) -> list[str]:
+    """The --set overrides as PATH=JSON texts."""
+    return [f"{path}={json.dumps(to_jsonable(value))}" for path, value in plan.base_overrides]
+
+
+def _column_rows(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
+    """The rows of the tables (table_rows), each with the plan's columns only, in their order."""
+    names = columns(plan)
+    return [{name: row.get(name) for name in names} for row in table_rows(plan, rows)]
 
 
 def document(plan: SweepPlan, rows: Sequence[dict], summary: dict | None = None,
              provenance: dict | None = None) -> dict:
     """The JSON document of a sweep: deck, varied fields, units, provenance, rows (and summary);
     numbers rounded to 15 significant digits (json.dumps then writes their shortest text)."""
-    names = columns(plan)
     doc = {
         "source": plan.source, "title": plan.title,
-        "set": [f"{path}={json.dumps(to_jsonable(value))}" for path, value in plan.base_overrides],
-        "varied": [{"path": v.path, "unit": v.unit, "spacing": v.spacing, "values": list(v.values)}
-                   for v in plan.varies],
+        "set": _set_texts(plan),
+        "varied": _varied(plan, list),
         "engines": plan.engines, "supports": plan.supports,
         "units": units(plan),
         "provenance": provenance if provenance is not None else sweep_provenance(plan),
-        "rows": [{name: row.get(name) for name in names} for row in table_rows(plan, rows)],
+        "rows": _column_rows(plan, rows),
     }
     if summary is not None:
         doc["summary"] = summary
     return to_text_numbers(to_jsonable(doc))
 
 
-def _parquet_bytes(plan: SweepPlan, rows: Sequence[dict], provenance: dict) -> bytes:
+def _pyarrow(module: str = "pyarrow"):
+    """A module of pyarrow, or an InputError naming --table parquet and how to install it."""
     try:
-        import pyarrow as pa
-        import pyarrow.parquet as pq
+        return importlib.import_module(module)
     except ImportError:
         raise InputError("--table", "parquet", "pyarrow installed: pip install 'upliftcli[parquet]'") from None
-    arrays = {}
+
+
+def _arrow_column(pa, values: list) -> Any:
+    """The Arrow array of a column's values; JSON texts for mixed types (a varied column)."""
+    try:
+        return pa.array(values)
+    except (pa.ArrowInvalid, pa.ArrowTypeError):
+        return pa.array([None if v is None else json.dumps(v) for v in values])
+
+
+def _parquet_bytes(plan: SweepPlan, rows: Sequence[dict], provenance: dict) -> bytes:
+    pa, pq = _pyarrow(), _pyarrow("pyarrow.parquet")
+
     rows = table_rows(plan, rows)
-    for name in columns(plan):
-        values = [to_jsonable(row.get(name)) for row in rows]
-        try:
-            arrays[name] = pa.array(values)
-        except (pa.ArrowInvalid, pa.ArrowTypeError):  # mixed types in one varied column
-            arrays[name] = pa.array([None if v is None else json.dumps(v) for v in values])
+    arrays = {name: _arrow_column(pa, [to_jsonable(row.get(name)) for row in rows]) for name in columns(plan)}
     metadata = {"units": json.dumps(units(plan)), "source": plan.source,
                 "provenance": json.dumps(to_text_numbers(provenance))}
     sink = io.BytesIO()
@@ -224,10 +287,7 @@ def _parquet_bytes(plan: SweepPlan, rows: Sequence[dict], provenance: dict) -> b
 def check_table_format(table_format: str) -> None:
     """Fail before any analysis if the Parquet writer is not installed."""
     if table_format == "parquet":
-        try:
-            import pyarrow  # noqa: F401
-        except ImportError:
-            raise InputError("--table", "parquet", "pyarrow installed: pip install 'upliftcli[parquet]'") from None
+        _pyarrow()
 
 
 def write_tables(plan: SweepPlan, rows: Sequence[dict], directory: str | Path, stem: str,
@@ -244,95 +304,3 @@ def write_tables(plan: SweepPlan, rows: Sequence[dict], directory: str | Path, s
         outputs[directory / f"{stem}.parquet"] = _parquet_bytes(plan, rows, provenance)
     write_set(outputs)  # both or neither
     return list(outputs)
-
-
-# ----------------------------------------------------------------------------- summary
-
-def _number(value: Any) -> float | None:
-    return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) \
-        and math.isfinite(value) else None
-
-
-def ranges(plan: SweepPlan) -> list[dict]:
-    """Each varied field: unit, count, spacing, smallest and largest (numbers) or the values."""
-    out = []
-    for vary in plan.varies:
-        numbers = [_number(v) for v in vary.values]
-        entry = {"path": vary.path, "unit": vary.unit, "count": len(vary.values), "spacing": vary.spacing}
-        if all(n is not None for n in numbers):
-            entry.update(lowest=min(numbers), highest=max(numbers))
-        else:
-            entry["values"] = list(vary.values)
-        out.append(entry)
-    return out
-
-
-def inputs_of(plan: SweepPlan, row: dict) -> dict:
-    return {"engine": row["engine"], "support": row["support"], **{v.path: row.get(v.path) for v in plan.varies}}
-
-
-def governing(plan: SweepPlan, rows: Sequence[dict], outputs: Sequence[str] = SUMMARY_OUTPUTS) -> dict[str, dict]:
-    """Per output: the finished case with the largest value, {value, case, inputs}."""
-    result = {}
-    for name in outputs:
-        candidates = [row for row in rows if row.get("status") == "ok" and _number(row.get(name)) is not None]
-        if candidates:
-            top = max(candidates, key=lambda row: row[name])
-            result[name] = {"value": top[name], "case": top["case"], "inputs": inputs_of(plan, top)}
-    return result
-
-
-def envelope(plan: SweepPlan, rows: Sequence[dict], outputs: Sequence[str] = SUMMARY_OUTPUTS) -> list[dict]:
-    """Envelope over the varied foundation fields (all varied fields if no foundation field is
-    varied), per engine, support and value of the other varied fields.
-
-    Each group: {group: {...}, over: [paths], outputs: {name: {lowest, highest, governing}}}; with
-    one numeric field enveloped, also at_lower_bound / at_upper_bound: the values at its smallest
-    and largest value. ASCE 7-22 section 19.1.1 asks for both bound estimates of the foundation
-    stiffness and the case giving the greater response; `highest` includes interior points."""
-    foundation = [v for v in plan.varies if v.path.startswith("foundation.")]
-    over = foundation or list(plan.varies)
-    over_paths = [v.path for v in over]
-    group_paths = ["engine", "support"] + [v.path for v in plan.varies if v.path not in over_paths]
-    bound = over[0] if len(over) == 1 and all(_number(x) is not None for x in over[0].values) else None
-    groups: dict[str, list[dict]] = {}
-    for row in rows:
-        if row.get("status") == "ok":
-            groups.setdefault(json.dumps([row.get(p) for p in group_paths], default=str), []).append(row)
-    result = []
-    for members in groups.values():
-        entry = {"group": {p: members[0].get(p) for p in group_paths}, "over": over_paths, "cases": len(members),
-                 "uplift": any(row.get("uplift") for row in members), "outputs": {}}
-        for name in outputs:
-            valued = [row for row in members if _number(row.get(name)) is not None]
-            if not valued:
-                continue
-            top = max(valued, key=lambda row: row[name])
-            item = {"lowest": min(row[name] for row in valued), "highest": top[name],
-                    "governing": {p: top.get(p) for p in over_paths}}
-            if bound is not None:
-                by_value = sorted(valued, key=lambda row: row[bound.path])
-                item["at_lower_bound"] = by_value[0][name]
-                item["at_upper_bound"] = by_value[-1][name]
-            entry["outputs"][name] = item
-        result.append(entry)
-    return result
-
-
-def violating(rows: Sequence[dict]) -> list[dict]:
-    return [row for row in rows if row.get("violations")]
-
-
-def summarize(plan: SweepPlan, rows: Sequence[dict]) -> dict:
-    """Counts, ranges, governing cases, envelope and the cases violating the deck's criteria."""
-    counts = {status: sum(row.get("status") == status for row in rows) for status in STATUSES}
-    return to_jsonable({
-        "cases": len(plan.cases), "finished": len(rows), **counts,
-        "ranges": ranges(plan),
-        "governing": governing(plan, rows),
-        "envelope": envelope(plan, rows),
-        "violations": [{"case": row["case"], "inputs": inputs_of(plan, row), "violations": row["violations"]}
-                       for row in violating(rows)],
-        "failures": [{"case": row["case"], "inputs": inputs_of(plan, row), "status": row["status"],
-                      "message": row.get("message", "")} for row in rows if row.get("status") != "ok"],
-    })

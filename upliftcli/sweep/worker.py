@@ -5,6 +5,7 @@ and, under "record_rows", each record's row (written to the tables with --per-re
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 from collections.abc import Callable, Sequence
@@ -36,11 +37,16 @@ def check_records(motion, planned: dict[str, str]) -> None:
     have another SHA-256 than the plan's (`planned`: absolute path -> digest)."""
     for record in getattr(motion, "records", None) or [motion]:
         digest = getattr(record, "sha256", "")
-        expected = planned.get(os.path.abspath(record.source)) if getattr(record, "source", "") else None
+        expected = _planned_digest(record, planned)
         if digest and expected and digest != expected:
             raise StaleRecord(f"{record.source}: the record file changed after the sweep read it (SHA-256 "
                               f"{expected[:12]}... then, {digest[:12]}... now): this case was not computed; run the "
                               "same command with --resume --rerun-stale once the file is settled")
+
+
+def _planned_digest(record, planned: dict[str, str]) -> str | None:
+    """The plan's SHA-256 of a record's file (None for a record without a file)."""
+    return planned.get(os.path.abspath(record.source)) if getattr(record, "source", "") else None
 
 
 def build_case_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]], inputs: str = "",
@@ -53,13 +59,24 @@ def build_case_deck(raw: dict, source: str, overrides: Sequence[tuple[str, Any]]
     deck = build_deck(raw, source, overrides, load_ground_motion=False)
     key = (source, ground_motion_key(deck), inputs)
     if key not in _GROUND_MOTIONS:
-        if len(_GROUND_MOTIONS) >= 16:
-            _GROUND_MOTIONS.clear()
-        full = build_deck(raw, source, overrides)
-        check_records(full.ground_motion, records or {})
-        _GROUND_MOTIONS[key] = (full.ground_motion, full.spectrum)
+        _make_room()
+        _GROUND_MOTIONS[key] = _checked_ground_motion(raw, source, overrides, records or {})
     deck.ground_motion, deck.spectrum = _GROUND_MOTIONS[key]
     return deck
+
+
+def _make_room() -> None:
+    """Forget the kept ground motions once there are 16."""
+    if len(_GROUND_MOTIONS) >= 16:
+        _GROUND_MOTIONS.clear()
+
+
+def _checked_ground_motion(raw: dict, source: str, overrides: Sequence[tuple[str, Any]],
+                           records: dict[str, str]) -> tuple[Any, Any]:
+    """(ground motion, spectrum) of the case's deck, its records checked against the plan's (check_records)."""
+    full = build_deck(raw, source, overrides)
+    check_records(full.ground_motion, records)
+    return full.ground_motion, full.spectrum
 
 
 def _row_head(case: Case) -> dict[str, Any]:
@@ -80,6 +97,11 @@ def _effective_properties(deck: Deck, result) -> tuple[float | None, float | Non
     modes = deck.system.modes
     if result.support == "rigid":
         return float(modes.periods[0]), float(modes.damping[0])
+    return _simplified_properties(deck)
+
+
+def _simplified_properties(deck: Deck) -> tuple[float | None, float | None]:
+    """(T1bar, xi1bar) of the simplified procedure [21-25]; (None, None) where it has none."""
     try:
         props = effective_properties(deck.system, deck.analysis.simplified.effective_properties)
     except AnalysisError:
@@ -100,22 +122,35 @@ def case_row(case: Case, deck: Deck, result) -> dict[str, Any]:
     return row
 
 
-def _outputs(deck: Deck, result, t1bar: float | None, xi1bar: float | None) -> dict[str, Any]:
-    """The output columns of a result (SI units)."""
+def _mode1_base_shear(result) -> float | None:
+    """The peak mode-1 contribution to the base shear [N] (None if the engine gives none)."""
     if result.engine == "simplified":
         mode1 = result.intermediates["V_n"][0]
     else:
         mode1 = (result.details.get("modal_base_shear") or [None])[0]
-    two = result.intermediates.get("V_1+2")
-    story = int(np.argmax(np.abs(result.drift_ratio)))
+    return None if mode1 is None else float(mode1)
+
+
+def _per_weight(value, weight: float) -> float | None:
+    """A force as a coefficient of the weight (None stays None)."""
+    return None if value is None else value / weight
+
+
+def _peak_columns(result, quantities: dict, value: Callable[[str], Any]) -> dict[str, Any]:
+    """The columns of the quantities (engines/quantities.py) with a peak in the result."""
+    return {q.column: value(name) for name, q in quantities.items() if q.column and name in result.peaks}
+
+
+def _outputs(deck: Deck, result, t1bar: float | None, xi1bar: float | None) -> dict[str, Any]:
+    """The output columns of a result (SI units)."""
     return {
         "T1_s": float(deck.system.modes.periods[0]), "T1bar_s": t1bar, "xi1bar": xi1bar,
         **{scalar.column: result.value(name) for name, scalar in SCALARS.items()},
-        "mode1_base_shear_coefficient": None if mode1 is None else float(mode1) / result.weight,
-        "two_mode_base_shear_coefficient": None if two is None else two / result.weight,
-        **{q.column: result.value(name) for name, q in QUANTITIES.items() if q.column and name in result.peaks},
-        **{q.column: rocking_value(result, name) for name, q in ROCKING.items() if q.column and name in result.peaks},
-        "max_drift_story": story + 1,
+        "mode1_base_shear_coefficient": _per_weight(_mode1_base_shear(result), result.weight),
+        "two_mode_base_shear_coefficient": _per_weight(result.intermediates.get("V_1+2"), result.weight),
+        **_peak_columns(result, QUANTITIES, result.value),
+        **_peak_columns(result, ROCKING, functools.partial(rocking_value, result)),
+        "max_drift_story": int(np.argmax(np.abs(result.drift_ratio))) + 1,
         "uplift": bool(result.uplift), "V_c_N": result.critical_base_shear,
         "critical_coefficient": result.critical_coefficient,
         "compared": compared_values(result),  # for sweep --check (sweep/table.add_checks), not a column
@@ -142,20 +177,35 @@ def _run_batch(members: list[tuple[Case, Deck]], deliver: Callable[[int, Any], N
     raises, the cases still without a result run alone, so the failure is charged to its case."""
     engine, support = members[0][0].engine, members[0][0].support
     delivered: set[int] = set()
-
-    def on_result(j: int, result) -> None:
-        delivered.add(j)
-        deliver(j, result)
-
     try:
-        run_batch([deck for _, deck in members], engine, support, on_result)
+        run_batch([deck for _, deck in members], engine, support, functools.partial(_noted, delivered, deliver))
     except Exception as error:
-        rest = [j for j in range(len(members)) if j not in delivered]
-        for j in rest:
-            if len(members) == 1:
-                deliver(j, error)
-            else:
-                _run_batch([members[j]], lambda _, result, j=j: deliver(j, result))
+        _run_alone(members, deliver, delivered, error)
+
+
+def _noted(delivered: set[int], deliver: Callable[[int, Any], None], j: int, result) -> None:
+    """Note that case j has its result, and deliver it."""
+    delivered.add(j)
+    deliver(j, result)
+
+
+def _run_alone(members: list[tuple[Case, Deck]], deliver: Callable[[int, Any], None], delivered: set[int],
+               error: Exception) -> None:
+    """After a batch raised: each case without a result alone (a batch of one: the error is its result)."""
+    for j in [j for j in range(len(members)) if j not in delivered]:
+        if len(members) == 1:
+            deliver(j, error)
+        else:
+            _run_batch([members[j]], functools.partial(_deliver_as, deliver, j))
+
+
+def _deliver_as(deliver: Callable[[int, Any], None], j: int, _: int, result) -> None:
+    """The result of a batch of one, delivered as case j's."""
+    deliver(j, result)
+
+
+def _ignore(message: tuple) -> None:
+    """An emit that drops the messages."""
 
 
 def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list[dict[str, Any]]:
@@ -166,33 +216,50 @@ def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list
     options run as one batch (analysis.run_batch: the exact engine shares work across
     them); an exception becomes a 'failed' row with its message (never retried). Rows come
     back in case order."""
+    if emit is None:
+        emit = _ignore
     rows: dict[int, dict[str, Any]] = {}
+    for members in _batches(chunk, rows, emit).values():
+        emit(("start", [case.key for case, _ in members]))
+        _run_batch(members, functools.partial(_deliver_row, members, rows, emit))
+    return [rows[case.index] for case in chunk.cases]
+
+
+def _batches(chunk: Chunk, rows: dict[int, dict[str, Any]], emit: Callable[[tuple], None]) -> dict[tuple, list]:
+    """The chunk's cases with their decks (each distinct deck built once), by batch (_batch_key);
+    a case whose deck cannot be built gets its row at once ('failed', or 'stale': StaleRecord)."""
     decks: dict[str, Deck] = {}
     batches: dict[tuple, list[tuple[Case, Deck]]] = {}
     for case in chunk.cases:
-        deck_key = json.dumps([list(o) for o in case.overrides], default=str)
         try:
-            if deck_key not in decks:
-                overrides = list(chunk.base_overrides) + list(case.overrides)
-                decks[deck_key] = build_case_deck(chunk.raw, chunk.source, overrides, chunk.inputs, chunk.records)
+            deck = _case_deck(chunk, case, decks)
         except Exception as error:
             rows[case.index] = failed_row(case, "stale" if isinstance(error, StaleRecord) else "failed",
                                           _failure(error))
-            if emit:
-                emit(("start", [case.key]))
-                emit(("row", rows[case.index]))
+            emit(("start", [case.key]))
+            emit(("row", rows[case.index]))
             continue
-        batch_key = (case.engine, case.support) if case.engine != "simplified" else (case.index,)
-        batches.setdefault(batch_key, []).append((case, decks[deck_key]))
-    for members in batches.values():
-        if emit:
-            emit(("start", [case.key for case, _ in members]))
+        batches.setdefault(_batch_key(case), []).append((case, deck))
+    return batches
 
-        def deliver(j: int, result, members=members) -> None:
-            case, deck = members[j]
-            rows[case.index] = _safe_row(case, deck, result)
-            if emit:
-                emit(("row", rows[case.index]))
 
-        _run_batch(members, deliver)
-    return [rows[case.index] for case in chunk.cases]
+def _case_deck(chunk: Chunk, case: Case, decks: dict[str, Deck]) -> Deck:
+    """The case's deck, built once for all the chunk's cases with the same varied values."""
+    deck_key = json.dumps([list(o) for o in case.overrides], default=str)
+    if deck_key not in decks:
+        overrides = list(chunk.base_overrides) + list(case.overrides)
+        decks[deck_key] = build_case_deck(chunk.raw, chunk.source, overrides, chunk.inputs, chunk.records)
+    return decks[deck_key]
+
+
+def _batch_key(case: Case) -> tuple:
+    """Cases with one engine and support run as one batch; a simplified case alone."""
+    return (case.engine, case.support) if case.engine != "simplified" else (case.index,)
+
+
+def _deliver_row(members: list[tuple[Case, Deck]], rows: dict[int, dict[str, Any]], emit: Callable[[tuple], None],
+                 j: int, result) -> None:
+    """Make case j's row from its result (or error) and emit it."""
+    case, deck = members[j]
+    rows[case.index] = _safe_row(case, deck, result)
+    emit(("row", rows[case.index]))
