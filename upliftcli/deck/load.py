@@ -33,6 +33,7 @@ from .fields import gather, raise_all
 from .motion import check_motion_fields, read_ground_motion
 from .overrides import apply_overrides, parse_override
 from .practice import plausibility
+from .strengths import strengths_from_fields
 
 
 @dataclass
@@ -179,6 +180,8 @@ def _gather_structure(gathered: list[InputError], values: dict, error
     """Building, system and analysis settings, each built when what it rests on was (None
     otherwise); their mistakes appended to `gathered`."""
     building = gather(gathered, building_from_fields, values["building"], error)
+    if building is not None:
+        building = gather(gathered, strengths_from_fields, building, values["building"], values["analysis"], error)
     if building is None:
         return None, None
     system = gather(gathered, system_from_fields, building, values["foundation"], values["analysis"], error)
