@@ -29,6 +29,10 @@ from upliftcli.model.system import System
 ROOT = Path(__file__).resolve().parent.parent
 TWO = ROOT / "inputs" / "ten_story_elcentro.toml"
 WINKLER = ROOT / "inputs" / "ten_story_winkler.toml"
+HALFSPACE = ROOT / "inputs" / "frame_halfspace.toml"
+#: the half-space deck as a shear building of all its modes (its frame matrix cannot yield by stories);
+#: its mat has mass and rotary inertia (theta a coordinate with inertia)
+SHEAR_FRAME = ("building.story_stiffnesses=[8e8, 7.5e8, 6.2e8, 4.5e8, 4e8]", "analysis.modes=5")
 
 #: the SDOF: m [kg], k [N/m] (T = 0.314 s), 5 % damping, story height [m]
 MASS, STIFFNESS, HEIGHT = 1e5, 4e7, 3.0
@@ -46,13 +50,13 @@ def same(a, b) -> bool:
 
 
 # ------------------------------------------------------------------ the elastic engine, bit for bit
-@pytest.mark.parametrize("path", [TWO, WINKLER])
+@pytest.mark.parametrize("path", [TWO, WINKLER, HALFSPACE])
 @pytest.mark.parametrize("support", ["rigid", "bonded", "uplift"])
 def test_a_strength_never_reached_gives_the_elastic_run_bit_for_bit(path, support):
     """story_strengths of 1e3 W (never reached) and infinite strengths: every peak and instant and the
     energy terms are the elastic run's, bit for bit (the elastic block of each state's operators comes
     from the exponential of the matrix without the plastic drifts: operators._elastic_stories)."""
-    modes = ("analysis.modes=10",) if path == WINKLER else ()
+    modes = {WINKLER: ("analysis.modes=10",), HALFSPACE: SHEAR_FRAME}.get(path, ())
     elastic = run(path, support, *modes)
     strong = run(path, support, *modes, "building.strength_coefficient=1000")
     assert same(elastic, strong)
@@ -154,12 +158,14 @@ def test_the_force_stays_within_its_bounding_lines():
     (TWO, ("foundation.safety_factor=2",)),
     (WINKLER, ("analysis.modes=10", "foundation.elements=10")),
     (WINKLER, ("analysis.modes=10", "foundation.elements=10", "foundation.safety_factor=2")),
+    (HALFSPACE, SHEAR_FRAME),
 ])
 @pytest.mark.parametrize("support", ["rigid", "bonded", "uplift"])
 def test_the_energy_balance_closes_with_the_hysteretic_energy(path, overrides, support):
     """Ten yielding stories (base-shear strength 0.15 W, alpha = 0.05, ductilities up to about 20) on every
-    support, two elements and Winkler, with and without a bearing capacity: the balance with the
-    hysteretic energy closes to 1e-5 of the input at 24 steps per governing period."""
+    support, two elements, Winkler and the half-space (five stories, a mat with inertia), with and without
+    a bearing capacity: the balance with the hysteretic energy closes to 1e-5 of the input at 24 steps
+    per governing period."""
     result = run(path, support, *overrides, "building.strength_coefficient=0.15", "building.hardening_ratio=0.05",
                  "analysis.exact.steps_per_period=24")
     energy = result.details["energy"]
@@ -257,3 +263,11 @@ def test_a_truncation_of_the_modes_is_refused():
     deck = load_deck(WINKLER, ["building.strength_coefficient=0.1"])
     ((_, outcome),) = ENGINES["exact"].iter_batch([deck.system], deck.ground_motion, "rigid", deck.analysis.exact)
     assert isinstance(outcome, InputError) and "modes" in str(outcome)
+
+
+def test_the_approximate_engine_refuses_them_when_called_directly():
+    from upliftcli.engines import approximate
+
+    deck = load_deck(TWO, ["building.strength_coefficient=0.1"])
+    ((_, outcome),) = approximate.iter_batch([deck.system], deck.ground_motion, "uplift", deck.analysis.exact)
+    assert isinstance(outcome, InputError) and "story_strengths" in str(outcome)
