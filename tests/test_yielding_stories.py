@@ -332,3 +332,21 @@ def test_the_approximate_engine_refuses_them_when_called_directly():
     deck = load_deck(TWO, ["building.strength_coefficient=0.1"])
     ((_, outcome),) = approximate.iter_batch([deck.system], deck.ground_motion, "uplift", deck.analysis.exact)
     assert isinstance(outcome, InputError) and "story_strengths" in str(outcome)
+
+
+def test_flight_is_refused_while_a_story_yields():
+    """flight = "error": the mat leaves the foundation at t = 5.91997 s while the top story yields (a pattern
+    with story bits: found by a scan with flight allowed); the loops compare the element bits only, so
+    the run stops there, not 0.13 ms later when that story unloads (as a comparison of the whole pattern
+    did), on both backends."""
+    from upliftcli.errors import AnalysisError
+
+    def stopped():
+        deck = load_deck(TWO, ["building.period=0.08", "building.strength_coefficient=0.19",
+                               "building.hardening_ratio=0.02", 'analysis.exact.flight="error"'])
+        with pytest.raises(AnalysisError) as caught:
+            analysis.run_one(deck, "exact", "uplift")
+        return str(caught.value)
+
+    for message in on_both(stopped):
+        assert "t = 5.9200 s" in message
