@@ -190,6 +190,7 @@ def _gather_structure(gathered: list[InputError], values: dict, error
     analysis = gather(gathered, _analysis, values["analysis"], values["analysis.exact"], system, error)
     if analysis is not None:
         gather(gathered, _check_yielding_elements, system, analysis, error)
+        gather(gathered, _check_yielding_stories, system, analysis, error)
     return system, analysis
 
 
@@ -205,6 +206,21 @@ def _check_yielding_elements(system: System, analysis: AnalysisSettings, error) 
         refusal = capacity_refusal(name, system, "uplift")
         if refusal is not None:
             raise error("foundation.elements", refusal)
+
+
+def _check_yielding_stories(system: System, analysis: AnalysisSettings, error) -> None:
+    """Yielding stories whose pattern bits, with the foundation's, do not fit the exact engine's contact
+    pattern (limits.MAX_PATTERN_BITS, registry.strength_refusal), refused up front when the deck runs the
+    exact engine; the other engines' refusal of yielding stories is theirs, at run time (docs/theory.md
+    15.6), so that a deck with strengths still serves the commands that run no engine."""
+    from ..engines.registry import strength_refusal
+
+    if "exact" not in analysis.engines:
+        return
+    for support in analysis.supports:
+        refusal = strength_refusal("exact", system, support)
+        if refusal is not None:
+            raise error(f"{refusal[0]}.{refusal[1]}", refusal[2])
 
 
 def _check_criteria_have_their_analysis(criteria: dict, analysis: AnalysisSettings, error) -> None:

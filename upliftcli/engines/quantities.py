@@ -368,7 +368,8 @@ HISTORY_SIGNALS: dict[str, str] = {
 #: the meaning of the settlement histories (the flexible supports): down +, from the rest position
 #: under gravity, as quantities.ROCKING's settlement; with a bearing capacity also one column
 #: plastic_settlement_<element> per element, its -s_i >= 0 (ROCKING's plastic_settlement)
-#: quantities written as histories, one column "<name>_<floor, story or element number>"
+#: quantities written as histories, one column "<name>_<floor, story or element number>" (with yielding
+#: stories also shear_<story>: the story shears of their hysteresis, docs/theory.md 15.5)
 HISTORY_QUANTITIES = ("drift", "floor_acceleration", "reaction")
 
 

@@ -283,8 +283,9 @@ def histories(history: History, rows: ResponseRows, sig: Signals, settlements: d
               ) -> dict[str, np.ndarray]:
     """Time histories at every sample (SI units) for --histories: the signals of
     quantities.HISTORY_SIGNALS, then one column per story or element of each quantity of
-    quantities.HISTORY_QUANTITIES, and with a capacity each element's plastic settlement -s_i
-    (plastic_settlement_<element>, >= 0). settlements: the mat's settlement series of the
+    quantities.HISTORY_QUANTITIES, with a capacity each element's plastic settlement -s_i
+    (plastic_settlement_<element>, >= 0) and with yielding stories each story's shear (shear_<story>,
+    docs/theory.md 15.5). settlements: the mat's settlement series of the
     flexible supports (mat_motion.MatMotion.histories), placed after the signals."""
     y = sig["Y"]
     out = {
@@ -301,7 +302,7 @@ def histories(history: History, rows: ResponseRows, sig: Signals, settlements: d
         out.update(_mat_histories(history, sig))
         out.update(settlements or {})
     places = _places(history, rows, sig)
-    for name in (*HISTORY_QUANTITIES, "plastic_settlement"):
+    for name in (*HISTORY_QUANTITIES, "plastic_settlement", "shear"):
         for j in range(places[name].shape[1] if name in places else 0):
             out[f"{name}_{j + 1}"] = places[name][:, j]
     return out
@@ -324,8 +325,9 @@ def _places(history: History, rows: ResponseRows, sig: Signals) -> dict[str, np.
     y, ydot = sig["Y"], sig["Ydot"]
     places = {"drift": y @ rows.drift.T,
               "floor_acceleration": y @ rows.acceleration.T + ydot @ rows.acceleration_rate.T}
-    if rows.plastic is not None:
+    if rows.plastic is not None:  # with yielding stories also the story shears (their hysteresis with the drifts)
         places["floor_acceleration"] = places["floor_acceleration"] + sig["P"] @ rows.plastic.acceleration.T
+        places["shear"] = y @ rows.shear.T + sig["P"] @ rows.plastic.shear.T
     if history.space.layout.n_elements:
         places["reaction"] = element_reactions(history, sig)[0]
     if history.space.layout.n_settlements:
