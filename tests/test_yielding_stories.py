@@ -332,11 +332,13 @@ def test_a_truncation_of_the_modes_is_refused():
     assert isinstance(outcome, InputError) and "modes" in str(outcome)
 
 
-def test_the_approximate_engine_refuses_them_when_called_directly():
-    from upliftcli.engines import approximate
+def test_the_other_engines_refuse_them_when_called_directly():
+    from upliftcli.engines import approximate, simplified
 
     deck = load_deck(TWO, ["building.strength_coefficient=0.1"])
     ((_, outcome),) = approximate.iter_batch([deck.system], deck.ground_motion, "uplift", deck.analysis.exact)
+    assert isinstance(outcome, InputError) and "story_strengths" in str(outcome)
+    ((_, outcome),) = simplified.iter_batch([deck.system], deck.ground_motion, "uplift", deck.analysis.simplified)
     assert isinstance(outcome, InputError) and "story_strengths" in str(outcome)
 
 
@@ -370,3 +372,8 @@ def test_the_story_shear_histories_trace_the_hysteresis():
     assert gap.min() >= -1e-6 * 3e5 and np.sum(gap < 1e-6 * 3e5) > 10
     assert np.max(np.abs(shear)) == pytest.approx(result.peaks["shear"][0], rel=1e-3)
     assert "shear_1" not in engine.analyze(sdof(None, 0.0), record, "rigid", options).histories
+
+
+def test_a_us_deck_reads_the_strengths_in_kip():
+    deck = load_deck(ROOT / "inputs" / "ten_story_elcentro_us.toml", ["building.story_strengths=" + str([100.0] * 10)])
+    assert deck.system.building.story_strength == pytest.approx(np.full(10, 100.0 * 4448.2216152605), rel=1e-12)
