@@ -389,3 +389,23 @@ def test_on_a_yielding_winkler_mat_a_strength_never_reached_is_elastic_to_roundi
     for name, value in elastic.peaks.items():
         assert np.max(np.abs(strong.peaks[name] - value), initial=0.0) <= 1e-10 * np.max(np.abs(value), initial=0.0)
     assert strong.intermediates["transitions"] == elastic.intermediates["transitions"]
+
+
+@pytest.mark.parametrize("support", ["rigid", "uplift"])
+def test_chunks_fold_the_yielding_quantities_to_the_single_pass(monkeypatch, support):
+    """A run stepped in chunks (stepping.CHUNK_SAMPLES, every interval in one chunk) gives the yielding
+    stories' quantities and hysteretic energy of the single pass (the energy sums in another order)."""
+    from upliftcli.engines.exact import stepping
+
+    deck = load_deck(TWO, ["building.strength_coefficient=0.15", "building.hardening_ratio=0.05"])
+    record = SimpleNamespace(acceleration=deck.ground_motion.acceleration[:600], dt=deck.ground_motion.dt)
+    whole = engine.analyze(deck.system, record, support, deck.analysis.exact)
+    monkeypatch.setattr(stepping, "CHUNK_SAMPLES", 700)
+    chunked = engine.analyze(deck.system, record, support, deck.analysis.exact)
+    assert chunked.intermediates["samples"] == whole.intermediates["samples"] > 1400  # 3 chunks or more
+    assert whole.peaks["yielded_stories"][0] > 0
+    for name in ("ductility", "residual_drift_ratio", "story_yielded", "yielded_stories", "shear", "moment"):
+        np.testing.assert_allclose(chunked.peaks[name], whole.peaks[name], rtol=1e-12, err_msg=name)
+    np.testing.assert_allclose(chunked.peaks["hysteretic_energy"], whole.peaks["hysteretic_energy"], rtol=1e-12,
+                               atol=1e-12 * whole.peaks["hysteretic_energy"].max())
+    assert chunked.details["energy"]["relative_residual"] < 1e-4
