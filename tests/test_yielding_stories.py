@@ -409,3 +409,22 @@ def test_chunks_fold_the_yielding_quantities_to_the_single_pass(monkeypatch, sup
     np.testing.assert_allclose(chunked.peaks["hysteretic_energy"], whole.peaks["hysteretic_energy"], rtol=1e-12,
                                atol=1e-12 * whole.peaks["hysteretic_energy"].max())
     assert chunked.details["energy"]["relative_residual"] < 1e-4
+
+
+@pytest.mark.parametrize("deck, engine_name, expected", [
+    (TWO, "simplified", "error: --set: building.strength_coefficient: the simplified engine"),
+    (TWO, "approximate", "error: --set: building.strength_coefficient: the approximate engine"),
+    (WINKLER, "exact", f"error: {WINKLER.relative_to(ROOT)}: analysis.modes: all 10 modes"),
+])
+def test_the_command_refuses_with_one_line_naming_the_field(deck, engine_name, expected, monkeypatch):
+    """uplift analyze: exit 2 and one line naming --set or the deck and the field (analysis/run.py
+    check_yielding_stories), before anything runs."""
+    from typer.testing import CliRunner
+
+    from upliftcli.cli import app
+
+    monkeypatch.chdir(ROOT)
+    result = CliRunner().invoke(app, ["analyze", str(deck.relative_to(ROOT)), "--set",
+                                      "building.strength_coefficient=0.2", "--engine", engine_name])
+    assert result.exit_code == 2
+    assert result.stderr.strip().splitlines() == [result.stderr.strip()] and result.stderr.startswith(expected)

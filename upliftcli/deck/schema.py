@@ -70,7 +70,7 @@ TABLES: dict[str, dict[str, Field]] = {
                                  "story first: the stories yield (bilinear, docs/theory.md section 15)", "positive"),
         "strength_coefficient": Field("number", "-", "base-shear strength over the building's weight, distributed "
                                       "over the height as ASCE 7-22 12.8.3 (instead of story_strengths)",
-                                      "positive", plausible=(0.02, 2.0)),
+                                      "positive"),
         "hardening_ratio": Field("number", "-", "post-yield over elastic story stiffness alpha of the yielding "
                                  "stories (with a strength; default 0: elastic-perfectly plastic)", "fraction"),
     },
