@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from ..deck.load import Deck
-from ..engines.registry import ENGINES, Engine, capacity_refusal
+from ..engines.registry import ENGINES, Engine, capacity_refusal, strength_refusal
 from ..engines.result import AnalysisResult
 from ..errors import AnalysisError, InputError
 from ..model.bearing import CAPACITY_NAMES
@@ -75,6 +75,7 @@ def check_before_running(deck: Deck, engine: Engine, support: str, motion: Any) 
     refusal = capacity_refusal(engine.name, deck.system, support)
     if refusal is not None:
         raise InputError(*deck.blame("foundation.elements"), refusal)
+    check_yielding_stories(deck, engine, support)
     check_resources(deck, engine, support, motion)
     if not engine.needs_record and support != "rigid":
         _check_effective_damping(deck, support)
@@ -93,6 +94,28 @@ def _check_effective_damping(deck: Deck, support: str) -> None:
         raise InputError(*deck.blame(*_foundation_paths(deck), "building.damping"),
                          f"a foundation giving an effective damping ratio xi1bar in [0, 1) [23] (simplified "
                          f"engine, {support} support), got xi1bar = {xi1bar:.6g}")
+
+
+#: the deck fields that give the stories their strengths (docs/theory.md 15), and that keep fewer modes
+STRENGTH_PATHS = ("building.story_strengths", "building.strength_coefficient")
+MODES_PATHS = ("analysis.exact.n_modes", "analysis.modes", "analysis.mass_participation")
+
+
+def check_yielding_stories(deck: Deck, engine: Engine, support: str) -> None:
+    """A building whose stories yield: refused by an engine that does not model them, beyond the exact
+    engine's contact pattern (registry.strength_refusal) or with fewer modes than stories (docs/theory.md
+    15.4, 15.6): one InputError naming the deck field or --set."""
+    building = deck.system.building
+    if not building.yields:
+        return
+    refusal = strength_refusal(engine.name, deck.system, support)
+    if refusal is not None:
+        path = f"{refusal[0]}.{refusal[1]}"
+        raise InputError(*deck.blame(*((path,) if path == "foundation.elements" else STRENGTH_PATHS)), refusal[2])
+    n_modes = deck.analysis.exact.n_modes
+    if n_modes is not None and n_modes < building.n_stories:
+        raise InputError(*deck.blame(*MODES_PATHS), f"all {building.n_stories} modes with yielding stories (got "
+                         f"{n_modes}): the plastic drifts load every mode (docs/theory.md 15.4)")
 
 
 def check_resources(deck: Deck, engine: Engine, support: str, motion: Any) -> None:

@@ -22,7 +22,7 @@ from . import schema
 from .overrides import ALTERNATIVES, FOUNDATION_FIELDS
 
 #: the per-story arrays of [building] whose lengths give the number of stories (damping too, when an array)
-PER_STORY_ARRAYS = ("masses", "story_heights", "story_stiffnesses", "stiffness_matrix", "damping")
+PER_STORY_ARRAYS = ("masses", "story_heights", "story_stiffnesses", "stiffness_matrix", "damping", "story_strengths")
 
 
 # ----------------------------------------------------------------------------- [building]

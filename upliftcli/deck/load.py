@@ -33,6 +33,7 @@ from .failed import Failed
 from .motion import check_motion_fields, read_ground_motion
 from .overrides import apply_overrides, parse_override
 from .practice import plausibility
+from .strengths import strengths_from_fields
 
 
 @dataclass
@@ -198,6 +199,9 @@ def _gather_structure(checks: _Checks, values: dict) -> tuple[System | None, Ana
     """Building, system and analysis settings, each built when what it rests on was (None
     otherwise); the foundation's fields of another type checked whatever else failed."""
     building = checks.run(("building",), building_from_fields, values["building"])
+    if building is not None:
+        building = checks.run(("building", "analysis"), strengths_from_fields, building, values["building"],
+                              values["analysis"])
     typed = _gather_typed_fields(checks, values["foundation"])
     if building is None or not typed:
         return None, None
@@ -207,7 +211,13 @@ def _gather_structure(checks: _Checks, values: dict) -> tuple[System | None, Ana
         return None, None
     analysis = checks.run(("analysis",), _analysis, values["analysis"], values["analysis.exact"], system)
     if analysis is not None:
-        checks.run((), _check_yielding_elements, system, analysis)
+    otherwise); the foundation's fields of another type checked whatever else failed."""
+    building = checks.run(("building",), building_from_fields, values["building"])
+    if building is not None:
+        building = checks.run(("building", "analysis"), strengths_from_fields, building, values["building"],
+                              values["analysis"])
+    typed = _gather_typed_fields(checks, values["foundation"])
+    if building is None or not typed:
     return system, analysis
 
 
@@ -258,20 +268,13 @@ def _check_yielding_elements(system: System, analysis: AnalysisSettings, error) 
             raise error("foundation.elements", refusal)
 
 
-@dataclass(frozen=True)
-class _Chosen:
-    """The engines and supports that [analysis] chooses (the defaults where it does not)."""
-
-    engines: list[str]
-    supports: list[str]
-
-    @classmethod
-    def of(cls, fields: dict) -> _Chosen:
-        return cls(list(fields.get("engine", schema.default("analysis", "engine"))),
-                   list(fields.get("supports", schema.default("analysis", "supports"))))
-
-
-def _check_criteria_have_their_analysis(criteria: dict, analysis: _Chosen, error) -> None:
+    otherwise); the foundation's fields of another type checked whatever else failed."""
+    building = checks.run(("building",), building_from_fields, values["building"])
+    if building is not None:
+        building = checks.run(("building", "analysis"), strengths_from_fields, building, values["building"],
+                              values["analysis"])
+    typed = _gather_typed_fields(checks, values["foundation"])
+    if building is None or not typed:
     """A limit on a rocking quantity (engines/quantities.ROCKING) needs the analysis that reports
     it: the exact engine and the uplift support (with or without a bearing capacity); a limit on
     the simplified engine's accuracy (simplified_error) needs the simplified engine, else it would

@@ -23,6 +23,7 @@ ALTERNATIVES: list[tuple[str, list[set[str]]]] = [
     ("building", [{"floor_mass"}, {"masses"}]),
     ("building", [{"story_height"}, {"story_heights"}]),
     ("building", [{"story_stiffness"}, {"story_stiffnesses"}, {"stiffness_matrix"}]),
+    ("building", [{"story_strengths"}, {"strength_coefficient"}]),
     ("foundation", [{"b"}, {"slenderness"}]),
     *[("foundation", groups) for kind in FOUNDATIONS.values() for groups in kind.deck_alternatives],
     ("analysis", [{"modes"}, {"mass_participation"}]),

@@ -66,6 +66,13 @@ TABLES: dict[str, dict[str, Field]] = {
                         plausible=(0.02, 20.0)),
         "damping": Field("number-or-numbers", "-", "modal damping ratio xi_n: one value for all modes or "
                          "one per mode", "fraction", 0.05, plausible=(0.0, 0.3)),
+        "story_strengths": Field("numbers", "N", "story yield strengths V_y1..V_yN (story shear at yield), lowest "
+                                 "story first: the stories yield (bilinear, docs/theory.md section 15)", "positive"),
+        "strength_coefficient": Field("number", "-", "base-shear strength over the building's weight, distributed "
+                                      "over the height as ASCE 7-22 12.8.3 (instead of story_strengths)",
+                                      "positive"),
+        "hardening_ratio": Field("number", "-", "post-yield over elastic story stiffness alpha of the yielding "
+                                 "stories (with a strength; default 0: elastic-perfectly plastic)", "fraction"),
     },
     "foundation": {
         "type": Field("string", "-", "foundation idealisation", "", "two-element", tuple(FOUNDATIONS)),

@@ -21,7 +21,11 @@ from .result import AnalysisResult
 
 
 def approximate_model(system: System, support: str, options: ExactOptions) -> StateSpace:
-    """The model with mode 1 alone coupled with the mat [17-20] (no residual inertia)."""
+    """The model with mode 1 alone coupled with the mat [17-20] (no residual inertia). A building whose
+    stories yield is refused (InputError; docs/theory.md 15.6), for a caller that passes the registry by."""
+    if system.building.yields:
+        raise InputError("building", "story_strengths", "the approximate engine does not model yielding stories "
+                         "(docs/theory.md 15.6): use the exact engine, or remove the story strengths")
     n_modes = resolve_modes(system, options.n_modes)
     return state_space(modal_model(system, support, n_modes, coupled_modes=1, approximate=True))
 

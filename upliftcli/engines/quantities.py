@@ -105,6 +105,31 @@ ROCKING: dict[str, Quantity] = {q.name: q for q in (
 )}
 
 
+#: where a yielding-building quantity of the whole result lives: one value for the building
+BUILDING = "building"
+
+#: The response of stories that yield (docs/theory.md section 15.5), given by the exact engine when the
+#: building has story strengths ([building] story_strengths or strength_coefficient), by name in
+#: AnalysisResult.peaks. Kept out of QUANTITIES so that the outputs of an elastic building stay what they
+#: are: the outputs add them where a result carries them (as ROCKING). The peak drift ratio is
+#: QUANTITIES' drift_ratio.
+YIELDING: dict[str, Quantity] = {q.name: q for q in (
+    Quantity("ductility", STORY, "-", "story ductility: peak |drift| over the yield drift V_y/k (0 for a story "
+             "without a strength)", "-", engines=("exact",), column="max_ductility"),
+    Quantity("residual_drift_ratio", STORY, "-", "story drift ratio |drift| / story height at the end of the "
+             "analysis (the record and analysis.exact.free_vibration)", "%", engines=("exact",),
+             column="max_residual_drift_ratio"),
+    Quantity("hysteretic_energy", STORY, "J", "energy the story dissipates by yielding, int V dp (docs/theory.md "
+             "15.3)", "J", engines=("exact",), column="hysteretic_energy_J", criterion=False),
+    Quantity("story_yielded", STORY, "-", "whether the story yielded (1) or not (0)", "-", engines=("exact",),
+             criterion=False, count=True),
+    Quantity("yielded_stories", BUILDING, "-", "number of stories that yielded (0: the building stayed elastic)",
+             "-", engines=("exact",), column="yielded_stories", criterion=False, count=True),
+    Quantity("base_shear_strength", BUILDING, "N", "base-shear strength: the strength V_y1 of the first story",
+             "N", engines=("exact",), column="base_shear_strength_N", criterion=False),
+)}
+
+
 #: the places of a MAT_POINTS quantity, left to right: (key in files, label in human outputs)
 MAT_PLACES = (("left_edge", "left edge (x = -b)"), ("centre", "centre"), ("right_edge", "right edge (x = +b)"))
 
@@ -227,8 +252,9 @@ def compared_values(result) -> dict[str, float | None]:
 
 
 def unit_of(name: str) -> str:
-    """The SI unit of a response quantity, a rocking quantity or a scalar (KeyError if it is none)."""
-    return (QUANTITIES.get(name) or ROCKING.get(name) or SCALARS[name]).unit
+    """The SI unit of a response quantity, a rocking or yielding-story quantity or a scalar (KeyError if it is
+    none)."""
+    return (QUANTITIES.get(name) or ROCKING.get(name) or YIELDING.get(name) or SCALARS[name]).unit
 
 
 def display_kind(name: str) -> str:
@@ -342,7 +368,8 @@ HISTORY_SIGNALS: dict[str, str] = {
 #: the meaning of the settlement histories (the flexible supports): down +, from the rest position
 #: under gravity, as quantities.ROCKING's settlement; with a bearing capacity also one column
 #: plastic_settlement_<element> per element, its -s_i >= 0 (ROCKING's plastic_settlement)
-#: quantities written as histories, one column "<name>_<floor, story or element number>"
+#: quantities written as histories, one column "<name>_<floor, story or element number>" (with yielding
+#: stories also shear_<story>: the story shears of their hysteresis, docs/theory.md 15.5)
 HISTORY_QUANTITIES = ("drift", "floor_acceleration", "reaction")
 
 

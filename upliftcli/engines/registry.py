@@ -16,6 +16,8 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from ..errors import AnalysisError, InputError
 from .result import AnalysisResult
 
@@ -46,10 +48,13 @@ class Engine:
         kept = []
         for k, system in enumerate(systems):
             refusal = capacity_refusal(self.name, system, support)
-            if refusal is None:
+            strength = strength_refusal(self.name, system, support)
+            if refusal is None and strength is None:
                 kept.append(k)
-            else:
+            elif refusal is not None:
                 yield k, InputError("foundation", "elements", refusal)
+            else:
+                yield k, InputError(*strength)
         for j, result in module.iter_batch([systems[k] for k in kept], ground_motion, support, options):
             yield kept[j], result
 
@@ -87,6 +92,39 @@ def capacity_refusal(name: str, system: Any, support: str) -> str | None:
     return (f"at most {MAX_YIELDING_ELEMENTS} contact elements with a bearing capacity for the {name} engine's "
             f"uplift analysis (two bits each of its contact pattern, docs/theory.md 14.3), got {count}: lower "
             "foundation.elements (the simplified engine alone has no such bound)")
+
+
+def strength_refusal(name: str, system: Any, support: str) -> tuple[str, str, str] | None:
+    """Why the engine `name` cannot analyse a building whose stories yield (docs/theory.md 15.6), as
+    (table, field, what is expected); None when it can (or the building is elastic). Only the exact engine models
+    yielding stories; its contact pattern holds two bits per yielding story beside the foundation's
+    (limits.MAX_PATTERN_BITS). (table, field, what is expected)."""
+    from ..runtime.limits import MAX_PATTERN_BITS, too_many_bits
+
+    building = system.building
+    if not building.yields:
+        return None
+    if name != "exact":
+        return ("building", "story_strengths", f"the {name} engine does not model yielding stories (docs/theory.md "
+                "15.6): use analysis.engine = \"exact\", or remove the story strengths")
+    stories = int(np.count_nonzero(np.isfinite(building.story_strength)))
+    elements = _element_bits(system, support)
+    if elements + 2 * stories <= MAX_PATTERN_BITS:
+        return None
+    message = too_many_bits(elements, stories)
+    if 2 * stories > MAX_PATTERN_BITS:
+        return "building", "story_strengths", message
+    return "foundation", "elements", message
+
+
+def _element_bits(system: Any, support: str) -> int:
+    """Bits of the foundation in the exact engine's contact pattern: none on a rigid base, one per contact
+    element, two per element with a bearing capacity in an uplift analysis."""
+    if support == "rigid":
+        return 0
+    elements = int(getattr(system.foundation, "elements", 2))
+    return 2 * elements if support == "uplift" and getattr(system.foundation, "capacity", None) is not None \
+        else elements
 
 
 def too_many_yielding(count: int) -> bool:

@@ -113,6 +113,13 @@ class AnalysisResult:
         count = self.peaks.get("yielded_elements")
         return None if count is None else bool(np.any(np.asarray(count) > 0.0))
 
+    @property
+    def building_yielded(self) -> bool | None:
+        """Whether a story yielded (docs/theory.md 15.5: quantities.YIELDING's yielded_stories), beside
+        `yielded` (the soil); None when the result does not tell (no story strengths)."""
+        count = self.peaks.get("yielded_stories")
+        return None if count is None else bool(np.any(np.asarray(count) > 0.0))
+
     def value(self, name: str) -> float:
         """A scalar (engines/quantities.SCALARS) or the largest |value| of a quantity."""
         if name in SCALARS:

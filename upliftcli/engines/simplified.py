@@ -28,8 +28,12 @@ __all__ = ["analyze", "effective_properties", "iter_batch", "paper_analyze"]
 def analyze(system: System, spectrum, support: str, options: SimplifiedOptions = SimplifiedOptions()) -> AnalysisResult:
     """Peak response by the simplified procedure (options.procedure: "improved", engines/improved.py,
     or "paper") for support "rigid", "bonded" or "uplift", with the warnings of
-    engines/plausibility.py in result.details["warnings"]."""
+    engines/plausibility.py in result.details["warnings"]. A building whose stories yield is refused
+    (InputError naming building.story_strengths: docs/theory.md 15.6)."""
     check_support(support)
+    if system.building.yields:
+        raise InputError("building", "story_strengths", "the simplified engine does not model yielding stories "
+                         "(docs/theory.md 15.6): use analysis.engine = \"exact\", or remove the story strengths")
     if support == "uplift" and options.procedure == "improved":
         result = improved.analyze_uplift(system, spectrum, options)
     else:

@@ -20,6 +20,9 @@ class Building:
     stiffness: lateral stiffness matrix K [N/m], symmetric positive definite, (N, N).
     damping: modal damping ratios xi_n [-], shape (N,).
     story_stiffness: story stiffnesses k_j [N/m] when K is a shear building, else None.
+    story_strength: story yield strengths V_yj [N] (inf: a story that stays elastic), None for an
+        elastic building (docs/theory.md section 15); needs story_stiffness.
+    hardening_ratio: alpha, post-yield over elastic story stiffness (bilinear kinematic hardening).
     """
 
     masses: np.ndarray
@@ -27,6 +30,8 @@ class Building:
     stiffness: np.ndarray
     damping: np.ndarray
     story_stiffness: np.ndarray | None = None
+    story_strength: np.ndarray | None = None
+    hardening_ratio: float = 0.0
 
     @property
     def n_stories(self) -> int:
@@ -36,6 +41,16 @@ class Building:
     def story_heights(self) -> np.ndarray:
         """Story heights h_j - h_{j-1} [m]."""
         return np.diff(np.concatenate(([0.0], self.heights)))
+
+    @property
+    def yields(self) -> bool:
+        """Whether some story has a finite strength (docs/theory.md section 15)."""
+        return self.story_strength is not None and bool(np.any(np.isfinite(self.story_strength)))
+
+    @property
+    def yield_drift(self) -> np.ndarray:
+        """Yield drifts V_yj / k_j [m] (inf for a story that stays elastic); needs story_strength."""
+        return self.story_strength / self.story_stiffness
 
 
 def eigh_diagonal_mass(stiffness: np.ndarray, masses: np.ndarray, eigvals_only: bool = False):
@@ -105,7 +120,8 @@ def scale_to_period(building: Building, period: float) -> Building:
     omega_now = np.sqrt(eigh_diagonal_mass(building.stiffness, building.masses, eigvals_only=True)[0])
     factor = (omega_target / omega_now) ** 2
     story = None if building.story_stiffness is None else building.story_stiffness * factor
-    return Building(building.masses, building.heights, building.stiffness * factor, building.damping, story)
+    return Building(building.masses, building.heights, building.stiffness * factor, building.damping, story,
+                    building.story_strength, building.hardening_ratio)
 
 
 @dataclass(frozen=True)
@@ -157,9 +173,13 @@ _MODES_CACHE_SIZE = 64
 
 
 def building_key(building: Building) -> tuple:
-    """The building's content (masses, heights, stiffness, damping) as a hashable key."""
+    """The building's content (masses, heights, stiffness, damping; with story strengths also those and
+    the hardening ratio) as a hashable key."""
     arrays = (building.masses, building.heights, building.stiffness, building.damping)
-    return tuple(np.asarray(a, dtype=float).tobytes() for a in arrays)
+    key = tuple(np.asarray(a, dtype=float).tobytes() for a in arrays)
+    if building.story_strength is None:
+        return key
+    return (*key, np.asarray(building.story_strength, dtype=float).tobytes(), float(building.hardening_ratio))
 
 
 def modal_analysis(building: Building) -> Modes:

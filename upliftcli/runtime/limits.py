@@ -72,6 +72,18 @@ MAX_SPECTRUM_WORK = 100_000_000
 MAX_CONTACT_ELEMENTS = 62
 #: exact engine: contact elements with a bearing capacity (two bits each: lifted, yielding)
 MAX_YIELDING_ELEMENTS = 31
+#: exact engine: bits of the 64-bit contact pattern (the compiled loop's event rows): one per contact
+#: element, two per element with a bearing capacity and two per yielding story (docs/theory.md 15.2)
+MAX_PATTERN_BITS = 62
+
+
+def too_many_bits(element_bits: int, yielding_stories: int) -> str:
+    """Why a contact pattern of element_bits for the foundation and two per yielding story does not fit
+    MAX_PATTERN_BITS, naming the field to change (the stories' alone: building.story_strengths)."""
+    total = element_bits + 2 * yielding_stories
+    field = "building.story_strengths" if 2 * yielding_stories > MAX_PATTERN_BITS else "foundation.elements"
+    return (f"the exact engine's contact pattern holds {MAX_PATTERN_BITS} bits: one per contact element, two per "
+            f"element with a bearing capacity and two per yielding story, here {total}: lower {field}")
 #: record suites: records generated, and samples generated or matched in all (the spectral
 #: iteration costs about 0.2 ms per sample: 500,000 samples take about 100 s on 2 cores)
 MAX_SUITE_RECORDS = 1_000

@@ -116,7 +116,7 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
             }
             offset += start + fraction * smallest;
             int64_t pattern = switch_pattern(m, state, m->patterns[state], x, right);
-            if (pattern == m->all_lifted && !m->allow_flight) {
+            if ((pattern & m->all_lifted) == m->all_lifted && !m->allow_flight) { /* story bits aside */
                 RETURN(FLIGHT, pattern);
             }
             int64_t new_state = -1;

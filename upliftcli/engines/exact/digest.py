@@ -17,6 +17,7 @@ import numpy as np
 
 from ...model.system import System
 from ..options import ExactOptions
+from ..quantities import YIELDING
 from ..result import AnalysisResult
 from .energy import balance, stored, work
 from .mat_motion import MatMotion, plastic_quantities
@@ -33,6 +34,7 @@ from .response import (
 )
 from .statespace import StateSpace
 from .stepping import History
+from .stories import hysteretic_work
 
 #: how each uplift statistic of a chunk folds into the run's
 _FOLDS = {"uplift_time": "sum", "episodes": "sum", "flight_time": "sum", "episodes_left": "sum",
@@ -63,10 +65,12 @@ class Digest:
         mode_periods = 2.0 * math.pi / model.omega
         governing = space.governing_period
         periods = np.concatenate((np.full(4 * n, governing), mode_periods, np.maximum(mode_periods, governing)))
-        names = signal_layout(model.n_modes, space.layout.n_elements)
-        self.searches = (peak_search(names, stacked, periods),
+        names = signal_layout(model.n_modes, space.layout.n_elements, space.layout.n_plastic)
+        plastic = self.rows.plastic
+        self.searches = (peak_search(names, stacked, periods, None, _stacked_plastic(plastic, n)),
                          peak_search(names, self.rows.acceleration, np.full(n, min(governing, mode_periods.min())),
-                                     self.rows.acceleration_rate))
+                                     self.rows.acceleration_rate, None if plastic is None else plastic.acceleration))
+        self.stories = StoryDigest(space) if space.layout.n_plastic else None
         self.peaks = {}  # name -> (values, instants [s])
         self.summary: dict = {}
         self.works = (0.0, 0.0, 0.0)
@@ -93,6 +97,8 @@ class Digest:
         sig = signals(chunk)
         self._fold_responses(chunk, sig)
         self.works = tuple(a + b for a, b in zip(self.works, work(chunk, sig), strict=True))
+        if self.stories is not None:
+            self.stories.add(chunk, sig, self.rows.drift)
         if self.first is None:
             self.first = stored(chunk, sig, 0)
         self.last = stored(chunk, sig, -1)
@@ -150,8 +156,13 @@ class Digest:
         """The run's AnalysisResult (after its last chunk)."""
         system, model = self.system, self.space.model
         values, instants, stacked = self._peaks(support, engine)
-        energy = balance(self.space, self.works, self.first, self.last)
+        hysteretic = None if self.stories is None else float(self.stories.hysteretic.sum())
+        energy = balance(self.space, self.works, self.first, self.last, hysteretic)
         details = self._details(stacked, energy)
+        if self.stories is not None:  # docs/theory.md 15.5: quantities.YIELDING
+            values.update(self.stories.quantities(system.building, values["drift"]))
+            instants.update({name: np.full(values[name].size, self.end_time) for name in YIELDING
+                             if name in values})
         if "rotation" in values and "yielding" in details:  # the exact engine's uplift run on yielding soil
             values.update(plastic_quantities(details["yielding"]))
         histories = ({k: np.concatenate([piece[k] for piece in self.pieces]) for k in self.pieces[0]}
@@ -216,6 +227,49 @@ class Digest:
             intermediates["M_tip"] = system.tipping_moment  # M_c is the capacity's (theory 14.4)
         intermediates.update({name: summary[name] for name in _SUMMARY_INTERMEDIATES if name in summary})
         return intermediates
+
+
+def _stacked_plastic(plastic, n: int) -> np.ndarray | None:
+    """The plastic drifts' part of the stacked story and floor responses (Digest.__init__): nothing in the
+    displacements and drifts, the restoring forces in the shears, moments and modal base shears."""
+    if plastic is None:
+        return None
+    modal = plastic.modal_base_shear
+    return np.vstack((np.zeros((2 * n, modal.shape[1])), plastic.shear, plastic.moment, modal,
+                      np.cumsum(modal, axis=0)))
+
+
+class StoryDigest:
+    """What the yielding stories of a run leave (docs/theory.md 15.3, 15.5), folded chunk by chunk: the
+    hysteretic energy of each, whether it yielded, and the drifts at the last sample."""
+
+    def __init__(self, space: StateSpace):
+        self.space = space
+        self.hysteretic = np.zeros(space.layout.n_plastic)
+        self.yielded = np.zeros(space.layout.n_plastic, dtype=bool)
+        self.final_drift: np.ndarray | None = None
+
+    def add(self, chunk: History, sig: Signals, drift_rows: np.ndarray) -> None:
+        """Fold one chunk: int V dp over its intervals (stories.hysteretic_work), the stories that yielded in it,
+        the drifts of every story at its last sample (drift_rows: Y* -> d of every story)."""
+        drifts = chunk.states @ self.space.drift_rows.T
+        self.hysteretic += hysteretic_work(self.space.model.stories, drifts, chunk.story_sign)
+        self.yielded |= np.any(chunk.story_sign != 0, axis=0)
+        self.final_drift = drift_rows @ sig["Y"][-1]
+
+    def quantities(self, building, peak_drift: np.ndarray) -> dict[str, np.ndarray]:
+        """quantities.YIELDING of the run: per story the ductility (peak |drift| / yield drift, 0 where the
+        strength is infinite), the residual drift ratio |d_end| / h, the hysteretic energy [J] and the
+        yielded flag; per result the yielded stories and the base-shear strength V_y1 [N]."""
+        story = self.space.model.stories.story
+        n = building.n_stories
+        hysteretic, yielded = np.zeros(n), np.zeros(n)
+        hysteretic[story], yielded[story] = self.hysteretic, self.yielded
+        return {"ductility": peak_drift / building.yield_drift,
+                "residual_drift_ratio": np.abs(self.final_drift) / building.story_heights,
+                "hysteretic_energy": hysteretic, "story_yielded": yielded,
+                "yielded_stories": np.array([float(yielded.sum())]),
+                "base_shear_strength": np.array([float(building.story_strength[0])])}
 
 
 def _flight_warnings(summary: dict) -> list[str]:

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from . import response_kernels
+from .stories import stored_strain
 
 if TYPE_CHECKING:
     from .response import Signals
@@ -45,6 +46,8 @@ def stored(history: History, sig: Signals, index: int) -> tuple[float, ...]:
     contact = history.contact[history.state_ids[index]]
     kinetic = 0.5 * np.sum(space.masses * (contact.velocity @ x) ** 2)
     strain = 0.5 * np.sum(space.k_modal * sig["Y"][index] ** 2)
+    if space.layout.n_plastic:  # the yielding stories' springs act on d_j - p_j (docs/theory.md 15.3)
+        strain += stored_strain(space.model.stories, space.drift_rows @ x, x[space.layout.plastic_indices])
     foundation = gravity = 0.0
     if space.layout.n_elements:
         k_el, c_el = space.element_stiffness, space.element_damping
@@ -58,15 +61,19 @@ def stored(history: History, sig: Signals, index: int) -> tuple[float, ...]:
     return float(kinetic), float(strain), float(foundation), float(gravity)
 
 
-def balance(space: StateSpace, works: tuple[float, float, float], first: tuple, last: tuple) -> dict:
+def balance(space: StateSpace, works: tuple[float, float, float], first: tuple, last: tuple,
+            hysteretic: float | None = None) -> dict:
     """The energy terms [J] of a run from its work integrals and its stored energies at the
-    first and the last sample; residual and relative residual."""
+    first and the last sample (and the hysteretic energy of yielding stories, docs/theory.md 15.3);
+    residual and relative residual."""
     work_in, damp_struct, damp_found = works
     terms = {"input": work_in}
     for k, name in enumerate(("kinetic", "strain", "foundation_elastic", "gravity", "plastic_work")[:len(first)]):
         terms[name] = float(last[k] - first[k])
     terms["structural_damping"] = damp_struct
     terms["foundation_damping"] = damp_found
+    if hysteretic is not None:
+        terms["hysteretic"] = float(hysteretic)
     total = sum(v for k, v in terms.items() if k != "input")
     # relative to the work done, or (no ground motion) to a billionth of the static foundation
     # energy, so that round-off at rest is not a residual

@@ -18,6 +18,7 @@ from ...model.building import Modes
 from ...model.foundations import ContactElements
 from ...model.interaction import impedance
 from ...model.system import System
+from .stories import StoryYield, story_yield
 
 
 @dataclass(frozen=True)
@@ -46,6 +47,7 @@ class ModalModel:
     gravity: float
     elements: ContactElements | None
     impedance: dict[str, float] | None = None
+    stories: StoryYield | None = None  # the stories that yield (docs/theory.md 15), None: elastic
 
     @property
     def n_modes(self) -> int:
@@ -68,9 +70,10 @@ def modal_model(system: System, support: str, n_modes: int, coupled_modes: int |
     theta_inertia, first_moment_residual = _rotation_inertia(system, modes, residual)
     # the impedance at the flexible-base frequency, as in every engine (model/interaction.py)
     foundation = impedance(system) if flexible else None
+    stories = None if approximate else story_yield(system.building, modes.shapes_star, modes.omega)
     return ModalModel(modes.omega, modes.damping, modes.effective_mass, modes.effective_height, coupled,
                       theta_inertia, first_moment_residual, system.total_mass, system.gravity,
-                      _contact_elements(system, support, foundation), foundation)
+                      _contact_elements(system, support, foundation), foundation, stories)
 
 
 def _rotation_inertia(system: System, modes: Modes, residual: bool) -> tuple[float, float]:

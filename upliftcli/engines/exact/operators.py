@@ -14,6 +14,7 @@ from ...runtime.limits import MAX_OPERATOR_BYTES
 from .expm import expm
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
+from .stories import story_bits, valid_story_pattern
 from .yielding import pattern_bits, step_operators, valid_pattern
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
@@ -31,10 +32,11 @@ class Operators:
     """Exact step operators of the contact states met so far, grown on demand (stored
     transposed, as kernel.integrate takes them). States are built by add_states."""
 
-    def __init__(self, space: StateSpace, h: float, criterion: str):
+    def __init__(self, space: StateSpace, h: float, criterion: str, uplift: bool = True):
         self.space, self.layout, self.h, self.criterion = space, space.layout, h, criterion
-        n_aug, n_e = self.layout.n_aug, max(self.layout.n_elements, 0)
-        n_e += self.layout.n_settlements  # two event rows per element with a bearing capacity
+        self.uplift = uplift  # False: the foundation's event rows are kept zero (bonded), the stories' kept
+        n_aug, n_e = self.layout.n_aug, soil_rows(self.layout)
+        n_e += 2 * self.layout.n_plastic  # two event rows per yielding story (stories.py)
         self.capacity = reserved_states(self.layout)
         # np.zeros of a large reserve maps pages only as states are stored (no copy when it suffices)
         self.ops = np.zeros((self.capacity, LEVELS + 1, n_aug, n_aug))
@@ -52,6 +54,11 @@ class Operators:
         """Where the elements yield in the pattern (None without a bearing capacity)."""
         return pattern_bits(pattern, self.layout.n_elements)[1] if self.layout.n_settlements else None
 
+    def story_sign(self, pattern: int) -> np.ndarray | None:
+        """The sign of each yielding story in the pattern (stories.story_bits; None: elastic stories)."""
+        lay = self.layout
+        return story_bits(pattern, soil_rows(lay), lay.n_plastic) if lay.n_plastic else None
+
     def store(self, pattern: int, state: ContactState, ops: np.ndarray | None, events: bool) -> int:
         """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS (None: the caller
         writes them into self.ops[index] itself, with no copy between: it holds zeros until then)."""
@@ -67,12 +74,22 @@ class Operators:
         if ops is not None:
             self.ops[index] = ops
         if events:
-            self.events[index] = state.events
-            self.event_rates[index] = state.events @ state.matrix
+            rows = state.events
+            if not self.uplift:  # a bonded run with yielding stories: its elements never switch
+                rows = rows.copy()
+                rows[:soil_rows(self.layout)] = 0.0
+            self.events[index] = rows
+            self.event_rates[index] = rows @ state.matrix
         self.matrices[index] = state.matrix.T
         self.patterns[index] = pattern
         self.contact.append(state)
         return index
+
+
+def soil_rows(lay: Layout) -> int:
+    """Event rows (and pattern bits) of the foundation's elements: one per element, two with a bearing
+    capacity; the yielding stories' come after them (stories.py)."""
+    return max(lay.n_elements, 0) + lay.n_settlements
 
 
 #: the most memory reserved up front for the operators of one run [bytes] (virtual: untouched
@@ -135,6 +152,10 @@ _LIFTED_AND_YIELDING = ("a contact element started to lift off and to yield at t
                         "force balanced its capacity exactly): reduce the time step (analysis.exact.time_step)")
 
 
+_BOTH_WAYS = ("a story started to yield both ways at the same instant: reduce the time step "
+              "(analysis.exact.time_step)")
+
+
 def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | AnalysisError]:
     """Build and store the contact states asked for, (operators, pattern, with event rows)
     each, vectorised over the requests that share a layout: one batched assembly
@@ -154,6 +175,8 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
             operators, pattern, events = requests[k]
             if state.yielding is not None:
                 _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
+            if state.story_sign is not None:
+                _elastic_stories(ops[r], state, operators.layout, operators.h)
             out[k] = operators.store(pattern, state, ops[r], events)
     return out
 
@@ -169,11 +192,15 @@ def _groups(requests: list[tuple[Operators, int, bool]], out: list[int | Analysi
         if lay.n_settlements and not valid_pattern(pattern, lay.n_elements):
             out[k] = AnalysisError(_LIFTED_AND_YIELDING)
             continue
+        if lay.n_plastic and not valid_story_pattern(pattern, soil_rows(lay), lay.n_plastic):
+            out[k] = AnalysisError(_BOTH_WAYS)
+            continue
         asked[id(operators)] = asked.get(id(operators), 0) + 1
         if len(operators.contact) + asked[id(operators)] > max_states(lay):
             out[k] = AnalysisError(_too_many_states(lay))
             continue
-        key = (lay.n_p, tuple(lay.massive), tuple(lay.massless), lay.n_x, lay.n_elements, operators.criterion)
+        key = (lay.n_p, tuple(lay.massive), tuple(lay.massless), lay.n_x, lay.n_elements, lay.n_plastic,
+               operators.criterion)
         groups.setdefault(key, []).append(k)
     return groups
 
@@ -212,6 +239,9 @@ def _block_operators(requests: list[tuple[Operators, int, bool]], built: list[tu
         operators = group[0][0]
         step_operators(operators.space, [state for _, _, state in group], operators.h, LEVELS,
                        [operators.ops[index] for _, index, _ in group])
+        for _, index, state in group:
+            if state.story_sign is not None:
+                _hold_settlements(operators.ops[index], operators.layout.plastic_indices[state.story_sign == 0])
 
 
 def _stacked_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
@@ -235,11 +265,28 @@ def _hold_settlements(ops: np.ndarray, constant: np.ndarray) -> None:
     ops[:, constant, constant] = 1.0
 
 
+def _elastic_stories(ops: np.ndarray, state: ContactState, lay: Layout, h: float) -> None:
+    """The step operators (E^T per level, in place) of a state with yielding stories: the plastic drifts
+    of the elastic stories held exactly (_hold_settlements), and, where no story yields, the operators
+    of the other entries from the exponential of A without the plastic drifts: the matrix and the
+    operators of the elastic building, bit for bit (the plastic drifts, zero until a story yields, do
+    not change its history: docs/theory.md 15.4)."""
+    _hold_settlements(ops, lay.plastic_indices[state.story_sign == 0])
+    if np.any(state.story_sign != 0):
+        return
+    keep = np.setdiff1d(np.arange(lay.n_aug), lay.plastic_indices)
+    reduced = state.matrix[np.ix_(keep, keep)].T
+    ops[:, keep[:, None], keep[None, :]] = _stacked_operators(reduced[None], np.array([[[h]]]))[0]
+
+
 def _states(requests: list[tuple[Operators, int, bool]]) -> list[ContactState]:
     first = requests[0][0]
     lifted = np.array([operators.lifted(pattern) for operators, pattern, _ in requests], dtype=bool)
     lifted = lifted.reshape(len(requests), first.layout.n_elements)
-    yielding = None
+    yielding = sign = None
     if first.layout.n_settlements:
         yielding = np.array([operators.yielding(pattern) for operators, pattern, _ in requests], dtype=bool)
-    return contact_states([operators.space for operators, _, _ in requests], lifted, first.criterion, yielding)
+    if first.layout.n_plastic:
+        sign = np.array([operators.story_sign(pattern) for operators, pattern, _ in requests], dtype=np.int8)
+    return contact_states([operators.space for operators, _, _ in requests], lifted, first.criterion, yielding,
+                          sign)

@@ -12,15 +12,17 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import stories
 from .statespace import ContactState, Layout, StateSpace, dynamics, stacked
 from .yielding import event_rows
 
 
 def contact_states(terms: list[StateSpace], lifted: np.ndarray, criterion: str,
-                   yielding: np.ndarray | None = None) -> list[ContactState]:
+                   yielding: np.ndarray | None = None, sign: np.ndarray | None = None) -> list[ContactState]:
     """Assemble A, the velocity map and the event rows of contact patterns: item r is the
     model of terms[r] (all with one layout) in the contact pattern lifted[r] (R, n_e) (and
-    yielding[r] with a bearing capacity, all False if None; ignored without one). The assembly is
+    yielding[r] with a bearing capacity, all False if None; ignored without one; and the sign of each
+    yielding story, sign[r] (R, n_y): +1, -1 or 0, all 0 if None; stories.py). The assembly is
     vectorised over the batch axis; every item gets the same bits as alone (products are per
     item, sums along contiguous rows). Raises ZeroDivisionError if a massless rotation has no
     damping in some item."""
@@ -42,8 +44,26 @@ def contact_states(terms: list[StateSpace], lifted: np.ndarray, criterion: str,
         matrix[rows, lay.settlement_indices[cols]] = edge_velocity[rows, cols]
         _relaxing_tops(lay, matrix, lifted, terms)
         events = event_rows(terms, lay, lifted, yielding, edge_velocity, criterion)
+    if lay.n_plastic:
+        sign = np.zeros((len(terms), lay.n_plastic), dtype=np.int8) if sign is None else np.asarray(sign)
+        events = np.concatenate((events, _yielding_stories(terms, lay, matrix, velocity, sign)), axis=1)
     return [ContactState(lifted[r].copy(), matrix[r], velocity[r], events[r],
-                         None if yielding is None else yielding[r].copy()) for r in range(len(terms))]
+                         None if yielding is None else yielding[r].copy(),
+                         None if not lay.n_plastic else sign[r].copy()) for r in range(len(terms))]
+
+
+def _yielding_stories(terms: list[StateSpace], lay: Layout, matrix: np.ndarray, velocity: np.ndarray,
+                      sign: np.ndarray) -> np.ndarray:
+    """The rows of the plastic drifts p_j in A (in place: (1 - alpha) d_j' while story j yields) and the
+    2 n_y story event rows of each item (stories.event_rows; docs/theory.md 15.2)."""
+    rows = np.empty((len(terms), 2 * lay.n_plastic, lay.n_aug))
+    for r, term in enumerate(terms):  # each item its own building (a batch shares a layout only)
+        story = term.model.stories
+        drift_rate = (story.drift @ term.to_modal @ velocity[r])[None]  # X -> d_j'
+        matrix[r, lay.plastic_indices] = stories.plastic_rows(story, drift_rate, sign[r:r + 1])[0]
+        rows[r] = stories.event_rows(story, term.drift_rows, drift_rate, sign[r:r + 1], lay.plastic_indices,
+                                     lay.index_one)[0]
+    return rows
 
 
 def _on_the_mat(terms: list[StateSpace], lifted: np.ndarray, yielding: np.ndarray | None

@@ -48,10 +48,24 @@ class ResponseRows:
     modal_base_shear: np.ndarray
     acceleration: np.ndarray
     acceleration_rate: np.ndarray
+    plastic: PlasticRows | None = None
+
+
+@dataclass(frozen=True)
+class PlasticRows:
+    """What the plastic drifts p of the yielding stories add (docs/theory.md 15.1), per unit p_j (n_y
+    columns): to the story shears and moments (N rows), the modal base shears (n_m rows: -Gamma) and the
+    absolute floor accelerations (N rows: phi* diag(1/m*) Gamma)."""
+
+    shear: np.ndarray
+    moment: np.ndarray
+    modal_base_shear: np.ndarray
+    acceleration: np.ndarray
 
 
 def response_rows(system: System, space: StateSpace) -> ResponseRows:
-    """The statics of [12-14] applied to the modal forces m_j phi_jn* w_n^2 per unit Y_n*."""
+    """The statics of [12-14] applied to the modal forces m_j phi_jn* w_n^2 per unit Y_n* (and, with
+    yielding stories, the restoring forces -A^T diag(k) p of their plastic drifts: _plastic_rows)."""
     model = space.model
     building = system.building
     shapes = system.modes.shapes_star[:, :model.n_modes]
@@ -59,7 +73,22 @@ def response_rows(system: System, space: StateSpace) -> ResponseRows:
     maps = story_maps(building)
     return ResponseRows(shapes, maps.drift @ shapes, maps.shear @ forces, maps.moment @ forces,
                         np.diag(forces.sum(axis=0)), -shapes * model.omega**2,
-                        -shapes * (2.0 * model.damping * model.omega))
+                        -shapes * (2.0 * model.damping * model.omega),
+                        _plastic_rows(space, shapes, maps) if space.layout.n_plastic else None)
+
+
+def _plastic_rows(space: StateSpace, shapes: np.ndarray, maps) -> PlasticRows:
+    """PlasticRows of a model with yielding stories: the floor forces -A^T diag(k) p (story s pulls floor s
+    back by k_s p_s and floor s - 1 forward) through the statics, and the modal forcing Gamma p."""
+    story = space.model.stories
+    forces = np.zeros((shapes.shape[0], story.count))
+    columns = np.arange(story.count)
+    forces[story.story, columns] = -story.stiffness
+    below = story.story > 0
+    forces[story.story[below] - 1, columns[below]] = story.stiffness[below]
+    gamma = story.drift.T * story.stiffness  # (n_m, n_y)
+    return PlasticRows(maps.shear @ forces, maps.moment @ forces, -gamma,
+                       shapes @ (gamma / space.model.effective_mass[:, None]))
 
 
 @dataclass
@@ -86,15 +115,17 @@ class Signals:
 
 #: signals with rates: those the work integrals use first (energy.py), then Y*'' and the mat's
 #: rotation and vertical displacement (the rocking peaks between samples, mat_motion.py)
-WITH_RATES = ("Ydot", "a", "input", "element_velocity", "z", "Yddot", "theta", "v")
-VALUES_ONLY = ("Y", "element_displacement")
+WITH_RATES = ("Ydot", "a", "input", "element_velocity", "z", "Yddot", "theta", "v", "Pdot")
+VALUES_ONLY = ("Y", "element_displacement", "P")
 
 
 @functools.cache
-def signal_layout(n_modes: int, n_elements: int) -> dict[str, slice]:
-    """The columns of each signal (WITH_RATES first, in order, then VALUES_ONLY)."""
+def signal_layout(n_modes: int, n_elements: int, n_plastic: int = 0) -> dict[str, slice]:
+    """The columns of each signal (WITH_RATES first, in order, then VALUES_ONLY); P, Pdot: the plastic
+    drifts of the yielding stories and their rates (none for an elastic building)."""
     sizes = {"Ydot": n_modes, "a": 1, "input": 1, "element_velocity": n_elements, "z": n_elements,
-             "Yddot": n_modes, "Y": n_modes, "theta": 1, "v": 1, "element_displacement": n_elements}
+             "Yddot": n_modes, "Y": n_modes, "theta": 1, "v": 1, "element_displacement": n_elements,
+             "Pdot": n_plastic, "P": n_plastic}
     names, start = {}, 0
     for name in WITH_RATES + VALUES_ONLY:
         names[name] = slice(start, start + sizes[name])
@@ -109,8 +140,8 @@ def signals(history: History) -> Signals:
     space = history.space
     model, lay = space.model, space.layout
     n_m = model.n_modes
-    names = signal_layout(n_m, lay.n_elements)
-    start = names["element_displacement"].stop
+    names = signal_layout(n_m, lay.n_elements, lay.n_plastic)
+    start = names[VALUES_ONLY[-1]].stop
     n_slopes = names[WITH_RATES[-1]].stop
     used, ids = np.unique(history.state_ids, return_inverse=True)
     ids = ids.reshape(-1).astype(np.int64)
@@ -133,6 +164,9 @@ def signals(history: History) -> Signals:
         rows[:, np.arange(names["element_displacement"].start, names["element_displacement"].stop),
              lay.settlement_indices] -= 1.0
         rows[:, z_rows, lay.settlement_indices] -= 1.0
+    if lay.n_plastic:  # the plastic drifts and their rates (docs/theory.md 15)
+        rows[:, np.arange(names["P"].start, names["P"].stop), lay.plastic_indices] = 1.0
+        rows[:, names["Pdot"]] = matrix[:, lay.plastic_indices]
     rows[:, start:] = rows[:, :n_slopes] @ matrix
     rows_t = np.ascontiguousarray(rows.transpose(0, 2, 1))
     at = np.nonzero(ids[1:] != ids[:-1])[0]
@@ -168,8 +202,9 @@ class PeakSearch:
 
 
 def peak_search(names: dict[str, slice], rows: np.ndarray, periods: np.ndarray,
-                rates: np.ndarray | None = None) -> PeakSearch:
-    """The PeakSearch of the responses rows @ Y* (+ rates @ Y*') in the signal layout `names`."""
+                rates: np.ndarray | None = None, plastic: np.ndarray | None = None) -> PeakSearch:
+    """The PeakSearch of the responses rows @ Y* (+ rates @ Y*') (+ plastic @ P, the plastic drifts of
+    yielding stories) in the signal layout `names`."""
     y, ydot, yddot = (np.arange(names[k].start, names[k].stop, dtype=np.int64) for k in ("Y", "Ydot", "Yddot"))
     if rates is None:
         basis, value_cols, rate_cols, curvature_cols = rows, y, ydot, ydot
@@ -177,6 +212,11 @@ def peak_search(names: dict[str, slice], rows: np.ndarray, periods: np.ndarray,
         basis = np.hstack((rows, rates))
         value_cols, rate_cols, curvature_cols = np.concatenate((y, ydot)), np.concatenate((ydot, yddot)), \
             np.concatenate((ydot, yddot))
+    if plastic is not None:
+        p, pdot = (np.arange(names[k].start, names[k].stop, dtype=np.int64) for k in ("P", "Pdot"))
+        basis = np.hstack((basis, plastic))
+        value_cols, rate_cols = np.concatenate((value_cols, p)), np.concatenate((rate_cols, pdot))
+        curvature_cols = np.concatenate((curvature_cols, pdot))
     return PeakSearch(np.ascontiguousarray(basis.T), value_cols, rate_cols, curvature_cols,
                       np.asarray(periods, dtype=float))
 
@@ -243,8 +283,9 @@ def histories(history: History, rows: ResponseRows, sig: Signals, settlements: d
               ) -> dict[str, np.ndarray]:
     """Time histories at every sample (SI units) for --histories: the signals of
     quantities.HISTORY_SIGNALS, then one column per story or element of each quantity of
-    quantities.HISTORY_QUANTITIES, and with a capacity each element's plastic settlement -s_i
-    (plastic_settlement_<element>, >= 0). settlements: the mat's settlement series of the
+    quantities.HISTORY_QUANTITIES, with a capacity each element's plastic settlement -s_i
+    (plastic_settlement_<element>, >= 0) and with yielding stories each story's shear (shear_<story>,
+    docs/theory.md 15.5). settlements: the mat's settlement series of the
     flexible supports (mat_motion.MatMotion.histories), placed after the signals."""
     y = sig["Y"]
     out = {
@@ -254,11 +295,14 @@ def histories(history: History, rows: ResponseRows, sig: Signals, settlements: d
         "base_moment": y @ rows.moment[0],
         "roof_displacement": y @ rows.displacement[-1],
     }
+    if rows.plastic is not None:  # the yielding stories' restoring forces (docs/theory.md 15.1)
+        out["base_shear"] = out["base_shear"] + sig["P"] @ rows.plastic.shear[0]
+        out["base_moment"] = out["base_moment"] + sig["P"] @ rows.plastic.moment[0]
     if history.space.model.flexible:
         out.update(_mat_histories(history, sig))
         out.update(settlements or {})
     places = _places(history, rows, sig)
-    for name in (*HISTORY_QUANTITIES, "plastic_settlement"):
+    for name in (*HISTORY_QUANTITIES, "plastic_settlement", "shear"):
         for j in range(places[name].shape[1] if name in places else 0):
             out[f"{name}_{j + 1}"] = places[name][:, j]
     return out
@@ -281,6 +325,9 @@ def _places(history: History, rows: ResponseRows, sig: Signals) -> dict[str, np.
     y, ydot = sig["Y"], sig["Ydot"]
     places = {"drift": y @ rows.drift.T,
               "floor_acceleration": y @ rows.acceleration.T + ydot @ rows.acceleration_rate.T}
+    if rows.plastic is not None:  # with yielding stories also the story shears (their hysteresis with the drifts)
+        places["floor_acceleration"] = places["floor_acceleration"] + sig["P"] @ rows.plastic.acceleration.T
+        places["shear"] = y @ rows.shear.T + sig["P"] @ rows.plastic.shear.T
     if history.space.layout.n_elements:
         places["reaction"] = element_reactions(history, sig)[0]
     if history.space.layout.n_settlements:

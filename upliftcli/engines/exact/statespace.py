@@ -27,9 +27,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...errors import InputError
 from ...model.system import System
 from ..options import ExactOptions
 from .modal import ModalModel, governing_period, modal_model, resolve_modes
+from .stories import plastic_forcing
 
 
 @dataclass(frozen=True)
@@ -42,6 +44,7 @@ class Layout:
     n_x: int                 # state size without the 3 forcing entries
     n_elements: int
     n_settlements: int = 0   # plastic settlements s_i: n_elements with a bearing capacity, else 0
+    n_plastic: int = 0       # plastic drifts p_j of the stories that yield (docs/theory.md 15), after the motion
 
     @property
     def n_aug(self) -> int:
@@ -66,6 +69,13 @@ class Layout:
         return np.arange(end - self.n_elements, end, dtype=np.int64)
 
     @property
+    def plastic_indices(self) -> np.ndarray:
+        """State indices of the plastic story drifts p_j [m] (int64, right after the motion: empty for an
+        elastic building, docs/theory.md 15.1)."""
+        start = self.n_x - self.n_settlements - self.n_elements - self.n_plastic
+        return np.arange(start, start + self.n_plastic, dtype=np.int64)
+
+    @property
     def settlement_indices(self) -> np.ndarray:
         """State indices of the plastic settlements s_i [m] (int64, one per element with a bearing
         capacity; empty without one: docs/theory.md 14.3)."""
@@ -74,8 +84,9 @@ class Layout:
 
 def layout(model: ModalModel) -> Layout:
     n_modes = model.n_modes
+    n_pl = model.stories.count if model.stories is not None else 0
     if not model.flexible:
-        return Layout(n_modes, np.arange(n_modes), np.array([], dtype=int), 2 * n_modes, 0)
+        return Layout(n_modes, np.arange(n_modes), np.array([], dtype=int), 2 * n_modes + n_pl, 0, 0, n_pl)
     n_p = n_modes + 2
     theta = n_modes
     masses = coordinate_masses(model)
@@ -83,8 +94,8 @@ def layout(model: ModalModel) -> Layout:
     massive = np.array([i for i in range(n_p) if i not in set(massless.tolist())])
     n_e = model.elements.count
     n_s = n_e if model.elements.capacity is not None else 0
-    n_x = 2 * massive.size + massless.size + n_e + n_s
-    return Layout(n_p, massive, massless, n_x, n_e, n_s)
+    n_x = 2 * massive.size + massless.size + n_pl + n_e + n_s
+    return Layout(n_p, massive, massless, n_x, n_e, n_s, n_pl)
 
 
 def coordinate_masses(model: ModalModel) -> np.ndarray:
@@ -146,6 +157,7 @@ class ContactState:
     velocity: np.ndarray
     events: np.ndarray
     yielding: np.ndarray | None = None  # True where element i yields (a foundation with a capacity)
+    story_sign: np.ndarray | None = None  # +1 / -1 / 0 per yielding story (docs/theory.md 15), None: elastic
 
 
 @dataclass(frozen=True)
@@ -184,6 +196,7 @@ class StateSpace:
     governing_period: float
     rest: np.ndarray
     element_capacity: np.ndarray | None = None
+    drift_rows: np.ndarray | None = None  # X -> d_j of the stories that yield (n_y, n_aug), docs/theory.md 15
 
 
 def state_space(model: ModalModel) -> StateSpace:
@@ -203,10 +216,14 @@ def state_space(model: ModalModel) -> StateSpace:
     else:
         directions, k_el, c_el, settlement = np.zeros((0, lay.n_p)), np.zeros(0), np.zeros(0), 0.0
     to_modal = modal_map(model, lay)
+    drift_rows = None
+    if lay.n_plastic:  # the plastic drifts load the motion (theory 15.1)
+        forcing[:, lay.plastic_indices] = plastic_forcing(model.stories, to_modal)
+        drift_rows = model.stories.drift @ to_modal @ position
     return StateSpace(model, lay, stiffness, damping, forcing, coordinate_masses(model), position, to_modal,
                       to_modal @ position, k_modal, c_modal, directions, k_el, c_el, directions @ position,
                       weight, settlement, governing_period(model), static_state(model, lay),
-                      model.elements.capacity if lay.n_settlements else None)
+                      model.elements.capacity if lay.n_settlements else None, drift_rows)
 
 
 def stacked(terms: list[StateSpace], name: str) -> np.ndarray:
@@ -285,6 +302,11 @@ def static_state(model: ModalModel, lay: Layout) -> np.ndarray:
 
 
 def exact_model(system: System, support: str, options: ExactOptions) -> StateSpace:
-    """The exact engine's model: every mode kept is coupled with the mat [11a-11c]."""
+    """The exact engine's model: every mode kept is coupled with the mat [11a-11c]. A building whose stories
+    yield takes all its modes (docs/theory.md 15.4): a truncation is refused (InputError)."""
     n_modes = resolve_modes(system, options.n_modes)
+    if system.building.yields and n_modes < system.building.n_stories:
+        raise InputError("analysis", "modes", f"all {system.building.n_stories} modes with yielding stories (got "
+                         f"{n_modes}): the plastic drifts load every mode (docs/theory.md 15.4); leave analysis.modes, "
+                         "analysis.mass_participation and analysis.exact.n_modes unset")
     return state_space(modal_model(system, support, n_modes, residual_inertia=options.residual_inertia))

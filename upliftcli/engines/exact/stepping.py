@@ -15,11 +15,12 @@ from functools import cached_property
 import numpy as np
 
 from ...errors import AnalysisError
-from ...runtime.limits import MAX_CONTACT_ELEMENTS, MAX_YIELDING_ELEMENTS
+from ...runtime.limits import MAX_CONTACT_ELEMENTS, MAX_PATTERN_BITS, MAX_YIELDING_ELEMENTS, too_many_bits
 from ..registry import too_many_yielding
 from . import stepping_kernels as kernel
-from .operators import LEVELS, Operators, add_states, expected_states, state_bytes
+from .operators import LEVELS, Operators, add_states, expected_states, soil_rows, state_bytes
 from .statespace import ContactState, StateSpace
+from .stories import resets
 from .yielding import event_resets
 
 
@@ -43,7 +44,7 @@ class History:
     criterion: str
     lifted: np.ndarray
     yielding: np.ndarray | None = None
-
+    story_sign: np.ndarray | None = None  # (n, n_y) +1 / -1 / 0 per yielding story (docs/theory.md 15)
 
     @cached_property
     def lengths(self) -> np.ndarray:
@@ -71,10 +72,12 @@ class Run:
         if too_many_yielding(lay.n_settlements):  # the rule of registry.capacity_refusal, for a model built in code
             raise AnalysisError(f"at most {MAX_YIELDING_ELEMENTS} contact elements with a bearing capacity are "
                                 f"supported (got {n_e}): lower foundation.elements")
+        if soil_rows(lay) + 2 * lay.n_plastic > MAX_PATTERN_BITS:  # the deck refuses it first (registry)
+            raise AnalysisError(too_many_bits(soil_rows(lay), lay.n_plastic))
         self.space, self.layout, self.h, self.criterion = space, lay, h, criterion
         self.uplift = uplift
-        self.operators = Operators(space, h, criterion)
-        self.elements = kernel.Elements(*event_resets(space), np.int64((1 << n_e) - 1) if n_e else np.int64(-2),
+        self.operators = Operators(space, h, criterion, uplift)
+        self.elements = kernel.Elements(*all_resets(space), np.int64((1 << n_e) - 1) if n_e else np.int64(-2),
                                         bool(allow_flight))
         self.grid = kernel.Grid(ground, slopes, float(h), LEVELS, lay.index_acceleration, lay.index_slope)
         # a long run is stepped in chunks: a full buffer goes to on_chunk (post-processed and
@@ -101,7 +104,7 @@ class Run:
         self.out_x = np.empty((self.capacity, self.layout.n_aug))
         self.out_t = np.empty(self.capacity)
         self.out_s = np.empty(self.capacity, dtype=np.int64)
-        return self.operators, 0, self.uplift and self.layout.n_elements > 0
+        return self.operators, 0, (self.uplift and self.layout.n_elements > 0) or self.layout.n_plastic > 0
 
     def first_lifts(self) -> list[int]:
         """The contact patterns a run that lifts off reaches first: an edge element lifted (the
@@ -187,9 +190,25 @@ class Run:
         if self.layout.n_settlements:
             yield_table = np.array([c.yielding for c in contact], dtype=bool).reshape(len(contact), -1)
             yielding = np.take(yield_table, self.out_s[:n], axis=0)
+        signs = None
+        if self.layout.n_plastic:
+            sign_table = np.array([c.story_sign for c in contact], dtype=np.int8).reshape(len(contact), -1)
+            signs = np.take(sign_table, self.out_s[:n], axis=0)
         # np.take, not table[ids]: the same rows, 15x faster for a table this narrow
         return History(self.space, self.out_t[:n], self.out_x[:n], self.out_s[:n], contact, self.h, self.criterion,
-                       np.take(table, self.out_s[:n], axis=0), yielding)
+                       np.take(table, self.out_s[:n], axis=0), yielding, signs)
+
+
+def all_resets(space: StateSpace) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The resets of every event row (stepping_kernels.Elements): the foundation's (yielding.event_resets),
+    then the yielding stories' (stories.resets)."""
+    index, rows, with_row = event_resets(space)
+    lay = space.layout
+    if not lay.n_plastic:
+        return index, rows, with_row
+    more = resets(space.model.stories, space.drift_rows, lay.plastic_indices, lay.index_one)
+    return (np.concatenate((index, more[0])).astype(np.int64), np.vstack((rows.reshape(-1, lay.n_aug), more[1])),
+            np.concatenate((with_row, more[2])))
 
 
 def ground_grid(acceleration: np.ndarray, substeps: int, dt: float) -> tuple[np.ndarray, np.ndarray]:

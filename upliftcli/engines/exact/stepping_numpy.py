@@ -228,7 +228,7 @@ class _Loop:
         """(status or None, state) after a transition to `pattern`, the events_in_step-th of the step:
         FLIGHT if flight is not allowed, NEED_STATE if the pattern has no state yet, CHATTER (in the new
         state) at MAX_EVENTS_PER_STEP."""
-        if pattern == self.all_lifted and not self.allow_flight:
+        if (pattern & self.all_lifted) == self.all_lifted and not self.allow_flight:  # story bits aside
             return FLIGHT, state
         found = np.flatnonzero(self.patterns[:self.count] == pattern)
         if found.size == 0:
