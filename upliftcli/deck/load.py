@@ -211,13 +211,8 @@ def _gather_structure(checks: _Checks, values: dict) -> tuple[System | None, Ana
         return None, None
     analysis = checks.run(("analysis",), _analysis, values["analysis"], values["analysis.exact"], system)
     if analysis is not None:
-    otherwise); the foundation's fields of another type checked whatever else failed."""
-    building = checks.run(("building",), building_from_fields, values["building"])
-    if building is not None:
-        building = checks.run(("building", "analysis"), strengths_from_fields, building, values["building"],
-                              values["analysis"])
-    typed = _gather_typed_fields(checks, values["foundation"])
-    if building is None or not typed:
+        checks.run((), _check_yielding_elements, system, analysis)
+        checks.run((), _check_yielding_stories, system, analysis)
     return system, analysis
 
 
@@ -268,13 +263,35 @@ def _check_yielding_elements(system: System, analysis: AnalysisSettings, error) 
             raise error("foundation.elements", refusal)
 
 
-    otherwise); the foundation's fields of another type checked whatever else failed."""
-    building = checks.run(("building",), building_from_fields, values["building"])
-    if building is not None:
-        building = checks.run(("building", "analysis"), strengths_from_fields, building, values["building"],
-                              values["analysis"])
-    typed = _gather_typed_fields(checks, values["foundation"])
-    if building is None or not typed:
+def _check_yielding_stories(system: System, analysis: AnalysisSettings, error) -> None:
+    """Yielding stories whose pattern bits, with the foundation's, do not fit the exact engine's contact
+    pattern (limits.MAX_PATTERN_BITS, registry.strength_refusal), refused up front when the deck runs the
+    exact engine; the other engines' refusal of yielding stories is theirs, at run time (docs/theory.md
+    15.6), so that a deck with strengths still serves the commands that run no engine."""
+    from ..engines.registry import strength_refusal
+
+    if "exact" not in analysis.engines:
+        return
+    for support in analysis.supports:
+        refusal = strength_refusal("exact", system, support)
+        if refusal is not None:
+            raise error(f"{refusal[0]}.{refusal[1]}", refusal[2])
+
+
+@dataclass(frozen=True)
+class _Chosen:
+    """The engines and supports that [analysis] chooses (the defaults where it does not)."""
+
+    engines: list[str]
+    supports: list[str]
+
+    @classmethod
+    def of(cls, fields: dict) -> _Chosen:
+        return cls(list(fields.get("engine", schema.default("analysis", "engine"))),
+                   list(fields.get("supports", schema.default("analysis", "supports"))))
+
+
+def _check_criteria_have_their_analysis(criteria: dict, analysis: _Chosen, error) -> None:
     """A limit on a rocking quantity (engines/quantities.ROCKING) needs the analysis that reports
     it: the exact engine and the uplift support (with or without a bearing capacity); a limit on
     the simplified engine's accuracy (simplified_error) needs the simplified engine, else it would
