@@ -15,10 +15,19 @@ from typing import Any
 DIGITS = 15
 
 
+#: the leaves that are already plain (by exact type: a numpy scalar, a float subclass, is converted)
+_PLAIN = frozenset((str, int, bool, type(None)))
+
+
 def plain(value: Any, finite: bool = False) -> Any:
     """numpy arrays and scalars, tuples and paths as plain Python lists, numbers and strings,
     recursively (mapping keys as text): the deck's mapping built in code, as TOML would give it,
-    and every provenance entry. finite: a NaN or an infinity as None, as JSON has them (to_jsonable)."""
+    and every provenance entry. finite: a NaN or an infinity as None, as JSON has them (to_jsonable).
+    The plain leaves (most of a result) are returned first, without the tests of the others."""
+    if type(value) is float:
+        return _plain_float(value, finite)
+    if type(value) in _PLAIN:
+        return value
     if isinstance(value, dict):
         return {str(k): plain(v, finite) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
@@ -28,12 +37,17 @@ def plain(value: Any, finite: bool = False) -> Any:
     return _plain_leaf(value, finite)
 
 
+def _plain_float(value: float, finite: bool) -> float | None:
+    """A float as it is; with finite, a NaN or an infinity as None."""
+    return None if finite and not math.isfinite(value) else value
+
+
 def _plain_leaf(value: Any, finite: bool) -> Any:
     """A path as its text; with finite, a NaN or an infinity as None; any other value as it is."""
     if isinstance(value, os.PathLike):
         return os.fspath(value)
-    if finite and isinstance(value, float) and not math.isfinite(value):
-        return None
+    if isinstance(value, float):
+        return _plain_float(value, finite)
     return value
 
 
