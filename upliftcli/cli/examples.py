@@ -9,14 +9,15 @@ import typer
 
 from ..errors import InputError
 from . import stdout
-from .options import not_writable
+from .options import given_path, not_writable
 
 #: the argument's name in messages
 OPTION = "DIR"
 
 
 def examples(
-    folder: Path = typer.Argument(..., metavar=OPTION, help="The folder to write into (created if missing)."),
+    folder: Path = typer.Argument(..., metavar=OPTION, parser=given_path,
+                                  help="The folder to write into (created if missing)."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace example files that exist in DIR already."),
 ) -> None:
     """Write the example decks (DIR/inputs/*.toml) and the ground-motion records they read
