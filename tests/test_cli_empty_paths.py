@@ -68,14 +68,15 @@ def argument_cases():
                   for w in (param.opts[0], "1")]
         for k, empty in enumerate(arguments):
             given = ["" if arg is empty else "x" for arg in arguments[:k + 1]]
-            found.append(pytest.param(words, given + others, empty.name, id=" ".join((*words, empty.name))))
+            name = empty.metavar or empty.name  # as the message names it (examples: DIR)
+            found.append(pytest.param(words, given + others, name, id=" ".join((*words, empty.name))))
     return found
 
 
 def test_every_command_with_a_path_argument_is_covered():
     covered = {" ".join(c.values[0]) for c in argument_cases()}
     assert {"analyze", "modes", "sweep", "spectra", "report", "record info", "record spectrum", "record select",
-            "record generate", "record match", "record scale"} <= covered, sorted(covered)
+            "record generate", "record match", "record scale", "examples"} <= covered, sorted(covered)
 
 
 @pytest.mark.parametrize(("words", "args", "name"), argument_cases())
