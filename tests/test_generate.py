@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fine_spectra import UNDERSHOOT, pseudo_acceleration
 
 from upliftcli.deck.load import load_deck
 from upliftcli.deck.suite import plan_from_deck
@@ -136,16 +137,19 @@ def test_generated_suite_follows_the_target_over_its_whole_range(asce_suite):
 
 
 def test_generated_suite_meets_ec8_by_an_independent_spectrum():
+    """The spectra here are not the tool's: scipy's exact first-order-hold integration on 200 steps
+    a period, peaks at the fine samples (tests/fine_spectra.py). A sampled peak is never above the
+    true one, so the lower bounds hold exactly; the upper bound allows the sampling's shortfall."""
     suite, items = generate_suite(EC8, RANGE, RULES["ec8"], 3, 11)
     assert all(item.envelope.strong >= 10.0 for item in items)  # EN 1998-1 3.2.3.1.2: >= 10 s stationary
     fine = np.geomspace(*RANGE, 700)
-    target = EC8.sa(fine, 0.05)
-    spectra = np.array([response_spectrum(m.acceleration, m.dt, fine, [0.05]).pseudo_acceleration[0]
-                        for m in suite.motions()])
-    assert (spectra.mean(axis=0) / target).min() >= 0.9  # EN 1998-1 3.2.3.1.2(4)c
-    check = np.array([response_spectrum(m.acceleration, m.dt, suite.periods, [0.05]).pseudo_acceleration[0]
-                      for m in suite.motions()]) / EC8.sa(suite.periods, 0.05)
-    assert check.min() >= 0.9 and check.max() <= 1.3
+    spectra = np.array([pseudo_acceleration(m.acceleration, m.dt, fine, 0.05) for m in suite.motions()])
+    assert (spectra.mean(axis=0) / EC8.sa(fine, 0.05)).min() >= 0.9  # EN 1998-1 3.2.3.1.2(4)c
+    independent = np.array([pseudo_acceleration(m.acceleration, m.dt, suite.periods, 0.05) for m in suite.motions()])
+    check = independent / EC8.sa(suite.periods, 0.05)
+    assert check.min() >= 0.9 and check.max() * (1 + UNDERSHOOT) <= 1.3
+    tool = suite.spectra()  # the tool's own, for the record: within the sampling's shortfall of the independent
+    assert np.all(independent <= tool * (1 + 1e-9)) and np.all(independent >= tool * (1 - UNDERSHOOT))
     assert suite.rule.statistic(suite.count) == "max"
     assert all(fourier_ratio(m.acceleration, m.dt) < 0.1 for m in suite.motions())
 

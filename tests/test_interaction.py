@@ -26,7 +26,8 @@ def halfspace_system():
 
 
 def test_halfspace_impedance_is_at_the_flexible_base_frequency():
-    """omega_impedance = 2 pi / T1bar(K_theta(omega_impedance)): a fixed point, evaluated independently."""
+    """omega_impedance = 2 pi / T1bar(K_theta(omega_impedance)): a fixed point (the same formula evaluated
+    again at the frequency found: a check of the iteration, not of the formula)."""
     system = halfspace_system()
     props = effective_properties(system)
     omega = props["omega_impedance"]

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fine_spectra import pseudo_acceleration
 
 from upliftcli.errors import AnalysisError
 from upliftcli.motion.code_rules import RULES
@@ -38,7 +39,9 @@ def test_scaled_suite_meets_the_asce_mean_criterion_by_an_independent_spectrum()
     records = [replace(record, acceleration=k * record.acceleration, name=f"x{k}") for k in (1.0, 2.0, 0.5)]
     suite = build_suite(records, TARGET, (0.2, 2.4), RULES["asce7-22"], "amplitude")
     periods = np.geomspace(0.2, 2.4, 60)  # not the suite's check periods
-    spectrum = response_spectrum(record.acceleration, record.dt, periods, [0.05]).pseudo_acceleration[0]
+    # scipy's FOH integration, none of the tool's spectrum code (tests/fine_spectra.py): a sampled
+    # peak is never above the true one, so a mean that passes 0.9 here passes it exactly
+    spectrum = pseudo_acceleration(record.acceleration, record.dt, periods, 0.05)
     # the records are 1, 2, 0.5 x El Centro: by linearity factor_k x k x S_a(El Centro)
     ratio = np.mean([f * k for f, k in zip(suite.factors, (1.0, 2.0, 0.5), strict=True)]) * spectrum / TARGET.sa(
         periods, 0.05)

