@@ -9,9 +9,11 @@ this interpreter (`setup.py build_ext --inplace`: the same compiler, flags and l
 each runs from its own tree (PYTHONPATH) under this interpreter, after one untimed run (the .pyc
 files written); the build needs setuptools >= 77 in this interpreter, as pyproject.toml's build does
 (`pip install 'setuptools>=77'`). The runs alternate, the order swapped every repeat (the machine is shared: the
-ratio of each pair, then their median and range).
+ratio of each pair, then their median and range). On a loaded machine CPU time drifts by 10 % and
+more; --instructions counts the instructions of one run of each instead (valgrind's callgrind, the
+forked figure processes included: the same count whatever else the machine does; about 50x slower).
 
-    python benchmarks/bench_fig3_cpu.py [--base 36da920] [--head HEAD] [--repeats 7]
+    python benchmarks/bench_fig3_cpu.py [--base 36da920] [--head HEAD] [--repeats 7] [--instructions]
 """
 
 from __future__ import annotations
@@ -54,11 +56,35 @@ def cpu_seconds(tree: Path, out: Path) -> float:
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
+def instructions(tree: Path, out: Path) -> int:
+    """Instructions executed by one run of the Fig. 3 command from `tree`, its forked children
+    included (valgrind --tool=callgrind)."""
+    env = dict(os.environ, PYTHONPATH=str(tree), UPLIFT_BACKEND="compiled")
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    command = [sys.executable, "-c", "from upliftcli.cli import main; main()", *FIG3, "--out", str(out)]
+    done = subprocess.run(["valgrind", "--tool=callgrind", "--trace-children=yes",
+                           f"--callgrind-out-file={out}/callgrind.%p", *command],
+                          cwd=out, env=env, capture_output=True, text=True)
+    if done.returncode != 0:
+        raise SystemExit(f"{tree}: exit {done.returncode}: {done.stderr.strip()[-400:]}")
+    return sum(int(line.split()[-1]) for line in done.stderr.splitlines() if "Collected :" in line)
+
+
+def compare_instructions(trees: dict, scratch: Path, revisions: dict) -> None:
+    """One run of each under callgrind: the instructions and their ratio."""
+    counts = {label: instructions(tree, Path(tempfile.mkdtemp(dir=scratch))) for label, tree in trees.items()}
+    for label, count in counts.items():
+        print(f"{label} {revisions[label]:>10s}: {count / 1e9:.3f} G instructions")
+    ratio = counts["head"] / counts["base"]
+    print(f"head / base: {ratio:.4f} (target <= 1: {'met' if ratio <= 1.0 else 'NOT met'})")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--base", default="36da920")
     parser.add_argument("--head", default="HEAD")
     parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--instructions", action="store_true", help="count instructions (callgrind) instead")
     args = parser.parse_args()
     scratch = Path(tempfile.mkdtemp(prefix="bench_fig3_"))
     trees = {}
@@ -66,6 +92,9 @@ def main() -> None:
         for label, revision in (("base", args.base), ("head", args.head)):
             trees[label] = checkout(revision, scratch / label)
             cpu_seconds(trees[label], Path(tempfile.mkdtemp(dir=scratch)))  # untimed: the .pyc files
+        if args.instructions:
+            compare_instructions(trees, scratch, {"base": args.base, "head": args.head})
+            return
         times = {"base": [], "head": []}
         for repeat in range(args.repeats):
             for label in (("base", "head") if repeat % 2 == 0 else ("head", "base")):
