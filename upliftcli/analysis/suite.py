@@ -107,8 +107,20 @@ def _named_error(error: Exception, record: str) -> Exception:
 def deck_suite_result(deck: Deck, results: Sequence[AnalysisResult], support: str) -> SuiteResult:
     """The SuiteResult of a deck (its suite, rule and target) from the results of its records."""
     suite: Suite = deck.ground_motion
-    warnings = list(suite.warnings)
+    warnings = [*suite.warnings, *refinement_warning(results, deck.analysis.exact.steps_per_period)]
     return suite_result(results, suite_records(suite), suite.statistic, rule=suite.rule.name,
                         rule_label=suite.rule.label, simplified=_simplified(deck, support),
                         suite=suite_summary(suite), warnings=warnings,
                         record_simplified=record_simplified(deck, suite, support))
+
+
+def refinement_warning(results: Sequence[AnalysisResult], given: int) -> list[str]:
+    """One line for the records whose step the exact engine refined to close the energy balance
+    (engines/exact/engine._refined: intermediates["steps_per_period"]), none if it refined none."""
+    refined = [r.intermediates["steps_per_period"] for r in results if "steps_per_period" in r.intermediates]
+    if not refined:
+        return []
+    steps = f"{min(refined)}" if min(refined) == max(refined) else f"{min(refined)}-{max(refined)}"
+    return [f"the energy balance closed to its tolerance only after refining the step on {len(refined)} of "
+            f"{len(results)} records, to {steps} steps per governing period (analysis.exact.steps_per_period = "
+            f"{given})"]
