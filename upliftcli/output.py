@@ -93,10 +93,11 @@ def _notes(result: AnalysisResult, check) -> dict[str, Any]:
     """The result's warnings (and, given its accuracy check, the check's warnings after them and
     the check as `accuracy`), then the engine's other details."""
     warnings = list(result.details.get("warnings", []))
-    details = {k: v for k, v in result.details.items() if k != "warnings"}
+    details = {k: v for k, v in result.details.items() if k not in ("warnings", "level")}
+    level = {"level": result.details["level"]} if "level" in result.details else {}  # analysis/level.py
     if check is None:
-        return {"warnings": warnings, "details": details}
-    return {"warnings": [*warnings, *check.warnings()], "accuracy": check.to_dict(), "details": details}
+        return {**level, "warnings": warnings, "details": details}
+    return {**level, "warnings": [*warnings, *check.warnings()], "accuracy": check.to_dict(), "details": details}
 
 
 def result_to_dict(result: AnalysisResult, check=None) -> dict[str, Any]:
