@@ -14,6 +14,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from ..analysis.comparison import MEASURED
 from ..analysis.level import answer_line, level_text, levels_legend
 from ..display import WEIGHT_LEGEND, intermediate_kind, label, show, summary_columns, verdicts
 from ..engines.quantities import COMPARED, FLOOR, INTERMEDIATES, STORY, quantities
@@ -261,8 +262,7 @@ def _band_caption(first) -> str:
     band, motion = first.band, first.motion_band
     return (f"ratio = simplified / exact; '!': outside [{band[0]:g}, {band[1]:g}] "
             f"(analysis.check_band; edge uplift and mat rotation: [{motion[0]:g}, {motion[1]:g}], "
-            "analysis.check_band_motion), also a warning; the measured spread of these ratios: "
-            "docs/accuracy.md; --no-check skips this check")
+            f"analysis.check_band_motion), also a warning; {MEASURED}; --no-check skips this check")
 
 
 def _check_rows(check, shared: bool, units: str) -> list[tuple[str, ...]]:
