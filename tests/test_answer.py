@@ -46,6 +46,7 @@ def test_the_suite_deck_says_mce_r_flags_its_ratios_and_names_the_design_value()
     assert document["level"] == {"level": "mce_r", "name": "MCE_R", "clause": "ASCE 7-22 11.4.6, 16.2",
                                  "text": MCE_R}
     assert "level" not in document["details"]
+    assert document["answer"].startswith("design value: the exact engine's mean of the 11 records")
     assert document["suite"]["check_band_motion"] == [0.5, 2.0]
 
 

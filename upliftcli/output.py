@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from .analysis.level import answer_line
 from .engines.quantities import (
     COMPARED,
     FLOOR,
@@ -183,7 +184,8 @@ def results_document(results: list[AnalysisResult], source: str | None = None,
     """The document `--format json` prints: one result -> that result's dict (plus source,
     title, units and the provenance of the run); several -> {"source", "title", "units",
     "provenance", "results": [...]}; checks: the accuracy checks (accuracy.check_accuracy)."""
-    head = {"source": source, "title": title, "units": UNITS, "provenance": provenance}
+    head = {"source": source, "title": title, "units": UNITS, "provenance": provenance,
+            "answer": answer_line(results, checks) or None}  # the design value and the check (analysis/level.py)
     head = {k: v for k, v in head.items() if v is not None}
     if len(results) == 1:
         return {**head, **result_to_dict(results[0], check_of(results[0], checks))}
