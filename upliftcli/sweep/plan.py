@@ -140,6 +140,7 @@ class SweepPlan:
     #: --engine and --support as overrides of analysis.engine and analysis.supports, applied after --set
     #: (not in the fingerprint: a sweep resumed with more engines keeps the rows of the others)
     chosen: tuple = ()
+    motion_band: tuple = (0.5, 2.0)  # analysis.check_band_motion: simplified_error on the mat's motion (table.py)
 
     @property
     def input_files(self) -> list[str]:
@@ -235,7 +236,8 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
                      max((suite.count for suite in suites), default=0), per_record,
                      _plan_warnings(grounds, suites), records=records,
                      version=version, fingerprint=run_fingerprint(deck_fingerprint, records, version),
-                     record_steps=_record_steps(inputs), inputs=tuple(inputs.values()), check=check, chosen=chosen)
+                     record_steps=_record_steps(inputs), inputs=tuple(inputs.values()), check=check, chosen=chosen,
+                     motion_band=tuple(deck.analysis.check_band_motion))
 
 
 def _parse_varies(varies: Sequence[Vary], vary_texts: Sequence[str]) -> list[Vary]:
