@@ -97,16 +97,35 @@ def test_the_exact_runs_warnings_are_passed_on():
     assert compare(ours, theirs).reference_warnings == ("both edges were off (flight)",)
 
 
-def test_simplified_error_criterion_fails_an_out_of_band_check():
+def test_simplified_error_judges_exactly_the_ratios_the_check_flags():
+    """[criteria] simplified_error = e sets the check's band to [1/(1 + e), 1 + e] and widens the motion
+    band to hold it (accuracy.deck_bands): the criterion fails exactly when the check flags a ratio
+    (issue 36: e = 0.25 held the edge uplift to [0.8, 1.25], the check's band for it being [0.5, 2],
+    and the README example exited 3 with nothing flagged: edge uplift 0.738)."""
     deck = load_deck(EXAMPLE, SHORT)
     results = run(deck, "simplified", "uplift")
-    (check,) = check_accuracy(deck, results)
-    error, worst = check.largest_error()
-    assert error == max(c.error for c in check.comparisons) and worst is not None
-    assert check_criteria(results, {"simplified_error": error * 1.001}, [check]) == []
-    (message,) = check_criteria(results, {"simplified_error": error * 0.999}, [check])
-    assert message.startswith("simplified/uplift: simplified_error = ") and worst.describe() in message
+    verdicts = []
+    for limit in (0.01, 0.1, 0.25, 1.5):
+        judged = load_deck(EXAMPLE, [*SHORT, f"criteria.simplified_error={limit}"])
+        (check,) = check_accuracy(judged, results)
+        assert check.band == pytest.approx((1 / (1 + limit), 1 + limit))
+        assert check.motion_band == pytest.approx((min(0.5, 1 / (1 + limit)), max(2.0, 1 + limit)))
+        messages = check_criteria(results, judged.criteria, [check])
+        assert bool(messages) == bool(check.out_of_band)
+        worst = max(check.out_of_band, key=lambda c: c.error, default=None)
+        assert worst is None or worst.describe() in messages[0]
+        verdicts.append(bool(messages))
+    assert verdicts[0] and not verdicts[-1]  # both sides are reached
     assert check_criteria(results, {"simplified_error": 1e-6}) == []  # no check given: nothing to apply
+
+
+def test_the_readme_example_with_simplified_error_exits_3_only_with_a_flag():
+    """`uplift analyze inputs/ten_story_elcentro.toml` with simplified_error = 0.25: exit 3 if and only
+    if the check's table flags a ratio ('!'); it exited 3 with nothing flagged."""
+    result = CliRunner().invoke(app, ["analyze", str(EXAMPLE), "--set", "criteria.simplified_error=0.25"],
+                                env={"CI": "true"})
+    assert result.exit_code in (0, 3), result.output
+    assert (result.exit_code == 3) == (" !" in result.stdout)
 
 
 def test_cli_reports_the_check_unless_told_not_to(tmp_path):

@@ -334,7 +334,8 @@ def test_a_large_energy_residual_refines_the_step_or_fails_naming_the_option(elc
 def test_refinement_is_bounded_by_the_work_limit_and_stops_without_progress(elcentro, monkeypatch):
     """The refinements of one analysis count against limits.MAX_STEP_STATES with its first run
     (frequency_ratio = 1000, c_f = 1e-12 ran 16 s a run and 240 s in all, its residual
-    unchanged), and a halving that leaves the residual where it was ends the refinement."""
+    unchanged), and a halving that leaves the residual where it was ends the refinement; the
+    line then says the step is not the cause (tests/test_refinement.py: the field that would close it)."""
     record = short(elcentro, 4.0)
     system = paper_system(0.5)
     runs = []
@@ -349,17 +350,21 @@ def test_refinement_is_bounded_by_the_work_limit_and_stops_without_progress(elce
     monkeypatch.setattr(exact, "ENERGY_TOLERANCE", 1e-30)  # never met
     monkeypatch.setattr(exact, "MIN_PROGRESS", 10.0)  # every halving counts as progress
     first = exact._work(system, record, "uplift", ExactOptions(), exact.exact_model)
-    monkeypatch.setattr(exact, "MAX_STEP_STATES", 3 * first + 1)  # the first run and one halving (2x) fit
-    with pytest.raises(AnalysisError, match=r"with 12 steps per governing period; a finer step would exceed the limit "
-                                            r"of [\d,]+ internal steps x states of one analysis"):
+    finer = exact.finer_options(system, record, "uplift", ExactOptions())
+    second = exact._work(system, record, "uplift", finer, exact.exact_model)
+    monkeypatch.setattr(exact, "MAX_STEP_STATES", first + second + 1)  # the first run and one halving fit
+    with pytest.raises(AnalysisError, match=rf"with {finer.steps_per_period} steps per governing period \(refined "
+                                            r"from 6, .*would exceed the limits \(at most [\d,]+ internal steps x "
+                                            r"states of one analysis.*: no step within the limits reaches it"):
         exact.analyze(system, record, "uplift")
-    assert runs[1:] == [12]
+    assert runs[1:] == [finer.steps_per_period]
     runs.clear()
     monkeypatch.setattr(exact, "MAX_STEP_STATES", 100 * first)
     monkeypatch.setattr(exact, "MIN_PROGRESS", 0.0)  # any residual left counts as no progress
-    with pytest.raises(AnalysisError, match=r"halving the step left it at [\d.e-]+ of its value"):
+    with pytest.raises(AnalysisError, match=r"a halving of the step left it at [\d.e-]+ of its value: the step is "
+                                            r"not the cause$"):
         exact.analyze(system, record, "uplift")
-    assert runs[1:] == [12]
+    assert runs[1:] == [finer.steps_per_period]
 
 
 @pytest.mark.parametrize("damping_ratio", [0.01, 4.3e-4])

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -136,39 +137,52 @@ def test_sweep_and_spectra_commands_on_a_suite_deck(tmp_path):
     assert (tmp_path / "ten_story_asce7_suite.spectra.base_shear_exact.svg").exists()
 
 
-def test_a_case_the_suite_cannot_serve_fails_alone(tmp_path):
+def test_a_case_the_suite_cannot_serve_refuses_the_sweep_before_it_runs(tmp_path):
     """T_1 = 4 s asks for records of 4 x its period range's upper end, longer than the suite's
-    20 s: its cases fail alone (exit 4, the message in their rows), the T_1 = 1 s cases run; the
-    warning before the run names the case."""
+    20 s: the sweep is refused before any analysis (issue 36: minutes of work ended in exit 4),
+    in one line naming --periods, the longest period the suite serves and the records' duration."""
     result = runner.invoke(app, ["spectra", str(ASCE), "--set", THREE, "--periods", "1,4", "--out", str(tmp_path),
                                  "--workers", "1", "--quiet"], env={"CI": "true"})
-    assert result.exit_code == 4, result.output
-    assert "1 of 2 combinations" in result.stderr and "building.period=4" in result.stderr
-    rows = list(csv.DictReader(table_lines(tmp_path / "ten_story_asce7_suite.spectra.csv")))
-    assert len(rows) == 2 * 3
-    for row in rows:
-        if float(row["building.period"]) == 1.0:
-            assert row["status"] == "ok" and float(row["base_shear_coefficient"]) > 0
-        else:
-            assert row["status"] == "failed" and "duration: a record of at least 4 x" in row["message"]
-            assert row["base_shear_coefficient"] == ""
-    assert result.stderr.count("failed: ") == 3  # each failed case named
+    assert result.exit_code == 2, result.output
+    assert result.stderr.startswith("error: --periods: 1,4: values the deck's record suite can serve: up to "
+                                    "building.period = 1 s, the longest value asked that it serves (1 of 2 asked it "
+                                    "cannot, e.g. duration: a record of at least 4 x the upper period")
+    assert len(result.stderr.splitlines()) == 1 and "building.period=4" in result.stderr
+    assert not (tmp_path / "ten_story_asce7_suite.spectra.csv").exists()
+    swept = runner.invoke(app, ["sweep", str(ASCE), "--set", THREE, "--vary", "building.period=1,4", "--out",
+                                str(tmp_path), "--workers", "1", "--quiet"], env={"CI": "true"})
+    assert swept.exit_code == 2 and swept.stderr.startswith("error: --vary: building.period: values the deck's "
+                                                            "record suite can serve: up to building.period = 1 s")
+
+
+def test_the_bundled_suite_deck_under_spectra_is_refused_at_once_with_the_default_periods(tmp_path):
+    """inputs/ten_story_asce7_suite.toml and the default --periods (0.05-5 s, 100): the cases'
+    suites are built from 5 s down and the first served period ends the planning, before any
+    analysis: one line naming --periods and the longest period its 20 s records serve."""
+    result = runner.invoke(app, ["spectra", str(ASCE), "--out", str(tmp_path), "--quiet"], env={"CI": "true"})
+    assert result.exit_code == 2, result.output
+    (line,) = result.stderr.splitlines()
+    served = re.search(r"^error: --periods: 0\.05:5:100: values the deck's record suite can serve: up to "
+                       r"building\.period = ([\d.]+) s, the longest value asked that it serves \((\d+) of 100 asked "
+                       r"it cannot, e\.g\. duration: a record of at least 4 x the upper period", line)
+    assert served and 1.5 < float(served.group(1)) < 2.5 and int(served.group(2)) == 20
+    assert list(tmp_path.iterdir()) == []
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("deck", ["ten_story_asce7_suite.toml", "ten_story_ec8_suite.toml"])
 def test_the_example_suite_decks_run_under_spectra(deck, tmp_path):
-    """The example suite decks under `uplift spectra`: the default periods (0.05-5 s, 100) plan
-    without failing, the periods their 20 s records cannot serve (T_1 above about 2.5 s, where
-    the suite's period range ends beyond 5 s) marked to fail alone; a coarse grid runs (the
-    default one takes minutes of the exact engine on 11 and 7 records)."""
+    """The example suite decks under `uplift spectra`: the default periods (0.05-5 s, 100) are
+    refused at planning, naming the longest period their 20 s records serve (T_1 above about
+    2 s, where the suite's period range asks for longer records); a period they serve runs (the
+    default grid would take minutes of the exact engine on 11 and 7 records)."""
     from upliftcli.sweep import figures
 
-    default = plan_sweep(ROOT / "inputs" / deck, varies=[figures.period_vary("0.05:5:100")])
-    assert len(default.cases) == 100 * len(default.engines) * len(default.supports)
-    assert any("fail alone" in message for message in default.warnings)
-    result = runner.invoke(app, ["spectra", str(ROOT / "inputs" / deck), "--periods", "0.5,3", "--support", "uplift",
+    with pytest.raises(InputError, match=r"^--vary: building\.period: values the deck's record suite can serve: up "
+                                         r"to building\.period = [\d.]+ s"):
+        plan_sweep(ROOT / "inputs" / deck, varies=[figures.period_vary("0.05:5:100")])
+    result = runner.invoke(app, ["spectra", str(ROOT / "inputs" / deck), "--periods", "0.5", "--support", "uplift",
                                  "--out", str(tmp_path), "--workers", "1", "--quiet"], env={"CI": "true"})
-    assert result.exit_code == 4, result.output
+    assert result.exit_code == 0, result.output
     rows = list(csv.DictReader(table_lines(tmp_path / f"{Path(deck).stem}.spectra.csv")))
-    assert [row["status"] for row in rows] == ["ok", "failed"]
+    assert [row["status"] for row in rows] == ["ok"]

@@ -79,7 +79,7 @@ def test_a_varied_simplified_error_limit_is_each_cases_own():
 
     name = next(iter(COMPARED))
     path = "criteria.simplified_error"
-    plan = SimpleNamespace(varies=[SimpleNamespace(path=path)], criteria={})
+    plan = SimpleNamespace(varies=[SimpleNamespace(path=path)], criteria={}, motion_band=(0.5, 2.0))
     rows = [{"engine": engine, "support": "uplift", "status": "ok", path: limit, "violations": "",
              "compared": {name: value}}
             for limit in (0.01, 1.0) for engine, value in (("simplified", 1.2), ("exact", 1.0))]
@@ -89,3 +89,20 @@ def test_a_varied_simplified_error_limit_is_each_cases_own():
     assert simplified[0]["violations"].startswith(f"simplified_error: {COMPARED[name].symbol} simplified / exact = "
                                                   "1.2 outside [0.99, 1.01]")
     assert simplified[1]["violations"] == ""  # 1.2 is within [0.5, 2]
+
+
+def test_a_sweeps_simplified_error_judges_the_mats_motion_on_the_checks_motion_band():
+    """simplified_error = 0.25 holds V_b to [0.8, 1.25] and the edge uplift and mat rotation to the
+    check's motion band [0.5, 2] (widened to hold [0.8, 1.25]): what `uplift analyze` flags (issue 36:
+    they were held to [0.8, 1.25])."""
+    from types import SimpleNamespace
+
+    plan = SimpleNamespace(varies=[], criteria={"simplified_error": 0.25}, motion_band=(0.5, 2.0))
+    simplified = {"base_shear": 1.3, "max_uplift": 0.6, "max_rotation": 0.45}
+    rows = [{"engine": engine, "support": "uplift", "status": "ok", "violations": "",
+             "compared": simplified if engine == "simplified" else dict.fromkeys(simplified, 1.0)}
+            for engine in ("simplified", "exact")]
+    (checked, _) = sweep_table.add_checks(plan, rows)
+    violations = checked["violations"].split("; ")
+    assert [v.split(":")[1].strip().split(" simplified")[0] for v in violations] == ["V_b", "mat rotation"]
+    assert violations[0].endswith("outside [0.8, 1.25]") and violations[1].endswith("outside [0.5, 2]")

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from .analysis.level import answer_line
 from .engines.quantities import (
     COMPARED,
     FLOOR,
@@ -93,10 +94,11 @@ def _notes(result: AnalysisResult, check) -> dict[str, Any]:
     """The result's warnings (and, given its accuracy check, the check's warnings after them and
     the check as `accuracy`), then the engine's other details."""
     warnings = list(result.details.get("warnings", []))
-    details = {k: v for k, v in result.details.items() if k != "warnings"}
+    details = {k: v for k, v in result.details.items() if k not in ("warnings", "level")}
+    level = {"level": result.details["level"]} if "level" in result.details else {}  # analysis/level.py
     if check is None:
-        return {"warnings": warnings, "details": details}
-    return {"warnings": [*warnings, *check.warnings()], "accuracy": check.to_dict(), "details": details}
+        return {**level, "warnings": warnings, "details": details}
+    return {**level, "warnings": [*warnings, *check.warnings()], "accuracy": check.to_dict(), "details": details}
 
 
 def result_to_dict(result: AnalysisResult, check=None) -> dict[str, Any]:
@@ -182,7 +184,8 @@ def results_document(results: list[AnalysisResult], source: str | None = None,
     """The document `--format json` prints: one result -> that result's dict (plus source,
     title, units and the provenance of the run); several -> {"source", "title", "units",
     "provenance", "results": [...]}; checks: the accuracy checks (accuracy.check_accuracy)."""
-    head = {"source": source, "title": title, "units": UNITS, "provenance": provenance}
+    head = {"source": source, "title": title, "units": UNITS, "provenance": provenance,
+            "answer": answer_line(results, checks) or None}  # the design value and the check (analysis/level.py)
     head = {k: v for k, v in head.items() if v is not None}
     if len(results) == 1:
         return {**head, **result_to_dict(results[0], check_of(results[0], checks))}

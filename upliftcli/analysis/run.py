@@ -24,6 +24,7 @@ from ..motion.records import Record
 from ..motion.suites import Suite
 from ..runtime import limits
 from . import suite as analysis_suite
+from .level import with_level
 
 
 def ground_motion_for(deck: Deck, engine: Engine) -> Any:
@@ -258,6 +259,8 @@ class _Results:
         warnings first (deck_schema.plausibility)."""
         deck = self.decks[k]
         result = _spectrum_range_error(deck, result)
+        if isinstance(result, AnalysisResult):
+            result = with_level(result, deck.ground_motion)
         if isinstance(result, AnalysisResult) and deck.warnings:
             result = with_warnings(result, deck.warnings)
         self.out[k] = result

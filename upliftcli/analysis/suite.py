@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Generator, Iterator, Sequence
+from dataclasses import replace
 from typing import Any
 
 from ..deck.load import Deck
@@ -20,6 +21,7 @@ from ..engines.suite_result import SuiteRecord, SuiteResult, suite_result
 from ..errors import AnalysisError, InputError
 from ..motion.suites import Suite
 from ..provenance.files import record_sha256
+from .comparison import compare, deck_bands
 
 
 def motion_key(suite: Suite) -> tuple:
@@ -107,8 +109,37 @@ def _named_error(error: Exception, record: str) -> Exception:
 def deck_suite_result(deck: Deck, results: Sequence[AnalysisResult], support: str) -> SuiteResult:
     """The SuiteResult of a deck (its suite, rule and target) from the results of its records."""
     suite: Suite = deck.ground_motion
-    warnings = list(suite.warnings)
-    return suite_result(results, suite_records(suite), suite.statistic, rule=suite.rule.name,
-                        rule_label=suite.rule.label, simplified=_simplified(deck, support),
-                        suite=suite_summary(suite), warnings=warnings,
-                        record_simplified=record_simplified(deck, suite, support))
+    warnings = [*suite.warnings, *refinement_warning(results, deck.analysis.exact.steps_per_period)]
+    result = suite_result(results, suite_records(suite), suite.statistic, rule=suite.rule.name,
+                          rule_label=suite.rule.label, simplified=_simplified(deck, support),
+                          suite=suite_summary(suite), warnings=warnings,
+                          record_simplified=record_simplified(deck, suite, support))
+    return flagged(deck, result)
+
+
+def flagged(deck: Deck, result: SuiteResult) -> SuiteResult:
+    """The suite's result with the bands of the deck's accuracy check (accuracy.deck_bands) in its
+    `suite` summary (the terminal flags a ratio outside them with '!') and one warning per ratio
+    simplified / suite outside them, as the design-spectrum path's check gives (issue 36: 0.44 and
+    0.46 went unflagged)."""
+    if result.simplified is None:
+        return result
+    band, motion_band = deck_bands(deck)
+    check = compare(result.simplified, result, band, "the suite", motion_band)
+    head = f"simplified/{result.support} on the target spectrum against the suite: "
+    lines = [line.replace("accuracy check: ", head, 1)
+             .replace("simplified / exact", "simplified / suite") for line in check.band_warnings()]
+    summary = {**result.suite, "check_band": list(band), "check_band_motion": list(motion_band)}
+    return replace(result, suite=summary, warnings=(*result.warnings, *lines))
+
+
+def refinement_warning(results: Sequence[AnalysisResult], given: int) -> list[str]:
+    """One line for the records whose step the exact engine refined to close the energy balance
+    (engines/exact/engine._refined: intermediates["steps_per_period"]), none if it refined none."""
+    refined = [r.intermediates["steps_per_period"] for r in results if "steps_per_period" in r.intermediates]
+    if not refined:
+        return []
+    steps = f"{min(refined)}" if min(refined) == max(refined) else f"{min(refined)}-{max(refined)}"
+    return [f"the energy balance closed to its tolerance only after refining the step on {len(refined)} of "
+            f"{len(results)} records, to {steps} steps per governing period (analysis.exact.steps_per_period = "
+            f"{given})"]

@@ -27,6 +27,7 @@ import hashlib
 import io
 import json
 import os
+import re
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -40,7 +41,7 @@ from ..engines.suite_result import SuiteResult, simplified_ratios
 from ..errors import AnalysisError, InputError
 from ..motion.records import Record
 from ..motion.suites import Suite
-from .accuracy import Check, check_accuracy, compare
+from .accuracy import Check, check_accuracy, compare, deck_bands
 
 CHECK_COUNT = 11
 CHECK_SEED = 2024
@@ -156,12 +157,28 @@ def check_suite_accuracy(deck: Deck, results: list[AnalysisResult], note=None) -
     simplified = [r for r in results if r.engine == "simplified"]
     if not simplified:
         return []
-    checked, info = _checked_deck(deck, note)
+    try:
+        checked, info = _checked_deck(deck, note)
+    except AnalysisError as error:  # no check suite could be made for the user's spectrum
+        return [_unmatched(result, deck, error) for result in simplified]
     statistic = checked.ground_motion.statistic
     info = {**info, "statistic": statistic}
     label = suite_label(info, statistic)
     exact = _exact_suite_results(results)
     return [_suite_check(result, exact.get(result.support), checked, label, info) for result in simplified]
+
+
+def _unmatched(result: AnalysisResult, deck: Deck, error: AnalysisError) -> Check:
+    """A Check that could not run because no check suite could be matched to the deck's spectrum:
+    its error names what the user gave (ground_motion.design_spectrum), not the internal record
+    and seed that failed (issue 36: "artificial record 1 (seed 2024) ... try another seed")."""
+    band, motion_band = deck_bands(deck)
+    reason = re.sub(r"^artificial record \d+ \(seed \d+\): ", "", str(error)).replace("; try another seed", "")
+    words = (f"{deck.source}: ground_motion.design_spectrum ({deck.spectrum.name}): no suite of {CHECK_COUNT} "
+             f"spectrum-compatible records could be made for it ({reason}); give the deck a record suite "
+             "(ground_motion.suite) to check against, or --no-check")
+    return Check(result.support, "exact engine on a spectrum-compatible suite", band, error=words,
+                 motion_band=motion_band)
 
 
 def _exact_suite_results(results: list[AnalysisResult]) -> dict[str, SuiteResult]:
@@ -185,11 +202,13 @@ def _suite_check(result: AnalysisResult, reference: SuiteResult | None, checked:
     each ratio's two factors (split_ratios); a Check with the error that stopped the exact engine."""
     from .run import run_one
 
-    band, motion_band = checked.analysis.check_band, checked.analysis.check_band_motion
+    band, motion_band = deck_bands(checked)
     try:
         reference = reference or run_one(checked, "exact", result.support)
     except (AnalysisError, InputError) as error:
-        return Check(result.support, label, band, error=str(error), motion_band=motion_band, suite=info)
+        given = ("" if info["source"] != "generated" else
+                 f"on the suite generated for ground_motion.design_spectrum ({info['target']}): ")
+        return Check(result.support, label, band, error=given + str(error), motion_band=motion_band, suite=info)
     check = compare(result, reference, band, label, motion_band)
     split = split_ratios(reference) if reference.record_simplified else {}
     return replace(check, suite=info, **split)

@@ -14,6 +14,8 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
+from ..analysis.comparison import MEASURED
+from ..analysis.level import answer_line, level_text, levels_legend
 from ..display import WEIGHT_LEGEND, intermediate_kind, label, show, summary_columns, verdicts
 from ..engines.quantities import COMPARED, FLOOR, INTERMEDIATES, STORY, quantities
 from ..engines.result import AnalysisResult
@@ -74,7 +76,7 @@ def _story_title(result: AnalysisResult) -> str:
     title = f"{result.engine} engine, {result.support} support"
     if isinstance(result, SuiteResult):
         title += f": {result.statistic} of {result.count} records ({result.rule_label})"
-    return title
+    return title + (f", {level_text(result)}" if level_text(result) else "")
 
 
 def _short_heading(quantity, units: str) -> str:
@@ -124,7 +126,7 @@ def _same_cells(results: list[AnalysisResult], columns: list, units: str) -> boo
 
 def _summary_legend(results: list[AnalysisResult], critical: list, shared: bool, units: str) -> str:
     """W = m_t g, the verdicts and, when every row shares them, the critical values, stated once."""
-    legend = WEIGHT_LEGEND + verdict_legend(verdicts(results))
+    legend = WEIGHT_LEGEND + verdict_legend(verdicts(results)) + levels_legend(results)
     if not shared:
         return legend
     return (legend + f"; every row: {', '.join(column.stated(results[0], units) for column in critical)} [16a, 16b] "
@@ -201,6 +203,8 @@ def print_results(out: Console, results: list[AnalysisResult], title: str | None
     for result in results:
         print_tables(out, _result_tables(result, units))
     print_tables(out, _closing_tables(results, units, checks))
+    if answer_line(results, checks):
+        out.print(escape(answer_line(results, checks)))
 
 
 def _result_tables(result: AnalysisResult, units: str) -> Iterator[Table | None]:
@@ -258,8 +262,7 @@ def _band_caption(first) -> str:
     band, motion = first.band, first.motion_band
     return (f"ratio = simplified / exact; '!': outside [{band[0]:g}, {band[1]:g}] "
             f"(analysis.check_band; edge uplift and mat rotation: [{motion[0]:g}, {motion[1]:g}], "
-            "analysis.check_band_motion), also a warning; the measured spread of these ratios: "
-            "docs/accuracy.md; --no-check skips this check")
+            f"analysis.check_band_motion), also a warning; {MEASURED}; --no-check skips this check")
 
 
 def _check_rows(check, shared: bool, units: str) -> list[tuple[str, ...]]:

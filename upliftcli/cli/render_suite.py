@@ -9,6 +9,7 @@ from collections.abc import Iterator, Sequence
 from rich.markup import escape
 from rich.table import Table
 
+from ..analysis.accuracy import MOTION
 from ..display import SUMMARY, WEIGHT_LEGEND, show, summary_columns, verdicts
 from ..engines.quantities import COMPARED, QUANTITIES, SCALARS
 from ..engines.result import AnalysisResult
@@ -121,7 +122,8 @@ def comparison_table(results: Sequence[AnalysisResult], units: str = "si") -> Ta
 def _comparison_caption(split: bool) -> str:
     """What 'suite' is, what a ratio below 1 means and, split, what its two factors are (SPLIT_CAPTION)."""
     return ("suite: the design statistic of the records' peaks (the code's rule); a ratio below 1: "
-            "the simplified procedure gives less" + (f"; {SPLIT_CAPTION}" if split else ""))
+            "the simplified procedure gives less; '!': outside the accuracy check's band (analysis.check_band, "
+            "check_band_motion)" + (f"; {SPLIT_CAPTION}" if split else ""))
 
 
 def _compared_suite(result: AnalysisResult) -> bool:
@@ -146,8 +148,14 @@ def _comparison_cells(result: SuiteResult, name: str, item: dict, split: bool, u
     kind = COMPARED[name].display
     factors = [f"{item['spectrum_ratio']:.3f}", f"{item['procedure_ratio']:.3f}"] if split else []
     return [escape(result.label), result.support, escape(COMPARED[name].heading(units)),
-            show(item["simplified"], kind, units), show(item["statistic"], kind, units), f"{item['ratio']:.3f}",
-            *factors]
+            show(item["simplified"], kind, units), show(item["statistic"], kind, units),
+            f"{item['ratio']:.3f}" + _flag(result, name, item["ratio"]), *factors]
+
+
+def _flag(result: SuiteResult, name: str, ratio: float) -> str:
+    """' !' for a ratio outside the deck's check band (analysis/suite.flagged), '' inside it."""
+    low, high = result.suite.get("check_band_motion" if name in MOTION else "check_band", (0.0, float("inf")))
+    return "" if low <= ratio <= high else " !"
 
 
 def suite_check_table(checks: Sequence, units: str = "si") -> Table | None:

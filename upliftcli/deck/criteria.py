@@ -124,9 +124,11 @@ def _value(result: AnalysisResult, name: str) -> float:
 
 
 def _simplified_error(result: AnalysisResult, check, limit: float) -> Outcome:
-    """The largest relative error of a check (max(ratio, 1/ratio) - 1) against the limit."""
-    error, worst = check.largest_error()
-    detail = "" if worst is None else worst.describe()
+    """The largest relative error (max(ratio, 1/ratio) - 1) of the ratios the check flags against the
+    limit (0 when it flags none): the check's bands follow the limit (accuracy.deck_bands), so the
+    criterion fails exactly when a ratio is flagged."""
+    worst = max(check.out_of_band, key=lambda c: c.error, default=None)
+    error, detail = (0.0, "") if worst is None else (worst.error, worst.describe())
     if check.error is not None:
         error, detail = float("inf"), f"the {check.reference} could not run: {check.error}"
     return Outcome(result, "simplified_error", error, limit, "-", detail)

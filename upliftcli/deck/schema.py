@@ -130,7 +130,8 @@ TABLES: dict[str, dict[str, Field]] = {
            for q in ROCKING.values() if q.criterion},
         "uplift": Field("bool", "-", "whether uplift of the mat is acceptable (false: uplift fails)"),
         "simplified_error": Field("number", "-", "largest relative error e of the simplified engine in the "
-                                  "accuracy check: a ratio simplified / exact outside [1/(1+e), 1+e] fails",
+                                  "accuracy check: its band becomes [1/(1+e), 1+e] (the motion band widened to hold "
+                                  "it) and a ratio it flags fails",
                                   "positive"),
     },
 }

@@ -87,7 +87,7 @@ def build_report(deck, results: Sequence[AnalysisResult], deck_text: str, overri
     fields = project_fields(deck, project)
     sections = [summary_section(results, verdict, fields, units), inputs_section(deck, deck_text, overrides),
                 model_section(deck, results, units), motion_section(deck), modes_section(deck, units),
-                results_section(results, units), accuracy_section(results, units, checks),
+                results_section(results, units, checks), accuracy_section(results, units, checks),
                 warnings_section(results, deck, checks), criteria, figures_section(list(specs)),
                 method_section([r.engine for r in results], getattr(deck.analysis.simplified, "procedure", "paper")),
                 provenance_section(info, os.path.dirname(os.path.abspath(deck.source)))]

@@ -8,6 +8,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from ..analysis.comparison import MEASURED
 from ..deck.criteria import outcomes
 from ..display import heading, label, show
 from ..engines.quantities import COMPARED, ROCKING, display_kind
@@ -39,7 +40,7 @@ def _carries_simplified(result: AnalysisResult) -> bool:
 
 
 ACCURACY_NOTE = ("The exact engine solves the same model without the simplified procedure's approximations "
-                 "(docs/theory.md sections 7 and 11); docs/accuracy.md gives the measured spread of these ratios. "
+                 "(docs/theory.md sections 7 and 11); the procedure's accuracy, " + MEASURED + ". "
                  "A ratio outside the band of analysis.check_band (edge uplift and mat rotation: "
                  "analysis.check_band_motion) is a warning.")
 

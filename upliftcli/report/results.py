@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from ..analysis.level import answer_line, level_text, levels_legend
 from ..display import (
     ROCKING_HEADINGS,
     SUMMARY,
@@ -28,7 +29,7 @@ from ..engines.quantities import (
     rocking_entries,
 )
 from ..engines.result import AnalysisResult
-from .document import Section, Table, number
+from .document import Section, Table, Text, number
 
 STORY_QUANTITIES = quantities(FLOOR, STORY)
 
@@ -46,7 +47,7 @@ def summary_table(results: Sequence[AnalysisResult], units: str = "si") -> Table
     return Table("table-summary", "Summary: base shear V_b [14a] and base moment M_b [14b] of every analysis",
                  ["engine", "support", *(column.heading(units) for column in columns)], rows,
                  f"{WEIGHT_LEGEND}; the critical value of both coefficients is b/h_1* [16a, 16b]"
-                 + (f"; {VERDICT_LEGEND}." if told else "."))
+                 + levels_legend(results) + (f"; {VERDICT_LEGEND}." if told else "."))
 
 
 def _summary_columns(told: bool) -> list:
@@ -114,6 +115,7 @@ def result_tables(result: AnalysisResult, units: str = "si") -> list[Table]:
     """Story table, foundation elements, intermediates and the history engines' extras (for a
     suite: of its design statistic, and each record's peaks), in the display units."""
     what = f"{getattr(result, 'label', result.engine)} engine, {result.support} support"
+    what += f", {level_text(result)}" if level_text(result) else ""
     tables = [story_table(result, what, units), elements_table(result, what, units), rocking_table(result, units),
               intermediates_table(result, what, units),
               *(detail_table(result, key, f"{caption}, {what}", units) for key, caption in DETAILS.items()),
@@ -207,8 +209,10 @@ def rocking_table(result: AnalysisResult, units: str = "si") -> Table | None:
                  "the plastic work is the energy the yielding soil dissipated (14.5).")
 
 
-def results_section(results: Sequence[AnalysisResult], units: str = "si") -> Section:
+def results_section(results: Sequence[AnalysisResult], units: str = "si", checks: Sequence = ()) -> Section:
     blocks: list = [summary_table(results, units)]
+    if answer_line(results, checks):  # which number is the design value, which the check (analysis/level.py)
+        blocks.append(Text([answer_line(results, checks)]))
     for result in results:
         blocks += result_tables(result, units)
     return Section("results", "Results", blocks)

@@ -39,6 +39,7 @@ from ..motion.suites import Suite
 from ..provenance.files import motion_files
 from ..runtime.installed import tool_version
 from ..runtime.limits import cases_problem
+from .unserved import unserved_error
 from .values import Vary, parse_vary
 
 #: status of a row: ok; failed (the analysis raised: deterministic, not retried within a run);
@@ -139,6 +140,7 @@ class SweepPlan:
     #: --engine and --support as overrides of analysis.engine and analysis.supports, applied after --set
     #: (not in the fingerprint: a sweep resumed with more engines keeps the rows of the others)
     chosen: tuple = ()
+    motion_band: tuple = (0.5, 2.0)  # analysis.check_band_motion: simplified_error on the mat's motion (table.py)
 
     @property
     def input_files(self) -> list[str]:
@@ -177,8 +179,8 @@ def base_deck(raw: dict, source: str, base: list, varies: Sequence[Vary], *, loa
 
 class CaseUnsupported(InputError):
     """The ground motion cannot serve one case of a sweep (a record suite whose period range,
-    which follows the structure, asks for longer records than the suite's): the case fails
-    alone, the others run."""
+    which follows the structure, asks for longer records than the suite's): the sweep is
+    refused before it runs (unserved.py)."""
 
 
 def _with_suite(raw: dict, source: str, base: list, combo: Sequence[tuple[str, Any]], case_deck: Deck) -> Deck:
@@ -201,7 +203,7 @@ class _GroundMotions:
 
     decks: dict[str, Deck] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
-    unsupported: list[str] = field(default_factory=list)
+    unsupported: list[tuple[tuple, str]] = field(default_factory=list)
 
 
 def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: Sequence[str] = (),
@@ -232,9 +234,10 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     records = _record_digests(inputs)
     return SweepPlan(raw, source, deck.title, tuple(base), varies, engines, supports, cases, deck.criteria,
                      max((suite.count for suite in suites), default=0), per_record,
-                     _plan_warnings(grounds, suites, varies), records=records,
+                     _plan_warnings(grounds, suites), records=records,
                      version=version, fingerprint=run_fingerprint(deck_fingerprint, records, version),
-                     record_steps=_record_steps(inputs), inputs=tuple(inputs.values()), check=check, chosen=chosen)
+                     record_steps=_record_steps(inputs), inputs=tuple(inputs.values()), check=check, chosen=chosen,
+                     motion_band=tuple(deck.analysis.check_band_motion))
 
 
 def _parse_varies(varies: Sequence[Vary], vary_texts: Sequence[str]) -> list[Vary]:
@@ -280,21 +283,33 @@ def _combos(varies: Sequence[Vary]) -> Iterator[tuple]:
 def _ground_motions(raw: dict, source: str, base: list, varies: Sequence[Vary],
                     engines: Sequence[str]) -> _GroundMotions:
     """Build every combination's deck (without its record) and read each distinct ground motion
-    once, prepared for every engine; a combination a suite cannot serve is noted (its cases
-    fail alone, the message in their rows: sweep/worker.py)."""
+    once, prepared for every engine, from the last combination down (the longest periods first);
+    a combination a record suite cannot serve refuses the sweep (unserved.py) as soon as one it
+    serves is met, before any analysis."""
     grounds = _GroundMotions()
-    varied = {v.path for v in varies}
-    for combo in _combos(varies):
-        try:
-            motion_key = _add_ground_motion(grounds, raw, source, base, combo)
-        except CaseUnsupported as error:
-            grounds.unsupported.append(str(error))
-            continue
-        except InputError as error:
-            raise _vary_error(error, varied) from None
-        for engine in engines:
-            ground_motion_for(grounds.decks[motion_key], ENGINES[engine])
+    combos = list(_combos(varies))
+    for combo in reversed(combos):
+        key = _add_combo(grounds, raw, source, base, combo, {v.path for v in varies})
+        if key and grounds.unsupported:
+            raise unserved_error(grounds.unsupported, combo, varies, len(combos))
+        for engine in engines if key else ():
+            ground_motion_for(grounds.decks[key], ENGINES[engine])
+    if grounds.unsupported:
+        raise unserved_error(grounds.unsupported, None, varies, len(combos))
+    grounds.decks = dict(reversed(grounds.decks.items()))
     return grounds
+
+
+def _add_combo(grounds: _GroundMotions, raw: dict, source: str, base: list, combo: tuple, varied: set[str]) -> str:
+    """_add_ground_motion of one combination: its ground_motion_key, or "" (noted in
+    grounds.unsupported) if its record suite cannot serve it."""
+    try:
+        return _add_ground_motion(grounds, raw, source, base, combo)
+    except CaseUnsupported as error:
+        grounds.unsupported.append((combo, f"{error.location}: {error.expected}" if error.location else error.expected))
+        return ""
+    except InputError as error:
+        raise _vary_error(error, varied) from None
 
 
 def _add_ground_motion(grounds: _GroundMotions, raw: dict, source: str, base: list, combo: tuple) -> str:
@@ -320,14 +335,9 @@ def _check_per_record(per_record: bool, suites: Sequence[Suite], source: str) ->
                          "(--engine exact or approximate)")
 
 
-def _plan_warnings(grounds: _GroundMotions, suites: Sequence[Suite], varies: Sequence[Vary]) -> tuple:
-    """The decks' and the suites' warnings, each once, and one for the combinations that fail alone."""
-    warnings = tuple(dict.fromkeys([*grounds.warnings, *(message for suite in suites for message in suite.warnings)]))
-    if not grounds.unsupported:
-        return warnings
-    total = math.prod(len(v.values) for v in varies)
-    return (*warnings, f"{len(grounds.unsupported)} of {total} combinations of the varied fields cannot be run with "
-                       f"the deck's ground motion and fail alone (exit code 4), e.g. {grounds.unsupported[0]}")
+def _plan_warnings(grounds: _GroundMotions, suites: Sequence[Suite]) -> tuple:
+    """The decks' and the suites' warnings, each once."""
+    return tuple(dict.fromkeys([*grounds.warnings, *(message for suite in suites for message in suite.warnings)]))
 
 
 def _motion_inputs(grounds: _GroundMotions) -> dict[str, dict]:

@@ -21,6 +21,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from ..analysis.comparison import MOTION
 from ..engines.quantities import ALL_ENGINES, COMPARED, MAT, QUANTITIES, ROCKING, SCALARS
 from ..errors import InputError
 from ..output import to_jsonable
@@ -113,20 +114,22 @@ def _check_key(row: dict, paths: Sequence[str]) -> str:
 def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
     """The rows, each finished simplified case with the ratios simplified / exact of the exact
     case of the same varied values and support (CHECK_COLUMNS; empty where there is none); with
-    [criteria] simplified_error = e, a ratio outside [1/(1 + e), 1 + e] is a violation of the
-    simplified case (deck/criteria.py); a varied criteria.simplified_error is each case's own."""
+    [criteria] simplified_error = e, a ratio outside the band `uplift analyze`'s check then flags
+    (_band: [1/(1 + e), 1 + e], the mat's motion the deck's check_band_motion widened to hold it)
+    is a violation of the simplified case (deck/criteria.py); a varied criteria.simplified_error is
+    each case's own."""
     paths = [v.path for v in plan.varies]
     deck_limit = plan.criteria.get("simplified_error")
     exact = {_check_key(row, paths): row for row in rows if _finished_by(row, "exact")}
-    return [_checked(row, exact.get(_check_key(row, paths)), deck_limit) for row in rows]
+    return [_checked(row, exact.get(_check_key(row, paths)), deck_limit, plan.motion_band) for row in rows]
 
 
-def _checked(row: dict, reference: dict | None, deck_limit: float | None) -> dict:
+def _checked(row: dict, reference: dict | None, deck_limit: float | None, motion_band: tuple) -> dict:
     """A finished simplified case's row with its ratios to the exact case's (`reference`, if any);
     any other row as it is."""
     if reference is None or not _finished_by(row, "simplified"):
         return row
-    return _with_ratios(row, reference, deck_limit)
+    return _with_ratios(row, reference, deck_limit, motion_band)
 
 
 def _finished_by(row: dict, engine: str) -> bool:
@@ -134,34 +137,36 @@ def _finished_by(row: dict, engine: str) -> bool:
     return row.get("engine") == engine and row.get("status") == "ok"
 
 
-def _with_ratios(row: dict, reference: dict, deck_limit: float | None) -> dict:
+def _with_ratios(row: dict, reference: dict, deck_limit: float | None, motion_band: tuple) -> dict:
     """A copy of a simplified case's row with its check_<name> ratios to the exact case's, and the
-    ratios outside the simplified_error limit (the case's own, else the deck's) as violations."""
+    ratios outside the simplified_error limit's band (the case's own limit, else the deck's) as violations."""
     row = dict(row)
     mine, theirs = row.get("compared") or {}, reference.get("compared") or {}
     limit = row.get("criteria.simplified_error", deck_limit)
     failed = []
     for name in COMPARED:
         ratio = row[f"check_{name}"] = _ratio(mine.get(name), theirs.get(name))
-        if _outside(ratio, limit):
+        band = _band(limit, motion_band if name in MOTION else None)
+        if band is not None and ratio is not None and not band[0] <= ratio <= band[1]:
             failed.append(f"simplified_error: {COMPARED[name].symbol} simplified / exact = {ratio:.3g} "
-                          f"outside [{1.0 / (1.0 + limit):.3g}, {1.0 + limit:g}]")
+                          f"outside [{band[0]:.3g}, {band[1]:.3g}]")
     if failed:
         row["violations"] = "; ".join(filter(None, [row.get("violations"), *failed]))
     return row
+
+
+def _band(limit: float | None, motion_band: tuple | None) -> tuple[float, float] | None:
+    """[1/(1 + limit), 1 + limit], widened to hold motion_band for the mat's motion (None: no limit)."""
+    if limit is None:
+        return None
+    low, high = 1.0 / (1.0 + limit), 1.0 + limit
+    return (low, high) if motion_band is None else (min(low, motion_band[0]), max(high, motion_band[1]))
 
 
 def _ratio(value: Any, base: Any) -> float | None:
     """value / base when both are finite numbers and base is not zero, else None."""
     value, base = finite_number(value), finite_number(base)
     return value / base if value is not None and base else None
-
-
-def _outside(ratio: float | None, limit: float | None) -> bool:
-    """Whether a ratio lies outside [1/(1 + limit), 1 + limit] (never without both)."""
-    if limit is None or ratio is None:
-        return False
-    return not 1.0 / (1.0 + limit) <= ratio <= 1.0 + limit
 
 
 def table_rows(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:

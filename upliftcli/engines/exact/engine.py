@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -25,7 +25,7 @@ from threadpoolctl import ThreadpoolController
 from ...errors import AnalysisError, InputError
 from ...model.building import building_key
 from ...model.system import System
-from ...runtime.limits import MAX_STEP_STATES
+from ...runtime.limits import MAX_STEP_STATES, steps_problem
 from ..options import ExactOptions
 from ..registry import check_support
 from ..result import AnalysisResult
@@ -187,10 +187,10 @@ def _outcomes(systems: list[System], shared: dict[int, list[int]], k: int, outco
 
 #: the energy balance must close to this fraction of the input work; beyond, the step is refined
 ENERGY_TOLERANCE = 1e-3
-#: at most this many halvings of the step are tried
-MAX_REFINEMENTS = 3
-#: a halving that leaves more than this fraction of the residual shows the step is not the cause
-#: (the residual of a converging step falls by 4 or more): no further halving is tried
+#: a halving of the internal step that leaves more than this fraction of the residual shows the
+#: step is not the cause (the residual of a converging step falls by 4 or more): no further
+#: halving is tried. The runs of one analysis are bounded by limits.MAX_STEP_STATES in all and
+#: by limits.MAX_STEPS and MAX_STEP_STATES_SQUARED each (runtime/limits.py)
 MIN_PROGRESS = 0.9
 
 
@@ -200,46 +200,109 @@ def _work(system: System, record, support: str, options: ExactOptions, model: Mo
     return steps * (space.layout.n_aug + 2)
 
 
+def _run_problem(system: System, record, support: str, options: ExactOptions, model: ModelBuilder) -> str | None:
+    """The words of the limit one run with `options` would exceed (limits.steps_problem), or None."""
+    space, _, steps = size_estimate(system, record.dt, np.asarray(record.acceleration).size, support, options, model)
+    return steps_problem(steps, space.layout.n_aug)
+
+
+def finer_options(system: System, record, support: str, options: ExactOptions, model: ModelBuilder = exact_model
+                  ) -> ExactOptions:
+    """`options` with steps_per_period doubled until the internal step is finer: where the record's
+    step governs (one internal step a sample), doubling 6 to 12 steps per period leaves the step
+    as it was, and its residual with it (issue 36: such a deck was refused, 24 ran)."""
+    space = model_for(system, support, options, model)
+    current = substeps_for(space, record.dt, options)
+    finer = replace(options, steps_per_period=options.steps_per_period * 2)
+    while substeps_for(space, record.dt, finer) == current:
+        finer = replace(finer, steps_per_period=finer.steps_per_period * 2)
+    return finer
+
+
+@dataclass
+class _Refinement:
+    """The state of the step refinement of one analysis (_refined): its options, its last result
+    and residual, the residual it started from, the work spent and why it stopped."""
+
+    options: ExactOptions
+    result: AnalysisResult
+    first: float
+    spent: int
+    stopped: str = ""
+
+    @property
+    def residual(self) -> float:
+        return self.result.intermediates["energy_residual"]
+
+
+def _halved(refinement: _Refinement, system: System, record, support: str, model: ModelBuilder,
+            name: str) -> AnalysisError | None:
+    """One halving of the internal step in `refinement` (its options, result and work), or the
+    reason it cannot be run (refinement.stopped); an AnalysisError of the finer run as it is."""
+    finer = finer_options(system, record, support, refinement.options, model)
+    cost = _work(system, record, support, finer, model)
+    problem = _run_problem(system, record, support, finer, model)
+    if problem is None and refinement.spent + cost > MAX_STEP_STATES:
+        problem = (f"at most {MAX_STEP_STATES:,} internal steps x states of one analysis, its refinements "
+                   f"included, got {refinement.spent + cost:,}")
+    if problem is not None:
+        refinement.stopped = f"{finer.steps_per_period} steps per period would exceed the limits ({problem})"
+        return None
+    ((_, result),) = tuple(iter_batch([system], record, support, finer, model=model, name=name, refine=False))
+    if not isinstance(result, AnalysisResult):
+        return result
+    previous = refinement.residual
+    refinement.options, refinement.result, refinement.spent = finer, result, refinement.spent + cost
+    if refinement.residual > MIN_PROGRESS * previous:
+        refinement.stopped = f"a halving of the step left it at {refinement.residual / previous:.3g} of its value"
+    return None
+
+
 def _refined(system: System, record, support: str, options: ExactOptions, model: ModelBuilder, name: str,
              result: AnalysisResult) -> AnalysisResult | AnalysisError:
-    """The analysis again with the step halved until the energy balance closes to
-    ENERGY_TOLERANCE (never a silent large residual); an AnalysisError naming the option to
-    set when it does not, or when the user fixed the step (analysis.exact.time_step). The runs
-    of one analysis, its refinements included, stay within limits.MAX_STEP_STATES in all, and
-    a halving that does not lower the residual (MIN_PROGRESS) ends the refinement (a contact
-    chatter with almost no damping ran 16 s per run and 240 s in all, its residual unchanged)."""
-    residual = result.intermediates["energy_residual"]
-    steps = options.steps_per_period
-    stopped = ""
-    if options.time_step is None:
-        spent = _work(system, record, support, options, model)
-        for refinement in range(1, MAX_REFINEMENTS + 1):
-            finer = replace(options, steps_per_period=options.steps_per_period * 2**refinement)
-            cost = _work(system, record, support, finer, model)
-            if spent + cost > MAX_STEP_STATES:
-                stopped = (f"; a finer step would exceed the limit of {MAX_STEP_STATES:,} internal steps x states of "
-                           f"one analysis, its refinements included ({spent + cost:,})")
-                break
-            spent += cost
-            previous, steps = residual, finer.steps_per_period
-            ((_, result),) = tuple(iter_batch([system], record, support, finer, model=model, name=name, refine=False))
-            if isinstance(result, AnalysisError):
-                return result
-            residual = result.intermediates["energy_residual"]
-            if residual <= ENERGY_TOLERANCE:
-                refined = (f"the energy balance closed to {residual:.2g} only after refining the step to {steps} "
-                           f"steps per governing period (analysis.exact.steps_per_period = {options.steps_per_period})")
-                return replace(result, intermediates={**result.intermediates, "steps_per_period": steps},
-                               details={**result.details, "warnings": [*result.details.get("warnings", []), refined]})
-            if residual > MIN_PROGRESS * previous:
-                stopped = (f"; halving the step left it at {residual / previous:.3g} of its value (the step is not "
-                           "the cause)")
-                break
-    where = (f"analysis.exact.time_step = {options.time_step:g} s" if options.time_step is not None
-             else f"{steps} steps per governing period")
-    return AnalysisError(f"the energy balance closes only to {residual:.2g} of the input work (tolerance "
-                         f"{ENERGY_TOLERANCE:g}) with {where}{stopped}: set a finer analysis.exact.time_step or a "
-                         "larger analysis.exact.steps_per_period")
+    """The analysis again with the internal step halved (finer_options) until the energy balance
+    closes to ENERGY_TOLERANCE (never a silent large residual), within the limits of
+    runtime/limits.py; an AnalysisError naming the field to set when it does not, or when the
+    user fixed the step (analysis.exact.time_step). A halving that does not lower the residual
+    (MIN_PROGRESS) ends the refinement (a contact chatter with almost no damping ran 16 s per
+    run and 240 s in all, its residual unchanged)."""
+    if options.time_step is not None:
+        return AnalysisError(f"the energy balance closes only to {result.intermediates['energy_residual']:.2g} of the "
+                             f"input work (tolerance {ENERGY_TOLERANCE:g}) with analysis.exact.time_step = "
+                             f"{options.time_step:g} s: set a finer analysis.exact.time_step")
+    refinement = _Refinement(options, result, result.intermediates["energy_residual"],
+                             _work(system, record, support, options, model))
+    while refinement.residual > ENERGY_TOLERANCE and not refinement.stopped:
+        error = _halved(refinement, system, record, support, model, name)
+        if error is not None:
+            return error
+    if refinement.residual > ENERGY_TOLERANCE:
+        return AnalysisError(_unreached(refinement, options, system, record, support, model))
+    steps = refinement.options.steps_per_period
+    refined = (f"the energy balance closed to {refinement.residual:.2g} only after refining the step to {steps} "
+               f"steps per governing period (analysis.exact.steps_per_period = {options.steps_per_period})")
+    result = refinement.result
+    return replace(result, intermediates={**result.intermediates, "steps_per_period": steps},
+                   details={**result.details, "warnings": [*result.details.get("warnings", []), refined]})
+
+
+def _unreached(refinement: _Refinement, options: ExactOptions, system: System, record, support: str,
+               model: ModelBuilder) -> str:
+    """The words of a refinement that did not close the balance: what it reached, why it stopped,
+    and the field that would close it (a larger steps_per_period, if one run of it fits the limits)."""
+    steps = refinement.options.steps_per_period
+    head = (f"the energy balance closes only to {refinement.residual:.2g} of the input work (tolerance "
+            f"{ENERGY_TOLERANCE:g}) with {steps} steps per governing period")
+    if steps > options.steps_per_period:
+        head += f" (refined from {options.steps_per_period}, where it was {refinement.first:.2g})"
+    if steps > options.steps_per_period and refinement.residual > MIN_PROGRESS * refinement.first:
+        return f"{head}; {refinement.stopped}: the step is not the cause"
+    finer = finer_options(system, record, support, refinement.options, model)
+    if _run_problem(system, record, support, finer, model) is None and _work(
+            system, record, support, finer, model) <= MAX_STEP_STATES:
+        return f"{head}; {refinement.stopped}: set analysis.exact.steps_per_period = {finer.steps_per_period}"
+    return (f"{head}; {refinement.stopped}: no step within the limits reaches it (a finer step fits them "
+            "only on a shorter record: ground_motion)")
 
 
 def analyze_batch(systems: list[System], record, support: str, options: ExactOptions | None = None,
