@@ -215,12 +215,14 @@ SUMMARY: dict[str, Column] = {c.name: c for c in (
     Column("uplift", "uplift", "yes/no", "whether the mat lifts off"),
     Column("yielded", "yielded", "yes/no", "whether the soil under a contact element yields (a bearing capacity; "
            "'-': the engine does not tell, docs/theory.md 14.6)"),
+)}
+#: the summary columns of a building with story strengths (building_verdicts), after SUMMARY's
+BUILDING_SUMMARY: dict[str, Column] = {c.name: c for c in (
     Column("building_yielded", "building yielded", "yes/no", "whether a story yielded (story strengths, docs/theory.md "
            "15.5)"),
     Column("base_shear_strength", "V_y", "N", "base-shear strength: the strength of the first story"),
 )}
-#: the summary columns of a building with story strengths (building_verdicts)
-BUILDING_COLUMNS = ("building_yielded", "base_shear_strength")
+BUILDING_COLUMNS = tuple(BUILDING_SUMMARY)
 #: what the summary tables' building columns mean, when they show them
 BUILDING_LEGEND = ("building yielded: a story yielded ('-': an elastic building or an engine that does not tell); "
                    "V_y: base-shear strength")
@@ -234,7 +236,7 @@ WEIGHT_LEGEND = "W = m_t g"
 
 def summary_columns(names: Sequence[str]) -> list[Column]:
     """The display record's columns of these names, in the order given."""
-    return [SUMMARY[name] for name in names]
+    return [SUMMARY.get(name) or BUILDING_SUMMARY[name] for name in names]
 
 
 def verdicts(results: Sequence) -> tuple[str, ...]:

@@ -286,10 +286,7 @@ def _energy_bars(result: AnalysisResult, results: Sequence[AnalysisResult], fact
 def yielding_stories(result: AnalysisResult) -> list[int]:
     """The stories (from 1) of a result that yielded (quantities.YIELDING's story_yielded) whose shear and drift
     histories it keeps (shear_<story>, drift_<story>: docs/theory.md 15.5)."""
-    flags = result.peaks.get("story_yielded")
-    if flags is None:
-        return []
-    stories = [int(j) + 1 for j in np.flatnonzero(np.asarray(flags) > 0.0)]
+    stories = (np.flatnonzero(np.asarray(result.peaks.get("story_yielded", ()), dtype=float) > 0.0) + 1).tolist()
     return [j for j in stories if f"shear_{j}" in result.histories and f"drift_{j}" in result.histories]
 
 
@@ -297,12 +294,16 @@ def hysteresis_figure(results: Sequence[AnalysisResult], title: str = "", units:
     """Story shear against story drift of each story that yields (a panel per story, lowest first), every result
     whose story yielded overlaid: the hysteresis of the bilinear story springs (docs/theory.md 15)."""
     results = [r for r in with_histories(results) if yielding_stories(r)]
-    stories = sorted({j for r in results for j in yielding_stories(r)})
-    largest = max((_largest(results, f"shear_{j}") for j in stories), default=0.0)
-    shear = scaled_unit(largest, "N", units)
+    stories = _yielded_stories(results)
+    shear = scaled_unit(max((_largest(results, f"shear_{j}") for j in stories), default=0.0), "N", units)
     panels = [_hysteresis_panel(results, j, shear, units) for j in stories]
     return FigureSpec(title or "Story shear against story drift", "", panels, columns=min(3, max(len(panels), 1)),
                       panel_size=(4.0, 3.0))
+
+
+def _yielded_stories(results: Sequence[AnalysisResult]) -> list[int]:
+    """The stories (from 1, lowest first) that yield in some result (yielding_stories)."""
+    return sorted({j for r in results for j in yielding_stories(r)})
 
 
 def _hysteresis_panel(results: Sequence[AnalysisResult], story: int, shear: tuple[float, str], units: str) -> Panel:

@@ -7,7 +7,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ..display import (
-    BUILDING_COLUMNS,
     BUILDING_LEGEND,
     ROCKING_HEADINGS,
     SUMMARY,
@@ -19,6 +18,7 @@ from ..display import (
     label,
     rocking_rows,
     show,
+    summary_columns,
     verdicts,
 )
 from ..engines.quantities import (
@@ -48,7 +48,7 @@ def summary_table(results: Sequence[AnalysisResult], units: str = "si") -> Table
     `yielded` where a result tells it: display.verdicts)."""
     told = "yielded" in verdicts(results)
     building = bool(building_verdicts(results))
-    columns = _summary_columns(told, building)
+    columns = _summary_columns(told) + summary_columns(building_verdicts(results))
     rows = [_summary_row(r, columns, units) for r in results]
     return Table("table-summary", "Summary: base shear V_b [14a] and base moment M_b [14b] of every analysis",
                  ["engine", "support", *(column.heading(units) for column in columns)], rows,
@@ -56,11 +56,9 @@ def summary_table(results: Sequence[AnalysisResult], units: str = "si") -> Table
                  + (f"; {VERDICT_LEGEND}" if told else "") + (f"; {BUILDING_LEGEND}." if building else "."))
 
 
-def _summary_columns(told: bool, building: bool = False) -> list:
-    """The columns of display.SUMMARY; `yielded` only when a result tells it, the building's
-    (display.BUILDING_COLUMNS) only when a result has story strengths."""
-    left_out = (() if told else ("yielded",)) + (() if building else BUILDING_COLUMNS)
-    return [c for name, c in SUMMARY.items() if name not in left_out]
+def _summary_columns(told: bool) -> list:
+    """The columns of display.SUMMARY; `yielded` only when a result tells it."""
+    return [c for name, c in SUMMARY.items() if name != "yielded" or told]
 
 
 def _summary_row(result: AnalysisResult, columns: list, units: str) -> list[str]:
