@@ -225,3 +225,13 @@ def test_the_elastic_readme_example_has_no_new_key(tmp_path):
                 "yielded_stories", "yielded"}
     assert not yielding & set(document["units"])
     assert not yielding & set(results_document(analysis.run(load_deck(EXAMPLE, [])))["units"])
+
+
+def test_plot_and_the_report_draw_the_hysteresis(deck_path, tmp_path):
+    """`analyze --plot` writes <stem>.hysteresis_exact.png; the report captions the figure."""
+    from upliftcli.report.build import caption
+
+    outcome = runner.invoke(app, ["analyze", str(deck_path), "--support", "uplift", "--plot", str(tmp_path)])
+    assert outcome.exit_code in (0, 3), outcome.output
+    assert (tmp_path / "three.hysteresis_exact.png").stat().st_size > 0
+    assert caption("hysteresis_exact").startswith("Story shear against story drift of each story that yields")
