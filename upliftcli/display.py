@@ -184,7 +184,9 @@ class Column:
     meaning: str
 
     def value(self, result):
-        return getattr(result, self.name)
+        """The result's value (None where it has none; a one-value peak, base_shear_strength, as a float)."""
+        value = getattr(result, self.name, None)
+        return float(value[0]) if isinstance(value, np.ndarray) else value
 
     def heading(self, system: str = "si") -> str:
         return self.symbol if self.kind == "yes/no" else heading(self.symbol, self.kind, system)
@@ -214,6 +216,16 @@ SUMMARY: dict[str, Column] = {c.name: c for c in (
     Column("yielded", "yielded", "yes/no", "whether the soil under a contact element yields (a bearing capacity; "
            "'-': the engine does not tell, docs/theory.md 14.6)"),
 )}
+#: the summary columns of a building with story strengths (building_verdicts), after SUMMARY's
+BUILDING_SUMMARY: dict[str, Column] = {c.name: c for c in (
+    Column("building_yielded", "building yielded", "yes/no", "whether a story yielded (story strengths, docs/theory.md "
+           "15.5)"),
+    Column("base_shear_strength", "V_y", "N", "base-shear strength: the strength of the first story"),
+)}
+BUILDING_COLUMNS = tuple(BUILDING_SUMMARY)
+#: what the summary tables' building columns mean, when they show them
+BUILDING_LEGEND = ("building yielded: a story yielded ('-': an elastic building or an engine that does not tell); "
+                   "V_y: base-shear strength")
 #: what the summary tables' verdict columns mean, when they show `yielded`
 VERDICT_LEGEND = ("uplift: the mat lifts off; yielded: the soil under an element yields (bearing capacity); '-': "
                   "not modelled (rigid, bonded: linear references) or not told (the simplified engine, whose uplift "
@@ -224,7 +236,7 @@ WEIGHT_LEGEND = "W = m_t g"
 
 def summary_columns(names: Sequence[str]) -> list[Column]:
     """The display record's columns of these names, in the order given."""
-    return [SUMMARY[name] for name in names]
+    return [SUMMARY.get(name) or BUILDING_SUMMARY[name] for name in names]
 
 
 def verdicts(results: Sequence) -> tuple[str, ...]:
@@ -234,6 +246,12 @@ def verdicts(results: Sequence) -> tuple[str, ...]:
     capacity = any(getattr(r, "yielded", None) is not None or "Q_y" in getattr(r, "intermediates", {})
                    for r in results)
     return ("uplift", *(("yielded",) if capacity else ()))
+
+
+def building_verdicts(results: Sequence) -> tuple[str, ...]:
+    """BUILDING_COLUMNS when a result tells whether its building yielded (story strengths), else none."""
+    told = any(getattr(r, "building_yielded", None) is not None for r in results)
+    return BUILDING_COLUMNS if told else ()
 
 
 #: the columns of the rocking tables (the terminal's and the report's: rocking_rows)

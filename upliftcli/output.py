@@ -30,6 +30,7 @@ from .engines.quantities import (
     ROCKING,
     SCALARS,
     STORY,
+    YIELDING,
     column_name,
     element_quantities,
     history_unit,
@@ -52,6 +53,13 @@ UNITS = {
     "intermediates": {name: unit for name, (unit, _) in INTERMEDIATES.items()},
 }
 _STORY_QUANTITIES = quantities(FLOOR, STORY)
+#: the yielding stories' quantities (quantities.YIELDING, 15.5) in a story table that has them; story_yielded is
+#: each story's `yielded` (true/false in the JSON, 1/0 in the CSV)
+_YIELDING_STORY = [q for q in YIELDING.values() if q.where == STORY]
+#: quantity -> its key in the story tables where it differs from its name
+STORY_KEYS = {"story_yielded": "yielded"}
+#: units of the yielding-story outputs, listed in a document whose results carry them (units_of)
+YIELDING_UNITS = {**{STORY_KEYS.get(q.name, q.name): q.unit for q in YIELDING.values()}, "building_yielded": "-"}
 
 
 def _columns(result: AnalysisResult, where: list) -> list[tuple[str, Any]]:
@@ -60,10 +68,15 @@ def _columns(result: AnalysisResult, where: list) -> list[tuple[str, Any]]:
     columns = []
     for q in where:
         if q.name in result.peaks:
-            columns.append((q.name, result.peaks[q.name]))
-            if q.name in result.times:
+            columns.append((STORY_KEYS.get(q.name, q.name), _story_values(q, result.peaks[q.name])))
+            if q.name in result.times and q.name not in YIELDING:  # a yielding story's: the end, not a peak's
                 columns.append((f"{q.name}_time", result.times[q.name]))
     return columns
+
+
+def _story_values(q, values):
+    """A quantity's values as the JSON writes them: story_yielded as booleans, the others as they are."""
+    return values.astype(bool) if q.name in STORY_KEYS else values
 
 
 def _places(result: AnalysisResult, where: list, index: str, position: str, positions) -> list[dict[str, Any]]:
@@ -87,7 +100,18 @@ def _scalars(result: AnalysisResult) -> dict[str, Any]:
         "effective_height": result.effective_height,
         "uplift": result.uplift,
         **({"yielded": result.yielded} if result.yielded is not None else {}),
+        **_building_verdict(result),
     }
+
+
+def _building_verdict(result: AnalysisResult) -> dict[str, Any]:
+    """A building with story strengths (quantities.YIELDING): `building_yielded` (whether a story yielded; the
+    soil's is `yielded`), `yielded_stories` and `base_shear_strength` [N]; {} for an elastic building."""
+    if result.building_yielded is None:
+        return {}
+    return {"building_yielded": result.building_yielded,
+            "yielded_stories": YIELDING["yielded_stories"].typed(result.value("yielded_stories")),
+            "base_shear_strength": float(result.peaks["base_shear_strength"][0])}
 
 
 def _notes(result: AnalysisResult, check) -> dict[str, Any]:
@@ -109,7 +133,7 @@ def result_to_dict(result: AnalysisResult, check=None) -> dict[str, Any]:
     return to_jsonable({
         **_scalars(result),
         "periods": result.periods,
-        "stories": _places(result, _STORY_QUANTITIES, "story", "elevation", result.elevations),
+        "stories": _places(result, _STORY_QUANTITIES + _YIELDING_STORY, "story", "elevation", result.elevations),
         "elements": _places(result, element_quantities(), "element", "position", result.element_positions),
         **({"rocking": rocking} if (rocking := rocking_to_dict(result)) else {}),
         "intermediates": result.intermediates,
@@ -137,7 +161,7 @@ def rocking_to_dict(result: AnalysisResult) -> dict[str, Any]:
 
 def _suite_statistics(result: SuiteResult) -> dict[str, Any]:
     """Each statistic's uplift verdict, scalars, stories and elements (result_to_dict)."""
-    picked = ("uplift", *SCALARS, "stories", "elements")
+    picked = ("uplift", *SCALARS, "stories", "elements", "building_yielded", "base_shear_strength")
     return {name: {key: value for key, value in result_to_dict(stat).items() if key in picked}
             for name, stat in result.statistics.items()}
 
@@ -179,12 +203,18 @@ def check_of(result: AnalysisResult, checks) -> Any:
     return next((c for c in checks if c.support == result.support), None)
 
 
+def units_of(results: list[AnalysisResult]) -> dict[str, Any]:
+    """UNITS, and YIELDING_UNITS when a result carries the yielding stories' quantities."""
+    yielding = any(r.building_yielded is not None for r in results)
+    return {**UNITS, **YIELDING_UNITS} if yielding else UNITS
+
+
 def results_document(results: list[AnalysisResult], source: str | None = None,
                      title: str | None = None, provenance: dict | None = None, checks=()) -> dict[str, Any]:
     """The document `--format json` prints: one result -> that result's dict (plus source,
     title, units and the provenance of the run); several -> {"source", "title", "units",
     "provenance", "results": [...]}; checks: the accuracy checks (accuracy.check_accuracy)."""
-    head = {"source": source, "title": title, "units": UNITS, "provenance": provenance,
+    head = {"source": source, "title": title, "units": units_of(results), "provenance": provenance,
             "answer": answer_line(results, checks) or None}  # the design value and the check (analysis/level.py)
     head = {k: v for k, v in head.items() if v is not None}
     if len(results) == 1:
@@ -233,7 +263,7 @@ def _suite_labelled(r: AnalysisResult) -> list[tuple[list[str], AnalysisResult]]
 
 def _peaks_at(r: AnalysisResult, chosen: list, k: int) -> list[float]:
     """The peaks of the quantities chosen at place k, NaN where the result has none."""
-    return [float(r.peaks[q.name][k]) if q.name in r.peaks else np.nan for q in chosen]
+    return [q.typed(float(r.peaks[q.name][k])) if q.name in r.peaks else np.nan for q in chosen]
 
 
 def _table(results: list[AnalysisResult], chosen, index: str, position: str, positions) -> tuple[list[str], list]:
@@ -241,7 +271,7 @@ def _table(results: list[AnalysisResult], chosen, index: str, position: str, pos
     `positions(result)`, a column per quantity of `chosen` that some result has."""
     present = [q for q in chosen if any(q.name in r.peaks for r in results)]
     lead, labelled = _labelled(results)
-    header = [*lead, index, position] + [column_name(q.name, q.unit) for q in present]
+    header = [*lead, index, position] + [column_name(STORY_KEYS.get(q.name, q.name), q.unit) for q in present]
     rows = [[*labels, k + 1, float(x), *_peaks_at(r, present, k)]
             for labels, r in labelled for k, x in enumerate(positions(r))]
     return header, rows
@@ -251,7 +281,7 @@ def story_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[Any
     """(header, rows) of the story tables of all results, one row per (engine, support, story);
     units in the headers (floor quantities of floor j on story j's row); a suite's records after
     its statistic (_labelled); numbers as floats (NaN: no value)."""
-    return _table(results, _STORY_QUANTITIES, "story", "elevation_m", lambda r: r.elevations)
+    return _table(results, _STORY_QUANTITIES + _YIELDING_STORY, "story", "elevation_m", lambda r: r.elevations)
 
 
 def elements_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[Any]]]:

@@ -16,8 +16,17 @@ from rich.table import Table
 
 from ..analysis.comparison import MEASURED
 from ..analysis.level import answer_line, level_text, levels_legend
-from ..display import WEIGHT_LEGEND, intermediate_kind, label, show, summary_columns, verdicts
-from ..engines.quantities import COMPARED, FLOOR, INTERMEDIATES, STORY, quantities
+from ..display import (
+    BUILDING_LEGEND,
+    WEIGHT_LEGEND,
+    building_verdicts,
+    intermediate_kind,
+    label,
+    show,
+    summary_columns,
+    verdicts,
+)
+from ..engines.quantities import COMPARED, FLOOR, INTERMEDIATES, STORY, YIELDING, quantities
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
 from ..model.system import System, fixed_base_mode_rows
@@ -27,11 +36,17 @@ from .tables import add_columns, add_rows, engine_label, print_tables, summary_c
 
 #: floor and story quantities in table order
 STORY_QUANTITIES = quantities(FLOOR, STORY)
+#: the yielding stories' quantities (quantities.YIELDING), shown after them where a result has them
+YIELDING_STORY = [q for q in YIELDING.values() if q.where == STORY]
 #: short headings of the story tables (name -> (heading, legend entry)); the others: Quantity.heading
 SHORT_HEADINGS = {"displacement": ("disp.", "disp. = floor displacement relative to the mat"),
                   "drift_ratio": ("drift ratio", "drift ratio = story drift / story height"),
                   "moment": ("moment", "moment = overturning moment at the bottom of the story"),
-                  "floor_acceleration": ("floor acc.", "floor acc. = absolute floor acceleration")}
+                  "floor_acceleration": ("floor acc.", "floor acc. = absolute floor acceleration"),
+                  "ductility": ("ductility", "ductility = peak drift / yield drift"),
+                  "residual_drift_ratio": ("resid. drift ratio", "resid. = at the end of the analysis"),
+                  "hysteretic_energy": ("hyst. energy", "hyst. energy = energy dissipated by yielding"),
+                  "story_yielded": ("yielded", "yielded: the story yielded")}
 
 
 def modes_table(system: System, n_modes: int | None = None, units: str = "si") -> Table:
@@ -64,7 +79,7 @@ def story_table(result: AnalysisResult, units: str = "si") -> Table:
     """Per story (top first): elevation and the peak of every floor and story quantity the
     engine gives (engines/quantities.py), in the display units (display.py)."""
     table = Table(title=escape(_story_title(result)))
-    shown = [q for q in STORY_QUANTITIES if q.name in result.peaks]
+    shown = [q for q in STORY_QUANTITIES + YIELDING_STORY if q.name in result.peaks]
     add_columns(table, ["story", f"elevation [{label('m', units)}]", *(_short_heading(q, units) for q in shown)])
     table.caption = _story_legend(shown)
     stories = range(result.elevations.size - 1, -1, -1)
@@ -83,6 +98,8 @@ def _short_heading(quantity, units: str) -> str:
     """The quantity's short heading (SHORT_HEADINGS) with its unit, else its own heading."""
     if quantity.name not in SHORT_HEADINGS:
         return quantity.heading(units)
+    if quantity.display == "-":
+        return SHORT_HEADINGS[quantity.name][0]
     return f"{SHORT_HEADINGS[quantity.name][0]} [{label(quantity.display, units)}]"
 
 
@@ -95,7 +112,12 @@ def _story_legend(shown: list) -> str | None:
 def _story_cells(result: AnalysisResult, j: int, shown: list, units: str) -> list[str]:
     """Story j+1: its number, the elevation of its floor and each quantity's peak there."""
     return [str(j + 1), show(result.elevations[j], "m", units),
-            *[show(result.peaks[q.name][j], q.display, units) for q in shown]]
+            *[_cell(q, result.peaks[q.name][j], units) for q in shown]]
+
+
+def _cell(quantity, value, units: str) -> str:
+    """A story's value of a quantity in its display unit; a story's yielded flag as yes/no."""
+    return show(bool(value) if quantity.name == "story_yielded" else value, quantity.display, units)
 
 
 #: the columns of the summary table (display.SUMMARY); the critical ones go into the caption
@@ -110,7 +132,8 @@ def summary_table(results: list[AnalysisResult], units: str = "si") -> Table:
     (one building), else in columns (display.SUMMARY)."""
     critical = summary_columns(CRITICAL_COLUMNS)
     shared = _same_cells(results, critical, units)
-    columns = summary_columns(SUMMARY_COLUMNS + (() if shared else CRITICAL_COLUMNS) + verdicts(results))
+    columns = summary_columns(SUMMARY_COLUMNS + (() if shared else CRITICAL_COLUMNS) + verdicts(results)
+                              + building_verdicts(results))
     table = Table(title="Summary")
     add_columns(table, ("engine", "support", *(column.heading(units) for column in columns)),
                 left=("engine", "support"))
@@ -127,6 +150,7 @@ def _same_cells(results: list[AnalysisResult], columns: list, units: str) -> boo
 def _summary_legend(results: list[AnalysisResult], critical: list, shared: bool, units: str) -> str:
     """W = m_t g, the verdicts and, when every row shares them, the critical values, stated once."""
     legend = WEIGHT_LEGEND + verdict_legend(verdicts(results)) + levels_legend(results)
+    legend += f"; {BUILDING_LEGEND}" * bool(building_verdicts(results))
     if not shared:
         return legend
     return (legend + f"; every row: {', '.join(column.stated(results[0], units) for column in critical)} [16a, 16b] "

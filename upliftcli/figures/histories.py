@@ -11,6 +11,8 @@ engines/quantities.HISTORY_SIGNALS) and from their energy balance (details["ener
 - moment_rotation_figure: M_b against theta, with +-M_c (on yielding soil the capacity's, and
   +-M_tip = m_t g b);
 - energy_figure: the terms of the energy balance (docs/theory.md section 11.6) as bars.
+- hysteresis_figure: with story strengths, the story shear against the story drift of each story
+  that yields (docs/theory.md 15.5).
 """
 
 from __future__ import annotations
@@ -279,3 +281,37 @@ def _energy_bars(result: AnalysisResult, results: Sequence[AnalysisResult], fact
     terms = [k for k in ENERGY_TERMS if k in energy]
     values = np.array([factor * energy[k] for k in terms])
     return Bars(_label(result, results), [ENERGY_TERMS[k] for k in terms], values, SUPPORT_COLORS.get(result.support))
+
+
+def yielding_stories(result: AnalysisResult) -> list[int]:
+    """The stories (from 1) of a result that yielded (quantities.YIELDING's story_yielded) whose shear and drift
+    histories it keeps (shear_<story>, drift_<story>: docs/theory.md 15.5)."""
+    stories = (np.flatnonzero(np.asarray(result.peaks.get("story_yielded", ()), dtype=float) > 0.0) + 1).tolist()
+    return [j for j in stories if f"shear_{j}" in result.histories and f"drift_{j}" in result.histories]
+
+
+def hysteresis_figure(results: Sequence[AnalysisResult], title: str = "", units: str = "si") -> FigureSpec:
+    """Story shear against story drift of each story that yields (a panel per story, lowest first), every result
+    whose story yielded overlaid: the hysteresis of the bilinear story springs (docs/theory.md 15)."""
+    results = [r for r in with_histories(results) if yielding_stories(r)]
+    stories = _yielded_stories(results)
+    shear = scaled_unit(max((_largest(results, f"shear_{j}") for j in stories), default=0.0), "N", units)
+    panels = [_hysteresis_panel(results, j, shear, units) for j in stories]
+    return FigureSpec(title or "Story shear against story drift", "", panels, columns=min(3, max(len(panels), 1)),
+                      panel_size=(4.0, 3.0))
+
+
+def _yielded_stories(results: Sequence[AnalysisResult]) -> list[int]:
+    """The stories (from 1, lowest first) that yield in some result (yielding_stories)."""
+    return sorted({j for r in results for j in yielding_stories(r)})
+
+
+def _hysteresis_panel(results: Sequence[AnalysisResult], story: int, shear: tuple[float, str], units: str) -> Panel:
+    """Story `story`'s shear [shear's unit] against its drift [mm or in] of each result in which it yielded."""
+    drift = display_unit("mm", units)
+    series = [Series(_label(r, results), np.asarray(r.histories[f"drift_{story}"], dtype=float) * drift.factor,
+                     np.asarray(r.histories[f"shear_{story}"], dtype=float) * shear[0],
+                     ENGINE_LINES.get(r.engine, "-"), SUPPORT_COLORS.get(r.support), 0.8)
+              for r in results if story in yielding_stories(r)]
+    return Panel(f"story {story}", f"story shear V_{story} [{shear[1]}]", cycle(series),
+                 [Line(0.0, "", "y", "-", "#999999")], xlabel=f"story drift [{drift.label}]")

@@ -9,7 +9,14 @@ import numpy as np
 
 from ..engines.result import AnalysisResult
 from .analysis import profile_figure, suite_profile_figure
-from .histories import energy_figure, history_figure, moment_rotation_figure, with_histories
+from .histories import (
+    energy_figure,
+    history_figure,
+    hysteresis_figure,
+    moment_rotation_figure,
+    with_histories,
+    yielding_stories,
+)
 from .modes import mode_shape_figure
 from .spec import FigureSpec, Panel, Series
 from .spectra import PERIOD_LABEL, period_marks, record_spectrum_figure, spectrum_panel, suite_figure
@@ -147,6 +154,9 @@ def _engine_figures(deck, mine: Sequence[AnalysisResult], engine: str, units: st
     if any("theta" in r.histories for r in mine):
         figures[f"moment_rotation_{engine}"] = moment_rotation_figure(
             mine, _title(deck, f"Base moment against mat rotation, {engine} engine"), units)
+    if any(yielding_stories(r) for r in mine):
+        figures[f"hysteresis_{engine}"] = hysteresis_figure(
+            mine, _title(deck, f"Story shear against story drift, {engine} engine"), units)
     if any("energy" in r.details for r in mine):
         figures[f"energy_{engine}"] = energy_figure(mine, _title(deck, f"Energy balance, {engine} engine"), units)
     return figures

@@ -27,6 +27,8 @@ CAPTIONS = {
                  "+-M_c [16b], mat rotation and edge displacements; shaded: an edge of the mat lifted.",
     "moment_rotation": "Base moment against mat rotation, with +-M_c = m_t g b [16b].",
     "energy": "Energy balance: input work = dissipated energy + change of stored energy + residual.",
+    "hysteresis": "Story shear against story drift of each story that yields (bilinear story springs, docs/theory.md "
+                  "15.5).",
 }
 
 

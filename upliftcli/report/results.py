@@ -8,21 +8,25 @@ from collections.abc import Sequence
 
 from ..analysis.level import answer_line, level_text, levels_legend
 from ..display import (
+    BUILDING_LEGEND,
     ROCKING_HEADINGS,
     SUMMARY,
     VERDICT_LEGEND,
     WEIGHT_LEGEND,
+    building_verdicts,
     heading,
     intermediate_kind,
     label,
     rocking_rows,
     show,
+    summary_columns,
     verdicts,
 )
 from ..engines.quantities import (
     FLOOR,
     INTERMEDIATES,
     STORY,
+    YIELDING,
     display_kind,
     element_quantities,
     quantities,
@@ -32,6 +36,8 @@ from ..engines.result import AnalysisResult
 from .document import Section, Table, Text, number
 
 STORY_QUANTITIES = quantities(FLOOR, STORY)
+#: the yielding stories' quantities (quantities.YIELDING), in the story table of a result that has them
+YIELDING_STORY = [q for q in YIELDING.values() if q.where == STORY]
 
 
 def _slug(result: AnalysisResult) -> str:
@@ -42,12 +48,14 @@ def summary_table(results: Sequence[AnalysisResult], units: str = "si") -> Table
     """One row per analysis, every column of the display record of the scalar results (display.SUMMARY;
     `yielded` where a result tells it: display.verdicts)."""
     told = "yielded" in verdicts(results)
-    columns = _summary_columns(told)
+    building = bool(building_verdicts(results))
+    columns = _summary_columns(told) + summary_columns(building_verdicts(results))
     rows = [_summary_row(r, columns, units) for r in results]
     return Table("table-summary", "Summary: base shear V_b [14a] and base moment M_b [14b] of every analysis",
                  ["engine", "support", *(column.heading(units) for column in columns)], rows,
                  f"{WEIGHT_LEGEND}; the critical value of both coefficients is b/h_1* [16a, 16b]"
-                 + levels_legend(results) + (f"; {VERDICT_LEGEND}." if told else "."))
+                 + levels_legend(results) + (f"; {VERDICT_LEGEND}" if told else "")
+                 + (f"; {BUILDING_LEGEND}." if building else "."))
 
 
 def _summary_columns(told: bool) -> list:
@@ -125,17 +133,32 @@ def result_tables(result: AnalysisResult, units: str = "si") -> list[Table]:
 
 def story_table(result: AnalysisResult, what: str, units: str = "si") -> Table:
     """Peak response per story, top story first; what: the analysis in words."""
-    shown = [q for q in STORY_QUANTITIES if q.name in result.peaks]
+    shown = [q for q in STORY_QUANTITIES + YIELDING_STORY if q.name in result.peaks]
     rows = [_story_row(result, j, shown, units) for j in range(result.elevations.size - 1, -1, -1)]
     return Table(f"table-{_slug(result)}-stories", f"Peak response per story, {what} (top story first)",
                  ["story", heading("elevation", "m", units)] + [q.heading(units) for q in shown], rows,
-                 "Floor quantities are those of the floor at the top of the story.")
+                 "Floor quantities are those of the floor at the top of the story." + _yielding_note(result))
+
+
+#: the story table's note on the yielding stories' columns (a result with story strengths)
+YIELDING_NOTE = (" Ductility: peak |drift| over the yield drift V_y/k; residual drift ratio: at the end of the "
+                 "analysis; hysteretic energy: dissipated by the story's yielding (docs/theory.md 15.5).")
+
+
+def _yielding_note(result: AnalysisResult) -> str:
+    """YIELDING_NOTE for a result with story strengths, else ''."""
+    return YIELDING_NOTE if result.building_yielded is not None else ""
 
 
 def _story_row(result: AnalysisResult, j: int, shown: list, units: str) -> list[str]:
     """Story j + 1: its elevation and the peak of each quantity shown."""
-    peaks = [show(result.peaks[q.name][j], q.display, units) for q in shown]
+    peaks = [_story_cell(q, result.peaks[q.name][j], units) for q in shown]
     return [str(j + 1), show(result.elevations[j], "m", units), *peaks]
+
+
+def _story_cell(quantity, value, units: str) -> str:
+    """A story's value in its display unit; its yielded flag (story_yielded) as yes/no."""
+    return show(bool(value) if quantity.name == "story_yielded" else value, quantity.display, units)
 
 
 def elements_table(result: AnalysisResult, what: str, units: str = "si") -> Table | None:

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from ..analysis.comparison import MOTION
-from ..engines.quantities import ALL_ENGINES, COMPARED, MAT, QUANTITIES, ROCKING, SCALARS
+from ..engines.quantities import ALL_ENGINES, BUILDING, COMPARED, MAT, QUANTITIES, ROCKING, SCALARS, YIELDING
 from ..errors import InputError
 from ..output import to_jsonable
 from ..provenance.record import csv_comments, number_text, to_text_numbers
@@ -64,6 +64,13 @@ OUTPUT_COLUMNS: dict[str, tuple[str, str]] = {
 ROCKING_COLUMNS: dict[str, tuple[str, str]] = {
     q.column: (q.unit, ("largest " if q.where != MAT or q.name == "plastic_settlement" else "") + q.meaning
                + " (exact engine, uplift; empty otherwise)") for q in ROCKING.values() if q.column}
+#: columns of the yielding stories (engines/quantities.YIELDING, docs/theory.md 15.5), in a sweep that runs the
+#: exact engine on a building with story strengths (empty on the other rows)
+YIELDING_COLUMNS: dict[str, tuple[str, str]] = {
+    q.column: (q.unit, ("" if q.where == BUILDING else "largest ") + q.meaning
+               + " (exact engine, story strengths; empty otherwise)") for q in YIELDING.values() if q.column}
+#: the deck fields that give the stories strengths (deck/strengths.py)
+STRENGTH_FIELDS = ("building.story_strengths", "building.strength_coefficient")
 #: columns of a sweep of a record suite: statistic and record after the support, the others at the end
 SUITE_COLUMNS: dict[str, tuple[str, str]] = {
     "statistic": ("", "the design value of the case's row over the records: mean or max (the code's rule, "
@@ -87,12 +94,26 @@ CHECK_COLUMNS: dict[str, tuple[str, str]] = {
 def columns(plan: SweepPlan) -> list[str]:
     lead, tail = (["statistic", "record"], ["records", "factor"]) if plan.suite_records else ([], [])
     return (["case", "engine", "support"] + lead + [v.path for v in plan.varies] + list(OUTPUT_COLUMNS)
-            + list(rocking_columns(plan)) + list(_check_columns(plan)) + tail + ["key"])
+            + list(rocking_columns(plan)) + list(yielding_columns(plan)) + list(_check_columns(plan)) + tail
+            + ["key"])
 
 
 def rocking_columns(plan: SweepPlan) -> dict[str, tuple[str, str]]:
     """ROCKING_COLUMNS when the sweep runs the exact engine on the uplift support, else none."""
     return ROCKING_COLUMNS if "exact" in plan.engines and "uplift" in plan.supports else {}
+
+
+def yielding_columns(plan: SweepPlan) -> dict[str, tuple[str, str]]:
+    """YIELDING_COLUMNS when the sweep runs the exact engine on a building with story strengths (given by the
+    deck, a --set or a --vary), else none."""
+    return YIELDING_COLUMNS if "exact" in plan.engines and _has_strengths(plan) else {}
+
+
+def _has_strengths(plan: SweepPlan) -> bool:
+    """Whether the deck, its --set or its --vary give the stories strengths (STRENGTH_FIELDS)."""
+    given = {f"building.{name}" for name in plan.raw.get("building", {})}
+    given |= {path for path, _ in plan.base_overrides} | {v.path for v in plan.varies}
+    return any(name in given for name in STRENGTH_FIELDS)
 
 
 def _check_columns(plan: SweepPlan) -> dict[str, tuple[str, str]]:
@@ -102,7 +123,7 @@ def _check_columns(plan: SweepPlan) -> dict[str, tuple[str, str]]:
 
 def units(plan: SweepPlan) -> dict[str, str]:
     suite = SUITE_COLUMNS if plan.suite_records else {}
-    described = {**OUTPUT_COLUMNS, **rocking_columns(plan), **suite, **_check_columns(plan)}
+    described = {**OUTPUT_COLUMNS, **rocking_columns(plan), **yielding_columns(plan), **suite, **_check_columns(plan)}
     return {**{v.path: v.unit for v in plan.varies}, **{name: unit for name, (unit, _) in described.items()}}
 
 

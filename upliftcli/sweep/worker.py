@@ -16,7 +16,7 @@ import numpy as np
 from ..analysis.run import run_batch
 from ..deck.criteria import check_criteria
 from ..deck.load import Deck, build_deck
-from ..engines.quantities import QUANTITIES, ROCKING, SCALARS, compared_values, rocking_value
+from ..engines.quantities import QUANTITIES, ROCKING, SCALARS, YIELDING, compared_values, rocking_value
 from ..engines.simplified import effective_properties
 from ..engines.suite_result import SuiteResult
 from ..errors import AnalysisError, InputError
@@ -141,6 +141,11 @@ def _peak_columns(result, quantities: dict, value: Callable[[str], Any]) -> dict
     return {q.column: value(name) for name, q in quantities.items() if q.column and name in result.peaks}
 
 
+def _yielding_value(result, name: str) -> float | int:
+    """The sweep column of a yielding stories' quantity (quantities.YIELDING): its largest value (a count as an int)."""
+    return YIELDING[name].typed(result.value(name))
+
+
 def _outputs(deck: Deck, result, t1bar: float | None, xi1bar: float | None) -> dict[str, Any]:
     """The output columns of a result (SI units)."""
     return {
@@ -150,6 +155,7 @@ def _outputs(deck: Deck, result, t1bar: float | None, xi1bar: float | None) -> d
         "two_mode_base_shear_coefficient": _per_weight(result.intermediates.get("V_1+2"), result.weight),
         **_peak_columns(result, QUANTITIES, result.value),
         **_peak_columns(result, ROCKING, functools.partial(rocking_value, result)),
+        **_peak_columns(result, YIELDING, functools.partial(_yielding_value, result)),
         "max_drift_story": int(np.argmax(np.abs(result.drift_ratio))) + 1,
         "uplift": bool(result.uplift), "V_c_N": result.critical_base_shear,
         "critical_coefficient": result.critical_coefficient,
