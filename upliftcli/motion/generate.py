@@ -31,12 +31,14 @@ the rare draw that does not meet the tolerance, tried again up to MAX_ATTEMPTS t
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import AnalysisError, InputError
 from .code_rules import CodeRule
+from .durations import Scenario
+from .envelopes import Envelope, default_scenario, draw_envelope
 from .matching import MatchResult, MatchSettings, control_periods, match_acceleration, matching_target, settings_for
 from .records import Record
 from .suites import MIN_CYCLES, SAMPLES_PER_PERIOD, Suite, check_target, with_matched_factors
@@ -52,45 +54,10 @@ MID_FREQUENCY = (1.5, 8.0)
 CORNER = 0.2
 MAX_ATTEMPTS = 10  # draws tried for one record before giving up
 #: changes whenever a seed gives another record (manifests and the cache of check suites name it)
-GENERATOR_VERSION = "rdk2010-wavelets-4"
-
-
-@dataclass(frozen=True)
-class Envelope:
-    """Jennings, Housner & Tsai (1968) envelope: rise [s] with (t/rise)^2, stationary part
-    `strong` [s] at 1, then exponential decay over `decay` [s] down to `final` [-]."""
-
-    rise: float = 2.0
-    strong: float = 10.0
-    decay: float = 8.0
-    final: float = 0.05
-
-    @property
-    def duration(self) -> float:
-        """Total duration [s]."""
-        return self.rise + self.strong + self.decay
-
-    def __call__(self, t: np.ndarray) -> np.ndarray:
-        t = np.asarray(t, dtype=float)
-        t2 = self.rise + self.strong
-        rate = -math.log(self.final) / self.decay
-        decay = np.exp(-rate * np.maximum(t - t2, 0.0))  # 1 before t2 (no overflow where it is not used)
-        return np.where(t < self.rise, (t / self.rise) ** 2, np.where(t <= t2, 1.0, decay))
-
-    def samples(self, dt: float) -> int:
-        """Samples of a record of this envelope at step dt [s] (stochastic_record); 2^62 for
-        a count beyond it (an infinite duration / dt)."""
-        count = self.duration / dt
-        return round(count) + 1 if count < 2.0**62 else 2**62
-
-
-def envelope_for(period_range: tuple[float, float], min_cycles: float, envelope: Envelope = Envelope()) -> Envelope:
-    """`envelope` with its stationary part lengthened (never shortened) so that the record lasts
-    at least min_cycles x the upper period [s] of the range."""
-    shortfall = min_cycles * period_range[1] - envelope.duration
-    if shortfall <= 0.0:
-        return envelope
-    return Envelope(envelope.rise, envelope.strong + shortfall, envelope.decay, envelope.final)
+GENERATOR_VERSION = "rdk2010-as16-gamma-5"
+#: Vs30 [m/s] below which the site lowers the filter's frequency, by (Vs30 / SOFT_SITE)^SOFT_POWER
+SOFT_SITE = 360.0
+SOFT_POWER = 0.5
 
 
 @dataclass(frozen=True)
@@ -118,16 +85,21 @@ def predominant_period(target_spectrum, match_range: tuple[float, float], dampin
     return float(math.sqrt(high[0] * high[-1]))
 
 
+def site_factor(vs30: float) -> float:
+    """The factor [-] on f_mid of a site of this Vs30 [m/s]: (Vs30 / SOFT_SITE)^SOFT_POWER below SOFT_SITE, else 1."""
+    return min(1.0, vs30 / SOFT_SITE) ** SOFT_POWER
+
+
 def draw_parameters(rng: np.random.Generator, target_spectrum, match_range: tuple[float, float],
-                    envelope: Envelope) -> FilterParameters:
+                    envelope: Envelope, vs30: float) -> FilterParameters:
     """The filter of one record (module docstring)."""
     centre = float(np.clip(1.0 / predominant_period(target_spectrum, match_range), *MID_FREQUENCY))
-    mid = centre * math.exp(0.25 * rng.standard_normal())
+    mid = centre * site_factor(vs30) * math.exp(0.25 * rng.standard_normal())
     rate = -mid * rng.uniform(0.01, 0.04)
     damping = rng.uniform(0.15, 0.4)
     lowest = max(0.3, 1.0 / match_range[1])
     corner = CORNER
-    return FilterParameters(mid, envelope.rise + 0.5 * envelope.strong, rate, damping, lowest, corner)
+    return FilterParameters(mid, envelope.arias_time(0.45), rate, damping, lowest, corner)
 
 
 def filtered_noise(noise: np.ndarray, dt: float, frequency: np.ndarray, damping: float) -> np.ndarray:
@@ -168,16 +140,16 @@ def high_pass(acceleration: np.ndarray, dt: float, corner: float) -> np.ndarray:
 
 
 def stochastic_record(target_spectrum, match_range: tuple[float, float], draw, dt: float,
-                      envelope: Envelope) -> tuple[np.ndarray, FilterParameters]:
+                      envelope: Envelope, vs30: float) -> tuple[np.ndarray, FilterParameters]:
     """The unscaled, unmatched acceleration [-] of one draw (SeedSequence(draw)) and its filter."""
     rng = np.random.default_rng(np.random.SeedSequence(draw))
-    parameters = draw_parameters(rng, target_spectrum, match_range, envelope)
+    parameters = draw_parameters(rng, target_spectrum, match_range, envelope, vs30)
     n = envelope.samples(dt)
     t = np.arange(n) * dt
     noise = rng.standard_normal(n)
     process = filtered_noise(noise, dt, parameters.frequency(t), parameters.damping)
-    modulated = envelope(t) * end_taper(n, dt) * process
-    return high_pass(modulated, dt, parameters.corner), parameters
+    taper = end_taper(n, dt)
+    return taper * high_pass(envelope(t) * taper * process, dt, parameters.corner), parameters
 
 
 def generation_range(target_spectrum, period_range: tuple[float, float], dt: float) -> tuple[float, float]:
@@ -205,18 +177,22 @@ class Artificial:
 
 
 def generate(target_spectrum, period_range: tuple[float, float], seed: int, index: int = 0, dt: float = 0.01,
-             envelope: Envelope = Envelope(), settings: MatchSettings | None = None) -> Artificial:
+             envelope: Envelope | None = None, settings: MatchSettings | None = None,
+             scenario: Scenario | None = None) -> Artificial:
     """One artificial record for a design spectrum (.sa): matched over generation_range, the
-    tolerance checked over period_range [s]. If it is not met, new draws are made
+    tolerance checked over period_range [s]; its envelope drawn for the scenario (default:
+    envelopes.default_scenario) unless given. If the tolerance is not met, new draws are made
     (SeedSequence([seed, index, attempt]), up to MAX_ATTEMPTS); AnalysisError if none meets it."""
     settings = settings or MatchSettings()
+    scenario = scenario or default_scenario(target_spectrum)
+    envelope = envelope or record_envelope(period_range, seed, index, scenario)
     match_range = generation_range(target_spectrum, period_range, dt)
     periods = control_periods(period_range, settings.periods_per_octave)
     target = matching_target(target_spectrum, settings)
     best = None
     for attempt in range(MAX_ATTEMPTS):
         draw = [int(seed), int(index)] + ([attempt] if attempt else [])
-        seed_record, parameters = stochastic_record(target_spectrum, match_range, draw, dt, envelope)
+        seed_record, parameters = stochastic_record(target_spectrum, match_range, draw, dt, envelope, scenario.vs30)
         result = match_acceleration(seed_record, dt, target, match_range, periods, settings)
         if result.converged:
             return Artificial(result, int(seed), int(index), attempt, envelope, parameters, match_range)
@@ -250,23 +226,39 @@ def check_generation(target_spectrum, period_range: tuple[float, float], dt: flo
                          f"where the records are matched ({target_spectrum.name} is 0 at {zero[0]:.3g} s)")
 
 
-def suite_envelope(period_range: tuple[float, float], rule: CodeRule, envelope: Envelope = Envelope()) -> Envelope:
-    """The envelope of the records of generate_suite: a stationary part of at least
-    rule.stationary_duration, lengthened for MIN_CYCLES of the upper period [s]."""
-    strong = max(envelope.strong, rule.stationary_duration)
-    return envelope_for(period_range, MIN_CYCLES, replace(envelope, strong=strong))
+def record_envelope(period_range: tuple[float, float], seed: int, index: int, scenario: Scenario,
+                    minimum: float = 0.0) -> Envelope:
+    """The envelope of record `index` of `seed` (envelopes.draw_envelope): D5-95 at least
+    `minimum` [s], the record at least MIN_CYCLES x the upper period [s]."""
+    return draw_envelope(seed, index, scenario, minimum, MIN_CYCLES * period_range[1])
+
+
+def suite_envelopes(target_spectrum, period_range: tuple[float, float], rule: CodeRule, count: int, seed: int,
+                    scenario: Scenario | None = None, minimum: float = 0.0) -> list[Envelope]:
+    """The envelopes of generate_suite's records: D5-95 at least rule.stationary_duration (EN 1998-1
+    3.2.3.1.2(3)) and `minimum` [s]."""
+    scenario = suite_scenario(target_spectrum, scenario)
+    shortest = max(rule.stationary_duration, minimum)
+    return [record_envelope(period_range, seed, k, scenario, shortest) for k in range(count)]
+
+
+def suite_scenario(target_spectrum, scenario: Scenario | None = None) -> Scenario:
+    """The scenario given, else the target's default (envelopes.default_scenario)."""
+    return scenario or default_scenario(target_spectrum)
 
 
 def generate_suite(target_spectrum, period_range: tuple[float, float], rule: CodeRule, count: int, seed: int,
-                   dt: float = 0.01, envelope: Envelope = Envelope(), settings: MatchSettings | None = None,
-                   period_note: str = "") -> tuple[Suite, list[Artificial]]:
+                   dt: float = 0.01, envelopes: list[Envelope] | None = None, settings: MatchSettings | None = None,
+                   period_note: str = "", scenario: Scenario | None = None) -> tuple[Suite, list[Artificial]]:
     """`count` artificial records (indices 0..count-1 of `seed`) for the target over period_range [s],
     as a matched Suite (amplitude factors by scaling.matched_factors) and the records' details.
-    The stationary part is at least rule.stationary_duration and long enough for MIN_CYCLES."""
+    Each record's envelope is drawn for the scenario (record_envelope) unless `envelopes` are given."""
     check_generation(target_spectrum, period_range, dt, "record generate")
     settings = settings or settings_for(rule)
-    envelope = suite_envelope(period_range, rule, envelope)
-    items = [generate(target_spectrum, period_range, seed, k, dt, envelope, settings) for k in range(count)]
+    scenario = suite_scenario(target_spectrum, scenario)
+    envelopes = envelopes or suite_envelopes(target_spectrum, period_range, rule, count, seed, scenario)
+    items = [generate(target_spectrum, period_range, seed, k, dt, envelopes[k], settings, scenario)
+             for k in range(count)]
     records = tuple(Record(name=f"artificial {seed}-{k + 1:02d}", dt=dt, acceleration=item.result.acceleration,
                            source=f"artificial {seed}-{k + 1:02d}", units="g") for k, item in enumerate(items))
     provenance = tuple(f"artificial record, seed {seed}, index {item.index}, draw {item.attempt}" for item in items)

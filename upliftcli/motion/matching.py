@@ -129,6 +129,7 @@ def match_acceleration(acceleration, dt: float, target_sa: Callable[[np.ndarray]
     the check periods (between the control ones) miss the tolerance, the iteration goes on with
     control periods twice as dense. InputError naming the record (name) when its S_a is 0 at a
     control period (no factor scales it to the target)."""
+    from .character import keep_shares
     from .usable import check_spectra
     from .wavelets import control_periods as wavelet_periods  # here: loading a suite deck imports this module
     from .wavelets import wavelet_match
@@ -151,7 +152,10 @@ def match_acceleration(acceleration, dt: float, target_sa: Callable[[np.ndarray]
         more = check_ratios(again.acceleration, dt, check_periods, target_sa(check_periods), settings.damping)
         if _spread(more) < _spread(ratios):
             adjusted, ratios, iterations = again, more, iterations + again.iterations
-    return MatchResult(adjusted.acceleration, dt, iterations, _within(ratios, settings), check_periods, ratios, scale)
+    kept = keep_shares(adjusted.acceleration, seed, dt)
+    if kept is not adjusted.acceleration:
+        ratios = check_ratios(kept, dt, check_periods, target_sa(check_periods), settings.damping)
+    return MatchResult(kept, dt, iterations, _within(ratios, settings), check_periods, ratios, scale)
 
 
 def _spread(ratios: np.ndarray) -> float:
