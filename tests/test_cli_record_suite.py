@@ -58,7 +58,10 @@ def test_generate_writes_records_and_manifest(generated):
     assert ratios.max() == pytest.approx(row["ratio_max"], abs=2e-4)
     assert row["tolerance_met"] and ratios.min() >= 0.9 and ratios.max() <= 1.3
     assert record.pga / 9.80665 == pytest.approx(row["pga_g"], abs=1e-4)
-    assert row["duration_s"] == 20.0 and "synthetic" in (out / row["file"]).read_text().splitlines()[3]
+    # issue 36: the length is the drawn envelope's (until 99 % of its intensity), no longer a fixed 20 s
+    text = (out / row["file"]).read_text()
+    assert row["duration_s"] > row["d5_95_s"] > 0.0 and "synthetic" in text.splitlines()[3]
+    assert "(Afshari & Stewart 2016)" in text
     assert "fewer than 7 records the design value is the maximum" in result.stderr
 
 

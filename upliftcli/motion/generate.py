@@ -55,6 +55,9 @@ CORNER = 0.2
 MAX_ATTEMPTS = 10  # draws tried for one record before giving up
 #: changes whenever a seed gives another record (manifests and the cache of check suites name it)
 GENERATOR_VERSION = "rdk2010-as16-gamma-5"
+#: f_mid [Hz] of a firm site is drawn within this band (zero crossings 6-9 per second, the Fourier
+#: ratio 15-40 / 1-3 Hz at most about 0.04); a soft site's band is lowered with f_mid (site_factor)
+FIRM_BAND = (3.4, 4.4)
 #: Vs30 [m/s] below which the site lowers the filter's frequency, by (Vs30 / SOFT_SITE)^SOFT_POWER
 SOFT_SITE = 360.0
 SOFT_POWER = 0.5
@@ -93,9 +96,10 @@ def site_factor(vs30: float) -> float:
 def draw_parameters(rng: np.random.Generator, target_spectrum, match_range: tuple[float, float],
                     envelope: Envelope, vs30: float) -> FilterParameters:
     """The filter of one record (module docstring)."""
+    site = site_factor(vs30)
     centre = float(np.clip(1.0 / predominant_period(target_spectrum, match_range), *MID_FREQUENCY))
-    mid = centre * site_factor(vs30) * math.exp(0.25 * rng.standard_normal())
-    rate = -mid * rng.uniform(0.01, 0.04)
+    mid = float(np.clip(centre * site * math.exp(0.25 * rng.standard_normal()), *(site * f for f in FIRM_BAND)))
+    rate = -mid * rng.uniform(0.1, 0.4) / envelope.d5_95
     damping = rng.uniform(0.15, 0.4)
     lowest = max(0.3, 1.0 / match_range[1])
     corner = CORNER
