@@ -74,6 +74,8 @@ def generate(
     dt: float | None = typer.Option(None, "--dt", help=f"Time step of the records [s] (default {DEFAULT_DT:g})."),
     stationary: float | None = typer.Option(None, "--stationary", help="Shortest strong-motion duration D5-95 of a "
                                             "record [s] (default: the code's, 10 s for EN 1998-1)."),
+    scenario: str | None = typer.Option(None, "--scenario", help="Earthquake scenario of the durations: 'M,R_rup "
+                                        "km,Vs30 m/s[,SS|NS|RS]' (default: by the spectrum's level and site)."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SUITE_SET_HELP),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing files in --out."),
 ) -> None:
@@ -83,15 +85,16 @@ def generate(
     from ..motion.matching import settings_for
 
     _check_generate_options(count, seed, stationary)
+    given = _scenario(scenario)
     loaded, plan = load_plan(deck, settings)
     dt = _generate_step(loaded, plan, dt)
-    envelopes = _generate_envelopes(plan, dt, count, seed, stationary)
+    envelopes = _generate_envelopes(plan, dt, count, seed, stationary, given)
     names = [f"artificial_{seed}_{k + 1:02d}.txt" for k in range(count)]
     check_out(out, [*names, "manifest.json"], overwrite, [deck])
     match_settings = settings_for(plan.rule)
     suite, items = generate_suite(plan.target, plan.period_range, plan.rule, count, seed, dt, envelopes,
-                                  match_settings, plan.period_note)
-    files = _generated_files(deck, plan, suite, items, names, match_settings, seed)
+                                  match_settings, plan.period_note, given)
+    files = _generated_files(deck, plan, suite, items, names, match_settings, seed, given)
     write_suite(out, files, suite, names, f"Artificial records, seed {seed}", match_settings, suite.warnings)
 
 
@@ -130,12 +133,45 @@ def _default_step(loaded, plan: SuitePlan, largest: float) -> float:
     return DEFAULT_DT
 
 
-def _generate_envelopes(plan: SuitePlan, dt: float, count: int, seed: int, stationary: float | None) -> list:
+SCENARIO_HELP = ("'M,R_rup,Vs30' or 'M,R_rup,Vs30,SS|NS|RS' with M 3-7.9, R_rup 0-300 km, Vs30 150-1500 m/s "
+                 "(Afshari & Stewart 2016)")
+
+
+def _scenario(text: str | None):
+    """The --scenario 'M,R,Vs30[,mechanism]' as a durations.Scenario (None: the default); one line if malformed."""
+    if text is None:
+        return None
+    from ..motion.durations import Scenario
+
+    parts = [p.strip() for p in text.split(",")]
+    values = _scenario_numbers(parts[:3])
+    mechanism = parts[3].upper() if len(parts) == 4 else ""
+    if values is None or len(parts) > 4 or mechanism not in ("", "SS", "NS", "RS"):
+        raise InputError("--scenario", text, SCENARIO_HELP)
+    return Scenario(*values, mechanism)
+
+
+def _scenario_numbers(parts: list[str]) -> list[float] | None:
+    """M, R_rup, Vs30 within the model's ranges, or None."""
+    from ..motion.durations import RANGES
+
+    bounds = (RANGES["magnitude"], (0.0, 300.0), RANGES["vs30"])
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        return None
+    inside = len(values) == 3 and all(lo <= v <= hi for v, (lo, hi) in zip(values, bounds, strict=True))
+    return values if inside else None
+
+
+def _generate_envelopes(plan: SuitePlan, dt: float, count: int, seed: int, stationary: float | None,
+                        scenario=None) -> list:
     """The envelopes of the records (generate.suite_envelopes), the suite within the tool's limits of samples."""
     from ..motion.generate import suite_envelopes
     from ..motion.suites import SAMPLES_PER_PERIOD
 
-    envelopes = suite_envelopes(plan.target, plan.period_range, plan.rule, count, seed, minimum=stationary or 0.0)
+    envelopes = suite_envelopes(plan.target, plan.period_range, plan.rule, count, seed, scenario,
+                                stationary or 0.0)
     longest = max(envelopes, key=lambda e: e.duration)
     samples = [e.samples(dt) for e in envelopes]
     problem = limits.suite_samples_problem(samples, f"{count:,} records of up to {max(samples):,} samples: "
@@ -163,9 +199,11 @@ def _fits(samples: int) -> bool:
 
 
 def _generated_files(deck: Path, plan: SuitePlan, suite: Suite, items: list, names: list[str],
-                     match_settings: MatchSettings, seed: int) -> dict[str, str]:
+                     match_settings: MatchSettings, seed: int, given=None) -> dict[str, str]:
     """The generated records as text files with their provenance, then manifest.json."""
-    from ..motion.generate import GENERATOR_VERSION
+    from dataclasses import asdict
+
+    from ..motion.generate import GENERATOR_VERSION, suite_scenario
     from ..motion.record_files import manifest_text, measure_row, model_row, record_checks, record_text, sha256
 
     files, rows = {}, []
@@ -179,7 +217,9 @@ def _generated_files(deck: Path, plan: SuitePlan, suite: Suite, items: list, nam
                      **measure_row(motion), "sha256": sha256(text)})
     files["manifest.json"] = manifest_text(suite, match_settings, "record generate", str(deck), rows,
                                            {"seed": seed, "count": len(names), "generator": GENERATOR_VERSION,
-                                            "match_range_s": list(items[0].match_range)})
+                                            "match_range_s": list(items[0].match_range),
+                                            "scenario": {**asdict(suite_scenario(plan.target, given)),
+                                                         "given": given is not None}})
     return files
 
 
