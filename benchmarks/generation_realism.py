@@ -44,7 +44,9 @@ def share(motion) -> float:
 
 
 def suite_row(name: str, seed: int, show_records: bool) -> list[float]:
-    """Print one suite's figures; return [D max/min, median share, zc min, zc max, Fourier min, max, end max]."""
+    """Print one suite's figures; return [D max/min, median share, zc min, zc max, Fourier min, max, end max]
+    and the counts: records, firm within 6-10 zero crossings/s, firm records, soft below 6/s, soft records,
+    Fourier ratio within 0.02-0.04, at most 0.04."""
     target, rule = DECKS[name]
     suite, items = generate_suite(target, RANGE, rule, 11, seed)
     found = [measures(m.acceleration, m.dt) for m in suite.motions()]
@@ -65,7 +67,11 @@ def suite_row(name: str, seed: int, show_records: bool) -> list[float]:
             print(f"    record {item.index + 1:2d}: D5-95 {m.d5_95:5.1f} s (envelope {item.envelope.d5_95:5.1f}, shape "
                   f"{item.envelope.shape:.2f}) share {s:.2f} zero cr. {m.zero_crossings:4.1f} f_mid "
                   f"{item.parameters.mid_frequency:4.2f} Hz Fourier {m.fourier_ratio:.3f}")
-    return [d.max() / d.min(), np.median(shares), zc.min(), zc.max(), fr.min(), fr.max(), ends]
+    firm = scenario.vs30 >= 360.0
+    counts = [len(found), int(firm) * int(np.sum((zc >= 6.0) & (zc <= 10.0))), int(firm) * len(found),
+              int(not firm) * int(np.sum(zc < 6.0)), int(not firm) * len(found),
+              int(np.sum((fr >= 0.02) & (fr <= 0.04))), int(np.sum(fr <= 0.04))]
+    return [d.max() / d.min(), np.median(shares), zc.min(), zc.max(), fr.min(), fr.max(), ends, *counts]
 
 
 def main() -> None:
@@ -80,6 +86,10 @@ def main() -> None:
           f"(>= 1.6: {int(np.sum(rows[:, 0] >= 1.6))}); median t45 share {rows[:, 1].min():.3f}-{rows[:, 1].max():.3f} "
           f"(<= 0.35: {int(np.sum(rows[:, 1] <= 0.35))}); Fourier {rows[:, 4].min():.3f}-{rows[:, 5].max():.3f}; "
           f"ends <= {rows[:, 6].max():.4f}")
+    total = rows[:, 7:].sum(axis=0).astype(int)
+    print(f"records: {total[0]}; firm sites (Vs30 >= 360 m/s): {total[1]} of {total[2]} with 6-10 zero crossings/s; "
+          f"soft sites: {total[3]} of {total[4]} below 6/s; Fourier ratio 0.02-0.04: {total[5]} of {total[0]}, "
+          f"<= 0.04: {total[6]} of {total[0]}")
 
 
 if __name__ == "__main__":

@@ -13,13 +13,17 @@ filtered noise, so that x(t) has the variance q(t)^2; then high-passed by a crit
 oscillator (RDK Eq. 5, corner f_c) so that it ends at rest. h is an oscillator's displacement
 response: above f_mid the Fourier amplitude falls as f^-2, the high-frequency fall-off of
 recorded motions (measures.fourier_ratio), and the strong motion crosses zero about 2 f_mid
-times a second. The modulating function q(t) is the envelope of Jennings, Housner & Tsai
-(1968): (t/rise)^2 rising, 1 over the stationary part that EN 1998-1 3.2.3.1.2(3) asks of
-artificial records (10 s), exponential decay to `final`, tapered to 0 over the last second.
+times a second. The modulating function q(t) is the gamma-shaped one of Rezaeian & Der
+Kiureghian (2008), its D5-95 drawn from Afshari & Stewart (2016) for a scenario and its shape
+setting the time of 45 % of the Arias intensity (envelopes.py, issue 36): a build-up, a strong
+phase and an exponential coda, the record tapered to 0 over its first and last second (after the
+high-pass, so that it ends at 0).
 
-Parameters from the target and the draw: f_mid = 1/T_p (T_p the log-centre of the periods where
-the target is at least 90 % of its largest ordinate), clipped to MID_FREQUENCY, times
-exp(0.25 N(0, 1)); f' = -f_mid U(0.01, 0.04) per second; z_f = U(0.15, 0.4); f(t) is held above
+Parameters from the target, the site and the draw: f_mid = 1/T_p (T_p the log-centre of the
+periods where the target is at least 90 % of its largest ordinate), clipped to MID_FREQUENCY,
+times the site factor (Vs30 / 360 m/s)^0.5 below 360 m/s (site_factor), times exp(0.25 N(0, 1)),
+held within FIRM_BAND times the site factor; f' = -f_mid U(0.1, 0.4) / D5-95 (the filter's
+frequency falls by 10-40 % over the strong motion); z_f = U(0.15, 0.4); f(t) is held above
 1/T_upper and 0.3 Hz. The record is then matched (matching.match_acceleration: scaled, then
 wavelets) to the matching target over the target's whole defined range within GENERATION_RANGE
 and at least the suite's period range, not only over the suite's range: its spectrum follows the
@@ -57,7 +61,7 @@ MAX_ATTEMPTS = 10  # draws tried for one record before giving up
 GENERATOR_VERSION = "rdk2010-as16-gamma-5"
 #: f_mid [Hz] of a firm site is drawn within this band (zero crossings 6-9 per second, the Fourier
 #: ratio 15-40 / 1-3 Hz at most about 0.04); a soft site's band is lowered with f_mid (site_factor)
-FIRM_BAND = (3.4, 4.4)
+FIRM_BAND = (3.6, 4.4)
 #: Vs30 [m/s] below which the site lowers the filter's frequency, by (Vs30 / SOFT_SITE)^SOFT_POWER
 SOFT_SITE = 360.0
 SOFT_POWER = 0.5
