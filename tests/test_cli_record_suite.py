@@ -13,6 +13,7 @@ from cli_helpers import invoke
 from fine_spectra import pseudo_acceleration
 
 from upliftcli.motion.design_spectra import EC8Spectrum
+from upliftcli.motion.measures import significant_duration
 from upliftcli.motion.records import read_record
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -59,8 +60,26 @@ def test_generate_writes_records_and_manifest(generated):
     assert ratios.max() == pytest.approx(row["ratio_max"], abs=2e-4)
     assert row["tolerance_met"] and ratios.min() >= 0.9 and ratios.max() <= 1.3
     assert record.pga / 9.80665 == pytest.approx(row["pga_g"], abs=1e-4)
-    assert row["duration_s"] == 20.0 and "synthetic" in (out / row["file"]).read_text().splitlines()[3]
+    # issue 36: the length is the drawn envelope's (until 99 % of its intensity), no longer a fixed 20 s
+    text = (out / row["file"]).read_text()
+    assert row["duration_s"] > row["d5_95_s"] > 0.0 and "synthetic" in text.splitlines()[3]
+    assert "(Afshari & Stewart 2016)" in text
     assert "fewer than 7 records the design value is the maximum" in result.stderr
+
+
+def test_generate_draws_durations_for_the_given_scenario(tmp_path):
+    """--scenario sets the scenario of the drawn durations (Afshari & Stewart 2016): a large, distant
+    one lengthens the records against a small, near one (issue 36); the manifest names it."""
+    deck = deck_with(tmp_path, EC8)
+    lengths = {}
+    for label, scenario in (("near", "5.5,5,760"), ("far", "7.8,150,250,RS")):
+        out = tmp_path / label
+        result = invoke("record", "generate", deck, "--count", 2, "--seed", 3, "--out", out, "--scenario", scenario)
+        assert result.exit_code == 0, result.output
+        manifest = json.loads((out / "manifest.json").read_text())
+        assert manifest["scenario"]["given"] and manifest["scenario"]["magnitude"] == float(scenario.split(",")[0])
+        lengths[label] = [row["d5_95_s"] for row in manifest["records"]]
+    assert min(lengths["far"]) > 2.0 * max(lengths["near"])
 
 
 def test_generate_is_reproducible_and_keeps_existing_files(generated, tmp_path):
@@ -94,6 +113,10 @@ def test_generate_bad_input_one_line_and_nothing_written(tmp_path):
         (["--stationary", "9999"], "--stationary: 9999: records of at most 1,000,000 samples"),
         (["--stationary", "-1"], "--stationary: -1: a stationary duration > 0 s"),
         (["--stationary", "1e300", "--dt", "1e-30"], "--stationary: 1e+300: records of at most 1,000,000 samples"),
+        (["--scenario", "7,20"], "--scenario: 7,20: 'M,R_rup,Vs30' or 'M,R_rup,Vs30,SS|NS|RS' with M 3-7.9"),
+        (["--scenario", "9,20,400"], "--scenario: 9,20,400: 'M,R_rup,Vs30'"),
+        (["--scenario", "7,20,400,XX"], "--scenario: 7,20,400,XX: 'M,R_rup,Vs30'"),
+        (["--scenario", "7,a,400"], "--scenario: 7,a,400: 'M,R_rup,Vs30'"),
     ]
     for extra, message in cases:
         result = invoke("record", "generate", deck, "--seed", 1, "--out", out, *extra)  # the last --seed counts
@@ -127,6 +150,14 @@ def test_match_writes_matched_record_with_provenance(tmp_path):
     assert "ASCE 7-22 11.4.5 permits the two-period design spectrum" in result.stderr
     matched = read_record(out / "elcentro_1940_ns_chopra_matched.txt")
     assert matched.npts == read_record(RECORD).npts
+    # issue 36: what matching changed, in the manifest (recomputed here from the files) and on screen
+    row = manifest["records"][0]
+    original = read_record(RECORD)
+    assert row["d5_95_ratio"] == pytest.approx(significant_duration(matched.acceleration, matched.dt)
+                                               / significant_duration(original.acceleration, original.dt), abs=2e-3)
+    assert row["d5_95_ratio"] <= 1.25 and row["early_arias_gain"] <= 0.02
+    assert 0.5 < row["pgv_ratio"] < 2.0 and 0.3 < row["pgd_ratio"] < 3.0
+    assert f"PGV x{row['pgv_ratio']:.3f}, PGD x{row['pgd_ratio']:.3f}" in result.stdout
 
 
 def test_match_errors(tmp_path):

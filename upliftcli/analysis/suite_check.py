@@ -93,7 +93,8 @@ def check_suite(spectrum, note=None) -> tuple[Suite, dict[str, Any]]:
             "period_range": list(period_range), "target": spectrum.name, "cache": str(path)}
     try:
         with np.load(path) as stored:
-            accelerations, factors = stored["acceleration"], stored["factors"]
+            accelerations = np.split(stored["acceleration"], np.cumsum(stored["lengths"])[:-1])
+            factors = stored["factors"]
     except (OSError, KeyError, ValueError):
         if note is not None:
             note(f"generating the check suite ({CHECK_COUNT} records for {spectrum.name}, seed {CHECK_SEED}); "
@@ -107,24 +108,26 @@ def check_suite(spectrum, note=None) -> tuple[Suite, dict[str, Any]]:
     return suite, info
 
 
-def _generated(spectrum, period_range: tuple[float, float], rule, path: Path) -> tuple[np.ndarray, np.ndarray]:
-    """The accelerations [g] and factors of a newly generated check suite (generate.generate_suite),
-    stored at path (_store)."""
+def _generated(spectrum, period_range: tuple[float, float], rule, path: Path) -> tuple[list[np.ndarray], np.ndarray]:
+    """The accelerations [g] (records of their own lengths, issue 36) and factors of a newly
+    generated check suite (generate.generate_suite), stored at path (_store)."""
     from ..motion.generate import generate_suite
 
     suite, _ = generate_suite(spectrum, period_range, rule, CHECK_COUNT, CHECK_SEED, CHECK_DT)
-    accelerations = np.array([record.acceleration for record in suite.records])
+    accelerations = [record.acceleration for record in suite.records]
     factors = np.array(suite.factors)
     _store(path, accelerations, factors)
     return accelerations, factors
 
 
-def _store(path: Path, accelerations: np.ndarray, factors: np.ndarray) -> None:
-    """Write the suite's arrays atomically; a cache that cannot be written is only not kept."""
+def _store(path: Path, accelerations: list[np.ndarray], factors: np.ndarray) -> None:
+    """Write the suite's arrays atomically (the records end to end, and their lengths); a cache
+    that cannot be written is only not kept."""
     from ..runtime.atomic import write_bytes
 
     buffer = io.BytesIO()
-    np.savez(buffer, acceleration=accelerations, factors=factors)
+    np.savez(buffer, acceleration=np.concatenate(accelerations), lengths=np.array([a.size for a in accelerations]),
+             factors=factors)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         write_bytes(path, buffer.getvalue())

@@ -73,7 +73,10 @@ def generate(
     seed: int = typer.Option(..., "--seed", help="Seed: record k is reproducible from (seed, k)."),
     out: Path = typer.Option(..., "--out", "-o", parser=given_path, help=SUITE_OUT_HELP),
     dt: float | None = typer.Option(None, "--dt", help=f"Time step of the records [s] (default {DEFAULT_DT:g})."),
-    stationary: float = typer.Option(10.0, "--stationary", help="Stationary part of the envelope [s] (EC8: >= 10)."),
+    stationary: float | None = typer.Option(None, "--stationary", help="Shortest strong-motion duration D5-95 of a "
+                                            "record [s] (default: the code's, 10 s for EN 1998-1)."),
+    scenario: str | None = typer.Option(None, "--scenario", help="Earthquake scenario of the durations: 'M,R_rup "
+                                        "km,Vs30 m/s[,SS|NS|RS]' (default: by the spectrum's level and site)."),
     settings: list[str] = typer.Option([], "--set", "-s", help=SUITE_SET_HELP),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing files in --out."),
 ) -> None:
@@ -83,24 +86,25 @@ def generate(
     from ..motion.matching import settings_for
 
     _check_generate_options(count, seed, stationary)
+    given = _scenario(scenario)
     loaded, plan = load_plan(deck, settings)
     dt = _generate_step(loaded, plan, dt)
-    envelope = _generate_envelope(plan, dt, count, stationary)
+    envelopes = _generate_envelopes(plan, dt, count, seed, stationary, given)
     names = [f"artificial_{seed}_{k + 1:02d}.txt" for k in range(count)]
     check_out(out, [*names, "manifest.json"], overwrite, [deck])
     match_settings = settings_for(plan.rule)
-    suite, items = generate_suite(plan.target, plan.period_range, plan.rule, count, seed, dt, envelope, match_settings,
-                                  plan.period_note)
-    files = _generated_files(deck, plan, suite, items, names, match_settings, seed)
+    suite, items = generate_suite(plan.target, plan.period_range, plan.rule, count, seed, dt, envelopes,
+                                  match_settings, plan.period_note, given)
+    files = _generated_files(deck, plan, suite, items, names, match_settings, seed, given)
     write_suite(out, files, suite, names, f"Artificial records, seed {seed}", match_settings, suite.warnings)
 
 
-def _check_generate_options(count: int, seed: int, stationary: float) -> None:
+def _check_generate_options(count: int, seed: int, stationary: float | None) -> None:
     """--count, --seed and --stationary within their ranges, before the deck is read."""
     check_count(count)
     if not 0 <= seed <= limits.MAX_SEED:
         raise InputError("--seed", str(seed), f"an integer from 0 to {limits.MAX_SEED:,}")
-    if not (math.isfinite(stationary) and stationary > 0.0):
+    if stationary is not None and not (math.isfinite(stationary) and stationary > 0.0):
         raise InputError("--stationary", f"{stationary:g}", "a stationary duration > 0 s")
 
 
@@ -130,29 +134,64 @@ def _default_step(loaded, plan: SuitePlan, largest: float) -> float:
     return DEFAULT_DT
 
 
-def _generate_envelope(plan: SuitePlan, dt: float, count: int, stationary: float):
-    """The envelope of the records, the suite within the tool's limits of samples."""
-    from ..motion.generate import Envelope, suite_envelope
+SCENARIO_HELP = ("'M,R_rup,Vs30' or 'M,R_rup,Vs30,SS|NS|RS' with M 3-7.9, R_rup 0-300 km, Vs30 150-1500 m/s "
+                 "(Afshari & Stewart 2016)")
+
+
+def _scenario(text: str | None):
+    """The --scenario 'M,R,Vs30[,mechanism]' as a durations.Scenario (None: the default); one line if malformed."""
+    if text is None:
+        return None
+    from ..motion.durations import Scenario
+
+    parts = [p.strip() for p in text.split(",")]
+    values = _scenario_numbers(parts[:3])
+    mechanism = parts[3].upper() if len(parts) == 4 else ""
+    if values is None or len(parts) > 4 or mechanism not in ("", "SS", "NS", "RS"):
+        raise InputError("--scenario", text, SCENARIO_HELP)
+    return Scenario(*values, mechanism)
+
+
+def _scenario_numbers(parts: list[str]) -> list[float] | None:
+    """M, R_rup, Vs30 within the model's ranges, or None."""
+    from ..motion.durations import RANGES
+
+    bounds = (RANGES["magnitude"], (0.0, 300.0), RANGES["vs30"])
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        return None
+    inside = len(values) == 3 and all(lo <= v <= hi for v, (lo, hi) in zip(values, bounds, strict=True))
+    return values if inside else None
+
+
+def _generate_envelopes(plan: SuitePlan, dt: float, count: int, seed: int, stationary: float | None,
+                        scenario=None) -> list:
+    """The envelopes of the records (generate.suite_envelopes), the suite within the tool's limits of samples."""
+    from ..motion.generate import suite_envelopes
     from ..motion.suites import SAMPLES_PER_PERIOD
 
-    envelope = suite_envelope(plan.period_range, plan.rule, Envelope(strong=stationary))
-    samples = envelope.samples(dt)
-    problem = limits.suite_samples_problem([samples] * count, f"{count:,} records of {samples:,} samples: "
-                                           f"{envelope.duration:.4g} s at dt = {dt:g} s")
+    envelopes = suite_envelopes(plan.target, plan.period_range, plan.rule, count, seed, scenario,
+                                stationary or 0.0)
+    longest = max(envelopes, key=lambda e: e.duration)
+    samples = [e.samples(dt) for e in envelopes]
+    problem = limits.suite_samples_problem(samples, f"{count:,} records of up to {max(samples):,} samples: "
+                                           f"{longest.duration:.4g} s at dt = {dt:g} s")
     if problem:
-        raise InputError(*_generate_blame(envelope, dt, count, plan.period_range[0] / SAMPLES_PER_PERIOD,
+        raise InputError(*_generate_blame(longest, dt, count, plan.period_range[0] / SAMPLES_PER_PERIOD,
                                           stationary), problem)
-    return envelope
+    return envelopes
 
 
-def _generate_blame(envelope, dt: float, count: int, largest_dt: float, stationary: float) -> tuple[str, str]:
+def _generate_blame(envelope, dt: float, count: int, largest_dt: float, stationary: float | None
+                    ) -> tuple[str, str]:
     """(option, value) of `record generate` that exceeds the suite limits: --count when one record
     is within them, else --dt when a record at the default step would be, else --stationary."""
     if _fits(envelope.samples(dt)) and count > 1:
         return "--count", str(count)
     if _fits(envelope.samples(min(0.01, largest_dt))):
         return "--dt", f"{dt:g}"
-    return "--stationary", f"{stationary:g}"
+    return "--stationary", f"{stationary or 0.0:g}"
 
 
 def _fits(samples: int) -> bool:
@@ -161,9 +200,11 @@ def _fits(samples: int) -> bool:
 
 
 def _generated_files(deck: Path, plan: SuitePlan, suite: Suite, items: list, names: list[str],
-                     match_settings: MatchSettings, seed: int) -> dict[str, str]:
+                     match_settings: MatchSettings, seed: int, given=None) -> dict[str, str]:
     """The generated records as text files with their provenance, then manifest.json."""
-    from ..motion.generate import GENERATOR_VERSION
+    from dataclasses import asdict
+
+    from ..motion.generate import GENERATOR_VERSION, suite_scenario
     from ..motion.record_files import manifest_text, measure_row, model_row, record_checks, record_text, sha256
 
     files, rows = {}, []
@@ -177,19 +218,23 @@ def _generated_files(deck: Path, plan: SuitePlan, suite: Suite, items: list, nam
                      **measure_row(motion), "sha256": sha256(text)})
     files["manifest.json"] = manifest_text(suite, match_settings, "record generate", str(deck), rows,
                                            {"seed": seed, "count": len(names), "generator": GENERATOR_VERSION,
-                                            "match_range_s": list(items[0].match_range)})
+                                            "match_range_s": list(items[0].match_range),
+                                            "scenario": {**asdict(suite_scenario(plan.target, given)),
+                                                         "given": given is not None}})
     return files
 
 
 def _generated_provenance(plan: SuitePlan, item, seed: int, factor: float) -> list[str]:
     """The provenance lines of one generated record: its draw, model, envelope and matching."""
     envelope, model = item.envelope, item.parameters
+    start, middle = envelope.arias_time(0.05), envelope.arias_time(0.45)
     return [
         f"synthetic: generated by `uplift record generate` (seed {seed}, index {item.index}, draw {item.attempt})",
         "model: Rezaeian & Der Kiureghian (2010) filtered white noise, time-varying filter "
         f"(f_mid {model.mid_frequency:.3g} Hz, f' {model.rate:.3g} Hz/s, damping {model.damping:.3g}), "
         f"high-pass corner {model.corner:.3g} Hz",
-        f"envelope: rise {envelope.rise:g} s, stationary {envelope.strong:g} s, decay {envelope.decay:g} s",
+        f"envelope: gamma (Rezaeian & Der Kiureghian 2008), shape {envelope.shape:.4g}, D5-95 {envelope.d5_95:.4g} s "
+        f"(Afshari & Stewart 2016), t_45 {middle:.4g} s, t_5 {start:.4g} s, length {envelope.duration:.4g} s",
         f"matched by wavelets (Al Atik & Abrahamson 2010) over {item.match_range[0]:.3g}-"
         f"{item.match_range[1]:.3g} s to {plan.target.name}, {plan.rule.label}",
         f"period range {plan.period_range[0]:.4g}-{plan.period_range[1]:.4g} s; amplitude factor {factor:.6g}",
@@ -224,8 +269,18 @@ def match(
     match_settings = settings_for(plan.rule)
     suite = build_suite(seeds, plan.target, plan.period_range, plan.rule, "match", period_note=plan.period_note,
                         settings=match_settings, source=str(deck))
-    files_out = _matched_files(deck, plan, suite, seeds, names, match_settings)
+    files_out, changes = _matched_files(deck, plan, suite, seeds, names, match_settings)
     write_suite(out, files_out, suite, names, "Matched records", match_settings, suite.warnings)
+    _print_changes(names, changes)
+
+
+def _print_changes(names: list[str], changes: list[dict[str, float]]) -> None:
+    """One line per matched record: what matching changed (record_files.character_row)."""
+    typer.echo("what matching changed (D5-95 and PGV, PGD: matched / original at the same Arias intensity; "
+               "net Arias share added before the original's t_5):")
+    for name, change in zip(names, changes, strict=True):
+        typer.echo(f"  {name}: D5-95 x{change['d5_95_ratio']:.3f}, PGV x{change['pgv_ratio']:.3f}, "
+                   f"PGD x{change['pgd_ratio']:.3f}, early Arias {100 * change['early_arias_gain']:+.2f} %")
 
 
 def _check_match_size(deck: Path, files: list[Path] | None, seeds: list[records.Record]) -> None:
@@ -250,20 +305,22 @@ def _matched_names(seeds: list[records.Record]) -> list[str]:
 
 
 def _matched_files(deck: Path, plan: SuitePlan, suite: Suite, seeds: list[records.Record], names: list[str],
-                   match_settings: MatchSettings) -> dict[str, str]:
-    """The matched records as text files with their provenance, then manifest.json."""
-    from ..motion.record_files import manifest_text, measure_row, record_checks, record_text, sha256
+                   match_settings: MatchSettings) -> tuple[dict[str, str], list[dict[str, float]]]:
+    """The matched records as text files with their provenance, then manifest.json; and what
+    matching changed in each record (record_files.character_row)."""
+    from ..motion.record_files import character_row, manifest_text, measure_row, record_checks, record_text, sha256
 
-    files, rows = {}, []
+    files, rows, changes = {}, [], []
     for name, seed, motion, factor, check in zip(names, seeds, suite.motions(), suite.factors,
                                                  record_checks(suite, match_settings), strict=True):
         text = record_text(f"{seed.name} (matched)", motion.dt, motion.acceleration,
                            _matched_provenance(plan, seed, factor))
         files[name] = text
+        changes.append(character_row(seed, motion))
         rows.append({"file": name, "from": seed.source, "factor": round(factor, 6), **check, **measure_row(motion),
-                     "sha256": sha256(text)})
+                     **changes[-1], "sha256": sha256(text)})
     files["manifest.json"] = manifest_text(suite, match_settings, "record match", str(deck), rows)
-    return files
+    return files, changes
 
 
 def _matched_provenance(plan: SuitePlan, seed: records.Record, factor: float) -> list[str]:

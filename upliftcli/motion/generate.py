@@ -13,13 +13,17 @@ filtered noise, so that x(t) has the variance q(t)^2; then high-passed by a crit
 oscillator (RDK Eq. 5, corner f_c) so that it ends at rest. h is an oscillator's displacement
 response: above f_mid the Fourier amplitude falls as f^-2, the high-frequency fall-off of
 recorded motions (measures.fourier_ratio), and the strong motion crosses zero about 2 f_mid
-times a second. The modulating function q(t) is the envelope of Jennings, Housner & Tsai
-(1968): (t/rise)^2 rising, 1 over the stationary part that EN 1998-1 3.2.3.1.2(3) asks of
-artificial records (10 s), exponential decay to `final`, tapered to 0 over the last second.
+times a second. The modulating function q(t) is the gamma-shaped one of Rezaeian & Der
+Kiureghian (2008), its D5-95 drawn from Afshari & Stewart (2016) for a scenario and its shape
+setting the time of 45 % of the Arias intensity (envelopes.py, issue 36): a build-up, a strong
+phase and an exponential coda, the record tapered to 0 over its first and last second (after the
+high-pass, so that it ends at 0).
 
-Parameters from the target and the draw: f_mid = 1/T_p (T_p the log-centre of the periods where
-the target is at least 90 % of its largest ordinate), clipped to MID_FREQUENCY, times
-exp(0.25 N(0, 1)); f' = -f_mid U(0.01, 0.04) per second; z_f = U(0.15, 0.4); f(t) is held above
+Parameters from the target, the site and the draw: f_mid = 1/T_p (T_p the log-centre of the
+periods where the target is at least 90 % of its largest ordinate), clipped to MID_FREQUENCY,
+times the site factor (Vs30 / 360 m/s)^0.5 below 360 m/s (site_factor), times exp(0.25 N(0, 1)),
+held within FIRM_BAND times the site factor; f' = -f_mid U(0.1, 0.4) / D5-95 (the filter's
+frequency falls by 10-40 % over the strong motion); z_f = U(0.15, 0.4); f(t) is held above
 1/T_upper and 0.3 Hz. The record is then matched (matching.match_acceleration: scaled, then
 wavelets) to the matching target over the target's whole defined range within GENERATION_RANGE
 and at least the suite's period range, not only over the suite's range: its spectrum follows the
@@ -31,12 +35,14 @@ the rare draw that does not meet the tolerance, tried again up to MAX_ATTEMPTS t
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import AnalysisError, InputError
 from .code_rules import CodeRule
+from .durations import Scenario
+from .envelopes import Envelope, default_scenario, draw_envelope
 from .matching import MatchResult, MatchSettings, control_periods, match_acceleration, matching_target, settings_for
 from .records import Record
 from .suites import MIN_CYCLES, SAMPLES_PER_PERIOD, Suite, check_target, with_matched_factors
@@ -52,45 +58,13 @@ MID_FREQUENCY = (1.5, 8.0)
 CORNER = 0.2
 MAX_ATTEMPTS = 10  # draws tried for one record before giving up
 #: changes whenever a seed gives another record (manifests and the cache of check suites name it)
-GENERATOR_VERSION = "rdk2010-wavelets-4"
-
-
-@dataclass(frozen=True)
-class Envelope:
-    """Jennings, Housner & Tsai (1968) envelope: rise [s] with (t/rise)^2, stationary part
-    `strong` [s] at 1, then exponential decay over `decay` [s] down to `final` [-]."""
-
-    rise: float = 2.0
-    strong: float = 10.0
-    decay: float = 8.0
-    final: float = 0.05
-
-    @property
-    def duration(self) -> float:
-        """Total duration [s]."""
-        return self.rise + self.strong + self.decay
-
-    def __call__(self, t: np.ndarray) -> np.ndarray:
-        t = np.asarray(t, dtype=float)
-        t2 = self.rise + self.strong
-        rate = -math.log(self.final) / self.decay
-        decay = np.exp(-rate * np.maximum(t - t2, 0.0))  # 1 before t2 (no overflow where it is not used)
-        return np.where(t < self.rise, (t / self.rise) ** 2, np.where(t <= t2, 1.0, decay))
-
-    def samples(self, dt: float) -> int:
-        """Samples of a record of this envelope at step dt [s] (stochastic_record); 2^62 for
-        a count beyond it (an infinite duration / dt)."""
-        count = self.duration / dt
-        return round(count) + 1 if count < 2.0**62 else 2**62
-
-
-def envelope_for(period_range: tuple[float, float], min_cycles: float, envelope: Envelope = Envelope()) -> Envelope:
-    """`envelope` with its stationary part lengthened (never shortened) so that the record lasts
-    at least min_cycles x the upper period [s] of the range."""
-    shortfall = min_cycles * period_range[1] - envelope.duration
-    if shortfall <= 0.0:
-        return envelope
-    return Envelope(envelope.rise, envelope.strong + shortfall, envelope.decay, envelope.final)
+GENERATOR_VERSION = "rdk2010-as16-gamma-5"
+#: f_mid [Hz] of a firm site is drawn within this band (zero crossings 6-9 per second, the Fourier
+#: ratio 15-40 / 1-3 Hz at most about 0.04); a soft site's band is lowered with f_mid (site_factor)
+FIRM_BAND = (3.6, 4.4)
+#: Vs30 [m/s] below which the site lowers the filter's frequency, by (Vs30 / SOFT_SITE)^SOFT_POWER
+SOFT_SITE = 360.0
+SOFT_POWER = 0.5
 
 
 @dataclass(frozen=True)
@@ -118,16 +92,22 @@ def predominant_period(target_spectrum, match_range: tuple[float, float], dampin
     return float(math.sqrt(high[0] * high[-1]))
 
 
+def site_factor(vs30: float) -> float:
+    """The factor [-] on f_mid of a site of this Vs30 [m/s]: (Vs30 / SOFT_SITE)^SOFT_POWER below SOFT_SITE, else 1."""
+    return min(1.0, vs30 / SOFT_SITE) ** SOFT_POWER
+
+
 def draw_parameters(rng: np.random.Generator, target_spectrum, match_range: tuple[float, float],
-                    envelope: Envelope) -> FilterParameters:
+                    envelope: Envelope, vs30: float) -> FilterParameters:
     """The filter of one record (module docstring)."""
+    site = site_factor(vs30)
     centre = float(np.clip(1.0 / predominant_period(target_spectrum, match_range), *MID_FREQUENCY))
-    mid = centre * math.exp(0.25 * rng.standard_normal())
-    rate = -mid * rng.uniform(0.01, 0.04)
+    mid = float(np.clip(centre * site * math.exp(0.25 * rng.standard_normal()), *(site * f for f in FIRM_BAND)))
+    rate = -mid * rng.uniform(0.1, 0.4) / envelope.d5_95
     damping = rng.uniform(0.15, 0.4)
     lowest = max(0.3, 1.0 / match_range[1])
     corner = CORNER
-    return FilterParameters(mid, envelope.rise + 0.5 * envelope.strong, rate, damping, lowest, corner)
+    return FilterParameters(mid, envelope.arias_time(0.45), rate, damping, lowest, corner)
 
 
 def filtered_noise(noise: np.ndarray, dt: float, frequency: np.ndarray, damping: float) -> np.ndarray:
@@ -168,16 +148,16 @@ def high_pass(acceleration: np.ndarray, dt: float, corner: float) -> np.ndarray:
 
 
 def stochastic_record(target_spectrum, match_range: tuple[float, float], draw, dt: float,
-                      envelope: Envelope) -> tuple[np.ndarray, FilterParameters]:
+                      envelope: Envelope, vs30: float) -> tuple[np.ndarray, FilterParameters]:
     """The unscaled, unmatched acceleration [-] of one draw (SeedSequence(draw)) and its filter."""
     rng = np.random.default_rng(np.random.SeedSequence(draw))
-    parameters = draw_parameters(rng, target_spectrum, match_range, envelope)
+    parameters = draw_parameters(rng, target_spectrum, match_range, envelope, vs30)
     n = envelope.samples(dt)
     t = np.arange(n) * dt
     noise = rng.standard_normal(n)
     process = filtered_noise(noise, dt, parameters.frequency(t), parameters.damping)
-    modulated = envelope(t) * end_taper(n, dt) * process
-    return high_pass(modulated, dt, parameters.corner), parameters
+    taper = end_taper(n, dt)
+    return taper * high_pass(envelope(t) * taper * process, dt, parameters.corner), parameters
 
 
 def generation_range(target_spectrum, period_range: tuple[float, float], dt: float) -> tuple[float, float]:
@@ -205,18 +185,22 @@ class Artificial:
 
 
 def generate(target_spectrum, period_range: tuple[float, float], seed: int, index: int = 0, dt: float = 0.01,
-             envelope: Envelope = Envelope(), settings: MatchSettings | None = None) -> Artificial:
+             envelope: Envelope | None = None, settings: MatchSettings | None = None,
+             scenario: Scenario | None = None) -> Artificial:
     """One artificial record for a design spectrum (.sa): matched over generation_range, the
-    tolerance checked over period_range [s]. If it is not met, new draws are made
+    tolerance checked over period_range [s]; its envelope drawn for the scenario (default:
+    envelopes.default_scenario) unless given. If the tolerance is not met, new draws are made
     (SeedSequence([seed, index, attempt]), up to MAX_ATTEMPTS); AnalysisError if none meets it."""
     settings = settings or MatchSettings()
+    scenario = scenario or default_scenario(target_spectrum)
+    envelope = envelope or record_envelope(period_range, seed, index, scenario)
     match_range = generation_range(target_spectrum, period_range, dt)
     periods = control_periods(period_range, settings.periods_per_octave)
     target = matching_target(target_spectrum, settings)
     best = None
     for attempt in range(MAX_ATTEMPTS):
         draw = [int(seed), int(index)] + ([attempt] if attempt else [])
-        seed_record, parameters = stochastic_record(target_spectrum, match_range, draw, dt, envelope)
+        seed_record, parameters = stochastic_record(target_spectrum, match_range, draw, dt, envelope, scenario.vs30)
         result = match_acceleration(seed_record, dt, target, match_range, periods, settings)
         if result.converged:
             return Artificial(result, int(seed), int(index), attempt, envelope, parameters, match_range)
@@ -250,23 +234,39 @@ def check_generation(target_spectrum, period_range: tuple[float, float], dt: flo
                          f"where the records are matched ({target_spectrum.name} is 0 at {zero[0]:.3g} s)")
 
 
-def suite_envelope(period_range: tuple[float, float], rule: CodeRule, envelope: Envelope = Envelope()) -> Envelope:
-    """The envelope of the records of generate_suite: a stationary part of at least
-    rule.stationary_duration, lengthened for MIN_CYCLES of the upper period [s]."""
-    strong = max(envelope.strong, rule.stationary_duration)
-    return envelope_for(period_range, MIN_CYCLES, replace(envelope, strong=strong))
+def record_envelope(period_range: tuple[float, float], seed: int, index: int, scenario: Scenario,
+                    minimum: float = 0.0) -> Envelope:
+    """The envelope of record `index` of `seed` (envelopes.draw_envelope): D5-95 at least
+    `minimum` [s], the record at least MIN_CYCLES x the upper period [s]."""
+    return draw_envelope(seed, index, scenario, minimum, MIN_CYCLES * period_range[1])
+
+
+def suite_envelopes(target_spectrum, period_range: tuple[float, float], rule: CodeRule, count: int, seed: int,
+                    scenario: Scenario | None = None, minimum: float = 0.0) -> list[Envelope]:
+    """The envelopes of generate_suite's records: D5-95 at least rule.stationary_duration (EN 1998-1
+    3.2.3.1.2(3)) and `minimum` [s]."""
+    scenario = suite_scenario(target_spectrum, scenario)
+    shortest = max(rule.stationary_duration, minimum)
+    return [record_envelope(period_range, seed, k, scenario, shortest) for k in range(count)]
+
+
+def suite_scenario(target_spectrum, scenario: Scenario | None = None) -> Scenario:
+    """The scenario given, else the target's default (envelopes.default_scenario)."""
+    return scenario or default_scenario(target_spectrum)
 
 
 def generate_suite(target_spectrum, period_range: tuple[float, float], rule: CodeRule, count: int, seed: int,
-                   dt: float = 0.01, envelope: Envelope = Envelope(), settings: MatchSettings | None = None,
-                   period_note: str = "") -> tuple[Suite, list[Artificial]]:
+                   dt: float = 0.01, envelopes: list[Envelope] | None = None, settings: MatchSettings | None = None,
+                   period_note: str = "", scenario: Scenario | None = None) -> tuple[Suite, list[Artificial]]:
     """`count` artificial records (indices 0..count-1 of `seed`) for the target over period_range [s],
     as a matched Suite (amplitude factors by scaling.matched_factors) and the records' details.
-    The stationary part is at least rule.stationary_duration and long enough for MIN_CYCLES."""
+    Each record's envelope is drawn for the scenario (record_envelope) unless `envelopes` are given."""
     check_generation(target_spectrum, period_range, dt, "record generate")
     settings = settings or settings_for(rule)
-    envelope = suite_envelope(period_range, rule, envelope)
-    items = [generate(target_spectrum, period_range, seed, k, dt, envelope, settings) for k in range(count)]
+    scenario = suite_scenario(target_spectrum, scenario)
+    envelopes = envelopes or suite_envelopes(target_spectrum, period_range, rule, count, seed, scenario)
+    items = [generate(target_spectrum, period_range, seed, k, dt, envelopes[k], settings, scenario)
+             for k in range(count)]
     records = tuple(Record(name=f"artificial {seed}-{k + 1:02d}", dt=dt, acceleration=item.result.acceleration,
                            source=f"artificial {seed}-{k + 1:02d}", units="g") for k, item in enumerate(items))
     provenance = tuple(f"artificial record, seed {seed}, index {item.index}, draw {item.attempt}" for item in items)

@@ -151,7 +151,30 @@ def match_acceleration(acceleration, dt: float, target_sa: Callable[[np.ndarray]
         more = check_ratios(again.acceleration, dt, check_periods, target_sa(check_periods), settings.damping)
         if _spread(more) < _spread(ratios):
             adjusted, ratios, iterations = again, more, iterations + again.iterations
-    return MatchResult(adjusted.acceleration, dt, iterations, _within(ratios, settings), check_periods, ratios, scale)
+    kept, ratios = _kept(adjusted.acceleration, ratios, seed, dt, (periods, target_sa, check_periods), settings)
+    return MatchResult(kept, dt, iterations, _within(ratios, settings), check_periods, ratios, scale)
+
+
+def _kept(acceleration: np.ndarray, ratios: np.ndarray, seed: np.ndarray, dt: float, grid, settings: MatchSettings
+          ) -> tuple[np.ndarray, np.ndarray]:
+    """The matched record with its weak start and coda returned their shares (character.keep_shares)
+    and its ratios at the check periods; when that breaks the tolerance, the wavelets once more
+    from there (grid: the control periods, the target, the check periods) and the shares again."""
+    from .character import keep_shares
+    from .wavelets import wavelet_match
+
+    periods, target_sa, check_periods = grid
+    kept = keep_shares(acceleration, seed, dt)
+    if kept is acceleration:
+        return acceleration, ratios
+    ratios = check_ratios(kept, dt, check_periods, target_sa(check_periods), settings.damping)
+    if _within(ratios, settings):
+        return kept, ratios
+    again = wavelet_match(kept, dt, periods, settings.level * target_sa(periods), settings.damping,
+                          settings.wavelet_tolerance, settings.max_iterations // 2)
+    retried = keep_shares(again.acceleration, seed, dt)
+    more = check_ratios(retried, dt, check_periods, target_sa(check_periods), settings.damping)
+    return (retried, more) if _spread(more) < _spread(ratios) else (kept, ratios)
 
 
 def _spread(ratios: np.ndarray) -> float:

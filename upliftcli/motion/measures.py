@@ -118,3 +118,44 @@ def measures(acceleration, dt: float) -> Measures:
     return Measures(zero_crossing_rate(a, dt, (t5, t95)), fourier_ratio(a, dt), float(arias_history(a, dt)[-1]),
                     float(t95 - t5), float(t5), max(end_offsets(a)), velocity, displacement,
                     float(np.max(np.abs(a))))
+
+
+@dataclass(frozen=True)
+class CharacterChange:
+    """What matching changed in a record (issue 36): d5_95_ratio, matched / original [-];
+    early_gain: the matched record's normalised Husid curve at the original's t_5 less 0.05 (the
+    net share of the Arias intensity added before the first arrival) [-]; pgv_ratio, pgd_ratio:
+    peak ground velocity and displacement of the matched record over those of the original times
+    a scale factor (character_change) [-]."""
+
+    d5_95_ratio: float
+    early_gain: float
+    pgv_ratio: float
+    pgd_ratio: float
+
+
+def husid_at(acceleration, dt: float, time: float) -> float:
+    """The normalised Husid curve I(time) / I(end) [-] (linear between samples)."""
+    history = arias_history(acceleration, dt)
+    if history[-1] <= 0.0:
+        return 0.0
+    return float(np.interp(time, np.arange(history.size) * dt, history) / history[-1])
+
+
+def peak_motion(acceleration, dt: float) -> tuple[float, float]:
+    """PGV [m/s] and PGD [m] (exact integrals from rest)."""
+    return (float(np.max(np.abs(ground_velocity(acceleration, dt)))),
+            float(np.max(np.abs(ground_displacement(acceleration, dt)))))
+
+
+def character_change(original, matched, dt: float, scale: float | None = None) -> CharacterChange:
+    """The CharacterChange of `matched` against `original` [m/s^2], both at step dt [s]; scale: the
+    factor the original was scaled by before the wavelets [-] (default: the one that gives it the
+    matched record's Arias intensity)."""
+    t5 = float(arias_times(original, dt)[0])
+    if scale is None:
+        scale = math.sqrt(arias_history(matched, dt)[-1] / arias_history(original, dt)[-1])
+    pgv, pgd = peak_motion(matched, dt)
+    pgv0, pgd0 = peak_motion(original, dt)
+    return CharacterChange(significant_duration(matched, dt) / significant_duration(original, dt),
+                           husid_at(matched, dt, t5) - 0.05, pgv / (abs(scale) * pgv0), pgd / (abs(scale) * pgd0))

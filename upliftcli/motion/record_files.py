@@ -17,7 +17,7 @@ import numpy as np
 
 from ..units import STANDARD_GRAVITY
 from .matching import MatchSettings
-from .measures import measures
+from .measures import character_change, measures
 from .origins import COMMAND_ORIGINS
 from .suites import Suite
 
@@ -56,6 +56,15 @@ def measure_row(motion) -> dict[str, float]:
     m = measures(motion.acceleration, motion.dt)
     return {"zero_crossings_per_s": round(m.zero_crossings, 3), "fourier_ratio_15_40_hz": round(m.fourier_ratio, 4),
             "d5_95_s": round(m.d5_95, 3), "end_offset": round(m.end_offset, 5)}
+
+
+def character_row(original, matched) -> dict[str, float]:
+    """What matching changed (measures.character_change) in a record: D5-95 ratio, net early gain
+    of the Arias intensity, PGV and PGD ratios (the original scaled to the matched record's Arias
+    intensity)."""
+    change = character_change(original.acceleration, matched.acceleration, matched.dt)
+    return {"d5_95_ratio": round(change.d5_95_ratio, 4), "early_arias_gain": round(change.early_gain, 5),
+            "pgv_ratio": round(change.pgv_ratio, 4), "pgd_ratio": round(change.pgd_ratio, 4)}
 
 
 def model_row(parameters) -> dict[str, float]:
