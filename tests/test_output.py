@@ -130,7 +130,7 @@ def test_csv_opens_with_the_provenance(deck_dir):
 
 
 def test_histories_files_carry_the_provenance(deck_dir):
-    from upliftcli.output import write_histories
+    from upliftcli.histories import write_histories
 
     deck = load_deck(deck_dir / "inputs" / "deck.toml")
     record = of_deck(deck)

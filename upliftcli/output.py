@@ -1,6 +1,6 @@
 """Every file an analysis writes: the results document (JSON), the story and foundation tables
-(CSV), the resolved deck (<stem>.deck.toml, a deck that repeats the run) and the response
-histories (CSV or NPZ). Each file is written atomically (upliftcli.runtime.atomic): never half-written.
+(CSV) and the resolved deck (<stem>.deck.toml, a deck that repeats the run); the response
+histories (CSV or NPZ): histories.py. Each file is written atomically (upliftcli.runtime.atomic): never half-written.
 SI units in every file; the units are listed in it. Every result file carries the provenance of
 the run (provenance/record.py): the JSON under "provenance", each CSV table in two leading '#' lines
 (pandas.read_csv(path, comment="#") reads the table). Numbers are written with at most 15
@@ -33,7 +33,6 @@ from .engines.quantities import (
     YIELDING,
     column_name,
     element_quantities,
-    history_unit,
     quantities,
     rocking_entries,
 )
@@ -41,7 +40,7 @@ from .engines.result import AnalysisResult
 from .engines.suite_result import STATISTICS, SuiteResult, simplified_ratios
 from .provenance.record import csv_comments, deck_toml, of_deck
 from .provenance.values import number_text, to_jsonable, to_text_numbers
-from .runtime.atomic import atomic_path, write_set, write_text
+from .runtime.atomic import write_set
 
 #: units of the result fields in the written files (SI)
 UNITS = {
@@ -374,29 +373,3 @@ def write_results(results: list[AnalysisResult], directory, stem: str, source: s
         texts.append(deck_toml(deck, provenance, directory))
     write_set(dict(zip(paths, texts, strict=True)))  # all or none: a full disk leaves no file of the set
     return paths
-
-
-def _histories_csv(histories: dict[str, np.ndarray], provenance: dict | None) -> str:
-    """Response histories as CSV text: the provenance's '#' lines, a header with units, values
-    with 10 significant digits (write_histories)."""
-    names = list(histories)
-    header = ",".join(column_name(name, history_unit(name)) for name in names)
-    table = np.column_stack([np.asarray(histories[name], dtype=float) for name in names])
-    lines = [header] + [",".join(f"{value:.10g}" for value in row) for row in table]
-    return csv_comments(provenance) + "\n".join(lines) + "\n"
-
-
-def write_histories(path, histories: dict[str, np.ndarray], provenance: dict | None = None) -> None:
-    """Write response histories atomically: NPZ if the name ends in .npz (the provenance as JSON
-    text in its array 'provenance'), else CSV with units in the header
-    (engines/quantities.history_unit) as every CSV result has them (column_name: time_s, drift_3_m,
-    contact_state), after the provenance's '#' lines; values with 10
-    significant digits (the histories are sampled at the record's step: more digits would
-    only lengthen the file)."""
-    path = Path(path)
-    if path.suffix.lower() != ".npz":
-        write_text(path, _histories_csv(histories, provenance))
-        return
-    extra = {} if provenance is None else {"provenance": np.array(json.dumps(to_text_numbers(provenance)))}
-    with atomic_path(path) as tmp, open(tmp, "wb") as handle:
-        np.savez_compressed(handle, **histories, **extra)

@@ -1,6 +1,6 @@
 """`--histories FILE` of `uplift analyze`: the file names (one per engine, support and suite
 record), checked before the run, and the response histories written after it with the run's
-provenance (output.write_histories)."""
+provenance (histories.write_histories)."""
 
 from __future__ import annotations
 
@@ -93,8 +93,8 @@ def write_histories(path: Path, results, inputs: list[str], record: dict | None 
 
 
 def _write(target: Path, histories, record: dict | None) -> None:
-    """Write one file of histories (output.write_histories); a file not written: InputError."""
-    from ..output import write_histories as write
+    """Write one file of histories (histories.write_histories); a file not written: InputError."""
+    from ..histories import write_histories as write
 
     try:
         write(target, histories, record)

@@ -36,7 +36,7 @@ class AnalysisResult:
     details: engine-specific extras (uplift summary, energy balance, warnings ...).
     histories: response histories of the history engines when asked (ExactOptions.histories):
         signal name -> values (engines/quantities.HISTORY_SIGNALS); never written to the results
-        documents (output.write_histories writes them).
+        documents (histories.write_histories writes them).
 
     A result is built once by its engine and not changed afterwards (frozen; what later stages
     find about it, such as the accuracy check of analysis/accuracy.py, is kept beside it).

@@ -1,0 +1,42 @@
+"""The response histories of an analysis as a file (`uplift analyze --histories`): CSV with the
+units in its header, or NPZ, written atomically with the provenance of the run, as every result
+file (output.py) is.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from .engines.quantities import column_name, history_unit
+from .provenance.record import csv_comments
+from .provenance.values import to_text_numbers
+from .runtime.atomic import atomic_path, write_text
+
+
+def _histories_csv(histories: dict[str, np.ndarray], provenance: dict | None) -> str:
+    """Response histories as CSV text: the provenance's '#' lines, a header with units, values
+    with 10 significant digits (write_histories)."""
+    names = list(histories)
+    header = ",".join(column_name(name, history_unit(name)) for name in names)
+    table = np.column_stack([np.asarray(histories[name], dtype=float) for name in names])
+    lines = [header] + [",".join(f"{value:.10g}" for value in row) for row in table]
+    return csv_comments(provenance) + "\n".join(lines) + "\n"
+
+
+def write_histories(path, histories: dict[str, np.ndarray], provenance: dict | None = None) -> None:
+    """Write response histories atomically: NPZ if the name ends in .npz (the provenance as JSON
+    text in its array 'provenance'), else CSV with units in the header
+    (engines/quantities.history_unit) as every CSV result has them (column_name: time_s, drift_3_m,
+    contact_state), after the provenance's '#' lines; values with 10
+    significant digits (the histories are sampled at the record's step: more digits would
+    only lengthen the file)."""
+    path = Path(path)
+    if path.suffix.lower() != ".npz":
+        write_text(path, _histories_csv(histories, provenance))
+        return
+    extra = {} if provenance is None else {"provenance": np.array(json.dumps(to_text_numbers(provenance)))}
+    with atomic_path(path) as tmp, open(tmp, "wb") as handle:
+        np.savez_compressed(handle, **histories, **extra)
