@@ -23,6 +23,7 @@ from .options import (
     DisplayUnits,
     OutputFormat,
     check_out_directory,
+    display_system,
     echo_violations,
     echo_warnings,
     echo_written,
@@ -43,6 +44,7 @@ from .sweep_options import (
     WORKERS_HELP,
     TableFormat,
     check_name,
+    default_stem,
     figure_errors,
     local_workers,
     table_paths,
@@ -122,7 +124,8 @@ def sweep(
     engine: list[str] = typer.Option([], "--engine", "-e", help=ENGINE_HELP),
     support: list[str] = typer.Option([], "--support", help=SUPPORT_HELP),
     out: Path = typer.Option(Path("."), "--out", "-o", parser=given_path, help=OUT_HELP),
-    name: str | None = typer.Option(None, "--name", help="Stem of the output files (default: <deck>.sweep)."),
+    name: str | None = typer.Option(None, "--name", help="Stem of the output files (default: <deck>.<fields>.sweep, "
+                                    "the varied fields' last names: ten_story.k_f-period.sweep)."),
     table: TableFormat = typer.Option(TableFormat.json, "--table",
                                       help="Besides <stem>.csv: <stem>.json (rows, summary), .parquet or none (csv)."),
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f",
@@ -143,7 +146,7 @@ def sweep(
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress and no summary tables."),
     per_record: bool = typer.Option(False, "--per-record", help=PER_RECORD_HELP),
     check: bool = typer.Option(False, "--check", help=CHECK_HELP),
-    units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
+    units: DisplayUnits | None = typer.Option(None, "--units", help=UNITS_HELP),
 ) -> None:
     """Analyse a deck over ranges of its fields: one tidy row per case, summary and envelope.
 
@@ -160,7 +163,7 @@ def sweep(
     from ..sweep.store import stem_lock
 
     check_name(name)
-    stem = name or f"{deck.stem}.sweep"
+    stem = name or default_stem(deck, vary)
     plot_path = _plot_path(out, stem, plot_format) if plot else None
     sweep_table.check_table_format(table.value)
     engines, supports = _choices(engine, support)
@@ -174,8 +177,8 @@ def sweep(
                           rerun_stale=rerun_stale, figures_written=[plot_path] if plot_path else [],
                           tables=table_paths(out, stem, table.value))
         rows, summary, record, written = _sweep_tables(plan, outcome.rows, out, stem, table)
-        _sweep_figure(plan, rows, plot_path, out, written, units.value)
-    _print_sweep(plan, rows, summary, record, output_format, quiet, units.value)
+        _sweep_figure(plan, rows, plot_path, out, written, display_system(units, plan.raw))
+    _print_sweep(plan, rows, summary, record, output_format, quiet, display_system(units, plan.raw))
     echo_written(written)
     _finish(rows, criteria=True)
 
@@ -257,7 +260,7 @@ def spectra(
                                    "tables and figures."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress."),
     per_record: bool = typer.Option(False, "--per-record", help=PER_RECORD_HELP),
-    units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
+    units: DisplayUnits | None = typer.Option(None, "--units", help=UNITS_HELP),
 ) -> None:
     """The paper's response spectra over T_1 (Yim & Chopra Figs. 3-4, 6-10), with the critical value b/h_1*.
 

@@ -6,6 +6,7 @@ figures as one line."""
 from __future__ import annotations
 
 import contextlib
+import hashlib
 from enum import StrEnum
 from pathlib import Path
 
@@ -36,6 +37,30 @@ class TableFormat(StrEnum):
     json = "json"
     parquet = "parquet"
     csv = "csv"
+
+
+#: the longest list of varied fields in a default sweep name; a longer one is cut and a hash of the paths added
+MAX_FIELDS_TEXT = 40
+
+
+def default_stem(deck: Path, vary_texts: list[str]) -> str:
+    """The stem of a sweep's files without --name: <deck>.sweep, or with --vary <deck>.<fields>.sweep,
+    the fields the last part of each varied path, sorted, joined by '-' (ten_story.k_f-period.sweep),
+    so that sweeps of one deck over other fields never share files; a list longer than
+    MAX_FIELDS_TEXT is cut and the first 8 hex digits of the paths' SHA-256 added."""
+    paths = sorted({text.partition("=")[0].strip() for text in vary_texts})
+    if not paths:
+        return f"{deck.stem}.sweep"
+    return f"{deck.stem}.{_fields_text(paths)}.sweep"
+
+
+def _fields_text(paths: list[str]) -> str:
+    """'k_f-period': the last part of each path (letters, digits and '_' only), cut with a hash when long."""
+    text = "-".join("".join(c for c in path.rsplit(".", 1)[-1] if c.isalnum() or c == "_") for path in paths)
+    if len(text) <= MAX_FIELDS_TEXT:
+        return text
+    digest = hashlib.sha256("\n".join(paths).encode()).hexdigest()[:8]
+    return f"{text[:MAX_FIELDS_TEXT - 9]}-{digest}"
 
 
 def check_name(name: str | None) -> None:

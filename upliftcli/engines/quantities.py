@@ -14,6 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from ..display import file_unit, unit_suffix
 from ..display import heading as display_heading
 
 #: where a quantity's values live: one per floor (1..N), per story (story j joins floor j-1
@@ -329,6 +330,22 @@ def column_name(name: str, unit: str) -> str:
     """A file column name that carries its unit: ('shear', 'N') -> 'shear_N', ('drift_3', 'm') ->
     'drift_3_m'; a value without a physical unit (a ratio, a bitmask) keeps its name."""
     return name + _SUFFIXES.get(unit, "")
+
+
+def file_column(name: str, unit: str, kind: str = "", system: str = "si") -> tuple[str, float]:
+    """(column name, factor from SI) of a file's column in a unit system: SI as column_name; under
+    --units us the unit of display.file_unit ('shear_kip', 'drift_3_in', 'elevation_ft')."""
+    shown = file_unit(unit, kind, system)
+    if shown.label == unit:
+        return column_name(name, unit), 1.0
+    return name + unit_suffix(shown.label), shown.factor
+
+
+def file_kind(name: str) -> str:
+    """The display kind of a result file's key (a quantity's or a compared value's own; '' for any
+    other: its SI unit's)."""
+    found = QUANTITIES.get(name) or ROCKING.get(name) or COMPARED.get(name)
+    return found.display if found else ""
 
 
 #: response histories written by --histories (besides one column per floor, story or element

@@ -25,11 +25,12 @@ import itertools
 import json
 import math
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 from ..analysis.run import ground_motion_for
+from ..deck import schema
 from ..deck.load import Deck, build_deck, read_toml
 from ..deck.overrides import parse_override
 from ..engines.registry import ENGINES
@@ -213,9 +214,9 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     check: the exact engine runs beside the others for the ratios simplified / exact (a deck
     with a record or a suite)."""
     base = [parse_override(text) for text in settings]
-    varies = _parse_varies(varies, vary_texts)
     source = str(deck_path)
     raw = read_toml(deck_path)
+    varies = [replace(v, system=schema.unit_system(raw)) for v in _parse_varies(varies, vary_texts)]
     chosen = _chosen(engines, supports)
     deck = base_deck(raw, source, base + list(chosen), varies)
     engines = _engines(deck, engines, check, source)
