@@ -125,7 +125,7 @@ def sweep(
     support: list[str] = typer.Option([], "--support", help=SUPPORT_HELP),
     out: Path = typer.Option(Path("."), "--out", "-o", parser=given_path, help=OUT_HELP),
     name: str | None = typer.Option(None, "--name", help="Stem of the output files (default: <deck>.<fields>.sweep, "
-                                    "the varied fields' last names: ten_story.k_f-period.sweep)."),
+                                    "the varied fields' last names: ten_story.period-k_f.sweep)."),
     table: TableFormat = typer.Option(TableFormat.json, "--table",
                                       help="Besides <stem>.csv: <stem>.json (rows, summary), .parquet or none (csv)."),
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f",

@@ -45,7 +45,7 @@ MAX_FIELDS_TEXT = 40
 
 def default_stem(deck: Path, vary_texts: list[str]) -> str:
     """The stem of a sweep's files without --name: <deck>.sweep, or with --vary <deck>.<fields>.sweep,
-    the fields the last part of each varied path, sorted, joined by '-' (ten_story.k_f-period.sweep),
+    the fields the last part of each varied path, sorted by path, joined by '-' (ten_story.period-k_f.sweep),
     so that sweeps of one deck over other fields never share files; a list longer than
     MAX_FIELDS_TEXT is cut and the first 8 hex digits of the paths' SHA-256 added."""
     paths = sorted({text.partition("=")[0].strip() for text in vary_texts})
@@ -55,7 +55,7 @@ def default_stem(deck: Path, vary_texts: list[str]) -> str:
 
 
 def _fields_text(paths: list[str]) -> str:
-    """'k_f-period': the last part of each path (letters, digits and '_' only), cut with a hash when long."""
+    """'period-k_f': the last part of each path (letters, digits and '_' only), cut with a hash when long."""
     text = "-".join("".join(c for c in path.rsplit(".", 1)[-1] if c.isalnum() or c == "_") for path in paths)
     if len(text) <= MAX_FIELDS_TEXT:
         return text
