@@ -65,8 +65,8 @@ def test_sweep_writes_the_tidy_table_and_prints_the_envelope(tmp_path):
 
 
 def test_sweep_summary_in_the_display_units(tmp_path):
-    """--units us: the varied fields in kip/in, ft ...; drift ratios in % (as the story tables),
-    the files unchanged (SI)."""
+    """--units us: the varied fields in kip/in, ft ...; drift ratios in % (as the story tables);
+    the files' output columns in US units too (tests/test_units_files.py), the ratios unchanged."""
     result = invoke("sweep", EXAMPLE, "--vary", "foundation.k_f=1e8,1e9", "--vary", "foundation.b=2,3",
                     "--support", "uplift", "--out", tmp_path, "--workers", "1", "--units", "us",
                     env={"COLUMNS": "200"})

@@ -118,6 +118,27 @@ def test_analyze_files_in_us_units_under_the_option(tmp_path):
     assert other["provenance"]["deck"] == one["provenance"]["deck"]  # what the run was: as it is
 
 
+def test_sweep_tables_in_us_units_under_the_option(tmp_path):
+    """--units us: a sweep's output columns renamed and converted (base_shear_kip, max_displacement_in),
+    the varied field as given with its unit (N/m of an SI deck), the ratios unchanged; SI without it."""
+    common = ["sweep", SI_DECK, "--vary", "foundation.k_f=1e8,1e9", "--engine", "simplified", "--support", "uplift",
+              "--workers", "1", "--quiet"]
+    assert invoke(*common, "--out", tmp_path / "si").exit_code == 0
+    assert invoke(*common, "--out", tmp_path / "us", "--units", "us").exit_code == 0
+    name = "ten_story_elcentro.k_f.sweep"
+    si, us = read_csv(tmp_path / "si" / f"{name}.csv"), read_csv(tmp_path / "us" / f"{name}.csv")
+    assert "base_shear_N" in si[0] and "base_shear_N" not in us[0]
+    for a, b in zip(si, us, strict=True):
+        assert b["foundation.k_f"] == a["foundation.k_f"]
+        assert float(b["base_shear_kip"]) == pytest.approx(float(a["base_shear_N"]) / KIP, rel=1e-12)
+        assert float(b["base_moment_kipft"]) == pytest.approx(float(a["base_moment_Nm"]) / (KIP * FOOT), rel=1e-12)
+        assert float(b["max_displacement_in"]) == pytest.approx(float(a["max_displacement_m"]) / INCH, rel=1e-12)
+        assert b["max_drift_ratio"] == a["max_drift_ratio"]
+    document = json.loads((tmp_path / "us" / f"{name}.json").read_text())
+    assert document["units"]["base_shear_kip"] == "kip" and document["units"]["foundation.k_f"] == "N/m"
+    assert document["rows"][0]["V_c_kip"] == pytest.approx(float(si[0]["V_c_N"]) / KIP, rel=1e-12)
+
+
 def test_a_us_decks_files_stay_si_without_the_option(tmp_path):
     """The deck's units set what a person reads; the files a script reads change only with --units."""
     assert invoke("analyze", US_DECK, "--no-check", "--out", tmp_path).exit_code == 0

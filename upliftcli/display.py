@@ -312,12 +312,15 @@ def _converted_entry(key: str, value, units: dict):
 
 def _scaled(value, factor: float, units: dict):
     """A number times factor; a list: each item; a dict (left, centre, right edge): each value."""
-    if isinstance(value, (bool, np.bool_)) or value is None:
-        return value
-    if isinstance(value, (int, float, np.integer, np.floating)):
-        return float(value) * factor
     if isinstance(value, list):
         return [_scaled(item, factor, units) for item in value]
     if isinstance(value, dict):
         return {key: _scaled(item, factor, units) for key, item in value.items()}
+    return _scaled_number(value, factor)
+
+
+def _scaled_number(value, factor: float):
+    """A number (not a bool) times factor; anything else as it is."""
+    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_)):
+        return float(value) * factor
     return value

@@ -27,6 +27,7 @@ from .options import (
     echo_violations,
     echo_warnings,
     echo_written,
+    file_system,
     given_path,
     not_writable,
     refuse_unchecked,
@@ -67,12 +68,13 @@ def warn_suites(plan: SweepPlan) -> None:
                    "(uplift analyze on a case's deck shows them)", err=True)
 
 
-def _write(plan, rows, out, stem, table, summary, record) -> list[Path]:
-    """The tables of the sweep (sweep_table.write_tables); an OSError as one line naming --out."""
+def _write(plan, rows, out, stem, table, summary, record, system: str = "si") -> list[Path]:
+    """The tables of the sweep (sweep_table.write_tables, in the units of `system`); an OSError as
+    one line naming --out."""
     from ..sweep import table as sweep_table
 
     try:
-        return sweep_table.write_tables(plan, rows, out, stem, table.value, summary, record)
+        return sweep_table.write_tables(plan, rows, out, stem, table.value, summary, record, system)
     except OSError as error:
         raise not_writable("--out", out, error) from None
 
@@ -176,9 +178,9 @@ def sweep(
                           retry_failed=retry_failed, overwrite=overwrite, quiet=quiet, label="sweep",
                           rerun_stale=rerun_stale, figures_written=[plot_path] if plot_path else [],
                           tables=table_paths(out, stem, table.value))
-        rows, summary, record, written = _sweep_tables(plan, outcome.rows, out, stem, table)
+        rows, summary, record, written = _sweep_tables(plan, outcome.rows, out, stem, table, file_system(units))
         _sweep_figure(plan, rows, plot_path, out, written, display_system(units, plan.raw))
-    _print_sweep(plan, rows, summary, record, output_format, quiet, display_system(units, plan.raw))
+    _print_sweep(plan, rows, summary, record, output_format, quiet, units)
     echo_written(written)
     _finish(rows, criteria=True)
 
@@ -201,14 +203,15 @@ def _check_plan(plan: SweepPlan, check: bool, plot_path: Path | None) -> None:
         figures.sweep_figure(plan, [])
 
 
-def _sweep_tables(plan: SweepPlan, rows: list[dict], out: Path, stem: str, table: TableFormat) -> tuple:
+def _sweep_tables(plan: SweepPlan, rows: list[dict], out: Path, stem: str, table: TableFormat,
+                  system: str = "si") -> tuple:
     """(rows with the accuracy ratios under --check, summary, provenance, the tables written)."""
     from ..sweep import table as sweep_table
 
     rows = sweep_table.add_checks(plan, rows) if plan.check else rows
     summary = sweep_table.summarize(plan, rows)
     record = sweep_table.sweep_provenance(plan)
-    return rows, summary, record, _write(plan, rows, out, stem, table, summary, record)
+    return rows, summary, record, _write(plan, rows, out, stem, table, summary, record, system)
 
 
 def _sweep_figure(plan: SweepPlan, rows: list[dict], plot_path: Path | None, out: Path, written: list[Path],
@@ -225,17 +228,18 @@ def _sweep_figure(plan: SweepPlan, rows: list[dict], plot_path: Path | None, out
 
 
 def _print_sweep(plan: SweepPlan, rows: list[dict], summary, record: dict, output_format: OutputFormat, quiet: bool,
-                 units: str) -> None:
-    """The sweep's JSON document on stdout, or its summary tables (none under --quiet)."""
+                 units: DisplayUnits | None) -> None:
+    """The sweep's JSON document on stdout (in the files' units), or its summary tables in the
+    display units (none under --quiet)."""
     from ..sweep import table as sweep_table
     from . import render
     from .sweep_render import print_summary
 
     if output_format is OutputFormat.json:
-        stdout.echo(json.dumps(sweep_table.document(plan, rows, summary, record), indent=1))
+        stdout.echo(json.dumps(sweep_table.document(plan, rows, summary, record, file_system(units)), indent=1))
         return
     if not quiet:
-        print_summary(render.console(), plan, summary, units)
+        print_summary(render.console(), plan, summary, display_system(units, plan.raw))
 
 
 def spectra(
@@ -294,7 +298,8 @@ def spectra(
                           figures_written=figure_paths,
                           tables=table_paths(out, stem, table.value))
         summary = sweep_table.summarize(plan, outcome.rows)
-        written = _write(plan, outcome.rows, out, stem, table, summary, sweep_table.sweep_provenance(plan))
+        written = _write(plan, outcome.rows, out, stem, table, summary, sweep_table.sweep_provenance(plan),
+                         file_system(units))
         written += _spectra_figures(plan, outcome.rows, out, stem, formats, written)
     if not quiet:
         print_spectra_summary(render.console(), plan, outcome.rows)

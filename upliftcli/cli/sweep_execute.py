@@ -109,14 +109,21 @@ def _other_sweep(plan: SweepPlan, store) -> str:
     this one varies building.period'), or '' when it is this sweep: a deck of the same file name
     (given from another folder or not) and the same varied fields (the same values or not:
     --resume then runs the cases it lacks)."""
-    decks = {str(run.get("deck")) for run in store.runs().values()}
-    varied = sorted({key for row in store.read().values() for key in row if "." in key})
-    mine = sorted(v.path for v in plan.varies)
+    decks = _earlier_decks(store)
+    varied, mine = _earlier_varied(store), sorted(v.path for v in plan.varies)
     if decks and Path(plan.source).name not in {Path(deck).name for deck in decks}:  # run from elsewhere: the same
-        return f"of {', '.join(sorted(decks))}; this sweep is of {plan.source}"
-    if varied != mine:
-        return f"varying {_fields(varied)}; this one varies {_fields(mine)}"
-    return ""
+        return f"of {', '.join(decks)}; this sweep is of {plan.source}"
+    return f"varying {_fields(varied)}; this one varies {_fields(mine)}" if varied != mine else ""
+
+
+def _earlier_decks(store) -> list[str]:
+    """The decks of the runs whose headers the rows file holds."""
+    return sorted({str(run.get("deck")) for run in store.runs().values()})
+
+
+def _earlier_varied(store) -> list[str]:
+    """The varied fields of the rows file's rows: their dotted keys (no output column has a dot)."""
+    return sorted({key for row in store.read().values() for key in row if "." in key})
 
 
 def _fields(paths: list[str]) -> str:

@@ -23,7 +23,8 @@ VARY_HELP = ("Vary a deck field (same dotted paths as --set): PATH=START:STOP:N 
              "PATH=a,b,c or PATH=\\[a, b], values in the deck's units (as --set); repeatable, cases are the "
              "cartesian product.")
 SUPPORT_HELP = "Support condition(s): rigid, bonded, uplift; repeatable or comma separated (default: the deck's)."
-OUT_HELP = "Directory of the output files (tables in SI, the unit in each column name)."
+OUT_HELP = ("Directory of the output files (tables in SI, or US units under --units us; the unit in each column "
+            "name).")
 SCHEDULER_HELP = "Run the cases on a Dask cluster at this address (tcp://host:8786), or 'local' for a local one."
 DASK_HELP = "'local': run on a Dask LocalCluster of --workers processes on this machine (same as --scheduler local)."
 CHECK_HELP = ("Also run the exact engine (record decks) and add to the tables the ratios simplified / exact of V_b, "
