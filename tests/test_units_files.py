@@ -139,6 +139,17 @@ def test_sweep_tables_in_us_units_under_the_option(tmp_path):
     assert document["rows"][0]["V_c_kip"] == pytest.approx(float(si[0]["V_c_N"]) / KIP, rel=1e-12)
 
 
+def test_modes_json_in_us_units_under_the_option():
+    """`modes --format json --units us`: m_t in kip s^2/in, b and h_n* in ft; SI without the option."""
+    si = json.loads(invoke("modes", SI_DECK, "--format", "json").stdout)
+    us = json.loads(invoke("modes", SI_DECK, "--format", "json", "--units", "us").stdout)
+    assert si["units"]["half_width"] == "m" and us["units"]["half_width"] == "ft"
+    assert us["total_mass"] == pytest.approx(si["total_mass"] * INCH / KIP, rel=1e-12)
+    assert us["units"]["total_mass"] == "kip s^2/in"
+    assert us["modes"][0]["effective_height"] == pytest.approx(si["modes"][0]["effective_height"] / FOOT, rel=1e-12)
+    assert us["modes"][0]["period"] == si["modes"][0]["period"]
+
+
 def test_a_us_decks_files_stay_si_without_the_option(tmp_path):
     """The deck's units set what a person reads; the files a script reads change only with --units."""
     assert invoke("analyze", US_DECK, "--no-check", "--out", tmp_path).exit_code == 0

@@ -243,7 +243,7 @@ def modes(
     if plot is not None:
         _plot_modes(deck, loaded, plot, formats, overwrite, display_system(units, loaded.raw))
     if output_format is OutputFormat.json:
-        stdout.echo(json.dumps(_modes_document(loaded), indent=2))
+        stdout.echo(json.dumps(_modes_document(loaded, file_system(units)), indent=2))
         return
     _print_modes(loaded, display_system(units, loaded.raw))
 
@@ -255,18 +255,22 @@ def _plot_modes(deck: Path, loaded: Deck, plot: Path, formats: list[str], overwr
     plotting.modes_plots(loaded, plot, deck.stem, formats, units)
 
 
-def _modes_document(loaded: Deck) -> dict:
-    """The JSON document of `modes` (SI, units stated)."""
+def _modes_document(loaded: Deck, system_of_units: str = "si") -> dict:
+    """The JSON document of `modes` (SI, or US under --units us; units stated)."""
+    from ..display import file_unit, in_file_units
     from ..model.system import MODE_ROW_UNITS, fixed_base_mode_rows
     from ..output import to_jsonable
     from ..provenance.record import of_deck
 
     system = loaded.system
-    return to_jsonable({
-        "source": loaded.source, "total_mass": system.total_mass, "half_width": system.half_width,
-        "units": {"total_mass": "kg", "half_width": "m", **MODE_ROW_UNITS},
-        "modes": fixed_base_mode_rows(system), "provenance": of_deck(loaded),
-    })
+    units = {name: file_unit(unit, "", system_of_units)
+             for name, unit in {"total_mass": "kg", "half_width": "m", **MODE_ROW_UNITS}.items()}
+    document = in_file_units(to_jsonable({"source": loaded.source, "total_mass": system.total_mass,
+                                          "half_width": system.half_width, "modes": fixed_base_mode_rows(system)}),
+                             units)
+    return {"source": document["source"], "total_mass": document["total_mass"], "half_width": document["half_width"],
+            "units": {name: unit.label for name, unit in units.items()}, "modes": document["modes"],
+            "provenance": to_jsonable(of_deck(loaded))}
 
 
 def _print_modes(loaded: Deck, units: str) -> None:
