@@ -150,6 +150,21 @@ def test_modes_json_in_us_units_under_the_option():
     assert us["modes"][0]["period"] == si["modes"][0]["period"]
 
 
+def test_histories_csv_in_us_units_under_the_option(tmp_path):
+    """--histories under --units us: shear in kip, displacements in in, accelerations in in/s^2."""
+    common = ["analyze", SI_DECK, "--engine", "exact", "--support", "uplift", "--no-check", "--set",
+              "ground_motion.window=[0, 2]"]
+    assert invoke(*common, "--histories", tmp_path / "si.csv").exit_code == 0
+    assert invoke(*common, "--histories", tmp_path / "us.csv", "--units", "us").exit_code == 0
+    si, us = read_csv(tmp_path / "si.csv"), read_csv(tmp_path / "us.csv")
+    last_si, last_us = si[-1], us[-1]
+    assert last_us["time_s"] == last_si["time_s"] and last_us["theta_rad"] == last_si["theta_rad"]
+    assert float(last_us["base_shear_kip"]) == pytest.approx(float(last_si["base_shear_N"]) / KIP, rel=1e-9)
+    assert float(last_us["drift_1_in"]) == pytest.approx(float(last_si["drift_1_m"]) / INCH, rel=1e-9, abs=1e-12)
+    assert float(last_us["ground_acceleration_in_s2"]) == pytest.approx(
+        float(last_si["ground_acceleration_m_s2"]) / INCH, rel=1e-9, abs=1e-12)
+
+
 def test_a_us_decks_files_stay_si_without_the_option(tmp_path):
     """The deck's units set what a person reads; the files a script reads change only with --units."""
     assert invoke("analyze", US_DECK, "--no-check", "--out", tmp_path).exit_code == 0

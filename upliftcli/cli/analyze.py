@@ -113,7 +113,7 @@ def analyze(
     histories: Path | None = typer.Option(
         None, "--histories", parser=given_path,
         help="Exact/approximate engines: write the response histories to this file in SI (.csv, the unit "
-             "in each column name, or .npz); with "
+             "in each column name, in US units under --units us; or .npz, SI); with "
              "several analyses, one file each, named <stem>_<engine>_<support><suffix>. An existing file "
              "is refused unless --overwrite."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing output files (of --out, --plot and "
@@ -196,7 +196,7 @@ def _write_outputs(deck: Path, loaded: Deck, results, checks: list, outputs: _Ou
         plotting.analysis_plots(results, loaded, outputs.plot, deck.stem, outputs.formats, outputs.display(loaded))
     record = _provenance(loaded, outputs)
     if outputs.histories is not None:
-        write_histories(outputs.histories, results, input_files(loaded), record)
+        write_histories(outputs.histories, results, input_files(loaded), record, file_system(outputs.units))
     _print_results(loaded, results, checks, record, outputs)
     if outputs.out is not None:
         write_results(results, outputs.out, deck.stem, loaded, record, checks, file_system(outputs.units))

@@ -363,6 +363,13 @@ HISTORY_SIGNALS: dict[str, str] = {
 HISTORY_QUANTITIES = ("drift", "floor_acceleration", "reaction")
 
 
+def history_column(name: str, system: str = "si") -> tuple[str, float]:
+    """(column name, factor from SI) of a --histories column in a unit system (file_column; a
+    length there is a displacement: in under --units us)."""
+    unit = history_unit(name)
+    return file_column(name, unit, "mm" if unit == "m" else "", system)
+
+
 def history_unit(column: str) -> str:
     """Unit of a --histories column ('drift_3' -> 'm')."""
     if column in HISTORY_SIGNALS:
