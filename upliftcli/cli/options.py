@@ -72,7 +72,7 @@ def display_system(given: DisplayUnits | str | None, raw: dict) -> str:
 
 def file_system(given: DisplayUnits | str | None) -> str:
     """The units of the JSON and CSV files: --units when given, else SI (a deck's units never
-    change the files a script reads; docs/output.md)."""
+    change the files a script reads; README.md, "Units")."""
     return str(given) if given else "si"
 
 

@@ -179,7 +179,7 @@ def sweep(
                           rerun_stale=rerun_stale, figures_written=[plot_path] if plot_path else [],
                           tables=table_paths(out, stem, table.value))
         rows, summary, record, written = _sweep_tables(plan, outcome.rows, out, stem, table, file_system(units))
-        _sweep_figure(plan, rows, plot_path, out, written, display_system(units, plan.raw))
+        _sweep_figure(plan, rows, plot_path, out, written, _display(units, plan))
     _print_sweep(plan, rows, summary, record, output_format, quiet, units)
     echo_written(written)
     _finish(rows, criteria=True)
@@ -239,7 +239,14 @@ def _print_sweep(plan: SweepPlan, rows: list[dict], summary, record: dict, outpu
         stdout.echo(json.dumps(sweep_table.document(plan, rows, summary, record, file_system(units)), indent=1))
         return
     if not quiet:
-        print_summary(render.console(), plan, summary, display_system(units, plan.raw))
+        print_summary(render.console(), plan, summary, _display(units, plan))
+
+
+def _display(units: DisplayUnits | None, plan: SweepPlan) -> str:
+    """The display units of a sweep: --units, else its deck's (after a --set of `units`)."""
+    from ..sweep.plan import deck_units
+
+    return display_system(units, {"units": deck_units(plan.raw, plan.base_overrides)})
 
 
 def spectra(

@@ -216,7 +216,7 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     base = [parse_override(text) for text in settings]
     source = str(deck_path)
     raw = read_toml(deck_path)
-    varies = [replace(v, system=schema.unit_system(raw)) for v in _parse_varies(varies, vary_texts)]
+    varies = [replace(v, system=deck_units(raw, base)) for v in _parse_varies(varies, vary_texts)]
     chosen = _chosen(engines, supports)
     deck = base_deck(raw, source, base + list(chosen), varies)
     engines = _engines(deck, engines, check, source)
@@ -236,6 +236,11 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
                      _plan_warnings(grounds, suites, varies), records=records,
                      version=version, fingerprint=run_fingerprint(deck_fingerprint, records, version),
                      record_steps=_record_steps(inputs), inputs=tuple(inputs.values()), check=check, chosen=chosen)
+
+
+def deck_units(raw: dict, base: Sequence[tuple[str, Any]]) -> str:
+    """The deck's unit system (`units`, or a --set of it): that of its bare numbers and its display units."""
+    return schema.unit_system({"units": dict(base).get("units", raw.get("units", "si"))})
 
 
 def _parse_varies(varies: Sequence[Vary], vary_texts: Sequence[str]) -> list[Vary]:
