@@ -165,6 +165,23 @@ def test_histories_csv_in_us_units_under_the_option(tmp_path):
         float(last_si["ground_acceleration_m_s2"]) / INCH, rel=1e-9, abs=1e-12)
 
 
+def test_record_spectrum_csv_in_us_units_under_the_option():
+    """`record spectrum --units us`: sd_in, psv_in_s, psa_in_s2 (psa_g as it is); SI without it."""
+    record = ROOT / "records" / "elcentro_1940_ns_chopra.txt"
+    si = read_text_csv(invoke("record", "spectrum", record, "--periods", "0.5,1").stdout)
+    us = read_text_csv(invoke("record", "spectrum", record, "--periods", "0.5,1", "--units", "us").stdout)
+    assert list(us[0]) == ["damping_ratio", "period_s", "sd_in", "psv_in_s", "psa_in_s2", "psa_g", "abs_acc_in_s2"]
+    for a, b in zip(si, us, strict=True):
+        assert float(b["sd_in"]) == pytest.approx(float(a["sd_m"]) / INCH, rel=1e-12)
+        assert float(b["psa_in_s2"]) == pytest.approx(float(a["psa_m_s2"]) / INCH, rel=1e-12)
+        assert b["psa_g"] == a["psa_g"] and b["period_s"] == a["period_s"]
+
+
+def read_text_csv(text: str) -> list[dict]:
+    return list(csv.DictReader(io.StringIO("".join(line + "\n" for line in text.splitlines()
+                                                   if not line.startswith("#")))))
+
+
 def test_a_us_decks_files_stay_si_without_the_option(tmp_path):
     """The deck's units set what a person reads; the files a script reads change only with --units."""
     assert invoke("analyze", US_DECK, "--no-check", "--out", tmp_path).exit_code == 0
