@@ -298,7 +298,7 @@ def _rocking_values(r: AnalysisResult, system: str = "si") -> dict[str, float]:
     for q, key, _, value, instant in rocking_entries(r):
         name = q.name if key == "mat" else f"{q.name}_{key}"
         column, factor = file_column(name, q.unit, q.display, system)
-        values[column] = value * factor
+        values[column] = value * factor if factor != 1.0 else value  # a count stays an integer
         if instant is not None and not q.name.startswith("residual"):
             values[column_name(f"{name}_time", "s")] = instant
     return values
