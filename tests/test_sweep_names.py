@@ -69,6 +69,12 @@ def test_the_readme_sweeps_run_one_after_the_other_and_a_forced_collision_is_ref
     # --resume anyway: refused too, the earlier sweep's table untouched
     assert invoke("sweep", *forced, "--resume").exit_code == 2
     assert table.read_text() == before
+    # its rows file gone: its table still tells the other fields, and --resume is refused again
+    (tmp_path / "ten_story_elcentro.period-k_f.sweep.rows.jsonl").rename(tmp_path / "kept.rows.jsonl")
+    again = invoke("sweep", *forced, "--resume")
+    assert again.exit_code == 2 and "holds the table of another sweep (varying building.period, foundation.k_f; " \
+        "this one varies foundation.frequency_ratio)" in again.stderr and "--resume" not in again.stderr
+    assert table.read_text() == before
     # what the message suggests: its own --name, or another --out folder; the earlier table untouched
     assert invoke("sweep", *forced[:-1], "its_own").exit_code == 0
     assert invoke("sweep", *SECOND[1:], "--out", tmp_path / "elsewhere", "--quiet").exit_code == 0

@@ -126,6 +126,26 @@ def _earlier_varied(store) -> list[str]:
     return sorted({key for row in store.read().values() for key in row if "." in key})
 
 
+def _refuse_other_table(plan: SweepPlan, table: Path) -> None:
+    """A table of another sweep under this stem (its rows file gone: --resume would replace it) refused,
+    as its rows would be (_prepare_out)."""
+    varied, mine = _table_varied(table), sorted(v.path for v in plan.varies)
+    if varied is not None and varied != mine:
+        raise InputError("--out", str(table), f"holds the table of another sweep (varying {_fields(varied)}; this "
+                         f"one varies {_fields(mine)}), not of this one: give this sweep its own --name, or another "
+                         "--out folder")
+
+
+def _table_varied(table: Path) -> list[str] | None:
+    """The varied fields of a sweep's CSV table (its dotted columns), None without one."""
+    try:
+        with open(table, encoding="utf-8") as handle:
+            header = next((line for line in handle if not line.startswith("#")), "")
+    except (OSError, UnicodeDecodeError):
+        return None
+    return sorted(name for name in header.strip().split(",") if "." in name)
+
+
 def _fields(paths: list[str]) -> str:
     """The varied fields as a list in words ('no field' for none)."""
     return ", ".join(paths) if paths else "no field"
@@ -205,6 +225,8 @@ def _refuse_outputs(plan: SweepPlan, out: Path, stem: str, rows_path: Path, resu
     """No output may be an input of the plan; earlier rows, tables and figures need --resume or --overwrite."""
     refuse_inputs(output_paths(out, stem, figures_written), plan.input_files, "--out")
     _prepare_out(plan, out, rows_path, resume, overwrite)
+    if not overwrite:
+        _refuse_other_table(plan, out / f"{stem}.csv")
     if not resume:  # --resume finishes an earlier run: its tables and figures are written again
         refuse_existing([*tables, *figures_written], "--out", overwrite, ": written by an earlier run; --resume "
                         "continues that run")
