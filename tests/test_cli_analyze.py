@@ -485,10 +485,14 @@ def test_several_decks_print_every_warning_once_naming_the_deck():
 
 
 def test_units_us_in_every_table():
-    """--units us: kip, kip ft, in, ft; the coefficients and the JSON unchanged."""
-    document = json.loads(invoke("analyze", EXAMPLE, "--format", "json", "--units", "us").stdout)
-    assert document == json.loads(invoke("analyze", EXAMPLE, "--format", "json").stdout) | {
-        "provenance": document["provenance"]}  # the JSON stays SI
+    """--units us: kip, kip ft, in, ft; the coefficients unchanged; the JSON in US units too
+    (tests/test_units_files.py), SI without --units."""
+    document = json.loads(invoke("analyze", EXAMPLE, "--format", "json").stdout)
+    us = json.loads(invoke("analyze", EXAMPLE, "--format", "json", "--units", "us").stdout)
+    assert document["units"]["base_shear"] == "N" and us["units"]["base_shear"] == "kip"
+    for si_row, us_row in zip(document["results"], us["results"], strict=True):
+        assert us_row["base_shear"] == pytest.approx(si_row["base_shear"] / 4448.2216152605, rel=1e-12)
+        assert us_row["base_shear_coefficient"] == si_row["base_shear_coefficient"]
     result = invoke("analyze", EXAMPLE, "--units", "us", "--no-check", env={"COLUMNS": "200"})
     assert result.exit_code == 0, result.output
     text = result.stdout

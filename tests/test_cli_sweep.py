@@ -45,16 +45,16 @@ def test_sweep_writes_the_tidy_table_and_prints_the_envelope(tmp_path):
     for words in ("Varied fields", "Governing cases", "Envelope over foundation.k_f", "ASCE 7-22", "V/W lo"):
         assert words in result.stdout
     assert "sweep: 12 cases to run" in result.stderr and "12/12 cases" in result.stderr  # plain progress (CI)
-    rows = read_csv(tmp_path / "ten_story_elcentro.sweep.csv")
+    rows = read_csv(tmp_path / "ten_story_elcentro.period-k_f.sweep.csv")
     assert len(rows) == 12
     header = list(rows[0])
     assert header[:5] == ["case", "engine", "support", "foundation.k_f", "building.period"]
     assert header.index("base_shear_N") < header.index("status")
     assert {r["status"] for r in rows} == {"ok"}
-    doc = json.loads((tmp_path / "ten_story_elcentro.sweep.json").read_text())
+    doc = json.loads((tmp_path / "ten_story_elcentro.period-k_f.sweep.json").read_text())
     assert doc["units"]["foundation.k_f"] == "N/m" and doc["units"]["base_moment_Nm"] == "N m"
     assert [r["base_shear_N"] for r in doc["rows"]] == [float(r["base_shear_N"]) for r in rows]
-    lines = (tmp_path / "ten_story_elcentro.sweep.rows.jsonl").read_text().splitlines()
+    lines = (tmp_path / "ten_story_elcentro.period-k_f.sweep.rows.jsonl").read_text().splitlines()
     assert len(lines) == 13 and "run" in json.loads(lines[0])  # a header line, then one line per case
     # a row equals the single analysis with the same --set values
     row = rows[7]
@@ -65,8 +65,8 @@ def test_sweep_writes_the_tidy_table_and_prints_the_envelope(tmp_path):
 
 
 def test_sweep_summary_in_the_display_units(tmp_path):
-    """--units us: the varied fields in kip/in, ft ...; drift ratios in % (as the story tables),
-    the files unchanged (SI)."""
+    """--units us: the varied fields in kip/in, ft ...; drift ratios in % (as the story tables);
+    the files' output columns in US units too (tests/test_units_files.py), the ratios unchanged."""
     result = invoke("sweep", EXAMPLE, "--vary", "foundation.k_f=1e8,1e9", "--vary", "foundation.b=2,3",
                     "--support", "uplift", "--out", tmp_path, "--workers", "1", "--units", "us",
                     env={"COLUMNS": "200"})
@@ -76,7 +76,7 @@ def test_sweep_summary_in_the_display_units(tmp_path):
     bar = r"\s*[│|]\s*"
     assert re.search(rf"foundation\.k_f{bar}kip/in{bar}2{bar}list{bar}571\.01{bar}5710\.1", text)  # 1e8, 1e9 N/m
     assert re.search(rf"foundation\.b{bar}ft{bar}2{bar}list{bar}6\.5617{bar}9\.8425", text)  # 2, 3 m
-    rows = json.loads((tmp_path / "ten_story_elcentro.sweep.json").read_text())["rows"]
+    rows = json.loads((tmp_path / "ten_story_elcentro.b-k_f.sweep.json").read_text())["rows"]
     largest = max(r["max_drift_ratio"] for r in rows)
     governing = next(line for line in text.splitlines() if "drift ratio [%]" in line)
     assert f"{100 * largest:.3f}" in governing
@@ -94,8 +94,8 @@ def test_sweep_json_on_stdout_and_quiet(tmp_path):
     assert [r["building.period"] for r in doc["rows"]] == [0.5, 1.0]
     assert doc["summary"]["governing"]["base_shear_coefficient"]["case"] in (0, 1)
     assert "cases to run" not in result.stderr
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["ten_story_elcentro.sweep.csv",
-                                                          "ten_story_elcentro.sweep.rows.jsonl"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ten_story_elcentro.period.sweep.csv",
+                                                          "ten_story_elcentro.period.sweep.rows.jsonl"]
 
 
 def test_sweep_criteria_exit_3_lists_the_cases(tmp_path):
@@ -104,7 +104,7 @@ def test_sweep_criteria_exit_3_lists_the_cases(tmp_path):
     assert result.exit_code == 3, result.output
     lines = [line for line in result.stderr.splitlines() if line.startswith("criterion violated")]
     assert len(lines) == 1 and "case 1 (building.period=3): simplified/rigid: drift_ratio" in lines[0]
-    rows = read_csv(tmp_path / "ten_story_elcentro.sweep.csv")
+    rows = read_csv(tmp_path / "ten_story_elcentro.period.sweep.csv")
     assert rows[0]["violations"] == "" and "drift_ratio" in rows[1]["violations"]
 
 
@@ -113,7 +113,7 @@ def test_failed_case_is_reported_and_exits_4(tmp_path):
                     "--set", "ground_motion.window=[0, 4]", "--vary", "analysis.exact.time_step=[1e-7, 0.005]")
     assert result.exit_code == 4, result.output
     assert "case 0 (exact/rigid) failed:" in result.stderr and "internal steps x states" in result.stderr
-    rows = read_csv(tmp_path / "ten_story_elcentro.sweep.csv")
+    rows = read_csv(tmp_path / "ten_story_elcentro.time_step.sweep.csv")
     assert [r["status"] for r in rows] == ["failed", "ok"]
     assert rows[0]["base_shear_N"] == "" and float(rows[1]["base_shear_N"]) > 0
 
@@ -121,15 +121,15 @@ def test_failed_case_is_reported_and_exits_4(tmp_path):
 def test_previous_rows_need_resume_or_overwrite(tmp_path):
     args = ["sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--support", "rigid", "--out", tmp_path, "--quiet"]
     assert invoke(*args).exit_code == 0
-    first = table_text(tmp_path / "ten_story_elcentro.sweep.csv")
+    first = table_text(tmp_path / "ten_story_elcentro.period.sweep.csv")
     result = invoke(*args)
-    rows = tmp_path / "ten_story_elcentro.sweep.rows.jsonl"
+    rows = tmp_path / "ten_story_elcentro.period.sweep.rows.jsonl"
     assert result.exit_code == 2 and result.stderr == (
         f"error: --out: {rows}: holds the rows of an earlier run of this sweep (2 cases): pass --resume to continue "
         "that run, or --overwrite to discard them and start again\n")
     assert invoke(*args, "--resume").exit_code == 0
     assert invoke(*args, "--overwrite").exit_code == 0
-    assert table_text(tmp_path / "ten_story_elcentro.sweep.csv") == first
+    assert table_text(tmp_path / "ten_story_elcentro.period.sweep.csv") == first
 
 
 @pytest.mark.parametrize("args, words", [
@@ -170,8 +170,8 @@ def test_parquet_table_matches_the_csv(tmp_path):
     result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1,2", "--support", "uplift", "--out", tmp_path,
                     "--table", "parquet", "--quiet")
     assert result.exit_code == 0, result.output
-    table = pyarrow_parquet.read_table(tmp_path / "ten_story_elcentro.sweep.parquet")
-    rows = read_csv(tmp_path / "ten_story_elcentro.sweep.csv")
+    table = pyarrow_parquet.read_table(tmp_path / "ten_story_elcentro.period.sweep.parquet")
+    rows = read_csv(tmp_path / "ten_story_elcentro.period.sweep.csv")
     assert [rounded(v) for v in table.column("base_shear_N").to_pylist()] == [float(r["base_shear_N"]) for r in rows]
     assert table.column("uplift").to_pylist() == [r["uplift"] == "true" for r in rows]
     assert json.loads(table.schema.metadata[b"units"])["building.period"] == "s"
@@ -181,7 +181,7 @@ def test_sweep_plot_is_written(tmp_path):
     result = invoke("sweep", EXAMPLE, "--vary", "foundation.k_f=1e8:1e10:3:log", "--out", tmp_path, "--plot",
                     "--quiet")
     assert result.exit_code == 0, result.output
-    data = (tmp_path / "ten_story_elcentro.sweep.png").read_bytes()
+    data = (tmp_path / "ten_story_elcentro.k_f.sweep.png").read_bytes()
     assert data.startswith(PNG) and len(data) > 10_000
 
 
@@ -195,7 +195,7 @@ def test_killed_sweep_resumes_to_the_same_table(deck_dir):
     process = subprocess.Popen([sys.executable, "-c", "from upliftcli.cli import console; console()", *common,
                                 "--out", str(killed), "--workers", "1"], stdout=subprocess.DEVNULL,
                                stderr=subprocess.PIPE)
-    rows_path = killed / "deck.sweep.rows.jsonl"
+    rows_path = killed / "deck.period.sweep.rows.jsonl"
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and process.poll() is None:
         if rows_path.exists() and len(rows_path.read_bytes().splitlines()) >= 3:
@@ -206,15 +206,15 @@ def test_killed_sweep_resumes_to_the_same_table(deck_dir):
     assert process.returncode == -signal.SIGKILL, process.stderr.read().decode()
     kept = len(rows_path.read_text().splitlines())
     assert 3 <= kept < 100
-    assert not (killed / "deck.sweep.csv").exists()
+    assert not (killed / "deck.period.sweep.csv").exists()
     with open(rows_path, "a") as handle:
         handle.write('{"case": 99, "key": "torn')
     resumed = invoke(*common, "--out", killed, "--resume", "--workers", "1")
     assert resumed.exit_code == 0, resumed.output
     whole = invoke(*common, "--out", deck_dir / "whole", "--workers", "2")
     assert whole.exit_code == 0, whole.output
-    assert table_text(killed / "deck.sweep.csv") == table_text(deck_dir / "whole" / "deck.sweep.csv")
-    assert len(read_csv(killed / "deck.sweep.csv")) == 100
+    assert table_text(killed / "deck.period.sweep.csv") == table_text(deck_dir / "whole" / "deck.period.sweep.csv")
+    assert len(read_csv(killed / "deck.period.sweep.csv")) == 100
 
 
 def test_spectra_writes_data_and_paper_figures(tmp_path):
@@ -325,7 +325,7 @@ def _start_long_sweep(out: Path) -> tuple[subprocess.Popen, list[int]]:
     process = subprocess.Popen([sys.executable, "-c", "from upliftcli.cli import console; console()", *LONG_SWEEP,
                                 "--out", str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                                env={**os.environ, "PYTHONFAULTHANDLER": "1"})  # SIGABRT: its stacks
-    rows_path = out / "ten_story_elcentro.sweep.rows.jsonl"
+    rows_path = out / "ten_story_elcentro.frequency_ratio.sweep.rows.jsonl"
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and process.poll() is None:
         if rows_path.exists() and len(rows_path.read_bytes().splitlines()) >= 6:
@@ -371,7 +371,7 @@ def test_stop_signals_keep_the_rows_and_stop_the_workers(tmp_path, signals, code
     assert process.returncode == code, stderr
     assert stderr.strip().splitlines() == [line for line in stderr.strip().splitlines() if line.startswith(
         f"interrupted ({name}): ")] and "Traceback" not in stderr and "Exception ignored" not in stderr
-    kept = len(RowStore(tmp_path / "ten_story_elcentro.sweep.rows.jsonl").read())
+    kept = len(RowStore(tmp_path / "ten_story_elcentro.frequency_ratio.sweep.rows.jsonl").read())
     assert kept >= 5 and f"{kept} of 18000 cases are kept" in stderr
     assert _gone(children)
 
@@ -386,10 +386,11 @@ def test_killed_sweep_takes_its_workers_along(tmp_path):
 def test_a_second_sweep_on_the_same_stem_is_refused(tmp_path):
     from upliftcli.sweep.store import stem_lock
 
-    with stem_lock(tmp_path, "ten_story_elcentro.sweep"):  # as a sweep in another process holds it
+    with stem_lock(tmp_path, "ten_story_elcentro.period.sweep"):  # as a sweep in another process holds it
         result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--out", tmp_path, "--quiet")
     assert result.exit_code == 2
-    assert result.stderr.strip() == (f"error: --out: {tmp_path / 'ten_story_elcentro.sweep'}: an output stem no other "
+    stem = tmp_path / "ten_story_elcentro.period.sweep"
+    assert result.stderr.strip() == (f"error: --out: {stem}: an output stem no other "
                                      "sweep is writing (another `uplift sweep` with the same --out and --name is "
                                      "running: wait for it to end or choose another --name)")
     assert sorted(p.name for p in tmp_path.iterdir()) == []
@@ -466,8 +467,8 @@ def test_sweep_files_follow_the_umask(tmp_path):
         os.umask(saved)
     assert result.exit_code == 0
     assert {p.name: stat.S_IMODE(p.stat().st_mode) for p in tmp_path.iterdir()} == {
-        "ten_story_elcentro.sweep.rows.jsonl": 0o664, "ten_story_elcentro.sweep.csv": 0o664,
-        "ten_story_elcentro.sweep.json": 0o664}
+        "ten_story_elcentro.period.sweep.rows.jsonl": 0o664, "ten_story_elcentro.period.sweep.csv": 0o664,
+        "ten_story_elcentro.period.sweep.json": 0o664}
 
 
 def test_resume_from_another_folder_is_the_same_sweep(tmp_path, monkeypatch):
@@ -476,7 +477,7 @@ def test_resume_from_another_folder_is_the_same_sweep(tmp_path, monkeypatch):
     args = ["--vary", "building.period=0.5,1", "--support", "rigid", "--out", tmp_path, "--quiet"]
     monkeypatch.chdir(ROOT)
     assert invoke("sweep", "inputs/ten_story_elcentro.toml", *args).exit_code == 0
-    rows = tmp_path / "ten_story_elcentro.sweep.rows.jsonl"
+    rows = tmp_path / "ten_story_elcentro.period.sweep.rows.jsonl"
     before = rows.read_text()
     monkeypatch.chdir(ROOT / "inputs")
     result = invoke("sweep", "ten_story_elcentro.toml", *args, "--resume")
@@ -514,14 +515,15 @@ def test_tables_of_an_earlier_run_are_replaced_only_with_resume_or_overwrite(tmp
     args = ["sweep", EXAMPLE, "--vary", "building.period=0.5,1", "--out", tmp_path, "--workers", "1", "--quiet",
             "--table", "csv"]
     assert invoke(*args).exit_code == 0
-    (tmp_path / "ten_story_elcentro.sweep.rows.jsonl").unlink()
-    before = (tmp_path / "ten_story_elcentro.sweep.csv").read_text()
+    (tmp_path / "ten_story_elcentro.period.sweep.rows.jsonl").unlink()
+    before = (tmp_path / "ten_story_elcentro.period.sweep.csv").read_text()
     result = invoke(*args)
-    assert result.exit_code == 2 and (tmp_path / "ten_story_elcentro.sweep.csv").read_text() == before
-    assert result.stderr == (f"error: --out: {tmp_path / 'ten_story_elcentro.sweep.csv'}: a new file (it exists: "
+    assert result.exit_code == 2 and (tmp_path / "ten_story_elcentro.period.sweep.csv").read_text() == before
+    table = tmp_path / "ten_story_elcentro.period.sweep.csv"
+    assert result.stderr == (f"error: --out: {table}: a new file (it exists: "
                              "written by an earlier run; --resume continues that run; pass --overwrite to replace "
                              "it)\n")
-    assert not (tmp_path / "ten_story_elcentro.sweep.rows.jsonl").exists()
+    assert not (tmp_path / "ten_story_elcentro.period.sweep.rows.jsonl").exists()
     assert invoke(*args, "--overwrite").exit_code == 0
 
 

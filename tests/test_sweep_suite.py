@@ -126,7 +126,7 @@ def test_sweep_and_spectra_commands_on_a_suite_deck(tmp_path):
                                  "--quiet"], env={"CI": "true"})
     assert result.exit_code == 0, result.output
     assert result.stderr.count("at least 11 records") == 1
-    rows = list(csv.DictReader(table_lines(tmp_path / "ten_story_asce7_suite.sweep.csv")))
+    rows = list(csv.DictReader(table_lines(tmp_path / "ten_story_asce7_suite.frequency_ratio.sweep.csv")))
     assert len(rows) == 2 * 4 and [r["statistic"] for r in rows[:2]] == ["mean", ""]
     result = runner.invoke(app, ["spectra", str(ASCE), "--set", THREE, "--periods", "0.8,1.2", "--support",
                                  "rigid,uplift", "--out", str(tmp_path), "--workers", "1", "--plot-format", "svg",

@@ -1,8 +1,11 @@
 """Display units: the one table of how a value is shown to a person, in SI or US units.
 
 Every human output (terminal tables, the report, the figures, the sweep and spectra
-summaries) converts its SI values here; the machine outputs (JSON, CSV) stay SI with their
-units stated. A value is shown by its *kind*: an SI unit ("N", "N m", "N/m", "kg" ...) or
+summaries) converts its SI values here. The machine outputs (JSON, CSV) are SI with their units
+stated, unless `--units us` is given on the command line: then they are written in US customary
+units (file_unit, in_file_units), their units stated the same way. The display system is the
+deck's `units` unless --units is given; the files follow --units only (a deck's units never
+change the files a script reads). A value is shown by its *kind*: an SI unit ("N", "N m", "N/m", "kg" ...) or
 one of the display choices "mm" (a small length: displacements, drifts, uplift, spectral
 displacements), "mm/s" (a ground or spectral velocity), "%" (a ratio
 in percent: drift ratios), "g" (an acceleration in g), "mrad" (a small angle: the mat's
@@ -272,3 +275,70 @@ def _instant_text(name: str, instant: float | None) -> str:
     if name.startswith("residual"):
         return "end"
     return "-" if instant is None else f"{instant:.3f}"
+
+
+# ----------------------------------------------------------------------------- files in US units
+
+#: the SI units a file writes in US customary units under --units us (each in its US display
+#: unit; a displacement or a velocity shown in mm or mm/s in in or in/s); every other value (s,
+#: rad, g, ratios) as it is
+FILE_CONVERTED = frozenset({"m", "N", "N m", "m/s^2", "m/s", "kg", "kg m", "kg m^2", "kg/m^3", "N/m", "N/m^2",
+                            "N s/m", "N s/m^2", "N m/rad", "N m s/rad", "Pa", "J"})
+#: the keys of a results document never converted: ratios, bands, what the run was
+FILE_KEPT = frozenset({"provenance", "details", "ratio", "spectrum_ratio", "procedure_ratio", "compared", "band",
+                       "motion_band", "left_out", "warnings", "statistic_meanings", "suite_rule"})
+
+
+def file_unit(si_unit: str, kind: str = "", system: str = "si") -> Unit:
+    """The unit a file writes a value of this SI unit (and display kind) in: the SI unit itself
+    (factor 1), or in the system 'us' its US display unit (FILE_CONVERTED)."""
+    if system != "us" or si_unit not in FILE_CONVERTED:
+        return Unit(si_unit)
+    return unit(kind if kind in ("mm", "mm/s") else si_unit, "us")
+
+
+def unit_suffix(text: str) -> str:
+    """A unit as the suffix of a column name: 'kip ft' -> '_kipft', 'in/s^2' -> '_in_s2' ('-', '': none)."""
+    if text in ("-", ""):
+        return ""
+    return "_" + text.replace(" ", "").replace("/", "_").replace("^", "")
+
+
+def in_file_units(document, units: dict):
+    """A JSON-ready document with every value whose key `units` names ({key: Unit, or a nested
+    {key: Unit} for the values under that key}) multiplied by its unit's factor; lists and
+    dicts walked (a key of FILE_KEPT not); everything else as it is."""
+    if isinstance(document, dict):
+        return {key: _converted_entry(key, value, units) for key, value in document.items()}
+    if isinstance(document, list):
+        return [in_file_units(item, units) for item in document]
+    return document
+
+
+def _converted_entry(key: str, value, units: dict):
+    """One entry of in_file_units: a number (or list of numbers) of a named unit converted, a
+    nested unit table followed, a kept key as it is, anything else walked."""
+    found = units.get(key)
+    if key in FILE_KEPT:
+        return value
+    if isinstance(found, dict):
+        return in_file_units(value, found)
+    if isinstance(found, Unit) and found.factor != 1.0:
+        return _scaled(value, found.factor, units)
+    return in_file_units(value, units)
+
+
+def _scaled(value, factor: float, units: dict):
+    """A number times factor; a list: each item; a dict (left, centre, right edge): each value."""
+    if isinstance(value, list):
+        return [_scaled(item, factor, units) for item in value]
+    if isinstance(value, dict):
+        return {key: _scaled(item, factor, units) for key, item in value.items()}
+    return _scaled_number(value, factor)
+
+
+def _scaled_number(value, factor: float):
+    """A number (not a bool) times factor; anything else as it is."""
+    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_)):
+        return float(value) * factor
+    return value

@@ -1,7 +1,8 @@
 """Every file an analysis writes: the results document (JSON), the story and foundation tables
 (CSV) and the resolved deck (<stem>.deck.toml, a deck that repeats the run); the response
 histories (CSV or NPZ): histories.py. Each file is written atomically (upliftcli.runtime.atomic): never half-written.
-SI units in every file; the units are listed in it. Every result file carries the provenance of
+SI units in every file, or US customary units under --units us (display.file_unit); the units are
+listed in it. Every result file carries the provenance of
 the run (provenance/record.py): the JSON under "provenance", each CSV table in two leading '#' lines
 (pandas.read_csv(path, comment="#") reads the table). Numbers are written with at most 15
 significant digits (provenance/values.DIGITS), as the shortest text of that value: 15.3, not
@@ -22,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from .analysis.level import answer_line
+from .display import file_unit, in_file_units, intermediate_kind
 from .engines.quantities import (
     COMPARED,
     FLOOR,
@@ -33,6 +35,8 @@ from .engines.quantities import (
     YIELDING,
     column_name,
     element_quantities,
+    file_column,
+    file_kind,
     quantities,
     rocking_entries,
 )
@@ -57,8 +61,23 @@ _STORY_QUANTITIES = quantities(FLOOR, STORY)
 _YIELDING_STORY = [q for q in YIELDING.values() if q.where == STORY]
 #: quantity -> its key in the story tables where it differs from its name
 STORY_KEYS = {"story_yielded": "yielded"}
-#: units of the yielding-story outputs, listed in a document whose results carry them (units_of)
+#: units of the yielding-story outputs, listed in a document whose results carry them (file_units)
 YIELDING_UNITS = {**{STORY_KEYS.get(q.name, q.name): q.unit for q in YIELDING.values()}, "building_yielded": "-"}
+
+
+def file_units(system: str = "si", yielding: bool = False) -> dict:
+    """UNITS (and YIELDING_UNITS for a yielding building's results) as the units of a file in a unit
+    system: {name: display.Unit}, the intermediates nested."""
+    listed = {**UNITS, **YIELDING_UNITS} if yielding else UNITS
+    plain = {name: unit for name, unit in listed.items() if isinstance(unit, str)}
+    return {**{name: file_unit(unit, file_kind(name), system) for name, unit in plain.items()},
+            "intermediates": {name: file_unit(unit, intermediate_kind(name, unit), system)
+                              for name, unit in UNITS["intermediates"].items()}}
+
+
+def _labels(units: dict) -> dict:
+    """The unit labels of file_units (the JSON's units entry)."""
+    return {name: _labels(u) if isinstance(u, dict) else u.label for name, u in units.items()}
 
 
 def _columns(result: AnalysisResult, where: list) -> list[tuple[str, Any]]:
@@ -202,23 +221,21 @@ def check_of(result: AnalysisResult, checks) -> Any:
     return next((c for c in checks if c.support == result.support), None)
 
 
-def units_of(results: list[AnalysisResult]) -> dict[str, Any]:
-    """UNITS, and YIELDING_UNITS when a result carries the yielding stories' quantities."""
-    yielding = any(r.building_yielded is not None for r in results)
-    return {**UNITS, **YIELDING_UNITS} if yielding else UNITS
-
-
-def results_document(results: list[AnalysisResult], source: str | None = None,
-                     title: str | None = None, provenance: dict | None = None, checks=()) -> dict[str, Any]:
+def results_document(results: list[AnalysisResult], source: str | None = None, title: str | None = None,
+                     provenance: dict | None = None, checks=(), system: str = "si") -> dict[str, Any]:
     """The document `--format json` prints: one result -> that result's dict (plus source,
     title, units and the provenance of the run); several -> {"source", "title", "units",
-    "provenance", "results": [...]}; checks: the accuracy checks (accuracy.check_accuracy)."""
-    head = {"source": source, "title": title, "units": units_of(results), "provenance": provenance,
+    "provenance", "results": [...]}; checks: the accuracy checks (accuracy.check_accuracy);
+    system: the units of its values (file_units)."""
+    units = file_units(system, any(r.building_yielded is not None for r in results))
+    head = {"source": source, "title": title, "units": _labels(units), "provenance": provenance,
             "answer": answer_line(results, checks) or None}  # the design value and the check (analysis/level.py)
     head = {k: v for k, v in head.items() if v is not None}
     if len(results) == 1:
-        return {**head, **result_to_dict(results[0], check_of(results[0], checks))}
-    return {**head, "results": [result_to_dict(result, check_of(result, checks)) for result in results]}
+        body = result_to_dict(results[0], check_of(results[0], checks))
+    else:
+        body = {"results": [result_to_dict(result, check_of(result, checks)) for result in results]}
+    return {**head, **(in_file_units(body, units) if system != "si" else body)}
 
 
 def dumps(document: Any) -> str:
@@ -227,8 +244,8 @@ def dumps(document: Any) -> str:
 
 
 def to_json(results: list[AnalysisResult], source: str | None = None, title: str | None = None,
-            provenance: dict | None = None, checks=()) -> str:
-    return dumps(results_document(results, source, title, provenance, checks))
+            provenance: dict | None = None, checks=(), system: str = "si") -> str:
+    return dumps(results_document(results, source, title, provenance, checks, system))
 
 
 def _csv(header: list[str], rows: list[list[Any]], provenance: dict | None = None) -> str:
@@ -260,73 +277,79 @@ def _suite_labelled(r: AnalysisResult) -> list[tuple[list[str], AnalysisResult]]
               for info, record in zip(r.records, r.record_results, strict=True))]
 
 
-def _peaks_at(r: AnalysisResult, chosen: list, k: int) -> list[float]:
-    """The peaks of the quantities chosen at place k, NaN where the result has none."""
-    return [q.typed(float(r.peaks[q.name][k])) if q.name in r.peaks else np.nan for q in chosen]
+def _peaks_at(r: AnalysisResult, chosen: list, k: int, factors: list[float]) -> list[float]:
+    """The peaks of the quantities chosen at place k (times their factors), NaN where the result has none."""
+    return [q.typed(float(r.peaks[q.name][k]) * f) if q.name in r.peaks else np.nan
+            for q, f in zip(chosen, factors, strict=True)]
 
 
-def _table(results: list[AnalysisResult], chosen, index: str, position: str, positions) -> tuple[list[str], list]:
-    """(header, rows): one row per (engine, support, place), the places' positions [m] from
-    `positions(result)`, a column per quantity of `chosen` that some result has."""
+def _table(results: list[AnalysisResult], chosen, index: str, position: str, positions,
+           system: str = "si") -> tuple[list[str], list]:
+    """(header, rows): one row per (engine, support, place), the places' positions from
+    `positions(result)`, a column per quantity of `chosen` that some result has (in `system`: file_column)."""
     present = [q for q in chosen if any(q.name in r.peaks for r in results)]
     lead, labelled = _labelled(results)
-    header = [*lead, index, position] + [column_name(STORY_KEYS.get(q.name, q.name), q.unit) for q in present]
-    rows = [[*labels, k + 1, float(x), *_peaks_at(r, present, k)]
+    (position, scale), *columns = [file_column(position, "m", "m", system),
+                                   *(file_column(STORY_KEYS.get(q.name, q.name), q.unit, q.display, system)
+                                     for q in present)]
+    factors = [factor for _, factor in columns]
+    rows = [[*labels, k + 1, float(x) * scale, *_peaks_at(r, present, k, factors)]
             for labels, r in labelled for k, x in enumerate(positions(r))]
-    return header, rows
+    return [*lead, index, position, *(name for name, _ in columns)], rows
 
 
-def story_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[Any]]]:
+def story_table(results: list[AnalysisResult], system: str = "si") -> tuple[list[str], list[list[Any]]]:
     """(header, rows) of the story tables of all results, one row per (engine, support, story);
     units in the headers (floor quantities of floor j on story j's row); a suite's records after
     its statistic (_labelled); numbers as floats (NaN: no value)."""
-    return _table(results, _STORY_QUANTITIES + _YIELDING_STORY, "story", "elevation_m", lambda r: r.elevations)
+    return _table(results, _STORY_QUANTITIES + _YIELDING_STORY, "story", "elevation", lambda r: r.elevations, system)
 
 
-def elements_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[Any]]]:
+def elements_table(results: list[AnalysisResult], system: str = "si") -> tuple[list[str], list[list[Any]]]:
     """(header, rows) of the foundation tables: one row per (engine, support, contact element),
     left to right (a suite's records after its statistic, as story_table)."""
-    return _table(results, element_quantities(), "element", "position_m", lambda r: r.element_positions)
+    return _table(results, element_quantities(), "element", "position", lambda r: r.element_positions, system)
 
 
-def to_csv(results: list[AnalysisResult], provenance: dict | None = None) -> str:
+def to_csv(results: list[AnalysisResult], provenance: dict | None = None, system: str = "si") -> str:
     """The story tables (story_table) as CSV, after the provenance's '#' lines if given."""
-    return _csv(*story_table(results), provenance)
+    return _csv(*story_table(results, system), provenance)
 
 
-def elements_csv(results: list[AnalysisResult], provenance: dict | None = None) -> str:
+def elements_csv(results: list[AnalysisResult], provenance: dict | None = None, system: str = "si") -> str:
     """The foundation tables (elements_table) as CSV, after the provenance's '#' lines if given."""
-    return _csv(*elements_table(results), provenance)
+    return _csv(*elements_table(results, system), provenance)
 
 
-def _rocking_values(r: AnalysisResult) -> dict[str, float]:
+def _rocking_values(r: AnalysisResult, system: str = "si") -> dict[str, float]:
     """A result's rocking columns (column name with unit -> value): each value and the instant of a
     peak (a residual's instant is the end: none); {} when it carries no rocking quantity."""
     values: dict[str, float] = {}
     for q, key, _, value, instant in rocking_entries(r):
         name = q.name if key == "mat" else f"{q.name}_{key}"
-        values[column_name(name, q.unit)] = value
+        column, factor = file_column(name, q.unit, q.display, system)
+        values[column] = value * factor if factor != 1.0 else value  # a count stays an integer
         if instant is not None and not q.name.startswith("residual"):
             values[column_name(f"{name}_time", "s")] = instant
     return values
 
 
-def rocking_table(results: list[AnalysisResult]) -> tuple[list[str], list[list[Any]]]:
+def rocking_table(results: list[AnalysisResult], system: str = "si") -> tuple[list[str], list[list[Any]]]:
     """(header, rows) of the rocking tables: one row per result that carries the rocking
     quantities (quantities.ROCKING: the exact engine's uplift runs), a column per value and its
     instant, units in the headers (rotation_rad, settlement_left_edge_m, settlement_left_edge_time_s,
     plastic_work_J); ([], []) when no result carries them."""
     lead, labelled = _labelled(results)
-    rows = [(labels, values) for labels, r in labelled if (values := _rocking_values(r))]
+    rows = [(labels, values) for labels, r in labelled if (values := _rocking_values(r, system))]
     if not rows:
         return [], []
     columns = dict.fromkeys(name for _, values in rows for name in values)
     return [*lead, *columns], [[*labels, *(values.get(c, np.nan) for c in columns)] for labels, values in rows]
 
 
-def rocking_csv(results: list[AnalysisResult], provenance: dict | None = None) -> str:
+def rocking_csv(results: list[AnalysisResult], provenance: dict | None = None, system: str = "si") -> str:
     """The rocking tables (rocking_table) as CSV, after the provenance's '#' lines if given."""
-    return _csv(*rocking_table(results), provenance)
+    return _csv(*rocking_table(results, system), provenance)
 
 
 def result_paths(directory, stem: str, elements: bool = True, deck: bool = True, rocking: bool = False) -> list[Path]:
@@ -344,31 +367,30 @@ def _given_or_deck(deck, source: str | None, title: str | None, provenance: dict
             of_deck(deck) if provenance is None else provenance)
 
 
-def _tables(results: list[AnalysisResult], provenance: dict | None, elements: bool, rocking: bool) -> list[str]:
-    """The CSV texts of write_results: the story tables, then the foundation and the rocking tables
-    when asked."""
-    texts = [to_csv(results, provenance)]
-    if elements:
-        texts.append(elements_csv(results, provenance))
-    if rocking:
-        texts.append(rocking_csv(results, provenance))
-    return texts
+def _tables(results: list[AnalysisResult], provenance: dict | None, elements: bool, rocking: bool,
+            system: str) -> list[str]:
+    """The CSV texts of write_results: the story tables, then the foundation and the rocking tables when asked."""
+    return [to_csv(results, provenance, system), *[elements_csv(results, provenance, system)] * elements,
+            *[rocking_csv(results, provenance, system)] * rocking]
 
 
 def write_results(results: list[AnalysisResult], directory, stem: str, source: str | None = None,
-                  title: str | None = None, *, deck=None, provenance: dict | None = None, checks=()) -> list:
+                  title: str | None = None, *, deck=None, provenance: dict | None = None, checks=(),
+                  system: str = "si") -> list:
     """Write <stem>.json, <stem>.csv (stories), <stem>.elements.csv (foundation elements, when
     a flexible support was analysed), <stem>.rocking.csv (the mat's rotation and settlement, when
     a result carries them: rocking_table) and, given the deck.Deck, <stem>.deck.toml (the resolved
     deck: `uplift analyze` on it repeats the run) into directory, each atomically; return the
     paths. The provenance (default: provenance.of_deck of the deck) goes into every file. All
     texts are built before the first file is written, and the files are written all or none
-    (atomic.write_set), so a failure (a full disk) leaves no file of the set."""
+    (atomic.write_set), so a failure (a full disk) leaves no file of the set. system: the units
+    of the JSON and CSV files (file_units; the resolved deck is SI)."""
     source, title, provenance = _given_or_deck(deck, source, title, provenance)
     elements = any(r.element_positions.size for r in results)
     rocking = any(rocking_entries(r) for r in results)
     paths = result_paths(directory, stem, elements, deck is not None, rocking)
-    texts = [to_json(results, source, title, provenance, checks), *_tables(results, provenance, elements, rocking)]
+    texts = [to_json(results, source, title, provenance, checks, system),
+             *_tables(results, provenance, elements, rocking, system)]
     if deck is not None:
         texts.append(deck_toml(deck, provenance, directory))
     write_set(dict(zip(paths, texts, strict=True)))  # all or none: a full disk leaves no file of the set

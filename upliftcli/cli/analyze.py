@@ -31,7 +31,9 @@ from .options import (
     OutputFormat,
     accuracy_checks,
     check_out_directory,
+    display_system,
     exit_on_violations,
+    file_system,
     given_path,
     overrides,
     refuse_unchecked,
@@ -84,7 +86,11 @@ class _Outputs:
     formats: list[str]
     histories: Path | None
     overwrite: bool
-    units: str
+    units: str | None  # --units (None: the deck's display units, SI files)
+
+    def display(self, loaded: Deck) -> str:
+        """The display units of this deck's tables and figures (options.display_system)."""
+        return display_system(self.units, loaded.raw)
 
 
 def analyze(
@@ -96,16 +102,18 @@ def analyze(
                                       help="Support condition(s): rigid, bonded, uplift or all; repeatable or comma "
                                            "separated (default: the deck's)."),
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f",
-                                               help="table (terminal) or json (one document on stdout, SI units)."),
+                                               help="table (terminal) or json (one document on stdout, SI units unless "
+                                                    "--units is given)."),
     out: Path | None = typer.Option(None, "--out", "-o", parser=given_path,
                                     help="Also write <deck>.json, .csv (and .elements.csv, .rocking.csv) results "
-                                         "(SI, units stated: the JSON's units entry, the CSV column names) and "
+                                         "(SI, or US under --units us; units stated: the JSON's units entry, "
+                                         "the CSV column names) and "
                                          "<deck>.deck.toml (the resolved deck, which repeats the run) into this "
                                          "directory."),
     histories: Path | None = typer.Option(
         None, "--histories", parser=given_path,
         help="Exact/approximate engines: write the response histories to this file in SI (.csv, the unit "
-             "in each column name, or .npz); with "
+             "in each column name, in US units under --units us; or .npz, SI); with "
              "several analyses, one file each, named <stem>_<engine>_<support><suffix>. An existing file "
              "is refused unless --overwrite."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace existing output files (of --out, --plot and "
@@ -119,7 +127,7 @@ def analyze(
              "mat rotation; a ratio outside analysis.check_band is a warning."),
     plot: Path | None = typer.Option(None, "--plot", parser=given_path, help=plotting.PLOT_HELP),
     plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
-    units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
+    units: DisplayUnits | None = typer.Option(None, "--units", help=UNITS_HELP),
 ) -> None:
     """Peak story shears, drifts, displacements and the uplift verdict of a deck (or of several decks).
 
@@ -130,9 +138,9 @@ def analyze(
 
     formats = _check_outputs_given(decks, out, plot, plot_format)
     if len(decks) > 1:
-        analyze_batch(decks, overrides(settings, engine, support), output_format, out, overwrite, units.value, check)
+        analyze_batch(decks, overrides(settings, engine, support), output_format, out, overwrite, units, check)
         return
-    outputs = _Outputs(output_format, out, plot, formats, histories, overwrite, units.value)
+    outputs = _Outputs(output_format, out, plot, formats, histories, overwrite, units)
     _analyze_deck(decks[0], overrides(settings, engine, support), outputs, check)
 
 
@@ -185,13 +193,13 @@ def _refuse_outputs(deck: Path, loaded: Deck, outputs: _Outputs) -> None:
 def _write_outputs(deck: Path, loaded: Deck, results, checks: list, outputs: _Outputs) -> None:
     """The figures, the histories, the table or JSON on stdout and the --out files, in that order."""
     if outputs.plot is not None:
-        plotting.analysis_plots(results, loaded, outputs.plot, deck.stem, outputs.formats, outputs.units)
+        plotting.analysis_plots(results, loaded, outputs.plot, deck.stem, outputs.formats, outputs.display(loaded))
     record = _provenance(loaded, outputs)
     if outputs.histories is not None:
-        write_histories(outputs.histories, results, input_files(loaded), record)
+        write_histories(outputs.histories, results, input_files(loaded), record, file_system(outputs.units))
     _print_results(loaded, results, checks, record, outputs)
     if outputs.out is not None:
-        write_results(results, outputs.out, deck.stem, loaded, record, checks)
+        write_results(results, outputs.out, deck.stem, loaded, record, checks, file_system(outputs.units))
 
 
 def _provenance(loaded: Deck, outputs: _Outputs) -> dict | None:
@@ -210,9 +218,9 @@ def _print_results(loaded: Deck, results, checks: list, record: dict | None, out
     from . import render
 
     if outputs.output_format is OutputFormat.json:
-        stdout.echo(to_json(results, loaded.source, loaded.title, record, checks), nl=False)
+        stdout.echo(to_json(results, loaded.source, loaded.title, record, checks, file_system(outputs.units)), nl=False)
         return
-    render.print_results(render.console(), results, loaded.title, outputs.units, checks)
+    render.print_results(render.console(), results, loaded.title, outputs.display(loaded), checks)
 
 
 def modes(
@@ -224,7 +232,7 @@ def modes(
                                           "<deck>.modes.png."),
     plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing --plot figure."),
-    units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
+    units: DisplayUnits | None = typer.Option(None, "--units", help=UNITS_HELP),
 ) -> None:
     """Fixed-base modes: periods, w_n/w_1, effective masses m_n*/m_t (and cumulative), heights h_n*, h_n*/b."""
     from ..deck.load import load_deck
@@ -233,11 +241,11 @@ def modes(
     loaded = load_deck(deck, settings, load_ground_motion=False)
     warn_deck(loaded)
     if plot is not None:
-        _plot_modes(deck, loaded, plot, formats, overwrite, units.value)
+        _plot_modes(deck, loaded, plot, formats, overwrite, display_system(units, loaded.raw))
     if output_format is OutputFormat.json:
-        stdout.echo(json.dumps(_modes_document(loaded), indent=2))
+        stdout.echo(json.dumps(_modes_document(loaded, file_system(units)), indent=2))
         return
-    _print_modes(loaded, units.value)
+    _print_modes(loaded, display_system(units, loaded.raw))
 
 
 def _plot_modes(deck: Path, loaded: Deck, plot: Path, formats: list[str], overwrite: bool, units: str) -> None:
@@ -247,18 +255,22 @@ def _plot_modes(deck: Path, loaded: Deck, plot: Path, formats: list[str], overwr
     plotting.modes_plots(loaded, plot, deck.stem, formats, units)
 
 
-def _modes_document(loaded: Deck) -> dict:
-    """The JSON document of `modes` (SI, units stated)."""
+def _modes_document(loaded: Deck, system_of_units: str = "si") -> dict:
+    """The JSON document of `modes` (SI, or US under --units us; units stated)."""
+    from ..display import file_unit, in_file_units
     from ..model.system import MODE_ROW_UNITS, fixed_base_mode_rows
     from ..output import to_jsonable
     from ..provenance.record import of_deck
 
     system = loaded.system
-    return to_jsonable({
-        "source": loaded.source, "total_mass": system.total_mass, "half_width": system.half_width,
-        "units": {"total_mass": "kg", "half_width": "m", **MODE_ROW_UNITS},
-        "modes": fixed_base_mode_rows(system), "provenance": of_deck(loaded),
-    })
+    units = {name: file_unit(unit, "", system_of_units)
+             for name, unit in {"total_mass": "kg", "half_width": "m", **MODE_ROW_UNITS}.items()}
+    document = in_file_units(to_jsonable({"source": loaded.source, "total_mass": system.total_mass,
+                                          "half_width": system.half_width, "modes": fixed_base_mode_rows(system)}),
+                             units)
+    return {"source": document["source"], "total_mass": document["total_mass"], "half_width": document["half_width"],
+            "units": {name: unit.label for name, unit in units.items()}, "modes": document["modes"],
+            "provenance": to_jsonable(of_deck(loaded))}
 
 
 def _print_modes(loaded: Deck, units: str) -> None:

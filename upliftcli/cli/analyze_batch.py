@@ -13,12 +13,20 @@ from ..provenance import record as provenance
 from ..provenance.files import input_files
 from . import stdout
 from .analyze_steps import refuse_results, result_paths, warn, warn_deck, warn_suite, write_results
-from .options import OutputFormat, accuracy_checks, exit_on_violations, refuse_unchecked
+from .options import (
+    OutputFormat,
+    accuracy_checks,
+    display_system,
+    exit_on_violations,
+    file_system,
+    refuse_unchecked,
+)
 
 
 def analyze_batch(decks: list[Path], overrides: list[str], output_format: OutputFormat, out: Path | None,
-                  overwrite: bool = False, units: str = "si", check: bool = True) -> None:
-    """Several decks (module docstring); check: suite_check.check_deck of each deck."""
+                  overwrite: bool = False, units: str | None = None, check: bool = True) -> None:
+    """Several decks (module docstring); check: suite_check.check_deck of each deck; units: --units
+    (None: the decks' own when they agree, else SI; the files SI)."""
     _refuse_same_names(decks, out)
     loaded = _load_decks(decks, overrides, check)
     _refuse_outputs(decks, loaded, out, overwrite)
@@ -27,7 +35,7 @@ def analyze_batch(decks: list[Path], overrides: list[str], output_format: Output
     _warn_decks(runs, checks)
     violations = _violations(runs, checks)
     _print_decks(runs, records, checks, output_format, units)
-    _write_decks(runs, records, checks, out)
+    _write_decks(runs, records, checks, out, units)
     exit_on_violations(violations)
 
 
@@ -96,16 +104,23 @@ def _print_decks(runs: list[tuple], records: list[dict], checks: list[list], out
     from .render_batch import batch_table
 
     if output_format is OutputFormat.json:
-        document = {"decks": [results_document(results, item.source, item.title, record, checked)
+        document = {"decks": [results_document(results, item.source, item.title, record, checked, file_system(units))
                               for (_, item, results), record, checked in zip(runs, records, checks, strict=True)]}
         stdout.echo(dumps(document), nl=False)
         return
-    render.console().print(batch_table(runs, units, checks))
+    render.console().print(batch_table(runs, _shared_units(units, [item for _, item, _ in runs]), checks))
 
 
-def _write_decks(runs: list[tuple], records: list[dict], checks: list[list], out: Path | None) -> None:
+def _shared_units(given: str | None, loaded: list) -> str:
+    """The display units of the summary of several decks: --units, else the decks' own when all agree, else SI."""
+    systems = {display_system(given, item.raw) for item in loaded}
+    return systems.pop() if len(systems) == 1 else "si"
+
+
+def _write_decks(runs: list[tuple], records: list[dict], checks: list[list], out: Path | None,
+                 units: str | None) -> None:
     """The --out files of every deck."""
     if out is None:
         return
     for (deck, item, results), record, checked in zip(runs, records, checks, strict=True):
-        write_results(results, out, deck.stem, item, record, checked)
+        write_results(results, out, deck.stem, item, record, checked, file_system(units))

@@ -30,12 +30,13 @@ def refuse_results(outputs: list[Path], inputs: list[str], overwrite: bool) -> N
     refuse_existing(outputs, "--out", overwrite, EARLIER)
 
 
-def write_results(results, out: Path, stem: str, loaded, record: dict | None = None, checks=()) -> None:
-    """The --out files of one deck, each named on stderr."""
+def write_results(results, out: Path, stem: str, loaded, record: dict | None = None, checks=(),
+                  system: str = "si") -> None:
+    """The --out files of one deck (in the units of `system`: options.file_system), each named on stderr."""
     from ..output import write_results as write
 
     try:
-        written = write(results, out, stem, deck=loaded, provenance=record, checks=checks)
+        written = write(results, out, stem, deck=loaded, provenance=record, checks=checks, system=system)
     except OSError as error:
         raise not_writable("--out", out, error) from None
     echo_written(written)

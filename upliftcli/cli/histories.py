@@ -81,22 +81,23 @@ def _analyses(result) -> list[tuple[str, object]]:
     return [*zip(_suffixes(len(records)), records, strict=True), ("", result)]
 
 
-def write_histories(path: Path, results, inputs: list[str], record: dict | None = None) -> None:
+def write_histories(path: Path, results, inputs: list[str], record: dict | None = None, system: str = "si") -> None:
     """Write each analysis's histories with the provenance `record` (the results documents never
     hold them: AnalysisResult.histories); a suite's records one file each, <stem>_<engine>_<support>_r<k><suffix>."""
     with_histories = _with_histories(results)
     targets = history_paths(path, [(result.engine, result.support, suffix) for suffix, result in with_histories])
     refuse_inputs(targets, inputs, "--histories")  # as checked before the run (the names are the same)
     for (_, result), target in zip(with_histories, targets, strict=True):
-        _write(target, result.histories, record)
+        _write(target, result.histories, record, system)
         stdout.echo(f"wrote {target}", err=True)
 
 
-def _write(target: Path, histories, record: dict | None) -> None:
-    """Write one file of histories (histories.write_histories); a file not written: InputError."""
+def _write(target: Path, histories, record: dict | None, system: str = "si") -> None:
+    """Write one file of histories (histories.write_histories, in the units of `system`); a file not
+    written: InputError."""
     from ..histories import write_histories as write
 
     try:
-        write(target, histories, record)
+        write(target, histories, record, system)
     except OSError as error:
         raise InputError("--histories", str(target), f"a writable file ({error_reason(error)})") from None

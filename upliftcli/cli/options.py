@@ -19,8 +19,9 @@ from . import stdout
 SET_HELP = ("Override a deck field by dotted path, e.g. --set building.period=0.5 (repeatable; TOML values in the "
             "deck's units: SI, US customary under units = \"us\", or with their unit, "
             "building.story_height='\"11.5 ft\"'; docs/deck.md).")
-UNITS_HELP = ("Display units of the tables and figures: si (kN, kN m, mm, m, g) or us (kip, kip ft, in, ft, g); "
-              "JSON and CSV stay SI.")
+UNITS_HELP = ("Display units of the tables and figures: si (kN, kN m, mm, m, g) or us (kip, kip ft, in, ft, g) "
+              "(default: the deck's units). Given, also the units of the JSON and CSV files (their column names "
+              "say it: shear_kip); without it they are SI.")
 ENGINE_HELP = "Engine(s): simplified, approximate, exact or all; repeatable or comma separated (default: the deck's)."
 
 
@@ -56,10 +57,23 @@ class OutputFormat(StrEnum):
 
 
 class DisplayUnits(StrEnum):
-    """The display units of the human outputs (upliftcli/display.py); files and JSON stay SI."""
+    """The display units of the human outputs (upliftcli/display.py) and, given, of the files."""
 
     si = "si"
     us = "us"
+
+
+def display_system(given: DisplayUnits | str | None, raw: dict) -> str:
+    """The display units: --units when given, else the deck's `units` (si or us)."""
+    from ..deck.schema import unit_system
+
+    return str(given) if given else unit_system(raw)
+
+
+def file_system(given: DisplayUnits | str | None) -> str:
+    """The units of the JSON and CSV files: --units when given, else SI (a deck's units never
+    change the files a script reads; README.md, "Units")."""
+    return str(given) if given else "si"
 
 
 def overrides(settings: list[str], engines: list[str], supports: list[str]) -> list[str]:

@@ -214,21 +214,29 @@ def _spectrum_cells(spectrum: spectra.Spectrum, j: int, dampings: int, system: s
     return cells
 
 
-def spectrum_csv(spectrum: spectra.Spectrum, record: dict | None = None) -> str:
-    """Long-format CSV of a spectrum, one row per (damping, period), SI units and S_a in g,
-    after the provenance's two '#' lines if given (docs/provenance.md)."""
+#: the columns of a spectrum's CSV: (name, SI unit, display kind), in order
+SPECTRUM_COLUMNS = (("damping_ratio", "-", ""), ("period", "s", ""), ("sd", "m", "mm"), ("psv", "m/s", "mm/s"),
+                    ("psa", "m/s^2", ""), ("psa", "g", ""), ("abs_acc", "m/s^2", ""))
+
+
+def spectrum_csv(spectrum: spectra.Spectrum, record: dict | None = None, system: str = "si") -> str:
+    """Long-format CSV of a spectrum, one row per (damping, period), SI units (or US under --units
+    us: sd_in, psv_in_s, psa_in_s2) and S_a in g, after the provenance's two '#' lines if given
+    (docs/provenance.md)."""
+    from ..engines.quantities import file_column
     from ..provenance.record import csv_comments
 
+    columns = [file_column(name, unit, kind, system) for name, unit, kind in SPECTRUM_COLUMNS]
     buffer = io.StringIO()
     if record is not None:
         buffer.write(csv_comments(record))
-    buffer.write("damping_ratio,period_s,sd_m,psv_m_s,psa_m_s2,psa_g,abs_acc_m_s2\n")  # quantity_unit, as every CSV
-    buffer.writelines(_csv_rows(spectrum))
+    buffer.write(",".join(name for name, _ in columns) + "\n")  # quantity_unit, as every CSV
+    buffer.writelines(_csv_rows(spectrum, [factor for _, factor in columns]))
     return buffer.getvalue()
 
 
-def _csv_rows(spectrum: spectra.Spectrum):
-    """The CSV lines of spectrum_csv, damping by damping, period by period."""
+def _csv_rows(spectrum: spectra.Spectrum, factors: list[float]):
+    """The CSV lines of spectrum_csv, damping by damping, period by period (each value times its factor)."""
     from ..provenance.record import number_text
 
     g = STANDARD_GRAVITY
@@ -237,7 +245,7 @@ def _csv_rows(spectrum: spectra.Spectrum):
             values = (xi, period, spectrum.displacement[k, j], spectrum.pseudo_velocity[k, j],
                       spectrum.pseudo_acceleration[k, j], spectrum.pseudo_acceleration[k, j] / g,
                       spectrum.absolute_acceleration[k, j])
-            yield ",".join(number_text(value) for value in values) + "\n"
+            yield ",".join(number_text(value * f) for value, f in zip(values, factors, strict=True)) + "\n"
 
 
 def spectrum(
@@ -272,7 +280,7 @@ def spectrum(
     _refuse_outputs(record, out, plot, overwrite)
     result = spectra.response_spectrum(record.acceleration, record.dt, period_values, dampings)
     text = spectrum_csv(result, of_record(record, window=parse_window(window), periods=period_values,
-                                          dampings=dampings))
+                                          dampings=dampings), system)
     _write_spectrum(text, result, record, out, plot, system)
 
 

@@ -21,8 +21,9 @@ RECORD_UNITS_HELP = ("Acceleration units of the record file: g, m/s2, cm/s2, in/
                      "default: from the header; units that contradict the header's are refused unless "
                      "--override-header-units).")
 DISPLAY_HELP = ("Display units of the printed values and the figure, as in the other commands: si (mm, mm/s, "
-                "m/s^2, g) or us (in, in/s, in/s^2, g); CSV stays SI. (--units named the record file's units "
-                "before: an acceleration unit given here is still read as --record-units, with a warning.)")
+                "m/s^2, g) or us (in, in/s, in/s^2, g; the spectrum CSV too: sd_in ...; SI by default). "
+                "(--units named the record file's units before: an acceleration unit given here is still read as "
+                "--record-units, with a warning.)")
 OVERRIDE_HELP = "Read the file in --record-units even where its header declares other units."
 DT_HELP = "Time step [s] of a plain-text file without a 'dt = ...' header line."
 SCALE_HELP = "Scale factor applied to the acceleration [-], > 0."

@@ -41,7 +41,7 @@ def report(
                                     "does: on the record, or on a suite for a design spectrum) and report "
                                     "simplified/exact."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing --out file."),
-    units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
+    units: DisplayUnits | None = typer.Option(None, "--units", help=UNITS_HELP),
     project: str | None = typer.Option(None, "--project", help="Project name (title block and running header; "
                                        "replaces the deck's [project] project)."),
     job_number: str | None = typer.Option(None, "--job-number", help="Job number (replaces [project] job_number)."),
@@ -91,7 +91,7 @@ def report(
     warn_suite(results)
     warn(results, printed=loaded.warnings, checks=checks)
     document, specs = build_report(loaded, results, deck_text, overrides, provenance(loaded, ["uplift", *sys.argv[1:]]),
-                                   units.value, given, checks)
+                                   options.display_system(units, loaded.raw), given, checks)
     _write_report(document, _images(specs), out, executable, frame)
     stdout.echo(f"wrote {out}", err=True)
     _exit_on_verdict(document, results, loaded, checks)

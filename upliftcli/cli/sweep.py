@@ -23,9 +23,11 @@ from .options import (
     DisplayUnits,
     OutputFormat,
     check_out_directory,
+    display_system,
     echo_violations,
     echo_warnings,
     echo_written,
+    file_system,
     given_path,
     not_writable,
     refuse_unchecked,
@@ -43,6 +45,7 @@ from .sweep_options import (
     WORKERS_HELP,
     TableFormat,
     check_name,
+    default_stem,
     figure_errors,
     local_workers,
     table_paths,
@@ -65,12 +68,13 @@ def warn_suites(plan: SweepPlan) -> None:
                    "(uplift analyze on a case's deck shows them)", err=True)
 
 
-def _write(plan, rows, out, stem, table, summary, record) -> list[Path]:
-    """The tables of the sweep (sweep_table.write_tables); an OSError as one line naming --out."""
+def _write(plan, rows, out, stem, table, summary, record, system: str = "si") -> list[Path]:
+    """The tables of the sweep (sweep_table.write_tables, in the units of `system`); an OSError as
+    one line naming --out."""
     from ..sweep import table as sweep_table
 
     try:
-        return sweep_table.write_tables(plan, rows, out, stem, table.value, summary, record)
+        return sweep_table.write_tables(plan, rows, out, stem, table.value, summary, record, system)
     except OSError as error:
         raise not_writable("--out", out, error) from None
 
@@ -122,7 +126,8 @@ def sweep(
     engine: list[str] = typer.Option([], "--engine", "-e", help=ENGINE_HELP),
     support: list[str] = typer.Option([], "--support", help=SUPPORT_HELP),
     out: Path = typer.Option(Path("."), "--out", "-o", parser=given_path, help=OUT_HELP),
-    name: str | None = typer.Option(None, "--name", help="Stem of the output files (default: <deck>.sweep)."),
+    name: str | None = typer.Option(None, "--name", help="Stem of the output files (default: <deck>.<fields>.sweep, "
+                                    "the varied fields' last names: ten_story.period-k_f.sweep)."),
     table: TableFormat = typer.Option(TableFormat.json, "--table",
                                       help="Besides <stem>.csv: <stem>.json (rows, summary), .parquet or none (csv)."),
     output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f",
@@ -143,7 +148,7 @@ def sweep(
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress and no summary tables."),
     per_record: bool = typer.Option(False, "--per-record", help=PER_RECORD_HELP),
     check: bool = typer.Option(False, "--check", help=CHECK_HELP),
-    units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
+    units: DisplayUnits | None = typer.Option(None, "--units", help=UNITS_HELP),
 ) -> None:
     """Analyse a deck over ranges of its fields: one tidy row per case, summary and envelope.
 
@@ -160,7 +165,7 @@ def sweep(
     from ..sweep.store import stem_lock
 
     check_name(name)
-    stem = name or f"{deck.stem}.sweep"
+    stem = name or default_stem(deck, vary)
     plot_path = _plot_path(out, stem, plot_format) if plot else None
     sweep_table.check_table_format(table.value)
     engines, supports = _choices(engine, support)
@@ -173,9 +178,9 @@ def sweep(
                           retry_failed=retry_failed, overwrite=overwrite, quiet=quiet, label="sweep",
                           rerun_stale=rerun_stale, figures_written=[plot_path] if plot_path else [],
                           tables=table_paths(out, stem, table.value))
-        rows, summary, record, written = _sweep_tables(plan, outcome.rows, out, stem, table)
-        _sweep_figure(plan, rows, plot_path, out, written, units.value)
-    _print_sweep(plan, rows, summary, record, output_format, quiet, units.value)
+        rows, summary, record, written = _sweep_tables(plan, outcome.rows, out, stem, table, file_system(units))
+        _sweep_figure(plan, rows, plot_path, out, written, _display(units, plan))
+    _print_sweep(plan, rows, summary, record, output_format, quiet, units)
     echo_written(written)
     _finish(rows, criteria=True)
 
@@ -198,14 +203,15 @@ def _check_plan(plan: SweepPlan, check: bool, plot_path: Path | None) -> None:
         figures.sweep_figure(plan, [])
 
 
-def _sweep_tables(plan: SweepPlan, rows: list[dict], out: Path, stem: str, table: TableFormat) -> tuple:
+def _sweep_tables(plan: SweepPlan, rows: list[dict], out: Path, stem: str, table: TableFormat,
+                  system: str = "si") -> tuple:
     """(rows with the accuracy ratios under --check, summary, provenance, the tables written)."""
     from ..sweep import table as sweep_table
 
     rows = sweep_table.add_checks(plan, rows) if plan.check else rows
     summary = sweep_table.summarize(plan, rows)
     record = sweep_table.sweep_provenance(plan)
-    return rows, summary, record, _write(plan, rows, out, stem, table, summary, record)
+    return rows, summary, record, _write(plan, rows, out, stem, table, summary, record, system)
 
 
 def _sweep_figure(plan: SweepPlan, rows: list[dict], plot_path: Path | None, out: Path, written: list[Path],
@@ -222,17 +228,25 @@ def _sweep_figure(plan: SweepPlan, rows: list[dict], plot_path: Path | None, out
 
 
 def _print_sweep(plan: SweepPlan, rows: list[dict], summary, record: dict, output_format: OutputFormat, quiet: bool,
-                 units: str) -> None:
-    """The sweep's JSON document on stdout, or its summary tables (none under --quiet)."""
+                 units: DisplayUnits | None) -> None:
+    """The sweep's JSON document on stdout (in the files' units), or its summary tables in the
+    display units (none under --quiet)."""
     from ..sweep import table as sweep_table
     from . import render
     from .sweep_render import print_summary
 
     if output_format is OutputFormat.json:
-        stdout.echo(json.dumps(sweep_table.document(plan, rows, summary, record), indent=1))
+        stdout.echo(json.dumps(sweep_table.document(plan, rows, summary, record, file_system(units)), indent=1))
         return
     if not quiet:
-        print_summary(render.console(), plan, summary, units)
+        print_summary(render.console(), plan, summary, _display(units, plan))
+
+
+def _display(units: DisplayUnits | None, plan: SweepPlan) -> str:
+    """The display units of a sweep: --units, else its deck's (after a --set of `units`)."""
+    from ..sweep.plan import deck_units
+
+    return display_system(units, {"units": deck_units(plan.raw, plan.base_overrides)})
 
 
 def spectra(
@@ -257,7 +271,7 @@ def spectra(
                                    "tables and figures."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress."),
     per_record: bool = typer.Option(False, "--per-record", help=PER_RECORD_HELP),
-    units: DisplayUnits = typer.Option(DisplayUnits.si, "--units", help=UNITS_HELP),
+    units: DisplayUnits | None = typer.Option(None, "--units", help=UNITS_HELP),
 ) -> None:
     """The paper's response spectra over T_1 (Yim & Chopra Figs. 3-4, 6-10), with the critical value b/h_1*.
 
@@ -291,7 +305,8 @@ def spectra(
                           figures_written=figure_paths,
                           tables=table_paths(out, stem, table.value))
         summary = sweep_table.summarize(plan, outcome.rows)
-        written = _write(plan, outcome.rows, out, stem, table, summary, sweep_table.sweep_provenance(plan))
+        written = _write(plan, outcome.rows, out, stem, table, summary, sweep_table.sweep_provenance(plan),
+                         file_system(units))
         written += _spectra_figures(plan, outcome.rows, out, stem, formats, written)
     if not quiet:
         print_spectra_summary(render.console(), plan, outcome.rows)

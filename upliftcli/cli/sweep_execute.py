@@ -84,15 +84,71 @@ def progress_for(quiet: bool, label: str):
     return RichProgress(console, label) if use_rich_progress(console) else PlainProgress(label)
 
 
-def _prepare_out(out: Path, rows_path: Path, resume: bool, overwrite: bool) -> None:
-    """--out a directory; the rows of an earlier run of this sweep need --resume or --overwrite."""
+def _prepare_out(plan: SweepPlan, out: Path, rows_path: Path, resume: bool, overwrite: bool) -> None:
+    """--out a directory; the rows of an earlier run of this sweep need --resume or --overwrite;
+    those of another sweep (another deck, other varied fields: the same --name) are refused, even
+    with --resume (which would replace that sweep's tables with this one's)."""
     check_out_directory(out)
-    if rows_path.exists() and rows_path.stat().st_size > 0 and not (resume or overwrite):
-        from ..sweep.store import RowStore
+    if overwrite or not rows_path.exists() or rows_path.stat().st_size == 0:
+        return
+    from ..sweep.store import RowStore
 
-        rows = len(RowStore(rows_path).read())
-        raise InputError("--out", str(rows_path), f"holds the rows of an earlier run of this sweep ({rows} cases): "
-                         "pass --resume to continue that run, or --overwrite to discard them and start again")
+    store = RowStore(rows_path)
+    rows, other = store.read(), _other_sweep(plan, store)
+    if other:
+        raise InputError("--out", str(rows_path), f"holds the rows of another sweep ({len(rows)} cases {other}), "
+                         "not of this one: give this sweep its own --name, or another --out folder")
+    if not resume:
+        raise InputError("--out", str(rows_path), f"holds the rows of an earlier run of this sweep ({len(rows)} "
+                         "cases): pass --resume to continue that run, or --overwrite to discard them and start "
+                         "again")
+
+
+def _other_sweep(plan: SweepPlan, store) -> str:
+    """How the sweep whose rows the store holds differs from the plan ('varying foundation.k_f;
+    this one varies building.period'), or '' when it is this sweep: a deck of the same file name
+    (given from another folder or not) and the same varied fields (the same values or not:
+    --resume then runs the cases it lacks)."""
+    decks = _earlier_decks(store)
+    varied, mine = _earlier_varied(store), sorted(v.path for v in plan.varies)
+    if decks and Path(plan.source).name not in {Path(deck).name for deck in decks}:  # run from elsewhere: the same
+        return f"of {', '.join(decks)}; this sweep is of {plan.source}"
+    return f"varying {_fields(varied)}; this one varies {_fields(mine)}" if varied != mine else ""
+
+
+def _earlier_decks(store) -> list[str]:
+    """The decks of the runs whose headers the rows file holds."""
+    return sorted({str(run.get("deck")) for run in store.runs().values()})
+
+
+def _earlier_varied(store) -> list[str]:
+    """The varied fields of the rows file's rows: their dotted keys (no output column has a dot)."""
+    return sorted({key for row in store.read().values() for key in row if "." in key})
+
+
+def _refuse_other_table(plan: SweepPlan, table: Path) -> None:
+    """A table of another sweep under this stem (its rows file gone: --resume would replace it) refused,
+    as its rows would be (_prepare_out)."""
+    varied, mine = _table_varied(table), sorted(v.path for v in plan.varies)
+    if varied is not None and varied != mine:
+        raise InputError("--out", str(table), f"holds the table of another sweep (varying {_fields(varied)}; this "
+                         f"one varies {_fields(mine)}), not of this one: give this sweep its own --name, or another "
+                         "--out folder")
+
+
+def _table_varied(table: Path) -> list[str] | None:
+    """The varied fields of a sweep's CSV table (its dotted columns), None without one."""
+    try:
+        with open(table, encoding="utf-8") as handle:
+            header = next((line for line in handle if not line.startswith("#")), "")
+    except (OSError, UnicodeDecodeError):
+        return None
+    return sorted(name for name in header.strip().split(",") if "." in name)
+
+
+def _fields(paths: list[str]) -> str:
+    """The varied fields as a list in words ('no field' for none)."""
+    return ", ".join(paths) if paths else "no field"
 
 
 def output_paths(out: Path, stem: str, extra=()) -> list[Path]:
@@ -168,7 +224,9 @@ def _refuse_outputs(plan: SweepPlan, out: Path, stem: str, rows_path: Path, resu
                     figures_written, tables) -> None:
     """No output may be an input of the plan; earlier rows, tables and figures need --resume or --overwrite."""
     refuse_inputs(output_paths(out, stem, figures_written), plan.input_files, "--out")
-    _prepare_out(out, rows_path, resume, overwrite)
+    _prepare_out(plan, out, rows_path, resume, overwrite)
+    if not overwrite:
+        _refuse_other_table(plan, out / f"{stem}.csv")
     if not resume:  # --resume finishes an earlier run: its tables and figures are written again
         refuse_existing([*tables, *figures_written], "--out", overwrite, ": written by an earlier run; --resume "
                         "continues that run")

@@ -6,6 +6,7 @@ figures as one line."""
 from __future__ import annotations
 
 import contextlib
+import hashlib
 from enum import StrEnum
 from pathlib import Path
 
@@ -22,7 +23,8 @@ VARY_HELP = ("Vary a deck field (same dotted paths as --set): PATH=START:STOP:N 
              "PATH=a,b,c or PATH=\\[a, b], values in the deck's units (as --set); repeatable, cases are the "
              "cartesian product.")
 SUPPORT_HELP = "Support condition(s): rigid, bonded, uplift; repeatable or comma separated (default: the deck's)."
-OUT_HELP = "Directory of the output files (tables in SI, the unit in each column name)."
+OUT_HELP = ("Directory of the output files (tables in SI, or US units under --units us; the unit in each column "
+            "name).")
 SCHEDULER_HELP = "Run the cases on a Dask cluster at this address (tcp://host:8786), or 'local' for a local one."
 DASK_HELP = "'local': run on a Dask LocalCluster of --workers processes on this machine (same as --scheduler local)."
 CHECK_HELP = ("Also run the exact engine (record decks) and add to the tables the ratios simplified / exact of V_b, "
@@ -36,6 +38,30 @@ class TableFormat(StrEnum):
     json = "json"
     parquet = "parquet"
     csv = "csv"
+
+
+#: the longest list of varied fields in a default sweep name; a longer one is cut and a hash of the paths added
+MAX_FIELDS_TEXT = 40
+
+
+def default_stem(deck: Path, vary_texts: list[str]) -> str:
+    """The stem of a sweep's files without --name: <deck>.sweep, or with --vary <deck>.<fields>.sweep,
+    the fields the last part of each varied path, sorted by path, joined by '-' (ten_story.period-k_f.sweep),
+    so that sweeps of one deck over other fields never share files; a list longer than
+    MAX_FIELDS_TEXT is cut and the first 8 hex digits of the paths' SHA-256 added."""
+    paths = sorted({text.partition("=")[0].strip() for text in vary_texts})
+    if not paths:
+        return f"{deck.stem}.sweep"
+    return f"{deck.stem}.{_fields_text(paths)}.sweep"
+
+
+def _fields_text(paths: list[str]) -> str:
+    """'period-k_f': the last part of each path (letters, digits and '_' only), cut with a hash when long."""
+    text = "-".join("".join(c for c in path.rsplit(".", 1)[-1] if c.isalnum() or c == "_") for path in paths)
+    if len(text) <= MAX_FIELDS_TEXT:
+        return text
+    digest = hashlib.sha256("\n".join(paths).encode()).hexdigest()[:8]
+    return f"{text[:MAX_FIELDS_TEXT - 9]}-{digest}"
 
 
 def check_name(name: str | None) -> None:

@@ -15,7 +15,9 @@ from rich.table import Table
 from ..display import label, show
 from ..errors import printable
 from ..sweep.plan import SweepPlan
+from ..sweep.summary import finite_number
 from ..sweep.table import SUMMARY_OUTPUTS
+from ..sweep.values import Vary
 from .tables import add_columns, add_rows, print_tables
 
 LABELS = {"base_shear_coefficient": "V_b/(m_t g)", "base_moment_coefficient": "M_b/(m_t g h_1*)",
@@ -131,44 +133,52 @@ def _has_unit(unit: str) -> bool:
     return bool(unit) and unit != "-"
 
 
-def _unit(plan: SweepPlan | None, path: str) -> str:
-    """The SI unit of a varied field ('' if it has none, or without a plan)."""
+def _vary(plan: SweepPlan | None, path: str) -> Vary | None:
+    """The varied field of a path (None if it is not one, or without a plan)."""
     if plan is None:
-        return ""
-    return next((v.unit for v in plan.varies if v.path == path), "")
+        return None
+    return next((v for v in plan.varies if v.path == path), None)
 
 
-def _heading(path: str, unit: str, units: str) -> str:
+def _heading(path: str, vary: Vary | None, units: str) -> str:
     """A varied field's heading: its path, and its display unit in brackets when it has one."""
+    unit = vary.si_unit if vary else ""
     return f"{path} [{label(unit, units)}]" if _has_unit(unit) else path
 
 
-def ranges_table(summary: dict, units: str = "si") -> Table:
+def _field_value(value, vary: Vary | None, units: str) -> str:
+    """A varied field's value (given in the deck's units) in its display unit: converted to SI
+    (Vary.to_si), then shown as display.py shows its SI unit."""
+    if vary is None or not _has_unit(vary.si_unit) or finite_number(value) is None:
+        return _value(value)
+    return show(value * vary.to_si, vary.si_unit, units)
+
+
+def ranges_table(plan: SweepPlan, summary: dict, units: str = "si") -> Table:
     table = Table(title="Varied fields")
     add_columns(table, ("field", "unit", "values", "spacing", "from", "to"), left=("field", "spacing"))
-    return add_rows(table, (_range_cells(entry, units) for entry in summary["ranges"]))
+    return add_rows(table, (_range_cells(entry, _vary(plan, entry["path"]), units) for entry in summary["ranges"]))
 
 
-def _range_cells(entry: dict, units: str) -> tuple[str, ...]:
-    """A varied field: path, unit, number of values, spacing, and its values (a list) or its range."""
-    unit = entry["unit"]
+def _range_cells(entry: dict, vary: Vary | None, units: str) -> tuple[str, ...]:
+    """A varied field: path, display unit, number of values, spacing, and its values (a list) or its range."""
+    unit = vary.si_unit if vary else entry["unit"]
     shown_unit = label(unit, units) if _has_unit(unit) else unit
     return (escape(entry["path"]), escape(shown_unit), str(entry["count"]), entry["spacing"],
-            *_range_values(entry, units))
+            *_range_values(entry, vary, units))
 
 
-def _range_values(entry: dict, units: str) -> tuple[str, str]:
+def _range_values(entry: dict, vary: Vary | None, units: str) -> tuple[str, str]:
     """'from' and 'to' of a varied field: its values listed (and ''), else its lowest and highest."""
-    unit = entry["unit"]
     if "values" in entry:
-        return escape(", ".join(_value(v, unit, units) for v in entry["values"])), ""
-    return _value(entry["lowest"], unit, units), _value(entry["highest"], unit, units)
+        return escape(", ".join(_field_value(v, vary, units) for v in entry["values"])), ""
+    return _field_value(entry["lowest"], vary, units), _field_value(entry["highest"], vary, units)
 
 
 def governing_table(plan: SweepPlan, summary: dict, units: str = "si") -> Table:
     table = Table(title="Governing cases (largest value over the sweep)")
     add_columns(table, ("output", "value", "case", "engine", "support",
-                        *[_heading(v.path, v.unit, units) for v in plan.varies]), left=("output",))
+                        *[_heading(v.path, v, units) for v in plan.varies]), left=("output",))
     return add_rows(table, (_governing_cells(plan, name, entry, units) for name, entry in summary["governing"].items()))
 
 
@@ -177,7 +187,7 @@ def _governing_cells(plan: SweepPlan, name: str, entry: dict, units: str) -> lis
     inputs = entry["inputs"]
     return [escape(LABELS.get(name, name)), _value(entry["value"], KINDS.get(name, ""), units),
             str(entry["case"]), inputs["engine"], inputs["support"],
-            *[escape(_value(inputs.get(v.path), v.unit, units)) for v in plan.varies]]
+            *[escape(_field_value(inputs.get(v.path), v, units)) for v in plan.varies]]
 
 
 def envelope_table(summary: dict, units: str = "si", plan: SweepPlan | None = None) -> Table | None:
@@ -189,7 +199,7 @@ def envelope_table(summary: dict, units: str = "si", plan: SweepPlan | None = No
         return None
     bounds = _has_bounds(groups)
     table = Table(title=escape(_envelope_title(groups[0]["over"], bounds)))
-    field_units = {path: _unit(plan, path) for path in groups[0]["group"]}
+    field_units = {path: _vary(plan, path) for path in groups[0]["group"]}
     # labels: a table split to fit the terminal repeats them (fitting.fit_table)
     add_columns(table, _field_headings(field_units, units), justify="left", no_wrap=True)
     columns = _envelope_columns(bounds)
@@ -198,9 +208,9 @@ def envelope_table(summary: dict, units: str = "si", plan: SweepPlan | None = No
     return add_rows(table, (_envelope_cells(entry, field_units, columns, units) for entry in groups[:MAX_ROWS]))
 
 
-def _field_headings(field_units: dict[str, str], units: str) -> list[str]:
+def _field_headings(field_units: dict[str, Vary | None], units: str) -> list[str]:
     """The headings of the fields that group the cases (path and display unit)."""
-    return [_heading(path, unit, units) for path, unit in field_units.items()]
+    return [_heading(path, vary, units) for path, vary in field_units.items()]
 
 
 def _has_bounds(groups: list[dict]) -> bool:
@@ -244,9 +254,9 @@ def _rows_left_out(count: int) -> str:
     return escape(f"; first {MAX_ROWS} of {count} groups, all in the JSON file")
 
 
-def _envelope_cells(entry: dict, field_units: dict[str, str], columns: list, units: str) -> list[str]:
+def _envelope_cells(entry: dict, field_units: dict[str, Vary | None], columns: list, units: str) -> list[str]:
     """A group: its fields' values, each output's envelope (as in the governing table) and its uplift."""
-    fields = [escape(_value(entry["group"][path], unit, units)) for path, unit in field_units.items()]
+    fields = [escape(_field_value(entry["group"][path], vary, units)) for path, vary in field_units.items()]
     outputs = [_value(entry["outputs"].get(name, {}).get(key), KINDS.get(name, ""), units) for _, name, key in columns]
     return [*fields, *outputs, "some" if entry["uplift"] else "no"]
 
@@ -260,7 +270,7 @@ def print_summary(out: Console, plan: SweepPlan, summary: dict, units: str = "si
 def _summary_tables(plan: SweepPlan, summary: dict, units: str):
     """The varied fields and the governing cases (those the sweep has), and the envelope (or None)."""
     if summary["ranges"]:
-        yield ranges_table(summary, units)
+        yield ranges_table(plan, summary, units)
     if summary["governing"]:
         yield governing_table(plan, summary, units)
     yield envelope_table(summary, units, plan)

@@ -233,7 +233,7 @@ def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset(),
     "--set". With a list `gathered`, the errors are appended to it instead, and the values of the
     fields that passed returned (deck/load.build_deck goes on with the checks they allow).
     """
-    walk = _Validation(source, _unit_system(raw), FieldErrors(source, overridden).raiser)
+    walk = _Validation(source, unit_system(raw), FieldErrors(source, overridden).raiser)
     walk.table("", raw)
     if gathered is None:
         raise_all(walk.gathered)
@@ -242,8 +242,8 @@ def validate(raw: dict, source: str, overridden: frozenset[str] = frozenset(),
     return walk.values
 
 
-def _unit_system(raw: dict) -> str:
-    """The deck's unit system (an unknown one is reported by its field: read as SI meanwhile)."""
+def unit_system(raw: dict) -> str:
+    """The deck's unit system, `units` (an unknown one is reported by its field: read as SI meanwhile)."""
     system = raw.get("units", "si")
     return system if system in SYSTEMS else "si"
 

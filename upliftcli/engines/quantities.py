@@ -14,6 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from ..display import file_unit, unit_suffix
 from ..display import heading as display_heading
 
 #: where a quantity's values live: one per floor (1..N), per story (story j joins floor j-1
@@ -357,6 +358,22 @@ def column_name(name: str, unit: str) -> str:
     return name + _SUFFIXES.get(unit, "")
 
 
+def file_column(name: str, unit: str, kind: str = "", system: str = "si") -> tuple[str, float]:
+    """(column name, factor from SI) of a file's column in a unit system: SI as column_name; under
+    --units us the unit of display.file_unit ('shear_kip', 'drift_3_in', 'elevation_ft')."""
+    shown = file_unit(unit, kind, system)
+    if shown.label == unit:
+        return column_name(name, unit), 1.0
+    return name + unit_suffix(shown.label), shown.factor
+
+
+def file_kind(name: str) -> str:
+    """The display kind of a result file's key (a quantity's or a compared value's own; '' for any
+    other: its SI unit's)."""
+    found = QUANTITIES.get(name) or ROCKING.get(name) or YIELDING.get(name) or COMPARED.get(name)
+    return found.display if found else ""
+
+
 #: response histories written by --histories (besides one column per floor, story or element
 #: of the quantities in HISTORY_QUANTITIES): name -> unit
 HISTORY_SIGNALS: dict[str, str] = {
@@ -371,6 +388,13 @@ HISTORY_SIGNALS: dict[str, str] = {
 #: quantities written as histories, one column "<name>_<floor, story or element number>" (with yielding
 #: stories also shear_<story>: the story shears of their hysteresis, docs/theory.md 15.5)
 HISTORY_QUANTITIES = ("drift", "floor_acceleration", "reaction")
+
+
+def history_column(name: str, system: str = "si") -> tuple[str, float]:
+    """(column name, factor from SI) of a --histories column in a unit system (file_column; a
+    length there is a displacement: in under --units us)."""
+    unit = history_unit(name)
+    return file_column(name, unit, "mm" if unit == "m" else "", system)
 
 
 def history_unit(column: str) -> str:

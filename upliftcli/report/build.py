@@ -87,7 +87,7 @@ def build_report(deck, results: Sequence[AnalysisResult], deck_text: str, overri
     specs = analysis_figures(deck, results, units)
     criteria, verdict, code = criteria_section(results, deck.criteria, units, checks)
     fields = project_fields(deck, project)
-    sections = [summary_section(results, verdict, fields, units), inputs_section(deck, deck_text, overrides),
+    sections = [summary_section(results, verdict, fields, units), inputs_section(deck, deck_text, overrides, units),
                 model_section(deck, results, units), motion_section(deck), modes_section(deck, units),
                 results_section(results, units, checks), accuracy_section(results, units, checks),
                 warnings_section(results, deck, checks), criteria, figures_section(list(specs)),

@@ -10,7 +10,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..deck import schema
-from ..display import heading, label, show
+from ..display import file_unit, heading, label, show
 from ..engines.quantities import INTERMEDIATES
 from ..model.system import fixed_base_mode_rows
 from ..motion.design_spectra import KEY_UNITS
@@ -28,12 +28,13 @@ def _flatten(value, prefix: str):
         yield prefix, value
 
 
-def inputs_section(deck, deck_text: str, overrides: Sequence[str]) -> Section:
-    """The deck file as given, the --set overrides and every validated field with its unit."""
+def inputs_section(deck, deck_text: str, overrides: Sequence[str], units: str = "si") -> Section:
+    """The deck file as given, the --set overrides and every validated field with its unit (in the
+    display units: SI as the engines read it, or US customary, display.file_unit)."""
     blocks: list = [Pre("deck-as-given", f"The deck as given ({os.path.basename(deck.source)})", deck_text),
                     _overrides_text(overrides),
                     Table("table-resolved", "The deck as resolved: every field given (after the overrides)",
-                          ["field", "value", "unit", "from", "meaning"], _resolved_rows(deck),
+                          ["field", "value", "unit", "from", "meaning"], _resolved_rows(deck, units),
                           "Fields not listed take their defaults (docs/deck.md).")]
     return Section("inputs", "Inputs", blocks)
 
@@ -45,18 +46,33 @@ def _overrides_text(overrides: Sequence[str]) -> Text:
     return Text(["No overrides (--set, --engine, --support) were given."])
 
 
-def _resolved_rows(deck) -> list[list[str]]:
+def _resolved_rows(deck, units: str = "si") -> list[list[str]]:
     """A row per field of the deck (a table field: per key): field, value, unit, from, meaning."""
     return [row for table, fields in deck.values.items() for name, value in fields.items()
-            for row in _field_rows(deck, table, name, value)]
+            for row in _field_rows(deck, table, name, value, units)]
 
 
-def _field_rows(deck, table: str, name: str, value) -> list[list[str]]:
+def _field_rows(deck, table: str, name: str, value, units: str) -> list[list[str]]:
     """The rows of one field; a table field (the design spectrum's) a row per key, with the key's unit."""
     declared = schema.TABLES.get(table, {}).get(name)
     path = f"{table}.{name}" if table else name
-    return [[key, number(item), _field_unit(declared, key, path), _given(deck, key, path),
-             declared.doc if declared and key == path else ""] for key, item in _flatten(value, path)]
+    return [[key, *_shown(item, file_unit(_field_unit(declared, key, path), _display_kind(declared), units)),
+             _given(deck, key, path), declared.doc if declared and key == path else ""]
+            for key, item in _flatten(value, path)]
+
+
+def _display_kind(declared) -> str:
+    """A field's display kind: 'mm' for a displacement (in under US units), else its SI unit's ('')."""
+    return "mm" if declared is not None and declared.quantity_kind == "displacement" else ""
+
+
+def _shown(value, unit) -> list[str]:
+    """(value, unit label) of a resolved field in a display.file_unit (numbers converted; lists each)."""
+    if unit.factor == 1.0 or isinstance(value, (bool, str)) or value is None:
+        return [number(value), unit.label]
+    if isinstance(value, (list, tuple)):
+        return [", ".join(_shown(v, unit)[0] for v in value), unit.label]
+    return [number(float(value) * unit.factor), unit.label]
 
 
 def _field_unit(declared, key: str, path: str) -> str:

@@ -224,7 +224,7 @@ def sweep_figure(plan: SweepPlan, rows: Sequence[dict], motion: str = "", units:
     critical = len(_criticals(rows)) == 1 or not others
     panels = [_sweep_panel(plan, rows, quantity, groups, axis.path, others, marks, critical)
               for quantity in ("base_shear", "base_moment", "max_drift_ratio")]
-    _scale_x(panels, shown)
+    _scale_x(panels, axis.to_si * shown.factor if shown is not None else 1.0)
     unit = f" [{shown.label}]" if shown is not None else ""
     return FigureSpec(_titled(f"{plan.title}: sweep of {axis.path}", motion), f"{axis.path}{unit}",
                       panels, xlog=axis.spacing == "log")
@@ -249,13 +249,13 @@ def _line_groups(rows: Sequence[dict], others: Sequence[str]) -> dict[tuple, lis
 
 
 def _shown_unit(axis: Vary, units: str):
-    """The display unit of the varied field (display.py), None if it has none."""
-    return display_unit(axis.unit, units) if axis.unit and axis.unit != "-" else None
+    """The display unit of the varied field (display.py, of its SI unit), None if it has none."""
+    return display_unit(axis.si_unit, units) if axis.si_unit and axis.si_unit != "-" else None
 
 
 def _nominal_marks(plan: SweepPlan, axis: Vary, shown) -> list[Line]:
-    """The line at the deck's value of the varied field, in its display unit."""
-    nominal = nominal_value(plan, axis.path)
+    """The line at the deck's value of the varied field (SI: nominal_value), in its display unit."""
+    nominal = nominal_value(plan, axis.path, axis.to_si)
     factor = shown.factor if shown else 1.0
     return nominal_line(None if nominal is None else nominal * factor, axis.path,
                         shown.label if shown else axis.unit)
@@ -287,12 +287,12 @@ def _drift_limit(plan: SweepPlan, quantity: str, column: str) -> list[Line]:
     return [Line(limit, f"[criteria] limit drift ratio = {limit:g} {unit}", "y", ":", "black")]
 
 
-def _scale_x(panels: list[Panel], shown) -> None:
-    """The panels' x values in the display unit of the varied field (in place)."""
-    if shown is None or shown.factor == 1.0:
+def _scale_x(panels: list[Panel], factor: float) -> None:
+    """The panels' x values (the varied field as the deck gives it) times `factor`: in its display unit (in place)."""
+    if factor == 1.0:
         return
     for panel in panels:
-        panel.series = [replace(series, x=np.asarray(series.x) * shown.factor) for series in panel.series]
+        panel.series = [replace(series, x=np.asarray(series.x) * factor) for series in panel.series]
 
 
 def sweep_lines(groups: dict[tuple, list[dict]], column: str, x_path: str, others: Sequence[str]) -> list[Series]:

@@ -15,11 +15,14 @@ from .values import deck_field
 NOMINAL_COLOR = "#666666"
 
 
-def nominal_value(plan: SweepPlan, path: str) -> float | None:
-    """The deck's own value of a field (after --set): as the deck gives it, else derived from
-    its model (building.period: T_1; foundation.b, slenderness; the two-element k_f, c_f,
-    frequency_ratio, damping_ratio), else the field's default; None if unknown or not a number."""
+def nominal_value(plan: SweepPlan, path: str, to_si: float = 1.0) -> float | None:
+    """The deck's own value of a field (after --set) in SI: as the deck gives it (a bare number
+    times `to_si`, the factor from the deck's units), else derived from its model
+    (building.period: T_1; foundation.b, slenderness; the two-element k_f, c_f, frequency_ratio,
+    damping_ratio), else the field's default; None if unknown or not a number."""
     value = _given_value(plan, path)
+    if is_number(value):
+        return float(value) * to_si
     if value is None:
         try:
             system = plan.base_deck.system

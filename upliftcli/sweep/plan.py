@@ -25,11 +25,12 @@ import itertools
 import json
 import math
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 from ..analysis.run import ground_motion_for
+from ..deck import schema
 from ..deck.load import Deck, build_deck, read_toml
 from ..deck.overrides import parse_override
 from ..engines.registry import ENGINES
@@ -215,9 +216,9 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     check: the exact engine runs beside the others for the ratios simplified / exact (a deck
     with a record or a suite)."""
     base = [parse_override(text) for text in settings]
-    varies = _parse_varies(varies, vary_texts)
     source = str(deck_path)
     raw = read_toml(deck_path)
+    varies = [replace(v, system=deck_units(raw, base)) for v in _parse_varies(varies, vary_texts)]
     chosen = _chosen(engines, supports)
     deck = base_deck(raw, source, base + list(chosen), varies)
     engines = _engines(deck, engines, check, source)
@@ -238,6 +239,11 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
                      version=version, fingerprint=run_fingerprint(deck_fingerprint, records, version),
                      record_steps=_record_steps(inputs), inputs=tuple(inputs.values()), check=check, chosen=chosen,
                      motion_band=tuple(deck.analysis.check_band_motion))
+
+
+def deck_units(raw: dict, base: Sequence[tuple[str, Any]]) -> str:
+    """The deck's unit system (`units`, or a --set of it): that of its bare numbers and its display units."""
+    return schema.unit_system({"units": dict(base).get("units", raw.get("units", "si"))})
 
 
 def _parse_varies(varies: Sequence[Vary], vary_texts: Sequence[str]) -> list[Vary]:

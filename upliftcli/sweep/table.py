@@ -27,6 +27,7 @@ from ..errors import InputError
 from ..output import to_jsonable
 from ..provenance.record import csv_comments, number_text, to_text_numbers
 from ..runtime.atomic import write_set
+from . import file_units
 from .plan import SweepPlan
 from .summary import (  # noqa: F401 - table.summarize, envelope ...: the summary's names here too
     SUMMARY_OUTPUTS,
@@ -264,18 +265,25 @@ def _column_rows(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
     return [{name: row.get(name) for name in names} for row in table_rows(plan, rows)]
 
 
+def _converted(plan: SweepPlan, system: str) -> dict:
+    """The output columns that the files' unit system converts (sweep/file_units.py)."""
+    return file_units.converted_columns(units(plan), [v.path for v in plan.varies], system)
+
+
 def document(plan: SweepPlan, rows: Sequence[dict], summary: dict | None = None,
-             provenance: dict | None = None) -> dict:
+             provenance: dict | None = None, system: str = "si") -> dict:
     """The JSON document of a sweep: deck, varied fields, units, provenance, rows (and summary);
-    numbers rounded to 15 significant digits (json.dumps then writes their shortest text)."""
+    numbers rounded to 15 significant digits (json.dumps then writes their shortest text);
+    system: the units of the output columns (sweep/file_units.py)."""
+    converted = _converted(plan, system)
     doc = {
         "source": plan.source, "title": plan.title,
         "set": _set_texts(plan),
         "varied": _varied(plan, list),
         "engines": plan.engines, "supports": plan.supports,
-        "units": units(plan),
+        "units": file_units.file_units(units(plan), converted),
         "provenance": provenance if provenance is not None else sweep_provenance(plan),
-        "rows": _column_rows(plan, rows),
+        "rows": file_units.file_rows(_column_rows(plan, rows), converted),
     }
     if summary is not None:
         doc["summary"] = summary
@@ -298,12 +306,14 @@ def _arrow_column(pa, values: list) -> Any:
         return pa.array([None if v is None else json.dumps(v) for v in values])
 
 
-def _parquet_bytes(plan: SweepPlan, rows: Sequence[dict], provenance: dict) -> bytes:
+def _parquet_bytes(plan: SweepPlan, rows: Sequence[dict], provenance: dict, system: str = "si") -> bytes:
     pa, pq = _pyarrow(), _pyarrow("pyarrow.parquet")
 
-    rows = table_rows(plan, rows)
-    arrays = {name: _arrow_column(pa, [to_jsonable(row.get(name)) for row in rows]) for name in columns(plan)}
-    metadata = {"units": json.dumps(units(plan)), "source": plan.source,
+    converted = _converted(plan, system)
+    rows = file_units.file_rows(table_rows(plan, rows), converted)
+    arrays = {name: _arrow_column(pa, [to_jsonable(row.get(name)) for row in rows])
+              for name in file_units.renamed(columns(plan), converted)}
+    metadata = {"units": json.dumps(file_units.file_units(units(plan), converted)), "source": plan.source,
                 "provenance": json.dumps(to_text_numbers(provenance))}
     sink = io.BytesIO()
     pq.write_table(pa.table(arrays).replace_schema_metadata(metadata), sink)
@@ -317,16 +327,21 @@ def check_table_format(table_format: str) -> None:
 
 
 def write_tables(plan: SweepPlan, rows: Sequence[dict], directory: str | Path, stem: str,
-                 table_format: str = "json", summary: dict | None = None, provenance: dict | None = None
-                 ) -> list[Path]:
+                 table_format: str = "json", summary: dict | None = None, provenance: dict | None = None,
+                 system: str = "si") -> list[Path]:
     """<stem>.csv and <stem>.json or <stem>.parquet, each atomically with the provenance
-    (default: sweep_provenance of the plan); both built before writing, written both or neither."""
+    (default: sweep_provenance of the plan); both built before writing, written both or neither;
+    system: the units of the output columns (SI, or us: sweep/file_units.py)."""
     directory = Path(directory)
     provenance = sweep_provenance(plan) if provenance is None else provenance
-    outputs: dict[Path, Any] = {directory / f"{stem}.csv": to_csv(table_rows(plan, rows), columns(plan), provenance)}
+    converted = _converted(plan, system)
+    outputs: dict[Path, Any] = {directory / f"{stem}.csv": to_csv(
+        file_units.file_rows(table_rows(plan, rows), converted), file_units.renamed(columns(plan), converted),
+        provenance)}
     if table_format == "json":
-        outputs[directory / f"{stem}.json"] = json.dumps(document(plan, rows, summary, provenance), indent=1) + "\n"
+        outputs[directory / f"{stem}.json"] = json.dumps(document(plan, rows, summary, provenance, system),
+                                                         indent=1) + "\n"
     elif table_format == "parquet":
-        outputs[directory / f"{stem}.parquet"] = _parquet_bytes(plan, rows, provenance)
+        outputs[directory / f"{stem}.parquet"] = _parquet_bytes(plan, rows, provenance, system)
     write_set(outputs)  # both or neither
     return list(outputs)

@@ -19,6 +19,7 @@ from ..deck.fields import shown
 from ..deck.overrides import toml_value
 from ..errors import InputError
 from ..runtime.limits import MAX_VARY_VALUES
+from ..units import conversion, system_unit
 
 #: deck fields that are case dimensions of their own, not --vary paths
 NOT_VARIED = {"analysis.engine": "--engine", "analysis.supports": "--support"}
@@ -154,16 +155,32 @@ def _parse_range(text: str, parts: list[str], option: str, default_spacing: str)
 
 @dataclass(frozen=True)
 class Vary:
-    """One varied deck field: dotted path, its values and how they were spaced."""
+    """One varied deck field: dotted path, its values and how they were spaced; system: the deck's
+    unit system (`units`), in which its bare values are given (and shown in the rows and files)."""
 
     path: str
     values: tuple
     spacing: str  # "linear", "log" or "list"
+    system: str = "si"
+
+    @property
+    def si_unit(self) -> str:
+        """The field's declared SI unit ('' for an unknown path)."""
+        found = deck_field(self.path)
+        return found.unit if found else ""
 
     @property
     def unit(self) -> str:
+        """The unit of its values as given: a bare number's unit in the deck's system."""
         found = deck_field(self.path)
-        return found.unit if found else ""
+        kind = found.quantity_kind if found else None
+        return system_unit(kind, self.system) if kind else self.si_unit
+
+    @property
+    def to_si(self) -> float:
+        """The factor from its values as given to SI (1 in an SI deck)."""
+        unit, si_unit = self.unit, self.si_unit
+        return 1.0 if unit == si_unit else conversion(unit, si_unit)
 
 
 #: field kinds whose value is itself an array: varied as a TOML array of arrays, one per case
