@@ -12,11 +12,10 @@ import pytest
 from sweep_cases import EXAMPLE, SHORT
 
 from upliftcli.errors import InputError
+from upliftcli.sweep.chunks import Chunk, make_chunks
 from upliftcli.sweep.dask_executor import DaskExecutor
 from upliftcli.sweep.executors import ProcessExecutor
 from upliftcli.sweep.plan import (
-    Chunk,
-    make_chunks,
     plan_sweep,
 )
 from upliftcli.sweep.run import run_sweep

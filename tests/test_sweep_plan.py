@@ -7,9 +7,9 @@ from sweep_cases import ASCE7, EXAMPLE, ROOT, SHORT
 
 from upliftcli.deck.load import load_deck
 from upliftcli.errors import InputError
+from upliftcli.sweep.chunks import Chunk
 from upliftcli.sweep.plan import (
     Case,
-    Chunk,
     expand_cases,
     parse_vary,
     plan_sweep,
@@ -133,7 +133,7 @@ def test_the_engine_option_is_every_cases_analysis_engine():
     """--engine exact on a deck whose analysis.engine is simplified: a rocking limit (which needs the
     exact engine) was refused, the deck's engine checked instead of the one that runs; the workers
     build the cases with it too."""
-    from upliftcli.sweep.plan import make_chunks
+    from upliftcli.sweep.chunks import make_chunks
     from upliftcli.sweep.worker import run_chunk
 
     settings = [*SHORT, "criteria.rotation=1e-6"]

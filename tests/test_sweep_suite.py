@@ -18,8 +18,9 @@ from upliftcli.cli import app
 from upliftcli.deck.load import load_deck
 from upliftcli.errors import InputError
 from upliftcli.sweep import table as sweep_table
+from upliftcli.sweep.chunks import make_chunks
 from upliftcli.sweep.executors import SerialExecutor
-from upliftcli.sweep.plan import make_chunks, plan_sweep
+from upliftcli.sweep.plan import plan_sweep
 from upliftcli.sweep.run import run_sweep
 from upliftcli.sweep.store import RowStore
 from upliftcli.sweep.worker import build_case_deck, run_chunk

@@ -9,8 +9,8 @@ from sweep_cases import EXAMPLE, SHORT
 
 from upliftcli.analysis.run import run_one
 from upliftcli.deck.load import load_deck
+from upliftcli.sweep.chunks import make_chunks
 from upliftcli.sweep.plan import (
-    make_chunks,
     plan_sweep,
 )
 from upliftcli.sweep.worker import run_chunk

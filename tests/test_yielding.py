@@ -388,9 +388,10 @@ def test_the_settlement_histories_are_the_edges_from_rest_and_the_settled_levels
     largest value is at most the peak found between samples and within 1e-3 of it and whose last
     sample is the residual settlement; with a capacity also each element's plastic settlement
     -s_i: 0 at rest, never decreasing, ending at the engine's final -s_i. Without a capacity no
-    plastic column; the unit of every new column is m (quantities.history_unit)."""
+    plastic column; the unit of every new column is m (histories.history_unit)."""
     from upliftcli.engines.exact import engine as exact
-    from upliftcli.engines.quantities import column_name, history_unit
+    from upliftcli.engines.quantities import column_name
+    from upliftcli.histories import history_unit
 
     loaded = load_deck(TWO, ["foundation.safety_factor=1.5", "ground_motion.window=[0, 8]"])
     result = exact.analyze(loaded.system, loaded.ground_motion, "uplift", ExactOptions(histories=True))

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .engines.quantities import history_column
+from .engines.quantities import HISTORY_SIGNALS, QUANTITIES, ROCKING, file_column
 from .provenance.record import csv_comments
 from .provenance.values import to_text_numbers
 from .runtime.atomic import atomic_path, write_text
@@ -18,7 +18,7 @@ from .runtime.atomic import atomic_path, write_text
 
 def _histories_csv(histories: dict[str, np.ndarray], provenance: dict | None, system: str = "si") -> str:
     """Response histories as CSV text: the provenance's '#' lines, a header with units (of `system`:
-    quantities.history_column), values with 10 significant digits (write_histories)."""
+    history_column), values with 10 significant digits (write_histories)."""
     columns = {name: history_column(name, system) for name in histories}
     header = ",".join(column for column, _ in columns.values())
     table = np.column_stack([np.asarray(histories[name], dtype=float) * factor
@@ -31,7 +31,7 @@ def write_histories(path, histories: dict[str, np.ndarray], provenance: dict | N
                     system: str = "si") -> None:
     """Write response histories atomically: NPZ if the name ends in .npz (the provenance as JSON
     text in its array 'provenance'), else CSV with units in the header
-    (engines/quantities.history_unit) as every CSV result has them (column_name: time_s, drift_3_m,
+    (history_unit) as every CSV result has them (column_name: time_s, drift_3_m,
     contact_state), after the provenance's '#' lines; values with 10
     significant digits (the histories are sampled at the record's step: more digits would
     only lengthen the file). system: the CSV's units (SI, or us: drift_3_in); the NPZ is SI."""
@@ -42,3 +42,18 @@ def write_histories(path, histories: dict[str, np.ndarray], provenance: dict | N
     extra = {} if provenance is None else {"provenance": np.array(json.dumps(to_text_numbers(provenance)))}
     with atomic_path(path) as tmp, open(tmp, "wb") as handle:
         np.savez_compressed(handle, **histories, **extra)
+
+
+def history_column(name: str, system: str = "si") -> tuple[str, float]:
+    """(column name, factor from SI) of a --histories column in a unit system (file_column; a
+    length there is a displacement: in under --units us)."""
+    unit = history_unit(name)
+    return file_column(name, unit, "mm" if unit == "m" else "", system)
+
+
+def history_unit(column: str) -> str:
+    """Unit of a --histories column ('drift_3' -> 'm')."""
+    if column in HISTORY_SIGNALS:
+        return HISTORY_SIGNALS[column]
+    name = column.rsplit("_", 1)[0]
+    return (QUANTITIES.get(name) or ROCKING[name]).unit

@@ -388,18 +388,3 @@ HISTORY_SIGNALS: dict[str, str] = {
 #: quantities written as histories, one column "<name>_<floor, story or element number>" (with yielding
 #: stories also shear_<story>: the story shears of their hysteresis, docs/theory.md 15.5)
 HISTORY_QUANTITIES = ("drift", "floor_acceleration", "reaction")
-
-
-def history_column(name: str, system: str = "si") -> tuple[str, float]:
-    """(column name, factor from SI) of a --histories column in a unit system (file_column; a
-    length there is a displacement: in under --units us)."""
-    unit = history_unit(name)
-    return file_column(name, unit, "mm" if unit == "m" else "", system)
-
-
-def history_unit(column: str) -> str:
-    """Unit of a --histories column ('drift_3' -> 'm')."""
-    if column in HISTORY_SIGNALS:
-        return HISTORY_SIGNALS[column]
-    name = column.rsplit("_", 1)[0]
-    return (QUANTITIES.get(name) or ROCKING[name]).unit

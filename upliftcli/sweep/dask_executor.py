@@ -19,8 +19,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import replace
 
 from ..errors import InputError
+from .chunks import Chunk
 from .executors import WORKER_ENVIRONMENT, OnRow, sigint_ignored
-from .plan import Case, Chunk
+from .plan import Case
 from .pool import Delivered
 from .worker import failed_row, run_chunk
 

@@ -47,7 +47,8 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import replace
 
 from ..runtime.process import keep_freed_memory
-from .plan import Case, Chunk
+from .chunks import Chunk
+from .plan import Case
 from .pool import Delivered, Messages, OnRow, after_death, deliver_result, processes, stop_pool
 from .signals import deferred
 from .worker import failed_row, run_chunk

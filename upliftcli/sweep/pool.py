@@ -11,7 +11,8 @@ from collections.abc import Callable
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any
 
-from .plan import Case, Chunk
+from .chunks import Chunk
+from .plan import Case
 from .signals import deferred
 
 #: called with each finished row

@@ -19,7 +19,8 @@ import signal
 from dataclasses import dataclass
 
 from ..errors import InputError
-from .plan import Case, SweepPlan, chunk_size, make_chunks
+from .chunks import chunk_size, make_chunks
+from .plan import Case, SweepPlan
 from .signals import Interrupted, ignore_stop_signals, stop_signals_interrupt  # noqa: F401 - interface
 from .store import RowStore
 

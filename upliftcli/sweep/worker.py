@@ -20,7 +20,8 @@ from ..engines.quantities import QUANTITIES, ROCKING, SCALARS, YIELDING, compare
 from ..engines.simplified import effective_properties
 from ..engines.suite_result import SuiteResult
 from ..errors import AnalysisError, InputError
-from .plan import Case, Chunk, ground_motion_key
+from .chunks import Chunk
+from .plan import Case, ground_motion_key
 
 #: per process: (deck, ground-motion fields, the plan's fingerprint) ->
 #: (record or design spectrum, spectrum object with its S_a cache)
