@@ -10,8 +10,9 @@ each runs from its own tree (PYTHONPATH) under this interpreter, after one untim
 files written); the build needs setuptools >= 77 in this interpreter, as pyproject.toml's build does
 (`pip install 'setuptools>=77'`). The runs alternate, the order swapped every repeat (the machine is shared: the
 ratio of each pair, then their median and range). On a loaded machine CPU time drifts by 10 % and
-more; --instructions counts the instructions of one run of each instead (valgrind's callgrind, the
-forked figure processes included: the same count whatever else the machine does; about 50x slower).
+more; --instructions counts the instructions of one run of each instead (valgrind's callgrind: the
+same count whatever else the machine does; about 50x slower), the run held to one CPU so that its
+figures are drawn in its own process (a forked copy's count would repeat its parent's up to the fork).
 
     python benchmarks/bench_fig3_cpu.py [--base 36da920] [--head HEAD] [--repeats 7] [--instructions]
 """
@@ -56,15 +57,19 @@ def cpu_seconds(tree: Path, out: Path) -> float:
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
+def _one_cpu() -> None:
+    """In the child: run on one CPU (figures/draw.py then draws every figure in this process)."""
+    os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
+
+
 def instructions(tree: Path, out: Path) -> int:
-    """Instructions executed by one run of the Fig. 3 command from `tree`, its forked children
-    included (valgrind --tool=callgrind)."""
+    """Instructions executed by one run of the Fig. 3 command from `tree` on one CPU (valgrind
+    --tool=callgrind)."""
     env = dict(os.environ, PYTHONPATH=str(tree), UPLIFT_BACKEND="compiled")
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     command = [sys.executable, "-c", "from upliftcli.cli import main; main()", *FIG3, "--out", str(out)]
-    done = subprocess.run(["valgrind", "--tool=callgrind", "--trace-children=yes",
-                           f"--callgrind-out-file={out}/callgrind.%p", *command],
-                          cwd=out, env=env, capture_output=True, text=True)
+    done = subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}/callgrind.%p", *command],
+                          cwd=out, env=env, capture_output=True, text=True, preexec_fn=_one_cpu)
     if done.returncode != 0:
         raise SystemExit(f"{tree}: exit {done.returncode}: {done.stderr.strip()[-400:]}")
     return sum(int(line.split()[-1]) for line in done.stderr.splitlines() if "Collected :" in line)
