@@ -4,6 +4,7 @@ end to end through typer's test runner."""
 import json
 from pathlib import Path
 
+import pytest
 from cli_helpers import invoke
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -70,15 +71,23 @@ def test_record_spectrum_plot_has_three_panels(tmp_path):
     assert result.exit_code == 0, result.output
     svg = (tmp_path / "s.svg").read_text()
     assert all(words in svg for words in ("S_d [mm]", "S_v [mm/s]", "S_a [g]", "Response spectra"))
-    # --units us: the figure in in and in/s, the CSV in SI all the same
+    # --units us: the figure in in and in/s, and the CSV too (unit-tagged headers): the same spectrum converted
     result = invoke("record", "spectrum", RECORD, "--units", "us", "--periods", "0.1:3:12", "--plot",
                     tmp_path / "us.svg", "--out", tmp_path / "us.csv")
     assert result.exit_code == 0, result.output
     svg = (tmp_path / "us.svg").read_text()
     assert all(words in svg for words in ("S_d [in]", "S_v [in/s]", "S_a [g]")) and "[mm]" not in svg
-    rows = [[line for line in (tmp_path / name).read_text().splitlines() if not line.startswith("#")]
+    rows = [[line.split(",") for line in (tmp_path / name).read_text().splitlines() if not line.startswith("#")]
             for name in ("us.csv", "s.csv")]
-    assert rows[0] == rows[1] and len(rows[0]) == 13
+    assert rows[0][0] == ["damping_ratio", "period_s", "sd_in", "psv_in_s", "psa_in_s2", "psa_g", "abs_acc_in_s2"]
+    assert rows[1][0] == ["damping_ratio", "period_s", "sd_m", "psv_m_s", "psa_m_s2", "psa_g", "abs_acc_m_s2"]
+    assert len(rows[0]) == len(rows[1]) == 13
+    inch = 0.0254  # m, exact
+    for us, si in zip(rows[0][1:], rows[1][1:], strict=True):
+        us, si = [float(x) for x in us], [float(x) for x in si]
+        assert us[:2] == si[:2] and us[5] == si[5]  # damping, period, S_a in g
+        assert [u * inch for u in (us[2], us[3], us[4], us[6])] == pytest.approx([si[2], si[3], si[4], si[6]],
+                                                                                 rel=1e-9)
 
 
 def test_figures_never_replace_an_input_and_an_existing_figure_needs_overwrite(tmp_path):

@@ -11,6 +11,7 @@ import typer
 
 from ..errors import InputError
 from ..runtime import limits
+from . import stdout
 from .options import echo_warnings, given_path
 from .record_options import (
     DT_HELP,
@@ -276,10 +277,10 @@ def match(
 
 def _print_changes(names: list[str], changes: list[dict[str, float]]) -> None:
     """One line per matched record: what matching changed (record_files.character_row)."""
-    typer.echo("what matching changed (D5-95 and PGV, PGD: matched / original at the same Arias intensity; "
+    stdout.echo("what matching changed (D5-95 and PGV, PGD: matched / original at the same Arias intensity; "
                "net Arias share added before the original's t_5):")
     for name, change in zip(names, changes, strict=True):
-        typer.echo(f"  {name}: D5-95 x{change['d5_95_ratio']:.3f}, PGV x{change['pgv_ratio']:.3f}, "
+        stdout.echo(f"  {name}: D5-95 x{change['d5_95_ratio']:.3f}, PGV x{change['pgv_ratio']:.3f}, "
                    f"PGD x{change['pgd_ratio']:.3f}, early Arias {100 * change['early_arias_gain']:+.2f} %")
 
 
