@@ -119,7 +119,9 @@ def _generated(spectrum, period_range: tuple[float, float], rule, path: Path) ->
 
 
 def _store(path: Path, accelerations: np.ndarray, factors: np.ndarray) -> None:
-    """Write the suite's arrays atomically; a cache that cannot be written is only not kept."""
+    """Write the suite's arrays atomically; a cache that cannot be written (a full disk, or a
+    symbolic link at path: never written through, runtime/atomic.refuse_symlink) is only not kept."""
+    from ..errors import InputError
     from ..runtime.atomic import write_bytes
 
     buffer = io.BytesIO()
@@ -127,7 +129,7 @@ def _store(path: Path, accelerations: np.ndarray, factors: np.ndarray) -> None:
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         write_bytes(path, buffer.getvalue())
-    except OSError:
+    except (OSError, InputError):
         pass
 
 
