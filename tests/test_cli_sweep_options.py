@@ -1,5 +1,6 @@
 """cli/sweep_options.py: --name is a plain file stem; --workers is capped at the cores unless
---oversubscribe (--workers 1000 started 127 processes and 4 GiB in 14 s); cli/sweep.py: the stale cases of a sweep in one line."""
+--oversubscribe (--workers 1000 started 127 processes and 4 GiB in 14 s); cli/sweep.py: the stale
+cases of a sweep in one line."""
 
 from __future__ import annotations
 
