@@ -24,7 +24,7 @@ import hashlib
 import itertools
 import json
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Container, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -39,7 +39,10 @@ from ..motion.suites import Suite
 from ..provenance.files import motion_files
 from ..runtime.installed import tool_version
 from ..runtime.limits import cases_problem
+from .cases import Case, Cases, checked_combos, expand_cases, is_structure_field
 from .values import Vary, parse_vary
+
+__all__ = ["Case", "Cases", "expand_cases"]  # made in sweep/cases.py, asked for here too
 
 #: status of a row: ok; failed (the analysis raised: deterministic, not retried within a run);
 #: crashed (the worker process died on this case `max_attempts` times); stale (not computed: a
@@ -47,37 +50,10 @@ from .values import Vary, parse_vary
 STATUSES = ("ok", "failed", "crashed", "stale")
 
 
-@dataclass(frozen=True)
-class Case:
-    """One analysis of a sweep: index in the sweep, stable key, varied values, engine, support."""
-
-    index: int
-    key: str
-    overrides: tuple  # ((path, value), ...) of the varied fields
-    engine: str
-    support: str
-
-
 def fingerprint(raw: dict, base_overrides: Sequence[tuple[str, Any]]) -> str:
     """Hash of the parsed deck and the --set overrides (comments and layout do not count)."""
     text = json.dumps({"deck": raw, "set": [list(o) for o in base_overrides]}, sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()
-
-
-def case_key(deck_fingerprint: str, overrides: Sequence[tuple[str, Any]], engine: str, support: str) -> str:
-    text = json.dumps([deck_fingerprint, [list(o) for o in overrides], engine, support], default=str)
-    return hashlib.sha256(text.encode()).hexdigest()[:20]
-
-
-def expand_cases(varies: Sequence[Vary], engines: Sequence[str], supports: Sequence[str],
-                 deck_fingerprint: str) -> list[Case]:
-    """Cartesian product of the varied values (first --vary outermost), then engine, then support,
-    so that the cases sharing one deck are adjacent."""
-    cases = []
-    for overrides, engine, support in itertools.product(_combos(varies), engines, supports):
-        cases.append(Case(len(cases), case_key(deck_fingerprint, overrides, engine, support),
-                          tuple(overrides), engine, support))
-    return cases
 
 
 def ground_motion_key(deck: Deck) -> str:
@@ -125,7 +101,7 @@ class SweepPlan:
     varies: list[Vary]
     engines: list[str]
     supports: list[str]
-    cases: list[Case]
+    cases: Sequence[Case]  # Cases: made on demand (a list in tests)
     criteria: dict = field(default_factory=dict)
     suite_records: int = 0
     per_record: bool = False
@@ -222,8 +198,8 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     supports = list(supports) or deck.analysis.supports
     _check_case_count(varies, engines, supports)
     deck_fingerprint = fingerprint(raw, base)
-    cases = expand_cases(varies, engines, supports, deck_fingerprint)
-    grounds = _ground_motions(raw, source, base + list(chosen), varies, engines)
+    cases = Cases(varies, engines, supports, deck_fingerprint)
+    grounds = _ground_motions(raw, source, base + list(chosen), varies, engines, _follows_structure(deck))
     grounds.warnings[:0] = deck.warnings  # values far outside building practice, the base deck's and the cases'
     suites = _suites(grounds, engines)
     _check_per_record(per_record, suites, source)
@@ -272,19 +248,21 @@ def _check_case_count(varies: Sequence[Vary], engines: Sequence[str], supports: 
         raise InputError("--vary" if varies else "--engine/--support", None, problem)
 
 
-def _combos(varies: Sequence[Vary]) -> Iterator[tuple]:
-    """The combinations of the varied values, ((path, value), ...), first --vary outermost."""
-    return itertools.product(*[[(v.path, value) for value in v.values] for v in varies])
+def _follows_structure(deck: Deck) -> bool:
+    """Whether the deck's ground motion follows the structure (a suite scaled over a period range
+    that the structure gives: ground_motion_key): every combination is checked then."""
+    fields = deck.values["ground_motion"]
+    return "suite" in fields and "period_range" not in fields
 
 
 def _ground_motions(raw: dict, source: str, base: list, varies: Sequence[Vary],
-                    engines: Sequence[str]) -> _GroundMotions:
-    """Build every combination's deck (without its record) and read each distinct ground motion
-    once, prepared for every engine; a combination a suite cannot serve is noted (its cases
-    fail alone, the message in their rows: sweep/worker.py)."""
+                    engines: Sequence[str], every: bool = True) -> _GroundMotions:
+    """Build the checked combinations' decks (cases.checked_combos; without their record) and read each
+    distinct ground motion once, prepared for every engine; a combination a suite cannot serve is
+    noted (its cases fail alone, the message in their rows: sweep/worker.py)."""
     grounds = _GroundMotions()
     varied = {v.path for v in varies}
-    for combo in _combos(varies):
+    for combo in checked_combos(varies, every):
         try:
             motion_key = _add_ground_motion(grounds, raw, source, base, combo)
         except CaseUnsupported as error:
@@ -371,7 +349,7 @@ def _structure_order(case: Case) -> tuple:
     """Sort key putting together the cases that differ only in foundation fields (same
     building, record and engine options), then by engine and support: a chunk of them is
     one batch for the exact engine (analysis.run_batch)."""
-    others = [(path, value) for path, value in case.overrides if not path.startswith("foundation.")]
+    others = [(path, value) for path, value in case.overrides if not is_structure_field(path)]
     return json.dumps(others, default=str), case.engine, case.support
 
 
@@ -382,6 +360,18 @@ def make_chunks(plan: SweepPlan, cases: Sequence[Case], size: int) -> list[Chunk
     ordered = sorted(cases, key=_structure_order)
     return [Chunk(plan.raw, plan.source, (*plan.base_overrides, *plan.chosen), ordered[i:i + size],
                   plan.fingerprint, plan.records) for i in range(0, len(ordered), size)]
+
+
+def stream_chunks(plan: SweepPlan, done: Container[str], size: int) -> Iterator[Chunk]:
+    """The plan's cases whose key is not in `done`, in chunks of `size` made as they are asked for,
+    those that share a structure together (Cases.in_structure_order; a list of cases: sorted as by
+    make_chunks): the first chunk runs before the last case is made."""
+    cases = plan.cases
+    ordered = cases.in_structure_order() if isinstance(cases, Cases) else sorted(cases, key=_structure_order)
+    todo = (case for case in ordered if case.key not in done)
+    while batch := list(itertools.islice(todo, max(1, int(size)))):
+        yield Chunk(plan.raw, plan.source, (*plan.base_overrides, *plan.chosen), batch, plan.fingerprint,
+                    plan.records)
 
 
 def chunk_size(n_cases: int, workers: int) -> int:
