@@ -183,8 +183,10 @@ class _GroundMotions:
 def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: Sequence[str] = (),
                engines: Sequence[str] = (), supports: Sequence[str] = (), *, varies: Sequence[Vary] = (),
                per_record: bool = False, check: bool = False) -> SweepPlan:
-    """Parse and validate a sweep: every case's deck is built (without its record) and every
-    distinct ground motion is read once here, so bad input stops the run before any analysis.
+    """Parse and validate a sweep: every combination's deck is built (without its record; a sweep
+    of more than cases.CHECKED_COMBINATIONS: those of cases.checked_combos) and every distinct ground
+    motion is read once here, so bad input stops the run before any analysis; the cases are
+    made as they are asked for (cases.Cases).
     per_record: each record's row in the tables (a deck with a suite run by a history engine);
     check: the exact engine runs beside the others for the ratios simplified / exact (a deck
     with a record or a suite)."""
