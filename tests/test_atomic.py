@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from upliftcli.errors import InputError
-from upliftcli.runtime.atomic import current_umask, refuse_inputs, write_text
+from upliftcli.runtime.atomic import current_umask, refuse_inputs, write_set, write_text
 
 
 def mode(path):
@@ -175,3 +175,17 @@ def test_a_set_is_written_all_or_none(tmp_path, monkeypatch):
     monkeypatch.setattr(atomic, "_finish", original)
     assert write_set(files) == list(files) and (out / "manifest.json").read_text() == "{}"
     assert sorted(p.name for p in out.iterdir()) == sorted(p.name for p in files)
+
+
+@pytest.mark.parametrize("write", [lambda p: write_text(p, "new"), lambda p: write_set({p: "new"})])
+def test_an_atomic_write_onto_a_symlink_is_refused(tmp_path, write):
+    # issue 38 item 2: outputs are never followed through (or put in place of) a symbolic link
+    outside = tmp_path / "outside.txt"
+    outside.write_text("keep")
+    link = tmp_path / "out" / "result.json"
+    link.parent.mkdir()
+    link.symlink_to(outside)
+    with pytest.raises(InputError, match=r"^--out: .*result\.json: a path that is not a symbolic link"):
+        write(link)
+    assert outside.read_text() == "keep" and link.is_symlink()
+    assert os.listdir(link.parent) == ["result.json"]

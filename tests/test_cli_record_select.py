@@ -4,6 +4,7 @@ manifest; every bad input one line with nothing written."""
 from __future__ import annotations
 
 import json
+import os
 import shutil
 from pathlib import Path
 
@@ -174,3 +175,22 @@ def test_select_chooses_again_when_the_dense_grid_raises_a_factor_out(tmp_path, 
     assert result.exit_code == 0, result.output
     assert len(aims) == 2 and aims[0][1] > 4.0 and aims[1][0] > aims[0][0] * 1.05
     assert all(0.25 <= row["factor"] <= 4.0 for row in json.loads((out / "manifest.json").read_text())["records"])
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX")
+def test_a_fifo_in_the_from_folder_is_noted_not_opened(tmp_path, candidates):
+    # issue 38: a FIFO among the candidates was passed over without a word (and opening it would block)
+    os.mkfifo(candidates / "pipe.at2")
+    deck = deck_with(tmp_path, EC8)
+    result = invoke("record", "select", deck, "--from", candidates, "--count", 3, "--out", tmp_path / "out")
+    assert result.exit_code == 0, result.output
+    assert [line for line in result.stderr.splitlines() if "pipe.at2" in line] == [
+        "warning: skipped pipe.at2: a named pipe (FIFO), not read"]
+    only = tmp_path / "only"
+    only.mkdir()
+    os.mkfifo(only / "pipe.txt")
+    result = invoke("record", "select", deck, "--from", only, "--out", tmp_path / "none")
+    assert result.exit_code == 2 and result.stderr == (
+        f"error: --from: {only}: a folder holding at least one usable record file (.at2, .txt, .csv, .dat, .acc)"
+        " (1 unreadable; first: pipe.txt: a named pipe (FIFO), not read)\n")
+    assert not (tmp_path / "none").exists()

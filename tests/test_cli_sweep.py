@@ -537,3 +537,20 @@ def test_a_simplified_error_limit_needs_check(tmp_path):
                         "--workers", "1", "-q")
         assert (result.exit_code, result.stderr) == (2, line)
     assert sorted(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("mode", ["--overwrite", "--resume"])
+def test_sweep_never_writes_through_a_symlinked_rows_file(tmp_path, mode):
+    # issue 38 S1: the rows file a symbolic link to a file outside --out
+    out, outside = tmp_path / "o", tmp_path / "outside"
+    out.mkdir()
+    outside.mkdir()
+    (outside / "v.txt").write_text("keep\n")
+    rows = out / "ten_story_elcentro.sweep.rows.jsonl"
+    rows.symlink_to("../outside/v.txt")
+    result = invoke("sweep", EXAMPLE, "--vary", "foundation.slenderness=5,6", "-e", "simplified", "--out", out, mode)
+    assert result.exit_code == 2
+    assert result.stderr == (f"error: --out: {rows}: a path that is not a symbolic link (an output is never written "
+                             "through one; remove the link or choose another output folder)\n")
+    assert (outside / "v.txt").read_text() == "keep\n"
+    assert rows.is_symlink() and sorted(p.name for p in out.iterdir()) == [rows.name]

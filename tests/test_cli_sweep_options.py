@@ -1,5 +1,6 @@
 """cli/sweep_options.py: --name is a plain file stem; --workers is capped at the cores unless
---oversubscribe (--workers 1000 started 127 processes and 4 GiB in 14 s)."""
+--oversubscribe (--workers 1000 started 127 processes and 4 GiB in 14 s); cli/sweep.py: the stale
+cases of a sweep in one line."""
 
 from __future__ import annotations
 
@@ -36,3 +37,25 @@ def test_names_that_are_not_plain_stems_are_refused(name, words):
     with pytest.raises(InputError, match=r"^--name: .*a plain file stem") as error:
         sweep_options.check_name(name)
     assert words in str(error.value) and "\n" not in str(error.value)
+
+
+def test_stale_cases_are_summed_up_in_one_line(capsys):
+    # issue 38: a record replaced during a sweep printed one line per stale case (2,644 lines)
+    from upliftcli.cli.sweep import _echo_failures
+    from upliftcli.sweep.worker import STALE_TEXT
+
+    def row(case, status, source="/data/el.txt"):
+        return {"case": case, "engine": "simplified", "support": "uplift", "status": status,
+                "message": f"{source}{STALE_TEXT} (SHA-256 abc... then, def... now): this case was not computed"}
+
+    rows = [row(k, "stale") for k in range(2644)] + [row(2644, "ok"), row(2645, "stale", "/data/b.txt")]
+    rows.append({"case": 2646, "engine": "exact", "support": "rigid", "status": "failed", "message": "boom"})
+    assert len(_echo_failures(rows)) == 2646
+    assert capsys.readouterr().err.splitlines() == [
+        "case 2646 (exact/rigid) failed: boom",
+        "2645 cases stale (not computed): the record files /data/el.txt, /data/b.txt changed after the sweep read "
+        "them; run the same command with --resume --rerun-stale once they are settled"]
+    _echo_failures(rows[:1])
+    assert capsys.readouterr().err == ("1 case stale (not computed): the record file /data/el.txt changed after the "
+                                       "sweep read it; run the same command with --resume --rerun-stale once it is "
+                                       "settled\n")

@@ -128,3 +128,18 @@ def test_stem_lock_refuses_a_second_sweep_by_every_method(tmp_path, kind):
         with stem_lock(out, "other.sweep"):
             pass
     assert not out.exists()  # created for the lock, left empty: removed
+
+
+def test_a_symlinked_lock_file_is_refused(tmp_path):
+    outside = tmp_path / "outside"
+    outside.write_text("keep")
+    (tmp_path / "o").mkdir()
+    (tmp_path / "o" / ".stem.lock").symlink_to(outside)
+    with pytest.raises(InputError, match=r"^--out: .*\.stem\.lock: a path that is not a symbolic link"), \
+            stem_lock(tmp_path / "o", "stem"):
+        pass
+    assert outside.read_text() == "keep"
+    if locks.KIND == "flock":
+        with pytest.raises(OSError):
+            locks.acquire(tmp_path / "o" / ".stem.lock")
+        assert outside.read_text() == "keep"

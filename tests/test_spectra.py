@@ -222,6 +222,20 @@ def test_record_spectrum_sa_and_errors(elcentro):
         spectrum.sa([1.0], 1.5)
 
 
+def test_the_record_spectrum_cache_is_bounded_and_gives_the_same_values(elcentro, monkeypatch):
+    # issue 38 item 5: a sweep asks ~40 new periods a case; 10^5 cases kept 0.5 GiB of cached S_a
+    from upliftcli.motion import spectra
+
+    unbounded = RecordSpectrum(elcentro)
+    expected = [unbounded.sa([0.1 * k, 0.1 * k + 0.05, 1.0], 0.05) for k in range(1, 8)]
+    monkeypatch.setattr(spectra, "MAX_CACHED", 4)
+    bounded = RecordSpectrum(elcentro)
+    for k, values in enumerate(expected, start=1):
+        assert np.array_equal(bounded.sa([0.1 * k, 0.1 * k + 0.05, 1.0], 0.05), values)  # to the bit
+        assert len(bounded._cache) <= 4
+    assert len(unbounded._cache) == 15
+
+
 def test_the_numpy_loops_take_a_long_record_in_segments_of_time(elcentro, monkeypatch):
     """The numpy loops hold at most NUMPY_BLOCK oscillator sub-steps at once: a record longer
     than that for one oscillator is integrated in segments, each from the state where the last

@@ -143,3 +143,13 @@ def test_the_report_shows_the_check_and_its_split(checked):
     first = checks[0].comparisons[0]
     assert split.rows[0][:2] == [checks[0].support, COMPARED[first.name].meaning]
     assert float(split.rows[0][4]) == pytest.approx(checks[0].procedure_ratio[first.name], rel=1e-3)
+
+
+def test_the_cache_is_not_written_through_a_symlink(tmp_path):
+    outside = tmp_path / "outside.npz"
+    outside.write_bytes(b"keep")
+    path = tmp_path / "check-suites" / "key.npz"
+    path.parent.mkdir()
+    path.symlink_to(outside)
+    suite_check._store(path, np.zeros((2, 3)), np.ones(2))  # not kept, no error
+    assert outside.read_bytes() == b"keep" and path.is_symlink()

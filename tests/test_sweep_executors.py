@@ -2,6 +2,7 @@
 parents that die; local workers forked from the warm server start with the engines loaded."""
 
 import dataclasses
+import functools
 import multiprocessing
 import os
 import sys
@@ -298,9 +299,8 @@ def test_workers_exit_with_their_parent(tmp_path, kernel):
     assert not alive()
 
 
-def test_an_unreachable_scheduler_is_refused_at_once():
+def test_an_unreachable_scheduler_is_refused_at_once(monkeypatch):
     import socket
-    import time
 
     from upliftcli.sweep.dask_executor import check_reachable
 
@@ -309,10 +309,18 @@ def test_an_unreachable_scheduler_is_refused_at_once():
         port = server.getsockname()[1]
         server.listen()
         check_reachable(f"tcp://127.0.0.1:{port}")  # listening: fine
-    start = time.perf_counter()
+    # "at once": one connection attempt, bounded by the timeout, instead of the Dask client's 20 s
+    # of retries (what a clock asserted here before, which a loaded machine could miss)
+    attempts, create_connection = [], socket.create_connection
+
+    def connect(address, timeout):
+        attempts.append((address, timeout))
+        return create_connection(address, timeout=timeout)
+
+    monkeypatch.setattr("upliftcli.sweep.dask_executor.socket.create_connection", connect)
     with pytest.raises(InputError, match=rf"^--scheduler: tcp://127.0.0.1:{port}: a reachable Dask scheduler"):
         check_reachable(f"tcp://127.0.0.1:{port}")
-    assert time.perf_counter() - start < 5.0
+    assert attempts == [(("127.0.0.1", port), 3.0)]
     with pytest.raises(InputError, match="an address tcp://host:port"):
         check_reachable("tcp://127.0.0.1:port")
 
@@ -342,18 +350,36 @@ def _with(extra: dict, chunk, emit):
 
 
 def _reports_warm_state(chunk, emit):
-    """Chunk runner: each row carries the worker's state before its first chunk ran (a chunk
-    takes at least 50 ms, so that the second worker gets chunks before the first has run them all)."""
+    """Chunk runner: each row carries the worker's state before its first chunk ran."""
     global _FIRST
     if _FIRST is None:
         _FIRST = _warm_state()
-    time.sleep(0.05)
+    return _with({"warm": _FIRST}, chunk, emit)
+
+
+def _meet(directory: str, parties: int = 2) -> None:
+    """Wait in a worker's first chunk until `parties` workers have each started one (each leaves
+    its pid in `directory`): the work is shared whatever the timing. The bound only keeps a
+    broken pool from hanging the suite (the test then fails on the pids, not on a clock)."""
+    Path(directory, str(os.getpid())).touch()
+    deadline = time.monotonic() + 300.0
+    while len(os.listdir(directory)) < parties and time.monotonic() < deadline:
+        time.sleep(0.01)
+
+
+def _reports_warm_state_together(directory: str, chunk, emit):
+    """_reports_warm_state, the first chunk of each worker held until both workers have one (_meet)."""
+    global _FIRST
+    if _FIRST is None:
+        _FIRST = _warm_state()
+        _meet(directory)
     return _with({"warm": _FIRST}, chunk, emit)
 
 
 @pytest.mark.skipif(not FORKSERVER, reason="no forkserver on this platform (workers are spawned)")
 def test_forked_workers_start_with_the_engines_loaded(small_plan, serial_rows, tmp_path):
-    executor = ProcessExecutor(2, runner=_reports_warm_state)
+    (tmp_path / "meet").mkdir()
+    executor = ProcessExecutor(2, runner=functools.partial(_reports_warm_state_together, str(tmp_path / "meet")))
     assert executor.start_method == "forkserver"
     executor.prestart()
     rows = run_sweep(small_plan, executor, RowStore(tmp_path / "rows.jsonl"), size=1).rows

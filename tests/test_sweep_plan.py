@@ -7,7 +7,7 @@ from sweep_cases import ASCE7, EXAMPLE, ROOT, SHORT
 
 from upliftcli.deck.load import load_deck
 from upliftcli.errors import InputError
-from upliftcli.sweep.chunks import Chunk
+from upliftcli.sweep.chunks import Chunk, stream_chunks
 from upliftcli.sweep.plan import (
     Case,
     expand_cases,
@@ -149,3 +149,49 @@ def test_the_engine_option_is_every_cases_analysis_engine():
     with pytest.raises(InputError, match=r"^--vary: foundation\.elements: at most 31 contact elements"):
         plan_sweep(ROOT / "inputs" / "ten_story_winkler.toml", ["foundation.safety_factor=2"],
                    ["foundation.elements=20,40"], ["exact"])
+
+
+def test_cases_are_made_on_demand_as_the_product_gives_them():
+    from upliftcli.sweep.cases import Cases
+
+    varies = [parse_vary("foundation.k_f=1e8,1e9"), parse_vary("building.period=0.5,1.0,2.0"),
+              parse_vary("foundation.b=4,5")]
+    cases = Cases(varies, ["simplified", "exact"], ["rigid", "uplift"], "deck-hash")
+    listed = expand_cases(varies, ["simplified", "exact"], ["rigid", "uplift"], "deck-hash")
+    assert len(cases) == 48 and list(cases) == listed and cases[-1] == listed[-1] and cases[5:9] == listed[5:9]
+    with pytest.raises(IndexError):
+        cases[48]
+    # in structure order: each case once, those differing only in foundation fields together, in case order
+    ordered = list(cases.in_structure_order())
+    assert sorted(ordered, key=lambda c: c.index) == listed
+    groups = [ordered[k:k + 4] for k in range(0, 48, 4)]
+    for group in groups:
+        assert len({(c.overrides[1], c.engine, c.support) for c in group}) == 1
+        assert [c.index for c in group] == sorted(c.index for c in group)
+
+
+def test_a_large_sweep_is_planned_without_making_its_cases(monkeypatch):
+    """Issue 38 item 5: a 10^5-case sweep built every case's deck (27-210 s) and kept every case
+    before its first row; now the plan builds the checked combinations only (each varied value
+    alone), and the first chunk is made without making the other cases."""
+    from upliftcli.sweep import cases as cases_module
+    from upliftcli.sweep import plan as plan_module
+
+    built, made = [], []
+    build_deck, make = plan_module.build_deck, cases_module.Cases._case
+    monkeypatch.setattr(plan_module, "build_deck", lambda *a, **k: built.append(1) or build_deck(*a, **k))
+    monkeypatch.setattr(cases_module.Cases, "_case", lambda self, index: made.append(index) or make(self, index))
+    plan = plan_sweep(EXAMPLE, SHORT, ["building.period=0.2:3:316", "foundation.slenderness=2:8:316"],
+                      ["simplified"], ["uplift"])
+    assert len(plan.cases) == 316 * 316 and not made
+    assert len(built) <= 2 * 316 + 4
+    first = next(stream_chunks(plan, set(), 16))
+    assert [case.index for case in first.cases] == list(range(16)) and len(made) == 16
+    assert plan.fingerprint == plan_sweep(EXAMPLE, SHORT, ["building.period=0.2:3:2", "foundation.slenderness=2:8:2"],
+                                          ["simplified"], ["uplift"]).fingerprint
+
+
+def test_a_large_sweep_still_refuses_a_bad_value_before_running():
+    widths = ",".join([*(str(2 + k / 10) for k in range(39)), "-1"])  # 40 x 40 combinations: more than are checked
+    with pytest.raises(InputError, match=r"^--vary: foundation\.b:"):
+        plan_sweep(EXAMPLE, SHORT, ["building.period=0.2:3:40", f"foundation.b={widths}"], ["simplified"], ["uplift"])

@@ -109,3 +109,16 @@ def test_rows_are_flushed_at_once_and_fsynced_at_most_every_interval(tmp_path, m
     store.close()
     assert len(synced) == 3  # and at close
     assert [json.loads(line)["key"] for line in store.path.read_text().splitlines()][-1] == "late"
+
+
+@pytest.mark.parametrize("fresh", [True, False])
+def test_the_rows_file_is_opened_without_following_a_symlink(tmp_path, fresh, monkeypatch):
+    # a link put there after the check (refuse_symlink) is still not followed: O_NOFOLLOW
+    outside = tmp_path / "outside.txt"
+    outside.write_text("keep\n")
+    store = RowStore(tmp_path / "rows.jsonl")
+    store.path.symlink_to(outside)
+    monkeypatch.setattr(store_module, "refuse_symlink", lambda path: None)
+    with pytest.raises(OSError):
+        store.open(fresh=fresh)
+    assert outside.read_text() == "keep\n"

@@ -122,7 +122,9 @@ def _generated(spectrum, period_range: tuple[float, float], rule, path: Path) ->
 
 def _store(path: Path, accelerations: list[np.ndarray], factors: np.ndarray) -> None:
     """Write the suite's arrays atomically (the records end to end, and their lengths); a cache
-    that cannot be written is only not kept."""
+    that cannot be written (a full disk, or a symbolic link at path: never written through,
+    runtime/atomic.refuse_symlink) is only not kept."""
+    from ..errors import InputError
     from ..runtime.atomic import write_bytes
 
     buffer = io.BytesIO()
@@ -131,7 +133,7 @@ def _store(path: Path, accelerations: list[np.ndarray], factors: np.ndarray) -> 
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         write_bytes(path, buffer.getvalue())
-    except OSError:
+    except (OSError, InputError):
         pass
 
 

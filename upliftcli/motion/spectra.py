@@ -175,6 +175,10 @@ def _peaks(acc, dt, omegas, xis, counts, free_vibration) -> tuple[np.ndarray, np
     return out_u, out_at
 
 
+#: the most S_a values a RecordSpectrum keeps (about 140 bytes each: 7 MB)
+MAX_CACHED = 50_000
+
+
 @dataclass
 class RecordSpectrum:
     """Pseudo-acceleration spectrum of a record at any damping, computed exactly on demand and cached.
@@ -208,14 +212,24 @@ class RecordSpectrum:
         return result.reshape(periods_array.shape) if periods_array.ndim else result[0] * np.ones(())
 
     def _compute_missing(self, periods: np.ndarray, damping: float) -> None:
-        """Compute and cache S_a at the periods [s] not in the cache yet (one spectrum for all of them)."""
-        missing = sorted({float(t) for t in periods if (float(t), damping) not in self._cache})
+        """Compute and cache S_a at the periods [s] not in the cache yet (one spectrum for all of
+        them); a cache that would hold more than MAX_CACHED values is emptied first (a sweep asks
+        ~40 new periods a case: 10^5 cases kept 0.5 GiB; a value does not depend on what was asked
+        with it, so the values are the same)."""
+        missing = self._missing(periods, damping)
+        if len(self._cache) + len(missing) > MAX_CACHED:
+            self._cache.clear()
+            missing = self._missing(periods, damping)
         if not missing:
             return
         spectrum = response_spectrum(self.record.acceleration, self.record.dt, missing, [damping],
                                      free_vibration=self.free_vibration)
         for t, value in zip(missing, spectrum.pseudo_acceleration[0], strict=False):
             self._cache[(t, damping)] = float(value)
+
+    def _missing(self, periods: np.ndarray, damping: float) -> list[float]:
+        """The periods [s] (sorted, each once) whose S_a at `damping` is not in the cache."""
+        return sorted({float(t) for t in periods if (float(t), damping) not in self._cache})
 
 
 def _checked_request(periods: np.ndarray, damping: float, source: str) -> float:

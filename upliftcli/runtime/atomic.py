@@ -4,7 +4,8 @@ and off the files of an earlier run.
 
 A new file gets the permissions of any file the user creates (0666 less the umask); a file
 that is replaced keeps its own permissions, and its owner and group where the user may set
-them (mkstemp's private 0600 is never left behind). The temporary files are named
+them (mkstemp's private 0600 is never left behind). A target that is a symbolic link is refused
+(refuse_symlink): an output is never written through one. The temporary files are named
 `.<target>.uplift-tmp-<pid>-<random><suffix>`: they are removed when the write fails or the
 command is stopped (SIGTERM, SIGHUP and Ctrl-C end it through the clean-up), and those a killed
 process (SIGKILL) left behind are removed by the next write into their folder once that process
@@ -116,7 +117,16 @@ def _keep_owner(tmp: Path, target: Path) -> None:
         os.chown(tmp, status.st_uid, status.st_gid)
 
 
+def refuse_symlink(path: str | os.PathLike, option: str = "--out") -> None:
+    """InputError naming `option` and `path` if `path` is a symbolic link: an output is never
+    written through one (it could point outside the output folder)."""
+    if Path(path).is_symlink():
+        raise InputError(option, str(path), "a path that is not a symbolic link (an output is never written "
+                         "through one; remove the link or choose another output folder)")
+
+
 def _temporary(target: Path) -> Path:
+    refuse_symlink(target)
     target.parent.mkdir(parents=True, exist_ok=True)
     _sweep_once(target.parent)
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}{TEMP_MARK}{os.getpid()}-", suffix=target.suffix or ".tmp",

@@ -30,6 +30,8 @@ try:
 except ImportError:  # POSIX
     msvcrt = None
 
+#: a symbolic link at the lock file is not followed (OSError ELOOP; O_EXCL never follows one)
+NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
 KIND = "flock" if fcntl is not None else "msvcrt" if msvcrt is not None else "exclusive"
 
 
@@ -41,7 +43,7 @@ def acquire(path: str | os.PathLike) -> int | None:
     if KIND == "exclusive":
         return _create_exclusive(path)
     while True:
-        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+        fd = os.open(path, os.O_RDWR | os.O_CREAT | NOFOLLOW, 0o666)
         if not _lock(fd):
             os.close(fd)
             return None

@@ -4,12 +4,14 @@ the cases that share a structure together, so that one chunk is one batch for th
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Container, Iterator, Sequence
 from dataclasses import dataclass, field
 
-from .plan import Case, SweepPlan
+from .cases import Case, Cases, is_structure_field
+from .plan import SweepPlan
 
 
 @dataclass
@@ -34,7 +36,7 @@ def _structure_order(case: Case) -> tuple:
     """Sort key putting together the cases that differ only in foundation fields (same
     building, record and engine options), then by engine and support: a chunk of them is
     one batch for the exact engine (analysis.run_batch)."""
-    others = [(path, value) for path, value in case.overrides if not path.startswith("foundation.")]
+    others = [(path, value) for path, value in case.overrides if not is_structure_field(path)]
     return json.dumps(others, default=str), case.engine, case.support
 
 
@@ -45,6 +47,18 @@ def make_chunks(plan: SweepPlan, cases: Sequence[Case], size: int) -> list[Chunk
     ordered = sorted(cases, key=_structure_order)
     return [Chunk(plan.raw, plan.source, (*plan.base_overrides, *plan.chosen), ordered[i:i + size],
                   plan.fingerprint, plan.records) for i in range(0, len(ordered), size)]
+
+
+def stream_chunks(plan: SweepPlan, done: Container[str], size: int) -> Iterator[Chunk]:
+    """The plan's cases whose key is not in `done`, in chunks of `size` made as they are asked for,
+    those that share a structure together (Cases.in_structure_order; a list of cases: sorted as by
+    make_chunks): the first chunk runs before the last case is made."""
+    cases = plan.cases
+    ordered = cases.in_structure_order() if isinstance(cases, Cases) else sorted(cases, key=_structure_order)
+    todo = (case for case in ordered if case.key not in done)
+    while batch := list(itertools.islice(todo, max(1, int(size)))):
+        yield Chunk(plan.raw, plan.source, (*plan.base_overrides, *plan.chosen), batch, plan.fingerprint,
+                    plan.records)
 
 
 def chunk_size(n_cases: int, workers: int) -> int:

@@ -15,7 +15,7 @@ import contextlib
 import json
 import socket
 from collections import deque
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable
 from dataclasses import replace
 
 from ..errors import InputError
@@ -100,7 +100,7 @@ class DaskExecutor:
                 dashboard_address=":0", silence_logs=logging.ERROR, env=dict(WORKER_ENVIRONMENT)))
         return cluster.scheduler_address
 
-    def run(self, chunks: Sequence[Chunk], on_row: OnRow) -> None:
+    def run(self, chunks: Iterable[Chunk], on_row: OnRow) -> None:
         distributed = import_distributed()
         with self.client() as client:
             queue = distributed.Queue(client=client)  # rows stream through it case by case

@@ -42,7 +42,7 @@ import sys
 import threading
 import time
 import warnings
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import replace
 
@@ -94,7 +94,7 @@ class SerialExecutor:
 
     workers = 1
 
-    def run(self, chunks: Sequence[Chunk], on_row: OnRow) -> None:
+    def run(self, chunks: Iterable[Chunk], on_row: OnRow) -> None:
         emit = functools.partial(_emit_row, on_row)
         for chunk in chunks:
             run_chunk(chunk, emit)
@@ -248,7 +248,7 @@ class ProcessExecutor:
             with worker_environment(), sigint_ignored():
                 multiprocessing.forkserver.ensure_running()
 
-    def run(self, chunks: Sequence[Chunk], on_row: OnRow) -> None:
+    def run(self, chunks: Iterable[Chunk], on_row: OnRow) -> None:
         delivered = Delivered(on_row)
         pending, isolate = list(chunks), []  # isolate: one-case chunks of suspects, run on a single worker
         context = _context(self.start_method)

@@ -21,9 +21,8 @@ from __future__ import annotations
 import contextlib
 import functools
 import hashlib
-import itertools
 import json
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -39,8 +38,11 @@ from ..motion.suites import Suite
 from ..provenance.files import motion_files
 from ..runtime.installed import tool_version
 from ..runtime.limits import cases_problem
+from .cases import Case, Cases, checked_combos, expand_cases
 from .unserved import unserved_error
 from .values import Vary, parse_vary
+
+__all__ = ["Case", "Cases", "expand_cases"]  # made in sweep/cases.py, asked for here too
 
 #: status of a row: ok; failed (the analysis raised: deterministic, not retried within a run);
 #: crashed (the worker process died on this case `max_attempts` times); stale (not computed: a
@@ -48,37 +50,10 @@ from .values import Vary, parse_vary
 STATUSES = ("ok", "failed", "crashed", "stale")
 
 
-@dataclass(frozen=True)
-class Case:
-    """One analysis of a sweep: index in the sweep, stable key, varied values, engine, support."""
-
-    index: int
-    key: str
-    overrides: tuple  # ((path, value), ...) of the varied fields
-    engine: str
-    support: str
-
-
 def fingerprint(raw: dict, base_overrides: Sequence[tuple[str, Any]]) -> str:
     """Hash of the parsed deck and the --set overrides (comments and layout do not count)."""
     text = json.dumps({"deck": raw, "set": [list(o) for o in base_overrides]}, sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()
-
-
-def case_key(deck_fingerprint: str, overrides: Sequence[tuple[str, Any]], engine: str, support: str) -> str:
-    text = json.dumps([deck_fingerprint, [list(o) for o in overrides], engine, support], default=str)
-    return hashlib.sha256(text.encode()).hexdigest()[:20]
-
-
-def expand_cases(varies: Sequence[Vary], engines: Sequence[str], supports: Sequence[str],
-                 deck_fingerprint: str) -> list[Case]:
-    """Cartesian product of the varied values (first --vary outermost), then engine, then support,
-    so that the cases sharing one deck are adjacent."""
-    cases = []
-    for overrides, engine, support in itertools.product(_combos(varies), engines, supports):
-        cases.append(Case(len(cases), case_key(deck_fingerprint, overrides, engine, support),
-                          tuple(overrides), engine, support))
-    return cases
 
 
 def ground_motion_key(deck: Deck) -> str:
@@ -126,7 +101,7 @@ class SweepPlan:
     varies: list[Vary]
     engines: list[str]
     supports: list[str]
-    cases: list[Case]
+    cases: Sequence[Case]  # Cases: made on demand (a list in tests)
     criteria: dict = field(default_factory=dict)
     suite_records: int = 0
     per_record: bool = False
@@ -209,8 +184,10 @@ class _GroundMotions:
 def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: Sequence[str] = (),
                engines: Sequence[str] = (), supports: Sequence[str] = (), *, varies: Sequence[Vary] = (),
                per_record: bool = False, check: bool = False) -> SweepPlan:
-    """Parse and validate a sweep: every case's deck is built (without its record) and every
-    distinct ground motion is read once here, so bad input stops the run before any analysis.
+    """Parse and validate a sweep: every combination's deck is built (without its record; a sweep
+    of more than cases.CHECKED_COMBINATIONS: those of cases.checked_combos) and every distinct ground
+    motion is read once here, so bad input stops the run before any analysis; the cases are
+    made as they are asked for (cases.Cases).
     per_record: each record's row in the tables (a deck with a suite run by a history engine);
     check: the exact engine runs beside the others for the ratios simplified / exact (a deck
     with a record or a suite)."""
@@ -224,8 +201,8 @@ def plan_sweep(deck_path: str | Path, settings: Sequence[str] = (), vary_texts: 
     supports = list(supports) or deck.analysis.supports
     _check_case_count(varies, engines, supports)
     deck_fingerprint = fingerprint(raw, base)
-    cases = expand_cases(varies, engines, supports, deck_fingerprint)
-    grounds = _ground_motions(raw, source, base + list(chosen), varies, engines)
+    cases = Cases(varies, engines, supports, deck_fingerprint)
+    grounds = _ground_motions(raw, source, base + list(chosen), varies, engines, _follows_structure(deck))
     grounds.warnings[:0] = deck.warnings  # values far outside building practice, the base deck's and the cases'
     suites = _suites(grounds, engines)
     _check_per_record(per_record, suites, source)
@@ -280,19 +257,21 @@ def _check_case_count(varies: Sequence[Vary], engines: Sequence[str], supports: 
         raise InputError("--vary" if varies else "--engine/--support", None, problem)
 
 
-def _combos(varies: Sequence[Vary]) -> Iterator[tuple]:
-    """The combinations of the varied values, ((path, value), ...), first --vary outermost."""
-    return itertools.product(*[[(v.path, value) for value in v.values] for v in varies])
+def _follows_structure(deck: Deck) -> bool:
+    """Whether the deck's ground motion follows the structure (a suite scaled over a period range
+    that the structure gives: ground_motion_key): every combination is checked then."""
+    fields = deck.values["ground_motion"]
+    return "suite" in fields and "period_range" not in fields
 
 
 def _ground_motions(raw: dict, source: str, base: list, varies: Sequence[Vary],
-                    engines: Sequence[str]) -> _GroundMotions:
-    """Build every combination's deck (without its record) and read each distinct ground motion
-    once, prepared for every engine, from the last combination down (the longest periods first);
-    a combination a record suite cannot serve refuses the sweep (unserved.py) as soon as one it
-    serves is met, before any analysis."""
+                    engines: Sequence[str], every: bool = True) -> _GroundMotions:
+    """Build the checked combinations' decks (cases.checked_combos; without their record) and read
+    each distinct ground motion once, prepared for every engine, from the last combination down (the
+    longest periods first); a combination a record suite cannot serve refuses the sweep (unserved.py)
+    as soon as one it serves is met, before any analysis."""
     grounds = _GroundMotions()
-    combos = list(_combos(varies))
+    combos = list(checked_combos(varies, every))
     for combo in reversed(combos):
         key = _add_combo(grounds, raw, source, base, combo, {v.path for v in varies})
         if key and grounds.unsupported:

@@ -19,8 +19,8 @@ import signal
 from dataclasses import dataclass
 
 from ..errors import InputError
-from .chunks import chunk_size, make_chunks
-from .plan import Case, SweepPlan
+from .chunks import chunk_size, stream_chunks
+from .plan import SweepPlan
 from .signals import Interrupted, ignore_stop_signals, stop_signals_interrupt  # noqa: F401 - interface
 from .store import RowStore
 
@@ -135,20 +135,17 @@ def _run_header(plan: SweepPlan) -> dict:
     return {"fingerprint": plan.fingerprint, "deck": plan.source, "records": plan.records, "version": plan.version}
 
 
-def _execute(plan: SweepPlan, executor, todo: list, size: int | None, exit_on_stop: bool, on_row) -> int | None:
-    """Run the cases on the executor in chunks; the stop signal that interrupted it (None: finished)."""
+def _execute(plan: SweepPlan, executor, kept: dict, size: int | None, exit_on_stop: bool, on_row) -> int | None:
+    """Run the cases not kept on the executor in chunks made as they are needed (stream_chunks);
+    the stop signal that interrupted it (None: finished)."""
+    todo = len(plan.cases) - len(kept)  # the kept rows are the plan's (_plan_rows)
     try:
         with stop_signals_interrupt(stay_ignored=exit_on_stop):
-            chunks = make_chunks(plan, todo, size or chunk_size(len(todo), getattr(executor, "workers", 1)))
+            chunks = stream_chunks(plan, kept, size or chunk_size(todo, getattr(executor, "workers", 1)))
             executor.run(chunks, on_row)
     except KeyboardInterrupt as error:
         return getattr(error, "signum", int(signal.SIGINT))
     return None
-
-
-def _todo(plan: SweepPlan, kept: dict[str, dict]) -> list[Case]:
-    """The plan's cases without a kept row."""
-    return [case for case in plan.cases if case.key not in kept]
 
 
 def _in_case_order(plan: SweepPlan, rows: dict[str, dict]) -> list[dict]:
@@ -169,13 +166,12 @@ def run_sweep(plan: SweepPlan, executor, store: RowStore, *, resume: bool = Fals
     executor and is raised; the rows written before it are kept."""
     progress = progress or NoProgress()
     kept = resumable_rows(plan, store, retry_failed, rerun_stale) if resume else {}
-    todo = _todo(plan, kept)
     arrivals = _Arrivals(plan, store, progress, kept)
     store.open(fresh=not resume, header=_run_header(plan))
     progress.start(len(plan.cases), len(kept))
     stop_signal, finished = None, False
     try:
-        stop_signal = _execute(plan, executor, todo, size, exit_on_stop, arrivals.on_row)
+        stop_signal = _execute(plan, executor, kept, size, exit_on_stop, arrivals.on_row)
         finished = stop_signal is None
     finally:
         store.close(discard_if_empty=not finished)

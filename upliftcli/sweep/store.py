@@ -1,4 +1,5 @@
-"""The append-only rows file of a sweep (JSON lines): one line per finished case, flushed as
+"""The append-only rows file of a sweep (JSON lines): one line per finished case,
+opened with O_NOFOLLOW (a symbolic link at it is refused: rows are never written outside --out), flushed as
 it arrives (it survives the process being killed) and fsynced at most FSYNC_SECONDS later and at
 close (a crash of the machine loses at most that much, which --resume runs again; an fsync per
 row cost 0.2-1.6 s per 300 rows here). A torn last line (the process was killed while writing
@@ -14,6 +15,7 @@ output stem is locked while a sweep writes it (stem_lock): a second sweep with t
 from __future__ import annotations
 
 import contextlib
+import errno
 import functools
 import json
 import os
@@ -24,9 +26,12 @@ from typing import Any
 
 from ..errors import InputError
 from ..runtime import locks
+from ..runtime.atomic import refuse_symlink
 from .plan import STATUSES
 
 FSYNC_SECONDS = 0.5  # [s]
+#: open flags that never follow a symbolic link at the rows file (where the system has them)
+NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
 
 
 class RowStore:
@@ -42,6 +47,7 @@ class RowStore:
     def _items(self) -> Iterator[Any]:
         """The JSON value of each line of the file (none if there is no file); lines that are not
         JSON (a torn last line: killed while writing) are skipped."""
+        refuse_symlink(self.path)
         if not self.path.exists():
             return
         for line in self.path.read_text(encoding="utf-8").splitlines():
@@ -61,10 +67,12 @@ class RowStore:
     def open(self, fresh: bool, header: dict | None = None) -> None:
         """Open for appending (fresh: discard the previous rows), then write the run's header."""
         self.path.parent.mkdir(parents=True, exist_ok=True)
+        refuse_symlink(self.path)
         self._created = fresh or self._empty()
         if not fresh:
             self._drop_torn_line()
-        self._file = open(self.path, "w" if fresh else "a", encoding="utf-8")  # noqa: SIM115 - held until close
+        mode = os.O_TRUNC if fresh else os.O_APPEND
+        self._file = os.fdopen(self._open_fd(os.O_WRONLY | os.O_CREAT | mode), "w", encoding="utf-8")
         if header is not None:
             self._write({"run": header})
 
@@ -76,8 +84,21 @@ class RowStore:
         """Cut off a torn last line (no newline at the end) before appending."""
         data = self.path.read_bytes() if self.path.exists() else b""
         if data and not data.endswith(b"\n"):
-            with open(self.path, "r+b") as handle:
-                handle.truncate(data.rfind(b"\n") + 1)
+            fd = self._open_fd(os.O_WRONLY)
+            try:
+                os.ftruncate(fd, data.rfind(b"\n") + 1)
+            finally:
+                os.close(fd)
+
+    def _open_fd(self, flags: int) -> int:
+        """The rows file opened with `flags`, never through a symbolic link (O_NOFOLLOW): one put
+        there meanwhile is refused naming --out."""
+        try:
+            return os.open(self.path, flags | NOFOLLOW, 0o666)
+        except OSError as error:
+            if error.errno == errno.ELOOP:
+                refuse_symlink(self.path)
+            raise
 
     def _write(self, item: dict) -> None:
         from ..output import to_jsonable
@@ -133,6 +154,7 @@ def stem_lock(out: Path, stem: str) -> Iterator[None]:
     created = not out.exists()
     _writable(out, functools.partial(out.mkdir, parents=True, exist_ok=True))
     path = out / f".{stem}.lock"
+    refuse_symlink(path)
     fd = _writable(out, functools.partial(locks.acquire, path))
     if fd is None:
         raise InputError("--out", str(out / stem), "an output stem no other sweep is writing (another "

@@ -28,6 +28,10 @@ from .plan import Case, ground_motion_key
 _GROUND_MOTIONS: dict[tuple, tuple[Any, Any]] = {}
 
 
+#: what follows a record file's name in the message of a 'stale' row (stale_records reads it back)
+STALE_TEXT = ": the record file changed after the sweep read it"
+
+
 class StaleRecord(Exception):
     """A record file read by a worker is not the content the sweep planned with (its SHA-256
     differs): the case is not computed (status 'stale')."""
@@ -40,9 +44,15 @@ def check_records(motion, planned: dict[str, str]) -> None:
         digest = getattr(record, "sha256", "")
         expected = _planned_digest(record, planned)
         if digest and expected and digest != expected:
-            raise StaleRecord(f"{record.source}: the record file changed after the sweep read it (SHA-256 "
+            raise StaleRecord(f"{record.source}{STALE_TEXT} (SHA-256 "
                               f"{expected[:12]}... then, {digest[:12]}... now): this case was not computed; run the "
                               "same command with --resume --rerun-stale once the file is settled")
+
+
+def stale_records(rows: Sequence[dict]) -> list[str]:
+    """The record files named by the 'stale' rows, each once, in the order first met."""
+    named = (row.get("message", "").partition(STALE_TEXT) for row in rows if row.get("status") == "stale")
+    return list(dict.fromkeys(name for name, found, _ in named if found))
 
 
 def _planned_digest(record, planned: dict[str, str]) -> str | None:
