@@ -546,7 +546,7 @@ def test_sweep_never_writes_through_a_symlinked_rows_file(tmp_path, mode):
     out.mkdir()
     outside.mkdir()
     (outside / "v.txt").write_text("keep\n")
-    rows = out / "ten_story_elcentro.sweep.rows.jsonl"
+    rows = out / "ten_story_elcentro.slenderness.sweep.rows.jsonl"
     rows.symlink_to("../outside/v.txt")
     result = invoke("sweep", EXAMPLE, "--vary", "foundation.slenderness=5,6", "-e", "simplified", "--out", out, mode)
     assert result.exit_code == 2
