@@ -554,3 +554,13 @@ def test_sweep_never_writes_through_a_symlinked_rows_file(tmp_path, mode):
                              "through one; remove the link or choose another output folder)\n")
     assert (outside / "v.txt").read_text() == "keep\n"
     assert rows.is_symlink() and sorted(p.name for p in out.iterdir()) == [rows.name]
+
+
+def test_spectra_whose_every_case_fails_draws_no_figure_and_says_so(tmp_path):
+    """Every case failing (a step limit each case exceeds) left figures of no data, whose log axis
+    raised a traceback; now: the failures, one line that no figure was drawn, exit code 4."""
+    result = invoke("spectra", EXAMPLE, "--periods", "0.5,1", "--engine", "exact", "--support", "uplift",
+                    "--set", "analysis.exact.steps_per_period=100000", "--out", tmp_path, "--quiet")
+    assert result.exit_code == 4, result.output
+    assert "Traceback" not in result.output and "warning: no figure drawn: no case finished" in result.stderr
+    assert not list(tmp_path.glob("*.png"))

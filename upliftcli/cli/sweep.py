@@ -251,7 +251,7 @@ def _sweep_figure(plan: SweepPlan, rows: list[dict], plot_path: Path | None, out
     from ..figures import draw as plots
     from ..sweep import figures
 
-    if plot_path is None:
+    if plot_path is None or not _any_finished(rows):
         return
     with figure_errors(out, written):
         written.append(plots.plot_figure(figures.sweep_figure(plan, rows, figures.plan_motion_label(plan), units),
@@ -378,11 +378,23 @@ def _figure_paths(plan: SweepPlan, out: Path, stem: str, formats: list[str]) -> 
     return [out / f"{stem}.{figure}.{extension}" for figure in specs for extension in formats]
 
 
+def _any_finished(rows: list[dict]) -> bool:
+    """Whether some case finished; the figures of failed cases alone have nothing to draw (a log axis
+    of no positive value cannot be drawn at all): they are left out, said in one line."""
+    if any(row.get("status") == "ok" for row in rows):
+        return True
+    stdout.echo("warning: no figure drawn: no case finished", err=True)
+    return False
+
+
 def _spectra_figures(plan: SweepPlan, rows: list[dict], out: Path, stem: str, formats: list[str],
                      tables: list[Path]) -> list[Path]:
     """The paper's figures of the rows, in each format (an OSError names the tables written before)."""
     from ..figures import draw as plots
     from ..sweep import figures
+
+    if not _any_finished(rows):
+        return []
 
     specs = figures.paper_figures(rows, plan.engines, plan.supports, figures.plan_motion_label(plan),
                                   figures.nominal_value(plan, figures.PERIOD_PATH))
