@@ -17,14 +17,12 @@ from ..runtime import limits
 from . import plotting, stdout
 from .options import (
     ENGINE_HELP,
-    EXIT_CRITERIA,
     SET_HELP,
     UNITS_HELP,
     DisplayUnits,
     OutputFormat,
     check_out_directory,
     display_system,
-    echo_violations,
     echo_warnings,
     echo_written,
     file_system,
@@ -33,6 +31,7 @@ from .options import (
     refuse_unchecked,
 )
 from .sweep_execute import execute, warm_workers_early
+from .sweep_exit import finish
 from .sweep_options import (
     CHECK_HELP,
     DASK_HELP,
@@ -54,7 +53,6 @@ from .sweep_options import (
 if TYPE_CHECKING:
     from ..sweep.plan import SweepPlan, Vary
 
-EXIT_ANALYSIS, EXIT_INTERRUPTED = 4, 130  # interrupted: 128 + the signal (SIGINT 130)
 #: suite warnings printed before a sweep; the JSON document of a case has them all
 MAX_WARNINGS = 5
 
@@ -77,69 +75,6 @@ def _write(plan, rows, out, stem, table, summary, record, system: str = "si") ->
         return sweep_table.write_tables(plan, rows, out, stem, table.value, summary, record, system)
     except OSError as error:
         raise not_writable("--out", out, error) from None
-
-
-def _finish(rows: list[dict], criteria: bool) -> None:
-    """Failures: exit 4; else criteria violations: exit 3 (each case named on stderr)."""
-    failed = _echo_failures(rows)
-    violating = _echo_violating(rows) if criteria else []
-    if failed:
-        raise typer.Exit(EXIT_ANALYSIS)
-    if violating:
-        raise typer.Exit(EXIT_CRITERIA)
-
-
-def _echo_failures(rows: list[dict]) -> list[dict]:
-    """The cases that failed or crashed, each named on stderr with its message; the stale ones
-    (a record replaced during the sweep: thousands of cases) in one line (_echo_stale)."""
-    failed = [row for row in rows if row.get("status") != "ok"]
-    for row in failed:
-        _echo_failure(row)
-    _echo_stale(_stale(failed))
-    return failed
-
-
-def _stale(rows: list[dict]) -> list[dict]:
-    """The rows of the cases not computed because a record changed during the sweep."""
-    return [row for row in rows if row.get("status") == "stale"]
-
-
-def _echo_failure(row: dict) -> None:
-    """A failed or crashed case on stderr with its message (a stale one is counted by _echo_stale)."""
-    if row.get("status") != "stale":
-        stdout.echo(f"case {row['case']} ({row['engine']}/{row['support']}) {row['status']}: {row['message']}",
-                    err=True)
-
-
-def _plural(count: int, one: str, many: str) -> str:
-    return one if count == 1 else many
-
-
-def _echo_stale(stale: list[dict]) -> None:
-    """One line on stderr for the stale cases: how many, and the record files that changed."""
-    from ..sweep.worker import stale_records
-
-    if not stale:
-        return
-    files = stale_records(stale)
-    many = len(files)
-    stdout.echo(f"{len(stale)} {_plural(len(stale), 'case', 'cases')} stale (not computed): the record "
-                f"{_plural(many, 'file', 'files')} {', '.join(files)} changed after the sweep read "
-                f"{_plural(many, 'it', 'them')}; run the same command with --resume --rerun-stale once "
-                f"{_plural(many, 'it is', 'they are')} settled", err=True)
-
-
-def _echo_violating(rows: list[dict]) -> list[dict]:
-    """The cases that violate a criterion, each named on stderr with its varied inputs."""
-    violating = [row for row in rows if row.get("violations")]
-    echo_violations([f"case {row['case']}{_case_inputs(row)}: {row['violations']}" for row in violating])
-    return violating
-
-
-def _case_inputs(row: dict) -> str:
-    """' (building.period=0.5, ...)': the varied fields of a case (the dotted columns), or nothing."""
-    inputs = ", ".join(f"{k}={v}" for k, v in row.items() if "." in k)
-    return f" ({inputs})" if inputs else ""
 
 
 def _choices(engine: list[str], support: list[str]) -> tuple[list[str], list[str]]:
@@ -213,7 +148,7 @@ def sweep(
         _sweep_figure(plan, rows, plot_path, out, written, _display(units, plan))
     _print_sweep(plan, rows, summary, record, output_format, quiet, units)
     echo_written(written)
-    _finish(rows, criteria=True)
+    finish(rows, criteria=True)
 
 
 def _plot_path(out: Path, stem: str, plot_format: str) -> Path:
@@ -342,7 +277,7 @@ def spectra(
     if not quiet:
         print_spectra_summary(render.console(), plan, outcome.rows)
     echo_written(written)
-    _finish(outcome.rows, criteria=False)
+    finish(outcome.rows, criteria=False)
 
 
 def _plan_spectra(deck: Path, settings: list[str], choices: tuple[list[str], list[str]], period_vary: Vary,
