@@ -41,7 +41,7 @@ def test_names_that_are_not_plain_stems_are_refused(name, words):
 
 def test_stale_cases_are_summed_up_in_one_line(capsys):
     # issue 38: a record replaced during a sweep printed one line per stale case (2,644 lines)
-    from upliftcli.cli.sweep import _echo_failures
+    from upliftcli.cli.sweep_exit import _echo_failures
     from upliftcli.sweep.worker import STALE_TEXT
 
     def row(case, status, source="/data/el.txt"):
