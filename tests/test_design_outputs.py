@@ -58,3 +58,27 @@ def test_the_json_under_us_units_gives_the_design_forces_in_kip():
     assert document["units"]["design_base_shear"] == "kip" and document["units"]["design_shear"] == "kip"
     assert abs(document["design_base_shear"] * 8 / document["base_shear"] - 1) < 1e-12
     assert abs(document["stories"][0]["design_shear"] * 8 / document["stories"][0]["shear"] - 1) < 1e-12
+
+
+def test_the_reports_criteria_section_judges_the_design_drift_without_criteria():
+    """A deck with [design] and no [criteria]: the report's criteria table has the design drift row, its
+    source Table 12.12-1, and the exit code 3 when a story exceeds the allowable drift (0 when none does)."""
+    from upliftcli.deck.criteria import Criteria
+    from upliftcli.report.checks import criteria_section
+
+    section, _, code = criteria_section([_result()], Criteria())
+    (table,) = [block for block in section.blocks if hasattr(block, "rows")]
+    assert code == 3
+    assert table.rows == [["simplified", "rigid", "design_drift_ratio", "1.160", "1.000", "%", "VIOLATED",
+                           "ASCE 7-22 Table 12.12-1, all-other, risk category IV; C_d = 15, R = 8"]]
+    assert criteria_section([_result({"R": 8, "Cd": 5.5, "risk_category": "IV"})], Criteria())[2] == 0
+    (plain,) = run(build_deck(mapping(None), "d.toml"))
+    assert criteria_section([plain], Criteria())[2] == 0
+
+
+def test_the_batch_tables_verdict_judges_the_design_drift():
+    from upliftcli.cli.render_batch import _criteria_verdict
+
+    assert _criteria_verdict(_result(), {}, ()) == "violated"
+    (plain,) = run(build_deck(mapping(None), "d.toml"))
+    assert _criteria_verdict(plain, {}, ()) == "-"

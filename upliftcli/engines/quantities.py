@@ -276,8 +276,8 @@ def display_kind(name: str) -> str:
     if name in COMPARED:
         return COMPARED[name].display
     for candidate in (name, name.removeprefix("max_"), name.rsplit("_", 1)[-1]):
-        if candidate in QUANTITIES or candidate in ROCKING:
-            return (QUANTITIES.get(candidate) or ROCKING[candidate]).display
+        if found := QUANTITIES.get(candidate) or ROCKING.get(candidate) or DESIGN.get(candidate):
+            return found.display
     unit = unit_of(name)
     return "coefficient" if unit == "-" else unit
 
