@@ -116,3 +116,13 @@ def test_a_bad_design_field_exits_2_with_one_line(tmp_path):
     assert outcome.exit_code == 2
     assert outcome.stderr.strip().endswith("d.toml: design.Ie: 1.0, the importance factor of risk category II "
                                            "(ASCE 7-22 11.5.1, Table 1.5-2), got 1.5 (or leave it out)")
+
+
+def test_a_sweep_of_cd_names_the_case_whose_design_drift_exceeds_the_allowable(tmp_path):
+    """The sweep's violations follow deck/criteria.py: C_d = 15 violates (1.16 % > 1.0 %), C_d = 5 does not."""
+    deck = _deck_file(tmp_path, R=8, Cd=5.5, risk_category="IV")
+    outcome = invoke("sweep", deck, "--vary", "design.Cd=5,15", "-o", tmp_path)
+    assert outcome.exit_code == 3
+    violated = [line for line in outcome.stderr.splitlines() if line.startswith("criterion violated")]
+    assert len(violated) == 1 and violated[0].startswith("criterion violated: case 1 (design.Cd=15): simplified/rigid: "
+                                                          "design_drift_ratio = 0.0116 exceeds the limit 0.01")
