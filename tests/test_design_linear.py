@@ -13,7 +13,7 @@ from cli_helpers import invoke
 
 from upliftcli.analysis.run import run
 from upliftcli.deck.load import build_deck
-from upliftcli.engines.design import MCE_R_WARNING, with_design
+from upliftcli.engines.design import MCE_R_WARNING, NO_FACTORS_WARNING, with_design
 from upliftcli.output import to_csv, to_json
 
 #: a three-story building of 100 t floors on a rigid base, T_1 = 0.4 s, under S_DS = 1.0 g, S_D1 = 0.6 g
@@ -59,6 +59,12 @@ def test_at_mce_r_no_design_values_are_given_and_a_warning_says_why():
     (result,) = run(build_deck(mapping(level="mce_r"), "d.toml"))
     assert not any(name.startswith(("design", "allowable")) for name in result.peaks)
     assert MCE_R_WARNING in result.details["warnings"]
+
+
+def test_without_r_and_cd_no_design_values_are_given_and_a_warning_says_why():
+    (result,) = run(build_deck(mapping({"risk_category": "II"}), "d.toml"))
+    assert not any(name.startswith(("design", "allowable")) for name in result.peaks)
+    assert NO_FACTORS_WARNING in result.details["warnings"]
 
 
 def _strip(document):

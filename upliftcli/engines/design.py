@@ -13,7 +13,8 @@ Not applied: the scaling of 12.9.1.4 to the equivalent lateral force base shear 
 drifts where Eq. 12.8-6 governs, 12.9.1.4.2), which needs the ELF base shear V = C_s W of 12.8.1 with
 the period limit C_u T_a of 12.8.2 (the structure's system and height parameters of Table 12.8-2,
 not in a deck): the design forces here are the unscaled modal ones. R and C_d apply at the design
-level (11.4.5): a result at MCE_R (analysis/level.py) is given none, with a warning.
+level (11.4.5): a result at MCE_R (analysis/level.py) is given none, with a warning; so is one of a
+deck whose [design] gives no R and C_d (a chapter 16 deck's may not).
 """
 
 from __future__ import annotations
@@ -27,6 +28,8 @@ from .quantities import DESIGN
 from .result import AnalysisResult
 
 #: the warning of a result at MCE_R on a deck with [design]
+NO_FACTORS_WARNING = ("[design]: no design values: the linear procedure needs design.R and design.Cd (ASCE 7-22 "
+                      "12.9.1.2; docs/theory.md 16)")
 MCE_R_WARNING = ("[design]: no design values at the MCE_R level: R and C_d apply to the design-level spectrum "
                  "(ASCE 7-22 12.9.1.2, 11.4.5: 2/3 of MCE_R); give ground_motion.design_spectrum.level = \"design\" "
                  "for the linear procedure (docs/theory.md 16)")
@@ -34,15 +37,21 @@ MCE_R_WARNING = ("[design]: no design values at the MCE_R level: R and C_d apply
 
 def with_design(result: AnalysisResult, design: Design | None) -> AnalysisResult:
     """The simplified engine's result with the design values of `design` in its peaks (quantities.DESIGN)
-    and the values used in details["design"]; at MCE_R a warning instead; any other result (another
-    engine, no [design]) as it is."""
+    and the values used in details["design"]; at MCE_R, or without R and C_d, a warning instead; any other
+    result (another engine, no [design]) as it is."""
     if design is None or result.engine != "simplified":
         return result
     if result.details.get("level", {}).get("level") == "mce_r":
-        return replace(result, details={**result.details, "warnings": [*result.details.get("warnings", []),
-                                                                       MCE_R_WARNING]})
+        return _warned(result, MCE_R_WARNING)
+    if not design.linear:
+        return _warned(result, NO_FACTORS_WARNING)
     details = {**result.details, "design": design.to_dict()}
     return replace(result, peaks={**result.peaks, **design_peaks(result, design)}, details=details)
+
+
+def _warned(result: AnalysisResult, warning: str) -> AnalysisResult:
+    """The result with `warning` after its own."""
+    return replace(result, details={**result.details, "warnings": [*result.details.get("warnings", []), warning]})
 
 
 def design_peaks(result: AnalysisResult, design: Design) -> dict[str, np.ndarray]:
