@@ -190,7 +190,8 @@ def differences(opensees: dict, reference: dict) -> dict[str, float]:
     return out
 
 
-def compare(system: System, record, support: str, steps: list[float], free_vibration: float) -> list[dict]:
+def compare(system: System, record, support: str, steps: list[float], free_vibration: float,
+            penalty: float = om.PENALTY) -> list[dict]:
     """One row per step dt: the differences from the exact engine, the step's change from the previous
     step (the largest over the compared quantities) and OpenSees' seconds."""
     reference = exact_peaks(system, record, support, free_vibration)
@@ -198,7 +199,7 @@ def compare(system: System, record, support: str, steps: list[float], free_vibra
     rows, previous = [], None
     for dt in steps:
         start = time.perf_counter()
-        peaks = opensees_peaks(run(system, acceleration, record.dt, dt, support), system)
+        peaks = opensees_peaks(run(system, acceleration, record.dt, dt, support, penalty), system)
         row = {"support": support, "dt": dt, "seconds": round(time.perf_counter() - start, 2),
                "uplift": reference["uplift"], "yielded_stories": reference["yielded_stories"],
                "max_ductility": float(np.max(reference["ductility"])), **differences(peaks, reference)}
@@ -219,6 +220,7 @@ def main() -> None:
     parser.add_argument("--steps", default="0.002,0.001,0.0005,0.00025", help="fixed steps dt [s]")
     parser.add_argument("--scale", type=float, default=2.0, help="factor on the record")
     parser.add_argument("--duration", type=float, default=None, help="first seconds of the record [s]")
+    parser.add_argument("--penalty", type=float, default=om.PENALTY, help="contact stiffness / element stiffness")
     parser.add_argument("--free-vibration", type=float, default=5.0, help="after the record [s]")
     args = parser.parse_args()
     record = read_record(RECORD, units="g")
@@ -230,7 +232,7 @@ def main() -> None:
         system = two_story_system(args.coefficient, args.hardening)
     steps = [float(s) for s in args.steps.split(",")]
     for support in args.supports.split(","):
-        for row in compare(system, record, support, steps, args.free_vibration):
+        for row in compare(system, record, support, steps, args.free_vibration, args.penalty):
             print(json.dumps({k: (float(f"{v:.3g}") if isinstance(v, float) else v) for k, v in row.items()}),
                   flush=True)
 
