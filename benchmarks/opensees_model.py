@@ -49,7 +49,7 @@ def stiffness_proportional_damping(omega: np.ndarray, xi_1: float) -> np.ndarray
     return xi_1 * omega / omega[0]
 
 
-def _damping_beta(system) -> float:
+def damping_beta(system) -> float:
     """beta [s] with C = beta K, checked against the building's modal damping."""
     modes = system.modes
     beta = 2.0 * modes.damping[0] / modes.omega[0]
@@ -65,34 +65,56 @@ def build(ops, system, support: str = "uplift", penalty: float = PENALTY) -> dic
     building = system.building
     if building.story_stiffness is None:
         raise ValueError("the OpenSees model is a shear building: give story stiffnesses")
-    elements = system.foundation.contact_elements(system.half_width)
+    tags = mat_and_floors(ops, system, support)
+    transform, big_area = 1, 1.0  # axial deformation is prevented by the equalDOF ties
+    ops.geomTransf("Linear", transform)
+    below = tags["mat"]
+    for j, (tag, k_j, length) in enumerate(zip(tags["floors"], building.story_stiffness, building.story_heights,
+                                                strict=True)):
+        inertia = float(k_j) * float(length) ** 3 / 12.0
+        ops.element("elasticBeamColumn", 1000 + j, below, tag, big_area, 1.0, inertia, transform)
+        below = tag
+    stories = [1000 + j for j in range(len(tags["floors"]))]
+    ops.region(1, "-ele", *stories, "-rayleigh", 0.0, damping_beta(system), 0.0, 0.0)
+    foundation(ops, system, support, penalty, tags)
+    return tags
+
+
+def mat_and_floors(ops, system, support: str) -> dict:
+    """The model's frame (2-D, 3 dof a node) and its nodes: the mat (horizontal displacement fixed;
+    every dof fixed on the "rigid" support) with its mass and rotary inertia, and the floors (mass m_j
+    horizontally and vertically) whose vertical displacement and rotation are the mat's (equalDOF)."""
     ops.wipe()
     ops.model("basic", "-ndm", 2, "-ndf", 3)
-    mat, transform = 1, 1
+    mat = 1
     ops.node(mat, 0.0, 0.0)
-    ops.fix(mat, 1, 0, 0)
+    ops.fix(mat, 1, int(support == "rigid"), int(support == "rigid"))
     ops.mass(mat, 0.0, system.mat_mass, system.mat_rotary_inertia)
-    ops.geomTransf("Linear", transform)
-    floors, below = [], mat
-    big_area = 1.0  # axial deformation is prevented by the equalDOF ties
-    for j, (height, mass, k_j, length) in enumerate(zip(building.heights, building.masses, building.story_stiffness,
-                                                        building.story_heights, strict=True)):
+    floors = []
+    for j, (height, mass) in enumerate(zip(system.building.heights, system.building.masses, strict=True)):
         tag = 10 + j
         ops.node(tag, 0.0, float(height))
         ops.mass(tag, float(mass), float(mass), 0.0)
         ops.equalDOF(mat, tag, 2, 3)
-        inertia = float(k_j) * float(length) ** 3 / 12.0
-        ops.element("elasticBeamColumn", 1000 + j, below, tag, big_area, 1.0, inertia, transform)
         floors.append(tag)
-        below = tag
-    ops.region(1, "-ele", *[1000 + j for j in range(len(floors))], "-rayleigh", 0.0, _damping_beta(system), 0.0, 0.0)
+    positions = system.foundation.contact_elements(system.half_width).positions
+    return {"mat": mat, "floors": floors, "positions": positions.copy()}
+
+
+def foundation(ops, system, support: str, penalty: float, tags: dict) -> None:
+    """The foundation's contact elements under the mat (none on the "rigid" support): a Kelvin unit
+    from a fixed ground node to the element's top, and a contact from the top to the mat's edge node
+    (rigidly linked to the mat), compression-only on the "uplift" support (ENT), elastic on "bonded"."""
+    if support == "rigid":
+        return
+    elements = system.foundation.contact_elements(system.half_width)
     for i, (x, k, c) in enumerate(zip(elements.positions, elements.stiffness, elements.damping, strict=True)):
         ground, top, edge = 100 + 3 * i, 101 + 3 * i, 102 + 3 * i
         for tag in (ground, top, edge):
             ops.node(tag, float(x), 0.0)
         ops.fix(ground, 1, 1, 1)
         ops.fix(top, 1, 0, 1)
-        ops.rigidLink("beam", mat, edge)
+        ops.rigidLink("beam", tags["mat"], edge)
         spring, dashpot, kelvin, contact = 10 + 4 * i, 11 + 4 * i, 12 + 4 * i, 13 + 4 * i
         capacity = None if elements.capacity is None else float(elements.capacity[i])
         if capacity is None:
@@ -110,10 +132,9 @@ def build(ops, system, support: str = "uplift", penalty: float = PENALTY) -> dic
             ops.uniaxialMaterial("Elastic", contact, penalty * float(k))
         ops.element("zeroLength", 2000 + 2 * i, ground, top, "-mat", kelvin, "-dir", 2)
         ops.element("zeroLength", 2001 + 2 * i, top, edge, "-mat", contact, "-dir", 2)
-    return {"mat": mat, "floors": floors, "positions": elements.positions.copy()}
 
 
-def _solver(ops, test: tuple) -> None:
+def solver(ops, test: tuple) -> None:
     # penalty ties: a Transformation handler made anew for the transient analysis starts the tied
     # nodes from zero displacement, not from the static state (the mat then falls)
     ops.constraints("Penalty", PENALTY_TIES, PENALTY_TIES)
@@ -123,7 +144,7 @@ def _solver(ops, test: tuple) -> None:
     ops.algorithm("Newton")
 
 
-def _gravity(ops, system, tags: dict) -> None:
+def gravity(ops, system, tags: dict) -> None:
     """The weight applied in one static step (all contacts closed: linear)."""
     ops.timeSeries("Constant", 1)
     ops.pattern("Plain", 1, 1)
@@ -133,7 +154,7 @@ def _gravity(ops, system, tags: dict) -> None:
         ops.load(tag, 0.0, -float(mass) * g, 0.0)
     # one linear step: its unbalance after the first solve is round-off (the displacement increment
     # of a stiffer contact penalty may stay above TOLERANCE), so the test is on the force
-    _solver(ops, ("NormUnbalance", 1e-6 * system.weight))
+    solver(ops, ("NormUnbalance", 1e-6 * system.weight))
     ops.integrator("LoadControl", 1.0)
     ops.analysis("Static")
     if ops.analyze(1) != 0:
@@ -141,14 +162,26 @@ def _gravity(ops, system, tags: dict) -> None:
     ops.loadConst("-time", 0.0)
 
 
-def _step(ops, dt: float, depth: int = 0) -> None:
+def advance(ops, dt: float, depth: int = 0) -> None:
     """One step of dt [s]; on failure the step is split (down to dt / 2^6), then given up."""
     if ops.analyze(1, dt) == 0:
         return
     if depth == 6:
         raise RuntimeError(f"OpenSees: no convergence at t = {ops.getTime():.6f} s")
-    _step(ops, dt / 2.0, depth + 1)
-    _step(ops, dt / 2.0, depth + 1)
+    advance(ops, dt / 2.0, depth + 1)
+    advance(ops, dt / 2.0, depth + 1)
+
+
+def start_transient(ops, system, tags: dict, acceleration: np.ndarray, record_dt: float, integrator: tuple) -> None:
+    """Gravity (a static step), then the record as a uniform excitation of the horizontal dof and the
+    transient analysis set up with `integrator` (Newmark's parameters: the step's own tolerance)."""
+    gravity(ops, system, tags)
+    ops.timeSeries("Path", 2, "-dt", float(record_dt), "-values", *np.asarray(acceleration, dtype=float).tolist())
+    ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
+    ops.wipeAnalysis()
+    solver(ops, ("NormDispIncr", TOLERANCE))
+    ops.integrator(*integrator)
+    ops.analysis("Transient")
 
 
 def run(system, acceleration: np.ndarray, record_dt: float, dt: float, support: str = "uplift",
@@ -163,13 +196,7 @@ def run(system, acceleration: np.ndarray, record_dt: float, dt: float, support: 
 
     ops.logFile("/dev/null", "-noEcho")  # OpenSees prints every split step: the histories say enough
     tags = build(ops, system, support, penalty)
-    _gravity(ops, system, tags)
-    ops.timeSeries("Path", 2, "-dt", float(record_dt), "-values", *np.asarray(acceleration, dtype=float).tolist())
-    ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
-    ops.wipeAnalysis()
-    _solver(ops, ("NormDispIncr", TOLERANCE))
-    ops.integrator(*integrator)
-    ops.analysis("Transient")
+    start_transient(ops, system, tags, acceleration, record_dt, integrator)
     building = system.building
     heights, stiffness = building.heights, building.stiffness
     count = round((acceleration.size - 1) * record_dt / dt)
@@ -178,7 +205,7 @@ def run(system, acceleration: np.ndarray, record_dt: float, dt: float, support: 
     out["reaction"] = np.empty((count + 1, n_e))
     for step in range(count + 1):
         if step:
-            _step(ops, dt)
+            advance(ops, dt)
         theta = -ops.nodeDisp(tags["mat"], 3)
         x = np.array([ops.nodeDisp(tag, 1) for tag in tags["floors"]])
         u = x - heights * theta
@@ -232,14 +259,14 @@ def push(system, thetas: np.ndarray, penalty: float = PENALTY) -> tuple[np.ndarr
 
     ops.logFile("/dev/null", "-noEcho")
     tags = build(ops, system, "uplift", penalty)
-    _gravity(ops, system, tags)
+    gravity(ops, system, tags)
     ops.timeSeries("Linear", 3)
     ops.pattern("Plain", 3, 3)
     ops.sp(tags["mat"], 3, -1.0)  # the mat's rotation = -load factor (OpenSees' sign)
     ops.wipeAnalysis()
     # a static step: the unbalanced force, as for gravity (the displacement increment of the stiff
     # penalty contacts stays at round-off)
-    _solver(ops, ("NormUnbalance", 1e-6 * system.weight))
+    solver(ops, ("NormUnbalance", 1e-6 * system.weight))
     n_e = tags["positions"].size
     out_theta, out_moment, out_reaction = [], [], []
     factor = 0.0

@@ -1,7 +1,8 @@
 """OpenSeesPy (benchmarks/opensees_model.py), an independent engine, against the exact engine on an
 uplift analysis of the paper's example (elastic foundation: the harness that will check the
 yielding one, issue 28). Skipped where openseespy is not installed or cannot load (its Linux wheel
-needs the system BLAS: Debian libblas3, liblapack3)."""
+needs the system BLAS: Debian libblas3, liblapack3); CI runs it (openseespy is in the test extra and
+.ci/run installs the libraries)."""
 
 import sys
 from dataclasses import replace
