@@ -36,7 +36,8 @@ def polynomial_signals():
         values[:, column], slopes[:, column], curv[:, column] = value, slope, second
     values[:, 7] = [0.0, 0.3, 0.1]  # z of element 1 (read where it is lifted)
     lifted = np.array([[False, False], [True, False]])
-    return (values, slopes, curv[:2], curv[1:], np.full(2, -1, dtype=np.int64), np.zeros((0, k + 2)),
+    curvatures = np.ascontiguousarray(curv[:, :7])  # all but z's (read at the ends only)
+    return (values, slopes, curvatures[:2], curvatures[1:], np.full(2, -1, dtype=np.int64), np.zeros((0, k + 2)),
             np.zeros((0, k)), np.ones(2), lifted)
 
 
@@ -59,7 +60,7 @@ def test_work_integrals_twin_matches_the_loop():
     rng = np.random.default_rng(4)
     n, k = 30, LAYOUT[0]
     values, slopes = rng.normal(size=(n, k + 2)), rng.normal(size=(n, k))
-    start, end = rng.normal(size=(n, k)), rng.normal(size=(n - 1, k))
+    start, end = rng.normal(size=(n, 7)), rng.normal(size=(n - 1, 7))  # curvatures of all but z
     switch = np.full(n - 1, -1, dtype=np.int64)
     switch[[4, 17]] = [0, 1]
     end_values, end_slopes = rng.normal(size=(2, k + 2)), rng.normal(size=(2, k))

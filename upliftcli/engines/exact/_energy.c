@@ -30,15 +30,16 @@ static void gauss_rule(double nodes[NODES], double weights[NODES])
     }
 }
 
-/* gauss[g k + q]: the quintic Hermite interpolant of signal q at Gauss node g, from the basis there
- * (basis[g] holds the weights of p0, d0, c0, p1, d1, c1) */
+/* gauss[g k + q], q in [lo, hi): the quintic Hermite interpolant of signal q at Gauss node g, from the
+ * basis there (basis[g] holds the weights of p0, d0, c0, p1, d1, c1) */
 static inline void interpolate_at_nodes(const double *restrict v0, const double *restrict s0,
                                         const double *restrict c0, const double *restrict v1,
                                         const double *restrict s1, const double *restrict c1, double length,
-                                        int64_t k, const double basis[NODES][6], double *restrict gauss)
+                                        int64_t lo, int64_t hi, int64_t k, const double basis[NODES][6],
+                                        double *restrict gauss)
 {
     const double l2 = length * length;
-    for (int64_t q = 0; q < k; q++) {
+    for (int64_t q = lo; q < hi; q++) {
         const double d0 = s0[q] * length, d1 = s1[q] * length, e0 = c0[q] * l2, e1 = c1[q] * l2;
         for (int g = 0; g < NODES; g++) {
             const double *b = basis[g];
@@ -52,7 +53,7 @@ typedef struct {
         *modal_damping, *element_stiffness, *element_damping;
     const int64_t *switch_;
     const unsigned char *lifted;
-    int64_t n_intervals, k, k_s, k_e, n_interpolated, row_a, row_input, row_ydot, n_modes, row_vel, row_z, n_elements;
+    int64_t n_intervals, k, k_s, k_e, k_c, n_interpolated, row_a, row_input, row_ydot, n_modes, row_vel, row_z, n_elements;
 } WorkInput;
 
 /* the integrands at one node: input work, structural and foundation damping power */
@@ -114,8 +115,11 @@ HOT_LOOP static void work_integrals(const WorkInput *in, double *gauss, double o
         const double *v0 = in->values + i * kv, *s0 = in->slopes + i * ks;
         const double *v1 = fix >= 0 ? in->end_values + fix * kv : v0 + kv;
         const double *s1 = fix >= 0 ? in->end_slopes + fix * ke : s0 + ks;
-        interpolate_at_nodes(v0, s0, in->curvatures + i * k, v1, s1, in->end_curvatures + i * k, length, k, basis,
-                             gauss);
+        /* the signals the integrands read: the modal velocities, the input signal, the element velocities */
+        const double *c0 = in->curvatures + i * in->k_c, *c1 = in->end_curvatures + i * in->k_c;
+        interpolate_at_nodes(v0, s0, c0, v1, s1, c1, length, in->row_ydot, in->row_ydot + in->n_modes, k, basis, gauss);
+        interpolate_at_nodes(v0, s0, c0, v1, s1, c1, length, in->row_input, in->row_input + 1, k, basis, gauss);
+        interpolate_at_nodes(v0, s0, c0, v1, s1, c1, length, in->row_vel, in->row_vel + in->n_elements, k, basis, gauss);
         /* the ground acceleration is linear inside the interval (its slope jumps at samples) */
         const int64_t q = in->row_a;
         for (int g = 0; g < NODES; g++) {
@@ -175,14 +179,15 @@ static PyObject *py_work_integrals(PyObject *self, PyObject *const *args, Py_ssi
         .end_slopes = DOUBLES(end_slopes), .lengths = DOUBLES(lengths), .modal_damping = DOUBLES(modal),
         .element_stiffness = DOUBLES(stiffness), .element_damping = DOUBLES(damping), .switch_ = INT64S(switch_),
         .lifted = BOOLS(lifted), .n_intervals = lengths->shape[0], .k = values->shape[1], .k_s = slopes->shape[1],
-        .k_e = end_slopes->shape[1], .n_interpolated = scalars[0], .row_a = scalars[1], .row_input = scalars[2],
+        .k_e = end_slopes->shape[1], .k_c = curvatures->shape[1], .n_interpolated = scalars[0], .row_a = scalars[1], .row_input = scalars[2],
         .row_ydot = scalars[3], .n_modes = scalars[4], .row_vel = scalars[5], .row_z = scalars[6],
         .n_elements = scalars[7],
     };
     const int64_t k = in.n_interpolated;
     int ok = values->shape[0] == in.n_intervals + 1 && slopes->shape[0] == in.n_intervals + 1
-             && curvatures->shape[0] >= in.n_intervals && curvatures->shape[1] == k
-             && end_curvatures->shape[0] >= in.n_intervals && end_curvatures->shape[1] == k
+             && curvatures->shape[0] >= in.n_intervals && end_curvatures->shape[0] >= in.n_intervals
+             && end_curvatures->shape[1] == in.k_c && in.row_ydot + in.n_modes <= in.k_c
+             && in.row_input < in.k_c && in.row_vel + in.n_elements <= in.k_c
              && switch_->shape[0] >= in.n_intervals && lifted->shape[0] >= in.n_intervals
              && lifted->shape[1] == in.n_elements && k <= in.k_s && k <= in.k_e && end_values->shape[1] == in.k
              && in.row_a >= 0 && in.row_a < k && in.row_input >= 0 && in.row_input < k && in.row_ydot >= 0

@@ -31,15 +31,15 @@ def _loops():
 
 
 def curvature_rows(history: History, used: np.ndarray) -> np.ndarray:
-    """R A^2 of each used state (S, k, n_aug), R the rows of the interpolated signals (Ydot, a, input,
-    element_velocity, z: the first k of response.signal_layout): their second derivatives. a_g is linear
-    (its row is zero) and z is read at the ends only (left zero)."""
+    """R A^2 of each used state (S, k_c, n_aug), R the rows of the signals the work integrals interpolate
+    (Ydot, a, input, element_velocity: the first k_c of response.signal_layout; z, read at the ends only,
+    follows them): their second derivatives. a_g is linear inside each interval (its row is left zero)."""
     space = history.space
     lay = space.layout
     names = signal_layout(space.model.n_modes, lay.n_elements, lay.n_plastic)
     velocity = np.stack([history.contact[s].velocity for s in used])
     matrix = np.stack([history.contact[s].matrix for s in used])
-    rows = np.zeros((used.size, names["z"].stop, lay.n_aug))
+    rows = np.zeros((used.size, names["z"].start, lay.n_aug))
     rows[:, names["Ydot"]] = space.to_modal @ velocity
     rows[:, names["input"]] = (space.forcing[:, lay.index_acceleration] @ velocity)[:, None, :]
     rows[:, names["element_velocity"]] = space.directions @ velocity
@@ -47,7 +47,7 @@ def curvature_rows(history: History, used: np.ndarray) -> np.ndarray:
 
 
 def curvatures(history: History) -> tuple[np.ndarray, np.ndarray]:
-    """Second derivatives of the interpolated signals at the start (n, k) and at the end (n - 1, k) of
+    """Second derivatives of the interpolated signals at the start (n, k_c) and at the end (n - 1, k_c) of
     every interval: the interval's own state at both ends (the left limit where it ends at a transition),
     and the ground acceleration's slope of the interval (a_g' jumps at the record's samples)."""
     lay = history.space.layout

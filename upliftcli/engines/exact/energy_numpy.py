@@ -33,11 +33,12 @@ def work_integrals(values, slopes, curvatures, end_curvatures, switch, end_value
     """Input work, structural and foundation damping energy [J] (energy.work): 6-point Gauss quadrature of
     the quintic Hermite interpolants in every interval, the ground acceleration linear, the dashpots of
     lifted elements exactly."""
-    n, k = lengths.size, n_interpolated
+    n, k, k_c = lengths.size, n_interpolated, curvatures.shape[1]
     v1, s1 = _ends(values, slopes, switch, end_values, end_slopes, n, k)
     length = lengths[:, None]
-    data = (values[:n, :k], slopes[:n, :k] * length, curvatures[:n] * length**2, v1[:, :k], s1 * length,
-            end_curvatures[:n] * length**2)
+    # the signals with curvatures (the first k_c): those the integrands read
+    data = (values[:n, :k_c], slopes[:n, :k_c] * length, curvatures[:n] * length**2, v1[:, :k_c],
+            s1[:, :k_c] * length, end_curvatures[:n] * length**2)
     lifted = lifted[:n]
     c_el, k_el = element_damping[:n_elements], element_stiffness[:n_elements]
     damped = ~lifted & (c_el > 0)
