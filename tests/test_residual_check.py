@@ -8,6 +8,7 @@ JSON and the report show it."""
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -112,6 +113,15 @@ def test_the_twin_is_the_record_times_1_plus_1e_6(twins):
     np.testing.assert_allclose(scaled[moving] / original[moving] - 1.0, 1e-6, rtol=1e-9)
     assert twin.ground_motion.scale == deck.ground_motion.scale * (1.0 + 1e-6)
     assert twin.system is deck.system and twin.analysis is deck.analysis
+
+
+def test_the_twin_keeps_no_histories():
+    """Histories kept for --plot or --histories are the run's own: the twin (its residuals alone) keeps none."""
+    deck = load_deck(TWO, list(FRAGILE))
+    kept = replace(deck, analysis=replace(deck.analysis, exact=replace(deck.analysis.exact, histories=True)))
+    (twin,) = residuals.twin_decks([kept])
+    assert twin.analysis.exact.histories is False and kept.analysis.exact.histories is True
+    assert replace(twin.analysis.exact, histories=True) == kept.analysis.exact
 
 
 def test_a_sweep_runs_no_twin_unless_asked(twins):

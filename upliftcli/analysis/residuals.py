@@ -76,13 +76,21 @@ def perturbed_motion(motion: Any) -> Any:
                    scale=motion.scale * (1.0 + PERTURBATION))
 
 
+def _without_histories(deck: Deck) -> Any:
+    """The deck's analysis settings with the histories not kept (a twin's residuals need none)."""
+    if not deck.analysis.exact.histories:
+        return deck.analysis
+    return replace(deck.analysis, exact=replace(deck.analysis.exact, histories=False))
+
+
 def twin_decks(decks: Sequence[Deck]) -> list[Deck]:
     """The decks with their motions perturbed, one perturbed motion per motion (decks that shared a
-    motion share its twin, and run in one batch as they did)."""
+    motion share its twin, and run in one batch as they did), and no histories kept."""
     motions: dict[int, Any] = {}
     for deck in decks:
         motions.setdefault(id(deck.ground_motion), perturbed_motion(deck.ground_motion))
-    return [replace(deck, ground_motion=motions[id(deck.ground_motion)]) for deck in decks]
+    return [replace(deck, ground_motion=motions[id(deck.ground_motion)], analysis=_without_histories(deck))
+            for deck in decks]
 
 
 def checked(decks: Sequence[Deck], results: list[Any], rerun: Rerun, single: bool) -> list[Any]:
