@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 from dataclasses import replace
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -167,3 +168,23 @@ def test_the_command_line_and_the_report_show_the_warning(tmp_path):
     out = invoke("report", TWO, "--engine", "exact", "--support", "uplift", *sets, "--out", report)
     assert out.exit_code == 0, out.output
     assert "residual mat rotation is sensitive to the record" in report.read_text()
+
+
+def test_the_floor_and_the_tolerance_decide_and_the_line_names_the_story_or_the_point():
+    """Story 1 differs by 9 % (stable), story 2 by 60 % (sensitive), story 3 by 67 % below the floor 2e-4
+    (negligible: no warning); the settlement of the right edge by 50 %, the rotation not at all."""
+    result = SimpleNamespace(peaks={"residual_drift_ratio": np.array([1e-3, 5e-3, 1e-5]),
+                                    "residual_rotation": np.array([1e-3]),
+                                    "residual_settlement": np.array([0.01, 0.01, 0.01])})
+    twin = SimpleNamespace(peaks={"residual_drift_ratio": np.array([1.1e-3, 2e-3, 3e-5]),
+                                  "residual_rotation": np.array([1e-3]),
+                                  "residual_settlement": np.array([0.01, 0.01, 0.02])})
+    quantities = residuals.compare(result, twin)
+    assert quantities["residual_drift_ratio"]["sensitive"] == [False, True, False]
+    assert quantities["residual_rotation"]["sensitive"] == [False]
+    assert residuals.warning("residual_drift_ratio", quantities["residual_drift_ratio"]) == (
+        "residual drift ratio of story 2 is sensitive to the record: 0.5 %, and 0.2 % with the record scaled by "
+        "1 + 1e-6 (they differ by 60%; docs/theory.md 15.7)")
+    assert residuals.warning("residual_rotation", quantities["residual_rotation"]) is None
+    assert residuals.warning("residual_settlement", quantities["residual_settlement"]).startswith(
+        "residual settlement of the right edge (x = +b) is sensitive to the record: 10 mm, and 20 mm")
