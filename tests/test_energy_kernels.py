@@ -74,7 +74,7 @@ def test_work_integrals_twin_matches_the_loop():
 @pytest.mark.parametrize("path, overrides", [
     (TWO, ()), (TWO, STRENGTH), (TWO, ("foundation.safety_factor=2",)),
     (TWO, ("foundation.safety_factor=2", *STRENGTH)),
-    (WINKLER, ()), (WINKLER, ("analysis.modes=10", *STRENGTH)),
+    (WINKLER, ()), (WINKLER, ("analysis.modes=10", *STRENGTH)), (WINKLER, ("foundation.safety_factor=1.5",)),
     (HALFSPACE, ()), (HALFSPACE, (*SHEAR_FRAME, *STRENGTH)),
 ])
 @pytest.mark.parametrize("support", ["rigid", "bonded", "uplift"])
