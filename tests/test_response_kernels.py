@@ -4,7 +4,6 @@ evaluation; the two implementations against each other: tests/test_response_nump
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from upliftcli.engines.exact import response_kernels as postkernel
 
@@ -131,27 +130,3 @@ def test_hermite_peaks_match_a_dense_evaluation_with_rates_and_transitions():
                                rows, lengths)
     np.testing.assert_allclose(best, twin, rtol=1e-6)
     assert np.all(best >= twin * (1 - 1e-12))  # the dense grid can only undershoot
-
-
-def test_work_integrals_are_exact_for_polynomial_signals():
-    """Closed forms, independent of the quadrature: on t in [0, 2] (two intervals of 1 s),
-    a_g = 1 + 2t and the input signal t^3 give W_in = int (1 + 2t) t^3 dt = 16.8; a modal
-    velocity t^2 with c_1 = 1 gives int t^4 dt = 6.4; an element in contact on [0, 1] with
-    v' = t and c = 0.5 dissipates 0.5/3, then lifted on [1, 2] its dashpot relaxes with the
-    spring, k (z0^2 - z1^2)/2 = 5 (0.3^2 - 0.1^2)/2 = 0.2 (3-point Gauss is exact to degree 5)."""
-    t = np.array([0.0, 1.0, 2.0])
-    k = 9
-    values, slopes = np.zeros((3, k + 2)), np.zeros((3, k))
-    values[:, 0], slopes[:, 0] = t**2, 2 * t  # modal velocity Y*'_1
-    values[:, 3], slopes[:, 3] = 1 + 2 * t, 2.0  # a_g
-    values[:, 4], slopes[:, 4] = t**3, 3 * t**2  # the signal a_g works on
-    values[:, 5], slopes[:, 5] = t, 1.0  # velocity of element 1
-    values[:, 7] = [0.0, 0.3, 0.1]  # z of element 1 (read where it is lifted)
-    switch = np.full(2, -1, dtype=np.int64)
-    lifted = np.array([[False, False], [True, False]])
-    layout = (3, 4, 0, 3, 5, 7, 2, np.array([1.0, 0.0, 0.0]), np.array([5.0, 6.0]), np.array([0.5, 0.0]))
-    work_in, structure, foundation = postkernel.work_integrals(values, slopes, switch, np.zeros((0, k + 2)),
-                                                               np.zeros((0, k)), np.ones(2), lifted, k, *layout)
-    assert work_in == pytest.approx(16.8, rel=1e-13)
-    assert structure == pytest.approx(6.4, rel=1e-13)
-    assert foundation == pytest.approx(0.5 / 3 + 0.2, rel=1e-13)

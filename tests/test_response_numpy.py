@@ -64,23 +64,6 @@ def test_hermite_peaks_twin_finds_the_loops_peaks_and_places():
     assert np.any(twin[1] % 1.0 > 0.0)  # some peaks lie between samples
 
 
-def test_work_integrals_twin_matches_the_loop():
-    """Random signals, transitions, lifted elements (damped and not): to the rounding of the sums
-    (numpy sums pairwise, the loop in order)."""
-    rng = np.random.default_rng(4)
-    n, k, n_modes, n_el = 30, 9, 3, 2
-    values, slopes = rng.normal(size=(n, k + 2)), rng.normal(size=(n, k))
-    switch = np.full(n - 1, -1, dtype=np.int64)
-    switch[[4, 17]] = [0, 1]
-    end_values, end_slopes = rng.normal(size=(2, k + 2)), rng.normal(size=(2, k))
-    lengths = rng.uniform(0.5, 1.0, n - 1)
-    lifted = rng.random((n - 1, n_el)) < 0.3
-    args = (values, slopes, switch, end_values, end_slopes, lengths, lifted, k)
-    layout = (3, 4, 0, n_modes, 5, 7, n_el, np.array([1.0, 2.0, 3.0]), np.array([5.0, 6.0]), np.array([0.5, 0.0]))
-    compiled, twin = on_both(lambda: postkernel.work_integrals(*args, *layout))
-    np.testing.assert_allclose(twin, compiled, rtol=1e-12)
-
-
 def test_the_cubic_maximum_of_the_twin_matches_dense_evaluation():
     rng = np.random.default_rng(5)
     p0, p1, d0, d1 = rng.normal(size=(4, 300)) * np.array([[1.0], [1.0], [3.0], [3.0]])

@@ -8,6 +8,7 @@ Used by `uplift analyze` and by sweeps; knows nothing of the terminal or files.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
@@ -24,6 +25,7 @@ from ..model.bearing import CAPACITY_NAMES
 from ..motion.records import Record
 from ..motion.suites import Suite
 from ..runtime import limits
+from . import residuals
 from . import suite as analysis_suite
 from .level import with_level
 
@@ -223,7 +225,7 @@ def with_warnings(result: AnalysisResult, warnings: Sequence[str]) -> AnalysisRe
 
 
 def run_batch(decks: Sequence[Deck], engine: str, support: str,
-              on_result: Callable[[int, AnalysisResult | Exception], None] | None = None,
+              on_result: Callable[[int, AnalysisResult | Exception], None] | None = None, single: bool = False,
               ) -> list[AnalysisResult | Exception]:
     """One engine, one support ("rigid", "bonded" or "uplift") for several decks: the result
     of each or the error that stopped it, also passed to on_result(index, result) as soon as
@@ -234,11 +236,32 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
     A suite is run one batch per record (analysis_suite.iter_suite_batch): decks whose suites
     have the same scaled records share those batches. The simplified engine's results carry the
     design spectrum's warning for a modal procedure (design_spectra.procedure_warning); every
-    result carries its deck's warnings (Deck.warnings: values far outside building practice)."""
+    result carries its deck's warnings (Deck.warnings: values far outside building practice).
+    Exact runs whose stories or soil yield are compared with a perturbed twin where their deck
+    asks (analysis/residuals.py; single: one analysis, not a sweep's batch); their results are then
+    passed to on_result once the twins are done."""
+    chosen = _engine(decks, engine)
+    if not residuals.asked(chosen.name, decks, single):
+        return _run(decks, chosen, support, on_result)
+    rerun = functools.partial(_run, chosen=chosen, support=support)
+    out = residuals.checked(decks, _run(decks, chosen, support), rerun, single)
+    for k, result in enumerate(out if on_result else ()):
+        on_result(k, result)
+    return out
+
+
+def _engine(decks: Sequence[Deck], engine: str) -> Engine:
+    """The engine named `engine`; InputError naming analysis.engine if there is none."""
     if engine not in ENGINES:
         raise InputError(decks[0].source if decks else "engine", "analysis.engine",
                          f"one of {', '.join(ENGINES)}, got {engine!r}")
-    chosen = ENGINES[engine]
+    return ENGINES[engine]
+
+
+def _run(decks: Sequence[Deck], chosen: Engine, support: str,
+         on_result: Callable[[int, AnalysisResult | Exception], None] | None = None,
+         ) -> list[AnalysisResult | Exception]:
+    """run_batch without the check of the residuals."""
     results = _Results(decks, on_result)
     groups, motions = _groups(decks, chosen, support, results)
     for (_, options), members in groups.items():
@@ -310,9 +333,10 @@ def _group_batch(chosen: Engine, decks: list[Deck], motion: Any, support: str, o
     return chosen.iter_batch([deck.system for deck in decks], motion, support, options)
 
 
-def run_one(deck: Deck, engine: str, support: str) -> AnalysisResult:
-    """One engine, one support condition; raises the error that stopped it."""
-    (result,) = run_batch([deck], engine, support)
+def run_one(deck: Deck, engine: str, support: str, single: bool = True) -> AnalysisResult:
+    """One engine, one support condition; raises the error that stopped it. single: a single
+    analysis, whose residuals are checked (analysis/residuals.py); False for a reference run."""
+    (result,) = run_batch([deck], engine, support, single=single)
     if not isinstance(result, AnalysisResult):
         raise result
     return result

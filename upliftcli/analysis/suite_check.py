@@ -209,7 +209,7 @@ def _suite_check(result: AnalysisResult, reference: SuiteResult | None, checked:
 
     band, motion_band = deck_bands(checked)
     try:
-        reference = reference or run_one(checked, "exact", result.support)
+        reference = reference or run_one(checked, "exact", result.support, single=False)
     except (AnalysisError, InputError) as error:
         given = ("" if info["source"] != "generated" else
                  f"on the suite generated for ground_motion.design_spectrum ({info['target']}): ")

@@ -101,6 +101,9 @@ class ExactOptions:
     residual_inertia: with n_modes < N, "neglect" (default: the limit the paper's
         numerically damped integration tends to) or "include" the rotary inertia
         I_b - sum m_n* h_n*^2 of the truncated modes and their share of the excitation.
+    residual_check: the perturbed twin of a run that leaves residuals (analysis/residuals.py):
+        "auto" (default: in a single analysis and each record of a suite, not in sweeps), "on"
+        (sweeps too) or "off".
     histories: keep the time histories in the result (result.histories).
     """
 
@@ -121,6 +124,10 @@ class ExactOptions:
     residual_inertia: str = option(Field(
         "string", "-", "with fewer modes than stories: neglect (default) or include the rotary inertia of the "
         "truncated modes", "", "neglect", ("neglect", "include")))
+    residual_check: str = option(Field(
+        "string", "-", "where stories or soil yield, rerun with the record scaled by 1 + 1e-6 and warn where a "
+        "residual changes by more than 20 %: auto (single analyses and suites, not sweeps), on, off", "", "auto",
+        ("auto", "on", "off")))
     histories: bool = False
 
     def __post_init__(self) -> None:

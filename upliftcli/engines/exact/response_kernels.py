@@ -1,5 +1,5 @@
 """The loops of the post-processing: signals at the samples (_signals.c), peaks between samples
-(_peaks.c), element reactions and uplift statistics (_contact.c), work integrals (_energy.c),
+(_peaks.c), element reactions and uplift statistics (_contact.c),
 compiled (C, built at install) or their numpy twins (response_numpy.py), as upliftcli.runtime.backend
 chooses.
 
@@ -65,20 +65,6 @@ def hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns,
     _loops("_peaks").hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns, rate_columns,
                                    curvature_columns, rows_t, lengths, fractions, best, where)
     return best, where
-
-
-def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lifted, n_interpolated: int,
-                   row_a: int, row_input: int, row_ydot: int, n_modes: int, row_vel: int, row_z: int,
-                   n_elements: int, modal_damping, element_stiffness, element_damping) -> tuple[float, float, float]:
-    """Input work, structural and foundation damping energy [J] by 3-point Gauss quadrature
-    on the cubic Hermite interpolants of the signals in every interval (the dashpots of
-    lifted elements exactly: k (z0^2 - z1^2) / 2).
-
-    values (n, k), slopes (n, k_s): one row per sample; only the first n_interpolated signals
-    (they have slopes) are interpolated; lifted (n - 1, n_e) per interval."""
-    return _loops("_energy").work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lifted,
-                                           n_interpolated, row_a, row_input, row_ydot, n_modes, row_vel, row_z,
-                                           n_elements, modal_damping, element_stiffness, element_damping)
 
 
 #: the uplift statistics contact_response returns, in order (counts are whole numbers)

@@ -1,4 +1,4 @@
-"""The numpy twins of the post-processing loops (_signals.c, _peaks.c, _contact.c, _energy.c): the
+"""The numpy twins of the post-processing loops (_signals.c, _peaks.c, _contact.c; energy_numpy.py twins _energy.c): the
 same functions with the same arguments (response_kernels.py documents them), outputs written in
 place as the C loops write them, vectorised over the samples (tests/test_response_kernels.py,
 tests/test_backend_agreement.py).
@@ -250,39 +250,3 @@ def _uplift_summary(values, lifted, lengths, in_contact, disp, z, theta, damping
             *(max(gap[:, i].max(), 0.0) for i in (0, -1)), *(displacement[:, i].max() for i in (0, -1)),
             in_contact[:, 0].min(), in_contact[:, -1].min(), in_contact.min()]
 
-
-# ----------------------------------------------------------------------------- work integrals (_energy.c)
-
-
-def work_integrals(values, slopes, switch, end_values, end_slopes, lengths, lifted, n_interpolated, row_a, row_input,
-                   row_ydot, n_modes, row_vel, row_z, n_elements, modal_damping, element_stiffness,
-                   element_damping) -> tuple[float, float, float]:
-    """Input work, structural and foundation damping energy [J] (response_kernels.work_integrals):
-    3-point Gauss quadrature of the cubic Hermite interpolants in every interval, the dashpots of
-    lifted elements exactly."""
-    n = lengths.size
-    k = n_interpolated
-    nodes = 0.5 * np.array([1.0 - np.sqrt(0.6), 1.0, 1.0 + np.sqrt(0.6)])
-    weights = np.array([5.0, 8.0, 5.0]) / 18.0
-    v0, d0 = values[:n, :k], slopes[:n, :k] * lengths[:, None]
-    v1, d1 = values[1:n + 1, :k].copy(), slopes[1:n + 1, :k].copy()
-    ends = switch[:n] >= 0
-    v1[ends], d1[ends] = end_values[switch[:n][ends], :k], end_slopes[switch[:n][ends], :k]
-    d1 = d1 * lengths[:, None]
-    d1[~ends, row_a] = d0[~ends, row_a]  # a_g is linear inside each interval
-    lifted = lifted[:n]
-    c_el, k_el = element_damping[:n_elements], element_stiffness[:n_elements]
-    total_in = total_struct = total_found = 0.0
-    for s, w in zip(nodes, weights, strict=True):
-        h00, h10, h01, h11 = 2 * s**3 - 3 * s**2 + 1, s**3 - 2 * s**2 + s, -2 * s**3 + 3 * s**2, s**3 - s**2
-        g = h00 * v0 + h10 * d0 + h01 * v1 + h11 * d1
-        total_in += np.sum(w * lengths * g[:, row_a] * g[:, row_input])
-        total_struct += np.sum(w * lengths * (g[:, row_ydot:row_ydot + n_modes] ** 2 @ modal_damping[:n_modes]))
-        vel = g[:, row_vel:row_vel + n_elements]
-        total_found += np.sum(w * lengths * np.where(~lifted & (c_el > 0), c_el * vel**2, 0.0).sum(axis=1))
-    z0 = values[:n, row_z:row_z + n_elements]
-    z1 = np.where(ends[:, None], end_values[switch[:n]][:, row_z:row_z + n_elements] if end_values.size else 0.0,
-                  values[1:n + 1, row_z:row_z + n_elements])
-    # lifted: k z + c z' = 0, its dashpot dissipates exactly the spring energy released
-    total_found += np.sum(np.where(lifted & (c_el > 0), 0.5 * k_el * (z0**2 - z1**2), 0.0))
-    return float(total_in), float(total_struct), float(total_found)
