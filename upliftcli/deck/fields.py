@@ -69,6 +69,8 @@ CHECKS: dict[str, tuple[Callable[[Any], bool], str]] = {
     "fraction": (lambda v: 0 <= v < 1, "in [0, 1)"),
     "unit-interval": (lambda v: 0 < v <= 1, "in (0, 1]"),
     "greater-than-one": (lambda v: v > 1, "> 1"),
+    "at-least-one": (lambda v: v >= 1, ">= 1"),
+    "importance-factor": (lambda v: v in (1.0, 1.25, 1.5), "1.0, 1.25 or 1.5 (ASCE 7-22 Table 1.5-2)"),
     "poisson": (lambda v: 0 <= v < 0.5, "in [0, 0.5)"),
     "count": (lambda v: v >= 1, ">= 1"),
     "two-or-more": (lambda v: v >= 2, ">= 2"),

@@ -23,12 +23,14 @@ from ..engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from ..engines.quantities import ROCKING
 from ..errors import InputError, gather, raise_all
 from ..model.building import modes_for_mass_target
+from ..model.design import Design
 from ..model.system import System
 from ..provenance.values import plain
 from ..runtime.limits import MAX_DECK_BYTES, MAX_NESTING, read_input, too_deeply_nested
 from . import schema
 from .building import building_from_fields, check_foundation_type_fields, system_from_fields
 from .criteria import Criteria
+from .design import design_from_fields
 from .failed import Failed
 from .motion import check_motion_fields, read_ground_motion
 from .overrides import apply_overrides, parse_override
@@ -62,7 +64,8 @@ class Deck:
     raw: the TOML mapping after the overrides; values: validated {table: {field: value}} (SI);
     overridden: the dotted paths set by `--set` (errors about them name "--set");
     warnings: one line per value far outside building practice (practice.plausibility);
-    resolved: `raw` with every number in bare SI (schema.si_mapping: the resolved deck).
+    resolved: `raw` with every number in bare SI (schema.si_mapping: the resolved deck);
+    design: the code's design values of [design] (model/design.Design; None without the table).
     """
 
     source: str
@@ -77,6 +80,7 @@ class Deck:
     overridden: frozenset[str] = frozenset()
     warnings: tuple[str, ...] = ()
     resolved: dict = field(repr=False, default_factory=dict)
+    design: Design | None = None
 
     def blame(self, *paths: str) -> tuple[str, str]:
         """(source, field) to name for a problem produced by the first of `paths` that was
@@ -169,11 +173,12 @@ def build_deck(raw: dict, source: str = "<mapping>", overrides: Sequence[tuple[s
     if load_ground_motion:
         ground_motion, spectrum = _gather_motion(checks, values, source, system, analysis)
     _gather_criteria(checks, values)
+    design = checks.run(("design",), design_from_fields, values["design"], system and system.building.n_stories)
     raise_all(gathered)
     criteria = Criteria(values["criteria"], values["criteria.sources"])
     return Deck(source, values[""].get("title", Path(source).stem), system, ground_motion, spectrum,
                 analysis, criteria, raw, values, overridden,
-                tuple(plausibility(values, source, overridden)), schema.si_mapping(raw, values))
+                tuple(plausibility(values, source, overridden)), schema.si_mapping(raw, values), design)
 
 
 @dataclass(frozen=True)

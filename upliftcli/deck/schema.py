@@ -20,6 +20,7 @@ from ..engines.options import ExactOptions, SimplifiedOptions, deck_fields
 from ..engines.quantities import QUANTITIES, ROCKING, SCALARS
 from ..engines.registry import ENGINES, SUPPORTS
 from ..errors import InputError, gather, raise_all
+from ..model.design import DESIGN_FIELDS
 from ..model.foundations import FOUNDATIONS
 from ..motion.code_rules import RULES, SCALINGS
 from ..motion.design_spectra import check_keys
@@ -117,6 +118,7 @@ TABLES: dict[str, dict[str, Field]] = {
                                    "band-around-one", [0.5, 2.0]),
     },
     "analysis.exact": deck_fields(ExactOptions),
+    "design": DESIGN_FIELDS,  # ASCE 7-22 R, Cd, Omega0, Ie, risk category, Table 12.12-1 row: model/design.py
     "criteria": {
         **{q.name: Field("number", q.unit, f"largest allowed {q.meaning}", "positive",
                          quantity="displacement" if q.unit == "m" else "", plausible=CRITERIA_PLAUSIBLE.get(q.name))
@@ -215,8 +217,7 @@ def exactly_one(fields: dict, names: Sequence[str], table: str, error) -> str | 
 
 
 def _listed(table: str, names: Sequence[str]) -> str:
-    """'table.a, table.b'."""
-    return ", ".join(f"{table}.{name}" for name in names)
+    return ", ".join(f"{table}.{name}" for name in names)  # 'table.a, table.b'
 
 
 # ----------------------------------------------------------------------------- validation
@@ -249,8 +250,7 @@ def unit_system(raw: dict) -> str:
 
 
 def _no_values() -> dict[str, dict[str, Any]]:
-    """{table: {}} for every table of the deck."""
-    return {table: {} for table in TABLES}
+    return {table: {} for table in TABLES}  # {table: {}} for every table of the deck
 
 
 @dataclass
