@@ -56,9 +56,11 @@ def test_a_deck_without_design_has_none_and_one_with_it_has_its_values():
 
 
 BAD = [
-    ({"Cd": 5.5, "risk_category": "II"}, "d.toml: design.R: a value in a [design] table (it needs risk_category, R, "
-     "Cd)"),
-    ({"R": 8, "Cd": 5.5}, "d.toml: design.risk_category: a value in a [design] table"),
+    ({"Cd": 5.5, "risk_category": "II"}, "d.toml: design.R: a value with design.Cd (the linear procedure of ASCE "
+     "7-22 12.9.1.2 needs R and C_d; a chapter 16 deck may give neither)"),
+    ({"R": 8, "risk_category": "II"}, "d.toml: design.Cd: a value with design.R"),
+    ({"R": 8, "Cd": 5.5}, "d.toml: design.risk_category: a value in a [design] table (it sets I_e and the allowable "
+     "drift)"),
     ({"R": 0.5, "Cd": 5.5, "risk_category": "II"}, "d.toml: design.R: a number >= 1, got 0.5"),
     ({"R": 8, "Cd": 5.5, "risk_category": "V"}, "d.toml: design.risk_category: one of I, II, III, IV, got 'V'"),
     ({"R": 8, "Cd": 5.5, "risk_category": "II", "Ie": 1.1}, "d.toml: design.Ie: a number 1.0, 1.25 or 1.5 "
@@ -92,3 +94,12 @@ def test_the_low_rise_row_on_more_than_four_stories_is_refused():
 def test_values_outside_table_12_2_1s_range_are_warnings_naming_the_field():
     warnings = build_deck(deck(R=9, Cd=7, Omega0=3.5, risk_category="II"), "d.toml").warnings
     assert [w.split(":")[1].strip() for w in warnings] == ["design.R", "design.Cd", "design.Omega0"]
+
+
+def test_a_chapter_16_deck_may_give_the_risk_category_and_the_structure_alone():
+    """Chapter 16 uses no R, C_d or Omega_0: a [design] table with the risk category and the row of Table
+    12.12-1 alone is a Design without them (Design.linear false)."""
+    design = build_deck(deck(risk_category="IV", structure="other-masonry-shear-wall"), "d.toml").design
+    assert design == Design(R=None, Cd=None, Ie=1.5, risk_category="IV", structure="other-masonry-shear-wall")
+    assert not design.linear and design.allowable_drift_ratio(3) == 0.007
+    assert design.to_dict() == {"Ie": 1.5, "risk_category": "IV", "structure": "other-masonry-shear-wall"}

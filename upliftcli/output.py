@@ -24,8 +24,10 @@ import numpy as np
 
 from .analysis.level import answer_line
 from .display import file_unit, in_file_units, intermediate_kind
+from .engines.design import DESIGN_UNITS, design_scalars
 from .engines.quantities import (
     COMPARED,
+    DESIGN,
     FLOOR,
     INTERMEDIATES,
     QUANTITIES,
@@ -59,16 +61,17 @@ _STORY_QUANTITIES = quantities(FLOOR, STORY)
 #: the yielding stories' quantities (quantities.YIELDING, 15.5) in a story table that has them; story_yielded is
 #: each story's `yielded` (true/false in the JSON, 1/0 in the CSV)
 _YIELDING_STORY = [q for q in YIELDING.values() if q.where == STORY]
+_DESIGN_STORY = [q for q in DESIGN.values() if q.where == STORY]  # with [design] (engines/design.py)
 #: quantity -> its key in the story tables where it differs from its name
 STORY_KEYS = {"story_yielded": "yielded"}
 #: units of the yielding-story outputs, listed in a document whose results carry them (file_units)
 YIELDING_UNITS = {**{STORY_KEYS.get(q.name, q.name): q.unit for q in YIELDING.values()}, "building_yielded": "-"}
 
 
-def file_units(system: str = "si", yielding: bool = False) -> dict:
-    """UNITS (and YIELDING_UNITS for a yielding building's results) as the units of a file in a unit
-    system: {name: display.Unit}, the intermediates nested."""
-    listed = {**UNITS, **YIELDING_UNITS} if yielding else UNITS
+def file_units(system: str = "si", yielding: bool = False, design: bool = False) -> dict:
+    """UNITS (and YIELDING_UNITS for a yielding building's results, DESIGN_UNITS for results with design
+    values) as the units of a file in a unit system: {name: display.Unit}, the intermediates nested."""
+    listed = {**UNITS, **(YIELDING_UNITS if yielding else {}), **(DESIGN_UNITS if design else {})}
     plain = {name: unit for name, unit in listed.items() if isinstance(unit, str)}
     return {**{name: file_unit(unit, file_kind(name), system) for name, unit in plain.items()},
             "intermediates": {name: file_unit(unit, intermediate_kind(name, unit), system)
@@ -93,8 +96,7 @@ def _columns(result: AnalysisResult, where: list) -> list[tuple[str, Any]]:
 
 
 def _story_values(q, values):
-    """A quantity's values as the JSON writes them: story_yielded as booleans, the others as they are."""
-    return values.astype(bool) if q.name in STORY_KEYS else values
+    return values.astype(bool) if q.name in STORY_KEYS else values  # story_yielded as booleans in the JSON
 
 
 def _places(result: AnalysisResult, where: list, index: str, position: str, positions) -> list[dict[str, Any]]:
@@ -118,7 +120,7 @@ def _scalars(result: AnalysisResult) -> dict[str, Any]:
         "effective_height": result.effective_height,
         "uplift": result.uplift,
         **({"yielded": result.yielded} if result.yielded is not None else {}),
-        **_building_verdict(result),
+        **_building_verdict(result), **design_scalars(result),
     }
 
 
@@ -151,7 +153,8 @@ def result_to_dict(result: AnalysisResult, check=None) -> dict[str, Any]:
     return to_jsonable({
         **_scalars(result),
         "periods": result.periods,
-        "stories": _places(result, _STORY_QUANTITIES + _YIELDING_STORY, "story", "elevation", result.elevations),
+        "stories": _places(result, _STORY_QUANTITIES + _YIELDING_STORY + _DESIGN_STORY, "story", "elevation",
+                           result.elevations),
         "elements": _places(result, element_quantities(), "element", "position", result.element_positions),
         **({"rocking": rocking} if (rocking := rocking_to_dict(result)) else {}),
         "intermediates": result.intermediates,
@@ -228,7 +231,7 @@ def results_document(results: list[AnalysisResult], source: str | None = None, t
     title, units and the provenance of the run); several -> {"source", "title", "units",
     "provenance", "results": [...]}; checks: the accuracy checks (accuracy.check_accuracy);
     system: the units of its values (file_units)."""
-    units = file_units(system, any(r.building_yielded is not None for r in results))
+    units = file_units(system, any(r.building_yielded is not None for r in results), any(map(design_scalars, results)))
     head = {"source": source, "title": title, "units": _labels(units), "provenance": provenance,
             "answer": answer_line(results, checks) or None}  # the design value and the check (analysis/level.py)
     head = {k: v for k, v in head.items() if v is not None}
@@ -239,8 +242,7 @@ def results_document(results: list[AnalysisResult], source: str | None = None, t
     return {**head, **(in_file_units(body, units) if system != "si" else body)}
 
 
-def dumps(document: Any) -> str:
-    """JSON text of a document, numbers with at most 15 significant digits (module docstring)."""
+def dumps(document: Any) -> str:  # JSON text of a document, numbers with at most 15 significant digits
     return json.dumps(to_text_numbers(to_jsonable(document)), indent=2, allow_nan=False) + "\n"
 
 
@@ -303,7 +305,8 @@ def story_table(results: list[AnalysisResult], system: str = "si") -> tuple[list
     """(header, rows) of the story tables of all results, one row per (engine, support, story);
     units in the headers (floor quantities of floor j on story j's row); a suite's records after
     its statistic (_labelled); numbers as floats (NaN: no value)."""
-    return _table(results, _STORY_QUANTITIES + _YIELDING_STORY, "story", "elevation", lambda r: r.elevations, system)
+    return _table(results, _STORY_QUANTITIES + _YIELDING_STORY + _DESIGN_STORY, "story", "elevation",
+                  lambda r: r.elevations, system)
 
 
 def elements_table(results: list[AnalysisResult], system: str = "si") -> tuple[list[str], list[list[Any]]]:
@@ -355,9 +358,8 @@ def rocking_csv(results: list[AnalysisResult], provenance: dict | None = None, s
 
 def result_paths(directory, stem: str, elements: bool = True, deck: bool = True, rocking: bool = False) -> list[Path]:
     """The files write_results writes into directory for `stem`."""
-    directory = Path(directory)
     names = [".json", ".csv"] + [".elements.csv"] * elements + [".rocking.csv"] * rocking + [".deck.toml"] * deck
-    return [directory / f"{stem}{suffix}" for suffix in names]
+    return [Path(directory) / f"{stem}{suffix}" for suffix in names]
 
 
 def _given_or_deck(deck, source: str | None, title: str | None, provenance: dict | None) -> tuple:

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from ..deck.load import Deck
+from ..engines.design import with_design
 from ..engines.registry import ENGINES, Engine, capacity_refusal, strength_refusal
 from ..engines.result import AnalysisResult
 from ..errors import AnalysisError, InputError
@@ -260,7 +261,7 @@ class _Results:
         deck = self.decks[k]
         result = _spectrum_range_error(deck, result)
         if isinstance(result, AnalysisResult):
-            result = with_level(result, deck.ground_motion)
+            result = with_design(with_level(result, deck.ground_motion), deck.design)  # [design]: engines/design.py
         if isinstance(result, AnalysisResult) and deck.warnings:
             result = with_warnings(result, deck.warnings)
         self.out[k] = result

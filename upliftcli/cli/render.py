@@ -30,7 +30,7 @@ from ..engines.quantities import COMPARED, FLOOR, INTERMEDIATES, STORY, YIELDING
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
 from ..model.system import System, fixed_base_mode_rows
-from . import render_acceptance, render_rocking, render_suite
+from . import render_acceptance, render_design, render_rocking, render_suite
 from .fitting import console  # noqa: F401 - the commands' console, render.console()
 from .tables import add_columns, add_rows, engine_label, print_tables, summary_cells, verdict_legend
 
@@ -236,6 +236,7 @@ def _result_tables(result: AnalysisResult, units: str) -> Iterator[Table | None]
     yield story_table(result, units)
     yield render_rocking.elements_table(result, units)
     yield render_rocking.rocking_table(result, units)
+    yield render_design.design_table(result, units)  # with [design] (engines/design.py)
     if all(name in result.intermediates for name in MODAL_LISTS):
         yield modal_table(result, units)
     if result.intermediates:

@@ -8,7 +8,7 @@ from collections.abc import Iterator, Mapping
 from rich.markup import escape
 from rich.table import Table
 
-from ..deck.criteria import check_criteria
+from ..deck.criteria import check_criteria, outcomes
 from ..display import WEIGHT_LEGEND, summary_columns, verdicts
 from ..engines.result import AnalysisResult
 from .tables import add_columns, add_rows, engine_label, summary_cells, verdict_legend
@@ -54,7 +54,7 @@ def _deck_names(runs) -> list[str]:
 
 
 def _criteria_verdict(result: AnalysisResult, criteria: Mapping, checks) -> str:
-    """'-' without criteria; else 'violated' or 'ok' (deck/criteria.check_criteria)."""
-    if not criteria:
+    """'-' without criteria (nor [design]'s drift check); else 'violated' or 'ok' (deck/criteria.check_criteria)."""
+    if not criteria and not outcomes([result], criteria, checks):
         return "-"
     return "violated" if check_criteria([result], criteria, checks) else "ok"

@@ -21,6 +21,9 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
+import numpy as np
+
+from ..engines.design import drift_exceedances
 from ..engines.quantities import ROCKING, rocking_value, unit_of
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
@@ -90,7 +93,30 @@ def outcomes(results: Sequence[AnalysisResult], criteria: Mapping, checks: Seque
     for result in results:
         for name, limit in criteria.items():
             found += _outcomes(result, name, limit, source_of(criteria, name), checks)
+        found += _design_drift(result)
     return found
+
+
+def _design_drift(result: AnalysisResult) -> list[Outcome]:
+    """The design story drift ratio of a result with [design] values against the allowable one of ASCE 7-22
+    Table 12.12-1 (engines/design.py; none without them): the largest over the stories, the stories that
+    exceed it named (else the story of the largest)."""
+    if "allowable_drift_ratio" not in result.peaks or "design_drift_ratio" not in result.peaks:
+        return []
+    drifts = result.peaks["design_drift_ratio"]
+    design = result.details.get("design", {})
+    source = (f"ASCE 7-22 Table 12.12-1, {design.get('structure')}, risk category {design.get('risk_category')}; "
+              f"C_d = {design.get('Cd'):g}, R = {design.get('R'):g}")
+    allowable = float(result.peaks["allowable_drift_ratio"][0])
+    return [Outcome(result, "design_drift_ratio", float(np.max(drifts)), allowable, "-", _stories(result), source)]
+
+
+def _stories(result: AnalysisResult) -> str:
+    """'story 3' (the one that exceeds the allowable drift, or the largest), 'stories 2, 3 exceed it'."""
+    over = drift_exceedances(result)
+    if len(over) > 1:
+        return f"stories {', '.join(map(str, over))} exceed it"
+    return f"story {over[0] if over else int(np.argmax(result.peaks['design_drift_ratio'])) + 1}"
 
 
 def _outcomes(result: AnalysisResult, name: str, limit, source: str, checks: Sequence) -> list[Outcome]:

@@ -1,14 +1,16 @@
 """The [design] table of a deck (ASCE 7-22's design values of the structure: model/design.py, where the
 fields are declared): a Design, or None for a deck without the table (every result then unchanged).
-Its fields combine here: risk_category, R and C_d are needed; I_e, when given, is that of Table 1.5-2
-for the risk category (11.5.1); the first row of Table 12.12-1 holds four stories or less."""
+Its fields combine here: risk_category is needed; R and C_d come together (the linear procedure needs
+both; a chapter 16 deck, which uses neither, may give none); I_e, when given, is that of Table 1.5-2 for
+the risk category (11.5.1); the first row of Table 12.12-1 holds four stories or less."""
 
 from __future__ import annotations
 
 from ..model.design import LOW_RISE_STORIES, Design, importance_factor
 
-#: the fields a [design] table must give
-REQUIRED = ("risk_category", "R", "Cd")
+#: the fields a [design] table must give, and those that come together (the linear procedure's)
+REQUIRED = ("risk_category",)
+TOGETHER = ("R", "Cd")
 
 
 def design_from_fields(fields: dict, stories: int | None, error) -> Design | None:
@@ -17,19 +19,29 @@ def design_from_fields(fields: dict, stories: int | None, error) -> Design | Non
     error(field, expected)."""
     if not fields:
         return None
-    missing = [name for name in REQUIRED if name not in fields]
-    if missing:
-        raise error(f"design.{missing[0]}", f"a value in a [design] table (it needs {', '.join(REQUIRED)})")
+    if "risk_category" not in fields:
+        raise error("design.risk_category", "a value in a [design] table (it sets I_e and the allowable drift)")
+    _check_together(fields, error)
     risk = fields["risk_category"]
     _check_importance(fields, risk, error)
     _check_structure(fields, stories, error)
-    return Design(R=float(fields["R"]), Cd=float(fields["Cd"]), Ie=importance_factor(risk), risk_category=risk,
-                  structure=fields.get("structure", "all-other"), Omega0=_optional(fields.get("Omega0")))
+    return Design(R=_optional(fields.get("R")), Cd=_optional(fields.get("Cd")), Ie=importance_factor(risk),
+                  risk_category=risk, structure=fields.get("structure", "all-other"),
+                  Omega0=_optional(fields.get("Omega0")))
 
 
 def _optional(value) -> float | None:
     """A number as a float, None as it is."""
     return None if value is None else float(value)
+
+
+def _check_together(fields: dict, error) -> None:
+    """design.R and design.Cd both or neither (the linear procedure needs both: 12.9.1.2)."""
+    given = [name for name in TOGETHER if name in fields]
+    if len(given) == 1:
+        other = TOGETHER[1 - TOGETHER.index(given[0])]
+        raise error(f"design.{other}", f"a value with design.{given[0]} (the linear procedure of ASCE 7-22 12.9.1.2 "
+                    "needs R and C_d; a chapter 16 deck may give neither)")
 
 
 def _check_importance(fields: dict, risk: str, error) -> None:

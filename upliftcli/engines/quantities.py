@@ -131,6 +131,19 @@ YIELDING: dict[str, Quantity] = {q.name: q for q in (
 )}
 
 
+#: ASCE 7-22's linear procedures (docs/theory.md 16, engines/design.py): the simplified engine's on a deck with
+#: [design], in AnalysisResult.peaks; kept out of QUANTITIES (as YIELDING): a deck without it is unchanged.
+DESIGN: dict[str, Quantity] = {q.name: q for q in (
+    Quantity("design_shear", STORY, "N", "design story shear: elastic x Ie/R (12.9.1.2)", "N", ("simplified",),
+             criterion=False),
+    Quantity("design_drift_ratio", STORY, "-", "design story drift ratio Delta/h_sx = C_d/R x the elastic one (ASCE "
+             "7-22 12.8.6, 12.9.1.2)", "%", ("simplified",), "max_design_drift_ratio", False),
+    Quantity("design_base_shear", BUILDING, "N", "design base shear: elastic x Ie/R (ASCE 7-22 12.9.1.2)", "N",
+             ("simplified",), "design_base_shear_N", False),
+    Quantity("allowable_drift_ratio", BUILDING, "-", "allowable story drift ratio Delta_a/h_sx (ASCE 7-22 Table "
+             "12.12-1)", "%", ("simplified",), "allowable_drift_ratio", False),
+)}
+
 #: the places of a MAT_POINTS quantity, left to right: (key in files, label in human outputs)
 MAT_PLACES = (("left_edge", "left edge (x = -b)"), ("centre", "centre"), ("right_edge", "right edge (x = +b)"))
 
@@ -162,8 +175,7 @@ def rocking_value(result, name: str) -> float:
 
 
 def element_quantities() -> list[Quantity]:
-    """The per-element quantities of the foundation tables: QUANTITIES', then ROCKING's (the
-    plastic settlement), each shown where a result carries it."""
+    """The per-element quantities of the foundation tables: QUANTITIES', then ROCKING's (plastic settlement)."""
     return [*quantities(ELEMENT), *(q for q in ROCKING.values() if q.where == ELEMENT)]
 
 
@@ -253,9 +265,8 @@ def compared_values(result) -> dict[str, float | None]:
 
 
 def unit_of(name: str) -> str:
-    """The SI unit of a response quantity, a rocking or yielding-story quantity or a scalar (KeyError if it is
-    none)."""
-    return (QUANTITIES.get(name) or ROCKING.get(name) or YIELDING.get(name) or SCALARS[name]).unit
+    """The SI unit of a response, rocking, yielding-story or design quantity or a scalar (KeyError: none)."""
+    return (QUANTITIES.get(name) or ROCKING.get(name) or YIELDING.get(name) or DESIGN.get(name) or SCALARS[name]).unit
 
 
 def display_kind(name: str) -> str:
@@ -265,15 +276,14 @@ def display_kind(name: str) -> str:
     if name in COMPARED:
         return COMPARED[name].display
     for candidate in (name, name.removeprefix("max_"), name.rsplit("_", 1)[-1]):
-        if candidate in QUANTITIES or candidate in ROCKING:
-            return (QUANTITIES.get(candidate) or ROCKING[candidate]).display
+        if found := QUANTITIES.get(candidate) or ROCKING.get(candidate) or DESIGN.get(candidate):
+            return found.display
     unit = unit_of(name)
     return "coefficient" if unit == "-" else unit
 
 
 def quantities(*where: str) -> list[Quantity]:
-    """The quantities that live per floor, per story or per element (several: in table order)."""
-    return [q for q in QUANTITIES.values() if q.where in where]
+    return [q for q in QUANTITIES.values() if q.where in where]  # those per floor, story or element, in table order
 
 
 #: intermediate values an engineer checks by hand, name -> (unit, meaning): those of the
@@ -370,7 +380,7 @@ def file_column(name: str, unit: str, kind: str = "", system: str = "si") -> tup
 def file_kind(name: str) -> str:
     """The display kind of a result file's key (a quantity's or a compared value's own; '' for any
     other: its SI unit's)."""
-    found = QUANTITIES.get(name) or ROCKING.get(name) or YIELDING.get(name) or COMPARED.get(name)
+    found = QUANTITIES.get(name) or ROCKING.get(name) or YIELDING.get(name) or DESIGN.get(name) or COMPARED.get(name)
     return found.display if found else ""
 
 

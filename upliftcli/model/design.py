@@ -46,7 +46,8 @@ LOW_RISE_STORIES = 4
 #: the [design] table of a deck (deck/schema.py): declared here, where the code's tables live
 DESIGN_FIELDS: dict[str, Field] = {
     "R": Field("number", "-", "response modification coefficient R of the seismic force-resisting system (ASCE 7-22 "
-               "Table 12.2-1): design forces = elastic x Ie/R (12.9.1.2)", "at-least-one", plausible=(1.0, 8.0)),
+               "Table 12.2-1): design forces = elastic x Ie/R (12.9.1.2)", "at-least-one",
+               plausible=(1.0, 8.0)),
     "Cd": Field("number", "-", "deflection amplification factor C_d (ASCE 7-22 Table 12.2-1): design drifts = C_d "
                 "x the drifts of the design forces / Ie (12.8.6, 12.9.1.2)", "at-least-one", plausible=(1.0, 6.5)),
     "Omega0": Field("number", "-", "overstrength factor Omega_0 (ASCE 7-22 Table 12.2-1): the overstrength base "
@@ -77,15 +78,21 @@ def allowable_drift_ratio(structure: str, risk_category: str, stories: int) -> f
 
 @dataclass(frozen=True)
 class Design:
-    """The design values of a structure ([design] of a deck): R, C_d, Omega_0 (None: not given), I_e,
-    the risk category and the structure's row of Table 12.12-1."""
+    """The design values of a structure ([design] of a deck): R and C_d (None: not given, as a chapter 16
+    deck may; the linear procedure needs both), I_e, the risk category, the structure's row of Table
+    12.12-1 and Omega_0 (None: not given)."""
 
-    R: float
-    Cd: float
+    R: float | None
+    Cd: float | None
     Ie: float
     risk_category: str
     structure: str = "all-other"
     Omega0: float | None = None
+
+    @property
+    def linear(self) -> bool:
+        """Whether R and C_d are given (the linear procedure's design values can be computed)."""
+        return self.R is not None and self.Cd is not None
 
     @property
     def force_factor(self) -> float:
@@ -104,5 +111,5 @@ class Design:
     def to_dict(self) -> dict:
         """The values as the result files record them."""
         values = {"R": self.R, "Cd": self.Cd, "Ie": self.Ie, "risk_category": self.risk_category,
-                  "structure": self.structure}
-        return values if self.Omega0 is None else {**values, "Omega0": self.Omega0}
+                  "structure": self.structure, "Omega0": self.Omega0}
+        return {name: value for name, value in values.items() if value is not None}

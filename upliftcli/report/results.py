@@ -33,6 +33,7 @@ from ..engines.quantities import (
     rocking_entries,
 )
 from ..engines.result import AnalysisResult
+from .design import design_table
 from .document import Section, Table, Text, number
 
 STORY_QUANTITIES = quantities(FLOOR, STORY)
@@ -124,7 +125,8 @@ def result_tables(result: AnalysisResult, units: str = "si") -> list[Table]:
     suite: of its design statistic, and each record's peaks), in the display units."""
     what = f"{getattr(result, 'label', result.engine)} engine, {result.support} support"
     what += f", {level_text(result)}" if level_text(result) else ""
-    tables = [story_table(result, what, units), elements_table(result, what, units), rocking_table(result, units),
+    tables = [story_table(result, what, units), design_table(result, units),  # with [design]: report/design.py
+              elements_table(result, what, units), rocking_table(result, units),
               intermediates_table(result, what, units),
               *(detail_table(result, key, f"{caption}, {what}", units) for key, caption in DETAILS.items()),
               _suite_records(result, units)]
