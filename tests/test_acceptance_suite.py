@@ -18,7 +18,8 @@ ROOT = Path(__file__).resolve().parents[1]
 ASCE = ROOT / "inputs" / "ten_story_asce7_suite.toml"
 THREE = "ground_motion.suite=" + json.dumps([f"../records/ten_story_asce7_suite/artificial_2024_{k:02d}.txt"
                                              for k in (1, 2, 3)])
-DESIGN = ["design.R=8", "design.Cd=5.5"]
+#: a chapter 16 deck's [design]: the risk category and the structure's row of Table 12.12-1 (no R, C_d)
+DESIGN = ["design.structure=all-other"]
 #: Risk Category IV (limit 2 x 0.010) and a weak building: story 1 exceeds the limit
 FAILING = [THREE, *DESIGN, "design.risk_category=IV", "building.strength_coefficient=0.1"]
 #: Risk Category II (limit 2 x 0.020) and a strong building: every story within it
