@@ -6,10 +6,13 @@ from __future__ import annotations
 
 import itertools
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+from upliftcli.analysis import run as analysis
+from upliftcli.deck.load import load_deck
 from upliftcli.engines import ductility_estimate as est
 
 
@@ -103,3 +106,18 @@ def test_roof_ductility_is_the_displacement_ratio_times_r():
 def test_bad_values_are_refused(call):
     with pytest.raises(ValueError):
         call()
+
+
+def test_a_building_that_stays_elastic_is_estimated_exactly_from_the_exact_elastic_demand():
+    # a strength never reached: the exact story ductility is peak |V_j| / V_yj = R_j, which every
+    # relation returns unchanged for R <= 1 (benchmarks/ductility_estimate.py relies on it)
+    deck = Path(__file__).resolve().parents[1] / "inputs" / "ten_story_elcentro.toml"
+    elastic = analysis.run_one(load_deck(deck, []), "exact", "rigid")
+    strong = load_deck(deck, ["building.strength_coefficient=3"])
+    result = analysis.run_one(strong, "exact", "rigid")
+    strengths = strong.system.building.story_strength
+    assert result.peaks["yielded_stories"][0] == 0
+    for relation in est.RELATIONS:
+        estimate = est.story_ductilities(elastic.peaks["shear"], strengths, 0.5, 0.54, relation)
+        assert np.all(estimate < 1.0)
+        assert estimate == pytest.approx(result.peaks["ductility"], rel=1e-9)
