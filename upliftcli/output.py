@@ -214,6 +214,7 @@ def suite_to_dict(result: SuiteResult) -> dict[str, Any]:
         "statistic_meanings": {name: meaning for name, (meaning, _) in STATISTICS.items()},
         "statistics": _suite_statistics(result), "simplified": _suite_simplified(result),
         "records": _suite_records(result),
+        **({} if result.acceptance is None else {"acceptance": result.acceptance.to_dict()}),  # ASCE 7-22 16.4.1
     })
 
 

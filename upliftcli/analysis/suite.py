@@ -1,7 +1,8 @@
 """A record suite through a response-history engine: every record of the suite (its factor
 applied) is one engine batch over the decks' systems, each record's result is kept, and each
 deck gets its SuiteResult (engines/suite_result.py): the statistics over the records, the design
-statistic of its code rule, and the simplified engine on the target spectrum beside it.
+statistic of its code rule, the simplified engine on the target spectrum beside it and, for a
+yielding building with a [design] table, the global acceptance of ASCE 7-22 16.4.1 (acceptance.py).
 
 Used by analysis.run_batch; knows nothing of the terminal. Nothing here writes files (the
 SHA-256 of each record's source file is read, when the file is there).
@@ -21,6 +22,7 @@ from ..engines.suite_result import SuiteRecord, SuiteResult, suite_result
 from ..errors import AnalysisError, InputError
 from ..motion.suites import Suite
 from ..provenance.files import record_sha256
+from .acceptance import suite_acceptance
 from .comparison import compare, deck_bands
 
 
@@ -114,7 +116,8 @@ def deck_suite_result(deck: Deck, results: Sequence[AnalysisResult], support: st
                           rule_label=suite.rule.label, simplified=_simplified(deck, support),
                           suite=suite_summary(suite), warnings=warnings,
                           record_simplified=record_simplified(deck, suite, support))
-    return flagged(deck, result)
+    result = flagged(deck, result)
+    return replace(result, acceptance=suite_acceptance(deck, result))
 
 
 def flagged(deck: Deck, result: SuiteResult) -> SuiteResult:

@@ -30,7 +30,7 @@ from ..engines.quantities import COMPARED, FLOOR, INTERMEDIATES, STORY, YIELDING
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
 from ..model.system import System, fixed_base_mode_rows
-from . import render_design, render_rocking, render_suite
+from . import render_acceptance, render_design, render_rocking, render_suite
 from .fitting import console  # noqa: F401 - the commands' console, render.console()
 from .tables import add_columns, add_rows, engine_label, print_tables, summary_cells, verdict_legend
 
@@ -244,6 +244,7 @@ def _result_tables(result: AnalysisResult, units: str) -> Iterator[Table | None]
     if isinstance(result, SuiteResult):
         yield render_suite.statistics_table(result, units)
         yield render_suite.records_table(result, units)
+        yield render_acceptance.acceptance_table(result)
 
 
 def _closing_tables(results: list[AnalysisResult], units: str, checks) -> Iterator[Table | None]:

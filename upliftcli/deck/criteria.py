@@ -162,5 +162,13 @@ def _simplified_error(result: AnalysisResult, check, limit: float) -> Outcome:
 
 def check_criteria(results: Sequence[AnalysisResult], criteria: Mapping, checks: Sequence = ()) -> list[str]:
     """One message per violated acceptance criterion; empty when all pass (checks: the accuracy
-    checks of accuracy.check_accuracy, for simplified_error)."""
-    return [outcome.message() for outcome in outcomes(results, criteria, checks) if not outcome.ok]
+    checks of accuracy.check_accuracy, for simplified_error); then each violation of the global
+    acceptance of ASCE 7-22 16.4.1 a suite's result carries (analysis/acceptance.py)."""
+    return [*(outcome.message() for outcome in outcomes(results, criteria, checks) if not outcome.ok),
+            *(line for result in results for line in _acceptance_violations(result))]
+
+
+def _acceptance_violations(result: AnalysisResult) -> list[str]:
+    """The violations of ASCE 7-22 16.4.1 of a suite's result that carries its acceptance, else none."""
+    found = getattr(result, "acceptance", None)
+    return [] if found is None else found.violations(_label(result))

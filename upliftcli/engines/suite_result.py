@@ -63,7 +63,9 @@ class SuiteResult(AnalysisResult):
     (scaling, period range [s] and how it was found, target) for the reports; warnings: the
     suite's messages (too few records for the rule, factors ...); record_simplified: the
     simplified engine on each record's own spectrum (same support; empty if not run), which
-    separates the suite's excess over the target from the procedure's error (simplified_ratios)."""
+    separates the suite's excess over the target from the procedure's error (simplified_ratios);
+    acceptance: the global acceptance of ASCE 7-22 16.4.1 (analysis/acceptance.Acceptance: a
+    yielding building with a [design] table under the exact engine; None otherwise)."""
 
     statistic: str = "mean"
     rule: str = ""
@@ -75,6 +77,7 @@ class SuiteResult(AnalysisResult):
     suite: dict[str, Any] = field(default_factory=dict)
     warnings: tuple[str, ...] = ()
     record_simplified: tuple[AnalysisResult, ...] = ()
+    acceptance: Any = None
 
     @property
     def count(self) -> int:

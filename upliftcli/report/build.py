@@ -8,6 +8,7 @@ from collections.abc import Mapping, Sequence
 
 from ..engines.result import AnalysisResult
 from ..figures.sets import analysis_figures, motion_label
+from .acceptance import acceptance_section, with_acceptance
 from .checks import accuracy_section, criteria_section, warnings_section
 from .document import PROJECT_FIELDS, Figure, Report, Section, SignOff, Table, Text
 from .inputs import inputs_section, model_section, modes_section, motion_section
@@ -86,11 +87,13 @@ def build_report(deck, results: Sequence[AnalysisResult], deck_text: str, overri
     accuracy checks (accuracy.check_accuracy)."""
     specs = analysis_figures(deck, results, units)
     criteria, verdict, code = criteria_section(results, deck.criteria, units, checks)
+    verdict, code = with_acceptance(results, verdict, code)
     fields = project_fields(deck, project)
     sections = [summary_section(results, verdict, fields, units), inputs_section(deck, deck_text, overrides, units),
                 model_section(deck, results, units), motion_section(deck), modes_section(deck, units),
                 results_section(results, units, checks), accuracy_section(results, units, checks),
-                warnings_section(results, deck, checks), criteria, figures_section(list(specs)),
+                warnings_section(results, deck, checks), criteria, acceptance_section(results),
+                figures_section(list(specs)),
                 method_section([r.engine for r in results], getattr(deck.analysis.simplified, "procedure", "paper")),
                 provenance_section(info, os.path.dirname(os.path.abspath(deck.source)))]
     return Report(f"Calculation report: {deck.title}", subtitle(deck, results, info, units),
