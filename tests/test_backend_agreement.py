@@ -46,14 +46,18 @@ def _scale(path, value, result) -> float:
     """The magnitude a difference in `value` is measured against: the value itself, except for
     differences of large terms: the energy terms (the change of gravity energy is m_t g times the
     change of the mat's settlement, the residual a sum of terms of the input work's size) against
-    the largest energy term, the relative residual (a ratio to the input work) against 1, and the
+    the largest energy term, the relative residual (a ratio to the input work) and the relative
+    differences of a residual check (of a run and its twin) against 1, and the
     smallest reaction (the weight minus a near equal overturning share) against the largest
-    element reaction of its result."""
+    element reaction of its result; a residual of a residual check (near zero where nothing
+    stays) against at least the floor below which the check ignores it."""
     name = path[-1]
     if "energy" in path and name != "relative_residual":
         return max(abs(v) for k, v in result["details"]["energy"].items() if k != "relative_residual")
     if name in ("relative_residual", "energy_residual"):
         return 1.0
+    if "residual_check" in path and "quantities" in path:
+        return _residual_scale(path, value, result)
     if isinstance(name, str) and name.startswith("min_reaction"):
         return max(abs(element["reaction"]) for element in result["elements"])
     if "rocking" in path and "settlement" in path[path.index("rocking") + 1] and "time" not in path[-2]:
@@ -61,6 +65,26 @@ def _scale(path, value, result) -> float:
         return max(abs(v) for k, values in result["rocking"].items() if "settlement" in k and "time" not in k
                    for v in values.values())
     return abs(value)
+
+
+def _residual_scale(path, value, result) -> float:
+    """A residual of a residual check against at least the floor below which the check ignores it;
+    the relative difference of a run and its twin (a ratio of near-equal numbers) against 1 where
+    the residual reaches the floor, and not at all below it (a ratio of round-off)."""
+    check = result["details"]["residual_check"]
+    name = path[path.index("quantities") + 1]
+    floor = check["floors"][name]
+    if "difference" not in path:
+        return max(abs(value), floor)
+    quantity = _at(result, path[len(_owner_path(path, result)):-2])
+    index = path[-1]
+    below = max(abs(quantity["values"][index]), abs(quantity["twin"][index])) < floor
+    return math.inf if below else 1.0
+
+
+def _owner_path(path, result):
+    """The part of `path` that leads to `result` (the rest is inside it)."""
+    return path[:path.index("details")]
 
 
 def _results(document):
