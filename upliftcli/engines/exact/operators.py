@@ -15,6 +15,7 @@ from .expm import expm
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 from .stories import story_bits, valid_story_pattern
+from .story_states import StoryBase, story_base, story_state
 from .yielding import pattern_bits, step_operators, valid_pattern
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
@@ -45,6 +46,10 @@ class Operators:
         self.matrices = np.zeros((self.capacity, n_aug, n_aug))
         self.patterns = np.full(self.capacity, -1, dtype=np.int64)
         self.contact: list[ContactState] = []
+        # yielding stories (story_states.py): the base of each foundation pattern, and the state whose
+        # operators a state with the same A copies, by (foundation pattern, where the stories yield)
+        self.bases: dict[int, StoryBase] = {}
+        self.by_matrix: dict[tuple[int, bytes], int] = {}
 
     def lifted(self, pattern: int) -> np.ndarray:
         """Where the elements are lifted in the pattern (bits 0 .. n_e - 1: yielding.pattern_bits)."""
@@ -97,11 +102,19 @@ def soil_rows(lay: Layout) -> int:
 RESERVE_BYTES = 2**30
 
 
+#: contact states a run of a building whose stories yield is expected to meet, per yielding story (the
+#: README example at El Centro x2 with a base-shear strength 0.4 W met 151 on the rigid base, 122
+#: bonded: docs/theory.md 15.7)
+STATES_PER_STORY = 16
+
+
 def expected_states(lay: Layout) -> int:
     """About how many contact states a run meets, when that is many: n_e^2 with more than two
     elements with a bearing capacity (a yielding Winkler mat of 20 elements met 441 under El Centro
-    with FS_v = 1.5: docs/theory.md 14.3), else 0 (the elastic one met 31: they are not counted)."""
-    return lay.n_elements**2 if lay.n_settlements and lay.n_elements > 2 else 0
+    with FS_v = 1.5: docs/theory.md 14.3), STATES_PER_STORY per yielding story, else 0 (the elastic
+    mat met 31: they are not counted)."""
+    soil = lay.n_elements**2 if lay.n_settlements and lay.n_elements > 2 else 0
+    return max(soil, STATES_PER_STORY * lay.n_plastic)
 
 
 def state_bytes(lay: Layout) -> int:
@@ -169,16 +182,57 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
         if built[0][1].yielding is not None and built[0][1].lifted.size > BLOCK_ELEMENTS:
             _block_operators(requests, built, out)  # a yielding mat of many elements
             continue
-        ops = _stacked_operators(np.stack([state.matrix.T for _, state in built]),
-                                 np.array([requests[k][0].h for k, _ in built])[:, None, None])
-        for r, (k, state) in enumerate(built):
+        fresh, copies = _shared_operators(requests, built)
+        if fresh:
+            _exponentiated(requests, fresh, out)
+        for k, state, key in copies:  # the same A as a state built before: its operators, bit for bit
             operators, pattern, events = requests[k]
-            if state.yielding is not None:
-                _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
-            if state.story_sign is not None:
-                _elastic_stories(ops[r], state, operators.layout, operators.h)
-            out[k] = operators.store(pattern, state, ops[r], events)
+            out[k] = operators.store(pattern, state, operators.ops[operators.by_matrix[key]], events)
     return out
+
+
+def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]],
+                   out: list[int | AnalysisError]) -> None:
+    """Store the states `built`, their operators from one stacked exponentiation."""
+    ops = _stacked_operators(np.stack([state.matrix.T for _, state in built]),
+                             np.array([requests[k][0].h for k, _ in built])[:, None, None])
+    for r, (k, state) in enumerate(built):
+        operators, pattern, events = requests[k]
+        if state.yielding is not None:
+            _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
+        if state.story_sign is None:
+            out[k] = operators.store(pattern, state, ops[r], events)
+            continue
+        _elastic_stories(ops[r], state, operators.layout, operators.h)
+        out[k] = operators.store(pattern, state, ops[r], events)
+        operators.by_matrix.setdefault(_matrix_key(operators, pattern, state), out[k])
+
+
+def _matrix_key(operators: Operators, pattern: int, state: ContactState) -> tuple[int, bytes]:
+    """What the A of a state with yielding stories depends on: the foundation's bits of its pattern and
+    where its stories yield (the signs P and N give the same A: story_states.py)."""
+    soil = pattern & ((1 << soil_rows(operators.layout)) - 1)
+    return soil, (state.story_sign != 0).tobytes()
+
+
+def _shared_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
+                      ) -> tuple[list[tuple[int, ContactState]], list[tuple[int, ContactState, tuple]]]:
+    """The states of `built` whose operators are to be computed, and (index, state, key) of those whose A
+    is that of a state built before or earlier in `built` (yielding stories: _matrix_key), which copy its
+    operators once it is stored."""
+    fresh, copies, first = [], [], set()
+    for k, state in built:
+        operators, pattern, _ = requests[k]
+        if state.story_sign is None:
+            fresh.append((k, state))
+            continue
+        key = _matrix_key(operators, pattern, state)
+        if key in operators.by_matrix or (id(operators), key) in first:
+            copies.append((k, state, key))
+            continue
+        first.add((id(operators), key))
+        fresh.append((k, state))
+    return fresh, copies
 
 
 def _groups(requests: list[tuple[Operators, int, bool]], out: list[int | AnalysisError]) -> dict[tuple, list[int]]:
@@ -280,13 +334,33 @@ def _elastic_stories(ops: np.ndarray, state: ContactState, lay: Layout, h: float
 
 
 def _states(requests: list[tuple[Operators, int, bool]]) -> list[ContactState]:
+    """The states asked for (one layout): of yielding stories from their bases (_story_state), else
+    assembled together (patterns.contact_states)."""
+    if requests[0][0].layout.n_plastic:
+        return [_story_state(operators, pattern) for operators, pattern, _ in requests]
+    return _contact_states(requests)
+
+
+def _contact_states(requests: list[tuple[Operators, int, bool]]) -> list[ContactState]:
+    """The states of an elastic building asked for, assembled together (patterns.contact_states)."""
     first = requests[0][0]
     lifted = np.array([operators.lifted(pattern) for operators, pattern, _ in requests], dtype=bool)
     lifted = lifted.reshape(len(requests), first.layout.n_elements)
-    yielding = sign = None
+    yielding = None
     if first.layout.n_settlements:
         yielding = np.array([operators.yielding(pattern) for operators, pattern, _ in requests], dtype=bool)
-    if first.layout.n_plastic:
-        sign = np.array([operators.story_sign(pattern) for operators, pattern, _ in requests], dtype=np.int8)
-    return contact_states([operators.space for operators, _, _ in requests], lifted, first.criterion, yielding,
-                          sign)
+    return contact_states([operators.space for operators, _, _ in requests], lifted, first.criterion, yielding)
+
+
+def _story_state(operators: Operators, pattern: int) -> ContactState:
+    """The state of a model with yielding stories, from the base of its foundation pattern (story_states.py),
+    assembled on first use and kept."""
+    lay = operators.layout
+    rows = soil_rows(lay)
+    soil = pattern & ((1 << rows) - 1)
+    base = operators.bases.get(soil)
+    if base is None:
+        base = story_base(operators.space, operators.lifted(pattern), operators.yielding(pattern), operators.criterion,
+                          rows)
+        operators.bases[soil] = base
+    return story_state(base, lay.plastic_indices, operators.story_sign(pattern))
