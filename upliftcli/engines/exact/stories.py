@@ -65,14 +65,14 @@ def plastic_forcing(stories: StoryYield, to_modal: np.ndarray) -> np.ndarray:
 def story_bits(pattern: int, base: int, count: int) -> np.ndarray:
     """The sign of each yielding story in a contact pattern: +1 yielding positive, -1 negative, 0 elastic
     (bits base + 2 s and base + 2 s + 1)."""
-    bits = np.array([(pattern >> (base + i)) & 1 for i in range(2 * count)], dtype=np.int8)
+    bits = ((np.int64(pattern) >> np.arange(base, base + 2 * count, dtype=np.int64)) & 1).astype(np.int8)
     return bits[0::2] - bits[1::2]
 
 
 def valid_story_pattern(pattern: int, base: int, count: int) -> bool:
     """False where a story would yield both ways at once (no such state)."""
-    bits = np.array([(pattern >> (base + i)) & 1 for i in range(2 * count)], dtype=bool)
-    return not np.any(bits[0::2] & bits[1::2])
+    bits = pattern >> base
+    return not bits & (bits >> 1) & int("01" * count, 2)
 
 
 def plastic_rows(stories: StoryYield, drift_rate: np.ndarray, sign: np.ndarray) -> np.ndarray:

@@ -24,16 +24,16 @@ from .statespace import ContactState, StateSpace
 @dataclass(frozen=True)
 class StoryBase:
     """What the states of one foundation pattern share: the base state (every story elastic), the rows
-    of the p_j in A while story j yields (n_y, n_aug), and the candidate event rows of each story
-    (stories.event_candidates: onsets (n_y, n_aug) each, the scaled drift rates (n_y, n_aug), never)."""
+    of the p_j in A while story j yields (n_y, n_aug), and the event rows each story may have
+    (stories.event_candidates), by its sign's code (0 elastic, 1 positive, 2 negative: sign % 3):
+    rows_up[code, j] its row 2 j (the onset of P, the unloading from P, never) and rows_down[code, j] its
+    row 2 j + 1 (the onset of N, never, the unloading from N), each (3, n_y, n_aug)."""
 
     state: ContactState
     soil_rows: int
     plastic: np.ndarray
-    onset_up: np.ndarray
-    onset_down: np.ndarray
-    rate: np.ndarray
-    never: np.ndarray
+    rows_up: np.ndarray
+    rows_down: np.ndarray
 
 
 def story_base(space: StateSpace, lifted: np.ndarray, yielding: np.ndarray | None, criterion: str,
@@ -48,7 +48,7 @@ def story_base(space: StateSpace, lifted: np.ndarray, yielding: np.ndarray | Non
     plastic = stories.plastic_rows(story, drift_rate, np.ones_like(sign))[0]
     up, down, rate, never = stories.event_candidates(story, space.drift_rows, drift_rate, lay.plastic_indices,
                                                      lay.index_one)
-    return StoryBase(state, soil_rows, plastic, up, down, rate[0], never[0])
+    return StoryBase(state, soil_rows, plastic, np.stack((up, -rate[0], never[0])), np.stack((down, never[0], rate[0])))
 
 
 def story_state(base: StoryBase, plastic_indices: np.ndarray, sign: np.ndarray) -> ContactState:
@@ -59,9 +59,8 @@ def story_state(base: StoryBase, plastic_indices: np.ndarray, sign: np.ndarray) 
     matrix = state.matrix.copy()
     matrix[plastic_indices[yields]] = base.plastic[yields]
     events = state.events.copy()
-    stories_rows = events[base.soil_rows:]
-    up, down = sign[:, None] > 0, sign[:, None] < 0
-    stories_rows[0::2] = np.where(~yields[:, None], base.onset_up, np.where(up, -base.rate, base.never))
-    stories_rows[1::2] = np.where(~yields[:, None], base.onset_down, np.where(down, base.rate, base.never))
+    code, story = sign % 3, np.arange(sign.size)
+    events[base.soil_rows::2] = base.rows_up[code, story]
+    events[base.soil_rows + 1::2] = base.rows_down[code, story]
     return ContactState(state.lifted.copy(), matrix, state.velocity, events,
                         None if state.yielding is None else state.yielding.copy(), sign.copy())
