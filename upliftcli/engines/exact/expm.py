@@ -58,16 +58,22 @@ def squared_levels(matrices: np.ndarray, levels: int) -> np.ndarray:
     a3 = a2 @ a
     eta = np.maximum(np.sqrt(_norm(a2)), np.cbrt(_norm(a3)))
     halvings = np.maximum(0, np.ceil(np.log2(np.maximum(eta, 1e-300) / THETA_TAYLOR))).astype(int)
-    scale = (0.5**halvings)[:, None, None]  # powers of two: the powers of the scaled matrix exactly
-    finest = _taylor(a * scale, a2 * scale**2, a3 * scale**3)
-    for level in range(int(halvings.max(initial=0))):
-        more = halvings > level
-        finest[more] = finest[more] @ finest[more]
     out = np.empty((a.shape[0], levels + 1, *a.shape[1:]))
-    out[:, levels] = finest
+    if halvings.any():  # powers of two: the powers of the scaled matrix exactly
+        scale = (0.5**halvings)[:, None, None]
+        a, a2, a3 = a * scale, a2 * scale**2, a3 * scale**3
+    out[:, levels] = _taylor(a, a2, a3)
+    _squared(out[:, levels], halvings)
     for j in range(levels - 1, -1, -1):
-        out[:, j] = out[:, j + 1] @ out[:, j + 1]
+        np.matmul(out[:, j + 1], out[:, j + 1], out=out[:, j])
     return out
+
+
+def _squared(stack: np.ndarray, times: np.ndarray) -> None:
+    """Square each matrix of a stack (in place) its number of times."""
+    for level in range(int(times.max(initial=0))):
+        more = times > level
+        stack[more] = stack[more] @ stack[more]
 
 
 def _norm(stack: np.ndarray) -> np.ndarray:
