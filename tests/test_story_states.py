@@ -13,7 +13,7 @@ from upliftcli.deck.load import load_deck
 from upliftcli.engines.exact.operators import Operators, add_states, soil_rows
 from upliftcli.engines.exact.patterns import contact_states
 from upliftcli.engines.exact.statespace import exact_model
-from upliftcli.engines.exact.story_states import story_base, story_state
+from upliftcli.engines.exact.story_states import story_bases, story_state
 from upliftcli.engines.options import ExactOptions
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -49,7 +49,8 @@ def test_a_state_from_its_base_is_the_assembled_state_bit_for_bit(path, support,
     for criterion in ("reaction", "displacement"):
         for _ in range(4):
             lifted, yielding = _foundation(space, rng)
-            base = story_base(space, lifted, yielding, criterion, soil_rows(lay))
+            (base,) = story_bases([space], lifted[None], None if yielding is None else yielding[None], criterion,
+                                  soil_rows(lay))
             signs = rng.integers(-1, 2, (6, lay.n_plastic)).astype(np.int8)
             signs[0] = 0
             expected = contact_states([space] * len(signs), np.repeat(lifted[None], len(signs), axis=0), criterion,

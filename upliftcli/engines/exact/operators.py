@@ -15,7 +15,7 @@ from .expm import expm, squared_levels
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 from .stories import story_bits, valid_story_pattern
-from .story_states import StoryBase, story_base, story_state
+from .story_states import StoryBase, add_bases, matrix_key, soil_rows, state_of
 from .yielding import pattern_bits, step_operators, valid_pattern
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
@@ -39,11 +39,17 @@ class Operators:
         n_aug, n_e = self.layout.n_aug, soil_rows(self.layout)
         n_e += 2 * self.layout.n_plastic  # two event rows per yielding story (stories.py)
         self.capacity = reserved_states(self.layout)
-        # np.zeros of a large reserve maps pages only as states are stored (no copy when it suffices)
-        self.ops = np.zeros((self.capacity, LEVELS + 1, n_aug, n_aug))
-        self.events = np.zeros((self.capacity, n_e, n_aug))
-        self.event_rates = np.zeros((self.capacity, n_e, n_aug))
-        self.matrices = np.zeros((self.capacity, n_aug, n_aug))
+        # the states of yielding stories (not on a yielding mat of many elements, whose block operators write
+        # only their nonzero entries: _block_operators) write their operators, event rows and rates whole:
+        # those arrays are left as allocated (np.empty: a run's reserve of 16 states per story is served from
+        # the memory an earlier run freed, kept by runtime/process.keep_freed_memory, neither zeroed nor
+        # faulted in again; the states not yet stored are never read); the others' start as zeros, mapped
+        # only as states are stored
+        self.fill = None if self.layout.n_plastic and not block_operators(self.layout) else 0.0
+        self.ops = _reserve((self.capacity, LEVELS + 1, n_aug, n_aug), self.fill)
+        self.events = _reserve((self.capacity, n_e, n_aug), self.fill)
+        self.event_rates = _reserve((self.capacity, n_e, n_aug), self.fill)
+        self.matrices = np.empty((self.capacity, n_aug, n_aug))
         self.patterns = np.full(self.capacity, -1, dtype=np.int64)
         self.contact: list[ContactState] = []
         # yielding stories (story_states.py): the base of each foundation pattern, and the state whose
@@ -73,8 +79,8 @@ class Operators:
             # the matrices of the states not yet built are never read: not filled; the operators
             # (most of the memory: a yielding Winkler mat meets hundreds of states) are zeros, mapped
             # only as states are stored, which yielding.step_operators writes into without a fill
-            self.ops, self.matrices = _doubled(self.ops, 0.0), _doubled(self.matrices)
-            self.events, self.event_rates = _doubled(self.events, 0.0), _doubled(self.event_rates, 0.0)
+            self.ops, self.matrices = _doubled(self.ops, self.fill), _doubled(self.matrices)
+            self.events, self.event_rates = _doubled(self.events, self.fill), _doubled(self.event_rates, self.fill)
             self.patterns = _doubled(self.patterns, -1)
         if ops is not None:
             self.ops[index] = ops
@@ -91,10 +97,10 @@ class Operators:
         return index
 
 
-def soil_rows(lay: Layout) -> int:
-    """Event rows (and pattern bits) of the foundation's elements: one per element, two with a bearing
-    capacity; the yielding stories' come after them (stories.py)."""
-    return max(lay.n_elements, 0) + lay.n_settlements
+def block_operators(lay: Layout) -> bool:
+    """Whether the step operators come from a small block of each state (a bearing capacity on more than
+    BLOCK_ELEMENTS elements: _block_operators)."""
+    return bool(lay.n_settlements) and lay.n_elements > BLOCK_ELEMENTS
 
 
 #: the most memory reserved up front for the operators of one run [bytes] (virtual: untouched
@@ -124,10 +130,12 @@ def state_bytes(lay: Layout) -> int:
 
 
 def reserved_states(lay: Layout) -> int:
-    """How many contact states a run's operator arrays hold before they first grow: 4, or twice
-    expected_states (2 n_e^2) where that is many, so that the 450 kB per state of such a run are
-    not copied at every doubling (a fifth of its run time, measured)."""
-    expected = expected_states(lay)
+    """How many contact states a run's operator arrays hold before they first grow: 4, or on a yielding
+    mat of many elements twice expected_states (2 n_e^2), so that the 450 kB per state of such a run
+    are not copied at every doubling (a fifth of its run time, measured). Not with yielding stories: a
+    run that never yields would pay for the reserve (its pages, or zeroing them), and the doublings of
+    one that does copy without a fill (Operators.fill)."""
+    expected = lay.n_elements**2 if block_operators(lay) else 0
     if not expected:
         return 4
     return max(4, min(2 * expected, RESERVE_BYTES // state_bytes(lay)))
@@ -143,6 +151,11 @@ def _too_many_states(lay: Layout) -> str:
     return (f"the run met more than {max_states(lay):,} distinct contact states, whose step operators would exceed "
             f"{MAX_OPERATOR_BYTES / 2**30:g} GiB: the contact chatters; give the foundation more damping, fewer "
             "elements (foundation.elements) or a lower stiffness")
+
+
+def _reserve(shape: tuple[int, ...], fill: float | None) -> np.ndarray:
+    """A new array of `shape`: zeros (fill 0), or left as allocated (None)."""
+    return np.empty(shape) if fill is None else np.zeros(shape)
 
 
 def _doubled(array: np.ndarray, fill: float | None = None) -> np.ndarray:
@@ -179,7 +192,7 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
         built = _built_states(requests, members)
         if not built:
             continue
-        if built[0][1].yielding is not None and built[0][1].lifted.size > BLOCK_ELEMENTS:
+        if block_operators(requests[built[0][0]][0].layout):
             _block_operators(requests, built, out)  # a yielding mat of many elements
             continue
         fresh, copies = _shared_operators(requests, built)
@@ -193,34 +206,33 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
 
 def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]],
                    out: list[int | AnalysisError]) -> None:
-    """Store the states `built`, their operators from one stacked exponentiation (_stacked_operators), those of
-    the states where a story yields by squarings alone (expm.squared_levels: the same accuracy, a
+    """Store the states `built`, their operators from one stacked exponentiation (_level_operators)."""
+    ops = _level_operators(requests, built)
+    for r, (k, state) in enumerate(built):
+        operators, pattern, events = requests[k]
+        if state.yielding is not None:
+            _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
+        if state.story_sign is not None:
+            _elastic_stories(ops[r], state, operators.layout, operators.h)
+        out[k] = operators.store(pattern, state, ops[r], events)
+        if state.story_sign is not None:
+            operators.by_matrix.setdefault(matrix_key(pattern, operators.layout, state), out[k])
+
+
+def _level_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
+                     ) -> list[np.ndarray]:
+    """E_j^T, j = 0..LEVELS, of each state of `built`: in one stacked exponentiation (_stacked_operators), those
+    of the states where a story yields by squarings alone (expm.squared_levels: the same accuracy, a
     fifth of the products and no solve; docs/theory.md 15.7)."""
     a_t = np.stack([state.matrix.T for _, state in built])
     h = np.array([requests[k][0].h for k, _ in built])[:, None, None]
-    yields = np.array([state.story_sign is not None and bool(state.story_sign.any()) for _, state in built])
+    yields = np.array([_story_yields(state) for _, state in built], dtype=bool)
     ops: list[np.ndarray] = [np.empty(0)] * len(built)
     for chosen, levels in ((~yields, _stacked_operators), (yields, _squared_operators)):
         if chosen.any():
             for r, level_ops in zip(np.flatnonzero(chosen), levels(a_t[chosen], h[chosen]), strict=True):
                 ops[r] = level_ops
-    for r, (k, state) in enumerate(built):
-        operators, pattern, events = requests[k]
-        if state.yielding is not None:
-            _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
-        if state.story_sign is None:
-            out[k] = operators.store(pattern, state, ops[r], events)
-            continue
-        _elastic_stories(ops[r], state, operators.layout, operators.h)
-        out[k] = operators.store(pattern, state, ops[r], events)
-        operators.by_matrix.setdefault(_matrix_key(operators, pattern, state), out[k])
-
-
-def _matrix_key(operators: Operators, pattern: int, state: ContactState) -> tuple[int, bytes]:
-    """What the A of a state with yielding stories depends on: the foundation's bits of its pattern and
-    where its stories yield (the signs P and N give the same A: story_states.py)."""
-    soil = pattern & ((1 << soil_rows(operators.layout)) - 1)
-    return soil, (state.story_sign != 0).tobytes()
+    return ops
 
 
 def _shared_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
@@ -234,7 +246,7 @@ def _shared_operators(requests: list[tuple[Operators, int, bool]], built: list[t
         if state.story_sign is None:
             fresh.append((k, state))
             continue
-        key = _matrix_key(operators, pattern, state)
+        key = matrix_key(pattern, operators.layout, state)
         if key in operators.by_matrix or (id(operators), key) in first:
             copies.append((k, state, key))
             continue
@@ -318,6 +330,11 @@ def _stacked_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
     return ops
 
 
+def _story_yields(state: ContactState) -> bool:
+    """Whether some story yields in the state."""
+    return state.story_sign is not None and bool(state.story_sign.any())
+
+
 def _squared_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
     """E_j^T, j = 0..LEVELS, of a stack of A^T (R, n, n) with steps h (R, 1, 1) by expm.squared_levels (states
     where a story yields: docs/theory.md 15.7); (E^T)^2 = (E^2)^T."""
@@ -351,7 +368,8 @@ def _states(requests: list[tuple[Operators, int, bool]]) -> list[ContactState]:
     """The states asked for (one layout): of yielding stories from their bases (_story_state), else
     assembled together (patterns.contact_states)."""
     if requests[0][0].layout.n_plastic:
-        return [_story_state(operators, pattern) for operators, pattern, _ in requests]
+        add_bases([(operators, pattern) for operators, pattern, _ in requests])
+        return [state_of(operators, pattern) for operators, pattern, _ in requests]
     return _contact_states(requests)
 
 
@@ -364,17 +382,3 @@ def _contact_states(requests: list[tuple[Operators, int, bool]]) -> list[Contact
     if first.layout.n_settlements:
         yielding = np.array([operators.yielding(pattern) for operators, pattern, _ in requests], dtype=bool)
     return contact_states([operators.space for operators, _, _ in requests], lifted, first.criterion, yielding)
-
-
-def _story_state(operators: Operators, pattern: int) -> ContactState:
-    """The state of a model with yielding stories, from the base of its foundation pattern (story_states.py),
-    assembled on first use and kept."""
-    lay = operators.layout
-    rows = soil_rows(lay)
-    soil = pattern & ((1 << rows) - 1)
-    base = operators.bases.get(soil)
-    if base is None:
-        base = story_base(operators.space, operators.lifted(pattern), operators.yielding(pattern), operators.criterion,
-                          rows)
-        operators.bases[soil] = base
-    return story_state(base, lay.plastic_indices, operators.story_sign(pattern))
