@@ -57,9 +57,10 @@ def squared_levels(matrices: np.ndarray, levels: int) -> np.ndarray:
     a2 = a @ a
     a3 = a2 @ a
     eta = np.maximum(np.sqrt(_norm(a2)), np.cbrt(_norm(a3)))
-    halvings = np.maximum(0, np.ceil(np.log2(np.maximum(eta, 1e-300) / THETA_TAYLOR))).astype(int)
+    halvings = np.zeros(eta.size, dtype=int)
     out = np.empty((a.shape[0], levels + 1, *a.shape[1:]))
-    if halvings.any():  # powers of two: the powers of the scaled matrix exactly
+    if eta.max(initial=0.0) > THETA_TAYLOR:  # powers of two: the powers of the scaled matrix exactly
+        halvings = np.maximum(0, np.ceil(np.log2(eta / THETA_TAYLOR))).astype(int)
         scale = (0.5**halvings)[:, None, None]
         a, a2, a3 = a * scale, a2 * scale**2, a3 * scale**3
     out[:, levels] = _taylor(a, a2, a3)
