@@ -37,7 +37,6 @@ def expm(matrices: np.ndarray) -> np.ndarray:
     return result.reshape(a.shape)
 
 
-
 #: the degree of the Taylor polynomial of squared_levels, and the largest eta (below) it is used at: the
 #: remainder, at most eta^10 / 10!, is then below 2.8e-17
 TAYLOR_DEGREE = 9

@@ -41,10 +41,9 @@ class Operators:
         self.capacity = reserved_states(self.layout)
         # the states of yielding stories (not on a yielding mat of many elements, whose block operators write
         # only their nonzero entries: _block_operators) write their operators, event rows and rates whole:
-        # those arrays are left as allocated (np.empty: a run's reserve of 16 states per story is served from
-        # the memory an earlier run freed, kept by runtime/process.keep_freed_memory, neither zeroed nor
-        # faulted in again; the states not yet stored are never read); the others' start as zeros, mapped
-        # only as states are stored
+        # those arrays are left as allocated (np.empty: served from the memory an earlier run freed, kept by
+        # runtime/process.keep_freed_memory, neither zeroed nor faulted in again; the states not yet stored
+        # are never read); the others' start as zeros, mapped only as states are stored
         self.fill = None if self.layout.n_plastic and not block_operators(self.layout) else 0.0
         self.ops = _reserve((self.capacity, LEVELS + 1, n_aug, n_aug), self.fill)
         self.events = _reserve((self.capacity, n_e, n_aug), self.fill)
@@ -95,6 +94,8 @@ class Operators:
                 rows[:soil_rows(self.layout)] = 0.0
             self.events[index] = rows
             self.event_rates[index] = rows @ state.matrix
+        elif self.fill is None:  # no event rows: zero, as in arrays that start as zeros
+            self.events[index] = self.event_rates[index] = 0.0
         self.matrices[index] = state.matrix.T
         self.patterns[index] = pattern
         self.contact.append(state)
@@ -242,7 +243,7 @@ def _level_operators(requests: list[tuple[Operators, int, bool]], built: list[tu
 def _shared_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
                       ) -> tuple[list[tuple[int, ContactState]], list[tuple[int, ContactState, tuple]]]:
     """The states of `built` whose operators are to be computed, and (index, state, key) of those whose A
-    is that of a state built before or earlier in `built` (yielding stories: _matrix_key), which copy its
+    is that of a state built before or earlier in `built` (yielding stories: story_states.matrix_key), which copy its
     operators once it is stored."""
     fresh, copies, first = [], [], set()
     for k, state in built:
@@ -369,7 +370,7 @@ def _elastic_stories(ops: np.ndarray, state: ContactState, lay: Layout, h: float
 
 
 def _states(requests: list[tuple[Operators, int, bool]]) -> list[ContactState]:
-    """The states asked for (one layout): of yielding stories from their bases (_story_state), else
+    """The states asked for (one layout): of yielding stories from their bases (story_states.state_of), else
     assembled together (patterns.contact_states)."""
     if requests[0][0].layout.n_plastic:
         add_bases([(operators, pattern) for operators, pattern, _ in requests])
