@@ -74,17 +74,7 @@ class Operators:
         writes them into self.ops[index] itself, with no copy between: it holds zeros until then)."""
         index = len(self.contact)
         if index == self.capacity:
-            # the matrices of the states not yet built are never read: not filled; the operators
-            # (most of the memory: a yielding Winkler mat meets hundreds of states) are zeros, mapped
-            # only as states are stored, which yielding.step_operators writes into without a fill; the
-            # arrays of yielding stories (not filled) grow fourfold: 4, 16, 64, 256 states, a third of the
-            # copying of doublings (the README example met 151 states on the rigid base)
-            factor = 4 if self.fill is None else 2
-            self.capacity *= factor
-            self.ops, self.matrices = _doubled(self.ops, self.fill, factor), _doubled(self.matrices, None, factor)
-            self.events = _doubled(self.events, self.fill, factor)
-            self.event_rates = _doubled(self.event_rates, self.fill, factor)
-            self.patterns = _doubled(self.patterns, -1, factor)
+            self._grow()
         if ops is not None:
             self.ops[index] = ops
         if events:
@@ -100,6 +90,21 @@ class Operators:
         self.patterns[index] = pattern
         self.contact.append(state)
         return index
+
+    def _grow(self) -> None:
+        """More room for states: doubled (_doubled: the operators zeros, mapped only as stored, which
+        yielding.step_operators writes into without a fill; the matrices, never read before, not filled), or
+        those of yielding stories (no fill) fourfold, a third of the copying (the README example: 151 states)."""
+        if self.fill is not None:
+            self.capacity *= 2
+            self.ops, self.matrices = _doubled(self.ops, 0.0), _doubled(self.matrices)
+            self.events, self.event_rates = _doubled(self.events, 0.0), _doubled(self.event_rates, 0.0)
+            self.patterns = _doubled(self.patterns, -1)
+            return
+        self.capacity *= 4
+        self.ops, self.matrices = _grown(self.ops, None, 4), _grown(self.matrices, None, 4)
+        self.events, self.event_rates = _grown(self.events, None, 4), _grown(self.event_rates, None, 4)
+        self.patterns = _grown(self.patterns, -1, 4)
 
 
 def block_operators(lay: Layout) -> bool:
@@ -163,9 +168,14 @@ def _reserve(shape: tuple[int, ...], fill: float | None) -> np.ndarray:
     return np.empty(shape) if fill is None else np.zeros(shape)
 
 
-def _doubled(array: np.ndarray, fill: float | None = None, factor: int = 2) -> np.ndarray:
-    """The array with `factor` times its rows, the new ones set to `fill` (None: left unset; 0:
+def _doubled(array: np.ndarray, fill: float | None = None) -> np.ndarray:
+    """The array with as many rows again after its own, those set to `fill` (None: left unset; 0:
     zeros, whose pages are mapped only as they are written)."""
+    return _grown(array, fill, 2)
+
+
+def _grown(array: np.ndarray, fill: float | None, factor: int) -> np.ndarray:
+    """The array with `factor` times its rows, the new ones set to `fill` (as _doubled)."""
     shape = (factor * array.shape[0], *array.shape[1:])
     if fill is None:
         out = np.empty(shape, dtype=array.dtype)
