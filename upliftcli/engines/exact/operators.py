@@ -11,10 +11,11 @@ import numpy as np
 
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_OPERATOR_BYTES
-from .expm import expm
+from .expm import expm, squared_levels
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 from .stories import story_bits, valid_story_pattern
+from .story_states import StoryBase, add_bases, matrix_key, soil_rows, state_of
 from .yielding import pattern_bits, step_operators, valid_pattern
 
 #: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
@@ -38,13 +39,22 @@ class Operators:
         n_aug, n_e = self.layout.n_aug, soil_rows(self.layout)
         n_e += 2 * self.layout.n_plastic  # two event rows per yielding story (stories.py)
         self.capacity = reserved_states(self.layout)
-        # np.zeros of a large reserve maps pages only as states are stored (no copy when it suffices)
-        self.ops = np.zeros((self.capacity, LEVELS + 1, n_aug, n_aug))
-        self.events = np.zeros((self.capacity, n_e, n_aug))
-        self.event_rates = np.zeros((self.capacity, n_e, n_aug))
-        self.matrices = np.zeros((self.capacity, n_aug, n_aug))
+        # the states of yielding stories (not on a yielding mat of many elements, whose block operators write
+        # only their nonzero entries: _block_operators) write their operators, event rows and rates whole:
+        # those arrays are left as allocated (np.empty: served from the memory an earlier run freed, kept by
+        # runtime/process.keep_freed_memory, neither zeroed nor faulted in again; the states not yet stored
+        # are never read); the others' start as zeros, mapped only as states are stored
+        self.fill = None if self.layout.n_plastic and not block_operators(self.layout) else 0.0
+        self.ops = _reserve((self.capacity, LEVELS + 1, n_aug, n_aug), self.fill)
+        self.events = _reserve((self.capacity, n_e, n_aug), self.fill)
+        self.event_rates = _reserve((self.capacity, n_e, n_aug), self.fill)
+        self.matrices = np.empty((self.capacity, n_aug, n_aug))
         self.patterns = np.full(self.capacity, -1, dtype=np.int64)
         self.contact: list[ContactState] = []
+        # yielding stories (story_states.py): the base of each foundation pattern, and the state whose
+        # operators a state with the same A copies, by (foundation pattern, where the stories yield)
+        self.bases: dict[int, StoryBase] = {}
+        self.by_matrix: dict[tuple[int, bytes], int] = {}
 
     def lifted(self, pattern: int) -> np.ndarray:
         """Where the elements are lifted in the pattern (bits 0 .. n_e - 1: yielding.pattern_bits)."""
@@ -64,13 +74,7 @@ class Operators:
         writes them into self.ops[index] itself, with no copy between: it holds zeros until then)."""
         index = len(self.contact)
         if index == self.capacity:
-            self.capacity *= 2
-            # the matrices of the states not yet built are never read: not filled; the operators
-            # (most of the memory: a yielding Winkler mat meets hundreds of states) are zeros, mapped
-            # only as states are stored, which yielding.step_operators writes into without a fill
-            self.ops, self.matrices = _doubled(self.ops, 0.0), _doubled(self.matrices)
-            self.events, self.event_rates = _doubled(self.events, 0.0), _doubled(self.event_rates, 0.0)
-            self.patterns = _doubled(self.patterns, -1)
+            self._grow()
         if ops is not None:
             self.ops[index] = ops
         if events:
@@ -80,16 +84,33 @@ class Operators:
                 rows[:soil_rows(self.layout)] = 0.0
             self.events[index] = rows
             self.event_rates[index] = rows @ state.matrix
+        elif self.fill is None:  # no event rows: zero, as in arrays that start as zeros
+            self.events[index] = self.event_rates[index] = 0.0
         self.matrices[index] = state.matrix.T
         self.patterns[index] = pattern
         self.contact.append(state)
         return index
 
+    def _grow(self) -> None:
+        """More room for states: doubled (_doubled: the operators zeros, mapped only as stored, which
+        yielding.step_operators writes into without a fill; the matrices, never read before, not filled), or
+        those of yielding stories (no fill) fourfold, a third of the copying (the README example: 151 states)."""
+        if self.fill is not None:
+            self.capacity *= 2
+            self.ops, self.matrices = _doubled(self.ops, 0.0), _doubled(self.matrices)
+            self.events, self.event_rates = _doubled(self.events, 0.0), _doubled(self.event_rates, 0.0)
+            self.patterns = _doubled(self.patterns, -1)
+            return
+        self.capacity *= 4
+        self.ops, self.matrices = _grown(self.ops, None, 4), _grown(self.matrices, None, 4)
+        self.events, self.event_rates = _grown(self.events, None, 4), _grown(self.event_rates, None, 4)
+        self.patterns = _grown(self.patterns, -1, 4)
 
-def soil_rows(lay: Layout) -> int:
-    """Event rows (and pattern bits) of the foundation's elements: one per element, two with a bearing
-    capacity; the yielding stories' come after them (stories.py)."""
-    return max(lay.n_elements, 0) + lay.n_settlements
+
+def block_operators(lay: Layout) -> bool:
+    """Whether the step operators come from a small block of each state (a bearing capacity on more than
+    BLOCK_ELEMENTS elements: _block_operators)."""
+    return bool(lay.n_settlements) and lay.n_elements > BLOCK_ELEMENTS
 
 
 #: the most memory reserved up front for the operators of one run [bytes] (virtual: untouched
@@ -97,11 +118,19 @@ def soil_rows(lay: Layout) -> int:
 RESERVE_BYTES = 2**30
 
 
+#: contact states a run of a building whose stories yield is expected to meet, per yielding story (the
+#: README example at El Centro x2 with a base-shear strength 0.4 W met 151 on the rigid base, 122
+#: bonded: docs/theory.md 15.9)
+STATES_PER_STORY = 16
+
+
 def expected_states(lay: Layout) -> int:
     """About how many contact states a run meets, when that is many: n_e^2 with more than two
     elements with a bearing capacity (a yielding Winkler mat of 20 elements met 441 under El Centro
-    with FS_v = 1.5: docs/theory.md 14.3), else 0 (the elastic one met 31: they are not counted)."""
-    return lay.n_elements**2 if lay.n_settlements and lay.n_elements > 2 else 0
+    with FS_v = 1.5: docs/theory.md 14.3), STATES_PER_STORY per yielding story, else 0 (the elastic
+    mat met 31: they are not counted)."""
+    soil = lay.n_elements**2 if lay.n_settlements and lay.n_elements > 2 else 0
+    return max(soil, STATES_PER_STORY * lay.n_plastic)
 
 
 def state_bytes(lay: Layout) -> int:
@@ -111,10 +140,12 @@ def state_bytes(lay: Layout) -> int:
 
 
 def reserved_states(lay: Layout) -> int:
-    """How many contact states a run's operator arrays hold before they first grow: 4, or twice
-    expected_states (2 n_e^2) where that is many, so that the 450 kB per state of such a run are
-    not copied at every doubling (a fifth of its run time, measured)."""
-    expected = expected_states(lay)
+    """How many contact states a run's operator arrays hold before they first grow: 4, or on a yielding
+    mat of many elements twice expected_states (2 n_e^2), so that the 450 kB per state of such a run
+    are not copied at every doubling (a fifth of its run time, measured). Not with yielding stories: a
+    run that never yields would pay for the reserve (its pages, or zeroing them), and the doublings of
+    one that does copy without a fill (Operators.fill)."""
+    expected = lay.n_elements**2 if block_operators(lay) else 0
     if not expected:
         return 4
     return max(4, min(2 * expected, RESERVE_BYTES // state_bytes(lay)))
@@ -132,10 +163,20 @@ def _too_many_states(lay: Layout) -> str:
             "elements (foundation.elements) or a lower stiffness")
 
 
+def _reserve(shape: tuple[int, ...], fill: float | None) -> np.ndarray:
+    """A new array of `shape`: zeros (fill 0), or left as allocated (None)."""
+    return np.empty(shape) if fill is None else np.zeros(shape)
+
+
 def _doubled(array: np.ndarray, fill: float | None = None) -> np.ndarray:
     """The array with as many rows again after its own, those set to `fill` (None: left unset; 0:
     zeros, whose pages are mapped only as they are written)."""
-    shape = (2 * array.shape[0], *array.shape[1:])
+    return _grown(array, fill, 2)
+
+
+def _grown(array: np.ndarray, fill: float | None, factor: int) -> np.ndarray:
+    """The array with `factor` times its rows, the new ones set to `fill` (as _doubled)."""
+    shape = (factor * array.shape[0], *array.shape[1:])
     if fill is None:
         out = np.empty(shape, dtype=array.dtype)
     else:
@@ -166,19 +207,67 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
         built = _built_states(requests, members)
         if not built:
             continue
-        if built[0][1].yielding is not None and built[0][1].lifted.size > BLOCK_ELEMENTS:
+        if block_operators(requests[built[0][0]][0].layout):
             _block_operators(requests, built, out)  # a yielding mat of many elements
             continue
-        ops = _stacked_operators(np.stack([state.matrix.T for _, state in built]),
-                                 np.array([requests[k][0].h for k, _ in built])[:, None, None])
-        for r, (k, state) in enumerate(built):
+        fresh, copies = _shared_operators(requests, built)
+        if fresh:
+            _exponentiated(requests, fresh, out)
+        for k, state, key in copies:  # the same A as a state built before: its operators, bit for bit
             operators, pattern, events = requests[k]
-            if state.yielding is not None:
-                _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
-            if state.story_sign is not None:
-                _elastic_stories(ops[r], state, operators.layout, operators.h)
-            out[k] = operators.store(pattern, state, ops[r], events)
+            out[k] = operators.store(pattern, state, operators.ops[operators.by_matrix[key]], events)
     return out
+
+
+def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]],
+                   out: list[int | AnalysisError]) -> None:
+    """Store the states `built`, their operators from one stacked exponentiation (_level_operators)."""
+    ops = _level_operators(requests, built)
+    for r, (k, state) in enumerate(built):
+        operators, pattern, events = requests[k]
+        if state.yielding is not None:
+            _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
+        if state.story_sign is not None:
+            _elastic_stories(ops[r], state, operators.layout, operators.h)
+        out[k] = operators.store(pattern, state, ops[r], events)
+        if state.story_sign is not None:
+            operators.by_matrix.setdefault(matrix_key(pattern, operators.layout, state), out[k])
+
+
+def _level_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
+                     ) -> list[np.ndarray]:
+    """E_j^T, j = 0..LEVELS, of each state of `built`: in one stacked exponentiation (_stacked_operators), those
+    of the states where a story yields by squarings alone (expm.squared_levels: the same accuracy, a
+    fifth of the products and no solve; docs/theory.md 15.9)."""
+    a_t = np.stack([state.matrix.T for _, state in built])
+    h = np.array([requests[k][0].h for k, _ in built])[:, None, None]
+    yields = np.array([_story_yields(state) for _, state in built], dtype=bool)
+    ops: list[np.ndarray] = [np.empty(0)] * len(built)
+    for chosen, levels in ((~yields, _stacked_operators), (yields, _squared_operators)):
+        if chosen.any():
+            for r, level_ops in zip(np.flatnonzero(chosen), levels(a_t[chosen], h[chosen]), strict=True):
+                ops[r] = level_ops
+    return ops
+
+
+def _shared_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
+                      ) -> tuple[list[tuple[int, ContactState]], list[tuple[int, ContactState, tuple]]]:
+    """The states of `built` whose operators are to be computed, and (index, state, key) of those whose A
+    is that of a state built before or earlier in `built` (yielding stories: story_states.matrix_key), which copy its
+    operators once it is stored."""
+    fresh, copies, first = [], [], set()
+    for k, state in built:
+        operators, pattern, _ = requests[k]
+        if state.story_sign is None:
+            fresh.append((k, state))
+            continue
+        key = matrix_key(pattern, operators.layout, state)
+        if key in operators.by_matrix or (id(operators), key) in first:
+            copies.append((k, state, key))
+            continue
+        first.add((id(operators), key))
+        fresh.append((k, state))
+    return fresh, copies
 
 
 def _groups(requests: list[tuple[Operators, int, bool]], out: list[int | AnalysisError]) -> dict[tuple, list[int]]:
@@ -256,6 +345,17 @@ def _stacked_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
     return ops
 
 
+def _story_yields(state: ContactState) -> bool:
+    """Whether some story yields in the state."""
+    return state.story_sign is not None and bool(state.story_sign.any())
+
+
+def _squared_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """E_j^T, j = 0..LEVELS, of a stack of A^T (R, n, n) with steps h (R, 1, 1) by expm.squared_levels (states
+    where a story yields: docs/theory.md 15.9); (E^T)^2 = (E^2)^T."""
+    return squared_levels(a_t * h, LEVELS)
+
+
 def _hold_settlements(ops: np.ndarray, constant: np.ndarray) -> None:
     """Make the settlements s_i of elements that do not yield exactly constant in the step
     operators (ops: E^T per level, in place): their rows of A are zero, so the rows of E = expm(A h)
@@ -280,13 +380,20 @@ def _elastic_stories(ops: np.ndarray, state: ContactState, lay: Layout, h: float
 
 
 def _states(requests: list[tuple[Operators, int, bool]]) -> list[ContactState]:
+    """The states asked for (one layout): of yielding stories from their bases (story_states.state_of), else
+    assembled together (patterns.contact_states)."""
+    if requests[0][0].layout.n_plastic:
+        add_bases([(operators, pattern) for operators, pattern, _ in requests])
+        return [state_of(operators, pattern) for operators, pattern, _ in requests]
+    return _contact_states(requests)
+
+
+def _contact_states(requests: list[tuple[Operators, int, bool]]) -> list[ContactState]:
+    """The states of an elastic building asked for, assembled together (patterns.contact_states)."""
     first = requests[0][0]
     lifted = np.array([operators.lifted(pattern) for operators, pattern, _ in requests], dtype=bool)
     lifted = lifted.reshape(len(requests), first.layout.n_elements)
-    yielding = sign = None
+    yielding = None
     if first.layout.n_settlements:
         yielding = np.array([operators.yielding(pattern) for operators, pattern, _ in requests], dtype=bool)
-    if first.layout.n_plastic:
-        sign = np.array([operators.story_sign(pattern) for operators, pattern, _ in requests], dtype=np.int8)
-    return contact_states([operators.space for operators, _, _ in requests], lifted, first.criterion, yielding,
-                          sign)
+    return contact_states([operators.space for operators, _, _ in requests], lifted, first.criterion, yielding)

@@ -65,14 +65,14 @@ def plastic_forcing(stories: StoryYield, to_modal: np.ndarray) -> np.ndarray:
 def story_bits(pattern: int, base: int, count: int) -> np.ndarray:
     """The sign of each yielding story in a contact pattern: +1 yielding positive, -1 negative, 0 elastic
     (bits base + 2 s and base + 2 s + 1)."""
-    bits = np.array([(pattern >> (base + i)) & 1 for i in range(2 * count)], dtype=np.int8)
+    bits = ((np.int64(pattern) >> np.arange(base, base + 2 * count, dtype=np.int64)) & 1).astype(np.int8)
     return bits[0::2] - bits[1::2]
 
 
 def valid_story_pattern(pattern: int, base: int, count: int) -> bool:
     """False where a story would yield both ways at once (no such state)."""
-    bits = np.array([(pattern >> (base + i)) & 1 for i in range(2 * count)], dtype=bool)
-    return not np.any(bits[0::2] & bits[1::2])
+    bits = pattern >> base
+    return not bits & (bits >> 1) & int("01" * count, 2)
 
 
 def plastic_rows(stories: StoryYield, drift_rate: np.ndarray, sign: np.ndarray) -> np.ndarray:
@@ -87,18 +87,25 @@ def event_rows(stories: StoryYield, drift_rows: np.ndarray, drift_rate: np.ndarr
     positive then negative; module docstring); drift_rows (n_y, n_aug): X -> d_j, plastic: the state
     indices of p_j, one: that of the constant 1."""
     n_aug = drift_rows.shape[1]
-    unit = np.eye(n_aug)
-    k, scale = stories.stiffness[:, None], stories.strength[:, None]
-    force = (k * drift_rows - k / (1.0 - stories.alpha) * unit[plastic]) / scale
-    onset_up, onset_down = force - unit[one], -force - unit[one]
-    rate = drift_rate / (stories.yield_drift * stories.frequency)[None, :, None]
-    never = np.broadcast_to(-unit[one], rate.shape)
+    onset_up, onset_down, rate, never = event_candidates(stories, drift_rows, drift_rate, plastic, one)
     elastic = (sign == 0)[:, :, None]
     up = np.where(elastic, onset_up, np.where((sign > 0)[:, :, None], -rate, never))
     down = np.where(elastic, onset_down, np.where((sign < 0)[:, :, None], rate, never))
     rows = np.empty((sign.shape[0], 2 * stories.count, n_aug))
     rows[:, 0::2], rows[:, 1::2] = up, down
     return rows
+
+
+def event_candidates(stories: StoryYield, drift_rows: np.ndarray, drift_rate: np.ndarray, plastic: np.ndarray,
+                     one: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The rows event_rows chooses from (module docstring): the onsets of positive and negative yield
+    (n_y, n_aug), the scaled drift rates (R, n_y, n_aug: -rate is the unloading from P, rate from N) and
+    the constant -1 of a row that cannot cross (broadcast to the rates' shape)."""
+    unit = np.eye(drift_rows.shape[1])
+    k, scale = stories.stiffness[:, None], stories.strength[:, None]
+    force = (k * drift_rows - k / (1.0 - stories.alpha) * unit[plastic]) / scale
+    rate = drift_rate / (stories.yield_drift * stories.frequency)[None, :, None]
+    return force - unit[one], -force - unit[one], rate, np.broadcast_to(-unit[one], rate.shape)
 
 
 def resets(stories: StoryYield, drift_rows: np.ndarray, plastic: np.ndarray, one: int

@@ -1,0 +1,90 @@
+"""The states of a building whose stories yield, assembled from their foundation pattern's base
+(engines/exact/story_states.py) against patterns.contact_states, and the step operators that states
+with the same A share (operators.add_states; docs/theory.md 15.9)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from upliftcli.deck.load import load_deck
+from upliftcli.engines.exact.operators import Operators, add_states, soil_rows
+from upliftcli.engines.exact.patterns import contact_states
+from upliftcli.engines.exact.statespace import exact_model
+from upliftcli.engines.exact.story_states import story_bases, story_state
+from upliftcli.engines.options import ExactOptions
+
+ROOT = Path(__file__).resolve().parent.parent
+TWO = ROOT / "inputs" / "ten_story_elcentro.toml"
+WINKLER = ROOT / "inputs" / "ten_story_winkler.toml"
+STRENGTH = ("building.strength_coefficient=0.3", "building.hardening_ratio=0.05")
+
+
+def _space(path: Path, support: str, *overrides: str):
+    modes = ("analysis.modes=10",) if path == WINKLER else ()
+    return exact_model(load_deck(path, [*modes, *STRENGTH, *overrides]).system, support, ExactOptions())
+
+
+def _foundation(space, rng) -> tuple[np.ndarray, np.ndarray | None]:
+    """A random foundation pattern: lifted, and yielding (with a bearing capacity) where not lifted."""
+    lay = space.layout
+    lifted = rng.random(lay.n_elements) < 0.3
+    yielding = (rng.random(lay.n_elements) < 0.3) & ~lifted if lay.n_settlements else None
+    return lifted, yielding
+
+
+@pytest.mark.parametrize(("path", "support", "overrides"), [
+    (TWO, "rigid", ()), (TWO, "bonded", ()), (TWO, "uplift", ()), (TWO, "uplift", ("foundation.safety_factor=1.5",)),
+    (WINKLER, "uplift", ()), (WINKLER, "uplift", ("foundation.safety_factor=2",)),
+])
+def test_a_state_from_its_base_is_the_assembled_state_bit_for_bit(path, support, overrides):
+    """story_state (a copy of the base's A with the rows of the yielding stories set, the event rows chosen)
+    gives the matrix, the velocity map and the event rows of contact_states exactly, for random story signs
+    on random foundation patterns (both criteria)."""
+    space = _space(path, support, *overrides)
+    lay = space.layout
+    rng = np.random.default_rng(35)
+    for criterion in ("reaction", "displacement"):
+        for _ in range(4):
+            lifted, yielding = _foundation(space, rng)
+            (base,) = story_bases([space], lifted[None], None if yielding is None else yielding[None], criterion,
+                                  soil_rows(lay))
+            signs = rng.integers(-1, 2, (6, lay.n_plastic)).astype(np.int8)
+            signs[0] = 0
+            expected = contact_states([space] * len(signs), np.repeat(lifted[None], len(signs), axis=0), criterion,
+                                      None if yielding is None else np.repeat(yielding[None], len(signs), axis=0),
+                                      signs)
+            for sign, want in zip(signs, expected, strict=True):
+                got = story_state(base, lay.plastic_indices, sign)
+                for name in ("lifted", "matrix", "velocity", "events", "yielding", "story_sign"):
+                    assert np.array_equal(getattr(got, name), getattr(want, name)), name
+
+
+def _pattern(lay, signs: np.ndarray) -> int:
+    """The contact pattern of every element in contact with the stories' signs (stories.story_bits)."""
+    base = soil_rows(lay)
+    return sum((1 << (base + 2 * s)) if v > 0 else (1 << (base + 2 * s + 1)) if v < 0 else 0
+               for s, v in enumerate(signs.tolist()))
+
+
+@pytest.mark.parametrize("support", ["rigid", "uplift"])
+def test_states_whose_stories_yield_in_the_same_places_share_their_operators(support):
+    """Two states that differ only in the sign of a yielding story (same A) get the same step operators, the
+    second a copy of the first's, bit for bit what it gets built alone; their event rows differ."""
+    space = _space(TWO, support)
+    lay = space.layout
+    signs = np.zeros(lay.n_plastic, dtype=np.int8)
+    signs[[0, 3]] = (1, -1)
+    one, other = _pattern(lay, signs), _pattern(lay, -signs)
+    shared = Operators(space, 0.01, "reaction")
+    first, second = add_states([(shared, one, True), (shared, other, True)])
+    alone = Operators(space, 0.01, "reaction")
+    (index,) = add_states([(alone, other, True)])
+    assert len(shared.by_matrix) == 1
+    assert np.array_equal(shared.ops[second], shared.ops[first])
+    assert np.array_equal(shared.ops[second], alone.ops[index])
+    assert np.array_equal(shared.matrices[second], alone.matrices[index])
+    assert np.array_equal(shared.events[second], alone.events[index])
+    assert not np.array_equal(shared.events[second], shared.events[first])

@@ -1,0 +1,137 @@
+"""The contact states of a building whose stories yield, assembled from what they share (docs/theory.md
+15.2 and 15.9): the states of one contact pattern of the foundation differ only in the signs of their
+stories, and only in the rows of the plastic drifts p_j in A ((1 - alpha) d_j' while story j yields,
+else zero) and in the stories' event rows (each chosen from the onset, unloading and never rows). The
+base of each foundation pattern (A with every story elastic, the velocity map, the foundation's
+event rows and those candidate rows) is assembled once (patterns.contact_states) and kept; a state
+is then a copy of its A with some rows set and its event rows chosen: the same arrays, bit for bit,
+as contact_states assembles for it (tests/test_story_states.py). The signs P and N of a story give
+the same A, so the states whose stories yield in the same places share their step operators
+(operators.add_states copies them).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+from . import stories
+from .patterns import contact_states
+from .statespace import ContactState, Layout, StateSpace
+
+
+@dataclass(frozen=True)
+class StoryBase:
+    """What the states of one foundation pattern share: the base state (every story elastic), the rows
+    of the p_j in A while story j yields (n_y, n_aug), and the event rows each story may have
+    (stories.event_candidates), by its sign's code (0 elastic, 1 positive, 2 negative: sign % 3):
+    rows_up[code, j] its row 2 j (the onset of P, the unloading from P, never) and rows_down[code, j] its
+    row 2 j + 1 (the onset of N, never, the unloading from N), each (3, n_y, n_aug)."""
+
+    state: ContactState
+    soil_rows: int
+    plastic: np.ndarray
+    rows_up: np.ndarray
+    rows_down: np.ndarray
+
+
+def story_bases(spaces: list[StateSpace], lifted: np.ndarray, yielding: np.ndarray | None, criterion: str,
+                soil_rows: int) -> list[StoryBase]:
+    """The StoryBase of foundation patterns of models with yielding stories (one layout): item r that of
+    spaces[r] in the pattern lifted[r] (R, n_e) (and yielding[r] with a bearing capacity), assembled
+    together (patterns.contact_states: each item the bits it gets alone). Raises ZeroDivisionError as
+    contact_states does."""
+    lay = spaces[0].layout
+    sign = np.zeros((len(spaces), lay.n_plastic), dtype=np.int8)
+    states = contact_states(spaces, lifted, criterion, yielding, sign)
+    return [_base(space, state, soil_rows) for space, state in zip(spaces, states, strict=True)]
+
+
+def _base(space: StateSpace, state: ContactState, soil_rows: int) -> StoryBase:
+    """The StoryBase of the base state `state` (every story elastic) of a model."""
+    lay, story = space.layout, space.model.stories
+    drift_rate = (story.drift @ space.to_modal @ state.velocity)[None]  # as patterns._yielding_stories
+    plastic = stories.plastic_rows(story, drift_rate, np.ones((1, lay.n_plastic), dtype=np.int8))[0]
+    up, down, rate, never = stories.event_candidates(story, space.drift_rows, drift_rate, lay.plastic_indices,
+                                                     lay.index_one)
+    return StoryBase(state, soil_rows, plastic, np.stack((up, -rate[0], never[0])), np.stack((down, never[0], rate[0])))
+
+
+def story_state(base: StoryBase, plastic_indices: np.ndarray, sign: np.ndarray) -> ContactState:
+    """The state of the base's foundation pattern with the stories' signs `sign` (n_y: +1, -1, 0), as
+    patterns.contact_states assembles it."""
+    state = base.state
+    yields = sign != 0
+    matrix = state.matrix.copy()
+    matrix[plastic_indices[yields]] = base.plastic[yields]
+    events = state.events.copy()
+    code, story = sign % 3, np.arange(sign.size)
+    events[base.soil_rows::2] = base.rows_up[code, story]
+    events[base.soil_rows + 1::2] = base.rows_down[code, story]
+    return ContactState(state.lifted.copy(), matrix, state.velocity, events,
+                        None if state.yielding is None else state.yielding.copy(), sign.copy())
+
+
+def soil_rows(lay: Layout) -> int:
+    """Event rows (and pattern bits) of the foundation's elements: one per element, two with a bearing
+    capacity; the yielding stories' come after them (stories.py)."""
+    return max(lay.n_elements, 0) + lay.n_settlements
+
+
+def matrix_key(pattern: int, lay: Layout, state: ContactState) -> tuple[int, bytes]:
+    """What the A of a state with yielding stories depends on: the foundation's bits of its pattern and where
+    its stories yield (the signs P and N give the same A)."""
+    return pattern & ((1 << soil_rows(lay)) - 1), (state.story_sign != 0).tobytes()
+
+
+class StoryOperators(Protocol):
+    """What add_bases and state_of read of operators.Operators: the bases kept, the model and the pattern bits."""
+
+    bases: dict[int, StoryBase]
+    space: StateSpace
+    layout: Layout
+    criterion: str
+
+    def lifted(self, pattern: int) -> np.ndarray: ...
+
+    def yielding(self, pattern: int) -> np.ndarray | None: ...
+
+    def story_sign(self, pattern: int) -> np.ndarray | None: ...
+
+
+def add_bases(requests: list[tuple[StoryOperators, int]]) -> None:
+    """Assemble together (story_bases) the bases of the foundation patterns of the requests, (operators,
+    pattern) of one layout, that have none yet, and keep them in operators.bases."""
+    missing = _missing_bases(requests)
+    if not missing:
+        return
+    wanted = list(missing.values())
+    lay = wanted[0][0].layout
+    lifted = np.array([operators.lifted(pattern) for operators, pattern in wanted], dtype=bool)
+    yielding = None
+    if lay.n_settlements:
+        yielding = np.array([operators.yielding(pattern) for operators, pattern in wanted], dtype=bool)
+    bases = story_bases([operators.space for operators, _ in wanted], lifted.reshape(len(wanted), lay.n_elements),
+                        yielding, wanted[0][0].criterion, soil_rows(lay))
+    for ((_, soil), (operators, _)), base in zip(missing.items(), bases, strict=True):
+        operators.bases[soil] = base
+
+
+def _missing_bases(requests: list[tuple[StoryOperators, int]]) -> dict[tuple[int, int], tuple[StoryOperators, int]]:
+    """(id of the operators, foundation pattern) -> (operators, a pattern) of each base the requests need that is
+    not kept yet."""
+    missing: dict[tuple[int, int], tuple[StoryOperators, int]] = {}
+    for operators, pattern in requests:
+        soil = pattern & ((1 << soil_rows(operators.layout)) - 1)
+        if soil not in operators.bases:
+            missing.setdefault((id(operators), soil), (operators, pattern))
+    return missing
+
+
+def state_of(operators: StoryOperators, pattern: int) -> ContactState:
+    """The state of a contact pattern of a model with yielding stories, from the base of its foundation
+    pattern (add_bases first)."""
+    base = operators.bases[pattern & ((1 << soil_rows(operators.layout)) - 1)]
+    return story_state(base, operators.layout.plastic_indices, operators.story_sign(pattern))
