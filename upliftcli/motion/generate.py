@@ -72,7 +72,7 @@ MID_FREQUENCY = (1.5, 8.0)
 CORNER = 0.2
 MAX_ATTEMPTS = 10  # draws tried for one record before giving up
 #: changes whenever a seed gives another record (manifests and the cache of check suites name it)
-GENERATOR_VERSION = "rdk2010-as16-gamma-kappa-6"
+GENERATOR_VERSION = "rdk2010-as16-gamma-kappa-7"
 #: f_mid [Hz] of a firm site is drawn within this band; a soft site's band is lowered with f_mid
 #: (site_factor). From 3.6-4.4 Hz (generator -5) the draws at 3.6 Hz crossed zero 6.2 times a
 #: second before matching and 5.2-5.9 after it
