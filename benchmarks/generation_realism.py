@@ -11,8 +11,8 @@ seeds, over a period range of 0.1-3 s, measured (motion/measures.py):
 - the Fourier ratio 15-40 Hz / 1-3 Hz (goal <= 0.04; recorded median 0.015), the larger end
   sample / PGA (goal <= 1 %);
 - the draws: records kept from a later draw than the first (generate.py draws again when a record
-  misses the tolerance or the character goals above), and records kept outside the goals (none
-  of the draws within them);
+  misses the tolerance or the character goals above; one kept outside the goals, none of its
+  draws within them, shows in the counts);
 - the suite's mean S_a / design target over the check periods (the code's band: 1.1-1.25 for
   ASCE 7-22 16.2.3.3 matched at 110 %, >= 0.9 for EN 1998-1).
 
