@@ -111,6 +111,31 @@ def timed(command: list[str], env: dict | None = None, cwd: str | None = None) -
     return seconds
 
 
+def check_suite_seconds(python: str) -> float:
+    """The total length [s] of the design deck's check suite (analysis/suite_check.py, from the cache)."""
+    code = ("import sys; from upliftcli.analysis.suite_check import check_suite; from upliftcli.deck.load import "
+            "load_deck; suite, _ = check_suite(load_deck(sys.argv[1]).spectrum); "
+            "print(sum(m.acceleration.size * m.dt for m in suite.motions()))")
+    done = subprocess.run([python, "-c", code, DESIGN_DECK], capture_output=True, text=True, check=True,
+                          env=user_environment())
+    return float(done.stdout.split()[-1])
+
+
+def suite_check_ratio(uplift: list[str], python: str, repeats: int) -> None:
+    """Time the README analyze and the design-spectrum analyze in pairs; print their ratio."""
+    readme, design = TARGETS["readme"][0], TARGETS["design-spectrum"][0]
+    timed(uplift + design, env=user_environment())  # warm, and the check suite generated and cached
+    pairs = []
+    for _ in range(repeats):
+        first = timed(uplift + readme, env=user_environment())
+        pairs.append((first, timed(uplift + design, env=user_environment())))
+    ratios = [b / a for a, b in pairs]
+    print(f"{'suite check / readme':26s} {statistics.median(ratios):6.2f}x [{min(ratios):.2f}-{max(ratios):.2f}] "
+          f"(design-spectrum {statistics.median(b for _, b in pairs):.2f} s, readme "
+          f"{statistics.median(a for a, _ in pairs):.2f} s; check suite {check_suite_seconds(python):.0f} s "
+          f"of motion)")
+
+
 def summary(values: list[float]) -> str:
     return f"{statistics.median(values):6.2f} s [{min(values):.2f}-{max(values):.2f}]"
 
@@ -118,8 +143,8 @@ def summary(values: list[float]) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--only", default=",".join([*TARGETS, "fig3-analysis"]),
-                        help="comma list of: " + ", ".join([*TARGETS, "fig3-analysis"]))
+    parser.add_argument("--only", default=",".join([*TARGETS, "fig3-analysis", "suite-check-ratio"]),
+                        help="comma list of: " + ", ".join([*TARGETS, "fig3-analysis", "suite-check-ratio"]))
     parser.add_argument("--venv", type=Path, default=None, help="run the commands of this virtual environment")
     args = parser.parse_args()
     chosen = [name.strip() for name in args.only.split(",") if name.strip()]
@@ -130,7 +155,7 @@ def main() -> None:
     print(f"{python}; {os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}; {args.repeats} repeats")
     print(f"{'':26s} {'median [range]':>22s}  {'/ baseline':>10s}  target")
     for name in chosen:
-        if name == "fig3-analysis":
+        if name in ("fig3-analysis", "suite-check-ratio"):
             continue
         argv, cold, target = TARGETS[name]
         argv = [*argv, "--out", out] if argv[0] == "spectra" else argv
@@ -169,6 +194,8 @@ def main() -> None:
         print(f"{'fig3 analysis speed-up':26s} {speedup:8.2f}x overall (start-up included), {steady:.2f}x once "
               f"running (1 -> 2 workers)  >= 1.7x: {'met' if speedup >= 1.7 else 'NOT met'} overall, "
               f"{'met' if steady >= 1.7 else 'NOT met'} once running")
+    if "suite-check-ratio" in chosen:
+        suite_check_ratio(uplift, python, args.repeats)
     if baseline:
         print(f"{'baseline (import numpy)':26s} {summary(baseline):>22s}  (all {len(baseline)} runs)")
 

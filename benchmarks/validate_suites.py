@@ -85,6 +85,10 @@ def exact_table(motion, specs, periods, cache: Path) -> dict[str, np.ndarray]:
     return table
 
 
+#: candidates per probe suite (whose spectra rank them)
+PROBE = 12
+
+
 def fitted(suite):
     """The suite with its factors times one common multiplier that puts its mean spectrum on the
     target on average over RANGE (the geometric mean of mean S_a/target = 1): both suites stand
@@ -97,8 +101,11 @@ def suites(target, candidates, events):
     """(generated, recorded) suites for the target over RANGE, each fitted to it on average."""
     generated, _ = generate_suite(target, RANGE, RULES["mean"], COUNT, SEED)
     usable = [k for k, r in enumerate(candidates) if r.duration >= MIN_CYCLES * RANGE[1]]
-    probe = build_suite([candidates[k] for k in usable], target, RANGE, RULES["mean"])
-    choice = select(probe.spectra(), target.sa(probe.periods, 0.05), [events[k] for k in usable], COUNT,
+    # the candidates' spectra by chunks: a suite of all 42 is beyond motion/suites' work limit
+    probes = [build_suite([candidates[k] for k in usable[i:i + PROBE]], target, RANGE, RULES["mean"])
+              for i in range(0, len(usable), PROBE)]
+    spectra = np.vstack([probe.spectra() for probe in probes])
+    choice = select(spectra, target.sa(probes[0].periods, 0.05), [events[k] for k in usable], COUNT,
                     limits=(0.1, 10.0))
     recorded = build_suite([candidates[usable[i]] for i in choice.indices], target, RANGE, RULES["mean"],
                            "amplitude")
