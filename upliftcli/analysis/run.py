@@ -239,12 +239,16 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
     result carries its deck's warnings (Deck.warnings: values far outside building practice).
     Exact runs whose stories or soil yield are compared with a perturbed twin where their deck
     asks (analysis/residuals.py; single: one analysis, not a sweep's batch); their results are then
-    passed to on_result once the twins are done."""
+    passed to on_result once the twins are done. The twins start from the step operators of their
+    originals (engines/exact/reuse.py: a store made here, dropped on return)."""
     chosen = _engine(decks, engine)
     if not residuals.asked(chosen.name, decks, single):
         return _run(decks, chosen, support, on_result)
-    rerun = functools.partial(_run, chosen=chosen, support=support)
-    out = residuals.checked(decks, _run(decks, chosen, support), rerun, single)
+    from ..engines.exact.reuse import OperatorStore  # the exact engine's: loaded when it runs
+
+    store = OperatorStore()
+    rerun = functools.partial(_run, chosen=chosen, support=support, store=store)
+    out = residuals.checked(decks, _run(decks, chosen, support, store=store), rerun, single)
     for k, result in enumerate(out if on_result else ()):
         on_result(k, result)
     return out
@@ -260,12 +264,13 @@ def _engine(decks: Sequence[Deck], engine: str) -> Engine:
 
 def _run(decks: Sequence[Deck], chosen: Engine, support: str,
          on_result: Callable[[int, AnalysisResult | Exception], None] | None = None,
-         ) -> list[AnalysisResult | Exception]:
-    """run_batch without the check of the residuals."""
+         store: Any = None) -> list[AnalysisResult | Exception]:
+    """run_batch without the check of the residuals (store: the exact engine's step operators kept
+    for the twins, engines/exact/reuse.py)."""
     results = _Results(decks, on_result)
     groups, motions = _groups(decks, chosen, support, results)
     for (_, options), members in groups.items():
-        _run_group(chosen, members, motions[members[0]], support, options, results)
+        _run_group(chosen, members, motions[members[0]], support, options, results, store)
     return results.out
 
 
@@ -311,13 +316,13 @@ def _groups(decks: Sequence[Deck], chosen: Engine, support: str, results: _Resul
     return groups, motions
 
 
-def _run_group(chosen: Engine, members: list[int], motion: Any, support: str, options: Any, results: _Results
-               ) -> None:
+def _run_group(chosen: Engine, members: list[int], motion: Any, support: str, options: Any, results: _Results,
+               store: Any = None) -> None:
     """Run the decks `members` (indices into results.decks) that share a ground motion and engine
     options, keeping each result; AnalysisError for an arithmetic or memory error on the way."""
     decks = [results.decks[k] for k in members]
     try:
-        for j, result in _group_batch(chosen, decks, motion, support, options):
+        for j, result in _group_batch(chosen, decks, motion, support, options, store):
             results.keep(members[j], result)
     except (ArithmeticError, MemoryError) as error:  # the last guard: magnitudes the checks let through
         raise AnalysisError(f"{decks[0].source}: the {chosen.name} analysis ({support}) failed with "
@@ -325,12 +330,13 @@ def _run_group(chosen: Engine, members: list[int], motion: Any, support: str, op
                             ) from None
 
 
-def _group_batch(chosen: Engine, decks: list[Deck], motion: Any, support: str, options: Any):
+def _group_batch(chosen: Engine, decks: list[Deck], motion: Any, support: str, options: Any,
+                 store: Any = None):
     """The (index in decks, result) pairs of one group: one batch per record of a suite
     (analysis_suite.iter_suite_batch), else the engine's own batch."""
     if isinstance(motion, Suite):
-        return analysis_suite.iter_suite_batch(chosen, decks, motion, support, options)
-    return chosen.iter_batch([deck.system for deck in decks], motion, support, options)
+        return analysis_suite.iter_suite_batch(chosen, decks, motion, support, options, store)
+    return chosen.iter_batch([deck.system for deck in decks], motion, support, options, store)
 
 
 def run_one(deck: Deck, engine: str, support: str, single: bool = True) -> AnalysisResult:

@@ -65,18 +65,20 @@ def record_simplified(deck: Deck, suite: Suite, support: str) -> tuple[AnalysisR
     return tuple(results) if all(r is not None for r in results) else ()
 
 
-def iter_suite_batch(engine: Engine, decks: Sequence[Deck], suite: Suite, support: str, options: Any
-                     ) -> Iterator[tuple[int, SuiteResult | AnalysisError | InputError]]:
+def iter_suite_batch(engine: Engine, decks: Sequence[Deck], suite: Suite, support: str, options: Any,
+                     operators: Any = None) -> Iterator[tuple[int, SuiteResult | AnalysisError | InputError]]:
     """The suite's records (motions with their factors) through `engine` for every deck's system
     (decks sharing the suite's motions and the engine options), one batch per record; yields
     (index, SuiteResult or the error that stopped it) as each deck's last record ends. A deck
-    whose analysis fails on a record is not run on the later ones; the error names the record."""
+    whose analysis fails on a record is not run on the later ones; the error names the record.
+    operators: passed to engine.iter_batch (a check of the residuals: engines/exact/reuse.py)."""
     motions = suite.motions()
     alive = list(range(len(decks)))
     per_deck: dict[int, list[AnalysisResult]] = {k: [] for k in alive}
     for r, motion in enumerate(motions):
         record = f"record {r + 1} of {len(motions)} ({motion.name})"
-        failed = yield from _record_batch(engine, decks, alive, per_deck, motion, record, support, options)
+        failed = yield from _record_batch(engine, decks, alive, per_deck, motion, record, support, options,
+                                          operators)
         alive = [k for k in alive if k not in failed]
         if not alive:
             return
@@ -85,13 +87,13 @@ def iter_suite_batch(engine: Engine, decks: Sequence[Deck], suite: Suite, suppor
 
 
 def _record_batch(engine: Engine, decks: Sequence[Deck], alive: list[int], per_deck: dict[int, list[AnalysisResult]],
-                  motion: Any, record: str, support: str, options: Any
+                  motion: Any, record: str, support: str, options: Any, operators: Any = None
                   ) -> Generator[tuple[int, AnalysisError | InputError], None, list[int]]:
     """One record (motion) through `engine` for the decks still alive (indices into decks): each
     result added to per_deck, each error yielded (index, the error naming the record); returns
     the decks that failed."""
     failed = []
-    for j, outcome in engine.iter_batch([decks[k].system for k in alive], motion, support, options):
+    for j, outcome in engine.iter_batch([decks[k].system for k in alive], motion, support, options, operators):
         k = alive[j]
         if isinstance(outcome, AnalysisResult):
             per_deck[k].append(outcome)

@@ -39,10 +39,12 @@ class Engine:
     options: str
     module: str
 
-    def iter_batch(self, systems: Sequence[Any], ground_motion: Any, support: str, options: Any
-                   ) -> Iterator[tuple[int, AnalysisResult | InputError | AnalysisError]]:
+    def iter_batch(self, systems: Sequence[Any], ground_motion: Any, support: str, options: Any,
+                   operators: Any = None) -> Iterator[tuple[int, AnalysisResult | InputError | AnalysisError]]:
         """Analyse several systems under one ground motion and support (see the module docstring);
-        a system this engine cannot analyse on yielding soil (capacity_refusal) gets an InputError."""
+        a system this engine cannot analyse on yielding soil (capacity_refusal) gets an InputError.
+        operators: the exact engine's store of step operators for a check of the residuals
+        (exact/reuse.py), passed on when given."""
         module = importlib.import_module(self.module, __package__)
         systems = list(systems)
         kept = []
@@ -55,7 +57,8 @@ class Engine:
                 yield k, InputError("foundation", "elements", refusal)
             else:
                 yield k, InputError(*strength)
-        for j, result in module.iter_batch([systems[k] for k in kept], ground_motion, support, options):
+        extra = {} if operators is None else {"operators": operators}
+        for j, result in module.iter_batch([systems[k] for k in kept], ground_motion, support, options, **extra):
             yield kept[j], result
 
     def analyze(self, system: Any, ground_motion: Any, support: str, options: Any) -> AnalysisResult:

@@ -30,6 +30,8 @@ from ..options import ExactOptions
 from ..registry import check_support
 from ..result import AnalysisResult
 from .digest import Digest
+from .operators import Operators
+from .reuse import OperatorStore, store_key
 from .statespace import StateSpace, exact_model
 from .stepping import simulate
 
@@ -119,6 +121,7 @@ def _rigid_key(system: System) -> tuple:
 
 def iter_batch(systems: list[System], record, support: str, options: ExactOptions | None = None, *,
                model: ModelBuilder = exact_model, name: str = "exact", refine: bool = True,
+               operators: OperatorStore | None = None,
                ) -> Iterator[tuple[int, AnalysisResult | AnalysisError | InputError]]:
     """Peak responses of several systems to one record, one support: yields (index, result
     or the error that stopped it) as each is known; the others go on. Same results, bit for
@@ -129,7 +132,9 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
       are assembled and exponentiated vectorised over the batch (operators.add_states).
     model: the state-space model of a system (exact_model; the approximate engine couples
     mode 1 only); name: the engine named in the results; refine: halve the step where the
-    energy balance does not close (_refined)."""
+    energy balance does not close (_refined); operators: the step operators kept by a check of the
+    residuals (reuse.OperatorStore: a run starts from those of its original, a yielding run's are kept
+    for its twin), None: each run builds its own."""
     options = options or ExactOptions()
     check_support(support)
     acceleration = _checked_acceleration(record.acceleration, record.dt, options)
@@ -143,14 +148,45 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
             except (AnalysisError, InputError) as error:
                 yield from _outcomes(systems, shared, k, error)
         digests = [Digest(systems[k], space, options) for k, space, _ in runs]
+        kept = _Kept(operators, [systems[k] for k, _, _ in runs], runs, record.dt, support, options, model)
         histories = simulate([space for _, space, _ in runs], [substeps for _, _, substeps in runs], acceleration,
                              record.dt, options.criterion, uplift=support == "uplift",
-                             allow_flight=options.flight == "allow", on_chunk=[d.add for d in digests])
+                             allow_flight=options.flight == "allow", on_chunk=[d.add for d in digests],
+                             operators=kept.starts)
         for j, history in histories:
             k = runs[j][0]
             outcome = _finished(systems[k], digests[j], history, record, support, options, model, name, refine)
             digests[j] = None  # its histories go with its result
+            kept.done(j, outcome)
             yield from _outcomes(systems, shared, k, outcome)
+
+
+class _Kept:
+    """The step operators the runs of iter_batch start from, and what becomes of them, with a store
+    (reuse.OperatorStore; without one every run builds its own: starts is None)."""
+
+    def __init__(self, store: OperatorStore | None, systems: list[System], runs: list[tuple[int, StateSpace, int]],
+                 dt: float, support: str, options: ExactOptions, model: ModelBuilder):
+        self.store, self.systems = store, systems
+        self.keys = [store_key(system, support, options, model, dt / substeps)
+                     for system, (_, _, substeps) in zip(systems, runs, strict=True)] if store else []
+        self.starts = [_start(store, key, system, space, dt / substeps, options.criterion, support)
+                       for key, system, (_, space, substeps) in zip(self.keys, systems, runs, strict=True)
+                       ] if store else None
+
+    def done(self, j: int, outcome: Any) -> None:
+        """Run j has ended with `outcome`: its operators to the store (OperatorStore.done), and dropped here."""
+        if self.starts is not None:
+            self.store.done(self.keys[j], self.systems[j], self.starts[j], outcome)
+            self.starts[j] = None
+
+
+def _start(store: OperatorStore, key: tuple, system: System, space: StateSpace, h: float, criterion: str,
+           support: str) -> Operators:
+    """The operators a run starts from: a fork of its original's (OperatorStore.take), else new ones, made
+    as stepping.Run makes them."""
+    taken = store.take(key, system)
+    return Operators(space, h, criterion, support == "uplift") if taken is None else taken
 
 
 def _finished(system: System, digest: Digest, history: Any, record, support: str, options: ExactOptions,

@@ -59,11 +59,13 @@ class Run:
 
     `advance` integrates until the end of the record (returns None) or until a contact
     pattern without operators is reached (returns the pattern); after add_states,
-    `enter(index)` switches to it. simulate_many drives several."""
+    `enter(index)` switches to it. simulate_many drives several. operators: the step operators to
+    start from (a twin's: reuse.py; they must be those of this space, h, criterion and support), else
+    new ones."""
 
     def __init__(self, space: StateSpace, ground: np.ndarray, slopes: np.ndarray, h: float,
                  criterion: str = "reaction", uplift: bool = True, allow_flight: bool = True,
-                 on_chunk: Callable[[History], None] | None = None):
+                 on_chunk: Callable[[History], None] | None = None, operators: Operators | None = None):
         lay = space.layout
         n_e = lay.n_elements
         if n_e > MAX_CONTACT_ELEMENTS:  # the deck's field is checked against it (a model built in code is not)
@@ -76,7 +78,8 @@ class Run:
             raise AnalysisError(too_many_bits(soil_rows(lay), lay.n_plastic))
         self.space, self.layout, self.h, self.criterion = space, lay, h, criterion
         self.uplift = uplift
-        self.operators = Operators(space, h, criterion, uplift)
+        # operators: those of this model, step, criterion and support to start from (reuse.OperatorStore)
+        self.operators = Operators(space, h, criterion, uplift) if operators is None else operators
         self.elements = kernel.Elements(*all_resets(space), np.int64((1 << n_e) - 1) if n_e else np.int64(-2),
                                         bool(allow_flight))
         self.grid = kernel.Grid(ground, slopes, float(h), LEVELS, lay.index_acceleration, lay.index_slope)
@@ -232,12 +235,13 @@ CHUNK_SAMPLES = 16384
 
 def simulate(spaces: list[StateSpace], substeps: list[int], acceleration: np.ndarray, dt: float, criterion: str,
              uplift: bool, allow_flight: bool, on_chunk: list[Callable[[History], None]] | None = None,
-             ) -> Iterator[tuple[int, History | AnalysisError]]:
+             operators: list[Operators | None] | None = None) -> Iterator[tuple[int, History | AnalysisError]]:
     """Histories of several models under one ground acceleration [m/s^2] sampled at dt [s],
     model k integrated with substeps[k] internal steps per record step: (index, History or
     the AnalysisError that stopped it) as each run ends. With on_chunk[k], run k is stepped in
     chunks of at most CHUNK_SAMPLES samples, each full one passed to on_chunk[k] (the History
-    yielded is then the last chunk). The fine ground grid is built once per step size; runs
+    yielded is then the last chunk); operators[k]: the step operators run k starts from (Run). The
+    fine ground grid is built once per step size; runs
     are stepped together (simulate_many) in groups whose sample buffers fit in BATCH_MEMORY."""
     grids: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     pending: list[tuple[int, Run]] = []
@@ -246,7 +250,7 @@ def simulate(spaces: list[StateSpace], substeps: list[int], acceleration: np.nda
             grids[count] = ground_grid(acceleration, count, dt)
         try:
             run = Run(space, *grids[count], dt / count, criterion, uplift=uplift, allow_flight=allow_flight,
-                      on_chunk=on_chunk[k] if on_chunk else None)
+                      on_chunk=on_chunk[k] if on_chunk else None, operators=operators[k] if operators else None)
         except AnalysisError as error:  # this run only (e.g. too many contact elements)
             yield k, error
             continue
@@ -271,7 +275,7 @@ def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisErro
     # built ahead with the initial states; one that cannot be built fails the run only if reached
     ahead = [(runs[k].operators, pattern, True) for k in active for pattern in runs[k].first_lifts()]
     while active:
-        built = add_states(requests + ahead)[:len(requests)]
+        built = _added(requests + ahead)[:len(requests)]
         ahead = []
         going = []
         for k, index in zip(active, built, strict=False):
@@ -283,6 +287,22 @@ def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisErro
                 going.append((k, outcome))
         active = [k for k, _ in going]
         requests = [(runs[k].operators, pattern, True) for k, pattern in going]
+
+
+def _added(requests: list[tuple[Operators, int, bool]]) -> list[int | AnalysisError]:
+    """add_states of the requests, those whose pattern is stored already (operators a run started from:
+    reuse.py) given its index instead."""
+    out: list[int | AnalysisError | None] = [_stored(operators, pattern) for operators, pattern, _ in requests]
+    missing = [k for k, index in enumerate(out) if index is None]
+    for k, index in zip(missing, add_states([requests[k] for k in missing]), strict=True):
+        out[k] = index
+    return out  # type: ignore[return-value]
+
+
+def _stored(operators: Operators, pattern: int) -> int | None:
+    """The index of the state of `pattern` among those stored, None if there is none."""
+    found = np.flatnonzero(operators.patterns[:len(operators.contact)] == pattern)
+    return int(found[0]) if found.size else None
 
 
 def _fitting(pending: list[tuple[int, Run]]) -> int:

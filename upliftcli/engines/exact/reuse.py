@@ -1,0 +1,90 @@
+"""The step operators of a run handed to its twin (analysis/residuals.py; docs/theory.md 15.8).
+
+A state's step operators, event rows and base depend on the model (the system, the support, the
+engine options and the model builder), the internal step and the uplift criterion, never on the
+record's amplitude: the twin of a yielding run (the record times 1 + 1e-6) meets nearly the same states
+and would build them all again. An OperatorStore, made by one check of the residuals and dropped with
+it, keeps the operators of the runs that yielded (within STORE_BYTES) under the key of everything that
+determines them (store_key); a run of the same key then starts from a fork of them (take) and builds
+only the states the original did not meet. Each state's arrays are the bits it would be built with
+(operators.add_states gives every item the bits it gets alone), so the twin's results are those of a
+twin built from nothing, bit for bit (tests/test_operator_reuse.py). Nothing is kept between two
+checks, two analyses or two cases of a sweep: the store lives in the call that made it.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import replace
+from typing import Any
+
+from ...model.system import System
+from ..options import ExactOptions
+from .operators import Operators
+
+#: the most memory of step operators a store keeps [bytes] (the README example's yielding runs hold 151
+#: states of 115 kB, 17 MB; a suite of eleven such records 190 MB); a run beyond it is not kept, and its
+#: twin builds its states itself
+STORE_BYTES = 256 * 2**20
+
+
+def store_key(system: System, support: str, options: ExactOptions, model: Any, h: float) -> tuple:
+    """What a run's step operators are determined by: the system (by identity: the store holds it), the
+    support (and with it whether the mat may lift), the engine options that build the model (all but
+    `histories`, which only the digest reads), the model builder and the internal step h [s]."""
+    return id(system), support, replace(options, histories=False), model, h
+
+
+def used_bytes(operators: Operators) -> int:
+    """Memory of the states stored in `operators` [bytes] (the arrays' rows beyond them are never
+    touched: virtual memory only)."""
+    n = len(operators.contact)
+    return sum(array[:n].nbytes for array in (operators.ops, operators.events, operators.event_rates,
+                                               operators.matrices))
+
+
+def fork(operators: Operators) -> Operators:
+    """Operators that start with the states of `operators` and build more on their own: the stored arrays
+    shared (a new state is written after the inherited ones, where `operators` never reads, or into
+    grown copies), the lists and tables copied (the histories of the original's result keep its states)."""
+    out = copy.copy(operators)
+    out.contact = list(operators.contact)
+    out.bases = dict(operators.bases)
+    out.by_matrix = dict(operators.by_matrix)
+    out.inherited = len(operators.contact)
+    return out
+
+
+class OperatorStore:
+    """The step operators of the yielding runs of one check of the residuals, kept for their twins
+    (keep), each handed over once (take); `reused` and `built` count the states the twins inherited and
+    those they built themselves."""
+
+    def __init__(self, max_bytes: int | None = None):
+        self.max_bytes = STORE_BYTES if max_bytes is None else max_bytes
+        self.kept: dict[tuple, tuple[System, Operators, int]] = {}
+        self.bytes = 0
+        self.reused = self.built = 0
+
+    def take(self, key: tuple, system: System) -> Operators | None:
+        """A fork of the operators kept under `key` for `system` (None: none kept), no longer kept."""
+        entry = self.kept.get(key)
+        if entry is None or entry[0] is not system:
+            return None
+        del self.kept[key]
+        self.bytes -= entry[2]
+        self.reused += len(entry[1].contact)
+        return fork(entry[1])
+
+    def done(self, key: tuple, system: System, operators: Operators, result: Any) -> None:
+        """A run has ended with `result`: a twin's operators (forked by take) are counted, an original's
+        kept if it yielded (only such runs get a twin) and they fit in max_bytes."""
+        if hasattr(operators, "inherited"):
+            self.built += len(operators.contact) - operators.inherited
+            return
+        if not (getattr(result, "yielded", False) or getattr(result, "building_yielded", False)):
+            return
+        size = used_bytes(operators)
+        if key not in self.kept and self.bytes + size <= self.max_bytes:
+            self.kept[key] = (system, operators, size)
+            self.bytes += size
