@@ -82,9 +82,14 @@ class OperatorStore:
         if hasattr(operators, "inherited"):
             self.built += len(operators.contact) - operators.inherited
             return
-        if not (getattr(result, "yielded", False) or getattr(result, "building_yielded", False)):
+        if not _yielded(result):
             return
         size = used_bytes(operators)
         if key not in self.kept and self.bytes + size <= self.max_bytes:
             self.kept[key] = (system, operators, size)
             self.bytes += size
+
+
+def _yielded(result: Any) -> bool:
+    """Whether a run's stories or soil yielded (an error: False); only such runs get a twin."""
+    return bool(getattr(result, "yielded", False) or getattr(result, "building_yielded", False))
