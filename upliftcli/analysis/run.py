@@ -247,7 +247,7 @@ def run_batch(decks: Sequence[Deck], engine: str, support: str,
     from ..engines.exact.reuse import OperatorStore  # the exact engine's: loaded when it runs
 
     store = OperatorStore()
-    rerun = functools.partial(_run, chosen=chosen, support=support, store=store)
+    rerun = functools.partial(_run, chosen=chosen, support=support, store=store.twins())
     out = residuals.checked(decks, _run(decks, chosen, support, store=store), rerun, single)
     for k, result in enumerate(out if on_result else ()):
         on_result(k, result)

@@ -31,7 +31,7 @@ from ..registry import check_support
 from ..result import AnalysisResult
 from .digest import Digest
 from .operators import Operators
-from .reuse import OperatorStore, store_key
+from .reuse import OperatorStore, Twins, store_key
 from .statespace import StateSpace, exact_model
 from .stepping import simulate
 
@@ -121,7 +121,7 @@ def _rigid_key(system: System) -> tuple:
 
 def iter_batch(systems: list[System], record, support: str, options: ExactOptions | None = None, *,
                model: ModelBuilder = exact_model, name: str = "exact", refine: bool = True,
-               operators: OperatorStore | None = None,
+               operators: OperatorStore | Twins | None = None,
                ) -> Iterator[tuple[int, AnalysisResult | AnalysisError | InputError]]:
     """Peak responses of several systems to one record, one support: yields (index, result
     or the error that stopped it) as each is known; the others go on. Same results, bit for
@@ -132,9 +132,9 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
       are assembled and exponentiated vectorised over the batch (operators.add_states).
     model: the state-space model of a system (exact_model; the approximate engine couples
     mode 1 only); name: the engine named in the results; refine: halve the step where the
-    energy balance does not close (_refined); operators: the step operators kept by a check of the
-    residuals (reuse.OperatorStore: a run starts from those of its original, a yielding run's are kept
-    for its twin), None: each run builds its own."""
+    energy balance does not close (_refined); operators: a check of the residuals' store of step
+    operators (reuse.py): an OperatorStore keeps those of the runs that yield, its twins() start each run
+    from its original's; None: each run builds its own."""
     options = options or ExactOptions()
     check_support(support)
     acceleration = _checked_acceleration(record.acceleration, record.dt, options)
@@ -148,7 +148,7 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
             except (AnalysisError, InputError) as error:
                 yield from _outcomes(systems, shared, k, error)
         digests = [Digest(systems[k], space, options) for k, space, _ in runs]
-        kept = _Kept(operators, [systems[k] for k, _, _ in runs], runs, record.dt, support, options, model)
+        kept = _Kept(operators, systems, runs, record.dt, support, options, model)
         histories = simulate([space for _, space, _ in runs], [substeps for _, _, substeps in runs], acceleration,
                              record.dt, options.criterion, uplift=support == "uplift",
                              allow_flight=options.flight == "allow", on_chunk=[d.add for d in digests],
@@ -163,29 +163,39 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
 
 class _Kept:
     """The step operators the runs of iter_batch start from, and what becomes of them, with a store
-    (reuse.OperatorStore; without one every run builds its own: starts is None)."""
+    (reuse.py; without one every run builds its own: starts is None). runs: (system index, model,
+    sub-steps per record step) of each run."""
 
-    def __init__(self, store: OperatorStore | None, systems: list[System], runs: list[tuple[int, StateSpace, int]],
-                 dt: float, support: str, options: ExactOptions, model: ModelBuilder):
-        self.store, self.systems = store, systems
+    def __init__(self, store: OperatorStore | Twins | None, systems: list[System],
+                 runs: list[tuple[int, StateSpace, int]], dt: float, support: str, options: ExactOptions,
+                 model: ModelBuilder):
+        self.store = store
+        self.systems = [systems[k] for k, _, _ in runs]
+        self.keys: list[tuple] = []
+        self.starts: list[Operators | None] | None = None
+        if store is not None:
+            self._started(store, runs, dt, support, options, model)
+
+    def _started(self, store: OperatorStore | Twins, runs: list[tuple[int, StateSpace, int]], dt: float,
+                 support: str, options: ExactOptions, model: ModelBuilder) -> None:
+        """The key of each run (reuse.store_key) and the operators it starts from (_start)."""
         self.keys = [store_key(system, support, options, model, dt / substeps)
-                     for system, (_, _, substeps) in zip(systems, runs, strict=True)] if store else []
+                     for system, (_, _, substeps) in zip(self.systems, runs, strict=True)]
         self.starts = [_start(store, key, system, space, dt / substeps, options.criterion, support)
-                       for key, system, (_, space, substeps) in zip(self.keys, systems, runs, strict=True)
-                       ] if store else None
+                       for key, system, (_, space, substeps) in zip(self.keys, self.systems, runs, strict=True)]
 
     def done(self, j: int, outcome: Any) -> None:
-        """Run j has ended with `outcome`: its operators to the store (OperatorStore.done), and dropped here."""
+        """Run j has ended with `outcome`: its operators to the store (its done), and dropped here."""
         if self.starts is not None:
             self.store.done(self.keys[j], self.systems[j], self.starts[j], outcome)
             self.starts[j] = None
 
 
-def _start(store: OperatorStore, key: tuple, system: System, space: StateSpace, h: float, criterion: str,
+def _start(store: OperatorStore | Twins, key: tuple, system: System, space: StateSpace, h: float, criterion: str,
            support: str) -> Operators:
-    """The operators a run starts from: a fork of its original's (OperatorStore.take), else new ones, made
+    """The operators a run starts from: a twin's, a fork of its original's (Twins.start), else new ones, made
     as stepping.Run makes them."""
-    taken = store.take(key, system)
+    taken = store.start(key, system)
     return Operators(space, h, criterion, support == "uplift") if taken is None else taken
 
 

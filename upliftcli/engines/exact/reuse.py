@@ -5,11 +5,12 @@ engine options and the model builder), the internal step and the uplift criterio
 record's amplitude: the twin of a yielding run (the record times 1 + 1e-6) meets nearly the same states
 and would build them all again. An OperatorStore, made by one check of the residuals and dropped with
 it, keeps the operators of the runs that yielded (within STORE_BYTES) under the key of everything that
-determines them (store_key); a run of the same key then starts from a fork of them (take) and builds
-only the states the original did not meet. Each state's arrays are the bits it would be built with
-(operators.add_states gives every item the bits it gets alone), so the twin's results are those of a
-twin built from nothing, bit for bit (tests/test_operator_reuse.py). Nothing is kept between two
-checks, two analyses or two cases of a sweep: the store lives in the call that made it.
+determines them (store_key); the twin's run of the same key then starts from a fork of them
+(OperatorStore.twins, take) and builds only the states the original did not meet. Each state's arrays
+are the bits it would be built with (operators.add_states gives every item the bits it gets alone), so
+the twin's results are those of a twin built from nothing, bit for bit (tests/test_operator_reuse.py).
+Nothing is kept between two checks, two analyses or two cases of a sweep: the store lives in the call
+that made it (analysis/run.run_batch).
 """
 
 from __future__ import annotations
@@ -56,38 +57,60 @@ def fork(operators: Operators) -> Operators:
 
 
 class OperatorStore:
-    """The step operators of the yielding runs of one check of the residuals, kept for their twins
-    (keep), each handed over once (take); `reused` and `built` count the states the twins inherited and
-    those they built themselves."""
+    """The step operators of the yielding runs of one check of the residuals (the originals: each run
+    starts from nothing, start gives None, and done keeps those of a run that yielded), handed to their
+    twins through twins(), each once, in the order they were kept; `reused` and `built` count the states
+    the twins inherited and those they built themselves."""
 
     def __init__(self, max_bytes: int | None = None):
         self.max_bytes = STORE_BYTES if max_bytes is None else max_bytes
-        self.kept: dict[tuple, tuple[System, Operators, int]] = {}
+        self.kept: dict[tuple, list[tuple[System, Operators, int]]] = {}
         self.bytes = 0
         self.reused = self.built = 0
 
-    def take(self, key: tuple, system: System) -> Operators | None:
-        """A fork of the operators kept under `key` for `system` (None: none kept), no longer kept."""
-        entry = self.kept.get(key)
-        if entry is None or entry[0] is not system:
-            return None
-        del self.kept[key]
-        self.bytes -= entry[2]
-        self.reused += len(entry[1].contact)
-        return fork(entry[1])
+    def start(self, key: tuple, system: System) -> Operators | None:
+        """What an original run starts from: nothing (None)."""
+        return None
 
     def done(self, key: tuple, system: System, operators: Operators, result: Any) -> None:
-        """A run has ended with `result`: a twin's operators (forked by take) are counted, an original's
-        kept if it yielded (only such runs get a twin) and they fit in max_bytes."""
-        if hasattr(operators, "inherited"):
-            self.built += len(operators.contact) - operators.inherited
-            return
-        if not _yielded(result):
-            return
+        """An original run has ended with `result`: its operators kept if it yielded (only such runs get a
+        twin) and they fit in max_bytes."""
         size = used_bytes(operators)
-        if key not in self.kept and self.bytes + size <= self.max_bytes:
-            self.kept[key] = (system, operators, size)
+        if _yielded(result) and self.bytes + size <= self.max_bytes:
+            self.kept.setdefault(key, []).append((system, operators, size))
             self.bytes += size
+
+    def take(self, key: tuple, system: System) -> Operators | None:
+        """A fork of the first operators kept under `key` for `system` (None: none kept), no longer kept."""
+        entries = self.kept.get(key)
+        if not entries or entries[0][0] is not system:
+            return None
+        _, operators, size = entries.pop(0)
+        if not entries:
+            del self.kept[key]
+        self.bytes -= size
+        self.reused += len(operators.contact)
+        return fork(operators)
+
+    def twins(self) -> Twins:
+        """The store as the twins' runs use it: each starts from its original's operators."""
+        return Twins(self)
+
+
+class Twins:
+    """An OperatorStore as its twins use it: a run starts from a fork of the operators kept under its key
+    (OperatorStore.take) and keeps nothing; the states it builds are counted (store.built)."""
+
+    def __init__(self, store: OperatorStore):
+        self.store = store
+
+    def start(self, key: tuple, system: System) -> Operators | None:
+        """The fork of the original's operators a twin starts from (None: none kept)."""
+        return self.store.take(key, system)
+
+    def done(self, key: tuple, system: System, operators: Operators, result: Any) -> None:
+        """A twin has ended: the states it built itself counted."""
+        self.store.built += len(operators.contact) - getattr(operators, "inherited", 0)
 
 
 def _yielded(result: Any) -> bool:

@@ -79,7 +79,7 @@ class Run:
         self.space, self.layout, self.h, self.criterion = space, lay, h, criterion
         self.uplift = uplift
         # operators: those of this model, step, criterion and support to start from (reuse.OperatorStore)
-        self.operators = Operators(space, h, criterion, uplift) if operators is None else operators
+        self.operators = _operators(space, h, criterion, uplift, operators)
         self.elements = kernel.Elements(*all_resets(space), np.int64((1 << n_e) - 1) if n_e else np.int64(-2),
                                         bool(allow_flight))
         self.grid = kernel.Grid(ground, slopes, float(h), LEVELS, lay.index_acceleration, lay.index_slope)
@@ -250,7 +250,7 @@ def simulate(spaces: list[StateSpace], substeps: list[int], acceleration: np.nda
             grids[count] = ground_grid(acceleration, count, dt)
         try:
             run = Run(space, *grids[count], dt / count, criterion, uplift=uplift, allow_flight=allow_flight,
-                      on_chunk=on_chunk[k] if on_chunk else None, operators=operators[k] if operators else None)
+                      on_chunk=_item(on_chunk, k), operators=_item(operators, k))
         except AnalysisError as error:  # this run only (e.g. too many contact elements)
             yield k, error
             continue
@@ -292,17 +292,31 @@ def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisErro
 def _added(requests: list[tuple[Operators, int, bool]]) -> list[int | AnalysisError]:
     """add_states of the requests, those whose pattern is stored already (operators a run started from:
     reuse.py) given its index instead."""
-    out: list[int | AnalysisError | None] = [_stored(operators, pattern) for operators, pattern, _ in requests]
-    missing = [k for k, index in enumerate(out) if index is None]
-    for k, index in zip(missing, add_states([requests[k] for k in missing]), strict=True):
-        out[k] = index
-    return out  # type: ignore[return-value]
+    stored = [_stored(operators, pattern) for operators, pattern, _ in requests]
+    built = iter(add_states(_unstored(requests, stored)))
+    return [next(built) if index is None else index for index in stored]
+
+
+def _unstored(requests: list[tuple[Operators, int, bool]], stored: list[int | None]
+              ) -> list[tuple[Operators, int, bool]]:
+    """The requests whose pattern has no state stored (stored[k] None)."""
+    return [request for request, index in zip(requests, stored, strict=True) if index is None]
 
 
 def _stored(operators: Operators, pattern: int) -> int | None:
     """The index of the state of `pattern` among those stored, None if there is none."""
     found = np.flatnonzero(operators.patterns[:len(operators.contact)] == pattern)
     return int(found[0]) if found.size else None
+
+
+def _item(items: list | None, k: int):
+    """items[k], None without items."""
+    return items[k] if items else None
+
+
+def _operators(space: StateSpace, h: float, criterion: str, uplift: bool, given: Operators | None) -> Operators:
+    """The operators a run starts from: those it was given (a twin's: reuse.py), else new ones."""
+    return Operators(space, h, criterion, uplift) if given is None else given
 
 
 def _fitting(pending: list[tuple[int, Run]]) -> int:
