@@ -304,7 +304,10 @@ def _unstored(requests: list[tuple[Operators, int, bool]], stored: list[int | No
 
 
 def _stored(operators: Operators, pattern: int) -> int | None:
-    """The index of the state of `pattern` among those stored, None if there is none."""
+    """The index of the state of `pattern` among those stored, None if there is none (only operators that
+    inherited states, reuse.fork, can hold one a run asks for: the stepping loop asks for the others)."""
+    if not getattr(operators, "inherited", 0):
+        return None
     found = np.flatnonzero(operators.patterns[:len(operators.contact)] == pattern)
     return int(found[0]) if found.size else None
 
