@@ -99,12 +99,6 @@ def resumable_keys(plan: SweepPlan, store: RowStore, retry_failed: bool, rerun_s
     return {key for key, entry in entries.items() if _kept(plan, entry, retry_failed)}
 
 
-def resumable_rows(plan: SweepPlan, store: RowStore, retry_failed: bool, rerun_stale: bool) -> dict[str, dict]:
-    """The rows of `store` that --resume keeps (resumable_keys), key -> row without its fingerprint."""
-    keys = resumable_keys(plan, store, retry_failed, rerun_stale)
-    return {row["key"]: row for row in store.rows_of(key for key in store.scan() if key in keys)}
-
-
 def _refuse_stale(plan: SweepPlan, store: RowStore, entries: dict[str, Entry]) -> None:
     """InputError naming --resume if some rows were computed from other inputs, and why (_stale_reason)."""
     stale = [entry for entry in entries.values() if not _of_plan(plan, entry)]
@@ -185,7 +179,7 @@ def run_sweep(plan: SweepPlan, executor, store: RowStore, *, resume: bool = Fals
 
     resume: keep the rows of `store` whose case is in the plan: 'ok' rows always, 'failed'
     rows unless retry_failed; 'crashed' rows are run again; rows of other inputs are refused
-    unless rerun_stale (resumable_rows). Ctrl-C, SIGTERM or SIGHUP stops the executor and
+    unless rerun_stale (resumable_keys). Ctrl-C, SIGTERM or SIGHUP stops the executor and
     returns what was kept (interrupted=True); exit_on_stop: the caller exits then, so the stop
     signals stay ignored (signals.stop_signals_interrupt). An OSError of the store (a full disk) stops the
     executor and is raised; the rows written before it are kept. keep_rows: the outcome holds the
