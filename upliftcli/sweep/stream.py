@@ -79,12 +79,13 @@ class ArrowColumns:
             values.clear()
 
     def arrays(self, values_of: Callable[[str], list]) -> dict[str, Any]:
-        """Each column's array, in the order of `names`."""
+        """Each column's array, in the order of `names` (once: each column's chunks are let go as it
+        is joined, so that a column is never held twice over but while it is joined)."""
         self._flush()
         return {name: self._array(name, values_of) for name in self.names}
 
     def _array(self, name: str, values_of: Callable[[str], list]) -> Any:
-        joined = _joined(self.pa, self.chunks[name])
+        joined = _joined(self.pa, self.chunks.pop(name))
         return joined if joined is not None else arrow_column(self.pa, values_of(name))
 
 
