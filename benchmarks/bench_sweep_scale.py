@@ -23,7 +23,8 @@ Measured at 99,856 cases, --workers 1, on this project's shared 2-core machine (
 before the rows were read back from the rows file (3d18d71) the peak was 1,114 MB with --table
 json (every row a dict, and the whole JSON document built and dumped at once) and 318 MB with
 --table csv; since then 91 MB with json or csv and 225 MB with parquet (131 MB of it pyarrow's,
-at 100 cases). First row 0.9-1.0 s on a quiet machine, 3-7 s with other sweeps running.
+at 100 cases). First row 0.6-1.0 s on a quiet machine (0.66 s before), 3-7 s with other sweeps running;
+total 258 s with csv (262 s before).
 """
 
 from __future__ import annotations
