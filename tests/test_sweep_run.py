@@ -85,3 +85,35 @@ def test_sigterm_and_sighup_stop_a_sweep_like_ctrl_c(small_plan, serial_rows, tm
     outcome = run_sweep(small_plan, Terminated(), RowStore(tmp_path / "rows.jsonl"))
     assert outcome.interrupted and outcome.signal == signum and outcome.rows == serial_rows[:4]
     assert signal.getsignal(signum) is before  # handlers restored
+
+
+def test_the_sweep_command_keeps_no_rows_in_memory_and_reads_them_back(tmp_path, monkeypatch):
+    """issue 38 item 5: `uplift sweep` runs with keep_rows=False (the outcome holds the cases' keys, not
+    their rows) and its summary, tables, figure and exit read the rows back from the rows file: the
+    tables hold every case, in case order, and the rows file's rows."""
+    import csv
+
+    from cli_helpers import invoke
+    from sweep_cases import EXAMPLE
+
+    from upliftcli.sweep import run as run_module
+
+    outcomes, original = [], run_module.run_sweep
+
+    def recording(*args, **kwargs):
+        outcomes.append(original(*args, **kwargs))
+        return outcomes[-1]
+
+    monkeypatch.setattr(run_module, "run_sweep", recording)
+    result = invoke("sweep", EXAMPLE, "--vary", "building.period=0.5,1,2", "--vary", "foundation.b=2,3", "-e",
+                    "simplified", "--support", "rigid,uplift", "--out", tmp_path, "--name", "m", "--plot", "--quiet")
+    assert result.exit_code == 0, result.output
+    (outcome,) = outcomes
+    assert outcome.rows == [] and outcome.finished == 12
+    with open(tmp_path / "m.csv", encoding="utf-8") as handle:
+        table = list(csv.DictReader(line for line in handle if not line.startswith("#")))
+    stored = {row["key"]: row for row in RowStore(tmp_path / "m.rows.jsonl").read().values()}
+    assert [int(row["case"]) for row in table] == list(range(12)) and set(stored) == {row["key"] for row in table}
+    document = json.loads((tmp_path / "m.json").read_text())
+    assert [row["case"] for row in document["rows"]] == list(range(12)) and document["summary"]["ok"] == 12
+    assert (tmp_path / "m.png").stat().st_size > 0

@@ -122,3 +122,53 @@ def test_the_rows_file_is_opened_without_following_a_symlink(tmp_path, fresh, mo
     with pytest.raises(OSError):
         store.open(fresh=fresh)
     assert outside.read_text() == "keep\n"
+
+
+# ----------------------------------------------------------------------------- read back (issue 38 item 5)
+
+def test_the_rows_are_read_back_from_the_file_in_case_order(small_plan, serial_rows, tmp_path):
+    """keep_rows=False: the outcome keeps the cases' keys, not their rows; stored_rows reads them back,
+    the last row of each case, in case order, each time it is iterated: the rows kept in memory."""
+    from upliftcli.sweep.run import stored_rows
+
+    store = RowStore(tmp_path / "rows.jsonl")
+    outcome = run_sweep(small_plan, SerialExecutor(), store, keep_rows=False)
+    assert outcome.rows == [] and outcome.finished == len(serial_rows) == len(small_plan.cases)
+    rows = stored_rows(small_plan, store, outcome)
+    assert list(rows) == serial_rows and list(rows) == serial_rows
+    scanned = store.scan()
+    assert len(scanned) == len(serial_rows) and {e.status for e in scanned.values()} == {"ok"}
+    assert store.fields() == {"foundation.frequency_ratio", "building.period"}
+
+
+def test_a_later_row_of_a_case_is_the_one_read_back(tmp_path):
+    """A case run again (crashed, then ok) has its last row read back; a key not asked for is not."""
+    store = RowStore(tmp_path / "rows.jsonl")
+    store.open(fresh=True)
+    store.append({"key": "a", "case": 0, "status": "crashed", "message": "died"}, "f1")
+    store.append({"key": "b", "case": 1, "status": "ok", "x": 2.0}, "f1")
+    store.append({"key": "a", "case": 0, "status": "ok", "x": 1.0}, "f2")
+    store.close()
+    assert list(store.rows_of(["a", "b", "z"])) == [{"key": "a", "case": 0, "status": "ok", "x": 1.0},
+                                                     {"key": "b", "case": 1, "status": "ok", "x": 2.0}]
+    assert store.scan()["a"].fingerprint == "f2" and list(store.scan()) == ["a", "b"]
+
+
+def test_a_torn_line_after_a_long_file_is_cut_off(tmp_path, monkeypatch):
+    """The torn last line is found reading backwards a block at a time (the file is never read whole)."""
+    monkeypatch.setattr(store_module, "TAIL_BYTES", 16)
+    store = RowStore(tmp_path / "rows.jsonl")
+    store.open(fresh=True)
+    for k in range(20):
+        store.append({"key": f"k{k}", "status": "ok", "text": "x" * 40})
+    store.close()
+    whole = store.path.read_bytes()
+    with open(store.path, "ab") as handle:
+        handle.write(b'{"key": "torn", "status": "ok", "text": "' + b"y" * 100)
+    store.open(fresh=False)
+    store.close()
+    assert store.path.read_bytes() == whole
+    store.path.write_bytes(b'{"key": "only torn"')
+    store.open(fresh=False)
+    store.close()
+    assert store.path.read_bytes() == b""

@@ -106,3 +106,73 @@ def test_a_sweeps_simplified_error_judges_the_mats_motion_on_the_checks_motion_b
     violations = checked["violations"].split("; ")
     assert [v.split(":")[1].strip().split(" simplified")[0] for v in violations] == ["V_b", "mat rotation"]
     assert violations[0].endswith("outside [0.8, 1.25]") and violations[1].endswith("outside [0.5, 2]")
+
+
+# ----------------------------------------------------------------------------- streamed (issue 38 item 5)
+
+def _once(rows):
+    """The rows as an iterator: what reads them twice gets nothing the second time."""
+    return iter(list(rows))
+
+
+@pytest.mark.parametrize("count", [0, 1, 14])
+def test_the_streamed_json_document_is_the_document_dumped_at_once(small_plan, serial_rows, count):
+    """write_document writes json.dumps(document(...), indent=1) a row at a time (no row list; none, one, many
+    rows), with the summary after the rows; the summary made in one pass over the rows is the same."""
+    import json
+
+    rows = serial_rows[:count]
+    summary = sweep_table.summarize(small_plan, _once(rows))
+    assert summary == sweep_table.summarize(small_plan, rows)
+    pieces = []
+    sweep_table.write_document(pieces.append, small_plan, _once(rows), summary)
+    expected = json.dumps(sweep_table.document(small_plan, rows, summary), indent=1) + "\n"
+    assert "".join(pieces) == expected and len(pieces) == count + 2
+
+
+def test_the_summary_of_a_stream_keeps_the_first_largest_and_the_bounds_of_a_stable_sort(small_plan):
+    """One pass: the governing case and the envelope's highest are the first of equal values (as max gives
+    it), at_lower_bound the first row at the bound's smallest value and at_upper_bound the last at its
+    largest (as a stable sort gives them)."""
+    def row(case, ratio, shear):
+        return {"case": case, "engine": "simplified", "support": "uplift", "status": "ok", "building.period": 0.4,
+                "foundation.frequency_ratio": ratio, "base_shear_coefficient": shear}
+
+    rows = [row(0, 16, 0.2), row(1, 4, 0.3), row(2, 4, 0.5), row(3, 16, 0.5), row(4, 4, 0.1), row(5, 16, 0.4)]
+    summary = sweep_table.summarize(small_plan, _once(rows))
+    assert summary["governing"]["base_shear_coefficient"]["case"] == 2
+    (group,) = [g for g in summary["envelope"] if g["group"]["building.period"] == 0.4]
+    item = group["outputs"]["base_shear_coefficient"]
+    assert (item["lowest"], item["highest"], item["governing"]) == (0.1, 0.5, {"foundation.frequency_ratio": 4})
+    assert (item["at_lower_bound"], item["at_upper_bound"]) == (0.3, 0.4)
+    assert group["cases"] == 6 and summary["ok"] == 6 and summary["failures"] == []
+
+
+def test_arrow_columns_built_in_chunks_write_the_parquet_file_of_whole_columns(tmp_path):
+    """Columns built from chunks of 2 rows give the arrays (and the Parquet bytes) of pa.array over each
+    whole column: one type; ints then floats; None only, then floats; text and numbers (JSON texts)."""
+    pa = pytest.importorskip("pyarrow")
+    pq = pytest.importorskip("pyarrow.parquet")
+    from upliftcli.sweep import stream
+
+    columns = {"x": [1.5, 2.0, 3.25, None, 5.0], "n": [1, 2, 3.5, 4, 5], "e": [None, None, 1.0, 2.0, None],
+               "m": [1, "a", 2, "b", None], "t": ["a", "b", "c", "d", "e"], "l": [[1], [2], [3.5], None, []]}
+    rows = [{name: values[k] for name, values in columns.items()} for k in range(5)]
+    built = stream.ArrowColumns(pa, list(columns), chunk=2)
+    for row in rows:
+        built.add(row)
+    arrays = built.arrays(lambda name: list(columns[name]))
+    whole = {name: stream.arrow_column(pa, values) for name, values in columns.items()}
+    assert all(arrays[name].equals(whole[name]) and arrays[name].type == whole[name].type for name in columns)
+    pq.write_table(pa.table(arrays), tmp_path / "chunked.parquet")
+    pq.write_table(pa.table(whole), tmp_path / "whole.parquet")
+    assert (tmp_path / "chunked.parquet").read_bytes() == (tmp_path / "whole.parquet").read_bytes()
+
+
+def test_tables_are_written_from_rows_read_once(small_plan, serial_rows, tmp_path):
+    """write_tables reads the rows once for the CSV and the JSON document (an iterator will do); written
+    from rows given as a list, the files are the same."""
+    once = sweep_table.write_tables(small_plan, _once(serial_rows), tmp_path / "once", "p", "json")
+    listed = sweep_table.write_tables(small_plan, serial_rows, tmp_path / "listed", "p", "json")
+    assert [p.read_bytes() for p in once] == [p.read_bytes() for p in listed]
+    assert once[1].read_text().count('"case"') >= len(serial_rows)

@@ -6,7 +6,7 @@ progress, interruption) is sweep_execute.py; the options' help texts and checks 
 
 from __future__ import annotations
 
-import json
+from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -30,7 +30,7 @@ from .options import (
     not_writable,
     refuse_unchecked,
 )
-from .sweep_execute import execute, warm_workers_early
+from .sweep_execute import execute, stored_rows, warm_workers_early
 from .sweep_exit import finish
 from .sweep_options import (
     CHECK_HELP,
@@ -144,11 +144,12 @@ def sweep(
                           retry_failed=retry_failed, overwrite=overwrite, quiet=quiet, label="sweep",
                           rerun_stale=rerun_stale, figures_written=[plot_path] if plot_path else [],
                           tables=table_paths(out, stem, table.value))
-        rows, summary, record, written = _sweep_tables(plan, outcome.rows, out, stem, table, file_system(units))
+        rows, summary, record, written = _sweep_tables(plan, stored_rows(plan, out, stem, outcome), out, stem, table,
+                                                       file_system(units))
         _sweep_figure(plan, rows, plot_path, out, written, _display(units, plan))
-    _print_sweep(plan, rows, summary, record, output_format, quiet, units)
-    echo_written(written)
-    finish(rows, criteria=True)
+        _print_sweep(plan, rows, summary, record, output_format, quiet, units)
+        echo_written(written)
+        finish(rows, criteria=True)
 
 
 def _plot_path(out: Path, stem: str, plot_format: str) -> Path:
@@ -169,40 +170,46 @@ def _check_plan(plan: SweepPlan, check: bool, plot_path: Path | None) -> None:
         figures.sweep_figure(plan, [])
 
 
-def _sweep_tables(plan: SweepPlan, rows: list[dict], out: Path, stem: str, table: TableFormat,
+def _sweep_tables(plan: SweepPlan, rows: Iterable[dict], out: Path, stem: str, table: TableFormat,
                   system: str = "si") -> tuple:
-    """(rows with the accuracy ratios under --check, summary, provenance, the tables written)."""
+    """(rows with the accuracy ratios under --check, summary, provenance, the tables written); `rows`
+    (read back from the rows file) read a few times, one row at a time."""
     from ..sweep import table as sweep_table
 
-    rows = sweep_table.add_checks(plan, rows) if plan.check else rows
+    rows = sweep_table.checked_rows(plan, rows) if plan.check else rows
     summary = sweep_table.summarize(plan, rows)
     record = sweep_table.sweep_provenance(plan)
     return rows, summary, record, _write(plan, rows, out, stem, table, summary, record, system)
 
 
-def _sweep_figure(plan: SweepPlan, rows: list[dict], plot_path: Path | None, out: Path, written: list[Path],
+def _sweep_figure(plan: SweepPlan, rows: Iterable[dict], plot_path: Path | None, out: Path, written: list[Path],
                   units: str) -> None:
-    """The --plot figure (added to `written`, the tables before it)."""
+    """The --plot figure (added to `written`, the tables before it), of what it reads of the rows (figure_rows)."""
     from ..figures import draw as plots
     from ..sweep import figures
 
-    if plot_path is None or not _any_finished(rows):
+    if plot_path is None:
+        return
+    rows = figures.figure_rows(plan, rows)
+    if not _any_finished(rows):
         return
     with figure_errors(out, written):
         written.append(plots.plot_figure(figures.sweep_figure(plan, rows, figures.plan_motion_label(plan), units),
                                          plot_path, "--plot-format"))
 
 
-def _print_sweep(plan: SweepPlan, rows: list[dict], summary, record: dict, output_format: OutputFormat, quiet: bool,
-                 units: DisplayUnits | None) -> None:
-    """The sweep's JSON document on stdout (in the files' units), or its summary tables in the
-    display units (none under --quiet)."""
+def _print_sweep(plan: SweepPlan, rows: Iterable[dict], summary, record: dict, output_format: OutputFormat,
+                 quiet: bool, units: DisplayUnits | None) -> None:
+    """The sweep's JSON document on stdout (in the files' units, written a row at a time), or its
+    summary tables in the display units (none under --quiet)."""
     from ..sweep import table as sweep_table
     from . import render
-    from .sweep_render import print_summary
+    from .sweep_render import EchoBuffer, print_summary
 
     if output_format is OutputFormat.json:
-        stdout.echo(json.dumps(sweep_table.document(plan, rows, summary, record, file_system(units)), indent=1))
+        echoed = EchoBuffer()
+        sweep_table.write_document(echoed.write, plan, rows, summary, record, file_system(units))
+        echoed.flush()
         return
     if not quiet:
         print_summary(render.console(), plan, summary, _display(units, plan))
@@ -270,14 +277,15 @@ def spectra(
                           retry_failed=False, overwrite=overwrite, quiet=quiet, label="spectra",
                           figures_written=figure_paths,
                           tables=table_paths(out, stem, table.value))
-        summary = sweep_table.summarize(plan, outcome.rows)
-        written = _write(plan, outcome.rows, out, stem, table, summary, sweep_table.sweep_provenance(plan),
-                         file_system(units))
-        written += _spectra_figures(plan, outcome.rows, out, stem, formats, written)
-    if not quiet:
-        print_spectra_summary(render.console(), plan, outcome.rows)
-    echo_written(written)
-    finish(outcome.rows, criteria=False)
+        rows = stored_rows(plan, out, stem, outcome)
+        summary = sweep_table.summarize(plan, rows)
+        written = _write(plan, rows, out, stem, table, summary, sweep_table.sweep_provenance(plan), file_system(units))
+        finished = figures.figure_rows(plan, rows)
+        written += _spectra_figures(plan, finished, out, stem, formats, written)
+        if not quiet:
+            print_spectra_summary(render.console(), plan, finished)
+        echo_written(written)
+        finish(rows, criteria=False)
 
 
 def _plan_spectra(deck: Path, settings: list[str], choices: tuple[list[str], list[str]], period_vary: Vary,

@@ -94,12 +94,12 @@ def _prepare_out(plan: SweepPlan, out: Path, rows_path: Path, resume: bool, over
     from ..sweep.store import RowStore
 
     store = RowStore(rows_path)
-    rows, other = store.read(), _other_sweep(plan, store)
+    cases, other = len(store.scan()), _other_sweep(plan, store)
     if other:
-        raise InputError("--out", str(rows_path), f"holds the rows of another sweep ({len(rows)} cases {other}), "
+        raise InputError("--out", str(rows_path), f"holds the rows of another sweep ({cases} cases {other}), "
                          "not of this one: give this sweep its own --name, or another --out folder")
     if not resume:
-        raise InputError("--out", str(rows_path), f"holds the rows of an earlier run of this sweep ({len(rows)} "
+        raise InputError("--out", str(rows_path), f"holds the rows of an earlier run of this sweep ({cases} "
                          "cases): pass --resume to continue that run, or --overwrite to discard them and start "
                          "again")
 
@@ -123,7 +123,7 @@ def _earlier_decks(store) -> list[str]:
 
 def _earlier_varied(store) -> list[str]:
     """The varied fields of the rows file's rows: their dotted keys (no output column has a dot)."""
-    return sorted({key for row in store.read().values() for key in row if "." in key})
+    return sorted(store.fields())
 
 
 def _refuse_other_table(plan: SweepPlan, table: Path) -> None:
@@ -198,7 +198,8 @@ def head_start(executor, figures: bool) -> None:
 def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, resume, retry_failed,
             overwrite, quiet, label, rerun_stale=False, figures_written=(), tables=()):
     """Run the plan with progress (the caller holds stem_lock); exit 128 + the signal (130 for
-    Ctrl-C, 143 for SIGTERM, 129 for SIGHUP) keeping the rows when interrupted. figures_written:
+    Ctrl-C, 143 for SIGTERM, 129 for SIGHUP) keeping the rows when interrupted; the outcome keeps
+    the cases' keys, not their rows (stored_rows reads them back). figures_written:
     the figures that follow the run (their paths); tables: the tables it writes (both refused if
     they exist, unless overwrite or resume)."""
     from ..sweep.run import run_sweep
@@ -210,14 +211,24 @@ def execute(plan: SweepPlan, out: Path, stem: str, *, workers, scheduler, dask, 
     head_start(executor, bool(figures_written))
     try:
         outcome = run_sweep(plan, executor, RowStore(rows_path), resume=resume, retry_failed=retry_failed,
-                            rerun_stale=rerun_stale, progress=progress_for(quiet, label), exit_on_stop=True)
+                            rerun_stale=rerun_stale, progress=progress_for(quiet, label), exit_on_stop=True,
+                            keep_rows=False)
     except OSError as error:  # a full disk: the rows written so far are kept
-        kept = len(RowStore(rows_path).read())
+        kept = len(RowStore(rows_path).scan())
         raise not_writable("--out", out, error, more=f"; {kept} finished rows are kept in {rows_path}: run the "
                            "same command with --resume once there is room") from None
     if outcome.interrupted:
         _exit_interrupted(outcome, rows_path)
     return outcome
+
+
+def stored_rows(plan: SweepPlan, out: Path, stem: str, outcome):
+    """The rows of a finished run in case order, read back from its rows file one at a time each time they are
+    iterated (run_sweep keeps their keys only: a sweep's rows are never all in memory)."""
+    from ..sweep.run import stored_rows as read_back
+    from ..sweep.store import RowStore
+
+    return read_back(plan, RowStore(out / f"{stem}.rows.jsonl"), outcome)
 
 
 def _refuse_outputs(plan: SweepPlan, out: Path, stem: str, rows_path: Path, resume: bool, overwrite: bool,
@@ -236,6 +247,6 @@ def _exit_interrupted(outcome, rows_path: Path) -> None:
     """An interrupted run: the rows kept named on stderr, exit 128 + the signal."""
     ignore_stop_signals()  # a second Ctrl-C while exiting changes nothing
     name = signal.Signals(outcome.signal).name if outcome.signal else "SIGINT"
-    stdout.echo(f"interrupted ({name}): {len(outcome.rows)} of {outcome.total} cases are kept in {rows_path}; "
+    stdout.echo(f"interrupted ({name}): {outcome.finished} of {outcome.total} cases are kept in {rows_path}; "
                "run the same command with --resume to finish", err=True)
     raise typer.Exit(128 + (outcome.signal or signal.SIGINT))

@@ -18,6 +18,7 @@ from ..sweep.plan import SweepPlan
 from ..sweep.summary import finite_number
 from ..sweep.table import SUMMARY_OUTPUTS
 from ..sweep.values import Vary
+from . import stdout
 from .tables import add_columns, add_rows, print_tables
 
 LABELS = {"base_shear_coefficient": "V_b/(m_t g)", "base_moment_coefficient": "M_b/(m_t g h_1*)",
@@ -32,6 +33,31 @@ MAX_ROWS = 60  # envelope rows printed; the files have them all
 PLAIN_KEYS = (("lowest", "min"), ("highest", "max"))
 BOUND_KEYS = (("at_lower_bound", "lo"), ("at_upper_bound", "up"), ("highest", "max"))
 LARGEST_KEYS = (("highest", "max"),)
+
+
+#: the characters EchoBuffer gathers before it echoes them
+ECHO_CHARS = 1 << 16
+
+
+class EchoBuffer:
+    """A text written in many pieces (write) echoed on standard output in a few (stdout.echo: made
+    safe for the terminal, a closed pipe silenced), no newline added; flush: what is left."""
+
+    def __init__(self, size: int = ECHO_CHARS):
+        self.pieces: list[str] = []
+        self.size, self.length = size, 0
+
+    def write(self, text: str) -> None:
+        self.pieces.append(text)
+        self.length += len(text)
+        if self.length >= self.size:
+            self.flush()
+
+    def flush(self) -> None:
+        if self.pieces:
+            stdout.echo("".join(self.pieces), nl=False)
+        self.pieces.clear()
+        self.length = 0
 
 
 def use_rich_progress(console: Console) -> bool:

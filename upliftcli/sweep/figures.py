@@ -17,7 +17,8 @@ The deck's own value of the varied field and its ground motion's name: sweep/nom
 from __future__ import annotations
 
 import json
-from collections.abc import Sequence
+import sys
+from collections.abc import Iterable, Sequence
 from dataclasses import replace
 
 import numpy as np
@@ -49,6 +50,23 @@ QUANTITIES = {"base_shear": "base_shear_coefficient", "base_moment": "base_momen
 #: row columns plotted in another unit than the rows': column -> (factor, unit); drift ratios in
 #: percent, as in the story profiles (display.py)
 PLOTTED = {"max_drift_ratio": (100.0, "%")}
+
+
+#: the columns of a row the figures and the spectra's summary read (besides the varied fields)
+FIGURE_COLUMNS = ("status", "engine", "support", *QUANTITIES.values(), "critical_coefficient", "uplift")
+
+
+def figure_rows(plan: SweepPlan, rows: Iterable[dict]) -> list[dict]:
+    """The finished rows ('ok': the figures draw no other) with only the columns the figures read
+    (FIGURE_COLUMNS and the varied fields), their texts interned: a sweep's figures drawn from its
+    rows read back one at a time, a small part of each kept."""
+    names = (*FIGURE_COLUMNS, *(v.path for v in plan.varies))
+    return [{name: _interned(row[name]) for name in names if name in row} for row in rows if row.get("status") == "ok"]
+
+
+def _interned(value):
+    """A text interned (the engine, support and status of every row held once); anything else as it is."""
+    return sys.intern(value) if isinstance(value, str) else value
 
 
 def axis_label(quantity: str) -> tuple[str, str]:

@@ -6,7 +6,7 @@ entry states (`--resume` matches cases by them)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Iterator, Sequence
 
 from ..display import file_unit, unit_suffix
 from ..engines.quantities import column_name, file_kind
@@ -41,12 +41,23 @@ def file_units(units: dict[str, str], converted: dict) -> dict[str, str]:
             for name, unit in units.items()}
 
 
-def file_rows(rows: Sequence[dict], converted: dict) -> list[dict]:
+def file_rows(rows: Iterable[dict], converted: dict) -> list[dict]:
     """The rows with the converted columns renamed and their numbers scaled (other values as they are)."""
+    return list(iter_file_rows(rows, converted))
+
+
+def iter_file_rows(rows: Iterable[dict], converted: dict) -> Iterator[dict]:
+    """file_rows one row at a time (a sweep's rows are read back from its rows file, never all in memory)."""
     if not converted:
-        return list(rows)
-    return [{converted.get(key, (key,))[0]: _scaled(value, converted.get(key)) for key, value in row.items()}
-            for row in rows]
+        yield from rows
+        return
+    for row in rows:
+        yield file_row(row, converted)
+
+
+def file_row(row: dict, converted: dict) -> dict:
+    """A row with the converted columns renamed and their numbers scaled (other values as they are)."""
+    return {converted.get(key, (key,))[0]: _scaled(value, converted.get(key)) for key, value in row.items()}
 
 
 def _scaled(value, conversion) -> object:

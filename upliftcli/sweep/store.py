@@ -19,8 +19,10 @@ import errno
 import functools
 import json
 import os
+import sys
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -44,21 +46,40 @@ class RowStore:
         self._created = False
         self._synced = -float("inf")  # time.monotonic() of the last fsync
 
-    def _items(self) -> Iterator[Any]:
-        """The JSON value of each line of the file (none if there is no file); lines that are not
-        JSON (a torn last line: killed while writing) are skipped."""
+    def _lines(self) -> Iterator[tuple[int, Any]]:
+        """(byte offset, JSON value) of each line of the file, read line by line (none if there is
+        no file); lines that are not JSON (a torn last line: killed while writing) are skipped."""
         refuse_symlink(self.path)
         if not self.path.exists():
             return
-        for line in self.path.read_text(encoding="utf-8").splitlines():
-            try:
-                yield json.loads(line)
-            except json.JSONDecodeError:
-                continue
+        offset = 0
+        with open(self.path, "rb") as handle:
+            for line in handle:
+                item = _parsed(line)
+                if item is not None:
+                    yield offset, item
+                offset += len(line)
+
+    def _items(self) -> Iterator[Any]:
+        """The JSON value of each line of the file (_lines)."""
+        return (item for _, item in self._lines())
 
     def read(self) -> dict[str, dict]:
         """key -> last row (with its "fingerprint", if any); a torn last line (killed while writing) is ignored."""
         return {row["key"]: row for row in self._items() if _is_row(row)}
+
+    def scan(self) -> dict[str, Entry]:
+        """key -> where its last row is, its status and fingerprint (Entry), in order of first appearance."""
+        return {item["key"]: _entry(offset, item) for offset, item in self._lines() if _is_row(item)}
+
+    def fields(self) -> set[str]:
+        """The dotted names of the rows (their varied fields: no output column has a dot)."""
+        return {name for item in self._items() if _is_row(item) for name in item if "." in name}
+
+    def rows_of(self, keys: Iterable[str]) -> StoredRows:
+        """The last rows of the cases `keys` (those the file holds), in that order, read back from the file."""
+        entries = self.scan()
+        return StoredRows(self.path, [entries[key].offset for key in keys if key in entries])
 
     def runs(self) -> dict[str, dict]:
         """fingerprint -> the header of the run that wrote rows with it (what it read)."""
@@ -82,11 +103,11 @@ class RowStore:
 
     def _drop_torn_line(self) -> None:
         """Cut off a torn last line (no newline at the end) before appending."""
-        data = self.path.read_bytes() if self.path.exists() else b""
-        if data and not data.endswith(b"\n"):
+        end = _whole_lines_end(self.path) if self.path.exists() else None
+        if end is not None:
             fd = self._open_fd(os.O_WRONLY)
             try:
-                os.ftruncate(fd, data.rfind(b"\n") + 1)
+                os.ftruncate(fd, end)
             finally:
                 os.close(fd)
 
@@ -132,6 +153,77 @@ class RowStore:
         with contextlib.suppress(OSError):
             self._file.close()
         self._file = None
+
+
+#: the bytes read at a time from the end of the file, looking for its last line break
+TAIL_BYTES = 1 << 16
+
+
+def _whole_lines_end(path: Path) -> int | None:
+    """The size of the file's whole lines when its last line is torn (no newline at the end:
+    killed while writing), read backwards from the end; None when it ends with one (or is empty)."""
+    with open(path, "rb") as handle:
+        size = handle.seek(0, os.SEEK_END)
+        position = size
+        while position > 0:
+            start = max(0, position - TAIL_BYTES)
+            handle.seek(start)
+            block = handle.read(position - start)
+            if position == size and block.endswith(b"\n"):
+                return None
+            if b"\n" in block:
+                return start + block.rfind(b"\n") + 1
+            position = start
+    return 0 if size else None
+
+
+def _parsed(line: bytes) -> Any:
+    """The JSON value of a line of the file; None for a line that is not JSON (a torn last line)."""
+    try:
+        return json.loads(line)
+    except ValueError:  # not JSON, or not UTF-8
+        return None
+
+
+@dataclass(frozen=True, slots=True)
+class Entry:
+    """Where a case's last row starts in the rows file, its status and fingerprint."""
+
+    offset: int
+    status: str
+    fingerprint: str | None
+
+
+def _interned(value: Any) -> Any:
+    """A text interned (the same status and fingerprint of every row held once), anything else as it is."""
+    return sys.intern(value) if isinstance(value, str) else value
+
+
+def _entry(offset: int, row: dict) -> Entry:
+    return Entry(offset, _interned(row["status"]), _interned(row.get("fingerprint")))
+
+
+def without_fingerprint(row: dict) -> dict:
+    """A stored row without the fingerprint of the run that wrote it."""
+    return {name: value for name, value in row.items() if name != "fingerprint"}
+
+
+class StoredRows:
+    """The rows at `offsets` of a rows file, read back one at a time in that order each time it is
+    iterated, without their fingerprint: a sweep's rows, never all in memory (the file must not
+    change meanwhile: the sweep holds stem_lock)."""
+
+    def __init__(self, path: Path, offsets: list[int]):
+        self.path, self.offsets = Path(path), offsets
+
+    def __len__(self) -> int:
+        return len(self.offsets)
+
+    def __iter__(self) -> Iterator[dict]:
+        with open(self.path, "rb") as handle:
+            for offset in self.offsets:
+                handle.seek(offset)
+                yield without_fingerprint(json.loads(handle.readline()))
 
 
 def _is_row(item: Any) -> bool:

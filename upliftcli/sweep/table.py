@@ -12,22 +12,24 @@ one row per record (table_rows).
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import importlib
 import io
 import json
 import math
-from collections.abc import Callable, Sequence
+import os
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
-from ..analysis.comparison import MOTION
 from ..engines.quantities import ALL_ENGINES, BUILDING, COMPARED, MAT, QUANTITIES, ROCKING, SCALARS, YIELDING
 from ..errors import InputError
 from ..output import to_jsonable
 from ..provenance.record import csv_comments, number_text, to_text_numbers
-from ..runtime.atomic import write_set
-from . import file_units
+from ..runtime.atomic import atomic_path
+from . import file_units, stream
+from .checks import add_checks, checked_rows  # noqa: F401 - table.add_checks: the checks' names here too
 from .plan import SweepPlan
 from .summary import (  # noqa: F401 - table.summarize, envelope ...: the summary's names here too
     SUMMARY_OUTPUTS,
@@ -128,80 +130,19 @@ def units(plan: SweepPlan) -> dict[str, str]:
     return {**{v.path: v.unit for v in plan.varies}, **{name: unit for name, (unit, _) in described.items()}}
 
 
-def _check_key(row: dict, paths: Sequence[str]) -> str:
-    """What a simplified case and its exact reference share: support and varied values (as JSON)."""
-    return json.dumps([row.get("support"), *(row.get(p) for p in paths)], default=str)
-
-
-def add_checks(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
-    """The rows, each finished simplified case with the ratios simplified / exact of the exact
-    case of the same varied values and support (CHECK_COLUMNS; empty where there is none); with
-    [criteria] simplified_error = e, a ratio outside the band `uplift analyze`'s check then flags
-    (_band: [1/(1 + e), 1 + e], the mat's motion the deck's check_band_motion widened to hold it)
-    is a violation of the simplified case (deck/criteria.py); a varied criteria.simplified_error is
-    each case's own."""
-    paths = [v.path for v in plan.varies]
-    deck_limit = plan.criteria.get("simplified_error")
-    exact = {_check_key(row, paths): row for row in rows if _finished_by(row, "exact")}
-    return [_checked(row, exact.get(_check_key(row, paths)), deck_limit, plan.motion_band) for row in rows]
-
-
-def _checked(row: dict, reference: dict | None, deck_limit: float | None, motion_band: tuple) -> dict:
-    """A finished simplified case's row with its ratios to the exact case's (`reference`, if any);
-    any other row as it is."""
-    if reference is None or not _finished_by(row, "simplified"):
-        return row
-    return _with_ratios(row, reference, deck_limit, motion_band)
-
-
-def _finished_by(row: dict, engine: str) -> bool:
-    """Whether a row is a finished case ('ok') of `engine`."""
-    return row.get("engine") == engine and row.get("status") == "ok"
-
-
-def _with_ratios(row: dict, reference: dict, deck_limit: float | None, motion_band: tuple) -> dict:
-    """A copy of a simplified case's row with its check_<name> ratios to the exact case's, and the
-    ratios outside the simplified_error limit's band (the case's own limit, else the deck's) as violations."""
-    row = dict(row)
-    mine, theirs = row.get("compared") or {}, reference.get("compared") or {}
-    limit = row.get("criteria.simplified_error", deck_limit)
-    failed = []
-    for name in COMPARED:
-        ratio = row[f"check_{name}"] = _ratio(mine.get(name), theirs.get(name))
-        band = _band(limit, motion_band if name in MOTION else None)
-        if band is not None and ratio is not None and not band[0] <= ratio <= band[1]:
-            failed.append(f"simplified_error: {COMPARED[name].symbol} simplified / exact = {ratio:.3g} "
-                          f"outside [{band[0]:.3g}, {band[1]:.3g}]")
-    if failed:
-        row["violations"] = "; ".join(filter(None, [row.get("violations"), *failed]))
-    return row
-
-
-def _band(limit: float | None, motion_band: tuple | None) -> tuple[float, float] | None:
-    """[1/(1 + limit), 1 + limit], widened to hold motion_band for the mat's motion (None: no limit)."""
-    if limit is None:
-        return None
-    low, high = 1.0 / (1.0 + limit), 1.0 + limit
-    return (low, high) if motion_band is None else (min(low, motion_band[0]), max(high, motion_band[1]))
-
-
-def _ratio(value: Any, base: Any) -> float | None:
-    """value / base when both are finite numbers and base is not zero, else None."""
-    value, base = finite_number(value), finite_number(base)
-    return value / base if value is not None and base else None
-
-
-def table_rows(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
+def table_rows(plan: SweepPlan, rows: Iterable[dict]) -> list[dict]:
     """The rows of the tables: each case's row and, with plan.per_record, the rows of its records
     after it (the case's inputs, engine, support and key, each record's outputs; criteria apply
     to the case's row, so a record's 'violations' is empty)."""
-    if not plan.per_record:
-        return list(rows)
-    out = []
+    return list(iter_table_rows(plan, rows))
+
+
+def iter_table_rows(plan: SweepPlan, rows: Iterable[dict]) -> Iterator[dict]:
+    """table_rows one row at a time."""
     for row in rows:
-        out.append(row)
-        out.extend(_record_rows(plan, row))
-    return out
+        yield row
+        if plan.per_record:
+            yield from _record_rows(plan, row)
 
 
 def _record_rows(plan: SweepPlan, row: dict) -> list[dict]:
@@ -244,14 +185,19 @@ def _cell(value: Any) -> str:
     return str(value)
 
 
-def to_csv(rows: Sequence[dict], names: Sequence[str], provenance: dict | None = None) -> str:
+def to_csv(rows: Iterable[dict], names: Sequence[str], provenance: dict | None = None) -> str:
     buffer = io.StringIO()
+    write_csv(buffer, rows, names, provenance)
+    return buffer.getvalue()
+
+
+def write_csv(handle, rows: Iterable[dict], names: Sequence[str], provenance: dict | None = None) -> None:
+    """The CSV table of the rows (the provenance's '#' lines, the names, a line per row) to a text handle."""
     if provenance is not None:
-        buffer.write(csv_comments(provenance))
-    writer = csv.writer(buffer, lineterminator="\n")
+        handle.write(csv_comments(provenance))
+    writer = csv.writer(handle, lineterminator="\n")
     writer.writerow(names)
     writer.writerows([_cell(row.get(name)) for name in names] for row in rows)
-    return buffer.getvalue()
 
 
 def _set_texts(plan: SweepPlan) -> list[str]:
@@ -259,35 +205,74 @@ def _set_texts(plan: SweepPlan) -> list[str]:
     return [f"{path}={json.dumps(to_jsonable(value))}" for path, value in plan.base_overrides]
 
 
-def _column_rows(plan: SweepPlan, rows: Sequence[dict]) -> list[dict]:
-    """The rows of the tables (table_rows), each with the plan's columns only, in their order."""
-    names = columns(plan)
-    return [{name: row.get(name) for name in names} for row in table_rows(plan, rows)]
-
-
 def _converted(plan: SweepPlan, system: str) -> dict:
     """The output columns that the files' unit system converts (sweep/file_units.py)."""
     return file_units.converted_columns(units(plan), [v.path for v in plan.varies], system)
 
 
-def document(plan: SweepPlan, rows: Sequence[dict], summary: dict | None = None,
-             provenance: dict | None = None, system: str = "si") -> dict:
-    """The JSON document of a sweep: deck, varied fields, units, provenance, rows (and summary);
-    numbers rounded to 15 significant digits (json.dumps then writes their shortest text);
-    system: the units of the output columns (sweep/file_units.py)."""
-    converted = _converted(plan, system)
-    doc = {
+def _document_head(plan: SweepPlan, provenance: dict | None, converted: dict) -> dict:
+    """The JSON document of a sweep but its rows (stream.ROWS_MARK) and summary."""
+    return {
         "source": plan.source, "title": plan.title,
         "set": _set_texts(plan),
         "varied": _varied(plan, list),
         "engines": plan.engines, "supports": plan.supports,
         "units": file_units.file_units(units(plan), converted),
         "provenance": provenance if provenance is not None else sweep_provenance(plan),
-        "rows": file_units.file_rows(_column_rows(plan, rows), converted),
+        "rows": stream.ROWS_MARK,
     }
+
+
+def _document_row(row: dict, names: Sequence[str], converted: dict) -> dict:
+    """A row of the tables in the JSON document: the plan's columns only, in their order, in the
+    files' units, numbers to 15 significant digits."""
+    return to_text_numbers(to_jsonable(file_units.file_row({name: row.get(name) for name in names}, converted)))
+
+
+def document(plan: SweepPlan, rows: Iterable[dict], summary: dict | None = None,
+             provenance: dict | None = None, system: str = "si") -> dict:
+    """The JSON document of a sweep: deck, varied fields, units, provenance, rows (and summary);
+    numbers rounded to 15 significant digits (json.dumps then writes their shortest text);
+    system: the units of the output columns (sweep/file_units.py)."""
+    converted = _converted(plan, system)
+    names = columns(plan)
+    doc = to_text_numbers(to_jsonable(_document_head(plan, provenance, converted)))
+    doc["rows"] = [_document_row(row, names, converted) for row in iter_table_rows(plan, rows)]
     if summary is not None:
-        doc["summary"] = summary
-    return to_text_numbers(to_jsonable(doc))
+        doc["summary"] = to_text_numbers(to_jsonable(summary))
+    return doc
+
+
+def write_document(write: Callable[[str], Any], plan: SweepPlan, rows: Iterable[dict], summary: dict | None = None,
+                   provenance: dict | None = None, system: str = "si") -> None:
+    """json.dumps(document(...), indent=1) and a newline through `write`, a row at a time."""
+    writer = _document_writer(write, plan, summary, provenance, system)
+    for row in iter_table_rows(plan, rows):
+        writer.add(row)
+    writer.end()
+
+
+class _DocumentRows:
+    """The JSON document's writer (stream.JsonDocument) fed the rows of the tables."""
+
+    def __init__(self, document: stream.JsonDocument, names: Sequence[str], converted: dict):
+        self.document, self.names, self.converted = document, names, converted
+
+    def add(self, row: dict) -> None:
+        self.document.add(_document_row(row, self.names, self.converted))
+
+    def end(self) -> None:
+        self.document.end()
+
+
+def _document_writer(write: Callable[[str], Any], plan: SweepPlan, summary: dict | None, provenance: dict | None,
+                     system: str) -> _DocumentRows:
+    """The writer of the JSON document (rows added one at a time), its head written."""
+    converted = _converted(plan, system)
+    head = _document_head(plan, provenance, converted)
+    if summary is not None:
+        head["summary"] = summary
+    return _DocumentRows(stream.JsonDocument(write, to_text_numbers(to_jsonable(head))), columns(plan), converted)
 
 
 def _pyarrow(module: str = "pyarrow"):
@@ -298,26 +283,25 @@ def _pyarrow(module: str = "pyarrow"):
         raise InputError("--table", "parquet", "pyarrow installed: pip install 'upliftcli[parquet]'") from None
 
 
-def _arrow_column(pa, values: list) -> Any:
-    """The Arrow array of a column's values; JSON texts for mixed types (a varied column)."""
-    try:
-        return pa.array(values)
-    except (pa.ArrowInvalid, pa.ArrowTypeError):
-        return pa.array([None if v is None else json.dumps(v) for v in values])
-
-
-def _parquet_bytes(plan: SweepPlan, rows: Sequence[dict], provenance: dict, system: str = "si") -> bytes:
+def _write_parquet(handle, plan: SweepPlan, rows: Iterable[dict], provenance: dict, system: str = "si") -> None:
+    """The Parquet table of the rows (one row group, as pq.write_table writes a whole table) to a binary handle; the
+    columns built from chunks of rows (stream.ArrowColumns), a column of mixed types from a second pass over `rows`."""
     pa, pq = _pyarrow(), _pyarrow("pyarrow.parquet")
 
     converted = _converted(plan, system)
-    rows = file_units.file_rows(table_rows(plan, rows), converted)
-    arrays = {name: _arrow_column(pa, [to_jsonable(row.get(name)) for row in rows])
-              for name in file_units.renamed(columns(plan), converted)}
+    names = file_units.renamed(columns(plan), converted)
+    built = stream.ArrowColumns(pa, names)
+    for row in _file_rows(plan, rows, converted):
+        built.add({name: to_jsonable(row.get(name)) for name in names})
+    arrays = built.arrays(lambda name: [to_jsonable(row.get(name)) for row in _file_rows(plan, rows, converted)])
     metadata = {"units": json.dumps(file_units.file_units(units(plan), converted)), "source": plan.source,
                 "provenance": json.dumps(to_text_numbers(provenance))}
-    sink = io.BytesIO()
-    pq.write_table(pa.table(arrays).replace_schema_metadata(metadata), sink)
-    return sink.getvalue()
+    pq.write_table(pa.table(arrays).replace_schema_metadata(metadata), handle)
+
+
+def _file_rows(plan: SweepPlan, rows: Iterable[dict], converted: dict) -> Iterator[dict]:
+    """The rows of the tables in the files' units, one at a time."""
+    return file_units.iter_file_rows(iter_table_rows(plan, rows), converted)
 
 
 def check_table_format(table_format: str) -> None:
@@ -326,22 +310,61 @@ def check_table_format(table_format: str) -> None:
         _pyarrow()
 
 
-def write_tables(plan: SweepPlan, rows: Sequence[dict], directory: str | Path, stem: str,
+def write_tables(plan: SweepPlan, rows: Iterable[dict], directory: str | Path, stem: str,
                  table_format: str = "json", summary: dict | None = None, provenance: dict | None = None,
                  system: str = "si") -> list[Path]:
     """<stem>.csv and <stem>.json or <stem>.parquet, each atomically with the provenance
-    (default: sweep_provenance of the plan); both built before writing, written both or neither;
-    system: the units of the output columns (SI, or us: sweep/file_units.py)."""
+    (default: sweep_provenance of the plan); written both or neither (each to its temporary file,
+    flushed to the disk, before either replaces its target; the CSV first); system: the units of
+    the output columns (SI, or us: sweep/file_units.py). `rows` is read once (twice for a Parquet
+    column of mixed types): the rows read back from the rows file are never all in memory."""
     directory = Path(directory)
     provenance = sweep_provenance(plan) if provenance is None else provenance
+    targets = [directory / f"{stem}.csv"] + ([directory / f"{stem}.{table_format}"]
+                                             if table_format in ("json", "parquet") else [])
+    with contextlib.ExitStack() as stack:
+        # entered last, left first: the CSV replaces its target first, as write_set renames in order
+        temporaries = [stack.enter_context(atomic_path(target)) for target in reversed(targets)][::-1]
+        _write_files(plan, rows, temporaries, table_format, summary, provenance, system)
+    return targets
+
+
+def _write_files(plan: SweepPlan, rows: Iterable[dict], paths: list[Path], table_format: str, summary: dict | None,
+                 provenance: dict, system: str) -> None:
+    """The CSV table and the JSON document in one pass over the rows, or the CSV then the Parquet table; each file
+    flushed to the disk."""
     converted = _converted(plan, system)
-    outputs: dict[Path, Any] = {directory / f"{stem}.csv": to_csv(
-        file_units.file_rows(table_rows(plan, rows), converted), file_units.renamed(columns(plan), converted),
-        provenance)}
-    if table_format == "json":
-        outputs[directory / f"{stem}.json"] = json.dumps(document(plan, rows, summary, provenance, system),
-                                                         indent=1) + "\n"
-    elif table_format == "parquet":
-        outputs[directory / f"{stem}.parquet"] = _parquet_bytes(plan, rows, provenance, system)
-    write_set(outputs)  # both or neither
-    return list(outputs)
+    with open(paths[0], "w", encoding="utf-8") as handle, _json_file(paths, table_format) as other:
+        document = None if other is None else _document_writer(other.write, plan, summary, provenance, system)
+        write_csv(handle, _teed(iter_table_rows(plan, rows), document, converted),
+                  file_units.renamed(columns(plan), converted), provenance)
+        if document is not None:
+            document.end()
+        _flushed(handle, other)
+    if table_format == "parquet":
+        with open(paths[1], "wb") as handle:
+            _write_parquet(handle, plan, rows, provenance, system)
+            _flushed(handle)
+
+
+def _teed(rows: Iterable[dict], document: _DocumentRows | None, converted: dict) -> Iterator[dict]:
+    """The rows in the files' units (for the CSV), each also added to the JSON document (if any)."""
+    for row in rows:
+        if document is not None:
+            document.add(row)
+        yield row if not converted else file_units.file_row(row, converted)
+
+
+def _json_file(paths: list[Path], table_format: str):
+    """The JSON document's file open for writing (json), else a context of None."""
+    if table_format != "json":
+        return contextlib.nullcontext()
+    return open(paths[1], "w", encoding="utf-8")
+
+
+def _flushed(*handles) -> None:
+    """Flush the open files to the disk (before any replaces its target)."""
+    for handle in handles:
+        if handle is not None:
+            handle.flush()
+            os.fsync(handle.fileno())
