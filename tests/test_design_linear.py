@@ -6,6 +6,7 @@ and a deck without [design] written as before."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -132,3 +133,26 @@ def test_a_sweep_of_cd_names_the_case_whose_design_drift_exceeds_the_allowable(t
     violated = [line for line in outcome.stderr.splitlines() if line.startswith("criterion violated")]
     assert len(violated) == 1 and violated[0].startswith("criterion violated: case 1 (design.Cd=15): simplified/rigid: "
                                                           "design_drift_ratio = 0.0116 exceeds the limit 0.01")
+
+
+def test_the_sweep_rows_carry_the_design_values_of_each_case(tmp_path):
+    """sweep/table.DESIGN_COLUMNS: each case's row has the largest design drift ratio, the design base shear and
+    the allowable drift ratio of its own analysis (the JSON of `uplift analyze` with the case's values); a sweep
+    of a deck without [design] has no such columns."""
+    deck = _deck_file(tmp_path, R=8, Cd=5.5, risk_category="II")
+    outcome = invoke("sweep", deck, "--vary", "design.Cd=4,5.5", "-o", tmp_path, "--format", "json")
+    assert outcome.exit_code == 0, outcome.stderr
+    rows = json.loads(outcome.stdout)["rows"]
+    for row, cd in zip(rows, (4, 5.5), strict=True):
+        single = json.loads(invoke("analyze", deck, "--set", f"design.Cd={cd}", "--format", "json").stdout)
+        result = single.get("results", [single])[0]
+        assert row["max_design_drift_ratio"] == pytest.approx(max(s["design_drift_ratio"] for s in result["stories"]),
+                                                               rel=1e-12)
+        assert row["design_base_shear_N"] == pytest.approx(result["design_base_shear"], rel=1e-12)
+        assert row["allowable_drift_ratio"] == pytest.approx(0.02)
+    assert rows[1]["max_design_drift_ratio"] == pytest.approx(rows[0]["max_design_drift_ratio"] * 5.5 / 4, rel=1e-12)
+    plain_deck = tmp_path / "plain.toml"
+    plain_deck.write_text(Path(deck).read_text().split("[design]")[0])
+    plain = invoke("sweep", plain_deck, "--vary", "building.period=0.4,0.5", "-o", tmp_path / "plain", "--format",
+                   "json")
+    assert "max_design_drift_ratio" not in json.loads(plain.stdout)["rows"][0]

@@ -23,7 +23,7 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
-from ..engines.quantities import ALL_ENGINES, BUILDING, COMPARED, MAT, QUANTITIES, ROCKING, SCALARS, YIELDING
+from ..engines.quantities import ALL_ENGINES, BUILDING, COMPARED, DESIGN, MAT, QUANTITIES, ROCKING, SCALARS, YIELDING
 from ..errors import InputError
 from ..output import to_jsonable
 from ..provenance.record import csv_comments, number_text, to_text_numbers
@@ -72,6 +72,11 @@ ROCKING_COLUMNS: dict[str, tuple[str, str]] = {
 YIELDING_COLUMNS: dict[str, tuple[str, str]] = {
     q.column: (q.unit, ("" if q.where == BUILDING else "largest ") + q.meaning
                + " (exact engine, story strengths; empty otherwise)") for q in YIELDING.values() if q.column}
+#: columns of ASCE 7-22's linear design values (engines/quantities.DESIGN, docs/theory.md 16), in a sweep that
+#: runs the simplified engine on a deck with a [design] table (empty on the other rows)
+DESIGN_COLUMNS: dict[str, tuple[str, str]] = {
+    q.column: (q.unit, ("" if q.where == BUILDING else "largest ") + q.meaning
+               + " (simplified engine, [design]; empty otherwise)") for q in DESIGN.values() if q.column}
 #: the deck fields that give the stories strengths (deck/strengths.py)
 STRENGTH_FIELDS = ("building.story_strengths", "building.strength_coefficient")
 #: columns of a sweep of a record suite: statistic and record after the support, the others at the end
@@ -97,7 +102,8 @@ CHECK_COLUMNS: dict[str, tuple[str, str]] = {
 def columns(plan: SweepPlan) -> list[str]:
     lead, tail = (["statistic", "record"], ["records", "factor"]) if plan.suite_records else ([], [])
     return (["case", "engine", "support"] + lead + [v.path for v in plan.varies] + list(OUTPUT_COLUMNS)
-            + list(rocking_columns(plan)) + list(yielding_columns(plan)) + list(_check_columns(plan)) + tail
+            + list(rocking_columns(plan)) + list(yielding_columns(plan)) + list(design_columns(plan))
+            + list(_check_columns(plan)) + tail
             + ["key"])
 
 
@@ -110,6 +116,18 @@ def yielding_columns(plan: SweepPlan) -> dict[str, tuple[str, str]]:
     """YIELDING_COLUMNS when the sweep runs the exact engine on a building with story strengths (given by the
     deck, a --set or a --vary), else none."""
     return YIELDING_COLUMNS if "exact" in plan.engines and _has_strengths(plan) else {}
+
+
+def design_columns(plan: SweepPlan) -> dict[str, tuple[str, str]]:
+    """DESIGN_COLUMNS when the sweep runs the simplified engine on a deck with a [design] table (given by the
+    deck, a --set or a --vary), else none."""
+    return DESIGN_COLUMNS if "simplified" in plan.engines and _has_design(plan) else {}
+
+
+def _has_design(plan: SweepPlan) -> bool:
+    """Whether the deck, its --set or its --vary give a [design] table."""
+    given = {path for path, _ in plan.base_overrides} | {v.path for v in plan.varies}
+    return "design" in plan.raw or any(path.startswith("design.") for path in given)
 
 
 def _has_strengths(plan: SweepPlan) -> bool:
@@ -126,7 +144,8 @@ def _check_columns(plan: SweepPlan) -> dict[str, tuple[str, str]]:
 
 def units(plan: SweepPlan) -> dict[str, str]:
     suite = SUITE_COLUMNS if plan.suite_records else {}
-    described = {**OUTPUT_COLUMNS, **rocking_columns(plan), **yielding_columns(plan), **suite, **_check_columns(plan)}
+    described = {**OUTPUT_COLUMNS, **rocking_columns(plan), **yielding_columns(plan), **design_columns(plan),
+                 **suite, **_check_columns(plan)}
     return {**{v.path: v.unit for v in plan.varies}, **{name: unit for name, (unit, _) in described.items()}}
 
 

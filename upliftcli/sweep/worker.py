@@ -16,7 +16,7 @@ import numpy as np
 from ..analysis.run import run_batch
 from ..deck.criteria import check_criteria
 from ..deck.load import Deck, build_deck
-from ..engines.quantities import QUANTITIES, ROCKING, SCALARS, YIELDING, compared_values, rocking_value
+from ..engines.quantities import DESIGN, QUANTITIES, ROCKING, SCALARS, YIELDING, compared_values, rocking_value
 from ..engines.simplified import effective_properties
 from ..engines.suite_result import SuiteResult
 from ..errors import AnalysisError, InputError
@@ -167,6 +167,7 @@ def _outputs(deck: Deck, result, t1bar: float | None, xi1bar: float | None) -> d
         **_peak_columns(result, QUANTITIES, result.value),
         **_peak_columns(result, ROCKING, functools.partial(rocking_value, result)),
         **_peak_columns(result, YIELDING, functools.partial(_yielding_value, result)),
+        **_peak_columns(result, DESIGN, result.value),
         "max_drift_story": int(np.argmax(np.abs(result.drift_ratio))) + 1,
         "uplift": bool(result.uplift), "V_c_N": result.critical_base_shear,
         "critical_coefficient": result.critical_coefficient,
