@@ -76,15 +76,75 @@ static inline void combine(const double *restrict row, const int64_t *restrict c
     transposed_product(rows_t, y, n_basis, m, out);
 }
 
-/* best[j] = |row[j]| and where[j] = position where |row[j]| is larger (branch-free: it vectorises) */
-static inline void keep_larger(const double *restrict row, int64_t m, double position, double *restrict best,
-                               double *restrict where)
+#if defined(__GNUC__)
+/* four 64-bit lanes of comparison results (all ones or zeros) beside product_vector */
+typedef long long peak_mask __attribute__((vector_size(4 * sizeof(long long)), aligned(sizeof(double)), may_alias));
+/* |v| of four doubles: the sign bits cleared, as fabs does (a macro: a function returning a vector
+ * would change the ABI of the default clone) */
+#define SIGN_CLEARED ((peak_mask){0x7fffffffffffffffLL, 0x7fffffffffffffffLL, 0x7fffffffffffffffLL, \
+                                  0x7fffffffffffffffLL})
+#define VECTOR_FABS(v) ((product_vector)((peak_mask)(v) & SIGN_CLEARED))
+#endif
+
+/* best[j] = |row[j]| and where[j] = position where |row[j]| is larger (four at a time where the vector
+ * type exists; the same comparisons and values as one at a time) */
+static ALWAYS_INLINE void keep_larger(const double *restrict row, int64_t m, double position,
+                                      double *restrict best, double *restrict where)
 {
-    for (int64_t j = 0; j < m; j++) {
+    int64_t j = 0;
+#if defined(__GNUC__)
+    const product_vector at = {position, position, position, position};
+    for (; j + 4 <= m; j += 4) {
+        const product_vector v = VECTOR_FABS(VECTOR_AT(row + j)), b = VECTOR_AT(best + j);
+        const peak_mask better = v > b;
+        VECTOR_AT(best + j) = (product_vector)((better & (peak_mask)v) | (~better & (peak_mask)b));
+        VECTOR_AT(where + j) = (product_vector)((better & (peak_mask)at) | (~better & (peak_mask)VECTOR_AT(where + j)));
+    }
+#endif
+    for (; j < m; j++) {
         const double v = fabs(row[j]);
         const int better = v > best[j];
         best[j] = better ? v : best[j];
         where[j] = better ? position : where[j];
+    }
+}
+
+/* 1 if |row[j]| >= threshold[j] for some j < m, else 0 (four at a time where the vector type exists) */
+static ALWAYS_INLINE int any_at_least(const double *restrict row, const double *restrict threshold, int64_t m)
+{
+    int64_t j = 0;
+    int flag = 0;
+#if defined(__GNUC__)
+    peak_mask found = {0, 0, 0, 0};
+    for (; j + 4 <= m; j += 4) {
+        found |= VECTOR_FABS(VECTOR_AT(row + j)) >= VECTOR_AT(threshold + j);
+    }
+    flag = (found[0] | found[1] | found[2] | found[3]) != 0;
+#endif
+    for (; j < m; j++) {
+        flag |= fabs(row[j]) >= threshold[j];
+    }
+    return flag;
+}
+
+/* y[s n_b + q] = values[(i0 + s) k + columns[q]] for the PRODUCT_SAMPLES samples from i0 (zeros past the
+ * last sample, n) */
+static ALWAYS_INLINE void gather_samples(const double *restrict values, const int64_t *restrict columns, int64_t i0,
+                                         int64_t n, int64_t k, int64_t n_b, double *restrict y)
+{
+    if (i0 + PRODUCT_SAMPLES <= n) {
+        for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
+            const double *row = values + (i0 + s) * k;
+            for (int64_t q = 0; q < n_b; q++) {
+                y[s * n_b + q] = row[columns[q]];
+            }
+        }
+        return;
+    }
+    for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
+        for (int64_t q = 0; q < n_b; q++) {
+            y[s * n_b + q] = i0 + s < n ? values[(i0 + s) * k + columns[q]] : 0.0;
+        }
     }
 }
 
@@ -128,11 +188,7 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
             }
             PREFETCH(in->values + i * k + last_column);
         }
-        for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
-            for (int64_t q = 0; q < n_b; q++) {
-                y[s * n_b + q] = i0 + s < n ? in->values[(i0 + s) * k + in->value_columns[q]] : 0.0;
-            }
-        }
+        gather_samples(in->values, in->value_columns, i0, n, k, n_b, y);
         product_samples(padded, y, n_b, width, sampled + i0 * width);
         for (int64_t i = i0; i < n && i < i0 + PRODUCT_SAMPLES; i++) {
             keep_larger(sampled + i * width, m, (double)i, best, where);
@@ -143,12 +199,7 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
         threshold[j] = in->fractions[j] * best[j];
     }
     for (int64_t i = 0; i < n; i++) {
-        const double *row = sampled + i * width;
-        int flag = 0;
-        for (int64_t j = 0; j < m; j++) {
-            flag |= fabs(row[j]) >= threshold[j];
-        }
-        flagged[i] = (unsigned char)flag;
+        flagged[i] = (unsigned char)any_at_least(sampled + i * width, threshold, m);
     }
     /* pass 2: between samples, on the intervals with a flagged end or ending at a transition */
     for (int64_t i = 0; i + 1 < n; i++) {
