@@ -86,26 +86,40 @@ typedef long long peak_mask __attribute__((vector_size(4 * sizeof(long long)), a
 #define VECTOR_FABS(v) ((product_vector)((peak_mask)(v) & SIGN_CLEARED))
 #endif
 
-/* best[j] = |row[j]| and where[j] = position where |row[j]| is larger (four at a time where the vector
- * type exists; the same comparisons and values as one at a time) */
-static ALWAYS_INLINE void keep_larger(const double *restrict row, int64_t m, double position,
+/* best[j] = |row[j]| and where[j] = position where |row[j]| is larger, for j in [from, to) */
+static ALWAYS_INLINE void keep_larger(const double *restrict row, int64_t from, int64_t to, double position,
                                       double *restrict best, double *restrict where)
 {
-    int64_t j = 0;
-#if defined(__GNUC__)
-    const product_vector at = {position, position, position, position};
-    for (; j + 4 <= m; j += 4) {
-        const product_vector v = VECTOR_FABS(VECTOR_AT(row + j)), b = VECTOR_AT(best + j);
-        const peak_mask better = v > b;
-        VECTOR_AT(best + j) = (product_vector)((better & (peak_mask)v) | (~better & (peak_mask)b));
-        VECTOR_AT(where + j) = (product_vector)((better & (peak_mask)at) | (~better & (peak_mask)VECTOR_AT(where + j)));
-    }
-#endif
-    for (; j < m; j++) {
+    for (int64_t j = from; j < to; j++) {
         const double v = fabs(row[j]);
         const int better = v > best[j];
         best[j] = better ? v : best[j];
         where[j] = better ? position : where[j];
+    }
+}
+
+/* keep_larger for the `count` samples of a block (rows `width` apart, the first at index i0), in order. Where
+ * the vector type exists, four responses at a time: when no sample of the block exceeds their best so far (most
+ * blocks: a peak rises rarely) nothing changes, and the check alone is done; else the samples one at a time. */
+static ALWAYS_INLINE void keep_larger_block(const double *restrict rows, int64_t width, int64_t count, int64_t i0,
+                                            int64_t m, double *restrict best, double *restrict where)
+{
+    int64_t j = 0;
+#if defined(__GNUC__)
+    for (; count == PRODUCT_SAMPLES && j + 4 <= m; j += 4) {
+        const product_vector b = VECTOR_AT(best + j);
+        const peak_mask up = (VECTOR_FABS(VECTOR_AT(rows + j)) > b) | (VECTOR_FABS(VECTOR_AT(rows + width + j)) > b)
+                             | (VECTOR_FABS(VECTOR_AT(rows + 2 * width + j)) > b)
+                             | (VECTOR_FABS(VECTOR_AT(rows + 3 * width + j)) > b);
+        if ((up[0] | up[1] | up[2] | up[3]) != 0) {
+            for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
+                keep_larger(rows + s * width, j, j + 4, (double)(i0 + s), best, where);
+            }
+        }
+    }
+#endif
+    for (int64_t s = 0; s < count; s++) {
+        keep_larger(rows + s * width, j, m, (double)(i0 + s), best, where);
     }
 }
 
@@ -128,10 +142,19 @@ static ALWAYS_INLINE int any_at_least(const double *restrict row, const double *
 }
 
 /* y[s n_b + q] = values[(i0 + s) k + columns[q]] for the PRODUCT_SAMPLES samples from i0 (zeros past the
- * last sample, n) */
-static ALWAYS_INLINE void gather_samples(const double *restrict values, const int64_t *restrict columns, int64_t i0,
-                                         int64_t n, int64_t k, int64_t n_b, double *restrict y)
+ * last sample, n); run: how many of the columns follow the first one by one (contiguous_run) */
+static ALWAYS_INLINE void gather_samples(const double *restrict values, const int64_t *restrict columns, int64_t run,
+                                         int64_t i0, int64_t n, int64_t k, int64_t n_b, double *restrict y)
 {
+    if (i0 + PRODUCT_SAMPLES <= n && n_b > 0 && run == n_b) { /* columns[q] = columns[0] + q: a copy */
+        for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
+            const double *row = values + (i0 + s) * k + columns[0];
+            for (int64_t q = 0; q < n_b; q++) {
+                y[s * n_b + q] = row[q];
+            }
+        }
+        return;
+    }
     if (i0 + PRODUCT_SAMPLES <= n) {
         for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
             const double *row = values + (i0 + s) * k;
@@ -173,6 +196,10 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
         first_column = in->value_columns[q] < first_column ? in->value_columns[q] : first_column;
         last_column = in->value_columns[q] > last_column ? in->value_columns[q] : last_column;
     }
+    int64_t run = n_b > 0; /* the columns that follow the first one by one (gather_samples copies them) */
+    while (run < n_b && in->value_columns[run] == in->value_columns[0] + run) {
+        run++;
+    }
     for (int64_t q = 0; q < n_b; q++) { /* R^T with zero columns up to the padded width */
         for (int64_t j = 0; j < width; j++) {
             padded[q * width + j] = j < m ? in->rows_t[q * m + j] : 0.0;
@@ -188,11 +215,10 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
             }
             PREFETCH(in->values + i * k + last_column);
         }
-        gather_samples(in->values, in->value_columns, i0, n, k, n_b, y);
+        gather_samples(in->values, in->value_columns, run, i0, n, k, n_b, y);
         product_samples(padded, y, n_b, width, sampled + i0 * width);
-        for (int64_t i = i0; i < n && i < i0 + PRODUCT_SAMPLES; i++) {
-            keep_larger(sampled + i * width, m, (double)i, best, where);
-        }
+        keep_larger_block(sampled + i0 * width, width, n - i0 < PRODUCT_SAMPLES ? n - i0 : PRODUCT_SAMPLES, i0, m, best,
+                          where);
     }
     /* the samples within the fraction of the peak of some response */
     for (int64_t j = 0; j < m; j++) {
