@@ -68,17 +68,22 @@ HOT_LOOP static void work_integrals(const WorkInput *in, double *gauss, double o
             }
         }
         const unsigned char *lifted = in->lifted + i * in->n_elements;
+        /* sum_n c_n Y_n*'^2 at the three nodes, each in the order of the modes (one pass over them) */
+        double modal[3] = {0.0, 0.0, 0.0};
+        for (int64_t mode = 0; mode < in->n_modes; mode++) {
+            const double c = in->modal_damping[mode];
+            const double y0 = gauss[in->row_ydot + mode], y1 = gauss[k + in->row_ydot + mode],
+                         y2 = gauss[2 * k + in->row_ydot + mode];
+            modal[0] += c * y0 * y0;
+            modal[1] += c * y1 * y1;
+            modal[2] += c * y2 * y2;
+        }
         for (int g = 0; g < 3; g++) {
             const double *at = gauss + g * k;
             double w = weights[g] * length;
             work_in += w * at[in->row_a] * at[in->row_input];
+            damp_struct += w * modal[g];
             double acc = 0.0;
-            for (int64_t mode = 0; mode < in->n_modes; mode++) {
-                double yd = at[in->row_ydot + mode];
-                acc += in->modal_damping[mode] * yd * yd;
-            }
-            damp_struct += w * acc;
-            acc = 0.0;
             for (int64_t e = 0; e < in->n_elements; e++) {
                 double c = in->element_damping[e];
                 if (c > 0.0 && !lifted[e]) {

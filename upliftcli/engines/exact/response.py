@@ -179,10 +179,17 @@ def signals(history: History) -> Signals:
                    np.ascontiguousarray(ends[:, start:]), names)
 
 
+#: a run with at most this many contact states has the signal rows of all built (response.signals); with more
+#: (yielding: hundreds) those of the states its samples use only
+FEW_STATES = 8
+
+
 def _used_states(state_ids: np.ndarray, n_states: int) -> tuple[np.ndarray, np.ndarray]:
     """(the state ids the samples use, ascending; each sample's index among them (int64)): np.unique's
-    (values, inverse), by a count and a table lookup instead of a sort."""
+    (values, inverse), by a count and a table lookup instead of a sort; every state of a few (FEW_STATES)."""
     ids = np.asarray(state_ids, dtype=np.int64)
+    if n_states <= FEW_STATES:  # the rows of every state: fewer than counting the samples' states costs
+        return np.arange(n_states), ids
     used = np.flatnonzero(np.bincount(ids, minlength=n_states))
     if used.size == n_states:
         return used, ids
