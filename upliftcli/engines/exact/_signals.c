@@ -14,29 +14,31 @@
  * dense product R x (transposed_product): an output equal to an earlier one is copied; one with few
  * nonzero coefficients sums them alone (the terms left out are zero and the others are added in
  * the same order, so the sum is the same); the others come from one dense product over their
- * columns. Each list holds output indices (and where from), in increasing order. */
+ * columns; one whose only nonzero coefficient is 1 is that input (+0, as its sum from +0). Each list holds output
+ * indices (and where from), in increasing order. */
 typedef struct {
     const double *whole;   /* R^T (n_aug, width) of a state not split (NULL: split), used as it is */
     int64_t width;
-    int64_t n_dense, n_sparse, n_copies, n_entries;
+    int64_t n_dense, n_sparse, n_copies, n_entries, n_picks;
     int64_t dense_width;   /* n_dense rounded up to whole PRODUCT_LANES */
     double *dense;         /* (n_aug, dense_width): the rows computed densely, transposed (zeros past n_dense) */
     int64_t *dense_output; /* n_dense: the output of each dense column */
     int64_t *sparse;       /* n_sparse: the output of each sparse row */
     int64_t *copies;       /* n_copies x (output, the earlier output it equals) */
+    int64_t *picks;        /* n_picks x (output, input) of the rows whose one nonzero coefficient is 1 */
     int64_t *entry_input;  /* sparse entries: input index, output index and coefficient, by output and input */
     int64_t *entry_output;
     double *entry_value;
 } SplitRows;
 
 /* Split R^T (n_aug, width) into `split`, whose arrays have room for the worst case: dense
- * n_aug padded_width(width) doubles, entry_value n_aug width, dense_output and sparse width,
- * copies 2 width, entry_input and entry_output n_aug width integers each; nonzeros and sums: work space
+ * n_aug padded_width(width) doubles, entry_value n_aug width, dense_output and sparse width, picks and
+ * copies 2 width each, entry_input and entry_output n_aug width integers each; nonzeros and sums: work space
  * of width each. */
 static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, SplitRows *split, int64_t *nonzeros,
                        double *sums)
 {
-    split->n_dense = split->n_sparse = split->n_copies = split->n_entries = 0;
+    split->n_dense = split->n_sparse = split->n_copies = split->n_entries = split->n_picks = 0;
     /* each row's count of nonzero coefficients and their sum: equal rows agree in both, so only
      * such pairs are compared entry by entry (comparing every pair cost a yielding run with
      * hundreds of states a sixth of its time, measured) */
@@ -67,6 +69,14 @@ static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, Split
             int64_t *copy = split->copies + 2 * split->n_copies++;
             copy[0] = r;
             copy[1] = same;
+        } else if (nonzero == 1 && sums[r] == 1.0) {
+            int64_t q = 0;
+            while (rows_t[q * width + r] == 0.0) {
+                q++;
+            }
+            int64_t *pick = split->picks + 2 * split->n_picks++;
+            pick[0] = r;
+            pick[1] = q;
         } else if (4 * nonzero <= n_aug) {
             split->sparse[split->n_sparse++] = r;
             for (int64_t q = 0; q < n_aug; q++) {
@@ -105,6 +115,9 @@ static inline void split_rest(const SplitRows *split, const double *restrict x, 
     }
     for (int64_t e = 0; e < split->n_entries; e++) {
         out[split->entry_output[e]] += split->entry_value[e] * x[split->entry_input[e]];
+    }
+    for (int64_t j = 0; j < split->n_picks; j++) { /* +0 + 1 x, as the sum of its one entry */
+        out[split->picks[2 * j]] = x[split->picks[2 * j + 1]] + 0.0;
     }
     for (int64_t j = 0; j < split->n_copies; j++) {
         out[split->copies[2 * j]] = out[split->copies[2 * j + 1]];
@@ -237,6 +250,7 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
         rows->entry_value = doubles + n_acc + n_split * n_dense + j * per_state;
         rows->dense_output = integers + 7 * j * width;
         rows->sparse = rows->dense_output + width;
+        rows->picks = rows->sparse + width;
         rows->copies = rows->sparse + 3 * width;
         rows->entry_input = integers + 7 * n_split * width + 2 * j * per_state;
         rows->entry_output = rows->entry_input + per_state;
