@@ -177,13 +177,29 @@ typedef struct {
     int64_t n, k, k_s, width_end_slopes, n_basis, m;
 } PeakInput;
 
+/* The rate and curvature of response j at one sample (or left limit): sum_q R[j, q] s_q' and sum_q R[j, q] s_q''
+ * from the sample's values (the rate columns) and slopes (the curvature columns), each from +0 in the order of q */
+static ALWAYS_INLINE void rates_at(const PeakInput *in, int64_t j, const double *restrict values,
+                                   const double *restrict slopes, double *rate, double *curvature)
+{
+    double d = 0.0, c = 0.0;
+    for (int64_t q = 0; q < in->n_basis; q++) {
+        const double rq = in->rows_t[q * in->m + j];
+        d += rq * values[in->rate_columns[q]];
+        c += rq * slopes[in->curvature_columns[q]];
+    }
+    *rate = d;
+    *curvature = c;
+}
+
 /* Peak |r| of each response r = R s between samples and where it is (interval index +
  * fraction), from the quintic Hermite interpolant through the samples with the exact first and
  * second derivatives (response_kernels.hermite_peaks). Work space: sampled (n rounded up to
  * whole PRODUCT_SAMPLES, padded_width(m)), padded (n_basis, padded_width(m)), flagged (n), end and
- * threshold (m each), y (PRODUCT_SAMPLES n_basis). */
+ * threshold (m each), y (PRODUCT_SAMPLES n_basis), next_rate, next_curvature and next_at (m each). */
 HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *where, double *sampled,
-                                   double *padded, unsigned char *flagged, double *end, double *threshold, double *y)
+                                   double *padded, unsigned char *flagged, double *end, double *threshold, double *y,
+                                   double *next_rate, double *next_curvature, int64_t *next_at)
 {
     const int64_t n = in->n, m = in->m, n_b = in->n_basis, k = in->k, k_s = in->k_s, k_e = in->width_end_slopes;
     const int64_t width = padded_width(m);
@@ -227,7 +243,11 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
     for (int64_t i = 0; i < n; i++) {
         flagged[i] = (unsigned char)any_at_least(sampled + i * width, threshold, m);
     }
-    /* pass 2: between samples, on the intervals with a flagged end or ending at a transition */
+    /* pass 2: between samples, on the intervals with a flagged end or ending at a transition; the rates of a
+     * response at the sample that ended the interval before (when it was searched) are taken again */
+    for (int64_t j = 0; j < m; j++) {
+        next_at[j] = -1;
+    }
     for (int64_t i = 0; i + 1 < n; i++) {
         const int64_t fix = in->switch_[i];
         if (!(flagged[i] || flagged[i + 1] || fix >= 0)) {
@@ -243,18 +263,20 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
             if (fabs(r0[j]) < threshold[j] && fabs(r1[j]) < threshold[j]) {
                 continue;
             }
-            double d0 = 0.0, d1 = 0.0, c0 = 0.0, c1 = 0.0;
-            for (int64_t q = 0; q < n_b; q++) {
-                const double rq = in->rows_t[q * m + j];
-                d0 += rq * in->values[i * k + in->rate_columns[q]];
-                c0 += rq * in->slopes[i * k_s + in->curvature_columns[q]];
-                if (fix >= 0) {
-                    d1 += rq * in->end_values[fix * k + in->rate_columns[q]];
-                    c1 += rq * in->end_slopes[fix * k_e + in->curvature_columns[q]];
-                } else {
-                    d1 += rq * in->values[(i + 1) * k + in->rate_columns[q]];
-                    c1 += rq * in->slopes[(i + 1) * k_s + in->curvature_columns[q]];
-                }
+            double d0, d1, c0, c1;
+            if (next_at[j] == i) { /* sample i ended the interval before, searched for this response */
+                d0 = next_rate[j];
+                c0 = next_curvature[j];
+            } else {
+                rates_at(in, j, in->values + i * k, in->slopes + i * k_s, &d0, &c0);
+            }
+            if (fix >= 0) {
+                rates_at(in, j, in->end_values + fix * k, in->end_slopes + fix * k_e, &d1, &c1);
+            } else {
+                rates_at(in, j, in->values + (i + 1) * k, in->slopes + (i + 1) * k_s, &d1, &c1);
+                next_at[j] = i + 1;
+                next_rate[j] = d1;
+                next_curvature[j] = c1;
             }
             const double e0 = d0 * length, e1 = d1 * length, f0 = c0 * length * length, f1 = c1 * length * length;
             if (hull_below(r0[j], r1[j], e0, e1, f0, f1, best[j])) {
@@ -319,18 +341,25 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
     const int64_t n_sampled = rows * width, n_padded = in.n_basis * width;
     double *sampled = malloc((n_sampled + n_padded + 2 * in.m + PRODUCT_SAMPLES * in.n_basis + 1) * sizeof(double));
     unsigned char *flagged = malloc(in.n + 1);
-    if (!sampled || !flagged) {
+    double *next_rate = malloc((2 * in.m + 1) * sizeof(double));
+    int64_t *next_at = malloc((in.m + 1) * sizeof(int64_t));
+    if (!sampled || !flagged || !next_rate || !next_at) {
         free(sampled);
         free(flagged);
+        free(next_rate);
+        free(next_at);
         PyErr_NoMemory();
         goto done;
     }
     double *padded = sampled + n_sampled, *end = padded + n_padded, *threshold = end + in.m, *y = threshold + in.m;
     Py_BEGIN_ALLOW_THREADS
-    hermite_peaks(&in, DOUBLES(b[11]), DOUBLES(b[12]), sampled, padded, flagged, end, threshold, y);
+    hermite_peaks(&in, DOUBLES(b[11]), DOUBLES(b[12]), sampled, padded, flagged, end, threshold, y, next_rate,
+                  next_rate + in.m, next_at);
     Py_END_ALLOW_THREADS
     free(sampled);
     free(flagged);
+    free(next_rate);
+    free(next_at);
     result = Py_NewRef(Py_None);
 done:
     release_views(&v);
