@@ -196,16 +196,22 @@ static ALWAYS_INLINE void rates_at(const PeakInput *in, int64_t j, const double 
  * fraction), from the quintic Hermite interpolant through the samples with the exact first and
  * second derivatives (response_kernels.hermite_peaks). Work space: sampled (n rounded up to
  * whole PRODUCT_SAMPLES, padded_width(m)), padded (n_basis, padded_width(m)), flagged (n), end and
- * threshold (m each), y (PRODUCT_SAMPLES n_basis), next_rate, next_curvature and next_at (m each). */
-HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *where, double *sampled,
+ * threshold (m, padded_width(m)), y (PRODUCT_SAMPLES n_basis), best and where (padded_width(m) each: copied to
+ * best_out, where_out at the end), next_rate, next_curvature and next_at (m each). */
+HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double *where_out, double *sampled,
                                    double *padded, unsigned char *flagged, double *end, double *threshold, double *y,
-                                   double *next_rate, double *next_curvature, int64_t *next_at)
+                                   double *best, double *where, double *next_rate, double *next_curvature,
+                                   int64_t *next_at)
 {
     const int64_t n = in->n, m = in->m, n_b = in->n_basis, k = in->k, k_s = in->k_s, k_e = in->width_end_slopes;
     const int64_t width = padded_width(m);
-    for (int64_t j = 0; j < m; j++) {
+    /* best, where and threshold have `width` entries: the zero columns past m (their responses are +0, or NaN
+     * from an infinite signal) never exceed a peak of 0 nor reach a threshold of +inf, and no loop over the
+     * responses has a remainder */
+    for (int64_t j = 0; j < width; j++) {
         best[j] = 0.0;
         where[j] = 0.0;
+        threshold[j] = INFINITY;
     }
     int64_t first_column = k, last_column = -1; /* the span of the signal columns read */
     for (int64_t q = 0; q < n_b; q++) {
@@ -233,15 +239,15 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
         }
         gather_samples(in->values, in->value_columns, run, i0, n, k, n_b, y);
         product_samples(padded, y, n_b, width, sampled + i0 * width);
-        keep_larger_block(sampled + i0 * width, width, n - i0 < PRODUCT_SAMPLES ? n - i0 : PRODUCT_SAMPLES, i0, m, best,
-                          where);
+        keep_larger_block(sampled + i0 * width, width, n - i0 < PRODUCT_SAMPLES ? n - i0 : PRODUCT_SAMPLES, i0, width,
+                          best, where);
     }
     /* the samples within the fraction of the peak of some response */
     for (int64_t j = 0; j < m; j++) {
         threshold[j] = in->fractions[j] * best[j];
     }
     for (int64_t i = 0; i < n; i++) {
-        flagged[i] = (unsigned char)any_at_least(sampled + i * width, threshold, m);
+        flagged[i] = (unsigned char)any_at_least(sampled + i * width, threshold, width);
     }
     /* pass 2: between samples, on the intervals with a flagged end or ending at a transition; the rates of a
      * response at the sample that ended the interval before (when it was searched) are taken again */
@@ -289,6 +295,10 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
                 where[j] = i + s;
             }
         }
+    }
+    for (int64_t j = 0; j < m; j++) {
+        best_out[j] = best[j];
+        where_out[j] = where[j];
     }
 }
 
@@ -339,7 +349,8 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
     }
     const int64_t width = padded_width(in.m), rows = (in.n + PRODUCT_SAMPLES - 1) / PRODUCT_SAMPLES * PRODUCT_SAMPLES;
     const int64_t n_sampled = rows * width, n_padded = in.n_basis * width;
-    double *sampled = malloc((n_sampled + n_padded + 2 * in.m + PRODUCT_SAMPLES * in.n_basis + 1) * sizeof(double));
+    double *sampled = malloc((n_sampled + n_padded + in.m + 3 * width + PRODUCT_SAMPLES * in.n_basis + 1)
+                             * sizeof(double));
     unsigned char *flagged = malloc(in.n + 1);
     double *next_rate = malloc((2 * in.m + 1) * sizeof(double));
     int64_t *next_at = malloc((in.m + 1) * sizeof(int64_t));
@@ -351,10 +362,11 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
         PyErr_NoMemory();
         goto done;
     }
-    double *padded = sampled + n_sampled, *end = padded + n_padded, *threshold = end + in.m, *y = threshold + in.m;
+    double *padded = sampled + n_sampled, *end = padded + n_padded, *threshold = end + in.m, *y = threshold + width;
+    double *best = y + PRODUCT_SAMPLES * in.n_basis, *where = best + width;
     Py_BEGIN_ALLOW_THREADS
-    hermite_peaks(&in, DOUBLES(b[11]), DOUBLES(b[12]), sampled, padded, flagged, end, threshold, y, next_rate,
-                  next_rate + in.m, next_at);
+    hermite_peaks(&in, DOUBLES(b[11]), DOUBLES(b[12]), sampled, padded, flagged, end, threshold, y, best, where,
+                  next_rate, next_rate + in.m, next_at);
     Py_END_ALLOW_THREADS
     free(sampled);
     free(flagged);
