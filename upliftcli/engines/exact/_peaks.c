@@ -141,6 +141,23 @@ static ALWAYS_INLINE int any_at_least(const double *restrict row, const double *
     return flag;
 }
 
+/* 1 if |r0[j]| < threshold[j] and |r1[j]| < threshold[j] for the four j from here (the pass over the
+ * intervals skips them: the test it makes one at a time, NaN not below), else 0; 0 without the vector type */
+static ALWAYS_INLINE int all_below(const double *restrict r0, const double *restrict r1,
+                                   const double *restrict threshold)
+{
+#if defined(__GNUC__)
+    const product_vector t = VECTOR_AT(threshold);
+    const peak_mask below = (VECTOR_FABS(VECTOR_AT(r0)) < t) & (VECTOR_FABS(VECTOR_AT(r1)) < t);
+    return (below[0] & below[1] & below[2] & below[3]) != 0;
+#else
+    (void)r0;
+    (void)r1;
+    (void)threshold;
+    return 0;
+#endif
+}
+
 /* y[s n_b + q] = values[(i0 + s) k + columns[q]] for the PRODUCT_SAMPLES samples from i0 (zeros past the
  * last sample, n); run: how many of the columns follow the first one by one (contiguous_run) */
 static ALWAYS_INLINE void gather_samples(const double *restrict values, const int64_t *restrict columns, int64_t run,
@@ -196,7 +213,7 @@ static ALWAYS_INLINE void rates_at(const PeakInput *in, int64_t j, const double 
  * fraction), from the quintic Hermite interpolant through the samples with the exact first and
  * second derivatives (response_kernels.hermite_peaks). Work space: sampled (n rounded up to
  * whole PRODUCT_SAMPLES, padded_width(m)), padded (n_basis, padded_width(m)), flagged (n), end and
- * threshold (m, padded_width(m)), y (PRODUCT_SAMPLES n_basis), best and where (padded_width(m) each: copied to
+ * threshold (padded_width(m) each), y (PRODUCT_SAMPLES n_basis), best and where (padded_width(m) each: copied to
  * best_out, where_out at the end), next_rate, next_curvature and next_at (m each). */
 HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double *where_out, double *sampled,
                                    double *padded, unsigned char *flagged, double *end, double *threshold, double *y,
@@ -212,6 +229,7 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double
         best[j] = 0.0;
         where[j] = 0.0;
         threshold[j] = INFINITY;
+        end[j] = 0.0; /* combine writes the first m */
     }
     int64_t first_column = k, last_column = -1; /* the span of the signal columns read */
     for (int64_t q = 0; q < n_b; q++) {
@@ -266,6 +284,10 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double
         }
         const double length = in->lengths[i];
         for (int64_t j = 0; j < m; j++) {
+            if (j % 4 == 0 && all_below(r0 + j, r1 + j, threshold + j)) { /* four responses below at both ends */
+                j += 3;
+                continue;
+            }
             if (fabs(r0[j]) < threshold[j] && fabs(r1[j]) < threshold[j]) {
                 continue;
             }
@@ -349,7 +371,7 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
     }
     const int64_t width = padded_width(in.m), rows = (in.n + PRODUCT_SAMPLES - 1) / PRODUCT_SAMPLES * PRODUCT_SAMPLES;
     const int64_t n_sampled = rows * width, n_padded = in.n_basis * width;
-    double *sampled = malloc((n_sampled + n_padded + in.m + 3 * width + PRODUCT_SAMPLES * in.n_basis + 1)
+    double *sampled = malloc((n_sampled + n_padded + 4 * width + PRODUCT_SAMPLES * in.n_basis + 1)
                              * sizeof(double));
     unsigned char *flagged = malloc(in.n + 1);
     double *next_rate = malloc((2 * in.m + 1) * sizeof(double));
@@ -362,7 +384,7 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
         PyErr_NoMemory();
         goto done;
     }
-    double *padded = sampled + n_sampled, *end = padded + n_padded, *threshold = end + in.m, *y = threshold + width;
+    double *padded = sampled + n_sampled, *end = padded + n_padded, *threshold = end + width, *y = threshold + width;
     double *best = y + PRODUCT_SAMPLES * in.n_basis, *where = best + width;
     Py_BEGIN_ALLOW_THREADS
     hermite_peaks(&in, DOUBLES(b[11]), DOUBLES(b[12]), sampled, padded, flagged, end, threshold, y, best, where,
