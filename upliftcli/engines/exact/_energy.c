@@ -78,20 +78,23 @@ HOT_LOOP static void work_integrals(const WorkInput *in, double *gauss, double o
             modal[1] += c * y1 * y1;
             modal[2] += c * y2 * y2;
         }
+        /* sum_e c_e v_e'^2 over the elements in contact at the three nodes, each in the order of the elements */
+        double dashpots[3] = {0.0, 0.0, 0.0};
+        for (int64_t e = 0; e < in->n_elements; e++) {
+            const double c = in->element_damping[e];
+            if (c > 0.0 && !lifted[e]) {
+                for (int g = 0; g < 3; g++) {
+                    const double vel = gauss[g * k + in->row_vel + e];
+                    dashpots[g] += c * vel * vel;
+                }
+            }
+        }
         for (int g = 0; g < 3; g++) {
             const double *at = gauss + g * k;
             double w = weights[g] * length;
             work_in += w * at[in->row_a] * at[in->row_input];
             damp_struct += w * modal[g];
-            double acc = 0.0;
-            for (int64_t e = 0; e < in->n_elements; e++) {
-                double c = in->element_damping[e];
-                if (c > 0.0 && !lifted[e]) {
-                    double vel = at[in->row_vel + e];
-                    acc += c * vel * vel;
-                }
-            }
-            damp_found += w * acc;
+            damp_found += w * dashpots[g];
         }
         /* a lifted element relaxes on its own, k z + c z' = 0: its dashpot dissipates exactly the
          * spring energy released, k (z0^2 - z1^2) / 2 (no quadrature: z may decay within the step) */
