@@ -14,31 +14,35 @@
  * dense product R x (transposed_product): an output equal to an earlier one is copied; one with few
  * nonzero coefficients sums them alone (the terms left out are zero and the others are added in
  * the same order, so the sum is the same); the others come from one dense product over their
- * columns; one whose only nonzero coefficient is 1 is that input (+0, as its sum from +0). Each list holds output
+ * columns; one whose only nonzero coefficient is 1 is that input (+0, as its sum from +0), one of two nonzero
+ * coefficients their sum from +0 in one expression (a pair). Each list holds output
  * indices (and where from), in increasing order. */
 typedef struct {
     const double *whole;   /* R^T (n_aug, width) of a state not split (NULL: split), used as it is */
     int64_t width;
-    int64_t n_dense, n_sparse, n_copies, n_entries, n_picks;
+    int64_t n_dense, n_sparse, n_copies, n_entries, n_picks, n_pairs;
     int64_t dense_width;   /* n_dense rounded up to whole PRODUCT_LANES */
     double *dense;         /* (n_aug, dense_width): the rows computed densely, transposed (zeros past n_dense) */
     int64_t *dense_output; /* n_dense: the output of each dense column */
     int64_t *sparse;       /* n_sparse: the output of each sparse row */
     int64_t *copies;       /* n_copies x (output, the earlier output it equals) */
     int64_t *picks;        /* n_picks x (output, input) of the rows whose one nonzero coefficient is 1 */
+    int64_t *pairs;        /* n_pairs: the output of each row of two nonzero coefficients, whose entries are the
+                            * last of the entry arrays, two by two (pair p at capacity - 2 (p + 1)) */
+    int64_t capacity;      /* the length of the entry arrays */
     int64_t *entry_input;  /* sparse entries: input index, output index and coefficient, by output and input */
     int64_t *entry_output;
     double *entry_value;
 } SplitRows;
 
 /* Split R^T (n_aug, width) into `split`, whose arrays have room for the worst case: dense
- * n_aug padded_width(width) doubles, entry_value n_aug width, dense_output and sparse width, picks and
+ * n_aug padded_width(width) doubles, entry_value n_aug width, dense_output, sparse and pairs width, picks and
  * copies 2 width each, entry_input and entry_output n_aug width integers each; nonzeros and sums: work space
  * of width each. */
 static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, SplitRows *split, int64_t *nonzeros,
                        double *sums)
 {
-    split->n_dense = split->n_sparse = split->n_copies = split->n_entries = split->n_picks = 0;
+    split->n_dense = split->n_sparse = split->n_copies = split->n_entries = split->n_picks = split->n_pairs = 0;
     /* each row's count of nonzero coefficients and their sum: equal rows agree in both, so only
      * such pairs are compared entry by entry (comparing every pair cost a yielding run with
      * hundreds of states a sixth of its time, measured) */
@@ -77,6 +81,15 @@ static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, Split
             int64_t *pick = split->picks + 2 * split->n_picks++;
             pick[0] = r;
             pick[1] = q;
+        } else if (nonzero == 2 && 4 * nonzero <= n_aug) {
+            int64_t e = split->capacity - 2 * ++split->n_pairs;
+            split->pairs[split->n_pairs - 1] = r;
+            for (int64_t q = 0; q < n_aug; q++) {
+                if (rows_t[q * width + r] != 0.0) {
+                    split->entry_input[e] = q;
+                    split->entry_value[e++] = rows_t[q * width + r];
+                }
+            }
         } else if (4 * nonzero <= n_aug) {
             split->sparse[split->n_sparse++] = r;
             for (int64_t q = 0; q < n_aug; q++) {
@@ -115,6 +128,11 @@ static inline void split_rest(const SplitRows *split, const double *restrict x, 
     }
     for (int64_t e = 0; e < split->n_entries; e++) {
         out[split->entry_output[e]] += split->entry_value[e] * x[split->entry_input[e]];
+    }
+    for (int64_t p = 0; p < split->n_pairs; p++) { /* +0, then its two entries in order */
+        const int64_t e = split->capacity - 2 * (p + 1);
+        out[split->pairs[p]] = (0.0 + split->entry_value[e] * x[split->entry_input[e]])
+                               + split->entry_value[e + 1] * x[split->entry_input[e + 1]];
     }
     for (int64_t j = 0; j < split->n_picks; j++) { /* +0 + 1 x, as the sum of its one entry */
         out[split->picks[2 * j]] = x[split->picks[2 * j + 1]] + 0.0;
@@ -252,6 +270,8 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
         rows->sparse = rows->dense_output + width;
         rows->picks = rows->sparse + width;
         rows->copies = rows->sparse + 3 * width;
+        rows->pairs = rows->copies + 2 * width;
+        rows->capacity = per_state;
         rows->entry_input = integers + 7 * n_split * width + 2 * j * per_state;
         rows->entry_output = rows->entry_input + per_state;
         split_rows(DOUBLES(rows_t) + s * per_state, n_aug, width, rows, integers + n_split * (7 * width + 2 * per_state),
