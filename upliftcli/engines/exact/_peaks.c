@@ -4,6 +4,7 @@
 
 #include "buffers.h"
 #include "product.h"
+#include "response_lanes.h"
 #include <math.h>
 #include <stdlib.h>
 
@@ -76,15 +77,33 @@ static inline void combine(const double *restrict row, const int64_t *restrict c
     transposed_product(rows_t, y, n_basis, m, out);
 }
 
-/* best[j] = |row[j]| and where[j] = position where |row[j]| is larger (branch-free: it vectorises) */
-static inline void keep_larger(const double *restrict row, int64_t m, double position, double *restrict best,
-                               double *restrict where)
+/* y[s n_b + q] = values[(i0 + s) k + columns[q]] for the PRODUCT_SAMPLES samples from i0 (zeros past the
+ * last sample, n); run: how many of the columns follow the first one by one (contiguous_run) */
+static ALWAYS_INLINE void gather_samples(const double *restrict values, const int64_t *restrict columns, int64_t run,
+                                         int64_t i0, int64_t n, int64_t k, int64_t n_b, double *restrict y)
 {
-    for (int64_t j = 0; j < m; j++) {
-        const double v = fabs(row[j]);
-        const int better = v > best[j];
-        best[j] = better ? v : best[j];
-        where[j] = better ? position : where[j];
+    if (i0 + PRODUCT_SAMPLES <= n && n_b > 0 && run == n_b) { /* columns[q] = columns[0] + q: a copy */
+        for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
+            const double *row = values + (i0 + s) * k + columns[0];
+            for (int64_t q = 0; q < n_b; q++) {
+                y[s * n_b + q] = row[q];
+            }
+        }
+        return;
+    }
+    if (i0 + PRODUCT_SAMPLES <= n) {
+        for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
+            const double *row = values + (i0 + s) * k;
+            for (int64_t q = 0; q < n_b; q++) {
+                y[s * n_b + q] = row[columns[q]];
+            }
+        }
+        return;
+    }
+    for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
+        for (int64_t q = 0; q < n_b; q++) {
+            y[s * n_b + q] = i0 + s < n ? values[(i0 + s) * k + columns[q]] : 0.0;
+        }
     }
 }
 
@@ -94,24 +113,51 @@ typedef struct {
     int64_t n, k, k_s, width_end_slopes, n_basis, m;
 } PeakInput;
 
+/* The rate and curvature of response j at one sample (or left limit): sum_q R[j, q] s_q' and sum_q R[j, q] s_q''
+ * from the sample's values (the rate columns) and slopes (the curvature columns), each from +0 in the order of q */
+static ALWAYS_INLINE void rates_at(const PeakInput *in, int64_t j, const double *restrict values,
+                                   const double *restrict slopes, double *rate, double *curvature)
+{
+    double d = 0.0, c = 0.0;
+    for (int64_t q = 0; q < in->n_basis; q++) {
+        const double rq = in->rows_t[q * in->m + j];
+        d += rq * values[in->rate_columns[q]];
+        c += rq * slopes[in->curvature_columns[q]];
+    }
+    *rate = d;
+    *curvature = c;
+}
+
 /* Peak |r| of each response r = R s between samples and where it is (interval index +
  * fraction), from the quintic Hermite interpolant through the samples with the exact first and
  * second derivatives (response_kernels.hermite_peaks). Work space: sampled (n rounded up to
  * whole PRODUCT_SAMPLES, padded_width(m)), padded (n_basis, padded_width(m)), flagged (n), end and
- * threshold (m each), y (PRODUCT_SAMPLES n_basis). */
-HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *where, double *sampled,
-                                   double *padded, unsigned char *flagged, double *end, double *threshold, double *y)
+ * threshold (padded_width(m) each), y (PRODUCT_SAMPLES n_basis), best and where (padded_width(m) each: copied to
+ * best_out, where_out at the end), next_rate, next_curvature and next_at (m each). */
+HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double *where_out, double *sampled,
+                                   double *padded, unsigned char *flagged, double *end, double *threshold, double *y,
+                                   double *best, double *where, double *next_rate, double *next_curvature,
+                                   int64_t *next_at)
 {
     const int64_t n = in->n, m = in->m, n_b = in->n_basis, k = in->k, k_s = in->k_s, k_e = in->width_end_slopes;
     const int64_t width = padded_width(m);
-    for (int64_t j = 0; j < m; j++) {
+    /* best, where and threshold have `width` entries: the zero columns past m (their responses are +0, or NaN
+     * from an infinite signal) never exceed a peak of 0 nor reach a threshold of +inf, and no loop over the
+     * responses has a remainder */
+    for (int64_t j = 0; j < width; j++) {
         best[j] = 0.0;
         where[j] = 0.0;
+        threshold[j] = INFINITY;
+        end[j] = 0.0; /* combine writes the first m */
     }
     int64_t first_column = k, last_column = -1; /* the span of the signal columns read */
     for (int64_t q = 0; q < n_b; q++) {
         first_column = in->value_columns[q] < first_column ? in->value_columns[q] : first_column;
         last_column = in->value_columns[q] > last_column ? in->value_columns[q] : last_column;
+    }
+    int64_t run = n_b > 0; /* the columns that follow the first one by one (gather_samples copies them) */
+    while (run < n_b && in->value_columns[run] == in->value_columns[0] + run) {
+        run++;
     }
     for (int64_t q = 0; q < n_b; q++) { /* R^T with zero columns up to the padded width */
         for (int64_t j = 0; j < width; j++) {
@@ -128,29 +174,23 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
             }
             PREFETCH(in->values + i * k + last_column);
         }
-        for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
-            for (int64_t q = 0; q < n_b; q++) {
-                y[s * n_b + q] = i0 + s < n ? in->values[(i0 + s) * k + in->value_columns[q]] : 0.0;
-            }
-        }
+        gather_samples(in->values, in->value_columns, run, i0, n, k, n_b, y);
         product_samples(padded, y, n_b, width, sampled + i0 * width);
-        for (int64_t i = i0; i < n && i < i0 + PRODUCT_SAMPLES; i++) {
-            keep_larger(sampled + i * width, m, (double)i, best, where);
-        }
+        keep_larger_block(sampled + i0 * width, width, n - i0 < PRODUCT_SAMPLES ? n - i0 : PRODUCT_SAMPLES, i0, width,
+                          best, where);
     }
     /* the samples within the fraction of the peak of some response */
     for (int64_t j = 0; j < m; j++) {
         threshold[j] = in->fractions[j] * best[j];
     }
     for (int64_t i = 0; i < n; i++) {
-        const double *row = sampled + i * width;
-        int flag = 0;
-        for (int64_t j = 0; j < m; j++) {
-            flag |= fabs(row[j]) >= threshold[j];
-        }
-        flagged[i] = (unsigned char)flag;
+        flagged[i] = (unsigned char)any_at_least(sampled + i * width, threshold, width);
     }
-    /* pass 2: between samples, on the intervals with a flagged end or ending at a transition */
+    /* pass 2: between samples, on the intervals with a flagged end or ending at a transition; the rates of a
+     * response at the sample that ended the interval before (when it was searched) are taken again */
+    for (int64_t j = 0; j < m; j++) {
+        next_at[j] = -1;
+    }
     for (int64_t i = 0; i + 1 < n; i++) {
         const int64_t fix = in->switch_[i];
         if (!(flagged[i] || flagged[i + 1] || fix >= 0)) {
@@ -163,21 +203,27 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
         }
         const double length = in->lengths[i];
         for (int64_t j = 0; j < m; j++) {
+            if (j % 4 == 0 && all_below(r0 + j, r1 + j, threshold + j)) { /* four responses below at both ends */
+                j += 3;
+                continue;
+            }
             if (fabs(r0[j]) < threshold[j] && fabs(r1[j]) < threshold[j]) {
                 continue;
             }
-            double d0 = 0.0, d1 = 0.0, c0 = 0.0, c1 = 0.0;
-            for (int64_t q = 0; q < n_b; q++) {
-                const double rq = in->rows_t[q * m + j];
-                d0 += rq * in->values[i * k + in->rate_columns[q]];
-                c0 += rq * in->slopes[i * k_s + in->curvature_columns[q]];
-                if (fix >= 0) {
-                    d1 += rq * in->end_values[fix * k + in->rate_columns[q]];
-                    c1 += rq * in->end_slopes[fix * k_e + in->curvature_columns[q]];
-                } else {
-                    d1 += rq * in->values[(i + 1) * k + in->rate_columns[q]];
-                    c1 += rq * in->slopes[(i + 1) * k_s + in->curvature_columns[q]];
-                }
+            double d0, d1, c0, c1;
+            if (next_at[j] == i) { /* sample i ended the interval before, searched for this response */
+                d0 = next_rate[j];
+                c0 = next_curvature[j];
+            } else {
+                rates_at(in, j, in->values + i * k, in->slopes + i * k_s, &d0, &c0);
+            }
+            if (fix >= 0) {
+                rates_at(in, j, in->end_values + fix * k, in->end_slopes + fix * k_e, &d1, &c1);
+            } else {
+                rates_at(in, j, in->values + (i + 1) * k, in->slopes + (i + 1) * k_s, &d1, &c1);
+                next_at[j] = i + 1;
+                next_rate[j] = d1;
+                next_curvature[j] = c1;
             }
             const double e0 = d0 * length, e1 = d1 * length, f0 = c0 * length * length, f1 = c1 * length * length;
             if (hull_below(r0[j], r1[j], e0, e1, f0, f1, best[j])) {
@@ -190,6 +236,10 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best, double *wh
                 where[j] = i + s;
             }
         }
+    }
+    for (int64_t j = 0; j < m; j++) {
+        best_out[j] = best[j];
+        where_out[j] = where[j];
     }
 }
 
@@ -240,20 +290,29 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
     }
     const int64_t width = padded_width(in.m), rows = (in.n + PRODUCT_SAMPLES - 1) / PRODUCT_SAMPLES * PRODUCT_SAMPLES;
     const int64_t n_sampled = rows * width, n_padded = in.n_basis * width;
-    double *sampled = malloc((n_sampled + n_padded + 2 * in.m + PRODUCT_SAMPLES * in.n_basis + 1) * sizeof(double));
+    double *sampled = malloc((n_sampled + n_padded + 4 * width + PRODUCT_SAMPLES * in.n_basis + 1)
+                             * sizeof(double));
     unsigned char *flagged = malloc(in.n + 1);
-    if (!sampled || !flagged) {
+    double *next_rate = malloc((2 * in.m + 1) * sizeof(double));
+    int64_t *next_at = malloc((in.m + 1) * sizeof(int64_t));
+    if (!sampled || !flagged || !next_rate || !next_at) {
         free(sampled);
         free(flagged);
+        free(next_rate);
+        free(next_at);
         PyErr_NoMemory();
         goto done;
     }
-    double *padded = sampled + n_sampled, *end = padded + n_padded, *threshold = end + in.m, *y = threshold + in.m;
+    double *padded = sampled + n_sampled, *end = padded + n_padded, *threshold = end + width, *y = threshold + width;
+    double *best = y + PRODUCT_SAMPLES * in.n_basis, *where = best + width;
     Py_BEGIN_ALLOW_THREADS
-    hermite_peaks(&in, DOUBLES(b[11]), DOUBLES(b[12]), sampled, padded, flagged, end, threshold, y);
+    hermite_peaks(&in, DOUBLES(b[11]), DOUBLES(b[12]), sampled, padded, flagged, end, threshold, y, best, where,
+                  next_rate, next_rate + in.m, next_at);
     Py_END_ALLOW_THREADS
     free(sampled);
     free(flagged);
+    free(next_rate);
+    free(next_at);
     result = Py_NewRef(Py_None);
 done:
     release_views(&v);

@@ -7,6 +7,9 @@
 #include "product.h"
 #include <stdlib.h>
 
+/* the integers of a split state per signal row: dense_output 1, sparse 3 (with picks), copies 2, shorts 6 */
+#define INTEGERS_PER_ROW 12
+
 /* a state's rows are split (split_rows) when they serve at least this many products */
 #define SPLIT_USES 32
 
@@ -14,29 +17,39 @@
  * dense product R x (transposed_product): an output equal to an earlier one is copied; one with few
  * nonzero coefficients sums them alone (the terms left out are zero and the others are added in
  * the same order, so the sum is the same); the others come from one dense product over their
- * columns. Each list holds output indices (and where from), in increasing order. */
+ * columns; one whose only nonzero coefficient is 1 is that input (+0, as its sum from +0), one of two nonzero
+ * coefficients their sum from +0 in one expression (a pair). Each list holds output
+ * indices (and where from), in increasing order. */
 typedef struct {
     const double *whole;   /* R^T (n_aug, width) of a state not split (NULL: split), used as it is */
     int64_t width;
-    int64_t n_dense, n_sparse, n_copies, n_entries;
+    int64_t n_dense, n_sparse, n_copies, n_entries, n_picks;
+    int64_t n_short[3];    /* rows of 2, 3 and 4 nonzero coefficients */
     int64_t dense_width;   /* n_dense rounded up to whole PRODUCT_LANES */
     double *dense;         /* (n_aug, dense_width): the rows computed densely, transposed (zeros past n_dense) */
     int64_t *dense_output; /* n_dense: the output of each dense column */
     int64_t *sparse;       /* n_sparse: the output of each sparse row */
     int64_t *copies;       /* n_copies x (output, the earlier output it equals) */
+    int64_t *picks;        /* n_picks x (output, input) of the rows whose one nonzero coefficient is 1 */
+    int64_t *shorts;       /* (output, first entry) of each row of 2, 3 and 4 nonzero coefficients, from
+                            * shorts + 2 width (c - 2) for c coefficients; their entries are at the end of the
+                            * entry arrays (filled from the end down) */
+    int64_t capacity;      /* the length of the entry arrays */
     int64_t *entry_input;  /* sparse entries: input index, output index and coefficient, by output and input */
     int64_t *entry_output;
     double *entry_value;
 } SplitRows;
 
 /* Split R^T (n_aug, width) into `split`, whose arrays have room for the worst case: dense
- * n_aug padded_width(width) doubles, entry_value n_aug width, dense_output and sparse width,
- * copies 2 width, entry_input and entry_output n_aug width integers each; nonzeros and sums: work space
+ * n_aug padded_width(width) doubles, entry_value n_aug width, dense_output and sparse width, picks and
+ * copies 2 width each, shorts 6 width, entry_input and entry_output n_aug width integers each; nonzeros and sums: work space
  * of width each. */
 static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, SplitRows *split, int64_t *nonzeros,
                        double *sums)
 {
-    split->n_dense = split->n_sparse = split->n_copies = split->n_entries = 0;
+    split->n_dense = split->n_sparse = split->n_copies = split->n_entries = split->n_picks = 0;
+    split->n_short[0] = split->n_short[1] = split->n_short[2] = 0;
+    int64_t top = split->capacity; /* the entries of the short rows, from the end down */
     /* each row's count of nonzero coefficients and their sum: equal rows agree in both, so only
      * such pairs are compared entry by entry (comparing every pair cost a yielding run with
      * hundreds of states a sixth of its time, measured) */
@@ -67,6 +80,25 @@ static void split_rows(const double *rows_t, int64_t n_aug, int64_t width, Split
             int64_t *copy = split->copies + 2 * split->n_copies++;
             copy[0] = r;
             copy[1] = same;
+        } else if (nonzero == 1 && sums[r] == 1.0) {
+            int64_t q = 0;
+            while (rows_t[q * width + r] == 0.0) {
+                q++;
+            }
+            int64_t *pick = split->picks + 2 * split->n_picks++;
+            pick[0] = r;
+            pick[1] = q;
+        } else if (nonzero >= 2 && nonzero <= 4 && 4 * nonzero <= n_aug) {
+            top -= nonzero;
+            int64_t *row = split->shorts + 2 * width * (nonzero - 2) + 2 * split->n_short[nonzero - 2]++;
+            row[0] = r;
+            row[1] = top;
+            for (int64_t q = 0, e = top; q < n_aug; q++) {
+                if (rows_t[q * width + r] != 0.0) {
+                    split->entry_input[e] = q;
+                    split->entry_value[e++] = rows_t[q * width + r];
+                }
+            }
         } else if (4 * nonzero <= n_aug) {
             split->sparse[split->n_sparse++] = r;
             for (int64_t q = 0; q < n_aug; q++) {
@@ -105,6 +137,27 @@ static inline void split_rest(const SplitRows *split, const double *restrict x, 
     }
     for (int64_t e = 0; e < split->n_entries; e++) {
         out[split->entry_output[e]] += split->entry_value[e] * x[split->entry_input[e]];
+    }
+    /* the short rows: +0, then their entries in order, in one expression */
+    const double *value = split->entry_value;
+    const int64_t *input = split->entry_input, *row = split->shorts;
+    for (int64_t p = 0; p < split->n_short[0]; p++, row += 2) {
+        const int64_t e = row[1];
+        out[row[0]] = (0.0 + value[e] * x[input[e]]) + value[e + 1] * x[input[e + 1]];
+    }
+    row = split->shorts + 2 * split->width;
+    for (int64_t p = 0; p < split->n_short[1]; p++, row += 2) {
+        const int64_t e = row[1];
+        out[row[0]] = ((0.0 + value[e] * x[input[e]]) + value[e + 1] * x[input[e + 1]]) + value[e + 2] * x[input[e + 2]];
+    }
+    row = split->shorts + 4 * split->width;
+    for (int64_t p = 0; p < split->n_short[2]; p++, row += 2) {
+        const int64_t e = row[1];
+        out[row[0]] = (((0.0 + value[e] * x[input[e]]) + value[e + 1] * x[input[e + 1]]) + value[e + 2] * x[input[e + 2]])
+                      + value[e + 3] * x[input[e + 3]];
+    }
+    for (int64_t j = 0; j < split->n_picks; j++) { /* +0 + 1 x, as the sum of its one entry */
+        out[split->picks[2 * j]] = x[split->picks[2 * j + 1]] + 0.0;
     }
     for (int64_t j = 0; j < split->n_copies; j++) {
         out[split->copies[2 * j]] = out[split->copies[2 * j + 1]];
@@ -215,7 +268,8 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
     /* work space: the products (evaluate_signals) and, per state split, its split rows (split_rows) */
     const int64_t n_acc = width + (PRODUCT_SAMPLES + 1) * padded_width(width), n_dense = n_aug * padded_width(width);
     double *doubles = malloc((n_acc + n_split * (n_dense + per_state) + width + 1) * sizeof(double));
-    int64_t *integers = malloc((7 * n_split * width + 2 * n_split * per_state + width + 1) * sizeof(int64_t));
+    int64_t *integers = malloc((INTEGERS_PER_ROW * n_split * width + 2 * n_split * per_state + width + 1)
+                               * sizeof(int64_t));
     SplitRows *split = malloc((n_states + 1) * sizeof(SplitRows));
     if (!doubles || !integers || !split) {
         free(uses);
@@ -235,13 +289,16 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
         }
         rows->dense = doubles + n_acc + j * n_dense;
         rows->entry_value = doubles + n_acc + n_split * n_dense + j * per_state;
-        rows->dense_output = integers + 7 * j * width;
+        rows->dense_output = integers + INTEGERS_PER_ROW * j * width;
         rows->sparse = rows->dense_output + width;
+        rows->picks = rows->sparse + width;
         rows->copies = rows->sparse + 3 * width;
-        rows->entry_input = integers + 7 * n_split * width + 2 * j * per_state;
+        rows->shorts = rows->copies + 2 * width;
+        rows->capacity = per_state;
+        rows->entry_input = integers + INTEGERS_PER_ROW * n_split * width + 2 * j * per_state;
         rows->entry_output = rows->entry_input + per_state;
-        split_rows(DOUBLES(rows_t) + s * per_state, n_aug, width, rows, integers + n_split * (7 * width + 2 * per_state),
-                   doubles + n_acc + n_split * (n_dense + per_state));
+        split_rows(DOUBLES(rows_t) + s * per_state, n_aug, width, rows,
+                   integers + n_split * (INTEGERS_PER_ROW * width + 2 * per_state), doubles + n_acc + n_split * (n_dense + per_state));
         j++;
     }
     evaluate_signals(DOUBLES(states), n, n_aug, INT64S(ids), split, k, k_s, DOUBLES(values), DOUBLES(slopes),

@@ -63,6 +63,54 @@ def cubic_extrema(p0: np.ndarray, p1: np.ndarray, m0: np.ndarray, m1: np.ndarray
     return high, high_s, low, low_s
 
 
+def _series(sig: Signals, weights: np.ndarray, columns: np.ndarray) -> np.ndarray:
+    """weights @ (theta, v) of every row of columns (n, k) (sig.values' or sig.slopes'), one series a row
+    (4, n): each term as the product weights @ (theta, v).T sums them (w_0 theta, then + w_1 v); theta and
+    v taken out of the rows first (contiguous, the products run along them)."""
+    theta = np.ascontiguousarray(columns[:, sig.rows["theta"].start])
+    v = np.ascontiguousarray(columns[:, sig.rows["v"].start])
+    return weights[:, :1] * theta + weights[:, 1:] * v
+
+
+def _end_rates(chunk: History, sig: Signals, rates: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """The rates (4, n - 1) at the end of each interval, times its length: the next sample's, or at an
+    interval that ends at a transition its left limit (sig.end_slopes)."""
+    ends = rates[:, 1:] * chunk.lengths
+    at_end = np.flatnonzero(sig.switch >= 0)
+    if at_end.size:
+        ends[:, at_end] = _series(sig, weights, sig.end_slopes[sig.switch[at_end]]) * chunk.lengths[at_end]
+    return ends
+
+
+def _searched(values: np.ndarray, magnitude: np.ndarray, start_rates: np.ndarray, end_rates: np.ndarray,
+              floor: np.ndarray) -> np.ndarray:
+    """The intervals whose cubic can exceed `floor` (4,) in some series (|theta| for the first: its
+    `magnitude`, the settlements their signed values): on [0, 1] a cubic Hermite lies within
+    max(|p0|, |p1|) + 4/27 (|m0| + |m1|) (the largest |value| of its slope basis functions is 4/27)."""
+    ends = np.maximum(values[:, :-1], values[:, 1:])
+    ends[0] = np.maximum(magnitude[:-1], magnitude[1:])
+    bound = ends + (4.0 / 27.0) * (np.abs(start_rates) + np.abs(end_rates))
+    return np.flatnonzero(np.logical_or.reduce(bound > floor[:, None], axis=0))
+
+
+def _sampled_peaks(values: np.ndarray, magnitude: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(largest sampled value (4,): |theta|, then each settlement; its sample index, as a float)."""
+    at = np.concatenate(([np.argmax(magnitude)], np.argmax(values[1:], axis=1)))
+    return np.concatenate((magnitude[at[:1]], values[_SIGNALS[1:], at[1:]])), at.astype(float)
+
+
+def _interval_peaks(values: np.ndarray, start_rates: np.ndarray, end_rates: np.ndarray, rows: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """(largest value (4,), where: interval + fraction) of each series over the intervals `rows` (|theta| for
+    the first: the larger of its largest and minus its smallest)."""
+    high, high_s, low, low_s = cubic_extrema(values[:, rows], values[:, rows + 1], start_rates[:, rows],
+                                             end_rates[:, rows])
+    flip = -low[0] > high[0]
+    high[0, flip], high_s[0, flip] = -low[0, flip], low_s[0, flip]
+    k = np.argmax(high, axis=1)
+    return high[_SIGNALS, k], rows[k] + high_s[_SIGNALS, k]
+
+
 #: the four series of MatMotion: |theta|, the settlement of the left edge, the centre, the right edge
 _SIGNALS = np.arange(4)
 
@@ -79,41 +127,24 @@ class MatMotion:
 
     def add(self, chunk: History, sig: Signals) -> None:
         """Fold in one chunk (its first sample is the previous chunk's last). The sampled peaks
-        first; then only the intervals whose cubic can exceed them are searched: on [0, 1] a
-        cubic Hermite lies within max(|p0|, |p1|) + 4/27 (|m0| + |m1|) (the largest |value| of
-        its slope basis functions is 4/27), the others cannot hold the peak."""
-        columns = (sig.rows["theta"].start, sig.rows["v"].start)
-        values = sig.values[:, columns] @ self.weights.T + self.offsets  # (n, 4)
-        magnitudes = values.copy()
-        magnitudes[:, 0] = np.abs(values[:, 0])  # |theta|; a settlement: its (signed) value
-        at = np.argmax(magnitudes, axis=0)
-        best, where = magnitudes[at, _SIGNALS], at.astype(float)
-        if values.shape[0] > 1:
-            rates = sig.slopes[:, columns] @ self.weights.T
-            lengths = chunk.lengths[:, None]
-            start_rates = rates[:-1] * lengths
-            end_rates = rates[1:]
-            at_end = sig.switch >= 0
-            if at_end.any():  # an interval that ends at a transition: its left limit
-                end_rates = end_rates.copy()
-                end_rates[at_end] = sig.end_slopes[sig.switch[at_end]][:, columns] @ self.weights.T
-            end_rates = end_rates * lengths
-            bound = np.maximum(magnitudes[:-1], magnitudes[1:]) + (4.0 / 27.0) * (np.abs(start_rates)
-                                                                                  + np.abs(end_rates))
-            rows = np.nonzero((bound > np.maximum(best, self.peaks)).any(axis=1))[0]
+        first; then only the intervals whose cubic can exceed them are searched (_searched), the
+        others cannot hold the peak. One series a row (4, n), each contiguous."""
+        values = _series(sig, self.weights, sig.values) + self.offsets[:, None]
+        magnitude = np.abs(values[0])  # |theta|; a settlement: its (signed) value
+        best, where = _sampled_peaks(values, magnitude)
+        if values.shape[1] > 1:
+            rates = _series(sig, self.weights, sig.slopes)
+            start_rates = rates[:, :-1] * chunk.lengths
+            end_rates = _end_rates(chunk, sig, rates, self.weights)
+            rows = _searched(values, magnitude, start_rates, end_rates, np.maximum(best, self.peaks))
             if rows.size:
-                high, high_s, low, low_s = cubic_extrema(values[rows], values[rows + 1], start_rates[rows],
-                                                         end_rates[rows])
-                flip = -low[:, 0] > high[:, 0]  # |theta|: the larger of its largest and minus its smallest
-                high[flip, 0], high_s[flip, 0] = -low[flip, 0], low_s[flip, 0]
-                k = np.argmax(high, axis=0)
-                found = high[k, _SIGNALS]
+                found, found_where = _interval_peaks(values, start_rates, end_rates, rows)
                 better = found > best
-                best[better], where[better] = found[better], (rows[k] + high_s[k, _SIGNALS])[better]
+                best[better], where[better] = found[better], found_where[better]
         better = best > self.peaks
         self.peaks[better] = best[better]
         self.instants[better] = time_at(chunk, where)[better]
-        self.last = values[-1].copy()
+        self.last = values[:, -1].copy()
 
     def histories(self, sig: Signals) -> dict[str, np.ndarray]:
         """The settlement [m] of the left edge, the centre and the right edge at every sample of a

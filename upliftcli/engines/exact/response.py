@@ -143,8 +143,7 @@ def signals(history: History) -> Signals:
     names = signal_layout(n_m, lay.n_elements, lay.n_plastic)
     start = names[VALUES_ONLY[-1]].stop
     n_slopes = names[WITH_RATES[-1]].stop
-    used, ids = np.unique(history.state_ids, return_inverse=True)
-    ids = ids.reshape(-1).astype(np.int64)
+    used, ids = _used_states(history.state_ids, len(history.contact))
     velocity = np.stack([history.contact[s].velocity for s in used])  # (S, n_p, n_aug)
     matrix = np.stack([history.contact[s].matrix for s in used])
     rows = np.zeros((used.size, start + n_slopes, lay.n_aug))  # the values' rows, then the slopes'
@@ -178,6 +177,25 @@ def signals(history: History) -> Signals:
     response_kernels.evaluate_signals(history.states, ids, rows_t, values, slopes, ends)
     return Signals(values, slopes, switch, np.ascontiguousarray(ends[:, :start]),
                    np.ascontiguousarray(ends[:, start:]), names)
+
+
+#: a run with at most this many contact states has the signal rows of all built (response.signals); with more
+#: (yielding: hundreds) those of the states its samples use only
+FEW_STATES = 8
+
+
+def _used_states(state_ids: np.ndarray, n_states: int) -> tuple[np.ndarray, np.ndarray]:
+    """(the state ids the samples use, ascending; each sample's index among them (int64)): np.unique's
+    (values, inverse), by a count and a table lookup instead of a sort; every state of a few (FEW_STATES)."""
+    ids = np.asarray(state_ids, dtype=np.int64)
+    if n_states <= FEW_STATES:  # the rows of every state: fewer than counting the samples' states costs
+        return np.arange(n_states), ids
+    used = np.flatnonzero(np.bincount(ids, minlength=n_states))
+    if used.size == n_states:
+        return used, ids
+    index = np.zeros(n_states, dtype=np.int64)
+    index[used] = np.arange(used.size)
+    return used, index[ids]
 
 
 @dataclass(frozen=True)
