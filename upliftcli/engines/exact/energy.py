@@ -16,7 +16,7 @@ import numpy as np
 
 from ...runtime import backend
 from . import response_kernels
-from .response import signal_layout
+from .response import signal_layout, used_states
 from .stories import stored_strain
 
 if TYPE_CHECKING:
@@ -51,8 +51,7 @@ def curvatures(history: History) -> tuple[np.ndarray, np.ndarray]:
     every interval: the interval's own state at both ends (the left limit where it ends at a transition),
     and the ground acceleration's slope of the interval (a_g' jumps at the record's samples)."""
     lay = history.space.layout
-    used, ids = np.unique(history.state_ids, return_inverse=True)
-    ids = ids.reshape(-1).astype(np.int64)
+    used, ids = used_states(history.state_ids, len(history.contact))
     rows = curvature_rows(history, used)
     n, k = ids.size, rows.shape[1]
     at = np.nonzero(ids[1:] != ids[:-1])[0]

@@ -143,7 +143,7 @@ def signals(history: History) -> Signals:
     names = signal_layout(n_m, lay.n_elements, lay.n_plastic)
     start = names[VALUES_ONLY[-1]].stop
     n_slopes = names[WITH_RATES[-1]].stop
-    used, ids = _used_states(history.state_ids, len(history.contact))
+    used, ids = used_states(history.state_ids, len(history.contact))
     velocity = np.stack([history.contact[s].velocity for s in used])  # (S, n_p, n_aug)
     matrix = np.stack([history.contact[s].matrix for s in used])
     rows = np.zeros((used.size, start + n_slopes, lay.n_aug))  # the values' rows, then the slopes'
@@ -184,7 +184,7 @@ def signals(history: History) -> Signals:
 FEW_STATES = 8
 
 
-def _used_states(state_ids: np.ndarray, n_states: int) -> tuple[np.ndarray, np.ndarray]:
+def used_states(state_ids: np.ndarray, n_states: int) -> tuple[np.ndarray, np.ndarray]:
     """(the state ids the samples use, ascending; each sample's index among them (int64)): np.unique's
     (values, inverse), by a count and a table lookup instead of a sort; every state of a few (FEW_STATES)."""
     ids = np.asarray(state_ids, dtype=np.int64)
