@@ -62,13 +62,15 @@ def test_the_json_under_us_units_gives_the_design_forces_in_kip():
 
 def test_the_reports_criteria_section_judges_the_design_drift_without_criteria():
     """A deck with [design] and no [criteria]: the report's criteria table has the design drift row, its
-    source Table 12.12-1, and the exit code 3 when a story exceeds the allowable drift (0 when none does)."""
+    source Table 12.12-1, the verdict names [design], and the exit code is 3 when a story exceeds the
+    allowable drift (0 when none does)."""
     from upliftcli.deck.criteria import Criteria
     from upliftcli.report.checks import criteria_section
 
-    section, _, code = criteria_section([_result()], Criteria())
+    section, verdict, code = criteria_section([_result()], Criteria())
     (table,) = [block for block in section.blocks if hasattr(block, "rows")]
     assert code == 3
+    assert verdict == "1 acceptance limit of the deck's [design] exceeded: `uplift analyze` exits with code 3."
     assert table.rows == [["simplified", "rigid", "design_drift_ratio", "1.160", "1.000", "%", "VIOLATED",
                            "ASCE 7-22 Table 12.12-1, all-other, risk category IV; C_d = 15, R = 8"]]
     assert criteria_section([_result({"R": 8, "Cd": 5.5, "risk_category": "IV"})], Criteria())[2] == 0

@@ -190,7 +190,7 @@ def criteria_section(results: Sequence[AnalysisResult], criteria: Mapping, units
         return Section("criteria", "Acceptance criteria", [Text([verdict])]), verdict, EXIT_OK
     rows, violated = criteria_rows(results, criteria, units, checks)
     code = EXIT_CRITERIA if violated else EXIT_OK
-    verdict = _criteria_verdict(violated, code)
+    verdict = _criteria_verdict(violated, code, _limits_named(criteria, results))
     sourced = any(len(row) > 7 for row in rows)
     table = Table("table-criteria", "Acceptance criteria: the largest |value| of each quantity against its limit",
                   ["engine", "support", "criterion", "value", "limit", "unit", "verdict",
@@ -198,11 +198,18 @@ def criteria_section(results: Sequence[AnalysisResult], criteria: Mapping, units
     return Section("criteria", "Acceptance criteria", [Text([verdict]), table]), verdict, code
 
 
-def _criteria_verdict(violated: int, code: int) -> str:
+def _limits_named(criteria: Mapping, results: Sequence[AnalysisResult]) -> str:
+    """Where the limits come from: the deck's [criteria], [design] (Table 12.12-1's allowable drift) or both."""
+    design = any("allowable_drift_ratio" in result.peaks for result in results)
+    tables = [name for name, given in (("[criteria]", bool(criteria)), ("[design]", design)) if given]
+    return "the deck's " + " and ".join(tables or ["[criteria]"])
+
+
+def _criteria_verdict(violated: int, code: int, named: str = "the deck's [criteria]") -> str:
     if violated:
-        return (f"{violated} acceptance limit{'s' if violated > 1 else ''} of the deck's [criteria] exceeded: "
+        return (f"{violated} acceptance limit{'s' if violated > 1 else ''} of {named} exceeded: "
                 f"`uplift analyze` exits with code {code}.")
-    return f"Every acceptance limit of the deck's [criteria] holds: `uplift analyze` exits with code {code}."
+    return f"Every acceptance limit of {named} holds: `uplift analyze` exits with code {code}."
 
 
 def _criteria_note(rows: list[list[str]], sourced: bool) -> str:
