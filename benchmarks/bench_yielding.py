@@ -84,9 +84,10 @@ def median_time(system: System, record, repeats: int) -> float:
     return statistics.median(times)
 
 
-def time_outside_building(system: System, record, repeats: int) -> float:
+def time_outside_building(system: System, record, repeats: int, support: str = "uplift", options=None) -> float:
     """Median CPU time [s] of an analysis outside operators.add_states: the stepping and the
-    post-processing of the run with its states' operators as if they were free."""
+    post-processing of the run with its states' operators as if they were free (also
+    bench_yielding_stories.py's, on the deck's support and exact-engine options)."""
     spent = [0.0]
     build = stepping.add_states
 
@@ -102,7 +103,7 @@ def time_outside_building(system: System, record, repeats: int) -> float:
         for _ in range(repeats):
             spent[0] = 0.0
             start = time.process_time()
-            exact.analyze(system, record, "uplift")
+            exact.analyze(system, record, support, options)
             times.append(time.process_time() - start - spent[0])
     finally:
         stepping.add_states = build

@@ -68,30 +68,10 @@ def _cpu(deck, support: str, repeats: int) -> float:
 
 def _outside_building(deck, support: str, repeats: int) -> float:
     """Median CPU time [s] of an analysis outside operators.add_states (its stepping and post-processing, as if
-    its states' operators were free)."""
-    from upliftcli.engines.exact import engine as exact
-    from upliftcli.engines.exact import stepping
+    its states' operators were free): bench_yielding.time_outside_building on the deck."""
+    from bench_yielding import time_outside_building
 
-    spent = [0.0]
-    build = stepping.add_states
-
-    def timed(requests):
-        start = time.process_time()
-        indices = build(requests)
-        spent[0] += time.process_time() - start
-        return indices
-
-    stepping.add_states = timed
-    times = []
-    try:
-        for _ in range(repeats):
-            spent[0] = 0.0
-            start = time.process_time()
-            exact.analyze(deck.system, deck.ground_motion, support, deck.analysis.exact)
-            times.append(time.process_time() - start - spent[0])
-    finally:
-        stepping.add_states = build
-    return statistics.median(times)
+    return time_outside_building(deck.system, deck.ground_motion, repeats, support, deck.analysis.exact)
 
 
 def _states(deck, support: str) -> tuple[int, int, float]:
