@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from ..deck.load import Deck
+from ..engines.exact.reuse import yielded
 from ..engines.quantities import MAT_PLACES
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
@@ -58,7 +59,7 @@ def asked(engine: str, decks: Sequence[Deck], single: bool) -> bool:
 
 def _yielded(result: AnalysisResult) -> bool:
     """Whether an exact run's stories or soil yielded."""
-    return result.engine == "exact" and bool(result.yielded or result.building_yielded)
+    return result.engine == "exact" and yielded(result)
 
 
 def leaves_residuals(result: Any) -> bool:

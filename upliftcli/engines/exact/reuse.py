@@ -76,7 +76,7 @@ class OperatorStore:
         """An original run has ended with `result`: its operators kept if it yielded (only such runs get a
         twin) and they fit in max_bytes."""
         size = used_bytes(operators)
-        if _yielded(result) and self.bytes + size <= self.max_bytes:
+        if yielded(result) and self.bytes + size <= self.max_bytes:
             self.kept.setdefault(key, []).append((system, operators, size))
             self.bytes += size
 
@@ -113,6 +113,7 @@ class Twins:
         self.store.built += len(operators.contact) - getattr(operators, "inherited", 0)
 
 
-def _yielded(result: Any) -> bool:
-    """Whether a run's stories or soil yielded (an error: False); only such runs get a twin."""
+def yielded(result: Any) -> bool:
+    """Whether a run's stories or soil yielded (an error: False); only such runs get a twin (the one
+    test, also analysis/residuals.py's)."""
     return bool(getattr(result, "yielded", False) or getattr(result, "building_yielded", False))
