@@ -2,7 +2,8 @@
 sections 4 and 14.3): per state E_j = expm(A h / 2^j), j = 0..LEVELS (level 0 steps, the finer
 ones bisect a crossing), its event rows and their rates, kept in arrays that the stepping loop
 (stepping_kernels.integrate) reads. add_states builds the states several runs ask for in one
-vectorised batch.
+vectorised batch; the operators of states where a story yields are written into those arrays one
+state at a time, in C (level_operators.state_levels).
 """
 
 from __future__ import annotations
@@ -11,15 +12,13 @@ import numpy as np
 
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_OPERATOR_BYTES
-from .expm import expm, squared_levels
+from .level_operators import LEVELS, elastic_stories, hold_settlements, stacked_operators, state_levels, story_yields
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 from .stories import story_bits, valid_story_pattern
 from .story_states import StoryBase, add_bases, matrix_key, soil_rows, state_of
 from .yielding import pattern_bits, step_operators, valid_pattern
 
-#: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
-LEVELS = 12
 #: with a bearing capacity on more contact elements than this, the step operators come from a
 #: small block of each state, written straight into Operators.ops (yielding.step_operators: 28 x 28
 #: instead of 66 x 66 on the 20-element mat of benchmarks/bench_yielding.py, whatever the contact
@@ -71,7 +70,8 @@ class Operators:
 
     def store(self, pattern: int, state: ContactState, ops: np.ndarray | None, events: bool) -> int:
         """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS (None: the caller
-        writes them into self.ops[index] itself, with no copy between: it holds zeros until then)."""
+        writes them into self.ops[index] itself, with no copy between: until then it holds zeros, or
+        nothing defined where the arrays are not filled: self.fill)."""
         index = len(self.contact)
         if index == self.capacity:
             self._grow()
@@ -200,7 +200,8 @@ _BOTH_WAYS = ("a story started to yield both ways at the same instant: reduce th
 def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | AnalysisError]:
     """Build and store the contact states asked for, (operators, pattern, with event rows)
     each, vectorised over the requests that share a layout: one batched assembly
-    (patterns.contact_states), one stacked expm and stacked squarings. Each item gets the
+    (patterns.contact_states), one stacked expm and stacked squarings (the operators of states
+    where a story yields: level_operators.state_levels, each written in place). Each item gets the
     same bits as built alone. Returns the new state index, or the error, per request."""
     out: list[int | AnalysisError] = [AnalysisError(_NO_INERTIA)] * len(requests)
     for members in _groups(requests, out).values():
@@ -221,33 +222,47 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
 
 def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]],
                    out: list[int | AnalysisError]) -> None:
-    """Store the states `built`, their operators from one stacked exponentiation (_level_operators)."""
-    ops = _level_operators(requests, built)
-    for r, (k, state) in enumerate(built):
-        operators, pattern, events = requests[k]
-        if state.yielding is not None:
-            _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
-        if state.story_sign is not None:
-            _elastic_stories(ops[r], state, operators.layout, operators.h)
-        out[k] = operators.store(pattern, state, ops[r], events)
-        if state.story_sign is not None:
-            operators.by_matrix.setdefault(matrix_key(pattern, operators.layout, state), out[k])
+    """Store the states `built`: those where a story yields with their operators written in place
+    (level_operators.state_levels: the Taylor polynomial and squarings, in C), the others' from one stacked
+    exponentiation (_level_operators), in the order of `built`."""
+    stacked = iter(_level_operators(requests, [item for item in built if not story_yields(item[1])]))
+    for k, state in built:
+        out[k] = _stored(requests[k], state, None if story_yields(state) else next(stacked))
+
+
+def _stored(request: tuple[Operators, int, bool], state: ContactState, ops: np.ndarray | None) -> int:
+    """Store a state with the operators of the stacked exponentiation `ops` (its constant entries held: _held),
+    or (None) with those level_operators.state_levels writes into its slot; its index."""
+    operators, pattern, events = request
+    if ops is None:
+        index = operators.store(pattern, state, None, events)
+        state_levels(state.matrix, operators.h, operators.ops[index])
+    else:
+        index = operators.store(pattern, state, _held(ops, state, operators), events)
+    if state.story_sign is not None:
+        operators.by_matrix.setdefault(matrix_key(pattern, operators.layout, state), index)
+    return index
+
+
+def _held(ops: np.ndarray, state: ContactState, operators: Operators) -> np.ndarray:
+    """The stacked exponentiation's operators of a state with the entries that stay constant in it held
+    exactly: the settlements of elements that do not yield, the plastic drifts of elastic stories (and a
+    state with yielding stories where none yields: level_operators.elastic_stories)."""
+    if state.yielding is not None:
+        hold_settlements(ops, operators.layout.settlement_indices[~state.yielding])
+    if state.story_sign is not None:
+        elastic_stories(ops, state, operators.layout, operators.h)
+    return ops
 
 
 def _level_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
-                     ) -> list[np.ndarray]:
-    """E_j^T, j = 0..LEVELS, of each state of `built`: in one stacked exponentiation (_stacked_operators), those
-    of the states where a story yields by squarings alone (expm.squared_levels: the same accuracy, a
-    fifth of the products and no solve; docs/theory.md 15.9)."""
+                     ) -> np.ndarray:
+    """E_j^T, j = 0..LEVELS, of each state of `built` (none where a story yields) in one stacked exponentiation
+    (level_operators.stacked_operators)."""
+    if not built:
+        return np.empty((0, LEVELS + 1, 0, 0))
     a_t = np.stack([state.matrix.T for _, state in built])
-    h = np.array([requests[k][0].h for k, _ in built])[:, None, None]
-    yields = np.array([_story_yields(state) for _, state in built], dtype=bool)
-    ops: list[np.ndarray] = [np.empty(0)] * len(built)
-    for chosen, levels in ((~yields, _stacked_operators), (yields, _squared_operators)):
-        if chosen.any():
-            for r, level_ops in zip(np.flatnonzero(chosen), levels(a_t[chosen], h[chosen]), strict=True):
-                ops[r] = level_ops
-    return ops
+    return stacked_operators(a_t, np.array([requests[k][0].h for k, _ in built])[:, None, None])
 
 
 def _shared_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
@@ -330,53 +345,7 @@ def _block_operators(requests: list[tuple[Operators, int, bool]], built: list[tu
                        [operators.ops[index] for _, index, _ in group])
         for _, index, state in group:
             if state.story_sign is not None:
-                _hold_settlements(operators.ops[index], operators.layout.plastic_indices[state.story_sign == 0])
-
-
-def _stacked_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
-    """E_j^T = expm(A h / 2^j)^T, j = 0..LEVELS, of a stack of A^T (R, n, n) with steps h (R, 1, 1):
-    the finest level by expm, the coarser ones by squaring it, level 0 by its own expm. Transposed
-    (the kernel's matvec runs down columns): (E^T)^2 = (E^2)^T."""
-    ops = np.empty((a_t.shape[0], LEVELS + 1, *a_t.shape[1:]))
-    ops[:, LEVELS] = expm(a_t * (h / 2.0**LEVELS))
-    for j in range(LEVELS - 1, 0, -1):
-        ops[:, j] = ops[:, j + 1] @ ops[:, j + 1]
-    ops[:, 0] = expm(a_t * h)
-    return ops
-
-
-def _story_yields(state: ContactState) -> bool:
-    """Whether some story yields in the state."""
-    return state.story_sign is not None and bool(state.story_sign.any())
-
-
-def _squared_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
-    """E_j^T, j = 0..LEVELS, of a stack of A^T (R, n, n) with steps h (R, 1, 1) by expm.squared_levels (states
-    where a story yields: docs/theory.md 15.9); (E^T)^2 = (E^2)^T."""
-    return squared_levels(a_t * h, LEVELS)
-
-
-def _hold_settlements(ops: np.ndarray, constant: np.ndarray) -> None:
-    """Make the settlements s_i of elements that do not yield exactly constant in the step
-    operators (ops: E^T per level, in place): their rows of A are zero, so the rows of E = expm(A h)
-    are unit rows, which the computed exponentials hold only to a few units in the last place (a
-    drift of 4e-13 of s_i per step, measured)."""
-    ops[:, :, constant] = 0.0
-    ops[:, constant, constant] = 1.0
-
-
-def _elastic_stories(ops: np.ndarray, state: ContactState, lay: Layout, h: float) -> None:
-    """The step operators (E^T per level, in place) of a state with yielding stories: the plastic drifts
-    of the elastic stories held exactly (_hold_settlements), and, where no story yields, the operators
-    of the other entries from the exponential of A without the plastic drifts: the matrix and the
-    operators of the elastic building, bit for bit (the plastic drifts, zero until a story yields, do
-    not change its history: docs/theory.md 15.4)."""
-    _hold_settlements(ops, lay.plastic_indices[state.story_sign == 0])
-    if np.any(state.story_sign != 0):
-        return
-    keep = np.setdiff1d(np.arange(lay.n_aug), lay.plastic_indices)
-    reduced = state.matrix[np.ix_(keep, keep)].T
-    ops[:, keep[:, None], keep[None, :]] = _stacked_operators(reduced[None], np.array([[[h]]]))[0]
+                hold_settlements(operators.ops[index], operators.layout.plastic_indices[state.story_sign == 0])
 
 
 def _states(requests: list[tuple[Operators, int, bool]]) -> list[ContactState]:
