@@ -38,6 +38,10 @@ class Operators:
         n_aug, n_e = self.layout.n_aug, soil_rows(self.layout)
         n_e += 2 * self.layout.n_plastic  # two event rows per yielding story (stories.py)
         self.capacity = reserved_states(self.layout)
+        lay = self.layout  # the states of runs of one group are built together (_groups), at most most_states
+        self.group = (lay.n_p, tuple(lay.massive), tuple(lay.massless), lay.n_x, lay.n_elements, lay.n_plastic,
+                      criterion)
+        self.most_states = max_states(lay)
         # the states of yielding stories (not on a yielding mat of many elements, whose block operators write
         # only their nonzero entries: _block_operators) write their operators, event rows and rates whole:
         # those arrays are left as allocated (np.empty: served from the memory an earlier run freed, kept by
@@ -118,6 +122,10 @@ def block_operators(lay: Layout) -> bool:
 RESERVE_BYTES = 2**30
 
 
+#: the most memory reserved up front for the operators of a run with yielding stories [bytes]: below the
+#: allocator's threshold for a mapping of its own (runtime/process.MMAP_THRESHOLD, 32 MiB), whose pages would
+#: be faulted in again by every run
+STORY_RESERVE_BYTES = 24 * 2**20
 #: contact states a run of a building whose stories yield is expected to meet, per yielding story (the
 #: README example at El Centro x2 with a base-shear strength 0.4 W met 151 on the rigid base, 122
 #: bonded: docs/theory.md 15.9)
@@ -145,6 +153,8 @@ def reserved_states(lay: Layout) -> int:
     are not copied at every doubling (a fifth of its run time, measured). Not with yielding stories: a
     run that never yields would pay for the reserve (its pages, or zeroing them), and the doublings of
     one that does copy without a fill (Operators.fill)."""
+    if lay.n_plastic and not block_operators(lay):
+        return max(4, min(expected_states(lay), STORY_RESERVE_BYTES // state_bytes(lay)))
     expected = lay.n_elements**2 if block_operators(lay) else 0
     if not expected:
         return 4
@@ -300,12 +310,10 @@ def _groups(requests: list[tuple[Operators, int, bool]], out: list[int | Analysi
             out[k] = AnalysisError(_BOTH_WAYS)
             continue
         asked[id(operators)] = asked.get(id(operators), 0) + 1
-        if len(operators.contact) + asked[id(operators)] > max_states(lay):
+        if len(operators.contact) + asked[id(operators)] > operators.most_states:
             out[k] = AnalysisError(_too_many_states(lay))
             continue
-        key = (lay.n_p, tuple(lay.massive), tuple(lay.massless), lay.n_x, lay.n_elements, lay.n_plastic,
-               operators.criterion)
-        groups.setdefault(key, []).append(k)
+        groups.setdefault(operators.group, []).append(k)
     return groups
 
 
