@@ -87,7 +87,7 @@ class Operators:
                 rows = rows.copy()
                 rows[:soil_rows(self.layout)] = 0.0
             self.events[index] = rows
-            self.event_rates[index] = rows @ state.matrix
+            np.matmul(rows, state.matrix, out=self.event_rates[index])
         elif self.fill is None:  # no event rows: zero, as in arrays that start as zeros
             self.events[index] = self.event_rates[index] = 0.0
         self.matrices[index] = state.matrix.T
