@@ -97,18 +97,12 @@ class Operators:
 
     def _grow(self) -> None:
         """More room for states: doubled (_doubled: the operators zeros, mapped only as stored, which
-        yielding.step_operators writes into without a fill; the matrices, never read before, not filled), or
-        those of yielding stories (no fill) fourfold, a third of the copying (the README example: 151 states)."""
-        if self.fill is not None:
-            self.capacity *= 2
-            self.ops, self.matrices = _doubled(self.ops, 0.0), _doubled(self.matrices)
-            self.events, self.event_rates = _doubled(self.events, 0.0), _doubled(self.event_rates, 0.0)
-            self.patterns = _doubled(self.patterns, -1)
-            return
-        self.capacity *= 4
-        self.ops, self.matrices = _grown(self.ops, None, 4), _grown(self.matrices, None, 4)
-        self.events, self.event_rates = _grown(self.events, None, 4), _grown(self.event_rates, None, 4)
-        self.patterns = _grown(self.patterns, -1, 4)
+        yielding.step_operators writes into without a fill, or with yielding stories not filled (self.fill); the
+        matrices, never read before, not filled)."""
+        self.capacity *= 2
+        self.ops, self.matrices = _doubled(self.ops, self.fill), _doubled(self.matrices)
+        self.events, self.event_rates = _doubled(self.events, self.fill), _doubled(self.event_rates, self.fill)
+        self.patterns = _doubled(self.patterns, -1)
 
 
 def block_operators(lay: Layout) -> bool:
@@ -125,7 +119,7 @@ RESERVE_BYTES = 2**30
 #: the most memory reserved up front for the operators of a run with yielding stories [bytes]: below the
 #: allocator's threshold for a mapping of its own (runtime/process.MMAP_THRESHOLD, 32 MiB), whose pages would
 #: be faulted in again by every run
-STORY_RESERVE_BYTES = 24 * 2**20
+STORY_RESERVE_BYTES = 30 * 2**20
 #: contact states a run of a building whose stories yield is expected to meet, per yielding story (the
 #: README example at El Centro x2 with a base-shear strength 0.4 W met 151 on the rigid base, 122
 #: bonded: docs/theory.md 15.9)
@@ -151,11 +145,12 @@ def reserved_states(lay: Layout) -> int:
     """How many contact states a run's operator arrays hold before they first grow: 4, or on a yielding
     mat of many elements twice expected_states (2 n_e^2), so that the 450 kB per state of such a run
     are not copied at every doubling (a fifth of its run time, measured); with yielding stories (on no such
-    mat) expected_states, at most STORY_RESERVE_BYTES: their arrays are not filled (Operators.fill), so a run
-    that never yields touches the pages of its few states only, and one that does copies nothing (the
-    README example: 151 states, 122 bonded, in 160; growing fourfold from 4 copied 84 states, 9.5 MB)."""
+    mat) twice expected_states, at most STORY_RESERVE_BYTES: their arrays are not filled (Operators.fill), so
+    a run that never yields touches the pages of its few states only, and one that does seldom copies (the
+    README example: 151 states, 122 bonded, in 209 to 271; its period swept over 0.4-0.8 s at most 175, and
+    the twin of a residual check adds its own; growing fourfold from 4 copied 84 states, 9.5 MB)."""
     if lay.n_plastic and not block_operators(lay):
-        return max(4, min(expected_states(lay), STORY_RESERVE_BYTES // state_bytes(lay)))
+        return max(4, min(2 * expected_states(lay), STORY_RESERVE_BYTES // state_bytes(lay)))
     expected = lay.n_elements**2 if block_operators(lay) else 0
     if not expected:
         return 4
@@ -182,12 +177,7 @@ def _reserve(shape: tuple[int, ...], fill: float | None) -> np.ndarray:
 def _doubled(array: np.ndarray, fill: float | None = None) -> np.ndarray:
     """The array with as many rows again after its own, those set to `fill` (None: left unset; 0:
     zeros, whose pages are mapped only as they are written)."""
-    return _grown(array, fill, 2)
-
-
-def _grown(array: np.ndarray, fill: float | None, factor: int) -> np.ndarray:
-    """The array with `factor` times its rows, the new ones set to `fill` (as _doubled)."""
-    shape = (factor * array.shape[0], *array.shape[1:])
+    shape = (2 * array.shape[0], *array.shape[1:])
     if fill is None:
         out = np.empty(shape, dtype=array.dtype)
     else:
