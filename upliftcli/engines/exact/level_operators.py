@@ -42,11 +42,6 @@ def stacked_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
     return ops
 
 
-def story_yields(state: ContactState) -> bool:
-    """Whether some story yields in the state (its operators then come from state_levels)."""
-    return state.story_sign is not None and bool(state.story_sign.any())
-
-
 def hold_settlements(ops: np.ndarray, constant: np.ndarray) -> None:
     """Make the settlements s_i of elements that do not yield exactly constant in the step
     operators (ops: E^T per level, in place): their rows of A are zero, so the rows of E = expm(A h)

@@ -12,7 +12,7 @@ import numpy as np
 
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_OPERATOR_BYTES
-from .level_operators import LEVELS, elastic_stories, hold_settlements, stacked_operators, state_levels, story_yields
+from .level_operators import LEVELS, elastic_stories, hold_settlements, stacked_operators, state_levels
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 from .stories import story_bits, valid_story_pattern
@@ -221,27 +221,35 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
     return out
 
 
-def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]],
+def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState, tuple | None]],
                    out: list[int | AnalysisError]) -> None:
-    """Store the states `built`: those where a story yields with their operators written in place
-    (level_operators.state_levels: the Taylor polynomial and squarings, in C), the others' from one stacked
-    exponentiation (_level_operators), in the order of `built`."""
-    stacked = iter(_level_operators(requests, [item for item in built if not story_yields(item[1])]))
-    for k, state in built:
-        out[k] = _stored(requests[k], state, None if story_yields(state) else next(stacked))
+    """Store the states `built` ((index, state, key of A: _shared_operators)): those where a story yields with
+    their operators written in place (level_operators.state_levels: the Taylor polynomial and squarings, in
+    C), the others' from one stacked exponentiation (_level_operators), in the order of `built`."""
+    stacked = iter(_level_operators(requests, [(k, state) for k, state, key in built if not _story_yields(key)]))
+    for k, state, key in built:
+        out[k] = _stored(requests[k], state, key, None if _story_yields(key) else next(stacked))
 
 
-def _stored(request: tuple[Operators, int, bool], state: ContactState, ops: np.ndarray | None) -> int:
+def _story_yields(key: tuple | None) -> bool:
+    """Whether some story yields in a state whose A has the key `key` (story_states.matrix_key: its second item
+    the bytes of where the stories yield; None: elastic stories): its operators then come from state_levels."""
+    return key is not None and 1 in key[1]
+
+
+def _stored(request: tuple[Operators, int, bool], state: ContactState, key: tuple | None, ops: np.ndarray | None
+            ) -> int:
     """Store a state with the operators of the stacked exponentiation `ops` (its constant entries held: _held),
-    or (None) with those level_operators.state_levels writes into its slot; its index."""
+    or (None) with those level_operators.state_levels writes into its slot; its index (kept under its key of A
+    where it has one)."""
     operators, pattern, events = request
     if ops is None:
         index = operators.store(pattern, state, None, events)
         state_levels(state.matrix, operators.h, operators.ops[index])
     else:
         index = operators.store(pattern, state, _held(ops, state, operators), events)
-    if state.story_sign is not None:
-        operators.by_matrix.setdefault(matrix_key(pattern, operators.layout, state), index)
+    if key is not None:
+        operators.by_matrix.setdefault(key, index)
     return index
 
 
@@ -267,22 +275,22 @@ def _level_operators(requests: list[tuple[Operators, int, bool]], built: list[tu
 
 
 def _shared_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
-                      ) -> tuple[list[tuple[int, ContactState]], list[tuple[int, ContactState, tuple]]]:
-    """The states of `built` whose operators are to be computed, and (index, state, key) of those whose A
-    is that of a state built before or earlier in `built` (yielding stories: story_states.matrix_key), which copy its
-    operators once it is stored."""
+                      ) -> tuple[list[tuple[int, ContactState, tuple | None]], list[tuple[int, ContactState, tuple]]]:
+    """(index, state, key) of the states of `built` whose operators are to be computed, and of those whose A
+    is that of a state built before or earlier in `built`, which copy its operators once it is stored; the key
+    of A (yielding stories: story_states.matrix_key, else None)."""
     fresh, copies, first = [], [], set()
     for k, state in built:
         operators, pattern, _ = requests[k]
         if state.story_sign is None:
-            fresh.append((k, state))
+            fresh.append((k, state, None))
             continue
         key = matrix_key(pattern, operators.layout, state)
         if key in operators.by_matrix or (id(operators), key) in first:
             copies.append((k, state, key))
             continue
         first.add((id(operators), key))
-        fresh.append((k, state))
+        fresh.append((k, state, key))
     return fresh, copies
 
 
