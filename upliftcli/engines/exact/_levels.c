@@ -232,8 +232,11 @@ static int64_t active_first(const double *matrix, int64_t n, int64_t *order, int
         const int is_active = active(matrix, n, r);
         position[r] = is_active ? count++ : m + held++;
         order[position[r]] = r;
-        if (r == 0 || is_active != (spans[*n_spans - 1].offset >= 0)) {
-            spans[(*n_spans)++] = (Span){.start = r, .length = 0, .offset = is_active ? position[r] : -1};
+        if (r == 0 || is_active != (spans[*n_spans - 1].offset >= 0)) { /* a new span starts at r */
+            Span *span = &spans[(*n_spans)++];
+            span->start = r;
+            span->length = 0;
+            span->offset = is_active ? position[r] : -1;
         }
         spans[*n_spans - 1].length++;
     }
