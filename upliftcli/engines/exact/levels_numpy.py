@@ -72,10 +72,9 @@ def compact_square(x: np.ndarray) -> np.ndarray:
 
 def product(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """x y (x: rows x m, y: m x w), each entry summed over k = 0..m-1 in that order, as _levels.c sums it: the
-    terms x[:, k] y[k] of each k a row of one array, reduced over its first axis (numpy adds such rows one
-    after the other; a BLAS product would sum in another order)."""
-    terms = x.T[:, :, None] * y[:, None, :]
-    return np.add.reduce(terms.reshape(y.shape[0], x.shape[0] * y.shape[1]), axis=0).reshape(x.shape[0], y.shape[1])
+    terms x[:, k] y[k] of each k a slice of one C-ordered array, reduced over its first axis (numpy adds
+    such slices one after the other; a BLAS product would sum in another order)."""
+    return np.add.reduce(np.multiply(x.T[:, :, None], y[:, None, :], order="C"), axis=0)
 
 
 def _norm(power: np.ndarray) -> float:
