@@ -24,15 +24,16 @@ from upliftcli.engines.exact.residual_digest import ResidualDigest
 
 ROOT = Path(__file__).resolve().parent.parent
 TWO = ROOT / "inputs" / "ten_story_elcentro.toml"
+WINKLER = ROOT / "inputs" / "ten_story_winkler.toml"
 SUITE = ROOT / "records" / "ten_story_asce7_suite"
 STORIES = ("ground_motion.scale=2", "building.strength_coefficient=0.4", "building.hardening_ratio=0.05")
 #: issue 35's reproducer: soil that yields under a mat without a dashpot
 FRAGILE = ("foundation.damping_ratio=0", "foundation.safety_factor=1.98")
 
 
-def _twins(overrides, support):
+def _twins(overrides, support, path=TWO):
     """(the twin with its original's operators, residuals only; the twin run alone, in full) of a deck."""
-    deck = load_deck(TWO, list(overrides))
+    deck = load_deck(path, list(overrides))
     options, twin = deck.analysis.exact, residuals.perturbed_motion(deck.ground_motion)
     store = reuse.OperatorStore()
     exact.analyze(deck.system, deck.ground_motion, support, options, operators=store)
@@ -48,14 +49,17 @@ def _same_residuals(lean, full) -> None:
         assert lean.peaks[name].dtype == full.peaks[name].dtype and same(lean.peaks[name], full.peaks[name])
 
 
-@pytest.mark.parametrize(("overrides", "support", "loops"), [
-    (STORIES, "rigid", "auto"), (STORIES, "bonded", "auto"), (STORIES, "uplift", "auto"),
-    (STORIES, "uplift", "numpy"), ((*STORIES, *FRAGILE), "uplift", "auto"), (FRAGILE, "uplift", "numpy")])
-def test_a_twins_residuals_and_energy_residual_are_those_of_a_full_twin(overrides, support, loops, monkeypatch):
+@pytest.mark.parametrize(("overrides", "support", "loops", "path"), [
+    (STORIES, "rigid", "auto", TWO), (STORIES, "bonded", "auto", TWO), (STORIES, "uplift", "auto", TWO),
+    (STORIES, "uplift", "numpy", TWO), ((*STORIES, *FRAGILE), "uplift", "auto", TWO), (FRAGILE, "uplift", "numpy", TWO),
+    (("foundation.safety_factor=1.5",), "uplift", "auto", WINKLER)])
+def test_a_twins_residuals_and_energy_residual_are_those_of_a_full_twin(overrides, support, loops, path,
+                                                                          monkeypatch):
     """Yielding stories on every support, stories on yielding soil, yielding soil alone (issue 35's
-    reproducer), compiled and numpy loops: the same residuals and energy balance, bit for bit."""
+    reproducer; a Winkler mat of 20 elements at FS_v = 1.5), compiled and numpy loops: the same residuals and
+    energy balance, bit for bit."""
     monkeypatch.setenv("UPLIFT_BACKEND", loops)
-    lean, full = _twins(overrides, support)
+    lean, full = _twins(overrides, support, path)
     _same_residuals(lean, full)
     assert lean.intermediates == {"energy_residual": full.intermediates["energy_residual"]}
     assert same(lean.details["energy"], full.details["energy"])
