@@ -18,7 +18,7 @@ from upliftcli.analysis import residuals
 from upliftcli.analysis import run as analysis
 from upliftcli.deck.load import load_deck
 from upliftcli.engines.exact import engine as exact
-from upliftcli.engines.exact import reuse
+from upliftcli.engines.exact import reuse, stepping
 from upliftcli.engines.exact.digest import Digest
 from upliftcli.engines.exact.residual_digest import ResidualDigest
 
@@ -64,6 +64,18 @@ def test_a_twins_residuals_and_energy_residual_are_those_of_a_full_twin(override
     assert lean.intermediates == {"energy_residual": full.intermediates["energy_residual"]}
     assert same(lean.details["energy"], full.details["energy"])
     assert lean.uplift == full.uplift
+
+
+@pytest.mark.parametrize("overrides", [STORIES, (*STORIES, *FRAGILE)])
+def test_a_twin_stepped_in_chunks_folds_them_as_a_full_twin(overrides, monkeypatch):
+    """Several chunks a run (stepping.CHUNK_SAMPLES = 700 of about 3400 samples): the work integrals
+    summed, the first and last stored energies, the last drifts and mat values as the full digest's."""
+    monkeypatch.setattr(stepping, "CHUNK_SAMPLES", 700)
+    lean, full = _twins(overrides, "uplift")
+    assert full.intermediates["samples"] > 3 * 700
+    _same_residuals(lean, full)
+    assert lean.intermediates == {"energy_residual": full.intermediates["energy_residual"]}
+    assert same(lean.details["energy"], full.details["energy"])
 
 
 def test_a_twin_whose_balance_does_not_close_is_refined_as_a_full_twin_is(monkeypatch):

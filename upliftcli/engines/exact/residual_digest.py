@@ -4,12 +4,12 @@ its energy balance, nothing more.
 The check of the residuals compares a run's residual drift ratios, residual mat rotation and residual
 settlements with those of its twin (the record times 1 + 1e-6), and reads nothing else of the twin. A
 twin folded by digest.Digest would also search every peak between samples, the reactions and impacts and
-the mat's peaks (a sixth of the twin's time on the README example). ResidualDigest folds per chunk what
+the mat's peaks (a seventh of the twin's time on the README example). ResidualDigest folds per chunk what
 the residuals are read from (the drifts and the mat's theta and v at the last sample) and what the
 engine's refinement of the step decides by (the energy balance: engine._finished halves the step where it
 does not close, and the refined run is then an ordinary full one), each with the very expressions of
 digest.py, StoryDigest and MatMotion, so that the twin's residuals and its energy residual are those of a
-full twin, bit for bit (tests/test_operator_reuse.py).
+full twin, bit for bit (tests/test_residual_digest.py).
 
 Its result holds only those residuals (quantities.YIELDING's residual_drift_ratio with yielding stories;
 quantities.ROCKING's residual_rotation and residual_settlement on the exact engine's uplift support), the
