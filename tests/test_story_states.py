@@ -13,6 +13,7 @@ from upliftcli.deck.load import load_deck
 from upliftcli.engines.exact.operators import Operators, add_states, soil_rows
 from upliftcli.engines.exact.patterns import contact_states
 from upliftcli.engines.exact.statespace import exact_model
+from upliftcli.engines.exact.stories import story_bits
 from upliftcli.engines.exact.story_states import story_bases, story_state
 from upliftcli.engines.options import ExactOptions
 
@@ -57,7 +58,7 @@ def test_a_state_from_its_base_is_the_assembled_state_bit_for_bit(path, support,
                                       None if yielding is None else np.repeat(yielding[None], len(signs), axis=0),
                                       signs)
             for sign, want in zip(signs, expected, strict=True):
-                got = story_state(base, lay.plastic_indices, sign)
+                got = story_state(base, sign)
                 for name in ("lifted", "matrix", "velocity", "events", "yielding", "story_sign"):
                     assert np.array_equal(getattr(got, name), getattr(want, name)), name
 
@@ -88,3 +89,17 @@ def test_states_whose_stories_yield_in_the_same_places_share_their_operators(sup
     assert np.array_equal(shared.matrices[second], alone.matrices[index])
     assert np.array_equal(shared.events[second], alone.events[index])
     assert not np.array_equal(shared.events[second], shared.events[first])
+
+
+def test_the_sign_of_each_story_is_its_two_pattern_bits():
+    """stories.story_bits: P - N of each story's bits (base + 2 s: P, base + 2 s + 1: N), 0 for both, over
+    random patterns up to the 62 bits of a pattern, the foundation's bits below base ignored."""
+    rng = np.random.default_rng(62)
+    for _ in range(2000):
+        count = int(rng.integers(1, 32))
+        base = int(rng.integers(0, 62 - 2 * count + 1))
+        pattern = int(rng.integers(0, 2**62, dtype=np.int64)) & ((1 << (base + 2 * count)) - 1)
+        want = [((pattern >> (base + 2 * s)) & 1) - ((pattern >> (base + 2 * s + 1)) & 1) for s in range(count)]
+        got = story_bits(pattern, base, count)
+        assert got.dtype == np.int8
+        assert got.tolist() == want

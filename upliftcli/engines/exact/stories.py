@@ -62,11 +62,18 @@ def plastic_forcing(stories: StoryYield, to_modal: np.ndarray) -> np.ndarray:
     return to_modal.T @ (stories.drift.T * stories.stiffness)
 
 
+#: the sign of a story by the field of its two bits in a contact pattern, P + 2 N: elastic, positive, negative,
+#: and both (no such state: stories.valid_story_pattern), 0 as P - N
+_SIGN_OF_FIELD = np.array([0, 1, -1, 0], dtype=np.int8)
+#: where the field of story s starts in the pattern's story bits: 2 s (the 31 stories 62 bits hold)
+_FIELD_SHIFTS = 2 * np.arange(31, dtype=np.int64)
+
+
 def story_bits(pattern: int, base: int, count: int) -> np.ndarray:
     """The sign of each yielding story in a contact pattern: +1 yielding positive, -1 negative, 0 elastic
-    (bits base + 2 s and base + 2 s + 1)."""
-    bits = ((np.int64(pattern) >> np.arange(base, base + 2 * count, dtype=np.int64)) & 1).astype(np.int8)
-    return bits[0::2] - bits[1::2]
+    (bits base + 2 s and base + 2 s + 1), from the field of each story's two bits."""
+    fields = (np.int64(pattern >> base) >> _FIELD_SHIFTS[:count]) & 3
+    return _SIGN_OF_FIELD.take(fields)
 
 
 def valid_story_pattern(pattern: int, base: int, count: int) -> bool:
