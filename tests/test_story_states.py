@@ -13,7 +13,7 @@ from upliftcli.deck.load import load_deck
 from upliftcli.engines.exact.operators import Operators, add_states, soil_rows
 from upliftcli.engines.exact.patterns import contact_states
 from upliftcli.engines.exact.statespace import exact_model
-from upliftcli.engines.exact.stories import story_bits
+from upliftcli.engines.exact.stories import StoryYield, hysteretic_work, story_bits
 from upliftcli.engines.exact.story_states import story_bases, story_state
 from upliftcli.engines.options import ExactOptions
 
@@ -103,3 +103,20 @@ def test_the_sign_of_each_story_is_its_two_pattern_bits():
         got = story_bits(pattern, base, count)
         assert got.dtype == np.int8
         assert got.tolist() == want
+
+
+@pytest.mark.parametrize("count", [1, 3, 10])
+def test_the_hysteretic_work_skips_only_elastic_intervals_bit_for_bit(count):
+    """stories.hysteretic_work, which evaluates only the intervals where some story yields, gives the sum over
+    every interval of the work while yielding (theory 15.3) bit for bit, one story or many."""
+    rng = np.random.default_rng(count)
+    story = StoryYield(np.arange(count), rng.uniform(1e7, 1e8, count), rng.uniform(1e5, 1e6, count), 0.05,
+                       np.ones((count, 1)), 10.0)
+    drifts = np.cumsum(rng.normal(0.0, 1e-3, (500, count)), axis=0)
+    sign = rng.choice(np.array([-1, 0, 0, 0, 0, 1], dtype=np.int8), (500, count))
+    sign[100:200] = 0  # a stretch where every story is elastic
+    d0, d1, s = drifts[:-1], drifts[1:], sign[:-1]
+    a = story.alpha
+    per = (1.0 - a) * (0.5 * a * story.stiffness * (d1**2 - d0**2) + s * (1.0 - a) * story.strength * (d1 - d0))
+    assert np.array_equal(hysteretic_work(story, drifts, sign), np.where(s != 0, per, 0.0).sum(axis=0))
+    assert np.array_equal(hysteretic_work(story, drifts, np.zeros_like(sign)), np.zeros(count))
