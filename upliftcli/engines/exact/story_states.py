@@ -25,23 +25,20 @@ from .statespace import ContactState, Layout, StateSpace
 @dataclass(frozen=True)
 class StoryBase:
     """What the states of one foundation pattern share, as tables a state takes its rows from (story_state):
-    the base state (every story elastic); matrices (2 n_aug, n_aug): its A, then its A with the row of every
-    story's p_j as while the story yields; events (n_s + 6 n_y, n_aug): the foundation's n_s = soil_rows event
-    rows, then the stories' 2 n_y rows for each code of their sign (0 elastic, 1 positive, 2 negative: sign %
-    3; stories.event_candidates): row 2 j the onset of P, the unloading from P, never; row 2 j + 1 the onset
-    of N, never, the unloading from N. A state's row r of A is row row_base[r] + row_step[r] yields[row_story[r]]
-    of matrices, its event row r row event_base[r] + event_step[r] code[event_story[r]] of events (_picks)."""
+    the base state (every story elastic); matrices (3 n_aug, n_aug): its A, then twice its A with the row of
+    every story's p_j as while the story yields (for the codes 1 and 2 of its sign: 0 elastic, 1 positive, 2
+    negative, sign % 3); events (n_s + 6 n_y, n_aug): the foundation's n_s = soil_rows event rows, then the
+    stories' 2 n_y rows for each code (stories.event_candidates): row 2 j the onset of P, the unloading from
+    P, never; row 2 j + 1 the onset of N, never, the unloading from N. A state takes rows picks[:n_aug] of
+    matrices and picks[n_aug:] of events, picks = pick_base + pick_step * code[pick_story] (_picks)."""
 
     state: ContactState
     soil_rows: int
     matrices: np.ndarray
     events: np.ndarray
-    row_base: np.ndarray
-    row_step: np.ndarray
-    row_story: np.ndarray
-    event_base: np.ndarray
-    event_step: np.ndarray
-    event_story: np.ndarray
+    pick_base: np.ndarray
+    pick_step: np.ndarray
+    pick_story: np.ndarray
 
 
 def story_bases(spaces: list[StateSpace], lifted: np.ndarray, yielding: np.ndarray | None, criterion: str,
@@ -68,35 +65,33 @@ def _base(space: StateSpace, state: ContactState, soil_rows: int) -> StoryBase:
     codes = np.empty((3, 2 * lay.n_plastic, lay.n_aug))  # by code: rows 2 j (up) and 2 j + 1 (down)
     codes[:, 0::2] = np.stack((up, -rate[0], never[0]))
     codes[:, 1::2] = np.stack((down, never[0], rate[0]))
-    return StoryBase(state, soil_rows, np.vstack((state.matrix, yielding)),
+    return StoryBase(state, soil_rows, np.vstack((state.matrix, yielding, yielding)),
                      np.vstack((state.events[:soil_rows], codes.reshape(-1, lay.n_aug))),
                      *_picks(lay.n_aug, lay.plastic_indices, soil_rows))
 
 
-def _picks(n_aug: int, plastic: np.ndarray, soil_rows: int) -> tuple[np.ndarray, ...]:
-    """StoryBase's row_base, row_step, row_story, event_base, event_step and event_story (int64): the rows of its
-    tables a state takes, given the yields and the codes of its stories (story_state)."""
+def _picks(n_aug: int, plastic: np.ndarray, soil_rows: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """StoryBase's pick_base, pick_step and pick_story (int64, n_aug + n_e): the row of its tables a state takes
+    for each row of its A, then of its event rows, given the codes of its stories (story_state)."""
     n_y = plastic.size
-    row_step, row_story = np.zeros(n_aug, dtype=np.int64), np.zeros(n_aug, dtype=np.int64)
-    row_step[plastic], row_story[plastic] = n_aug, np.arange(n_y)
     n_e = soil_rows + 2 * n_y
-    event_step, event_story = np.zeros(n_e, dtype=np.int64), np.zeros(n_e, dtype=np.int64)
-    event_step[soil_rows:], event_story[soil_rows:] = 2 * n_y, np.repeat(np.arange(n_y), 2)
-    return np.arange(n_aug), row_step, row_story, np.arange(n_e), event_step, event_story
+    step, story = np.zeros(n_aug + n_e, dtype=np.int64), np.zeros(n_aug + n_e, dtype=np.int64)
+    step[plastic], story[plastic] = n_aug, np.arange(n_y)
+    step[n_aug + soil_rows:], story[n_aug + soil_rows:] = 2 * n_y, np.repeat(np.arange(n_y), 2)
+    return np.concatenate((np.arange(n_aug), np.arange(n_e))), step, story
 
 
 def story_state(base: StoryBase, sign: np.ndarray) -> ContactState:
     """The state of the base's foundation pattern with the stories' signs `sign` (n_y: +1, -1, 0), as
-    patterns.contact_states assembles it: its rows taken
-    from the base's tables, one take each (a yielding run builds hundreds of states: copies and row
-    assignments cost 11 us a state, this about a third of that, measured)."""
+    patterns.contact_states assembles it: its rows taken from the base's tables, one take each (a yielding run
+    builds hundreds of states: copies and row assignments cost 11 us a state, this less than half of that,
+    measured)."""
     state = base.state
-    code = sign % 3
-    rows = base.row_base + base.row_step * (code != 0).take(base.row_story)
-    events = base.event_base + base.event_step * code.take(base.event_story)
-    return ContactState(state.lifted.copy(), base.matrices.take(rows, axis=0), state.velocity,
-                        base.events.take(events, axis=0), None if state.yielding is None else state.yielding.copy(),
-                        sign.copy())
+    picks = base.pick_base + base.pick_step * (sign % 3).take(base.pick_story)
+    n_aug = base.matrices.shape[1]
+    return ContactState(state.lifted.copy(), base.matrices.take(picks[:n_aug], axis=0), state.velocity,
+                        base.events.take(picks[n_aug:], axis=0),
+                        None if state.yielding is None else state.yielding.copy(), sign.copy())
 
 
 def soil_rows(lay: Layout) -> int:
