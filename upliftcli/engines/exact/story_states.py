@@ -96,8 +96,10 @@ def story_state(base: StoryBase, sign: np.ndarray) -> ContactState:
 
 def soil_rows(lay: Layout) -> int:
     """Event rows (and pattern bits) of the foundation's elements: one per element, two with a bearing
-    capacity; the yielding stories' come after them (stories.py)."""
-    return max(lay.n_elements, 0) + lay.n_settlements
+    capacity; the yielding stories' come after them (stories.py). Called about seven times per state a yielding
+    run builds: a conditional, not max()."""
+    n_elements = lay.n_elements
+    return (n_elements if n_elements > 0 else 0) + lay.n_settlements
 
 
 def matrix_key(pattern: int, lay: Layout, state: ContactState) -> tuple[int, bytes]:
