@@ -294,7 +294,10 @@ def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisErro
 
 def _added(requests: list[tuple[Operators, int, bool]]) -> list[int | AnalysisError]:
     """add_states of the requests, those whose pattern is stored already (operators a run started from:
-    reuse.py) given its index instead."""
+    reuse.py) given its index instead (the requests of runs without such operators go to add_states as they are:
+    a yielding run makes one request at a time, hundreds of times)."""
+    if not any(getattr(operators, "inherited", 0) for operators, _, _ in requests):
+        return add_states(requests)
     stored = [_stored(operators, pattern) for operators, pattern, _ in requests]
     built = iter(add_states(_unstored(requests, stored)))
     return [next(built) if index is None else index for index in stored]
