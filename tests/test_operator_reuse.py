@@ -38,13 +38,16 @@ def same(a, b) -> bool:
 
 
 def _analyses(overrides, support):
-    """(original and twin, each with a store and without, the store) of one deck and support."""
+    """(original and twin, each with a store and without, the store) of one deck and support; the twin
+    with its original's operators folded in full (a check's twins fold their residuals alone)."""
     deck = load_deck(TWO, list(overrides))
     options = deck.analysis.exact
     record, twin = deck.ground_motion, residuals.perturbed_motion(deck.ground_motion)
     store = reuse.OperatorStore()
     kept = exact.analyze(deck.system, record, support, options, operators=store)
-    reused = exact.analyze(deck.system, twin, support, options, operators=store.twins())
+    twins = store.twins()
+    twins.residuals_only = False  # folded in full: all of it compared (its residuals alone: test_residual_digest.py)
+    reused = exact.analyze(deck.system, twin, support, options, operators=twins)
     plain = exact.analyze(deck.system, record, support, options)
     alone = exact.analyze(deck.system, twin, support, options)
     return kept, reused, plain, alone, store

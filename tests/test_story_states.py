@@ -13,6 +13,7 @@ from upliftcli.deck.load import load_deck
 from upliftcli.engines.exact.operators import Operators, add_states, soil_rows
 from upliftcli.engines.exact.patterns import contact_states
 from upliftcli.engines.exact.statespace import exact_model
+from upliftcli.engines.exact.stories import StoryYield, hysteretic_work, story_bits
 from upliftcli.engines.exact.story_states import story_bases, story_state
 from upliftcli.engines.options import ExactOptions
 
@@ -57,7 +58,7 @@ def test_a_state_from_its_base_is_the_assembled_state_bit_for_bit(path, support,
                                       None if yielding is None else np.repeat(yielding[None], len(signs), axis=0),
                                       signs)
             for sign, want in zip(signs, expected, strict=True):
-                got = story_state(base, lay.plastic_indices, sign)
+                got = story_state(base, sign)
                 for name in ("lifted", "matrix", "velocity", "events", "yielding", "story_sign"):
                     assert np.array_equal(getattr(got, name), getattr(want, name)), name
 
@@ -88,3 +89,34 @@ def test_states_whose_stories_yield_in_the_same_places_share_their_operators(sup
     assert np.array_equal(shared.matrices[second], alone.matrices[index])
     assert np.array_equal(shared.events[second], alone.events[index])
     assert not np.array_equal(shared.events[second], shared.events[first])
+
+
+def test_the_sign_of_each_story_is_its_two_pattern_bits():
+    """stories.story_bits: P - N of each story's bits (base + 2 s: P, base + 2 s + 1: N), 0 for both, over
+    random patterns up to the 62 bits of a pattern, the foundation's bits below base ignored."""
+    rng = np.random.default_rng(62)
+    for _ in range(2000):
+        count = int(rng.integers(1, 32))
+        base = int(rng.integers(0, 62 - 2 * count + 1))
+        pattern = int(rng.integers(0, 2**62, dtype=np.int64)) & ((1 << (base + 2 * count)) - 1)
+        want = [((pattern >> (base + 2 * s)) & 1) - ((pattern >> (base + 2 * s + 1)) & 1) for s in range(count)]
+        got = story_bits(pattern, base, count)
+        assert got.dtype == np.int8
+        assert got.tolist() == want
+
+
+@pytest.mark.parametrize("count", [1, 3, 10])
+def test_the_hysteretic_work_skips_only_elastic_intervals_bit_for_bit(count):
+    """stories.hysteretic_work, which evaluates only the intervals where some story yields, gives the sum over
+    every interval of the work while yielding (theory 15.3) bit for bit, one story or many."""
+    rng = np.random.default_rng(count)
+    story = StoryYield(np.arange(count), rng.uniform(1e7, 1e8, count), rng.uniform(1e5, 1e6, count), 0.05,
+                       np.ones((count, 1)), 10.0)
+    drifts = np.cumsum(rng.normal(0.0, 1e-3, (500, count)), axis=0)
+    sign = rng.choice(np.array([-1, 0, 0, 0, 0, 1], dtype=np.int8), (500, count))
+    sign[100:200] = 0  # a stretch where every story is elastic
+    d0, d1, s = drifts[:-1], drifts[1:], sign[:-1]
+    a = story.alpha
+    per = (1.0 - a) * (0.5 * a * story.stiffness * (d1**2 - d0**2) + s * (1.0 - a) * story.strength * (d1 - d0))
+    assert np.array_equal(hysteretic_work(story, drifts, sign), np.where(s != 0, per, 0.0).sum(axis=0))
+    assert np.array_equal(hysteretic_work(story, drifts, np.zeros_like(sign)), np.zeros(count))

@@ -161,8 +161,9 @@ def _record_check(result: AnalysisResult, twin: Any) -> tuple[dict, list[str]]:
 
 
 def _record_twins(result: SuiteResult, twin: Any) -> tuple:
-    """Each record's twin result (the twin's error for every record if the twin suite failed)."""
-    return twin.record_results if isinstance(twin, SuiteResult) else (twin,) * result.count
+    """Each record's twin result (the twin suite's record_results: analysis/suite.RecordTwins; the twin's
+    error for every record if the twin suite failed)."""
+    return (twin,) * result.count if isinstance(twin, Exception) else twin.record_results
 
 
 def _suite_check(result: SuiteResult, twin: Any) -> tuple[dict, list[str]]:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Generator, Iterator, Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 from ..deck.load import Deck
@@ -83,7 +83,25 @@ def iter_suite_batch(engine: Engine, decks: Sequence[Deck], suite: Suite, suppor
         if not alive:
             return
     for k in alive:
-        yield k, deck_suite_result(decks[k], per_deck[k], support)
+        yield k, _suite_outcome(decks[k], per_deck[k], support, operators)
+
+
+@dataclass(frozen=True)
+class RecordTwins:
+    """The twins of a suite's records (a check of the residuals, analysis/residuals.py): each record's
+    result, its residuals only (engines/exact/reuse.Twins); no statistics, no simplified engine and no
+    acceptance, which the check does not read."""
+
+    record_results: tuple[AnalysisResult, ...]
+
+
+def _suite_outcome(deck: Deck, results: list[AnalysisResult], support: str, operators: Any
+                   ) -> SuiteResult | RecordTwins:
+    """A deck's SuiteResult, or for the twins of a check of the residuals (operators.residuals_only)
+    their records' results."""
+    if getattr(operators, "residuals_only", False):
+        return RecordTwins(tuple(results))
+    return deck_suite_result(deck, results, support)
 
 
 def _record_batch(engine: Engine, decks: Sequence[Deck], alive: list[int], per_deck: dict[int, list[AnalysisResult]],

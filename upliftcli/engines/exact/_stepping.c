@@ -21,7 +21,7 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
                          int64_t *out_state, int64_t capacity, int64_t state, int64_t step, double offset,
                          int64_t n_out, double *work)
 {
-    const int64_t n = m->n, n_levels = m->levels, n_steps = n_ground - 1;
+    const int64_t n = m->n, n_levels = m->levels, n_steps = n_ground - 1, n_e = m->n_events;
     double *trial = work, *left = work + n, *right = work + 2 * n, *tmp = work + 3 * n, *chunk = work + 4 * n;
     Outcome out;
     for (int64_t j = 0; j <= n_levels; j++) {
@@ -33,11 +33,15 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
      * (those that do not depend on them); found when the loop first enters the state in this call
      * (classify), not for every state at every call: a yielding run meets hundreds of states and
      * calls this once per state, and a scan of them all cost it a sixth of its time (measured) */
-    double *g_x = chunk + n_levels + 1, *d_x = g_x + m->n_events, *g_trial = d_x + m->n_events,
-           *d_trial = g_trial + m->n_events;
-    unsigned char *active = (unsigned char *)(d_trial + m->n_events), *ground_free = active + m->count;
+    double *g_x = chunk + n_levels + 1, *d_x = g_x + n_e, *g_trial = d_x + n_e, *d_trial = g_trial + n_e,
+           *scratch = d_trial + n_e;
+    EventTables tables = {.tables = scratch + 2 * n_e, .slots = table_slots(m), .next = 0};
+    tables.slot_of = (int64_t *)(tables.tables + tables.slots * n * 2 * n_e);
+    tables.owner = tables.slot_of + m->count;
+    unsigned char *active = (unsigned char *)(tables.owner + tables.slots), *ground_free = active + m->count;
     memset(active, UNCLASSIFIED, m->count);
-    classify(m, state, index_acceleration, index_slope, active, ground_free);
+    memset(tables.slot_of, 0xff, (m->count + tables.slots) * sizeof(int64_t)); /* -1: no slot, no state */
+    const double *table = entered(m, state, index_acceleration, index_slope, active, ground_free, &tables);
     int known = 0;
 #define RETURN(code, with_pattern)                                                                                    \
     do {                                                                                                               \
@@ -78,19 +82,23 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
             while (level < n_levels && chunk[level] > remaining * (1.0 + 1e-12)) {
                 level++;
             }
-            const double *events = m->events + state * m->n_events * n;
-            const double *rates = m->rates + state * m->n_events * n;
-            const int64_t n_events = active[state] ? m->n_events : 0;
-            /* the event functions and their rates at x, kept while they stay */
+            const int64_t n_events = table ? n_e : 0;
+            /* the event functions and their rates at x (g_x, then d_x), kept while they stay */
             if (!(known & VALUES)) {
-                event_values(events, rates, n_events, x, n, g_x, d_x);
+                if (n_events) {
+                    table_product(table, 2 * n_events, x, n, 2 * n_events, g_x);
+                }
                 known = VALUES | RATES;
             } else if (!(known & RATES)) {
-                row_values(rates, n_events, x, n, d_x);
+                if (n_events) {
+                    table_product(table + n_events, 2 * n_events, x, n, n_events, d_x);
+                }
                 known |= RATES;
             }
             matvec(op_of(m, state, level), x, trial, n);
-            event_values(events, rates, n_events, trial, n, g_trial, d_trial);
+            if (n_events) {
+                table_product(table, 2 * n_events, trial, n, 2 * n_events, g_trial);
+            }
             int crossed = largest(g_trial, n_events) > EVENT_TOLERANCE;
             /* an event function may rise above zero and fall back inside the chunk: halve it
              * while its cubic interpolant says so (down to h / 2^REFINE_LEVELS) */
@@ -98,24 +106,23 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
                    && excursion_between(g_x, d_x, g_trial, d_trial, n_events, chunk[level])) {
                 level++;
                 matvec(op_of(m, state, level), x, trial, n);
-                event_values(events, rates, n_events, trial, n, g_trial, d_trial);
+                table_product(table, 2 * n_events, trial, n, 2 * n_events, g_trial); /* n_events > 0 here */
                 crossed = largest(g_trial, n_events) > EVENT_TOLERANCE;
             }
             if (!crossed) {
                 memcpy(x, trial, n * sizeof(double));
-                memcpy(g_x, g_trial, n_events * sizeof(double));
-                memcpy(d_x, d_trial, n_events * sizeof(double));
+                memcpy(g_x, g_trial, 2 * n_events * sizeof(double)); /* d_x and d_trial follow */
                 offset += chunk[level];
                 continue;
             }
             known = 0;
             double fraction;
-            double start = crossing(m, state, x, level, chunk, left, trial, right, &fraction);
+            double start = crossing(m, state, table, x, level, chunk, left, trial, right, &fraction, scratch);
             for (int64_t j = 0; j < n; j++) {
                 x[j] = left[j] + fraction * (right[j] - left[j]);
             }
             offset += start + fraction * smallest;
-            int64_t pattern = switch_pattern(m, state, m->patterns[state], x, right);
+            int64_t pattern = switch_pattern(m, state, table, m->patterns[state], x, right, scratch);
             if ((pattern & m->all_lifted) == m->all_lifted && !m->allow_flight) { /* story bits aside */
                 RETURN(FLIGHT, pattern);
             }
@@ -130,7 +137,7 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
                 RETURN(NEED_STATE, pattern);
             }
             state = new_state;
-            classify(m, state, index_acceleration, index_slope, active, ground_free);
+            table = entered(m, state, index_acceleration, index_slope, active, ground_free, &tables);
             events_in_step++;
             if (events_in_step >= MAX_EVENTS_PER_STEP) {
                 RETURN(CHATTER, pattern);
@@ -255,9 +262,11 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *call, Py_ssize_t 
         PyErr_SetString(PyExc_ValueError, "integrate: inconsistent arguments (shapes, indices or limits)");
         goto done;
     }
-    /* work space of integrate: 4 states, the chunk lengths, 4 event vectors, 2 flags per state */
-    double *work = PyMem_Malloc((4 * n + m.levels + 1 + 4 * n_e + (2 * m.count) / sizeof(double) + 1)
-                                * sizeof(double));
+    /* work space of integrate: 4 states, the chunk lengths, 6 event vectors, the event tables (EventTables:
+     * the tables, a slot per state, a state per slot), 2 flags per state */
+    const int64_t slots = table_slots(&m);
+    double *work = PyMem_Malloc((4 * n + m.levels + 1 + 6 * n_e + slots * n * 2 * n_e + m.count + slots
+                                 + (2 * m.count) / sizeof(double) + 1) * sizeof(double));
     if (!work) {
         PyErr_NoMemory();
         goto done;

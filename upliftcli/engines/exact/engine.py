@@ -31,7 +31,7 @@ from ..registry import check_support
 from ..result import AnalysisResult
 from .digest import Digest
 from .operators import Operators
-from .reuse import OperatorStore, Twins, store_key
+from .reuse import OperatorStore, Twins, digest_for, store_key
 from .statespace import StateSpace, exact_model
 from .stepping import simulate
 
@@ -134,7 +134,7 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
     mode 1 only); name: the engine named in the results; refine: halve the step where the
     energy balance does not close (_refined); operators: a check of the residuals' store of step
     operators (reuse.py): an OperatorStore keeps those of the runs that yield, its twins() start each run
-    from its original's; None: each run builds its own."""
+    from its original's (each gives its residuals only: reuse.digest_for); None: each run builds its own."""
     options = options or ExactOptions()
     check_support(support)
     acceleration = _checked_acceleration(record.acceleration, record.dt, options)
@@ -147,7 +147,8 @@ def iter_batch(systems: list[System], record, support: str, options: ExactOption
                 runs.append((k, space, _checked_substeps(space, acceleration.size, record.dt, options)))
             except (AnalysisError, InputError) as error:
                 yield from _outcomes(systems, shared, k, error)
-        digests = [Digest(systems[k], space, options) for k, space, _ in runs]
+        fold = digest_for(operators)  # a twin's: its residuals only (reuse.py)
+        digests = [fold(systems[k], space, options) for k, space, _ in runs]
         kept = _Kept(operators, systems, runs, record.dt, support, options, model)
         histories = simulate([space for _, space, _ in runs], [substeps for _, _, substeps in runs], acceleration,
                              record.dt, options.criterion, uplift=support == "uplift",

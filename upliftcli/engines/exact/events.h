@@ -6,6 +6,7 @@
 #define UPLIFT_EVENTS_H
 
 #include "buffers.h" /* restrict on every compiler */
+#include "product.h" /* ALWAYS_INLINE */
 #include <math.h>
 #include <stdint.h>
 
@@ -20,18 +21,6 @@ static inline double dot(const double *restrict row, const double *restrict x, i
         acc += row[j] * x[j];
     }
     return acc;
-}
-
-static double max_event(const double *events, int64_t n_events, const double *x, int64_t n)
-{
-    double best = -INFINITY;
-    for (int64_t i = 0; i < n_events; i++) {
-        double acc = dot(events + i * n, x, n);
-        if (acc > best) {
-            best = acc;
-        }
-    }
-    return best;
 }
 
 static inline double largest(const double *values, int64_t count)
@@ -76,31 +65,47 @@ static inline void event_values(const double *events, const double *event_rates,
     }
 }
 
-/* out[i] = row i of rows (count, n) times x, each summed as dot sums, two rows at a time */
-static inline void row_values(const double *rows, int64_t count, const double *restrict x, int64_t n,
-                              double *restrict out)
+/* out[r] = sum_q table[q * stride + r] x[q], r < width: rows of event functions stored transposed
+ * (transitions.h, EventTables) times x. Each out[r] sums over q = 0, 1, ... from +0, as dot sums its
+ * row, so the bits are dot's bits: the products of zero inputs, skipped here, change no such sum (a
+ * sum from +0 never becomes -0). The inner loop runs along a row of the table without a reduction, so
+ * it vectorises (dot's sums, one at a time, wait for each addition: ten times slower over the 20-40
+ * rows of a building whose stories yield); four inputs at a time when all four are nonzero (the same
+ * additions in the same order, a quarter of the loads and stores of out: product.h). */
+static inline void table_product(const double *restrict table, int64_t stride, const double *restrict x, int64_t n,
+                                 int64_t width, double *restrict out)
 {
-    int64_t i = 0;
-    for (; i + 1 < count; i += 2) {
-        const double *a = rows + i * n, *b = a + n;
-        double va = 0.0, vb = 0.0;
-        for (int64_t j = 0; j < n; j++) {
-            va += a[j] * x[j];
-            vb += b[j] * x[j];
-        }
-        out[i] = va;
-        out[i + 1] = vb;
+    for (int64_t r = 0; r < width; r++) {
+        out[r] = 0.0;
     }
-    if (i < count) {
-        out[i] = dot(rows + i * n, x, n);
+    int64_t q = 0;
+    while (q < n) {
+        if (q + 4 <= n && x[q] != 0.0 && x[q + 1] != 0.0 && x[q + 2] != 0.0 && x[q + 3] != 0.0) {
+            const double x0 = x[q], x1 = x[q + 1], x2 = x[q + 2], x3 = x[q + 3];
+            const double *row0 = table + q * stride, *row1 = row0 + stride, *row2 = row1 + stride,
+                         *row3 = row2 + stride;
+            for (int64_t r = 0; r < width; r++) {
+                out[r] = (((out[r] + row0[r] * x0) + row1[r] * x1) + row2[r] * x2) + row3[r] * x3;
+            }
+            q += 4;
+            continue;
+        }
+        const double xq = x[q];
+        if (xq != 0.0) {
+            const double *row = table + q * stride;
+            for (int64_t r = 0; r < width; r++) {
+                out[r] += row[r] * xq;
+            }
+        }
+        q++;
     }
 }
 
 /* True if some event function, not positive at either end of a chunk of `length` [s], has a
  * positive interior maximum on its cubic Hermite interpolant through its values g0, g1 and exact
  * rates d0, d1 at the ends: a brief excursion the chunk ends would miss. */
-static int excursion_between(const double *g0s, const double *d0s, const double *g1s, const double *d1s,
-                             int64_t n_events, double length)
+static ALWAYS_INLINE int excursion_between(const double *g0s, const double *d0s, const double *g1s,
+                                           const double *d1s, int64_t n_events, double length)
 {
     for (int64_t i = 0; i < n_events; i++) {
         const double g0 = g0s[i], g1 = g1s[i];
@@ -110,6 +115,14 @@ static int excursion_between(const double *g0s, const double *d0s, const double 
         }
         d0 *= length;
         d1 *= length;
+        /* p lies below its largest Bernstein coefficient, g0, g0 + d0/3, g1 - d1/3 or g1: no maximum to look
+         * for where that bound, with room for round-off (the twin's), stays at most the tolerance (most
+         * events of a step; the test below costs a square root and two divisions) */
+        const double third = 1.0 / 3.0, early = g0 + d0 * third, late = g1 - d1 * third;
+        const double ends = g0 > g1 ? g0 : g1, inner = early > late ? early : late;
+        if ((ends > inner ? ends : inner) + 1e-12 * (fabs(g0) + fabs(g1) + fabs(d0) + fabs(d1)) <= EVENT_TOLERANCE) {
+            continue;
+        }
         double a = 2.0 * (g0 - g1) + d0 + d1;
         double b = 3.0 * (g1 - g0) - 2.0 * d0 - d1;
         /* p'(s) = 3 a s^2 + 2 b s + d0 = 0 */

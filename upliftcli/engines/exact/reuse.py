@@ -10,7 +10,8 @@ determines them (store_key); the twin's run of the same key then starts from a f
 are the bits it would be built with (operators.add_states gives every item the bits it gets alone), so
 the twin's results are those of a twin built from nothing, bit for bit (tests/test_operator_reuse.py).
 Nothing is kept between two checks, two analyses or two cases of a sweep: the store lives in the call
-that made it (analysis/run.run_batch).
+that made it (analysis/run.run_batch). The twins fold their residuals and energy balance only
+(residual_digest.py: `digest_for`), all the check reads of them.
 """
 
 from __future__ import annotations
@@ -21,7 +22,9 @@ from typing import Any
 
 from ...model.system import System
 from ..options import ExactOptions
+from .digest import Digest
 from .operators import Operators
+from .residual_digest import ResidualDigest
 
 #: the most memory of step operators a store keeps [bytes] (the README example's yielding runs hold 151
 #: states of 115 kB, 17 MB; a suite of eleven such records 190 MB); a run beyond it is not kept, and its
@@ -62,6 +65,9 @@ class OperatorStore:
     twins through twins(), each once, in the order they were kept; `reused` and `built` count the states
     the twins inherited and those they built themselves."""
 
+    #: the originals are ordinary runs, with all their results
+    residuals_only = False
+
     def __init__(self, max_bytes: int | None = None):
         self.max_bytes = STORE_BYTES if max_bytes is None else max_bytes
         self.kept: dict[tuple, list[tuple[System, Operators, int]]] = {}
@@ -99,7 +105,11 @@ class OperatorStore:
 
 class Twins:
     """An OperatorStore as its twins use it: a run starts from a fork of the operators kept under its key
-    (OperatorStore.take) and keeps nothing; the states it builds are counted (store.built)."""
+    (OperatorStore.take) and keeps nothing; the states it builds are counted (store.built). Its runs give
+    their residuals and energy balance only (residuals_only: digest_for; a suite's twin, its records' results
+    only: analysis/suite.iter_suite_batch)."""
+
+    residuals_only = True
 
     def __init__(self, store: OperatorStore):
         self.store = store
@@ -117,3 +127,9 @@ def yielded(result: Any) -> bool:
     """Whether a run's stories or soil yielded (an error: False); only such runs get a twin (the one
     test, also analysis/residuals.py's)."""
     return bool(getattr(result, "yielded", False) or getattr(result, "building_yielded", False))
+
+
+def digest_for(store: OperatorStore | Twins | None) -> type[Digest] | type[ResidualDigest]:
+    """What a run of engine.iter_batch folds its chunks into: a twin's residuals and energy balance
+    (ResidualDigest), else everything (Digest)."""
+    return ResidualDigest if getattr(store, "residuals_only", False) else Digest

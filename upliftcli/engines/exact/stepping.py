@@ -88,6 +88,8 @@ class Run:
         self.on_chunk = on_chunk
         self.capacity = ground.size + 1024 if on_chunk is None else min(ground.size + 1024, CHUNK_SAMPLES)
         self.out_x = self.out_t = self.out_s = None  # allocated by first_request
+        self.samples: kernel.Samples | None = None  # the state and the sample buffers (first_request, _buffer_full)
+        self.integrate = kernel.integrator()  # the loop that runs this run (backend.loops asked once)
         self.x = space.rest.copy()
         self.x[lay.index_acceleration] = ground[0]
         self.x[lay.index_slope] = slopes[0]
@@ -107,6 +109,7 @@ class Run:
         self.out_x = np.empty((self.capacity, self.layout.n_aug))
         self.out_t = np.empty(self.capacity)
         self.out_s = np.empty(self.capacity, dtype=np.int64)
+        self.samples = kernel.Samples(self.x, self.out_x, self.out_t, self.out_s)
         return self.operators, 0, (self.uplift and self.layout.n_elements > 0) or self.layout.n_plastic > 0
 
     def first_lifts(self) -> list[int]:
@@ -142,10 +145,9 @@ class Run:
         run that cannot go on raises the AnalysisError saying why (_stopped)."""
         ops = self.operators
         while True:
-            status, self.step, self.offset, self.state, self.n_out, pattern = kernel.integrate(
+            status, self.step, self.offset, self.state, self.n_out, pattern = self.integrate(
                 kernel.States(ops.ops, ops.events, ops.event_rates, ops.matrices, ops.patterns, len(ops.contact)),
-                self.elements, self.grid, kernel.Samples(self.x, self.out_x, self.out_t, self.out_s),
-                self.state, self.step, self.offset, self.n_out,
+                self.elements, self.grid, self.samples, self.state, self.step, self.offset, self.n_out,
             )
             if status == kernel.DONE:
                 return None
@@ -167,6 +169,7 @@ class Run:
         self.out_x = np.concatenate((self.out_x, np.empty((extra, self.layout.n_aug))))
         self.out_t = np.concatenate((self.out_t, np.empty(extra)))
         self.out_s = np.concatenate((self.out_s, np.empty(extra, dtype=np.int64)))
+        self.samples = kernel.Samples(self.x, self.out_x, self.out_t, self.out_s)
         self.capacity += extra
 
     def _stopped(self, status: int) -> AnalysisError:
@@ -291,7 +294,10 @@ def simulate_many(runs: list[Run]) -> Iterator[tuple[int, History | AnalysisErro
 
 def _added(requests: list[tuple[Operators, int, bool]]) -> list[int | AnalysisError]:
     """add_states of the requests, those whose pattern is stored already (operators a run started from:
-    reuse.py) given its index instead."""
+    reuse.py) given its index instead (the requests of runs without such operators go to add_states as they are:
+    a yielding run makes one request at a time, hundreds of times)."""
+    if not any(getattr(operators, "inherited", 0) for operators, _, _ in requests):
+        return add_states(requests)
     stored = [_stored(operators, pattern) for operators, pattern, _ in requests]
     built = iter(add_states(_unstored(requests, stored)))
     return [next(built) if index is None else index for index in stored]

@@ -38,34 +38,81 @@ static inline const double *op_of(const Model *m, int64_t state, int64_t level)
     return m->ops + (state * (m->levels + 1) + level) * m->n * m->n;
 }
 
+/* The event rows of the states a call of integrate enters, transposed for table_product (events.h):
+ * slot k holds table[q * 2 n_e + r] = G_s[r, q] and table[q * 2 n_e + n_e + r] = (G A)_s[r, q], so that
+ * the values and rates of every event function come from one product. A state's table is made when
+ * integrate enters it (n * 2 n_e copies, about one evaluation of its events) in the next of `slots`
+ * slots, round robin (a state entered again while its slot is still its own is not copied again). */
+#define TABLE_SLOTS 8
+
+typedef struct {
+    double *tables;   /* slots * n * 2 n_e */
+    int64_t *slot_of; /* per state: its slot, -1 without one */
+    int64_t *owner;   /* per slot: its state, -1 without one */
+    int64_t slots, next;
+} EventTables;
+
+/* the table of state s (made in a slot if it has none) */
+static ALWAYS_INLINE const double *event_table(const Model *m, EventTables *t, int64_t s)
+{
+    const int64_t n = m->n, n_e = m->n_events, width = 2 * n_e;
+    if (t->slot_of[s] >= 0) {
+        return t->tables + t->slot_of[s] * n * width;
+    }
+    const int64_t k = t->next;
+    t->next = (k + 1) % t->slots;
+    if (t->owner[k] >= 0) {
+        t->slot_of[t->owner[k]] = -1;
+    }
+    t->owner[k] = s;
+    t->slot_of[s] = k;
+    double *table = t->tables + k * n * width;
+    const double *events = m->events + s * n_e * n, *rates = m->rates + s * n_e * n;
+    for (int64_t i = 0; i < n_e; i++) {
+        for (int64_t q = 0; q < n; q++) {
+            table[q * width + i] = events[i * n + q];
+            table[q * width + n_e + i] = rates[i * n + q];
+        }
+    }
+    return table;
+}
+
+/* values[i] = G_i x of the n_e event functions from their table */
+static inline void table_values(const double *table, int64_t n_e, const double *x, int64_t n, double *values)
+{
+    table_product(table, 2 * n_e, x, n, n_e, values);
+}
+
 /* Bracket the first crossing inside the chunk x -> trial by bisection with the finer exact
  * operators down to h / 2^L (left, right: its ends), then place it by linear interpolation of
  * each event function inside that last sliver. Returns start; *fraction: the crossing is at
- * start + fraction * chunk[L] from x. */
-static double crossing(const Model *m, int64_t state, const double *x, int64_t level, const double *chunk,
-                       double *left, double *trial, double *right, double *fraction)
+ * start + fraction * chunk[L] from x. table: the state's (EventTables); work: 2 n_e doubles. */
+static ALWAYS_INLINE double crossing(const Model *m, int64_t state, const double *table, const double *x,
+                                     int64_t level, const double *chunk, double *left, double *trial, double *right,
+                                     double *fraction, double *work)
 {
-    const int64_t n = m->n, n_levels = m->levels;
-    const double *events = m->events + state * m->n_events * n;
+    const int64_t n = m->n, n_levels = m->levels, n_e = m->n_events;
+    double *gl = work, *gr = work + n_e;
     memcpy(left, x, n * sizeof(double));
     double start = 0.0;
     for (int64_t j = level + 1; j <= n_levels; j++) {
         matvec(op_of(m, state, j), left, trial, n);
-        if (max_event(events, m->n_events, trial, n) <= EVENT_TOLERANCE) {
+        table_values(table, n_e, trial, n, gr);
+        if (largest(gr, n_e) <= EVENT_TOLERANCE) {
             memcpy(left, trial, n * sizeof(double));
             start += chunk[j];
         }
     }
     matvec(op_of(m, state, n_levels), left, right, n);
     /* earliest crossing inside the last sliver, linear interpolation of each g_i */
+    table_values(table, n_e, left, n, gl);
+    table_values(table, n_e, right, n, gr);
     double best = 1.0;
-    for (int64_t i = 0; i < m->n_events; i++) {
-        double gl = dot(events + i * n, left, n);
-        double gr = dot(events + i * n, right, n);
-        if (gr > EVENT_TOLERANCE) {
+    for (int64_t i = 0; i < n_e; i++) {
+        if (gr[i] > EVENT_TOLERANCE) {
             double f = 0.0;
-            if (gr > gl) {
-                f = (EVENT_TOLERANCE - gl) / (gr - gl);
+            if (gr[i] > gl[i]) {
+                f = (EVENT_TOLERANCE - gl[i]) / (gr[i] - gl[i]);
             }
             if (f < 0.0) {
                 f = 0.0;
@@ -81,13 +128,20 @@ static double crossing(const Model *m, int64_t state, const double *x, int64_t l
 
 /* The new contact pattern at the crossing x: every element whose event function has reached
  * zero there (and is positive at the sliver's end) switches; a lifting element's top starts
- * where the edge is (k z + c z' = 0 from there). Updates x. */
-static int64_t switch_pattern(const Model *m, int64_t state, int64_t pattern, double *x, const double *right)
+ * where the edge is (k z + c z' = 0 from there). Updates x (the rows after a switch are evaluated
+ * at the updated x, one at a time). table: the state's (EventTables); work: 2 n_e doubles. */
+static ALWAYS_INLINE int64_t switch_pattern(const Model *m, int64_t state, const double *table, int64_t pattern,
+                                            double *x, const double *right, double *work)
 {
-    const int64_t n = m->n;
-    const double *events = m->events + state * m->n_events * n;
-    for (int64_t i = 0; i < m->n_events; i++) {
-        if (dot(events + i * n, x, n) >= -1e-9 && dot(events + i * n, right, n) > EVENT_TOLERANCE) {
+    const int64_t n = m->n, n_e = m->n_events;
+    const double *events = m->events + state * n_e * n;
+    double *gx = work, *gr = work + n_e;
+    table_values(table, n_e, x, n, gx);
+    table_values(table, n_e, right, n, gr);
+    int updated = 0;
+    for (int64_t i = 0; i < n_e; i++) {
+        const double at_x = updated ? dot(events + i * n, x, n) : gx[i];
+        if (at_x >= -1e-9 && gr[i] > EVENT_TOLERANCE) {
             pattern ^= (int64_t)1 << i;
             if ((pattern >> i) & 1) {
                 double value = 0.0;
@@ -95,6 +149,7 @@ static int64_t switch_pattern(const Model *m, int64_t state, int64_t pattern, do
                     value = dot(m->lift_rows + i * n, x, n);
                 }
                 x[m->z_index[i]] = value;
+                updated = 1;
             }
         }
     }
@@ -107,8 +162,8 @@ static int64_t switch_pattern(const Model *m, int64_t state, int64_t pattern, do
 /* Whether state s has event functions (active[s]: a bonded run's are all zero) and which of their
  * values and rates do not depend on the ground acceleration and its slope (ground_free[s]: VALUES,
  * RATES), unless already known (active[s] != UNCLASSIFIED). */
-static void classify(const Model *m, int64_t s, int64_t index_acceleration, int64_t index_slope,
-                     unsigned char *active, unsigned char *ground_free)
+static ALWAYS_INLINE void classify(const Model *m, int64_t s, int64_t index_acceleration, int64_t index_slope,
+                                   unsigned char *active, unsigned char *ground_free)
 {
     if (active[s] != UNCLASSIFIED) {
         return;
@@ -126,6 +181,22 @@ static void classify(const Model *m, int64_t s, int64_t index_acceleration, int6
         rates_free &= rates[a] == 0.0 && rates[b] == 0.0;
     }
     ground_free[s] = (unsigned char)((values_free ? VALUES : 0) | (values_free && rates_free ? RATES : 0));
+}
+
+/* the slots of EventTables: none without event rows */
+static inline int64_t table_slots(const Model *m)
+{
+    return m->n_events ? (m->count < TABLE_SLOTS ? m->count : TABLE_SLOTS) : 0;
+}
+
+/* Classify state s as integrate enters it (classify) and return its event table (event_table), NULL
+ * for a state without event functions. */
+static ALWAYS_INLINE const double *entered(const Model *m, int64_t s, int64_t index_acceleration,
+                                          int64_t index_slope, unsigned char *active, unsigned char *ground_free,
+                                          EventTables *t)
+{
+    classify(m, s, index_acceleration, index_slope, active, ground_free);
+    return active[s] ? event_table(m, t, s) : NULL;
 }
 
 #endif
