@@ -144,5 +144,6 @@ setup(cmdclass={"build_ext": OptionalBuildExt, "bdist_wheel": StableWheel, "buil
            ("upliftcli/engines/exact/response_lanes.h",)),
     module("upliftcli.engines.exact._contact", "upliftcli/engines/exact/_contact.c"),
     module("upliftcli.engines.exact._energy", "upliftcli/engines/exact/_energy.c"),
+    module("upliftcli.engines.exact._levels", "upliftcli/engines/exact/_levels.c"),
     module("upliftcli.motion._spectra", "upliftcli/motion/_spectra.c", ("upliftcli/motion/turning_points.h",)),
 ])

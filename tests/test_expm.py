@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.linalg import expm as scipy_expm
 
-from upliftcli.engines.exact.expm import THETA_13, expm, squared_levels
+from upliftcli.engines.exact.expm import THETA_13, expm
 
 
 @pytest.mark.parametrize("angle", [1e-6, 0.3, 2.0, 40.0])
@@ -49,55 +49,3 @@ def test_stack_equals_scipy_to_round_off(norm):
     for a, e in zip(stack, out, strict=True):
         reference = scipy_expm(a)
         assert np.abs(e - reference).max() <= 1e-13 * np.abs(reference).max()
-
-
-@pytest.mark.parametrize("support", ["rigid", "bonded", "uplift"])
-def test_squared_levels_are_the_exponentials_of_yielding_states(support):
-    """squared_levels (the Taylor polynomial at the finest level, squarings for the others) gives
-    exp(A h / 2^j) at every level j = 0..12 of the states where stories yield, against scipy.linalg.expm
-    of each, to 1e-12 of the largest entry (measured 1.4e-12 at level 0, the most squared, on the bonded
-    README deck; the exponential of the finest and of the coarsest level, as elastic states are built, is
-    off by as much: 2.3e-12), in states with one to all ten stories yielding, and a stack of states gives
-    each the bits it gets alone."""
-    from pathlib import Path
-
-    from upliftcli.deck.load import load_deck
-    from upliftcli.engines.exact.patterns import contact_states
-    from upliftcli.engines.exact.statespace import exact_model
-    from upliftcli.engines.options import ExactOptions
-
-    deck = Path(__file__).resolve().parent.parent / "inputs" / "ten_story_elcentro.toml"
-    space = exact_model(load_deck(deck, ["building.strength_coefficient=0.3"]).system, support, ExactOptions())
-    lay = space.layout
-    rng = np.random.default_rng(35)
-    signs = rng.integers(-1, 2, (6, lay.n_plastic)).astype(np.int8)
-    signs[0], signs[1] = 1, 0
-    signs[1, 4] = -1
-    lifted = np.zeros((len(signs), lay.n_elements), dtype=bool)
-    states = contact_states([space] * len(signs), lifted, "reaction", None, signs)
-    h = 0.01
-    stack = squared_levels(np.stack([state.matrix * h for state in states]), 12)
-    for r, state in enumerate(states):
-        alone = squared_levels(state.matrix[None] * h, 12)[0]
-        assert np.array_equal(alone, stack[r])
-        for j in range(13):
-            reference = scipy_expm(state.matrix * (h / 2.0**j))
-            assert np.abs(stack[r, j] - reference).max() <= 1e-12 * np.abs(reference).max(), (r, j)
-
-
-def test_squared_levels_halve_a_matrix_whose_powers_grow():
-    """A stiff matrix with eta = max(|A^2|^(1/2), |A^3|^(1/3)) above THETA_TAYLOR at the finest level (an
-    oscillator of w h = 1000 to 2000, not a few large forcing columns) is halved before its Taylor polynomial:
-    every level to 1e-11 of scipy's, and closer than the exponential of the finest and of the coarsest level
-    with squarings between (measured 9e-12 against 2e-9 at level 3)."""
-    from upliftcli.engines.exact.operators import _stacked_operators
-
-    for w in (1.0e5, 2.0e5):
-        a = np.array([[0.0, 1.0, 0.0], [-w**2, -0.1 * w, 1.0e3], [0.0, 0.0, 0.0]])
-        levels = squared_levels(a[None] * 0.01, 12)[0]
-        pade = _stacked_operators(a.T[None], np.array([[[0.01]]]))[0].transpose(0, 2, 1)
-        for j in range(13):
-            reference = scipy_expm(a * (0.01 / 2.0**j))
-            scale = max(1.0, np.abs(reference).max())
-            error = np.abs(levels[j] - reference).max() / scale
-            assert error <= 1e-11 and error <= np.abs(pade[j] - reference).max() / scale, (w, j)

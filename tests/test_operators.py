@@ -146,6 +146,32 @@ def test_operator_arrays_that_grow_keep_the_states_written_in_place(monkeypatch)
     assert grown.intermediates["transitions"] == reserved.intermediates["transitions"]
 
 
+def test_yielding_story_arrays_that_grow_keep_the_states_written_in_place(monkeypatch):
+    """The README deck at El Centro x2 with strength 0.4 W on the rigid base (151 states, their operators
+    written in place by level_operators.state_levels into arrays not filled: Operators.fill) whose operator
+    arrays start at 4 states and double five times gives the results of the run whose arrays are reserved
+    for them up front (operators.reserved_states: 271), bit for bit."""
+    from upliftcli.engines.exact import engine as exact
+    from upliftcli.engines.exact import operators
+
+    deck = load_deck(TWO, ["ground_motion.scale=2", "building.strength_coefficient=0.4",
+                           "building.hardening_ratio=0.05"])
+    reserved = exact.analyze(deck.system, deck.ground_motion, "rigid")
+    sizes = []
+    monkeypatch.setattr(operators, "reserved_states", lambda lay: 4)
+    doubled = operators._doubled
+    monkeypatch.setattr(operators, "_doubled", lambda array, fill=None: sizes.append(array.shape[0]) or
+                        doubled(array, fill))
+    grown = exact.analyze(deck.system, deck.ground_motion, "rigid")
+    assert max(sizes) == 128  # grown from 4 to 256 states (this run meets 151)
+    for name, values in reserved.peaks.items():
+        np.testing.assert_array_equal(grown.peaks[name], values, err_msg=name)
+    assert grown.peaks["ductility"].max() > 4  # the stories yield (peaks holds their ductility, residual drift, ...)
+    for name, value in reserved.details["energy"].items():
+        np.testing.assert_array_equal(grown.details["energy"][name], value, err_msg=name)
+    assert grown.intermediates["transitions"] == reserved.intermediates["transitions"]
+
+
 def test_a_run_stops_at_the_states_its_operator_memory_holds(monkeypatch):
     """limits.MAX_OPERATOR_BYTES bounds the distinct contact states a run builds (a yielding mat that
     chatters met 3,368, 1.9 GB, in 53 s): with room for exactly the states the yielding Winkler run

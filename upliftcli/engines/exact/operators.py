@@ -2,7 +2,8 @@
 sections 4 and 14.3): per state E_j = expm(A h / 2^j), j = 0..LEVELS (level 0 steps, the finer
 ones bisect a crossing), its event rows and their rates, kept in arrays that the stepping loop
 (stepping_kernels.integrate) reads. add_states builds the states several runs ask for in one
-vectorised batch.
+vectorised batch; the operators of states where a story yields are written into those arrays one
+state at a time, in C (level_operators.state_levels).
 """
 
 from __future__ import annotations
@@ -11,15 +12,13 @@ import numpy as np
 
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_OPERATOR_BYTES
-from .expm import expm, squared_levels
+from .level_operators import LEVELS, elastic_stories, hold_settlements, stacked_operators, state_levels
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 from .stories import story_bits, valid_story_pattern
 from .story_states import StoryBase, add_bases, matrix_key, soil_rows, state_of
 from .yielding import pattern_bits, step_operators, valid_pattern
 
-#: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
-LEVELS = 12
 #: with a bearing capacity on more contact elements than this, the step operators come from a
 #: small block of each state, written straight into Operators.ops (yielding.step_operators: 28 x 28
 #: instead of 66 x 66 on the 20-element mat of benchmarks/bench_yielding.py, whatever the contact
@@ -39,6 +38,10 @@ class Operators:
         n_aug, n_e = self.layout.n_aug, soil_rows(self.layout)
         n_e += 2 * self.layout.n_plastic  # two event rows per yielding story (stories.py)
         self.capacity = reserved_states(self.layout)
+        lay = self.layout  # the states of runs of one group are built together (_groups), at most most_states
+        self.group = (lay.n_p, tuple(lay.massive), tuple(lay.massless), lay.n_x, lay.n_elements, lay.n_plastic,
+                      criterion)
+        self.most_states = max_states(lay)
         # the states of yielding stories (not on a yielding mat of many elements, whose block operators write
         # only their nonzero entries: _block_operators) write their operators, event rows and rates whole:
         # those arrays are left as allocated (np.empty: served from the memory an earlier run freed, kept by
@@ -71,7 +74,8 @@ class Operators:
 
     def store(self, pattern: int, state: ContactState, ops: np.ndarray | None, events: bool) -> int:
         """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS (None: the caller
-        writes them into self.ops[index] itself, with no copy between: it holds zeros until then)."""
+        writes them into self.ops[index] itself, with no copy between: until then it holds zeros, or
+        nothing defined where the arrays are not filled: self.fill)."""
         index = len(self.contact)
         if index == self.capacity:
             self._grow()
@@ -83,7 +87,7 @@ class Operators:
                 rows = rows.copy()
                 rows[:soil_rows(self.layout)] = 0.0
             self.events[index] = rows
-            self.event_rates[index] = rows @ state.matrix
+            np.matmul(rows, state.matrix, out=self.event_rates[index])
         elif self.fill is None:  # no event rows: zero, as in arrays that start as zeros
             self.events[index] = self.event_rates[index] = 0.0
         self.matrices[index] = state.matrix.T
@@ -93,18 +97,12 @@ class Operators:
 
     def _grow(self) -> None:
         """More room for states: doubled (_doubled: the operators zeros, mapped only as stored, which
-        yielding.step_operators writes into without a fill; the matrices, never read before, not filled), or
-        those of yielding stories (no fill) fourfold, a third of the copying (the README example: 151 states)."""
-        if self.fill is not None:
-            self.capacity *= 2
-            self.ops, self.matrices = _doubled(self.ops, 0.0), _doubled(self.matrices)
-            self.events, self.event_rates = _doubled(self.events, 0.0), _doubled(self.event_rates, 0.0)
-            self.patterns = _doubled(self.patterns, -1)
-            return
-        self.capacity *= 4
-        self.ops, self.matrices = _grown(self.ops, None, 4), _grown(self.matrices, None, 4)
-        self.events, self.event_rates = _grown(self.events, None, 4), _grown(self.event_rates, None, 4)
-        self.patterns = _grown(self.patterns, -1, 4)
+        yielding.step_operators writes into without a fill, or with yielding stories not filled (self.fill); the
+        matrices, never read before, not filled)."""
+        self.capacity *= 2
+        self.ops, self.matrices = _doubled(self.ops, self.fill), _doubled(self.matrices)
+        self.events, self.event_rates = _doubled(self.events, self.fill), _doubled(self.event_rates, self.fill)
+        self.patterns = _doubled(self.patterns, -1)
 
 
 def block_operators(lay: Layout) -> bool:
@@ -118,6 +116,10 @@ def block_operators(lay: Layout) -> bool:
 RESERVE_BYTES = 2**30
 
 
+#: the most memory reserved up front for the operators of a run with yielding stories [bytes]: below the
+#: allocator's threshold for a mapping of its own (runtime/process.MMAP_THRESHOLD, 32 MiB), whose pages would
+#: be faulted in again by every run
+STORY_RESERVE_BYTES = 30 * 2**20
 #: contact states a run of a building whose stories yield is expected to meet, per yielding story (the
 #: README example at El Centro x2 with a base-shear strength 0.4 W met 151 on the rigid base, 122
 #: bonded: docs/theory.md 15.9)
@@ -142,9 +144,13 @@ def state_bytes(lay: Layout) -> int:
 def reserved_states(lay: Layout) -> int:
     """How many contact states a run's operator arrays hold before they first grow: 4, or on a yielding
     mat of many elements twice expected_states (2 n_e^2), so that the 450 kB per state of such a run
-    are not copied at every doubling (a fifth of its run time, measured). Not with yielding stories: a
-    run that never yields would pay for the reserve (its pages, or zeroing them), and the doublings of
-    one that does copy without a fill (Operators.fill)."""
+    are not copied at every doubling (a fifth of its run time, measured); with yielding stories (on no such
+    mat) twice expected_states, at most STORY_RESERVE_BYTES: their arrays are not filled (Operators.fill), so
+    a run that never yields touches the pages of its few states only, and one that does seldom copies (the
+    README example: 151 states, 122 bonded, in 209 to 271; its period swept over 0.4-0.8 s at most 175, and
+    the twin of a residual check adds its own; growing fourfold from 4 copied 84 states, 9.5 MB)."""
+    if lay.n_plastic and not block_operators(lay):
+        return max(4, min(2 * expected_states(lay), STORY_RESERVE_BYTES // state_bytes(lay)))
     expected = lay.n_elements**2 if block_operators(lay) else 0
     if not expected:
         return 4
@@ -171,12 +177,7 @@ def _reserve(shape: tuple[int, ...], fill: float | None) -> np.ndarray:
 def _doubled(array: np.ndarray, fill: float | None = None) -> np.ndarray:
     """The array with as many rows again after its own, those set to `fill` (None: left unset; 0:
     zeros, whose pages are mapped only as they are written)."""
-    return _grown(array, fill, 2)
-
-
-def _grown(array: np.ndarray, fill: float | None, factor: int) -> np.ndarray:
-    """The array with `factor` times its rows, the new ones set to `fill` (as _doubled)."""
-    shape = (factor * array.shape[0], *array.shape[1:])
+    shape = (2 * array.shape[0], *array.shape[1:])
     if fill is None:
         out = np.empty(shape, dtype=array.dtype)
     else:
@@ -200,7 +201,8 @@ _BOTH_WAYS = ("a story started to yield both ways at the same instant: reduce th
 def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | AnalysisError]:
     """Build and store the contact states asked for, (operators, pattern, with event rows)
     each, vectorised over the requests that share a layout: one batched assembly
-    (patterns.contact_states), one stacked expm and stacked squarings. Each item gets the
+    (patterns.contact_states), one stacked expm and stacked squarings (the operators of states
+    where a story yields: level_operators.state_levels, each written in place). Each item gets the
     same bits as built alone. Returns the new state index, or the error, per request."""
     out: list[int | AnalysisError] = [AnalysisError(_NO_INERTIA)] * len(requests)
     for members in _groups(requests, out).values():
@@ -219,54 +221,76 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
     return out
 
 
-def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]],
+def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState, tuple | None]],
                    out: list[int | AnalysisError]) -> None:
-    """Store the states `built`, their operators from one stacked exponentiation (_level_operators)."""
-    ops = _level_operators(requests, built)
-    for r, (k, state) in enumerate(built):
-        operators, pattern, events = requests[k]
-        if state.yielding is not None:
-            _hold_settlements(ops[r], operators.layout.settlement_indices[~state.yielding])
-        if state.story_sign is not None:
-            _elastic_stories(ops[r], state, operators.layout, operators.h)
-        out[k] = operators.store(pattern, state, ops[r], events)
-        if state.story_sign is not None:
-            operators.by_matrix.setdefault(matrix_key(pattern, operators.layout, state), out[k])
+    """Store the states `built` ((index, state, key of A: _shared_operators)): those where a story yields with
+    their operators written in place (level_operators.state_levels: the Taylor polynomial and squarings, in
+    C), the others' from one stacked exponentiation (_level_operators), in the order of `built`."""
+    stacked = iter(_level_operators(requests, [(k, state) for k, state, key in built if not _story_yields(key)]))
+    for k, state, key in built:
+        out[k] = _stored(requests[k], state, key, None if _story_yields(key) else next(stacked))
 
 
-def _level_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
-                     ) -> list[np.ndarray]:
-    """E_j^T, j = 0..LEVELS, of each state of `built`: in one stacked exponentiation (_stacked_operators), those
-    of the states where a story yields by squarings alone (expm.squared_levels: the same accuracy, a
-    fifth of the products and no solve; docs/theory.md 15.9)."""
-    a_t = np.stack([state.matrix.T for _, state in built])
-    h = np.array([requests[k][0].h for k, _ in built])[:, None, None]
-    yields = np.array([_story_yields(state) for _, state in built], dtype=bool)
-    ops: list[np.ndarray] = [np.empty(0)] * len(built)
-    for chosen, levels in ((~yields, _stacked_operators), (yields, _squared_operators)):
-        if chosen.any():
-            for r, level_ops in zip(np.flatnonzero(chosen), levels(a_t[chosen], h[chosen]), strict=True):
-                ops[r] = level_ops
+def _story_yields(key: tuple | None) -> bool:
+    """Whether some story yields in a state whose A has the key `key` (story_states.matrix_key: its second item
+    the bytes of where the stories yield; None: elastic stories): its operators then come from state_levels."""
+    return key is not None and 1 in key[1]
+
+
+def _stored(request: tuple[Operators, int, bool], state: ContactState, key: tuple | None, ops: np.ndarray | None
+            ) -> int:
+    """Store a state with the operators of the stacked exponentiation `ops` (its constant entries held: _held),
+    or (None) with those level_operators.state_levels writes into its slot; its index (kept under its key of A
+    where it has one)."""
+    operators, pattern, events = request
+    if ops is None:
+        index = operators.store(pattern, state, None, events)
+        state_levels(state.matrix, operators.h, operators.ops[index])
+    else:
+        index = operators.store(pattern, state, _held(ops, state, operators), events)
+    if key is not None:
+        operators.by_matrix.setdefault(key, index)
+    return index
+
+
+def _held(ops: np.ndarray, state: ContactState, operators: Operators) -> np.ndarray:
+    """The stacked exponentiation's operators of a state with the entries that stay constant in it held
+    exactly: the settlements of elements that do not yield, the plastic drifts of elastic stories (and a
+    state with yielding stories where none yields: level_operators.elastic_stories)."""
+    if state.yielding is not None:
+        hold_settlements(ops, operators.layout.settlement_indices[~state.yielding])
+    if state.story_sign is not None:
+        elastic_stories(ops, state, operators.layout, operators.h)
     return ops
 
 
+def _level_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
+                     ) -> np.ndarray:
+    """E_j^T, j = 0..LEVELS, of each state of `built` (none where a story yields) in one stacked exponentiation
+    (level_operators.stacked_operators)."""
+    if not built:
+        return np.empty((0, LEVELS + 1, 0, 0))
+    a_t = np.stack([state.matrix.T for _, state in built])
+    return stacked_operators(a_t, np.array([requests[k][0].h for k, _ in built])[:, None, None])
+
+
 def _shared_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
-                      ) -> tuple[list[tuple[int, ContactState]], list[tuple[int, ContactState, tuple]]]:
-    """The states of `built` whose operators are to be computed, and (index, state, key) of those whose A
-    is that of a state built before or earlier in `built` (yielding stories: story_states.matrix_key), which copy its
-    operators once it is stored."""
+                      ) -> tuple[list[tuple[int, ContactState, tuple | None]], list[tuple[int, ContactState, tuple]]]:
+    """(index, state, key) of the states of `built` whose operators are to be computed, and of those whose A
+    is that of a state built before or earlier in `built`, which copy its operators once it is stored; the key
+    of A (yielding stories: story_states.matrix_key, else None)."""
     fresh, copies, first = [], [], set()
     for k, state in built:
         operators, pattern, _ = requests[k]
         if state.story_sign is None:
-            fresh.append((k, state))
+            fresh.append((k, state, None))
             continue
         key = matrix_key(pattern, operators.layout, state)
         if key in operators.by_matrix or (id(operators), key) in first:
             copies.append((k, state, key))
             continue
         first.add((id(operators), key))
-        fresh.append((k, state))
+        fresh.append((k, state, key))
     return fresh, copies
 
 
@@ -285,12 +309,10 @@ def _groups(requests: list[tuple[Operators, int, bool]], out: list[int | Analysi
             out[k] = AnalysisError(_BOTH_WAYS)
             continue
         asked[id(operators)] = asked.get(id(operators), 0) + 1
-        if len(operators.contact) + asked[id(operators)] > max_states(lay):
+        if len(operators.contact) + asked[id(operators)] > operators.most_states:
             out[k] = AnalysisError(_too_many_states(lay))
             continue
-        key = (lay.n_p, tuple(lay.massive), tuple(lay.massless), lay.n_x, lay.n_elements, lay.n_plastic,
-               operators.criterion)
-        groups.setdefault(key, []).append(k)
+        groups.setdefault(operators.group, []).append(k)
     return groups
 
 
@@ -330,53 +352,7 @@ def _block_operators(requests: list[tuple[Operators, int, bool]], built: list[tu
                        [operators.ops[index] for _, index, _ in group])
         for _, index, state in group:
             if state.story_sign is not None:
-                _hold_settlements(operators.ops[index], operators.layout.plastic_indices[state.story_sign == 0])
-
-
-def _stacked_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
-    """E_j^T = expm(A h / 2^j)^T, j = 0..LEVELS, of a stack of A^T (R, n, n) with steps h (R, 1, 1):
-    the finest level by expm, the coarser ones by squaring it, level 0 by its own expm. Transposed
-    (the kernel's matvec runs down columns): (E^T)^2 = (E^2)^T."""
-    ops = np.empty((a_t.shape[0], LEVELS + 1, *a_t.shape[1:]))
-    ops[:, LEVELS] = expm(a_t * (h / 2.0**LEVELS))
-    for j in range(LEVELS - 1, 0, -1):
-        ops[:, j] = ops[:, j + 1] @ ops[:, j + 1]
-    ops[:, 0] = expm(a_t * h)
-    return ops
-
-
-def _story_yields(state: ContactState) -> bool:
-    """Whether some story yields in the state."""
-    return state.story_sign is not None and bool(state.story_sign.any())
-
-
-def _squared_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
-    """E_j^T, j = 0..LEVELS, of a stack of A^T (R, n, n) with steps h (R, 1, 1) by expm.squared_levels (states
-    where a story yields: docs/theory.md 15.9); (E^T)^2 = (E^2)^T."""
-    return squared_levels(a_t * h, LEVELS)
-
-
-def _hold_settlements(ops: np.ndarray, constant: np.ndarray) -> None:
-    """Make the settlements s_i of elements that do not yield exactly constant in the step
-    operators (ops: E^T per level, in place): their rows of A are zero, so the rows of E = expm(A h)
-    are unit rows, which the computed exponentials hold only to a few units in the last place (a
-    drift of 4e-13 of s_i per step, measured)."""
-    ops[:, :, constant] = 0.0
-    ops[:, constant, constant] = 1.0
-
-
-def _elastic_stories(ops: np.ndarray, state: ContactState, lay: Layout, h: float) -> None:
-    """The step operators (E^T per level, in place) of a state with yielding stories: the plastic drifts
-    of the elastic stories held exactly (_hold_settlements), and, where no story yields, the operators
-    of the other entries from the exponential of A without the plastic drifts: the matrix and the
-    operators of the elastic building, bit for bit (the plastic drifts, zero until a story yields, do
-    not change its history: docs/theory.md 15.4)."""
-    _hold_settlements(ops, lay.plastic_indices[state.story_sign == 0])
-    if np.any(state.story_sign != 0):
-        return
-    keep = np.setdiff1d(np.arange(lay.n_aug), lay.plastic_indices)
-    reduced = state.matrix[np.ix_(keep, keep)].T
-    ops[:, keep[:, None], keep[None, :]] = _stacked_operators(reduced[None], np.array([[[h]]]))[0]
+                hold_settlements(operators.ops[index], operators.layout.plastic_indices[state.story_sign == 0])
 
 
 def _states(requests: list[tuple[Operators, int, bool]]) -> list[ContactState]:

@@ -1,0 +1,300 @@
+/* Compiled step operators of one contact state at every bisection level: ops[j] = expm(A h / 2^j)^T,
+ * j = 0..L, by the Taylor polynomial of the finest level and squarings (level_operators.py,
+ * docs/theory.md 15.9). The numpy twin is levels_numpy.py, the same arithmetic in the same order but
+ * for the order of the sums of the matrix products.
+ *
+ * The rows of A that are zero (the plastic drifts of elastic stories, the settlements of elements that
+ * do not yield, the constant forcing entries) are unit rows of every exp(A t): they are left out of the
+ * products. In M = A^T, with its indices ordered active first (the m indices of nonzero rows of A) and
+ * held last, every operator is [[X11, 0], [X21, I]] and a power of M [[P, 0], [Q, 0]], each kept as its
+ * first m columns (n x m, the "compact" form): a product costs n m^2 multiplications instead of n^3
+ * (half of them on the README example, 24 active of 33). */
+
+#include "buffers.h"
+#include "product.h"
+#include <math.h>
+
+/* the degree of the Taylor polynomial is 9: its coefficients 1/k!; THETA the largest eta it is used at
+ * (levels_numpy.THETA_TAYLOR) */
+static const double COEFFICIENT[10] = {1.0, 1.0, 1.0 / 2.0, 1.0 / 6.0, 1.0 / 24.0, 1.0 / 120.0, 1.0 / 720.0,
+                                       1.0 / 5040.0, 1.0 / 40320.0, 1.0 / 362880.0};
+#define THETA 0.1
+/* the compact width is padded to whole vectors (the padding columns stay zero) */
+#define LANES PRODUCT_LANES
+
+/* c (rows x w) = x (rows x w, its first m columns) y (m x w); each sum over k = 0..m-1 in that order from
+ * +0, four rows and eight columns at a time (the same bits as one at a time). */
+static ALWAYS_INLINE void compact_product(const double *restrict x, const double *restrict y, double *restrict c,
+                                          int64_t rows, int64_t m, int64_t w)
+{
+    int64_t i = 0;
+#if defined(__GNUC__)
+    const product_vector zero = {0.0, 0.0, 0.0, 0.0};
+    for (; i + 4 <= rows; i += 4) {
+        const double *x0 = x + i * w, *x1 = x0 + w, *x2 = x1 + w, *x3 = x2 + w;
+        for (int64_t j = 0; j < w; j += LANES) {
+            product_vector a0 = zero, b0 = zero, a1 = zero, b1 = zero, a2 = zero, b2 = zero, a3 = zero, b3 = zero;
+            for (int64_t k = 0; k < m; k++) {
+                const product_vector low = VECTOR_AT(y + k * w + j), high = VECTOR_AT(y + k * w + j + 4);
+                a0 += low * x0[k];
+                b0 += high * x0[k];
+                a1 += low * x1[k];
+                b1 += high * x1[k];
+                a2 += low * x2[k];
+                b2 += high * x2[k];
+                a3 += low * x3[k];
+                b3 += high * x3[k];
+            }
+            double *out = c + i * w + j;
+            VECTOR_AT(out) = a0;
+            VECTOR_AT(out + 4) = b0;
+            VECTOR_AT(out + w) = a1;
+            VECTOR_AT(out + w + 4) = b1;
+            VECTOR_AT(out + 2 * w) = a2;
+            VECTOR_AT(out + 2 * w + 4) = b2;
+            VECTOR_AT(out + 3 * w) = a3;
+            VECTOR_AT(out + 3 * w + 4) = b3;
+        }
+    }
+#endif
+    for (; i < rows; i++) {
+        double *ci = c + i * w;
+        for (int64_t j = 0; j < w; j++) {
+            ci[j] = 0.0;
+        }
+        for (int64_t k = 0; k < m; k++) {
+            const double xk = x[i * w + k];
+            const double *yk = y + k * w;
+            for (int64_t j = 0; j < w; j++) {
+                ci[j] += yk[j] * xk;
+            }
+        }
+    }
+}
+
+/* c = x^2 of an operator [[X11, 0], [X21, I]] in compact form: x y[:m], then its held rows (p >= m) plus x's */
+static ALWAYS_INLINE void compact_square(const double *restrict x, double *restrict c, int64_t n, int64_t m, int64_t w)
+{
+    compact_product(x, x, c, n, m, w);
+    for (int64_t i = m * w; i < n * w; i++) {
+        c[i] += x[i];
+    }
+}
+
+/* the 1-norm of a compact power [[P, 0], [Q, 0]] (its largest column sum of magnitudes) */
+static ALWAYS_INLINE double compact_norm(const double *restrict x, int64_t n, int64_t m, int64_t w)
+{
+    double largest = 0.0;
+    for (int64_t q = 0; q < m; q++) {
+        double sum = 0.0;
+        for (int64_t p = 0; p < n; p++) {
+            sum += fabs(x[p * w + q]);
+        }
+        largest = sum > largest ? sum : largest;
+    }
+    return largest;
+}
+
+/* out = c_a a + c_b b + c_c c (+ d where given), elementwise over n x w, added in that order */
+static ALWAYS_INLINE void combine(const double *restrict a, const double *restrict b, const double *restrict c,
+                                  const double *restrict d, const double coefficients[3], double *restrict out,
+                                  int64_t size)
+{
+    const double ca = coefficients[0], cb = coefficients[1], cc = coefficients[2];
+    for (int64_t i = 0; i < size; i++) {
+        out[i] = (ca * a[i] + cb * b[i]) + cc * c[i];
+    }
+    if (d) {
+        for (int64_t i = 0; i < size; i++) {
+            out[i] += d[i];
+        }
+    }
+}
+
+/* a run of consecutive indices that are all active (offset: the compact column of the first) or all held
+ * (offset -1) */
+typedef struct {
+    int64_t start, length, offset;
+} Span;
+
+/* The working arrays of one state: the compact forms (n x w each), where each index is (position[r]: its
+ * compact row) and the spans of active and held indices. */
+typedef struct {
+    int64_t n, m, w, levels, n_spans;
+    const int64_t *order, *position; /* the active indices (m), then the held ones; order's inverse */
+    const Span *spans;
+    double *a, *a2, *a3, *sum, *inner, *level, *next;
+} Work;
+
+/* The Taylor polynomial of the finest level into work->level, squared `halvings` times (the halvings that
+ * bring eta to THETA: levels_numpy.finest_level) */
+static ALWAYS_INLINE void finest_level(Work *k)
+{
+    const int64_t n = k->n, m = k->m, w = k->w, size = n * w;
+    const double *c = COEFFICIENT;
+    compact_product(k->a, k->a, k->a2, n, m, w);
+    compact_product(k->a2, k->a, k->a3, n, m, w);
+    const double eta = fmax(sqrt(compact_norm(k->a2, n, m, w)), cbrt(compact_norm(k->a3, n, m, w)));
+    int halvings = 0;
+    if (eta > THETA && isfinite(eta)) { /* powers of two: the powers of the scaled matrix exactly */
+        halvings = (int)ceil(log2(eta / THETA));
+        const double scale = ldexp(1.0, -halvings), scale2 = scale * scale, scale3 = scale2 * scale;
+        for (int64_t i = 0; i < size; i++) {
+            k->a[i] *= scale;
+            k->a2[i] *= scale2;
+            k->a3[i] *= scale3;
+        }
+    }
+    const double high[3] = {c[7], c[8], c[9]}, middle[3] = {c[4], c[5], c[6]};
+    combine(k->a, k->a2, k->a3, NULL, high, k->sum, size);
+    compact_product(k->a3, k->sum, k->inner, n, m, w);           /* A^3 (A/7! + A^2/8! + A^3/9!) */
+    combine(k->a, k->a2, k->a3, k->inner, middle, k->sum, size); /* ... + A/4! + A^2/5! + A^3/6! */
+    compact_product(k->a3, k->sum, k->inner, n, m, w);
+    double *t = k->level;
+    for (int64_t p = 0; p < n; p++) { /* I + A + A^2/2 + A^3/6 + A^3 (...), added in that order */
+        for (int64_t q = 0; q < w; q++) {
+            const int64_t i = p * w + q;
+            t[i] = (((p == q && q < m ? 1.0 : 0.0) + k->a[i]) + c[2] * k->a2[i]) + c[3] * k->a3[i];
+            t[i] += k->inner[i];
+        }
+    }
+    for (int s = 0; s < halvings; s++) {
+        compact_square(k->level, k->next, n, m, w);
+        double *swap = k->level;
+        k->level = k->next;
+        k->next = swap;
+    }
+}
+
+/* out (n x n) = the operator in compact form x, in the original order: out[order[p], order[q]] = x[p, q] for
+ * q < m, and the held columns unit columns; row by row, span by span */
+static ALWAYS_INLINE void scatter(const Work *k, const double *restrict x, double *restrict out)
+{
+    const int64_t n = k->n, m = k->m, w = k->w;
+    for (int64_t r = 0; r < n; r++) {
+        const double *row = x + k->position[r] * w;
+        double *target = out + r * n;
+        for (int64_t s = 0; s < k->n_spans; s++) {
+            const Span span = k->spans[s];
+            for (int64_t c = 0; c < span.length; c++) {
+                target[span.start + c] = span.offset < 0 ? 0.0 : row[span.offset + c];
+            }
+        }
+        if (k->position[r] >= m) {
+            target[r] = 1.0;
+        }
+    }
+}
+
+/* ops[j] = expm(A^T h / 2^j), j = levels..0: the finest level, then each the square of the next finer one */
+HOT_LOOP static void state_levels(Work *k, const double *restrict matrix, double h, double *restrict ops)
+{
+    const int64_t n = k->n, m = k->m, w = k->w;
+    const double finest = ldexp(1.0, -(int)k->levels); /* a power of two: the division by 2^L exactly */
+    for (int64_t p = 0; p < n; p++) { /* a = (A^T h) / 2^L in compact form: a[p, q] = A[order[q], order[p]] */
+        for (int64_t q = 0; q < w; q++) {
+            k->a[p * w + q] = q < m ? (matrix[k->order[q] * n + k->order[p]] * h) * finest : 0.0;
+        }
+    }
+    finest_level(k);
+    scatter(k, k->level, ops + k->levels * n * n);
+    for (int64_t j = k->levels - 1; j >= 0; j--) {
+        compact_square(k->level, k->next, n, m, w);
+        double *swap = k->level;
+        k->level = k->next;
+        k->next = swap;
+        scatter(k, k->level, ops + j * n * n);
+    }
+}
+
+/* Whether row r of the matrix (n x n) has a nonzero entry (an active index). */
+static int active(const double *matrix, int64_t n, int64_t r)
+{
+    for (int64_t c = 0; c < n; c++) {
+        if (matrix[r * n + c] != 0.0) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* order (the active indices, then the held ones, each ascending), position (its inverse) and the spans of
+ * consecutive active or held indices; returns m, the number of active ones */
+static int64_t active_first(const double *matrix, int64_t n, int64_t *order, int64_t *position, Span *spans,
+                            int64_t *n_spans)
+{
+    int64_t m = 0, held = 0;
+    for (int64_t r = 0; r < n; r++) {
+        m += active(matrix, n, r);
+    }
+    *n_spans = 0;
+    for (int64_t r = 0, count = 0; r < n; r++) {
+        const int is_active = active(matrix, n, r);
+        position[r] = is_active ? count++ : m + held++;
+        order[position[r]] = r;
+        if (r == 0 || is_active != (spans[*n_spans - 1].offset >= 0)) { /* a new span starts at r */
+            Span *span = &spans[(*n_spans)++];
+            span->start = r;
+            span->length = 0;
+            span->offset = is_active ? position[r] : -1;
+        }
+        spans[*n_spans - 1].length++;
+    }
+    return m;
+}
+
+/* state_levels(matrix, h, ops): see level_operators.state_levels */
+static PyObject *py_state_levels(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (!expect_args(nargs, 3, "state_levels")) {
+        return NULL;
+    }
+    Views v = {.count = 0};
+    static const ArraySpec arrays[] = {{0, 'd', 2, 0, "matrix"}, {2, 'd', 3, 1, "ops"}};
+    Py_buffer *b[2];
+    const double h = PyFloat_AsDouble(args[1]);
+    if (PyErr_Occurred() || !take_views(&v, args, arrays, 2, b)) {
+        release_views(&v);
+        return NULL;
+    }
+    const int64_t n = b[0]->shape[0], levels = b[1]->shape[0] - 1;
+    if (b[0]->shape[1] != n || b[1]->shape[1] != n || b[1]->shape[2] != n || levels < 0 || levels > 60 || !isfinite(h)) {
+        release_views(&v);
+        PyErr_SetString(PyExc_ValueError, "state_levels: matrix (n, n), a finite step and ops (L + 1, n, n) expected");
+        return NULL;
+    }
+    const int64_t w = padded_width(n);
+    int64_t *order = PyMem_Malloc((size_t)(2 * n + 1) * sizeof(int64_t));
+    Span *spans = PyMem_Malloc((size_t)(n + 1) * sizeof(Span));
+    double *work = PyMem_Malloc((size_t)(7 * n * w + 1) * sizeof(double));
+    if (!order || !spans || !work) {
+        PyMem_Free(order);
+        PyMem_Free(spans);
+        PyMem_Free(work);
+        release_views(&v);
+        return PyErr_NoMemory();
+    }
+    int64_t *position = order + n, n_spans = 0;
+    const int64_t m = active_first(DOUBLES(b[0]), n, order, position, spans, &n_spans);
+    const int64_t width = padded_width(m);
+    Work k = {.n = n, .m = m, .w = width, .levels = levels, .n_spans = n_spans, .order = order,
+              .position = position, .spans = spans};
+    double **buffers[7] = {&k.a, &k.a2, &k.a3, &k.sum, &k.inner, &k.level, &k.next};
+    for (int i = 0; i < 7; i++) {
+        *buffers[i] = work + i * n * width;
+    }
+    state_levels(&k, DOUBLES(b[0]), h, DOUBLES(b[1]));
+    PyMem_Free(order);
+    PyMem_Free(spans);
+    PyMem_Free(work);
+    release_views(&v);
+    Py_RETURN_NONE;
+}
+
+static PyMethodDef methods[] = {
+    FASTCALL(state_levels, "ops[j] = expm(A h / 2^j)^T, j = 0..L, of one contact state."),
+    {NULL, NULL, 0, NULL},
+};
+
+DEFINE_MODULE(_levels, "The step operators of one contact state at every bisection level.")

@@ -1,0 +1,64 @@
+"""The step operators of one contact state at every bisection level, E_j^T = expm(A h / 2^j)^T,
+j = 0..LEVELS (level 0 steps, the finer ones bisect a crossing: docs/theory.md sections 4 and 15.9),
+stored transposed as the stepping loop reads them. Two constructions:
+
+- states where a story yields: the Taylor polynomial of the finest level and squarings, in C
+  (_levels.c) or its numpy twin (levels_numpy.py), written straight into the run's operator array
+  (state_levels);
+- the others (every elastic building, and a yielding building's states where no story yields, which
+  must stay the elastic ones bit for bit): the [13/13] Pade exponentials of the finest and of the
+  coarsest level of a stack of states, squarings between (stacked_operators).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...runtime import backend
+from .expm import expm
+from .statespace import ContactState, Layout
+
+#: levels of bisection operators: crossings are bracketed to h / 2^LEVELS, then interpolated
+LEVELS = 12
+
+
+def state_levels(matrix: np.ndarray, h: float, ops: np.ndarray) -> None:
+    """ops[j] = expm(A h / 2^j)^T, j = 0..L, of A = matrix (n, n), written whole into ops (L + 1, n, n; a
+    state's slot of Operators.ops): _levels.c or levels_numpy.py, as upliftcli.runtime.backend chooses. The
+    zero rows of A (the plastic drifts of elastic stories, the settlements of elements that do not yield)
+    are unit rows of the operators exactly."""
+    backend.loops(f"{__package__}._levels", f"{__package__}.levels_numpy").state_levels(matrix, float(h), ops)
+
+
+def stacked_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
+    """E_j^T = expm(A h / 2^j)^T, j = 0..LEVELS, of a stack of A^T (R, n, n) with steps h (R, 1, 1):
+    the finest level by expm, the coarser ones by squaring it, level 0 by its own expm. Transposed
+    (the kernel's matvec runs down columns): (E^T)^2 = (E^2)^T."""
+    ops = np.empty((a_t.shape[0], LEVELS + 1, *a_t.shape[1:]))
+    ops[:, LEVELS] = expm(a_t * (h / 2.0**LEVELS))
+    for j in range(LEVELS - 1, 0, -1):
+        ops[:, j] = ops[:, j + 1] @ ops[:, j + 1]
+    ops[:, 0] = expm(a_t * h)
+    return ops
+
+
+def hold_settlements(ops: np.ndarray, constant: np.ndarray) -> None:
+    """Make the settlements s_i of elements that do not yield exactly constant in the step
+    operators (ops: E^T per level, in place): their rows of A are zero, so the rows of E = expm(A h)
+    are unit rows, which the computed exponentials hold only to a few units in the last place (a
+    drift of 4e-13 of s_i per step, measured)."""
+    ops[:, :, constant] = 0.0
+    ops[:, constant, constant] = 1.0
+
+
+def elastic_stories(ops: np.ndarray, state: ContactState, lay: Layout, h: float) -> None:
+    """The step operators (E^T per level, in place) of a state with yielding stories where none yields: the
+    plastic drifts held exactly (hold_settlements), and the operators of the other entries from the
+    exponential of A without the plastic drifts: the matrix and the operators of the elastic building, bit
+    for bit (the plastic drifts, zero until a story yields, do not change its history: docs/theory.md 15.4)."""
+    hold_settlements(ops, lay.plastic_indices[state.story_sign == 0])
+    if np.any(state.story_sign != 0):
+        return
+    keep = np.setdiff1d(np.arange(lay.n_aug), lay.plastic_indices)
+    reduced = state.matrix[np.ix_(keep, keep)].T
+    ops[:, keep[:, None], keep[None, :]] = stacked_operators(reduced[None], np.array([[[h]]]))[0]
