@@ -127,7 +127,8 @@ class _Loop:
         self.n = self.x.size
         self.chunk = self.h / 2.0 ** np.arange(self.levels + 1)
         self.smallest = self.chunk[-1]
-        self.free = np.setdiff1d(np.arange(self.n), [self.ia, self.islope])
+        # np.delete, not np.setdiff1d or np.unique: they import numpy.ma (8 ms)
+        self.free = np.delete(np.arange(self.n), sorted({self.ia, self.islope}))
         self.blocks: dict[int, _Block] = {}
 
     def state_events(self, state: int) -> tuple[np.ndarray, np.ndarray]:
