@@ -31,16 +31,31 @@ static void gauss_rule(double nodes[NODES], double weights[NODES])
 }
 
 /* What the integrals need of the quintic Hermite basis b_j on [0, 1] (the weights of p0, d0, c0, p1, d1,
- * c1): the upper triangle of its Gram matrix int b_j b_k, the off-diagonal entries doubled (int p^2 =
- * sum_{j <= k} gram[j][k] u_j u_k), and its moments int b_j and int s b_j (times a linear ground
- * acceleration), all by the 6-point Gauss rule (exact: the products are of degree 10 at most). */
+ * c1): its moments int b_j and int s b_j (times a linear ground acceleration) and its Gram matrix
+ * int b_j b_k split by the symmetry s -> 1 - s (b_p0 <-> b_p1, b_d0 <-> -b_d1, b_c0 <-> b_c1): with the
+ * even sums e = (p0 + p1, d0 - d1, c0 + c1) and odd differences o = (p0 - p1, d0 + d1, c0 - c1),
+ * int p^2 = e^T E e + o^T O o (the even and odd parts of p are orthogonal); E and O as upper triangles,
+ * the off-diagonal entries doubled. All by the 6-point Gauss rule (exact: degree 10 at most). */
 typedef struct {
-    double gram[6][6], mean[6], first[6];
+    double even[3][3], odd[3][3], mean[6], first[6];
 } Basis;
+
+/* the 3 x 3 block of the Gram matrix g for the coefficients u = (x, sign x) / 2, as an upper triangle with
+ * the off-diagonal entries doubled (sign: +1 for E, -1 for O; d1 enters the other way round) */
+static void symmetric_block(const double g[6][6], double sign, double out[3][3])
+{
+    const double r[3] = {sign, -sign, sign};
+    for (int j = 0; j < 3; j++) {
+        for (int k = 0; k < 3; k++) {
+            const double sum = g[j][k] + r[k] * g[j][3 + k] + r[j] * g[3 + j][k] + r[j] * r[k] * g[3 + j][3 + k];
+            out[j][k] = k < j ? 0.0 : (k == j ? 0.25 : 0.5) * sum;
+        }
+    }
+}
 
 static void basis_integrals(Basis *out)
 {
-    double nodes[NODES], weights[NODES], b[NODES][6];
+    double nodes[NODES], weights[NODES], b[NODES][6], gram[6][6];
     gauss_rule(nodes, weights);
     for (int g = 0; g < NODES; g++) {
         for (int j = 0; j < 6; j++) {
@@ -56,13 +71,14 @@ static void basis_integrals(Basis *out)
             out->first[j] += weights[g] * nodes[g] * b[g][j];
         }
         for (int k = 0; k < 6; k++) {
-            double sum = 0.0;
+            gram[j][k] = 0.0;
             for (int g = 0; g < NODES; g++) {
-                sum += weights[g] * b[g][j] * b[g][k];
+                gram[j][k] += weights[g] * b[g][j] * b[g][k];
             }
-            out->gram[j][k] = k < j ? 0.0 : k == j ? sum : 2.0 * sum;
         }
     }
+    symmetric_block(gram, 1.0, out->even);
+    symmetric_block(gram, -1.0, out->odd);
 }
 
 /* int_0^1 p_q(s)^2 ds of the quintic Hermite p_q through values v0[q], v1[q], slopes s0[q], s1[q] and
@@ -74,18 +90,14 @@ static inline void squared_integrals(const Basis *basis, const double *restrict 
                                      const double *restrict jump_row, double jump, double length, int64_t count,
                                      double *restrict out)
 {
-    const double (*g)[6] = basis->gram, l2 = length * length;
-    const double g00 = g[0][0], g01 = g[0][1], g02 = g[0][2], g03 = g[0][3], g04 = g[0][4], g05 = g[0][5];
-    const double g11 = g[1][1], g12 = g[1][2], g13 = g[1][3], g14 = g[1][4], g15 = g[1][5];
-    const double g22 = g[2][2], g23 = g[2][3], g24 = g[2][4], g25 = g[2][5];
-    const double g33 = g[3][3], g34 = g[3][4], g35 = g[3][5], g44 = g[4][4], g45 = g[4][5], g55 = g[5][5];
+    const double (*e)[3] = basis->even, (*o)[3] = basis->odd, l2 = length * length;
+    const double e00 = e[0][0], e01 = e[0][1], e02 = e[0][2], e11 = e[1][1], e12 = e[1][2], e22 = e[2][2];
+    const double o00 = o[0][0], o01 = o[0][1], o02 = o[0][2], o11 = o[1][1], o12 = o[1][2], o22 = o[2][2];
     for (int64_t q = 0; q < count; q++) {
-        const double u0 = v0[q], u1 = s0[q] * length, u2 = c0[q] * l2, u3 = v1[q], u4 = s1[q] * length,
-                     u5 = (c1[q] + jump_row[q] * jump) * l2;
-        out[q] = u0 * (g00 * u0 + g01 * u1 + g02 * u2 + g03 * u3 + g04 * u4 + g05 * u5)
-                 + u1 * (g11 * u1 + g12 * u2 + g13 * u3 + g14 * u4 + g15 * u5)
-                 + u2 * (g22 * u2 + g23 * u3 + g24 * u4 + g25 * u5) + u3 * (g33 * u3 + g34 * u4 + g35 * u5)
-                 + u4 * (g44 * u4 + g45 * u5) + u5 * (g55 * u5);
+        const double d0 = s0[q] * length, d1 = s1[q] * length, k0 = c0[q] * l2, k1 = (c1[q] + jump_row[q] * jump) * l2;
+        const double x0 = v0[q] + v1[q], x1 = d0 - d1, x2 = k0 + k1, y0 = v0[q] - v1[q], y1 = d0 + d1, y2 = k0 - k1;
+        out[q] = x0 * (e00 * x0 + e01 * x1 + e02 * x2) + x1 * (e11 * x1 + e12 * x2) + x2 * (e22 * x2)
+                 + (y0 * (o00 * y0 + o01 * y1 + o02 * y2) + y1 * (o11 * y1 + o12 * y2) + y2 * (o22 * y2));
     }
 }
 
