@@ -48,7 +48,8 @@ def _coefficients(ends: tuple, first: int, count: int, curvature: int) -> np.nda
 
 
 def _squared(u: np.ndarray) -> np.ndarray:
-    """int_0^1 p^2 of the quintic Hermite interpolants with coefficients u (n, m, 6): (n, m)."""
+    """int_0^1 p^2 of the quintic Hermite interpolants with coefficients u (n, m, 6): (n, m), through the
+    whole Gram matrix (the loop splits it into its even and odd blocks: the same integrals to rounding)."""
     return np.einsum("imj,jk,imk->im", u, basis_integrals()[0], u)
 
 
