@@ -20,25 +20,28 @@ WINKLER = ROOT / "inputs" / "ten_story_winkler.toml"
 HALFSPACE = ROOT / "inputs" / "frame_halfspace.toml"
 SHEAR_FRAME = ("building.story_stiffnesses=[8e8, 7.5e8, 6.2e8, 4.5e8, 4e8]", "analysis.modes=5")
 STRENGTH = ("building.strength_coefficient=0.15", "building.hardening_ratio=0.05")
-#: n_interpolated, then row_a, row_input, row_ydot, n_modes, row_vel, row_z, n_elements, c_n, k_i, c_i
-LAYOUT = (9, 3, 4, 0, 3, 5, 7, 2, np.array([1.0, 0.0, 0.0]), np.array([5.0, 6.0]), np.array([0.5, 0.0]))
+#: row_a, row_input, row_ydot, n_modes, row_vel, row_z, n_elements, then the slope columns of the curvatures of
+#: the modal velocities, the input signal and the element velocities (after the 9 signals with rates); c_n, k_i, c_i
+LAYOUT = (3, 4, 0, 3, 5, 7, 2, 9, 12, 13, np.array([1.0, 0.0, 0.0]), np.array([5.0, 6.0]), np.array([0.5, 0.0]))
+K, K_S, K_C = 11, 15, 7  # values, slopes (rates, then curvatures), the signals interpolated (all but z)
 
 
 def polynomial_signals():
     """On t in [0, 2] (two intervals of 1 s): a_g = 1 + 2t, the input signal t^5, a modal velocity t^4,
     element 1's velocity t^2 (in contact on [0, 1], lifted on [1, 2] with z from 0.3 to 0.1), with
-    their exact slopes and curvatures."""
+    their exact slopes and curvatures (the ground slope the same in both: no correction, slope_rows 0)."""
     t = np.array([0.0, 1.0, 2.0])
-    k = LAYOUT[0]
-    values, slopes, curv = np.zeros((3, k + 2)), np.zeros((3, k)), np.zeros((3, k))
-    for column, (value, slope, second) in {0: (t**4, 4 * t**3, 12 * t**2), 3: (1 + 2 * t, 2.0 + 0 * t, 0 * t),
-                                           4: (t**5, 5 * t**4, 20 * t**3), 5: (t**2, 2 * t, 2.0 + 0 * t)}.items():
-        values[:, column], slopes[:, column], curv[:, column] = value, slope, second
+    values, slopes = np.zeros((3, K)), np.zeros((3, K_S))
+    for column, curvature, (value, slope, second) in (
+            (0, 9, (t**4, 4 * t**3, 12 * t**2)), (3, None, (1 + 2 * t, 2.0 + 0 * t, 0 * t)),
+            (4, 12, (t**5, 5 * t**4, 20 * t**3)), (5, 13, (t**2, 2 * t, 2.0 + 0 * t))):
+        values[:, column], slopes[:, column] = value, slope
+        if curvature is not None:
+            slopes[:, curvature] = second
     values[:, 7] = [0.0, 0.3, 0.1]  # z of element 1 (read where it is lifted)
     lifted = np.array([[False, False], [True, False]])
-    curvatures = np.ascontiguousarray(curv[:, :7])  # all but z's (read at the ends only)
-    return (values, slopes, curvatures[:2], curvatures[1:], np.full(2, -1, dtype=np.int64), np.zeros((0, k + 2)),
-            np.zeros((0, k)), np.ones(2), lifted)
+    return (values, slopes, np.zeros((0, K)), np.zeros((0, K_S)), np.full(2, -1, dtype=np.int64),
+            np.zeros(3, dtype=np.int64), np.zeros((1, K_C)), np.ones(2), lifted)
 
 
 def test_work_integrals_are_exact_for_polynomial_signals():
@@ -46,7 +49,7 @@ def test_work_integrals_are_exact_for_polynomial_signals():
     velocity t^4 with c_1 = 1 dissipates int t^8 dt = 512/9; the element in contact with v' = t^2 and
     c = 0.5 dissipates 0.5/5 on [0, 1], then lifted its dashpot relaxes with the spring,
     k (z0^2 - z1^2)/2 = 5 (0.3^2 - 0.1^2)/2 = 0.2 (the quintic Hermite interpolant is exact for these, the
-    6-point Gauss rule to degree 11)."""
+    integrals of its products exact)."""
     for work_in, structure, foundation in on_both(lambda: energy._loops().work_integrals(*polynomial_signals(),
                                                                                          *LAYOUT)):
         assert work_in == pytest.approx(64 / 6 + 256 / 7, rel=1e-13)
@@ -54,19 +57,36 @@ def test_work_integrals_are_exact_for_polynomial_signals():
         assert foundation == pytest.approx(0.1 + 0.2, rel=1e-13)
 
 
+def test_a_left_limit_curvature_takes_the_intervals_own_ground_slope():
+    """The curvatures at the right end of an interval are read with the next sample's ground slope (a_g'
+    jumps there, from 2 to 5: the jump is -3): the loop adds each curvature row's coefficient on the
+    ground slope (slope_rows) times the jump, so curvatures stored short of it by that much give the
+    integrals of the exact ones."""
+    values, slopes, *rest, lengths, lifted = polynomial_signals()
+    coefficient = np.arange(1.0, K_C + 1.0)[None, :]  # (1 state, K_C)
+    shifted = slopes.copy()
+    shifted[1:, 3] = 5.0  # the ground slope from sample 1 on
+    for column, curvature in ((0, 9), (4, 12), (5, 13)):
+        shifted[1, curvature] -= coefficient[0, column] * (2.0 - 5.0)
+    exact, short = (on_both(lambda s=s, rows=rows: energy._loops().work_integrals(
+        values[:2], s[:2], *rest[:3], rest[3][:2], rows, lengths[:1], lifted[:1], *LAYOUT))
+        for s, rows in ((slopes, np.zeros((1, K_C))), (shifted, coefficient)))
+    np.testing.assert_allclose(short, exact, rtol=1e-14)
+
+
 def test_work_integrals_twin_matches_the_loop():
-    """Random signals, transitions, lifted elements (damped and not): to the rounding of the sums
+    """Random signals, states, transitions, lifted elements (damped and not): to the rounding of the sums
     (numpy sums pairwise, the loop in order)."""
     rng = np.random.default_rng(4)
-    n, k = 30, LAYOUT[0]
-    values, slopes = rng.normal(size=(n, k + 2)), rng.normal(size=(n, k))
-    start, end = rng.normal(size=(n, 7)), rng.normal(size=(n - 1, 7))  # curvatures of all but z
+    n = 30
+    values, slopes = rng.normal(size=(n, K)), rng.normal(size=(n, K_S))
     switch = np.full(n - 1, -1, dtype=np.int64)
     switch[[4, 17]] = [0, 1]
-    end_values, end_slopes = rng.normal(size=(2, k + 2)), rng.normal(size=(2, k))
+    end_values, end_slopes = rng.normal(size=(2, K)), rng.normal(size=(2, K_S))
+    ids, slope_rows = rng.integers(0, 3, n), rng.normal(size=(3, K_C))
     lengths = rng.uniform(0.5, 1.0, n - 1)
     lifted = rng.random((n - 1, 2)) < 0.3
-    args = (values, slopes, start, end, switch, end_values, end_slopes, lengths, lifted)
+    args = (values, slopes, end_values, end_slopes, switch, ids, slope_rows, lengths, lifted)
     compiled, twin = on_both(lambda: energy._loops().work_integrals(*args, *LAYOUT))
     np.testing.assert_allclose(twin, compiled, rtol=1e-12)
 

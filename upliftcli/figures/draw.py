@@ -27,6 +27,9 @@ from .spec import Bars, FigureSpec, Line, Panel, Series, Span  # noqa: F401  (th
 
 FIGURE_FORMATS = (".png", ".pdf", ".svg")
 DPI = 150
+#: zlib level of the PNG files: 3 encodes the three figures of `uplift spectra` in two thirds of the CPU
+#: time of Pillow's default 6, the files 6 % larger
+PNG_COMPRESSION = 3
 #: whether plot_figures shares figures out to forked copies of this process: on Linux only (no
 #: fork on Windows; macOS's system libraries may not survive one); elsewhere one after the other
 FORK_FIGURES = hasattr(os, "fork") and sys.platform.startswith("linux")
@@ -80,19 +83,25 @@ def new_figure(width: float = 7.0, height: float = 4.5):
     return figure
 
 
+def save_options(file_format: str) -> dict:
+    """savefig's keywords for a file format beyond format and dpi: PNG_COMPRESSION for png."""
+    return {"pil_kwargs": {"compress_level": PNG_COMPRESSION}} if file_format == "png" else {}
+
+
 def save_figure(figure, path: str | os.PathLike, option: str = "--plot") -> Path:
     """Write the figure atomically; the format follows the extension."""
     path = check_figure_path(path, option)
+    file_format = path.suffix.lower().lstrip(".")
     with atomic_path(path) as tmp:
-        figure.savefig(tmp, format=path.suffix.lower().lstrip("."), dpi=DPI)
+        figure.savefig(tmp, format=file_format, dpi=DPI, **save_options(file_format))
     return path
 
 
 def figure_data(spec: FigureSpec, path: str | os.PathLike, option: str = "--plot") -> bytes:
     """A FigureSpec drawn into the bytes of the file `path` names (the format follows its extension)."""
-    path = check_figure_path(path, option)
+    file_format = check_figure_path(path, option).suffix.lower().lstrip(".")
     buffer = io.BytesIO()
-    line_figure(spec).savefig(buffer, format=path.suffix.lower().lstrip("."), dpi=DPI)
+    line_figure(spec).savefig(buffer, format=file_format, dpi=DPI, **save_options(file_format))
     return buffer.getvalue()
 
 
@@ -269,7 +278,7 @@ def _uncarried(message: bytes) -> dict[str, bytes] | BaseException:
 def figure_bytes(spec: FigureSpec, file_format: str = "png", dpi: int = 110) -> bytes:
     """A FigureSpec drawn into memory (png or svg), e.g. to embed in a report."""
     buffer = io.BytesIO()
-    line_figure(spec).savefig(buffer, format=file_format, dpi=dpi)
+    line_figure(spec).savefig(buffer, format=file_format, dpi=dpi, **save_options(file_format))
     return buffer.getvalue()
 
 

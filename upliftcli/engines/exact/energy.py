@@ -2,10 +2,11 @@
 input work = change of kinetic, strain, foundation elastic and gravity energy + structural
 and foundation damping (+ the plastic work of yielding soil, docs/theory.md 14.5).
 
-Work integrals: 6-point Gauss quadrature on the quintic Hermite interpolants of the signals through
-their values, exact slopes and exact curvatures (X'' = A^2 X) at both ends of every interval (O(h^6),
-the compiled loop _energy.c or its twin energy_numpy.py); stored energies exact at the first and last
-samples. The state-space maps come from the history (History.space).
+Work integrals: the exact integrals (the Gram matrix and moments of the basis) of the quintic Hermite
+interpolants of the signals through their values, exact slopes and exact curvatures (X'' = A^2 X, read
+off response.signals) at both ends of every interval (O(h^6), the compiled loop _energy.c or its twin
+energy_numpy.py); stored energies exact at the first and last samples. The state-space maps come from
+the history (History.space).
 """
 
 from __future__ import annotations
@@ -15,8 +16,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ...runtime import backend
-from . import response_kernels
-from .response import signal_layout, used_states
 from .stories import stored_strain
 
 if TYPE_CHECKING:
@@ -30,52 +29,17 @@ def _loops():
     return backend.loops(f"{__package__}._energy", f"{__package__}.energy_numpy")
 
 
-def curvature_rows(history: History, used: np.ndarray) -> np.ndarray:
-    """R A^2 of each used state (S, k_c, n_aug), R the rows of the signals the work integrals interpolate
-    (Ydot, a, input, element_velocity: the first k_c of response.signal_layout; z, read at the ends only,
-    follows them): their second derivatives. a_g is linear inside each interval (its row is left zero)."""
-    space = history.space
-    lay = space.layout
-    names = signal_layout(space.model.n_modes, lay.n_elements, lay.n_plastic)
-    velocity = np.stack([history.contact[s].velocity for s in used])
-    matrix = np.stack([history.contact[s].matrix for s in used])
-    rows = np.zeros((used.size, names["z"].start, lay.n_aug))
-    rows[:, names["Ydot"]] = space.to_modal @ velocity
-    rows[:, names["input"]] = (space.forcing[:, lay.index_acceleration] @ velocity)[:, None, :]
-    rows[:, names["element_velocity"]] = space.directions @ velocity
-    return rows @ matrix @ matrix
-
-
-def curvatures(history: History) -> tuple[np.ndarray, np.ndarray]:
-    """Second derivatives of the interpolated signals at the start (n, k_c) and at the end (n - 1, k_c) of
-    every interval: the interval's own state at both ends (the left limit where it ends at a transition),
-    and the ground acceleration's slope of the interval (a_g' jumps at the record's samples)."""
-    lay = history.space.layout
-    used, ids = used_states(history.state_ids, len(history.contact))
-    rows = curvature_rows(history, used)
-    n, k = ids.size, rows.shape[1]
-    at = np.nonzero(ids[1:] != ids[:-1])[0]
-    start, ends = np.empty((n, k)), np.empty((at.size, k))
-    response_kernels.evaluate_signals(history.states, ids, np.ascontiguousarray(rows.transpose(0, 2, 1)), start,
-                                      np.empty((n, 0)), ends)
-    end = start[1:].copy()
-    end[at] = ends
-    jump = history.states[:-1, lay.index_slope] - history.states[1:, lay.index_slope]
-    end += rows[ids[:-1], :, lay.index_slope] * jump[:, None]
-    return start, end
-
-
 def work(history: History, sig: Signals) -> tuple[float, float, float]:
     """Input work, structural damping and foundation damping energy [J] over the history's
     intervals (additive: a run stepped in chunks sums them)."""
     space = history.space
-    rows = sig.rows
-    start, end = curvatures(history)
+    rows, curved = sig.rows, sig.curvatures
     work_in, damp_struct, damp_found = _loops().work_integrals(
-        sig.values, sig.slopes, start, end, sig.switch, sig.end_values, sig.end_slopes, history.lengths,
-        np.ascontiguousarray(history.lifted[:-1]), rows["Yddot"].start, rows["a"].start, rows["input"].start,
+        sig.values, sig.slopes, sig.end_values, sig.end_slopes, sig.switch, sig.state_index, sig.slope_rows,
+        history.lengths, np.ascontiguousarray(history.lifted[:-1]), rows["a"].start, rows["input"].start,
         rows["Ydot"].start, space.model.n_modes, rows["element_velocity"].start, rows["z"].start,
-        space.layout.n_elements, space.c_modal, space.element_stiffness, space.element_damping,
+        space.layout.n_elements, curved["Ydot"].start, curved["input"].start, curved["element_velocity"].start,
+        space.c_modal, space.element_stiffness, space.element_damping,
     )
     return float(work_in), float(damp_struct), float(damp_found)
 

@@ -98,7 +98,11 @@ class Signals:
     (n, k_s), taken in the state valid from each sample on. At a contact transition the
     rates (theta', v', element velocities) jump: `switch[i]` >= 0 marks an interval i that
     ends at a transition, and `end_values[switch[i]]` (k,), `end_slopes[switch[i]]` (k_s,)
-    hold its left limits.
+    hold its left limits. The slopes' last columns hold the second derivatives of the input
+    signal and the element velocities (those of Y*' are the slopes of Y*''): `curvatures` names
+    the slope columns of each signal the work integrals interpolate (energy.py); `slope_rows`
+    (S, k_c) each curvature row's coefficient on the ground slope in each state `state_index`
+    (n,) (a left limit's curvature is read with the next sample's ground slope: energy.py).
     """
 
     values: np.ndarray
@@ -107,6 +111,9 @@ class Signals:
     end_values: np.ndarray
     end_slopes: np.ndarray
     rows: dict[str, slice]
+    curvatures: dict[str, slice]
+    state_index: np.ndarray
+    slope_rows: np.ndarray
 
     def __getitem__(self, name: str) -> np.ndarray:
         """The signal's columns (n, k_name)."""
@@ -137,16 +144,37 @@ def signals(history: History) -> Signals:
     """Evaluate the signal rows of every contact state at its samples
     (response_kernels.evaluate_signals), the rows built for the states the samples use only, all
     at once (a yielding run meets hundreds of states: docs/theory.md 14.3)."""
+    lay = history.space.layout
+    names = signal_layout(history.space.model.n_modes, lay.n_elements, lay.n_plastic)
+    start = names[VALUES_ONLY[-1]].stop
+    curved = curvature_columns(names)
+    used, ids = used_states(history.state_ids, len(history.contact))
+    rows = signal_rows(history, used)
+    rows_t = np.ascontiguousarray(rows.transpose(0, 2, 1))
+    at = np.nonzero(ids[1:] != ids[:-1])[0]
+    switch = np.full(max(ids.size - 1, 0), -1, dtype=np.int64)
+    switch[at] = np.arange(at.size)
+    values = np.empty((ids.size, start))
+    slopes = np.empty((ids.size, rows.shape[1] - start))
+    ends = np.empty((at.size, rows.shape[1]))
+    response_kernels.evaluate_signals(history.states, ids, rows_t, values, slopes, ends)
+    return Signals(values, slopes, switch, np.ascontiguousarray(ends[:, :start]),
+                   np.ascontiguousarray(ends[:, start:]), names, curved, ids,
+                   _slope_rows(rows[:, start:, lay.index_slope], names, curved))
+
+
+def signal_rows(history: History, used: np.ndarray) -> np.ndarray:
+    """The rows of the signals (signal_layout) in each contact state `used` (S, k + k_s, n_aug): the values'
+    rows, then the slopes' (R A), then the curvatures' of the input signal and the element velocities
+    (R A^2, curvature_columns; those of Y*' are the slopes of Y*'')."""
     space = history.space
     model, lay = space.model, space.layout
     n_m = model.n_modes
     names = signal_layout(n_m, lay.n_elements, lay.n_plastic)
-    start = names[VALUES_ONLY[-1]].stop
-    n_slopes = names[WITH_RATES[-1]].stop
-    used, ids = used_states(history.state_ids, len(history.contact))
+    start, n_slopes = names[VALUES_ONLY[-1]].stop, names[WITH_RATES[-1]].stop
     velocity = np.stack([history.contact[s].velocity for s in used])  # (S, n_p, n_aug)
     matrix = np.stack([history.contact[s].matrix for s in used])
-    rows = np.zeros((used.size, start + n_slopes, lay.n_aug))  # the values' rows, then the slopes'
+    rows = np.zeros((used.size, start + curvature_columns(names)["element_velocity"].stop, lay.n_aug))
     rows[:, names["Y"]] = space.modal
     rows[:, names["Ydot"]] = space.to_modal @ velocity
     rows[:, names["Yddot"]] = rows[:, names["Ydot"]] @ matrix
@@ -166,17 +194,29 @@ def signals(history: History) -> Signals:
     if lay.n_plastic:  # the plastic drifts and their rates (docs/theory.md 15)
         rows[:, np.arange(names["P"].start, names["P"].stop), lay.plastic_indices] = 1.0
         rows[:, names["Pdot"]] = matrix[:, lay.plastic_indices]
-    rows[:, start:] = rows[:, :n_slopes] @ matrix
-    rows_t = np.ascontiguousarray(rows.transpose(0, 2, 1))
-    at = np.nonzero(ids[1:] != ids[:-1])[0]
-    switch = np.full(max(ids.size - 1, 0), -1, dtype=np.int64)
-    switch[at] = np.arange(at.size)
-    values = np.empty((ids.size, start))
-    slopes = np.empty((ids.size, n_slopes))
-    ends = np.empty((at.size, start + n_slopes))
-    response_kernels.evaluate_signals(history.states, ids, rows_t, values, slopes, ends)
-    return Signals(values, slopes, switch, np.ascontiguousarray(ends[:, :start]),
-                   np.ascontiguousarray(ends[:, start:]), names)
+    rows[:, start:start + n_slopes] = rows[:, :n_slopes] @ matrix
+    rates = start + names["input"].start  # the rates' rows of the input signal and element velocities
+    rows[:, start + n_slopes:] = rows[:, rates:rates + rows.shape[1] - start - n_slopes] @ matrix
+    return rows
+
+
+def curvature_columns(names: dict[str, slice]) -> dict[str, slice]:
+    """The slope columns of the second derivatives of the signals the work integrals interpolate (energy.py):
+    Y*'' rates for Y*', then one column for the input signal and one per element velocity after the
+    slopes of WITH_RATES."""
+    last = names[WITH_RATES[-1]].stop
+    n_curved = names["element_velocity"].stop - names["input"].start
+    return {"Ydot": names["Yddot"], "input": slice(last, last + 1),
+            "element_velocity": slice(last + 1, last + n_curved)}
+
+
+def _slope_rows(slope_rows: np.ndarray, names: dict[str, slice], curved: dict[str, slice]) -> np.ndarray:
+    """(S, k_c): the coefficient on the ground slope of each curvature row of curvature_columns (0 for a_g,
+    linear inside each interval), from those of the slope rows (S, k_s)."""
+    out = np.zeros((slope_rows.shape[0], names["z"].start))
+    for name, columns in curved.items():
+        out[:, names[name]] = slope_rows[:, columns]
+    return out
 
 
 #: a run with at most this many contact states has the signal rows of all built (response.signals); with more
