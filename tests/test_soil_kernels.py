@@ -84,9 +84,13 @@ def test_the_compiled_block_operators_are_their_twin():
         compiled, twin = on_both(lambda h=h: np.stack(step_operators(space, states, h, LEVELS)))
         scale = np.abs(twin).max(axis=(2, 3), keepdims=True)
         assert np.all(np.abs(compiled - twin) <= 2e-12 * scale)
-        slots = [np.zeros((LEVELS + 1, space.layout.n_aug, space.layout.n_aug)) for _ in states]
-        one_by_one, _ = on_both(lambda h=h: np.stack(step_operators(space, states, h, LEVELS, slots)))
+        one_by_one, _ = on_both(lambda h=h: np.stack(step_operators(space, states, h, LEVELS, _slots(space, states))))
         assert np.array_equal(one_by_one, compiled)  # each state the bits it gets in a stack
+
+
+def _slots(space, states) -> list[np.ndarray]:
+    """Zero operator arrays (LEVELS + 1, n_aug, n_aug), one per state (step_operators' out as a list)."""
+    return [np.zeros((LEVELS + 1, space.layout.n_aug, space.layout.n_aug)) for _ in states]
 
 
 def test_a_yielding_winkler_run_is_the_same_on_both_backends():
