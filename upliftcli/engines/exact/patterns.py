@@ -15,6 +15,7 @@ import numpy as np
 
 from ...runtime import backend
 from . import stories
+from .kept import kept
 from .modal import vertical_period
 from .statespace import ContactState, Layout, StateSpace, dynamics, stacked
 
@@ -61,18 +62,34 @@ def _soil_states(terms: list[StateSpace], lifted: np.ndarray, yielding: np.ndarr
     patterns with a bearing capacity (soil_states_numpy.soil_states: the elements on the mat, the rows of
     the yielding settlements and of the relaxing tops, yielding.py's event rows)."""
     lay, count = terms[0].layout, len(terms)
-    scales = np.array([[t.weight, t.settlement, 2.0 * np.pi / vertical_period(t.model)] for t in terms])
+    if count == 1:
+        items = kept(terms[0], _soil_terms)
+    else:
+        items = tuple(np.concatenate(parts) for parts in zip(*(kept(t, _soil_terms) for t in terms), strict=True))
     matrix = np.empty((count, lay.n_aug, lay.n_aug))
     velocity = np.empty((count, lay.n_p, lay.n_aug))
     events = np.empty((count, 2 * lay.n_elements, lay.n_aug))
-    _loops().soil_states(
-        stacked(terms, "stiffness"), stacked(terms, "damping"), stacked(terms, "forcing"), stacked(terms, "masses"),
-        terms[0].position, stacked(terms, "directions"), stacked(terms, "element_stiffness"),
-        stacked(terms, "element_damping"), stacked(terms, "element_capacity"), stacked(terms, "displacement_rows"),
-        scales, np.ascontiguousarray(lifted), np.ascontiguousarray(yielding), np.asarray(lay.massive, dtype=np.int64),
-        np.asarray(lay.massless, dtype=np.int64), lay.z_indices, lay.settlement_indices, criterion == "reaction",
-        matrix, velocity, events)
+    massive, massless = kept(terms[0], _coordinates)
+    _loops().soil_states(*items[:4], terms[0].position, *items[4:], np.ascontiguousarray(lifted),
+                         np.ascontiguousarray(yielding), massive, massless, lay.z_indices, lay.settlement_indices,
+                         criterion == "reaction", matrix, velocity, events)
     return matrix, velocity, events
+
+
+def _soil_terms(space: StateSpace) -> tuple[np.ndarray, ...]:
+    """The arguments of soil_states of one model with a batch axis of 1 (kept.kept): stiffness, damping,
+    forcing, masses, directions, element stiffness, damping and capacity, displacement rows, and its scales
+    (the weight, the static settlement and the bonded vertical frequency)."""
+    names = ("stiffness", "damping", "forcing", "masses", "directions", "element_stiffness", "element_damping",
+             "element_capacity", "displacement_rows")
+    scales = np.array([[space.weight, space.settlement, 2.0 * np.pi / vertical_period(space.model)]])
+    return (*(np.ascontiguousarray(getattr(space, name)[None]) for name in names), scales)
+
+
+def _coordinates(space: StateSpace) -> tuple[np.ndarray, np.ndarray]:
+    """The indices of the coordinates of p with and without mass (int64, kept.kept)."""
+    lay = space.layout
+    return np.asarray(lay.massive, dtype=np.int64), np.asarray(lay.massless, dtype=np.int64)
 
 
 def _yielding_stories(terms: list[StateSpace], lay: Layout, matrix: np.ndarray, velocity: np.ndarray,

@@ -24,13 +24,14 @@ from __future__ import annotations
 import numpy as np
 
 from ...runtime import backend
+from .kept import kept
 from .soil_operators_numpy import blocks
 from .statespace import ContactState, StateSpace
 
 
 def pattern_bits(pattern: int, n_elements: int) -> tuple[np.ndarray, np.ndarray]:
     """(lifted, yielding) of each element in a contact pattern with a capacity (bits i and n_e + i)."""
-    bits = np.array([(pattern >> i) & 1 for i in range(2 * n_elements)], dtype=bool)
+    bits = ((np.int64(pattern) >> np.arange(2 * n_elements, dtype=np.int64)) & 1).astype(bool)
     return bits[:n_elements], bits[n_elements:]
 
 
@@ -96,17 +97,29 @@ def _loops():
 
 def _soil_operators(space: StateSpace, states: list[ContactState], h: float, out: np.ndarray) -> None:
     """step_operators of `states` into the stack out (R, levels + 1, n_aug, n_aug), zeros."""
+    core, loads, damped, rates, displacement, n_motion = kept(space, _block_terms)
+    if len(states) == 1:
+        lifted, yielding, matrices = states[0].lifted[None], states[0].yielding[None], states[0].matrix[None]
+    else:
+        lifted = np.array([state.lifted for state in states], dtype=bool)
+        yielding = np.array([state.yielding for state in states], dtype=bool)
+        matrices = np.stack([state.matrix for state in states])
+    lay = space.layout
+    _loops().soil_operators(np.ascontiguousarray(matrices), ~lifted & ~yielding, np.ascontiguousarray(yielding),
+                            lifted & damped, core, lay.settlement_indices, lay.z_indices, loads, displacement, rates,
+                            float(h), n_motion, out)
+
+
+def _block_terms(space: StateSpace) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
+    """What the block operators of every state of a model share (kept.kept): core and loads (_core), where
+    the elements have a dashpot, k_i / c_i there (0 elsewhere), the rows d_i of v_i = d_i X and the size of
+    the motion X[:n_m]."""
     lay = space.layout
     core, loads = _core(space)
-    lifted = np.array([state.lifted for state in states], dtype=bool)
-    yielding = np.array([state.yielding for state in states], dtype=bool)
     damped = space.element_damping > 0.0
     rates = np.divide(space.element_stiffness, space.element_damping, out=np.zeros(lay.n_elements), where=damped)
-    matrices = np.stack([state.matrix for state in states])
-    _loops().soil_operators(matrices, ~lifted & ~yielding, yielding, lifted & damped, core,
-                            lay.settlement_indices, lay.z_indices, np.ascontiguousarray(loads),
-                            np.ascontiguousarray(space.displacement_rows), rates, float(h),
-                            core.size - (lay.n_aug - lay.n_x), out)
+    return (core, np.ascontiguousarray(loads), damped, rates, np.ascontiguousarray(space.displacement_rows),
+            core.size - (lay.n_aug - lay.n_x))
 
 
 def _core(space: StateSpace) -> tuple[np.ndarray, np.ndarray]:
