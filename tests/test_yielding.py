@@ -50,8 +50,8 @@ def test_a_capacity_no_force_reaches_gives_the_elastic_result(path, engine):
     rounding of numpy's products); a bisection bracket that flips on such a change moves a located
     transition within its last sliver h/2^12. The impacts (the reaction right after a recontact) and the
     settlements (v - v_st, a difference of larger values) amplify it: checked to 5e-10. Measured
-    (compiled loops; their numpy twins: 3.3e-11, 1.6e-12): impacts 2.1e-10 (the approximate engine on
-    the Winkler mat), rotation 1.0e-11, reaction 9.2e-12; before the compiled loop, residual settlement
+    (compiled loops; their numpy twins: 1.9e-10, 9.4e-12): impacts 2.3e-10 (the approximate engine on
+    the Winkler mat), rotation 1.0e-11, reaction 9.0e-12; before the compiled loop, residual settlement
     4.0e-12, instants 1.4e-11 s, energy 2.6e-12 of the input."""
     elastic = run(path, engine)
     strong = run(path, engine, "uplift", "foundation.safety_factor=1e15")

@@ -256,24 +256,48 @@ static void assemble(const Soil *in, int64_t r, const double *levels, const int6
     }
 }
 
-/* levels[j] := exp(B h / 2^j), j = 0..L, of state r: the finest by the exponential, the coarser ones down
- * to level 1 by squaring it, level 0 by its own exponential (as operators._stacked_operators builds the
- * levels of the whole A); 0 if singular */
+/* the squarings s by which exponential() would scale exp(B h) (the block times h: its 1-norm to THETA_13),
+ * at most `levels` */
+static int64_t squarings_of(const double *block, int64_t nb, int64_t levels)
+{
+    double norm = 0.0;
+    for (int64_t j = 0; j < nb; j++) {
+        double column = 0.0;
+        for (int64_t i = 0; i < nb; i++) {
+            column += fabs(block[i * nb + j]);
+        }
+        norm = column > norm ? column : norm;
+    }
+    const int64_t s = norm > THETA_13 ? (int64_t)ceil(log2(norm / THETA_13)) : 0;
+    return s < levels ? s : levels;
+}
+
+/* levels[j] := exp(B h / 2^j), j = 0..L, of state r: level s (squarings_of) by the exponential and the
+ * coarser ones by squaring it, down to level 0 (the products exponential(B h) makes: level 0 as it gives
+ * it), the finest by the exponential and the levels between by squaring it; 0 if singular */
 static int exponentials(const Soil *in, int64_t r, double *block, double *levels, double *work)
 {
     const int64_t nb = in->n_c + 2, nn = nb * nb, top = in->levels;
+    block_of(in, r, in->h, block);
+    const int64_t s = squarings_of(block, nb, top);
+    block_of(in, r, in->h / ldexp(1.0, (int)s), block);
+    if (!exponential(block, levels + s * nn, work, nb)) {
+        return 0;
+    }
+    for (int64_t j = s - 1; j >= 0; j--) {
+        product(levels + (j + 1) * nn, levels + (j + 1) * nn, levels + j * nn, nb);
+    }
+    if (s == top) {
+        return 1;
+    }
     block_of(in, r, in->h / ldexp(1.0, (int)top), block);
     if (!exponential(block, levels + top * nn, work, nb)) {
         return 0;
     }
-    for (int64_t j = top - 1; j > 0; j--) {
+    for (int64_t j = top - 1; j > s; j--) {
         product(levels + (j + 1) * nn, levels + (j + 1) * nn, levels + j * nn, nb);
     }
-    if (top == 0) {
-        return 1;
-    }
-    block_of(in, r, in->h, block);
-    return exponential(block, levels, work, nb);
+    return 1;
 }
 
 /* every state's levels (exponentials), assembled into its slot of out; 0 if singular */

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .expm import expm
+from .expm import THETA_13, expm
 
 
 def soil_operators(matrices: np.ndarray, contact: np.ndarray, yielding: np.ndarray, relaxing: np.ndarray,
@@ -24,15 +24,20 @@ def soil_operators(matrices: np.ndarray, contact: np.ndarray, yielding: np.ndarr
 
 
 def exponentials(stack: np.ndarray, h: float, levels: int) -> np.ndarray:
-    """exp(B h / 2^j), j = 0..levels (R, levels + 1, n, n), of each block B of a stack: the finest by expm,
-    the coarser ones down to level 1 by squaring it, level 0 by its own expm (as
-    operators._stacked_operators builds the levels of the whole A), all the blocks in one stacked call."""
-    count = stack.shape[0]
-    ends = expm(np.concatenate((stack * (h / 2.0**levels), stack * h)))
-    out = np.empty((count, levels + 1, *stack.shape[1:]))
-    out[:, levels], out[:, 0] = ends[:count], ends[count:]
-    for j in range(levels - 1, 0, -1):
-        out[:, j] = out[:, j + 1] @ out[:, j + 1]
+    """exp(B h / 2^j), j = 0..levels (R, levels + 1, n, n), of each block B of a stack: level s, the squarings
+    expm.expm scales exp(B h) by (at most levels), by expm and the coarser ones by squaring it down to level
+    0 (the products expm(B h) makes: level 0 as it gives it, the levels between more accurate than squared
+    from the finest); the finest by expm and the levels between by squaring it."""
+    norms = np.abs(stack * h).sum(axis=-2).max(axis=-1)
+    scalings = np.ceil(np.log2(np.maximum(norms, 1e-300) / THETA_13))
+    scalings = np.clip(scalings, 0, levels).astype(int)
+    out = np.empty((stack.shape[0], levels + 1, *stack.shape[1:]))
+    out[np.arange(stack.shape[0]), scalings] = expm(stack * (h / 2.0**scalings)[:, None, None])
+    finest = scalings < levels
+    out[finest, levels] = expm(stack[finest] * (h / 2.0**levels))
+    for j in range(levels - 1, -1, -1):
+        squared = j != scalings  # level s is its own exponential
+        out[squared, j] = out[squared, j + 1] @ out[squared, j + 1]
     return out
 
 
