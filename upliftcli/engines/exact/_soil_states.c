@@ -24,16 +24,27 @@ static void on_the_mat(const Soil *in, int64_t r, double *stiff, double *damp, d
                  *q = in->q + r * n_e;
     const unsigned char *lifted = in->lifted + r * n_e, *yielding = in->yielding + r * n_e;
     memcpy(force, in->forcing + r * n_p * n, n_p * n * sizeof(double));
+    memset(stiff, 0, n_p * n_p * sizeof(double));
+    memset(damp, 0, n_p * n_p * sizeof(double));
+    for (int64_t i = 0; i < n_e; i++) {  /* the sums over the elements, i in order (e_i: theta and v only) */
+        const double ek = lifted[i] || yielding[i] ? 0.0 : k[i], ec = lifted[i] ? 0.0 : c[i];
+        const double *ei = e + i * n_p;
+        for (int64_t p = 0; p < n_p; p++) {
+            if (ei[p] == 0.0) {
+                continue;
+            }
+            for (int64_t t = 0; t < n_p; t++) {
+                if (ei[t] != 0.0) {
+                    stiff[p * n_p + t] += ei[p] * ek * ei[t];
+                    damp[p * n_p + t] += ei[p] * ec * ei[t];
+                }
+            }
+        }
+    }
     for (int64_t p = 0; p < n_p; p++) {
         for (int64_t t = 0; t < n_p; t++) {
-            double ks = 0.0, cs = 0.0;
-            for (int64_t i = 0; i < n_e; i++) {
-                const double ek = lifted[i] || yielding[i] ? 0.0 : k[i], ec = lifted[i] ? 0.0 : c[i];
-                ks += e[i * n_p + p] * ek * e[i * n_p + t];
-                cs += e[i * n_p + p] * ec * e[i * n_p + t];
-            }
-            stiff[p * n_p + t] = in->stiffness[(r * n_p + p) * n_p + t] + ks;
-            damp[p * n_p + t] = in->damping[(r * n_p + p) * n_p + t] + cs;
+            stiff[p * n_p + t] += in->stiffness[(r * n_p + p) * n_p + t];
+            damp[p * n_p + t] += in->damping[(r * n_p + p) * n_p + t];
         }
         double capacity = 0.0;
         for (int64_t i = 0; i < n_e; i++) {
@@ -46,18 +57,57 @@ static void on_the_mat(const Soil *in, int64_t r, double *stiff, double *damp, d
     }
 }
 
-/* row (n_aug) := force[p] - damp[p] . velocity - stiff[p] . position (the generalised force of coordinate p) */
-static void force_row(const Soil *in, int64_t p, const double *stiff, const double *damp, const double *force,
-                      const double *velocity, double *row)
+/* row (n_aug) := force[p] - damp[p] . velocity - stiff[p] . position (the generalised force of coordinate p):
+ * the two sums along the rows of velocity and position (t in order, zero coefficients skipped), in `sums`
+ * (2 n_aug) */
+HOT_LOOP static void force_row(const Soil *in, int64_t p, const double *stiff, const double *damp,
+                               const double *force, const double *velocity, double *row, double *sums)
 {
     const int64_t n_p = in->n_p, n = in->n_aug;
+    double *restrict d = sums, *restrict s = sums + n;
     for (int64_t col = 0; col < n; col++) {
-        double d = 0.0, s = 0.0;
-        for (int64_t t = 0; t < n_p; t++) {
-            d += damp[p * n_p + t] * velocity[t * n + col];
-            s += stiff[p * n_p + t] * in->position[t * n + col];
+        d[col] = s[col] = 0.0;
+    }
+    for (int64_t t = 0; t < n_p; t++) {
+        const double dt = damp[p * n_p + t], st = stiff[p * n_p + t];
+        const double *restrict v = velocity + t * n, *restrict x = in->position + t * n;
+        if (dt != 0.0) {
+            for (int64_t col = 0; col < n; col++) {
+                d[col] += dt * v[col];
+            }
         }
-        row[col] = force[p * n + col] - d - s;
+        if (st != 0.0) {
+            for (int64_t col = 0; col < n; col++) {
+                s[col] += st * x[col];
+            }
+        }
+    }
+    for (int64_t col = 0; col < n; col++) {
+        row[col] = force[p * n + col] - d[col] - s[col];
+    }
+}
+
+/* edge (n_e x n_aug) := the rows X -> v_i' of item r, e_i . velocity (p in order, zero entries of e_i
+ * skipped: e_i reads theta and v only) */
+HOT_LOOP static void edge_velocities(const Soil *in, int64_t r, double *edge)
+{
+    const int64_t n_p = in->n_p, n = in->n_aug, n_e = in->n_e;
+    const double *velocity = in->velocity + r * n_p * n;
+    for (int64_t i = 0; i < n_e; i++) {
+        const double *e = in->directions + (r * n_e + i) * n_p;
+        double *restrict to = edge + i * n;
+        for (int64_t col = 0; col < n; col++) {
+            to[col] = 0.0;
+        }
+        for (int64_t p = 0; p < n_p; p++) {
+            if (e[p] == 0.0) {
+                continue;
+            }
+            const double *restrict v = velocity + p * n;
+            for (int64_t col = 0; col < n; col++) {
+                to[col] += e[p] * v[col];
+            }
+        }
     }
 }
 
@@ -65,7 +115,7 @@ static void force_row(const Soil *in, int64_t p, const double *stiff, const doub
  * entries, a massless one's from its first-order equation), with the rows of the yielding settlements
  * (s_i' = v_i') and of the lifted tops with a dashpot; 0 if a massless rotation has no damping */
 static int dynamics(const Soil *in, int64_t r, const double *stiff, const double *damp, const double *force,
-                    double *row)
+                    double *row, double *sums, double *edge)
 {
     const int64_t n_p = in->n_p, n = in->n_aug, n_a = in->n_a, n_e = in->n_e;
     double *velocity = in->velocity + r * n_p * n, *matrix = in->matrix + r * n * n;
@@ -80,7 +130,7 @@ static int dynamics(const Soil *in, int64_t r, const double *stiff, const double
         if (!(c_bb > 0.0)) {
             return 0;
         }
-        force_row(in, b, stiff, damp, force, velocity, row);
+        force_row(in, b, stiff, damp, force, velocity, row, sums);
         for (int64_t col = 0; col < n; col++) {
             velocity[b * n + col] = row[col] / c_bb;
         }
@@ -89,25 +139,19 @@ static int dynamics(const Soil *in, int64_t r, const double *stiff, const double
     for (int64_t t = 0; t < n_a; t++) {
         const int64_t a = in->massive[t];
         memcpy(matrix + t * n, velocity + a * n, n * sizeof(double));
-        force_row(in, a, stiff, damp, force, velocity, row);
+        force_row(in, a, stiff, damp, force, velocity, row, sums);
         for (int64_t col = 0; col < n; col++) {
             matrix[(n_a + t) * n + col] = row[col] / in->masses[r * n_p + a];
         }
     }
     matrix[(n - 3) * n + n - 2] = 1.0;
+    edge_velocities(in, r, edge);
     const unsigned char *lifted = in->lifted + r * n_e, *yielding = in->yielding + r * n_e;
     for (int64_t i = 0; i < n_e; i++) {
         const double k = in->k[r * n_e + i], c = in->c[r * n_e + i];
         const int64_t z = in->tops[i], s = in->settlements[i];
         if (yielding[i]) {
-            const double *e = in->directions + (r * n_e + i) * n_p;
-            for (int64_t col = 0; col < n; col++) {
-                double v = 0.0;
-                for (int64_t p = 0; p < n_p; p++) {
-                    v += e[p] * velocity[p * n + col];
-                }
-                matrix[s * n + col] = v;
-            }
+            memcpy(matrix + s * n, edge + i * n, n * sizeof(double));
         }
         if (lifted[i] && c > 0.0) {
             matrix[z * n + z] = -(k / c);
@@ -120,24 +164,17 @@ static int dynamics(const Soil *in, int64_t r, const double *stiff, const double
 /* the 2 n_e event rows of item r (yielding.py; > 0: the element switches): row i the lift-off (C) or the
  * recontact (L), row n_e + i the onset of yield (C) or the unloading (Y), -1 (the constant) where a row
  * cannot cross; dimensionless: forces by W, displacements by the static settlement, velocities by g / w_v */
-static void event_rows(const Soil *in, int64_t r, double *edge)
+static void event_rows(const Soil *in, int64_t r, const double *edge)
 {
-    const int64_t n_p = in->n_p, n = in->n_aug, n_e = in->n_e, one = n - 1;
+    const int64_t n = in->n_aug, n_e = in->n_e, one = n - 1;
     const double weight = in->scales[3 * r], settlement = in->scales[3 * r + 1], vertical = in->scales[3 * r + 2];
-    const double *velocity = in->velocity + r * n_p * n;
     const unsigned char *lifted = in->lifted + r * n_e, *yielding = in->yielding + r * n_e;
     double *events = in->events + r * 2 * n_e * n;
     for (int64_t i = 0; i < n_e; i++) {
         const double k = in->k[r * n_e + i], c = in->c[r * n_e + i], q = in->q[r * n_e + i];
-        const double *e = in->directions + (r * n_e + i) * n_p, *d = in->displacement + (r * n_e + i) * n;
+        const double *d = in->displacement + (r * n_e + i) * n;
         const int64_t s = in->settlements[i], top = c > 0.0 ? in->tops[i] : s;
-        for (int64_t col = 0; col < n; col++) {
-            double v = 0.0;
-            for (int64_t p = 0; p < n_p; p++) {
-                v += e[p] * velocity[p * n + col];
-            }
-            edge[col] = v;
-        }
+        const double *ev = edge + i * n;
         double *first = events + i * n, *second = events + (n_e + i) * n;
         for (int64_t col = 0; col < n; col++) {
             const double spring = d[col] - (col == s ? 1.0 : 0.0), never = col == one ? -1.0 : -0.0;
@@ -146,12 +183,12 @@ static void event_rows(const Soil *in, int64_t r, double *edge)
             } else if (yielding[i]) {
                 first[col] = never;
             } else {
-                first[col] = in->reaction ? (k * spring + c * edge[col]) / weight : spring / settlement;
+                first[col] = in->reaction ? (k * spring + c * ev[col]) / weight : spring / settlement;
             }
             if (!lifted[i] && !yielding[i]) {
                 second[col] = -(k * spring + q * (col == one ? 1.0 : 0.0)) / weight;
             } else {
-                second[col] = yielding[i] ? edge[col] / (settlement * vertical) : never;
+                second[col] = yielding[i] ? ev[col] / (settlement * vertical) : never;
             }
         }
     }
@@ -160,13 +197,15 @@ static void event_rows(const Soil *in, int64_t r, double *edge)
 static int soil_states(const Soil *in, double *scratch)
 {
     const int64_t n_p = in->n_p;
-    double *stiff = scratch, *damp = stiff + n_p * n_p, *force = damp + n_p * n_p, *row = force + n_p * in->n_aug;
+    const int64_t n = in->n_aug;
+    double *stiff = scratch, *damp = stiff + n_p * n_p, *force = damp + n_p * n_p, *row = force + n_p * n,
+           *sums = row + n, *edge = sums + 2 * n;
     for (int64_t r = 0; r < in->count; r++) {
         on_the_mat(in, r, stiff, damp, force);
-        if (!dynamics(in, r, stiff, damp, force, row)) {
+        if (!dynamics(in, r, stiff, damp, force, row, sums, edge)) {
             return 0;
         }
-        event_rows(in, r, row);
+        event_rows(in, r, edge);
     }
     return 1;
 }
@@ -234,7 +273,7 @@ static PyObject *py_soil_states(PyObject *self, PyObject *const *args, Py_ssize_
         PyErr_SetString(PyExc_ValueError, "soil_states: inconsistent array shapes");
         goto done;
     }
-    double *scratch = malloc((2 * in.n_p * in.n_p + (in.n_p + 1) * in.n_aug) * sizeof(double));
+    double *scratch = malloc((2 * in.n_p * in.n_p + (in.n_p + 3 + in.n_e) * in.n_aug) * sizeof(double));
     if (!scratch) {
         PyErr_NoMemory();
         goto done;
