@@ -201,14 +201,45 @@ static void block_of(const Soil *in, int64_t r, double length, double *block)
     }
 }
 
+/* the yielding settlements' columns of out (one level, E^T): their rows of E are d_i E - d_i + the unit row,
+ * so out[a][s_i] += sum_u out[a][reads[u]] d_i[reads[u]] - d_i[a], row by row; d_i reads the motion at the
+ * `count` entries `reads` only (theta and v), and a row with none of them, where no d_i reads, is left */
+static void yielding_columns(const Soil *in, const unsigned char *yielding, const int64_t *reads, int64_t count,
+                             double *out)
+{
+    const int64_t n = in->n_aug, n_e = in->n_e;
+    for (int64_t a = 0; a < n; a++) {
+        double *row = out + a * n;
+        double x[2] = {0.0, 0.0};
+        int any = 0;
+        for (int64_t u = 0; u < count; u++) {
+            x[u] = row[reads[u]];
+            any |= x[u] != 0.0 || reads[u] == a;
+        }
+        if (!any) {
+            continue;
+        }
+        for (int64_t i = 0; i < n_e; i++) {
+            if (!yielding[i]) {
+                continue;
+            }
+            const double *d = in->displacement + i * n;
+            double acc = 0.0;
+            for (int64_t u = 0; u < count; u++) {
+                acc += x[u] * d[reads[u]];
+            }
+            row[in->settlements[i]] += acc - d[a];
+        }
+    }
+}
+
 /* out[j] (n_aug x n_aug, zeros) := E_j^T of state r from the block exponentials levels[j] (nb x nb): the
  * core entries, the rows of the settlements in contact (the mat's two forces times k_i e_i), the unit
  * rows of the other settlements and tops, the relaxing tops in closed form, and the yielding
- * settlements' columns (their rows of E: d_i E - d_i + the unit row; yielding.py, _assemble) */
-static void assemble(const Soil *in, int64_t r, const double *levels, const int64_t *nonzero,
-                     const int64_t *nonzero_count)
+ * settlements' columns (yielding_columns; yielding.py, _assemble) */
+static void assemble(const Soil *in, int64_t r, const double *levels, const int64_t *reads, int64_t count)
 {
-    const int64_t n = in->n_aug, n_c = in->n_c, nb = n_c + 2, n_e = in->n_e, nm = in->n_motion;
+    const int64_t n = in->n_aug, n_c = in->n_c, nb = n_c + 2, n_e = in->n_e;
     const unsigned char *contact = in->contact + r * n_e, *yielding = in->yielding + r * n_e,
                         *relaxing = in->relaxing + r * n_e;
     for (int64_t j = 0; j <= in->levels; j++) {
@@ -238,21 +269,7 @@ static void assemble(const Soil *in, int64_t r, const double *levels, const int6
                 out[z * n + z] = 1.0;
             }
         }
-        for (int64_t i = 0; i < n_e; i++) {
-            if (!yielding[i]) {
-                continue;
-            }
-            const double *d = in->displacement + i * n;
-            const int64_t *at = nonzero + i * nm, s = in->settlements[i];
-            for (int64_t a = 0; a < n; a++) {
-                const double *row = out + a * n;
-                double acc = 0.0;
-                for (int64_t m = 0; m < nonzero_count[i]; m++) {
-                    acc += row[at[m]] * d[at[m]];
-                }
-                out[a * n + s] += acc - d[a];
-            }
-        }
+        yielding_columns(in, yielding, reads, count, out);
     }
 }
 
@@ -300,25 +317,30 @@ static int exponentials(const Soil *in, int64_t r, double *block, double *levels
     return 1;
 }
 
-/* every state's levels (exponentials), assembled into its slot of out; 0 if singular */
+/* every state's levels (exponentials), assembled into its slot of out; 0 if singular, -1 if the rows d_i
+ * read more than two motion entries (theta and v) */
 static int soil_operators(const Soil *in, double *scratch)
 {
     const int64_t nb = in->n_c + 2, nn = nb * nb, nm = in->n_motion, n = in->n_aug;
     double *block = scratch, *levels = scratch + nn, *work = levels + (in->levels + 1) * nn;
-    int64_t *nonzero = (int64_t *)(work + 7 * nn), *nonzero_count = nonzero + in->n_e * nm;
-    for (int64_t i = 0; i < in->n_e; i++) {  /* where each d_i reads the motion (theta and v only) */
-        nonzero_count[i] = 0;
-        for (int64_t m = 0; m < nm && m < n; m++) {
-            if (in->displacement[i * n + m] != 0.0) {
-                nonzero[i * nm + nonzero_count[i]++] = m;
+    int64_t reads[2], count = 0;  /* the motion entries the rows d_i read (theta and v) */
+    for (int64_t m = 0; m < nm && m < n; m++) {
+        int64_t i = 0;
+        while (i < in->n_e && in->displacement[i * n + m] == 0.0) {
+            i++;
+        }
+        if (i < in->n_e) {
+            if (count == 2) {
+                return -1;
             }
+            reads[count++] = m;
         }
     }
     for (int64_t r = 0; r < in->count; r++) {
         if (!exponentials(in, r, block, levels, work)) {
             return 0;
         }
-        assemble(in, r, levels, nonzero, nonzero_count);
+        assemble(in, r, levels, reads, count);
     }
     return 1;
 }
@@ -374,7 +396,7 @@ static PyObject *py_soil_operators(PyObject *self, PyObject *const *args, Py_ssi
         goto done;
     }
     const int64_t nn = (in.n_c + 2) * (in.n_c + 2);
-    double *scratch = malloc(((in.levels + 9) * nn + 2 * in.n_e * (in.n_motion + 1)) * sizeof(double));
+    double *scratch = malloc((in.levels + 9) * nn * sizeof(double));
     if (!scratch) {
         PyErr_NoMemory();
         goto done;
@@ -384,6 +406,10 @@ static PyObject *py_soil_operators(PyObject *self, PyObject *const *args, Py_ssi
     ok = soil_operators(&in, scratch);
     Py_END_ALLOW_THREADS
     free(scratch);
+    if (ok < 0) {
+        PyErr_SetString(PyExc_ValueError, "soil_operators: the displacement rows read more than two motion entries");
+        goto done;
+    }
     if (!ok) {
         PyErr_SetString(PyExc_ZeroDivisionError, "soil_operators: a singular Pade denominator");
         goto done;
