@@ -102,8 +102,35 @@ HOT_LOOP static int solve(double *p, double *x, int64_t n)
     return 1;
 }
 
+/* e := the [13/13] Pade approximant of exp(a) (n x n) from a and its powers a^2, a^4, a^6 in work[0..3 n^2)
+ * (work: 7 n x n matrices); 0 if the denominator is singular */
+static int pade(const double *a, double *e, double *work, int64_t n)
+{
+    const int64_t nn = n * n;
+    double *a2 = work, *a4 = work + nn, *a6 = work + 2 * nn, *t = work + 3 * nn, *u = work + 4 * nn,
+           *v = work + 5 * nn, *w = work + 6 * nn;
+    const double *b = PADE;
+    combine(a6, b[13], a4, b[11], a2, b[9], 0.0, t, n);
+    product(a6, t, w, n);
+    combine(a6, b[7], a4, b[5], a2, b[3], b[1], t, n);
+    for (int64_t q = 0; q < nn; q++) {
+        t[q] += w[q];
+    }
+    product(a, t, u, n);
+    combine(a6, b[12], a4, b[10], a2, b[8], 0.0, t, n);
+    product(a6, t, w, n);
+    combine(a6, b[6], a4, b[4], a2, b[2], b[0], v, n);
+    for (int64_t q = 0; q < nn; q++) {
+        v[q] += w[q];
+        t[q] = v[q] - u[q];
+        e[q] = v[q] + u[q];
+    }
+    return solve(t, e, n);
+}
+
 /* e := exp(a) (n x n) by scaling and squaring with the [13/13] Pade approximant (expm.py's algorithm;
- * work: 7 n x n scratch matrices); a is overwritten; 0 if the denominator is singular */
+ * work: 7 n x n scratch matrices, a^2, a^4 and a^6 of the scaled a left in its first three); a is
+ * overwritten; 0 if the denominator is singular */
 static int exponential(double *a, double *e, double *work, int64_t n)
 {
     const int64_t nn = n * n;
@@ -120,33 +147,15 @@ static int exponential(double *a, double *e, double *work, int64_t n)
     for (int64_t q = 0; q < nn; q++) {
         a[q] /= scale;
     }
-    double *a2 = work, *a4 = work + nn, *a6 = work + 2 * nn, *t = work + 3 * nn, *u = work + 4 * nn,
-           *v = work + 5 * nn, *w = work + 6 * nn;
-    const double *b = PADE;
-    product(a, a, a2, n);
-    product(a2, a2, a4, n);
-    product(a2, a4, a6, n);
-    combine(a6, b[13], a4, b[11], a2, b[9], 0.0, t, n);
-    product(a6, t, w, n);
-    combine(a6, b[7], a4, b[5], a2, b[3], b[1], t, n);
-    for (int64_t q = 0; q < nn; q++) {
-        t[q] += w[q];
-    }
-    product(a, t, u, n);
-    combine(a6, b[12], a4, b[10], a2, b[8], 0.0, t, n);
-    product(a6, t, w, n);
-    combine(a6, b[6], a4, b[4], a2, b[2], b[0], v, n);
-    for (int64_t q = 0; q < nn; q++) {
-        v[q] += w[q];
-        t[q] = v[q] - u[q];
-        e[q] = v[q] + u[q];
-    }
-    if (!solve(t, e, n)) {
+    product(a, a, work, n);
+    product(work, work, work + nn, n);
+    product(work, work + nn, work + 2 * nn, n);
+    if (!pade(a, e, work, n)) {
         return 0;
     }
     for (int s = 0; s < squarings; s++) {
-        product(e, e, w, n);
-        memcpy(e, w, nn * sizeof(double));
+        product(e, e, work + 6 * nn, n);
+        memcpy(e, work + 6 * nn, nn * sizeof(double));
     }
     return 1;
 }
@@ -307,8 +316,16 @@ static int exponentials(const Soil *in, int64_t r, double *block, double *levels
     if (s == top) {
         return 1;
     }
+    /* the finest block is level s's scaled by 2^-(top - s), unscaled by exponential() (its norm is below
+     * THETA_13 / 2): its powers are level s's scaled by powers of two, exactly the products they would be */
     block_of(in, r, in->h / ldexp(1.0, (int)top), block);
-    if (!exponential(block, levels + top * nn, work, nb)) {
+    const int d = (int)(top - s);
+    for (int64_t q = 0; q < nn; q++) {
+        work[q] = ldexp(work[q], -2 * d);
+        work[nn + q] = ldexp(work[nn + q], -4 * d);
+        work[2 * nn + q] = ldexp(work[2 * nn + q], -6 * d);
+    }
+    if (!pade(block, levels + top * nn, work, nb)) {
         return 0;
     }
     for (int64_t j = top - 1; j > s; j--) {
