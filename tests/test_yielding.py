@@ -41,16 +41,18 @@ def run(path, engine="exact", support="uplift", *overrides):
 @pytest.mark.parametrize("engine", ["exact", "approximate"])
 def test_a_capacity_no_force_reaches_gives_the_elastic_result(path, engine):
     """FS_v = 1e15: every element stays in C, and every peak, instant and energy term is the
-    elastic one to 1e-11 of the quantity's largest value (instants to 1e-10 s), with the same
+    elastic one to 3e-11 of the quantity's largest value (instants to 1e-10 s), with the same
     transitions. Not always bit for bit: the state gains the (zero)
     settlements s_i, so the exponentials of the larger matrices round differently in the last
     place, and on the Winkler mat the operators come from the exponential of the coupled block
     only (yielding.step_operators, tested in test_operators.py), which rounds
-    differently again; a bisection bracket that flips on such a change moves a located transition
-    within its last sliver h/2^12. The impacts (the reaction right after a recontact) and the
-    settlements (v - v_st, a difference of larger values) amplify it: checked to 1e-10. Measured:
-    impacts 3.5e-11, residual settlement 4.0e-12, reaction 2.0e-12, instants 1.4e-11 s, energy
-    2.6e-12 of the input (the approximate engine on the Winkler mat)."""
+    differently again (the compiled loop _soil_operators.c without fused multiply-adds: about twice the
+    rounding of numpy's products); a bisection bracket that flips on such a change moves a located
+    transition within its last sliver h/2^12. The impacts (the reaction right after a recontact) and the
+    settlements (v - v_st, a difference of larger values) amplify it: checked to 5e-10. Measured
+    (compiled loops; their numpy twins: 1.9e-10, 9.4e-12): impacts 2.3e-10 (the approximate engine on
+    the Winkler mat), rotation 1.0e-11, reaction 9.0e-12; before the compiled loop, residual settlement
+    4.0e-12, instants 1.4e-11 s, energy 2.6e-12 of the input."""
     elastic = run(path, engine)
     strong = run(path, engine, "uplift", "foundation.safety_factor=1e15")
     assert strong.details["yielding"]["yielded"] == [False] * len(strong.element_positions)
@@ -60,7 +62,7 @@ def test_a_capacity_no_force_reaches_gives_the_elastic_result(path, engine):
     assert all(not strong.peaks[name].any() for name in plastic)
     for name, values in elastic.peaks.items():
         scale = np.abs(elastic.peaks[name.removeprefix("residual_")]).max()  # a residual: against its peak
-        tolerance = (1e-10 if name == "impact" or "settlement" in name else 1e-11) * scale
+        tolerance = (5e-10 if name == "impact" or "settlement" in name else 3e-11) * scale
         np.testing.assert_allclose(strong.peaks[name], values, rtol=0, atol=tolerance, err_msg=name)
         np.testing.assert_allclose(strong.times[name], elastic.times[name], rtol=0, atol=1e-10, err_msg=name)
     assert strong.intermediates["transitions"] == elastic.intermediates["transitions"]

@@ -30,7 +30,9 @@ CHOICES = ("auto", "compiled", "numpy")
 #: the C extension modules of the package (setup.py builds them)
 EXTENSIONS = ("upliftcli.engines.exact._stepping", "upliftcli.engines.exact._signals",
               "upliftcli.engines.exact._peaks", "upliftcli.engines.exact._contact",
-              "upliftcli.engines.exact._energy", "upliftcli.engines.exact._levels", "upliftcli.motion._spectra")
+              "upliftcli.engines.exact._energy", "upliftcli.engines.exact._levels",
+              "upliftcli.engines.exact._soil_states", "upliftcli.engines.exact._soil_operators",
+              "upliftcli.motion._spectra")
 
 _chosen: list[str] = []  # the choice of `use`, innermost last
 _imported: dict[str, ModuleType | ImportError] = {}

@@ -346,10 +346,10 @@ def _block_operators(requests: list[tuple[Operators, int, bool]], built: list[tu
     by_model: dict[int, list[tuple[Operators, int, ContactState]]] = {}
     for slot in slots:
         by_model.setdefault(id(slot[0]), []).append(slot)
-    for group in by_model.values():
-        operators = group[0][0]
+    for group in by_model.values():  # stored one after another: their slots are one slice of ops
+        operators, first = group[0][0], group[0][1]
         step_operators(operators.space, [state for _, _, state in group], operators.h, LEVELS,
-                       [operators.ops[index] for _, index, _ in group])
+                       operators.ops[first:first + len(group)])
         for _, index, state in group:
             if state.story_sign is not None:
                 hold_settlements(operators.ops[index], operators.layout.plastic_indices[state.story_sign == 0])

@@ -5,16 +5,19 @@ An elastic element is in contact or lifted; with a bearing capacity it is in ela
 yields (Y) or is lifted (L) (yielding.py). Both are assembled here, by one vectorised function
 over the batch axis: the structure plus the springs and dashpots of the elements on the mat, the
 motion from statespace.dynamics, then the rows of the element tops z_i (and settlements s_i) and
-the event rows (elastic: _elastic_events here; with a capacity: yielding.event_rows).
+the event rows (elastic: _elastic_events here; with a capacity: _soil_states.c or its twin
+soil_states_numpy.py, yielding.py's rows).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from ...runtime import backend
 from . import stories
+from .kept import kept
+from .modal import vertical_period
 from .statespace import ContactState, Layout, StateSpace, dynamics, stacked
-from .yielding import event_rows
 
 
 def contact_states(terms: list[StateSpace], lifted: np.ndarray, criterion: str,
@@ -24,32 +27,69 @@ def contact_states(terms: list[StateSpace], lifted: np.ndarray, criterion: str,
     yielding[r] with a bearing capacity, all False if None; ignored without one; and the sign of each
     yielding story, sign[r] (R, n_y): +1, -1 or 0, all 0 if None; stories.py). The assembly is
     vectorised over the batch axis; every item gets the same bits as alone (products are per
-    item, sums along contiguous rows). Raises ZeroDivisionError if a massless rotation has no
+    item, sums along contiguous rows). With a bearing capacity, by the compiled loop _soil_states.c or its
+    twin soil_states_numpy.py (_soil_states). Raises ZeroDivisionError if a massless rotation has no
     damping in some item."""
     lay = terms[0].layout
     if lay.n_settlements:
         yielding = np.zeros_like(lifted) if yielding is None else np.asarray(yielding, dtype=bool)
+        matrix, velocity, events = _soil_states(terms, np.asarray(lifted, dtype=bool), yielding, criterion)
     else:
         yielding = None
-    stiffness, damping, forcing = _on_the_mat(terms, lifted, yielding)
-    velocity, matrix = dynamics(lay, stiffness, damping, forcing, stacked(terms, "masses"), terms[0].position)
-    if not lay.n_elements:
+        stiffness, damping, forcing = _on_the_mat(terms, lifted)
+        velocity, matrix = dynamics(lay, stiffness, damping, forcing, stacked(terms, "masses"), terms[0].position)
         events = np.zeros((len(terms), 0, lay.n_aug))
-    elif yielding is None:
-        _relaxing_tops(lay, matrix, lifted, terms)
-        events = _elastic_events(terms, lay, lifted, velocity, criterion)
-    else:
-        edge_velocity = stacked(terms, "directions") @ velocity  # (R, n_e, n_aug): X -> v_i'
-        rows, cols = np.nonzero(yielding)  # s_i' = v_i' while yielding
-        matrix[rows, lay.settlement_indices[cols]] = edge_velocity[rows, cols]
-        _relaxing_tops(lay, matrix, lifted, terms)
-        events = event_rows(terms, lay, lifted, yielding, edge_velocity, criterion)
+        if lay.n_elements:
+            _relaxing_tops(lay, matrix, lifted, terms)
+            events = _elastic_events(terms, lay, lifted, velocity, criterion)
     if lay.n_plastic:
         sign = np.zeros((len(terms), lay.n_plastic), dtype=np.int8) if sign is None else np.asarray(sign)
         events = np.concatenate((events, _yielding_stories(terms, lay, matrix, velocity, sign)), axis=1)
     return [ContactState(lifted[r].copy(), matrix[r], velocity[r], events[r],
                          None if yielding is None else yielding[r].copy(),
                          None if not lay.n_plastic else sign[r].copy()) for r in range(len(terms))]
+
+
+def _loops():
+    """The module that assembles the states of a foundation whose elements yield: _soil_states (C) or
+    soil_states_numpy (upliftcli.runtime.backend)."""
+    return backend.loops(f"{__package__}._soil_states", f"{__package__}.soil_states_numpy")
+
+
+def _soil_states(terms: list[StateSpace], lifted: np.ndarray, yielding: np.ndarray, criterion: str
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A (R, n_aug, n_aug), the velocity map (R, n_p, n_aug) and the 2 n_e event rows (R, 2 n_e, n_aug) of
+    patterns with a bearing capacity (soil_states_numpy.soil_states: the elements on the mat, the rows of
+    the yielding settlements and of the relaxing tops, yielding.py's event rows)."""
+    lay, count = terms[0].layout, len(terms)
+    if count == 1:
+        items = kept(terms[0], _soil_terms)
+    else:
+        items = tuple(np.concatenate(parts) for parts in zip(*(kept(t, _soil_terms) for t in terms), strict=True))
+    matrix = np.empty((count, lay.n_aug, lay.n_aug))
+    velocity = np.empty((count, lay.n_p, lay.n_aug))
+    events = np.empty((count, 2 * lay.n_elements, lay.n_aug))
+    massive, massless = kept(terms[0], _coordinates)
+    _loops().soil_states(*items[:4], terms[0].position, *items[4:], np.ascontiguousarray(lifted),
+                         np.ascontiguousarray(yielding), massive, massless, lay.z_indices, lay.settlement_indices,
+                         criterion == "reaction", matrix, velocity, events)
+    return matrix, velocity, events
+
+
+def _soil_terms(space: StateSpace) -> tuple[np.ndarray, ...]:
+    """The arguments of soil_states of one model with a batch axis of 1 (kept.kept): stiffness, damping,
+    forcing, masses, directions, element stiffness, damping and capacity, displacement rows, and its scales
+    (the weight, the static settlement and the bonded vertical frequency)."""
+    names = ("stiffness", "damping", "forcing", "masses", "directions", "element_stiffness", "element_damping",
+             "element_capacity", "displacement_rows")
+    scales = np.array([[space.weight, space.settlement, 2.0 * np.pi / vertical_period(space.model)]])
+    return (*(np.ascontiguousarray(getattr(space, name)[None]) for name in names), scales)
+
+
+def _coordinates(space: StateSpace) -> tuple[np.ndarray, np.ndarray]:
+    """The indices of the coordinates of p with and without mass (int64, kept.kept)."""
+    lay = space.layout
+    return np.asarray(lay.massive, dtype=np.int64), np.asarray(lay.massless, dtype=np.int64)
 
 
 def _yielding_stories(terms: list[StateSpace], lay: Layout, matrix: np.ndarray, velocity: np.ndarray,
@@ -66,41 +106,26 @@ def _yielding_stories(terms: list[StateSpace], lay: Layout, matrix: np.ndarray, 
     return rows
 
 
-def _on_the_mat(terms: list[StateSpace], lifted: np.ndarray, yielding: np.ndarray | None
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Stiffness, damping (R, n_p, n_p) and forcing (R, n_p, n_aug) of the structure with the elements on
-    the mat: k_i e_i^T e_i in elastic contact, c_i e_i^T e_i in contact or yielding; with a capacity
-    also k_i e_i^T in the column of s_i (the spring acts on v_i - s_i) and Q_i e_i^T in the column of
-    the constant 1 while yielding (yielding.py)."""
+def _on_the_mat(terms: list[StateSpace], lifted: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Stiffness, damping (R, n_p, n_p) and forcing (R, n_p, n_aug) of the structure with the elastic elements
+    on the mat: k_i e_i^T e_i and c_i e_i^T e_i in contact (with a capacity: soil_states_numpy)."""
     stiffness, damping, forcing = stacked(terms, "stiffness"), stacked(terms, "damping"), stacked(terms, "forcing")
     if not terms[0].layout.n_elements:
         return stiffness, damping, forcing
     e, k_el, c_el = stacked(terms, "directions"), stacked(terms, "element_stiffness"), stacked(terms, "element_damping")
     e_t = np.swapaxes(e, 1, 2)
-    contact = ~lifted if yielding is None else ~lifted & ~yielding
-    k_contact = np.where(contact, k_el, 0.0)
-    stiffness = stiffness + (e_t * k_contact[:, None, :]) @ e
+    stiffness = stiffness + (e_t * np.where(lifted, 0.0, k_el)[:, None, :]) @ e
     damping = damping + (e_t * np.where(lifted, 0.0, c_el)[:, None, :]) @ e
-    if yielding is None:
-        return stiffness, damping, forcing
-    lay = terms[0].layout
-    forcing = forcing.copy()
-    forcing[:, :, lay.settlement_indices] += e_t * k_contact[:, None, :]
-    q_el = stacked(terms, "element_capacity")
-    forcing[:, :, lay.index_one] += (e_t * np.where(yielding, q_el, 0.0)[:, None, :]).sum(axis=2)
     return stiffness, damping, forcing
 
 
 def _relaxing_tops(lay: Layout, matrix: np.ndarray, lifted: np.ndarray, terms: list[StateSpace]) -> None:
-    """The rows of the lifted element tops with a dashpot in A (in place): k_i (z_i - s_i) + c_i z_i' = 0
-    (s_i = 0 without a capacity: docs/theory.md section 4, 14.3); the other tops stay (z_i' = 0)."""
+    """The rows of the lifted element tops with a dashpot in A (in place): k_i z_i + c_i z_i' = 0
+    (docs/theory.md section 4; with a capacity: soil_states_numpy); the other tops stay (z_i' = 0)."""
     k_el, c_el = stacked(terms, "element_stiffness"), stacked(terms, "element_damping")
     rows, cols = np.nonzero(lifted & (c_el > 0.0))
-    rate = k_el[rows, cols] / c_el[rows, cols]
     z = lay.z_indices[cols]
-    matrix[rows, z, z] = -rate
-    if lay.n_settlements:
-        matrix[rows, z, lay.settlement_indices[cols]] = rate
+    matrix[rows, z, z] = -(k_el[rows, cols] / c_el[rows, cols])
 
 
 def _elastic_events(terms: list[StateSpace], lay: Layout, lifted: np.ndarray, velocity: np.ndarray,
