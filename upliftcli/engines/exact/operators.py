@@ -16,6 +16,7 @@ from .level_operators import LEVELS, elastic_stories, hold_settlements, stacked_
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 from .stories import story_bits, valid_story_pattern
+from .story_requests import add_quick, quick_requests
 from .story_states import StoryBase, add_bases, matrix_key, soil_rows, state_of
 from .yielding import pattern_bits, step_operators, valid_pattern
 
@@ -48,6 +49,7 @@ class Operators:
         # runtime/process.keep_freed_memory, neither zeroed nor faulted in again; the states not yet stored
         # are never read); the others' start as zeros, mapped only as states are stored
         self.fill = None if self.layout.n_plastic and not block_operators(self.layout) else 0.0
+        self.quick = self.fill is None  # a state of yielding stories may be built by story_requests.py
         self.ops = _reserve((self.capacity, LEVELS + 1, n_aug, n_aug), self.fill)
         self.events = _reserve((self.capacity, n_e, n_aug), self.fill)
         self.event_rates = _reserve((self.capacity, n_e, n_aug), self.fill)
@@ -203,7 +205,11 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
     each, vectorised over the requests that share a layout: one batched assembly
     (patterns.contact_states), one stacked expm and stacked squarings (the operators of states
     where a story yields: level_operators.state_levels, each written in place). Each item gets the
-    same bits as built alone. Returns the new state index, or the error, per request."""
+    same bits as built alone (the one request of each yielding-story run: story_requests.py, without this
+    batch machinery). Returns the new state index, or the error, per request."""
+    quick = quick_requests(requests)
+    if quick is not None:
+        return add_quick(quick)
     out: list[int | AnalysisError] = [AnalysisError(_NO_INERTIA)] * len(requests)
     for members in _groups(requests, out).values():
         built = _built_states(requests, members)
