@@ -82,3 +82,38 @@ def test_a_quick_state_is_the_state_add_states_builds_bit_for_bit(support, choic
         for name in FIELDS:
             assert np.array_equal(getattr(got, name), getattr(want, name)), name
     assert quick.by_matrix == slow.by_matrix
+
+
+@pytest.mark.parametrize("zero_rows", [0, 2])
+def test_the_compiled_story_rows_are_its_numpy_twin(zero_rows):
+    """_levels.story_rows and levels_numpy.story_rows write the same rows, event rows, A^T and fields for random
+    story bits on a random table (copies only: equal bit for bit); a pick outside the table is refused."""
+    if "upliftcli.engines.exact._levels" not in backend.built():
+        pytest.skip("the C extension _levels is not built")
+    from upliftcli.engines.exact import _levels, levels_numpy
+
+    rng = np.random.default_rng(zero_rows)
+    n, n_y, n_s = 7, 3, 2
+    n_e = n_s + 2 * n_y
+    table = rng.normal(size=(3 * n + n_s + 6 * n_y, n))
+    base = np.concatenate((np.arange(n), 3 * n + np.arange(n_e)))  # as story_states._picks: the last n_y rows of A
+    step = np.concatenate((np.where(np.arange(n) >= n - n_y, n, 0), np.zeros(n_s), np.full(2 * n_y, 2 * n_y)))
+    story = np.concatenate((np.zeros(n - n_y), np.arange(n_y), np.zeros(n_s), np.repeat(np.arange(n_y), 2)))
+    picks = np.stack((base, step, story)).astype(np.int64)
+    for bits in rng.integers(0, 1 << (2 * n_y), 20).tolist():
+        bits &= ~((bits >> 1) & int("01" * n_y, 2))  # no story both ways
+        out = []
+        for module in (_levels, levels_numpy):
+            arrays = (np.empty((n + n_e, n)), np.empty((n_e, n)), np.empty((n, n)), np.empty(n_y, dtype=np.int64))
+            module.story_rows(bits, table, picks, *arrays[:3], arrays[3], zero_rows)
+            out.append(arrays)
+        for got, want in zip(*out, strict=True):
+            assert np.array_equal(got, want)
+        rows, events, matrix_t, fields = out[0]
+        assert np.array_equal(matrix_t, rows[:n].T) and not events[:zero_rows].any()
+        assert fields.tolist() == [(bits >> (2 * s)) & 3 for s in range(n_y)]
+    wrong = picks.copy()
+    wrong[0, 0] = table.shape[0]
+    with pytest.raises(ValueError, match="story_rows"):
+        _levels.story_rows(0, table, wrong, np.empty((n + n_e, n)), np.empty((n_e, n)), np.empty((n, n)),
+                           np.empty(n_y, dtype=np.int64), 0)

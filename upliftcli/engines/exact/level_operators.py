@@ -30,6 +30,15 @@ def state_levels(matrix: np.ndarray, h: float, ops: np.ndarray) -> None:
     backend.loops(f"{__package__}._levels", f"{__package__}.levels_numpy").state_levels(matrix, float(h), ops)
 
 
+def story_rows(bits: int, table: np.ndarray, picks: np.ndarray, rows: np.ndarray, events: np.ndarray,
+               matrix_t: np.ndarray, fields: np.ndarray, zero_rows: int) -> None:
+    """The rows of one state of yielding stories taken from its base's table, written into rows, events (a
+    state's slot of Operators.events) and matrix_t (of Operators.matrices), its stories' fields into fields
+    (levels_numpy.story_rows): _levels.c or levels_numpy.py, as upliftcli.runtime.backend chooses."""
+    backend.loops(f"{__package__}._levels", f"{__package__}.levels_numpy").story_rows(
+        bits, table, picks, rows, events, matrix_t, fields, zero_rows)
+
+
 def stacked_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
     """E_j^T = expm(A h / 2^j)^T, j = 0..LEVELS, of a stack of A^T (R, n, n) with steps h (R, 1, 1):
     the finest level by expm, the coarser ones by squaring it, level 0 by its own expm. Transposed

@@ -78,9 +78,7 @@ class Operators:
         """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS (None: the caller
         writes them into self.ops[index] itself, with no copy between: until then it holds zeros, or
         nothing defined where the arrays are not filled: self.fill)."""
-        index = len(self.contact)
-        if index == self.capacity:
-            self._grow()
+        index = self.slot()
         if ops is not None:
             self.ops[index] = ops
         if events:
@@ -93,6 +91,17 @@ class Operators:
         elif self.fill is None:  # no event rows: zero, as in arrays that start as zeros
             self.events[index] = self.event_rates[index] = 0.0
         self.matrices[index] = state.matrix.T
+        return self.keep(index, pattern, state)
+
+    def slot(self) -> int:
+        """The index of the next state to store, with room for it (_grow)."""
+        index = len(self.contact)
+        if index == self.capacity:
+            self._grow()
+        return index
+
+    def keep(self, index: int, pattern: int, state: ContactState) -> int:
+        """Keep the state whose operators, event rows, rates and A^T are in slot `index` (slot()); its index."""
         self.patterns[index] = pattern
         self.contact.append(state)
         return index
@@ -239,8 +248,8 @@ def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tupl
 
 def _story_yields(key: tuple | None) -> bool:
     """Whether some story yields in a state whose A has the key `key` (story_states.matrix_key: its second item
-    the bytes of where the stories yield; None: elastic stories): its operators then come from state_levels."""
-    return key is not None and 1 in key[1]
+    the bits of where the stories yield; None: elastic stories): its operators then come from state_levels."""
+    return key is not None and key[1] != 0
 
 
 def _stored(request: tuple[Operators, int, bool], state: ContactState, key: tuple | None, ops: np.ndarray | None
@@ -291,7 +300,7 @@ def _shared_operators(requests: list[tuple[Operators, int, bool]], built: list[t
         if state.story_sign is None:
             fresh.append((k, state, None))
             continue
-        key = matrix_key(pattern, operators.layout, state)
+        key = matrix_key(pattern, operators.layout)
         if key in operators.by_matrix or (id(operators), key) in first:
             copies.append((k, state, key))
             continue

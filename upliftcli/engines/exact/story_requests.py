@@ -11,14 +11,15 @@ states add_states builds together would differ). The others, and any error, stay
 
 from __future__ import annotations
 
+from types import ModuleType
 from typing import Protocol
 
 import numpy as np
 
 from ...runtime import backend
 from .statespace import ContactState, Layout
-from .stories import sign_of_fields, story_fields, valid_story_pattern
-from .story_states import StoryBase, soil_rows
+from .stories import sign_of_fields, valid_story_pattern
+from .story_states import StoryBase, matrix_key, soil_rows
 from .yielding import valid_pattern
 
 
@@ -26,19 +27,25 @@ class QuickOperators(Protocol):
     """What a quick request reads and writes of operators.Operators."""
 
     quick: bool
+    uplift: bool
     layout: Layout
     h: float
     most_states: int
     ops: np.ndarray
+    events: np.ndarray
+    event_rates: np.ndarray
+    matrices: np.ndarray
     contact: list[ContactState]
     bases: dict[int, StoryBase]
-    by_matrix: dict[tuple[int, bytes], int]
+    by_matrix: dict[tuple[int, int], int]
 
-    def store(self, pattern: int, state: ContactState, ops: np.ndarray | None, events: bool) -> int: ...
+    def slot(self) -> int: ...
+
+    def keep(self, index: int, pattern: int, state: ContactState) -> int: ...
 
 
-#: a qualified request: (operators, pattern, with event rows, its base, its stories' fields, key of its A)
-Quick = tuple[QuickOperators, int, bool, StoryBase, np.ndarray, tuple[int, bytes]]
+#: a qualified request: (operators, pattern, the base of its foundation pattern, the key of its A)
+Quick = tuple[QuickOperators, int, StoryBase, tuple[int, int]]
 
 
 def quick_requests(requests: list[tuple[QuickOperators, int, bool]]) -> list[Quick] | None:
@@ -56,20 +63,19 @@ def quick_requests(requests: list[tuple[QuickOperators, int, bool]]) -> list[Qui
 
 
 def quick_request(operators: QuickOperators, pattern: int, events: bool) -> Quick | None:
-    """(operators, pattern, events, base, the fields of the stories' bits, key of A) of a request that
-    qualifies (module docstring), else None."""
-    lay = operators.layout
-    n_soil = soil_rows(lay)
-    soil = pattern & ((1 << n_soil) - 1)
-    base = operators.bases.get(soil)
-    if base is None or not events or not _room(operators) or not _valid(pattern, lay, n_soil):
+    """(operators, pattern, base, key of A: story_states.matrix_key) of a request that qualifies (module
+    docstring), else None."""
+    base = operators.bases.get(pattern & ((1 << soil_rows(operators.layout)) - 1))
+    if base is None or not (events and _room(operators)):
         return None
-    fields = story_fields(pattern, n_soil, lay.n_plastic)
-    yields = fields != 0
-    key = (soil, yields.tobytes())  # story_states.matrix_key
-    if key not in operators.by_matrix and not yields.any():  # the elastic stories' A: add_states' stacked expm
-        return None
-    return operators, pattern, events, base, fields, key
+    key = matrix_key(pattern, operators.layout)
+    return (operators, pattern, base, key) if _buildable(operators, pattern, base, key) else None
+
+
+def _buildable(operators: QuickOperators, pattern: int, base: StoryBase, key: tuple[int, int]) -> bool:
+    """Whether the pattern is a state (_valid) whose A has a story yielding or was built before (the elastic
+    stories' A is add_states': a stacked exponentiation)."""
+    return _valid(pattern, operators.layout, base.soil_rows) and (key[1] != 0 or key in operators.by_matrix)
 
 
 def _room(operators: QuickOperators) -> bool:
@@ -90,19 +96,24 @@ def add_quick(requests: list[Quick]) -> list[int]:
     return [_added(request, levels) for request in requests]
 
 
-def _added(request: Quick, levels) -> int:
-    """Store the state of one qualified request: with the operators of the state of the same A, or with its
-    own (levels.state_levels, written into its slot); its index."""
-    operators, pattern, events, base, fields, key = request
-    n_aug = operators.layout.n_aug
-    picks = base.pick_base + base.pick_step * fields.take(base.pick_story)  # story_states.story_state
+def _added(request: Quick, levels: ModuleType) -> int:
+    """Store the state of one qualified request: its A and event rows from its base's table, its event rows, their
+    rates and A^T in its slot (levels.story_rows), and the operators of the state of the same A or its own
+    (levels.state_levels, written into the slot); its index."""
+    operators, pattern, base, key = request
+    n_aug, index = operators.layout.n_aug, operators.slot()
+    rows = np.empty((base.picks.shape[1], n_aug))
+    fields = np.empty(operators.layout.n_plastic, dtype=np.int64)
+    levels.story_rows(pattern >> base.soil_rows, base.table, base.picks, rows, operators.events[index],
+                      operators.matrices[index], fields, 0 if operators.uplift else base.soil_rows)
+    matrix = rows[:n_aug]
+    np.matmul(operators.events[index], matrix, out=operators.event_rates[index])
     source = operators.by_matrix.get(key)
-    matrix = base.matrices.take(picks[:n_aug], axis=0) if source is None else operators.contact[source].matrix
-    state = ContactState(base.state.lifted, matrix, base.state.velocity, base.events.take(picks[n_aug:], axis=0),
-                         base.state.yielding, sign_of_fields(fields))
-    if source is not None:
-        return operators.store(pattern, state, operators.ops[source], events)
-    index = operators.store(pattern, state, None, events)
-    levels.state_levels(matrix, float(operators.h), operators.ops[index])
-    operators.by_matrix[key] = index
-    return index
+    if source is None:
+        levels.state_levels(matrix, float(operators.h), operators.ops[index])
+        operators.by_matrix[key] = index
+    else:  # the same A as a state built before: its operators, bit for bit
+        operators.ops[index] = operators.ops[source]
+    state = ContactState(base.state.lifted, matrix, base.state.velocity, rows[n_aug:], base.state.yielding,
+                         sign_of_fields(fields))
+    return operators.keep(index, pattern, state)
