@@ -117,3 +117,22 @@ def test_the_compiled_story_rows_are_its_numpy_twin(zero_rows):
     with pytest.raises(ValueError, match="story_rows"):
         _levels.story_rows(0, table, wrong, np.empty((n + n_e, n)), np.empty((n_e, n)), np.empty((n, n)),
                            np.empty(n_y, dtype=np.int64), 0)
+
+
+def test_requests_of_several_runs_are_built_as_each_alone(monkeypatch):
+    """Requests of two runs in one call (a sweep's runs stepped together) are built here, each as built alone;
+    two requests of one run go to add_states' batch machinery (the order of its states would differ)."""
+    space = exact_model(load_deck(TWO, list(STRENGTH)).system, "rigid", ExactOptions())
+    patterns = _patterns(space.layout, np.random.default_rng(7), 12)
+    alone, _ = _built(space, False, patterns, True, monkeypatch)
+    runs = [Operators(space, 0.01, "reaction", False) for _ in range(2)]
+    add_states([(ops, 0, True) for ops in runs])
+    for pattern in patterns:
+        assert story_requests.quick_requests([(ops, pattern, True) for ops in runs]) is not None
+        add_states([(ops, pattern, True) for ops in runs])
+    n = len(alone.contact)
+    for ops in runs:
+        for name in ("ops", "events", "event_rates", "matrices", "patterns"):
+            assert np.array_equal(getattr(ops, name)[:n], getattr(alone, name)[:n]), name
+    twice = [(runs[0], patterns[0], True), (runs[0], patterns[1], True)]
+    assert story_requests.quick_requests(twice) is None

@@ -59,7 +59,7 @@ class Operators:
         # yielding stories (story_states.py): the base of each foundation pattern, and the state whose
         # operators a state with the same A copies, by (foundation pattern, where the stories yield)
         self.bases: dict[int, StoryBase] = {}
-        self.by_matrix: dict[tuple[int, bytes], int] = {}
+        self.by_matrix: dict[tuple[int, int], int] = {}
 
     def lifted(self, pattern: int) -> np.ndarray:
         """Where the elements are lifted in the pattern (bits 0 .. n_e - 1: yielding.pattern_bits)."""
