@@ -136,3 +136,18 @@ def test_requests_of_several_runs_are_built_as_each_alone(monkeypatch):
             assert np.array_equal(getattr(ops, name)[:n], getattr(alone, name)[:n]), name
     twice = [(runs[0], patterns[0], True), (runs[0], patterns[1], True)]
     assert story_requests.quick_requests(twice) is None
+
+
+def test_the_elastic_stories_of_states_built_together_are_those_built_alone():
+    """The first round of a yielding uplift run builds three states where no story yields (in contact, each edge
+    lifted) together: their elastic building's operators from one stacked exponentiation
+    (level_operators.elastic_blocks) are those each state gets built alone, bit for bit."""
+    space = exact_model(load_deck(TWO, list(STRENGTH)).system, "uplift", ExactOptions())
+    patterns = [0, 1, 1 << (space.layout.n_elements - 1)]
+    together = Operators(space, 0.01, "reaction")
+    add_states([(together, pattern, True) for pattern in patterns])
+    for k, pattern in enumerate(patterns):
+        alone = Operators(space, 0.01, "reaction")
+        (index,) = add_states([(alone, pattern, True)])
+        assert np.array_equal(together.ops[k], alone.ops[index])
+        assert np.array_equal(together.event_rates[k], alone.event_rates[index])

@@ -12,7 +12,7 @@ import numpy as np
 
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_OPERATOR_BYTES
-from .level_operators import LEVELS, elastic_stories, hold_settlements, stacked_operators, state_levels
+from .level_operators import LEVELS, elastic_blocks, elastic_stories, hold_settlements, stacked_operators, state_levels
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 from .stories import story_bits, valid_story_pattern
@@ -240,10 +240,18 @@ def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tupl
                    out: list[int | AnalysisError]) -> None:
     """Store the states `built` ((index, state, key of A: _shared_operators)): those where a story yields with
     their operators written in place (level_operators.state_levels: the Taylor polynomial and squarings, in
-    C), the others' from one stacked exponentiation (_level_operators), in the order of `built`."""
-    stacked = iter(_level_operators(requests, [(k, state) for k, state, key in built if not _story_yields(key)]))
+    C), the others' from one stacked exponentiation (_level_operators; those of yielding stories where none
+    yields with the elastic building's from one more: level_operators.elastic_blocks), in the order of
+    `built`."""
+    plain = [(k, state) for k, state, key in built if not _story_yields(key)]
+    stacked = iter(_level_operators(requests, plain))
+    blocks = iter(elastic_blocks([state for _, state in plain], requests[built[0][0]][0].layout,
+                                 [requests[k][0].h for k, _ in plain]))
     for k, state, key in built:
-        out[k] = _stored(requests[k], state, key, None if _story_yields(key) else next(stacked))
+        if _story_yields(key):
+            out[k] = _stored(requests[k], state, key, None)
+        else:
+            out[k] = _stored(requests[k], state, key, _held(next(stacked), state, requests[k][0], next(blocks)))
 
 
 def _story_yields(key: tuple | None) -> bool:
@@ -254,28 +262,27 @@ def _story_yields(key: tuple | None) -> bool:
 
 def _stored(request: tuple[Operators, int, bool], state: ContactState, key: tuple | None, ops: np.ndarray | None
             ) -> int:
-    """Store a state with the operators of the stacked exponentiation `ops` (its constant entries held: _held),
+    """Store a state with the operators `ops` (of the stacked exponentiation, its constant entries held: _held),
     or (None) with those level_operators.state_levels writes into its slot; its index (kept under its key of A
     where it has one)."""
     operators, pattern, events = request
+    index = operators.store(pattern, state, ops, events)
     if ops is None:
-        index = operators.store(pattern, state, None, events)
         state_levels(state.matrix, operators.h, operators.ops[index])
-    else:
-        index = operators.store(pattern, state, _held(ops, state, operators), events)
     if key is not None:
         operators.by_matrix.setdefault(key, index)
     return index
 
 
-def _held(ops: np.ndarray, state: ContactState, operators: Operators) -> np.ndarray:
+def _held(ops: np.ndarray, state: ContactState, operators: Operators, block: np.ndarray | None) -> np.ndarray:
     """The stacked exponentiation's operators of a state with the entries that stay constant in it held
     exactly: the settlements of elements that do not yield, the plastic drifts of elastic stories (and a
-    state with yielding stories where none yields: level_operators.elastic_stories)."""
+    state with yielding stories where none yields: level_operators.elastic_stories, with the elastic
+    building's operators `block`)."""
     if state.yielding is not None:
         hold_settlements(ops, operators.layout.settlement_indices[~state.yielding])
     if state.story_sign is not None:
-        elastic_stories(ops, state, operators.layout, operators.h)
+        elastic_stories(ops, state, operators.layout, operators.h, block)
     return ops
 
 

@@ -7,7 +7,8 @@ event rows and those candidate rows) is assembled once (patterns.contact_states)
 is then a copy of its A with some rows set and its event rows chosen: the same arrays, bit for bit,
 as contact_states assembles for it (tests/test_story_states.py). The signs P and N of a story give
 the same A, so the states whose stories yield in the same places share their step operators
-(operators.add_states copies them).
+(operators.add_states copies them). A yielding run's one request per round is built by story_requests.py
+from the base's table (StoryBase.table, .picks) in one compiled call (level_operators.story_rows).
 """
 
 from __future__ import annotations
