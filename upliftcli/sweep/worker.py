@@ -8,7 +8,7 @@ from __future__ import annotations
 import functools
 import json
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 import numpy as np
@@ -237,7 +237,7 @@ def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list
     if emit is None:
         emit = _ignore
     rows: dict[int, dict[str, Any]] = {}
-    for members in _batches(chunk, rows, emit).values():
+    for members in _parts(_batches(chunk, rows, emit).values()):
         emit(("start", [case.key for case, _ in members]))
         _run_batch(members, functools.partial(_deliver_row, members, rows, emit))
     return [rows[case.index] for case in chunk.cases]
@@ -259,6 +259,27 @@ def _batches(chunk: Chunk, rows: dict[int, dict[str, Any]], emit: Callable[[tupl
             continue
         batches.setdefault(_batch_key(case), []).append((case, deck))
     return batches
+
+
+#: the runs of buildings whose stories yield that the exact engine steps together at most. Each holds its
+#: own step operators (about 40 MB for the ten-story example, against 2 MB elastic), and they share none:
+#: the stepping rounds of a batch build each run's states apart. Five of them together (a chunk of 16 cases on
+#: three supports) cost 0.2-0.4 s of page faults more than two in a 100-case sweep; sixteen (one support)
+#: 0.8 s, a third of the sweep (benchmarks/bench_sweep_split.py). Elastic runs share their operators' work.
+YIELDING_BATCH = 2
+
+
+def _parts(batches: Iterable[list[tuple[Case, Deck]]]) -> list[list[tuple[Case, Deck]]]:
+    """The batches to run, those with a building whose stories yield in parts of at most YIELDING_BATCH cases
+    (results are the same in any batch, bit for bit: engines/exact/engine.iter_batch)."""
+    return [part for members in batches for part in _split(members)]
+
+
+def _split(members: list[tuple[Case, Deck]]) -> list[list[tuple[Case, Deck]]]:
+    """One batch as it is, or in parts of YIELDING_BATCH cases if a building of it yields."""
+    if not any(deck.system.building.yields for _, deck in members):
+        return [members]
+    return [members[i:i + YIELDING_BATCH] for i in range(0, len(members), YIELDING_BATCH)]
 
 
 def _case_deck(chunk: Chunk, case: Case, decks: dict[str, Deck]) -> Deck:
