@@ -6,6 +6,7 @@ and, under "record_rows", each record's row (written to the tables with --per-re
 from __future__ import annotations
 
 import functools
+import itertools
 import json
 import os
 from collections.abc import Callable, Iterable, Sequence
@@ -20,6 +21,7 @@ from ..engines.quantities import DESIGN, QUANTITIES, ROCKING, SCALARS, YIELDING,
 from ..engines.simplified import effective_properties
 from ..engines.suite_result import SuiteResult
 from ..errors import AnalysisError, InputError
+from .cases import is_structure_field
 from .chunks import Chunk
 from .plan import Case, ground_motion_key
 
@@ -270,16 +272,35 @@ YIELDING_BATCH = 2
 
 
 def _parts(batches: Iterable[list[tuple[Case, Deck]]]) -> list[list[tuple[Case, Deck]]]:
-    """The batches to run, those with a building whose stories yield in parts of at most YIELDING_BATCH cases
-    (results are the same in any batch, bit for bit: engines/exact/engine.iter_batch)."""
+    """The batches to run, those with a building whose stories yield in parts of at most YIELDING_BATCH
+    analyses (results are the same in any batch, bit for bit: engines/exact/engine.iter_batch)."""
     return [part for members in batches for part in _split(members)]
 
 
 def _split(members: list[tuple[Case, Deck]]) -> list[list[tuple[Case, Deck]]]:
-    """One batch as it is, or in parts of YIELDING_BATCH cases if a building of it yields."""
+    """One batch as it is, or, if a building of it yields, in parts of YIELDING_BATCH analyses: the cases
+    of one analysis (_analysis_key) in the same part."""
     if not any(deck.system.building.yields for _, deck in members):
         return [members]
-    return [members[i:i + YIELDING_BATCH] for i in range(0, len(members), YIELDING_BATCH)]
+    groups = _analyses(members)
+    return [list(itertools.chain.from_iterable(groups[i:i + YIELDING_BATCH]))
+            for i in range(0, len(groups), YIELDING_BATCH)]
+
+
+def _analyses(members: list[tuple[Case, Deck]]) -> list[list[tuple[Case, Deck]]]:
+    """The cases of a batch by analysis (_analysis_key), in the order first met."""
+    analyses: dict[Any, list[tuple[Case, Deck]]] = {}
+    for member in members:
+        analyses.setdefault(_analysis_key(member[0]), []).append(member)
+    return list(analyses.values())
+
+
+def _analysis_key(case: Case) -> Any:
+    """What tells the analyses of a batch apart: on a rigid base the varied values but the foundation's (the
+    engine analyses a building once whatever its foundation), else the case."""
+    if case.support != "rigid":
+        return case.index
+    return json.dumps([list(o) for o in case.overrides if not is_structure_field(o[0])], default=str)
 
 
 def _case_deck(chunk: Chunk, case: Case, decks: dict[str, Deck]) -> Deck:
