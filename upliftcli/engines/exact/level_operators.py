@@ -30,6 +30,15 @@ def state_levels(matrix: np.ndarray, h: float, ops: np.ndarray) -> None:
     backend.loops(f"{__package__}._levels", f"{__package__}.levels_numpy").state_levels(matrix, float(h), ops)
 
 
+def story_rows(bits: int, table: np.ndarray, picks: np.ndarray, rows: np.ndarray, events: np.ndarray,
+               matrix_t: np.ndarray, fields: np.ndarray, zero_rows: int) -> None:
+    """The rows of one state of yielding stories taken from its base's table, written into rows, events (a
+    state's slot of Operators.events) and matrix_t (of Operators.matrices), its stories' fields into fields
+    (levels_numpy.story_rows): _levels.c or levels_numpy.py, as upliftcli.runtime.backend chooses."""
+    backend.loops(f"{__package__}._levels", f"{__package__}.levels_numpy").story_rows(
+        bits, table, picks, rows, events, matrix_t, fields, zero_rows)
+
+
 def stacked_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:
     """E_j^T = expm(A h / 2^j)^T, j = 0..LEVELS, of a stack of A^T (R, n, n) with steps h (R, 1, 1):
     the finest level by expm, the coarser ones by squaring it, level 0 by its own expm. Transposed
@@ -51,14 +60,41 @@ def hold_settlements(ops: np.ndarray, constant: np.ndarray) -> None:
     ops[:, constant, constant] = 1.0
 
 
-def elastic_stories(ops: np.ndarray, state: ContactState, lay: Layout, h: float) -> None:
+def elastic_stories(ops: np.ndarray, state: ContactState, lay: Layout, h: float, block: np.ndarray | None = None
+                    ) -> None:
     """The step operators (E^T per level, in place) of a state with yielding stories where none yields: the
     plastic drifts held exactly (hold_settlements), and the operators of the other entries from the
     exponential of A without the plastic drifts: the matrix and the operators of the elastic building, bit
-    for bit (the plastic drifts, zero until a story yields, do not change its history: docs/theory.md 15.4)."""
+    for bit (the plastic drifts, zero until a story yields, do not change its history: docs/theory.md 15.4);
+    block: those operators where computed already (elastic_blocks), else computed here."""
     hold_settlements(ops, lay.plastic_indices[state.story_sign == 0])
     if np.any(state.story_sign != 0):
         return
-    keep = np.delete(np.arange(lay.n_aug), lay.plastic_indices)  # not setdiff1d: it imports numpy.ma (8 ms)
-    reduced = state.matrix[np.ix_(keep, keep)].T
-    ops[:, keep[:, None], keep[None, :]] = stacked_operators(reduced[None], np.array([[[h]]]))[0]
+    keep = _kept(lay)
+    if block is None:
+        block = elastic_blocks([state], lay, [h])[0]
+    ops[:, keep[:, None], keep[None, :]] = block
+
+
+def elastic_blocks(states: list[ContactState], lay: Layout, h: list[float]) -> list[np.ndarray | None]:
+    """The operators (LEVELS + 1, n, n) of A without the plastic drifts of each state with yielding stories where
+    none yields (their steps h), in one stacked exponentiation: each the same bits as alone (stacked_operators
+    exponentiates and squares each matrix of the stack by itself); None for a state of an elastic building."""
+    wanted = [i for i, state in enumerate(states) if state.story_sign is not None]
+    out: list[np.ndarray | None] = [None] * len(states)
+    if wanted:
+        blocks = _reduced_operators([states[i].matrix for i in wanted], _kept(lay), [h[i] for i in wanted])
+        for i, block in zip(wanted, blocks, strict=True):
+            out[i] = block
+    return out
+
+
+def _reduced_operators(matrices: list[np.ndarray], keep: np.ndarray, h: list[float]) -> np.ndarray:
+    """stacked_operators of the matrices restricted to the entries `keep`, with steps h."""
+    reduced = np.stack([matrix[np.ix_(keep, keep)].T for matrix in matrices])
+    return stacked_operators(reduced, np.array(h)[:, None, None])
+
+
+def _kept(lay: Layout) -> np.ndarray:
+    """The indices of the entries other than the plastic drifts."""
+    return np.delete(np.arange(lay.n_aug), lay.plastic_indices)  # not setdiff1d: it imports numpy.ma (8 ms)

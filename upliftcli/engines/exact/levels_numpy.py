@@ -21,6 +21,8 @@ import math
 
 import numpy as np
 
+from .stories import story_fields
+
 #: the degree of the Taylor polynomial, and the largest eta it is used at: the remainder, at most
 #: eta^10 / 10!, is then below 2.8e-17
 TAYLOR_DEGREE = 9
@@ -89,3 +91,18 @@ def _taylor(a: np.ndarray, a2: np.ndarray, a3: np.ndarray) -> np.ndarray:
     inner = product(a3, (c[7] * a + c[8] * a2 + c[9] * a3)[:m])
     identity = np.eye(a.shape[0], m)
     return identity + a + c[2] * a2 + c[3] * a3 + product(a3, (c[4] * a + c[5] * a2 + c[6] * a3 + inner)[:m])
+
+
+def story_rows(bits: int, table: np.ndarray, picks: np.ndarray, rows: np.ndarray, events: np.ndarray,
+               matrix_t: np.ndarray, fields: np.ndarray, zero_rows: int) -> None:
+    """The rows of one state of yielding stories from its base's table (story_states.StoryBase.table, .picks),
+    for the stories' bits `bits` (the pattern shifted past the foundation's bits): fields (n_y) their fields P +
+    2 N (stories.story_fields); rows (n_aug + n_e, n_aug) its A, then its event rows, rows picks[0] + picks[1] *
+    fields[picks[2]] of the table; events (n_e, n_aug) its event rows with the first zero_rows zero (a bonded
+    run's foundation); matrix_t its A^T. Copies only: the bits of _levels.c."""
+    fields[:] = story_fields(bits, 0, fields.size)
+    table.take(picks[0] + picks[1] * fields.take(picks[2]), axis=0, out=rows)
+    n_aug = rows.shape[1]
+    events[:] = rows[n_aug:]
+    events[:zero_rows] = 0.0
+    matrix_t[:] = rows[:n_aug].T

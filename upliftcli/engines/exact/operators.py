@@ -12,10 +12,11 @@ import numpy as np
 
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_OPERATOR_BYTES
-from .level_operators import LEVELS, elastic_stories, hold_settlements, stacked_operators, state_levels
+from .level_operators import LEVELS, elastic_blocks, elastic_stories, hold_settlements, stacked_operators, state_levels
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 from .stories import story_bits, valid_story_pattern
+from .story_requests import add_quick, quick_requests
 from .story_states import StoryBase, add_bases, matrix_key, soil_rows, state_of
 from .yielding import pattern_bits, step_operators, valid_pattern
 
@@ -48,6 +49,7 @@ class Operators:
         # runtime/process.keep_freed_memory, neither zeroed nor faulted in again; the states not yet stored
         # are never read); the others' start as zeros, mapped only as states are stored
         self.fill = None if self.layout.n_plastic and not block_operators(self.layout) else 0.0
+        self.quick = self.fill is None  # a state of yielding stories may be built by story_requests.py
         self.ops = _reserve((self.capacity, LEVELS + 1, n_aug, n_aug), self.fill)
         self.events = _reserve((self.capacity, n_e, n_aug), self.fill)
         self.event_rates = _reserve((self.capacity, n_e, n_aug), self.fill)
@@ -57,7 +59,7 @@ class Operators:
         # yielding stories (story_states.py): the base of each foundation pattern, and the state whose
         # operators a state with the same A copies, by (foundation pattern, where the stories yield)
         self.bases: dict[int, StoryBase] = {}
-        self.by_matrix: dict[tuple[int, bytes], int] = {}
+        self.by_matrix: dict[tuple[int, int], int] = {}
 
     def lifted(self, pattern: int) -> np.ndarray:
         """Where the elements are lifted in the pattern (bits 0 .. n_e - 1: yielding.pattern_bits)."""
@@ -76,9 +78,7 @@ class Operators:
         """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS (None: the caller
         writes them into self.ops[index] itself, with no copy between: until then it holds zeros, or
         nothing defined where the arrays are not filled: self.fill)."""
-        index = len(self.contact)
-        if index == self.capacity:
-            self._grow()
+        index = self.slot()
         if ops is not None:
             self.ops[index] = ops
         if events:
@@ -91,6 +91,17 @@ class Operators:
         elif self.fill is None:  # no event rows: zero, as in arrays that start as zeros
             self.events[index] = self.event_rates[index] = 0.0
         self.matrices[index] = state.matrix.T
+        return self.keep(index, pattern, state)
+
+    def slot(self) -> int:
+        """The index of the next state to store, with room for it (_grow)."""
+        index = len(self.contact)
+        if index == self.capacity:
+            self._grow()
+        return index
+
+    def keep(self, index: int, pattern: int, state: ContactState) -> int:
+        """Keep the state whose operators, event rows, rates and A^T are in slot `index` (slot()); its index."""
         self.patterns[index] = pattern
         self.contact.append(state)
         return index
@@ -203,7 +214,11 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
     each, vectorised over the requests that share a layout: one batched assembly
     (patterns.contact_states), one stacked expm and stacked squarings (the operators of states
     where a story yields: level_operators.state_levels, each written in place). Each item gets the
-    same bits as built alone. Returns the new state index, or the error, per request."""
+    same bits as built alone (the one request of each yielding-story run: story_requests.py, without this
+    batch machinery). Returns the new state index, or the error, per request."""
+    quick = quick_requests(requests)
+    if quick is not None:
+        return add_quick(quick)
     out: list[int | AnalysisError] = [AnalysisError(_NO_INERTIA)] * len(requests)
     for members in _groups(requests, out).values():
         built = _built_states(requests, members)
@@ -225,42 +240,49 @@ def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tupl
                    out: list[int | AnalysisError]) -> None:
     """Store the states `built` ((index, state, key of A: _shared_operators)): those where a story yields with
     their operators written in place (level_operators.state_levels: the Taylor polynomial and squarings, in
-    C), the others' from one stacked exponentiation (_level_operators), in the order of `built`."""
-    stacked = iter(_level_operators(requests, [(k, state) for k, state, key in built if not _story_yields(key)]))
+    C), the others' from one stacked exponentiation (_level_operators; those of yielding stories where none
+    yields with the elastic building's from one more: level_operators.elastic_blocks), in the order of
+    `built`."""
+    plain = [(k, state) for k, state, key in built if not _story_yields(key)]
+    stacked = iter(_level_operators(requests, plain))
+    blocks = iter(elastic_blocks([state for _, state in plain], requests[built[0][0]][0].layout,
+                                 [requests[k][0].h for k, _ in plain]))
     for k, state, key in built:
-        out[k] = _stored(requests[k], state, key, None if _story_yields(key) else next(stacked))
+        if _story_yields(key):
+            out[k] = _stored(requests[k], state, key, None)
+        else:
+            out[k] = _stored(requests[k], state, key, _held(next(stacked), state, requests[k][0], next(blocks)))
 
 
 def _story_yields(key: tuple | None) -> bool:
     """Whether some story yields in a state whose A has the key `key` (story_states.matrix_key: its second item
-    the bytes of where the stories yield; None: elastic stories): its operators then come from state_levels."""
-    return key is not None and 1 in key[1]
+    the bits of where the stories yield; None: elastic stories): its operators then come from state_levels."""
+    return key is not None and key[1] != 0
 
 
 def _stored(request: tuple[Operators, int, bool], state: ContactState, key: tuple | None, ops: np.ndarray | None
             ) -> int:
-    """Store a state with the operators of the stacked exponentiation `ops` (its constant entries held: _held),
+    """Store a state with the operators `ops` (of the stacked exponentiation, its constant entries held: _held),
     or (None) with those level_operators.state_levels writes into its slot; its index (kept under its key of A
     where it has one)."""
     operators, pattern, events = request
+    index = operators.store(pattern, state, ops, events)
     if ops is None:
-        index = operators.store(pattern, state, None, events)
         state_levels(state.matrix, operators.h, operators.ops[index])
-    else:
-        index = operators.store(pattern, state, _held(ops, state, operators), events)
     if key is not None:
         operators.by_matrix.setdefault(key, index)
     return index
 
 
-def _held(ops: np.ndarray, state: ContactState, operators: Operators) -> np.ndarray:
+def _held(ops: np.ndarray, state: ContactState, operators: Operators, block: np.ndarray | None) -> np.ndarray:
     """The stacked exponentiation's operators of a state with the entries that stay constant in it held
     exactly: the settlements of elements that do not yield, the plastic drifts of elastic stories (and a
-    state with yielding stories where none yields: level_operators.elastic_stories)."""
+    state with yielding stories where none yields: level_operators.elastic_stories, with the elastic
+    building's operators `block`)."""
     if state.yielding is not None:
         hold_settlements(ops, operators.layout.settlement_indices[~state.yielding])
     if state.story_sign is not None:
-        elastic_stories(ops, state, operators.layout, operators.h)
+        elastic_stories(ops, state, operators.layout, operators.h, block)
     return ops
 
 
@@ -285,7 +307,7 @@ def _shared_operators(requests: list[tuple[Operators, int, bool]], built: list[t
         if state.story_sign is None:
             fresh.append((k, state, None))
             continue
-        key = matrix_key(pattern, operators.layout, state)
+        key = matrix_key(pattern, operators.layout)
         if key in operators.by_matrix or (id(operators), key) in first:
             copies.append((k, state, key))
             continue

@@ -72,7 +72,17 @@ _FIELD_SHIFTS = 2 * np.arange(31, dtype=np.int64)
 def story_bits(pattern: int, base: int, count: int) -> np.ndarray:
     """The sign of each yielding story in a contact pattern: +1 yielding positive, -1 negative, 0 elastic
     (bits base + 2 s and base + 2 s + 1), from the field of each story's two bits."""
-    fields = (np.int64(pattern >> base) >> _FIELD_SHIFTS[:count]) & 3
+    return sign_of_fields(story_fields(pattern, base, count))
+
+
+def story_fields(pattern: int, base: int, count: int) -> np.ndarray:
+    """The field P + 2 N of each yielding story's two bits in a contact pattern (int64, n_y): 0 elastic, 1
+    positive, 2 negative (3 both: no state), which is also the code of its sign, sign % 3 (story_states)."""
+    return (np.int64(pattern >> base) >> _FIELD_SHIFTS[:count]) & 3
+
+
+def sign_of_fields(fields: np.ndarray) -> np.ndarray:
+    """The signs (int8: +1, -1, 0) of the stories whose fields story_fields gives."""
     return _SIGN_OF_FIELD.take(fields)
 
 

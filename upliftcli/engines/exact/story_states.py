@@ -7,7 +7,8 @@ event rows and those candidate rows) is assembled once (patterns.contact_states)
 is then a copy of its A with some rows set and its event rows chosen: the same arrays, bit for bit,
 as contact_states assembles for it (tests/test_story_states.py). The signs P and N of a story give
 the same A, so the states whose stories yield in the same places share their step operators
-(operators.add_states copies them).
+(operators.add_states copies them). A yielding run's one request per round is built by story_requests.py
+from the base's table (StoryBase.table, .picks) in one compiled call (level_operators.story_rows).
 """
 
 from __future__ import annotations
@@ -30,7 +31,9 @@ class StoryBase:
     negative, sign % 3); events (n_s + 6 n_y, n_aug): the foundation's n_s = soil_rows event rows, then the
     stories' 2 n_y rows for each code (stories.event_candidates): row 2 j the onset of P, the unloading from
     P, never; row 2 j + 1 the onset of N, never, the unloading from N. A state takes rows picks[:n_aug] of
-    matrices and picks[n_aug:] of events, picks = pick_base + pick_step * code[pick_story] (_picks)."""
+    matrices and picks[n_aug:] of events, picks = pick_base + pick_step * code[pick_story] (_picks). table and
+    picks: the same as one table (matrices, then events) and the picks into it (3, n_aug + n_e: base, step,
+    story), as level_operators.story_rows takes them (story_requests.py)."""
 
     state: ContactState
     soil_rows: int
@@ -39,6 +42,8 @@ class StoryBase:
     pick_base: np.ndarray
     pick_step: np.ndarray
     pick_story: np.ndarray
+    table: np.ndarray
+    picks: np.ndarray
 
 
 def story_bases(spaces: list[StateSpace], lifted: np.ndarray, yielding: np.ndarray | None, criterion: str,
@@ -65,9 +70,12 @@ def _base(space: StateSpace, state: ContactState, soil_rows: int) -> StoryBase:
     codes = np.empty((3, 2 * lay.n_plastic, lay.n_aug))  # by code: rows 2 j (up) and 2 j + 1 (down)
     codes[:, 0::2] = np.stack((up, -rate[0], never[0]))
     codes[:, 1::2] = np.stack((down, never[0], rate[0]))
-    return StoryBase(state, soil_rows, np.vstack((state.matrix, yielding, yielding)),
-                     np.vstack((state.events[:soil_rows], codes.reshape(-1, lay.n_aug))),
-                     *_picks(lay.n_aug, lay.plastic_indices, soil_rows))
+    matrices = np.vstack((state.matrix, yielding, yielding))
+    events = np.vstack((state.events[:soil_rows], codes.reshape(-1, lay.n_aug)))
+    picks = _picks(lay.n_aug, lay.plastic_indices, soil_rows)
+    into_table = np.stack(picks)
+    into_table[0, lay.n_aug:] += matrices.shape[0]  # the event rows after the matrices' rows
+    return StoryBase(state, soil_rows, matrices, events, *picks, np.vstack((matrices, events)), into_table)
 
 
 def _picks(n_aug: int, plastic: np.ndarray, soil_rows: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -102,10 +110,16 @@ def soil_rows(lay: Layout) -> int:
     return (n_elements if n_elements > 0 else 0) + lay.n_settlements
 
 
-def matrix_key(pattern: int, lay: Layout, state: ContactState) -> tuple[int, bytes]:
+def matrix_key(pattern: int, lay: Layout) -> tuple[int, int]:
     """What the A of a state with yielding stories depends on: the foundation's bits of its pattern and where
-    its stories yield (the signs P and N give the same A)."""
-    return pattern & ((1 << soil_rows(lay)) - 1), (state.story_sign != 0).tobytes()
+    its stories yield (the signs P and N give the same A): bit 2 s set where story s yields."""
+    n_soil = soil_rows(lay)
+    bits = pattern >> n_soil
+    return pattern & ((1 << n_soil) - 1), (bits | (bits >> 1)) & _EVEN_BITS[lay.n_plastic]
+
+
+#: bits 0, 2, .., 2 (n - 1) set, by n (a pattern holds at most 31 stories' fields)
+_EVEN_BITS = tuple(int("01" * n, 2) if n else 0 for n in range(32))
 
 
 class StoryOperators(Protocol):
