@@ -166,18 +166,20 @@ def signals(history: History) -> Signals:
 def signal_rows(history: History, used: np.ndarray) -> np.ndarray:
     """The rows of the signals (signal_layout) in each contact state `used` (S, k + k_s, n_aug): the values'
     rows, then the slopes' (R A), then the curvatures' of the input signal and the element velocities
-    (R A^2, curvature_columns; those of Y*' are the slopes of Y*'')."""
+    (R A^2, curvature_columns; those of Y*' are the slopes of Y*''). The products are written in place
+    (matmul's out: the same products, without a temporary and its copy), those of the velocity map once
+    where every state shares it (the fixed and bonded bases: _velocity)."""
     space = history.space
     model, lay = space.model, space.layout
     n_m = model.n_modes
     names = signal_layout(n_m, lay.n_elements, lay.n_plastic)
     start, n_slopes = names[VALUES_ONLY[-1]].stop, names[WITH_RATES[-1]].stop
-    velocity = np.stack([history.contact[s].velocity for s in used])  # (S, n_p, n_aug)
+    velocity = _velocity(history.contact, used)  # (S or 1, n_p, n_aug)
     matrix = np.stack([history.contact[s].matrix for s in used])
     rows = np.zeros((used.size, start + curvature_columns(names)["element_velocity"].stop, lay.n_aug))
     rows[:, names["Y"]] = space.modal
     rows[:, names["Ydot"]] = space.to_modal @ velocity
-    rows[:, names["Yddot"]] = rows[:, names["Ydot"]] @ matrix
+    np.matmul(rows[:, names["Ydot"]], matrix, out=rows[:, names["Yddot"]])
     if model.flexible:
         rows[:, names["theta"]] = space.position[n_m]
         rows[:, names["v"]] = space.position[n_m + 1]
@@ -194,10 +196,19 @@ def signal_rows(history: History, used: np.ndarray) -> np.ndarray:
     if lay.n_plastic:  # the plastic drifts and their rates (docs/theory.md 15)
         rows[:, np.arange(names["P"].start, names["P"].stop), lay.plastic_indices] = 1.0
         rows[:, names["Pdot"]] = matrix[:, lay.plastic_indices]
-    rows[:, start:start + n_slopes] = rows[:, :n_slopes] @ matrix
+    np.matmul(rows[:, :n_slopes], matrix, out=rows[:, start:start + n_slopes])
     rates = start + names["input"].start  # the rates' rows of the input signal and element velocities
-    rows[:, start + n_slopes:] = rows[:, rates:rates + rows.shape[1] - start - n_slopes] @ matrix
+    np.matmul(rows[:, rates:rates + rows.shape[1] - start - n_slopes], matrix, out=rows[:, start + n_slopes:])
     return rows
+
+
+def _velocity(contact: list, used: np.ndarray) -> np.ndarray:
+    """The velocity maps X -> p' of the states `used` (S, n_p, n_aug), or the one they all share (1, n_p, n_aug:
+    every state of a fixed or bonded base holds the same array)."""
+    first = contact[used[0]].velocity
+    if all(contact[s].velocity is first for s in used):
+        return first[None]
+    return np.stack([contact[s].velocity for s in used])
 
 
 def curvature_columns(names: dict[str, slice]) -> dict[str, slice]:
