@@ -141,9 +141,8 @@ def signal_layout(n_modes: int, n_elements: int, n_plastic: int = 0) -> dict[str
 
 
 def signals(history: History) -> Signals:
-    """Evaluate the signal rows of every contact state at its samples
-    (response_kernels.evaluate_signals), the rows built for the states the samples use only, all
-    at once (a yielding run meets hundreds of states: docs/theory.md 14.3)."""
+    """Evaluate the signal rows of every contact state at its samples (response_kernels.evaluate_signals), the
+    rows built for the states the samples use only, all at once (a yielding run meets hundreds: theory 14.3)."""
     lay = history.space.layout
     names = signal_layout(history.space.model.n_modes, lay.n_elements, lay.n_plastic)
     start = names[VALUES_ONLY[-1]].stop
@@ -164,11 +163,9 @@ def signals(history: History) -> Signals:
 
 
 def signal_rows(history: History, used: np.ndarray) -> np.ndarray:
-    """The rows of the signals (signal_layout) in each contact state `used` (S, k + k_s, n_aug): the values'
-    rows, then the slopes' (R A), then the curvatures' of the input signal and the element velocities
-    (R A^2, curvature_columns; those of Y*' are the slopes of Y*''). The products are written in place
-    (matmul's out: the same products, without a temporary and its copy), those of the velocity map once
-    where every state shares it (the fixed and bonded bases: _velocity)."""
+    """The rows of the signals (signal_layout) in each contact state `used` (S, k + k_s, n_aug): the values' rows,
+    the slopes' (R A), the curvatures' of the input signal and element velocities (R A^2, curvature_columns; Y*''
+    gives those of Y*'). Products written in place (matmul's out), those of a shared velocity map once."""
     space = history.space
     model, lay = space.model, space.layout
     n_m = model.n_modes
@@ -203,8 +200,8 @@ def signal_rows(history: History, used: np.ndarray) -> np.ndarray:
 
 
 def _velocity(contact: list, used: np.ndarray) -> np.ndarray:
-    """The velocity maps X -> p' of the states `used` (S, n_p, n_aug), or the one they all share (1, n_p, n_aug:
-    every state of a fixed or bonded base holds the same array)."""
+    """The velocity maps X -> p' of the states `used` (S, n_p, n_aug), or the one all share (1, n_p, n_aug: the
+    fixed and bonded bases)."""
     first = contact[used[0]].velocity
     if all(contact[s].velocity is first for s in used):
         return first[None]
@@ -251,9 +248,8 @@ def used_states(state_ids: np.ndarray, n_states: int) -> tuple[np.ndarray, np.nd
 
 @dataclass(frozen=True)
 class PeakSearch:
-    """What hermite_peaks needs of some responses, prepared once for every chunk of a run:
-    R^T (n_basis, m), the signal columns of the basis values, rates and curvatures, and the
-    shortest period that matters in each response [s]."""
+    """What hermite_peaks needs of some responses, prepared once for every chunk of a run: R^T (n_basis, m), the
+    signal columns of the basis values, rates and curvatures, the shortest period that matters in each [s]."""
 
     rows_t: np.ndarray
     value_columns: np.ndarray
