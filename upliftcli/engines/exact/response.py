@@ -173,7 +173,9 @@ def signal_rows(history: History, used: np.ndarray) -> np.ndarray:
     start, n_slopes = names[VALUES_ONLY[-1]].stop, names[WITH_RATES[-1]].stop
     velocity = _velocity(history.contact, used)  # (S or 1, n_p, n_aug)
     matrix = np.stack([history.contact[s].matrix for s in used])
-    rows = np.zeros((used.size, start + curvature_columns(names)["element_velocity"].stop, lay.n_aug))
+    rows = np.empty((used.size, start + curvature_columns(names)["element_velocity"].stop, lay.n_aug))
+    for name in ("a", "z", "theta", "v", "P"):  # the rows not written whole below (np.zeros: 3.5 MB set)
+        rows[:, names[name]] = 0.0
     rows[:, names["Y"]] = space.modal
     rows[:, names["Ydot"]] = space.to_modal @ velocity
     np.matmul(rows[:, names["Ydot"]], matrix, out=rows[:, names["Yddot"]])
@@ -227,8 +229,7 @@ def _slope_rows(slope_rows: np.ndarray, names: dict[str, slice], curved: dict[st
     return out
 
 
-#: a run with at most this many contact states has the signal rows of all built (response.signals); with more
-#: (yielding: hundreds) those of the states its samples use only
+#: a run with at most this many contact states has the signal rows of all built (signals); with more those used
 FEW_STATES = 8
 
 
@@ -287,8 +288,7 @@ def peak_search(names: dict[str, slice], rows: np.ndarray, periods: np.ndarray,
 
 
 def hermite_peaks(sig: Signals, rows: np.ndarray, lengths: np.ndarray, periods: np.ndarray,
-                  rates: np.ndarray | None = None
-                  ) -> tuple[np.ndarray, np.ndarray]:
+                  rates: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Peak |r| of each response r = rows @ Y* (+ rates @ Y*') between samples, and where
     (interval index + fraction), from the quintic Hermite interpolant through the samples with
     the exact first and second derivatives (response_kernels.hermite_peaks). periods (m,) [s]:
