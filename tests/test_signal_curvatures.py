@@ -54,12 +54,11 @@ def test_the_curvature_rows_leave_every_response_signal_bit_for_bit(histories):
             sig = response.signals(history)
         _, start, n_slopes = _layout(history)
         used, ids = response.used_states(history.state_ids, len(history.contact))
-        rows = response.signal_rows(history, used)[:, :start + n_slopes]
+        rows = np.ascontiguousarray(response.signal_rows(history, used)[:, :start + n_slopes])
         values, slopes = np.empty((ids.size, start)), np.empty((ids.size, n_slopes))
         ends = np.empty((sig.end_values.shape[0], start + n_slopes))
         with backend.use("compiled"):
-            response_kernels.evaluate_signals(history.states, ids, np.ascontiguousarray(rows.transpose(0, 2, 1)),
-                                              values, slopes, ends)
+            response_kernels.evaluate_signals(history.states, ids, rows, values, slopes, ends)
         assert sig.end_values.shape[0] > 0  # transitions were met
         assert values.tobytes() == sig.values.tobytes()
         assert slopes.tobytes() == np.ascontiguousarray(sig.slopes[:, :n_slopes]).tobytes()

@@ -149,14 +149,13 @@ def signals(history: History) -> Signals:
     curved = curvature_columns(names)
     used, ids = used_states(history.state_ids, len(history.contact))
     rows = signal_rows(history, used)
-    rows_t = np.ascontiguousarray(rows.transpose(0, 2, 1))
     at = np.nonzero(ids[1:] != ids[:-1])[0]
     switch = np.full(max(ids.size - 1, 0), -1, dtype=np.int64)
     switch[at] = np.arange(at.size)
     values = np.empty((ids.size, start))
     slopes = np.empty((ids.size, rows.shape[1] - start))
     ends = np.empty((at.size, rows.shape[1]))
-    response_kernels.evaluate_signals(history.states, ids, rows_t, values, slopes, ends)
+    response_kernels.evaluate_signals(history.states, ids, rows, values, slopes, ends)
     return Signals(values, slopes, switch, np.ascontiguousarray(ends[:, :start]),
                    np.ascontiguousarray(ends[:, start:]), names, curved, ids,
                    _slope_rows(rows[:, start:, lay.index_slope], names, curved))
