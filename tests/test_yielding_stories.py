@@ -428,20 +428,3 @@ def test_the_command_refuses_with_one_line_naming_the_field(deck, engine_name, e
                                       "building.strength_coefficient=0.2", "--engine", engine_name])
     assert result.exit_code == 2
     assert result.stderr.strip().splitlines() == [result.stderr.strip()] and result.stderr.startswith(expected)
-
-
-def test_the_hysteretic_work_sums_every_interval_in_order():
-    """stories.hysteretic_work sums the intervals where some story yields only: the bits of the sum of every
-    interval's work in order, the elastic ones' zero (docs/theory.md 15.3)."""
-    from upliftcli.engines.exact.stories import StoryYield, hysteretic_work
-
-    rng = np.random.default_rng(3)
-    stories = StoryYield(np.arange(3), np.array([4e7, 3e7, 2e7]), np.array([2e5, 1.5e5, 1e5]), 0.05,
-                         np.zeros((3, 3)), 6.0)
-    drifts = rng.normal(scale=5e-3, size=(500, 3))
-    sign = (rng.integers(-1, 2, size=(500, 3)) * (rng.random((500, 1)) < 0.2)).astype(np.int8)
-    d0, d1, s, a = drifts[:-1], drifts[1:], sign[:-1], stories.alpha
-    every = (1.0 - a) * (0.5 * a * stories.stiffness * (d1**2 - d0**2) + s * (1.0 - a) * stories.strength * (d1 - d0))
-    expected = np.where(s != 0, every, 0.0).sum(axis=0)
-    assert np.count_nonzero(sign[:-1].any(axis=1)) < 200  # most intervals elastic
-    assert hysteretic_work(stories, drifts, sign).tobytes() == expected.tobytes()

@@ -134,13 +134,16 @@ def hysteretic_work(stories: StoryYield, drifts: np.ndarray, sign: np.ndarray) -
     yielding V = alpha k d +- (1 - alpha) V_y and dp = (1 - alpha) dd (theory 15.3)."""
     if drifts.shape[0] < 2:
         return np.zeros(stories.count)
-    # the work of the intervals where some story yields (a sixth of them in the README example at El Centro x2):
-    # the others' is zero, and the sum over the intervals runs in their order (axis 0), so it is the same sum
+    # the work of the intervals where some story yields (a sixth of them in the README example at El Centro x2),
+    # the others' zero: the same terms summed in the same order as over every interval (numpy sums one story's
+    # column pairwise, so the zeros stay in it)
+    terms = np.zeros((drifts.shape[0] - 1, stories.count))
     rows = np.flatnonzero(sign[:-1].any(axis=1))
     d0, d1, s = drifts[rows], drifts[rows + 1], sign[rows]
     a = stories.alpha
     per = (1.0 - a) * (0.5 * a * stories.stiffness * (d1**2 - d0**2) + s * (1.0 - a) * stories.strength * (d1 - d0))
-    return np.where(s != 0, per, 0.0).sum(axis=0) + 0.0  # + 0.0: from +0, as the sum over every interval
+    terms[rows] = np.where(s != 0, per, 0.0)
+    return terms.sum(axis=0)
 
 
 def stored_strain(stories: StoryYield, drifts: np.ndarray, plastic: np.ndarray) -> float:
