@@ -164,10 +164,22 @@ static inline void split_rest(const SplitRows *split, const double *restrict x, 
     }
 }
 
-/* R^T (n_aug, width) of the rows R (width, n_aug) of a state */
+/* R^T (n_aug, width) of the rows R (width, n_aug) of a state, four rows at a time (each column of four a
+ * contiguous store) */
 static void transpose_rows(const double *restrict rows, int64_t width, int64_t n_aug, double *restrict rows_t)
 {
-    for (int64_t r = 0; r < width; r++) {
+    int64_t r = 0;
+    for (; r + 4 <= width; r += 4) {
+        const double *a = rows + r * n_aug, *b = a + n_aug, *c = b + n_aug, *d = c + n_aug;
+        for (int64_t q = 0; q < n_aug; q++) {
+            double *out = rows_t + q * width + r;
+            out[0] = a[q];
+            out[1] = b[q];
+            out[2] = c[q];
+            out[3] = d[q];
+        }
+    }
+    for (; r < width; r++) {
         for (int64_t q = 0; q < n_aug; q++) {
             rows_t[q * width + r] = rows[r * n_aug + q];
         }
