@@ -128,22 +128,51 @@ static ALWAYS_INLINE void rates_at(const PeakInput *in, int64_t j, const double 
     *curvature = c;
 }
 
-/* The rates and curvatures of every response at one sample (or left limit), rate[j] and curvature[j] for j <
- * padded_width(m), from R^T padded to that width: the products rates_at makes one response at a time, summed in
- * the same order from +0 (transposed_product), so the same bits; y: n_basis doubles of work space */
+/* out[r] = sum_q m_t[q width + r] x[q] for r in [lo, hi), from +0 in the order of q, zero inputs skipped, four
+ * rows of m_t through one pass where their inputs are nonzero: transposed_product's sums over some of its outputs */
+static ALWAYS_INLINE void lanes_product(const double *restrict m_t, const double *restrict x, int64_t n_in,
+                                        int64_t width, int64_t lo, int64_t hi, double *restrict out)
+{
+    for (int64_t r = lo; r < hi; r++) {
+        out[r] = 0.0;
+    }
+    int64_t q = 0;
+    while (q < n_in) {
+        if (q + 4 <= n_in && x[q] != 0.0 && x[q + 1] != 0.0 && x[q + 2] != 0.0 && x[q + 3] != 0.0) {
+            const double x0 = x[q], x1 = x[q + 1], x2 = x[q + 2], x3 = x[q + 3];
+            const double *row0 = m_t + q * width, *row1 = row0 + width, *row2 = row1 + width, *row3 = row2 + width;
+            for (int64_t r = lo; r < hi; r++) {
+                out[r] = (((out[r] + row0[r] * x0) + row1[r] * x1) + row2[r] * x2) + row3[r] * x3;
+            }
+            q += 4;
+            continue;
+        }
+        if (x[q] != 0.0) {
+            const double xq = x[q], *row = m_t + q * width;
+            for (int64_t r = lo; r < hi; r++) {
+                out[r] += row[r] * xq;
+            }
+        }
+        q++;
+    }
+}
+
+/* The rates and curvatures of the responses lo <= j < hi at one sample (or left limit), rate[j] and curvature[j],
+ * from R^T padded to padded_width(m): the products rates_at makes one response at a time, summed in the same order
+ * from +0 (lanes_product), so the same bits; y: n_basis doubles of work space */
 static ALWAYS_INLINE void rates_of_all(const PeakInput *in, const double *restrict padded, const double *restrict values,
-                                       const double *restrict slopes, double *restrict y, double *restrict rate,
-                                       double *restrict curvature)
+                                       const double *restrict slopes, int64_t lo, int64_t hi, double *restrict y,
+                                       double *restrict rate, double *restrict curvature)
 {
     const int64_t width = padded_width(in->m);
     for (int64_t q = 0; q < in->n_basis; q++) {
         y[q] = values[in->rate_columns[q]];
     }
-    transposed_product(padded, y, in->n_basis, width, rate);
+    lanes_product(padded, y, in->n_basis, width, lo, hi, rate);
     for (int64_t q = 0; q < in->n_basis; q++) {
         y[q] = slopes[in->curvature_columns[q]];
     }
-    transposed_product(padded, y, in->n_basis, width, curvature);
+    lanes_product(padded, y, in->n_basis, width, lo, hi, curvature);
 }
 
 /* an interval with at least m / ALL_RATES_SHARE responses to search has the rates of all of them taken at once
@@ -231,12 +260,13 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double
         flagged[i] = (unsigned char)any_at_least(sampled + i * width, threshold, width);
     }
     /* pass 2: between samples, on the intervals with a flagged end or ending at a transition; the rates at the
-     * sample that ended the interval before (when it was searched) are taken again: of all responses (all_at:
-     * that sample, rate0 and curvature0), or of one (next_at[j]) */
+     * sample that ended the interval before (when it was searched) are taken again: of the responses from the
+     * first to the last searched (all_at: that sample, rate0 and curvature0 for all_lo <= j < all_hi), or of one
+     * (next_at[j]) */
     for (int64_t j = 0; j < m; j++) {
         next_at[j] = -1;
     }
-    int64_t all_at = -1;
+    int64_t all_at = -1, all_lo = 0, all_hi = 0;
     for (int64_t i = 0; i + 1 < n; i++) {
         const int64_t fix = in->switch_[i];
         if (!(flagged[i] || flagged[i + 1] || fix >= 0)) {
@@ -254,17 +284,18 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double
         const double *end_values = fix >= 0 ? in->end_values + fix * k : in->values + (i + 1) * k;
         const double *end_slopes = fix >= 0 ? in->end_slopes + fix * k_e : in->slopes + (i + 1) * k_s;
         const int all = count * ALL_RATES_SHARE >= m;
+        const int64_t lo = todo[0], hi = todo[count - 1] + 1;
         if (all) {
-            if (all_at != i) {
-                rates_of_all(in, padded, in->values + i * k, in->slopes + i * k_s, y, rate0, curvature0);
+            if (all_at != i || lo < all_lo || hi > all_hi) {
+                rates_of_all(in, padded, in->values + i * k, in->slopes + i * k_s, lo, hi, y, rate0, curvature0);
             }
-            rates_of_all(in, padded, end_values, end_slopes, y, rate1, curvature1);
+            rates_of_all(in, padded, end_values, end_slopes, lo, hi, y, rate1, curvature1);
         }
         const double length = in->lengths[i];
         for (int64_t t = 0; t < count; t++) {
             const int64_t j = todo[t];
             double d0, d1, c0, c1;
-            if (all || all_at == i) {
+            if (all || (all_at == i && j >= all_lo && j < all_hi)) {
                 d0 = rate0[j];
                 c0 = curvature0[j];
             } else if (next_at[j] == i) { /* sample i ended the interval before, searched for this response */
@@ -302,6 +333,8 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double
             curvature1 = swap;
         }
         all_at = all && fix < 0 ? i + 1 : -1;
+        all_lo = lo;
+        all_hi = hi;
     }
     for (int64_t j = 0; j < m; j++) {
         best_out[j] = best[j];
