@@ -4,6 +4,7 @@ evaluation; the two implementations against each other: tests/test_response_nump
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from upliftcli.engines.exact import response_kernels as postkernel
 
@@ -51,7 +52,7 @@ def test_evaluate_signals_uses_each_samples_state_and_left_limits():
     rows = rng.normal(size=(2, 5, 4))  # 3 value rows, 2 slope rows per state
     values, slopes = np.empty((6, 3)), np.empty((6, 2))
     ends = np.empty((3, 5))
-    postkernel.evaluate_signals(states, ids, np.ascontiguousarray(rows.transpose(0, 2, 1)), values, slopes, ends)
+    postkernel.evaluate_signals(states, ids, rows, values, slopes, ends)
     for i in range(6):
         np.testing.assert_allclose(values[i], rows[ids[i], :3] @ states[i])
         np.testing.assert_allclose(slopes[i], rows[ids[i], 3:] @ states[i])
@@ -81,7 +82,7 @@ def test_evaluate_signals_gives_the_same_bits_with_rows_split_or_whole():
     ids = np.array([0] * 20 + [1] * 3 + [0] * 20)
     states[20:23] = states[:3]  # the samples of state 1 repeat samples of state 0
     values, slopes, ends = np.empty((43, 4)), np.empty((43, 3)), np.empty((2, 7))
-    _signals.evaluate_signals(states, ids, np.ascontiguousarray(rows.transpose(0, 2, 1)), values, slopes, ends)
+    _signals.evaluate_signals(states, ids, rows, values, slopes, ends)
     np.testing.assert_array_equal(values[20:23], values[:3])
     np.testing.assert_array_equal(slopes[20:23], slopes[:3])
     dense = np.array([[sum(row[q] * x[q] for q in range(n_aug) if x[q] != 0.0) for row in rows[0]] for x in states])
@@ -130,3 +131,49 @@ def test_hermite_peaks_match_a_dense_evaluation_with_rates_and_transitions():
                                rows, lengths)
     np.testing.assert_allclose(best, twin, rtol=1e-6)
     assert np.all(best >= twin * (1 - 1e-12))  # the dense grid can only undershoot
+
+
+def test_hermite_peaks_of_responses_searched_together_have_the_bits_of_each_alone():
+    """The compiled loop takes the rates of every response at once in an interval where many are searched, one
+    response at a time elsewhere: the same sums in the same order. Three responses searched everywhere (fraction
+    0) and thirteen near their peaks give intervals of both kinds; each response alone (every interval at once)
+    gives the same bits."""
+    compiled = pytest.importorskip("upliftcli.engines.exact._peaks")
+    rng = np.random.default_rng(5)
+    n, k, m = 400, 8, 16
+    values, slopes = rng.normal(size=(n, k)), rng.normal(size=(n, k))
+    switch = np.full(n - 1, -1, dtype=np.int64)
+    switch[[30, 31, 200]] = [0, 1, 2]
+    end_values, end_slopes = rng.normal(size=(3, k)), rng.normal(size=(3, k))
+    lengths = rng.uniform(0.5, 1.0, n - 1)
+    value_cols, rate_cols = np.arange(4, dtype=np.int64), np.arange(2, 6, dtype=np.int64)
+    rows = rng.normal(size=(m, 4))
+    fractions = np.full(m, 0.9)
+    fractions[[0, 5, 9]] = 0.0
+    arguments = (values, slopes, end_values, end_slopes, switch, value_cols, rate_cols, rate_cols)
+
+    def peaks(rows_t, fractions):
+        best, where = np.zeros(rows_t.shape[1]), np.zeros(rows_t.shape[1])
+        compiled.hermite_peaks(*arguments, rows_t, lengths, fractions, best, where)
+        return best, where
+
+    best, where = peaks(np.ascontiguousarray(rows.T), fractions)
+    for j in range(m):
+        alone = peaks(np.ascontiguousarray(rows[j:j + 1].T), fractions[j:j + 1])
+        assert (best[j], where[j]) == (alone[0][0], alone[1][0])
+
+
+def test_evaluate_signals_takes_each_whole_states_own_rows_as_the_states_alternate():
+    """The rows of a state used fewer than 32 times are transposed as its samples begin (_signals.c, one state's
+    at a time): three such states met in turn, and again, give each sample and left limit its own state's R x."""
+    rng = np.random.default_rng(9)
+    rows = rng.normal(size=(3, 5, 6))
+    ids = np.array([0, 0, 1, 2, 2, 0, 1, 1, 2])
+    states = rng.normal(size=(ids.size, 6))
+    values, slopes, ends = np.empty((ids.size, 3)), np.empty((ids.size, 2)), np.empty((5, 5))
+    postkernel.evaluate_signals(states, ids, rows, values, slopes, ends)
+    expected = np.einsum("irq,iq->ir", rows[ids], states)
+    np.testing.assert_allclose(np.hstack((values, slopes)), expected, rtol=1e-13, atol=1e-13)
+    switches = np.flatnonzero(ids[1:] != ids[:-1])
+    np.testing.assert_allclose(ends, np.einsum("irq,iq->ir", rows[ids[switches]], states[switches + 1]),
+                               rtol=1e-13, atol=1e-13)

@@ -35,7 +35,7 @@ def test_evaluate_signals_twin_matches_the_loop():
 
     def run():
         values, slopes, ends = np.empty((n, k)), np.empty((n, k_s)), np.empty((n_switch, k + k_s))
-        postkernel.evaluate_signals(states, ids, np.ascontiguousarray(rows.transpose(0, 2, 1)), values, slopes, ends)
+        postkernel.evaluate_signals(states, ids, rows, values, slopes, ends)
         return values, slopes, ends
 
     for compiled, twin in zip(*on_both(run), strict=True):

@@ -54,12 +54,11 @@ def test_the_curvature_rows_leave_every_response_signal_bit_for_bit(histories):
             sig = response.signals(history)
         _, start, n_slopes = _layout(history)
         used, ids = response.used_states(history.state_ids, len(history.contact))
-        rows = response.signal_rows(history, used)[:, :start + n_slopes]
+        rows = np.ascontiguousarray(response.signal_rows(history, used)[:, :start + n_slopes])
         values, slopes = np.empty((ids.size, start)), np.empty((ids.size, n_slopes))
         ends = np.empty((sig.end_values.shape[0], start + n_slopes))
         with backend.use("compiled"):
-            response_kernels.evaluate_signals(history.states, ids, np.ascontiguousarray(rows.transpose(0, 2, 1)),
-                                              values, slopes, ends)
+            response_kernels.evaluate_signals(history.states, ids, rows, values, slopes, ends)
         assert sig.end_values.shape[0] > 0  # transitions were met
         assert values.tobytes() == sig.values.tobytes()
         assert slopes.tobytes() == np.ascontiguousarray(sig.slopes[:, :n_slopes]).tobytes()
@@ -90,3 +89,49 @@ def test_the_curvature_columns_hold_the_second_rates(histories):
             np.testing.assert_allclose(sig.slope_rows[:, names[name]], coefficients, rtol=0,
                                        atol=1e-12 * np.abs(coefficients).max())
             assert np.abs(coefficients).max() > 0.0
+
+
+def _rows_with_temporaries(history, used) -> np.ndarray:
+    """response.signal_rows as it was before the products were written in place: every state's velocity map
+    stacked, each product a temporary copied in."""
+    space = history.space
+    lay = space.layout
+    names, start, n_slopes = _layout(history)
+    velocity = np.stack([history.contact[s].velocity for s in used])
+    matrix = np.stack([history.contact[s].matrix for s in used])
+    rows = np.zeros(response.signal_rows(history, used).shape)
+    rows[:, names["Y"]] = space.modal
+    rows[:, names["Ydot"]] = space.to_modal @ velocity
+    rows[:, names["Yddot"]] = rows[:, names["Ydot"]] @ matrix
+    if space.model.flexible:
+        rows[:, names["theta"]] = space.position[space.model.n_modes]
+        rows[:, names["v"]] = space.position[space.model.n_modes + 1]
+    rows[:, names["a"].start, lay.index_acceleration] = 1.0
+    rows[:, names["input"]] = (space.forcing[:, lay.index_acceleration] @ velocity)[:, None, :]
+    rows[:, names["element_velocity"]] = space.directions @ velocity
+    rows[:, names["element_displacement"]] = space.displacement_rows
+    rows[:, np.arange(names["z"].start, names["z"].stop), lay.z_indices] = 1.0
+    rows[:, np.arange(names["P"].start, names["P"].stop), lay.plastic_indices] = 1.0
+    rows[:, names["Pdot"]] = matrix[:, lay.plastic_indices]
+    rows[:, start:start + n_slopes] = rows[:, :n_slopes] @ matrix
+    rates = start + names["input"].start
+    rows[:, start + n_slopes:] = rows[:, rates:rates + rows.shape[1] - start - n_slopes] @ matrix
+    return rows
+
+
+@pytest.mark.parametrize("support", ["rigid", "uplift"])
+def test_the_signal_rows_of_a_yielding_run_are_those_of_temporary_products(elcentro, support):
+    """A yielding building (hundreds of states; on the rigid base every state holds the same velocity map, whose
+    products signal_rows takes once): the rows written in place have the bits of the products as temporaries."""
+    from paper_example import paper_system
+
+    system = paper_system(0.5)
+    building = replace(system.building, story_strength=0.04 * system.building.masses.sum() * 9.81
+                       * np.linspace(1.0, 0.3, system.building.n_stories), hardening_ratio=0.05)
+    system = replace(system, building=building)
+    space = model_for(system, support, ExactOptions())
+    ((_, history),) = simulate([space], [4], elcentro.acceleration[:1500], elcentro.dt, "reaction",
+                               uplift=support == "uplift", allow_flight=True)
+    used, _ = response.used_states(history.state_ids, len(history.contact))
+    assert space.layout.n_plastic and used.size > response.FEW_STATES
+    assert response.signal_rows(history, used).tobytes() == _rows_with_temporaries(history, used).tobytes()

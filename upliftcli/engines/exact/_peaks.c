@@ -128,19 +128,92 @@ static ALWAYS_INLINE void rates_at(const PeakInput *in, int64_t j, const double 
     *curvature = c;
 }
 
+/* out[r] = sum_q m_t[q width + r] x[q] for r in [lo, hi), from +0 in the order of q, zero inputs skipped, four
+ * rows of m_t through one pass where their inputs are nonzero: transposed_product's sums over some of its outputs */
+static ALWAYS_INLINE void lanes_product(const double *restrict m_t, const double *restrict x, int64_t n_in,
+                                        int64_t width, int64_t lo, int64_t hi, double *restrict out)
+{
+    for (int64_t r = lo; r < hi; r++) {
+        out[r] = 0.0;
+    }
+    int64_t q = 0;
+    while (q < n_in) {
+        if (q + 4 <= n_in && x[q] != 0.0 && x[q + 1] != 0.0 && x[q + 2] != 0.0 && x[q + 3] != 0.0) {
+            const double x0 = x[q], x1 = x[q + 1], x2 = x[q + 2], x3 = x[q + 3];
+            const double *row0 = m_t + q * width, *row1 = row0 + width, *row2 = row1 + width, *row3 = row2 + width;
+            for (int64_t r = lo; r < hi; r++) {
+                out[r] = (((out[r] + row0[r] * x0) + row1[r] * x1) + row2[r] * x2) + row3[r] * x3;
+            }
+            q += 4;
+            continue;
+        }
+        if (x[q] != 0.0) {
+            const double xq = x[q], *row = m_t + q * width;
+            for (int64_t r = lo; r < hi; r++) {
+                out[r] += row[r] * xq;
+            }
+        }
+        q++;
+    }
+}
+
+/* The rates and curvatures of the responses lo <= j < hi at one sample (or left limit), rate[j] and curvature[j],
+ * from R^T padded to padded_width(m): the products rates_at makes one response at a time, summed in the same order
+ * from +0 (lanes_product), so the same bits; y: n_basis doubles of work space */
+static ALWAYS_INLINE void rates_of_all(const PeakInput *in, const double *restrict padded, const double *restrict values,
+                                       const double *restrict slopes, int64_t lo, int64_t hi, double *restrict y,
+                                       double *restrict rate, double *restrict curvature)
+{
+    const int64_t width = padded_width(in->m);
+    for (int64_t q = 0; q < in->n_basis; q++) {
+        y[q] = values[in->rate_columns[q]];
+    }
+    lanes_product(padded, y, in->n_basis, width, lo, hi, rate);
+    for (int64_t q = 0; q < in->n_basis; q++) {
+        y[q] = slopes[in->curvature_columns[q]];
+    }
+    lanes_product(padded, y, in->n_basis, width, lo, hi, curvature);
+}
+
+/* an interval with at least m / ALL_RATES_SHARE responses to search has the rates of all of them taken at once
+ * (rates_of_all: one vectorised product; a yielding story's shear plateaus near its strength, so that dozens
+ * of responses are searched in the same intervals), one with fewer one response at a time (rates_at) */
+#define ALL_RATES_SHARE 4
+
+/* The responses of interval i to search, into todo (their count returned): those with a sampled value (r0 at
+ * its start, r1 at its end) at or above their threshold */
+static ALWAYS_INLINE int64_t to_search(const double *restrict r0, const double *restrict r1,
+                                       const double *restrict threshold, int64_t m, int64_t *restrict todo)
+{
+    int64_t count = 0;
+    for (int64_t j = 0; j < m; j++) {
+        if (j % 4 == 0 && all_below(r0 + j, r1 + j, threshold + j)) { /* four responses below at both ends */
+            j += 3;
+            continue;
+        }
+        if (fabs(r0[j]) < threshold[j] && fabs(r1[j]) < threshold[j]) {
+            continue;
+        }
+        todo[count++] = j;
+    }
+    return count;
+}
+
 /* Peak |r| of each response r = R s between samples and where it is (interval index +
  * fraction), from the quintic Hermite interpolant through the samples with the exact first and
  * second derivatives (response_kernels.hermite_peaks). Work space: sampled (n rounded up to
  * whole PRODUCT_SAMPLES, padded_width(m)), padded (n_basis, padded_width(m)), flagged (n), end and
  * threshold (padded_width(m) each), y (PRODUCT_SAMPLES n_basis), best and where (padded_width(m) each: copied to
- * best_out, where_out at the end), next_rate, next_curvature and next_at (m each). */
+ * best_out, where_out at the end), next_rate, next_curvature and next_at (m each), rates (4 padded_width(m): the
+ * rates and curvatures of all responses at an interval's start and end, rates_of_all) and todo (m). */
 HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double *where_out, double *sampled,
                                    double *padded, unsigned char *flagged, double *end, double *threshold, double *y,
                                    double *best, double *where, double *next_rate, double *next_curvature,
-                                   int64_t *next_at)
+                                   int64_t *next_at, double *rates, int64_t *todo)
 {
     const int64_t n = in->n, m = in->m, n_b = in->n_basis, k = in->k, k_s = in->k_s, k_e = in->width_end_slopes;
     const int64_t width = padded_width(m);
+    double *rate0 = rates, *curvature0 = rates + width, *rate1 = rates + 2 * width, *curvature1 = rates + 3 * width;
     /* best, where and threshold have `width` entries: the zero columns past m (their responses are +0, or NaN
      * from an infinite signal) never exceed a peak of 0 nor reach a threshold of +inf, and no loop over the
      * responses has a remainder */
@@ -186,11 +259,14 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double
     for (int64_t i = 0; i < n; i++) {
         flagged[i] = (unsigned char)any_at_least(sampled + i * width, threshold, width);
     }
-    /* pass 2: between samples, on the intervals with a flagged end or ending at a transition; the rates of a
-     * response at the sample that ended the interval before (when it was searched) are taken again */
+    /* pass 2: between samples, on the intervals with a flagged end or ending at a transition; the rates at the
+     * sample that ended the interval before (when it was searched) are taken again: of the responses from the
+     * first to the last searched (all_at: that sample, rate0 and curvature0 for all_lo <= j < all_hi), or of one
+     * (next_at[j]) */
     for (int64_t j = 0; j < m; j++) {
         next_at[j] = -1;
     }
+    int64_t all_at = -1, all_lo = 0, all_hi = 0;
     for (int64_t i = 0; i + 1 < n; i++) {
         const int64_t fix = in->switch_[i];
         if (!(flagged[i] || flagged[i + 1] || fix >= 0)) {
@@ -201,27 +277,39 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double
             combine(in->end_values + fix * k, in->value_columns, in->rows_t, n_b, m, y, end);
             r1 = end;
         }
+        const int64_t count = to_search(r0, r1, threshold, m, todo);
+        if (count == 0) {
+            continue;
+        }
+        const double *end_values = fix >= 0 ? in->end_values + fix * k : in->values + (i + 1) * k;
+        const double *end_slopes = fix >= 0 ? in->end_slopes + fix * k_e : in->slopes + (i + 1) * k_s;
+        const int all = count * ALL_RATES_SHARE >= m;
+        const int64_t lo = todo[0], hi = todo[count - 1] + 1;
+        if (all) {
+            if (all_at != i || lo < all_lo || hi > all_hi) {
+                rates_of_all(in, padded, in->values + i * k, in->slopes + i * k_s, lo, hi, y, rate0, curvature0);
+            }
+            rates_of_all(in, padded, end_values, end_slopes, lo, hi, y, rate1, curvature1);
+        }
         const double length = in->lengths[i];
-        for (int64_t j = 0; j < m; j++) {
-            if (j % 4 == 0 && all_below(r0 + j, r1 + j, threshold + j)) { /* four responses below at both ends */
-                j += 3;
-                continue;
-            }
-            if (fabs(r0[j]) < threshold[j] && fabs(r1[j]) < threshold[j]) {
-                continue;
-            }
+        for (int64_t t = 0; t < count; t++) {
+            const int64_t j = todo[t];
             double d0, d1, c0, c1;
-            if (next_at[j] == i) { /* sample i ended the interval before, searched for this response */
+            if (all || (all_at == i && j >= all_lo && j < all_hi)) {
+                d0 = rate0[j];
+                c0 = curvature0[j];
+            } else if (next_at[j] == i) { /* sample i ended the interval before, searched for this response */
                 d0 = next_rate[j];
                 c0 = next_curvature[j];
             } else {
                 rates_at(in, j, in->values + i * k, in->slopes + i * k_s, &d0, &c0);
             }
-            if (fix >= 0) {
-                rates_at(in, j, in->end_values + fix * k, in->end_slopes + fix * k_e, &d1, &c1);
+            if (all) {
+                d1 = rate1[j];
+                c1 = curvature1[j];
             } else {
-                rates_at(in, j, in->values + (i + 1) * k, in->slopes + (i + 1) * k_s, &d1, &c1);
-                next_at[j] = i + 1;
+                rates_at(in, j, end_values, end_slopes, &d1, &c1);
+                next_at[j] = fix >= 0 ? -1 : i + 1;
                 next_rate[j] = d1;
                 next_curvature[j] = c1;
             }
@@ -236,6 +324,17 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double
                 where[j] = i + s;
             }
         }
+        if (all && fix < 0) { /* the end's rates are those of the next interval's start */
+            double *swap = rate0;
+            rate0 = rate1;
+            rate1 = swap;
+            swap = curvature0;
+            curvature0 = curvature1;
+            curvature1 = swap;
+        }
+        all_at = all && fix < 0 ? i + 1 : -1;
+        all_lo = lo;
+        all_hi = hi;
     }
     for (int64_t j = 0; j < m; j++) {
         best_out[j] = best[j];
@@ -293,8 +392,8 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
     double *sampled = malloc((n_sampled + n_padded + 4 * width + PRODUCT_SAMPLES * in.n_basis + 1)
                              * sizeof(double));
     unsigned char *flagged = malloc(in.n + 1);
-    double *next_rate = malloc((2 * in.m + 1) * sizeof(double));
-    int64_t *next_at = malloc((in.m + 1) * sizeof(int64_t));
+    double *next_rate = malloc((2 * in.m + 4 * width + 1) * sizeof(double));
+    int64_t *next_at = malloc((2 * in.m + 1) * sizeof(int64_t));
     if (!sampled || !flagged || !next_rate || !next_at) {
         free(sampled);
         free(flagged);
@@ -307,7 +406,7 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
     double *best = y + PRODUCT_SAMPLES * in.n_basis, *where = best + width;
     Py_BEGIN_ALLOW_THREADS
     hermite_peaks(&in, DOUBLES(b[11]), DOUBLES(b[12]), sampled, padded, flagged, end, threshold, y, best, where,
-                  next_rate, next_rate + in.m, next_at);
+                  next_rate, next_rate + in.m, next_at, next_rate + 2 * in.m, next_at + in.m);
     Py_END_ALLOW_THREADS
     free(sampled);
     free(flagged);

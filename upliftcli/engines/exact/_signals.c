@@ -21,7 +21,7 @@
  * coefficients their sum from +0 in one expression (a pair). Each list holds output
  * indices (and where from), in increasing order. */
 typedef struct {
-    const double *whole;   /* R^T (n_aug, width) of a state not split (NULL: split), used as it is */
+    const double *whole;   /* R (width, n_aug) of a state not split (NULL: split), used transposed (transpose_rows) */
     int64_t width;
     int64_t n_dense, n_sparse, n_copies, n_entries, n_picks;
     int64_t n_short[3];    /* rows of 2, 3 and 4 nonzero coefficients */
@@ -164,13 +164,35 @@ static inline void split_rest(const SplitRows *split, const double *restrict x, 
     }
 }
 
-/* out = R x with the rows split by split_rows, or by the whole rows of a state not split;
- * dense_out: dense_width doubles of work space */
-static inline void split_product(const SplitRows *split, const double *restrict x, int64_t n_aug,
-                                 double *restrict dense_out, double *restrict out)
+/* R^T (n_aug, width) of the rows R (width, n_aug) of a state, four rows at a time (each column of four a
+ * contiguous store) */
+static void transpose_rows(const double *restrict rows, int64_t width, int64_t n_aug, double *restrict rows_t)
+{
+    int64_t r = 0;
+    for (; r + 4 <= width; r += 4) {
+        const double *a = rows + r * n_aug, *b = a + n_aug, *c = b + n_aug, *d = c + n_aug;
+        for (int64_t q = 0; q < n_aug; q++) {
+            double *out = rows_t + q * width + r;
+            out[0] = a[q];
+            out[1] = b[q];
+            out[2] = c[q];
+            out[3] = d[q];
+        }
+    }
+    for (; r < width; r++) {
+        for (int64_t q = 0; q < n_aug; q++) {
+            rows_t[q * width + r] = rows[r * n_aug + q];
+        }
+    }
+}
+
+/* out = R x with the rows split by split_rows, or by the whole rows of a state not split (whole_t: their
+ * transpose, transpose_rows); dense_out: dense_width doubles of work space */
+static inline void split_product(const SplitRows *split, const double *restrict whole_t, const double *restrict x,
+                                 int64_t n_aug, double *restrict dense_out, double *restrict out)
 {
     if (split->whole) {
-        transposed_product(split->whole, x, n_aug, split->width, out);
+        transposed_product(whole_t, x, n_aug, split->width, out);
         return;
     }
     transposed_product(split->dense, x, n_aug, split->dense_width, dense_out);
@@ -180,14 +202,15 @@ static inline void split_product(const SplitRows *split, const double *restrict 
 /* Signal values and slopes at every sample, each sample with its own contact state's rows
  * (split[s], or its whole rows); the left limits at the end of every interval that ends at a transition, in order.
  * PRODUCT_SAMPLES samples in the same state have their dense rows computed together
- * (product_samples). acc: width + (PRODUCT_SAMPLES + 1) padded_width(width) doubles of work space. */
+ * (product_samples). acc: width + (PRODUCT_SAMPLES + 1) padded_width(width) doubles of work space; whole_t:
+ * n_aug width, the transposed rows of the last state not split met (transposed as its samples begin). */
 HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n_aug, const int64_t *ids,
                                       const SplitRows *split, int64_t k, int64_t k_s, double *values, double *slopes,
-                                      double *ends, double *acc)
+                                      double *ends, double *acc, double *whole_t)
 {
     const int64_t width = k + k_s;
     double *dense_out = acc + width, *dense_block = dense_out + padded_width(width);
-    int64_t n_switch = 0;
+    int64_t n_switch = 0, transposed = -1;
     for (int64_t i0 = 0; i0 < n; i0 += PRODUCT_SAMPLES) {
         const int64_t count = n - i0 < PRODUCT_SAMPLES ? n - i0 : PRODUCT_SAMPLES;
         int same = count == PRODUCT_SAMPLES && !split[ids[i0]].whole;
@@ -200,15 +223,19 @@ HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n
         }
         for (int64_t i = i0; i < i0 + count; i++) {
             const SplitRows *rows = split + ids[i];
+            if (rows->whole && transposed != ids[i]) {
+                transpose_rows(rows->whole, width, n_aug, whole_t);
+                transposed = ids[i];
+            }
             if (same) {
                 split_rest(rows, states + i * n_aug, dense_block + (i - i0) * rows->dense_width, acc);
             } else {
-                split_product(rows, states + i * n_aug, n_aug, dense_out, acc);
+                split_product(rows, whole_t, states + i * n_aug, n_aug, dense_out, acc);
             }
             memcpy(values + i * k, acc, k * sizeof(double));
             memcpy(slopes + i * k_s, acc + k, k_s * sizeof(double));
             if (i + 1 < n && ids[i + 1] != ids[i]) {
-                split_product(rows, states + (i + 1) * n_aug, n_aug, dense_out, ends + n_switch * width);
+                split_product(rows, whole_t, states + (i + 1) * n_aug, n_aug, dense_out, ends + n_switch * width);
                 n_switch++;
             }
         }
@@ -217,7 +244,7 @@ HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n
 
 /* ---------------------------------------------------------------------------- Python entry point */
 
-/* evaluate_signals(states, ids, rows_t, values, slopes, ends) */
+/* evaluate_signals(states, ids, rows, values, slopes, ends) */
 static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     (void)self;
@@ -226,11 +253,11 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
     }
     Views v = {.count = 0};
     PyObject *result = NULL;
-    static const ArraySpec arrays[] = {{0, 'd', 2, 0, "states"}, {1, 'q', 1, 0, "ids"}, {2, 'd', 3, 0, "rows_t"},
+    static const ArraySpec arrays[] = {{0, 'd', 2, 0, "states"}, {1, 'q', 1, 0, "ids"}, {2, 'd', 3, 0, "rows"},
         {3, 'd', 2, 1, "values"}, {4, 'd', 2, 1, "slopes"}, {5, 'd', 2, 1, "ends"}};
     Py_buffer *b[6];
     int taken = take_views(&v, args, arrays, 6, b);
-    Py_buffer *states = b[0], *ids = b[1], *rows_t = b[2], *values = b[3], *slopes = b[4], *ends = b[5];
+    Py_buffer *states = b[0], *ids = b[1], *rows_in = b[2], *values = b[3], *slopes = b[4], *ends = b[5];
     if (!taken) {
         goto done;
     }
@@ -238,15 +265,15 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
     int64_t transitions = 0;
     int ids_ok = 1;
     for (int64_t i = 0; i < ids->shape[0]; i++) {
-        ids_ok &= INT64S(ids)[i] >= 0 && INT64S(ids)[i] < rows_t->shape[0];
+        ids_ok &= INT64S(ids)[i] >= 0 && INT64S(ids)[i] < rows_in->shape[0];
         transitions += i > 0 && INT64S(ids)[i] != INT64S(ids)[i - 1];
     }
-    if (ids->shape[0] != n || rows_t->shape[1] != n_aug || rows_t->shape[2] != k + k_s || values->shape[0] != n
+    if (ids->shape[0] != n || rows_in->shape[2] != n_aug || rows_in->shape[1] != k + k_s || values->shape[0] != n
         || slopes->shape[0] != n || ends->shape[0] < transitions || ends->shape[1] != k + k_s || !ids_ok) {
         PyErr_SetString(PyExc_ValueError, "evaluate_signals: inconsistent array shapes");
         goto done;
     }
-    const int64_t width = k + k_s, n_states = rows_t->shape[0], per_state = n_aug * width;
+    const int64_t width = k + k_s, n_states = rows_in->shape[0], per_state = n_aug * width;
     /* the states used at least SPLIT_USES times (samples and left limits) are split (split_rows);
      * the others' rows are used whole (a yielding run meets hundreds of states, most at a few
      * samples, and splitting each cost it more than the products it saves: measured) */
@@ -265,9 +292,10 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
     for (int64_t s = 0; s < n_states; s++) {
         n_split += uses[s] >= SPLIT_USES;
     }
-    /* work space: the products (evaluate_signals) and, per state split, its split rows (split_rows) */
+    /* work space: the products (evaluate_signals) and, per state split, its split rows (split_rows), the sums of
+     * split_rows and the transposed rows of one state (whole_t) */
     const int64_t n_acc = width + (PRODUCT_SAMPLES + 1) * padded_width(width), n_dense = n_aug * padded_width(width);
-    double *doubles = malloc((n_acc + n_split * (n_dense + per_state) + width + 1) * sizeof(double));
+    double *doubles = malloc((n_acc + n_split * (n_dense + per_state) + width + per_state + 1) * sizeof(double));
     int64_t *integers = malloc((INTEGERS_PER_ROW * n_split * width + 2 * n_split * per_state + width + 1)
                                * sizeof(int64_t));
     SplitRows *split = malloc((n_states + 1) * sizeof(SplitRows));
@@ -279,11 +307,12 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
         PyErr_NoMemory();
         goto done;
     }
+    double *whole_t = doubles + n_acc + n_split * (n_dense + per_state) + width;
     Py_BEGIN_ALLOW_THREADS
     for (int64_t s = 0, j = 0; s < n_states; s++) {
         SplitRows *rows = split + s;
         rows->width = width;
-        rows->whole = uses[s] >= SPLIT_USES ? NULL : DOUBLES(rows_t) + s * per_state;
+        rows->whole = uses[s] >= SPLIT_USES ? NULL : DOUBLES(rows_in) + s * per_state;
         if (rows->whole) {
             continue;
         }
@@ -297,12 +326,13 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
         rows->capacity = per_state;
         rows->entry_input = integers + INTEGERS_PER_ROW * n_split * width + 2 * j * per_state;
         rows->entry_output = rows->entry_input + per_state;
-        split_rows(DOUBLES(rows_t) + s * per_state, n_aug, width, rows,
+        transpose_rows(DOUBLES(rows_in) + s * per_state, width, n_aug, whole_t);
+        split_rows(whole_t, n_aug, width, rows,
                    integers + n_split * (INTEGERS_PER_ROW * width + 2 * per_state), doubles + n_acc + n_split * (n_dense + per_state));
         j++;
     }
     evaluate_signals(DOUBLES(states), n, n_aug, INT64S(ids), split, k, k_s, DOUBLES(values), DOUBLES(slopes),
-                     DOUBLES(ends), doubles);
+                     DOUBLES(ends), doubles, whole_t);
     Py_END_ALLOW_THREADS
     free(uses);
     free(doubles);

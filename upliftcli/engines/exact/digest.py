@@ -254,7 +254,7 @@ class StoryDigest:
         the drifts of every story at its last sample (drift_rows: Y* -> d of every story)."""
         drifts = chunk.states @ self.space.drift_rows.T
         self.hysteretic += hysteretic_work(self.space.model.stories, drifts, chunk.story_sign)
-        self.yielded |= np.any(chunk.story_sign != 0, axis=0)
+        self.yielded |= chunk.story_sign.any(axis=0)
         self.final_drift = drift_rows @ sig["Y"][-1]
 
     def quantities(self, building, peak_drift: np.ndarray) -> dict[str, np.ndarray]:

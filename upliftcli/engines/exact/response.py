@@ -141,43 +141,43 @@ def signal_layout(n_modes: int, n_elements: int, n_plastic: int = 0) -> dict[str
 
 
 def signals(history: History) -> Signals:
-    """Evaluate the signal rows of every contact state at its samples
-    (response_kernels.evaluate_signals), the rows built for the states the samples use only, all
-    at once (a yielding run meets hundreds of states: docs/theory.md 14.3)."""
+    """Evaluate the signal rows of every contact state at its samples (response_kernels.evaluate_signals), the
+    rows built for the states the samples use only, all at once (a yielding run meets hundreds: theory 14.3)."""
     lay = history.space.layout
     names = signal_layout(history.space.model.n_modes, lay.n_elements, lay.n_plastic)
     start = names[VALUES_ONLY[-1]].stop
     curved = curvature_columns(names)
     used, ids = used_states(history.state_ids, len(history.contact))
     rows = signal_rows(history, used)
-    rows_t = np.ascontiguousarray(rows.transpose(0, 2, 1))
     at = np.nonzero(ids[1:] != ids[:-1])[0]
     switch = np.full(max(ids.size - 1, 0), -1, dtype=np.int64)
     switch[at] = np.arange(at.size)
     values = np.empty((ids.size, start))
     slopes = np.empty((ids.size, rows.shape[1] - start))
     ends = np.empty((at.size, rows.shape[1]))
-    response_kernels.evaluate_signals(history.states, ids, rows_t, values, slopes, ends)
+    response_kernels.evaluate_signals(history.states, ids, rows, values, slopes, ends)
     return Signals(values, slopes, switch, np.ascontiguousarray(ends[:, :start]),
                    np.ascontiguousarray(ends[:, start:]), names, curved, ids,
                    _slope_rows(rows[:, start:, lay.index_slope], names, curved))
 
 
 def signal_rows(history: History, used: np.ndarray) -> np.ndarray:
-    """The rows of the signals (signal_layout) in each contact state `used` (S, k + k_s, n_aug): the values'
-    rows, then the slopes' (R A), then the curvatures' of the input signal and the element velocities
-    (R A^2, curvature_columns; those of Y*' are the slopes of Y*'')."""
+    """The rows of the signals (signal_layout) in each contact state `used` (S, k + k_s, n_aug): the values' rows,
+    the slopes' (R A), the curvatures' of the input signal and element velocities (R A^2, curvature_columns; Y*''
+    gives those of Y*'). Products written in place (matmul's out), those of a shared velocity map once."""
     space = history.space
     model, lay = space.model, space.layout
     n_m = model.n_modes
     names = signal_layout(n_m, lay.n_elements, lay.n_plastic)
     start, n_slopes = names[VALUES_ONLY[-1]].stop, names[WITH_RATES[-1]].stop
-    velocity = np.stack([history.contact[s].velocity for s in used])  # (S, n_p, n_aug)
+    velocity = _velocity(history.contact, used)  # (S or 1, n_p, n_aug)
     matrix = np.stack([history.contact[s].matrix for s in used])
-    rows = np.zeros((used.size, start + curvature_columns(names)["element_velocity"].stop, lay.n_aug))
+    rows = np.empty((used.size, start + curvature_columns(names)["element_velocity"].stop, lay.n_aug))
+    for name in ("a", "z", "theta", "v", "P"):  # the rows not written whole below (np.zeros: 3.5 MB set)
+        rows[:, names[name]] = 0.0
     rows[:, names["Y"]] = space.modal
     rows[:, names["Ydot"]] = space.to_modal @ velocity
-    rows[:, names["Yddot"]] = rows[:, names["Ydot"]] @ matrix
+    np.matmul(rows[:, names["Ydot"]], matrix, out=rows[:, names["Yddot"]])
     if model.flexible:
         rows[:, names["theta"]] = space.position[n_m]
         rows[:, names["v"]] = space.position[n_m + 1]
@@ -194,10 +194,19 @@ def signal_rows(history: History, used: np.ndarray) -> np.ndarray:
     if lay.n_plastic:  # the plastic drifts and their rates (docs/theory.md 15)
         rows[:, np.arange(names["P"].start, names["P"].stop), lay.plastic_indices] = 1.0
         rows[:, names["Pdot"]] = matrix[:, lay.plastic_indices]
-    rows[:, start:start + n_slopes] = rows[:, :n_slopes] @ matrix
+    np.matmul(rows[:, :n_slopes], matrix, out=rows[:, start:start + n_slopes])
     rates = start + names["input"].start  # the rates' rows of the input signal and element velocities
-    rows[:, start + n_slopes:] = rows[:, rates:rates + rows.shape[1] - start - n_slopes] @ matrix
+    np.matmul(rows[:, rates:rates + rows.shape[1] - start - n_slopes], matrix, out=rows[:, start + n_slopes:])
     return rows
+
+
+def _velocity(contact: list, used: np.ndarray) -> np.ndarray:
+    """The velocity maps X -> p' of the states `used` (S, n_p, n_aug), or the one all share (1, n_p, n_aug: the
+    fixed and bonded bases)."""
+    first = contact[used[0]].velocity
+    if all(contact[s].velocity is first for s in used):
+        return first[None]
+    return np.stack([contact[s].velocity for s in used])
 
 
 def curvature_columns(names: dict[str, slice]) -> dict[str, slice]:
@@ -219,8 +228,7 @@ def _slope_rows(slope_rows: np.ndarray, names: dict[str, slice], curved: dict[st
     return out
 
 
-#: a run with at most this many contact states has the signal rows of all built (response.signals); with more
-#: (yielding: hundreds) those of the states its samples use only
+#: a run with at most this many contact states has the signal rows of all built (signals); with more those used
 FEW_STATES = 8
 
 
@@ -240,9 +248,8 @@ def used_states(state_ids: np.ndarray, n_states: int) -> tuple[np.ndarray, np.nd
 
 @dataclass(frozen=True)
 class PeakSearch:
-    """What hermite_peaks needs of some responses, prepared once for every chunk of a run:
-    R^T (n_basis, m), the signal columns of the basis values, rates and curvatures, and the
-    shortest period that matters in each response [s]."""
+    """What hermite_peaks needs of some responses, prepared once for every chunk of a run: R^T (n_basis, m), the
+    signal columns of the basis values, rates and curvatures, the shortest period that matters in each [s]."""
 
     rows_t: np.ndarray
     value_columns: np.ndarray
@@ -280,8 +287,7 @@ def peak_search(names: dict[str, slice], rows: np.ndarray, periods: np.ndarray,
 
 
 def hermite_peaks(sig: Signals, rows: np.ndarray, lengths: np.ndarray, periods: np.ndarray,
-                  rates: np.ndarray | None = None
-                  ) -> tuple[np.ndarray, np.ndarray]:
+                  rates: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Peak |r| of each response r = rows @ Y* (+ rates @ Y*') between samples, and where
     (interval index + fraction), from the quintic Hermite interpolant through the samples with
     the exact first and second derivatives (response_kernels.hermite_peaks). periods (m,) [s]:

@@ -27,12 +27,13 @@ def quintic_extremum(p0: float, p1: float, d0: float, d1: float, c0: float, c1: 
     return _loops("_peaks").quintic_extremum(float(p0), float(p1), float(d0), float(d1), float(c0), float(c1))
 
 
-def evaluate_signals(states: np.ndarray, ids: np.ndarray, rows_t: np.ndarray, values: np.ndarray,
+def evaluate_signals(states: np.ndarray, ids: np.ndarray, rows: np.ndarray, values: np.ndarray,
                      slopes: np.ndarray, ends: np.ndarray) -> None:
     """Signal values and slopes at every sample, each sample with its own contact state's rows.
 
-    rows_t (S, n_aug, k + k_s): transposed rows of every state (k value rows, then the slope
-    rows of the first k_s signals); values (n, k), slopes (n, k_s) filled in place; ends
+    rows (S, k + k_s, n_aug): the rows of every state (k value rows, then the slope rows of the
+    first k_s signals; the loop transposes each state's once, the twin all); values (n, k), slopes
+    (n, k_s) filled in place; ends
     (n_switch, k + k_s): the left limits at the end of every interval that ends at a
     transition, in order. The rows of each state used at least 32 times (its samples and left
     limits: _signals.c, SPLIT_USES) are split once per call: a row equal to an earlier one is
@@ -41,7 +42,7 @@ def evaluate_signals(states: np.ndarray, ids: np.ndarray, rows_t: np.ndarray, va
     run meets hundreds of states, most at a few samples). Every way gives the bits of the dense
     product R x.
     """
-    _loops("_signals").evaluate_signals(states, ids, rows_t, values, slopes, ends)
+    _loops("_signals").evaluate_signals(states, ids, rows, values, slopes, ends)
 
 
 def hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns, rate_columns, curvature_columns,

@@ -18,10 +18,11 @@ import numpy as np
 # ----------------------------------------------------------------------------- signals (_signals.c)
 
 
-def evaluate_signals(states, ids, rows_t, values, slopes, ends) -> None:
-    """Signal values and slopes at every sample, each with its sample's contact state's rows; the
-    left limits at the end of every interval that ends at a transition (the old state's rows at
-    the next sample), in order."""
+def evaluate_signals(states, ids, rows, values, slopes, ends) -> None:
+    """Signal values and slopes at every sample, each with its sample's contact state's rows (S, k + k_s, n_aug);
+    the left limits at the end of every interval that ends at a transition (the old state's rows at the next
+    sample), in order."""
+    rows_t = np.ascontiguousarray(rows.transpose(0, 2, 1))
     k = values.shape[1]
     for state in np.flatnonzero(np.bincount(ids, minlength=rows_t.shape[0])):
         at = np.flatnonzero(ids == state)

@@ -145,9 +145,10 @@ def hysteretic_work(stories: StoryYield, drifts: np.ndarray, sign: np.ndarray) -
     if drifts.shape[0] < 2:
         return np.zeros(stories.count)
     # the work of the intervals where some story yields (a sixth of them in the README example at El Centro x2),
-    # the others' zero: the same terms summed in the same order as over every interval
+    # the others' zero: the same terms summed in the same order as over every interval (numpy sums one story's
+    # column pairwise, so the zeros stay in it)
     terms = np.zeros((drifts.shape[0] - 1, stories.count))
-    rows = np.flatnonzero(np.any(sign[:-1] != 0, axis=1))
+    rows = np.flatnonzero(sign[:-1].any(axis=1))
     d0, d1, s = drifts[rows], drifts[rows + 1], sign[rows]
     a = stories.alpha
     per = (1.0 - a) * (0.5 * a * stories.stiffness * (d1**2 - d0**2) + s * (1.0 - a) * stories.strength * (d1 - d0))
