@@ -277,11 +277,12 @@ def _print_modes(loaded: Deck, units: str) -> None:
     """The deck's title and the modes table on the terminal."""
     from rich.markup import escape
 
-    from . import render
+    from .fitting import console
+    from .render_modes import modes_table
 
-    out = render.console()
+    out = console()
     out.print(f"[bold]{escape(loaded.title)}[/bold]")
-    out.print(render.modes_table(loaded.system, units=units))
+    out.print(modes_table(loaded.system, units=units))
 
 
 def register(app: typer.Typer) -> None:
