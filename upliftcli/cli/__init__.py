@@ -129,7 +129,41 @@ def register(names: tuple[str, ...] = COMMAND_MODULES) -> typer.Typer:
         if name in names and name not in _registered:
             _registered.add(name)
             _register_module(name)
+    resolve_annotations(_app)
     return _app
+
+
+def resolve_annotations(typer_app: typer.Typer) -> None:
+    """Each command's annotations as objects: typer reads them four times per command (its
+    parameters and its callback, each by inspect.signature(eval_str=True) and get_type_hints), and
+    under `from __future__ import annotations` each is a string compiled anew every time; resolved
+    once here, to the same objects."""
+    for info in typer_app.registered_commands:
+        _resolve(info.callback)
+    for group in typer_app.registered_groups:
+        resolve_annotations(group.typer_instance)
+
+
+def _resolve(function) -> None:
+    """A function's string annotations evaluated in its module, as inspect.signature(eval_str=True)
+    does; the same text of the same module is evaluated once (`Path | None`, `list[str]` ...)."""
+    if function is not None:
+        namespace = function.__globals__
+        function.__annotations__ = {name: _evaluated(value, namespace)
+                                    for name, value in function.__annotations__.items()}
+
+
+#: (annotation text, id of its module's namespace) -> its value
+_EVALUATED: dict[tuple[str, int], object] = {}
+
+
+def _evaluated(value, namespace: dict):
+    if not isinstance(value, str):
+        return value
+    key = (value, id(namespace))
+    if key not in _EVALUATED:
+        _EVALUATED[key] = eval(value, namespace)  # an annotation of this package, as inspect evaluates it
+    return _EVALUATED[key]
 
 
 def _register_module(name: str) -> None:
