@@ -1,6 +1,6 @@
 """`uplift analyze` and `uplift modes`. Their helpers: options.py (the options shared with other
 commands), plotting.py (--plot), histories.py (--histories), render.py and render_batch.py (the
-terminal tables); several decks at once: analyze_batch.py.
+terminal tables); one deck: analyze_deck.py, several decks at once: analyze_batch.py.
 
 Only typer and the light modules are imported at module level: the analysis modules, numpy and
 rich are imported by the commands that use them, so that `uplift --help` starts in about the time
@@ -12,31 +12,24 @@ from __future__ import annotations
 
 import json
 import os
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import typer
 
 from ..errors import InputError
-from ..provenance.files import input_files
 from . import plotting, stdout
-from .analyze_steps import refuse_results, result_paths, warn, warn_deck, warn_suite, write_results
-from .histories import check_histories, write_histories
 from .options import (
     ENGINE_HELP,
     SET_HELP,
     UNITS_HELP,
     DisplayUnits,
     OutputFormat,
-    accuracy_checks,
     check_out_directory,
     display_system,
-    exit_on_violations,
     file_system,
     given_path,
     overrides,
-    refuse_unchecked,
 )
 
 if TYPE_CHECKING:
@@ -74,23 +67,6 @@ def _folder_files(suite) -> list[str]:
     if not (isinstance(suite, str) and os.path.isdir(suite)):
         return []
     return [os.path.join(suite, name) for name in os.listdir(suite)]
-
-
-@dataclass(frozen=True)
-class _Outputs:
-    """What `analyze` writes for one deck: the table or JSON, --out, --plot (in its formats) and --histories."""
-
-    output_format: OutputFormat
-    out: Path | None
-    plot: Path | None
-    formats: list[str]
-    histories: Path | None
-    overwrite: bool
-    units: str | None  # --units (None: the deck's display units, SI files)
-
-    def display(self, loaded: Deck) -> str:
-        """The display units of this deck's tables and figures (options.display_system)."""
-        return display_system(self.units, loaded.raw)
 
 
 def analyze(
@@ -140,8 +116,10 @@ def analyze(
     if len(decks) > 1:
         analyze_batch(decks, overrides(settings, engine, support), output_format, out, overwrite, units, check)
         return
-    outputs = _Outputs(output_format, out, plot, formats, histories, overwrite, units)
-    _analyze_deck(decks[0], overrides(settings, engine, support), outputs, check)
+    from .analyze_deck import Outputs, analyze_deck
+
+    outputs = Outputs(output_format, out, plot, formats, histories, overwrite, units)
+    analyze_deck(decks[0], overrides(settings, engine, support), outputs, check)
 
 
 def _check_outputs_given(decks: list[Path], out: Path | None, plot: Path | None, plot_format: list[str]) -> list[str]:
@@ -151,76 +129,6 @@ def _check_outputs_given(decks: list[Path], out: Path | None, plot: Path | None,
     if plot is not None and len(decks) > 1:
         raise InputError("--plot", str(plot), f"a single deck ({len(decks)} decks given)")
     return formats
-
-
-def _analyze_deck(deck: Path, given: list[str], outputs: _Outputs, check: bool) -> None:
-    """One deck: read and checked, run, its warnings, its outputs, then the criteria verdict (exit 3)."""
-    from ..analysis import run as analysis
-    from ..deck.criteria import check_criteria
-    from ..deck.load import load_deck
-
-    loaded = _prepare_deck(deck, load_deck(deck, given), outputs, check)
-    results = analysis.run(loaded)
-    checks = accuracy_checks(loaded, results, check)
-    warn_suite(results)
-    warn(results, printed=loaded.warnings, checks=checks)
-    _write_outputs(deck, loaded, results, checks, outputs)
-    exit_on_violations(check_criteria(results, loaded.criteria, checks))
-
-
-def _prepare_deck(deck: Path, loaded: Deck, outputs: _Outputs, check: bool) -> Deck:
-    """The deck as the run needs it (its histories kept for --plot and --histories), its outputs
-    refused before the run, its warnings printed."""
-    refuse_unchecked(loaded.criteria, check)
-    _refuse_outputs(deck, loaded, outputs)
-    if outputs.histories is not None or outputs.plot is not None:
-        loaded = plotting.keep_histories(loaded)
-    warn_deck(loaded)
-    return loaded
-
-
-def _refuse_outputs(deck: Path, loaded: Deck, outputs: _Outputs) -> None:
-    """The files of --out, --plot and --histories: none may be an input, none may exist unless --overwrite."""
-    if outputs.out is not None:
-        refuse_results(result_paths(outputs.out, deck.stem), input_files(loaded), outputs.overwrite)
-    if outputs.plot is not None:
-        plotting.check_outputs(plotting.figure_paths(loaded, outputs.plot, deck.stem, outputs.formats),
-                               input_files(loaded), outputs.overwrite)
-    if outputs.histories is not None:
-        check_histories(outputs.histories, loaded, input_files(loaded), outputs.overwrite)
-
-
-def _write_outputs(deck: Path, loaded: Deck, results, checks: list, outputs: _Outputs) -> None:
-    """The figures, the histories, the table or JSON on stdout and the --out files, in that order."""
-    if outputs.plot is not None:
-        plotting.analysis_plots(results, loaded, outputs.plot, deck.stem, outputs.formats, outputs.display(loaded))
-    record = _provenance(loaded, outputs)
-    if outputs.histories is not None:
-        write_histories(outputs.histories, results, input_files(loaded), record, file_system(outputs.units))
-    _print_results(loaded, results, checks, record, outputs)
-    if outputs.out is not None:
-        write_results(results, outputs.out, deck.stem, loaded, record, checks, file_system(outputs.units))
-
-
-def _provenance(loaded: Deck, outputs: _Outputs) -> dict | None:
-    """The provenance of the files and the JSON; not built for the terminal alone (30-60 ms of
-    package-metadata look-ups)."""
-    if outputs.histories is None and outputs.out is None and outputs.output_format is not OutputFormat.json:
-        return None
-    from ..provenance.record import of_deck
-
-    return of_deck(loaded)
-
-
-def _print_results(loaded: Deck, results, checks: list, record: dict | None, outputs: _Outputs) -> None:
-    """The results as one JSON document on stdout, or as the terminal tables."""
-    from ..output import to_json
-    from . import render
-
-    if outputs.output_format is OutputFormat.json:
-        stdout.echo(to_json(results, loaded.source, loaded.title, record, checks, file_system(outputs.units)), nl=False)
-        return
-    render.print_results(render.console(), results, loaded.title, outputs.display(loaded), checks)
 
 
 def modes(
@@ -236,6 +144,7 @@ def modes(
 ) -> None:
     """Fixed-base modes: periods, w_n/w_1, effective masses m_n*/m_t (and cumulative), heights h_n*, h_n*/b."""
     from ..deck.load import load_deck
+    from .analyze_steps import warn_deck
 
     formats = plotting.check_plot(plot, plot_format)
     loaded = load_deck(deck, settings, load_ground_motion=False)
