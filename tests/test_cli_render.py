@@ -120,6 +120,26 @@ def test_the_quick_width_bound_is_never_below_what_rich_measures():
     assert fitting._widest(table) == float("inf")
 
 
+def test_the_quick_width_is_what_rich_measures_where_it_says_so():
+    """Start-up (issue 34): a table of plain texts and escaped units is not measured by rich (it
+    draws every cell twice) to learn that it is too wide; where markup could shorten a text, rich
+    measures it."""
+    table = Table(title="t")
+    table.add_column(escape("disp. [mm]"), justify="right")
+    table.add_column("meaning", justify="left", min_width=12)
+    table.add_column(Text("stacked\nheading"), justify="right")
+    table.add_row("1.0", "a long text " * 5, Text("12345"))
+    table.add_row(escape("[bold]not markup[/bold]"), "x\ny", "")
+    for box in (rich_box.HEAVY_HEAD, rich_box.SIMPLE, None):
+        table.box = box
+        assert fitting._measured_exactly(table)
+        assert fitting._widest(table) == fitting._measure(table).maximum
+        assert fitting._fits(table, 200) and not fitting._fits(table, 60)
+    table.add_row("[bold]2.0[/bold]", "", "")
+    assert not fitting._measured_exactly(table)
+    assert fitting._widest(table) >= fitting._measure(table).maximum
+
+
 def table_rows(text: str) -> list[list[str]]:
     return [[cell.strip() for cell in line.strip("│").split("│")] for line in text.splitlines() if line.startswith("│")]
 

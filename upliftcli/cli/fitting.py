@@ -45,7 +45,14 @@ class SafeConsole(Console):
 
     def render(self, renderable, options=None):
         for segment in super().render(renderable, options):
-            yield segment if segment.control else Segment(printable(segment.text, lines=True), segment.style)
+            yield segment if segment.control else _safe(segment)
+
+
+def _safe(segment: Segment) -> Segment:
+    """The segment with its text made safe; the same segment where the text is safe already (rich
+    renders nested renderables through render: each segment passes here once per level)."""
+    text = printable(segment.text, lines=True)
+    return segment if text is segment.text else Segment(text, segment.style)
 
 
 class FittedConsole(SafeConsole):
@@ -112,8 +119,12 @@ def _column_widths(table: Table) -> list[int]:
 
 
 def _fits(table: Table, width: int) -> bool:
-    """The table as it is fits `width` (the cheap bound _widest first, then rich's measure)."""
-    return _widest(table) <= width or _measure(table).maximum <= width
+    """The table as it is fits `width`: the cheap bound _widest first; where that bound is rich's
+    own measure (_measured_exactly) it decides either way, else rich measures the table."""
+    widest = _widest(table)
+    if widest <= width or _measured_exactly(table):
+        return widest <= width
+    return _measure(table).maximum <= width
 
 
 def _groups(table: Table, columns: list[int], keys: list[int], width: int) -> list[list[int]]:
@@ -248,8 +259,30 @@ def _column_widest(column: Column) -> float:
 
 
 def _longest_line(texts: list) -> int:
-    """The cells of the longest line of the texts (an empty text: one empty line)."""
-    return max(cell_len(line) for text in texts for line in (_text(text).splitlines() or [""]))
+    """The cells of the longest line of the texts (an empty text: one empty line); a string's
+    escaped brackets (markup.escape: "\\[kN]") count as the bracket rich draws."""
+    return max(cell_len(line) for text in texts for line in (_shown(text).splitlines() or [""]))
+
+
+def _shown(text) -> str:
+    return text.replace("\\[", "[") if isinstance(text, str) else _text(text)
+
+
+def _measured_exactly(table: Table) -> bool:
+    """Whether _widest is what rich measures (its maximum), not only a bound above it: a table of
+    its natural width, its header shown, every edge padded, no column with a maximum width, and
+    every text a rich Text or a string without markup (escaped brackets only)."""
+    plain = table.width is None and table.show_header and table.pad_edge and not table.collapse_padding
+    return plain and all(column.max_width is None and _plain_texts(column) for column in table.columns)
+
+
+def _plain_texts(column: Column) -> bool:
+    return all(isinstance(text, Text) or _plain(text) for text in [column.header, *column.cells])
+
+
+def _plain(text) -> bool:
+    """A string drawn as it reads: no markup tag (an unescaped "["), no escaped backslash."""
+    return isinstance(text, str) and "[" not in text.replace("\\[", "") and "\\\\" not in text
 
 
 def _frame_width(table: Table, count: int) -> int:
