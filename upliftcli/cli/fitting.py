@@ -9,7 +9,6 @@ is $COLUMNS, else 120.
 from __future__ import annotations
 
 import os
-import re
 
 from rich.cells import cell_len
 from rich.console import Console
@@ -19,13 +18,14 @@ from rich.table import Column, Table
 from rich.text import Text
 
 from ..errors import printable
+from ..runtime.patterns import lazy
 
 #: width of the output when it is not a terminal and $COLUMNS does not say
 PIPE_WIDTH = 120
 
-_NUMBER = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?%?|-")
+_NUMBER = lazy(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?%?|-")
 #: a word of a heading; a unit in brackets, "[kN m]", is one word
-_WORD = re.compile(r"\[[^\]]*\]|[^\s\[]+")
+_WORD = lazy(r"\[[^\]]*\]|[^\s\[]+")
 
 
 def console_width(environ=os.environ) -> int | None:
