@@ -72,17 +72,18 @@ def loaded_modules(*args: str, names: list[str]) -> tuple[int, list[str]]:
     return report["code"], report["loaded"]
 
 
-COMMAND_MODULES = [f"upliftcli.cli.{name}" for name in ("analyze", "record", "sweep", "report", "examples")]
+COMMAND_MODULES = [f"upliftcli.cli.{name}" for name in ("analyze", "modes", "record", "sweep", "report", "examples")]
 
 
 @pytest.mark.parametrize(("args", "expected"), [
-    (("modes", str(INPUTS / "ten_story_elcentro.toml")), ["upliftcli.cli.analyze"]),
+    (("modes", str(INPUTS / "ten_story_elcentro.toml")), ["upliftcli.cli.modes"]),
+    (("analyze", "--help"), ["upliftcli.cli.analyze"]),
     (("record", "info", "--help"), ["upliftcli.cli.record"]),
     (("spectra", "--help"), ["upliftcli.cli.sweep"]),
     (("--version",), []),
     (("--help",), COMMAND_MODULES),  # the top-level help lists every command
     (("nonsense",), COMMAND_MODULES),  # click's "No such command" from the whole app
-], ids=["modes", "record", "spectra", "version", "help", "unknown"])
+], ids=["modes", "analyze", "record", "spectra", "version", "help", "unknown"])
 def test_a_command_line_imports_only_its_commands_module(args, expected):
     """Start-up (issue 34): a command registers only the module of its command (cli.COMMANDS)."""
     code, loaded = loaded_modules(*args, names=COMMAND_MODULES)
@@ -185,8 +186,9 @@ def test_numpy_runtime_warnings_never_reach_the_terminal():
 
 
 #: the command modules of the CLI whose imports must run one way (the record commands' circle, issue 34)
-ONE_WAY = ("analyze", "analyze_batch", "analyze_steps", "options", "record", "record_options", "record_output",
-           "record_select", "record_suite", "report", "sweep", "sweep_execute", "sweep_options")
+ONE_WAY = ("analyze", "analyze_batch", "analyze_deck", "analyze_steps", "modes", "options", "record",
+           "record_options", "record_output", "record_select", "record_suite", "report", "sweep", "sweep_execute",
+           "sweep_options")
 
 
 def cli_imports() -> dict[str, set[str]]:

@@ -28,7 +28,7 @@ from . import stdout
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
 
 #: each command (the first word after `uplift`) -> the module of this package that registers it
-COMMANDS = {"analyze": "analyze", "modes": "analyze", "record": "record", "sweep": "sweep", "spectra": "sweep",
+COMMANDS = {"analyze": "analyze", "modes": "modes", "record": "record", "sweep": "sweep", "spectra": "sweep",
             "report": "report", "examples": "examples"}
 #: command modules, registered in this order if present
 COMMAND_MODULES = tuple(dict.fromkeys(COMMANDS.values()))
