@@ -135,6 +135,13 @@ def test_the_quick_width_is_what_rich_measures_where_it_says_so():
         assert fitting._measured_exactly(table)
         assert fitting._widest(table) == fitting._measure(table).maximum
         assert fitting._fits(table, 200) and not fitting._fits(table, 60)
+    for compact in (False, True):  # each column alone, as fit_table measures it
+        for index in range(len(table.columns)):
+            part = fitting._part(table, [index], compact=compact)
+            assert fitting._measured_exactly(part)
+            assert fitting._quick_measure(part) == fitting._measure(part)
+    table.add_row("  ", "", Text(""))
+    assert fitting._quick_measure(table) == fitting._measure(table)
     table.add_row("[bold]2.0[/bold]", "", "")
     assert not fitting._measured_exactly(table)
     assert fitting._widest(table) >= fitting._measure(table).maximum

@@ -234,8 +234,31 @@ def _column_width(part: Table) -> int:
     """The narrowest a one-column table is drawn: its minimum, or for a column that may not wrap
     (no_wrap: rich never narrows it below its widest line, though it measures it by its longest
     word) its maximum."""
-    measured = _measure(part)
+    measured = _quick_measure(part) if _measured_exactly(part) else _measure(part)
     return measured.maximum if part.columns[0].no_wrap else measured.minimum
+
+
+def _quick_measure(table: Table) -> Measurement:
+    """What rich measures of a table that _measured_exactly, from the lengths of its texts: each
+    text's longest word and longest line (rich.text.Text), its column's padding and frame."""
+    _, right, _, left = table.padding
+    padding = len(table.columns) * (left + right) + _frame_width(table, len(table.columns))
+    return Measurement(padding + sum(_column_narrowest(column) for column in table.columns),
+                       padding + sum(_column_widest(column) for column in table.columns))
+
+
+def _column_narrowest(column: Column) -> int:
+    """A column's minimum without its padding (_quick_measure): its longest word, at least its min_width."""
+    if column.width is not None:
+        return column.width
+    return max(max(_longest_word(_shown(text)) for text in [column.header, *column.cells]), column.min_width or 0)
+
+
+def _longest_word(text: str) -> int:
+    """The longest word of a text; of a text without one (blank) its longest line, as rich measures it."""
+    words = text.split()
+    return max(cell_len(word) for word in words) if words else max((cell_len(line) for line in text.splitlines()),
+                                                                    default=0)
 
 
 def _widest(table: Table) -> float:
@@ -281,8 +304,10 @@ def _plain_texts(column: Column) -> bool:
 
 
 def _plain(text) -> bool:
-    """A string drawn as it reads: no markup tag (an unescaped "["), no escaped backslash."""
-    return isinstance(text, str) and "[" not in text.replace("\\[", "") and "\\\\" not in text
+    """A string drawn as it reads: no markup tag (an unescaped "["), no escaped backslash, no tab
+    and nothing printable() shows as an escape."""
+    return isinstance(text, str) and "[" not in text.replace("\\[", "") and "\\\\" not in text and \
+        "\t" not in text and printable(text, lines=True) == text
 
 
 def _frame_width(table: Table, count: int) -> int:
