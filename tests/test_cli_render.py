@@ -121,9 +121,9 @@ def test_the_quick_width_bound_is_never_below_what_rich_measures():
 
 
 def test_the_quick_width_is_what_rich_measures_where_it_says_so():
-    """Start-up (issue 34): a table of plain texts and escaped units is not measured by rich (it
-    draws every cell twice) to learn that it is too wide; where markup could shorten a text, rich
-    measures it."""
+    """Start-up (issue 34): a table of texts (markup rendered as rich renders it) is not measured by
+    rich (it draws every cell twice) to learn that it is too wide; where a text holds what
+    printable() escapes or a tab, rich measures it."""
     table = Table(title="t")
     table.add_column(escape("disp. [mm]"), justify="right")
     table.add_column("meaning", justify="left", min_width=12)
@@ -142,7 +142,10 @@ def test_the_quick_width_is_what_rich_measures_where_it_says_so():
             assert fitting._quick_measure(part) == fitting._measure(part)
     table.add_row("  ", "", Text(""))
     assert fitting._quick_measure(table) == fitting._measure(table)
-    table.add_row("[bold]2.0[/bold]", "", "")
+    table.add_row("[bold]2.0[/bold]", "a reference [16a]", Text("x"))  # markup: a tag, and brackets that are none
+    assert fitting._measured_exactly(table)
+    assert fitting._quick_measure(table) == fitting._measure(table)
+    table.add_row("tab\there", "", "")
     assert not fitting._measured_exactly(table)
     assert fitting._widest(table) >= fitting._measure(table).maximum
 

@@ -12,6 +12,7 @@ import os
 
 from rich.cells import cell_len
 from rich.console import Console
+from rich.markup import render as render_markup
 from rich.measure import Measurement
 from rich.segment import Segment
 from rich.table import Column, Table
@@ -282,19 +283,21 @@ def _column_widest(column: Column) -> float:
 
 
 def _longest_line(texts: list) -> int:
-    """The cells of the longest line of the texts (an empty text: one empty line); a string's
-    escaped brackets (markup.escape: "\\[kN]") count as the bracket rich draws."""
+    """The cells of the longest line of the texts as drawn (_shown; an empty text: one empty line)."""
     return max(cell_len(line) for text in texts for line in (_shown(text).splitlines() or [""]))
 
 
 def _shown(text) -> str:
-    return text.replace("\\[", "[") if isinstance(text, str) else _text(text)
+    """The text rich draws: a string's markup rendered (tags dropped, escaped brackets as brackets)."""
+    if not isinstance(text, str):
+        return _text(text)
+    return render_markup(text, emoji=False).plain if "[" in text else text
 
 
 def _measured_exactly(table: Table) -> bool:
     """Whether _widest is what rich measures (its maximum), not only a bound above it: a table of
     its natural width, its header shown, every edge padded, no column with a maximum width, and
-    every text a rich Text or a string without markup (escaped brackets only)."""
+    every text a rich Text or a string drawn as _shown reads it (_plain)."""
     plain = table.width is None and table.show_header and table.pad_edge and not table.collapse_padding
     return plain and all(column.max_width is None and _plain_texts(column) for column in table.columns)
 
@@ -304,10 +307,8 @@ def _plain_texts(column: Column) -> bool:
 
 
 def _plain(text) -> bool:
-    """A string drawn as it reads: no markup tag (an unescaped "["), no escaped backslash, no tab
-    and nothing printable() shows as an escape."""
-    return isinstance(text, str) and "[" not in text.replace("\\[", "") and "\\\\" not in text and \
-        "\t" not in text and printable(text, lines=True) == text
+    """A string whose drawn text is _shown's: no tab and nothing printable() shows as an escape."""
+    return isinstance(text, str) and "\t" not in text and printable(text, lines=True) == text
 
 
 def _frame_width(table: Table, count: int) -> int:
