@@ -72,10 +72,10 @@ def analyze(
     Exit codes: 0 ok, 2 bad input, 3 an acceptance limit (the deck's criteria table) is exceeded,
     4 analysis failure.
     """
-    from .analyze_batch import analyze_batch
-
     formats = _check_outputs_given(decks, out, plot, plot_format)
     if len(decks) > 1:
+        from .analyze_batch import analyze_batch  # several decks' provenance: not loaded for one
+
         analyze_batch(decks, overrides(settings, engine, support), output_format, out, overwrite, units, check)
         return
     from .analyze_deck import Outputs, analyze_deck

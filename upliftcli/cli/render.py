@@ -29,7 +29,7 @@ from ..display import (
 from ..engines.quantities import COMPARED, FLOOR, INTERMEDIATES, STORY, YIELDING, quantities
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
-from . import render_acceptance, render_design, render_rocking, render_suite
+from . import render_design, render_rocking, render_suite
 from .fitting import console  # noqa: F401 - the commands' console, render.console()
 from .render_modes import modes_table  # noqa: F401 - part of this module's interface
 from .tables import add_columns, add_rows, engine_label, print_tables, summary_cells, verdict_legend
@@ -218,6 +218,8 @@ def _result_tables(result: AnalysisResult, units: str) -> Iterator[Table | None]
     if isinstance(result, SuiteResult):
         yield render_suite.statistics_table(result, units)
         yield render_suite.records_table(result, units)
+        from . import render_acceptance  # a suite's: its acceptance (analysis/acceptance.py)
+
         yield render_acceptance.acceptance_table(result)
 
 
