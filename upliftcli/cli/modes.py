@@ -63,6 +63,11 @@ def modes(
     units: DisplayUnits | None = typer.Option(None, "--units", help=UNITS_HELP),
 ) -> None:
     """Fixed-base modes: periods, w_n/w_1, effective masses m_n*/m_t (and cumulative), heights h_n*, h_n*/b."""
+    import numpy  # noqa: F401 - see below
+
+    # numpy is imported here, near the top of the stack, not inside deck/load.py's imports: there
+    # Python 3.11's frame stack sat on the edge of one of its 16 KiB chunks in a loop of
+    # numpy._typing and mapped and unmapped it 1000-1400 times (strace), 60 ms of this command
     from ..deck.load import load_deck
     from .analyze_steps import warn_deck
 
