@@ -64,6 +64,42 @@ def test_readme_command_loads_no_scipy():
     assert loaded == []
 
 
+def loaded_modules(*args: str, names: list[str]) -> tuple[int, list[str]]:
+    """(exit code, those of `names` loaded) after `uplift args...` in a fresh interpreter."""
+    done = subprocess.run([sys.executable, "-c", PROBE, json.dumps(list(args)), json.dumps(names)],
+                          capture_output=True, text=True, timeout=120)
+    report = json.loads(done.stderr.strip().splitlines()[-1])
+    return report["code"], report["loaded"]
+
+
+COMMAND_MODULES = [f"upliftcli.cli.{name}" for name in ("analyze", "modes", "record", "sweep", "report", "examples")]
+
+
+@pytest.mark.parametrize(("args", "expected"), [
+    (("modes", str(INPUTS / "ten_story_elcentro.toml")), ["upliftcli.cli.modes"]),
+    (("analyze", "--help"), ["upliftcli.cli.analyze"]),
+    (("record", "info", "--help"), ["upliftcli.cli.record"]),
+    (("spectra", "--help"), ["upliftcli.cli.sweep"]),
+    (("--version",), []),
+    (("--help",), COMMAND_MODULES),  # the top-level help lists every command
+    (("nonsense",), COMMAND_MODULES),  # click's "No such command" from the whole app
+], ids=["modes", "analyze", "record", "spectra", "version", "help", "unknown"])
+def test_a_command_line_imports_only_its_commands_module(args, expected):
+    """Start-up (issue 34): a command registers only the module of its command (cli.COMMANDS)."""
+    code, loaded = loaded_modules(*args, names=COMMAND_MODULES)
+    assert code == (2 if args == ("nonsense",) else 0)
+    assert loaded == expected
+
+
+def test_every_command_is_named_in_commands():
+    """cli.COMMANDS names every command the command modules register, and only those."""
+    import typer.main
+
+    from upliftcli.cli import COMMANDS, app
+
+    assert set(typer.main.get_command(app).commands) == set(COMMANDS)
+
+
 def test_probe_sees_what_a_command_loads(tmp_path):
     """The probe is not blind: drawing the figures loads matplotlib."""
     code, loaded = loaded_after("analyze", str(INPUTS / "ten_story_elcentro.toml"), "--no-check", "--plot",
@@ -150,8 +186,9 @@ def test_numpy_runtime_warnings_never_reach_the_terminal():
 
 
 #: the command modules of the CLI whose imports must run one way (the record commands' circle, issue 34)
-ONE_WAY = ("analyze", "analyze_batch", "analyze_steps", "options", "record", "record_options", "record_output",
-           "record_select", "record_suite", "report", "sweep", "sweep_execute", "sweep_options")
+ONE_WAY = ("analyze", "analyze_batch", "analyze_deck", "analyze_steps", "modes", "options", "record",
+           "record_options", "record_output", "record_select", "record_suite", "report", "sweep", "sweep_execute",
+           "sweep_options")
 
 
 def cli_imports() -> dict[str, set[str]]:

@@ -120,6 +120,36 @@ def test_the_quick_width_bound_is_never_below_what_rich_measures():
     assert fitting._widest(table) == float("inf")
 
 
+def test_the_quick_width_is_what_rich_measures_where_it_says_so():
+    """Start-up (issue 34): a table of texts (markup rendered as rich renders it) is not measured by
+    rich (it draws every cell twice) to learn that it is too wide; where a text holds what
+    printable() escapes or a tab, rich measures it."""
+    table = Table(title="t")
+    table.add_column(escape("disp. [mm]"), justify="right")
+    table.add_column("meaning", justify="left", min_width=12)
+    table.add_column(Text("stacked\nheading"), justify="right")
+    table.add_row("1.0", "a long text " * 5, Text("12345"))
+    table.add_row(escape("[bold]not markup[/bold]"), "x\ny", "")
+    for box in (rich_box.HEAVY_HEAD, rich_box.SIMPLE, None):
+        table.box = box
+        assert fitting._measured_exactly(table)
+        assert fitting._widest(table) == fitting._measure(table).maximum
+        assert fitting._fits(table, 200) and not fitting._fits(table, 60)
+    for compact in (False, True):  # each column alone, as fit_table measures it
+        for index in range(len(table.columns)):
+            part = fitting._part(table, [index], compact=compact)
+            assert fitting._measured_exactly(part)
+            assert fitting._quick_measure(part) == fitting._measure(part)
+    table.add_row("  ", "", Text(""))
+    assert fitting._quick_measure(table) == fitting._measure(table)
+    table.add_row("[bold]2.0[/bold]", "a reference [16a]", Text("x"))  # markup: a tag, and brackets that are none
+    assert fitting._measured_exactly(table)
+    assert fitting._quick_measure(table) == fitting._measure(table)
+    table.add_row("tab\there", "", "")
+    assert not fitting._measured_exactly(table)
+    assert fitting._widest(table) >= fitting._measure(table).maximum
+
+
 def table_rows(text: str) -> list[list[str]]:
     return [[cell.strip() for cell in line.strip("│").split("│")] for line in text.splitlines() if line.startswith("│")]
 

@@ -11,7 +11,8 @@ yard and pound, 1959), 1 lbf = 1 lbm x g_n = 4.4482216152605 N, 1 kip = 1000 lbf
 from __future__ import annotations
 
 import math
-import re
+
+from .runtime.patterns import lazy
 
 #: standard acceleration of gravity g [m/s^2] (the default of analysis.gravity; records in g)
 STANDARD_GRAVITY = 9.80665
@@ -71,9 +72,9 @@ SYMBOLS: dict[str, tuple[float, Dimension]] = {
     "rad": (1.0, (0, 0, 0)), "mrad": (0.001, (0, 0, 0)),
 }
 
-_TOKEN = re.compile(r"([A-Za-z]+)(?:\^|\*\*)?(-?\d+)?")
-_SEPARATOR = re.compile(r"\s*(?:(?<!\*)\*(?!\*)|\u00b7)\s*|\s+|(?<=[A-Za-z0-9])-(?=[A-Za-z])")
-_QUANTITY = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)(?:\s*([A-Za-z].*?))?\s*")
+_TOKEN = lazy(r"([A-Za-z]+)(?:\^|\*\*)?(-?\d+)?")
+_SEPARATOR = lazy(r"\s*(?:(?<!\*)\*(?!\*)|\u00b7)\s*|\s+|(?<=[A-Za-z0-9])-(?=[A-Za-z])")
+_QUANTITY = lazy(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)(?:\s*([A-Za-z].*?))?\s*")
 
 
 def _groups(text: str) -> list[str]:

@@ -25,7 +25,7 @@ from ..engines.exact.reuse import yielded
 from ..engines.quantities import MAT_PLACES
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
-from ..motion.suites import Suite
+from ..motion.records import is_suite
 
 #: the twin's record is the record times 1 + PERTURBATION
 PERTURBATION = 1e-6
@@ -71,7 +71,7 @@ def leaves_residuals(result: Any) -> bool:
 
 def perturbed_motion(motion: Any) -> Any:
     """The record times 1 + PERTURBATION (a suite: every factor)."""
-    if isinstance(motion, Suite):
+    if is_suite(motion):
         return replace(motion, factors=tuple(f * (1.0 + PERTURBATION) for f in motion.factors))
     return replace(motion, acceleration=motion.acceleration * (1.0 + PERTURBATION),
                    scale=motion.scale * (1.0 + PERTURBATION))

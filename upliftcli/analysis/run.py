@@ -22,11 +22,9 @@ from ..engines.registry import ENGINES, Engine, capacity_refusal, strength_refus
 from ..engines.result import AnalysisResult
 from ..errors import AnalysisError, InputError
 from ..model.bearing import CAPACITY_NAMES
-from ..motion.records import Record
-from ..motion.suites import Suite
+from ..motion.records import Record, is_suite
 from ..runtime import limits
 from . import residuals
-from . import suite as analysis_suite
 from .level import with_level
 
 
@@ -36,7 +34,7 @@ def ground_motion_for(deck: Deck, engine: Engine) -> Any:
     engine needs."""
     if not engine.needs_record:
         return _spectrum_for(deck, engine)
-    if isinstance(deck.ground_motion, Suite):
+    if is_suite(deck.ground_motion):
         return deck.ground_motion
     if not isinstance(deck.ground_motion, Record):
         asked = "asked by --engine or --set analysis.engine; " if "analysis.engine" in deck.overridden else ""
@@ -129,7 +127,7 @@ def check_resources(deck: Deck, engine: Engine, support: str, motion: Any) -> No
     - simplified engine on a record: the modal periods within the record's spectrum range
       (limits.shortest_period)."""
     if engine.needs_record:
-        for record in (motion.records if isinstance(motion, Suite) else [motion]):  # a suite: every record
+        for record in (motion.records if is_suite(motion) else [motion]):  # a suite: every record
             _check_step_states(deck, engine, support, record)
         return
     from ..motion.spectra import RecordSpectrum
@@ -311,7 +309,7 @@ def _groups(decks: Sequence[Deck], chosen: Engine, support: str, results: _Resul
             results.keep(k, error)
             continue
         motion = motions[k]
-        key = analysis_suite.motion_key(motion) if isinstance(motion, Suite) else id(motion)
+        key = _suite_key(motion) if is_suite(motion) else id(motion)
         groups.setdefault((key, getattr(deck.analysis, chosen.options)), []).append(k)
     return groups, motions
 
@@ -334,7 +332,9 @@ def _group_batch(chosen: Engine, decks: list[Deck], motion: Any, support: str, o
                  store: Any = None):
     """The (index in decks, result) pairs of one group: one batch per record of a suite
     (analysis_suite.iter_suite_batch), else the engine's own batch."""
-    if isinstance(motion, Suite):
+    if is_suite(motion):
+        from . import suite as analysis_suite  # a record suite's: loaded with its deck
+
         return analysis_suite.iter_suite_batch(chosen, decks, motion, support, options, store)
     return chosen.iter_batch([deck.system for deck in decks], motion, support, options, store)
 
@@ -359,3 +359,10 @@ def run(deck: Deck, engine: str | Sequence[str] | None = None,
 def _names(asked: str | Sequence[str] | None, default: Sequence[str]) -> list[str]:
     """One name or several as a list; the default when none is asked."""
     return [asked] if isinstance(asked, str) else list(asked or default)
+
+
+def _suite_key(motion) -> Any:
+    """A suite's key among the motions of a batch (analysis/suite.motion_key)."""
+    from .suite import motion_key
+
+    return motion_key(motion)

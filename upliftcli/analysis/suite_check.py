@@ -31,7 +31,7 @@ import re
 import sys
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -39,9 +39,11 @@ from ..deck.load import Deck
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult, simplified_ratios
 from ..errors import AnalysisError, InputError
-from ..motion.records import Record
-from ..motion.suites import Suite
+from ..motion.records import Record, is_suite
 from .accuracy import Check, check_accuracy, compare, deck_bands
+
+if TYPE_CHECKING:
+    from ..motion.suites import Suite
 
 CHECK_COUNT = 11
 CHECK_SEED = 2024
@@ -85,6 +87,7 @@ def check_suite(spectrum, note=None) -> tuple[Suite, dict[str, Any]]:
     cached; note(text) is told when it is generated. Returns the suite and what it is."""
     from ..motion.code_rules import RULES
     from ..motion.generate import GENERATOR_VERSION
+    from ..motion.suites import Suite
 
     period_range = check_range(spectrum)
     rule = RULES["mean"]
@@ -194,7 +197,7 @@ def _exact_suite_results(results: list[AnalysisResult]) -> dict[str, SuiteResult
 def _checked_deck(deck: Deck, note=None) -> tuple[Deck, dict[str, Any]]:
     """The deck the exact engine runs for the check, and what its suite is: the deck itself on its
     own suite, else the deck on the check suite of its design spectrum (check_suite)."""
-    if isinstance(deck.ground_motion, Suite):
+    if is_suite(deck.ground_motion):
         return deck, {"source": "deck", "count": deck.ground_motion.count, "target": deck.spectrum.name}
     suite, info = check_suite(deck.spectrum, note)
     return replace(deck, ground_motion=suite), info

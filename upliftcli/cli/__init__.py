@@ -2,8 +2,11 @@
 
 The commands are split by group (analyze/modes, record, sweep/spectra) because one
 module holding all of them would pass 400 lines; nothing but CLI code lives here.
-Each command module exposes `register(app)`; COMMAND_MODULES lists them and a module
-that is not present (yet) is skipped.
+Each command module exposes `register(app)`; COMMANDS names the module of each command and a
+module that is not present (yet) is skipped. A command line registers only the module of its
+command (`uplift modes DECK` imports neither the record nor the sweep commands, and typer builds
+the options of its own commands only); `uplift --help` and anything else registers them all, as
+does `app` when it is first read from this module (tests drive it with typer's CliRunner).
 
 Exit codes: 0 ok, 2 bad input (errors.InputError: one line on stderr, no traceback),
 3 an acceptance criterion of the deck is violated, 4 analysis failure (errors.AnalysisError).
@@ -12,6 +15,7 @@ Exit codes: 0 ok, 2 bad input (errors.InputError: one line on stderr, no traceba
 from __future__ import annotations
 
 import importlib
+import sys
 import warnings
 
 import typer
@@ -23,8 +27,11 @@ from . import stdout
 
 EXIT_OK, EXIT_INPUT, EXIT_CRITERIA, EXIT_ANALYSIS = 0, 2, 3, 4
 
+#: each command (the first word after `uplift`) -> the module of this package that registers it
+COMMANDS = {"analyze": "analyze", "modes": "modes", "record": "record", "sweep": "sweep", "spectra": "sweep",
+            "report": "report", "examples": "examples"}
 #: command modules, registered in this order if present
-COMMAND_MODULES = ("analyze", "record", "sweep", "report", "examples")
+COMMAND_MODULES = tuple(dict.fromkeys(COMMANDS.values()))
 
 
 class UpliftGroup(TyperGroup):
@@ -77,7 +84,7 @@ def _param_name(param) -> str:
     return names[0]
 
 
-app = typer.Typer(
+_app = typer.Typer(
     cls=UpliftGroup,
     name="uplift",
     help="Earthquake response of multistory buildings whose foundation mat may lift off (Yim & Chopra).",
@@ -100,7 +107,7 @@ def _version(value: bool) -> None:
         raise typer.Exit()
 
 
-@app.callback()
+@_app.callback()
 def _root(
     show_version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
                                       help="Print the version and the loops in use (compiled or numpy) and exit."),
@@ -111,19 +118,81 @@ def _root(
     """
 
 
-def _register_all() -> None:
+#: the command modules registered on _app so far
+_registered: set[str] = set()
+
+
+def register(names: tuple[str, ...] = COMMAND_MODULES) -> typer.Typer:
+    """Register the command modules named (all by default) that are not registered yet, in
+    COMMAND_MODULES' order; the app."""
     for name in COMMAND_MODULES:
-        module_name = f"{__name__}.{name}"
-        try:
-            module = importlib.import_module(module_name)
-        except ModuleNotFoundError as error:
-            if error.name == module_name:
-                continue  # not written yet
-            raise
-        module.register(app)
+        if name in names and name not in _registered:
+            _registered.add(name)
+            _register_module(name)
+    resolve_annotations(_app)
+    return _app
 
 
-_register_all()
+def resolve_annotations(typer_app: typer.Typer) -> None:
+    """Each command's annotations as objects: typer reads them four times per command (its
+    parameters and its callback, each by inspect.signature(eval_str=True) and get_type_hints), and
+    under `from __future__ import annotations` each is a string compiled anew every time; resolved
+    once here, to the same objects."""
+    for info in typer_app.registered_commands:
+        _resolve(info.callback)
+    for group in typer_app.registered_groups:
+        resolve_annotations(group.typer_instance)
+
+
+def _resolve(function) -> None:
+    """A function's string annotations evaluated in its module, as inspect.signature(eval_str=True)
+    does; the same text of the same module is evaluated once (`Path | None`, `list[str]` ...)."""
+    if function is not None:
+        namespace = function.__globals__
+        function.__annotations__ = {name: _evaluated(value, namespace)
+                                    for name, value in function.__annotations__.items()}
+
+
+#: (annotation text, id of its module's namespace) -> its value
+_EVALUATED: dict[tuple[str, int], object] = {}
+
+
+def _evaluated(value, namespace: dict):
+    if not isinstance(value, str):
+        return value
+    key = (value, id(namespace))
+    if key not in _EVALUATED:
+        _EVALUATED[key] = eval(value, namespace)  # an annotation of this package, as inspect evaluates it
+    return _EVALUATED[key]
+
+
+def _register_module(name: str) -> None:
+    module_name = f"{__name__}.{name}"
+    try:
+        module = importlib.import_module(module_name)
+    except ModuleNotFoundError as error:
+        if error.name == module_name:
+            return  # not written yet
+        raise
+    module.register(_app)
+
+
+def needed_modules(args: list[str]) -> tuple[str, ...]:
+    """The command modules a command line needs: its command's (its first word that is not an
+    option), none for `--version` alone, else all of them (the top-level help lists every command)."""
+    word = next((arg for arg in args if not arg.startswith("-")), None)
+    if word in COMMANDS:
+        return (COMMANDS[word],)
+    if word is None and args and set(args) == {"--version"}:
+        return ()
+    return COMMAND_MODULES
+
+
+def __getattr__(name: str):
+    """`app`, the typer app with every command registered (PEP 562: read on first use)."""
+    if name == "app":
+        return register()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def main() -> None:
@@ -132,7 +201,7 @@ def main() -> None:
     exit_on_stop_signals()
     warnings.showwarning = stdout.show_warning  # a library's warning made safe too
     try:
-        app()
+        register(needed_modules(sys.argv[1:]))()
     except (InputError, AnalysisError) as error:  # raised outside a command (e.g. while parsing)
         raise SystemExit(echo_error(error)) from None
 

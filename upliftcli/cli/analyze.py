@@ -1,6 +1,6 @@
-"""`uplift analyze` and `uplift modes`. Their helpers: options.py (the options shared with other
+"""`uplift analyze` (`uplift modes`: modes.py). Its helpers: options.py (the options shared with other
 commands), plotting.py (--plot), histories.py (--histories), render.py and render_batch.py (the
-terminal tables); several decks at once: analyze_batch.py.
+terminal tables); one deck: analyze_deck.py, several decks at once: analyze_batch.py.
 
 Only typer and the light modules are imported at module level: the analysis modules, numpy and
 rich are imported by the commands that use them, so that `uplift --help` starts in about the time
@@ -10,88 +10,26 @@ properties, record matching and generation), never by the README's analysis.
 
 from __future__ import annotations
 
-import json
-import os
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import typer
 
 from ..errors import InputError
-from ..provenance.files import input_files
-from . import plotting, stdout
-from .analyze_steps import refuse_results, result_paths, warn, warn_deck, warn_suite, write_results
-from .histories import check_histories, write_histories
+from . import plotting
 from .options import (
     ENGINE_HELP,
     SET_HELP,
     UNITS_HELP,
     DisplayUnits,
     OutputFormat,
-    accuracy_checks,
     check_out_directory,
-    display_system,
-    exit_on_violations,
-    file_system,
     given_path,
     overrides,
-    refuse_unchecked,
 )
 
 if TYPE_CHECKING:
-    from ..deck.load import Deck
-
-def named_files(loaded: Deck) -> list[str]:
-    """The files a deck names, whether this run reads them or not (`modes` loads no ground motion):
-    its record, its suite's files (or every file of its suite folder) and a spectrum table."""
-    from ..provenance.record import absolute_paths
-
-    motion = absolute_paths({"ground_motion": loaded.values.get("ground_motion", {})}, loaded.source)["ground_motion"]
-    paths = [motion.get("record"), _spectrum_file(motion.get("design_spectrum")), *_suite_files(motion.get("suite"))]
-    return [path for path in paths if isinstance(path, str)]
-
-
-def _spectrum_file(spectrum) -> str | None:
-    """The file of a design spectrum given as a table file, else None."""
-    return spectrum.get("file") if isinstance(spectrum, dict) else None
-
-
-def _suite_files(suite) -> list:
-    """The files of a deck's suite: those its list names, or every file of its folder."""
-    if isinstance(suite, list):
-        return [_entry_file(item) for item in suite if isinstance(item, (str, dict))]
-    return _folder_files(suite)
-
-
-def _entry_file(item: str | dict):
-    """The file of one suite entry: its path, or the 'file' of its table."""
-    return item if isinstance(item, str) else item.get("file")
-
-
-def _folder_files(suite) -> list[str]:
-    """Every file of a suite given as a folder's name (none if it is no folder)."""
-    if not (isinstance(suite, str) and os.path.isdir(suite)):
-        return []
-    return [os.path.join(suite, name) for name in os.listdir(suite)]
-
-
-@dataclass(frozen=True)
-class _Outputs:
-    """What `analyze` writes for one deck: the table or JSON, --out, --plot (in its formats) and --histories."""
-
-    output_format: OutputFormat
-    out: Path | None
-    plot: Path | None
-    formats: list[str]
-    histories: Path | None
-    overwrite: bool
-    units: str | None  # --units (None: the deck's display units, SI files)
-
-    def display(self, loaded: Deck) -> str:
-        """The display units of this deck's tables and figures (options.display_system)."""
-        return display_system(self.units, loaded.raw)
-
+    pass
 
 def analyze(
     decks: list[Path] = typer.Argument(..., parser=given_path,
@@ -134,14 +72,16 @@ def analyze(
     Exit codes: 0 ok, 2 bad input, 3 an acceptance limit (the deck's criteria table) is exceeded,
     4 analysis failure.
     """
-    from .analyze_batch import analyze_batch
-
     formats = _check_outputs_given(decks, out, plot, plot_format)
     if len(decks) > 1:
+        from .analyze_batch import analyze_batch  # several decks' provenance: not loaded for one
+
         analyze_batch(decks, overrides(settings, engine, support), output_format, out, overwrite, units, check)
         return
-    outputs = _Outputs(output_format, out, plot, formats, histories, overwrite, units)
-    _analyze_deck(decks[0], overrides(settings, engine, support), outputs, check)
+    from .analyze_deck import Outputs, analyze_deck
+
+    outputs = Outputs(output_format, out, plot, formats, histories, overwrite, units)
+    analyze_deck(decks[0], overrides(settings, engine, support), outputs, check)
 
 
 def _check_outputs_given(decks: list[Path], out: Path | None, plot: Path | None, plot_format: list[str]) -> list[str]:
@@ -153,137 +93,5 @@ def _check_outputs_given(decks: list[Path], out: Path | None, plot: Path | None,
     return formats
 
 
-def _analyze_deck(deck: Path, given: list[str], outputs: _Outputs, check: bool) -> None:
-    """One deck: read and checked, run, its warnings, its outputs, then the criteria verdict (exit 3)."""
-    from ..analysis import run as analysis
-    from ..deck.criteria import check_criteria
-    from ..deck.load import load_deck
-
-    loaded = _prepare_deck(deck, load_deck(deck, given), outputs, check)
-    results = analysis.run(loaded)
-    checks = accuracy_checks(loaded, results, check)
-    warn_suite(results)
-    warn(results, printed=loaded.warnings, checks=checks)
-    _write_outputs(deck, loaded, results, checks, outputs)
-    exit_on_violations(check_criteria(results, loaded.criteria, checks))
-
-
-def _prepare_deck(deck: Path, loaded: Deck, outputs: _Outputs, check: bool) -> Deck:
-    """The deck as the run needs it (its histories kept for --plot and --histories), its outputs
-    refused before the run, its warnings printed."""
-    refuse_unchecked(loaded.criteria, check)
-    _refuse_outputs(deck, loaded, outputs)
-    if outputs.histories is not None or outputs.plot is not None:
-        loaded = plotting.keep_histories(loaded)
-    warn_deck(loaded)
-    return loaded
-
-
-def _refuse_outputs(deck: Path, loaded: Deck, outputs: _Outputs) -> None:
-    """The files of --out, --plot and --histories: none may be an input, none may exist unless --overwrite."""
-    if outputs.out is not None:
-        refuse_results(result_paths(outputs.out, deck.stem), input_files(loaded), outputs.overwrite)
-    if outputs.plot is not None:
-        plotting.check_outputs(plotting.figure_paths(loaded, outputs.plot, deck.stem, outputs.formats),
-                               input_files(loaded), outputs.overwrite)
-    if outputs.histories is not None:
-        check_histories(outputs.histories, loaded, input_files(loaded), outputs.overwrite)
-
-
-def _write_outputs(deck: Path, loaded: Deck, results, checks: list, outputs: _Outputs) -> None:
-    """The figures, the histories, the table or JSON on stdout and the --out files, in that order."""
-    if outputs.plot is not None:
-        plotting.analysis_plots(results, loaded, outputs.plot, deck.stem, outputs.formats, outputs.display(loaded))
-    record = _provenance(loaded, outputs)
-    if outputs.histories is not None:
-        write_histories(outputs.histories, results, input_files(loaded), record, file_system(outputs.units))
-    _print_results(loaded, results, checks, record, outputs)
-    if outputs.out is not None:
-        write_results(results, outputs.out, deck.stem, loaded, record, checks, file_system(outputs.units))
-
-
-def _provenance(loaded: Deck, outputs: _Outputs) -> dict | None:
-    """The provenance of the files and the JSON; not built for the terminal alone (30-60 ms of
-    package-metadata look-ups)."""
-    if outputs.histories is None and outputs.out is None and outputs.output_format is not OutputFormat.json:
-        return None
-    from ..provenance.record import of_deck
-
-    return of_deck(loaded)
-
-
-def _print_results(loaded: Deck, results, checks: list, record: dict | None, outputs: _Outputs) -> None:
-    """The results as one JSON document on stdout, or as the terminal tables."""
-    from ..output import to_json
-    from . import render
-
-    if outputs.output_format is OutputFormat.json:
-        stdout.echo(to_json(results, loaded.source, loaded.title, record, checks, file_system(outputs.units)), nl=False)
-        return
-    render.print_results(render.console(), results, loaded.title, outputs.display(loaded), checks)
-
-
-def modes(
-    deck: Path = typer.Argument(..., parser=given_path, help="Deck file (TOML), see docs/deck.md."),
-    settings: list[str] = typer.Option([], "--set", "-s", help=SET_HELP),
-    output_format: OutputFormat = typer.Option(OutputFormat.table, "--format", "-f", help="table or json."),
-    plot: Path | None = typer.Option(None, "--plot", parser=given_path,
-                                     help="Also draw the mode shapes (T_n, m_n*/m_t) into this directory as "
-                                          "<deck>.modes.png."),
-    plot_format: list[str] = typer.Option(["png"], "--plot-format", help=plotting.FORMAT_HELP),
-    overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing --plot figure."),
-    units: DisplayUnits | None = typer.Option(None, "--units", help=UNITS_HELP),
-) -> None:
-    """Fixed-base modes: periods, w_n/w_1, effective masses m_n*/m_t (and cumulative), heights h_n*, h_n*/b."""
-    from ..deck.load import load_deck
-
-    formats = plotting.check_plot(plot, plot_format)
-    loaded = load_deck(deck, settings, load_ground_motion=False)
-    warn_deck(loaded)
-    if plot is not None:
-        _plot_modes(deck, loaded, plot, formats, overwrite, display_system(units, loaded.raw))
-    if output_format is OutputFormat.json:
-        stdout.echo(json.dumps(_modes_document(loaded, file_system(units)), indent=2))
-        return
-    _print_modes(loaded, display_system(units, loaded.raw))
-
-
-def _plot_modes(deck: Path, loaded: Deck, plot: Path, formats: list[str], overwrite: bool, units: str) -> None:
-    """The mode-shape figures, refused first if one would replace a file the deck names or exists."""
-    plotting.check_outputs(plotting.figure_paths(loaded, plot, deck.stem, formats, modes_only=True),
-                           [loaded.source, *named_files(loaded)], overwrite)
-    plotting.modes_plots(loaded, plot, deck.stem, formats, units)
-
-
-def _modes_document(loaded: Deck, system_of_units: str = "si") -> dict:
-    """The JSON document of `modes` (SI, or US under --units us; units stated)."""
-    from ..display import file_unit, in_file_units
-    from ..model.system import MODE_ROW_UNITS, fixed_base_mode_rows
-    from ..output import to_jsonable
-    from ..provenance.record import of_deck
-
-    system = loaded.system
-    units = {name: file_unit(unit, "", system_of_units)
-             for name, unit in {"total_mass": "kg", "half_width": "m", **MODE_ROW_UNITS}.items()}
-    document = in_file_units(to_jsonable({"source": loaded.source, "total_mass": system.total_mass,
-                                          "half_width": system.half_width, "modes": fixed_base_mode_rows(system)}),
-                             units)
-    return {"source": document["source"], "total_mass": document["total_mass"], "half_width": document["half_width"],
-            "units": {name: unit.label for name, unit in units.items()}, "modes": document["modes"],
-            "provenance": to_jsonable(of_deck(loaded))}
-
-
-def _print_modes(loaded: Deck, units: str) -> None:
-    """The deck's title and the modes table on the terminal."""
-    from rich.markup import escape
-
-    from . import render
-
-    out = render.console()
-    out.print(f"[bold]{escape(loaded.title)}[/bold]")
-    out.print(render.modes_table(loaded.system, units=units))
-
-
 def register(app: typer.Typer) -> None:
     app.command("analyze")(analyze)
-    app.command("modes")(modes)

@@ -9,23 +9,24 @@ is $COLUMNS, else 120.
 from __future__ import annotations
 
 import os
-import re
 
 from rich.cells import cell_len
 from rich.console import Console
+from rich.markup import render as render_markup
 from rich.measure import Measurement
 from rich.segment import Segment
 from rich.table import Column, Table
 from rich.text import Text
 
 from ..errors import printable
+from ..runtime.patterns import lazy
 
 #: width of the output when it is not a terminal and $COLUMNS does not say
 PIPE_WIDTH = 120
 
-_NUMBER = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?%?|-")
+_NUMBER = lazy(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?%?|-")
 #: a word of a heading; a unit in brackets, "[kN m]", is one word
-_WORD = re.compile(r"\[[^\]]*\]|[^\s\[]+")
+_WORD = lazy(r"\[[^\]]*\]|[^\s\[]+")
 
 
 def console_width(environ=os.environ) -> int | None:
@@ -45,7 +46,14 @@ class SafeConsole(Console):
 
     def render(self, renderable, options=None):
         for segment in super().render(renderable, options):
-            yield segment if segment.control else Segment(printable(segment.text, lines=True), segment.style)
+            yield segment if segment.control else _safe(segment)
+
+
+def _safe(segment: Segment) -> Segment:
+    """The segment with its text made safe; the same segment where the text is safe already (rich
+    renders nested renderables through render: each segment passes here once per level)."""
+    text = printable(segment.text, lines=True)
+    return segment if text is segment.text else Segment(text, segment.style)
 
 
 class FittedConsole(SafeConsole):
@@ -112,8 +120,12 @@ def _column_widths(table: Table) -> list[int]:
 
 
 def _fits(table: Table, width: int) -> bool:
-    """The table as it is fits `width` (the cheap bound _widest first, then rich's measure)."""
-    return _widest(table) <= width or _measure(table).maximum <= width
+    """The table as it is fits `width`: the cheap bound _widest first; where that bound is rich's
+    own measure (_measured_exactly) it decides either way, else rich measures the table."""
+    widest = _widest(table)
+    if widest <= width or _measured_exactly(table):
+        return widest <= width
+    return _measure(table).maximum <= width
 
 
 def _groups(table: Table, columns: list[int], keys: list[int], width: int) -> list[list[int]]:
@@ -223,8 +235,31 @@ def _column_width(part: Table) -> int:
     """The narrowest a one-column table is drawn: its minimum, or for a column that may not wrap
     (no_wrap: rich never narrows it below its widest line, though it measures it by its longest
     word) its maximum."""
-    measured = _measure(part)
+    measured = _quick_measure(part) if _measured_exactly(part) else _measure(part)
     return measured.maximum if part.columns[0].no_wrap else measured.minimum
+
+
+def _quick_measure(table: Table) -> Measurement:
+    """What rich measures of a table that _measured_exactly, from the lengths of its texts: each
+    text's longest word and longest line (rich.text.Text), its column's padding and frame."""
+    _, right, _, left = table.padding
+    padding = len(table.columns) * (left + right) + _frame_width(table, len(table.columns))
+    return Measurement(padding + sum(_column_narrowest(column) for column in table.columns),
+                       padding + sum(_column_widest(column) for column in table.columns))
+
+
+def _column_narrowest(column: Column) -> int:
+    """A column's minimum without its padding (_quick_measure): its longest word, at least its min_width."""
+    if column.width is not None:
+        return column.width
+    return max(max(_longest_word(_shown(text)) for text in [column.header, *column.cells]), column.min_width or 0)
+
+
+def _longest_word(text: str) -> int:
+    """The longest word of a text; of a text without one (blank) its longest line, as rich measures it."""
+    words = text.split()
+    return max(cell_len(word) for word in words) if words else max((cell_len(line) for line in text.splitlines()),
+                                                                    default=0)
 
 
 def _widest(table: Table) -> float:
@@ -248,8 +283,32 @@ def _column_widest(column: Column) -> float:
 
 
 def _longest_line(texts: list) -> int:
-    """The cells of the longest line of the texts (an empty text: one empty line)."""
-    return max(cell_len(line) for text in texts for line in (_text(text).splitlines() or [""]))
+    """The cells of the longest line of the texts as drawn (_shown; an empty text: one empty line)."""
+    return max(cell_len(line) for text in texts for line in (_shown(text).splitlines() or [""]))
+
+
+def _shown(text) -> str:
+    """The text rich draws: a string's markup rendered (tags dropped, escaped brackets as brackets)."""
+    if not isinstance(text, str):
+        return _text(text)
+    return render_markup(text, emoji=False).plain if "[" in text else text
+
+
+def _measured_exactly(table: Table) -> bool:
+    """Whether _widest is what rich measures (its maximum), not only a bound above it: a table of
+    its natural width, its header shown, every edge padded, no column with a maximum width, and
+    every text a rich Text or a string drawn as _shown reads it (_plain)."""
+    plain = table.width is None and table.show_header and table.pad_edge and not table.collapse_padding
+    return plain and all(column.max_width is None and _plain_texts(column) for column in table.columns)
+
+
+def _plain_texts(column: Column) -> bool:
+    return all(isinstance(text, Text) or _plain(text) for text in [column.header, *column.cells])
+
+
+def _plain(text) -> bool:
+    """A string whose drawn text is _shown's: no tab and nothing printable() shows as an escape."""
+    return isinstance(text, str) and "\t" not in text and printable(text, lines=True) == text
 
 
 def _frame_width(table: Table, count: int) -> int:

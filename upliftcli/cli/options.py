@@ -12,7 +12,7 @@ from pathlib import Path
 
 import typer
 
-from ..deck.fields import parse_choices
+from ..deck.choices import parse_choices
 from ..errors import InputError
 from . import stdout
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-from ..deck.fields import parse_choices
+from ..deck.choices import parse_choices
 from ..errors import InputError
 from . import stdout
 

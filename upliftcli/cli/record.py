@@ -13,7 +13,6 @@ import typer
 from ..errors import InputError
 from ..runtime import limits
 from ..runtime.atomic import refuse_existing, refuse_inputs, write_text
-from ..units import STANDARD_GRAVITY
 from . import record_select, record_suite, stdout
 from .options import given_path, not_writable, refuse_directory
 from .record_options import (
@@ -238,6 +237,7 @@ def spectrum_csv(spectrum: spectra.Spectrum, record: dict | None = None, system:
 def _csv_rows(spectrum: spectra.Spectrum, factors: list[float]):
     """The CSV lines of spectrum_csv, damping by damping, period by period (each value times its factor)."""
     from ..provenance.record import number_text
+    from ..units import STANDARD_GRAVITY
 
     g = STANDARD_GRAVITY
     for k, xi in enumerate(spectrum.dampings):

@@ -8,7 +8,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..runtime.atomic import refuse_existing, refuse_inputs
-from ..units import STANDARD_GRAVITY
 from . import stdout
 from .options import check_out_directory, echo_warnings, not_writable
 
@@ -67,6 +66,8 @@ def _suite_table(suite: Suite, labels: list[str], title: str):
     """A row per record: its factor, PGA and the range of its spectrum's ratio to the target."""
     from rich.markup import escape
     from rich.table import Table
+
+    from ..units import STANDARD_GRAVITY
 
     target = suite.target.sa(suite.periods, suite.damping)
     table = Table(title=escape(title))

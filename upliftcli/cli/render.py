@@ -29,9 +29,9 @@ from ..display import (
 from ..engines.quantities import COMPARED, FLOOR, INTERMEDIATES, STORY, YIELDING, quantities
 from ..engines.result import AnalysisResult
 from ..engines.suite_result import SuiteResult
-from ..model.system import System, fixed_base_mode_rows
-from . import render_acceptance, render_design, render_rocking, render_suite
+from . import render_design, render_rocking, render_suite
 from .fitting import console  # noqa: F401 - the commands' console, render.console()
+from .render_modes import modes_table  # noqa: F401 - part of this module's interface
 from .tables import add_columns, add_rows, engine_label, print_tables, summary_cells, verdict_legend
 
 #: floor and story quantities in table order
@@ -47,32 +47,6 @@ SHORT_HEADINGS = {"displacement": ("disp.", "disp. = floor displacement relative
                   "residual_drift_ratio": ("resid. drift ratio", "resid. = at the end of the analysis"),
                   "hysteretic_energy": ("hyst. energy", "hyst. energy = energy dissipated by yielding"),
                   "story_yielded": ("yielded", "yielded: the story yielded")}
-
-
-def modes_table(system: System, n_modes: int | None = None, units: str = "si") -> Table:
-    """Periods, w_n/w_1, m_n*/m_t (and cumulative), h_n* and h_n*/b (docs/theory.md sections 5, 6)."""
-    table = Table(title=escape(f"Fixed-base modes (m_t = {show(system.total_mass, 'kg', units)} {label('kg', units)}, "
-                               f"b = {show(system.half_width, 'm', units)} {label('m', units)})"))
-    add_columns(table, ("mode", "T_n [s]", "w_n/w_1", "m_n*/m_t", "cumulative", f"h_n* [{label('m', units)}]",
-                        "h_n*/b"))
-    table.caption = _mat_mass_caption(system, units)
-    return add_rows(table, (_mode_cells(row, units) for row in fixed_base_mode_rows(system)[:n_modes]))
-
-
-def _mat_mass_caption(system: System, units: str) -> str | None:
-    """With a mat mass: m_t includes it, and the m_n* add up to the building mass; else None."""
-    if system.mat_mass <= 0.0:
-        return None
-    return escape(f"m_t includes the mat mass m_0 = {show(system.mat_mass, 'kg', units)} "
-                  f"{label('kg', units)}: the m_n* add up to the building mass, "
-                  f"{1 - system.mat_mass / system.total_mass:.4f} m_t")
-
-
-def _mode_cells(row: dict, units: str) -> tuple[str, ...]:
-    """A mode's row (model/system.fixed_base_mode_rows) in the display units."""
-    return (str(row["mode"]), f"{row['period']:.4f}", f"{row['frequency_ratio']:.3f}",
-            f"{row['effective_mass_ratio']:.4f}", f"{row['cumulative_mass_ratio']:.4f}",
-            show(row["effective_height"], "m", units), f"{row['effective_height_over_b']:.3f}")
 
 
 def story_table(result: AnalysisResult, units: str = "si") -> Table:
@@ -244,6 +218,8 @@ def _result_tables(result: AnalysisResult, units: str) -> Iterator[Table | None]
     if isinstance(result, SuiteResult):
         yield render_suite.statistics_table(result, units)
         yield render_suite.records_table(result, units)
+        from . import render_acceptance  # a suite's: its acceptance (analysis/acceptance.py)
+
         yield render_acceptance.acceptance_table(result)
 
 

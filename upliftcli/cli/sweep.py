@@ -79,7 +79,7 @@ def _write(plan, rows, out, stem, table, summary, record, system: str = "si") ->
 
 def _choices(engine: list[str], support: list[str]) -> tuple[list[str], list[str]]:
     """The engines of --engine and the supports of --support (checked names)."""
-    from ..deck.fields import parse_choices
+    from ..deck.choices import parse_choices
     from ..engines.registry import ENGINES, SUPPORTS
 
     return parse_choices(engine, ENGINES, "--engine"), parse_choices(support, SUPPORTS, "--support")
@@ -256,7 +256,7 @@ def spectra(
     """
     workers = local_workers(workers, oversubscribe, scheduler)
     warm_workers_early(workers, scheduler, dask)
-    from ..deck.fields import parse_choices
+    from ..deck.choices import parse_choices
     from ..sweep import figures
     from ..sweep import table as sweep_table
     from ..sweep.store import stem_lock

@@ -11,13 +11,12 @@ from rich.markup import escape
 from rich.table import Table
 
 from ..display import VERDICT_LEGEND
-from ..engines.result import AnalysisResult
-from ..engines.suite_result import SuiteResult
+from ..engines.result import AnalysisResult, is_suite_result
 
 
 def engine_label(result: AnalysisResult) -> str:
     """The engine, and for a suite's result its design statistic ('exact, mean of 11 records')."""
-    return result.label if isinstance(result, SuiteResult) else result.engine
+    return result.label if is_suite_result(result) else result.engine
 
 
 def add_columns(table: Table, headers: Iterable[str], left: Collection[str] = (), justify: str = "right",

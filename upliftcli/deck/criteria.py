@@ -25,8 +25,7 @@ import numpy as np
 
 from ..engines.design import drift_exceedances
 from ..engines.quantities import ROCKING, rocking_value, unit_of
-from ..engines.result import AnalysisResult
-from ..engines.suite_result import SuiteResult
+from ..engines.result import AnalysisResult, is_suite_result
 
 
 class Criteria(dict):
@@ -76,14 +75,14 @@ class Outcome:
 def _label(result: AnalysisResult) -> str:
     """'engine/support', and for a suite the statistic and the number of records."""
     label = f"{result.engine}/{result.support}"
-    if isinstance(result, SuiteResult):
+    if is_suite_result(result):
         label += f" ({result.statistic} of {result.count} records)"
     return label
 
 
 def _under(result: AnalysisResult) -> str:
     """' under k records' of a suite's uplift ('' for one analysis)."""
-    return f" under {result.uplift_count} records" if isinstance(result, SuiteResult) else ""
+    return f" under {result.uplift_count} records" if is_suite_result(result) else ""
 
 
 def outcomes(results: Sequence[AnalysisResult], criteria: Mapping, checks: Sequence = ()) -> list[Outcome]:

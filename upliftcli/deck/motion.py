@@ -10,6 +10,7 @@ from typing import Any
 
 from ..errors import InputError, deck_relative_path, not_found
 from ..model.system import System
+from ..motion.code_rules import SUITE_ONLY
 
 
 def check_motion_fields(fields: dict, source: str, error):
@@ -27,15 +28,11 @@ def check_motion_fields(fields: dict, source: str, error):
 
 def _suite_fields() -> set[str]:
     """The fields of a suite (with a design spectrum only)."""
-    from .suite import SUITE_ONLY
-
     return {"suite", *SUITE_ONLY, "period_range", "statistics"}
 
 
 def _check_spectrum_fields(fields: dict, error) -> None:
     """A design spectrum with suite fields only, scaling fields only with a suite."""
-    from .suite import SUITE_ONLY
-
     extra = sorted(set(fields) - {"design_spectrum"} - _suite_fields())
     if extra:
         raise error(f"ground_motion.{extra[0]}", "no record fields together with a design_spectrum")

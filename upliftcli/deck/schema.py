@@ -23,9 +23,8 @@ from ..errors import InputError, gather, raise_all
 from ..model.design import DESIGN_FIELDS
 from ..model.foundations import FOUNDATIONS
 from ..motion.code_rules import RULES, SCALINGS
-from ..motion.design_spectra import check_keys
 from ..motion.records import RECORD_FIELDS
-from ..motion.suites import check_entry
+from ..motion.suite_files import check_entry
 from ..units import STANDARD_GRAVITY, SYSTEMS
 from .fields import NUMERIC, Field, check_value, suggestion
 
@@ -320,6 +319,8 @@ def _nested(path: str, value: Any, source: str, error_for) -> Any:
     """A design spectrum's keys and a suite's entries, checked by their own fields (the values,
     converted); other values as they are."""
     if path == "ground_motion.design_spectrum":
+        from ..motion.design_spectra import check_keys  # the code spectra: only for a deck that has one
+
         return check_keys(value, source, path, error_for)
     if path == "ground_motion.suite" and isinstance(value, list):
         return _suite_entries(path, value, source, error_for)

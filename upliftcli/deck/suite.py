@@ -29,8 +29,6 @@ from .schema import FieldErrors
 
 #: ground_motion.statistics -> damping correction of a table spectrum that names none
 TABLE_CORRECTION = {"asce7-22": "asce", "ec8": "ec8", "mean": "ec8"}
-#: fields that only a suite takes
-SUITE_ONLY = ("scaling", "suite_factor")
 
 
 @dataclass(frozen=True)

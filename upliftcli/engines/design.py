@@ -67,6 +67,11 @@ def design_peaks(result: AnalysisResult, design: Design) -> dict[str, np.ndarray
     return peaks
 
 
+def has_design(result: AnalysisResult) -> bool:
+    """Whether the result carries design values (a simplified result of a deck with [design])."""
+    return "design_drift_ratio" in result.peaks
+
+
 def drift_exceedances(result: AnalysisResult) -> list[int]:
     """The stories (from 1) whose design drift ratio exceeds the allowable one (none without either)."""
     allowable = result.peaks.get("allowable_drift_ratio")

@@ -7,6 +7,7 @@ Which quantities a result holds, with their units: engines/quantities.py.
 from __future__ import annotations
 
 import copy
+import sys
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -136,3 +137,11 @@ class AnalysisResult:
                        times={k: v.copy() for k, v in self.times.items()},
                        intermediates=dict(self.intermediates), details=copy.deepcopy(self.details),
                        histories={k: v.copy() for k, v in self.histories.items()})
+
+
+def is_suite_result(result) -> bool:
+    """Whether a result is a suite's (engines/suite_result.SuiteResult), without importing that
+    module (`uplift modes` and a record's tables need none of it): a SuiteResult exists only once
+    engines/suite_result.py is loaded."""
+    suite_result = sys.modules.get(f"{__package__}.suite_result")
+    return suite_result is not None and isinstance(result, suite_result.SuiteResult)

@@ -20,6 +20,8 @@ from dataclasses import dataclass
 
 #: how a suite is brought to its target (suites.build_suite)
 SCALINGS = ("none", "amplitude", "match")
+#: the deck fields of [ground_motion] that only a suite takes (deck/motion.py, deck/suite.py)
+SUITE_ONLY = ("scaling", "suite_factor")
 
 
 @dataclass(frozen=True)

@@ -8,15 +8,14 @@ Every bad input raises `errors.InputError(file, "line N" or field, expected)`.
 
 from __future__ import annotations
 
-import re
-
 import numpy as np
 
 from ..errors import InputError
+from ..runtime.patterns import lazy
 from .readers import check_sample_count, header_units, is_comment, parse_number, starts_as_word
 
 #: a row of column names starts with a letter or a quote
-_LETTER_OR_QUOTE = re.compile(r"[A-Za-z\"']")
+_LETTER_OR_QUOTE = lazy(r"[A-Za-z\"']")
 
 
 def _resolution(token: str) -> float:

@@ -19,6 +19,7 @@ import numpy as np
 from ..deck.fields import Field, check_value
 from ..errors import InputError
 from ..runtime.limits import MAX_RECORD_BYTES, MAX_RECORD_SAMPLES, read_input
+from ..runtime.patterns import lazy
 from ..units import ACCELERATION_ALIASES, acceleration_unit
 
 UNIT_CHOICES = "one of g, m/s2, cm/s2, in/s2"
@@ -37,9 +38,9 @@ def normalize_units(units: str, source: str, location: str = "units") -> str:
 # ----------------------------------------------------------------------------- helpers
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"
-_DT_RE = re.compile(r"\bdt\b\s*(?:\(s\)|\[s\])?\s*[=:]?\s*(" + _NUMBER + r")", re.IGNORECASE)
-_NPTS_RE = re.compile(r"\bnpts\b\s*[=:]?\s*(\d+)", re.IGNORECASE)
-_UNIT_HINT_RE = re.compile(
+_DT_RE = lazy(r"\bdt\b\s*(?:\(s\)|\[s\])?\s*[=:]?\s*(" + _NUMBER + r")", re.IGNORECASE)
+_NPTS_RE = lazy(r"\bnpts\b\s*[=:]?\s*(\d+)", re.IGNORECASE)
+_UNIT_HINT_RE = lazy(
     r"(?:units?\s*(?:of|[:=]|are|in)?\s*|acc(?:el(?:eration)?)?\w*?\s*(?:in\s+)?[(\[_]?\s*|\(|\[)"
     r"(g|gal|(?:m|cm|in)/s(?:ec)?(?:\^?2|/s(?:ec)?|\*\*2)|(?:m|cm|in)_s_?2)(?![\w/])",
     re.IGNORECASE,
@@ -49,7 +50,7 @@ _COLUMN_UNITS = {"m_s2": "m/s2", "m_s_2": "m/s2", "cm_s2": "cm/s2", "cm_s_2": "c
                  "in_s_2": "in/s2"}
 
 
-_PLAIN_NUMBER = re.compile(_NUMBER + r"|[-+]?(?:nan|inf|infinity)", re.IGNORECASE)
+_PLAIN_NUMBER = lazy(_NUMBER + r"|[-+]?(?:nan|inf|infinity)", re.IGNORECASE)
 
 
 def plain_number(token: str) -> float | None:
@@ -185,7 +186,7 @@ def _format_from_head(data: bytes) -> str:
 _PEER_OTHER = {"VELOCITY": ("velocity", ".VT2"), "DISPLACEMENT": ("displacement", ".DT2")}
 #: a sign that starts a new number right after the digit of the previous one (fixed-width
 #: columns that touch: 1.71300E-02-3.43000E-03); a sign after E or D is an exponent's
-_TOUCHING = re.compile(r"(?<=\d)(?=[-+](?:\d*\.\d))")
+_TOUCHING = lazy(r"(?<=\d)(?=[-+](?:\d*\.\d))")
 
 
 def separated(line: str) -> str:
@@ -246,7 +247,7 @@ def check_sample_count(count: int, source: str, line_no: int) -> None:
         raise InputError(source, f"line {line_no}", f"at most {MAX_RECORD_SAMPLES:,} samples (limit of the tool)")
 
 
-_INTEGER_RE = re.compile(r"[-+]?\d+")
+_INTEGER_RE = lazy(r"[-+]?\d+")
 
 
 def _integers(pieces: list[str]) -> bool:
@@ -336,8 +337,8 @@ def header_units(header_text: list[str]) -> str | None:
 
 
 #: how a header line of words starts (a letter), unlike nan or inf
-_LETTER = re.compile(r"[A-Za-z]")
-_NAN_OR_INF = re.compile(r"[-+]?(nan|inf)", re.I)
+_LETTER = lazy(r"[A-Za-z]")
+_NAN_OR_INF = lazy(r"[-+]?(nan|inf)", re.I)
 
 
 def starts_as_word(text: str, start: re.Pattern[str]) -> bool:

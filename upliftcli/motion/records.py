@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import sys
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -240,3 +241,11 @@ def arias_intensity(acceleration: np.ndarray, dt: float) -> float:
 def bundled_records_dir() -> Path:
     """The records/ folder shipped beside the package (source checkout)."""
     return Path(__file__).resolve().parents[2] / "records"
+
+
+def is_suite(motion) -> bool:
+    """Whether a deck's ground motion is a record suite (motion/suites.Suite), without importing the
+    suites' modules (matching, scaling, measures: a deck with a record needs none of them): a Suite
+    exists only once motion/suites.py is loaded."""
+    suites = sys.modules.get(f"{__package__}.suites")
+    return suites is not None and isinstance(motion, suites.Suite)

@@ -5,6 +5,7 @@ the verdict. The report's table here; the terminal's (cli/render_design.py) has 
 from __future__ import annotations
 
 from ..display import label, show
+from ..engines.design import has_design
 from ..engines.result import AnalysisResult
 from .document import Table
 
@@ -12,11 +13,6 @@ from .document import Table
 NOTE = ("Design shear = elastic x Ie/R (ASCE 7-22 12.9.1.2); design drift ratio = C_d/R x elastic (12.8.6, "
         "12.9.1.2); allowable: Table 12.12-1 (12.12.1); not scaled to the equivalent lateral force base shear "
         "(12.9.1.4: docs/theory.md 16).")
-
-
-def has_design(result: AnalysisResult) -> bool:
-    """Whether the result carries design values (a simplified result of a deck with [design])."""
-    return "design_drift_ratio" in result.peaks
 
 
 def headers(units: str = "si") -> list[str]:

@@ -23,11 +23,12 @@ from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 
 from ..errors import InputError
+from .patterns import lazy
 from .portable import process_alive
 
 #: what marks a temporary file of this tool; the pid of the process that writes it follows
 TEMP_MARK = ".uplift-tmp-"
-_TEMP_NAME = re.compile(r"^\..+" + re.escape(TEMP_MARK) + r"(?P<pid>\d+)-[A-Za-z0-9_]+")
+_TEMP_NAME = lazy(r"^\..+" + re.escape(TEMP_MARK) + r"(?P<pid>\d+)-[A-Za-z0-9_]+")
 #: where Linux tells a process its umask (elsewhere it is set and restored to be read)
 PROC_STATUS = "/proc/self/status"
 #: folders whose stale temporary files this process has removed already
