@@ -8,22 +8,26 @@
 #include "buffers.h" /* restrict on every compiler */
 #include <stdint.h>
 
-/* Row q of M^T at a time: the inner loop runs along contiguous memory without a reduction, so it
- * vectorises, and each out[r] sums over q = 0, 1, ... in that order (the bits do not depend on
- * the vector width). Four rows go through one pass over out when their four inputs are nonzero
- * (the same additions in the same order, a quarter of the loads and stores of out); zero inputs
- * are skipped. */
-static inline void transposed_product(const double *restrict m_t, const double *restrict x, int64_t n_in,
-                                      int64_t width, double *restrict out)
+/* out[r] = sum_q table[q * stride + r] x[q], r < width: row q of the table (M^T, rows `stride` apart)
+ * at a time. The inner loop runs along contiguous memory without a reduction, so it vectorises, and
+ * each out[r] sums over q = 0, 1, ... in that order from +0 (the bits do not depend on the vector
+ * width, and are a dot product's: the products of zero inputs, skipped, change no such sum). Four
+ * rows go through one pass over out when their four inputs are nonzero (the same additions in the
+ * same order, a quarter of the loads and stores of out). The event rows of the stepping loop
+ * (transitions.h: stored transposed, so a state's 20-40 event rows take one product, ten times faster
+ * than a dot product per row, each waiting for its additions) and the step operators (transposed_product). */
+static inline void strided_product(const double *restrict table, int64_t stride, const double *restrict x, int64_t n,
+                                   int64_t width, double *restrict out)
 {
     for (int64_t r = 0; r < width; r++) {
         out[r] = 0.0;
     }
     int64_t q = 0;
-    while (q < n_in) {
-        if (q + 4 <= n_in && x[q] != 0.0 && x[q + 1] != 0.0 && x[q + 2] != 0.0 && x[q + 3] != 0.0) {
+    while (q < n) {
+        if (q + 4 <= n && x[q] != 0.0 && x[q + 1] != 0.0 && x[q + 2] != 0.0 && x[q + 3] != 0.0) {
             const double x0 = x[q], x1 = x[q + 1], x2 = x[q + 2], x3 = x[q + 3];
-            const double *row0 = m_t + q * width, *row1 = row0 + width, *row2 = row1 + width, *row3 = row2 + width;
+            const double *row0 = table + q * stride, *row1 = row0 + stride, *row2 = row1 + stride,
+                         *row3 = row2 + stride;
             for (int64_t r = 0; r < width; r++) {
                 out[r] = (((out[r] + row0[r] * x0) + row1[r] * x1) + row2[r] * x2) + row3[r] * x3;
             }
@@ -32,13 +36,20 @@ static inline void transposed_product(const double *restrict m_t, const double *
         }
         const double xq = x[q];
         if (xq != 0.0) {
-            const double *row = m_t + q * width;
+            const double *row = table + q * stride;
             for (int64_t r = 0; r < width; r++) {
                 out[r] += row[r] * xq;
             }
         }
         q++;
     }
+}
+
+/* out = M x from M^T (n_in, width), its rows contiguous (strided_product with stride = width). */
+static inline void transposed_product(const double *restrict m_t, const double *restrict x, int64_t n_in,
+                                      int64_t width, double *restrict out)
+{
+    strided_product(m_t, width, x, n_in, width, out);
 }
 
 /* The rows of signals hermite_peaks reads (10-20 of their 40 columns) have left the cache since

@@ -86,18 +86,18 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
             /* the event functions and their rates at x (g_x, then d_x), kept while they stay */
             if (!(known & VALUES)) {
                 if (n_events) {
-                    table_product(table, 2 * n_events, x, n, 2 * n_events, g_x);
+                    strided_product(table, 2 * n_events, x, n, 2 * n_events, g_x);
                 }
                 known = VALUES | RATES;
             } else if (!(known & RATES)) {
                 if (n_events) {
-                    table_product(table + n_events, 2 * n_events, x, n, n_events, d_x);
+                    strided_product(table + n_events, 2 * n_events, x, n, n_events, d_x);
                 }
                 known |= RATES;
             }
             matvec(op_of(m, state, level), x, trial, n);
             if (n_events) {
-                table_product(table, 2 * n_events, trial, n, 2 * n_events, g_trial);
+                strided_product(table, 2 * n_events, trial, n, 2 * n_events, g_trial);
             }
             int crossed = largest(g_trial, n_events) > EVENT_TOLERANCE;
             /* an event function may rise above zero and fall back inside the chunk: halve it
@@ -106,7 +106,7 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
                    && excursion_between(g_x, d_x, g_trial, d_trial, n_events, chunk[level])) {
                 level++;
                 matvec(op_of(m, state, level), x, trial, n);
-                table_product(table, 2 * n_events, trial, n, 2 * n_events, g_trial); /* n_events > 0 here */
+                strided_product(table, 2 * n_events, trial, n, 2 * n_events, g_trial); /* n_events > 0 here */
                 crossed = largest(g_trial, n_events) > EVENT_TOLERANCE;
             }
             if (!crossed) {

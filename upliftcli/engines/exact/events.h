@@ -65,42 +65,6 @@ static inline void event_values(const double *events, const double *event_rates,
     }
 }
 
-/* out[r] = sum_q table[q * stride + r] x[q], r < width: rows of event functions stored transposed
- * (transitions.h, EventTables) times x. Each out[r] sums over q = 0, 1, ... from +0, as dot sums its
- * row, so the bits are dot's bits: the products of zero inputs, skipped here, change no such sum (a
- * sum from +0 never becomes -0). The inner loop runs along a row of the table without a reduction, so
- * it vectorises (dot's sums, one at a time, wait for each addition: ten times slower over the 20-40
- * rows of a building whose stories yield); four inputs at a time when all four are nonzero (the same
- * additions in the same order, a quarter of the loads and stores of out: product.h). */
-static inline void table_product(const double *restrict table, int64_t stride, const double *restrict x, int64_t n,
-                                 int64_t width, double *restrict out)
-{
-    for (int64_t r = 0; r < width; r++) {
-        out[r] = 0.0;
-    }
-    int64_t q = 0;
-    while (q < n) {
-        if (q + 4 <= n && x[q] != 0.0 && x[q + 1] != 0.0 && x[q + 2] != 0.0 && x[q + 3] != 0.0) {
-            const double x0 = x[q], x1 = x[q + 1], x2 = x[q + 2], x3 = x[q + 3];
-            const double *row0 = table + q * stride, *row1 = row0 + stride, *row2 = row1 + stride,
-                         *row3 = row2 + stride;
-            for (int64_t r = 0; r < width; r++) {
-                out[r] = (((out[r] + row0[r] * x0) + row1[r] * x1) + row2[r] * x2) + row3[r] * x3;
-            }
-            q += 4;
-            continue;
-        }
-        const double xq = x[q];
-        if (xq != 0.0) {
-            const double *row = table + q * stride;
-            for (int64_t r = 0; r < width; r++) {
-                out[r] += row[r] * xq;
-            }
-        }
-        q++;
-    }
-}
-
 /* True if some event function, not positive at either end of a chunk of `length` [s], has a
  * positive interior maximum on its cubic Hermite interpolant through its values g0, g1 and exact
  * rates d0, d1 at the ends: a brief excursion the chunk ends would miss. */

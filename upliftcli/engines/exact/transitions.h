@@ -38,7 +38,7 @@ static inline const double *op_of(const Model *m, int64_t state, int64_t level)
     return m->ops + (state * (m->levels + 1) + level) * m->n * m->n;
 }
 
-/* The event rows of the states a call of integrate enters, transposed for table_product (events.h):
+/* The event rows of the states a call of integrate enters, transposed for strided_product (product.h):
  * slot k holds table[q * 2 n_e + r] = G_s[r, q] and table[q * 2 n_e + n_e + r] = (G A)_s[r, q], so that
  * the values and rates of every event function come from one product. A state's table is made when
  * integrate enters it (n * 2 n_e copies, about one evaluation of its events) in the next of `slots`
@@ -80,7 +80,7 @@ static ALWAYS_INLINE const double *event_table(const Model *m, EventTables *t, i
 /* values[i] = G_i x of the n_e event functions from their table */
 static inline void table_values(const double *table, int64_t n_e, const double *x, int64_t n, double *values)
 {
-    table_product(table, 2 * n_e, x, n, n_e, values);
+    strided_product(table, 2 * n_e, x, n, n_e, values);
 }
 
 /* Bracket the first crossing inside the chunk x -> trial by bisection with the finer exact
