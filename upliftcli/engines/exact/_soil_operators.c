@@ -128,12 +128,10 @@ static int pade(const double *a, double *e, double *work, int64_t n)
     return solve(t, e, n);
 }
 
-/* e := exp(a) (n x n) by scaling and squaring with the [13/13] Pade approximant (expm.py's algorithm;
- * work: 7 n x n scratch matrices, a^2, a^4 and a^6 of the scaled a left in its first three); a is
- * overwritten; 0 if the denominator is singular */
-static int exponential(double *a, double *e, double *work, int64_t n)
+/* the squarings that bring the 1-norm of a (n x n) to THETA_13, where the [13/13] Pade approximant is
+ * accurate to the unit round-off (expm.py) */
+static int64_t pade_squarings(const double *a, int64_t n)
 {
-    const int64_t nn = n * n;
     double norm = 0.0;
     for (int64_t j = 0; j < n; j++) {
         double column = 0.0;
@@ -142,7 +140,16 @@ static int exponential(double *a, double *e, double *work, int64_t n)
         }
         norm = column > norm ? column : norm;
     }
-    const int squarings = norm > THETA_13 ? (int)ceil(log2(norm / THETA_13)) : 0;
+    return norm > THETA_13 ? (int64_t)ceil(log2(norm / THETA_13)) : 0;
+}
+
+/* e := exp(a) (n x n) by scaling and squaring with the [13/13] Pade approximant (expm.py's algorithm;
+ * work: 7 n x n scratch matrices, a^2, a^4 and a^6 of the scaled a left in its first three); a is
+ * overwritten; 0 if the denominator is singular */
+static int exponential(double *a, double *e, double *work, int64_t n)
+{
+    const int64_t nn = n * n;
+    const int squarings = (int)pade_squarings(a, n);
     const double scale = ldexp(1.0, squarings);
     for (int64_t q = 0; q < nn; q++) {
         a[q] /= scale;
@@ -286,15 +293,7 @@ static void assemble(const Soil *in, int64_t r, const double *levels, const int6
  * at most `levels` */
 static int64_t squarings_of(const double *block, int64_t nb, int64_t levels)
 {
-    double norm = 0.0;
-    for (int64_t j = 0; j < nb; j++) {
-        double column = 0.0;
-        for (int64_t i = 0; i < nb; i++) {
-            column += fabs(block[i * nb + j]);
-        }
-        norm = column > norm ? column : norm;
-    }
-    const int64_t s = norm > THETA_13 ? (int64_t)ceil(log2(norm / THETA_13)) : 0;
+    const int64_t s = pade_squarings(block, nb);
     return s < levels ? s : levels;
 }
 
