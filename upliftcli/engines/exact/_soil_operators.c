@@ -242,10 +242,11 @@ static void yielding_columns(const Soil *in, const unsigned char *yielding, cons
     }
 }
 
-/* out[j] (n_aug x n_aug, zeros) := E_j^T of state r from the block exponentials levels[j] (nb x nb): the
+/* out[j] (n_aug x n_aug, any contents) := E_j^T of state r from the block exponentials levels[j] (nb x nb): the
  * core entries, the rows of the settlements in contact (the mat's two forces times k_i e_i), the unit
  * rows of the other settlements and tops, the relaxing tops in closed form, and the yielding
- * settlements' columns (yielding_columns; yielding.py, _assemble) */
+ * settlements' columns (yielding_columns; yielding.py, _assemble); every entry is written, each level
+ * zeroed just before it is (in cache), so the slot needs no fill of its own */
 static void assemble(const Soil *in, int64_t r, const double *levels, const int64_t *reads, int64_t count)
 {
     const int64_t n = in->n_aug, n_c = in->n_c, nb = n_c + 2, n_e = in->n_e;
@@ -255,6 +256,7 @@ static void assemble(const Soil *in, int64_t r, const double *levels, const int6
         const double *e = levels + j * nb * nb;
         double *out = in->out + (r * (in->levels + 1) + j) * n * n;
         const double length = in->h / ldexp(1.0, (int)j);
+        memset(out, 0, n * n * sizeof(double));  /* the slot may hold an earlier run's operators (kept.reused) */
         for (int64_t p = 0; p < n_c; p++) {
             double *row = out + in->core[p] * n;
             for (int64_t q = 0; q < n_c; q++) {
