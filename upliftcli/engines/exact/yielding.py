@@ -36,9 +36,10 @@ def pattern_bits(pattern: int, n_elements: int) -> tuple[np.ndarray, np.ndarray]
 
 
 def valid_pattern(pattern: int, n_elements: int) -> bool:
-    """False where some element would be lifted and yielding at once (no such state: theory 14.2)."""
-    lifted, yielding = pattern_bits(pattern, n_elements)
-    return not np.any(lifted & yielding)
+    """False where some element would be lifted and yielding at once (no such state: theory 14.2): bits i and
+    n_e + i both set (pattern_bits; on Python's integers, asked once per state built)."""
+    pattern = int(pattern)
+    return not pattern & (pattern >> n_elements) & ((1 << n_elements) - 1)
 
 
 def event_resets(space: StateSpace) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
