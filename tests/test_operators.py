@@ -146,6 +146,29 @@ def test_operator_arrays_that_grow_keep_the_states_written_in_place(monkeypatch)
     assert grown.intermediates["transitions"] == reserved.intermediates["transitions"]
 
 
+def test_reused_gives_an_array_back_once_nothing_holds_it(monkeypatch):
+    """kept.reused: an array held (or a view of it held) is never given again; one let go is, for its shape;
+    with REUSED kept, a new shape takes the place of a free one and an array beyond them is not kept."""
+    from upliftcli.engines.exact import kept
+
+    monkeypatch.setattr(kept, "_reused", [])
+    monkeypatch.setattr(kept, "REUSED", 2)
+    first = kept.reused((3, 4))
+    second = kept.reused((3, 4))
+    assert first is not second and len(kept._reused) == 2
+    view, kept_id = first[1:], id(first)
+    del first
+    third = kept.reused((3, 4))
+    assert id(third) != kept_id and third is not second and len(kept._reused) == 2  # the view holds the first
+    del view
+    assert id(kept.reused((3, 4))) == kept_id  # let go: given again
+    del second  # both kept arrays free now (the third was never kept: two were, and held)
+    other = kept.reused((5,))
+    assert other.shape == (5,) and sorted(array.shape for array in kept._reused) == [(3, 4), (5,)]
+    assert kept.reused((5,)) is not other  # held: a new one
+    assert third.shape == (3, 4)
+
+
 def test_a_yielding_mat_writes_its_operators_over_an_earlier_runs(monkeypatch):
     """The operators of a yielding Winkler mat's run go into the array an earlier run left (kept.reused: its
     memory mapped, not zeroed), every entry written (_soil_operators.c zeroes each level as it writes it): a run

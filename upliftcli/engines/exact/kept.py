@@ -43,16 +43,25 @@ def reused(shape: tuple[int, ...]) -> np.ndarray:
     REUSED). Its memory stays mapped: the operators of a yielding 20-element mat's run are 200 MB, which a new
     array (a mapping of its own) faults in again at every run (0.03 s of system time, and their building
     57 ms instead of 71 ms: benchmarks/bench_yielding.py, measured)."""
-    for array in _reused:
-        if array.shape == shape and _free(array):
+    free = _free_arrays()
+    for array in free:
+        if array.shape == shape:
             return array
-    array = np.empty(shape)
-    spare = [k for k, other in enumerate(_reused) if _free(other)]
-    if len(_reused) >= REUSED and spare:
-        del _reused[spare[0]]
+    return _kept_new(np.empty(shape), free)
+
+
+def _kept_new(array: np.ndarray, free: list[np.ndarray]) -> np.ndarray:
+    """The new array, kept by reused (in place of the first free one when REUSED are kept)."""
+    if len(_reused) >= REUSED and free:
+        del _reused[[id(other) for other in _reused].index(id(free[0]))]
     if len(_reused) < REUSED:
         _reused.append(array)
     return array
+
+
+def _free_arrays() -> list[np.ndarray]:
+    """The arrays of _reused that nothing else holds."""
+    return [array for array in _reused if _free(array)]
 
 
 def _free(array: np.ndarray) -> bool:
