@@ -39,9 +39,9 @@ def kept(space: StateSpace, build: Callable[[StateSpace], T]) -> T:
 
 def reused(shape: tuple[int, ...]) -> np.ndarray:
     """An array of floats of this shape and of any contents: one an earlier call gave that nothing holds any
-    more (neither it nor a view of it), else a new one, kept in place of a free one of another shape (at most
-    REUSED). Its memory stays mapped: the operators of a yielding 20-element mat's run are 200 MB, which a new
-    array (a mapping of its own) faults in again at every run (0.03 s of system time, and their building
+    more (neither it nor a view of it), else a new one, kept (at most REUSED; the free ones of other shapes
+    are let go). Its memory stays mapped: the operators of a yielding 20-element mat's run are 200 MB, which a
+    new array (a mapping of its own) faults in again at every run (0.03 s of system time, and their building
     57 ms instead of 71 ms: benchmarks/bench_yielding.py, measured)."""
     free = _free_arrays()
     for array in free:
@@ -51,19 +51,25 @@ def reused(shape: tuple[int, ...]) -> np.ndarray:
 
 
 def _kept_new(array: np.ndarray, free: list[np.ndarray]) -> np.ndarray:
-    """The new array, kept by reused (in place of the first free one when REUSED are kept)."""
-    if len(_reused) >= REUSED and free:
-        del _reused[[id(other) for other in _reused].index(id(free[0]))]
+    """The new array, kept by reused in place of the free ones (of other shapes: their memory handed back; at
+    most REUSED kept)."""
+    gone = {id(other) for other in free}
+    _reused[:] = [other for other in _reused if id(other) not in gone]
     if len(_reused) < REUSED:
         _reused.append(array)
     return array
 
 
 def _free_arrays() -> list[np.ndarray]:
-    """The arrays of _reused that nothing else holds."""
-    return [array for array in _reused if _free(array)]
+    """The arrays of _reused that nothing else holds: a reference count no higher than that of an array only a
+    list holds, counted the same way (_counts: what the interpreter counts of its own references while it
+    counts differs between Python versions)."""
+    return [array for array, count in zip(_reused, _counts(_reused), strict=True) if count <= _ALONE]
 
 
-def _free(array: np.ndarray) -> bool:
-    """Whether only _reused holds the array (the list, the caller's name, this parameter, getrefcount's)."""
-    return sys.getrefcount(array) <= 4
+def _counts(arrays: list[np.ndarray]) -> list[int]:
+    return [sys.getrefcount(array) for array in arrays]
+
+
+#: the reference count _counts gives an array only its list holds
+_ALONE = _counts([np.empty(0)])[0]
