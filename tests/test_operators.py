@@ -146,6 +146,56 @@ def test_operator_arrays_that_grow_keep_the_states_written_in_place(monkeypatch)
     assert grown.intermediates["transitions"] == reserved.intermediates["transitions"]
 
 
+def test_reused_gives_an_array_back_once_nothing_holds_it(monkeypatch):
+    """kept.reused: an array held (or a view of it held) is never given again; one let go is, for its shape;
+    an array beyond REUSED is not kept, and a new shape takes the place of the free arrays."""
+    from upliftcli.engines.exact import kept
+
+    monkeypatch.setattr(kept, "_reused", [])
+    monkeypatch.setattr(kept, "REUSED", 2)
+    first = kept.reused((3, 4))
+    second = kept.reused((3, 4))
+    assert first is not second and len(kept._reused) == 2
+    view, kept_id = first[1:], id(first)
+    del first
+    third = kept.reused((3, 4))
+    assert id(third) != kept_id and third is not second and len(kept._reused) == 2  # the view holds the first
+    del view
+    assert id(kept.reused((3, 4))) == kept_id  # let go: given again
+    del second  # both kept arrays free now (the third was never kept: two were, and held)
+    other = kept.reused((5,))
+    assert other.shape == (5,) and [array.shape for array in kept._reused] == [(5,)]
+    assert kept.reused((5,)) is not other  # held: a new one
+    assert third.shape == (3, 4)
+
+
+def test_a_yielding_mat_writes_its_operators_over_an_earlier_runs(monkeypatch):
+    """The operators of a yielding Winkler mat's run go into the array an earlier run left (kept.reused: its
+    memory mapped, not zeroed), every entry written (_soil_operators.c zeroes each level as it writes it): a run
+    into that array filled with NaN gives the results of the first run, bit for bit."""
+    from upliftcli.engines.exact import engine as exact
+    from upliftcli.engines.exact import kept
+
+    monkeypatch.setattr(kept, "_reused", [])
+    deck = load_deck(WINKLER, ["foundation.safety_factor=1.5"])
+    first = exact.analyze(deck.system, deck.ground_motion, "uplift")
+    (shape,) = [array.shape for array in kept._reused]  # the operators' array only
+    left = kept.reused(shape)
+    left[...] = np.nan
+    del left
+    again = exact.analyze(deck.system, deck.ground_motion, "uplift")
+    left = kept.reused(shape)
+    assert np.isfinite(left[0]).all()  # the second run wrote its first state over the NaN
+    for name, values in first.peaks.items():
+        np.testing.assert_array_equal(again.peaks[name], values, err_msg=name)
+    for name, values in first.times.items():
+        np.testing.assert_array_equal(again.times[name], values, err_msg=name)
+    for name, value in first.details["energy"].items():
+        np.testing.assert_array_equal(again.details["energy"][name], value, err_msg=name)
+    assert again.details["yielding"] == first.details["yielding"]
+    assert again.intermediates["transitions"] == first.intermediates["transitions"]
+
+
 def test_yielding_story_arrays_that_grow_keep_the_states_written_in_place(monkeypatch):
     """The README deck at El Centro x2 with strength 0.4 W on the rigid base (151 states, their operators
     written in place by level_operators.state_levels into arrays not filled: Operators.fill) whose operator

@@ -71,6 +71,25 @@ def test_a_capacity_no_force_reaches_gives_the_elastic_result(path, engine):
         assert strong.details["energy"][name] == pytest.approx(value, abs=1e-11 * scale), name
 
 
+def test_a_pattern_is_valid_unless_an_element_is_lifted_and_yielding():
+    """yielding.valid_pattern (on Python's integers) against the pattern's bits (pattern_bits): every pattern of
+    three elements, and random ones of 20 and 31 (bits up to 61) as ints and as numpy int64."""
+    from upliftcli.engines.exact.yielding import pattern_bits, valid_pattern
+
+    rng = np.random.default_rng(3)
+    cases = [(3, p) for p in range(64)]
+    for n in (20, 31):
+        cases += [(n, int(p)) for p in rng.integers(0, 2**(2 * n), 500) & rng.integers(0, 2**(2 * n), 500)]
+    invalid = 0
+    for n, pattern in cases:
+        lifted, yielding = pattern_bits(pattern, n)
+        expected = not np.any(lifted & yielding)
+        invalid += not expected
+        assert valid_pattern(pattern, n) is expected
+        assert valid_pattern(np.int64(pattern), n) is expected
+    assert 0 < invalid < len(cases)
+
+
 def test_without_a_capacity_the_state_is_the_elastic_one():
     """No new state entries without a capacity (and on the bonded support, the linear reference)."""
     system = load_deck(TWO).system

@@ -5,6 +5,7 @@
  * closed form. See soil_operators.py for the arguments; the numpy twin is soil_operators_numpy.py. */
 
 #include "buffers.h"
+#include "product.h"
 #include <math.h>
 #include <stdlib.h>
 
@@ -17,9 +18,10 @@ static const double THETA_13 = 5.371920351148152;
 
 /* c = a b (n x n, row-major): row i of c as the sum over k of a[i][k] times row k of b, in k order,
  * skipping zero entries of a (the block's forcing and force rows are nearly empty) */
-HOT_LOOP static void product(const double *restrict a, const double *restrict b, double *restrict c, int64_t n)
+static void rows_product(const double *restrict a, const double *restrict b, double *restrict c, int64_t n,
+                         int64_t from)
 {
-    for (int64_t i = 0; i < n; i++) {
+    for (int64_t i = from; i < n; i++) {
         double *restrict ci = c + i * n;
         for (int64_t j = 0; j < n; j++) {
             ci[j] = 0.0;
@@ -35,6 +37,73 @@ HOT_LOOP static void product(const double *restrict a, const double *restrict b,
             }
         }
     }
+}
+
+#if defined(__GNUC__)
+/* c[i + s][j0 + l] for s < 4, l < 4 (lanes 4) or l < 8 (lanes 8): the sums over k in k order from +0, kept in
+ * registers (product.h's product_samples: a zero a[i][k], which rows_product skips, changes no sum, so the bits
+ * are its bits) */
+static ALWAYS_INLINE void tile(const double *restrict a, const double *restrict b, double *restrict c, int64_t n,
+                               int64_t i, int64_t j0, int lanes)
+{
+    const product_vector zero = {0.0, 0.0, 0.0, 0.0};
+    product_vector a0 = zero, b0 = zero, a1 = zero, b1 = zero, a2 = zero, b2 = zero, a3 = zero, b3 = zero;
+    const double *x = a + i * n;
+    for (int64_t k = 0; k < n; k++) {
+        const product_vector low = VECTOR_AT(b + k * n + j0);
+        const double x0 = x[k], x1 = x[n + k], x2 = x[2 * n + k], x3 = x[3 * n + k];
+        a0 += low * x0;
+        a1 += low * x1;
+        a2 += low * x2;
+        a3 += low * x3;
+        if (lanes == 8) {
+            const product_vector high = VECTOR_AT(b + k * n + j0 + 4);
+            b0 += high * x0;
+            b1 += high * x1;
+            b2 += high * x2;
+            b3 += high * x3;
+        }
+    }
+    double *out = c + i * n + j0;
+    VECTOR_AT(out) = a0;
+    VECTOR_AT(out + n) = a1;
+    VECTOR_AT(out + 2 * n) = a2;
+    VECTOR_AT(out + 3 * n) = a3;
+    if (lanes == 8) {
+        VECTOR_AT(out + 4) = b0;
+        VECTOR_AT(out + n + 4) = b1;
+        VECTOR_AT(out + 2 * n + 4) = b2;
+        VECTOR_AT(out + 3 * n + 4) = b3;
+    }
+}
+#endif
+
+/* c = a b (n x n, row-major), the bits of rows_product: four rows at a time in tiles of 8 and 4 columns
+ * (tile), the columns and rows left over as rows_product sums them (in k order from +0) */
+HOT_LOOP static void product(const double *restrict a, const double *restrict b, double *restrict c, int64_t n)
+{
+    int64_t i = 0;
+#if defined(__GNUC__)
+    const int64_t wide = n / 8 * 8, quarter = n / 4 * 4;
+    for (; i + 4 <= n; i += 4) {
+        for (int64_t j0 = 0; j0 < wide; j0 += 8) {
+            tile(a, b, c, n, i, j0, 8);
+        }
+        if (quarter > wide) {
+            tile(a, b, c, n, i, wide, 4);
+        }
+        for (int64_t s = i; s < i + 4; s++) {
+            for (int64_t j = quarter; j < n; j++) {
+                double sum = 0.0;
+                for (int64_t k = 0; k < n; k++) {
+                    sum += b[k * n + j] * a[s * n + k];
+                }
+                c[s * n + j] = sum;
+            }
+        }
+    }
+#endif
+    rows_product(a, b, c, n, i);
 }
 
 /* out = w_0 m_0 + w_1 m_1 + w_2 m_2 + w_3 I (n x n) */
@@ -249,10 +318,11 @@ static void yielding_columns(const Soil *in, const unsigned char *yielding, cons
     }
 }
 
-/* out[j] (n_aug x n_aug, zeros) := E_j^T of state r from the block exponentials levels[j] (nb x nb): the
+/* out[j] (n_aug x n_aug, any contents) := E_j^T of state r from the block exponentials levels[j] (nb x nb): the
  * core entries, the rows of the settlements in contact (the mat's two forces times k_i e_i), the unit
  * rows of the other settlements and tops, the relaxing tops in closed form, and the yielding
- * settlements' columns (yielding_columns; yielding.py, _assemble) */
+ * settlements' columns (yielding_columns; yielding.py, _assemble); every entry is written, each level
+ * zeroed just before it is (in cache), so the slot needs no fill of its own */
 static void assemble(const Soil *in, int64_t r, const double *levels, const int64_t *reads, int64_t count)
 {
     const int64_t n = in->n_aug, n_c = in->n_c, nb = n_c + 2, n_e = in->n_e;
@@ -262,6 +332,7 @@ static void assemble(const Soil *in, int64_t r, const double *levels, const int6
         const double *e = levels + j * nb * nb;
         double *out = in->out + (r * (in->levels + 1) + j) * n * n;
         const double length = in->h / ldexp(1.0, (int)j);
+        memset(out, 0, n * n * sizeof(double));  /* the slot may hold an earlier run's operators (kept.reused) */
         for (int64_t p = 0; p < n_c; p++) {
             double *row = out + in->core[p] * n;
             for (int64_t q = 0; q < n_c; q++) {
@@ -319,10 +390,12 @@ static int exponentials(const Soil *in, int64_t r, double *block, double *levels
      * THETA_13 / 2): its powers are level s's scaled by powers of two, exactly the products they would be */
     block_of(in, r, in->h / ldexp(1.0, (int)top), block);
     const int d = (int)(top - s);
+    /* times exact powers of two (2^-72 at most, a normal number): the correctly rounded x 2^-k that ldexp gives */
+    const double f2 = ldexp(1.0, -2 * d), f4 = ldexp(1.0, -4 * d), f6 = ldexp(1.0, -6 * d);
     for (int64_t q = 0; q < nn; q++) {
-        work[q] = ldexp(work[q], -2 * d);
-        work[nn + q] = ldexp(work[nn + q], -4 * d);
-        work[2 * nn + q] = ldexp(work[2 * nn + q], -6 * d);
+        work[q] *= f2;
+        work[nn + q] *= f4;
+        work[2 * nn + q] *= f6;
     }
     if (!pade(block, levels + top * nn, work, nb)) {
         return 0;

@@ -12,6 +12,7 @@ import numpy as np
 
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_OPERATOR_BYTES
+from .kept import reused
 from .level_operators import LEVELS, elastic_blocks, elastic_stories, hold_settlements, stacked_operators, state_levels
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
@@ -43,14 +44,15 @@ class Operators:
         self.group = (lay.n_p, tuple(lay.massive), tuple(lay.massless), lay.n_x, lay.n_elements, lay.n_plastic,
                       criterion)
         self.most_states = max_states(lay)
-        # the states of yielding stories (not on a yielding mat of many elements, whose block operators write
-        # only their nonzero entries: _block_operators) write their operators, event rows and rates whole:
-        # those arrays are left as allocated (np.empty: served from the memory an earlier run freed, kept by
-        # runtime/process.keep_freed_memory, neither zeroed nor faulted in again; the states not yet stored
-        # are never read); the others' start as zeros, mapped only as states are stored
-        self.fill = None if self.layout.n_plastic and not block_operators(self.layout) else 0.0
-        self.quick = self.fill is None  # a state of yielding stories may be built by story_requests.py
-        self.ops = _reserve((self.capacity, LEVELS + 1, n_aug, n_aug), self.fill)
+        # the states of yielding stories and of a yielding mat of many elements write their operators (block
+        # operators: _block_operators), event rows and rates whole: those arrays are left as allocated (np.empty:
+        # the memory an earlier run freed, runtime/process.keep_freed_memory; on such a mat its operators' array,
+        # kept.reused; neither zeroed nor faulted in again; states not yet stored are never read); the others'
+        # start as zeros, mapped only as states are stored
+        block = block_operators(self.layout)
+        self.fill = None if self.layout.n_plastic or block else 0.0
+        self.quick = bool(self.layout.n_plastic) and not block  # a state may be built by story_requests.py
+        self.ops = _reserve((self.capacity, LEVELS + 1, n_aug, n_aug), self.fill, block)
         self.events = _reserve((self.capacity, n_e, n_aug), self.fill)
         self.event_rates = _reserve((self.capacity, n_e, n_aug), self.fill)
         self.matrices = np.empty((self.capacity, n_aug, n_aug))
@@ -107,8 +109,7 @@ class Operators:
         return index
 
     def _grow(self) -> None:
-        """More room for states: doubled (_doubled: the operators zeros, mapped only as stored, which
-        yielding.step_operators writes into without a fill, or with yielding stories not filled (self.fill); the
+        """More room for states: doubled (_doubled: zeros, mapped only as stored, or not filled: self.fill; the
         matrices, never read before, not filled)."""
         self.capacity *= 2
         self.ops, self.matrices = _doubled(self.ops, self.fill), _doubled(self.matrices)
@@ -180,8 +181,10 @@ def _too_many_states(lay: Layout) -> str:
             "elements (foundation.elements) or a lower stiffness")
 
 
-def _reserve(shape: tuple[int, ...], fill: float | None) -> np.ndarray:
-    """A new array of `shape`: zeros (fill 0), or left as allocated (None)."""
+def _reserve(shape: tuple[int, ...], fill: float | None, kept: bool = False) -> np.ndarray:
+    """A new array of `shape`: zeros (fill 0), or left as allocated (None); kept: one an earlier run left."""
+    if kept:
+        return reused(shape)  # its 200 MB mapped and not zeroed: the operators of a yielding mat's run
     return np.empty(shape) if fill is None else np.zeros(shape)
 
 

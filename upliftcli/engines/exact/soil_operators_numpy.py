@@ -13,7 +13,7 @@ from .expm import THETA_13, expm
 def soil_operators(matrices: np.ndarray, contact: np.ndarray, yielding: np.ndarray, relaxing: np.ndarray,
                    core: np.ndarray, settlements: np.ndarray, tops: np.ndarray, loads: np.ndarray,
                    displacement: np.ndarray, rates: np.ndarray, h: float, n_motion: int, out: np.ndarray) -> None:
-    """out[r] (levels + 1, n_aug, n_aug), zeros, := E_j^T = expm(A_r h / 2^j)^T, j = 0..levels, of each
+    """out[r] (levels + 1, n_aug, n_aug), of any contents, := E_j^T = expm(A_r h / 2^j)^T, j = 0..levels, of each
     state r from the exponentials of its block (exponentials), assembled (assemble)."""
     levels = out.shape[1] - 1
     stack = blocks(matrices, contact, core, settlements, loads)
@@ -76,12 +76,12 @@ def load_columns(rows: np.ndarray, settlements: np.ndarray, loads: np.ndarray, c
 def assemble(block: np.ndarray, contact: np.ndarray, yielding: np.ndarray, relaxing: np.ndarray, core: np.ndarray,
              settlements: np.ndarray, tops: np.ndarray, loads: np.ndarray, motion_rows: np.ndarray,
              rates: np.ndarray, lengths: np.ndarray, out: np.ndarray) -> None:
-    """out (levels + 1, n_aug, n_aug), zeros, := E_j^T of one state from the exponentials of its block,
-    the rows left out in closed form. Only the nonzero entries are written (a fill of the 450 kB of
-    each state of the 20-element mat cost a tenth of its run, measured). motion_rows: the rows d_i of
+    """out (levels + 1, n_aug, n_aug), of any contents (an earlier run's: kept.reused), := E_j^T of one state
+    from the exponentials of its block, the rows left out in closed form. motion_rows: the rows d_i of
     v_i = d_i X on the motion X[:n_m]; rates: k_i / c_i of the relaxing tops."""
     n_c, n_m = core.size, motion_rows.shape[1]
     block_t = block.transpose(0, 2, 1)  # exp(B l)^T: out[j, b, a] = E_j[a, b]
+    out[...] = 0.0
     out[:, core[:, None], core[None, :]] = block_t[:, :n_c, :n_c]
     settled = loads[:, contact].T @ block_t[:, n_c:, :n_c]  # the rows s_i (in contact) of E^T
     out[:, settlements[contact, None], core[None, :]] = settled

@@ -36,9 +36,10 @@ def pattern_bits(pattern: int, n_elements: int) -> tuple[np.ndarray, np.ndarray]
 
 
 def valid_pattern(pattern: int, n_elements: int) -> bool:
-    """False where some element would be lifted and yielding at once (no such state: theory 14.2)."""
-    lifted, yielding = pattern_bits(pattern, n_elements)
-    return not np.any(lifted & yielding)
+    """False where some element would be lifted and yielding at once (no such state: theory 14.2): bits i and
+    n_e + i both set (pattern_bits; on Python's integers, asked once per state built)."""
+    pattern = int(pattern)
+    return not pattern & (pattern >> n_elements) & ((1 << n_elements) - 1)
 
 
 def event_resets(space: StateSpace) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -62,7 +63,7 @@ def step_operators(space: StateSpace, states: list[ContactState], h: float, leve
                    out: np.ndarray | list[np.ndarray] | None = None) -> list[np.ndarray]:
     """E_j^T = expm(A h / 2^j)^T, j = 0..levels, of contact states with a bearing capacity, from the
     exponential of a small block of each (docs/theory.md 14.3), written into out (R, levels + 1, n_aug,
-    n_aug), or into out[r] (levels + 1, n_aug, n_aug) each, which hold zeros (new arrays if None), and
+    n_aug), or into out[r] (levels + 1, n_aug, n_aug) each, of any contents (new arrays if None), and
     returned per state. Of the augmented state, the rows of A that are not coupled back into the motion are
     - z_i: k_i (z_i - s_i) + c_i z_i' = 0 while lifted (c_i > 0), else z_i' = 0: in closed form,
       z_i(t) = e^(-r t) z_i + (1 - e^(-r t)) s_i with r = k_i / c_i;
@@ -83,7 +84,7 @@ def step_operators(space: StateSpace, states: list[ContactState], h: float, leve
     (upliftcli.runtime.backend). tests/test_operators.py compares every level with expm(A h/2^j)."""
     n = space.layout.n_aug
     if out is None:
-        out = np.zeros((len(states), levels + 1, n, n))
+        out = np.empty((len(states), levels + 1, n, n))
     if isinstance(out, np.ndarray):
         _soil_operators(space, states, h, out)
         return list(out)
@@ -99,7 +100,7 @@ def _loops():
 
 
 def _soil_operators(space: StateSpace, states: list[ContactState], h: float, out: np.ndarray) -> None:
-    """step_operators of `states` into the stack out (R, levels + 1, n_aug, n_aug), zeros."""
+    """step_operators of `states` into the stack out (R, levels + 1, n_aug, n_aug), of any contents."""
     core, loads, damped, rates, displacement, n_motion = kept(space, _block_terms)
     if len(states) == 1:
         lifted, yielding, matrices = states[0].lifted[None], states[0].yielding[None], states[0].matrix[None]
