@@ -133,4 +133,96 @@ static ALWAYS_INLINE void product_samples(const double *restrict m_t, const doub
     }
 }
 
+
+#if defined(__GNUC__)
+/* c[s][l] = sum_k a[s][k] b[k][l] for s < 4 and l < lanes (4 or 8; a compile-time constant where inlined):
+ * the sums over k = 0..inner-1 in that order from +0, kept in registers as in product_samples; the rows
+ * of a, b and c are a_stride, b_stride and c_stride apart */
+static ALWAYS_INLINE void product_tile(const double *restrict a, int64_t a_stride, const double *restrict b,
+                                       int64_t b_stride, double *restrict c, int64_t c_stride, int64_t inner, int lanes)
+{
+    const product_vector zero = {0.0, 0.0, 0.0, 0.0};
+    product_vector a0 = zero, b0 = zero, a1 = zero, b1 = zero, a2 = zero, b2 = zero, a3 = zero, b3 = zero;
+    const double *x0 = a, *x1 = x0 + a_stride, *x2 = x1 + a_stride, *x3 = x2 + a_stride;
+    for (int64_t k = 0; k < inner; k++) {
+        const double *row = b + k * b_stride;
+        if (lanes == 8) {
+            const product_vector low = VECTOR_AT(row), high = VECTOR_AT(row + 4);
+            a0 += low * x0[k];
+            b0 += high * x0[k];
+            a1 += low * x1[k];
+            b1 += high * x1[k];
+            a2 += low * x2[k];
+            b2 += high * x2[k];
+            a3 += low * x3[k];
+            b3 += high * x3[k];
+        } else {
+            const product_vector low = VECTOR_AT(row);
+            a0 += low * x0[k];
+            a1 += low * x1[k];
+            a2 += low * x2[k];
+            a3 += low * x3[k];
+        }
+    }
+    VECTOR_AT(c) = a0;
+    VECTOR_AT(c + c_stride) = a1;
+    VECTOR_AT(c + 2 * c_stride) = a2;
+    VECTOR_AT(c + 3 * c_stride) = a3;
+    if (lanes == 8) {
+        VECTOR_AT(c + 4) = b0;
+        VECTOR_AT(c + c_stride + 4) = b1;
+        VECTOR_AT(c + 2 * c_stride + 4) = b2;
+        VECTOR_AT(c + 3 * c_stride + 4) = b3;
+    }
+}
+#endif
+
+/* c = a b (rows x cols) with a (rows x inner) and b (inner x cols), the rows of each a_stride, b_stride and
+ * c_stride apart: the matrix-matrix product of the compiled loops (the bisection levels' Taylor polynomial
+ * and squarings, _levels.c; the yielding mat's block exponentials, _soil_operators.c). Four rows at a time
+ * in tiles of 8 and then 4 columns (product_tile), the columns and rows left over one entry or one row at
+ * a time; every c[i][j] sums over k = 0..inner-1 in that order from +0, so the bits do not depend on the
+ * tiling (nor on skipping zero a[i][k]: their products change no such sum). */
+static ALWAYS_INLINE void matrix_product(const double *restrict a, int64_t a_stride, const double *restrict b,
+                                         int64_t b_stride, double *restrict c, int64_t c_stride, int64_t rows,
+                                         int64_t inner, int64_t cols)
+{
+    int64_t i = 0;
+#if defined(__GNUC__)
+    const int64_t wide = cols / 8 * 8, quarter = cols / 4 * 4;
+    for (; i + 4 <= rows; i += 4) {
+        const double *ai = a + i * a_stride;
+        double *ci = c + i * c_stride;
+        for (int64_t j = 0; j < wide; j += 8) {
+            product_tile(ai, a_stride, b + j, b_stride, ci + j, c_stride, inner, 8);
+        }
+        if (quarter > wide) {
+            product_tile(ai, a_stride, b + wide, b_stride, ci + wide, c_stride, inner, 4);
+        }
+        for (int64_t s = 0; s < 4; s++) {
+            for (int64_t j = quarter; j < cols; j++) {
+                double sum = 0.0;
+                for (int64_t k = 0; k < inner; k++) {
+                    sum += b[k * b_stride + j] * ai[s * a_stride + k];
+                }
+                ci[s * c_stride + j] = sum;
+            }
+        }
+    }
+#endif
+    for (; i < rows; i++) {
+        double *restrict ci = c + i * c_stride;
+        for (int64_t j = 0; j < cols; j++) {
+            ci[j] = 0.0;
+        }
+        for (int64_t k = 0; k < inner; k++) {
+            const double aik = a[i * a_stride + k];
+            const double *restrict bk = b + k * b_stride;
+            for (int64_t j = 0; j < cols; j++) {
+                ci[j] += bk[j] * aik;
+            }
+        }
+    }
+}
+
 #endif
