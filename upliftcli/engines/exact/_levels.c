@@ -20,57 +20,14 @@
 static const double COEFFICIENT[10] = {1.0, 1.0, 1.0 / 2.0, 1.0 / 6.0, 1.0 / 24.0, 1.0 / 120.0, 1.0 / 720.0,
                                        1.0 / 5040.0, 1.0 / 40320.0, 1.0 / 362880.0};
 #define THETA 0.1
-/* the compact width is padded to whole vectors (the padding columns stay zero) */
-#define LANES PRODUCT_LANES
 
-/* c (rows x w) = x (rows x w, its first m columns) y (m x w); each sum over k = 0..m-1 in that order from
- * +0, four rows and eight columns at a time (the same bits as one at a time). */
+/* c (rows x w) = x (rows x w, its first m columns) y (m x w): product.h's matrix_product (each sum over
+ * k = 0..m-1 in that order from +0, four rows and eight columns at a time; w is padded to whole
+ * PRODUCT_LANES, padded_width, the padding columns zero, so no columns are left over) */
 static ALWAYS_INLINE void compact_product(const double *restrict x, const double *restrict y, double *restrict c,
                                           int64_t rows, int64_t m, int64_t w)
 {
-    int64_t i = 0;
-#if defined(__GNUC__)
-    const product_vector zero = {0.0, 0.0, 0.0, 0.0};
-    for (; i + 4 <= rows; i += 4) {
-        const double *x0 = x + i * w, *x1 = x0 + w, *x2 = x1 + w, *x3 = x2 + w;
-        for (int64_t j = 0; j < w; j += LANES) {
-            product_vector a0 = zero, b0 = zero, a1 = zero, b1 = zero, a2 = zero, b2 = zero, a3 = zero, b3 = zero;
-            for (int64_t k = 0; k < m; k++) {
-                const product_vector low = VECTOR_AT(y + k * w + j), high = VECTOR_AT(y + k * w + j + 4);
-                a0 += low * x0[k];
-                b0 += high * x0[k];
-                a1 += low * x1[k];
-                b1 += high * x1[k];
-                a2 += low * x2[k];
-                b2 += high * x2[k];
-                a3 += low * x3[k];
-                b3 += high * x3[k];
-            }
-            double *out = c + i * w + j;
-            VECTOR_AT(out) = a0;
-            VECTOR_AT(out + 4) = b0;
-            VECTOR_AT(out + w) = a1;
-            VECTOR_AT(out + w + 4) = b1;
-            VECTOR_AT(out + 2 * w) = a2;
-            VECTOR_AT(out + 2 * w + 4) = b2;
-            VECTOR_AT(out + 3 * w) = a3;
-            VECTOR_AT(out + 3 * w + 4) = b3;
-        }
-    }
-#endif
-    for (; i < rows; i++) {
-        double *ci = c + i * w;
-        for (int64_t j = 0; j < w; j++) {
-            ci[j] = 0.0;
-        }
-        for (int64_t k = 0; k < m; k++) {
-            const double xk = x[i * w + k];
-            const double *yk = y + k * w;
-            for (int64_t j = 0; j < w; j++) {
-                ci[j] += yk[j] * xk;
-            }
-        }
-    }
+    matrix_product(x, w, y, w, c, w, rows, m, w);
 }
 
 /* c = x^2 of an operator [[X11, 0], [X21, I]] in compact form: x y[:m], then its held rows (p >= m) plus x's */

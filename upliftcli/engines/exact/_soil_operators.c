@@ -16,94 +16,11 @@ static const double PADE[14] = {64764752532480000.0, 32382376266240000.0, 777177
                                 1323241920.0, 40840800.0, 960960.0, 16380.0, 182.0, 1.0};
 static const double THETA_13 = 5.371920351148152;
 
-/* c = a b (n x n, row-major): row i of c as the sum over k of a[i][k] times row k of b, in k order,
- * skipping zero entries of a (the block's forcing and force rows are nearly empty) */
-static void rows_product(const double *restrict a, const double *restrict b, double *restrict c, int64_t n,
-                         int64_t from)
-{
-    for (int64_t i = from; i < n; i++) {
-        double *restrict ci = c + i * n;
-        for (int64_t j = 0; j < n; j++) {
-            ci[j] = 0.0;
-        }
-        for (int64_t k = 0; k < n; k++) {
-            const double aik = a[i * n + k];
-            if (aik == 0.0) {
-                continue;
-            }
-            const double *restrict bk = b + k * n;
-            for (int64_t j = 0; j < n; j++) {
-                ci[j] += aik * bk[j];
-            }
-        }
-    }
-}
-
-#if defined(__GNUC__)
-/* c[i + s][j0 + l] for s < 4, l < 4 (lanes 4) or l < 8 (lanes 8): the sums over k in k order from +0, kept in
- * registers (product.h's product_samples: a zero a[i][k], which rows_product skips, changes no sum, so the bits
- * are its bits) */
-static ALWAYS_INLINE void tile(const double *restrict a, const double *restrict b, double *restrict c, int64_t n,
-                               int64_t i, int64_t j0, int lanes)
-{
-    const product_vector zero = {0.0, 0.0, 0.0, 0.0};
-    product_vector a0 = zero, b0 = zero, a1 = zero, b1 = zero, a2 = zero, b2 = zero, a3 = zero, b3 = zero;
-    const double *x = a + i * n;
-    for (int64_t k = 0; k < n; k++) {
-        const product_vector low = VECTOR_AT(b + k * n + j0);
-        const double x0 = x[k], x1 = x[n + k], x2 = x[2 * n + k], x3 = x[3 * n + k];
-        a0 += low * x0;
-        a1 += low * x1;
-        a2 += low * x2;
-        a3 += low * x3;
-        if (lanes == 8) {
-            const product_vector high = VECTOR_AT(b + k * n + j0 + 4);
-            b0 += high * x0;
-            b1 += high * x1;
-            b2 += high * x2;
-            b3 += high * x3;
-        }
-    }
-    double *out = c + i * n + j0;
-    VECTOR_AT(out) = a0;
-    VECTOR_AT(out + n) = a1;
-    VECTOR_AT(out + 2 * n) = a2;
-    VECTOR_AT(out + 3 * n) = a3;
-    if (lanes == 8) {
-        VECTOR_AT(out + 4) = b0;
-        VECTOR_AT(out + n + 4) = b1;
-        VECTOR_AT(out + 2 * n + 4) = b2;
-        VECTOR_AT(out + 3 * n + 4) = b3;
-    }
-}
-#endif
-
-/* c = a b (n x n, row-major), the bits of rows_product: four rows at a time in tiles of 8 and 4 columns
- * (tile), the columns and rows left over as rows_product sums them (in k order from +0) */
+/* c = a b (n x n, row-major): product.h's matrix_product (four rows at a time in tiles of 8 and 4 columns,
+ * every sum over k in k order from +0) */
 HOT_LOOP static void product(const double *restrict a, const double *restrict b, double *restrict c, int64_t n)
 {
-    int64_t i = 0;
-#if defined(__GNUC__)
-    const int64_t wide = n / 8 * 8, quarter = n / 4 * 4;
-    for (; i + 4 <= n; i += 4) {
-        for (int64_t j0 = 0; j0 < wide; j0 += 8) {
-            tile(a, b, c, n, i, j0, 8);
-        }
-        if (quarter > wide) {
-            tile(a, b, c, n, i, wide, 4);
-        }
-        for (int64_t s = i; s < i + 4; s++) {
-            for (int64_t j = quarter; j < n; j++) {
-                double sum = 0.0;
-                for (int64_t k = 0; k < n; k++) {
-                    sum += b[k * n + j] * a[s * n + k];
-                }
-                c[s * n + j] = sum;
-            }
-        }
-    }
-#endif
-    rows_product(a, b, c, n, i);
+    matrix_product(a, n, b, n, c, n, n, n, n);
 }
 
 /* out = w_0 m_0 + w_1 m_1 + w_2 m_2 + w_3 I (n x n) */
