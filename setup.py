@@ -146,6 +146,7 @@ setup(cmdclass={"build_ext": OptionalBuildExt, "bdist_wheel": StableWheel, "buil
     module("upliftcli.engines.exact._energy", "upliftcli/engines/exact/_energy.c"),
     module("upliftcli.engines.exact._levels", "upliftcli/engines/exact/_levels.c"),
     module("upliftcli.engines.exact._soil_states", "upliftcli/engines/exact/_soil_states.c"),
-    module("upliftcli.engines.exact._soil_operators", "upliftcli/engines/exact/_soil_operators.c"),
+    module("upliftcli.engines.exact._soil_operators", "upliftcli/engines/exact/_soil_operators.c",
+           ("upliftcli/engines/exact/pade.h",)),
     module("upliftcli.motion._spectra", "upliftcli/motion/_spectra.c", ("upliftcli/motion/turning_points.h",)),
 ])
