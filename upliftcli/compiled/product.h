@@ -88,52 +88,6 @@ typedef double product_vector __attribute__((vector_size(4 * sizeof(double)), al
 #define ALWAYS_INLINE inline
 #endif
 
-/* out[s * width + r] = sum_q m_t[q * width + r] x[s * n_in + q] for PRODUCT_SAMPLES samples s at once;
- * width a multiple of PRODUCT_LANES. Each row of M^T is loaded once for the four samples and the
- * sums stay in registers. The terms are added in the order q = 0, 1, ... from +0, as in
- * transposed_product, so the bits are its bits: the products of zero inputs, which it skips, change
- * no sum (a sum from +0 never becomes -0: x + (-x) is +0). */
-static ALWAYS_INLINE void product_samples(const double *restrict m_t, const double *restrict x, int64_t n_in,
-                                          int64_t width, double *restrict out)
-{
-    for (int64_t r0 = 0; r0 < width; r0 += PRODUCT_LANES) {
-#if defined(__GNUC__)
-        const product_vector zero = {0.0, 0.0, 0.0, 0.0};
-        product_vector a0 = zero, b0 = zero, a1 = zero, b1 = zero, a2 = zero, b2 = zero, a3 = zero, b3 = zero;
-        for (int64_t q = 0; q < n_in; q++) {
-            const product_vector low = VECTOR_AT(m_t + q * width + r0), high = VECTOR_AT(m_t + q * width + r0 + 4);
-            const double x0 = x[q], x1 = x[n_in + q], x2 = x[2 * n_in + q], x3 = x[3 * n_in + q];
-            a0 += low * x0;
-            b0 += high * x0;
-            a1 += low * x1;
-            b1 += high * x1;
-            a2 += low * x2;
-            b2 += high * x2;
-            a3 += low * x3;
-            b3 += high * x3;
-        }
-        VECTOR_AT(out + r0) = a0;
-        VECTOR_AT(out + r0 + 4) = b0;
-        VECTOR_AT(out + width + r0) = a1;
-        VECTOR_AT(out + width + r0 + 4) = b1;
-        VECTOR_AT(out + 2 * width + r0) = a2;
-        VECTOR_AT(out + 2 * width + r0 + 4) = b2;
-        VECTOR_AT(out + 3 * width + r0) = a3;
-        VECTOR_AT(out + 3 * width + r0 + 4) = b3;
-#else
-        for (int64_t s = 0; s < PRODUCT_SAMPLES; s++) {
-            for (int64_t l = 0; l < PRODUCT_LANES; l++) {
-                double sum = 0.0;
-                for (int64_t q = 0; q < n_in; q++) {
-                    sum += m_t[q * width + r0 + l] * x[s * n_in + q];
-                }
-                out[s * width + r0 + l] = sum;
-            }
-        }
-#endif
-    }
-}
-
 #if defined(__GNUC__)
 /* c[s][l] = sum_k a[s][k] b[k][l] for s < 4 and l < lanes (4 or 8; a compile-time constant where inlined):
  * the sums over k = 0..inner-1 in that order from +0, kept in registers as in product_samples; the rows
@@ -227,6 +181,18 @@ static ALWAYS_INLINE void matrix_product(const double *restrict a, int64_t a_str
             }
         }
     }
+}
+
+/* out[s * width + r] = sum_q m_t[q * width + r] x[s * n_in + q] for PRODUCT_SAMPLES samples s at once
+ * (the signal and response rows at the samples); width a multiple of PRODUCT_LANES: matrix_product of
+ * the samples' rows by M^T, each row of M^T loaded once for the four samples, the sums in registers. The
+ * terms are added in the order q = 0, 1, ... from +0, as in transposed_product, so the bits are its
+ * bits: the products of zero inputs, which it skips, change no sum (a sum from +0 never becomes -0:
+ * x + (-x) is +0). */
+static ALWAYS_INLINE void product_samples(const double *restrict m_t, const double *restrict x, int64_t n_in,
+                                          int64_t width, double *restrict out)
+{
+    matrix_product(x, n_in, m_t, width, out, width, PRODUCT_SAMPLES, n_in, width);
 }
 
 #endif
