@@ -7,6 +7,7 @@
 #define UPLIFT_PRODUCT_H
 
 #include "buffers.h" /* restrict on every compiler */
+#include <math.h>
 #include <stdint.h>
 
 /* out[r] = sum_q table[q * stride + r] x[q], r < width: row q of the table (M^T, rows `stride` apart)
@@ -193,6 +194,21 @@ static ALWAYS_INLINE void product_samples(const double *restrict m_t, const doub
                                           int64_t width, double *restrict out)
 {
     matrix_product(x, n_in, m_t, width, out, width, PRODUCT_SAMPLES, n_in, width);
+}
+
+/* the 1-norm (the largest column sum of magnitudes) of the first `cols` columns of x (rows x cols, its rows
+ * `stride` apart): the scaling of the exponentials (_levels.c, pade.h) */
+static ALWAYS_INLINE double one_norm(const double *restrict x, int64_t rows, int64_t cols, int64_t stride)
+{
+    double largest = 0.0;
+    for (int64_t q = 0; q < cols; q++) {
+        double sum = 0.0;
+        for (int64_t p = 0; p < rows; p++) {
+            sum += fabs(x[p * stride + q]);
+        }
+        largest = sum > largest ? sum : largest;
+    }
+    return largest;
 }
 
 #endif

@@ -39,20 +39,6 @@ static ALWAYS_INLINE void compact_square(const double *restrict x, double *restr
     }
 }
 
-/* the 1-norm of a compact power [[P, 0], [Q, 0]] (its largest column sum of magnitudes) */
-static ALWAYS_INLINE double compact_norm(const double *restrict x, int64_t n, int64_t m, int64_t w)
-{
-    double largest = 0.0;
-    for (int64_t q = 0; q < m; q++) {
-        double sum = 0.0;
-        for (int64_t p = 0; p < n; p++) {
-            sum += fabs(x[p * w + q]);
-        }
-        largest = sum > largest ? sum : largest;
-    }
-    return largest;
-}
-
 /* out = c_a a + c_b b + c_c c (+ d where given), elementwise over n x w, added in that order */
 static ALWAYS_INLINE void combine(const double *restrict a, const double *restrict b, const double *restrict c,
                                   const double *restrict d, const double coefficients[3], double *restrict out,
@@ -92,7 +78,8 @@ static ALWAYS_INLINE void finest_level(Work *k)
     const double *c = COEFFICIENT;
     compact_product(k->a, k->a, k->a2, n, m, w);
     compact_product(k->a2, k->a, k->a3, n, m, w);
-    const double eta = fmax(sqrt(compact_norm(k->a2, n, m, w)), cbrt(compact_norm(k->a3, n, m, w)));
+    /* the 1-norms of the compact powers [[P, 0], [Q, 0]]: their first m columns */
+    const double eta = fmax(sqrt(one_norm(k->a2, n, m, w)), cbrt(one_norm(k->a3, n, m, w)));
     int halvings = 0;
     if (eta > THETA && isfinite(eta)) { /* powers of two: the powers of the scaled matrix exactly */
         halvings = (int)ceil(log2(eta / THETA));

@@ -118,14 +118,7 @@ static int pade(const double *a, double *e, double *work, int64_t n)
  * accurate to the unit round-off (expm.py) */
 static int64_t pade_squarings(const double *a, int64_t n)
 {
-    double norm = 0.0;
-    for (int64_t j = 0; j < n; j++) {
-        double column = 0.0;
-        for (int64_t i = 0; i < n; i++) {
-            column += fabs(a[i * n + j]);
-        }
-        norm = column > norm ? column : norm;
-    }
+    const double norm = one_norm(a, n, n, n);
     return norm > THETA_13 ? (int64_t)ceil(log2(norm / THETA_13)) : 0;
 }
 
