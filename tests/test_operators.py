@@ -123,27 +123,37 @@ def test_the_yielding_states_built_ahead_change_nothing(monkeypatch):
     assert ahead.intermediates["transitions"] == when_reached.intermediates["transitions"]
 
 
-def test_operator_arrays_that_grow_keep_the_states_written_in_place(monkeypatch):
-    """A yielding Winkler mat (hundreds of states, their operators written in place into
-    Operators.ops by yielding.step_operators) whose operator arrays start at 4 states and double
-    six times (operators._doubled: the states written are copied, the new ones zeros) gives the
-    results of the run whose arrays are reserved for all of them up front, bit for bit."""
+#: (deck, overrides, support) of runs of many states: a yielding Winkler mat (hundreds of states, their
+#: operators written in place by yielding.step_operators) and the README deck at El Centro x2 with strength
+#: 0.4 W on the rigid base (151 states written in place by level_operators.state_levels into arrays not filled)
+GROWING = [(WINKLER, ["foundation.safety_factor=1.5"], "uplift"),
+           (TWO, ["ground_motion.scale=2", "building.strength_coefficient=0.4", "building.hardening_ratio=0.05"],
+            "rigid")]
+
+
+@pytest.mark.parametrize(("path", "overrides", "support"), GROWING)
+def test_operator_arrays_that_grow_keep_the_states_written_in_place(monkeypatch, path, overrides, support):
+    """A run of many states whose operator arrays start at 4 states and double (operators._doubled: the
+    states written are copied) gives the results of the run whose arrays are reserved for all of them up
+    front, bit for bit: every peak, the energy terms and the transitions."""
     from upliftcli.engines.exact import engine as exact
     from upliftcli.engines.exact import operators
 
-    deck = load_deck(WINKLER, ["foundation.safety_factor=1.5"])
-    reserved = exact.analyze(deck.system, deck.ground_motion, "uplift")
+    deck = load_deck(path, overrides)
+    reserved = exact.analyze(deck.system, deck.ground_motion, support)
     sizes = []
     monkeypatch.setattr(operators, "reserved_states", lambda lay: 4)
     doubled = operators._doubled
     monkeypatch.setattr(operators, "_doubled", lambda array, fill=None: sizes.append(array.shape[0]) or
                         doubled(array, fill))
-    grown = exact.analyze(deck.system, deck.ground_motion, "uplift")
-    assert max(sizes) == 128  # grown from 4 to 256 states (this run meets 129 to 256)
+    grown = exact.analyze(deck.system, deck.ground_motion, support)
+    assert max(sizes) == 128  # grown from 4 to 256 states (these runs meet 129 to 256)
     for name, values in reserved.peaks.items():
         np.testing.assert_array_equal(grown.peaks[name], values, err_msg=name)
-    assert grown.details["yielding"] == reserved.details["yielding"]
+    for name, value in reserved.details["energy"].items():
+        np.testing.assert_array_equal(grown.details["energy"][name], value, err_msg=name)
     assert grown.intermediates["transitions"] == reserved.intermediates["transitions"]
+    assert grown.details.get("yielding") == reserved.details.get("yielding")
 
 
 def test_reused_gives_an_array_back_once_nothing_holds_it(monkeypatch):
@@ -194,32 +204,6 @@ def test_a_yielding_mat_writes_its_operators_over_an_earlier_runs(monkeypatch):
         np.testing.assert_array_equal(again.details["energy"][name], value, err_msg=name)
     assert again.details["yielding"] == first.details["yielding"]
     assert again.intermediates["transitions"] == first.intermediates["transitions"]
-
-
-def test_yielding_story_arrays_that_grow_keep_the_states_written_in_place(monkeypatch):
-    """The README deck at El Centro x2 with strength 0.4 W on the rigid base (151 states, their operators
-    written in place by level_operators.state_levels into arrays not filled: Operators.fill) whose operator
-    arrays start at 4 states and double five times gives the results of the run whose arrays are reserved
-    for them up front (operators.reserved_states: 271), bit for bit."""
-    from upliftcli.engines.exact import engine as exact
-    from upliftcli.engines.exact import operators
-
-    deck = load_deck(TWO, ["ground_motion.scale=2", "building.strength_coefficient=0.4",
-                           "building.hardening_ratio=0.05"])
-    reserved = exact.analyze(deck.system, deck.ground_motion, "rigid")
-    sizes = []
-    monkeypatch.setattr(operators, "reserved_states", lambda lay: 4)
-    doubled = operators._doubled
-    monkeypatch.setattr(operators, "_doubled", lambda array, fill=None: sizes.append(array.shape[0]) or
-                        doubled(array, fill))
-    grown = exact.analyze(deck.system, deck.ground_motion, "rigid")
-    assert max(sizes) == 128  # grown from 4 to 256 states (this run meets 151)
-    for name, values in reserved.peaks.items():
-        np.testing.assert_array_equal(grown.peaks[name], values, err_msg=name)
-    assert grown.peaks["ductility"].max() > 4  # the stories yield (peaks holds their ductility, residual drift, ...)
-    for name, value in reserved.details["energy"].items():
-        np.testing.assert_array_equal(grown.details["energy"][name], value, err_msg=name)
-    assert grown.intermediates["transitions"] == reserved.intermediates["transitions"]
 
 
 def test_a_run_stops_at_the_states_its_operator_memory_holds(monkeypatch):

@@ -137,17 +137,22 @@ def test_a_sweep_runs_no_twin_unless_asked(twins):
     assert "residual_check" not in run(*FRAGILE, "analysis.exact.residual_check=off").details
 
 
-def test_a_suite_is_checked_record_by_record(tmp_path):
-    """A two-record suite with weak stories (0.1 W, elastic-perfectly plastic): each record's residuals
-    against its twin (every factor times 1 + 1e-6), named by record in the check."""
+def weak_story_suite(tmp_path):
+    """The README deck's building with weak stories (0.1 W, elastic-perfectly plastic) under a two-record
+    suite, exact on the rigid base (written to tmp_path)."""
     deck = tmp_path / "suite.toml"
     text = TWO.read_text().split("[ground_motion]")[0].replace('"../records/', f'"{ROOT.as_posix()}/records/')
     records = [(SUITE / name).as_posix() for name in ("artificial_2024_01.txt", "artificial_2024_02.txt")]
     deck.write_text(text + '[ground_motion]\ndesign_spectrum = { type = "asce7", sds = 1.0, sd1 = 0.6, tl = 8 }\n'
                     f'suite = {json.dumps(records)}\nscaling = "none"\nstatistics = "mean"\n'
                     '[analysis]\nengine = "exact"\nsupports = ["rigid"]\n')
-    result = analysis.run_one(load_deck(deck, ["building.strength_coefficient=0.1", "building.hardening_ratio=0"]),
-                              "exact", "rigid")
+    return load_deck(deck, ["building.strength_coefficient=0.1", "building.hardening_ratio=0"])
+
+
+def test_a_suite_is_checked_record_by_record(tmp_path):
+    """A two-record suite with weak stories (0.1 W, elastic-perfectly plastic): each record's residuals
+    against its twin (every factor times 1 + 1e-6), named by record in the check."""
+    result = analysis.run_one(weak_story_suite(tmp_path), "exact", "rigid")
     check = result.details["residual_check"]
     assert [r["record"] for r in check["records"]] == ["artificial_2024_01", "artificial_2024_02"]
     assert all("residual_drift_ratio" in r["quantities"] for r in check["records"])

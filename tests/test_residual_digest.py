@@ -7,12 +7,12 @@ for a suite."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 import pytest
 from test_operator_reuse import same
+from test_residual_check import weak_story_suite
 
 from upliftcli.analysis import residuals
 from upliftcli.analysis import run as analysis
@@ -25,7 +25,6 @@ from upliftcli.engines.exact.residual_digest import ResidualDigest
 ROOT = Path(__file__).resolve().parent.parent
 TWO = ROOT / "inputs" / "ten_story_elcentro.toml"
 WINKLER = ROOT / "inputs" / "ten_story_winkler.toml"
-SUITE = ROOT / "records" / "ten_story_asce7_suite"
 STORIES = ("ground_motion.scale=2", "building.strength_coefficient=0.4", "building.hardening_ratio=0.05")
 #: issue 35's reproducer: soil that yields under a mat without a dashpot
 FRAGILE = ("foundation.damping_ratio=0", "foundation.safety_factor=1.98")
@@ -116,13 +115,7 @@ def test_the_check_of_the_residuals_is_the_same_with_full_twins(support, monkeyp
 def test_a_suites_check_is_the_same_with_full_twins(tmp_path, monkeypatch):
     """A two-record suite with weak stories: each record's check as with full twins (whose suite results
     the check never read beyond their records')."""
-    deck = tmp_path / "suite.toml"
-    text = TWO.read_text().split("[ground_motion]")[0].replace('"../records/', f'"{ROOT.as_posix()}/records/')
-    records = [(SUITE / name).as_posix() for name in ("artificial_2024_01.txt", "artificial_2024_02.txt")]
-    deck.write_text(text + '[ground_motion]\ndesign_spectrum = { type = "asce7", sds = 1.0, sd1 = 0.6, tl = 8 }\n'
-                    f'suite = {json.dumps(records)}\nscaling = "none"\nstatistics = "mean"\n'
-                    '[analysis]\nengine = "exact"\nsupports = ["rigid"]\n')
-    loaded = load_deck(deck, ["building.strength_coefficient=0.1", "building.hardening_ratio=0"])
+    loaded = weak_story_suite(tmp_path)
     lean, full = _check_both_ways(monkeypatch, lambda: analysis.run_one(loaded, "exact", "rigid"))
     check = lean.details["residual_check"]
     assert len(check["records"]) == 2 and same(lean, full)
