@@ -257,6 +257,10 @@ class StoryDigest:
         self.yielded |= chunk.story_sign.any(axis=0)
         self.final_drift = drift_rows @ sig["Y"][-1]
 
+    def residual_drift_ratio(self, building) -> np.ndarray:
+        """|d_end| / h of every story [-] (the drifts at the last sample folded)."""
+        return np.abs(self.final_drift) / building.story_heights
+
     def quantities(self, building, peak_drift: np.ndarray) -> dict[str, np.ndarray]:
         """quantities.YIELDING of the run: per story the ductility (peak |drift| / yield drift, 0 where the
         strength is infinite), the residual drift ratio |d_end| / h, the hysteretic energy [J] and the
@@ -266,7 +270,7 @@ class StoryDigest:
         hysteretic, yielded = np.zeros(n), np.zeros(n)
         hysteretic[story], yielded[story] = self.hysteretic, self.yielded
         return {"ductility": peak_drift / building.yield_drift,
-                "residual_drift_ratio": np.abs(self.final_drift) / building.story_heights,
+                "residual_drift_ratio": self.residual_drift_ratio(building),
                 "hysteretic_energy": hysteretic, "story_yielded": yielded,
                 "yielded_stories": np.array([float(yielded.sum())]),
                 "base_shear_strength": np.array([float(building.story_strength[0])])}

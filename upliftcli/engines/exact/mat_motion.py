@@ -146,6 +146,16 @@ class MatMotion:
         self.instants[better] = time_at(chunk, where)[better]
         self.last = values[:, -1].copy()
 
+    def add_last(self, sig: Signals) -> None:
+        """Fold in a chunk's last values only (a twin's residuals: residual_digest.py): `add`'s `last`, the
+        same elementwise products and sums on the last sample alone, so the same bits."""
+        self.last = (_series(sig, self.weights, sig.values[-1:]) + self.offsets[:, None])[:, -1].copy()
+
+    def residuals(self) -> dict[str, np.ndarray]:
+        """quantities.ROCKING's residual_rotation [rad] and residual_settlement [m] (left edge, centre,
+        right edge) from the last values folded."""
+        return {"residual_rotation": np.abs(self.last[:1]), "residual_settlement": self.last[1:].copy()}
+
     def histories(self, sig: Signals) -> dict[str, np.ndarray]:
         """The settlement [m] of the left edge, the centre and the right edge at every sample of a
         chunk (quantities.HISTORY_SIGNALS: left_edge_settlement, ...; down +, from the rest
@@ -160,8 +170,7 @@ class MatMotion:
         (left edge, centre, right edge: quantities.MAT_PLACES) and residual_settlement (instants:
         the end of the run)."""
         settlement = np.maximum(self.peaks[1:], 0.0)
-        values = {"rotation": self.peaks[:1].copy(), "residual_rotation": np.abs(self.last[:1]),
-                  "settlement": settlement, "residual_settlement": self.last[1:].copy()}
+        values = {"rotation": self.peaks[:1].copy(), "settlement": settlement, **self.residuals()}
         instants = {"rotation": self.instants[:1].copy(), "residual_rotation": np.array([end_time]),
                     "settlement": np.where(self.peaks[1:] > 0.0, self.instants[1:], 0.0),
                     "residual_settlement": np.full(3, end_time)}

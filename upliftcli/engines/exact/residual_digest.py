@@ -7,9 +7,9 @@ twin folded by digest.Digest would also search every peak between samples, the r
 the mat's peaks (a seventh of the twin's time on the README example). ResidualDigest folds per chunk what
 the residuals are read from (the drifts and the mat's theta and v at the last sample) and what the
 engine's refinement of the step decides by (the energy balance: engine._finished halves the step where it
-does not close, and the refined run is then an ordinary full one), each with the very expressions of
-digest.py, StoryDigest and MatMotion, so that the twin's residuals and its energy residual are those of a
-full twin, bit for bit (tests/test_residual_digest.py).
+does not close, and the refined run is then an ordinary full one), each through StoryDigest and
+MatMotion themselves (their residuals; MatMotion.add_last), so that the twin's residuals and its energy
+residual are those of a full twin, bit for bit (tests/test_residual_digest.py).
 
 Its result holds only those residuals (quantities.YIELDING's residual_drift_ratio with yielding stories;
 quantities.ROCKING's residual_rotation and residual_settlement on the exact engine's uplift support), the
@@ -42,7 +42,6 @@ class ResidualDigest:
         self.mat = MatMotion(space, system.half_width) if space.model.flexible else None
         self.works = (0.0, 0.0, 0.0)
         self.first = self.last = None
-        self.mat_last: np.ndarray | None = None
         self.uplifted = False
 
     def add(self, chunk: History) -> None:
@@ -60,7 +59,7 @@ class ResidualDigest:
         if self.stories is not None:
             self.stories.add(chunk, sig, self.drift)
         if self.mat is not None:
-            self.mat_last = last_mat_values(self.mat, sig)
+            self.mat.add_last(sig)
         if self.space.layout.n_elements:
             self.uplifted |= bool(chunk.lifted.any())
 
@@ -80,17 +79,7 @@ class ResidualDigest:
         (MatMotion.quantities, on the exact engine's uplift support as Digest._peaks gives them)."""
         values = {}
         if self.stories is not None:
-            values["residual_drift_ratio"] = np.abs(self.stories.final_drift) / self.system.building.story_heights
+            values["residual_drift_ratio"] = self.stories.residual_drift_ratio(self.system.building)
         if self.mat is not None and support == "uplift" and engine == "exact":
-            values["residual_rotation"] = np.abs(self.mat_last[:1])
-            values["residual_settlement"] = self.mat_last[1:].copy()
+            values.update(self.mat.residuals())
         return values
-
-
-def last_mat_values(mat: MatMotion, sig: Signals) -> np.ndarray:
-    """theta (signed) and the settlements of the left edge, the centre and the right edge at a chunk's
-    last sample (4,): MatMotion.add's `last`, the same elementwise products and sums on that sample only."""
-    theta = np.ascontiguousarray(sig.values[-1:, sig.rows["theta"].start])
-    v = np.ascontiguousarray(sig.values[-1:, sig.rows["v"].start])
-    values = mat.weights[:, :1] * theta + mat.weights[:, 1:] * v + mat.offsets[:, None]
-    return values[:, -1].copy()
