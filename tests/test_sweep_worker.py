@@ -174,24 +174,3 @@ def test_a_record_replaced_during_a_sweep_gives_stale_rows_not_rows_with_the_old
     record.write_text(original)
     rows = [row for chunk in make_chunks(plan, plan.cases, 2) for row in run_chunk(chunk)]
     assert [row["status"] for row in rows] == ["ok", "ok"]
-
-
-def test_yielding_cases_run_in_batches_of_at_most_yielding_batch(batch_sizes, monkeypatch):
-    """The exact-engine analyses of a building whose stories yield run at most YIELDING_BATCH together (each
-    run holds its own step operators, tens of MB); on a rigid base the cases that differ only in foundation
-    fields stay one batch (one analysis). The rows are those of one batch of all of them, bit for bit, and
-    elastic cases still run as one batch."""
-    from upliftcli.sweep import worker
-
-    yielding = ["ground_motion.window=[0, 3]", "ground_motion.scale=2", "building.strength_coefficient=0.2",
-                "building.hardening_ratio=0.05"]
-    plan = plan_sweep(EXAMPLE, yielding, ["foundation.frequency_ratio=4,8,12,16,24"], ["exact"], ["rigid", "uplift"])
-    (chunk,) = make_chunks(plan, plan.cases, 10)
-    rows = run_chunk(chunk)
-    assert worker.YIELDING_BATCH == 2 and batch_sizes == [5, 2, 2, 1]
-    monkeypatch.setattr(worker, "YIELDING_BATCH", 5)
-    assert run_chunk(chunk) == rows and batch_sizes[4:] == [5, 5]
-    assert all(row["status"] == "ok" for row in rows) and min(row["max_ductility"] for row in rows) > 1.0
-    elastic = plan_sweep(EXAMPLE, yielding[:1], ["foundation.frequency_ratio=4,8,12"], ["exact"], ["uplift"])
-    run_chunk(make_chunks(elastic, elastic.cases, 3)[0])
-    assert batch_sizes[6:] == [3]

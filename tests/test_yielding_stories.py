@@ -428,3 +428,25 @@ def test_the_command_refuses_with_one_line_naming_the_field(deck, engine_name, e
                                       "building.strength_coefficient=0.2", "--engine", engine_name])
     assert result.exit_code == 2
     assert result.stderr.strip().splitlines() == [result.stderr.strip()] and result.stderr.startswith(expected)
+
+
+def test_yielding_runs_are_stepped_at_most_two_together(monkeypatch):
+    """A batch of five yielding buildings (periods 0.4-0.8 s) and two elastic ones is stepped in groups of at
+    most stepping.YIELDING_GROUP = 2 yielding runs (each touches its own step operators, tens of MB; the
+    elastic ones are not counted), and each result is the one it gets analysed alone, bit for bit."""
+    from upliftcli.engines.exact import stepping
+
+    groups = []
+    many = stepping.simulate_many
+    monkeypatch.setattr(stepping, "simulate_many", lambda runs: groups.append(
+        [int(run.layout.n_plastic > 0) for run in runs]) or many(runs))
+    window = ["ground_motion.window=[0, 3]", "ground_motion.scale=2", "building.hardening_ratio=0.05"]
+    decks = [load_deck(TWO, [*window, f"building.period={period}", "building.strength_coefficient=0.2"])
+             for period in (0.4, 0.5, 0.6, 0.7, 0.8)]
+    decks[1:1] = [load_deck(TWO, window[:1]), load_deck(TWO, [window[0], "building.period=0.7"])]
+    systems = [deck.system for deck in decks]
+    together = engine.analyze_batch(systems, decks[0].ground_motion, "uplift")
+    assert stepping.YIELDING_GROUP == 2 and groups == [[1, 0, 0, 1], [1, 1], [1]]
+    for system, result in zip(systems, together, strict=True):
+        assert same(result, engine.analyze(system, decks[0].ground_motion, "uplift"))
+    assert min(float(r.peaks["ductility"].max()) for r in together[:1] + together[3:]) > 1.0

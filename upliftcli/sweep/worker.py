@@ -6,10 +6,9 @@ and, under "record_rows", each record's row (written to the tables with --per-re
 from __future__ import annotations
 
 import functools
-import itertools
 import json
 import os
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -21,7 +20,6 @@ from ..engines.quantities import DESIGN, QUANTITIES, ROCKING, SCALARS, YIELDING,
 from ..engines.simplified import effective_properties
 from ..engines.suite_result import SuiteResult
 from ..errors import AnalysisError, InputError
-from .cases import is_structure_field
 from .chunks import Chunk
 from .plan import Case, ground_motion_key
 
@@ -239,7 +237,7 @@ def run_chunk(chunk: Chunk, emit: Callable[[tuple], None] | None = None) -> list
     if emit is None:
         emit = _ignore
     rows: dict[int, dict[str, Any]] = {}
-    for members in _parts(_batches(chunk, rows, emit).values()):
+    for members in _batches(chunk, rows, emit).values():
         emit(("start", [case.key for case, _ in members]))
         _run_batch(members, functools.partial(_deliver_row, members, rows, emit))
     return [rows[case.index] for case in chunk.cases]
@@ -261,46 +259,6 @@ def _batches(chunk: Chunk, rows: dict[int, dict[str, Any]], emit: Callable[[tupl
             continue
         batches.setdefault(_batch_key(case), []).append((case, deck))
     return batches
-
-
-#: the runs of buildings whose stories yield that the exact engine steps together at most. Each holds its
-#: own step operators (about 40 MB for the ten-story example, against 2 MB elastic), and they share none:
-#: the stepping rounds of a batch build each run's states apart. Five of them together (a chunk of 16 cases on
-#: three supports) cost 0.2-0.4 s of page faults more than two in a 100-case sweep; sixteen (one support)
-#: 0.8 s, a third of the sweep (benchmarks/bench_sweep_split.py). Elastic runs share their operators' work.
-YIELDING_BATCH = 2
-
-
-def _parts(batches: Iterable[list[tuple[Case, Deck]]]) -> list[list[tuple[Case, Deck]]]:
-    """The batches to run, those with a building whose stories yield in parts of at most YIELDING_BATCH
-    analyses (results are the same in any batch, bit for bit: engines/exact/engine.iter_batch)."""
-    return [part for members in batches for part in _split(members)]
-
-
-def _split(members: list[tuple[Case, Deck]]) -> list[list[tuple[Case, Deck]]]:
-    """One batch as it is, or, if a building of it yields, in parts of YIELDING_BATCH analyses: the cases
-    of one analysis (_analysis_key) in the same part."""
-    if not any(deck.system.building.yields for _, deck in members):
-        return [members]
-    groups = _analyses(members)
-    return [list(itertools.chain.from_iterable(groups[i:i + YIELDING_BATCH]))
-            for i in range(0, len(groups), YIELDING_BATCH)]
-
-
-def _analyses(members: list[tuple[Case, Deck]]) -> list[list[tuple[Case, Deck]]]:
-    """The cases of a batch by analysis (_analysis_key), in the order first met."""
-    analyses: dict[Any, list[tuple[Case, Deck]]] = {}
-    for member in members:
-        analyses.setdefault(_analysis_key(member[0]), []).append(member)
-    return list(analyses.values())
-
-
-def _analysis_key(case: Case) -> Any:
-    """What tells the analyses of a batch apart: on a rigid base the varied values but the foundation's (the
-    engine analyses a building once whatever its foundation), else the case."""
-    if case.support != "rigid":
-        return case.index
-    return json.dumps([list(o) for o in case.overrides if not is_structure_field(o[0])], default=str)
 
 
 def _case_deck(chunk: Chunk, case: Case, decks: dict[str, Deck]) -> Deck:

@@ -231,6 +231,12 @@ def ground_grid(acceleration: np.ndarray, substeps: int, dt: float) -> tuple[np.
 AHEAD_ELEMENTS = 2
 #: memory allowed for the sample buffers of the runs stepped together [bytes]
 BATCH_MEMORY = 256 * 2**20
+#: runs of buildings whose stories yield stepped together at most. Each touches step operators of its own (about
+#: 40 MB for the ten-story example at El Centro x2, against 2 MB elastic) and they share none: five together
+#: (a sweep's chunk of 16 cases on three supports) cost 0.2-0.4 s of page faults more than two in a 100-case
+#: sweep, sixteen 0.8 s, a third of the sweep (benchmarks/bench_sweep_split.py). Elastic runs share their
+#: operators' work and are not counted.
+YIELDING_GROUP = 2
 #: samples of a run held at once when it is stepped in chunks (about 30 MB of states and
 #: signals for ten stories; a run of the paper's example under El Centro is one chunk)
 CHUNK_SAMPLES = 16384
@@ -330,12 +336,19 @@ def _operators(space: StateSpace, h: float, criterion: str, uplift: bool, given:
 
 def _fitting(pending: list[tuple[int, Run]]) -> int:
     """How many of the pending runs, from the first, are stepped together: at least one, and as many as
-    have their sample buffers within BATCH_MEMORY."""
-    size, used = 1, pending[0][1].buffer_bytes
-    while size < len(pending) and used + pending[size][1].buffer_bytes <= BATCH_MEMORY:
-        used += pending[size][1].buffer_bytes
-        size += 1
+    have their sample buffers within BATCH_MEMORY, with at most YIELDING_GROUP of them yielding stories."""
+    size, used, yielding = 1, pending[0][1].buffer_bytes, _yields(pending[0][1])
+    while size < len(pending):
+        run = pending[size][1]
+        if used + run.buffer_bytes > BATCH_MEMORY or yielding + _yields(run) > YIELDING_GROUP:
+            break
+        used, yielding, size = used + run.buffer_bytes, yielding + _yields(run), size + 1
     return size
+
+
+def _yields(run: Run) -> int:
+    """1 for a run of a building whose stories may yield, else 0."""
+    return int(run.layout.n_plastic > 0)
 
 
 def _advanced(run: Run, index: int | AnalysisError) -> int | History | AnalysisError:
