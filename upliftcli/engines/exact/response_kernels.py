@@ -45,6 +45,14 @@ def evaluate_signals(states: np.ndarray, ids: np.ndarray, rows: np.ndarray, valu
     _loops("_signals").evaluate_signals(states, ids, rows, values, slopes, ends)
 
 
+def derivatives(x: np.ndarray, ids: np.ndarray, matrices: list[np.ndarray], first: np.ndarray,
+                second: np.ndarray) -> None:
+    """The derivatives X' = A X and X'' = A X' of the states x (n, n_aug), each with the A of its contact state
+    (matrices: S arrays (n_aug, n_aug), not stacked; ids (n,) int64), into first and second (n, n_aug). The loop
+    multiplies one state at a time (product.h's transposed_product), the twin each state's rows in one matmul."""
+    _loops("_signals").derivatives(x, ids, matrices, first, second)
+
+
 def hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns, rate_columns, curvature_columns,
                   rows_t, lengths, fractions) -> tuple[np.ndarray, np.ndarray]:
     """Peak |r| of each response r = R s between samples and where it is (interval index +

@@ -34,6 +34,14 @@ def evaluate_signals(states, ids, rows, values, slopes, ends) -> None:
         ends[np.searchsorted(switches, at)] = states[at + 1] @ rows_t[state]
 
 
+def derivatives(x, ids, matrices, first, second) -> None:
+    """X' = A X and X'' = A X' of each state x[i] with its own state's A (matrices[ids[i]])."""
+    for state in np.unique(ids):
+        at = np.flatnonzero(ids == state)
+        first[at] = x[at] @ matrices[state].T
+        second[at] = first[at] @ matrices[state].T
+
+
 # ----------------------------------------------------------------------------- peaks (_peaks.c)
 
 
