@@ -24,7 +24,7 @@ static inline void matvec(const double *restrict matrix_t, const double *restric
 /* the contact states and elements of one run (see stepping_kernels.States, Elements, Grid) */
 typedef struct {
     const double *ops, *events, *rates, *matrices;
-    const int64_t *patterns;
+    const int64_t *slots, *patterns; /* slots: per state, its operators' slot of ops (states of one A share one) */
     int64_t count, n_events, n, levels;
     const int64_t *z_index;
     const double *lift_rows;
@@ -35,7 +35,7 @@ typedef struct {
 
 static inline const double *op_of(const Model *m, int64_t state, int64_t level)
 {
-    return m->ops + (state * (m->levels + 1) + level) * m->n * m->n;
+    return m->ops + (m->slots[state] * (m->levels + 1) + level) * m->n * m->n;
 }
 
 /* The event rows of the states a call of integrate enters, transposed for strided_product (product.h):
