@@ -35,7 +35,7 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
      * calls this once per state, and a scan of them all cost it a sixth of its time (measured) */
     double *g_x = chunk + n_levels + 1, *d_x = g_x + n_e, *g_trial = d_x + n_e, *d_trial = g_trial + n_e,
            *scratch = d_trial + n_e;
-    EventTables tables = {.tables = scratch + 2 * n_e, .slots = table_slots(m), .next = 0};
+    EventTables tables = {.tables = scratch + 3 * n_e, .slots = table_slots(m), .next = 0};
     tables.slot_of = (int64_t *)(tables.tables + tables.slots * n * 2 * n_e);
     tables.owner = tables.slot_of + m->count;
     unsigned char *active = (unsigned char *)(tables.owner + tables.slots), *ground_free = active + m->count;
@@ -117,12 +117,13 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
             }
             known = 0;
             double fraction;
-            double start = crossing(m, state, table, x, level, chunk, left, trial, right, &fraction, scratch);
+            double start = crossing(m, state, table, x, level, chunk, g_x, g_trial, left, trial, right, &fraction,
+                                    scratch);
             for (int64_t j = 0; j < n; j++) {
                 x[j] = left[j] + fraction * (right[j] - left[j]);
             }
             offset += start + fraction * smallest;
-            int64_t pattern = switch_pattern(m, state, table, m->patterns[state], x, right, scratch);
+            int64_t pattern = switch_pattern(m, state, table, m->patterns[state], x, scratch);
             if ((pattern & m->all_lifted) == m->all_lifted && !m->allow_flight) { /* story bits aside */
                 RETURN(FLIGHT, pattern);
             }
@@ -265,10 +266,10 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *call, Py_ssize_t 
         PyErr_SetString(PyExc_ValueError, "integrate: inconsistent arguments (shapes, indices or limits)");
         goto done;
     }
-    /* work space of integrate: 4 states, the chunk lengths, 6 event vectors, the event tables (EventTables:
+    /* work space of integrate: 4 states, the chunk lengths, 7 event vectors, the event tables (EventTables:
      * the tables, a slot per state, a state per slot), 2 flags per state */
     const int64_t slots = table_slots(&m);
-    double *work = PyMem_Malloc((4 * n + m.levels + 1 + 6 * n_e + slots * n * 2 * n_e + m.count + slots
+    double *work = PyMem_Malloc((4 * n + m.levels + 1 + 7 * n_e + slots * n * 2 * n_e + m.count + slots
                                  + (2 * m.count) / sizeof(double) + 1) * sizeof(double));
     if (!work) {
         PyErr_NoMemory();
