@@ -76,8 +76,9 @@ def test_a_quick_state_is_the_state_add_states_builds_bit_for_bit(support, choic
     assert count > 30 and none == 0  # the first state of each foundation pattern is add_states'
     n = len(quick.contact)
     assert n == len(slow.contact) == len(patterns) + 1
-    for name in ("ops", "events", "event_rates", "matrices", "patterns"):
+    for name in ("slots", "events", "event_rates", "matrices", "patterns"):
         assert np.array_equal(getattr(quick, name)[:n], getattr(slow, name)[:n]), name
+    assert np.array_equal(quick.ops[quick.slots[:n]], slow.ops[slow.slots[:n]])  # each state's operators
     for got, want in zip(quick.contact, slow.contact, strict=True):
         for name in FIELDS:
             assert np.array_equal(getattr(got, name), getattr(want, name)), name
@@ -132,8 +133,9 @@ def test_requests_of_several_runs_are_built_as_each_alone(monkeypatch):
         add_states([(ops, pattern, True) for ops in runs])
     n = len(alone.contact)
     for ops in runs:
-        for name in ("ops", "events", "event_rates", "matrices", "patterns"):
+        for name in ("slots", "events", "event_rates", "matrices", "patterns"):
             assert np.array_equal(getattr(ops, name)[:n], getattr(alone, name)[:n]), name
+        assert np.array_equal(ops.ops[ops.slots[:n]], alone.ops[alone.slots[:n]])
     twice = [(runs[0], patterns[0], True), (runs[0], patterns[1], True)]
     assert story_requests.quick_requests(twice) is None
 
@@ -149,5 +151,5 @@ def test_the_elastic_stories_of_states_built_together_are_those_built_alone():
     for k, pattern in enumerate(patterns):
         alone = Operators(space, 0.01, "reaction")
         (index,) = add_states([(alone, pattern, True)])
-        assert np.array_equal(together.ops[k], alone.ops[index])
+        assert np.array_equal(together.ops[together.slots[k]], alone.ops[alone.slots[index]])
         assert np.array_equal(together.event_rates[k], alone.event_rates[index])

@@ -57,9 +57,10 @@ class Operators:
         self.event_rates = _reserve((self.capacity, n_e, n_aug), self.fill)
         self.matrices = np.empty((self.capacity, n_aug, n_aug))
         self.patterns = np.full(self.capacity, -1, dtype=np.int64)
+        self.slots = np.empty(self.capacity, dtype=np.int64)  # per state: the slot of ops of its operators (slot)
         self.contact: list[ContactState] = []
         # yielding stories (story_states.py): the base of each foundation pattern, and the state whose
-        # operators a state with the same A copies, by (foundation pattern, where the stories yield)
+        # operators a state with the same A shares (slots), by (foundation pattern, where the stories yield)
         self.bases: dict[int, StoryBase] = {}
         self.by_matrix: dict[tuple[int, int], int] = {}
 
@@ -77,9 +78,8 @@ class Operators:
         return story_bits(pattern, soil_rows(lay), lay.n_plastic) if lay.n_plastic else None
 
     def store(self, pattern: int, state: ContactState, ops: np.ndarray | None, events: bool) -> int:
-        """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS (None: the caller
-        writes them into self.ops[index] itself, with no copy between: until then it holds zeros, or
-        nothing defined where the arrays are not filled: self.fill)."""
+        """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS (None: the caller writes them into
+        self.ops[index] or shares another's, share; until then zeros, or nothing defined: self.fill)."""
         index = self.slot()
         if ops is not None:
             self.ops[index] = ops
@@ -96,11 +96,16 @@ class Operators:
         return self.keep(index, pattern, state)
 
     def slot(self) -> int:
-        """The index of the next state to store, with room for it (_grow)."""
+        """The index of the next state to store (its operators in its slot of ops, unless shared), with room."""
         index = len(self.contact)
         if index == self.capacity:
             self._grow()
+        self.slots[index] = index
         return index
+
+    def share(self, index: int, source: int) -> None:
+        """State `index` steps with the operators of `source` (the same A): its own slot of ops stays unused."""
+        self.slots[index] = self.slots[source]
 
     def keep(self, index: int, pattern: int, state: ContactState) -> int:
         """Keep the state whose operators, event rows, rates and A^T are in slot `index` (slot()); its index."""
@@ -114,7 +119,7 @@ class Operators:
         self.capacity *= 2
         self.ops, self.matrices = _doubled(self.ops, self.fill), _doubled(self.matrices)
         self.events, self.event_rates = _doubled(self.events, self.fill), _doubled(self.event_rates, self.fill)
-        self.patterns = _doubled(self.patterns, -1)
+        self.patterns, self.slots = _doubled(self.patterns, -1), _doubled(self.slots)
 
 
 def block_operators(lay: Layout) -> bool:
@@ -148,8 +153,7 @@ def expected_states(lay: Layout) -> int:
 
 
 def state_bytes(lay: Layout) -> int:
-    """Memory of the step operators of one contact state [bytes] (LEVELS + 1 matrices n_aug x n_aug:
-    450 kB for the 20-element mat)."""
+    """Memory of the step operators of one contact state [bytes] (LEVELS + 1 of n_aug^2: 450 kB on 20 elements)."""
     return (LEVELS + 1) * lay.n_aug**2 * 8
 
 
@@ -170,8 +174,7 @@ def reserved_states(lay: Layout) -> int:
 
 
 def max_states(lay: Layout) -> int:
-    """The most distinct contact states one run may build: their operators within
-    limits.MAX_OPERATOR_BYTES (1,885 on a 31-element mat with a bearing capacity)."""
+    """The most distinct contact states one run may build: within limits.MAX_OPERATOR_BYTES (1,885 on 31 elements)."""
     return max(64, MAX_OPERATOR_BYTES // state_bytes(lay))
 
 
@@ -202,12 +205,8 @@ def _doubled(array: np.ndarray, fill: float | None = None) -> np.ndarray:
 
 _NO_INERTIA = ("the mat rotation has neither inertia nor damping in this contact state "
                "(all damping ratios 0 and no element damping): give the mat a rotary inertia I_0 > 0")
-
-
 _LIFTED_AND_YIELDING = ("a contact element started to lift off and to yield at the same instant (its dashpot "
                         "force balanced its capacity exactly): reduce the time step (analysis.exact.time_step)")
-
-
 _BOTH_WAYS = ("a story started to yield both ways at the same instant: reduce the time step "
               "(analysis.exact.time_step)")
 
@@ -233,9 +232,10 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
         fresh, copies = _shared_operators(requests, built)
         if fresh:
             _exponentiated(requests, fresh, out)
-        for k, state, key in copies:  # the same A as a state built before: its operators, bit for bit
+        for k, state, key in copies:  # the same A as a state built before: its operators, no copy
             operators, pattern, events = requests[k]
-            out[k] = operators.store(pattern, state, operators.ops[operators.by_matrix[key]], events)
+            out[k] = operators.store(pattern, state, None, events)
+            operators.share(out[k], operators.by_matrix[key])
     return out
 
 
@@ -302,7 +302,7 @@ def _level_operators(requests: list[tuple[Operators, int, bool]], built: list[tu
 def _shared_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
                       ) -> tuple[list[tuple[int, ContactState, tuple | None]], list[tuple[int, ContactState, tuple]]]:
     """(index, state, key) of the states of `built` whose operators are to be computed, and of those whose A
-    is that of a state built before or earlier in `built`, which copy its operators once it is stored; the key
+    is that of a state built before or earlier in `built`, which share its operators once it is stored; the key
     of A (yielding stories: story_states.matrix_key, else None)."""
     fresh, copies, first = [], [], set()
     for k, state in built:

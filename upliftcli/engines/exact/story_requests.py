@@ -116,7 +116,7 @@ def _added(request: Quick, levels: ModuleType) -> int:
         levels.state_levels(matrix, float(operators.h), operators.ops[index])
         operators.by_matrix[key] = index
     else:  # the same A as a state built before: its operators, bit for bit
-        operators.ops[index] = operators.ops[source]
+        operators.share(index, source)
     state = ContactState(base.state.lifted, matrix, base.state.velocity, rows[n_aug:], base.state.yielding,
                          sign_of_fields(fields))
     return operators.keep(index, pattern, state)
