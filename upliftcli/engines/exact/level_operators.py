@@ -12,6 +12,8 @@ stored transposed as the stepping loop reads them. Two constructions:
 
 from __future__ import annotations
 
+from types import ModuleType
+
 import numpy as np
 
 from ...runtime import backend
@@ -22,21 +24,27 @@ from .statespace import ContactState, Layout
 LEVELS = 12
 
 
+def loops() -> ModuleType:
+    """The module that computes a yielding state's operators and rows now: _levels.c or levels_numpy.py, as
+    upliftcli.runtime.backend chooses (asked once per run's operators: operators.Operators.levels)."""
+    return backend.loops(f"{__package__}._levels", f"{__package__}.levels_numpy")
+
+
 def state_levels(matrix: np.ndarray, h: float, ops: np.ndarray) -> None:
     """ops[j] = expm(A h / 2^j)^T, j = 0..L, of A = matrix (n, n), written whole into ops (L + 1, n, n; a
     state's slot of Operators.ops): _levels.c or levels_numpy.py, as upliftcli.runtime.backend chooses. The
     zero rows of A (the plastic drifts of elastic stories, the settlements of elements that do not yield)
     are unit rows of the operators exactly."""
-    backend.loops(f"{__package__}._levels", f"{__package__}.levels_numpy").state_levels(matrix, float(h), ops)
+    loops().state_levels(matrix, float(h), ops)
 
 
 def story_rows(bits: int, table: np.ndarray, picks: np.ndarray, rows: np.ndarray, events: np.ndarray,
-               matrix_t: np.ndarray, fields: np.ndarray, zero_rows: int) -> None:
+               rates: np.ndarray, matrix_t: np.ndarray, fields: np.ndarray, zero_rows: int, soil_rows: int) -> None:
     """The rows of one state of yielding stories taken from its base's table, written into rows, events (a
-    state's slot of Operators.events) and matrix_t (of Operators.matrices), its stories' fields into fields
-    (levels_numpy.story_rows): _levels.c or levels_numpy.py, as upliftcli.runtime.backend chooses."""
-    backend.loops(f"{__package__}._levels", f"{__package__}.levels_numpy").story_rows(
-        bits, table, picks, rows, events, matrix_t, fields, zero_rows)
+    state's slot of Operators.events) and matrix_t (of Operators.matrices), its stories' fields into fields and
+    the rates of its stories' event rows into rates (of Operators.event_rates; levels_numpy.story_rows):
+    _levels.c or levels_numpy.py, as upliftcli.runtime.backend chooses."""
+    loops().story_rows(bits, table, picks, rows, events, rates, matrix_t, fields, zero_rows, soil_rows)
 
 
 def stacked_operators(a_t: np.ndarray, h: np.ndarray) -> np.ndarray:

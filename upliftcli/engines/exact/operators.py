@@ -17,7 +17,7 @@ from .level_operators import LEVELS, elastic_blocks, elastic_stories, hold_settl
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 from .stories import story_bits, valid_story_pattern
-from .story_requests import add_quick, quick_requests
+from .story_requests import add_quick, event_rates
 from .story_states import StoryBase, add_bases, matrix_key, soil_rows, state_of
 from .yielding import pattern_bits, step_operators, valid_pattern
 
@@ -89,7 +89,7 @@ class Operators:
                 rows = rows.copy()
                 rows[:soil_rows(self.layout)] = 0.0
             self.events[index] = rows
-            np.matmul(rows, state.matrix, out=self.event_rates[index])
+            event_rates(rows, state.matrix, self.event_rates[index], soil_rows(self.layout))
         elif self.fill is None:  # no event rows: zero, as in arrays that start as zeros
             self.events[index] = self.event_rates[index] = 0.0
         self.matrices[index] = state.matrix.T
@@ -219,9 +219,9 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
     where a story yields: level_operators.state_levels, each written in place). Each item gets the
     same bits as built alone (the one request of each yielding-story run: story_requests.py, without this
     batch machinery). Returns the new state index, or the error, per request."""
-    quick = quick_requests(requests)
+    quick = add_quick(requests)
     if quick is not None:
-        return add_quick(quick)
+        return quick
     out: list[int | AnalysisError] = [AnalysisError(_NO_INERTIA)] * len(requests)
     for members in _groups(requests, out).values():
         built = _built_states(requests, members)
