@@ -2,12 +2,12 @@
 j = 0..LEVELS (level 0 steps, the finer ones bisect a crossing: docs/theory.md sections 4 and 15.9),
 stored transposed as the stepping loop reads them. Two constructions:
 
-- states where a story yields: the Taylor polynomial of the finest level and squarings, in C
+- every state of a building whose stories yield: the Taylor polynomial of the finest level and squarings, in C
   (_levels.c) or its numpy twin (levels_numpy.py), written straight into the run's operator array
-  (state_levels);
-- the others (every elastic building, and a yielding building's states where no story yields, which
-  must stay the elastic ones bit for bit): the [13/13] Pade exponentials of the finest and of the
-  coarsest level of a stack of states, squarings between (stacked_operators).
+  (state_levels); where no story yields, the entries other than the plastic drifts then get the elastic
+  building's operators (elastic_stories: such a run must stay the elastic one bit for bit);
+- the states of an elastic building, and those elastic building's operators: the [13/13] Pade exponentials of
+  the finest and of the coarsest level of a stack of states, squarings between (stacked_operators).
 """
 
 from __future__ import annotations
@@ -70,11 +70,12 @@ def hold_settlements(ops: np.ndarray, constant: np.ndarray) -> None:
 
 def elastic_stories(ops: np.ndarray, state: ContactState, lay: Layout, h: float, block: np.ndarray | None = None
                     ) -> None:
-    """The step operators (E^T per level, in place) of a state with yielding stories where none yields: the
-    plastic drifts held exactly (hold_settlements), and the operators of the other entries from the
-    exponential of A without the plastic drifts: the matrix and the operators of the elastic building, bit
-    for bit (the plastic drifts, zero until a story yields, do not change its history: docs/theory.md 15.4);
-    block: those operators where computed already (elastic_blocks), else computed here."""
+    """The step operators (E^T per level, in place: state_levels') of a state with yielding stories where none
+    yields: the plastic drifts held exactly (hold_settlements), and the operators of the other entries from the
+    exponential of A without the plastic drifts: the matrix and the operators of the elastic building, bit for
+    bit (the plastic drifts, zero until a story yields, do not change its history: docs/theory.md 15.4; their
+    columns, state_levels', multiply zeros there); block: those operators where computed already
+    (elastic_blocks), else computed here."""
     hold_settlements(ops, lay.plastic_indices[state.story_sign == 0])
     if np.any(state.story_sign != 0):
         return

@@ -241,26 +241,22 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
 
 def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState, tuple | None]],
                    out: list[int | AnalysisError]) -> None:
-    """Store the states `built` ((index, state, key of A: _shared_operators)): those where a story yields with
-    their operators written in place (level_operators.state_levels: the Taylor polynomial and squarings, in
-    C), the others' from one stacked exponentiation (_level_operators; those of yielding stories where none
-    yields with the elastic building's from one more: level_operators.elastic_blocks), in the order of
-    `built`."""
-    plain = [(k, state) for k, state, key in built if not _story_yields(key)]
+    """Store the states `built` ((index, state, key of A: _shared_operators)): those of yielding stories with their
+    operators written in place (level_operators.state_levels: the Taylor polynomial and squarings, in C), where no
+    story yields those of the entries other than the plastic drifts then the elastic building's (one stacked
+    exponentiation: level_operators.elastic_blocks, elastic_stories); those of an elastic building from one stacked
+    exponentiation (_level_operators); in the order of `built`."""
+    plain = [(k, state) for k, state, key in built if key is None]
     stacked = iter(_level_operators(requests, plain))
-    blocks = iter(elastic_blocks([state for _, state in plain], requests[built[0][0]][0].layout,
-                                 [requests[k][0].h for k, _ in plain]))
+    calm = [(k, state) for k, state, key in built if key is not None and key[1] == 0]
+    blocks = elastic_blocks([state for _, state in calm], requests[built[0][0]][0].layout,
+                            [requests[k][0].h for k, _ in calm])
+    block = dict(zip([k for k, _ in calm], blocks, strict=True))
     for k, state, key in built:
-        if _story_yields(key):
-            out[k] = _stored(requests[k], state, key, None)
-        else:
-            out[k] = _stored(requests[k], state, key, _held(next(stacked), state, requests[k][0], next(blocks)))
-
-
-def _story_yields(key: tuple | None) -> bool:
-    """Whether some story yields in a state whose A has the key `key` (story_states.matrix_key: its second item
-    the bits of where the stories yield; None: elastic stories): its operators then come from state_levels."""
-    return key is not None and key[1] != 0
+        operators = requests[k][0]
+        out[k] = _stored(requests[k], state, key, None if key is not None else _held(next(stacked), state, operators))
+        if k in block:
+            elastic_stories(operators.ops[out[k]], state, operators.layout, operators.h, block[k])
 
 
 def _stored(request: tuple[Operators, int, bool], state: ContactState, key: tuple | None, ops: np.ndarray | None
@@ -277,21 +273,17 @@ def _stored(request: tuple[Operators, int, bool], state: ContactState, key: tupl
     return index
 
 
-def _held(ops: np.ndarray, state: ContactState, operators: Operators, block: np.ndarray | None) -> np.ndarray:
-    """The stacked exponentiation's operators of a state with the entries that stay constant in it held
-    exactly: the settlements of elements that do not yield, the plastic drifts of elastic stories (and a
-    state with yielding stories where none yields: level_operators.elastic_stories, with the elastic
-    building's operators `block`)."""
+def _held(ops: np.ndarray, state: ContactState, operators: Operators) -> np.ndarray:
+    """The stacked exponentiation's operators of a state of an elastic building with the settlements of elements
+    that do not yield held exactly (constant entries)."""
     if state.yielding is not None:
         hold_settlements(ops, operators.layout.settlement_indices[~state.yielding])
-    if state.story_sign is not None:
-        elastic_stories(ops, state, operators.layout, operators.h, block)
     return ops
 
 
 def _level_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
                      ) -> np.ndarray:
-    """E_j^T, j = 0..LEVELS, of each state of `built` (none where a story yields) in one stacked exponentiation
+    """E_j^T, j = 0..LEVELS, of each state of `built` (of an elastic building) in one stacked exponentiation
     (level_operators.stacked_operators)."""
     if not built:
         return np.empty((0, LEVELS + 1, 0, 0))
