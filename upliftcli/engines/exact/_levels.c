@@ -239,7 +239,7 @@ static PyObject *py_state_levels(PyObject *self, PyObject *const *args, Py_ssize
 
 /* The rows of one state of yielding stories taken from its base's table, and the rates of its stories' event
  * rows (levels_numpy.story_rows): 0, or -1 where a pick falls outside the table */
-static int story_rows(long long bits, const double *restrict table, int64_t table_rows, const int64_t *restrict picks,
+HOT_LOOP static int story_rows(long long bits, const double *restrict table, int64_t table_rows, const int64_t *restrict picks,
                       double *restrict rows, double *restrict events, double *restrict rates, double *restrict matrix_t,
                       int64_t *restrict fields, int64_t n, int64_t total, int64_t n_y, int64_t zero_rows,
                       int64_t soil_rows)

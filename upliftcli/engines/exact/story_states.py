@@ -119,11 +119,7 @@ def matrix_key(pattern: int, lay: Layout) -> tuple[int, int]:
     its stories yield (the signs P and N give the same A): bit 2 s set where story s yields."""
     n_soil = soil_rows(lay)
     bits = pattern >> n_soil
-    return pattern & ((1 << n_soil) - 1), (bits | (bits >> 1)) & _EVEN_BITS[lay.n_plastic]
-
-
-#: bits 0, 2, .., 2 (n - 1) set, by n (a pattern holds at most 31 stories' fields)
-_EVEN_BITS = tuple(int("01" * n, 2) if n else 0 for n in range(32))
+    return pattern & ((1 << n_soil) - 1), (bits | (bits >> 1)) & stories.EVEN_BITS[lay.n_plastic]
 
 
 class StoryOperators(Protocol):
