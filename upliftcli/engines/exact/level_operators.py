@@ -85,6 +85,15 @@ def elastic_stories(ops: np.ndarray, state: ContactState, lay: Layout, h: float,
     ops[:, keep[:, None], keep[None, :]] = block
 
 
+def elastic_operators(slots: list[tuple[np.ndarray, ContactState, float]], lay: Layout) -> None:
+    """elastic_stories of each slot (its operators E^T per level, in place: state_levels', its state, its step h)
+    whose state has no story yielding, their blocks from one stacked exponentiation (elastic_blocks)."""
+    calm = [slot for slot in slots if not slot[1].story_sign.any()]
+    blocks = elastic_blocks([state for _, state, _ in calm], lay, [h for _, _, h in calm])
+    for (ops, state, h), block in zip(calm, blocks, strict=True):
+        elastic_stories(ops, state, lay, h, block)
+
+
 def elastic_blocks(states: list[ContactState], lay: Layout, h: list[float]) -> list[np.ndarray | None]:
     """The operators (LEVELS + 1, n, n) of A without the plastic drifts of each state with yielding stories where
     none yields (their steps h), in one stacked exponentiation: each the same bits as alone (stacked_operators

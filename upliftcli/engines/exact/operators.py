@@ -13,7 +13,7 @@ import numpy as np
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_OPERATOR_BYTES
 from .kept import reused
-from .level_operators import LEVELS, elastic_blocks, elastic_stories, hold_settlements, stacked_operators, state_levels
+from .level_operators import LEVELS, elastic_operators, hold_settlements, stacked_operators, state_levels
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 from .stories import story_bits, valid_story_pattern
@@ -241,22 +241,27 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
 
 def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState, tuple | None]],
                    out: list[int | AnalysisError]) -> None:
-    """Store the states `built` ((index, state, key of A: _shared_operators)): those of yielding stories with their
-    operators written in place (level_operators.state_levels: the Taylor polynomial and squarings, in C), where no
-    story yields those of the entries other than the plastic drifts then the elastic building's (one stacked
-    exponentiation: level_operators.elastic_blocks, elastic_stories); those of an elastic building from one stacked
-    exponentiation (_level_operators); in the order of `built`."""
-    plain = [(k, state) for k, state, key in built if key is None]
-    stacked = iter(_level_operators(requests, plain))
-    calm = [(k, state) for k, state, key in built if key is not None and key[1] == 0]
-    blocks = elastic_blocks([state for _, state in calm], requests[built[0][0]][0].layout,
-                            [requests[k][0].h for k, _ in calm])
-    block = dict(zip([k for k, _ in calm], blocks, strict=True))
+    """Store the states `built` ((index, state, key of A: _shared_operators; one layout)): those of yielding stories
+    with their operators written in place (level_operators.state_levels: the Taylor polynomial and squarings, in
+    C), where no story yields those of the entries other than the plastic drifts then the elastic building's
+    (level_operators.elastic_operators); those of an elastic building from one stacked exponentiation (_stacked);
+    in the order of `built`."""
+    if built[0][2] is None:  # an elastic building (every key None)
+        _stacked(requests, built, out)
+        return
     for k, state, key in built:
-        operators = requests[k][0]
-        out[k] = _stored(requests[k], state, key, None if key is not None else _held(next(stacked), state, operators))
-        if k in block:
-            elastic_stories(operators.ops[out[k]], state, operators.layout, operators.h, block[k])
+        out[k] = _stored(requests[k], state, key, None)
+    elastic_operators([(requests[k][0].ops[out[k]], state, requests[k][0].h) for k, state, _ in built],
+                      requests[built[0][0]][0].layout)
+
+
+def _stacked(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState, None]],
+             out: list[int | AnalysisError]) -> None:
+    """Store the states `built` of an elastic building with their operators from one stacked exponentiation
+    (_level_operators), the settlements of elements that do not yield held (_held)."""
+    stacked = _level_operators(requests, [(k, state) for k, state, _ in built])
+    for (k, state, key), ops in zip(built, stacked, strict=True):
+        out[k] = _stored(requests[k], state, key, _held(ops, state, requests[k][0]))
 
 
 def _stored(request: tuple[Operators, int, bool], state: ContactState, key: tuple | None, ops: np.ndarray | None

@@ -56,6 +56,9 @@ Quick = tuple[QuickOperators, int, StoryBase, tuple[int, int]]
 def quick_requests(requests: list[tuple[QuickOperators, int, bool]]) -> list[Quick] | None:
     """Each request with what its state is built from (quick_request), or None where one does not qualify
     or two come from one run."""
+    if len(requests) == 1:  # a yielding run alone: its one request of each round
+        quick = quick_request(*requests[0])
+        return None if quick is None else [quick]
     if len({id(operators) for operators, _, _ in requests}) != len(requests):
         return None
     out = []
