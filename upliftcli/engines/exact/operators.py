@@ -13,11 +13,11 @@ import numpy as np
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_OPERATOR_BYTES
 from .kept import reused
-from .level_operators import LEVELS, elastic_blocks, elastic_stories, hold_settlements, stacked_operators, state_levels
+from .level_operators import LEVELS, elastic_operators, hold_settlements, stacked_operators, state_levels
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 from .stories import story_bits, valid_story_pattern
-from .story_requests import add_quick, quick_requests
+from .story_requests import add_quick, event_rates
 from .story_states import StoryBase, add_bases, matrix_key, soil_rows, state_of
 from .yielding import pattern_bits, step_operators, valid_pattern
 
@@ -89,7 +89,7 @@ class Operators:
                 rows = rows.copy()
                 rows[:soil_rows(self.layout)] = 0.0
             self.events[index] = rows
-            np.matmul(rows, state.matrix, out=self.event_rates[index])
+            event_rates(rows, state.matrix, self.event_rates[index], soil_rows(self.layout))
         elif self.fill is None:  # no event rows: zero, as in arrays that start as zeros
             self.events[index] = self.event_rates[index] = 0.0
         self.matrices[index] = state.matrix.T
@@ -218,9 +218,9 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
     where a story yields: level_operators.state_levels, each written in place). Each item gets the
     same bits as built alone (the one request of each yielding-story run: story_requests.py, without this
     batch machinery). Returns the new state index, or the error, per request."""
-    quick = quick_requests(requests)
+    quick = add_quick(requests)
     if quick is not None:
-        return add_quick(quick)
+        return quick
     out: list[int | AnalysisError] = [AnalysisError(_NO_INERTIA)] * len(requests)
     for members in _groups(requests, out).values():
         built = _built_states(requests, members)
@@ -241,26 +241,27 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
 
 def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState, tuple | None]],
                    out: list[int | AnalysisError]) -> None:
-    """Store the states `built` ((index, state, key of A: _shared_operators)): those where a story yields with
-    their operators written in place (level_operators.state_levels: the Taylor polynomial and squarings, in
-    C), the others' from one stacked exponentiation (_level_operators; those of yielding stories where none
-    yields with the elastic building's from one more: level_operators.elastic_blocks), in the order of
-    `built`."""
-    plain = [(k, state) for k, state, key in built if not _story_yields(key)]
-    stacked = iter(_level_operators(requests, plain))
-    blocks = iter(elastic_blocks([state for _, state in plain], requests[built[0][0]][0].layout,
-                                 [requests[k][0].h for k, _ in plain]))
+    """Store the states `built` ((index, state, key of A: _shared_operators; one layout)): those of yielding stories
+    with their operators written in place (level_operators.state_levels: the Taylor polynomial and squarings, in
+    C), where no story yields those of the entries other than the plastic drifts then the elastic building's
+    (level_operators.elastic_operators); those of an elastic building from one stacked exponentiation (_stacked);
+    in the order of `built`."""
+    if built[0][2] is None:  # an elastic building (every key None)
+        _stacked(requests, built, out)
+        return
     for k, state, key in built:
-        if _story_yields(key):
-            out[k] = _stored(requests[k], state, key, None)
-        else:
-            out[k] = _stored(requests[k], state, key, _held(next(stacked), state, requests[k][0], next(blocks)))
+        out[k] = _stored(requests[k], state, key, None)
+    elastic_operators([(requests[k][0].ops[out[k]], state, requests[k][0].h) for k, state, _ in built],
+                      requests[built[0][0]][0].layout)
 
 
-def _story_yields(key: tuple | None) -> bool:
-    """Whether some story yields in a state whose A has the key `key` (story_states.matrix_key: its second item
-    the bits of where the stories yield; None: elastic stories): its operators then come from state_levels."""
-    return key is not None and key[1] != 0
+def _stacked(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState, None]],
+             out: list[int | AnalysisError]) -> None:
+    """Store the states `built` of an elastic building with their operators from one stacked exponentiation
+    (_level_operators), the settlements of elements that do not yield held (_held)."""
+    stacked = _level_operators(requests, [(k, state) for k, state, _ in built])
+    for (k, state, key), ops in zip(built, stacked, strict=True):
+        out[k] = _stored(requests[k], state, key, _held(ops, state, requests[k][0]))
 
 
 def _stored(request: tuple[Operators, int, bool], state: ContactState, key: tuple | None, ops: np.ndarray | None
@@ -277,21 +278,17 @@ def _stored(request: tuple[Operators, int, bool], state: ContactState, key: tupl
     return index
 
 
-def _held(ops: np.ndarray, state: ContactState, operators: Operators, block: np.ndarray | None) -> np.ndarray:
-    """The stacked exponentiation's operators of a state with the entries that stay constant in it held
-    exactly: the settlements of elements that do not yield, the plastic drifts of elastic stories (and a
-    state with yielding stories where none yields: level_operators.elastic_stories, with the elastic
-    building's operators `block`)."""
+def _held(ops: np.ndarray, state: ContactState, operators: Operators) -> np.ndarray:
+    """The stacked exponentiation's operators of a state of an elastic building with the settlements of elements
+    that do not yield held exactly (constant entries)."""
     if state.yielding is not None:
         hold_settlements(ops, operators.layout.settlement_indices[~state.yielding])
-    if state.story_sign is not None:
-        elastic_stories(ops, state, operators.layout, operators.h, block)
     return ops
 
 
 def _level_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
                      ) -> np.ndarray:
-    """E_j^T, j = 0..LEVELS, of each state of `built` (none where a story yields) in one stacked exponentiation
+    """E_j^T, j = 0..LEVELS, of each state of `built` (of an elastic building) in one stacked exponentiation
     (level_operators.stacked_operators)."""
     if not built:
         return np.empty((0, LEVELS + 1, 0, 0))
