@@ -158,3 +158,29 @@ def test_the_compiled_levels_refuse_inconsistent_arguments():
         _levels.state_levels(np.zeros((3, 3)), float("nan"), np.empty((13, 3, 3)))
     with pytest.raises(TypeError, match="ops"):
         _levels.state_levels(np.zeros((3, 3)), H, np.empty((13, 3, 3), dtype=np.float32))
+
+
+@pytest.mark.parametrize("support", ["rigid", "bonded", "uplift"])
+def test_a_state_where_no_story_yields_is_state_levels_with_the_elastic_block(support):
+    """The first state of a run of a building whose stories may yield (none yields): its operators are
+    state_levels' (the Taylor polynomial and squarings) but for the entries other than the plastic drifts, which
+    are the elastic building's stacked exponentiation (elastic_blocks) exactly, so a run that never yields is the
+    elastic run bit for bit; the plastic drifts' rows of E unit rows."""
+    from upliftcli.engines.exact.level_operators import elastic_blocks
+    from upliftcli.engines.exact.operators import Operators, add_states
+
+    space = exact_model(load_deck(DECK, ["building.strength_coefficient=0.3"]).system, support, ExactOptions())
+    lay = space.layout
+    operators = Operators(space, H, "reaction", support == "uplift")
+    (index,) = add_states([(operators, 0, True)])
+    state = operators.contact[index]
+    assert not state.story_sign.any()
+    keep = np.delete(np.arange(lay.n_aug), lay.plastic_indices)
+    ops = operators.ops[index]
+    block = elastic_blocks([state], lay, [H])[0]
+    assert np.array_equal(ops[:, keep[:, None], keep[None, :]], block)
+    levels = np.empty_like(ops)
+    state_levels(state.matrix, H, levels)
+    plastic = lay.plastic_indices
+    assert np.array_equal(ops[:, plastic[:, None], keep[None, :]], levels[:, plastic[:, None], keep[None, :]])
+    assert np.array_equal(ops[:, :, plastic], np.broadcast_to(np.eye(lay.n_aug)[:, plastic], ops[:, :, plastic].shape))

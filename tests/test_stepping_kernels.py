@@ -128,8 +128,8 @@ def test_integrate_refuses_every_wrong_argument_with_an_exception():
     ops = run.operators
 
     def arguments(**change):
-        states = dict(zip(kernel.States._fields, (ops.ops, ops.events, ops.event_rates, ops.matrices, ops.patterns,
-                                                 len(ops.contact)), strict=True))
+        states = dict(zip(kernel.States._fields, (ops.ops, ops.slots, ops.events, ops.event_rates, ops.matrices,
+                                                 ops.patterns, len(ops.contact)), strict=True))
         elements, grid = run.elements._asdict(), run.grid._asdict()
         samples = dict(x=run.x.copy(), out_x=run.out_x, out_t=run.out_t, out_state=run.out_s)
         scalars = dict(state=index, step=0, offset=0.0, n_out=0)
@@ -148,6 +148,7 @@ def test_integrate_refuses_every_wrong_argument_with_an_exception():
         "lift_rows": np.zeros((n_e, n_aug - 1)),
         "damped": np.ones(n_e + 1, dtype=bool),
         "count": ops.ops.shape[0] + 1,  # more states than operators
+        "slots": np.full(ops.slots.size, ops.ops.shape[0]),  # a state's operators outside ops
         "patterns": np.zeros(0, dtype=np.int64),
         "levels": 3,  # fewer bisection levels than the refinement uses
         "index_acceleration": n_aug,
@@ -167,7 +168,7 @@ def test_integrate_refuses_every_wrong_argument_with_an_exception():
     for name, value in wrong.items():
         with pytest.raises((ValueError, TypeError)):
             _stepping.integrate(*arguments(**{name: value}))
-    with pytest.raises(TypeError, match="states must be a tuple of 6 items"):
-        _stepping.integrate(arguments()[0][:5], *arguments()[1:])
+    with pytest.raises(TypeError, match="states must be a tuple of 7 items"):
+        _stepping.integrate(arguments()[0][:6], *arguments()[1:])
     with pytest.raises(TypeError, match="takes 8 arguments"):
         _stepping.integrate(*arguments()[:7])

@@ -46,12 +46,11 @@ def _built(space, uplift: bool, patterns: list[int], quick: bool, monkeypatch) -
     add_quick = story_requests.add_quick
 
     def counted(requests):
-        built[0] += len(requests)
-        return add_quick(requests)
+        out = add_quick(requests)
+        built[0] += 0 if out is None else len(out)
+        return out
 
-    monkeypatch.setattr(operators, "add_quick", counted)
-    if not quick:
-        monkeypatch.setattr(operators, "quick_requests", lambda requests: None)
+    monkeypatch.setattr(operators, "add_quick", counted if quick else lambda requests: None)
     ops = Operators(space, 0.01, "reaction", uplift)
     for pattern in [0, *patterns]:
         (index,) = add_states([(ops, pattern, True)])
@@ -76,26 +75,29 @@ def test_a_quick_state_is_the_state_add_states_builds_bit_for_bit(support, choic
     assert count > 30 and none == 0  # the first state of each foundation pattern is add_states'
     n = len(quick.contact)
     assert n == len(slow.contact) == len(patterns) + 1
-    for name in ("ops", "events", "event_rates", "matrices", "patterns"):
+    for name in ("slots", "events", "event_rates", "matrices", "patterns"):
         assert np.array_equal(getattr(quick, name)[:n], getattr(slow, name)[:n]), name
+    assert np.array_equal(quick.ops[quick.slots[:n]], slow.ops[slow.slots[:n]])  # each state's operators
     for got, want in zip(quick.contact, slow.contact, strict=True):
         for name in FIELDS:
             assert np.array_equal(getattr(got, name), getattr(want, name)), name
     assert quick.by_matrix == slow.by_matrix
 
 
-@pytest.mark.parametrize("zero_rows", [0, 2])
-def test_the_compiled_story_rows_are_its_numpy_twin(zero_rows):
-    """_levels.story_rows and levels_numpy.story_rows write the same rows, event rows, A^T and fields for random
-    story bits on a random table (copies only: equal bit for bit); a pick outside the table is refused."""
+@pytest.mark.parametrize(("zero_rows", "soil_rows"), [(0, 0), (2, 2), (0, 2)])
+def test_the_compiled_story_rows_are_its_numpy_twin(zero_rows, soil_rows):
+    """_levels.story_rows and levels_numpy.story_rows write the same rows, event rows, rates, A^T and fields for
+    random story bits on a random table with zeros (bit for bit: copies, and rates each summed in the order of its
+    terms), the rates those of the event rows by A (the foundation's rows, not zeroed, left as they were); a pick
+    outside the table is refused."""
     if "upliftcli.engines.exact._levels" not in backend.built():
         pytest.skip("the C extension _levels is not built")
     from upliftcli.engines.exact import _levels, levels_numpy
 
-    rng = np.random.default_rng(zero_rows)
+    rng = np.random.default_rng(zero_rows + 3 * soil_rows)
     n, n_y, n_s = 7, 3, 2
     n_e = n_s + 2 * n_y
-    table = rng.normal(size=(3 * n + n_s + 6 * n_y, n))
+    table = rng.normal(size=(3 * n + n_s + 6 * n_y, n)) * (rng.random((3 * n + n_s + 6 * n_y, n)) < 0.6)
     base = np.concatenate((np.arange(n), 3 * n + np.arange(n_e)))  # as story_states._picks: the last n_y rows of A
     step = np.concatenate((np.where(np.arange(n) >= n - n_y, n, 0), np.zeros(n_s), np.full(2 * n_y, 2 * n_y)))
     story = np.concatenate((np.zeros(n - n_y), np.arange(n_y), np.zeros(n_s), np.repeat(np.arange(n_y), 2)))
@@ -104,19 +106,25 @@ def test_the_compiled_story_rows_are_its_numpy_twin(zero_rows):
         bits &= ~((bits >> 1) & int("01" * n_y, 2))  # no story both ways
         out = []
         for module in (_levels, levels_numpy):
-            arrays = (np.empty((n + n_e, n)), np.empty((n_e, n)), np.empty((n, n)), np.empty(n_y, dtype=np.int64))
-            module.story_rows(bits, table, picks, *arrays[:3], arrays[3], zero_rows)
+            arrays = (np.empty((n + n_e, n)), np.empty((n_e, n)), np.full((n_e, n), 7.0), np.empty((n, n)),
+                      np.empty(n_y, dtype=np.int64))
+            module.story_rows(bits, table, picks, *arrays, zero_rows, soil_rows)
             out.append(arrays)
         for got, want in zip(*out, strict=True):
             assert np.array_equal(got, want)
-        rows, events, matrix_t, fields = out[0]
-        assert np.array_equal(matrix_t, rows[:n].T) and not events[:zero_rows].any()
+        rows, events, rates, matrix_t, fields = out[0]
+        assert np.array_equal(matrix_t, rows[:n].T) and not events[:zero_rows].any() and not rates[:zero_rows].any()
+        assert np.all(rates[zero_rows:soil_rows] == 7.0)
+        assert np.allclose(rates[soil_rows:], events[soil_rows:] @ rows[:n], rtol=1e-14, atol=1e-14)
         assert fields.tolist() == [(bits >> (2 * s)) & 3 for s in range(n_y)]
     wrong = picks.copy()
     wrong[0, 0] = table.shape[0]
     with pytest.raises(ValueError, match="story_rows"):
-        _levels.story_rows(0, table, wrong, np.empty((n + n_e, n)), np.empty((n_e, n)), np.empty((n, n)),
-                           np.empty(n_y, dtype=np.int64), 0)
+        _levels.story_rows(0, table, wrong, np.empty((n + n_e, n)), np.empty((n_e, n)), np.empty((n_e, n)),
+                           np.empty((n, n)), np.empty(n_y, dtype=np.int64), 0, 0)
+    with pytest.raises(ValueError, match="story_rows"):  # zero rows beyond the foundation's
+        _levels.story_rows(0, table, picks, np.empty((n + n_e, n)), np.empty((n_e, n)), np.empty((n_e, n)),
+                           np.empty((n, n)), np.empty(n_y, dtype=np.int64), 2, 0)
 
 
 def test_requests_of_several_runs_are_built_as_each_alone(monkeypatch):
@@ -132,8 +140,9 @@ def test_requests_of_several_runs_are_built_as_each_alone(monkeypatch):
         add_states([(ops, pattern, True) for ops in runs])
     n = len(alone.contact)
     for ops in runs:
-        for name in ("ops", "events", "event_rates", "matrices", "patterns"):
+        for name in ("slots", "events", "event_rates", "matrices", "patterns"):
             assert np.array_equal(getattr(ops, name)[:n], getattr(alone, name)[:n]), name
+        assert np.array_equal(ops.ops[ops.slots[:n]], alone.ops[alone.slots[:n]])
     twice = [(runs[0], patterns[0], True), (runs[0], patterns[1], True)]
     assert story_requests.quick_requests(twice) is None
 
@@ -149,5 +158,5 @@ def test_the_elastic_stories_of_states_built_together_are_those_built_alone():
     for k, pattern in enumerate(patterns):
         alone = Operators(space, 0.01, "reaction")
         (index,) = add_states([(alone, pattern, True)])
-        assert np.array_equal(together.ops[k], alone.ops[index])
+        assert np.array_equal(together.ops[together.slots[k]], alone.ops[alone.slots[index]])
         assert np.array_equal(together.event_rates[k], alone.event_rates[index])

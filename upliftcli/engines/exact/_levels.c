@@ -237,11 +237,12 @@ static PyObject *py_state_levels(PyObject *self, PyObject *const *args, Py_ssize
     Py_RETURN_NONE;
 }
 
-/* The rows of one state of yielding stories taken from its base's table (levels_numpy.story_rows): 0, or -1
- * where a pick falls outside the table */
-static int story_rows(long long bits, const double *restrict table, int64_t table_rows, const int64_t *restrict picks,
-                      double *restrict rows, double *restrict events, double *restrict matrix_t, int64_t *restrict fields,
-                      int64_t n, int64_t total, int64_t n_y, int64_t zero_rows)
+/* The rows of one state of yielding stories taken from its base's table, and the rates of its stories' event
+ * rows (levels_numpy.story_rows): 0, or -1 where a pick falls outside the table */
+HOT_LOOP static int story_rows(long long bits, const double *restrict table, int64_t table_rows, const int64_t *restrict picks,
+                      double *restrict rows, double *restrict events, double *restrict rates, double *restrict matrix_t,
+                      int64_t *restrict fields, int64_t n, int64_t total, int64_t n_y, int64_t zero_rows,
+                      int64_t soil_rows)
 {
     for (int64_t j = 0; j < n_y; j++) {
         fields[j] = (bits >> (2 * j)) & 3;
@@ -267,37 +268,52 @@ static int story_rows(long long bits, const double *restrict table, int64_t tabl
             matrix_t[i * n + j] = rows[j * n + i];
         }
     }
+    /* the rates: zero rows zero, the foundation's rows left to the caller, the stories' rows G_i A, each entry
+     * summed over k = 0..n-1 in that order from +0 (product.h's strided_product: A's rows by the event row) */
+    for (int64_t i = 0; i < total - n; i++) {
+        if (i < zero_rows) {
+            memset(rates + i * n, 0, (size_t)n * sizeof(double));
+        } else if (i >= soil_rows) {
+            strided_product(rows, n, events + i * n, n, n, rates + i * n);
+        }
+    }
     return 0;
 }
 
-/* story_rows(bits, table, picks, rows, events, matrix_t, fields, zero_rows): see level_operators.story_rows */
+/* story_rows(bits, table, picks, rows, events, rates, matrix_t, fields, zero_rows, soil_rows): see
+ * level_operators.story_rows */
 static PyObject *py_story_rows(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
     (void)self;
-    if (!expect_args(nargs, 8, "story_rows")) {
+    if (!expect_args(nargs, 10, "story_rows")) {
         return NULL;
     }
-    const long long bits = PyLong_AsLongLong(args[0]), zero_rows = PyLong_AsLongLong(args[7]);
+    const long long bits = PyLong_AsLongLong(args[0]), zero_rows = PyLong_AsLongLong(args[8]),
+                    soil_rows = PyLong_AsLongLong(args[9]);
     if (PyErr_Occurred()) {
         return NULL;
     }
     Views v = {.count = 0};
-    static const ArraySpec arrays[] = {{1, 'd', 2, 0, "table"}, {2, 'q', 2, 0, "picks"}, {3, 'd', 2, 1, "rows"},
-                                       {4, 'd', 2, 1, "events"}, {5, 'd', 2, 1, "matrix_t"}, {6, 'q', 1, 1, "fields"}};
-    Py_buffer *b[6];
-    if (!take_views(&v, args, arrays, 6, b)) {
+    static const ArraySpec arrays[] = {{1, 'd', 2, 0, "table"},    {2, 'q', 2, 0, "picks"},
+                                       {3, 'd', 2, 1, "rows"},     {4, 'd', 2, 1, "events"},
+                                       {5, 'd', 2, 1, "rates"},    {6, 'd', 2, 1, "matrix_t"},
+                                       {7, 'q', 1, 1, "fields"}};
+    Py_buffer *b[7];
+    if (!take_views(&v, args, arrays, 7, b)) {
         release_views(&v);
         return NULL;
     }
-    const int64_t n = b[2]->shape[1], total = b[2]->shape[0], n_y = b[5]->shape[0];
+    const int64_t n = b[2]->shape[1], total = b[2]->shape[0], n_y = b[6]->shape[0];
     const int valid = b[0]->shape[1] == n && b[1]->shape[0] == 3 && b[1]->shape[1] == total && total >= n &&
-                      b[3]->shape[0] == total - n && b[3]->shape[1] == n && b[4]->shape[0] == n && b[4]->shape[1] == n &&
-                      n_y <= 31 && bits >= 0 && zero_rows >= 0 && zero_rows <= total - n;
+                      b[3]->shape[0] == total - n && b[3]->shape[1] == n && b[4]->shape[0] == total - n &&
+                      b[4]->shape[1] == n && b[5]->shape[0] == n && b[5]->shape[1] == n && n_y <= 31 && bits >= 0 &&
+                      zero_rows >= 0 && zero_rows <= soil_rows && soil_rows <= total - n;
     if (!valid || story_rows(bits, DOUBLES(b[0]), b[0]->shape[0], INT64S(b[1]), DOUBLES(b[2]), DOUBLES(b[3]),
-                             DOUBLES(b[4]), INT64S(b[5]), n, total, n_y, zero_rows) < 0) {
+                             DOUBLES(b[4]), DOUBLES(b[5]), INT64S(b[6]), n, total, n_y, zero_rows, soil_rows) < 0) {
         release_views(&v);
         PyErr_SetString(PyExc_ValueError, "story_rows: a table (T, n), picks (3, n + n_e) into it, rows (n + n_e, n), "
-                                          "events (n_e, n), matrix_t (n, n) and fields (n_y <= 31) expected");
+                                          "events and rates (n_e, n), matrix_t (n, n), fields (n_y <= 31) and "
+                                          "0 <= zero_rows <= soil_rows <= n_e expected");
         return NULL;
     }
     release_views(&v);
@@ -306,7 +322,7 @@ static PyObject *py_story_rows(PyObject *self, PyObject *const *args, Py_ssize_t
 
 static PyMethodDef methods[] = {
     FASTCALL(state_levels, "ops[j] = expm(A h / 2^j)^T, j = 0..L, of one contact state."),
-    FASTCALL(story_rows, "The rows of one state of yielding stories from its base's table."),
+    FASTCALL(story_rows, "The rows of one state of yielding stories from its base's table, and their rates."),
     {NULL, NULL, 0, NULL},
 };
 

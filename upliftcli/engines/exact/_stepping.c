@@ -35,7 +35,7 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
      * calls this once per state, and a scan of them all cost it a sixth of its time (measured) */
     double *g_x = chunk + n_levels + 1, *d_x = g_x + n_e, *g_trial = d_x + n_e, *d_trial = g_trial + n_e,
            *scratch = d_trial + n_e;
-    EventTables tables = {.tables = scratch + 2 * n_e, .slots = table_slots(m), .next = 0};
+    EventTables tables = {.tables = scratch + 3 * n_e, .slots = table_slots(m), .next = 0};
     tables.slot_of = (int64_t *)(tables.tables + tables.slots * n * 2 * n_e);
     tables.owner = tables.slot_of + m->count;
     unsigned char *active = (unsigned char *)(tables.owner + tables.slots), *ground_free = active + m->count;
@@ -117,12 +117,13 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
             }
             known = 0;
             double fraction;
-            double start = crossing(m, state, table, x, level, chunk, left, trial, right, &fraction, scratch);
+            double start = crossing(m, state, table, x, level, chunk, g_x, g_trial, left, trial, right, &fraction,
+                                    scratch);
             for (int64_t j = 0; j < n; j++) {
                 x[j] = left[j] + fraction * (right[j] - left[j]);
             }
             offset += start + fraction * smallest;
-            int64_t pattern = switch_pattern(m, state, table, m->patterns[state], x, right, scratch);
+            int64_t pattern = switch_pattern(m, state, table, m->patterns[state], x, scratch);
             if ((pattern & m->all_lifted) == m->all_lifted && !m->allow_flight) { /* story bits aside */
                 RETURN(FLIGHT, pattern);
             }
@@ -188,7 +189,7 @@ static int unpack(PyObject *tuple, Py_ssize_t size, const char *name, PyObject *
 }
 
 /* integrate(states, elements, grid, samples, state, step, offset, n_out) with the tuples
- *   states = (ops, events, event_rates, matrices, patterns, count),
+ *   states = (ops, slots, events, event_rates, matrices, patterns, count),
  *   elements = (z_index, lift_rows, damped, all_lifted, allow_flight),
  *   grid = (ground, slopes, h, levels, index_acceleration, index_slope),
  *   samples = (x, out_x, out_t, out_state)
@@ -199,50 +200,53 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *call, Py_ssize_t 
     if (!expect_args(nargs, 8, "integrate")) {
         return NULL;
     }
-    PyObject *args[25]; /* the items of the four tuples, then state, step, offset, n_out */
-    if (!unpack(call[0], 6, "states", args) || !unpack(call[1], 5, "elements", args + 6)
-        || !unpack(call[2], 6, "grid", args + 11) || !unpack(call[3], 4, "samples", args + 17)) {
+    PyObject *args[26]; /* the items of the four tuples, then state, step, offset, n_out */
+    if (!unpack(call[0], 7, "states", args) || !unpack(call[1], 5, "elements", args + 7)
+        || !unpack(call[2], 6, "grid", args + 12) || !unpack(call[3], 4, "samples", args + 18)) {
         return NULL;
     }
     for (int i = 0; i < 4; i++) {
-        args[21 + i] = call[4 + i];
+        args[22 + i] = call[4 + i];
     }
     Views v = {.count = 0};
     PyObject *result = NULL;
-    static const ArraySpec arrays[] = {{0, 'd', 4, 0, "ops"}, {1, 'd', 3, 0, "events"}, {2, 'd', 3, 0, "event_rates"},
-        {3, 'd', 3, 0, "matrices"}, {4, 'q', 1, 0, "patterns"}, {6, 'q', 1, 0, "z_index"}, {7, 'd', 2, 0, "lift_rows"},
-        {8, '?', 1, 0, "damped"}, {11, 'd', 1, 0, "ground"}, {12, 'd', 1, 0, "slopes"}, {17, 'd', 1, 1, "x"},
-        {18, 'd', 2, 1, "out_x"}, {19, 'd', 1, 1, "out_t"}, {20, 'q', 1, 1, "out_state"}};
-    Py_buffer *b[14];
-    int taken = take_views(&v, args, arrays, 14, b);
-    Py_buffer *ops = b[0], *events = b[1], *rates = b[2], *matrices = b[3], *patterns = b[4], *z_index = b[5],
-              *lift_rows = b[6], *damped = b[7], *ground = b[8], *slopes = b[9], *x = b[10], *out_x = b[11],
-              *out_t = b[12], *out_state = b[13];
+    static const ArraySpec arrays[] = {{0, 'd', 4, 0, "ops"}, {1, 'q', 1, 0, "slots"}, {2, 'd', 3, 0, "events"},
+        {3, 'd', 3, 0, "event_rates"}, {4, 'd', 3, 0, "matrices"}, {5, 'q', 1, 0, "patterns"}, {7, 'q', 1, 0, "z_index"},
+        {8, 'd', 2, 0, "lift_rows"}, {9, '?', 1, 0, "damped"}, {12, 'd', 1, 0, "ground"}, {13, 'd', 1, 0, "slopes"},
+        {18, 'd', 1, 1, "x"}, {19, 'd', 2, 1, "out_x"}, {20, 'd', 1, 1, "out_t"}, {21, 'q', 1, 1, "out_state"}};
+    Py_buffer *b[15];
+    int taken = take_views(&v, args, arrays, 15, b);
+    Py_buffer *ops = b[0], *op_slots = b[1], *events = b[2], *rates = b[3], *matrices = b[4], *patterns = b[5],
+              *z_index = b[6], *lift_rows = b[7], *damped = b[8], *ground = b[9], *slopes = b[10], *x = b[11],
+              *out_x = b[12], *out_t = b[13], *out_state = b[14];
     if (!taken) {
         goto done;
     }
     Model m = {
-        .ops = DOUBLES(ops), .events = DOUBLES(events), .rates = DOUBLES(rates), .matrices = DOUBLES(matrices),
-        .patterns = INT64S(patterns), .count = PyLong_AsLongLong(args[5]), .n_events = events->shape[1],
-        .n = x->shape[0], .levels = PyLong_AsLongLong(args[14]), .z_index = INT64S(z_index),
-        .lift_rows = DOUBLES(lift_rows), .damped = BOOLS(damped), .all_lifted = PyLong_AsLongLong(args[9]),
-        .allow_flight = PyObject_IsTrue(args[10]),
+        .ops = DOUBLES(ops), .slots = INT64S(op_slots), .events = DOUBLES(events), .rates = DOUBLES(rates), .matrices = DOUBLES(matrices),
+        .patterns = INT64S(patterns), .count = PyLong_AsLongLong(args[6]), .n_events = events->shape[1],
+        .n = x->shape[0], .levels = PyLong_AsLongLong(args[15]), .z_index = INT64S(z_index),
+        .lift_rows = DOUBLES(lift_rows), .damped = BOOLS(damped), .all_lifted = PyLong_AsLongLong(args[10]),
+        .allow_flight = PyObject_IsTrue(args[11]),
     };
-    double h = PyFloat_AsDouble(args[13]);
-    int64_t index_acceleration = PyLong_AsLongLong(args[15]), index_slope = PyLong_AsLongLong(args[16]);
-    int64_t state = PyLong_AsLongLong(args[21]), step = PyLong_AsLongLong(args[22]);
-    double offset = PyFloat_AsDouble(args[23]);
-    int64_t n_out = PyLong_AsLongLong(args[24]);
+    double h = PyFloat_AsDouble(args[14]);
+    int64_t index_acceleration = PyLong_AsLongLong(args[16]), index_slope = PyLong_AsLongLong(args[17]);
+    int64_t state = PyLong_AsLongLong(args[22]), step = PyLong_AsLongLong(args[23]);
+    double offset = PyFloat_AsDouble(args[24]);
+    int64_t n_out = PyLong_AsLongLong(args[25]);
     if (PyErr_Occurred() || m.allow_flight < 0) {
         goto done;
     }
     const int64_t n = m.n, n_e = m.n_events, capacity = out_t->shape[0], n_steps = ground->shape[0] - 1;
-    /* shapes: every state's arrays for `count` states, n x n operators at levels 0..L */
-    int ok = n >= 1 && m.count >= 1 && m.count <= ops->shape[0] && m.count <= events->shape[0]
+    /* shapes: every state's arrays for `count` states, its slot of n x n operators at levels 0..L */
+    int ok = n >= 1 && m.count >= 1 && m.count <= op_slots->shape[0] && m.count <= events->shape[0]
              && m.count <= matrices->shape[0] && m.count <= patterns->shape[0] && ops->shape[1] == m.levels + 1
              && ops->shape[2] == n && ops->shape[3] == n && matrices->shape[1] == n && matrices->shape[2] == n
              && events->shape[2] == n && rates->shape[0] == events->shape[0] && rates->shape[1] == n_e
              && rates->shape[2] == n;
+    for (int64_t s = 0; ok && s < m.count; s++) {
+        ok = m.slots[s] >= 0 && m.slots[s] < ops->shape[0];
+    }
     /* elements: at most 62 (the contact pattern is a bit set), their state indices inside the state */
     ok = ok && n_e <= 62 && z_index->shape[0] == n_e && lift_rows->shape[0] == n_e && lift_rows->shape[1] == n
          && damped->shape[0] == n_e;
@@ -262,10 +266,10 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *call, Py_ssize_t 
         PyErr_SetString(PyExc_ValueError, "integrate: inconsistent arguments (shapes, indices or limits)");
         goto done;
     }
-    /* work space of integrate: 4 states, the chunk lengths, 6 event vectors, the event tables (EventTables:
+    /* work space of integrate: 4 states, the chunk lengths, 7 event vectors, the event tables (EventTables:
      * the tables, a slot per state, a state per slot), 2 flags per state */
     const int64_t slots = table_slots(&m);
-    double *work = PyMem_Malloc((4 * n + m.levels + 1 + 6 * n_e + slots * n * 2 * n_e + m.count + slots
+    double *work = PyMem_Malloc((4 * n + m.levels + 1 + 7 * n_e + slots * n * 2 * n_e + m.count + slots
                                  + (2 * m.count) / sizeof(double) + 1) * sizeof(double));
     if (!work) {
         PyErr_NoMemory();

@@ -94,15 +94,19 @@ def _taylor(a: np.ndarray, a2: np.ndarray, a3: np.ndarray) -> np.ndarray:
 
 
 def story_rows(bits: int, table: np.ndarray, picks: np.ndarray, rows: np.ndarray, events: np.ndarray,
-               matrix_t: np.ndarray, fields: np.ndarray, zero_rows: int) -> None:
+               rates: np.ndarray, matrix_t: np.ndarray, fields: np.ndarray, zero_rows: int, soil_rows: int) -> None:
     """The rows of one state of yielding stories from its base's table (story_states.StoryBase.table, .picks),
     for the stories' bits `bits` (the pattern shifted past the foundation's bits): fields (n_y) their fields P +
     2 N (stories.story_fields); rows (n_aug + n_e, n_aug) its A, then its event rows, rows picks[0] + picks[1] *
     fields[picks[2]] of the table; events (n_e, n_aug) its event rows with the first zero_rows zero (a bonded
-    run's foundation); matrix_t its A^T. Copies only: the bits of _levels.c."""
+    run's foundation); matrix_t its A^T; rates (n_e, n_aug) the rates G A of its event rows: zero where the row
+    is, the stories' rows (from soil_rows on) each entry summed in the order of its terms (product), the
+    foundation's other rows left to the caller (np.matmul: story_requests.event_rates). The bits of _levels.c."""
     fields[:] = story_fields(bits, 0, fields.size)
     table.take(picks[0] + picks[1] * fields.take(picks[2]), axis=0, out=rows)
     n_aug = rows.shape[1]
     events[:] = rows[n_aug:]
     events[:zero_rows] = 0.0
     matrix_t[:] = rows[:n_aug].T
+    rates[:zero_rows] = 0.0
+    rates[soil_rows:] = product(events[soil_rows:], rows[:n_aug])

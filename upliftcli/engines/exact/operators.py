@@ -13,11 +13,11 @@ import numpy as np
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_OPERATOR_BYTES
 from .kept import reused
-from .level_operators import LEVELS, elastic_blocks, elastic_stories, hold_settlements, stacked_operators, state_levels
+from .level_operators import LEVELS, elastic_operators, hold_settlements, stacked_operators, state_levels
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 from .stories import story_bits, valid_story_pattern
-from .story_requests import add_quick, quick_requests
+from .story_requests import add_quick, event_rates
 from .story_states import StoryBase, add_bases, matrix_key, soil_rows, state_of
 from .yielding import pattern_bits, step_operators, valid_pattern
 
@@ -57,9 +57,10 @@ class Operators:
         self.event_rates = _reserve((self.capacity, n_e, n_aug), self.fill)
         self.matrices = np.empty((self.capacity, n_aug, n_aug))
         self.patterns = np.full(self.capacity, -1, dtype=np.int64)
+        self.slots = np.empty(self.capacity, dtype=np.int64)  # per state: the slot of ops of its operators (slot)
         self.contact: list[ContactState] = []
         # yielding stories (story_states.py): the base of each foundation pattern, and the state whose
-        # operators a state with the same A copies, by (foundation pattern, where the stories yield)
+        # operators a state with the same A shares (slots), by (foundation pattern, where the stories yield)
         self.bases: dict[int, StoryBase] = {}
         self.by_matrix: dict[tuple[int, int], int] = {}
 
@@ -77,9 +78,8 @@ class Operators:
         return story_bits(pattern, soil_rows(lay), lay.n_plastic) if lay.n_plastic else None
 
     def store(self, pattern: int, state: ContactState, ops: np.ndarray | None, events: bool) -> int:
-        """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS (None: the caller
-        writes them into self.ops[index] itself, with no copy between: until then it holds zeros, or
-        nothing defined where the arrays are not filled: self.fill)."""
+        """Keep a built state: ops[j] = expm(A^T h / 2^j) for j = 0..LEVELS (None: the caller writes them into
+        self.ops[index] or shares another's, share; until then zeros, or nothing defined: self.fill)."""
         index = self.slot()
         if ops is not None:
             self.ops[index] = ops
@@ -89,18 +89,23 @@ class Operators:
                 rows = rows.copy()
                 rows[:soil_rows(self.layout)] = 0.0
             self.events[index] = rows
-            np.matmul(rows, state.matrix, out=self.event_rates[index])
+            event_rates(rows, state.matrix, self.event_rates[index], soil_rows(self.layout))
         elif self.fill is None:  # no event rows: zero, as in arrays that start as zeros
             self.events[index] = self.event_rates[index] = 0.0
         self.matrices[index] = state.matrix.T
         return self.keep(index, pattern, state)
 
     def slot(self) -> int:
-        """The index of the next state to store, with room for it (_grow)."""
+        """The index of the next state to store (its operators in its slot of ops, unless shared), with room."""
         index = len(self.contact)
         if index == self.capacity:
             self._grow()
+        self.slots[index] = index
         return index
+
+    def share(self, index: int, source: int) -> None:
+        """State `index` steps with the operators of `source` (the same A): its own slot of ops stays unused."""
+        self.slots[index] = self.slots[source]
 
     def keep(self, index: int, pattern: int, state: ContactState) -> int:
         """Keep the state whose operators, event rows, rates and A^T are in slot `index` (slot()); its index."""
@@ -114,7 +119,7 @@ class Operators:
         self.capacity *= 2
         self.ops, self.matrices = _doubled(self.ops, self.fill), _doubled(self.matrices)
         self.events, self.event_rates = _doubled(self.events, self.fill), _doubled(self.event_rates, self.fill)
-        self.patterns = _doubled(self.patterns, -1)
+        self.patterns, self.slots = _doubled(self.patterns, -1), _doubled(self.slots)
 
 
 def block_operators(lay: Layout) -> bool:
@@ -148,8 +153,7 @@ def expected_states(lay: Layout) -> int:
 
 
 def state_bytes(lay: Layout) -> int:
-    """Memory of the step operators of one contact state [bytes] (LEVELS + 1 matrices n_aug x n_aug:
-    450 kB for the 20-element mat)."""
+    """Memory of the step operators of one contact state [bytes] (LEVELS + 1 of n_aug^2: 450 kB on 20 elements)."""
     return (LEVELS + 1) * lay.n_aug**2 * 8
 
 
@@ -170,8 +174,7 @@ def reserved_states(lay: Layout) -> int:
 
 
 def max_states(lay: Layout) -> int:
-    """The most distinct contact states one run may build: their operators within
-    limits.MAX_OPERATOR_BYTES (1,885 on a 31-element mat with a bearing capacity)."""
+    """The most distinct contact states one run may build: within limits.MAX_OPERATOR_BYTES (1,885 on 31 elements)."""
     return max(64, MAX_OPERATOR_BYTES // state_bytes(lay))
 
 
@@ -202,12 +205,8 @@ def _doubled(array: np.ndarray, fill: float | None = None) -> np.ndarray:
 
 _NO_INERTIA = ("the mat rotation has neither inertia nor damping in this contact state "
                "(all damping ratios 0 and no element damping): give the mat a rotary inertia I_0 > 0")
-
-
 _LIFTED_AND_YIELDING = ("a contact element started to lift off and to yield at the same instant (its dashpot "
                         "force balanced its capacity exactly): reduce the time step (analysis.exact.time_step)")
-
-
 _BOTH_WAYS = ("a story started to yield both ways at the same instant: reduce the time step "
               "(analysis.exact.time_step)")
 
@@ -219,9 +218,9 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
     where a story yields: level_operators.state_levels, each written in place). Each item gets the
     same bits as built alone (the one request of each yielding-story run: story_requests.py, without this
     batch machinery). Returns the new state index, or the error, per request."""
-    quick = quick_requests(requests)
+    quick = add_quick(requests)
     if quick is not None:
-        return add_quick(quick)
+        return quick
     out: list[int | AnalysisError] = [AnalysisError(_NO_INERTIA)] * len(requests)
     for members in _groups(requests, out).values():
         built = _built_states(requests, members)
@@ -233,34 +232,36 @@ def add_states(requests: list[tuple[Operators, int, bool]]) -> list[int | Analys
         fresh, copies = _shared_operators(requests, built)
         if fresh:
             _exponentiated(requests, fresh, out)
-        for k, state, key in copies:  # the same A as a state built before: its operators, bit for bit
+        for k, state, key in copies:  # the same A as a state built before: its operators, no copy
             operators, pattern, events = requests[k]
-            out[k] = operators.store(pattern, state, operators.ops[operators.by_matrix[key]], events)
+            out[k] = operators.store(pattern, state, None, events)
+            operators.share(out[k], operators.by_matrix[key])
     return out
 
 
 def _exponentiated(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState, tuple | None]],
                    out: list[int | AnalysisError]) -> None:
-    """Store the states `built` ((index, state, key of A: _shared_operators)): those where a story yields with
-    their operators written in place (level_operators.state_levels: the Taylor polynomial and squarings, in
-    C), the others' from one stacked exponentiation (_level_operators; those of yielding stories where none
-    yields with the elastic building's from one more: level_operators.elastic_blocks), in the order of
-    `built`."""
-    plain = [(k, state) for k, state, key in built if not _story_yields(key)]
-    stacked = iter(_level_operators(requests, plain))
-    blocks = iter(elastic_blocks([state for _, state in plain], requests[built[0][0]][0].layout,
-                                 [requests[k][0].h for k, _ in plain]))
+    """Store the states `built` ((index, state, key of A: _shared_operators; one layout)): those of yielding stories
+    with their operators written in place (level_operators.state_levels: the Taylor polynomial and squarings, in
+    C), where no story yields those of the entries other than the plastic drifts then the elastic building's
+    (level_operators.elastic_operators); those of an elastic building from one stacked exponentiation (_stacked);
+    in the order of `built`."""
+    if built[0][2] is None:  # an elastic building (every key None)
+        _stacked(requests, built, out)
+        return
     for k, state, key in built:
-        if _story_yields(key):
-            out[k] = _stored(requests[k], state, key, None)
-        else:
-            out[k] = _stored(requests[k], state, key, _held(next(stacked), state, requests[k][0], next(blocks)))
+        out[k] = _stored(requests[k], state, key, None)
+    elastic_operators([(requests[k][0].ops[out[k]], state, requests[k][0].h) for k, state, _ in built],
+                      requests[built[0][0]][0].layout)
 
 
-def _story_yields(key: tuple | None) -> bool:
-    """Whether some story yields in a state whose A has the key `key` (story_states.matrix_key: its second item
-    the bits of where the stories yield; None: elastic stories): its operators then come from state_levels."""
-    return key is not None and key[1] != 0
+def _stacked(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState, None]],
+             out: list[int | AnalysisError]) -> None:
+    """Store the states `built` of an elastic building with their operators from one stacked exponentiation
+    (_level_operators), the settlements of elements that do not yield held (_held)."""
+    stacked = _level_operators(requests, [(k, state) for k, state, _ in built])
+    for (k, state, key), ops in zip(built, stacked, strict=True):
+        out[k] = _stored(requests[k], state, key, _held(ops, state, requests[k][0]))
 
 
 def _stored(request: tuple[Operators, int, bool], state: ContactState, key: tuple | None, ops: np.ndarray | None
@@ -277,21 +278,17 @@ def _stored(request: tuple[Operators, int, bool], state: ContactState, key: tupl
     return index
 
 
-def _held(ops: np.ndarray, state: ContactState, operators: Operators, block: np.ndarray | None) -> np.ndarray:
-    """The stacked exponentiation's operators of a state with the entries that stay constant in it held
-    exactly: the settlements of elements that do not yield, the plastic drifts of elastic stories (and a
-    state with yielding stories where none yields: level_operators.elastic_stories, with the elastic
-    building's operators `block`)."""
+def _held(ops: np.ndarray, state: ContactState, operators: Operators) -> np.ndarray:
+    """The stacked exponentiation's operators of a state of an elastic building with the settlements of elements
+    that do not yield held exactly (constant entries)."""
     if state.yielding is not None:
         hold_settlements(ops, operators.layout.settlement_indices[~state.yielding])
-    if state.story_sign is not None:
-        elastic_stories(ops, state, operators.layout, operators.h, block)
     return ops
 
 
 def _level_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
                      ) -> np.ndarray:
-    """E_j^T, j = 0..LEVELS, of each state of `built` (none where a story yields) in one stacked exponentiation
+    """E_j^T, j = 0..LEVELS, of each state of `built` (of an elastic building) in one stacked exponentiation
     (level_operators.stacked_operators)."""
     if not built:
         return np.empty((0, LEVELS + 1, 0, 0))
@@ -302,7 +299,7 @@ def _level_operators(requests: list[tuple[Operators, int, bool]], built: list[tu
 def _shared_operators(requests: list[tuple[Operators, int, bool]], built: list[tuple[int, ContactState]]
                       ) -> tuple[list[tuple[int, ContactState, tuple | None]], list[tuple[int, ContactState, tuple]]]:
     """(index, state, key) of the states of `built` whose operators are to be computed, and of those whose A
-    is that of a state built before or earlier in `built`, which copy its operators once it is stored; the key
+    is that of a state built before or earlier in `built`, which share its operators once it is stored; the key
     of A (yielding stories: story_states.matrix_key, else None)."""
     fresh, copies, first = [], [], set()
     for k, state in built:

@@ -20,6 +20,8 @@ import copy
 from dataclasses import replace
 from typing import Any
 
+import numpy as np
+
 from ...model.system import System
 from ..options import ExactOptions
 from .digest import Digest
@@ -40,11 +42,12 @@ def store_key(system: System, support: str, options: ExactOptions, model: Any, h
 
 
 def used_bytes(operators: Operators) -> int:
-    """Memory of the states stored in `operators` [bytes] (the arrays' rows beyond them are never
-    touched: virtual memory only)."""
+    """Memory of the states stored in `operators` [bytes]: their event rows, rates and A^T, and the slots of
+    operators they step with (Operators.slots: a slot a state shares is counted once; the arrays' rows beyond
+    them are never touched: virtual memory only)."""
     n = len(operators.contact)
-    return sum(array[:n].nbytes for array in (operators.ops, operators.events, operators.event_rates,
-                                               operators.matrices))
+    shared = np.unique(operators.slots[:n]).size * operators.ops[0].nbytes
+    return shared + sum(array[:n].nbytes for array in (operators.events, operators.event_rates, operators.matrices))
 
 
 def fork(operators: Operators) -> Operators:

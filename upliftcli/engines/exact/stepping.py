@@ -146,7 +146,8 @@ class Run:
         ops = self.operators
         while True:
             status, self.step, self.offset, self.state, self.n_out, pattern = self.integrate(
-                kernel.States(ops.ops, ops.events, ops.event_rates, ops.matrices, ops.patterns, len(ops.contact)),
+                kernel.States(ops.ops, ops.slots, ops.events, ops.event_rates, ops.matrices, ops.patterns,
+                              len(ops.contact)),
                 self.elements, self.grid, self.samples, self.state, self.step, self.offset, self.n_out,
             )
             if status == kernel.DONE:

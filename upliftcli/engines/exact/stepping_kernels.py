@@ -2,7 +2,7 @@
 numpy twin (stepping_numpy.py), as upliftcli.runtime.backend chooses.
 
 For each contact state s the caller supplies the exact step operators
-ops[s, j] = expm(A_s h / 2^j)^T, j = 0..L, of the augmented autonomous system (see
+ops[slots[s], j] = expm(A_s h / 2^j)^T, j = 0..L, of the augmented autonomous system (see
 statespace.py), the event rows G_s, their rates G_s A_s and A_s^T (operators and
 matrices are passed transposed: see matvec). A step of length h is one
 matrix-vector product. When an event function turns positive at the end of a chunk,
@@ -35,9 +35,10 @@ EVENT_TOLERANCE = 1e-12
 REFINE_LEVELS = 5
 # (the same constants are #defined in _stepping.c and events.h)
 
-#: the contact states built so far: step operators ops[s, j] = expm(A_s h / 2^j)^T, event rows
-#: G_s, their rates G_s A_s, A_s^T, the contact pattern of each and how many there are
-States = namedtuple("States", "ops events event_rates matrices patterns count")
+#: the contact states built so far: step operators ops[slots[s], j] = expm(A_s h / 2^j)^T (states of
+#: the same A share a slot: operators.Operators.share), event rows G_s, their rates G_s A_s, A_s^T, the
+#: contact pattern of each and how many there are
+States = namedtuple("States", "ops slots events event_rates matrices patterns count")
 #: the elements, per event row r (one per element; two with a bearing capacity, yielding.py):
 #: the state index set when a crossing of row r turns bit r of the pattern on, the row it is set
 #: from (X[z_index[r]] := lift_rows[r] . X where damped[r], else 0: the top z_i of a lifting

@@ -120,7 +120,7 @@ class _Loop:
     """One call of integrate: the model, the C loop's step (finish_step) and runs of blocks (run_blocks)."""
 
     def __init__(self, states, elements, grid, samples):
-        self.ops, self.events, self.rates, self.matrices, self.patterns, self.count = states
+        self.ops, self.slots, self.events, self.rates, self.matrices, self.patterns, self.count = states
         self.z_index, self.lift_rows, self.damped, self.all_lifted, self.allow_flight = elements
         self.ground, self.slopes, self.h, self.levels, self.ia, self.islope = grid
         self.x, self.out_x, self.out_t, self.out_state = samples
@@ -139,7 +139,7 @@ class _Loop:
         return events, self.rates[state][:events.shape[0]]
 
     def step_with(self, state: int, level: int, x: np.ndarray) -> np.ndarray:
-        return x @ self.ops[state, level]
+        return x @ self.ops[self.slots[state], level]
 
     # ------------------------------------------------------------------ the C loop's step
     def crossing(self, state, x, level, events):
@@ -247,7 +247,8 @@ class _Loop:
         `size`, needs finish_step)."""
         if state not in self.blocks:
             events, rates = self.state_events(state)
-            self.blocks[state] = _Block(self.ops[state, 0].T, events, rates, self.free, self.ia, self.islope)
+            operator = self.ops[self.slots[state], 0].T
+            self.blocks[state] = _Block(operator, events, rates, self.free, self.ia, self.islope)
         block, x = self.blocks[state], self.x
         count = -(-size // BLOCK)
         inputs = np.zeros((2, count * BLOCK))

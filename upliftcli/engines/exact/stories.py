@@ -67,6 +67,8 @@ def plastic_forcing(stories: StoryYield, to_modal: np.ndarray) -> np.ndarray:
 _SIGN_OF_FIELD = np.array([0, 1, -1, 0], dtype=np.int8)
 #: where the field of story s starts in the pattern's story bits: 2 s (the 31 stories 62 bits hold)
 _FIELD_SHIFTS = 2 * np.arange(31, dtype=np.int64)
+#: bits 0, 2, .., 2 (n - 1) set, by n (the low bit of each of n stories' fields), not rebuilt per state
+EVEN_BITS = tuple(int("01" * n, 2) if n else 0 for n in range(32))
 
 
 def story_bits(pattern: int, base: int, count: int) -> np.ndarray:
@@ -89,7 +91,7 @@ def sign_of_fields(fields: np.ndarray) -> np.ndarray:
 def valid_story_pattern(pattern: int, base: int, count: int) -> bool:
     """False where a story would yield both ways at once (no such state)."""
     bits = pattern >> base
-    return not bits & (bits >> 1) & int("01" * count, 2)
+    return not bits & (bits >> 1) & EVEN_BITS[count]
 
 
 def plastic_rows(stories: StoryYield, drift_rate: np.ndarray, sign: np.ndarray) -> np.ndarray:

@@ -6,17 +6,22 @@ base of its foundation pattern (story_states.story_state), the operators of a st
 builds them here where every request qualifies (quick_requests): a run whose operators are not a yielding mat
 of many elements (Operators.quick), the base of its foundation pattern kept, a valid pattern within the run's
 state limit, some story yielding or an A built before, and no two requests of one run (whose order among the
-states add_states builds together would differ). The others, and any error, stay with add_states.
+states add_states builds together would differ). The others, and any error, stay with add_states. The module
+that builds them (_levels.c or its twin) is the one its base was made with (StoryBase.levels: asked once, not for
+each state).
+
+The rates G A of the stories' event rows are written by the same compiled call as the rows (story_rows: each
+entry summed in the order of its terms, levels_numpy.product), the foundation's by np.matmul, and
+Operators.store gives a state of yielding stories the same (event_rates).
 """
 
 from __future__ import annotations
 
-from types import ModuleType
 from typing import Protocol
 
 import numpy as np
 
-from ...runtime import backend
+from .levels_numpy import product
 from .statespace import ContactState, Layout
 from .stories import sign_of_fields, valid_story_pattern
 from .story_states import StoryBase, matrix_key, soil_rows
@@ -42,6 +47,8 @@ class QuickOperators(Protocol):
     def slot(self) -> int: ...
 
     def keep(self, index: int, pattern: int, state: ContactState) -> int: ...
+
+    def share(self, index: int, source: int) -> None: ...
 
 
 #: a qualified request: (operators, pattern, the base of its foundation pattern, the key of its A)
@@ -93,30 +100,47 @@ def _valid(pattern: int, lay: Layout, n_soil: int) -> bool:
     return valid_story_pattern(pattern, n_soil, lay.n_plastic)
 
 
-def add_quick(requests: list[Quick]) -> list[int]:
-    """Build and store the states of qualified requests (quick_requests); their indices."""
-    levels = backend.loops(f"{__package__}._levels", f"{__package__}.levels_numpy")
-    return [_added(request, levels) for request in requests]
+def add_quick(requests: list[tuple[QuickOperators, int, bool]]) -> list[int] | None:
+    """Build and store the states of the requests (operators, pattern, with event rows) where each qualifies
+    (quick_requests); their indices, else None (operators.add_states builds them all)."""
+    quick = quick_requests(requests)
+    return None if quick is None else [_added(request) for request in quick]
 
 
-def _added(request: Quick, levels: ModuleType) -> int:
+def _added(request: Quick) -> int:
     """Store the state of one qualified request: its A and event rows from its base's table, its event rows, their
-    rates and A^T in its slot (levels.story_rows), and the operators of the state of the same A or its own
-    (levels.state_levels, written into the slot); its index."""
+    rates (the foundation's of an uplift run: _foundation_rates) and A^T in its slot (levels.story_rows), and the
+    operators of the state of the same A or its own (levels.state_levels, written into the slot); its index."""
     operators, pattern, base, key = request
-    n_aug, index = operators.layout.n_aug, operators.slot()
+    n_aug, index, soil, levels = operators.layout.n_aug, operators.slot(), base.soil_rows, base.levels
     rows = np.empty((base.picks.shape[1], n_aug))
     fields = np.empty(operators.layout.n_plastic, dtype=np.int64)
-    levels.story_rows(pattern >> base.soil_rows, base.table, base.picks, rows, operators.events[index],
-                      operators.matrices[index], fields, 0 if operators.uplift else base.soil_rows)
+    zero_rows = 0 if operators.uplift else soil
+    levels.story_rows(pattern >> soil, base.table, base.picks, rows, operators.events[index],
+                      operators.event_rates[index], operators.matrices[index], fields, zero_rows, soil)
     matrix = rows[:n_aug]
-    np.matmul(operators.events[index], matrix, out=operators.event_rates[index])
+    if zero_rows < soil:
+        _foundation_rates(operators, index, matrix, soil)
     source = operators.by_matrix.get(key)
     if source is None:
         levels.state_levels(matrix, float(operators.h), operators.ops[index])
         operators.by_matrix[key] = index
     else:  # the same A as a state built before: its operators, bit for bit
-        operators.ops[index] = operators.ops[source]
+        operators.share(index, source)
     state = ContactState(base.state.lifted, matrix, base.state.velocity, rows[n_aug:], base.state.yielding,
                          sign_of_fields(fields))
     return operators.keep(index, pattern, state)
+
+
+def _foundation_rates(operators: QuickOperators, index: int, matrix: np.ndarray, soil: int) -> None:
+    """The rates of the foundation's event rows of state `index` (an uplift run's), as event_rates has them."""
+    np.matmul(operators.events[index, :soil], matrix, out=operators.event_rates[index, :soil])
+
+
+def event_rates(rows: np.ndarray, matrix: np.ndarray, out: np.ndarray, soil: int) -> None:
+    """out = rows A, the rates of a state's event rows (Operators.store): the foundation's first `soil` rows by
+    np.matmul (all of them without yielding stories: as ever), the stories' each entry summed in the order of its
+    terms (levels_numpy.product), as _levels.story_rows writes them."""
+    np.matmul(rows[:soil], matrix, out=out[:soil])
+    if soil < rows.shape[0]:
+        out[soil:] = product(rows[soil:], matrix)

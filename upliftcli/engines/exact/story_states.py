@@ -14,11 +14,13 @@ from the base's table (StoryBase.table, .picks) in one compiled call (level_oper
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import ModuleType
 from typing import Protocol
 
 import numpy as np
 
 from . import stories
+from .level_operators import loops
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
 
@@ -33,7 +35,8 @@ class StoryBase:
     P, never; row 2 j + 1 the onset of N, never, the unloading from N. A state takes rows picks[:n_aug] of
     matrices and picks[n_aug:] of events, picks = pick_base + pick_step * code[pick_story] (_picks). table and
     picks: the same as one table (matrices, then events) and the picks into it (3, n_aug + n_e: base, step,
-    story), as level_operators.story_rows takes them (story_requests.py)."""
+    story), as level_operators.story_rows takes them (story_requests.py); levels: the module that builds the
+    states from them (level_operators.loops when the base was made: _levels.c or its twin)."""
 
     state: ContactState
     soil_rows: int
@@ -44,6 +47,7 @@ class StoryBase:
     pick_story: np.ndarray
     table: np.ndarray
     picks: np.ndarray
+    levels: ModuleType
 
 
 def story_bases(spaces: list[StateSpace], lifted: np.ndarray, yielding: np.ndarray | None, criterion: str,
@@ -75,7 +79,7 @@ def _base(space: StateSpace, state: ContactState, soil_rows: int) -> StoryBase:
     picks = _picks(lay.n_aug, lay.plastic_indices, soil_rows)
     into_table = np.stack(picks)
     into_table[0, lay.n_aug:] += matrices.shape[0]  # the event rows after the matrices' rows
-    return StoryBase(state, soil_rows, matrices, events, *picks, np.vstack((matrices, events)), into_table)
+    return StoryBase(state, soil_rows, matrices, events, *picks, np.vstack((matrices, events)), into_table, loops())
 
 
 def _picks(n_aug: int, plastic: np.ndarray, soil_rows: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -115,11 +119,7 @@ def matrix_key(pattern: int, lay: Layout) -> tuple[int, int]:
     its stories yield (the signs P and N give the same A): bit 2 s set where story s yields."""
     n_soil = soil_rows(lay)
     bits = pattern >> n_soil
-    return pattern & ((1 << n_soil) - 1), (bits | (bits >> 1)) & _EVEN_BITS[lay.n_plastic]
-
-
-#: bits 0, 2, .., 2 (n - 1) set, by n (a pattern holds at most 31 stories' fields)
-_EVEN_BITS = tuple(int("01" * n, 2) if n else 0 for n in range(32))
+    return pattern & ((1 << n_soil) - 1), (bits | (bits >> 1)) & stories.EVEN_BITS[lay.n_plastic]
 
 
 class StoryOperators(Protocol):

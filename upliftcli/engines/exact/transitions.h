@@ -24,7 +24,7 @@ static inline void matvec(const double *restrict matrix_t, const double *restric
 /* the contact states and elements of one run (see stepping_kernels.States, Elements, Grid) */
 typedef struct {
     const double *ops, *events, *rates, *matrices;
-    const int64_t *patterns;
+    const int64_t *slots, *patterns; /* slots: per state, its operators' slot of ops (states of one A share one) */
     int64_t count, n_events, n, levels;
     const int64_t *z_index;
     const double *lift_rows;
@@ -35,7 +35,7 @@ typedef struct {
 
 static inline const double *op_of(const Model *m, int64_t state, int64_t level)
 {
-    return m->ops + (state * (m->levels + 1) + level) * m->n * m->n;
+    return m->ops + (m->slots[state] * (m->levels + 1) + level) * m->n * m->n;
 }
 
 /* The event rows of the states a call of integrate enters, transposed for strided_product (product.h):
@@ -83,30 +83,84 @@ static inline void table_values(const double *table, int64_t n_e, const double *
     strided_product(table, 2 * n_e, x, n, n_e, values);
 }
 
+/* the rows of `values` above the tolerance into rows; their count */
+static inline int64_t rows_above(const double *values, int64_t n_e, int64_t *rows)
+{
+    int64_t count = 0;
+    for (int64_t i = 0; i < n_e; i++) {
+        if (values[i] > EVENT_TOLERANCE) {
+            rows[count++] = i;
+        }
+    }
+    return count;
+}
+
+/* whether one of the `count` rows is above the tolerance at x, each value summed as table_values sums it
+ * (over q = 0, 1, ... from +0: the same bits; the terms of zero components, which it skips, add a zero that
+ * changes no such sum) */
+static inline int some_above(const double *table, int64_t n_e, const double *x, int64_t n, const int64_t *rows,
+                             int64_t count)
+{
+    for (int64_t k = 0; k < count; k++) {
+        const double *column = table + rows[k];
+        double value = 0.0;
+        for (int64_t q = 0; q < n; q++) {
+            value += column[q * 2 * n_e] * x[q];
+        }
+        if (value > EVENT_TOLERANCE) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* Bracket the first crossing inside the chunk x -> trial by bisection with the finer exact
  * operators down to h / 2^L (left, right: its ends), then place it by linear interpolation of
  * each event function inside that last sliver. Returns start; *fraction: the crossing is at
- * start + fraction * chunk[L] from x. table: the state's (EventTables); work: 2 n_e doubles. */
+ * start + fraction * chunk[L] from x. table: the state's (EventTables); g_x, g_end: the event values at x
+ * and at the chunk's end; work: 3 n_e doubles, the values at right in work + n_e on return (switch_pattern).
+ * A bisection point is tried on the rows last seen above the tolerance first (some_above): where one of
+ * them is above it, so is the largest of all (about half the points, whose other rows are not evaluated);
+ * elsewhere on all rows, as before. What is known already is not computed again (the same products of the
+ * same vectors: the same bits): the values at left (x's, or those of the point it moved to) and, where the
+ * finest point did not move it, right (that point) and its values where they were evaluated. */
 static ALWAYS_INLINE double crossing(const Model *m, int64_t state, const double *table, const double *x,
-                                     int64_t level, const double *chunk, double *left, double *trial, double *right,
-                                     double *fraction, double *work)
+                                     int64_t level, const double *chunk, const double *g_x, const double *g_end,
+                                     double *left, double *trial, double *right, double *fraction, double *work)
 {
     const int64_t n = m->n, n_levels = m->levels, n_e = m->n_events;
     double *gl = work, *gr = work + n_e;
+    int64_t *above = (int64_t *)(work + 2 * n_e), n_above = rows_above(g_end, n_e, above);
     memcpy(left, x, n * sizeof(double));
+    memcpy(gl, g_x, n_e * sizeof(double));
     double start = 0.0;
+    int finest = 0; /* 1: trial is the finest point from left (right), 2: and gr its values */
     for (int64_t j = level + 1; j <= n_levels; j++) {
         matvec(op_of(m, state, j), left, trial, n);
+        finest = j == n_levels;
+        if (some_above(table, n_e, trial, n, above, n_above)) {
+            continue;
+        }
         table_values(table, n_e, trial, n, gr);
         if (largest(gr, n_e) <= EVENT_TOLERANCE) {
             memcpy(left, trial, n * sizeof(double));
+            memcpy(gl, gr, n_e * sizeof(double));
             start += chunk[j];
+            finest = 0;
+        } else {
+            n_above = rows_above(gr, n_e, above);
+            finest *= 2;
         }
     }
-    matvec(op_of(m, state, n_levels), left, right, n);
+    if (finest) {
+        memcpy(right, trial, n * sizeof(double));
+    } else {
+        matvec(op_of(m, state, n_levels), left, right, n);
+    }
     /* earliest crossing inside the last sliver, linear interpolation of each g_i */
-    table_values(table, n_e, left, n, gl);
-    table_values(table, n_e, right, n, gr);
+    if (finest != 2) {
+        table_values(table, n_e, right, n, gr);
+    }
     double best = 1.0;
     for (int64_t i = 0; i < n_e; i++) {
         if (gr[i] > EVENT_TOLERANCE) {
@@ -129,15 +183,16 @@ static ALWAYS_INLINE double crossing(const Model *m, int64_t state, const double
 /* The new contact pattern at the crossing x: every element whose event function has reached
  * zero there (and is positive at the sliver's end) switches; a lifting element's top starts
  * where the edge is (k z + c z' = 0 from there). Updates x (the rows after a switch are evaluated
- * at the updated x, one at a time). table: the state's (EventTables); work: 2 n_e doubles. */
+ * at the updated x, one at a time). table: the state's (EventTables); work: 2 n_e doubles, the
+ * values at the sliver's end in work + n_e (crossing's). */
 static ALWAYS_INLINE int64_t switch_pattern(const Model *m, int64_t state, const double *table, int64_t pattern,
-                                            double *x, const double *right, double *work)
+                                            double *x, double *work)
 {
     const int64_t n = m->n, n_e = m->n_events;
     const double *events = m->events + state * n_e * n;
-    double *gx = work, *gr = work + n_e;
+    double *gx = work;
+    const double *gr = work + n_e;
     table_values(table, n_e, x, n, gx);
-    table_values(table, n_e, right, n, gr);
     int updated = 0;
     for (int64_t i = 0; i < n_e; i++) {
         const double at_x = updated ? dot(events + i * n, x, n) : gx[i];
