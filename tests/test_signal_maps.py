@@ -100,3 +100,32 @@ def test_the_derivatives_loop_is_its_twin():
     np.testing.assert_allclose(t2, c2, rtol=0, atol=1e-12)
     with backend.use("compiled"), pytest.raises(ValueError, match="inconsistent"):
         response_kernels.derivatives(x, ids, [np.zeros((6, 6))] * 3, *run())
+
+
+def test_evaluate_signals_leaves_the_samples_of_negative_ids():
+    """A sample of a negative id (a state the caller evaluates: signal_maps._mixed) and the left limit at the end of
+    its interval are left as they were, the others are those of a call with every id; the left limits keep their
+    places among all transitions (distinct negative ids, distinct states), on both backends."""
+    rng = np.random.default_rng(5)
+    rows = rng.standard_normal((3, 9, 6))
+    states = rng.standard_normal((40, 6))
+    every = np.repeat(np.array([0, 3, 1, 4, 4, 2, 0, 3, 1, 1]), 4).astype(np.int64)  # 3 and 4: the caller's
+    ids = np.where(every < 3, every, 2 - every)  # -1 and -2
+    at = np.flatnonzero(every[1:] != every[:-1])
+    full = np.where(every < 3, every, 0)
+
+    def run(which):
+        values, slopes, ends = np.full((40, 5), np.nan), np.full((40, 4), np.nan), np.full((at.size, 9), np.nan)
+        response_kernels.evaluate_signals(states, which, rows, values, slopes, ends)
+        return values, slopes, ends
+
+    for (values, slopes, ends), (all_values, all_slopes, _) in zip(on_both(lambda: run(ids)),
+                                                                    on_both(lambda: run(full)), strict=True):
+        mine = ids >= 0
+        assert np.isnan(values[~mine]).all() and np.isnan(slopes[~mine]).all()
+        np.testing.assert_array_equal(values[mine], all_values[mine])
+        np.testing.assert_array_equal(slopes[mine], all_slopes[mine])
+        from_mine = ids[at] >= 0
+        assert np.isnan(ends[~from_mine]).all()
+        expected = np.einsum("ijk,ik->ij", rows[ids[at][from_mine]], states[at[from_mine] + 1])
+        np.testing.assert_allclose(ends[from_mine], expected, rtol=1e-12, atol=1e-12)

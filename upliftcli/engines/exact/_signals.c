@@ -213,7 +213,7 @@ HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n
     int64_t n_switch = 0, transposed = -1;
     for (int64_t i0 = 0; i0 < n; i0 += PRODUCT_SAMPLES) {
         const int64_t count = n - i0 < PRODUCT_SAMPLES ? n - i0 : PRODUCT_SAMPLES;
-        int same = count == PRODUCT_SAMPLES && !split[ids[i0]].whole;
+        int same = count == PRODUCT_SAMPLES && ids[i0] >= 0 && !split[ids[i0]].whole;
         for (int64_t i = i0 + 1; i < i0 + count; i++) {
             same &= ids[i] == ids[i0];
         }
@@ -222,6 +222,11 @@ HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n
             product_samples(rows->dense, states + i0 * n_aug, n_aug, rows->dense_width, dense_block);
         }
         for (int64_t i = i0; i < i0 + count; i++) {
+            if (ids[i] < 0) { /* a sample the caller evaluates (of a state the caller names by a negative id), and
+                               * the left limit at the end of its interval */
+                n_switch += i + 1 < n && ids[i + 1] != ids[i];
+                continue;
+            }
             const SplitRows *rows = split + ids[i];
             if (rows->whole && transposed != ids[i]) {
                 transpose_rows(rows->whole, width, n_aug, whole_t);
@@ -300,7 +305,7 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
     int64_t transitions = 0;
     int ids_ok = 1;
     for (int64_t i = 0; i < ids->shape[0]; i++) {
-        ids_ok &= INT64S(ids)[i] >= 0 && INT64S(ids)[i] < rows_in->shape[0];
+        ids_ok &= INT64S(ids)[i] < rows_in->shape[0];
         transitions += i > 0 && INT64S(ids)[i] != INT64S(ids)[i - 1];
     }
     if (ids->shape[0] != n || rows_in->shape[2] != n_aug || rows_in->shape[1] != k + k_s || values->shape[0] != n
@@ -312,20 +317,20 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
     /* the states used at least SPLIT_USES times (samples and left limits) are split (split_rows);
      * the others' rows are used whole (a yielding run meets hundreds of states, most at a few
      * samples, and splitting each cost it more than the products it saves: measured) */
-    int64_t *uses = calloc(n_states + 1, sizeof(int64_t));
+    int64_t *uses = calloc(n_states + 2, sizeof(int64_t)); /* uses[s + 1]: state s's (uses[0]: the caller's states') */
     if (!uses) {
         PyErr_NoMemory();
         goto done;
     }
     for (int64_t i = 0; i < n; i++) { /* a sample, and the left limit of the state before a transition */
-        uses[INT64S(ids)[i]]++;
+        uses[INT64S(ids)[i] < 0 ? 0 : INT64S(ids)[i] + 1]++;
         if (i > 0 && INT64S(ids)[i] != INT64S(ids)[i - 1]) {
-            uses[INT64S(ids)[i - 1]]++;
+            uses[INT64S(ids)[i - 1] < 0 ? 0 : INT64S(ids)[i - 1] + 1]++;
         }
     }
     int64_t n_split = 0;
     for (int64_t s = 0; s < n_states; s++) {
-        n_split += uses[s] >= SPLIT_USES;
+        n_split += uses[s + 1] >= SPLIT_USES;
     }
     /* work space: the products (evaluate_signals) and, per state split, its split rows (split_rows), the sums of
      * split_rows and the transposed rows of one state (whole_t) */
@@ -347,7 +352,7 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
     for (int64_t s = 0, j = 0; s < n_states; s++) {
         SplitRows *rows = split + s;
         rows->width = width;
-        rows->whole = uses[s] >= SPLIT_USES ? NULL : DOUBLES(rows_in) + s * per_state;
+        rows->whole = uses[s + 1] >= SPLIT_USES ? NULL : DOUBLES(rows_in) + s * per_state;
         if (rows->whole) {
             continue;
         }

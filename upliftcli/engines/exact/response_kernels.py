@@ -36,8 +36,10 @@ def evaluate_signals(states: np.ndarray, ids: np.ndarray, rows: np.ndarray, valu
     (n, k_s) filled in place; ends
     (n_switch, k + k_s): the left limits at the end of every interval that ends at a
     transition, in order. The rows of each state used at least 32 times (its samples and left
-    limits: _signals.c, SPLIT_USES) are split once per call: a row equal to an earlier one is
-    copied (the slopes of Y*' are the values of Y*''), one with few nonzero coefficients sums them
+    limits: _signals.c, SPLIT_USES) are split once per call. A sample whose id is negative is left as it is,
+    and so is the left limit at the end of its interval (the caller's, signal_maps._mixed, which gives each
+    such state its own negative id: the transitions count as ever). The rows are split: a row equal to an
+    earlier one is copied (the slopes of Y*' are the values of Y*''), one with few nonzero coefficients sums them
     alone, the rest is one dense product; the other states' rows are multiplied whole (a yielding
     run meets hundreds of states, most at a few samples). Every way gives the bits of the dense
     product R x.

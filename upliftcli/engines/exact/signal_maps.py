@@ -164,25 +164,23 @@ def _uses(ids: np.ndarray, at: np.ndarray, n_states: int) -> np.ndarray:
 def _mixed(history: History, used: np.ndarray, ids: np.ndarray, at: np.ndarray) -> tuple:
     """evaluated's outputs of a run with yielding stories: a hundred states or more, most of them met at a few
     samples, whose rows (R A, R A^2) would cost more than their products: the states of SPLIT_USES products or
-    more from their rows (the bits they always had), the others from X' = A X and X'' = A X' at their samples and
-    left limits and the values' rows (_derived: the same numbers to round-off)."""
+    more from their rows (the bits they always had; evaluate_signals leaves the others' samples, negative ids), the
+    others from X' = A X and X'' = A X' at their samples and left limits and the values' rows (_derived: the
+    same numbers to round-off)."""
     lay = history.space.layout
-    names = signal_layout(history.space.model.n_modes, lay.n_elements, lay.n_plastic)
-    start, _, width = _sizes(names)
+    start, _, width = _sizes(signal_layout(history.space.model.n_modes, lay.n_elements, lay.n_plastic))
     many = _uses(ids, at, used.size) >= SPLIT_USES
-    x, end_x = history.states, history.states[at + 1]
-    out = (np.empty((ids.size, start)), np.empty((ids.size, width)), np.empty((at.size, start)),
-           np.empty((at.size, width)), np.empty((used.size, width)))
-    sampled, ended = many[ids], many[ids[at]]
-    if many.any():
-        local = np.cumsum(many) - 1  # each state's index among those of many products
-        rows = signal_rows(history, used[many])
-        out[0][sampled], out[1][sampled] = _evaluate(x[sampled], local[ids[sampled]], rows, start)
-        out[2][ended], out[3][ended] = _evaluate(end_x[ended], local[ids[at][ended]], rows, start)
-        out[4][many] = rows[:, start:, lay.index_slope]
-    if not many.all():
-        _derived(history, used, ~many, np.vstack((x[~sampled], end_x[~ended])),
-                 np.concatenate((ids[~sampled], ids[at][~ended])), ((~sampled).sum(), sampled, ended), out)
+    rows = signal_rows(history, used[many]) if many.any() else np.zeros((1, start + width, lay.n_aug))
+    values, slopes, ends = np.empty((ids.size, start)), np.empty((ids.size, width)), np.empty((at.size, start + width))
+    local = np.where(many, np.cumsum(many) - 1, -1 - np.arange(used.size))  # the others each a negative id
+    response_kernels.evaluate_signals(history.states, local[ids], rows, values, slopes, ends)
+    coefficients = np.empty((used.size, width))
+    coefficients[many] = rows[:many.sum(), start:, lay.index_slope]
+    out = (values, slopes, np.ascontiguousarray(ends[:, :start]), np.ascontiguousarray(ends[:, start:]), coefficients)
+    few, ended = ~many[ids], ~many[ids[at]]
+    if few.any():
+        _derived(history, used, ~many, np.vstack((history.states[few], history.states[at[ended] + 1])),
+                 np.concatenate((ids[few], ids[at][ended])), (np.count_nonzero(few), few, ended), out)
     return out
 
 
@@ -191,7 +189,7 @@ def _derived(history: History, used: np.ndarray, few: np.ndarray, x: np.ndarray,
     """_mixed's signals of the states `few` (of `used`) at x (the samples of those states, then the left limits of
     the intervals they end), state_ids the ids of their states: from X' = A X and X'' = A X' (derivatives) and the
     rows of each velocity map (rate_rows), into out where parts (the number of samples, the samples and the left
-    limits of the other states) say."""
+    limits of these states) say."""
     space = history.space
     names = signal_layout(space.model.n_modes, space.layout.n_elements, space.layout.n_plastic)
     states = used[few]
@@ -203,8 +201,8 @@ def _derived(history: History, used: np.ndarray, few: np.ndarray, x: np.ndarray,
     response_kernels.derivatives(x, local, matrices, first, second)
     values, slopes = _signals_of(names, rows, group[local], x, first, second)
     n_samples, sampled, ended = parts
-    out[0][~sampled], out[1][~sampled] = values[:n_samples], slopes[:n_samples]
-    out[2][~ended], out[3][~ended] = values[n_samples:], slopes[n_samples:]
+    out[0][sampled], out[1][sampled] = values[:n_samples], slopes[:n_samples]
+    out[2][ended], out[3][ended] = values[n_samples:], slopes[n_samples:]
     out[4][few] = _ground_slope(matrices, group, rows[2], names, space.layout)
 
 
