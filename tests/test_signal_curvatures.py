@@ -1,4 +1,4 @@
-"""The curvature rows of the signals the work integrals interpolate (engines/exact/response.py
+"""The curvature rows of the signals the work integrals interpolate (engines/exact/signal_maps.py
 signal_rows, curvature_columns; read by energy.py): evaluated in the same pass as the response
 signals, they leave every response signal's bits as they were, and they are the second rates
 R A^2 x of the input signal, the element velocities and Y*' (the slopes of Y*'')."""
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from backends import compiled_or_skip
 
-from upliftcli.engines.exact import response, response_kernels
+from upliftcli.engines.exact import response, response_kernels, signal_maps
 from upliftcli.engines.exact.engine import model_for
 from upliftcli.engines.exact.stepping import simulate
 from upliftcli.engines.options import ExactOptions
@@ -39,8 +39,8 @@ def histories(elcentro):
 def _layout(history) -> tuple[dict, int, int]:
     """The signal layout of a history, the number of value columns and of slope columns of the signals."""
     lay = history.space.layout
-    names = response.signal_layout(history.space.model.n_modes, lay.n_elements, lay.n_plastic)
-    return names, names[response.VALUES_ONLY[-1]].stop, names[response.WITH_RATES[-1]].stop
+    names = signal_maps.signal_layout(history.space.model.n_modes, lay.n_elements, lay.n_plastic)
+    return names, names[signal_maps.VALUES_ONLY[-1]].stop, names[signal_maps.WITH_RATES[-1]].stop
 
 
 def test_the_curvature_rows_leave_every_response_signal_bit_for_bit(histories):
@@ -53,8 +53,8 @@ def test_the_curvature_rows_leave_every_response_signal_bit_for_bit(histories):
         with backend.use("compiled"):
             sig = response.signals(history)
         _, start, n_slopes = _layout(history)
-        used, ids = response.used_states(history.state_ids, len(history.contact))
-        rows = np.ascontiguousarray(response.signal_rows(history, used)[:, :start + n_slopes])
+        used, ids = signal_maps.used_states(history.state_ids, len(history.contact))
+        rows = np.ascontiguousarray(signal_maps.signal_rows(history, used)[:, :start + n_slopes])
         values, slopes = np.empty((ids.size, start)), np.empty((ids.size, n_slopes))
         ends = np.empty((sig.end_values.shape[0], start + n_slopes))
         with backend.use("compiled"):
@@ -74,8 +74,8 @@ def test_the_curvature_columns_hold_the_second_rates(histories):
         sig = response.signals(history)
         names, start, _ = _layout(history)
         lay = history.space.layout
-        used, ids = response.used_states(history.state_ids, len(history.contact))
-        rows = response.signal_rows(history, used)
+        used, ids = signal_maps.used_states(history.state_ids, len(history.contact))
+        rows = signal_maps.signal_rows(history, used)
         np.testing.assert_array_equal(sig.slopes[:, names["a"].start], history.states[:, lay.index_slope])
         for name, columns in sig.curvatures.items():
             rate_rows = rows[:, start + names[name].start:start + names[name].stop]  # R A
@@ -92,14 +92,14 @@ def test_the_curvature_columns_hold_the_second_rates(histories):
 
 
 def _rows_with_temporaries(history, used) -> np.ndarray:
-    """response.signal_rows as it was before the products were written in place: every state's velocity map
+    """signal_maps.signal_rows as it was before the products were written in place: every state's velocity map
     stacked, each product a temporary copied in."""
     space = history.space
     lay = space.layout
     names, start, n_slopes = _layout(history)
     velocity = np.stack([history.contact[s].velocity for s in used])
     matrix = np.stack([history.contact[s].matrix for s in used])
-    rows = np.zeros(response.signal_rows(history, used).shape)
+    rows = np.zeros(signal_maps.signal_rows(history, used).shape)
     rows[:, names["Y"]] = space.modal
     rows[:, names["Ydot"]] = space.to_modal @ velocity
     rows[:, names["Yddot"]] = rows[:, names["Ydot"]] @ matrix
@@ -132,6 +132,6 @@ def test_the_signal_rows_of_a_yielding_run_are_those_of_temporary_products(elcen
     space = model_for(system, support, ExactOptions())
     ((_, history),) = simulate([space], [4], elcentro.acceleration[:1500], elcentro.dt, "reaction",
                                uplift=support == "uplift", allow_flight=True)
-    used, _ = response.used_states(history.state_ids, len(history.contact))
-    assert space.layout.n_plastic and used.size > response.FEW_STATES
-    assert response.signal_rows(history, used).tobytes() == _rows_with_temporaries(history, used).tobytes()
+    used, _ = signal_maps.used_states(history.state_ids, len(history.contact))
+    assert space.layout.n_plastic and used.size > signal_maps.FEW_STATES
+    assert signal_maps.signal_rows(history, used).tobytes() == _rows_with_temporaries(history, used).tobytes()

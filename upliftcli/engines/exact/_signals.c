@@ -213,7 +213,7 @@ HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n
     int64_t n_switch = 0, transposed = -1;
     for (int64_t i0 = 0; i0 < n; i0 += PRODUCT_SAMPLES) {
         const int64_t count = n - i0 < PRODUCT_SAMPLES ? n - i0 : PRODUCT_SAMPLES;
-        int same = count == PRODUCT_SAMPLES && !split[ids[i0]].whole;
+        int same = count == PRODUCT_SAMPLES && ids[i0] >= 0 && !split[ids[i0]].whole;
         for (int64_t i = i0 + 1; i < i0 + count; i++) {
             same &= ids[i] == ids[i0];
         }
@@ -222,6 +222,11 @@ HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n
             product_samples(rows->dense, states + i0 * n_aug, n_aug, rows->dense_width, dense_block);
         }
         for (int64_t i = i0; i < i0 + count; i++) {
+            if (ids[i] < 0) { /* a sample the caller evaluates (of a state the caller names by a negative id), and
+                               * the left limit at the end of its interval */
+                n_switch += i + 1 < n && ids[i + 1] != ids[i];
+                continue;
+            }
             const SplitRows *rows = split + ids[i];
             if (rows->whole && transposed != ids[i]) {
                 transpose_rows(rows->whole, width, n_aug, whole_t);
@@ -240,6 +245,41 @@ HOT_LOOP static void evaluate_signals(const double *states, int64_t n, int64_t n
             }
         }
     }
+}
+
+/* X' = A X and X'' = A X' of each state x[i] (n x n_aug) with the A of its state (a_t + ids[i] n_aug^2: A^T), into
+ * first and second (transposed_product) */
+HOT_LOOP static void derivatives(const double *x, int64_t n, int64_t n_aug, const int64_t *ids, const double *a_t,
+                                 double *first, double *second)
+{
+    for (int64_t i = 0; i < n; i++) {
+        const double *m_t = a_t + ids[i] * n_aug * n_aug;
+        transposed_product(m_t, x + i * n_aug, n_aug, n_aug, first + i * n_aug);
+        transposed_product(m_t, first + i * n_aug, n_aug, n_aug, second + i * n_aug);
+    }
+}
+
+/* A^T of each matrix of the sequence `matrices` (n x n float64 arrays) into a_t (n^2 each); 0 with the error set
+ * at the first that is not */
+static int transposed_matrices(PyObject *matrices, Py_ssize_t count, int64_t n, double *a_t)
+{
+    for (Py_ssize_t s = 0; s < count; s++) {
+        Views item = {.count = 0};
+        PyObject *matrix = PySequence_GetItem(matrices, s);
+        Py_buffer *view = matrix ? take_view(&item, matrix, 'd', 2, 0, "matrices") : NULL;
+        const int ok = view && view->shape[0] == n && view->shape[1] == n;
+        if (ok) {
+            transpose_rows(DOUBLES(view), n, n, a_t + s * n * n);
+        } else if (view) {
+            PyErr_SetString(PyExc_ValueError, "derivatives: inconsistent array shapes");
+        }
+        release_views(&item);
+        Py_XDECREF(matrix);
+        if (!ok) {
+            return 0;
+        }
+    }
+    return 1;
 }
 
 /* ---------------------------------------------------------------------------- Python entry point */
@@ -265,7 +305,7 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
     int64_t transitions = 0;
     int ids_ok = 1;
     for (int64_t i = 0; i < ids->shape[0]; i++) {
-        ids_ok &= INT64S(ids)[i] >= 0 && INT64S(ids)[i] < rows_in->shape[0];
+        ids_ok &= INT64S(ids)[i] < rows_in->shape[0];
         transitions += i > 0 && INT64S(ids)[i] != INT64S(ids)[i - 1];
     }
     if (ids->shape[0] != n || rows_in->shape[2] != n_aug || rows_in->shape[1] != k + k_s || values->shape[0] != n
@@ -277,20 +317,20 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
     /* the states used at least SPLIT_USES times (samples and left limits) are split (split_rows);
      * the others' rows are used whole (a yielding run meets hundreds of states, most at a few
      * samples, and splitting each cost it more than the products it saves: measured) */
-    int64_t *uses = calloc(n_states + 1, sizeof(int64_t));
+    int64_t *uses = calloc(n_states + 2, sizeof(int64_t)); /* uses[s + 1]: state s's (uses[0]: the caller's states') */
     if (!uses) {
         PyErr_NoMemory();
         goto done;
     }
     for (int64_t i = 0; i < n; i++) { /* a sample, and the left limit of the state before a transition */
-        uses[INT64S(ids)[i]]++;
+        uses[INT64S(ids)[i] < 0 ? 0 : INT64S(ids)[i] + 1]++;
         if (i > 0 && INT64S(ids)[i] != INT64S(ids)[i - 1]) {
-            uses[INT64S(ids)[i - 1]]++;
+            uses[INT64S(ids)[i - 1] < 0 ? 0 : INT64S(ids)[i - 1] + 1]++;
         }
     }
     int64_t n_split = 0;
     for (int64_t s = 0; s < n_states; s++) {
-        n_split += uses[s] >= SPLIT_USES;
+        n_split += uses[s + 1] >= SPLIT_USES;
     }
     /* work space: the products (evaluate_signals) and, per state split, its split rows (split_rows), the sums of
      * split_rows and the transposed rows of one state (whole_t) */
@@ -312,7 +352,7 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
     for (int64_t s = 0, j = 0; s < n_states; s++) {
         SplitRows *rows = split + s;
         rows->width = width;
-        rows->whole = uses[s] >= SPLIT_USES ? NULL : DOUBLES(rows_in) + s * per_state;
+        rows->whole = uses[s + 1] >= SPLIT_USES ? NULL : DOUBLES(rows_in) + s * per_state;
         if (rows->whole) {
             continue;
         }
@@ -344,8 +384,60 @@ done:
     return result;
 }
 
+/* derivatives(x, ids, matrices, first, second): matrices a sequence of arrays */
+static PyObject *py_derivatives(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+    (void)self;
+    if (!expect_args(nargs, 5, "derivatives")) {
+        return NULL;
+    }
+    Views v = {.count = 0};
+    PyObject *result = NULL, *matrices = args[2];
+    double *a_t = NULL;
+    static const ArraySpec arrays[] = {{0, 'd', 2, 0, "x"}, {1, 'q', 1, 0, "ids"}, {3, 'd', 2, 1, "first"},
+        {4, 'd', 2, 1, "second"}};
+    Py_buffer *b[4];
+    const Py_ssize_t n_states = PySequence_Check(matrices) ? PySequence_Size(matrices) : -1;
+    if (n_states < 0) {
+        PyErr_SetString(PyExc_TypeError, "derivatives: matrices: a sequence of arrays is expected");
+        goto done;
+    }
+    if (!take_views(&v, args, arrays, 4, b)) {
+        goto done;
+    }
+    const int64_t n = b[0]->shape[0], n_aug = b[0]->shape[1];
+    int ok = b[1]->shape[0] == n;
+    for (int j = 2; j < 4; j++) {
+        ok &= b[j]->shape[0] == n && b[j]->shape[1] == n_aug;
+    }
+    for (int64_t i = 0; ok && i < n; i++) {
+        ok = INT64S(b[1])[i] >= 0 && INT64S(b[1])[i] < n_states;
+    }
+    if (!ok) {
+        PyErr_SetString(PyExc_ValueError, "derivatives: inconsistent array shapes");
+        goto done;
+    }
+    a_t = malloc((n_states * n_aug * n_aug + 1) * sizeof(double));
+    if (!a_t) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    if (!transposed_matrices(matrices, n_states, n_aug, a_t)) {
+        goto done;
+    }
+    Py_BEGIN_ALLOW_THREADS
+    derivatives(DOUBLES(b[0]), n, n_aug, INT64S(b[1]), a_t, DOUBLES(b[2]), DOUBLES(b[3]));
+    Py_END_ALLOW_THREADS
+    result = Py_NewRef(Py_None);
+done:
+    free(a_t);
+    release_views(&v);
+    return result;
+}
+
 static PyMethodDef methods[] = {
     FASTCALL(evaluate_signals, "Signals at the samples."),
+    FASTCALL(derivatives, "The derivatives of states."),
     {NULL, NULL, 0, NULL},
 };
 

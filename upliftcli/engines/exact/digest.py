@@ -254,7 +254,8 @@ class StoryDigest:
         the drifts of every story at its last sample (drift_rows: Y* -> d of every story)."""
         drifts = chunk.states @ self.space.drift_rows.T
         self.hysteretic += hysteretic_work(self.space.model.stories, drifts, chunk.story_sign)
-        self.yielded |= chunk.story_sign.any(axis=0)
+        starts = np.r_[0, np.flatnonzero(sig.switch >= 0) + 1]  # a state's signs hold from its first sample on
+        self.yielded |= chunk.story_sign[starts].any(axis=0)
         self.final_drift = drift_rows @ sig["Y"][-1]
 
     def residual_drift_ratio(self, building) -> np.ndarray:

@@ -19,7 +19,6 @@ time derivative at a sample is one more row, so:
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,6 +27,7 @@ from ...model.system import System
 from ..quantities import HISTORY_QUANTITIES
 from ..statics import story_maps
 from . import response_kernels
+from .signal_maps import curvature_columns, evaluated, signal_layout, used_states
 from .statespace import StateSpace
 from .stepping import History
 
@@ -120,103 +120,19 @@ class Signals:
         return self.values[:, self.rows[name]]
 
 
-#: signals with rates: those the work integrals use first (energy.py), then Y*'' and the mat's
-#: rotation and vertical displacement (the rocking peaks between samples, mat_motion.py)
-WITH_RATES = ("Ydot", "a", "input", "element_velocity", "z", "Yddot", "theta", "v", "Pdot")
-VALUES_ONLY = ("Y", "element_displacement", "P")
-
-
-@functools.cache
-def signal_layout(n_modes: int, n_elements: int, n_plastic: int = 0) -> dict[str, slice]:
-    """The columns of each signal (WITH_RATES first, in order, then VALUES_ONLY); P, Pdot: the plastic
-    drifts of the yielding stories and their rates (none for an elastic building)."""
-    sizes = {"Ydot": n_modes, "a": 1, "input": 1, "element_velocity": n_elements, "z": n_elements,
-             "Yddot": n_modes, "Y": n_modes, "theta": 1, "v": 1, "element_displacement": n_elements,
-             "Pdot": n_plastic, "P": n_plastic}
-    names, start = {}, 0
-    for name in WITH_RATES + VALUES_ONLY:
-        names[name] = slice(start, start + sizes[name])
-        start += sizes[name]
-    return names
-
-
 def signals(history: History) -> Signals:
-    """Evaluate the signal rows of every contact state at its samples (response_kernels.evaluate_signals), the
-    rows built for the states the samples use only, all at once (a yielding run meets hundreds: theory 14.3)."""
+    """Evaluate the signal rows of every contact state at its samples (signal_maps), the rows built for the states the
+    samples use only, all at once (a yielding run meets hundreds: theory 14.3)."""
     lay = history.space.layout
     names = signal_layout(history.space.model.n_modes, lay.n_elements, lay.n_plastic)
-    start = names[VALUES_ONLY[-1]].stop
     curved = curvature_columns(names)
     used, ids = used_states(history.state_ids, len(history.contact))
-    rows = signal_rows(history, used)
     at = np.nonzero(ids[1:] != ids[:-1])[0]
     switch = np.full(max(ids.size - 1, 0), -1, dtype=np.int64)
     switch[at] = np.arange(at.size)
-    values = np.empty((ids.size, start))
-    slopes = np.empty((ids.size, rows.shape[1] - start))
-    ends = np.empty((at.size, rows.shape[1]))
-    response_kernels.evaluate_signals(history.states, ids, rows, values, slopes, ends)
-    return Signals(values, slopes, switch, np.ascontiguousarray(ends[:, :start]),
-                   np.ascontiguousarray(ends[:, start:]), names, curved, ids,
-                   _slope_rows(rows[:, start:, lay.index_slope], names, curved))
-
-
-def signal_rows(history: History, used: np.ndarray) -> np.ndarray:
-    """The rows of the signals (signal_layout) in each contact state `used` (S, k + k_s, n_aug): the values' rows,
-    the slopes' (R A), the curvatures' of the input signal and element velocities (R A^2, curvature_columns; Y*''
-    gives those of Y*'). Products written in place (matmul's out), those of a shared velocity map once."""
-    space = history.space
-    model, lay = space.model, space.layout
-    n_m = model.n_modes
-    names = signal_layout(n_m, lay.n_elements, lay.n_plastic)
-    start, n_slopes = names[VALUES_ONLY[-1]].stop, names[WITH_RATES[-1]].stop
-    velocity = _velocity(history.contact, used)  # (S or 1, n_p, n_aug)
-    matrix = np.stack([history.contact[s].matrix for s in used])
-    rows = np.empty((used.size, start + curvature_columns(names)["element_velocity"].stop, lay.n_aug))
-    for name in ("a", "z", "theta", "v", "P"):  # the rows not written whole below (np.zeros: 3.5 MB set)
-        rows[:, names[name]] = 0.0
-    rows[:, names["Y"]] = space.modal
-    rows[:, names["Ydot"]] = space.to_modal @ velocity
-    np.matmul(rows[:, names["Ydot"]], matrix, out=rows[:, names["Yddot"]])
-    if model.flexible:
-        rows[:, names["theta"]] = space.position[n_m]
-        rows[:, names["v"]] = space.position[n_m + 1]
-    rows[:, names["a"].start, lay.index_acceleration] = 1.0
-    rows[:, names["input"]] = (space.forcing[:, lay.index_acceleration] @ velocity)[:, None, :]
-    rows[:, names["element_velocity"]] = space.directions @ velocity
-    rows[:, names["element_displacement"]] = space.displacement_rows
-    z_rows = np.arange(names["z"].start, names["z"].stop)
-    rows[:, z_rows, lay.z_indices] = 1.0
-    if lay.n_settlements:  # with a capacity, deformations of the springs: v_i - s_i, z_i - s_i (theory 14.5)
-        rows[:, np.arange(names["element_displacement"].start, names["element_displacement"].stop),
-             lay.settlement_indices] -= 1.0
-        rows[:, z_rows, lay.settlement_indices] -= 1.0
-    if lay.n_plastic:  # the plastic drifts and their rates (docs/theory.md 15)
-        rows[:, np.arange(names["P"].start, names["P"].stop), lay.plastic_indices] = 1.0
-        rows[:, names["Pdot"]] = matrix[:, lay.plastic_indices]
-    np.matmul(rows[:, :n_slopes], matrix, out=rows[:, start:start + n_slopes])
-    rates = start + names["input"].start  # the rates' rows of the input signal and element velocities
-    np.matmul(rows[:, rates:rates + rows.shape[1] - start - n_slopes], matrix, out=rows[:, start + n_slopes:])
-    return rows
-
-
-def _velocity(contact: list, used: np.ndarray) -> np.ndarray:
-    """The velocity maps X -> p' of the states `used` (S, n_p, n_aug), or the one all share (1, n_p, n_aug: the
-    fixed and bonded bases)."""
-    first = contact[used[0]].velocity
-    if all(contact[s].velocity is first for s in used):
-        return first[None]
-    return np.stack([contact[s].velocity for s in used])
-
-
-def curvature_columns(names: dict[str, slice]) -> dict[str, slice]:
-    """The slope columns of the second derivatives of the signals the work integrals interpolate (energy.py):
-    Y*'' rates for Y*', then one column for the input signal and one per element velocity after the
-    slopes of WITH_RATES."""
-    last = names[WITH_RATES[-1]].stop
-    n_curved = names["element_velocity"].stop - names["input"].start
-    return {"Ydot": names["Yddot"], "input": slice(last, last + 1),
-            "element_velocity": slice(last + 1, last + n_curved)}
+    values, slopes, end_values, end_slopes, slope_rows = evaluated(history, used, ids, at)
+    return Signals(values, slopes, switch, end_values, end_slopes, names, curved, ids,
+                   _slope_rows(slope_rows, names, curved))
 
 
 def _slope_rows(slope_rows: np.ndarray, names: dict[str, slice], curved: dict[str, slice]) -> np.ndarray:
@@ -226,24 +142,6 @@ def _slope_rows(slope_rows: np.ndarray, names: dict[str, slice], curved: dict[st
     for name, columns in curved.items():
         out[:, names[name]] = slope_rows[:, columns]
     return out
-
-
-#: a run with at most this many contact states has the signal rows of all built (signals); with more those used
-FEW_STATES = 8
-
-
-def used_states(state_ids: np.ndarray, n_states: int) -> tuple[np.ndarray, np.ndarray]:
-    """(the state ids the samples use, ascending; each sample's index among them (int64)): np.unique's
-    (values, inverse), by a count and a table lookup instead of a sort; every state of a few (FEW_STATES)."""
-    ids = np.asarray(state_ids, dtype=np.int64)
-    if n_states <= FEW_STATES:  # the rows of every state: fewer than counting the samples' states costs
-        return np.arange(n_states), ids
-    used = np.flatnonzero(np.bincount(ids, minlength=n_states))
-    if used.size == n_states:
-        return used, ids
-    index = np.zeros(n_states, dtype=np.int64)
-    index[used] = np.arange(used.size)
-    return used, index[ids]
 
 
 @dataclass(frozen=True)

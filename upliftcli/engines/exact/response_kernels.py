@@ -36,13 +36,23 @@ def evaluate_signals(states: np.ndarray, ids: np.ndarray, rows: np.ndarray, valu
     (n, k_s) filled in place; ends
     (n_switch, k + k_s): the left limits at the end of every interval that ends at a
     transition, in order. The rows of each state used at least 32 times (its samples and left
-    limits: _signals.c, SPLIT_USES) are split once per call: a row equal to an earlier one is
-    copied (the slopes of Y*' are the values of Y*''), one with few nonzero coefficients sums them
+    limits: _signals.c, SPLIT_USES) are split once per call. A sample whose id is negative is left as it is,
+    and so is the left limit at the end of its interval (the caller's, signal_maps._mixed, which gives each
+    such state its own negative id: the transitions count as ever). The rows are split: a row equal to an
+    earlier one is copied (the slopes of Y*' are the values of Y*''), one with few nonzero coefficients sums them
     alone, the rest is one dense product; the other states' rows are multiplied whole (a yielding
     run meets hundreds of states, most at a few samples). Every way gives the bits of the dense
     product R x.
     """
     _loops("_signals").evaluate_signals(states, ids, rows, values, slopes, ends)
+
+
+def derivatives(x: np.ndarray, ids: np.ndarray, matrices: list[np.ndarray], first: np.ndarray,
+                second: np.ndarray) -> None:
+    """The derivatives X' = A X and X'' = A X' of the states x (n, n_aug), each with the A of its contact state
+    (matrices: S arrays (n_aug, n_aug), not stacked; ids (n,) int64), into first and second (n, n_aug). The loop
+    multiplies one state at a time (product.h's transposed_product), the twin each state's rows in one matmul."""
+    _loops("_signals").derivatives(x, ids, matrices, first, second)
 
 
 def hermite_peaks(values, slopes, end_values, end_slopes, switch, value_columns, rate_columns, curvature_columns,

@@ -21,17 +21,26 @@ import numpy as np
 def evaluate_signals(states, ids, rows, values, slopes, ends) -> None:
     """Signal values and slopes at every sample, each with its sample's contact state's rows (S, k + k_s, n_aug);
     the left limits at the end of every interval that ends at a transition (the old state's rows at the next
-    sample), in order."""
+    sample), in order; the samples of a negative id and the left limits at the end of their intervals left as they
+    are."""
     rows_t = np.ascontiguousarray(rows.transpose(0, 2, 1))
     k = values.shape[1]
-    for state in np.flatnonzero(np.bincount(ids, minlength=rows_t.shape[0])):
+    for state in np.flatnonzero(np.bincount(ids[ids >= 0], minlength=rows_t.shape[0])):
         at = np.flatnonzero(ids == state)
         out = states[at] @ rows_t[state]
         values[at], slopes[at] = out[:, :k], out[:, k:]
     switches = np.flatnonzero(ids[1:] != ids[:-1])
-    for state in np.unique(ids[switches]):
+    for state in np.unique(ids[switches][ids[switches] >= 0]):
         at = switches[ids[switches] == state]
         ends[np.searchsorted(switches, at)] = states[at + 1] @ rows_t[state]
+
+
+def derivatives(x, ids, matrices, first, second) -> None:
+    """X' = A X and X'' = A X' of each state x[i] with its own state's A (matrices[ids[i]])."""
+    for state in np.unique(ids):
+        at = np.flatnonzero(ids == state)
+        first[at] = x[at] @ matrices[state].T
+        second[at] = first[at] @ matrices[state].T
 
 
 # ----------------------------------------------------------------------------- peaks (_peaks.c)
