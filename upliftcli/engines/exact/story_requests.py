@@ -13,6 +13,10 @@ each state).
 The rates G A of the stories' event rows are written by the same compiled call as the rows (story_rows: each
 entry summed in the order of its terms, levels_numpy.product), the foundation's by np.matmul, and
 Operators.store gives a state of yielding stories the same (event_rates).
+
+The compiled stepping loop builds the states that qualify itself, with the same C code in the same order
+(_stepping.c's builds.h, from what loop_builds hands it: a rigid or bonded run's, whose foundation rows are
+zero), instead of returning NEED_STATE for each; adopt then makes their ContactState and keeps their keys of A.
 """
 
 from __future__ import annotations
@@ -150,8 +154,10 @@ def loop_builds(operators: QuickOperators) -> Builds | None:
     """What the compiled loop builds the states of a run's yielding stories with (stepping_kernels.Builds), None
     where it builds none: not built here (Operators.quick) or an uplift run's foundation rates (_foundation_rates,
     np.matmul: Python's)."""
+    if not operators.quick:
+        return None
     lay, soil = operators.layout, soil_rows(operators.layout)
-    if not operators.quick or (operators.uplift and soil):
+    if operators.uplift and soil:
         return None
     return Builds(operators.rows, operators.fields, operators.keys, np.array([len(operators.contact)]),
                   _compiled_bases(operators), float(operators.h), operators.most_states, soil, lay.n_elements,
