@@ -195,11 +195,12 @@ HOT_LOOP static Outcome integrate(Model *m, const double *ground, const double *
 #undef RETURN
 }
 
-/* integrate(states, elements, grid, samples, state, step, offset, n_out) with the tuples
+/* integrate(states, elements, grid, samples, state, step, offset, n_out[, builds]) with the tuples
  *   states = (ops, slots, events, event_rates, matrices, patterns, count),
  *   elements = (z_index, lift_rows, damped, all_lifted, allow_flight),
  *   grid = (ground, slopes, h, levels, index_acceleration, index_slope),
- *   samples = (x, out_x, out_t, out_state)
+ *   samples = (x, out_x, out_t, out_state),
+ *   builds = None or stepping_kernels.Builds (the states of yielding stories the loop builds: builds.h)
  * -> (status, step, offset, state, n_out, pattern). Every index the loop follows is checked first. */
 static PyObject *py_integrate(PyObject *self, PyObject *const *call, Py_ssize_t nargs)
 {
@@ -284,7 +285,8 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *call, Py_ssize_t 
     if (builds) {
         if (!take_builds(&v, builds, &m, &builder)) {
             if (!PyErr_Occurred()) {
-                PyErr_SetString(PyExc_ValueError, "integrate: builds inconsistent with the states (stepping_kernels.Builds)");
+                PyErr_SetString(PyExc_ValueError,
+                                "integrate: builds inconsistent with the states (stepping_kernels.Builds)");
             }
             goto done;
         }
