@@ -12,7 +12,8 @@ of 2.9 (uplift), 3.9 (bonded) and 4.7 (rigid).
   --repeats calls each, three rounds, the median of the rounds' ratios), with the contact states each run
   builds and its transitions, and the rest ratio: the yielding run's CPU time outside building its states
   (operators.add_states: its stepping and post-processing, as if its operators were free) over the elastic
-  run, which bounds what faster state building could reach;
+  run, which bounds what faster state building could reach (a rigid or bonded yielding run's states are
+  built inside the compiled loop, docs/theory.md 15.9: counted in its rest, not in add_states);
 - command: `uplift analyze` of the deck in a fresh process each time, the elastic and the yielding
   command interleaved: wall time and CPU time (the child's user + system time), medians;
 - sweep: `uplift sweep -e exact --vary building.period=0.4:0.8:100 --workers 1` in a fresh process
@@ -75,24 +76,26 @@ def _outside_building(deck, support: str, repeats: int) -> float:
 
 
 def _states(deck, support: str) -> tuple[int, int, float]:
-    """(contact states built, transitions, largest story ductility) of one analysis (untimed)."""
+    """(contact states built, transitions, largest story ductility) of one analysis (untimed): the states its
+    runs hold at the end (those add_states built and those the compiled loop built itself)."""
     from upliftcli.engines.exact import engine as exact
     from upliftcli.engines.exact import stepping
 
-    built = [0]
-    build = stepping.add_states
+    runs = {}
+    advance = stepping.Run.advance
 
-    def counted(requests):
-        built[0] += len(requests)
-        return build(requests)
+    def kept(run):
+        runs[id(run.operators)] = run.operators
+        return advance(run)
 
-    stepping.add_states = counted
+    stepping.Run.advance = kept
     try:
         result = exact.analyze(deck.system, deck.ground_motion, support, deck.analysis.exact)
     finally:
-        stepping.add_states = build
+        stepping.Run.advance = advance
     ductility = max((story.get("ductility", 0.0) for story in _stories(result)), default=0.0)
-    return built[0], int(result.intermediates["transitions"]), ductility
+    return sum(len(operators.contact) for operators in runs.values()), int(result.intermediates["transitions"]), \
+        ductility
 
 
 def _stories(result) -> list[dict]:

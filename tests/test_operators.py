@@ -133,7 +133,7 @@ GROWING = [(WINKLER, ["foundation.safety_factor=1.5"], "uplift"),
 
 @pytest.mark.parametrize(("path", "overrides", "support"), GROWING)
 def test_operator_arrays_that_grow_keep_the_states_written_in_place(monkeypatch, path, overrides, support):
-    """A run of many states whose operator arrays start at 4 states and double (operators._doubled: the
+    """A run of many states whose operator arrays start at 4 states and double (kept.doubled: the
     states written are copied) gives the results of the run whose arrays are reserved for all of them up
     front, bit for bit: every peak, the energy terms and the transitions."""
     from upliftcli.engines.exact import engine as exact
@@ -143,8 +143,8 @@ def test_operator_arrays_that_grow_keep_the_states_written_in_place(monkeypatch,
     reserved = exact.analyze(deck.system, deck.ground_motion, support)
     sizes = []
     monkeypatch.setattr(operators, "reserved_states", lambda lay: 4)
-    doubled = operators._doubled
-    monkeypatch.setattr(operators, "_doubled", lambda array, fill=None: sizes.append(array.shape[0]) or
+    doubled = operators.doubled
+    monkeypatch.setattr(operators, "doubled", lambda array, fill=None: sizes.append(array.shape[0]) or
                         doubled(array, fill))
     grown = exact.analyze(deck.system, deck.ground_motion, support)
     assert max(sizes) == 128  # grown from 4 to 256 states (these runs meet 129 to 256)

@@ -5,6 +5,7 @@
 #include "buffers.h"
 #include "events.h"
 #include "transitions.h"
+#include "builds.h"
 #include <math.h>
 
 enum { DONE, NEED_STATE, FULL, FLIGHT, NONFINITE, CHATTER };
@@ -16,10 +17,10 @@ typedef struct {
     double offset;
 } Outcome;
 
-HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const double *slopes, int64_t n_ground, double h,
+HOT_LOOP static Outcome integrate(Model *m, const double *ground, const double *slopes, int64_t n_ground, double h,
                          int64_t index_acceleration, int64_t index_slope, double *x, double *out_x, double *out_t,
                          int64_t *out_state, int64_t capacity, int64_t state, int64_t step, double offset,
-                         int64_t n_out, double *work)
+                         int64_t n_out, double *work, Builder *builder)
 {
     const int64_t n = m->n, n_levels = m->levels, n_steps = n_ground - 1, n_e = m->n_events;
     double *trial = work, *left = work + n, *right = work + 2 * n, *tmp = work + 3 * n, *chunk = work + 4 * n;
@@ -37,10 +38,10 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
            *scratch = d_trial + n_e;
     EventTables tables = {.tables = scratch + 3 * n_e, .slots = table_slots(m), .next = 0};
     tables.slot_of = (int64_t *)(tables.tables + tables.slots * n * 2 * n_e);
-    tables.owner = tables.slot_of + m->count;
-    unsigned char *active = (unsigned char *)(tables.owner + tables.slots), *ground_free = active + m->count;
-    memset(active, UNCLASSIFIED, m->count);
-    memset(tables.slot_of, 0xff, (m->count + tables.slots) * sizeof(int64_t)); /* -1: no slot, no state */
+    tables.owner = tables.slot_of + m->room;
+    unsigned char *active = (unsigned char *)(tables.owner + tables.slots), *ground_free = active + m->room;
+    memset(active, UNCLASSIFIED, m->room);
+    memset(tables.slot_of, 0xff, (m->room + tables.slots) * sizeof(int64_t)); /* -1: no slot, no state */
     const double *table = entered(m, state, index_acceleration, index_slope, active, ground_free, &tables);
     int known = 0;
 #define RETURN(code, with_pattern)                                                                                    \
@@ -135,7 +136,27 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
                 }
             }
             if (new_state < 0) {
-                RETURN(NEED_STATE, pattern);
+                new_state = builder ? build_state(m, builder, pattern) : -1;
+                if (new_state < 0) {
+                    RETURN(NEED_STATE, pattern);
+                }
+                /* entered as the caller entered a state it built (stepping.Run.enter, then integrate again):
+                 * the sample where it starts, the step's events counted afresh, a full buffer returned */
+                state = new_state;
+                table = entered(m, state, index_acceleration, index_slope, active, ground_free, &tables);
+                out_t[n_out] = step * h + offset;
+                memcpy(out_x + n_out * n, x, n * sizeof(double));
+                out_state[n_out] = state;
+                n_out++;
+                events_in_step = 0;
+                if (n_out + MAX_EVENTS_PER_STEP + 1 > capacity) {
+                    RETURN(FULL, m->patterns[state]);
+                }
+                if (offset == 0.0) {
+                    x[index_acceleration] = ground[step];
+                    x[index_slope] = slopes[step];
+                }
+                continue;
             }
             state = new_state;
             table = entered(m, state, index_acceleration, index_slope, active, ground_free, &tables);
@@ -174,32 +195,20 @@ HOT_LOOP static Outcome integrate(const Model *m, const double *ground, const do
 #undef RETURN
 }
 
-/* the `size` items of the tuple argument `name` (stepping_kernels.States, Elements, Grid, Samples)
- * into out; 0 with a TypeError otherwise */
-static int unpack(PyObject *tuple, Py_ssize_t size, const char *name, PyObject **out)
-{
-    if (!PyTuple_Check(tuple) || PyTuple_Size(tuple) != size) {
-        PyErr_Format(PyExc_TypeError, "integrate: %s must be a tuple of %zd items", name, size);
-        return 0;
-    }
-    for (Py_ssize_t i = 0; i < size; i++) {
-        out[i] = PyTuple_GetItem(tuple, i);
-    }
-    return 1;
-}
-
-/* integrate(states, elements, grid, samples, state, step, offset, n_out) with the tuples
+/* integrate(states, elements, grid, samples, state, step, offset, n_out[, builds]) with the tuples
  *   states = (ops, slots, events, event_rates, matrices, patterns, count),
  *   elements = (z_index, lift_rows, damped, all_lifted, allow_flight),
  *   grid = (ground, slopes, h, levels, index_acceleration, index_slope),
- *   samples = (x, out_x, out_t, out_state)
+ *   samples = (x, out_x, out_t, out_state),
+ *   builds = None or stepping_kernels.Builds (the states of yielding stories the loop builds: builds.h)
  * -> (status, step, offset, state, n_out, pattern). Every index the loop follows is checked first. */
 static PyObject *py_integrate(PyObject *self, PyObject *const *call, Py_ssize_t nargs)
 {
     (void)self;
-    if (!expect_args(nargs, 8, "integrate")) {
+    if (nargs != 9 && !expect_args(nargs, 8, "integrate")) {
         return NULL;
     }
+    PyObject *builds = nargs == 9 && call[8] != Py_None ? call[8] : NULL;
     PyObject *args[26]; /* the items of the four tuples, then state, step, offset, n_out */
     if (!unpack(call[0], 7, "states", args) || !unpack(call[1], 5, "elements", args + 7)
         || !unpack(call[2], 6, "grid", args + 12) || !unpack(call[3], 4, "samples", args + 18)) {
@@ -210,10 +219,16 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *call, Py_ssize_t 
     }
     Views v = {.count = 0};
     PyObject *result = NULL;
-    static const ArraySpec arrays[] = {{0, 'd', 4, 0, "ops"}, {1, 'q', 1, 0, "slots"}, {2, 'd', 3, 0, "events"},
+    Builder builder = {.n_bases = 0}, *building = NULL;
+    static const ArraySpec specs[] = {{0, 'd', 4, 0, "ops"}, {1, 'q', 1, 0, "slots"}, {2, 'd', 3, 0, "events"},
         {3, 'd', 3, 0, "event_rates"}, {4, 'd', 3, 0, "matrices"}, {5, 'q', 1, 0, "patterns"}, {7, 'q', 1, 0, "z_index"},
         {8, 'd', 2, 0, "lift_rows"}, {9, '?', 1, 0, "damped"}, {12, 'd', 1, 0, "ground"}, {13, 'd', 1, 0, "slopes"},
         {18, 'd', 1, 1, "x"}, {19, 'd', 2, 1, "out_x"}, {20, 'd', 1, 1, "out_t"}, {21, 'q', 1, 1, "out_state"}};
+    ArraySpec arrays[15]; /* the states' arrays written where the loop builds states (builds.h) */
+    memcpy(arrays, specs, sizeof(arrays));
+    for (int i = 0; i < 6; i++) {
+        arrays[i].writable = builds != NULL;
+    }
     Py_buffer *b[15];
     int taken = take_views(&v, args, arrays, 15, b);
     Py_buffer *ops = b[0], *op_slots = b[1], *events = b[2], *rates = b[3], *matrices = b[4], *patterns = b[5],
@@ -266,11 +281,24 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *call, Py_ssize_t 
         PyErr_SetString(PyExc_ValueError, "integrate: inconsistent arguments (shapes, indices or limits)");
         goto done;
     }
+    m.room = m.count;
+    if (builds) {
+        if (!take_builds(&v, builds, &m, &builder)) {
+            if (!PyErr_Occurred()) {
+                PyErr_SetString(PyExc_ValueError,
+                                "integrate: builds inconsistent with the states (stepping_kernels.Builds)");
+            }
+            goto done;
+        }
+        builder_arrays(&builder, ops, op_slots, events, rates, matrices, patterns);
+        m.room = builder.room > m.count ? builder.room : m.count;
+        building = &builder;
+    }
     /* work space of integrate: 4 states, the chunk lengths, 7 event vectors, the event tables (EventTables:
      * the tables, a slot per state, a state per slot), 2 flags per state */
     const int64_t slots = table_slots(&m);
-    double *work = PyMem_Malloc((4 * n + m.levels + 1 + 7 * n_e + slots * n * 2 * n_e + m.count + slots
-                                 + (2 * m.count) / sizeof(double) + 1) * sizeof(double));
+    double *work = PyMem_Malloc((4 * n + m.levels + 1 + 7 * n_e + slots * n * 2 * n_e + m.room + slots
+                                 + (2 * m.room) / sizeof(double) + 1) * sizeof(double));
     if (!work) {
         PyErr_NoMemory();
         goto done;
@@ -279,12 +307,13 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *call, Py_ssize_t 
     Py_BEGIN_ALLOW_THREADS
     o = integrate(&m, DOUBLES(ground), DOUBLES(slopes), ground->shape[0], h, index_acceleration, index_slope,
                   DOUBLES(x), DOUBLES(out_x), DOUBLES(out_t), INT64S(out_state), capacity, state, step, offset,
-                  n_out, work);
+                  n_out, work, building);
     Py_END_ALLOW_THREADS
     PyMem_Free(work);
     result = Py_BuildValue("(LLdLLL)", (long long)o.status, (long long)o.step, o.offset, (long long)o.state,
                            (long long)o.n_out, (long long)o.pattern);
 done:
+    free_builder(&builder);
     release_views(&v);
     return result;
 }

@@ -1,7 +1,8 @@
 """The pattern-independent arguments of the compiled soil loops, built once per model and kept for the
 few models in use (a run asks for one contact state at a time, hundreds of times: docs/theory.md 14.3),
 by the model's identity: a model that is gone is never matched by a new one at the same address; and the
-operator arrays of the runs of a yielding mat of many elements, kept for the next run (reused)."""
+operator arrays of the runs of a yielding mat of many elements, kept for the next run (reused); and how
+operators.Operators reserves its arrays and grows them (reserve, doubled)."""
 
 from __future__ import annotations
 
@@ -73,3 +74,22 @@ def _counts(arrays: list[np.ndarray]) -> list[int]:
 
 #: the reference count _counts gives an array only its list holds
 _ALONE = _counts([np.empty(0)])[0]
+
+
+def reserve(shape: tuple[int, ...], fill: float | None, kept: bool = False) -> np.ndarray:
+    """A new array of `shape`: zeros (fill 0), or left as allocated (None); kept: one an earlier run left."""
+    if kept:
+        return reused(shape)  # its 200 MB mapped and not zeroed: the operators of a yielding mat's run
+    return np.empty(shape) if fill is None else np.zeros(shape)
+
+
+def doubled(array: np.ndarray, fill: float | None = None) -> np.ndarray:
+    """The array with as many rows again after its own, those set to `fill` (None: left unset; 0:
+    zeros, whose pages are mapped only as they are written)."""
+    shape = (2 * array.shape[0], *array.shape[1:])
+    if fill is None:
+        out = np.empty(shape, dtype=array.dtype)
+    else:
+        out = np.zeros(shape, dtype=array.dtype) if fill == 0.0 else np.full(shape, fill, dtype=array.dtype)
+    out[:array.shape[0]] = array
+    return out

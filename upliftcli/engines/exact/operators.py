@@ -12,7 +12,7 @@ import numpy as np
 
 from ...errors import AnalysisError
 from ...runtime.limits import MAX_OPERATOR_BYTES
-from .kept import reused
+from .kept import doubled, reserve
 from .level_operators import LEVELS, elastic_operators, hold_settlements, stacked_operators, state_levels
 from .patterns import contact_states
 from .statespace import ContactState, Layout, StateSpace
@@ -52,12 +52,17 @@ class Operators:
         block = block_operators(self.layout)
         self.fill = None if self.layout.n_plastic or block else 0.0
         self.quick = bool(self.layout.n_plastic) and not block  # a state may be built by story_requests.py
-        self.ops = _reserve((self.capacity, LEVELS + 1, n_aug, n_aug), self.fill, block)
-        self.events = _reserve((self.capacity, n_e, n_aug), self.fill)
-        self.event_rates = _reserve((self.capacity, n_e, n_aug), self.fill)
+        self.ops = reserve((self.capacity, LEVELS + 1, n_aug, n_aug), self.fill, block)
+        self.events = reserve((self.capacity, n_e, n_aug), self.fill)
+        self.event_rates = reserve((self.capacity, n_e, n_aug), self.fill)
         self.matrices = np.empty((self.capacity, n_aug, n_aug))
         self.patterns = np.full(self.capacity, -1, dtype=np.int64)
         self.slots = np.empty(self.capacity, dtype=np.int64)  # per state: the slot of ops of its operators (slot)
+        # yielding stories, per state: its A and event rows, its stories' fields, its key of A where its operators are
+        # its own (-1 where shared: record), as story_requests.py and the compiled loop (stepping_kernels.Builds) write
+        self.rows, self.fields = np.empty((self.capacity, n_aug + n_e, n_aug)), np.empty((self.capacity, lay.n_plastic),
+                                                                                        dtype=np.int64)
+        self.keys = np.empty((self.capacity, 2), dtype=np.int64)
         self.contact: list[ContactState] = []
         # yielding stories (story_states.py): the base of each foundation pattern, and the state whose
         # operators a state with the same A shares (slots), by (foundation pattern, where the stories yield)
@@ -100,8 +105,14 @@ class Operators:
         index = len(self.contact)
         if index == self.capacity:
             self._grow()
-        self.slots[index] = index
+        self.slots[index], self.keys[index] = index, -1
         return index
+
+    def record(self, key: tuple[int, int], index: int) -> None:
+        """State `index` is the first of its key of A (story_states.matrix_key): the states of that A share its
+        operators (by_matrix, and keys for the compiled loop)."""
+        if key not in self.by_matrix:
+            self.by_matrix[key], self.keys[index] = index, key
 
     def share(self, index: int, source: int) -> None:
         """State `index` steps with the operators of `source` (the same A): its own slot of ops stays unused."""
@@ -114,12 +125,13 @@ class Operators:
         return index
 
     def _grow(self) -> None:
-        """More room for states: doubled (_doubled: zeros, mapped only as stored, or not filled: self.fill; the
+        """More room for states: doubled (kept.doubled: zeros, mapped only as stored, or not filled: self.fill; the
         matrices, never read before, not filled)."""
         self.capacity *= 2
-        self.ops, self.matrices = _doubled(self.ops, self.fill), _doubled(self.matrices)
-        self.events, self.event_rates = _doubled(self.events, self.fill), _doubled(self.event_rates, self.fill)
-        self.patterns, self.slots = _doubled(self.patterns, -1), _doubled(self.slots)
+        self.ops, self.matrices = doubled(self.ops, self.fill), doubled(self.matrices)
+        self.events, self.event_rates = doubled(self.events, self.fill), doubled(self.event_rates, self.fill)
+        self.patterns, self.slots = doubled(self.patterns, -1), doubled(self.slots)
+        self.rows, self.fields, self.keys = doubled(self.rows), doubled(self.fields), doubled(self.keys)
 
 
 def block_operators(lay: Layout) -> bool:
@@ -182,25 +194,6 @@ def _too_many_states(lay: Layout) -> str:
     return (f"the run met more than {max_states(lay):,} distinct contact states, whose step operators would exceed "
             f"{MAX_OPERATOR_BYTES / 2**30:g} GiB: the contact chatters; give the foundation more damping, fewer "
             "elements (foundation.elements) or a lower stiffness")
-
-
-def _reserve(shape: tuple[int, ...], fill: float | None, kept: bool = False) -> np.ndarray:
-    """A new array of `shape`: zeros (fill 0), or left as allocated (None); kept: one an earlier run left."""
-    if kept:
-        return reused(shape)  # its 200 MB mapped and not zeroed: the operators of a yielding mat's run
-    return np.empty(shape) if fill is None else np.zeros(shape)
-
-
-def _doubled(array: np.ndarray, fill: float | None = None) -> np.ndarray:
-    """The array with as many rows again after its own, those set to `fill` (None: left unset; 0:
-    zeros, whose pages are mapped only as they are written)."""
-    shape = (2 * array.shape[0], *array.shape[1:])
-    if fill is None:
-        out = np.empty(shape, dtype=array.dtype)
-    else:
-        out = np.zeros(shape, dtype=array.dtype) if fill == 0.0 else np.full(shape, fill, dtype=array.dtype)
-    out[:array.shape[0]] = array
-    return out
 
 
 _NO_INERTIA = ("the mat rotation has neither inertia nor damping in this contact state "
@@ -274,7 +267,7 @@ def _stored(request: tuple[Operators, int, bool], state: ContactState, key: tupl
     if ops is None:
         state_levels(state.matrix, operators.h, operators.ops[index])
     if key is not None:
-        operators.by_matrix.setdefault(key, index)
+        operators.record(key, index)
     return index
 
 

@@ -21,6 +21,7 @@ from . import stepping_kernels as kernel
 from .operators import LEVELS, Operators, add_states, expected_states, soil_rows, state_bytes
 from .statespace import ContactState, StateSpace
 from .stories import resets
+from .story_requests import adopt, loop_builds
 from .yielding import event_resets
 
 
@@ -145,11 +146,13 @@ class Run:
         run that cannot go on raises the AnalysisError saying why (_stopped)."""
         ops = self.operators
         while True:
+            builds = loop_builds(ops)  # the states of yielding stories the compiled loop builds itself
             status, self.step, self.offset, self.state, self.n_out, pattern = self.integrate(
                 kernel.States(ops.ops, ops.slots, ops.events, ops.event_rates, ops.matrices, ops.patterns,
                               len(ops.contact)),
-                self.elements, self.grid, self.samples, self.state, self.step, self.offset, self.n_out,
+                self.elements, self.grid, self.samples, self.state, self.step, self.offset, self.n_out, builds,
             )
+            adopt(ops, builds)
             if status == kernel.DONE:
                 return None
             if status == kernel.NEED_STATE:

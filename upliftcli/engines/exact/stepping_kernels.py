@@ -13,11 +13,13 @@ integrated in the new state, itself checked for events. Nothing is rounded to a 
 boundary (docs/theory.md section 4).
 
 Status codes returned: DONE, NEED_STATE (a contact pattern without operators was
-reached: the caller builds them and calls again), FULL (the sample buffer is full),
-FLIGHT (both edges lifted and flight is refused), NONFINITE, CHATTER (more than
-MAX_EVENTS_PER_STEP transitions inside one step). On NEED_STATE, x and offset are at the
-event (transition applied): the caller adds the state, stores the event sample and calls
-again with the new state.
+reached that the loop does not build itself (Builds): the caller builds them and calls
+again), FULL (the sample buffer is full), FLIGHT (both edges lifted and flight is
+refused), NONFINITE, CHATTER (more than MAX_EVENTS_PER_STEP transitions inside one
+step). On NEED_STATE, x and offset are at the event (transition applied): the caller adds
+the state, stores the event sample and calls again with the new state. A state the loop
+builds itself is entered the same way (the sample where it starts, then on as a new call
+would go, a full buffer returned FULL).
 """
 
 from __future__ import annotations
@@ -50,6 +52,15 @@ Elements = namedtuple("Elements", "z_index lift_rows damped all_lifted allow_fli
 Grid = namedtuple("Grid", "ground slopes h levels index_acceleration index_slope")
 #: the state x (updated in place) and the sample buffers (times, states, state ids)
 Samples = namedtuple("Samples", "x out_x out_t out_state")
+#: what the compiled loop builds the states of yielding stories with, itself (story_requests.loop_builds; the
+#: twin builds none): per state its rows (A, then its event rows), its stories' fields and its key of A where
+#: its operators are its own (Operators.rows, .fields, .keys); count (1,): the states there are, set by the loop
+#: as it builds one; bases: (foundation pattern, StoryBase.table, StoryBase.picks) of each base, at most
+#: MAX_BASES; the step h [s], the most states the run may hold, the foundation's event rows (all zero: a rigid
+#: or bonded run), the elements and whether they have a bearing capacity
+Builds = namedtuple("Builds", "rows fields keys count bases h most_states n_soil n_elements settles")
+#: the bases a call of the loop builds states of at most (builds.h)
+MAX_BASES = 8
 
 
 def _loops():
@@ -65,13 +76,16 @@ def integrator():
 
 
 def integrate(states: States, elements: Elements, grid: Grid, samples: Samples, state: int, step: int,
-              offset: float, n_out: int) -> tuple[int, int, float, int, int, int]:
+              offset: float, n_out: int, builds: Builds | None = None) -> tuple[int, int, float, int, int, int]:
     """Advance from (step, offset) to the end of the ground-motion grid.
 
     Returns (status, step, offset, state, n_out, pattern) and updates samples.x and the
-    sample buffers in place; pattern is the pending contact pattern for NEED_STATE.
+    sample buffers in place; pattern is the pending contact pattern for NEED_STATE. With builds,
+    the compiled loop builds the states of yielding stories it can (builds.h) into the states'
+    arrays and says how many there are in builds.count (the caller makes their ContactState:
+    story_requests.adopt).
     """
-    return _loops().integrate(states, elements, grid, samples, state, step, offset, n_out)
+    return _loops().integrate(states, elements, grid, samples, state, step, offset, n_out, builds)
 
 
 def matvec(matrix_t, x, out) -> None:

@@ -284,8 +284,9 @@ class _Loop:
 
 
 def integrate(states, elements, grid, samples, state: int, step: int, offset: float,
-              n_out: int) -> tuple[int, int, float, int, int, int]:
-    """Advance from (step, offset) to the end of the ground-motion grid (stepping_kernels.integrate)."""
+              n_out: int, builds=None) -> tuple[int, int, float, int, int, int]:
+    """Advance from (step, offset) to the end of the ground-motion grid (stepping_kernels.integrate; builds is
+    not read: the twin builds no state, NEED_STATE for every pattern without one, the caller builds it)."""
     loop = _Loop(states, elements, grid, samples)
     n_steps, capacity, x = loop.ground.size - 1, loop.out_t.size, loop.x
     run = BLOCK  # steps of the next run of blocks

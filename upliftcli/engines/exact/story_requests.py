@@ -13,6 +13,10 @@ each state).
 The rates G A of the stories' event rows are written by the same compiled call as the rows (story_rows: each
 entry summed in the order of its terms, levels_numpy.product), the foundation's by np.matmul, and
 Operators.store gives a state of yielding stories the same (event_rates).
+
+The compiled stepping loop builds the states that qualify itself, with the same C code in the same order
+(_stepping.c's builds.h, from what loop_builds hands it: a rigid or bonded run's, whose foundation rows are
+zero), instead of returning NEED_STATE for each; adopt then makes their ContactState and keeps their keys of A.
 """
 
 from __future__ import annotations
@@ -23,6 +27,7 @@ import numpy as np
 
 from .levels_numpy import product
 from .statespace import ContactState, Layout
+from .stepping_kernels import MAX_BASES, Builds
 from .stories import sign_of_fields, valid_story_pattern
 from .story_states import StoryBase, matrix_key, soil_rows
 from .yielding import valid_pattern
@@ -37,6 +42,10 @@ class QuickOperators(Protocol):
     h: float
     most_states: int
     ops: np.ndarray
+    rows: np.ndarray
+    fields: np.ndarray
+    keys: np.ndarray
+    patterns: np.ndarray
     events: np.ndarray
     event_rates: np.ndarray
     matrices: np.ndarray
@@ -49,6 +58,8 @@ class QuickOperators(Protocol):
     def keep(self, index: int, pattern: int, state: ContactState) -> int: ...
 
     def share(self, index: int, source: int) -> None: ...
+
+    def record(self, key: tuple[int, int], index: int) -> None: ...
 
 
 #: a qualified request: (operators, pattern, the base of its foundation pattern, the key of its A)
@@ -108,28 +119,70 @@ def add_quick(requests: list[tuple[QuickOperators, int, bool]]) -> list[int] | N
 
 
 def _added(request: Quick) -> int:
-    """Store the state of one qualified request: its A and event rows from its base's table, its event rows, their
-    rates (the foundation's of an uplift run: _foundation_rates) and A^T in its slot (levels.story_rows), and the
-    operators of the state of the same A or its own (levels.state_levels, written into the slot); its index."""
+    """Store the state of one qualified request: its A and event rows from its base's table (into operators.rows),
+    its event rows, their rates (the foundation's of an uplift run: _foundation_rates) and A^T in its slot
+    (levels.story_rows), and the operators of the state of the same A or its own (levels.state_levels, written into
+    the slot); its index. The compiled loop builds the same with the same code (stepping_kernels.Builds)."""
     operators, pattern, base, key = request
     n_aug, index, soil, levels = operators.layout.n_aug, operators.slot(), base.soil_rows, base.levels
-    rows = np.empty((base.picks.shape[1], n_aug))
-    fields = np.empty(operators.layout.n_plastic, dtype=np.int64)
     zero_rows = 0 if operators.uplift else soil
-    levels.story_rows(pattern >> soil, base.table, base.picks, rows, operators.events[index],
-                      operators.event_rates[index], operators.matrices[index], fields, zero_rows, soil)
-    matrix = rows[:n_aug]
+    levels.story_rows(pattern >> soil, base.table, base.picks, operators.rows[index], operators.events[index],
+                      operators.event_rates[index], operators.matrices[index], operators.fields[index], zero_rows,
+                      soil)
+    matrix = operators.rows[index, :n_aug]
     if zero_rows < soil:
         _foundation_rates(operators, index, matrix, soil)
     source = operators.by_matrix.get(key)
     if source is None:
         levels.state_levels(matrix, float(operators.h), operators.ops[index])
-        operators.by_matrix[key] = index
+        operators.record(key, index)
     else:  # the same A as a state built before: its operators, bit for bit
         operators.share(index, source)
-    state = ContactState(base.state.lifted, matrix, base.state.velocity, rows[n_aug:], base.state.yielding,
-                         sign_of_fields(fields))
-    return operators.keep(index, pattern, state)
+    return operators.keep(index, pattern, _contact_state(operators, index, base))
+
+
+def _contact_state(operators: QuickOperators, index: int, base: StoryBase) -> ContactState:
+    """The ContactState of state `index`, written by story_rows: views of its A and event rows (operators.rows),
+    its stories' signs from their fields, the rest its base's."""
+    rows, state = operators.rows[index], base.state
+    n_aug = operators.layout.n_aug
+    return ContactState(state.lifted, rows[:n_aug], state.velocity, rows[n_aug:], state.yielding,
+                        sign_of_fields(operators.fields[index]))
+
+
+def loop_builds(operators: QuickOperators) -> Builds | None:
+    """What the compiled loop builds the states of a run's yielding stories with (stepping_kernels.Builds), None
+    where it builds none: not built here (Operators.quick) or an uplift run's foundation rates (_foundation_rates,
+    np.matmul: Python's)."""
+    if not operators.quick:
+        return None
+    lay, soil = operators.layout, soil_rows(operators.layout)
+    if operators.uplift and soil:
+        return None
+    return Builds(operators.rows, operators.fields, operators.keys, np.array([len(operators.contact)]),
+                  _compiled_bases(operators), float(operators.h), operators.most_states, soil, lay.n_elements,
+                  bool(lay.n_settlements))
+
+
+def _compiled_bases(operators: QuickOperators) -> tuple[tuple[int, np.ndarray, np.ndarray], ...]:
+    """(foundation pattern, table, picks) of the bases made with _levels.c, at most MAX_BASES (the states of the
+    others, the numpy twin's, are built by Python: their arithmetic is the twin's)."""
+    bases = tuple((pattern, base.table, base.picks) for pattern, base in operators.bases.items()
+                  if base.levels.__name__.endswith("._levels"))
+    return bases[:MAX_BASES]
+
+
+def adopt(operators: QuickOperators, builds: Builds | None) -> None:
+    """Keep the states the compiled loop built (builds.count: those after operators.contact): each one's
+    ContactState (_contact_state) and, where its operators are its own, its key of A (by_matrix)."""
+    if builds is None:
+        return
+    mask = (1 << soil_rows(operators.layout)) - 1
+    for index in range(len(operators.contact), int(builds.count[0])):
+        pattern, key = int(operators.patterns[index]), operators.keys[index]
+        operators.contact.append(_contact_state(operators, index, operators.bases[pattern & mask]))
+        if key[0] >= 0:
+            operators.by_matrix[int(key[0]), int(key[1])] = index
 
 
 def _foundation_rates(operators: QuickOperators, index: int, matrix: np.ndarray, soil: int) -> None:

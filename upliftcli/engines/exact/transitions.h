@@ -26,6 +26,7 @@ typedef struct {
     const double *ops, *events, *rates, *matrices;
     const int64_t *slots, *patterns; /* slots: per state, its operators' slot of ops (states of one A share one) */
     int64_t count, n_events, n, levels;
+    int64_t room; /* the states the loop's work space covers: count, or the most it may build (builds.h) */
     const int64_t *z_index;
     const double *lift_rows;
     const unsigned char *damped;
@@ -241,7 +242,7 @@ static ALWAYS_INLINE void classify(const Model *m, int64_t s, int64_t index_acce
 /* the slots of EventTables: none without event rows */
 static inline int64_t table_slots(const Model *m)
 {
-    return m->n_events ? (m->count < TABLE_SLOTS ? m->count : TABLE_SLOTS) : 0;
+    return m->n_events ? (m->room < TABLE_SLOTS ? m->room : TABLE_SLOTS) : 0;
 }
 
 /* Classify state s as integrate enters it (classify) and return its event table (event_table), NULL
