@@ -12,8 +12,8 @@ of 2.9 (uplift), 3.9 (bonded) and 4.7 (rigid).
   --repeats calls each, three rounds, the median of the rounds' ratios), with the contact states each run
   builds and its transitions, and the rest ratio: the yielding run's CPU time outside building its states
   (operators.add_states: its stepping and post-processing, as if its operators were free) over the elastic
-  run, which bounds what faster state building could reach (a rigid or bonded yielding run's states are
-  built inside the compiled loop, docs/theory.md 15.9: counted in its rest, not in add_states);
+  run, which bounds what faster state building could reach (a rigid or bonded yielding run's states, which
+  the compiled loop builds itself, docs/theory.md 15.9, go through add_states for this measure);
 - command: `uplift analyze` of the deck in a fresh process each time, the elastic and the yielding
   command interleaved: wall time and CPU time (the child's user + system time), medians;
 - sweep: `uplift sweep -e exact --vary building.period=0.4:0.8:100 --workers 1` in a fresh process
