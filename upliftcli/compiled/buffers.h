@@ -133,4 +133,17 @@ static int expect_args(Py_ssize_t nargs, Py_ssize_t expected, const char *functi
     return 1;
 }
 
+/* the `size` items of the tuple argument `name` of `function` into out; 0 with a TypeError otherwise */
+static inline int unpack(PyObject *tuple, Py_ssize_t size, const char *function, const char *name, PyObject **out)
+{
+    if (!PyTuple_Check(tuple) || PyTuple_Size(tuple) != size) {
+        PyErr_Format(PyExc_TypeError, "%s: %s must be a tuple of %zd items", function, name, size);
+        return 0;
+    }
+    for (Py_ssize_t i = 0; i < size; i++) {
+        out[i] = PyTuple_GetItem(tuple, i);
+    }
+    return 1;
+}
+
 #endif

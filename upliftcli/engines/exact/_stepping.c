@@ -210,8 +210,8 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *call, Py_ssize_t 
     }
     PyObject *builds = nargs == 9 && call[8] != Py_None ? call[8] : NULL;
     PyObject *args[26]; /* the items of the four tuples, then state, step, offset, n_out */
-    if (!unpack(call[0], 7, "states", args) || !unpack(call[1], 5, "elements", args + 7)
-        || !unpack(call[2], 6, "grid", args + 12) || !unpack(call[3], 4, "samples", args + 18)) {
+    if (!unpack(call[0], 7, "integrate", "states", args) || !unpack(call[1], 5, "integrate", "elements", args + 7)
+        || !unpack(call[2], 6, "integrate", "grid", args + 12) || !unpack(call[3], 4, "integrate", "samples", args + 18)) {
         return NULL;
     }
     for (int i = 0; i < 4; i++) {

@@ -34,20 +34,6 @@ typedef struct {
     double *work;
 } Builder;
 
-/* the `size` items of the tuple argument `name` (stepping_kernels.States, Elements, Grid, Samples)
- * into out; 0 with a TypeError otherwise */
-static int unpack(PyObject *tuple, Py_ssize_t size, const char *name, PyObject **out)
-{
-    if (!PyTuple_Check(tuple) || PyTuple_Size(tuple) != size) {
-        PyErr_Format(PyExc_TypeError, "integrate: %s must be a tuple of %zd items", name, size);
-        return 0;
-    }
-    for (Py_ssize_t i = 0; i < size; i++) {
-        out[i] = PyTuple_GetItem(tuple, i);
-    }
-    return 1;
-}
-
 /* bits 0, 2, .., 2 count - 2 (stories.EVEN_BITS) */
 static inline int64_t even_bits(int64_t count)
 {
@@ -132,7 +118,7 @@ static int take_base(Views *v, PyObject *base, Builder *b, int64_t k, int64_t n)
     PyObject *items[3];
     static const ArraySpec arrays[] = {{1, 'd', 2, 0, "table"}, {2, 'q', 2, 0, "picks"}};
     Py_buffer *a[2];
-    if (!unpack(base, 3, "base", items) || !take_views(v, items, arrays, 2, a)) {
+    if (!unpack(base, 3, "integrate", "base", items) || !take_views(v, items, arrays, 2, a)) {
         return 0;
     }
     b->soil[k] = PyLong_AsLongLong(items[0]);
@@ -151,7 +137,7 @@ static int take_builds(Views *v, PyObject *builds, const Model *m, Builder *b)
     static const ArraySpec arrays[] = {{0, 'd', 3, 1, "rows"}, {1, 'q', 2, 1, "fields"}, {2, 'q', 2, 1, "keys"},
         {3, 'q', 1, 1, "count"}};
     Py_buffer *a[4];
-    if (!unpack(builds, 10, "builds", items) || !take_views(v, items, arrays, 4, a)) {
+    if (!unpack(builds, 10, "integrate", "builds", items) || !take_views(v, items, arrays, 4, a)) {
         return 0;
     }
     bases = items[4];
