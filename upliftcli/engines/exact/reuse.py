@@ -28,9 +28,9 @@ from .digest import Digest
 from .operators import Operators
 from .residual_digest import ResidualDigest
 
-#: the most memory of step operators a store keeps [bytes] (the README example's yielding runs hold 151
-#: states of 115 kB, 17 MB; a suite of eleven such records 190 MB); a run beyond it is not kept, and its
-#: twin builds its states itself
+#: the most memory of step operators a store keeps [bytes] (the README example's yielding rigid run holds 151
+#: states, 106 slots of operators of 115 kB, 12 MB: used_bytes; a suite of eleven such records about 130 MB);
+#: a run beyond it is not kept, and its twin builds its states itself
 STORE_BYTES = 256 * 2**20
 
 
