@@ -333,7 +333,8 @@ static PyObject *py_evaluate_signals(PyObject *self, PyObject *const *args, Py_s
         rows->entry_output = rows->entry_input + per_state;
         transpose_rows(DOUBLES(rows_in) + s * per_state, width, n_aug, whole_t);
         split_rows(whole_t, n_aug, width, rows,
-                   integers + n_split * (INTEGERS_PER_ROW * width + 2 * per_state), doubles + n_acc + n_split * (n_dense + per_state));
+                   integers + n_split * (INTEGERS_PER_ROW * width + 2 * per_state),
+                   doubles + n_acc + n_split * (n_dense + per_state));
         j++;
     }
     evaluate_signals(DOUBLES(states), n, n_aug, INT64S(ids), split, k, k_s, DOUBLES(values), DOUBLES(slopes),

@@ -17,6 +17,16 @@ typedef struct {
     double offset;
 } Outcome;
 
+/* the sample (t, x, state) at out_*[n_out]; n_out + 1 */
+static inline int64_t kept_sample(double t, const double *x, int64_t state, int64_t n, double *out_t, double *out_x,
+                                  int64_t *out_state, int64_t n_out)
+{
+    out_t[n_out] = t;
+    memcpy(out_x + n_out * n, x, n * sizeof(double));
+    out_state[n_out] = state;
+    return n_out + 1;
+}
+
 HOT_LOOP static Outcome integrate(Model *m, const double *ground, const double *slopes, int64_t n_ground, double h,
                          int64_t index_acceleration, int64_t index_slope, double *x, double *out_x, double *out_t,
                          int64_t *out_state, int64_t capacity, int64_t state, int64_t step, double offset,
@@ -144,10 +154,7 @@ HOT_LOOP static Outcome integrate(Model *m, const double *ground, const double *
                  * the sample where it starts, the step's events counted afresh, a full buffer returned */
                 state = new_state;
                 table = entered(m, state, index_acceleration, index_slope, active, ground_free, &tables);
-                out_t[n_out] = step * h + offset;
-                memcpy(out_x + n_out * n, x, n * sizeof(double));
-                out_state[n_out] = state;
-                n_out++;
+                n_out = kept_sample(step * h + offset, x, state, n, out_t, out_x, out_state, n_out);
                 events_in_step = 0;
                 if (n_out + MAX_EVENTS_PER_STEP + 1 > capacity) {
                     RETURN(FULL, m->patterns[state]);
@@ -164,10 +171,7 @@ HOT_LOOP static Outcome integrate(Model *m, const double *ground, const double *
             if (events_in_step >= MAX_EVENTS_PER_STEP) {
                 RETURN(CHATTER, pattern);
             }
-            out_t[n_out] = step * h + offset;
-            memcpy(out_x + n_out * n, x, n * sizeof(double));
-            out_state[n_out] = state;
-            n_out++;
+            n_out = kept_sample(step * h + offset, x, state, n, out_t, out_x, out_state, n_out);
         }
         step++;
         offset = 0.0;
@@ -186,10 +190,7 @@ HOT_LOOP static Outcome integrate(Model *m, const double *ground, const double *
         if (!finite) {
             RETURN(NONFINITE, m->patterns[state]);
         }
-        out_t[n_out] = step * h;
-        memcpy(out_x + n_out * n, x, n * sizeof(double));
-        out_state[n_out] = state;
-        n_out++;
+        n_out = kept_sample(step * h, x, state, n, out_t, out_x, out_state, n_out);
     }
     RETURN(DONE, m->patterns[state]);
 #undef RETURN
@@ -238,7 +239,8 @@ static PyObject *py_integrate(PyObject *self, PyObject *const *call, Py_ssize_t 
         goto done;
     }
     Model m = {
-        .ops = DOUBLES(ops), .slots = INT64S(op_slots), .events = DOUBLES(events), .rates = DOUBLES(rates), .matrices = DOUBLES(matrices),
+        .ops = DOUBLES(ops), .slots = INT64S(op_slots), .events = DOUBLES(events), .rates = DOUBLES(rates),
+        .matrices = DOUBLES(matrices),
         .patterns = INT64S(patterns), .count = PyLong_AsLongLong(args[6]), .n_events = events->shape[1],
         .n = x->shape[0], .levels = PyLong_AsLongLong(args[15]), .z_index = INT64S(z_index),
         .lift_rows = DOUBLES(lift_rows), .damped = BOOLS(damped), .all_lifted = PyLong_AsLongLong(args[10]),

@@ -181,8 +181,8 @@ def adopt(operators: QuickOperators, builds: Builds | None) -> None:
     for index in range(len(operators.contact), int(builds.count[0])):
         pattern, key = int(operators.patterns[index]), operators.keys[index]
         operators.contact.append(_contact_state(operators, index, operators.bases[pattern & mask]))
-        if key[0] >= 0:
-            operators.by_matrix[int(key[0]), int(key[1])] = index
+        if key[0] >= 0:  # its operators its own: the first of its A (the loop wrote its key)
+            operators.record((int(key[0]), int(key[1])), index)
 
 
 def _foundation_rates(operators: QuickOperators, index: int, matrix: np.ndarray, soil: int) -> None:
