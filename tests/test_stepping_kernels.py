@@ -16,6 +16,29 @@ def test_matvec_takes_the_transposed_matrix():
     np.testing.assert_allclose(out, matrix @ x)
 
 
+def test_matvec_sums_each_output_in_the_order_of_its_terms_at_every_width():
+    """The compiled product keeps up to 51 outputs in registers, a copy per width (transitions.h,
+    register_product): every output is the sum over q = 0, 1, ... from +0 of its products, those of zero
+    inputs left out, bit for bit, at every width and wider (strided_product)."""
+    from upliftcli.engines.exact import _stepping  # the compiled loop itself, whichever backend runs
+
+    rng = np.random.default_rng(7)
+    for n in range(1, 56):
+        matrix_t = rng.normal(size=(n, n))
+        x = rng.normal(size=n)
+        x[rng.random(n) < 0.3] = 0.0  # zero inputs, alone and in pairs
+        out = np.empty(n)
+        _stepping.matvec(matrix_t, x, out)
+        expected = []
+        for r in range(n):
+            total = 0.0
+            for q in range(n):
+                if x[q] != 0.0:
+                    total += float(matrix_t[q, r]) * float(x[q])
+            expected.append(total)
+        assert out.tobytes() == np.array(expected).tobytes(), n
+
+
 def test_excursion_flags_a_positive_bump_between_negative_ends():
     """g(t) = -(t - 0.5)^2 + 0.01 on [0, 1]: negative at both ends, positive in between."""
     events = np.array([[1.0, 0.0]])   # g = x[0]

@@ -97,28 +97,28 @@ HOT_LOOP static Outcome integrate(Model *m, const double *ground, const double *
             /* the event functions and their rates at x (g_x, then d_x), kept while they stay */
             if (!(known & VALUES)) {
                 if (n_events) {
-                    strided_product(table, 2 * n_events, x, n, 2 * n_events, g_x);
+                    register_product(table, 2 * n_events, x, n, 2 * n_events, g_x);
                 }
                 known = VALUES | RATES;
             } else if (!(known & RATES)) {
                 if (n_events) {
-                    strided_product(table + n_events, 2 * n_events, x, n, n_events, d_x);
+                    register_product(table + n_events, 2 * n_events, x, n, n_events, d_x);
                 }
                 known |= RATES;
             }
             matvec(op_of(m, state, level), x, trial, n);
             if (n_events) {
-                strided_product(table, 2 * n_events, trial, n, 2 * n_events, g_trial);
+                register_product(table, 2 * n_events, trial, n, 2 * n_events, g_trial);
             }
-            int crossed = largest(g_trial, n_events) > EVENT_TOLERANCE;
+            int crossed = any_above(g_trial, n_events);
             /* an event function may rise above zero and fall back inside the chunk: halve it
              * while its cubic interpolant says so (down to h / 2^REFINE_LEVELS) */
             while (!crossed && level < REFINE_LEVELS
                    && excursion_between(g_x, d_x, g_trial, d_trial, n_events, chunk[level])) {
                 level++;
                 matvec(op_of(m, state, level), x, trial, n);
-                strided_product(table, 2 * n_events, trial, n, 2 * n_events, g_trial); /* n_events > 0 here */
-                crossed = largest(g_trial, n_events) > EVENT_TOLERANCE;
+                register_product(table, 2 * n_events, trial, n, 2 * n_events, g_trial); /* n_events > 0 here */
+                crossed = any_above(g_trial, n_events);
             }
             if (!crossed) {
                 memcpy(x, trial, n * sizeof(double));
