@@ -1,6 +1,6 @@
 /* out = M x from the transposed matrix M^T (n_in, width): the matrix-vector products of the
- * compiled loops, for one vector (transposed_product: the step operators, whose products form a
- * chain) or four at once (product_samples: the signal and response rows at the samples), with
+ * compiled loops, for one vector (transposed_product: a chain of products; the stepping loop's steps
+ * and event rows take the same sums in registers, transitions.h register_product) or four at once (product_samples: the signal and response rows at the samples), with
  * the same bits; and their matrix-matrix product (matrix_product: the bisection levels' and the
  * yielding mat's operators). Shared by the extension modules. */
 #ifndef UPLIFT_PRODUCT_H
@@ -15,9 +15,9 @@
  * each out[r] sums over q = 0, 1, ... in that order from +0 (the bits do not depend on the vector
  * width, and are a dot product's: the products of zero inputs, skipped, change no such sum). Four
  * rows go through one pass over out when their four inputs are nonzero (the same additions in the
- * same order, a quarter of the loads and stores of out). The event rows of the stepping loop
- * (transitions.h: stored transposed, so a state's 20-40 event rows take one product, ten times faster
- * than a dot product per row, each waiting for its additions) and the step operators (transposed_product). */
+ * same order, a quarter of the loads and stores of out). The products of levels.h (event rates),
+ * derivatives.h, _signals.c and _peaks.c, and the stepping loop's wider than register_product takes
+ * (transitions.h). */
 static inline void strided_product(const double *restrict table, int64_t stride, const double *restrict x, int64_t n,
                                    int64_t width, double *restrict out)
 {
