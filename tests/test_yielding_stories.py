@@ -25,6 +25,7 @@ from upliftcli.errors import InputError
 from upliftcli.model.building import shear_building
 from upliftcli.model.foundations import TwoElement
 from upliftcli.model.system import System
+from upliftcli.runtime import backend
 
 ROOT = Path(__file__).resolve().parent.parent
 TWO = ROOT / "inputs" / "ten_story_elcentro.toml"
@@ -50,20 +51,35 @@ def same(a, b) -> bool:
 
 
 # ------------------------------------------------------------------ the elastic engine, bit for bit
+def close(a, b, tolerance: float = 1e-12) -> bool:
+    """Every peak of two results within `tolerance` of each quantity's largest value, every instant within
+    1e-5 s (a peak on a flat top moves far more than its value: the settlement's of the half-space deck by
+    2.2e-6 s for a value 4e-16 of its largest)."""
+    return a.peaks.keys() <= b.peaks.keys() and all(
+        np.allclose(a.peaks[k], b.peaks[k], rtol=0.0, atol=tolerance * np.abs(a.peaks[k]).max(initial=0.0))
+        and np.allclose(a.times.get(k, []), b.times.get(k, []), rtol=0.0, atol=1e-5, equal_nan=True)
+        for k in a.peaks)
+
+
 @pytest.mark.parametrize("path", [TWO, WINKLER, HALFSPACE])
 @pytest.mark.parametrize("support", ["rigid", "bonded", "uplift"])
 def test_a_strength_never_reached_gives_the_elastic_run_bit_for_bit(path, support):
     """story_strengths of 1e3 W (never reached) and infinite strengths: every peak and instant and the
     energy terms are the elastic run's, bit for bit (the elastic block of each state's operators comes
-    from the exponential of the matrix without the plastic drifts: operators._elastic_stories)."""
+    from the exponential of the matrix without the plastic drifts: operators._elastic_stories). On the
+    numpy twins (UPLIFT_BACKEND=numpy) to round-off, 1e-12 of each quantity's largest value: their BLAS
+    products group a sum's terms by the matrix's size, which the plastic drifts' zero columns change."""
     modes = {WINKLER: ("analysis.modes=10",), HALFSPACE: SHEAR_FRAME}.get(path, ())
     elastic = run(path, support, *modes)
     strong = run(path, support, *modes, "building.strength_coefficient=1000")
-    assert same(elastic, strong)
+    exact = backend.in_use() == "compiled"
+    assert same(elastic, strong) if exact else close(elastic, strong)
     assert strong.peaks["yielded_stories"][0] == 0.0 and not strong.peaks["hysteretic_energy"].any()
+    input_work = abs(elastic.details["energy"]["input"])
     for name, value in elastic.details["energy"].items():
-        assert strong.details["energy"][name] == value
+        assert strong.details["energy"][name] == (value if exact else pytest.approx(value, abs=1e-12 * input_work))
     assert strong.details["energy"]["hysteretic"] == 0.0
+    assert strong.intermediates["transitions"] == elastic.intermediates["transitions"]
 
 
 def test_infinite_strengths_are_the_elastic_building():
