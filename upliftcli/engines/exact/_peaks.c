@@ -107,6 +107,43 @@ static ALWAYS_INLINE void gather_samples(const double *restrict values, const in
     }
 }
 
+/* The basis rows [ranges[2 t], ranges[2 t + 1]) of R^T padded (n_b, width) with a nonzero entry in the lanes of
+ * tile t (PRODUCT_LANES lanes from t PRODUCT_LANES); [0, 0) where every entry is zero */
+static void tile_ranges(const double *restrict padded, int64_t n_b, int64_t width, int64_t *restrict ranges)
+{
+    for (int64_t t = 0; t * PRODUCT_LANES < width; t++) {
+        int64_t lo = n_b, hi = 0;
+        for (int64_t q = 0; q < n_b; q++) {
+            for (int64_t j = t * PRODUCT_LANES; j < (t + 1) * PRODUCT_LANES; j++) {
+                if (padded[q * width + j] != 0.0) {
+                    lo = q < lo ? q : lo;
+                    hi = q + 1;
+                }
+            }
+        }
+        ranges[2 * t] = hi > lo ? lo : 0;
+        ranges[2 * t + 1] = hi > lo ? hi : 0;
+    }
+}
+
+/* product_samples of R^T padded (n_b, width) by the PRODUCT_SAMPLES samples y (PRODUCT_SAMPLES x n_b), each tile of
+ * PRODUCT_LANES lanes over its basis rows alone (tile_ranges): the terms left out have a zero coefficient, so each
+ * sum is product_samples' to the bit (its terms in the same order from +0); a yielding run's plastic drifts enter
+ * the shears, moments and modal base shears only (a sixth of the stacked responses' products saved) */
+static ALWAYS_INLINE void product_ranged(const double *restrict padded, const double *restrict y, int64_t n_b,
+                                         int64_t width, const int64_t *restrict ranges, double *restrict out)
+{
+#if defined(__GNUC__)
+    for (int64_t j = 0; j < width; j += PRODUCT_LANES) {
+        const int64_t lo = ranges[2 * (j / PRODUCT_LANES)], hi = ranges[2 * (j / PRODUCT_LANES) + 1];
+        product_tile(y + lo, n_b, padded + lo * width + j, width, out + j, width, hi - lo, PRODUCT_LANES);
+    }
+#else
+    (void)ranges;
+    product_samples(padded, y, n_b, width, out);
+#endif
+}
+
 typedef struct {
     const double *values, *slopes, *end_values, *end_slopes, *rows_t, *lengths, *fractions;
     const int64_t *switch_, *value_columns, *rate_columns, *curvature_columns;
@@ -205,11 +242,12 @@ static ALWAYS_INLINE int64_t to_search(const double *restrict r0, const double *
  * whole PRODUCT_SAMPLES, padded_width(m)), padded (n_basis, padded_width(m)), flagged (n), end and
  * threshold (padded_width(m) each), y (PRODUCT_SAMPLES n_basis), best and where (padded_width(m) each: copied to
  * best_out, where_out at the end), next_rate, next_curvature and next_at (m each), rates (4 padded_width(m): the
- * rates and curvatures of all responses at an interval's start and end, rates_of_all) and todo (m). */
+ * rates and curvatures of all responses at an interval's start and end, rates_of_all), todo (m) and ranges
+ * (2 width / PRODUCT_LANES: tile_ranges). */
 HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double *where_out, double *sampled,
                                    double *padded, unsigned char *flagged, double *end, double *threshold, double *y,
                                    double *best, double *where, double *next_rate, double *next_curvature,
-                                   int64_t *next_at, double *rates, int64_t *todo)
+                                   int64_t *next_at, double *rates, int64_t *todo, int64_t *ranges)
 {
     const int64_t n = in->n, m = in->m, n_b = in->n_basis, k = in->k, k_s = in->k_s, k_e = in->width_end_slopes;
     const int64_t width = padded_width(m);
@@ -237,6 +275,7 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double
             padded[q * width + j] = j < m ? in->rows_t[q * m + j] : 0.0;
         }
     }
+    tile_ranges(padded, n_b, width, ranges);
     /* pass 1: every response at every sample (kept), PRODUCT_SAMPLES samples at a time, and its
      * sampled peak (samples past the last are zeros) */
     for (int64_t i0 = 0; i0 < n; i0 += PRODUCT_SAMPLES) {
@@ -248,7 +287,7 @@ HOT_LOOP static void hermite_peaks(const PeakInput *in, double *best_out, double
             PREFETCH(in->values + i * k + last_column);
         }
         gather_samples(in->values, in->value_columns, run, i0, n, k, n_b, y);
-        product_samples(padded, y, n_b, width, sampled + i0 * width);
+        product_ranged(padded, y, n_b, width, ranges, sampled + i0 * width);
         keep_larger_block(sampled + i0 * width, width, n - i0 < PRODUCT_SAMPLES ? n - i0 : PRODUCT_SAMPLES, i0, width,
                           best, where);
     }
@@ -393,7 +432,7 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
                              * sizeof(double));
     unsigned char *flagged = malloc(in.n + 1);
     double *next_rate = malloc((2 * in.m + 4 * width + 1) * sizeof(double));
-    int64_t *next_at = malloc((2 * in.m + 1) * sizeof(int64_t));
+    int64_t *next_at = malloc((2 * in.m + 2 * width / PRODUCT_LANES + 1) * sizeof(int64_t));
     if (!sampled || !flagged || !next_rate || !next_at) {
         free(sampled);
         free(flagged);
@@ -406,7 +445,7 @@ static PyObject *py_hermite_peaks(PyObject *self, PyObject *const *args, Py_ssiz
     double *best = y + PRODUCT_SAMPLES * in.n_basis, *where = best + width;
     Py_BEGIN_ALLOW_THREADS
     hermite_peaks(&in, DOUBLES(b[11]), DOUBLES(b[12]), sampled, padded, flagged, end, threshold, y, best, where,
-                  next_rate, next_rate + in.m, next_at, next_rate + 2 * in.m, next_at + in.m);
+                  next_rate, next_rate + in.m, next_at, next_rate + 2 * in.m, next_at + in.m, next_at + 2 * in.m);
     Py_END_ALLOW_THREADS
     free(sampled);
     free(flagged);

@@ -253,9 +253,11 @@ class StoryDigest:
         """Fold one chunk: int V dp over its intervals (stories.hysteretic_work), the stories that yielded in it,
         the drifts of every story at its last sample (drift_rows: Y* -> d of every story)."""
         drifts = chunk.states @ self.space.drift_rows.T
-        self.hysteretic += hysteretic_work(self.space.model.stories, drifts, chunk.story_sign)
         starts = np.r_[0, np.flatnonzero(sig.switch >= 0) + 1]  # a state's signs hold from its first sample on
-        self.yielded |= chunk.story_sign[starts].any(axis=0)
+        first = chunk.story_sign[starts]
+        yields = np.repeat(first.any(axis=1), np.diff(np.r_[starts, chunk.story_sign.shape[0]]))
+        self.hysteretic += hysteretic_work(self.space.model.stories, drifts, chunk.story_sign, yields)
+        self.yielded |= first.any(axis=0)
         self.final_drift = drift_rows @ sig["Y"][-1]
 
     def residual_drift_ratio(self, building) -> np.ndarray:

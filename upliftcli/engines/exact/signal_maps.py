@@ -197,13 +197,20 @@ def _derived(history: History, used: np.ndarray, few: np.ndarray, x: np.ndarray,
     matrices = [history.contact[s].matrix for s in states]
     velocity, group = _velocity_groups(history.contact, states)
     rows = rate_rows(space, velocity)
-    first, second = np.empty(x.shape), np.empty(x.shape)
-    response_kernels.derivatives(x, local, matrices, first, second)
-    values, slopes = _signals_of(names, rows, group[local], x, first, second)
+    # the derivatives of x, then of a unit ground slope in each state (_ground_slope), in one call: the states' A
+    # transposed once
+    unit = np.zeros((states.size, x.shape[1]))
+    unit[:, space.layout.index_slope] = 1.0
+    both = np.vstack((x, unit))
+    first, second = np.empty(both.shape), np.empty(both.shape)
+    response_kernels.derivatives(both, np.concatenate((local, np.arange(states.size, dtype=np.int64))), matrices,
+                                 first, second)
+    n = x.shape[0]
+    values, slopes = _signals_of(names, rows, group[local], x, first[:n], second[:n])
     n_samples, sampled, ended = parts
     out[0][sampled], out[1][sampled] = values[:n_samples], slopes[:n_samples]
     out[2][ended], out[3][ended] = values[n_samples:], slopes[n_samples:]
-    out[4][few] = _ground_slope(matrices, group, rows[2], names, space.layout)
+    out[4][few] = _ground_slope(second[n:], group, rows[2], names)
 
 
 def rate_rows(space: StateSpace, velocity: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -248,14 +255,10 @@ def _signals_of(names: dict[str, slice], rows: tuple, groups: np.ndarray, x: np.
     return values, slopes
 
 
-def _ground_slope(matrices: list[np.ndarray], group: np.ndarray, second: np.ndarray, names: dict[str, slice],
-                  lay) -> np.ndarray:
+def _ground_slope(twice: np.ndarray, group: np.ndarray, second: np.ndarray, names: dict[str, slice]) -> np.ndarray:
     """Each state's slope columns' coefficients on the ground slope (S, k_s) where response._slope_rows reads them
-    (the second rates; zeros elsewhere): the rows on X'' (G, ., n_aug) applied to A A e of a unit ground slope e."""
-    unit = np.zeros((len(matrices), lay.n_aug))
-    unit[:, lay.index_slope] = 1.0
-    once, twice = np.empty(unit.shape), np.empty(unit.shape)
-    response_kernels.derivatives(unit, np.arange(len(matrices), dtype=np.int64), matrices, once, twice)
+    (the second rates; zeros elsewhere): the rows on X'' (G, ., n_aug) applied to A A e (twice, (S, n_aug)) of a
+    unit ground slope e."""
     coefficients = np.empty((group.size, second.shape[1]))
     for g in range(second.shape[0]):
         coefficients[group == g] = twice[group == g] @ second[g].T

@@ -140,21 +140,27 @@ def resets(stories: StoryYield, drift_rows: np.ndarray, plastic: np.ndarray, one
     return np.repeat(plastic, 2), rows, np.ones(2 * stories.count, dtype=bool)
 
 
-def hysteretic_work(stories: StoryYield, drifts: np.ndarray, sign: np.ndarray) -> np.ndarray:
+def hysteretic_work(stories: StoryYield, drifts: np.ndarray, sign: np.ndarray, yields: np.ndarray | None = None
+                    ) -> np.ndarray:
     """Hysteretic energy int V_j dp_j [J] of each yielding story over the intervals of a history, exact
     from the drifts d_j at the samples (n, n_y) and the sign valid from each sample on (n, n_y): while
-    yielding V = alpha k d +- (1 - alpha) V_y and dp = (1 - alpha) dd (theory 15.3)."""
+    yielding V = alpha k d +- (1 - alpha) V_y and dp = (1 - alpha) dd (theory 15.3). yields (n,): whether some
+    story yields from each sample on (sign.any(axis=1), which the caller may know cheaper)."""
     if drifts.shape[0] < 2:
         return np.zeros(stories.count)
     # the work of the intervals where some story yields (a sixth of them in the README example at El Centro x2),
-    # the others' zero: the same terms summed in the same order as over every interval (numpy sums one story's
-    # column pairwise, so the zeros stay in it)
-    terms = np.zeros((drifts.shape[0] - 1, stories.count))
-    rows = np.flatnonzero(sign[:-1].any(axis=1))
+    # the others' zero: the same terms summed in the same order as over every interval (numpy sums the rows of
+    # several stories one after the other, so the zero rows change nothing; one story's column pairwise, so its
+    # zeros stay in it)
+    rows = np.flatnonzero(sign[:-1].any(axis=1) if yields is None else yields[:-1])
     d0, d1, s = drifts[rows], drifts[rows + 1], sign[rows]
     a = stories.alpha
     per = (1.0 - a) * (0.5 * a * stories.stiffness * (d1**2 - d0**2) + s * (1.0 - a) * stories.strength * (d1 - d0))
-    terms[rows] = np.where(s != 0, per, 0.0)
+    terms = np.where(s != 0, per, 0.0)
+    if stories.count == 1:
+        every = np.zeros((drifts.shape[0] - 1, 1))
+        every[rows] = terms
+        terms = every
     return terms.sum(axis=0)
 
 
