@@ -5,6 +5,7 @@ exactly, and the two backends against each other."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -145,6 +146,39 @@ def test_a_matrix_whose_powers_grow_is_halved(name):
             scale = max(1.0, np.abs(reference).max())
             error = np.abs(levels[j] - reference).max() / scale
             assert error <= 1e-11 and error <= np.abs(pade[j] - reference).max() / scale, (w, j)
+
+
+@pytest.mark.parametrize("name", ["compiled", "numpy"])
+def test_the_degree_of_the_taylor_polynomial_follows_eta(name):
+    """The finest level's Taylor polynomial is of degree 6 (one product fewer) where eta is at most THETA_SIX, whose
+    remainder bound sum_{k > 6} eta^k / k! is then below the unit round-off 2^-53, and of degree 9 above it: a
+    README state scaled so that its eta lies just below and just above THETA_SIX, and a stiff oscillator (eta far
+    above: degree 9 after halvings), every level against scipy.linalg.expm to 1e-12 of its largest entry (the
+    oscillator 1e-11, as above), and the two backends give the same bits."""
+    if name == "compiled":
+        on_both(lambda: None)
+    bound = sum(levels_numpy.THETA_SIX**k / math.factorial(k) for k in range(7, 30))
+    assert bound < 2.0**-53 < sum((1.01 * levels_numpy.THETA_SIX)**k / math.factorial(k) for k in range(7, 30))
+    _, states = _story_states("bonded")
+    matrix = states[2].matrix
+    eta = _eta(matrix, H)
+    stiff = np.array([[0.0, 1.0, 0.0], [-1.0e10, -1.0e4, 1.0e3], [0.0, 0.0, 0.0]])
+    for a, h, tolerance in ((matrix, 0.98 * levels_numpy.THETA_SIX / eta * H, 1e-12),
+                            (matrix, 1.02 * levels_numpy.THETA_SIX / eta * H, 1e-12), (stiff, H, 1e-11)):
+        with backend.use(name):
+            levels = _levels(a, h)
+        for j in range(LEVELS + 1):
+            reference = scipy_expm(a * (h / 2.0**j))
+            scale = max(1.0, np.abs(reference).max()) if a is stiff else np.abs(reference).max()
+            assert np.abs(levels[j] - reference).max() <= tolerance * scale, (h, j)
+        np.testing.assert_array_equal(*on_both(lambda a=a, h=h: _levels(a, h)))
+
+
+def _eta(matrix: np.ndarray, h: float) -> float:
+    """max(|B^2|^(1/2), |B^3|^(1/3)) in 1-norms of B = A^T h / 2^LEVELS (levels_numpy.finest_level's)."""
+    b = matrix.T * (h / 2.0**LEVELS)
+    power2 = b @ b
+    return max(np.abs(power2).sum(axis=0).max() ** 0.5, np.abs(power2 @ b).sum(axis=0).max() ** (1.0 / 3.0))
 
 
 def test_the_compiled_levels_refuse_inconsistent_arguments():

@@ -102,6 +102,7 @@ static ALWAYS_INLINE void product_tile(const double *restrict a, int64_t a_strid
     const product_vector zero = {0.0, 0.0, 0.0, 0.0};
     product_vector a0 = zero, b0 = zero, a1 = zero, b1 = zero, a2 = zero, b2 = zero, a3 = zero, b3 = zero;
     const double *x0 = a, *x1 = x0 + a_stride, *x2 = x1 + a_stride, *x3 = x2 + a_stride;
+#pragma GCC unroll 2
     for (int64_t k = 0; k < inner; k++) {
         const double *row = b + k * b_stride;
         const double y0 = x0[k], y1 = x1[k], y2 = x2[k], y3 = x3[k];
@@ -134,14 +135,37 @@ static ALWAYS_INLINE void product_tile(const double *restrict a, int64_t a_strid
         VECTOR_AT(c + 3 * c_stride + 4) = b3;
     }
 }
+
+/* c[l] = sum_k a[k] b[k][l] for l < lanes (4 or 8): one row of product_tile, the rows left over by its four (the
+ * sums in registers over k = 0..inner-1 in that order from +0, as there) */
+static ALWAYS_INLINE void product_row_tile(const double *restrict a, const double *restrict b, int64_t b_stride,
+                                           double *restrict c, int64_t inner, int lanes)
+{
+    const product_vector zero = {0.0, 0.0, 0.0, 0.0};
+    product_vector low = zero, high = zero;
+#pragma GCC unroll 2
+    for (int64_t k = 0; k < inner; k++) {
+        const double *row = b + k * b_stride;
+        const double y = a[k];
+        low += VECTOR_AT(row) * y;
+        if (lanes == 8) {
+            high += VECTOR_AT(row + 4) * y;
+        }
+    }
+    VECTOR_AT(c) = low;
+    if (lanes == 8) {
+        VECTOR_AT(c + 4) = high;
+    }
+}
 #endif
 
 /* c = a b (rows x cols) with a (rows x inner) and b (inner x cols), the rows of each a_stride, b_stride and
  * c_stride apart: the matrix-matrix product of the compiled loops (the bisection levels' Taylor polynomial
  * and squarings, _levels.c; the yielding mat's block exponentials, _soil_operators.c). Four rows at a time
- * in tiles of 8 and then 4 columns (product_tile), the columns and rows left over one entry or one row at
- * a time; every c[i][j] sums over k = 0..inner-1 in that order from +0, so the bits do not depend on the
- * tiling (nor on skipping zero a[i][k]: their products change no such sum). */
+ * in tiles of 8 and then 4 columns (product_tile), the columns left over one entry at a time, the rows left
+ * over one row at a time (in tiles of 8 and 4 columns, product_row_tile, where no column is left over); every
+ * c[i][j] sums over k = 0..inner-1 in that order from +0, so the bits do not depend on the tiling (nor on
+ * skipping zero a[i][k]: their products change no such sum). */
 static ALWAYS_INLINE void matrix_product(const double *restrict a, int64_t a_stride, const double *restrict b,
                                          int64_t b_stride, double *restrict c, int64_t c_stride, int64_t rows,
                                          int64_t inner, int64_t cols)
@@ -166,6 +190,16 @@ static ALWAYS_INLINE void matrix_product(const double *restrict a, int64_t a_str
                 }
                 ci[s * c_stride + j] = sum;
             }
+        }
+    }
+    for (; i < rows && quarter == cols; i++) { /* the rows left over, where no column is */
+        const double *ai = a + i * a_stride;
+        double *ci = c + i * c_stride;
+        for (int64_t j = 0; j < wide; j += 8) {
+            product_row_tile(ai, b + j, b_stride, ci + j, inner, 8);
+        }
+        if (quarter > wide) {
+            product_row_tile(ai, b + wide, b_stride, ci + wide, inner, 4);
         }
     }
 #endif

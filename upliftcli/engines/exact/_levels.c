@@ -26,9 +26,9 @@ static PyObject *py_state_levels(PyObject *self, PyObject *const *args, Py_ssize
         return NULL;
     }
     const int64_t w = padded_width(n);
-    int64_t *order = PyMem_Malloc((size_t)(2 * n + 1) * sizeof(int64_t));
+    int64_t *order = PyMem_Malloc((size_t)(2 * n + n * n + 1) * sizeof(int64_t));
     Span *spans = PyMem_Malloc((size_t)(n + 1) * sizeof(Span));
-    double *work = PyMem_Malloc((size_t)(7 * n * w + 1) * sizeof(double));
+    double *work = PyMem_Malloc((size_t)(7 * n * w + n * n + 1) * sizeof(double)), *matrix_t = work + 7 * n * w;
     if (!order || !spans || !work) {
         PyMem_Free(order);
         PyMem_Free(spans);
@@ -36,7 +36,11 @@ static PyObject *py_state_levels(PyObject *self, PyObject *const *args, Py_ssize
         release_views(&v);
         return PyErr_NoMemory();
     }
-    matrix_levels(DOUBLES(b[0]), n, levels, h, DOUBLES(b[1]), order, spans, work);
+    const double *matrix = DOUBLES(b[0]);
+    for (int64_t i = 0; i < n * n; i++) { /* A^T */
+        matrix_t[i] = matrix[i % n * n + i / n];
+    }
+    matrix_levels(matrix, matrix_t, n, levels, h, DOUBLES(b[1]), order, spans, work);
     PyMem_Free(order);
     PyMem_Free(spans);
     PyMem_Free(work);

@@ -73,7 +73,8 @@ static inline int64_t source_of(const Builder *b, int64_t count, int64_t soil, i
     return -1;
 }
 
-/* the operators of state `index` (A: its first n rows), or the slot of `source`'s; its key kept where its own */
+/* the operators of state `index` (A: its first n rows, A^T: its matrix, story_rows), or the slot of `source`'s; its
+ * key kept where its own */
 static void state_operators(Model *m, Builder *b, int64_t index, int64_t source, int64_t soil, int64_t yielding)
 {
     const int64_t n = m->n;
@@ -81,8 +82,8 @@ static void state_operators(Model *m, Builder *b, int64_t index, int64_t source,
     b->keys[2 * index] = source < 0 ? soil : -1;
     b->keys[2 * index + 1] = source < 0 ? yielding : -1;
     if (source < 0) {
-        matrix_levels(b->rows + index * b->total * n, n, m->levels, b->h, b->ops + index * (m->levels + 1) * n * n,
-                      b->order, b->spans, b->work);
+        matrix_levels(b->rows + index * b->total * n, b->matrices + index * n * n, n, m->levels, b->h,
+                      b->ops + index * (m->levels + 1) * n * n, b->order, b->spans, b->work);
     }
 }
 
@@ -169,7 +170,7 @@ static int take_builds(Views *v, PyObject *builds, const Model *m, Builder *b)
     b->room = a[0]->shape[0] < a[1]->shape[0] ? a[0]->shape[0] : a[1]->shape[0];
     b->room = a[2]->shape[0] < b->room ? a[2]->shape[0] : b->room;
     const int64_t width = padded_width(n);
-    b->order = PyMem_Malloc((size_t)(2 * n + 1) * sizeof(int64_t));
+    b->order = PyMem_Malloc((size_t)(2 * n + n * n + 1) * sizeof(int64_t));
     b->spans = PyMem_Malloc((size_t)(n + 1) * sizeof(Span));
     b->work = PyMem_Malloc((size_t)(7 * n * width + 1) * sizeof(double));
     if (!b->order || !b->spans || !b->work) {

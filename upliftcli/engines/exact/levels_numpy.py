@@ -4,10 +4,11 @@ ops[j] = expm(A h / 2^j)^T, j = 0..L, from the Taylor polynomial of the finest l
 bits (tests/test_level_operators.py): each entry of a matrix product is summed in the order of its terms
 (product), not in the BLAS's order.
 
-The finest level is the Taylor polynomial of degree 9 (Paterson-Stockmeyer, no solve) of
-B = A h / 2^(L + s), s the fewest halvings that bring eta = max(|B^2|^(1/2), |B^3|^(1/3)) (1-norms) to
-THETA_TAYLOR (Al-Mohy and Higham's bound: a matrix whose norm is that of a few large forcing columns needs
-none), squared s times; each coarser level is the square of the next finer one.
+The finest level is the Taylor polynomial (Paterson-Stockmeyer, no solve) of B = A h / 2^L: of degree 6
+(three products) where eta = max(|B^2|^(1/2), |B^3|^(1/3)) (1-norms) is at most THETA_SIX, else of degree 9
+(four) of B / 2^s, s the fewest halvings that bring eta to THETA_TAYLOR, squared s times (Al-Mohy and
+Higham's bound: a matrix whose norm is that of a few large forcing columns needs none); each coarser level
+is the square of the next finer one.
 
 The zero rows of A (the plastic drifts of elastic stories, the settlements of elements that do not
 yield, the constant forcing entries) are unit rows of every exp(A t), exactly, and are left out of the
@@ -23,10 +24,15 @@ import numpy as np
 
 from .stories import story_fields
 
-#: the degree of the Taylor polynomial, and the largest eta it is used at: the remainder, at most
-#: eta^10 / 10!, is then below 2.8e-17
+#: the degree of the Taylor polynomial, and the largest eta it is used at (after halvings): its remainder
+#: exp(B) - T_9(B), at most sum_{k > 9} eta^k / k! (Al-Mohy and Higham 2009, theorem 4.2: the norms of the
+#: powers bounded by eta^k), is then below 2.8e-17 of the unit operator, a quarter of the unit round-off
 TAYLOR_DEGREE = 9
 THETA_TAYLOR = 0.1
+#: the largest eta the polynomial of degree 6 is used at, one product fewer: its remainder, at most
+#: sum_{k > 6} eta^k / k!, is then 1.1e-16, below the unit round-off 2^-53 (it is 4.4e-18 at the README deck's
+#: eta of the rigid base, 0.0112; the bonded base's reach 0.0114-0.035: tests/test_level_operators.py)
+THETA_SIX = 0.0177
 _INVERSE_FACTORIALS = tuple(1.0 / np.prod(np.arange(1.0, k + 1.0)) for k in range(TAYLOR_DEGREE + 1))
 
 
@@ -48,17 +54,21 @@ def state_levels(matrix: np.ndarray, h: float, ops: np.ndarray) -> None:
 
 def finest_level(a: np.ndarray) -> np.ndarray:
     """exp of the compact power a (n x m: [[P, 0], [Q, 0]]) as an operator in compact form, by the Taylor
-    polynomial after the halvings that bring eta to THETA_TAYLOR, squared as many times."""
+    polynomial of degree 6 where eta <= THETA_SIX, else of degree 9 after the halvings that bring eta to
+    THETA_TAYLOR, squared as many times."""
     m = a.shape[1]
     a2 = product(a, a[:m])
-    a3 = product(a2, a[:m])
+    a3 = product(a, a2[:m])  # A A^2: _levels.c takes the sparse factor first
     eta = max(math.sqrt(_norm(a2)), math.cbrt(_norm(a3)))
+    if eta <= THETA_SIX:
+        return _taylor(a, a2, a3, None)
     halvings = 0
     if eta > THETA_TAYLOR and math.isfinite(eta):  # powers of two: the powers of the scaled matrix exactly
         halvings = math.ceil(math.log2(eta / THETA_TAYLOR))
         scale = 0.5**halvings
         a, a2, a3 = a * scale, a2 * scale**2, a3 * scale**3
-    level = _taylor(a, a2, a3)
+    c = _INVERSE_FACTORIALS
+    level = _taylor(a, a2, a3, product(a3, (c[7] * a + c[8] * a2 + c[9] * a3)[:m]))
     for _ in range(halvings):
         level = compact_square(level)
     return level
@@ -84,13 +94,15 @@ def _norm(power: np.ndarray) -> float:
     return float(np.add.reduce(np.abs(power), axis=0).max(initial=0.0))
 
 
-def _taylor(a: np.ndarray, a2: np.ndarray, a3: np.ndarray) -> np.ndarray:
-    """sum_k A^k / k!, k = 0..9, in compact form from A, A^2 and A^3: I + A + A^2/2 + A^3/6 + A^3 (A/4! + A^2/5! +
-    A^3/6! + A^3 (A/7! + A^2/8! + A^3/9!))."""
+def _taylor(a: np.ndarray, a2: np.ndarray, a3: np.ndarray, inner: np.ndarray | None) -> np.ndarray:
+    """sum_k A^k / k! in compact form from A, A^2 and A^3: I + A + A^2/2 + A^3/6 + A^3 (A/4! + A^2/5! + A^3/6! +
+    inner), inner = A^3 (A/7! + A^2/8! + A^3/9!) (degree 9) or None (degree 6)."""
     c, m = _INVERSE_FACTORIALS, a.shape[1]
-    inner = product(a3, (c[7] * a + c[8] * a2 + c[9] * a3)[:m])
+    middle = c[4] * a + c[5] * a2 + c[6] * a3
+    if inner is not None:
+        middle += inner
     identity = np.eye(a.shape[0], m)
-    return identity + a + c[2] * a2 + c[3] * a3 + product(a3, (c[4] * a + c[5] * a2 + c[6] * a3 + inner)[:m])
+    return identity + a + c[2] * a2 + c[3] * a3 + product(a3, middle[:m])
 
 
 def story_rows(bits: int, table: np.ndarray, picks: np.ndarray, rows: np.ndarray, events: np.ndarray,
