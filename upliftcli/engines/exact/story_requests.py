@@ -25,6 +25,7 @@ from typing import Protocol
 
 import numpy as np
 
+from . import levels_numpy
 from .levels_numpy import product
 from .statespace import ContactState, Layout
 from .stepping_kernels import MAX_BASES, Builds
@@ -166,9 +167,9 @@ def loop_builds(operators: QuickOperators) -> Builds | None:
 
 def _compiled_bases(operators: QuickOperators) -> tuple[tuple[int, np.ndarray, np.ndarray], ...]:
     """(foundation pattern, table, picks) of the bases made with _levels.c, at most MAX_BASES (the states of the
-    others, the numpy twin's, are built by Python: their arithmetic is the twin's)."""
+    others, those of the numpy twin levels_numpy, are built by Python: their arithmetic is the twin's)."""
     bases = tuple((pattern, base.table, base.picks) for pattern, base in operators.bases.items()
-                  if base.levels.__name__.endswith("._levels"))
+                  if base.levels is not levels_numpy)
     return bases[:MAX_BASES]
 
 
