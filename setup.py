@@ -143,7 +143,7 @@ setup(cmdclass={"build_ext": OptionalBuildExt, "bdist_wheel": StableWheel, "buil
     module("upliftcli.engines.exact._signals", "upliftcli/engines/exact/_signals.c",
            ("upliftcli/engines/exact/derivatives.h",)),
     module("upliftcli.engines.exact._peaks", "upliftcli/engines/exact/_peaks.c",
-           ("upliftcli/engines/exact/response_lanes.h",)),
+           ("upliftcli/engines/exact/response_lanes.h", "upliftcli/engines/exact/peak_products.h")),
     module("upliftcli.engines.exact._contact", "upliftcli/engines/exact/_contact.c"),
     module("upliftcli.engines.exact._energy", "upliftcli/engines/exact/_energy.c"),
     module("upliftcli.engines.exact._levels", "upliftcli/engines/exact/_levels.c",
