@@ -1,8 +1,9 @@
 /* out = M x from the transposed matrix M^T (n_in, width): the matrix-vector products of the
  * compiled loops, for one vector (transposed_product: a chain of products; the stepping loop's steps
- * and event rows take the same sums in registers, transitions.h register_product) or four at once (product_samples: the signal and response rows at the samples), with
- * the same bits; and their matrix-matrix product (matrix_product: the bisection levels' and the
- * yielding mat's operators). Shared by the extension modules. */
+ * and event rows take the same sums in registers, transitions.h register_product) or four at once
+ * (product_samples: the signal and response rows at the samples), with the same bits; and their
+ * matrix-matrix product (matrix_product: the bisection levels' and the yielding mat's operators).
+ * Shared by the extension modules. */
 #ifndef UPLIFT_PRODUCT_H
 #define UPLIFT_PRODUCT_H
 
