@@ -163,6 +163,39 @@ def test_hermite_peaks_of_responses_searched_together_have_the_bits_of_each_alon
         assert (best[j], where[j]) == (alone[0][0], alone[1][0])
 
 
+@pytest.mark.parametrize("n_basis", [4, 7])
+def test_rates_taken_at_once_leave_out_zero_inputs_to_the_bit(n_basis):
+    """The rates and curvatures of many responses at once (lanes_product_pair) over basis signals whose rates and
+    curvatures are zero in runs of samples (a yielding run's plastic drifts before their story yields): four zero
+    inputs of both leave out a pass, a zero term among nonzero ones is summed; each response alone (every interval
+    at once) gives the same bits, with the rows in groups of four and a remainder."""
+    compiled = pytest.importorskip("upliftcli.engines.exact._peaks")
+    rng = np.random.default_rng(6)
+    n, m = 300, 16
+    values, slopes = rng.normal(size=(n, 2 * n_basis)), rng.normal(size=(n, 2 * n_basis))
+    values[100:200, n_basis:], slopes[100:200, :n_basis] = 0.0, 0.0  # all rates and curvatures zero
+    values[220:260, n_basis + 1], slopes[240:280, 2] = 0.0, 0.0  # one of them zero
+    switch = np.full(n - 1, -1, dtype=np.int64)
+    switch[[150, 230]] = [0, 1]
+    end_values, end_slopes = values[[151, 231]], slopes[[151, 231]]
+    lengths = rng.uniform(0.5, 1.0, n - 1)
+    value_cols, rate_cols = np.arange(n_basis), np.arange(n_basis, 2 * n_basis)
+    rows = rng.normal(size=(m, n_basis))
+    fractions = np.full(m, 0.9)
+    fractions[[0, 5, 9, 12]] = 0.0
+    arguments = (values, slopes, end_values, end_slopes, switch, value_cols, rate_cols, value_cols)
+
+    def peaks(rows_t, fractions):
+        best, where = np.zeros(rows_t.shape[1]), np.zeros(rows_t.shape[1])
+        compiled.hermite_peaks(*arguments, rows_t, lengths, fractions, best, where)
+        return best, where
+
+    best, where = peaks(np.ascontiguousarray(rows.T), fractions)
+    for j in range(m):
+        alone = peaks(np.ascontiguousarray(rows[j:j + 1].T), fractions[j:j + 1])
+        assert (best[j], where[j]) == (alone[0][0], alone[1][0])
+
+
 def test_evaluate_signals_takes_each_whole_states_own_rows_as_the_states_alternate():
     """The rows of a state used fewer than 32 times are transposed as its samples begin (_signals.c, one state's
     at a time): three such states met in turn, and again, give each sample and left limit its own state's R x."""

@@ -91,7 +91,7 @@ static ALWAYS_INLINE void rates_at(const PeakInput *in, int64_t j, const double 
 
 /* The rates and curvatures of the responses lo <= j < hi at one sample (or left limit), rate[j] and curvature[j],
  * from R^T padded to padded_width(m): the products rates_at makes one response at a time, summed in the same order
- * from +0 (lanes_product), so the same bits; y: n_basis doubles of work space */
+ * from +0 (lanes_product_pair), so the same bits; y: 2 n_basis doubles of work space */
 static ALWAYS_INLINE void rates_of_all(const PeakInput *in, const double *restrict padded, const double *restrict values,
                                        const double *restrict slopes, int64_t lo, int64_t hi, double *restrict y,
                                        double *restrict rate, double *restrict curvature)
@@ -99,12 +99,9 @@ static ALWAYS_INLINE void rates_of_all(const PeakInput *in, const double *restri
     const int64_t width = padded_width(in->m);
     for (int64_t q = 0; q < in->n_basis; q++) {
         y[q] = values[in->rate_columns[q]];
+        y[in->n_basis + q] = slopes[in->curvature_columns[q]];
     }
-    lanes_product(padded, y, in->n_basis, width, lo, hi, rate);
-    for (int64_t q = 0; q < in->n_basis; q++) {
-        y[q] = slopes[in->curvature_columns[q]];
-    }
-    lanes_product(padded, y, in->n_basis, width, lo, hi, curvature);
+    lanes_product_pair(padded, y, y + in->n_basis, in->n_basis, width, lo, hi, rate, curvature);
 }
 
 /* an interval with at least m / ALL_RATES_SHARE responses to search has the rates of all of them taken at once

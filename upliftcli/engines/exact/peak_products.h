@@ -84,32 +84,37 @@ static ALWAYS_INLINE void product_ranged(const double *restrict padded, const do
 #endif
 }
 
-/* out[r] = sum_q m_t[q width + r] x[q] for r in [lo, hi), from +0 in the order of q, zero inputs skipped, four
- * rows of m_t through one pass where their inputs are nonzero: transposed_product's sums over some of its outputs */
-static ALWAYS_INLINE void lanes_product(const double *restrict m_t, const double *restrict x, int64_t n_in,
-                                        int64_t width, int64_t lo, int64_t hi, double *restrict out)
+/* out_x[r] = sum_q m_t[q width + r] x[q] and out_z[r] = sum_q m_t[q width + r] z[q] for r in [lo, hi), each from +0
+ * in the order of q: transposed_product's sums over some of its outputs, two inputs over the same rows of m_t, four
+ * rows through one pass, a pass left out where all eight inputs are zero (a zero term changes no sum) */
+static ALWAYS_INLINE void lanes_product_pair(const double *restrict m_t, const double *restrict x,
+                                             const double *restrict z, int64_t n_in, int64_t width, int64_t lo,
+                                             int64_t hi, double *restrict out_x, double *restrict out_z)
 {
     for (int64_t r = lo; r < hi; r++) {
-        out[r] = 0.0;
+        out_x[r] = 0.0;
+        out_z[r] = 0.0;
     }
     int64_t q = 0;
-    while (q < n_in) {
-        if (q + 4 <= n_in && x[q] != 0.0 && x[q + 1] != 0.0 && x[q + 2] != 0.0 && x[q + 3] != 0.0) {
-            const double x0 = x[q], x1 = x[q + 1], x2 = x[q + 2], x3 = x[q + 3];
-            const double *row0 = m_t + q * width, *row1 = row0 + width, *row2 = row1 + width, *row3 = row2 + width;
-            for (int64_t r = lo; r < hi; r++) {
-                out[r] = (((out[r] + row0[r] * x0) + row1[r] * x1) + row2[r] * x2) + row3[r] * x3;
-            }
-            q += 4;
+    for (; q + 4 <= n_in; q += 4) {
+        const double x0 = x[q], x1 = x[q + 1], x2 = x[q + 2], x3 = x[q + 3];
+        const double z0 = z[q], z1 = z[q + 1], z2 = z[q + 2], z3 = z[q + 3];
+        if (x0 == 0.0 && x1 == 0.0 && x2 == 0.0 && x3 == 0.0 && z0 == 0.0 && z1 == 0.0 && z2 == 0.0 && z3 == 0.0) {
             continue;
         }
-        if (x[q] != 0.0) {
-            const double xq = x[q], *row = m_t + q * width;
-            for (int64_t r = lo; r < hi; r++) {
-                out[r] += row[r] * xq;
-            }
+        const double *restrict row0 = m_t + q * width, *restrict row1 = row0 + width;
+        const double *restrict row2 = row1 + width, *restrict row3 = row2 + width;
+        for (int64_t r = lo; r < hi; r++) {
+            out_x[r] = (((out_x[r] + row0[r] * x0) + row1[r] * x1) + row2[r] * x2) + row3[r] * x3;
+            out_z[r] = (((out_z[r] + row0[r] * z0) + row1[r] * z1) + row2[r] * z2) + row3[r] * z3;
         }
-        q++;
+    }
+    for (; q < n_in; q++) {
+        const double xq = x[q], zq = z[q], *restrict row = m_t + q * width;
+        for (int64_t r = lo; r < hi; r++) {
+            out_x[r] += row[r] * xq;
+            out_z[r] += row[r] * zq;
+        }
     }
 }
 
