@@ -133,11 +133,29 @@ def test_hermite_peaks_match_a_dense_evaluation_with_rates_and_transitions():
     assert np.all(best >= twin * (1 - 1e-12))  # the dense grid can only undershoot
 
 
+def _assert_together_as_alone(compiled, arguments, rows, lengths, fractions):
+    """The compiled hermite_peaks of the responses `rows` (m, n_basis) searched together gives each response the
+    bits (peak and instant) it gets searched alone, and each peak is that of a dense evaluation of its quintics
+    (_hermite_peaks_dense, an independent reference; arguments: its first eight)."""
+
+    def peaks(rows_t, fractions):
+        best, where = np.zeros(rows_t.shape[1]), np.zeros(rows_t.shape[1])
+        compiled.hermite_peaks(*arguments, rows_t, lengths, fractions, best, where)
+        return best, where
+
+    best, where = peaks(np.ascontiguousarray(rows.T), fractions)
+    for j in range(rows.shape[0]):
+        alone = peaks(np.ascontiguousarray(rows[j:j + 1].T), fractions[j:j + 1])
+        assert (best[j], where[j]) == (alone[0][0], alone[1][0])
+        dense = _hermite_peaks_dense(*arguments, rows[j:j + 1], lengths, points=5001)[0]
+        assert dense * (1 - 1e-12) <= best[j] <= dense * (1 + 1e-6)  # the dense grid can only undershoot
+
+
 def test_hermite_peaks_of_responses_searched_together_have_the_bits_of_each_alone():
     """The compiled loop takes the rates of every response at once in an interval where many are searched, one
     response at a time elsewhere: the same sums in the same order. Three responses searched everywhere (fraction
     0) and thirteen near their peaks give intervals of both kinds; each response alone (every interval at once)
-    gives the same bits."""
+    gives the same bits, and the peak of a dense evaluation."""
     compiled = pytest.importorskip("upliftcli.engines.exact._peaks")
     rng = np.random.default_rng(5)
     n, k, m = 400, 8, 16
@@ -152,15 +170,7 @@ def test_hermite_peaks_of_responses_searched_together_have_the_bits_of_each_alon
     fractions[[0, 5, 9]] = 0.0
     arguments = (values, slopes, end_values, end_slopes, switch, value_cols, rate_cols, rate_cols)
 
-    def peaks(rows_t, fractions):
-        best, where = np.zeros(rows_t.shape[1]), np.zeros(rows_t.shape[1])
-        compiled.hermite_peaks(*arguments, rows_t, lengths, fractions, best, where)
-        return best, where
-
-    best, where = peaks(np.ascontiguousarray(rows.T), fractions)
-    for j in range(m):
-        alone = peaks(np.ascontiguousarray(rows[j:j + 1].T), fractions[j:j + 1])
-        assert (best[j], where[j]) == (alone[0][0], alone[1][0])
+    _assert_together_as_alone(compiled, arguments, rows, lengths, fractions)
 
 
 @pytest.mark.parametrize("n_basis", [4, 7])
@@ -168,7 +178,8 @@ def test_rates_taken_at_once_leave_out_zero_inputs_to_the_bit(n_basis):
     """The rates and curvatures of many responses at once (lanes_product_pair) over basis signals whose rates and
     curvatures are zero in runs of samples (a yielding run's plastic drifts before their story yields): four zero
     inputs of both leave out a pass, a zero term among nonzero ones is summed; each response alone (every interval
-    at once) gives the same bits, with the rows in groups of four and a remainder."""
+    at once) gives the same bits, with the rows in groups of four and a remainder, and the peak of a dense
+    evaluation."""
     compiled = pytest.importorskip("upliftcli.engines.exact._peaks")
     rng = np.random.default_rng(6)
     n, m = 300, 16
@@ -185,15 +196,7 @@ def test_rates_taken_at_once_leave_out_zero_inputs_to_the_bit(n_basis):
     fractions[[0, 5, 9, 12]] = 0.0
     arguments = (values, slopes, end_values, end_slopes, switch, value_cols, rate_cols, value_cols)
 
-    def peaks(rows_t, fractions):
-        best, where = np.zeros(rows_t.shape[1]), np.zeros(rows_t.shape[1])
-        compiled.hermite_peaks(*arguments, rows_t, lengths, fractions, best, where)
-        return best, where
-
-    best, where = peaks(np.ascontiguousarray(rows.T), fractions)
-    for j in range(m):
-        alone = peaks(np.ascontiguousarray(rows[j:j + 1].T), fractions[j:j + 1])
-        assert (best[j], where[j]) == (alone[0][0], alone[1][0])
+    _assert_together_as_alone(compiled, arguments, rows, lengths, fractions)
 
 
 def test_evaluate_signals_takes_each_whole_states_own_rows_as_the_states_alternate():
